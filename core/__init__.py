@@ -1,0 +1,27 @@
+"""barymesh core: RWG-ready triangle meshes of metasurface unit cells.
+
+Pure numpy/scipy; no Qt, VTK or pyvista.
+
+>>> from core import MeshParams, build_mesh
+>>> build_mesh(MeshParams(structure="patch")).stats()["triangles"]
+32
+"""
+
+from .build import build_mesh
+from .mesh import TriMesh
+from .params import DIAGONALS, MODES, SCHEMES, STRUCTURES, MeshParams
+from .topology import INDEX, EdgeTopology, RWGTable
+
+__all__ = [
+    "DIAGONALS",
+    "INDEX",
+    "MODES",
+    "SCHEMES",
+    "STRUCTURES",
+    "EdgeTopology",
+    "MeshParams",
+    "RWGTable",
+    "TriMesh",
+    "build_mesh",
+]
+__version__ = "0.1.0"

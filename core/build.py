@@ -1,0 +1,82 @@
+"""The public entry point: parameters in, finished mesh out."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .assembly import patch_triangles
+from .mesh import TriMesh
+from .params import MeshParams
+from .structures import layout
+from .subdivision import subdivide
+from .topology import INDEX
+
+
+def build_mesh(params: MeshParams | None = None) -> TriMesh:
+    """Mesh the structure described by ``params``.
+
+    Parameters
+    ----------
+    params : MeshParams, optional
+        Defaults to ``MeshParams()``, the paper's Fig. 12(a).
+
+    Returns
+    -------
+    TriMesh
+
+    Examples
+    --------
+    >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0))
+    >>> s = mesh.stats()
+    >>> s["triangles"], s["vertices"], s["interior_edges"], s["boundary_edges"]
+    (32, 25, 40, 16)
+    """
+    if params is None:
+        params = MeshParams()
+    if not isinstance(params, MeshParams):
+        raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
+    if params.structure == "triangle":
+        return _triangle(params)
+    lay = layout(params)
+    flat = lay.xy.reshape(-1, 2)
+    points = flat[lay.representative]
+    vertex_map = lay.vertex_of_point.reshape(len(lay.xy), -1)
+    triangles = patch_triangles(lay.template, vertex_map)
+    per_patch = len(lay.template.triangles)
+    n_patches = len(lay.xy)
+    return TriMesh(
+        points=np.column_stack([points, np.zeros(len(points))]),
+        triangles=triangles,
+        patch_ids=np.repeat(np.arange(n_patches, dtype=INDEX), per_patch),
+        regions=np.repeat(lay.regions, per_patch),
+        n_patches=n_patches,
+        mode=params.mode if params.structure != "patch" else params.mode,
+        tolerance=params.weld_tolerance,
+        patch_rects=lay.rects if params.mode == "paper" else None,
+        _template=lay.template,
+    )
+
+
+def _triangle(params: MeshParams) -> TriMesh:
+    """One primary triangle, subdivided."""
+    if params.triangle_vertices is None:
+        side = params.patch_size
+        corners = np.array([[0.0, 0.0], [side, 0.0], [side / 2, side * np.sqrt(3) / 2]])
+        corners += np.asarray(params.origin)
+    else:
+        corners = np.asarray(params.triangle_vertices, dtype=np.float64)
+    bary, tri = subdivide(params.scheme, params.subdivisions)
+    p0, p1, p2 = corners
+    xy = p0 + bary[:, :1] * (p1 - p0) + bary[:, 1:] * (p2 - p0)
+    if (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]) < 0:
+        tri = tri[:, [0, 2, 1]]  # keep counter-clockwise seen from +z
+    return TriMesh(
+        points=np.column_stack([xy, np.zeros(len(xy))]),
+        triangles=tri,
+        patch_ids=np.zeros(len(tri), dtype=INDEX),
+        regions=np.ones(len(tri), dtype=INDEX),
+        n_patches=1,
+        mode=params.mode,
+        tolerance=params.weld_tolerance,
+        patch_rects=None,
+    )

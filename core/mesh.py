@@ -1,0 +1,247 @@
+"""The finished mesh: an immutable bundle of arrays with lazily derived topology."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .assembly import patch_topology
+from .overlap import union_area
+from .quality import aspect_ratios, min_angles_deg, triangle_areas
+from .subdivision import PatchTemplate
+from .topology import (
+    INDEX,
+    EdgeTopology,
+    RWGTable,
+    edge_topology,
+    rwg_table,
+    triangle_adjacency,
+    vertex_adjacency,
+)
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.ascontiguousarray(a)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class TriMesh:
+    """A triangle mesh ready for RWG basis functions.
+
+    Attributes
+    ----------
+    points : (V, 3) float64
+        Vertex coordinates in mm (z = 0 for our structures).
+    triangles : (T, 3) int
+        Vertex indices, counter-clockwise seen from +z.
+    patch_ids : (T,) int
+        The patch (or sector) each triangle came from.
+    regions : (T,) int
+        Region of each triangle (1: the patch or the inner ring, 2: the outer ring).
+    n_patches : int
+    mode : str
+        ``"paper"``, ``"conforming"`` or ``"imported"``.
+    tolerance : float
+        The welding distance used (mm); 0 for imported meshes.
+    patch_rects : (P, 4) float64 or None
+        Axis-aligned patches (x0, y0, x1, y1) in paper mode, for the overlap ratio.
+    ignored_cells : dict
+        For imported meshes: cell type -> number of non-triangle cells skipped.
+
+    Everything else (centroids, edges, RWG table, connectivity, quality) is
+    derived on first use and cached.
+    """
+
+    points: np.ndarray
+    triangles: np.ndarray
+    patch_ids: np.ndarray
+    regions: np.ndarray
+    n_patches: int
+    mode: str = "conforming"
+    tolerance: float = 0.0
+    patch_rects: np.ndarray | None = None
+    ignored_cells: dict[str, int] = field(default_factory=dict)
+    _template: PatchTemplate | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] not in (2, 3):
+            raise ValueError(f"points must have shape (V, 3), got {pts.shape}")
+        if pts.shape[1] == 2:
+            pts = np.column_stack([pts, np.zeros(len(pts))])
+        tri = np.asarray(self.triangles)
+        if tri.ndim != 2 or tri.shape[1] != 3:
+            raise ValueError(f"triangles must have shape (T, 3), got {tri.shape}")
+        if len(tri) and (tri.min() < 0 or tri.max() >= len(pts)):
+            raise ValueError(
+                f"triangles refer to vertex {int(tri.max())} or {int(tri.min())}, "
+                f"but there are {len(pts)} vertices"
+            )
+        put = object.__setattr__
+        put(self, "points", _frozen(pts))
+        put(self, "triangles", _frozen(tri.astype(INDEX, copy=False)))
+        for name in ("patch_ids", "regions"):
+            arr = np.asarray(getattr(self, name)).astype(INDEX, copy=False)
+            if arr.shape != (len(tri),):
+                raise ValueError(f"{name} must have shape ({len(tri)},), got {arr.shape}")
+            put(self, name, _frozen(arr))
+
+    # -- geometry ----------------------------------------------------------
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.points)
+
+    @property
+    def n_triangles(self) -> int:
+        return len(self.triangles)
+
+    @cached_property
+    def centroids(self) -> np.ndarray:
+        """(T, 3) float64 barycentres (Eqs. 25–26): the RWG quadrature points."""
+        p = self.points[self.triangles]
+        return _frozen((p[:, 0] + p[:, 1] + p[:, 2]) / 3.0)
+
+    @cached_property
+    def areas(self) -> np.ndarray:
+        """(T,) float64 triangle areas (mm²)."""
+        return _frozen(triangle_areas(self.points, self.triangles))
+
+    @cached_property
+    def min_angles(self) -> np.ndarray:
+        """(T,) float64 smallest angle of each triangle (degrees)."""
+        return _frozen(min_angles_deg(self.points, self.triangles))
+
+    @cached_property
+    def aspect_ratios(self) -> np.ndarray:
+        """(T,) float64 aspect ratio, 1 for an equilateral triangle."""
+        return _frozen(aspect_ratios(self.points, self.triangles))
+
+    # -- topology ----------------------------------------------------------
+
+    @cached_property
+    def topology(self) -> EdgeTopology:
+        """Edges and their incidence (see :class:`core.topology.EdgeTopology`)."""
+        if self._template is not None:
+            nv = len(self._template.uv)
+            vertex_map = self.triangles.reshape(self.n_patches, -1)
+            # the template's triangles cover all its vertices: recover the patch vertex map
+            vmap = np.empty((self.n_patches, nv), dtype=INDEX)
+            vmap[:, self._template.triangles.ravel()] = vertex_map
+            return patch_topology(self._template, vmap, self.n_vertices)
+        return edge_topology(self.triangles, self.n_vertices)
+
+    @property
+    def edges(self) -> np.ndarray:
+        """(E, 2) int vertex pairs of the unique edges."""
+        return self.topology.edges
+
+    @property
+    def triangle_edges(self) -> np.ndarray:
+        """(T, 3) int edge id of side k (vertex k to k + 1) of each triangle."""
+        return self.topology.triangle_edges
+
+    @property
+    def edge_triangles(self) -> np.ndarray:
+        """(E, 2) int the first two triangles on each edge, -1 where missing."""
+        return self.topology.edge_triangles
+
+    @property
+    def interior_edges(self) -> np.ndarray:
+        return self.topology.interior_edges
+
+    @property
+    def boundary_edges(self) -> np.ndarray:
+        return self.topology.boundary_edges
+
+    @property
+    def junction_edges(self) -> np.ndarray:
+        return self.topology.junction_edges
+
+    @cached_property
+    def edge_lengths(self) -> np.ndarray:
+        """(E,) float64 edge lengths (mm)."""
+        e = self.edges
+        return _frozen(np.linalg.norm(self.points[e[:, 1]] - self.points[e[:, 0]], axis=1))
+
+    @cached_property
+    def rwg(self) -> RWGTable:
+        """The RWG table: one row per interior edge (see :class:`core.topology.RWGTable`)."""
+        return rwg_table(self.points, self.triangles, self.topology)
+
+    @cached_property
+    def connectivity(self) -> sp.csr_matrix:
+        """T x T symmetric 0/1 matrix of triangles sharing an edge (the paper's Eq. 27)."""
+        return triangle_adjacency(self.n_triangles, self.topology)
+
+    @cached_property
+    def vertex_adjacency(self) -> sp.csr_matrix:
+        """V x V symmetric 0/1 matrix of vertices joined by an edge."""
+        return vertex_adjacency(self.n_vertices, self.edges)
+
+    @cached_property
+    def overlap_ratio(self) -> float | None:
+        """1 − (area of the union of the patches) / (sum of patch areas), paper mode only."""
+        if self.patch_rects is None or len(self.patch_rects) == 0:
+            return None
+        r = self.patch_rects
+        total = float(((r[:, 2] - r[:, 0]) * (r[:, 3] - r[:, 1])).sum())
+        return max(0.0, 1.0 - union_area(r) / total)
+
+    def stats(self) -> dict[str, Any]:
+        """Counts and quality figures as a plain, JSON-ready dict.
+
+        Keys: ``patches``, ``vertices``, ``triangles``, ``edges``,
+        ``interior_edges`` (= RWG unknowns), ``boundary_edges``,
+        ``junction_edges``, ``min_edge``, ``max_edge`` (mm), ``min_angle_deg``,
+        ``max_aspect_ratio``, ``area`` (mm², overlaps counted twice),
+        ``euler_characteristic`` (V − E + F), ``regions``, and in paper mode
+        ``overlap_ratio``; for imported meshes ``ignored_cells``.
+        """
+        topo = self.topology
+        lengths = self.edge_lengths
+        empty = self.n_triangles == 0
+        out: dict[str, Any] = {
+            "patches": int(self.n_patches),
+            "vertices": int(self.n_vertices),
+            "triangles": int(self.n_triangles),
+            "edges": int(len(topo.edges)),
+            "interior_edges": int((topo.valence == 2).sum()),
+            "boundary_edges": int((topo.valence == 1).sum()),
+            "junction_edges": int((topo.valence >= 3).sum()),
+            "min_edge": float(lengths.min()) if len(lengths) else 0.0,
+            "max_edge": float(lengths.max()) if len(lengths) else 0.0,
+            "min_angle_deg": 0.0 if empty else float(self.min_angles.min()),
+            "max_aspect_ratio": 0.0 if empty else float(self.aspect_ratios.max()),
+            "area": float(self.areas.sum()),
+            "euler_characteristic": int(self.n_vertices - len(topo.edges) + self.n_triangles),
+            "regions": int(len(np.unique(self.regions))),
+        }
+        if self.mode == "paper":
+            out["overlap_ratio"] = self.overlap_ratio
+        if self.ignored_cells:
+            out["ignored_cells"] = dict(self.ignored_cells)
+        return out
+
+    def scaled(self, factor: float) -> TriMesh:
+        """A copy with coordinates multiplied by ``factor`` (for unit conversion)."""
+        rects = None if self.patch_rects is None else self.patch_rects * factor
+        return TriMesh(
+            self.points * factor,
+            self.triangles,
+            self.patch_ids,
+            self.regions,
+            self.n_patches,
+            self.mode,
+            self.tolerance * factor,
+            rects,
+            dict(self.ignored_cells),
+            self._template,
+        )
+

@@ -1,0 +1,353 @@
+"""Layouts of patches for every structure, in both modes.
+
+A layout places copies of the patch template: ``xy[p, i]`` is where local
+vertex i of patch p lands, and ``vertex_of_point`` says which global vertex
+each of those points is (after the weld of the chosen mode).
+
+Paper mode is the paper's Eqs. 28–35: axis-aligned patches whose lower-left
+corner is (r cos θ, r sin θ) for θ = 0, Δθ, 2Δθ, … below 360°, welded by the
+metric constraint. Conforming mode cuts each ring's band [r, r + patch_size]
+into sectors no wider than ``angle_step`` whose vertices lie on the true
+circles; neighbouring sectors are glued topologically (exactly).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .params import DOUBLE_STRUCTURES, MeshParams
+from .subdivision import PatchTemplate, patch_template
+from .weld import merge_pairs, weld_lattice_patches, weld_points
+
+#: Slack below which floating-point counts such as 360 / Δθ are integers.
+_COUNT_SLACK = 1e-9
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Patches of one structure, ready to be assembled into a mesh.
+
+    Attributes
+    ----------
+    template : PatchTemplate
+    xy : (P, Nv, 2) float64
+        Position of every patch-local vertex.
+    regions : (P,) int
+        Region of each patch (1 = the patch or the inner ring, 2 = the outer ring).
+    vertex_of_point : (P * Nv,) int
+        Global vertex of every patch-local vertex.
+    representative : (V,) int
+        One patch-local point per global vertex (its coordinates are used).
+    rects : (P, 4) float64 or None
+        (x0, y0, x1, y1) of each axis-aligned patch in paper mode.
+    """
+
+    template: PatchTemplate
+    xy: np.ndarray
+    regions: np.ndarray
+    vertex_of_point: np.ndarray
+    representative: np.ndarray
+    rects: np.ndarray | None
+
+
+def _count(span: float, step: float) -> int:
+    return max(1, math.ceil(span / step - _COUNT_SLACK))
+
+
+def _radii(params: MeshParams) -> list[float]:
+    if params.structure in DOUBLE_STRUCTURES:
+        return [params.inner_radius, params.outer_radius]
+    return [params.inner_radius]
+
+
+def _gap_directions(params: MeshParams) -> list[float]:
+    s = params.structure
+    if s == "split_ring":
+        return [params.gap_angle]
+    if s in ("split_double_ring", "square_split_double_ring"):
+        return [params.gap_angle, params.gap_angle + 180.0]
+    return []
+
+
+# -- paper mode ------------------------------------------------------------
+
+
+def paper_ring_origins(params: MeshParams, radius: float) -> np.ndarray:
+    """Lower-left corners (r cos θ, r sin θ) + centre, θ = 0, Δθ, … < 360° (Eqs. 28–29)."""
+    k = _count(360.0, params.angle_step)
+    theta = np.radians(np.arange(k) * params.angle_step)
+    centre = np.asarray(params.origin)
+    return centre + radius * np.stack([np.cos(theta), np.sin(theta)], axis=1)
+
+
+def square_ring_origins(params: MeshParams, half_side: float) -> np.ndarray:
+    """Lower-left corners of square patches tiling a square track (paper mode).
+
+    The track lies between the squares of half side R and R + h. Each side's
+    strip is covered by h x h patches spread evenly from end to end; they tile
+    it exactly when its length is a multiple of h and overlap slightly
+    otherwise, as the paper's patches do.
+    """
+    r, h = half_side, params.patch_size
+    k_long = _count(2 * (r + h), h)
+    k_short = _count(2 * r, h)
+    xs = np.linspace(-r - h, r, k_long) if k_long > 1 else np.array([-r - h])
+    ys = np.linspace(-r, r - h, k_short) if k_short > 1 else np.array([-r])
+    bottom = np.stack([xs, np.full_like(xs, -r - h)], axis=1)
+    top = np.stack([xs, np.full_like(xs, r)], axis=1)
+    left = np.stack([np.full_like(ys, -r - h), ys], axis=1)
+    right = np.stack([np.full_like(ys, r), ys], axis=1)
+    return np.asarray(params.origin) + np.concatenate([bottom, right, top, left])
+
+
+def rects_touching_slots(
+    rects: np.ndarray, centre: tuple[float, float], directions: list[float], width: float
+) -> np.ndarray:
+    """Which axis-aligned rectangles share area with a slot (separating-axis test).
+
+    A slot is the half-strip of the given ``width`` starting at ``centre`` and
+    running in direction φ (degrees); two opposite directions make a full
+    strip through the centre. Rectangles that only touch a slot's side line
+    are kept.
+
+    Parameters
+    ----------
+    rects : (P, 4) float64
+        (x0, y0, x1, y1).
+    """
+    rel = rects - np.array([centre[0], centre[1], centre[0], centre[1]])
+    cx = rel[:, [0, 2, 2, 0]]
+    cy = rel[:, [1, 1, 3, 3]]
+    eps = 1e-12 * max(1.0, float(np.abs(rel).max(initial=0.0)))
+    half = width / 2
+    hit = np.zeros(len(rects), dtype=bool)
+    angles = [d % 360.0 for d in directions]
+    full = len(angles) == 2 and math.isclose(
+        (angles[1] - angles[0]) % 360.0, 180.0, abs_tol=1e-9
+    )
+    for phi in angles[:1] if full else angles:
+        c, s = math.cos(math.radians(phi)), math.sin(math.radians(phi))
+        d = -s * cx + c * cy  # across the slot
+        t = c * cx + s * cy  # along the slot
+        ok = (d.max(1) > -half + eps) & (d.min(1) < half - eps)
+        if not full:
+            ok &= t.max(1) > eps
+            for axis_lo, axis_hi, along, across in (
+                (rel[:, 0], rel[:, 2], c, -s),
+                (rel[:, 1], rel[:, 3], s, c),
+            ):
+                ends = (half * across, -half * across)
+                lo, hi = min(ends), max(ends)
+                if along > 1e-15:
+                    ok &= axis_hi > lo + eps
+                elif along < -1e-15:
+                    ok &= axis_lo < hi - eps
+                else:
+                    ok &= (axis_hi > lo + eps) & (axis_lo < hi - eps)
+        hit |= ok
+    return hit
+
+
+def _paper_origins(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
+    """Patch origins and regions of a paper-mode ring structure, slots applied."""
+    square = params.structure == "square_split_double_ring"
+    origins, regions = [], []
+    for region, radius in enumerate(_radii(params), start=1):
+        o = square_ring_origins(params, radius) if square else paper_ring_origins(params, radius)
+        origins.append(o)
+        regions.append(np.full(len(o), region))
+    origins = np.concatenate(origins)
+    regions = np.concatenate(regions)
+    directions = _gap_directions(params)
+    if directions:
+        h, w = params.patch_size, params.patch_height
+        rects = np.concatenate([origins, origins + [h, w]], axis=1)
+        keep = ~rects_touching_slots(rects, params.origin, directions, params.gap_width)
+        origins, regions = origins[keep], regions[keep]
+    return origins, regions
+
+
+# -- conforming mode -------------------------------------------------------
+
+
+def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
+    """Angular extent of the arcs of one ring, and the sector count per arc.
+
+    Returns ``([(start, end, closed), ...], m)`` with angles in degrees at the
+    slot axis; the slot sides are added per radius by :func:`_arc_angles`.
+    """
+    directions = _gap_directions(params)
+    if not directions:
+        return [(0.0, 360.0, True)], _count(360.0, params.angle_step)
+    phi = params.gap_angle
+    if len(directions) == 1:
+        arcs = [(phi, phi + 360.0, False)]
+    else:
+        arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
+    widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
+    return arcs, _count(widest, params.angle_step)
+
+
+def _outermost(params: MeshParams) -> float:
+    return max(_radii(params)) + params.patch_size
+
+
+def _slot_half_angle(params: MeshParams, rho: np.ndarray | float) -> np.ndarray | float:
+    """Angle (degrees) between the slot axis and where a slot side meets radius ρ."""
+    return np.degrees(np.arcsin(params.gap_width / (2 * np.asarray(rho))))
+
+
+def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layout:
+    arcs, m = _arcs(params)
+    split = bool(_gap_directions(params))
+    h = params.patch_size
+    u, v = template.uv[:, 0], template.uv[:, 1]
+    nv = len(u)
+    xy, regions, pairs = [], [], []
+    sides = template.sides
+    n_patches = 0
+    first_patch = {}  # (ring, arc) -> first patch index
+    for ring, radius in enumerate(_radii(params)):
+        rho = radius + u * h  # (Nv,)
+        for a, (start, end, closed) in enumerate(arcs):
+            if split:
+                alpha = _slot_half_angle(params, rho)
+                lo, hi = start + alpha, end - alpha
+            else:
+                lo, hi = np.full(nv, start), np.full(nv, end)
+            k = np.arange(m)[:, None] + v[None, :]  # (m, Nv) sector coordinate
+            theta = np.radians(lo + k * (hi - lo) / m)
+            pts = np.stack([rho * np.cos(theta), rho * np.sin(theta)], axis=-1)
+            xy.append(pts)
+            regions.append(np.full(m, ring + 1))
+            first_patch[ring, a] = n_patches
+            # glue side 2 (v = 1) of sector k to side 0 (v = 0) of sector k + 1
+            nxt = np.arange(1, m + 1)
+            cur = np.arange(m)
+            if closed:
+                nxt %= m
+            else:
+                cur, nxt = cur[:-1], nxt[:-1]
+            base = n_patches * nv
+            pairs.append(
+                np.stack(
+                    [
+                        (base + cur[:, None] * nv + sides[2][None, :]).ravel(),
+                        (base + nxt[:, None] * nv + sides[0][None, :]).ravel(),
+                    ],
+                    axis=1,
+                )
+            )
+            n_patches += m
+    radii = _radii(params)
+    if len(radii) == 2 and abs(radii[1] - (radii[0] + h)) <= params.weld_tolerance:
+        # touching rings: the inner ring's outer circle is the outer ring's inner circle
+        for a in range(len(arcs)):
+            p0 = first_patch[0, a] + np.arange(m)
+            p1 = first_patch[1, a] + np.arange(m)
+            pairs.append(
+                np.stack(
+                    [
+                        (p0[:, None] * nv + sides[1][None, :]).ravel(),
+                        (p1[:, None] * nv + sides[3][None, :]).ravel(),
+                    ],
+                    axis=1,
+                )
+            )
+    xy = np.concatenate(xy) + np.asarray(params.origin)
+    vertex_of_point, rep = merge_pairs(n_patches * nv, np.concatenate(pairs))
+    return Layout(template, xy, np.concatenate(regions), vertex_of_point, rep, None)
+
+
+def _conforming_square_rects(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
+    """(x0, y0, wx, wy) rectangles tiling the square tracks exactly, slots cut out."""
+    h, g = params.patch_size, params.gap_width
+    phi = round(params.gap_angle / 90.0) % 2  # 0: horizontal slot, 1: vertical slot
+    rects, regions = [], []
+    for region, r in enumerate(_radii(params), start=1):
+        corners = [(-r - h, -r - h), (r, -r - h), (r, r), (-r - h, r)]
+        rs = [(x, y, h, h) for x, y in corners]
+        full = np.linspace(-r, r, _count(2 * r, h) + 1)
+        pieces = np.linspace(-r, -g / 2, _count(r - g / 2, h) + 1)
+        cut = [np.stack([pieces[:-1], pieces[1:]], 1), np.stack([-pieces[1:], -pieces[:-1]], 1)]
+        cut = np.concatenate(cut)
+        whole = np.stack([full[:-1], full[1:]], 1)
+        # sides running along x (bottom, top) and along y (left, right)
+        along_x = cut if phi == 1 else whole
+        along_y = cut if phi == 0 else whole
+        for y0 in (-r - h, r):
+            rs += [(a, y0, b - a, h) for a, b in along_x]
+        for x0 in (-r - h, r):
+            rs += [(x0, a, h, b - a) for a, b in along_y]
+        rects += rs
+        regions += [region] * len(rs)
+    rects = np.array(rects)
+    rects[:, :2] += np.asarray(params.origin)
+    return rects, np.array(regions)
+
+
+def _rect_layout(
+    template: PatchTemplate, rects: np.ndarray, regions: np.ndarray, params: MeshParams
+) -> np.ndarray:
+    u, v = template.uv[:, 0], template.uv[:, 1]
+    x = rects[:, :1] + u[None, :] * rects[:, 2:3]
+    y = rects[:, 1:2] + v[None, :] * rects[:, 3:4]
+    return np.stack([x, y], axis=-1)
+
+
+# -- entry points ----------------------------------------------------------
+
+
+def predicted_patches(params: MeshParams) -> int:
+    """Number of patches (or sectors) of the structure, computed cheaply."""
+    s = params.structure
+    if s in ("patch", "triangle"):
+        return 1
+    if params.mode == "conforming":
+        if s == "square_split_double_ring":
+            return len(_conforming_square_rects(params)[0])
+        arcs, m = _arcs(params)
+        return len(_radii(params)) * len(arcs) * m
+    upper = len(_radii(params)) * _count(360.0, params.angle_step)
+    if s == "square_split_double_ring" or (_gap_directions(params) and upper <= 20_000_000):
+        return len(_paper_origins(params)[0])
+    return upper
+
+
+def layout(params: MeshParams) -> Layout:
+    """Place and weld the patches of ``params.structure`` (not ``triangle``)."""
+    s = params.structure
+    if s == "triangle":
+        raise ValueError("the triangle structure has no patch layout")
+    template = patch_template(params.scheme, params.subdivisions, params.diagonal)
+    h, w = params.patch_size, params.patch_height
+    nv = len(template.uv)
+    if s == "patch":
+        rects = np.array([[params.origin[0], params.origin[1], h, w]])
+        xy = _rect_layout(template, rects, np.ones(1), params)
+        ids = np.arange(nv, dtype=np.int32)
+        return Layout(template, xy, np.ones(1, dtype=np.int32), ids, ids, _corners(rects))
+    if params.mode == "conforming":
+        if s == "square_split_double_ring":
+            rects, regions = _conforming_square_rects(params)
+            xy = _rect_layout(template, rects, regions, params)
+            ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
+            return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
+        return _conforming_ring_layout(params, template)
+    origins, regions = _paper_origins(params)
+    rects = np.concatenate([origins, np.broadcast_to([h, w], origins.shape)], axis=1)
+    xy = _rect_layout(template, rects, regions, params)
+    if template.lattice:
+        step = (h / template.segments, w / template.segments)
+        ids, rep = weld_lattice_patches(origins, step, template.segments, params.weld_tolerance)
+    else:
+        ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
+    return Layout(template, xy, regions.astype(np.int32), ids, rep, _corners(rects))
+
+
+def _corners(rects: np.ndarray) -> np.ndarray:
+    """(x0, y0, wx, wy) to (x0, y0, x1, y1)."""
+    return np.concatenate([rects[:, :2], rects[:, :2] + rects[:, 2:]], axis=1)

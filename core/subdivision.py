@@ -1,0 +1,232 @@
+"""Subdivision of primary triangles and the patch template built from them.
+
+A patch is meshed once, in its parameter square [0, 1]², and the result (the
+*template*) is copied onto every patch of a structure. Corners follow the
+paper::
+
+    C (0,1) ------- D (1,1)
+      |  \\            |
+      |     \\  BC     |        diagonal "BC": primaries ABC and BCD
+      |        \\      |        diagonal "AD": primaries ABD and ACD
+      |           \\   |
+    A (0,0) ------- B (1,0)
+
+With the uniform scheme and n segments per edge the template is the
+(n + 1) x (n + 1) grid of points (a/n, b/n), stored at index b (n + 1) + a,
+and every grid cell is cut parallel to the chosen diagonal.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .topology import INDEX, edge_topology
+
+#: Sides of the parameter square, each as (fixed axis, fixed value, running axis).
+#: 0: A→B (v = 0), 1: B→D (u = 1), 2: C→D (v = 1), 3: A→C (u = 0).
+SIDES = ((1, 0.0, 0), (0, 1.0, 1), (1, 1.0, 0), (0, 0.0, 1))
+
+
+def uniform_subdivision(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Uniform subdivision of the reference triangle into n² sub-triangles.
+
+    Every edge is cut into ``n`` equal segments; row k (from the apex) holds
+    2k − 1 sub-triangles. ``n = 4`` gives the paper's 16 sub-triangles,
+    ``n = 3`` the nine of classic RWG codes.
+
+    Parameters
+    ----------
+    n : int
+        Segments per edge, >= 1.
+
+    Returns
+    -------
+    bary : (N, 2) float64
+        Coordinates (s, t) of the N = (n + 1)(n + 2)/2 points: the point is
+        P0 + s (P1 − P0) + t (P2 − P0).
+    triangles : (n², 3) int
+        Sub-triangles, counter-clockwise when (P0, P1, P2) is.
+
+    Examples
+    --------
+    >>> bary, tri = uniform_subdivision(4)
+    >>> bary.shape, tri.shape
+    ((15, 2), (16, 3))
+    """
+    if n < 1:
+        raise ValueError(f"n={n!r} must be >= 1")
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="xy")
+    keep = i + j <= n
+    i, j = i[keep], j[keep]
+    index = np.full((n + 2, n + 2), -1, dtype=INDEX)
+    index[i, j] = np.arange(len(i), dtype=INDEX)
+    up_i, up_j = np.nonzero(np.add.outer(np.arange(n), np.arange(n)) <= n - 1)
+    up = np.stack([index[up_i, up_j], index[up_i + 1, up_j], index[up_i, up_j + 1]], axis=1)
+    dn_i, dn_j = np.nonzero(np.add.outer(np.arange(n), np.arange(n)) <= n - 2)
+    down = np.stack(
+        [index[dn_i + 1, dn_j], index[dn_i + 1, dn_j + 1], index[dn_i, dn_j + 1]], axis=1
+    )
+    bary = np.stack([i, j], axis=1) / n
+    return bary, np.concatenate([up, down]).astype(INDEX)
+
+
+def barycentric_subdivision(levels: int) -> tuple[np.ndarray, np.ndarray]:
+    """Classical barycentric subdivision of the reference triangle.
+
+    Each level joins every triangle's centroid to its vertices and edge
+    midpoints, giving 6 sub-triangles; ``levels`` repetitions give 6**levels.
+    Every edge of the primary triangle ends up cut into 2**levels equal
+    segments, so neighbouring primaries still share their edge points.
+
+    Returns the same ``(bary, triangles)`` pair as :func:`uniform_subdivision`.
+
+    Examples
+    --------
+    >>> bary, tri = barycentric_subdivision(1)
+    >>> len(bary), len(tri)
+    (7, 6)
+    """
+    if levels < 1:
+        raise ValueError(f"levels={levels!r} must be >= 1")
+    corners = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    tri = corners[None]  # (m, 3, 2) triangle corner coordinates
+    for _ in range(levels):
+        a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+        g = (a + b + c) / 3
+        mab, mbc, mca = (a + b) / 2, (b + c) / 2, (c + a) / 2
+        tri = np.stack(
+            [
+                np.stack([a, mab, g], 1),
+                np.stack([mab, b, g], 1),
+                np.stack([b, mbc, g], 1),
+                np.stack([mbc, c, g], 1),
+                np.stack([c, mca, g], 1),
+                np.stack([mca, a, g], 1),
+            ],
+            axis=1,
+        ).reshape(-1, 3, 2)
+    return _merge_exact(tri.reshape(-1, 2), np.arange(tri.shape[0] * 3).reshape(-1, 3))
+
+
+def _merge_exact(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Merge points of a template that agree to 1e-12 (rational coordinates)."""
+    key = np.round(points * 2**40).astype(np.int64)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first)  # keep first-appearance order
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return points[first[order]], rank[inverse.ravel()][triangles].astype(INDEX)
+
+
+def subdivide(scheme: str, segments_or_levels: int) -> tuple[np.ndarray, np.ndarray]:
+    """Dispatch to :func:`uniform_subdivision` or :func:`barycentric_subdivision`."""
+    if scheme == "uniform":
+        return uniform_subdivision(segments_or_levels)
+    if scheme == "barycentric":
+        return barycentric_subdivision(segments_or_levels)
+    raise ValueError(f"scheme={scheme!r} is unknown; expected 'uniform' or 'barycentric'")
+
+
+@dataclass(frozen=True)
+class PatchTemplate:
+    """One meshed patch in parameter space, copied onto every patch.
+
+    Attributes
+    ----------
+    uv : (Nv, 2) float64
+        Parameter coordinates of the vertices in [0, 1]².
+    triangles : (Nt, 3) int
+        Sub-triangles, counter-clockwise in (u, v); the first Nt/2 come from
+        the first primary triangle (ABC or ABD).
+    edges : (Ne, 2) int
+        Local edges, ``edges[:, 0] < edges[:, 1]``.
+    triangle_edges : (Nt, 3) int
+        Local edge of each triangle side (k: vertex k to vertex k + 1).
+    edge_triangles : (Ne, 2) int
+        The one or two local triangles on each edge, ascending, -1 padded.
+    valence : (Ne,) int
+        Triangles on each edge: 1 on the patch border, 2 inside.
+    sides : (4, segments + 1) int
+        Vertices along each side of the square, in increasing running
+        coordinate (see ``SIDES``).
+    lattice : bool
+        True when ``uv`` is the regular grid (a/n, b/n) at index b (n + 1) + a.
+    """
+
+    uv: np.ndarray
+    triangles: np.ndarray
+    edges: np.ndarray
+    triangle_edges: np.ndarray
+    edge_triangles: np.ndarray
+    valence: np.ndarray
+    sides: np.ndarray
+    segments: int
+    lattice: bool
+
+
+@lru_cache(maxsize=64)
+def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTemplate:
+    """Mesh the unit square ABCD once (cached).
+
+    Examples
+    --------
+    >>> t = patch_template("uniform", 4, "BC")
+    >>> len(t.uv), len(t.triangles), len(t.edges), int((t.valence == 2).sum())
+    (25, 32, 56, 40)
+    """
+    bary, tri = subdivide(scheme, subdivisions)
+    a, b, c, d = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    if diagonal == "BC":
+        primaries = ((a, b, c), (d, c, b))
+    elif diagonal == "AD":
+        primaries = ((a, b, d), (a, d, c))
+    else:
+        raise ValueError(f"diagonal={diagonal!r} is unknown; expected 'BC' or 'AD'")
+    pts, tris = [], []
+    for p0, p1, p2 in primaries:
+        pts.append(p0 + bary[:, :1] * (p1 - p0) + bary[:, 1:] * (p2 - p0))
+        tris.append(tri + len(bary) * len(tris))
+    uv, triangles = _merge_exact(np.concatenate(pts), np.concatenate(tris))
+    segments = subdivisions if scheme == "uniform" else 2**subdivisions
+    # Canonical vertex order: by v, then u (the grid index b (n + 1) + a when uniform).
+    order = np.lexsort((uv[:, 0], uv[:, 1]))
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    uv, triangles = uv[order], rank[triangles].astype(INDEX)
+    triangles = _counter_clockwise(uv, triangles)
+    topo = edge_topology(triangles, len(uv))
+    sides = np.stack([_side(uv, s) for s in range(4)])
+    if sides.shape[1] != segments + 1:
+        raise AssertionError("template sides do not hold segments + 1 vertices")
+    lattice = scheme == "uniform"
+    return PatchTemplate(
+        uv=uv,
+        triangles=triangles,
+        edges=topo.edges,
+        triangle_edges=topo.triangle_edges,
+        edge_triangles=topo.edge_triangles,
+        valence=topo.valence,
+        sides=sides,
+        segments=segments,
+        lattice=lattice,
+    )
+
+
+def _side(uv: np.ndarray, side: int) -> np.ndarray:
+    fixed, value, running = SIDES[side]
+    on = np.flatnonzero(np.abs(uv[:, fixed] - value) < 1e-12)
+    return on[np.argsort(uv[on, running])].astype(INDEX)
+
+
+def _counter_clockwise(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    p = xy[triangles]
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
+        p[:, 1, 1] - p[:, 0, 1]
+    ) * (p[:, 2, 0] - p[:, 0, 0])
+    out = triangles.copy()
+    flip = cross < 0
+    out[flip] = out[flip][:, [0, 2, 1]]
+    return out

@@ -1,0 +1,179 @@
+"""The paper's metric constraint: vertices closer than a tolerance ε are one vertex.
+
+Points are welded when their distance is at most ε, whatever their position
+relative to any rounding grid (no coordinate snapping is involved), and points
+farther apart than ε are never merged: a chain of near points whose ends are
+farther than ε apart is refused with an error instead of being merged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from .topology import INDEX
+
+
+def merge_pairs(
+    n_points: int,
+    pairs: np.ndarray,
+    coords: np.ndarray | None = None,
+    tolerance: float | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Merge points joined (transitively) by ``pairs`` into one vertex each.
+
+    Parameters
+    ----------
+    n_points : int
+        Number of points before merging.
+    pairs : (K, 2) int
+        Pairs of point indices that are the same vertex.
+    coords : (n_points, d) float, optional
+        With ``tolerance``: check that every merged group has all its points
+        within ``tolerance`` of each other, and raise ``ValueError`` if not.
+    tolerance : float, optional
+
+    Returns
+    -------
+    vertex_of_point : (n_points,) int
+        New vertex id of every point, numbered in order of first appearance.
+    representative : (V,) int
+        The first point of every vertex (use it to take the coordinates).
+
+    Examples
+    --------
+    >>> ids, rep = merge_pairs(5, np.array([[3, 1], [4, 3]]))
+    >>> ids.tolist(), rep.tolist()
+    ([0, 1, 2, 1, 1], [0, 1, 2])
+    """
+    label = np.arange(n_points, dtype=np.int64)
+    pairs = np.asarray(pairs).reshape(-1, 2)
+    if len(pairs):
+        nodes, inverse = np.unique(pairs, return_inverse=True)
+        inverse = inverse.reshape(-1, 2)
+        graph = sp.coo_matrix(
+            (np.ones(len(inverse), dtype=np.int8), (inverse[:, 0], inverse[:, 1])),
+            shape=(len(nodes), len(nodes)),
+        )
+        n_comp, comp = connected_components(graph, directed=False)
+        smallest = np.full(n_comp, np.iinfo(np.int64).max)
+        np.minimum.at(smallest, comp, nodes)  # nodes ascending: smallest member first
+        label[nodes] = smallest[comp]
+        if coords is not None and tolerance is not None:
+            _check_diameters(nodes, comp, coords, tolerance)
+    representative = np.flatnonzero(label == np.arange(n_points))
+    new_id = np.cumsum(label == np.arange(n_points)) - 1
+    return new_id[label].astype(INDEX), representative.astype(INDEX)
+
+
+def _check_diameters(nodes: np.ndarray, comp: np.ndarray, coords: np.ndarray, tol: float) -> None:
+    """Raise if a merged group holds two points farther apart than ``tol``."""
+    order = np.argsort(comp, kind="stable")
+    comp_sorted = comp[order]
+    pts = coords[nodes[order]]
+    start = np.flatnonzero(np.r_[True, comp_sorted[1:] != comp_sorted[:-1]])
+    lo = np.minimum.reduceat(pts, start, axis=0)
+    hi = np.maximum.reduceat(pts, start, axis=0)
+    suspect = np.flatnonzero(np.linalg.norm(hi - lo, axis=1) > tol)
+    ends = np.append(start, len(pts))
+    for g in suspect:  # rare: only groups whose bounding box exceeds tol
+        group = pts[ends[g] : ends[g + 1]]
+        dist = np.linalg.norm(group[:, None] - group[None], axis=-1)
+        if dist.max() > tol:
+            centre = group.mean(axis=0)
+            raise ValueError(
+                f"tolerance={tol:.6g} mm joins a chain of near points near "
+                f"({centre[0]:.6g}, {centre[1]:.6g}) whose ends are {dist.max():.6g} mm apart; "
+                "points farther apart than the tolerance are never merged: use a smaller "
+                "tolerance"
+            )
+
+
+def weld_points(coords: np.ndarray, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+    """Weld arbitrary points closer than ``tolerance`` (k-d tree, any layout).
+
+    Parameters
+    ----------
+    coords : (N, d) float64
+    tolerance : float
+
+    Returns
+    -------
+    The ``(vertex_of_point, representative)`` pair of :func:`merge_pairs`.
+    """
+    coords = np.asarray(coords, dtype=np.float64)
+    pairs = cKDTree(coords).query_pairs(tolerance, output_type="ndarray")
+    return merge_pairs(len(coords), pairs, coords, tolerance)
+
+
+def weld_lattice_patches(
+    origins: np.ndarray, step: tuple[float, float], segments: int, tolerance: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Weld the vertices of congruent axis-aligned patches sharing one lattice.
+
+    Every patch holds the grid points ``origin + (a sx, b sy)`` for
+    a, b in 0..n, stored at local index b (n + 1) + a. A point of patch j is
+    within ε of a point of patch i exactly when the offset between their
+    origins is within ε of a lattice vector (p sx, q sy) with |p|, |q| <= n;
+    then all their overlapping grid points pair up at that same distance.
+    Candidate patches are found by the fractional parts of their origins on
+    the lattice (a periodic k-d tree), so the cost does not grow with how
+    densely the patches overlap.
+
+    Parameters
+    ----------
+    origins : (P, 2) float64
+        Lower-left corners.
+    step : (sx, sy)
+        Lattice spacing (patch size / n).
+    segments : int
+        n.
+    tolerance : float
+        ε, below half the smaller step.
+
+    Returns
+    -------
+    The ``(vertex_of_point, representative)`` pair of :func:`merge_pairs`, over
+    the P (n + 1)² patch-local points in patch order.
+    """
+    origins = np.asarray(origins, dtype=np.float64)
+    n = segments
+    per_patch = (n + 1) ** 2
+    n_points = len(origins) * per_patch
+    steps = np.asarray(step, dtype=np.float64)
+    scaled = origins / steps
+    frac = scaled - np.floor(scaled)
+    frac[frac >= 1.0] = 0.0
+    radius = tolerance / steps.min()
+    tree = cKDTree(frac, boxsize=1.0 + 1e-300) if len(frac) else None
+    cand = (
+        tree.query_pairs(radius * 1.000001, output_type="ndarray")
+        if tree is not None
+        else np.empty((0, 2), dtype=np.int64)
+    )
+    if len(cand) == 0:
+        return merge_pairs(n_points, np.empty((0, 2), dtype=np.int64))
+    i, j = cand[:, 0], cand[:, 1]
+    offset = origins[j] - origins[i]
+    pq = np.round(offset / steps).astype(np.int64)
+    residual = np.linalg.norm(offset - pq * steps, axis=1)
+    ok = (residual <= tolerance) & (np.abs(pq) <= n).all(axis=1)
+    i, j, pq = i[ok], j[ok], pq[ok]
+    if len(i) == 0:
+        return merge_pairs(n_points, np.empty((0, 2), dtype=np.int64))
+    # point (a, b) of patch j is point (a + p, b + q) of patch i
+    a = np.tile(np.arange(n + 1), n + 1)
+    b = np.repeat(np.arange(n + 1), n + 1)
+    ai = a[None, :] + pq[:, :1]
+    bi = b[None, :] + pq[:, 1:]
+    inside = (ai >= 0) & (ai <= n) & (bi >= 0) & (bi <= n)
+    rows, local = np.nonzero(inside)
+    pi = i[rows] * per_patch + bi[rows, local] * (n + 1) + ai[rows, local]
+    pj = j[rows] * per_patch + local
+    pairs = np.stack([pi, pj], axis=1)
+    coords = np.repeat(origins, per_patch, axis=0) + np.tile(
+        np.stack([a * steps[0], b * steps[1]], axis=1), (len(origins), 1)
+    )
+    return merge_pairs(n_points, pairs, coords, tolerance)
