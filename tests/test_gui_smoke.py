@@ -46,6 +46,6 @@ def test_qtinteractor_renders_plane_in_window(qtbot, tmp_path):
         assert grabbed.shape[:2] == (round(window.height() * ratio), round(window.width() * ratio))
         assert _has_colour(grabbed, BACKGROUND) and _has_colour(grabbed, MESH)
     finally:
-        # Release the VTK render window and its GL context while the Qt widget still exists;
-        # leaving it to garbage collection at exit can crash or print X/GL errors.
+        # Release the VTK render window and its GL context while the Qt widget and the X
+        # connection still exist, rather than relying on teardown/garbage-collection order.
         interactor.close()
