@@ -1,0 +1,1 @@
+"""barymesh desktop program and command line (Qt, pyvista); the mesher itself is in core."""
