@@ -191,8 +191,12 @@ def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTempla
         tris.append(tri + len(bary) * len(tris))
     uv, triangles = _merge_exact(np.concatenate(pts), np.concatenate(tris))
     segments = subdivisions if scheme == "uniform" else 2**subdivisions
-    # Canonical vertex order: by v, then u (the grid index b (n + 1) + a when uniform).
-    order = np.lexsort((uv[:, 0], uv[:, 1]))
+    if scheme == "uniform":
+        uv = np.round(uv * segments) / segments  # exact grid values, whichever primary made them
+    # Canonical vertex order: by v, then u (the grid index b (n + 1) + a when uniform),
+    # compared on integer keys so that rounding noise cannot reorder a row.
+    key = np.round(uv * 2**40).astype(np.int64)
+    order = np.lexsort((key[:, 0], key[:, 1]))
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     uv, triangles = uv[order], rank[triangles].astype(INDEX)
