@@ -1,1 +1,1 @@
-"""barymesh desktop program and command line (Qt, pyvista); the mesher itself is in core."""
+"""barymesh application layer: the command line (``app.cli``) and the desktop window."""
