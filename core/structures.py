@@ -8,7 +8,8 @@ Paper mode is the paper's Eqs. 28–35: axis-aligned patches whose lower-left
 corner is (r cos θ, r sin θ) for θ = 0, Δθ, 2Δθ, … below 360°, welded by the
 metric constraint. Conforming mode cuts each ring's band [r, r + patch_size]
 into sectors no wider than ``angle_step`` whose vertices lie on the true
-circles; neighbouring sectors are glued topologically (exactly).
+circles (at most 120° wide, so a closed ring has at least three);
+neighbouring sectors are glued topologically (exactly).
 """
 
 from __future__ import annotations
@@ -22,6 +23,9 @@ from .params import DOUBLE_STRUCTURES, MeshParams
 from .subdivision import PatchTemplate, patch_template
 from .weld import merge_pairs, weld_lattice_patches, weld_points
 
+#: Widest conforming sector: a closed ring has at least three sectors, so no
+#: straight chord spans half a circle.
+MAX_SECTOR_DEG = 120.0
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
 
@@ -180,15 +184,16 @@ def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
     slot axis; the slot sides are added per radius by :func:`_arc_angles`.
     """
     directions = _gap_directions(params)
+    step = min(params.angle_step, MAX_SECTOR_DEG)
     if not directions:
-        return [(0.0, 360.0, True)], _count(360.0, params.angle_step)
+        return [(0.0, 360.0, True)], _count(360.0, step)
     phi = params.gap_angle
     if len(directions) == 1:
         arcs = [(phi, phi + 360.0, False)]
     else:
         arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
     widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
-    return arcs, _count(widest, params.angle_step)
+    return arcs, _count(widest, step)
 
 
 def _outermost(params: MeshParams) -> float:
