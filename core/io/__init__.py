@@ -1,8 +1,47 @@
 """Mesh files in and out: Gmsh, VTK, STL, OBJ, Makarov's .mat, RWG tables.
 
 Pure Python over numpy, scipy.io and meshio; no Qt, VTK or pyvista.
+
+>>> import tempfile, pathlib
+>>> from core import MeshParams, build_mesh
+>>> mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0))
+>>> folder = pathlib.Path(tempfile.mkdtemp())
+>>> _ = write_mesh(mesh, folder / "patch.msh")
+>>> read_mesh(folder / "patch.msh").stats()["triangles"]
+32
 """
 
-from .atomic import ExportError, atomic_path, atomic_write
+from .atomic import ExportError, atomic_path, atomic_write, atomic_write_bytes, atomic_write_text
+from .export import (
+    EXPORT_EXTENSIONS,
+    EXPORT_FORMATS,
+    ExportFormat,
+    describe_export,
+    export_format,
+    export_unit,
+    write_mesh,
+)
+from .import_ import IMPORT_EXTENSIONS, IMPORT_FORMATS, MeshFileError, read_mesh
+from .units import PER_MM, UNITS, per_mm
 
-__all__ = ["ExportError", "atomic_path", "atomic_write"]
+__all__ = [
+    "EXPORT_EXTENSIONS",
+    "EXPORT_FORMATS",
+    "IMPORT_EXTENSIONS",
+    "IMPORT_FORMATS",
+    "PER_MM",
+    "UNITS",
+    "ExportError",
+    "ExportFormat",
+    "MeshFileError",
+    "atomic_path",
+    "atomic_write",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "describe_export",
+    "export_format",
+    "export_unit",
+    "per_mm",
+    "read_mesh",
+    "write_mesh",
+]

@@ -1,0 +1,114 @@
+"""Write a mesh to a file whose extension picks the format, atomically and in a chosen unit."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..mesh import TriMesh
+from .atomic import ExportError, atomic_path
+from .makarov import write_makarov
+from .meshio_formats import write_meshio
+from .rwg import write_rwg_csv, write_rwg_npz
+from .units import per_mm
+from .vtp import write_vtp
+
+
+@dataclass(frozen=True)
+class ExportFormat:
+    """One file format we write: its name, default unit and a line for users."""
+
+    name: str
+    default_unit: str
+    notes: str
+
+
+EXPORT_FORMATS = {
+    ".msh": ExportFormat(
+        "Gmsh MSH 2.2 ASCII", "mm",
+        "physical tag = region, elementary tag = patch + 1 (scuff-em, bempp-cl, OpenModes)",
+    ),
+    ".vtu": ExportFormat("VTK XML unstructured grid", "mm", "cell data: quality, region, patch"),
+    ".vtp": ExportFormat("VTK XML polydata", "mm", "cell data: quality, region, patch"),
+    ".vtk": ExportFormat("VTK legacy", "mm", "cell data: quality, region, patch"),
+    ".stl": ExportFormat("STL ASCII", "mm", "triangles only"),
+    ".obj": ExportFormat("Wavefront OBJ", "mm", "triangles only"),
+    ".mat": ExportFormat("MATLAB p/t (Makarov)", "m", "p 3xN, t 4xM 1-based, row 4 = 1"),
+    ".npz": ExportFormat("RWG table + connectivity (NumPy)", "mm", "0-based indices"),
+    ".csv": ExportFormat(
+        "RWG table + connectivity (CSV)", "mm", "also NAME_connectivity.csv, NAME_centroids.csv"
+    ),
+}
+EXPORT_EXTENSIONS = tuple(EXPORT_FORMATS)
+
+
+def export_format(path: str | Path) -> ExportFormat:
+    """The format of ``path`` from its extension; ``ValueError`` if we cannot write it."""
+    ext = Path(path).suffix.lower()
+    try:
+        return EXPORT_FORMATS[ext]
+    except KeyError:
+        raise ValueError(
+            f"{path}: cannot write {ext or 'files without an extension'}; "
+            f"expected one of {', '.join(EXPORT_EXTENSIONS)}"
+        ) from None
+
+
+def export_unit(path: str | Path, unit: str | None = None) -> str:
+    """The unit a write of ``path`` uses: ``unit``, else the format's default."""
+    fmt = export_format(path)
+    if unit is None:
+        return fmt.default_unit
+    per_mm(unit)  # validates
+    return unit
+
+
+def describe_export(path: str | Path, unit: str | None = None) -> str:
+    """``"out.msh (Gmsh MSH 2.2 ASCII, mm)"`` for messages."""
+    return f"{path} ({export_format(path).name}, {export_unit(path, unit)})"
+
+
+def write_mesh(mesh: TriMesh, path: str | Path, unit: str | None = None) -> Path:
+    """Write ``mesh`` to ``path``; the extension picks the format (see ``EXPORT_FORMATS``).
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        Coordinates in mm.
+    path : str or Path
+    unit : {"m", "mm", "um"}, optional
+        Length unit of the file; default ``"mm"``, except ``.mat`` (``"m"``).
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        For an extension or a unit we do not know.
+    ExportError
+        When the file cannot be written (the message names the path and why).
+        The write is atomic: the target is either the complete new file or
+        untouched.
+    """
+    path = Path(path)
+    ext = path.suffix.lower()
+    u = export_unit(path, unit)
+    factor = per_mm(u)
+    if ext == ".csv":
+        write_rwg_csv(mesh, path, factor, u)
+        return path
+    with atomic_path(path) as tmp:
+        if ext == ".mat":
+            write_makarov(mesh, tmp, factor)
+        elif ext == ".npz":
+            write_rwg_npz(mesh, tmp, factor, u)
+        elif ext == ".vtp":
+            write_vtp(mesh, tmp, factor)
+        else:
+            write_meshio(mesh, tmp, ext, factor)
+        if not tmp.exists():
+            raise ExportError(f"cannot write {path}: the writer produced no file")
+    return path

@@ -1,0 +1,176 @@
+"""Read triangle meshes from Gmsh, VTK, STL, OBJ and Makarov ``.mat`` files.
+
+Only triangles are meshed surfaces: other cells are skipped and counted in
+``TriMesh.ignored_cells``. Coordinates are converted to mm. The result is a
+``TriMesh`` with ``mode="imported"``, so the same topology analysis (edges,
+RWG table, quality) runs as for our own meshes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from ..mesh import TriMesh
+from ..topology import INDEX
+from .makarov import read_makarov
+from .units import per_mm
+from .vtp import read_vtp
+
+log = logging.getLogger(__name__)
+
+#: Extension -> (format name, meshio file format or None for our own reader).
+IMPORT_FORMATS = {
+    ".msh": ("Gmsh MSH 2.2/4.1, ASCII or binary", "gmsh"),
+    ".vtk": ("VTK legacy", "vtk"),
+    ".vtu": ("VTK XML unstructured grid", "vtu"),
+    ".vtp": ("VTK XML polydata", None),
+    ".stl": ("STL, ASCII or binary", "stl"),
+    ".obj": ("Wavefront OBJ", "obj"),
+    ".mat": ("MATLAB p/t (Makarov)", None),
+}
+IMPORT_EXTENSIONS = tuple(IMPORT_FORMATS)
+#: Cell data names that hold our regions and patches (ours first, then Gmsh's tags).
+_REGION_KEYS = ("region", "gmsh:physical")
+_PATCH_KEYS = ("patch_id", "gmsh:geometrical")
+
+
+class MeshFileError(ValueError):
+    """A mesh file cannot be imported; the message names the file and the problem."""
+
+
+def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
+    """Import the triangles of a mesh file.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.msh``, ``.vtk``, ``.vtu``, ``.vtp``, ``.stl``, ``.obj`` or ``.mat``.
+    unit : {"m", "mm", "um"}, optional
+        Length unit of the file's coordinates; default mm, but m for ``.mat``.
+
+    Returns
+    -------
+    TriMesh
+        Coordinates in mm, ``mode="imported"``; regions and patches from the
+        file's cell data where it has them (ours, or Gmsh's physical and
+        elementary tags), else one region and one patch.
+
+    Raises
+    ------
+    MeshFileError
+        (a ``ValueError``) for a missing, damaged, empty or unsupported file.
+    """
+    path = Path(path)
+    ext = path.suffix.lower()
+    if ext not in IMPORT_FORMATS:
+        raise MeshFileError(
+            f"{path}: cannot read {ext or 'files without an extension'}; "
+            f"expected one of {', '.join(IMPORT_EXTENSIONS)}"
+        )
+    name, meshio_format = IMPORT_FORMATS[ext]
+    if unit is None:
+        unit = "m" if ext == ".mat" else "mm"
+    to_mm = 1.0 / per_mm(unit)
+    if not path.is_file():
+        what = "is a folder" if path.is_dir() else "does not exist"
+        raise MeshFileError(f"{path}: the file {what}")
+    if path.stat().st_size == 0:
+        raise MeshFileError(f"{path}: the file is empty")
+    try:
+        if ext == ".mat":
+            points, triangles, regions = read_makarov(path)
+            patch_ids, ignored = None, {}
+        elif ext == ".vtp":
+            points, triangles, data, ignored = read_vtp(path)
+            regions, patch_ids = _first(data, _REGION_KEYS), _first(data, _PATCH_KEYS)
+        else:
+            points, triangles, regions, patch_ids, ignored = _read_meshio(path, meshio_format)
+    except MeshFileError:
+        raise
+    except MemoryError:
+        raise MeshFileError(f"{path}: too large to read into memory") from None
+    except Exception as exc:  # every parser failure becomes one clear message
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise MeshFileError(f"{path}: not a readable {name} file ({reason})") from None
+    return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
+
+
+def _first(data: dict, keys: tuple[str, ...]) -> np.ndarray | None:
+    for key in keys:
+        if key in data:
+            return np.asarray(data[key]).reshape(-1)
+    return None
+
+
+def _read_meshio(path: Path, file_format: str):
+    import meshio
+
+    with contextlib.redirect_stderr(io.StringIO()) as noise:  # meshio warns through rich
+        m = meshio.read(path, file_format=file_format)
+    if noise.getvalue().strip():
+        log.info("meshio on %s: %s", path, noise.getvalue().strip())
+    triangles, regions, patches, ignored = [], [], [], {}
+    for k, block in enumerate(m.cells):
+        if block.type != "triangle":
+            ignored[block.type] = ignored.get(block.type, 0) + len(block.data)
+            continue
+        triangles.append(np.asarray(block.data, dtype=np.int64))
+        data = {key: values[k] for key, values in m.cell_data.items()}
+        regions.append(_first(data, _REGION_KEYS))
+        patches.append(_first(data, _PATCH_KEYS))
+    tri = np.concatenate(triangles) if triangles else np.empty((0, 3), dtype=np.int64)
+    reg = np.concatenate(regions) if triangles and all(r is not None for r in regions) else None
+    pat = np.concatenate(patches) if triangles and all(p is not None for p in patches) else None
+    return np.asarray(m.points, dtype=np.float64), tri, reg, pat, ignored
+
+
+def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> TriMesh:
+    points = np.asarray(points, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] not in (2, 3):
+        raise MeshFileError(f"{path}: points have shape {points.shape}; expected (V, 3)")
+    if not np.all(np.isfinite(points)):
+        raise MeshFileError(f"{path}: some coordinates are not finite numbers")
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    if len(triangles) == 0:
+        skipped = ", ".join(f"{n} {kind}" for kind, n in sorted(ignored.items()))
+        extra = f" (only {skipped} cells, which are not surfaces)" if skipped else ""
+        raise MeshFileError(f"{path}: the file holds no triangles{extra}")
+    if triangles.min() < 0 or triangles.max() >= len(points):
+        raise MeshFileError(
+            f"{path}: triangles refer to vertex {int(triangles.max())} but there are "
+            f"{len(points)} vertices"
+        )
+    # keep only the vertices the triangles use (files often carry extra nodes)
+    used, inverse = np.unique(triangles, return_inverse=True)
+    if len(used) < len(points):
+        log.info("%s: dropped %d vertices no triangle uses", path, len(points) - len(used))
+    points = points[used]
+    triangles = inverse.reshape(-1, 3)
+    n = len(triangles)
+    regions = _labels(regions, n, default=1)
+    patch_ids = _labels(patch_ids, n, default=0)  # renumbered 0.. below (Gmsh tags are 1..)
+    _, patch_ids = np.unique(patch_ids, return_inverse=True)
+    return TriMesh(
+        points=points * to_mm,
+        triangles=triangles.astype(INDEX),
+        patch_ids=patch_ids.reshape(-1).astype(INDEX),
+        regions=regions.astype(INDEX),
+        n_patches=int(patch_ids.max()) + 1,
+        mode="imported",
+        tolerance=0.0,
+        ignored_cells=dict(ignored),
+    )
+
+
+def _labels(values: np.ndarray | None, n: int, default: int) -> np.ndarray:
+    if values is None or len(values) != n:
+        return np.full(n, default, dtype=np.int64)
+    values = np.asarray(values)
+    if not np.issubdtype(values.dtype, np.number) or not np.all(np.isfinite(values)):
+        return np.full(n, default, dtype=np.int64)
+    return np.asarray(values, dtype=np.int64)
