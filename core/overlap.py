@@ -41,7 +41,8 @@ def union_area(rects: np.ndarray) -> float:
         b = np.minimum(stop, hi)
         count = np.clip(b - a, 0, None)
         rect = np.repeat(np.arange(len(rects)), count)
-        slab = np.repeat(a, count) + (np.arange(len(rect)) - np.repeat(np.cumsum(count) - count, count))
+        before_rect = np.repeat(np.cumsum(count) - count, count)
+        slab = np.repeat(a, count) + (np.arange(len(rect)) - before_rect)
         order = np.lexsort((y0[rect], slab))
         rect, slab = rect[order], slab[order]
         # shift each slab into its own band so one running maximum serves all slabs

@@ -42,7 +42,9 @@ def _positive(name: str, value: Any) -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number; expected a positive length in mm")
+        raise ValueError(
+            f"{name}={value!r} is not a number; expected a positive length in mm"
+        ) from None
     if not math.isfinite(x) or x <= 0:
         raise ValueError(f"{name}={value!r} is invalid; expected a finite length > 0 mm")
     return x
@@ -52,7 +54,7 @@ def _finite(name: str, value: Any) -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number")
+        raise ValueError(f"{name}={value!r} is not a number") from None
     if not math.isfinite(x):
         raise ValueError(f"{name}={value!r} is invalid; expected a finite number")
     return x
@@ -68,7 +70,9 @@ def _point(name: str, value: Any) -> tuple[float, float]:
     try:
         x, y = value
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is invalid; expected two numbers (x, y) in mm")
+        raise ValueError(
+            f"{name}={value!r} is invalid; expected two numbers (x, y) in mm"
+        ) from None
     return (_finite(name, x), _finite(name, y))
 
 
@@ -170,6 +174,11 @@ class MeshParams:
         if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
             raise ValueError(f"max_triangles={budget!r} is invalid; expected an integer >= 1")
         predicted = self.predicted_triangles()
+        if predicted == 0:
+            raise ValueError(
+                f"gap_width={self.gap_width!r} mm removes every patch of the {self.structure}; "
+                "the slot must leave metal on both sides: use a narrower gap or larger radii"
+            )
         if predicted > budget:
             raise ValueError(
                 f"these parameters would make {predicted:,} triangles, above the budget "
@@ -227,6 +236,16 @@ class MeshParams:
             raise ValueError(
                 f"outer_radius={self.outer_radius!r} mm makes the rings overlap in conforming "
                 f"mode; expected outer_radius >= inner_radius + patch_size = "
+                f"{self.inner_radius + self.patch_size:g} mm"
+            )
+        if (
+            s == "square_split_double_ring"
+            and self.mode == "conforming"
+            and self.outer_radius <= self.inner_radius + self.patch_size + 1e-9 * self.outer_radius
+        ):
+            raise ValueError(
+                f"outer_radius={self.outer_radius!r} mm makes the square tracks touch; conforming "
+                f"square rings need a gap between them: expected outer_radius > "
                 f"{self.inner_radius + self.patch_size:g} mm"
             )
         if s in SPLIT_STRUCTURES and self.gap_width >= 2 * self.inner_radius:

@@ -37,7 +37,7 @@ def min_angles_deg(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 
 
 def aspect_ratios(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """(T,) float64 longest edge over the height of an equilateral triangle's ratio.
+    """(T,) float64 aspect ratio of each triangle.
 
     Defined as l_max (l_0 + l_1 + l_2) / (4 √3 A): 1 for an equilateral
     triangle, growing without bound as a triangle flattens.

@@ -23,10 +23,13 @@ def assert_topology_matches_generic(mesh):
     assert edge_sets(fast.edges, fast.valence) == edge_sets(slow.edges, slow.valence)
     # each triangle side maps to the same vertex pair in both
     assert np.array_equal(fast.edges[fast.triangle_edges], slow.edges[slow.triangle_edges])
+
     # same triangles on each edge
-    f = {tuple(e): tuple(t) for e, t in zip(fast.edges.tolist(), fast.edge_triangles.tolist())}
-    s = {tuple(e): tuple(t) for e, t in zip(slow.edges.tolist(), slow.edge_triangles.tolist())}
-    assert f == s
+    def incidence(topo):
+        pairs = zip(topo.edges.tolist(), topo.edge_triangles.tolist(), strict=True)
+        return {tuple(e): tuple(t) for e, t in pairs}
+
+    assert incidence(fast) == incidence(slow)
 
 
 def components(mesh):

@@ -71,6 +71,14 @@ def test_triangle_vertices_round_trip():
             "gap_angle=45.0 is not supported for conforming square rings",
         ),
         (
+            {"structure": "split_ring", "inner_radius": 1, "gap_width": 1.9, "gap_angle": 3},
+            "gap_width=1.9 mm removes every patch of the split_ring",
+        ),
+        (
+            {"structure": "square_split_double_ring", "mode": "conforming", "outer_radius": 5},
+            "outer_radius=5.0 mm makes the square tracks touch",
+        ),
+        (
             {"structure": "triangle", "triangle_vertices": ((0, 0), (1, 1), (2, 2))},
             "are collinear",
         ),
@@ -84,8 +92,11 @@ def test_invalid_values_are_named(changes, message):
 
 
 def test_budget_refuses_before_building_and_names_the_count():
-    with pytest.raises(ValueError, match=r"would make 5,760,000 triangles, above the budget "
-                       r"max_triangles=5,000,000"):
+    with pytest.raises(
+        ValueError,
+        match=r"would make 5,760,000 triangles, above the budget "
+        r"max_triangles=5,000,000",
+    ):
         MeshParams(angle_step=0.1, subdivisions=20)  # 7200 patches * 800 = 5.76M
     p = MeshParams(angle_step=10, max_triangles=2304)
     assert p.predicted_triangles() == 2304

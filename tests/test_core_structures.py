@@ -11,8 +11,14 @@ from tests.helpers import assert_topology_matches_generic, components, signed_ar
 
 def counts(mesh):
     s = mesh.stats()
-    return s["patches"], s["triangles"], s["vertices"], s["edges"], s["interior_edges"], \
-        s["boundary_edges"]
+    return (
+        s["patches"],
+        s["triangles"],
+        s["vertices"],
+        s["edges"],
+        s["interior_edges"],
+        s["boundary_edges"],
+    )
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6, 9])
@@ -47,7 +53,7 @@ def test_rectangular_patch_and_origin():
 @pytest.mark.parametrize("diagonal", ["BC", "AD"])
 def test_diagonal_choice(diagonal):
     mesh = build_mesh(MeshParams(structure="patch", subdivisions=1, diagonal=diagonal))
-    (a, b), = [tuple(e) for e in mesh.edges[mesh.interior_edges]]
+    ((a, b),) = [tuple(e) for e in mesh.edges[mesh.interior_edges]]
     ends = {tuple(mesh.points[a, :2]), tuple(mesh.points[b, :2])}
     assert ends == ({(1.0, 0.0), (0.0, 1.0)} if diagonal == "BC" else {(0.0, 0.0), (1.0, 1.0)})
 
@@ -63,7 +69,7 @@ def test_paper_fig12_double_rings(patch_size, angle_step, patches, triangles):
     s = mesh.stats()
     assert (s["patches"], s["triangles"]) == (patches, triangles)
     assert p.predicted_triangles() == triangles
-    # patches do not share vertices at these angles: each keeps its own 25 vertices and 40 shared edges
+    # patches share no vertices at these angles: each keeps 25 vertices and 40 shared edges
     assert s["vertices"] == 25 * patches
     assert s["interior_edges"] == 40 * patches
     assert s["junction_edges"] == 0
@@ -98,8 +104,9 @@ def test_conforming_ring_issue_example():
 @pytest.mark.parametrize("n", [1, 2, 4])
 def test_conforming_ring_formula(angle_step, n):
     m = max(3, math.ceil(360 / angle_step - 1e-9))  # at least three sectors
-    mesh = build_mesh(MeshParams(structure="ring", mode="conforming", angle_step=angle_step,
-                                 subdivisions=n))
+    mesh = build_mesh(
+        MeshParams(structure="ring", mode="conforming", angle_step=angle_step, subdivisions=n)
+    )
     cols = m * n
     assert mesh.n_triangles == 2 * n * n * m
     assert mesh.n_vertices == (n + 1) * cols
@@ -112,7 +119,12 @@ def test_conforming_ring_formula(angle_step, n):
 def test_conforming_double_ring_is_two_closed_rings():
     mesh = build_mesh(MeshParams(mode="conforming", angle_step=10))
     s = mesh.stats()
-    assert (s["patches"], s["triangles"], s["euler_characteristic"], s["regions"]) == (72, 2304, 0, 2)
+    assert (s["patches"], s["triangles"], s["euler_characteristic"], s["regions"]) == (
+        72,
+        2304,
+        0,
+        2,
+    )
     assert components(mesh) == 2
     assert set(np.unique(mesh.regions)) == {1, 2}
     assert "overlap_ratio" not in s
@@ -136,8 +148,9 @@ def _slot_distance(points, angle):
 
 @pytest.mark.parametrize("gap_angle", [0, 33, 180, 270])
 def test_conforming_split_ring_ends_on_slot_sides(gap_angle):
-    p = MeshParams(structure="split_ring", mode="conforming", angle_step=10, gap_width=1.2,
-                   gap_angle=gap_angle)
+    p = MeshParams(
+        structure="split_ring", mode="conforming", angle_step=10, gap_width=1.2, gap_angle=gap_angle
+    )
     mesh = build_mesh(p)
     s = mesh.stats()
     assert s["euler_characteristic"] == 1 and s["junction_edges"] == 0
@@ -179,7 +192,9 @@ def test_paper_split_rings_drop_patches_in_the_slot(gap_angle):
     dropped = _rect_in_slot(whole.patch_rects, gap_angle, 1.0, False)
     assert dropped.sum() > 0
     assert split.n_patches == whole.n_patches - dropped.sum()
-    double = build_mesh(MeshParams(structure="split_double_ring", angle_step=5, gap_angle=gap_angle))
+    double = build_mesh(
+        MeshParams(structure="split_double_ring", angle_step=5, gap_angle=gap_angle)
+    )
     assert not _rect_in_slot(double.patch_rects, gap_angle, 1.0, True).any()
 
 
@@ -195,8 +210,13 @@ def test_conforming_doubly_split_double_ring():
 @pytest.mark.parametrize("mode", ["paper", "conforming"])
 @pytest.mark.parametrize("gap_angle", [0, 90])
 def test_square_doubly_split_double_ring(mode, gap_angle):
-    p = MeshParams(structure="square_split_double_ring", mode=mode, gap_angle=gap_angle,
-                   inner_radius=4, outer_radius=6)
+    p = MeshParams(
+        structure="square_split_double_ring",
+        mode=mode,
+        gap_angle=gap_angle,
+        inner_radius=4,
+        outer_radius=6,
+    )
     mesh = build_mesh(p)
     # two square rings, each cut by two slots: four pieces, each a disc
     assert components(mesh) == 4
@@ -222,8 +242,9 @@ def test_equilateral_triangle():
 
 
 def test_triangle_from_any_vertices_keeps_orientation():
-    mesh = build_mesh(MeshParams(structure="triangle", triangle_vertices=((0, 0), (0, 4), (3, 0)),
-                                 subdivisions=3))
+    mesh = build_mesh(
+        MeshParams(structure="triangle", triangle_vertices=((0, 0), (0, 4), (3, 0)), subdivisions=3)
+    )
     assert mesh.n_triangles == 9
     assert (signed_areas(mesh) > 0).all()
     assert mesh.stats()["area"] == pytest.approx(6.0)
@@ -237,8 +258,13 @@ def test_triangle_from_any_vertices_keeps_orientation():
         {"structure": "split_double_ring", "mode": "conforming", "angle_step": 10},
         {"structure": "square_split_double_ring"},
         {"structure": "patch", "scheme": "barycentric", "subdivisions": 2},
-        {"structure": "ring", "mode": "conforming", "scheme": "barycentric", "subdivisions": 2,
-         "angle_step": 15},
+        {
+            "structure": "ring",
+            "mode": "conforming",
+            "scheme": "barycentric",
+            "subdivisions": 2,
+            "angle_step": 15,
+        },
     ],
 )
 def test_every_triangle_is_counter_clockwise_and_non_degenerate(kw):
@@ -247,8 +273,11 @@ def test_every_triangle_is_counter_clockwise_and_non_degenerate(kw):
 
 
 def test_barycentric_conforming_ring_is_manifold():
-    mesh = build_mesh(MeshParams(structure="ring", mode="conforming", scheme="barycentric",
-                                 subdivisions=2, angle_step=15))
+    mesh = build_mesh(
+        MeshParams(
+            structure="ring", mode="conforming", scheme="barycentric", subdivisions=2, angle_step=15
+        )
+    )
     assert mesh.n_triangles == 24 * 2 * 36
     assert mesh.topology.valence.max() == 2
     assert mesh.stats()["euler_characteristic"] == 0

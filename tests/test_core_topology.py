@@ -50,11 +50,15 @@ def test_rwg_table_follows_makarov_convention(kw):
         assert ((tri == rwg.vertices[:, :1]).any(1) & (tri == rwg.vertices[:, 1:]).any(1)).all()
         assert (tri == free[:, None]).any(1).all()
         assert ((free != rwg.vertices[:, 0]) & (free != rwg.vertices[:, 1])).all()
-    expect = np.linalg.norm(mesh.points[rwg.vertices[:, 0]] - mesh.points[rwg.vertices[:, 1]], axis=1)
+    expect = np.linalg.norm(
+        mesh.points[rwg.vertices[:, 0]] - mesh.points[rwg.vertices[:, 1]], axis=1
+    )
     assert np.allclose(rwg.length, expect)
     # the RWG basis function's divergence integrates to zero over T+ and T- (l - l)
-    assert np.allclose(rwg.length / mesh.areas[rwg.t_plus] * mesh.areas[rwg.t_plus],
-                       rwg.length / mesh.areas[rwg.t_minus] * mesh.areas[rwg.t_minus])
+    assert np.allclose(
+        rwg.length / mesh.areas[rwg.t_plus] * mesh.areas[rwg.t_plus],
+        rwg.length / mesh.areas[rwg.t_minus] * mesh.areas[rwg.t_minus],
+    )
 
 
 def test_paper_fig10_connectivity_matrix_rows():
@@ -72,11 +76,20 @@ def test_junction_edges_are_reported_not_dropped():
     tris = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
     mesh = TriMesh(points, tris, np.zeros(3), np.ones(3), 1, mode="imported")
     s = mesh.stats()
-    assert (s["edges"], s["junction_edges"], s["interior_edges"], s["boundary_edges"]) == (7, 1, 0, 6)
+    assert (s["edges"], s["junction_edges"], s["interior_edges"], s["boundary_edges"]) == (
+        7,
+        1,
+        0,
+        6,
+    )
     junction = mesh.junction_edges[0]
     assert mesh.edges[junction].tolist() == [0, 1]
     assert mesh.topology.valence[junction] == 3
-    assert mesh.topology.junction_incidence.tolist() == [[junction, 0], [junction, 1], [junction, 2]]
+    assert mesh.topology.junction_incidence.tolist() == [
+        [junction, 0],
+        [junction, 1],
+        [junction, 2],
+    ]
     assert len(mesh.rwg) == 0  # no RWG function on a junction
     # the three triangles at the junction are all connected to each other
     assert mesh.connectivity.toarray().tolist() == [[0, 1, 1], [1, 0, 1], [1, 1, 0]]
