@@ -23,7 +23,7 @@ def min_angles_deg(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     Examples
     --------
     >>> pts = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
-    >>> float(min_angles_deg(pts, np.array([[0, 1, 2]]))[0])
+    >>> round(float(min_angles_deg(pts, np.array([[0, 1, 2]]))[0]), 9)
     45.0
     """
     sides = side_lengths(points, triangles)
