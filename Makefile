@@ -23,7 +23,12 @@ run: $(STAMP) system-deps
 test: $(STAMP) system-deps
 	$(BIN)/python -m pytest
 
+# The gmsh wheel links X11/OpenGL libraries even when it runs headless.
+GMSH_DEPS := libglu1-mesa libxcursor1 libxft2 libxinerama1 libxrender1 libxfixes3 libxext6 \
+	libfontconfig1 libgomp1
+
 bench: $(STAMP)
+	@bash scripts/system-deps.sh $(GMSH_DEPS)
 	$(BIN)/python -m pip install --quiet -e '.[app,test,bench]'
 	$(BIN)/python benchmarks/mesher.py
 

@@ -23,6 +23,8 @@ PACKAGES=(
     # some font, or Qt and VTK draw no text
     fonts-dejavu-core
 )
+# Extra packages a make target needs beyond these, e.g. `make bench` (the gmsh wheel).
+PACKAGES+=("$@")
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
     echo "system-deps: not a Debian-based system; install the equivalents of:" >&2

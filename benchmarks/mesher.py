@@ -1,0 +1,472 @@
+"""Mesher throughput: barymesh against the pipelines users would otherwise assemble.
+
+Every workload is one structure at about 10k, 100k, 1M and 4M triangles. "Ours"
+is the whole build from parameters: ``build_mesh`` (points, triangles) plus
+centroids, edges, the RWG table with free vertices and the connectivity matrix.
+
+Peer (a), from the same primary triangles (two per patch or sector, corner
+coordinates taken from our welded mesh, one unshared copy per patch):
+pyvista ``subdivide(k, "linear")`` (4**k sub-triangles per primary, so it
+matches our n = 2**k) + ``clean()`` + ``cell_centers()`` + trimesh
+``face_adjacency``, ``face_adjacency_unshared``, ``face_adjacency_edges`` + edge
+lengths + a scipy CSR connectivity matrix. ``clean()`` merges exactly equal
+points ("exact", its fastest configuration, correct here because shared
+corners are bitwise equal) and, on the paper ring up to 1M triangles, also
+with our weld tolerance ("tol").
+
+Peer (b): gmsh's default 2D mesher on the conforming split ring's geometry
+(an annulus cut by a straight slot) at a matching triangle count; its minimum
+angle is reported beside ours.
+
+Method: warm-up, then ours and the peers alternate (A B A B ...) for
+``--reps`` repetitions; medians and min-max are reported. Before timing, the
+triangle, welded-vertex and shared-edge counts of ours and peer (a) are
+asserted equal. Our peak memory ("MiB", "B/tri") is tracemalloc's peak over
+one extra build, exact for numpy buffers. For the peers, whose C++
+allocations tracemalloc cannot see, the note gives the growth of the
+process's peak resident set (``VmHWM``, reset through
+``/proc/self/clear_refs``) during one extra run, beside ours measured the
+same way.
+
+Usage::
+
+    python benchmarks/mesher.py                      # all sizes, table on stdout
+    python benchmarks/mesher.py --sizes 10k,100k --reps 3 --json out.json
+    python benchmarks/mesher.py --quick              # smallest size, 2 reps (tests)
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import math
+import os
+import platform
+import statistics
+import sys
+import time
+import tracemalloc
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from core import MeshParams, build_mesh  # noqa: E402
+from core.quality import min_angles_deg  # noqa: E402
+from core.structures import layout  # noqa: E402
+
+SIZES = ("10k", "100k", "1M", "4M")
+
+#: (subdivisions, angle_step) of the paper's double ring (inner 4, outer 9, patch 1 mm).
+RING = {"10k": (4, 2.5), "100k": (8, 0.9), "1M": (16, 0.36), "4M": (32, 0.36)}
+#: (subdivisions, patch_size) of the square patch array (square split double ring).
+ARRAY = {"10k": (4, 0.25), "100k": (8, 0.125), "1M": (16, 0.05), "4M": (32, 0.05)}
+#: (inner_radius, subdivisions) of the conforming split ring for gmsh; near-square sectors.
+SPLIT = {"10k": (4.0, 14), "100k": (20.0, 20), "1M": (20.0, 63), "4M": (80.0, 63)}
+#: The tolerance variant of peer (a) is ~8x slower; run it up to this size.
+TOL_SIZES = ("10k", "100k", "1M")
+
+
+@dataclass
+class Workload:
+    name: str
+    size: str
+    params: MeshParams
+    peers: list[str]
+    results: dict = field(default_factory=dict)
+
+
+def workloads(sizes: list[str], with_gmsh: bool) -> list[Workload]:
+    out = []
+    for size in sizes:
+        n, step = RING[size]
+        peers = ["a-exact"] + (["a-tol"] if size in TOL_SIZES else [])
+        out.append(
+            Workload(
+                "paper double ring",
+                size,
+                MeshParams(structure="double_ring", mode="paper", subdivisions=n, angle_step=step),
+                peers,
+            )
+        )
+        out.append(
+            Workload(
+                "conforming double ring",
+                size,
+                MeshParams(
+                    structure="double_ring", mode="conforming", subdivisions=n, angle_step=step
+                ),
+                ["a-exact"],
+            )
+        )
+        n, h = ARRAY[size]
+        out.append(
+            Workload(
+                "square patch array",
+                size,
+                MeshParams(
+                    structure="square_split_double_ring",
+                    mode="paper",
+                    subdivisions=n,
+                    patch_size=h,
+                    gap_width=1.0,
+                ),
+                ["a-exact"],
+            )
+        )
+        if with_gmsh:
+            r, n = SPLIT[size]
+            h = 1.0
+            step = math.degrees(h / (r + h / 2))  # sectors about as long as they are wide
+            out.append(
+                Workload(
+                    "conforming split ring",
+                    size,
+                    MeshParams(
+                        structure="split_ring",
+                        mode="conforming",
+                        inner_radius=r,
+                        outer_radius=r + 5 * h,
+                        patch_size=h,
+                        subdivisions=n,
+                        angle_step=step,
+                        gap_width=1.0,
+                    ),
+                    ["gmsh"],
+                )
+            )
+    return out
+
+
+# -- ours ------------------------------------------------------------------
+
+
+def ours(params: MeshParams) -> dict:
+    """The whole build: mesh, centroids, edges, RWG table, connectivity."""
+    mesh = build_mesh(params)
+    mesh.centroids  # noqa: B018
+    rwg = mesh.rwg  # needs the edges (topology)
+    conn = mesh.connectivity
+    return {
+        "mesh": mesh,
+        "triangles": mesh.n_triangles,
+        "vertices": mesh.n_vertices,
+        "shared_edges": len(rwg),
+        "edges": len(mesh.edges),
+        "nnz": conn.nnz,
+    }
+
+
+# -- peer (a): pyvista + trimesh + scipy -------------------------------------
+
+
+def primary_triangles(params: MeshParams):
+    """Our primary triangles as a pyvista PolyData, with the subdivision level k."""
+    import pyvista as pv
+
+    lay = layout(params)
+    t = lay.template
+    if not t.lattice or t.segments & (t.segments - 1):
+        raise ValueError(f"subdivisions={t.segments} is not a power of two: VTK cannot match it")
+    corner = [
+        int(np.flatnonzero((np.abs(t.uv - c) < 1e-12).all(axis=1))[0])
+        for c in ([0, 0], [1, 0], [0, 1], [1, 1])
+    ]
+    flat = lay.xy.reshape(-1, 2)
+    welded = flat[lay.representative][lay.vertex_of_point].reshape(len(lay.xy), -1, 2)
+    corners = welded[:, corner].reshape(-1, 2)  # A, B, C, D of every patch
+    points = np.zeros((len(corners), 3))
+    points[:, :2] = corners
+    base = (np.arange(len(lay.xy)) * 4)[:, None]
+    if params.diagonal == "BC":
+        faces = np.concatenate([base + [0, 1, 2], base + [3, 2, 1]], axis=1)
+    else:
+        faces = np.concatenate([base + [0, 1, 3], base + [0, 3, 2]], axis=1)
+    k = int(round(math.log2(t.segments)))
+    return pv.PolyData.from_regular_faces(points, faces.reshape(-1, 3)), k
+
+
+def peer_a(poly, k: int, tolerance: float | None) -> dict:
+    """pyvista subdivide + clean + cell_centers, trimesh adjacency, scipy CSR."""
+    import trimesh
+
+    sub = poly.subdivide(k, "linear")
+    mesh = sub.clean(tolerance=tolerance) if tolerance else sub.clean()
+    centres = mesh.cell_centers().points
+    faces = mesh.regular_faces
+    tm = trimesh.Trimesh(vertices=mesh.points, faces=faces, process=False, validate=False)
+    adjacency = tm.face_adjacency  # (N, 2) triangles on each shared edge
+    free = tm.face_adjacency_unshared  # (N, 2) their free vertices
+    edges = tm.face_adjacency_edges  # (N, 2) the shared edges' vertices
+    v = tm.vertices
+    length = np.linalg.norm(v[edges[:, 1]] - v[edges[:, 0]], axis=1)
+    n = len(faces)
+    rows = np.concatenate([adjacency[:, 0], adjacency[:, 1]])
+    cols = np.concatenate([adjacency[:, 1], adjacency[:, 0]])
+    conn = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    del centres, free, length
+    return {
+        "triangles": n,
+        "vertices": mesh.n_points,
+        "shared_edges": len(adjacency),
+        "nnz": conn.nnz,
+    }
+
+
+# -- peer (b): gmsh ------------------------------------------------------------
+
+
+class Gmsh:
+    """gmsh's 2D mesher on the conforming split ring's geometry."""
+
+    def __init__(self, params: MeshParams, target: int) -> None:
+        import gmsh
+
+        self.gmsh = gmsh
+        self.params = params
+        if not gmsh.isInitialized():
+            gmsh.initialize(["-noenv"], readConfigFiles=False)
+        gmsh.option.setNumber("General.Terminal", 0)
+        r, h, g = params.inner_radius, params.patch_size, params.gap_width
+        area = math.pi * ((r + h) ** 2 - r**2) - g * h  # slot area, nearly
+        # equilateral triangles of side s: T = 4 A / (sqrt(3) s^2); calibrate once
+        size = math.sqrt(4 * area / (math.sqrt(3) * target))
+        for _ in range(2):
+            got = len(self.run(size)[1])
+            size *= math.sqrt(got / target)
+        self.size = size
+
+    def run(self, size: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        gmsh = self.gmsh
+        size = self.size if size is None else size
+        p = self.params
+        r, h, g = p.inner_radius, p.patch_size, p.gap_width
+        gmsh.clear()
+        occ = gmsh.model.occ
+        outer = occ.addDisk(0, 0, 0, r + h, r + h)
+        inner = occ.addDisk(0, 0, 0, r, r)
+        ring, _ = occ.cut([(2, outer)], [(2, inner)])
+        slot = occ.addRectangle(0, -g / 2, 0, r + 2 * h, g)
+        occ.rotate([(2, slot)], 0, 0, 0, 0, 0, 1, math.radians(p.gap_angle))
+        occ.cut(ring, [(2, slot)])
+        occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _, node_tags = gmsh.model.mesh.getElementsByType(2)
+        index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+        index[tags] = np.arange(len(tags))
+        return coords.reshape(-1, 3), index[node_tags.astype(np.int64)].reshape(-1, 3)
+
+
+# -- measurement -----------------------------------------------------------------
+
+
+def _status_kib(key: str) -> int:
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(key + ":"):
+                return int(line.split()[1])
+    raise KeyError(key)
+
+
+def peak_traced_mib(func: Callable[[], object]) -> float:
+    """Peak of Python and numpy allocations (MiB) while ``func`` runs (tracemalloc).
+
+    numpy reports its array buffers to tracemalloc, so this is exact for our
+    pure-numpy build; it does not see C++ allocations such as VTK's.
+    """
+    gc.collect()
+    tracemalloc.start()
+    try:
+        result = func()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    del result
+    return peak / 2**20
+
+
+def peak_rss_mib(func: Callable[[], object]) -> float | None:
+    """Growth of the peak resident set (MiB) while ``func`` runs, or None off Linux.
+
+    Sees every allocation (numpy, VTK, gmsh), but pages the allocator kept
+    from earlier runs are reused unseen, so it is a lower bound.
+    """
+    gc.collect()
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")  # reset VmHWM to the current resident set
+        before = _status_kib("VmRSS")
+    except (OSError, KeyError):
+        return None
+    result = func()
+    peak = _status_kib("VmHWM") - before
+    del result
+    return peak / 1024
+
+
+def timed(func: Callable[[], object]) -> float:
+    gc.collect()
+    t0 = time.perf_counter()
+    func()
+    return time.perf_counter() - t0
+
+
+def summary(times: list[float]) -> dict:
+    return {
+        "median": statistics.median(times),
+        "min": min(times),
+        "max": max(times),
+        "times": times,
+    }
+
+
+def run_workload(w: Workload, reps: int) -> None:
+    p = w.params
+    runners: dict[str, Callable[[], object]] = {"ours": lambda: ours(p)}
+    check = ours(p)
+    mesh = check.pop("mesh")
+    w.results["triangles"] = check["triangles"]
+    w.results["vertices"] = check["vertices"]
+    w.results["shared_edges"] = check["shared_edges"]
+    peer_reps = {}
+    for peer in w.peers:
+        if peer.startswith("a-"):
+            poly, k = primary_triangles(p)
+            tol = p.weld_tolerance if peer == "a-tol" else None
+            got = peer_a(poly, k, tol)
+            for key in ("triangles", "vertices", "shared_edges", "nnz"):
+                if got[key] != check[key]:
+                    raise AssertionError(
+                        f"{w.name} {w.size}: peer {peer} gives {key}={got[key]}, ours {check[key]}"
+                    )
+            runners[peer] = lambda poly=poly, k=k, tol=tol: peer_a(poly, k, tol)
+            peer_reps[peer] = min(reps, 3) if peer == "a-tol" else reps
+        elif peer == "gmsh":
+            g = Gmsh(p, check["triangles"])
+            nodes, tris = g.run()
+            w.results["gmsh_triangles"] = len(tris)
+            w.results["gmsh_min_angle_deg"] = float(min_angles_deg(nodes, tris).min())
+            w.results["ours_min_angle_deg"] = float(mesh.min_angles.min())
+            runners[peer] = g.run
+            peer_reps[peer] = reps
+    del mesh, check
+    times: dict[str, list[float]] = {name: [] for name in runners}
+    for func in runners.values():  # warm-up
+        func()
+    for rep in range(reps):  # alternate: ours, peer, ours, peer ...
+        for name, func in runners.items():
+            if name == "ours" or rep < peer_reps[name]:
+                times[name].append(timed(func))
+    for name, t in times.items():
+        w.results[name] = summary(t)
+    for name in w.peers:
+        w.results[name]["ratio"] = w.results[name]["median"] / w.results["ours"]["median"]
+    mib = peak_traced_mib(runners["ours"])
+    w.results["ours"]["peak_mib"] = mib
+    w.results["ours"]["bytes_per_triangle"] = mib * 2**20 / w.results["triangles"]
+    for name, func in runners.items():
+        w.results[name]["peak_rss_mib"] = peak_rss_mib(func)
+
+
+# -- output ------------------------------------------------------------------------
+
+
+def _span(s: dict) -> str:
+    return f"{s['median']:8.3f} ({s['min']:.3f}-{s['max']:.3f})"
+
+
+def table(ws: list[Workload]) -> str:
+    head = (
+        f"{'workload':23} {'size':>4} {'triangles':>9} {'ours s (min-max)':>23} "
+        f"{'MiB':>6} {'B/tri':>5}  {'peer':7} {'peer s (min-max)':>25} {'ratio':>6}  note"
+    )
+    lines = [head, "-" * len(head)]
+    for w in ws:
+        r = w.results
+        o = r["ours"]
+        ours_cols = (
+            f"{w.name:23} {w.size:>4} {r['triangles']:>9} {_span(o):>23} "
+            f"{o['peak_mib']:6.1f} {o['bytes_per_triangle']:5.0f}"
+        )
+        for i, peer in enumerate(w.peers):
+            s = r[peer]
+            note = ""
+            if s["peak_rss_mib"] is not None:
+                note = f"RSS +{s['peak_rss_mib']:.0f} MiB vs ours +{o['peak_rss_mib']:.0f}"
+            if peer == "gmsh":
+                note += (
+                    f"; gmsh {r['gmsh_triangles']:,} tri, min angle "
+                    f"{r['gmsh_min_angle_deg']:.1f} vs ours {r['ours_min_angle_deg']:.1f} deg"
+                )
+            left = ours_cols if i == 0 else " " * len(ours_cols)
+            lines.append(f"{left}  {peer:7} {_span(s):>25} {s['ratio']:6.1f}  {note}")
+    return "\n".join(lines)
+
+
+def machine() -> dict:
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return {
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default=",".join(SIZES), help=f"comma list from {SIZES}")
+    ap.add_argument("--reps", type=int, default=5, help="timed repetitions (default 5)")
+    ap.add_argument("--quick", action="store_true", help="smallest size, 2 repetitions")
+    ap.add_argument("--no-gmsh", action="store_true", help="skip peer (b)")
+    ap.add_argument("--json", type=Path, help="also write the results here")
+    args = ap.parse_args(argv)
+    sizes = ["10k"] if args.quick else [s.strip() for s in args.sizes.split(",") if s.strip()]
+    reps = 2 if args.quick else args.reps
+    unknown = [s for s in sizes if s not in SIZES]
+    if unknown:
+        ap.error(f"--sizes: unknown {unknown}; expected some of {', '.join(SIZES)}")
+    if reps < 1:
+        ap.error(f"--reps={reps}: expected at least 1")
+    with_gmsh = not args.no_gmsh
+    if with_gmsh:
+        try:
+            import gmsh  # noqa: F401
+        except ImportError:
+            print("gmsh is not installed: skipping peer (b)", file=sys.stderr)
+            with_gmsh = False
+    ws = workloads(sizes, with_gmsh)
+    for w in ws:
+        print(f"running {w.name} {w.size} ...", file=sys.stderr, flush=True)
+        run_workload(w, reps)
+    print(table(ws))
+    info = machine()
+    print(f"\n{info['cores']} cores, {info['cpu']}, Python {info['python']}, numpy {info['numpy']}")
+    if args.json:
+        doc = {
+            "machine": info,
+            "reps": reps,
+            "workloads": [
+                {"name": w.name, "size": w.size, "params": w.params.to_dict(), **w.results}
+                for w in ws
+            ],
+        }
+        args.json.write_text(json.dumps(doc, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

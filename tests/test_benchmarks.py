@@ -1,0 +1,60 @@
+"""The benchmark scripts run on a tiny size (no timing is asserted: machines are shared)."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_mesher_benchmark_runs_on_the_smallest_size(tmp_path: Path) -> None:
+    pytest.importorskip("pyvista")
+    pytest.importorskip("trimesh")
+    has_gmsh = importlib.util.find_spec("gmsh") is not None
+    out = tmp_path / "bench.json"
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "mesher.py"), "--quick", "--json", str(out)]
+    if not has_gmsh:
+        cmd.append("--no-gmsh")
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert "paper double ring" in proc.stdout
+
+    doc = json.loads(out.read_text())
+    names = {w["name"] for w in doc["workloads"]}
+    expected = {"paper double ring", "conforming double ring", "square patch array"}
+    if has_gmsh:
+        expected.add("conforming split ring")
+    assert names == expected
+    for w in doc["workloads"]:
+        assert w["size"] == "10k"
+        assert w["triangles"] > 1000
+        assert w["ours"]["median"] > 0
+        assert w["ours"]["peak_mib"] > 0
+        for peer in {"a-exact", "a-tol", "gmsh"} & w.keys():
+            assert w[peer]["median"] > 0
+            assert w[peer]["ratio"] == pytest.approx(w[peer]["median"] / w["ours"]["median"])
+    ring = next(w for w in doc["workloads"] if w["name"] == "paper double ring")
+    # n = 4 at 2.5 degrees: 144 patches per ring, 32 triangles each
+    assert ring["triangles"] == 2 * 144 * 32
+    if has_gmsh:
+        split = next(w for w in doc["workloads"] if w["name"] == "conforming split ring")
+        assert abs(split["gmsh_triangles"] - split["triangles"]) < 0.1 * split["triangles"]
+        assert 0 < split["gmsh_min_angle_deg"] < 60
+
+
+def test_mesher_benchmark_rejects_unknown_sizes() -> None:
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "mesher.py"), "--sizes", "7M"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert proc.returncode == 2
+    assert "7M" in proc.stderr
