@@ -26,6 +26,8 @@ from .weld import merge_pairs, weld_lattice_patches, weld_points
 #: Widest conforming sector: a closed ring has at least three sectors, so no
 #: straight chord spans half a circle.
 MAX_SECTOR_DEG = 120.0
+#: Above this many patches the count is estimated from above instead of placed.
+_EXACT_COUNT_LIMIT = 20_000_000
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
 
@@ -311,13 +313,19 @@ def predicted_patches(params: MeshParams) -> int:
     s = params.structure
     if s in ("patch", "triangle"):
         return 1
-    if params.mode == "conforming":
-        if s == "square_split_double_ring":
-            return len(_conforming_square_rects(params)[0])
+    if s == "square_split_double_ring":
+        h = params.patch_size
+        upper = sum(2 * _count(2 * (r + h), h) + 2 * _count(2 * r, h) + 8 for r in _radii(params))
+    elif params.mode == "conforming":
         arcs, m = _arcs(params)
         return len(_radii(params)) * len(arcs) * m
-    upper = len(_radii(params)) * _count(360.0, params.angle_step)
-    if s == "square_split_double_ring" or (_gap_directions(params) and upper <= 20_000_000):
+    else:
+        upper = len(_radii(params)) * _count(360.0, params.angle_step)
+    if upper > _EXACT_COUNT_LIMIT:
+        return upper  # far beyond any budget: not worth placing the patches to count them
+    if s == "square_split_double_ring" and params.mode == "conforming":
+        return len(_conforming_square_rects(params)[0])
+    if _gap_directions(params):
         return len(_paper_origins(params)[0])
     return upper
 
