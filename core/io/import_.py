@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import io
 import logging
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -94,7 +95,7 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         raise
     except MemoryError:
         raise MeshFileError(f"{path}: too large to read into memory") from None
-    except Exception as exc:  # every parser failure becomes one clear message
+    except (Exception, SystemExit) as exc:  # every parser failure (meshio even exits)
         reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise MeshFileError(f"{path}: not a readable {name} file ({reason})") from None
     return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
@@ -110,7 +111,10 @@ def _first(data: dict, keys: tuple[str, ...]) -> np.ndarray | None:
 def _read_meshio(path: Path, file_format: str):
     import meshio
 
-    with contextlib.redirect_stderr(io.StringIO()) as noise:  # meshio warns through rich
+    # meshio warns through rich on stderr and numpy (e.g. an overflow while sniffing
+    # whether an STL is binary); neither belongs on our command line's stderr
+    with contextlib.redirect_stderr(io.StringIO()) as noise, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
         m = meshio.read(path, file_format=file_format)
     if noise.getvalue().strip():
         log.info("meshio on %s: %s", path, noise.getvalue().strip())
@@ -130,16 +134,16 @@ def _read_meshio(path: Path, file_format: str):
 
 
 def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> TriMesh:
-    points = np.asarray(points, dtype=np.float64)
-    if points.ndim != 2 or points.shape[1] not in (2, 3):
-        raise MeshFileError(f"{path}: points have shape {points.shape}; expected (V, 3)")
-    if not np.all(np.isfinite(points)):
-        raise MeshFileError(f"{path}: some coordinates are not finite numbers")
     triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     if len(triangles) == 0:
         skipped = ", ".join(f"{n} {kind}" for kind, n in sorted(ignored.items()))
         extra = f" (only {skipped} cells, which are not surfaces)" if skipped else ""
         raise MeshFileError(f"{path}: the file holds no triangles{extra}")
+    points = np.asarray(points, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] not in (2, 3):
+        raise MeshFileError(f"{path}: points have shape {points.shape}; expected (V, 3)")
+    if not np.all(np.isfinite(points)):
+        raise MeshFileError(f"{path}: some coordinates are not finite numbers")
     if triangles.min() < 0 or triangles.max() >= len(points):
         raise MeshFileError(
             f"{path}: triangles refer to vertex {int(triangles.max())} but there are "

@@ -1,0 +1,132 @@
+"""Atomic writes: a failed export leaves no partial file and keeps the existing one."""
+
+import os
+
+import numpy as np
+import pytest
+
+from core import MeshParams, build_mesh
+from core.io import ExportError, atomic_write_text, export, meshio_formats, write_mesh
+
+MESH = build_mesh(MeshParams(structure="patch", patch_size=10.0))
+
+
+def leftovers(folder):
+    return sorted(p.name for p in folder.iterdir() if ".tmp" in p.name)
+
+
+def test_parent_is_a_file(tmp_path):
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("x")
+    target = blocker / "mesh.msh"
+    with pytest.raises(ExportError) as info:
+        write_mesh(MESH, target)
+    assert str(target) in str(info.value) and "is not a folder" in str(info.value)
+    assert blocker.read_text() == "x"
+
+
+def test_missing_folder(tmp_path):
+    target = tmp_path / "missing" / "mesh.stl"
+    with pytest.raises(ExportError, match="does not exist"):
+        write_mesh(MESH, target)
+    assert not target.parent.exists()
+
+
+@pytest.mark.parametrize("ext", [".msh", ".vtu", ".stl", ".obj"])
+def test_failure_mid_write_keeps_existing_file(tmp_path, monkeypatch, ext):
+    target = tmp_path / f"mesh{ext}"
+    target.write_bytes(b"the old file")
+
+    def half_then_fail(mesh, path, ext, factor):
+        path.write_bytes(b"half a mesh")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(export, "write_meshio", half_then_fail)
+    with pytest.raises(ExportError) as info:
+        write_mesh(MESH, target)
+    assert str(target) in str(info.value) and "No space left on device" in str(info.value)
+    assert target.read_bytes() == b"the old file"
+    assert leftovers(tmp_path) == []
+
+
+def test_failure_without_existing_file_leaves_nothing(tmp_path, monkeypatch):
+    def fail(mesh, path, ext, factor):
+        path.write_bytes(b"partial")
+        raise ValueError("the writer broke")
+
+    monkeypatch.setattr(export, "write_meshio", fail)
+    with pytest.raises(ExportError, match="the writer broke"):
+        write_mesh(MESH, tmp_path / "new.msh")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_interrupt_mid_write(tmp_path, monkeypatch):
+    target = tmp_path / "mesh.mat"
+    target.write_bytes(b"old")
+
+    def interrupted(mesh, path, factor):
+        path.write_bytes(b"par")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(export, "write_makarov", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        write_mesh(MESH, target)
+    assert target.read_bytes() == b"old"
+    assert leftovers(tmp_path) == []
+
+
+def test_real_writer_failure(tmp_path, monkeypatch):
+    """meshio itself failing half way (here: on a bad value) leaves no file behind."""
+    target = tmp_path / "mesh.vtu"
+
+    def broken(mesh, ext, factor):
+        m = real(mesh, ext, factor)
+        m.cell_data["bad"] = [np.array(["x"] * mesh.n_triangles, dtype=object)]
+        return m
+
+    real = meshio_formats.to_meshio
+    monkeypatch.setattr(meshio_formats, "to_meshio", broken)
+    with pytest.raises(ExportError, match=str(target)):
+        write_mesh(MESH, target)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_success_replaces_and_keeps_permissions(tmp_path):
+    target = tmp_path / "mesh.obj"
+    target.write_text("old")
+    os.chmod(target, 0o640)
+    write_mesh(MESH, target)
+    assert target.read_text().lstrip().startswith(("#", "v"))
+    assert target.stat().st_mode & 0o777 == 0o640
+    assert leftovers(tmp_path) == []
+
+
+def test_new_file_gets_umask_permissions(tmp_path):
+    umask = os.umask(0o022)
+    try:
+        write_mesh(MESH, tmp_path / "m.stl")
+    finally:
+        os.umask(umask)
+    assert (tmp_path / "m.stl").stat().st_mode & 0o777 == 0o644
+
+
+def test_text_helper(tmp_path):
+    atomic_write_text(tmp_path / "a.json", "{}\n")
+    assert (tmp_path / "a.json").read_text() == "{}\n"
+
+
+def test_csv_companions_are_atomic(tmp_path, monkeypatch):
+    from core.io import rwg
+
+    target = tmp_path / "rwg.csv"
+    write_mesh(MESH, target)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    assert set(before) == {"rwg.csv", "rwg_connectivity.csv", "rwg_centroids.csv"}
+
+    def fail(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(rwg, "csv_tables", fail)
+    with pytest.raises(OSError):
+        write_mesh(build_mesh(MeshParams(structure="patch", subdivisions=2)), target)
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before

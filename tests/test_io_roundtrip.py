@@ -1,0 +1,161 @@
+"""Write every format, read it back with meshio (or scipy/pyvista) and with our importer."""
+
+import meshio
+import numpy as np
+import pytest
+import scipy.io
+
+from core import MeshParams, build_mesh
+from core.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
+
+pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # meshio STL
+
+MESH_FORMATS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
+MESHIO_FORMATS = {".msh": "gmsh", ".vtu": "vtu", ".vtk": "vtk", ".stl": "stl", ".obj": "obj"}
+
+
+def canonical_meshes():
+    """Tiny meshes that cover one region, two regions and disjoint paper-mode patches."""
+    return {
+        "patch": build_mesh(MeshParams(structure="patch", patch_size=10.0, origin=(-5, -5))),
+        "double-ring": build_mesh(
+            MeshParams(structure="double_ring", mode="conforming", inner_radius=2.0,
+                       outer_radius=3.5, patch_size=1.0, angle_step=60.0, subdivisions=2)
+        ),
+        "paper-ring": build_mesh(
+            MeshParams(structure="ring", inner_radius=4.0, angle_step=90.0, subdivisions=2)
+        ),
+    }
+
+
+MESHES = canonical_meshes()
+
+
+def triangle_set(points, triangles, decimals=9):
+    """Triangles as a set of sorted vertex coordinate triples (orientation and order free)."""
+    p = np.round(np.asarray(points, dtype=np.float64)[:, :3], decimals) + 0.0  # no -0.0
+    corners = p[np.asarray(triangles)]
+    return {tuple(sorted(map(tuple, tri))) for tri in corners.tolist()}
+
+
+def read_back(path):
+    """(points, triangles) of a written file, read by a library other than ours."""
+    ext = path.suffix
+    if ext == ".mat":
+        data = scipy.io.loadmat(path)
+        return data["p"].T, data["t"][:3].T.astype(int) - 1
+    if ext == ".vtp":
+        pv = pytest.importorskip("pyvista")
+        poly = pv.read(path)
+        return np.asarray(poly.points), poly.faces.reshape(-1, 4)[:, 1:]
+    m = meshio.read(path, file_format=MESHIO_FORMATS[ext])
+    return m.points, np.concatenate([c.data for c in m.cells if c.type == "triangle"])
+
+
+def test_every_export_extension_is_covered():
+    assert set(EXPORT_EXTENSIONS) == set(MESH_FORMATS) | {".npz", ".csv"}
+
+
+@pytest.mark.parametrize("name", MESHES)
+@pytest.mark.parametrize("ext", MESH_FORMATS)
+@pytest.mark.parametrize("unit", [None, "m", "mm", "um"])
+def test_round_trip(tmp_path, name, ext, unit):
+    mesh = MESHES[name]
+    path = write_mesh(mesh, tmp_path / f"mesh{ext}", unit=unit)
+    file_unit = unit or ("m" if ext == ".mat" else "mm")
+    scale = per_mm(file_unit)
+    expected = triangle_set(mesh.points * scale, mesh.triangles, decimals=9 - int(np.log10(scale)))
+
+    # another library sees the same triangles, in the file's unit
+    points, triangles = read_back(path)
+    assert len(triangles) == mesh.n_triangles
+    assert len(points) == mesh.n_vertices
+    assert triangle_set(points, triangles, decimals=9 - int(np.log10(scale))) == expected
+
+    # our importer brings them back in mm
+    back = read_mesh(path, unit=unit)
+    assert back.mode == "imported"
+    assert (back.n_vertices, back.n_triangles) == (mesh.n_vertices, mesh.n_triangles)
+    assert triangle_set(back.points, back.triangles) == triangle_set(mesh.points, mesh.triangles)
+    assert back.ignored_cells == {}
+    s, t = back.stats(), mesh.stats()
+    for key in ("vertices", "triangles", "edges", "interior_edges", "boundary_edges",
+                "junction_edges", "euler_characteristic"):
+        assert s[key] == t[key], key
+    assert s["area"] == pytest.approx(t["area"], rel=1e-12)
+
+
+@pytest.mark.parametrize("ext", [".msh", ".vtu", ".vtp", ".vtk"])
+def test_regions_and_patches_survive(tmp_path, ext):
+    mesh = MESHES["double-ring"]
+    back = read_mesh(write_mesh(mesh, tmp_path / f"rings{ext}"))
+    assert back.n_patches == mesh.n_patches
+    assert back.stats()["regions"] == 2
+    # same region for the same triangle (matched by centroid)
+    order = np.lexsort(np.round(mesh.centroids, 9).T)
+    back_order = np.lexsort(np.round(back.centroids, 9).T)
+    assert np.array_equal(mesh.regions[order], back.regions[back_order])
+
+
+def test_gmsh_tags_and_physical_names(tmp_path):
+    mesh = MESHES["double-ring"]
+    path = write_mesh(mesh, tmp_path / "rings.msh")
+    text = path.read_text()
+    assert text.startswith("$MeshFormat\n2.2 0 8\n")  # MSH 2.2 ASCII: what scuff-em reads
+    assert '2 1 "inner_ring"' in text and '2 2 "outer_ring"' in text
+    m = meshio.read(path)
+    assert np.array_equal(m.cell_data["gmsh:physical"][0], mesh.regions)
+    assert np.array_equal(m.cell_data["gmsh:geometrical"][0], mesh.patch_ids + 1)
+    assert "$ElementData" not in text  # nothing a solver could choke on
+
+
+def test_single_patch_is_named_patch(tmp_path):
+    text = write_mesh(MESHES["patch"], tmp_path / "p.msh").read_text()
+    assert '2 1 "patch"' in text
+
+
+@pytest.mark.parametrize("ext", [".vtu", ".vtk"])
+def test_vtk_cell_data(tmp_path, ext):
+    mesh = MESHES["double-ring"]
+    m = meshio.read(write_mesh(mesh, tmp_path / f"q{ext}", unit="m"))
+    data = {k: np.asarray(v[0]).reshape(-1) for k, v in m.cell_data.items()}
+    assert np.array_equal(data["patch_id"], mesh.patch_ids)
+    assert np.array_equal(data["region"], mesh.regions)
+    np.testing.assert_allclose(data["area"], mesh.areas * 1e-6)  # m² in a file in m
+    np.testing.assert_allclose(data["min_angle"], mesh.min_angles)
+    np.testing.assert_allclose(data["aspect_ratio"], mesh.aspect_ratios)
+
+
+def test_vtp_cell_data_read_by_vtk(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    mesh = MESHES["double-ring"]
+    poly = pv.read(write_mesh(mesh, tmp_path / "q.vtp"))
+    assert poly.n_cells == mesh.n_triangles
+    assert np.array_equal(poly.cell_data["region"], mesh.regions)
+    np.testing.assert_allclose(poly.cell_data["min_angle"], mesh.min_angles)
+    np.testing.assert_allclose(poly.cell_data["area"], mesh.areas)
+
+
+def test_vtp_written_by_vtk_is_read(tmp_path):
+    """Binary and compressed PolyData as VTK itself writes it."""
+    pv = pytest.importorskip("pyvista")
+    mesh = MESHES["double-ring"]
+    poly = pv.read(write_mesh(mesh, tmp_path / "q.vtp"))
+    for binary in (True, False):
+        out = tmp_path / f"vtk-{binary}.vtp"
+        poly.save(out, binary=binary)
+        back = read_mesh(out)
+        assert triangle_set(back.points, back.triangles) == triangle_set(
+            mesh.points, mesh.triangles
+        )
+        assert back.n_patches == mesh.n_patches
+
+
+def test_mat_layout(tmp_path):
+    mesh = MESHES["double-ring"]
+    data = scipy.io.loadmat(write_mesh(mesh, tmp_path / "m.mat"))
+    assert data["p"].shape == (3, mesh.n_vertices) and data["p"].dtype == np.float64
+    assert data["t"].shape == (4, mesh.n_triangles)
+    assert data["t"][:3].min() == 1 and data["t"][:3].max() == mesh.n_vertices  # 1-based
+    assert np.all(data["t"][3] == 1)  # rwg1.m keeps only row 4 == 1
+    np.testing.assert_allclose(data["p"].T, mesh.points * 1e-3)  # metres by default
