@@ -99,3 +99,23 @@ def test_construction_of_one_triangle():
     assert steps[0].title == "Primary triangle ABC"
     assert len(steps[-1].triangles) == 16
     assert "m11" in steps[-1].labels
+
+
+def test_sweep_of_angle_step_and_subdivisions():
+    from core.sweep import sweep_params
+
+    angles = [p.angle_step for p in sweep_params(MeshParams(), "angle_step", 20, 1, 20)]
+    assert angles[0] == 20 and angles[-1] == 1 and len(angles) == 20
+    ns = [p.subdivisions for p in sweep_params(MeshParams(), "subdivisions", 1, 8, 8)]
+    assert ns == list(range(1, 9))
+
+
+def test_sweep_errors_name_the_frame():
+    from core.sweep import sweep_params
+
+    with pytest.raises(ValueError, match=r"sweep frame 2 of 3 \(patch_size=0.0\): patch_size=0"):
+        sweep_params(MeshParams(), "patch_size", 1, -1, 3)
+    with pytest.raises(ValueError, match="cannot sweep 'mode'"):
+        sweep_params(MeshParams(), "mode", 1, 2, 3)
+    with pytest.raises(ValueError, match="frames=1 is invalid"):
+        sweep_params(MeshParams(), "patch_size", 1, 2, 1)
