@@ -119,8 +119,10 @@ def weld_lattice_patches(
     origins is within ε of a lattice vector (p sx, q sy) with |p|, |q| <= n;
     then all their overlapping grid points pair up at that same distance.
     Candidate patches are found by the fractional parts of their origins on
-    the lattice (a periodic k-d tree), so the cost does not grow with how
-    densely the patches overlap.
+    the lattice (periodic axes of a k-d tree) together with their positions
+    (two more axes: origins at most n steps apart), so the cost does not grow
+    with how densely the patches overlap nor with how many patches share one
+    lattice (a patch array).
 
     Parameters
     ----------
@@ -146,13 +148,8 @@ def weld_lattice_patches(
     scaled = origins / steps
     frac = scaled - np.floor(scaled)
     frac[frac >= 1.0] = 0.0
-    radius = tolerance / steps.min()
-    tree = cKDTree(frac, boxsize=1.0 + 1e-300) if len(frac) else None
-    cand = (
-        tree.query_pairs(radius * 1.000001, output_type="ndarray")
-        if tree is not None
-        else np.empty((0, 2), dtype=np.int64)
-    )
+    radius = tolerance / steps.min() * 1.000001
+    cand = _lattice_candidates(origins, frac, n * steps + tolerance, radius)
     if len(cand) == 0:
         return merge_pairs(n_points, np.empty((0, 2), dtype=np.int64))
     i, j = cand[:, 0], cand[:, 1]
@@ -177,3 +174,22 @@ def weld_lattice_patches(
         np.stack([a * steps[0], b * steps[1]], axis=1), (len(origins), 1)
     )
     return merge_pairs(n_points, pairs, coords, tolerance)
+
+
+def _lattice_candidates(
+    origins: np.ndarray, frac: np.ndarray, reach: np.ndarray, radius: float
+) -> np.ndarray:
+    """(K, 2) pairs of patches whose origins may differ by a lattice vector (p, q), |p|, |q| <= n.
+
+    Chebyshev neighbours in four coordinates: the two fractional lattice
+    coordinates (periodic, within ``radius``) and the origins scaled so that
+    ``reach`` (n steps + ε per axis) becomes ``radius`` (not periodic: the
+    box is three times wider than the data).
+    """
+    if len(origins) < 2:
+        return np.empty((0, 2), dtype=np.int64)
+    scaled = (origins - origins.min(axis=0)) / reach * radius
+    span = float(scaled.max(initial=0.0))
+    box = np.array([1.0 + 1e-300, 1.0 + 1e-300, 3 * span + 1.0, 3 * span + 1.0])
+    tree = cKDTree(np.concatenate([frac, scaled], axis=1), boxsize=box)
+    return tree.query_pairs(radius * 1.000001, p=np.inf, output_type="ndarray")
