@@ -262,6 +262,9 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
     for text in args.sets:
         if "=" not in text or not text.partition("=")[0].strip():
             raise UsageError(f"mesh: --set {text!r} is invalid; expected name=value")
+    targets = [*args.outputs, args.screenshot, None if args.stats_json == "-" else args.stats_json]
+    for target in filter(None, targets):
+        _check_folder(target)  # before minutes of meshing, not after
     stats_to_stdout = args.stats_json == "-"
     say = sys.stderr if stats_to_stdout else sys.stdout
 
@@ -283,6 +286,13 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
         print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)", file=say)
     _emit_stats(stats, args.stats_json)
     return 0
+
+
+def _check_folder(target: str) -> None:
+    folder = Path(target).parent
+    if not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise InputError(f"cannot write {target}: the folder {folder} {what}")
 
 
 def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) -> None:

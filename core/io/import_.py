@@ -95,7 +95,7 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         raise
     except MemoryError:
         raise MeshFileError(f"{path}: too large to read into memory") from None
-    except (Exception, SystemExit) as exc:  # every parser failure (meshio even exits)
+    except Exception as exc:  # every parser failure becomes one clear message
         reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise MeshFileError(f"{path}: not a readable {name} file ({reason})") from None
     return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
@@ -111,13 +111,24 @@ def _first(data: dict, keys: tuple[str, ...]) -> np.ndarray | None:
 def _read_meshio(path: Path, file_format: str):
     import meshio
 
-    # meshio warns through rich on stderr and numpy (e.g. an overflow while sniffing
-    # whether an STL is binary); neither belongs on our command line's stderr
-    with contextlib.redirect_stderr(io.StringIO()) as noise, warnings.catch_warnings():
+    # meshio.read prints a ReadError's message on stdout and calls sys.exit(1); it warns
+    # through rich on stderr, and numpy warns (e.g. an overflow while sniffing whether an
+    # STL is binary): keep all of that off our command line and turn it into one error
+    out, err = io.StringIO(), io.StringIO()
+    with (
+        contextlib.redirect_stdout(out),
+        contextlib.redirect_stderr(err),
+        warnings.catch_warnings(),
+    ):
         warnings.simplefilter("ignore")
-        m = meshio.read(path, file_format=file_format)
-    if noise.getvalue().strip():
-        log.info("meshio on %s: %s", path, noise.getvalue().strip())
+        try:
+            m = meshio.read(path, file_format=file_format)
+        except SystemExit:
+            said = [line.strip() for line in out.getvalue().splitlines() if line.strip()]
+            raise ValueError(said[0] if said else "meshio does not recognise it") from None
+    noise = (out.getvalue() + err.getvalue()).strip()
+    if noise:
+        log.info("meshio on %s: %s", path, noise)
     triangles, regions, patches, ignored = [], [], [], {}
     for k, block in enumerate(m.cells):
         if block.type != "triangle":

@@ -1,0 +1,285 @@
+"""The barymesh command line, run as users run it (subprocesses), and its helpers in-process."""
+
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from app import cli
+from core import build_mesh
+from core.io import read_mesh
+from core.presets import load_preset, preset_names
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(*args, cwd, stdin=None):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env.pop("DISPLAY", None)  # everything here must work without a display
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", *map(str, args)],
+        cwd=cwd, env=env, capture_output=True, text=True, timeout=300,
+    )
+
+
+def assert_one_line_error(result, code, *fragments):
+    assert result.returncode == code, result.stderr
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("barymesh") and "error:" in lines[0]
+    for fragment in fragments:
+        assert fragment in lines[0]
+    assert result.stdout == ""
+
+
+def test_presets_lists_one_line_each(tmp_path):
+    r = run("presets", cwd=tmp_path)
+    assert r.returncode == 0 and r.stderr == ""
+    lines = r.stdout.strip().splitlines()
+    assert [line.split()[0] for line in lines] == preset_names()
+    assert all(len(line.split(None, 1)) == 2 for line in lines)
+
+
+def test_mesh_writes_every_output_and_summary(tmp_path):
+    outs = ["srr.msh", "srr.vtu", "srr.vtp", "srr.stl", "srr.obj", "srr.mat", "srr.npz"]
+    args = [a for o in outs for a in ("-o", o)]
+    r = run("mesh", "--preset", "srr-openmodes", *args, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    mesh = build_mesh(load_preset("srr-openmodes")[0])
+    assert f"{mesh.n_triangles:,} triangles" in r.stdout
+    for out in outs:
+        assert (tmp_path / out).exists()
+        assert f"wrote {out}" in r.stdout
+        if out.endswith(".npz"):
+            continue
+        back = read_mesh(tmp_path / out)
+        assert back.n_triangles == mesh.n_triangles
+    assert "(MATLAB p/t (Makarov), m)" in r.stdout  # .mat defaults to metres
+
+
+def test_unit_flag(tmp_path):
+    r = run("mesh", "--preset", "paper-fig10", "-o", "p.msh", "--unit", "m", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    mesh = read_mesh(tmp_path / "p.msh", unit="m")
+    assert mesh.stats()["area"] == pytest.approx(100.0)
+    assert read_mesh(tmp_path / "p.msh").stats()["area"] == pytest.approx(1e-4)
+
+
+def test_stats_json_stdout_is_only_json(tmp_path):
+    r = run("mesh", "--preset", "paper-fig10", "--set", "subdivisions=2", "-o", "a.stl",
+            "--stats-json", "-", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    params = load_preset("paper-fig10")[0].replace(subdivisions=2)
+    assert json.loads(r.stdout) == json.loads(json.dumps(build_mesh(params).stats()))
+    assert "triangles" in r.stderr  # the human summary moved to stderr
+
+
+def test_stats_json_file(tmp_path):
+    r = run("mesh", "--preset", "paper-fig12d", "--stats-json", "s.json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert json.loads((tmp_path / "s.json").read_text())["triangles"] == 1152
+    assert "1,152 triangles" in r.stdout
+
+
+def test_params_file_and_sets(tmp_path):
+    (tmp_path / "mine.json").write_text('{"structure": "patch", "patch_size": 2.0}')
+    r = run("mesh", "--params", "mine.json", "--set", "subdivisions=3", "--set",
+            "origin=[1,2]", "--stats-json", "-", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    stats = json.loads(r.stdout)
+    assert stats["triangles"] == 2 * 9 and stats["area"] == pytest.approx(4.0)
+
+
+def test_info(tmp_path):
+    assert run("mesh", "--preset", "makarov-plate", "-o", "plate.mat", cwd=tmp_path).returncode == 0
+    r = run("info", "plate.mat", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "128 triangles" in r.stdout and "176 interior" in r.stdout
+    r = run("info", "plate.mat", "--stats-json", "-", cwd=tmp_path)
+    stats = json.loads(r.stdout)
+    assert stats["interior_edges"] == 176 and stats["area"] == pytest.approx(1e6)
+    r = run("info", "plate.mat", "--unit", "mm", "--stats-json", "-", cwd=tmp_path)
+    assert json.loads(r.stdout)["area"] == pytest.approx(1.0)
+
+
+def test_info_reports_ignored_cells(tmp_path):
+    from test_io_import import MSH41
+
+    (tmp_path / "g.msh").write_text(MSH41)
+    r = run("info", "g.msh", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "ignored non-triangle cells: 3 line, 1 vertex" in r.stdout
+    r = run("info", "g.msh", "--stats-json", "-", cwd=tmp_path)
+    assert json.loads(r.stdout)["ignored_cells"] == {"line": 3, "vertex": 1}
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["frobnicate"], ["invalid choice: 'frobnicate'"]),
+        (["mesh", "--preset", "nope"], ["unknown preset 'nope'"]),
+        (["mesh", "--set", "subdivisions"], ["--set 'subdivisions' is invalid"]),
+        (["mesh", "-o", "mesh.xyz"], ["mesh.xyz", "cannot write .xyz"]),
+        (["mesh", "--unit", "km"], ["invalid choice: 'km'"]),
+        (["mesh", "--window-size", "0", "10"], ["0 pixels is outside"]),
+        (["mesh", "--window-size", "a", "10"], ["'a' is not a whole number"]),
+        (["mesh", "--transparent"], ["--transparent needs --screenshot"]),
+        (["mesh", "--bogus"], ["unrecognized arguments: --bogus"]),
+        (["info"], ["the following arguments are required: FILE"]),
+    ],
+)
+def test_usage_errors_exit_2(tmp_path, args, fragments):
+    assert_one_line_error(run(*args, cwd=tmp_path), 2, *fragments)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["mesh", "--set", "subdivisions=0"], ["subdivisions=0 is outside 1..64"]),
+        (["mesh", "--set", "colour=red"], ["unknown parameter 'colour'"]),
+        (["mesh", "--set", "structure=hexagon"], ["structure='hexagon' is unknown"]),
+        (["mesh", "--params", "missing.json"], ["missing.json", "no such parameter file"]),
+        (["mesh", "--params", "bad.json"], ["bad.json", "invalid JSON"]),
+        (["mesh", "--set", "max_triangles=10"], ["above the budget"]),
+        (["mesh", "--preset", "paper-fig10", "-o", "nowhere/x.msh"],
+         ["nowhere/x.msh", "does not exist"]),
+        (["mesh", "--preset", "paper-fig10", "-o", "blocker/x.msh"],
+         ["blocker/x.msh", "is not a folder"]),
+        (["mesh", "--preset", "paper-fig10", "--stats-json", "nowhere/s.json"],
+         ["nowhere/s.json"]),
+        (["info", "missing.msh"], ["missing.msh", "does not exist"]),
+        (["info", "garbage.msh"], ["garbage.msh", "not a readable Gmsh"]),
+        (["info", "empty.stl"], ["empty.stl", "empty"]),
+        (["info", "bad.json"], ["bad.json", "cannot read .json"]),
+    ],
+)
+def test_input_errors_exit_1(tmp_path, args, fragments):
+    (tmp_path / "bad.json").write_text("{nope")
+    (tmp_path / "blocker").write_text("a file, not a folder")
+    (tmp_path / "garbage.msh").write_bytes(b"$MeshFormat\n9.9 7\n\x00\xff")
+    (tmp_path / "empty.stl").write_bytes(b"")
+    r = run(*args, cwd=tmp_path)
+    if "--stats-json" in args:  # the summary came before the failed stats file
+        r = subprocess.CompletedProcess(r.args, r.returncode, "", r.stderr)
+    assert_one_line_error(r, 1, *fragments)
+
+
+def test_help_and_version(tmp_path):
+    r = run("--help", cwd=tmp_path)
+    assert r.returncode == 0 and "mesh" in r.stdout and "presets" in r.stdout
+    r = run("mesh", "--help", cwd=tmp_path)
+    assert r.returncode == 0 and "--stats-json" in r.stdout and "--window-size" in r.stdout
+    r = run("--version", cwd=tmp_path)
+    assert r.returncode == 0 and r.stdout.startswith("barymesh ")
+
+
+def test_installed_console_script():
+    script = Path(sys.executable).with_name("barymesh")
+    if not script.exists():
+        pytest.skip("barymesh is not installed in this environment")
+    r = subprocess.run([script, "presets"], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and "paper-fig10" in r.stdout
+
+
+# -- no verb: the desktop window ------------------------------------------
+
+
+def test_no_verb_opens_window(monkeypatch):
+    import types
+
+    calls = []
+    fake = types.ModuleType("app.window")
+    fake.main = lambda argv: calls.append(argv) or 0
+    monkeypatch.setitem(sys.modules, "app.window", fake)
+    assert cli.main([]) == 0
+    assert cli.main(["--preset", "paper-fig10", "--set", "subdivisions=2", "--quit"]) == 0
+    assert calls == [[], ["--preset", "paper-fig10", "--set", "subdivisions=2", "--quit"]]
+
+
+def test_no_verb_without_window_prints_usage(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "app.window", None)  # import fails as if absent
+    assert cli.main([]) == 0
+    out = capsys.readouterr().out
+    assert "mesh" in out and "info" in out and "presets" in out
+
+
+def test_window_failure_is_one_line(monkeypatch, capsys):
+    import types
+
+    fake = types.ModuleType("app.window")
+
+    def boom(argv):
+        raise RuntimeError("no OpenGL")
+
+    fake.main = boom
+    monkeypatch.setitem(sys.modules, "app.window", fake)
+    assert cli.main(["--quit"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no OpenGL" in err
+
+
+# -- progress --------------------------------------------------------------
+
+
+class FakeTTY(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
+    import time
+
+    monkeypatch.setattr(cli, "PROGRESS_DELAY", 0.05)
+    tty = FakeTTY()
+    with cli.progress("building", tty):
+        time.sleep(0.4)
+    text = tty.getvalue()
+    assert "building" in text and " s" in text and text.endswith("\r\033[K")
+
+    quick = FakeTTY()
+    monkeypatch.setattr(cli, "PROGRESS_DELAY", 5.0)
+    with cli.progress("building", quick):
+        pass
+    assert quick.getvalue() == ""
+
+    pipe = io.StringIO()
+    monkeypatch.setattr(cli, "PROGRESS_DELAY", 0.0)
+    with cli.progress("building", pipe):
+        time.sleep(0.2)
+    assert pipe.getvalue() == ""
+
+
+# -- screenshots -----------------------------------------------------------
+
+
+@pytest.mark.parametrize("transparent", [False, True])
+def test_screenshot_without_display(tmp_path, transparent):
+    pytest.importorskip("pyvista")
+    scene = pytest.importorskip("app.scene")
+    if not hasattr(scene, "render_screenshot"):
+        pytest.skip("app.scene.render_screenshot is not there yet")
+    iio = pytest.importorskip("imageio.v3")
+    args = ["mesh", "--preset", "paper-fig12d", "--screenshot", "shot.png",
+            "--window-size", "320", "240"]
+    if transparent:
+        args.append("--transparent")
+    r = run(*args, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "wrote shot.png (320x240 px)" in r.stdout
+    image = iio.imread(tmp_path / "shot.png")
+    assert image.shape[:2] == (240, 320)
+    rgb = image[..., :3].reshape(-1, 3).astype(int)
+    corner = image[0, 0]
+    if transparent:
+        assert image.shape[2] == 4 and corner[3] == 0  # see-through background
+        assert (image[..., 3] > 0).mean() > 0.02  # and opaque mesh
+    background = np.all(rgb == rgb[0], axis=1)
+    assert 0.05 < background.mean() < 0.98  # both background and mesh pixels
+    assert len(np.unique(rgb[~background], axis=0)) > 3  # faces, edges, centroids
+    assert [p.name for p in tmp_path.iterdir() if ".tmp" in p.name] == []
