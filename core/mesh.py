@@ -105,8 +105,19 @@ class TriMesh:
     @cached_property
     def centroids(self) -> np.ndarray:
         """(T, 3) float64 barycentres (Eqs. 25–26): the RWG quadrature points."""
-        p = self.points[self.triangles]
-        return _frozen((p[:, 0] + p[:, 1] + p[:, 2]) / 3.0)
+        # coordinate by coordinate, corner by corner: no (T, 3, 3) temporary, same
+        # rounding; a coordinate that is zero everywhere (z) stays zero
+        corners = [np.ascontiguousarray(self.triangles[:, k], dtype=np.intp) for k in range(3)]
+        out = np.zeros((self.n_triangles, 3))
+        for axis in range(3):
+            x = np.ascontiguousarray(self.points[:, axis])
+            if x.any():
+                c = x.take(corners[0])
+                c += x.take(corners[1])
+                c += x.take(corners[2])
+                c /= 3.0
+                out[:, axis] = c
+        return _frozen(out)
 
     @cached_property
     def areas(self) -> np.ndarray:
@@ -129,11 +140,11 @@ class TriMesh:
     def topology(self) -> EdgeTopology:
         """Edges and their incidence (see :class:`core.topology.EdgeTopology`)."""
         if self._template is not None:
-            nv = len(self._template.uv)
-            vertex_map = self.triangles.reshape(self.n_patches, -1)
-            # the template's triangles cover all its vertices: recover the patch vertex map
-            vmap = np.empty((self.n_patches, nv), dtype=INDEX)
-            vmap[:, self._template.triangles.ravel()] = vertex_map
+            corners = self.triangles.reshape(self.n_patches, -1)
+            # the template's triangles cover all its vertices: recover the patch vertex
+            # map by taking, for each local vertex, one triangle corner where it sits
+            _, where = np.unique(self._template.triangles.ravel(), return_index=True)
+            vmap = corners.take(where, axis=1)
             return patch_topology(self._template, vmap, self.n_vertices)
         return edge_topology(self.triangles, self.n_vertices)
 

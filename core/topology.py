@@ -33,6 +33,9 @@ class EdgeTopology:
     junction_incidence : (J, 2) int
         (edge id, triangle id) for every triangle on a junction edge
         (valence >= 3), sorted by edge then triangle.
+    free_vertices : (E, 2) int or None
+        The vertex of ``edge_triangles[e, j]`` opposite edge e, -1 where that
+        triangle is missing (the RWG free vertices); None when not computed.
     """
 
     edges: np.ndarray
@@ -40,6 +43,7 @@ class EdgeTopology:
     edge_triangles: np.ndarray
     valence: np.ndarray
     junction_incidence: np.ndarray
+    free_vertices: np.ndarray | None = None
 
     @property
     def interior_edges(self) -> np.ndarray:
@@ -108,6 +112,11 @@ def edge_topology(triangles: np.ndarray, n_vertices: int) -> EdgeTopology:
     edge_triangles[:, 0] = tri_of_sorted[first]
     has_two = valence >= 2
     edge_triangles[has_two, 1] = tri_of_sorted[first[has_two] + 1]
+    # half-edge k of a triangle joins its vertices k and k + 1; vertex k + 2 is opposite
+    opposite = triangles[:, [2, 0, 1]].reshape(-1).astype(INDEX)
+    free = np.full((n_edges, 2), -1, dtype=INDEX)
+    free[:, 0] = opposite[order[first]]
+    free[has_two, 1] = opposite[order[first[has_two] + 1]]
     junction = np.repeat(valence >= 3, valence)
     junction_incidence = np.stack([group[junction], tri_of_sorted[junction]], axis=1)
     return EdgeTopology(
@@ -116,6 +125,7 @@ def edge_topology(triangles: np.ndarray, n_vertices: int) -> EdgeTopology:
         edge_triangles=edge_triangles,
         valence=valence,
         junction_incidence=junction_incidence.astype(INDEX).reshape(-1, 2),
+        free_vertices=free,
     )
 
 
@@ -162,19 +172,44 @@ def free_vertices(
 def rwg_table(points: np.ndarray, triangles: np.ndarray, topo: EdgeTopology) -> RWGTable:
     """Build the RWG table (see :class:`RWGTable`) from a mesh and its edges."""
     edge = topo.interior_edges
-    verts = topo.edges[edge]
-    t_plus = topo.edge_triangles[edge, 0]
-    t_minus = topo.edge_triangles[edge, 1]
-    length = np.linalg.norm(points[verts[:, 1]] - points[verts[:, 0]], axis=1)
+    # take(..., axis=0) gathers rows far faster than fancy indexing of (E, 2) arrays
+    verts = topo.edges.take(edge, axis=0)
+    tri = topo.edge_triangles.take(edge, axis=0)
+    t_plus, t_minus = tri[:, 0].copy(), tri[:, 1].copy()
+    if topo.free_vertices is not None:
+        free = topo.free_vertices.take(edge, axis=0)
+        free_plus, free_minus = free[:, 0].copy(), free[:, 1].copy()
+    else:
+        free_plus = free_vertices(triangles, topo.triangle_edges, t_plus, edge)
+        free_minus = free_vertices(triangles, topo.triangle_edges, t_minus, edge)
     return RWGTable(
         edge=edge,
         vertices=verts,
         t_plus=t_plus,
         t_minus=t_minus,
-        free_vertex_plus=free_vertices(triangles, topo.triangle_edges, t_plus, edge),
-        free_vertex_minus=free_vertices(triangles, topo.triangle_edges, t_minus, edge),
-        length=length,
+        free_vertex_plus=free_plus,
+        free_vertex_minus=free_minus,
+        length=segment_lengths(points, verts),
     )
+
+
+def segment_lengths(points: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """(K,) float64 lengths of the segments between ``points[pairs[:, 0]]`` and ``pairs[:, 1]``.
+
+    Coordinate by coordinate, without (K, 3) temporaries; a coordinate that is
+    zero everywhere (z of a planar mesh) adds nothing and is skipped.
+    """
+    total = np.zeros(len(pairs))
+    ends = [np.ascontiguousarray(pairs[:, k], dtype=np.intp) for k in (0, 1)]
+    for axis in range(points.shape[1]):
+        x = np.ascontiguousarray(points[:, axis])
+        if not x.any():
+            continue
+        d = x.take(ends[1])
+        d -= x.take(ends[0])
+        d *= d
+        total += d
+    return np.sqrt(total, out=total)
 
 
 def triangle_adjacency(n_triangles: int, topo: EdgeTopology) -> sp.csr_matrix:
@@ -182,6 +217,10 @@ def triangle_adjacency(n_triangles: int, topo: EdgeTopology) -> sp.csr_matrix:
 
     Triangles meeting at a junction edge are all connected to each other.
     """
+    if len(topo.junction_incidence) == 0:
+        direct = _adjacency_without_junctions(n_triangles, topo)
+        if direct is not None:
+            return direct
     interior = topo.valence == 2
     rows = [topo.edge_triangles[interior, 0], topo.edge_triangles[interior, 1]]
     cols = [rows[1], rows[0]]
@@ -197,6 +236,42 @@ def triangle_adjacency(n_triangles: int, topo: EdgeTopology) -> sp.csr_matrix:
     m.sum_duplicates()
     m.data[:] = 1
     return m
+
+
+def _adjacency_without_junctions(n_triangles: int, topo: EdgeTopology) -> sp.csr_matrix | None:
+    """The connectivity matrix built row by row: each triangle has at most 3 neighbours.
+
+    Returns None when two triangles share more than one edge (a degenerate
+    mesh), which the general path handles by summing duplicates.
+    """
+    et = topo.edge_triangles
+    # across an interior edge, the other triangle is (sum of both) - this one
+    across = np.where(topo.valence == 2, et[:, 0] + et[:, 1], -1).astype(INDEX)
+    this = np.arange(n_triangles, dtype=INDEX)
+    side = []
+    for k in range(3):
+        other = across.take(topo.triangle_edges[:, k])
+        other -= this  # negative where there is no neighbour ...
+        side.append(other.view(np.uint32))  # ... which unsigned sorts after every triangle
+    a, b, c = side  # sort each row with three exchanges
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    mid, top = np.minimum(hi, c), np.maximum(hi, c)
+    rows = np.empty((n_triangles, 3), dtype=np.uint32)
+    np.minimum(lo, mid, out=rows[:, 0])
+    np.maximum(lo, mid, out=rows[:, 1])
+    rows[:, 2] = top
+    has = rows < n_triangles
+    twice = ((rows[:, 0] == rows[:, 1]) & has[:, 1]) | ((rows[:, 1] == rows[:, 2]) & has[:, 2])
+    if twice.any():
+        return None
+    count = has[:, 0].astype(INDEX)
+    count += has[:, 1]
+    count += has[:, 2]
+    indptr = np.zeros(n_triangles + 1, dtype=INDEX)
+    np.cumsum(count, out=indptr[1:])
+    indices = rows[has].view(INDEX)
+    data = np.ones(len(indices), dtype=np.int8)
+    return sp.csr_matrix((data, indices, indptr), shape=(n_triangles,) * 2)
 
 
 def _pairs_within_groups(group: np.ndarray, value: np.ndarray) -> np.ndarray:
