@@ -300,8 +300,7 @@ def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) 
         from app.scene import render_screenshot
     except ImportError as exc:
         raise InputError(
-            f"screenshots need the desktop extras (pyvista): pip install 'barymesh[app]' "
-            f"({exc})"
+            f"screenshots need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
         ) from None
     from core.io import atomic_path
 

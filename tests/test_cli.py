@@ -23,7 +23,11 @@ def run(*args, cwd, stdin=None):
     env.pop("DISPLAY", None)  # everything here must work without a display
     return subprocess.run(
         [sys.executable, "-m", "app.cli", *map(str, args)],
-        cwd=cwd, env=env, capture_output=True, text=True, timeout=300,
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
 
 
@@ -72,8 +76,18 @@ def test_unit_flag(tmp_path):
 
 
 def test_stats_json_stdout_is_only_json(tmp_path):
-    r = run("mesh", "--preset", "paper-fig10", "--set", "subdivisions=2", "-o", "a.stl",
-            "--stats-json", "-", cwd=tmp_path)
+    r = run(
+        "mesh",
+        "--preset",
+        "paper-fig10",
+        "--set",
+        "subdivisions=2",
+        "-o",
+        "a.stl",
+        "--stats-json",
+        "-",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     params = load_preset("paper-fig10")[0].replace(subdivisions=2)
     assert json.loads(r.stdout) == json.loads(json.dumps(build_mesh(params).stats()))
@@ -89,8 +103,18 @@ def test_stats_json_file(tmp_path):
 
 def test_params_file_and_sets(tmp_path):
     (tmp_path / "mine.json").write_text('{"structure": "patch", "patch_size": 2.0}')
-    r = run("mesh", "--params", "mine.json", "--set", "subdivisions=3", "--set",
-            "origin=[1,2]", "--stats-json", "-", cwd=tmp_path)
+    r = run(
+        "mesh",
+        "--params",
+        "mine.json",
+        "--set",
+        "subdivisions=3",
+        "--set",
+        "origin=[1,2]",
+        "--stats-json",
+        "-",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     stats = json.loads(r.stdout)
     assert stats["triangles"] == 2 * 9 and stats["area"] == pytest.approx(4.0)
@@ -147,12 +171,15 @@ def test_usage_errors_exit_2(tmp_path, args, fragments):
         (["mesh", "--params", "missing.json"], ["missing.json", "no such parameter file"]),
         (["mesh", "--params", "bad.json"], ["bad.json", "invalid JSON"]),
         (["mesh", "--set", "max_triangles=10"], ["above the budget"]),
-        (["mesh", "--preset", "paper-fig10", "-o", "nowhere/x.msh"],
-         ["nowhere/x.msh", "does not exist"]),
-        (["mesh", "--preset", "paper-fig10", "-o", "blocker/x.msh"],
-         ["blocker/x.msh", "is not a folder"]),
-        (["mesh", "--preset", "paper-fig10", "--stats-json", "nowhere/s.json"],
-         ["nowhere/s.json"]),
+        (
+            ["mesh", "--preset", "paper-fig10", "-o", "nowhere/x.msh"],
+            ["nowhere/x.msh", "does not exist"],
+        ),
+        (
+            ["mesh", "--preset", "paper-fig10", "-o", "blocker/x.msh"],
+            ["blocker/x.msh", "is not a folder"],
+        ),
+        (["mesh", "--preset", "paper-fig10", "--stats-json", "nowhere/s.json"], ["nowhere/s.json"]),
         (["info", "missing.msh"], ["missing.msh", "does not exist"]),
         (["info", "garbage.msh"], ["garbage.msh", "not a readable Gmsh"]),
         (["info", "empty.stl"], ["empty.stl", "empty"]),
@@ -265,8 +292,16 @@ def test_screenshot_without_display(tmp_path, transparent):
     if not hasattr(scene, "render_screenshot"):
         pytest.skip("app.scene.render_screenshot is not there yet")
     iio = pytest.importorskip("imageio.v3")
-    args = ["mesh", "--preset", "paper-fig12d", "--screenshot", "shot.png",
-            "--window-size", "320", "240"]
+    args = [
+        "mesh",
+        "--preset",
+        "paper-fig12d",
+        "--screenshot",
+        "shot.png",
+        "--window-size",
+        "320",
+        "240",
+    ]
     if transparent:
         args.append("--transparent")
     r = run(*args, cwd=tmp_path)

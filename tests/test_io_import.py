@@ -15,13 +15,20 @@ TRIANGLES = np.array([[0, 1, 2], [0, 2, 3]])
 def mixed_mesh():
     return meshio.Mesh(
         POINTS,
-        [("vertex", np.array([[4]])), ("line", np.array([[0, 1], [1, 2], [2, 3]])),
-         ("triangle", TRIANGLES), ("quad", np.array([[0, 1, 2, 3]]))],
+        [
+            ("vertex", np.array([[4]])),
+            ("line", np.array([[0, 1], [1, 2], [2, 3]])),
+            ("triangle", TRIANGLES),
+            ("quad", np.array([[0, 1, 2, 3]])),
+        ],
         cell_data={
-            "gmsh:physical": [np.array([9]), np.array([5, 5, 5]), np.array([7, 7]),
-                              np.array([3])],
-            "gmsh:geometrical": [np.array([1]), np.array([2, 2, 2]), np.array([4, 6]),
-                                 np.array([1])],
+            "gmsh:physical": [np.array([9]), np.array([5, 5, 5]), np.array([7, 7]), np.array([3])],
+            "gmsh:geometrical": [
+                np.array([1]),
+                np.array([2, 2, 2]),
+                np.array([4, 6]),
+                np.array([1]),
+            ],
         },
     )
 
@@ -100,8 +107,9 @@ def test_gmsh41_ascii_with_other_cells(tmp_path):
 
 def test_gmsh41_binary(tmp_path):
     path = tmp_path / "b41.msh"
-    meshio.write(path, meshio.Mesh(POINTS[:4], [("triangle", TRIANGLES)]), file_format="gmsh",
-                 binary=True)
+    meshio.write(
+        path, meshio.Mesh(POINTS[:4], [("triangle", TRIANGLES)]), file_format="gmsh", binary=True
+    )
     assert path.read_bytes().startswith(b"$MeshFormat\n4.1 1 8")
     mesh = read_mesh(path)
     assert (mesh.n_vertices, mesh.n_triangles) == (4, 2)
@@ -139,13 +147,18 @@ def test_supported_extensions():
 def _bad_files(tmp_path):
     garbage = b"\x00\x01 this is not a mesh \xff" * 10
     msh = tmp_path / "ok.msh"
-    meshio.write(msh, meshio.Mesh(POINTS[:4], [("triangle", TRIANGLES)]), file_format="gmsh22",
-                 binary=False)
+    meshio.write(
+        msh, meshio.Mesh(POINTS[:4], [("triangle", TRIANGLES)]), file_format="gmsh22", binary=False
+    )
     truncated = tmp_path / "truncated.msh"
     truncated.write_text(msh.read_text()[: len(msh.read_text()) // 2])
     lines_only = tmp_path / "lines.msh"
-    meshio.write(lines_only, meshio.Mesh(POINTS[:4], [("line", np.array([[0, 1], [1, 2]]))]),
-                 file_format="gmsh22", binary=False)
+    meshio.write(
+        lines_only,
+        meshio.Mesh(POINTS[:4], [("line", np.array([[0, 1], [1, 2]]))]),
+        file_format="gmsh22",
+        binary=False,
+    )
     bad_mat = tmp_path / "bad.mat"
     scipy.io.savemat(bad_mat, {"q": np.zeros(3)})
     out_of_range = tmp_path / "range.mat"
@@ -176,9 +189,21 @@ def _bad_files(tmp_path):
 
 
 BAD = [
-    "empty", "garbage-msh", "garbage-vtu", "garbage-vtp", "garbage-vtk", "garbage-stl",
-    "garbage-mat", "wrong-xml", "truncated", "no-triangles", "no-p", "index-out-of-range",
-    "unsupported", "missing", "folder",
+    "empty",
+    "garbage-msh",
+    "garbage-vtu",
+    "garbage-vtp",
+    "garbage-vtk",
+    "garbage-stl",
+    "garbage-mat",
+    "wrong-xml",
+    "truncated",
+    "no-triangles",
+    "no-p",
+    "index-out-of-range",
+    "unsupported",
+    "missing",
+    "folder",
 ]
 
 

@@ -19,8 +19,15 @@ def canonical_meshes():
     return {
         "patch": build_mesh(MeshParams(structure="patch", patch_size=10.0, origin=(-5, -5))),
         "double-ring": build_mesh(
-            MeshParams(structure="double_ring", mode="conforming", inner_radius=2.0,
-                       outer_radius=3.5, patch_size=1.0, angle_step=60.0, subdivisions=2)
+            MeshParams(
+                structure="double_ring",
+                mode="conforming",
+                inner_radius=2.0,
+                outer_radius=3.5,
+                patch_size=1.0,
+                angle_step=60.0,
+                subdivisions=2,
+            )
         ),
         "paper-ring": build_mesh(
             MeshParams(structure="ring", inner_radius=4.0, angle_step=90.0, subdivisions=2)
@@ -79,8 +86,15 @@ def test_round_trip(tmp_path, name, ext, unit):
     assert triangle_set(back.points, back.triangles) == triangle_set(mesh.points, mesh.triangles)
     assert back.ignored_cells == {}
     s, t = back.stats(), mesh.stats()
-    for key in ("vertices", "triangles", "edges", "interior_edges", "boundary_edges",
-                "junction_edges", "euler_characteristic"):
+    for key in (
+        "vertices",
+        "triangles",
+        "edges",
+        "interior_edges",
+        "boundary_edges",
+        "junction_edges",
+        "euler_characteristic",
+    ):
         assert s[key] == t[key], key
     assert s["area"] == pytest.approx(t["area"], rel=1e-12)
 

@@ -8,8 +8,15 @@ from core import MeshParams, build_mesh
 from core.io import write_mesh
 
 MESH = build_mesh(
-    MeshParams(structure="double_ring", mode="conforming", inner_radius=2.0, outer_radius=3.5,
-               patch_size=1.0, angle_step=60.0, subdivisions=2)
+    MeshParams(
+        structure="double_ring",
+        mode="conforming",
+        inner_radius=2.0,
+        outer_radius=3.5,
+        patch_size=1.0,
+        angle_step=60.0,
+        subdivisions=2,
+    )
 )
 
 
@@ -47,8 +54,10 @@ def test_csv(tmp_path):
     np.testing.assert_allclose(table[:, 7], rwg.length * 1e-3, rtol=1e-15)
 
     triplets = np.loadtxt(tmp_path / "rwg_connectivity.csv", delimiter=",", skiprows=1)
-    conn = sp.coo_matrix((triplets[:, 2], (triplets[:, 0].astype(int), triplets[:, 1].astype(int))),
-                         shape=MESH.connectivity.shape)
+    conn = sp.coo_matrix(
+        (triplets[:, 2], (triplets[:, 0].astype(int), triplets[:, 1].astype(int))),
+        shape=MESH.connectivity.shape,
+    )
     assert (conn != MESH.connectivity).nnz == 0
 
     cent = np.loadtxt(tmp_path / "rwg_centroids.csv", delimiter=",", skiprows=1)

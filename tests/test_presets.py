@@ -16,9 +16,18 @@ from core.presets import (
 )
 
 REQUIRED = {
-    "paper-fig10", "paper-fig11-12mm", "paper-fig11-8mm", "paper-fig11-4mm",
-    "paper-fig12a", "paper-fig12b", "paper-fig12c", "paper-fig12d",
-    "paper-fig8-dsdr", "paper-fig9-square-dsdr", "makarov-plate", "makarov-platefine",
+    "paper-fig10",
+    "paper-fig11-12mm",
+    "paper-fig11-8mm",
+    "paper-fig11-4mm",
+    "paper-fig12a",
+    "paper-fig12b",
+    "paper-fig12c",
+    "paper-fig12d",
+    "paper-fig8-dsdr",
+    "paper-fig9-square-dsdr",
+    "makarov-plate",
+    "makarov-platefine",
     "srr-openmodes",
 }
 
@@ -62,8 +71,13 @@ def test_preset_file_holds_only_known_keys(name):
 
 
 @pytest.mark.parametrize(
-    ("name", "size"), [("paper-fig11-12mm", 12.0), ("paper-fig11-8mm", 8.0),
-                       ("paper-fig11-4mm", 4.0), ("paper-fig10", 10.0)]
+    ("name", "size"),
+    [
+        ("paper-fig11-12mm", 12.0),
+        ("paper-fig11-8mm", 8.0),
+        ("paper-fig11-4mm", 4.0),
+        ("paper-fig10", 10.0),
+    ],
 )
 def test_square_patch_presets(name, size):
     params, _ = load_preset(name)
@@ -73,8 +87,12 @@ def test_square_patch_presets(name, size):
 
 @pytest.mark.parametrize(
     ("name", "patch", "step"),
-    [("paper-fig12a", 1, 1), ("paper-fig12b", 2, 1), ("paper-fig12c", 2, 10),
-     ("paper-fig12d", 1, 20)],
+    [
+        ("paper-fig12a", 1, 1),
+        ("paper-fig12b", 2, 1),
+        ("paper-fig12c", 2, 10),
+        ("paper-fig12d", 1, 20),
+    ],
 )
 def test_fig12_presets(name, patch, step):
     p, _ = load_preset(name)
@@ -87,11 +105,20 @@ def test_makarov_and_srr_presets():
     fine, _ = load_preset("makarov-platefine")
     for p, n in ((plate, 8), (fine, 16)):
         assert (p.structure, p.patch_size, p.origin, p.diagonal) == (
-            "patch", 1000.0, (-500.0, -500.0), "AD")
+            "patch",
+            1000.0,
+            (-500.0, -500.0),
+            "AD",
+        )
         assert p.subdivisions == n
     srr, _ = load_preset("srr-openmodes")
     assert (srr.structure, srr.mode, srr.inner_radius, srr.patch_size, srr.outer_radius) == (
-        "split_ring", "conforming", 3.5, 0.5, 4.0)
+        "split_ring",
+        "conforming",
+        3.5,
+        0.5,
+        4.0,
+    )
     assert (srr.gap_width, srr.gap_angle) == (1.0, 180.0)
     mesh = build_mesh(srr)
     assert mesh.stats()["euler_characteristic"] == 1  # one ring cut once: a disc topologically
@@ -140,7 +167,7 @@ def test_missing_params_file(tmp_path):
         ("subdivisions=8", ("subdivisions", 8)),
         ("origin=[1,2]", ("origin", [1, 2])),
         ("mode=conforming", ("mode", "conforming")),
-        ("mode=\"paper\"", ("mode", "paper")),
+        ('mode="paper"', ("mode", "paper")),
         ("tolerance=null", ("tolerance", None)),
         (" angle_step = 2.5 ", ("angle_step", 2.5)),
     ],

@@ -25,7 +25,8 @@ class ExportFormat:
 
 EXPORT_FORMATS = {
     ".msh": ExportFormat(
-        "Gmsh MSH 2.2 ASCII", "mm",
+        "Gmsh MSH 2.2 ASCII",
+        "mm",
         "physical tag = region, elementary tag = patch + 1 (scuff-em, bempp-cl, OpenModes)",
     ),
     ".vtu": ExportFormat("VTK XML unstructured grid", "mm", "cell data: quality, region, patch"),

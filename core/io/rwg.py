@@ -81,16 +81,30 @@ def csv_tables(mesh: TriMesh, per_mm: float, unit: str) -> dict[str, str]:
     conn = mesh.connectivity.tocoo()
     c = np.asarray(mesh.centroids) * per_mm
     header = ",".join(RWG_COLUMNS[:-1]) + f",length_{unit}"
-    rwg_cols = [rwg.edge, rwg.vertices[:, 0], rwg.vertices[:, 1], rwg.t_plus, rwg.t_minus,
-                rwg.free_vertex_plus, rwg.free_vertex_minus, np.asarray(rwg.length) * per_mm]
+    rwg_cols = [
+        rwg.edge,
+        rwg.vertices[:, 0],
+        rwg.vertices[:, 1],
+        rwg.t_plus,
+        rwg.t_minus,
+        rwg.free_vertex_plus,
+        rwg.free_vertex_minus,
+        np.asarray(rwg.length) * per_mm,
+    ]
     return {
         "": _csv(header, rwg_cols, ["%d"] * 7 + ["%.17g"]),
-        "_connectivity": _csv("row,col,value", [conn.row, conn.col, conn.data],
-                              ["%d", "%d", "%.17g"]),
+        "_connectivity": _csv(
+            "row,col,value", [conn.row, conn.col, conn.data], ["%d", "%d", "%.17g"]
+        ),
         "_centroids": _csv(
             f"triangle,x_{unit},y_{unit},z_{unit},area_{unit}2",
-            [np.arange(mesh.n_triangles), c[:, 0], c[:, 1], c[:, 2],
-             np.asarray(mesh.areas) * per_mm**2],
+            [
+                np.arange(mesh.n_triangles),
+                c[:, 0],
+                c[:, 1],
+                c[:, 2],
+                np.asarray(mesh.areas) * per_mm**2,
+            ],
             ["%d"] + ["%.17g"] * 4,
         ),
     }
@@ -98,8 +112,10 @@ def csv_tables(mesh: TriMesh, per_mm: float, unit: str) -> dict[str, str]:
 
 def csv_paths(path: Path) -> dict[str, Path]:
     """The three CSV files written for ``path``: the RWG table and its two companions."""
-    return {key: path.with_name(f"{path.stem}{key}{path.suffix}") for key in
-            ("", "_connectivity", "_centroids")}
+    return {
+        key: path.with_name(f"{path.stem}{key}{path.suffix}")
+        for key in ("", "_connectivity", "_centroids")
+    }
 
 
 def write_rwg_csv(mesh: TriMesh, path: Path, per_mm: float, unit: str) -> None:

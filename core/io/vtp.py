@@ -17,8 +17,11 @@ import numpy as np
 from ..mesh import TriMesh
 from .meshio_formats import cell_quality
 
-_VTK_TYPES = {np.dtype(np.float64): "Float64", np.dtype(np.int32): "Int32",
-              np.dtype(np.int64): "Int64"}
+_VTK_TYPES = {
+    np.dtype(np.float64): "Float64",
+    np.dtype(np.int32): "Int32",
+    np.dtype(np.int64): "Int64",
+}
 
 
 def _array(name: str, data: np.ndarray, components: int = 1) -> str:
@@ -45,7 +48,9 @@ def write_vtp(mesh: TriMesh, path: Path, per_mm: float) -> None:
         'header_type="UInt64">\n<PolyData>\n',
         f'<Piece NumberOfPoints="{len(points)}" NumberOfVerts="0" NumberOfLines="0" '
         f'NumberOfStrips="0" NumberOfPolys="{len(tri)}">\n',
-        "<Points>\n", _array("Points", points, 3), "</Points>\n",
+        "<Points>\n",
+        _array("Points", points, 3),
+        "</Points>\n",
         "<Polys>\n",
         _array("connectivity", tri.reshape(-1)),
         _array("offsets", 3 * np.arange(1, len(tri) + 1, dtype=np.int64)),
@@ -82,7 +87,7 @@ def read_vtp(path: Path) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray],
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:
-        if b'encoding="raw"' in Path(path).read_bytes()[:1 << 20]:
+        if b'encoding="raw"' in Path(path).read_bytes()[: 1 << 20]:
             from meshio.vtu._vtu import _parse_raw_binary
 
             root = _parse_raw_binary(str(path))
@@ -90,8 +95,7 @@ def read_vtp(path: Path) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray],
             raise ValueError(f"not valid XML ({exc})") from None
     if root.tag != "VTKFile" or root.attrib.get("type") != "PolyData":
         raise ValueError(
-            f"expected a VTK XML PolyData file, found <{root.tag} "
-            f"type={root.attrib.get('type')!r}>"
+            f"expected a VTK XML PolyData file, found <{root.tag} type={root.attrib.get('type')!r}>"
         )
     reader = _reader(root)
     pieces = root.findall("./PolyData/Piece")
@@ -147,7 +151,5 @@ def read_vtp(path: Path) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray],
         points.append(pts)
         triangles.append(tri + offset)
         offset += len(pts)
-    cell_data_out = {
-        k: np.concatenate(v) for k, v in cell_data.items() if len(v) == len(pieces)
-    }
+    cell_data_out = {k: np.concatenate(v) for k, v in cell_data.items() if len(v) == len(pieces)}
     return np.concatenate(points), np.concatenate(triangles), cell_data_out, ignored
