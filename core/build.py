@@ -50,7 +50,7 @@ def build_mesh(params: MeshParams | None = None) -> TriMesh:
         patch_ids=np.repeat(np.arange(n_patches, dtype=INDEX), per_patch),
         regions=np.repeat(lay.regions, per_patch),
         n_patches=n_patches,
-        mode=params.mode if params.structure != "patch" else params.mode,
+        mode=params.mode,
         tolerance=params.weld_tolerance,
         patch_rects=lay.rects if params.mode == "paper" else None,
         _template=lay.template,
