@@ -39,13 +39,14 @@ def build_mesh(params: MeshParams | None = None) -> TriMesh:
         return _triangle(params)
     lay = layout(params)
     flat = lay.xy.reshape(-1, 2)
-    points = flat[lay.representative]
+    points = np.zeros((len(lay.representative), 3))
+    points[:, :2] = flat.take(lay.representative, axis=0)
     vertex_map = lay.vertex_of_point.reshape(len(lay.xy), -1)
     triangles = patch_triangles(lay.template, vertex_map)
     per_patch = len(lay.template.triangles)
     n_patches = len(lay.xy)
     return TriMesh(
-        points=np.column_stack([points, np.zeros(len(points))]),
+        points=points,
         triangles=triangles,
         patch_ids=np.repeat(np.arange(n_patches, dtype=INDEX), per_patch),
         regions=np.repeat(lay.regions, per_patch),

@@ -21,6 +21,7 @@ import numpy as np
 
 from .params import DOUBLE_STRUCTURES, MeshParams
 from .subdivision import PatchTemplate, patch_template
+from .topology import INDEX
 from .weld import merge_pairs, weld_lattice_patches, weld_points
 
 #: Widest conforming sector: a closed ring has at least three sectors, so no
@@ -225,9 +226,20 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
                 lo, hi = start + alpha, end - alpha
             else:
                 lo, hi = np.full(nv, start), np.full(nv, end)
-            k = np.arange(m)[:, None] + v[None, :]  # (m, Nv) sector coordinate
-            theta = np.radians(lo + k * (hi - lo) / m)
-            pts = np.stack([rho * np.cos(theta), rho * np.sin(theta)], axis=-1)
+            if split:
+                k = np.arange(m)[:, None] + v[None, :]  # (m, Nv) sector coordinate
+                theta = np.radians(lo + k * (hi - lo) / m)
+                cos, sin = np.cos(theta), np.sin(theta)
+            else:
+                # the angle depends on v alone: evaluate cos and sin once per row of the template
+                rows, row_of = np.unique(v, return_inverse=True)
+                first = np.unique(row_of, return_index=True)[1]
+                k = np.arange(m)[:, None] + rows[None, :]
+                theta = np.radians(lo[first] + k * (hi[first] - lo[first]) / m)
+                cos, sin = np.cos(theta).take(row_of, axis=1), np.sin(theta).take(row_of, axis=1)
+            pts = np.empty((m, nv, 2))
+            np.multiply(rho, cos, out=pts[..., 0])
+            np.multiply(rho, sin, out=pts[..., 1])
             xy.append(pts)
             regions.append(np.full(m, ring + 1))
             first_patch[ring, a] = n_patches
@@ -250,7 +262,12 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
             )
             n_patches += m
     radii = _radii(params)
-    if len(radii) == 2 and abs(radii[1] - (radii[0] + h)) <= params.weld_tolerance:
+    touching = len(radii) == 2 and abs(radii[1] - (radii[0] + h)) <= params.weld_tolerance
+    if not touching and _sides_in_rows(template):
+        ids, rep = _sector_chain_vertices(template, m, [c for _, _, c in arcs] * len(radii))
+        xy = np.concatenate(xy) + np.asarray(params.origin)
+        return Layout(template, xy, np.concatenate(regions), ids, rep, None)
+    if touching:
         # touching rings: the inner ring's outer circle is the outer ring's inner circle
         for a in range(len(arcs)):
             p0 = first_patch[0, a] + np.arange(m)
@@ -267,6 +284,49 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
     xy = np.concatenate(xy) + np.asarray(params.origin)
     vertex_of_point, rep = merge_pairs(n_patches * nv, np.concatenate(pairs))
     return Layout(template, xy, np.concatenate(regions), vertex_of_point, rep, None)
+
+
+def _sides_in_rows(template: PatchTemplate) -> bool:
+    """True when side 0 (v = 0) is the first local vertices and side 2 (v = 1) the last."""
+    sides, nv = template.sides, len(template.uv)
+    s = sides.shape[1]
+    return np.array_equal(sides[0], np.arange(s)) and np.array_equal(
+        sides[2], np.arange(nv - s, nv)
+    )
+
+
+def _sector_chain_vertices(
+    template: PatchTemplate, m: int, closed: list[bool]
+) -> tuple[np.ndarray, np.ndarray]:
+    """Vertex ids of chains of m sectors glued side 2 to side 0, by formula.
+
+    The same ``(vertex_of_point, representative)`` as :func:`core.weld.merge_pairs`
+    on the glue pairs (vertices numbered by first appearance), without sorting:
+    with the template's side 0 first and side 2 last, local vertex l of
+    sector k is vertex k S + l, S = Nv − (side length), and a closed chain's
+    last side 2 is its first side 0.
+    """
+    nv = len(template.uv)
+    s = template.sides.shape[1]
+    stride = nv - s
+    local = np.arange(nv, dtype=INDEX)
+    sector = np.arange(m, dtype=INDEX)[:, None]
+    chain = sector * INDEX(stride) + local  # (m, Nv)
+    new = np.ones((m, nv), dtype=bool)  # first appearance of its vertex
+    new[1:, :s] = False
+    ids, reps = [], []
+    n_vertices = 0
+    for i, is_closed in enumerate(closed):
+        block = chain + INDEX(n_vertices)
+        first = new
+        if is_closed:
+            block[-1, nv - s :] = n_vertices + np.arange(s, dtype=INDEX)
+            first = new.copy()
+            first[-1, nv - s :] = False
+        ids.append(block.ravel())
+        reps.append(np.flatnonzero(first.ravel()).astype(INDEX) + INDEX(i * m * nv))
+        n_vertices += m * stride + (0 if is_closed else s)
+    return np.concatenate(ids), np.concatenate(reps)
 
 
 def _conforming_square_rects(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
