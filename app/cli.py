@@ -84,7 +84,7 @@ def _add_stats_option(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The parser of the subcommands (``mesh``, ``info``, ``presets``)."""
+    """The parser of the subcommands (``mesh``, ``info``, ``sweep``, ``presets``)."""
     from core.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, UNITS
 
     parser = _Parser(
@@ -150,6 +150,33 @@ def build_parser() -> argparse.ArgumentParser:
         help="length unit of the file's coordinates (default mm; .mat: m)",
     )
     _add_stats_option(info)
+
+    from core.sweep import SWEEPABLE
+
+    sweep = verbs.add_parser(
+        "sweep",
+        help="animate a sweep of one parameter to GIF or MP4",
+        description="Mesh and render K frames with one parameter going from A to B "
+        "(integers rounded), without a display, and save them as an animation.",
+    )
+    _add_params_options(sweep)
+    anim = sweep.add_argument_group("sweep")
+    anim.add_argument("--param", required=True, choices=SWEEPABLE, help="the parameter to vary")
+    anim.add_argument("--from", dest="start", required=True, type=float, metavar="A")
+    anim.add_argument("--to", dest="stop", required=True, type=float, metavar="B")
+    anim.add_argument("--frames", required=True, type=int, metavar="K", help="frames, >= 2")
+    anim.add_argument("--fps", type=float, default=4.0, help="frames per second (default 4)")
+    anim.add_argument(
+        "-o", "--output", required=True, metavar="OUT", help="the animation: .gif or .mp4"
+    )
+    anim.add_argument(
+        "--window-size",
+        nargs=2,
+        type=_window_size,
+        metavar=("W", "H"),
+        default=(800, 600),
+        help="frame size in pixels (default 800 600)",
+    )
 
     verbs.add_parser(
         "presets",
@@ -333,7 +360,37 @@ def _cmd_presets(args: argparse.Namespace) -> int:
     return 0
 
 
-VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets}
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from core.presets import preset_names, resolve_params
+
+    if args.preset is not None and args.preset not in preset_names():
+        raise UsageError(
+            f"sweep: unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
+        )
+    if args.frames < 2:
+        raise UsageError(f"sweep: --frames {args.frames} is invalid; expected 2 or more")
+    if Path(args.output).suffix.lower() not in (".gif", ".mp4"):
+        raise UsageError(f"sweep: -o {args.output}: expected a .gif or .mp4 file")
+    if not args.fps > 0:
+        raise UsageError(f"sweep: --fps {args.fps} is invalid; expected a positive number")
+    _check_folder(args.output)
+    base = resolve_params(args.preset, args.params, args.sets)
+    try:
+        from app.sweep import render_sweep
+    except ImportError as exc:
+        raise InputError(
+            f"sweeps need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
+        ) from None
+    with progress(f"rendering {args.frames} frames of {args.param}"):
+        written = render_sweep(
+            base, args.param, args.start, args.stop, args.frames, args.output,
+            window_size=tuple(args.window_size), fps=args.fps,
+        )  # fmt: skip
+    print(f"wrote {args.output} ({written} frames, {args.window_size[0]}x{args.window_size[1]} px)")
+    return 0
+
+
+VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
 
 
 # -- entry point -----------------------------------------------------------
