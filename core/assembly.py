@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .subdivision import PatchTemplate
-from .topology import INDEX, EdgeTopology, edge_keys
+from .topology import INDEX, EdgeTopology, compress_pairs, edge_keys
 
 
 def patch_triangles(template: PatchTemplate, vertex_map: np.ndarray) -> np.ndarray:
@@ -76,12 +76,16 @@ def patch_topology(
 
     tri_base = (np.arange(n_patch, dtype=INDEX) * INDEX(n_tri))[:, None]  # (P, 1)
     edge_triangles = np.empty((n_patch, n_loc, 2), dtype=INDEX)
-    np.add(local_tri[:, 0], tri_base, out=edge_triangles[..., 0])  # column 0 always exists
-    np.add(local_tri[:, 1], tri_base, out=edge_triangles[..., 1])
-    edge_triangles[:, local_tri[:, 1] < 0, 1] = -1
+    np.add(local_tri, tri_base[:, :, None], out=edge_triangles)
+    np.copyto(edge_triangles, -1, where=local_tri < 0)  # column 0 always exists
     edge_triangles = edge_triangles.reshape(-1, 2)
-    free_vertices = vmap.take(local_free.clip(0).ravel(), axis=1).reshape(-1, 2)  # (P Ne, 2)
-    free_vertices[np.tile(local_free[:, 1] < 0, n_patch), 1] = -1
+    # local vertex Nv (a column of -1 appended to the map) stands for "no free vertex"
+    padded = np.empty((n_patch, vmap.shape[1] + 1), dtype=INDEX)
+    padded[:, :-1] = vmap
+    padded[:, -1] = -1
+    free_at = np.where(local_free < 0, vmap.shape[1], local_free).ravel()
+    free_vertices = padded.take(free_at, axis=1).reshape(-1, 2)  # (P Ne, 2)
+    del padded
     valence = np.tile(template.valence.astype(INDEX), n_patch)
 
     # Group the pooled slots by vertex pair; the first slot of a group is its edge.
@@ -130,8 +134,8 @@ def patch_topology(
         edge_of_slot = np.cumsum(keep, dtype=INDEX) - 1
         edge_of_slot[pool] = edge_of_slot[first_slot[group]]
         triangle_edges = edge_of_slot.take(triangle_slots)
-        edges, edge_triangles = edges.compress(keep, axis=0), edge_triangles.compress(keep, axis=0)
-        free_vertices, valence = free_vertices.compress(keep, axis=0), valence[keep]
+        edges, edge_triangles = compress_pairs(edges, keep), compress_pairs(edge_triangles, keep)
+        free_vertices, valence = compress_pairs(free_vertices, keep), valence[keep]
     else:
         edge_of_slot = None
         triangle_edges = triangle_slots

@@ -14,6 +14,7 @@ from .overlap import union_area
 from .quality import aspect_ratios, min_angles_deg, triangle_areas
 from .subdivision import PatchTemplate
 from .topology import (
+    BLOCK,
     INDEX,
     EdgeTopology,
     RWGTable,
@@ -105,18 +106,20 @@ class TriMesh:
     @cached_property
     def centroids(self) -> np.ndarray:
         """(T, 3) float64 barycentres (Eqs. 25–26): the RWG quadrature points."""
-        # coordinate by coordinate, corner by corner: no (T, 3, 3) temporary, same
-        # rounding; a coordinate that is zero everywhere (z) stays zero
-        corners = [np.ascontiguousarray(self.triangles[:, k], dtype=np.intp) for k in range(3)]
+        # block by block, coordinate by coordinate, corner by corner: no (T, 3, 3)
+        # temporary, same rounding; a coordinate that is zero everywhere (z) stays zero
         out = np.zeros((self.n_triangles, 3))
-        for axis in range(3):
-            x = np.ascontiguousarray(self.points[:, axis])
-            if x.any():
+        axes = [(a, np.ascontiguousarray(self.points[:, a])) for a in range(3)]
+        axes = [(a, x) for a, x in axes if x.any()]
+        for lo in range(0, self.n_triangles, BLOCK):
+            tri = self.triangles[lo : lo + BLOCK]
+            corners = [tri[:, k].astype(np.intp) for k in range(3)]
+            for axis, x in axes:
                 c = x.take(corners[0])
                 c += x.take(corners[1])
                 c += x.take(corners[2])
                 c /= 3.0
-                out[:, axis] = c
+                out[lo : lo + BLOCK, axis] = c
         return _frozen(out)
 
     @cached_property

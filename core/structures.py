@@ -214,7 +214,9 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
     h = params.patch_size
     u, v = template.uv[:, 0], template.uv[:, 1]
     nv = len(u)
-    xy, regions, pairs = [], [], []
+    n_total = len(_radii(params)) * len(arcs) * m
+    xy = np.empty((n_total, nv, 2))
+    regions, pairs = [], []
     sides = template.sides
     n_patches = 0
     first_patch = {}  # (ring, arc) -> first patch index
@@ -237,10 +239,9 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
                 k = np.arange(m)[:, None] + rows[None, :]
                 theta = np.radians(lo[first] + k * (hi[first] - lo[first]) / m)
                 cos, sin = np.cos(theta).take(row_of, axis=1), np.sin(theta).take(row_of, axis=1)
-            pts = np.empty((m, nv, 2))
+            pts = xy[n_patches : n_patches + m]
             np.multiply(rho, cos, out=pts[..., 0])
             np.multiply(rho, sin, out=pts[..., 1])
-            xy.append(pts)
             regions.append(np.full(m, ring + 1))
             first_patch[ring, a] = n_patches
             # glue side 2 (v = 1) of sector k to side 0 (v = 0) of sector k + 1
@@ -263,9 +264,10 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
             n_patches += m
     radii = _radii(params)
     touching = len(radii) == 2 and abs(radii[1] - (radii[0] + h)) <= params.weld_tolerance
+    if any(params.origin):
+        xy += np.asarray(params.origin)
     if not touching and _sides_in_rows(template):
         ids, rep = _sector_chain_vertices(template, m, [c for _, _, c in arcs] * len(radii))
-        xy = np.concatenate(xy) + np.asarray(params.origin)
         return Layout(template, xy, np.concatenate(regions), ids, rep, None)
     if touching:
         # touching rings: the inner ring's outer circle is the outer ring's inner circle
@@ -281,7 +283,6 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
                     axis=1,
                 )
             )
-    xy = np.concatenate(xy) + np.asarray(params.origin)
     vertex_of_point, rep = merge_pairs(n_patches * nv, np.concatenate(pairs))
     return Layout(template, xy, np.concatenate(regions), vertex_of_point, rep, None)
 

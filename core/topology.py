@@ -15,6 +15,9 @@ import scipy.sparse as sp
 #: The one integer dtype for vertex, triangle and edge indices.
 INDEX = np.int32
 
+#: Rows per block in gathers done block by block so that temporaries stay in cache.
+BLOCK = 1 << 16
+
 
 @dataclass(frozen=True)
 class EdgeTopology:
@@ -172,12 +175,12 @@ def free_vertices(
 def rwg_table(points: np.ndarray, triangles: np.ndarray, topo: EdgeTopology) -> RWGTable:
     """Build the RWG table (see :class:`RWGTable`) from a mesh and its edges."""
     edge = topo.interior_edges
-    # take(..., axis=0) gathers rows far faster than fancy indexing of (E, 2) arrays
-    verts = topo.edges.take(edge, axis=0)
-    tri = topo.edge_triangles.take(edge, axis=0)
+    index = edge.astype(np.intp)
+    verts = take_pairs(topo.edges, index)
+    tri = take_pairs(topo.edge_triangles, index)
     t_plus, t_minus = tri[:, 0].copy(), tri[:, 1].copy()
     if topo.free_vertices is not None:
-        free = topo.free_vertices.take(edge, axis=0)
+        free = take_pairs(topo.free_vertices, index)
         free_plus, free_minus = free[:, 0].copy(), free[:, 1].copy()
     else:
         free_plus = free_vertices(triangles, topo.triangle_edges, t_plus, edge)
@@ -193,22 +196,40 @@ def rwg_table(points: np.ndarray, triangles: np.ndarray, topo: EdgeTopology) -> 
     )
 
 
+def take_pairs(pairs: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``pairs[index]`` for (K, 2) int32 rows, gathered as single 8-byte items.
+
+    Much faster than fancy indexing (or ``take(axis=0)``) of 2-D rows.
+    """
+    packed = np.ascontiguousarray(pairs, dtype=INDEX).view(np.int64).reshape(-1)
+    return packed.take(index).view(INDEX).reshape(-1, 2)
+
+
+def compress_pairs(pairs: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """``pairs[keep]`` for (K, 2) int32 rows and a (K,) boolean mask, as 8-byte items."""
+    packed = np.ascontiguousarray(pairs, dtype=INDEX).view(np.int64).reshape(-1)
+    return packed.compress(keep).view(INDEX).reshape(-1, 2)
+
+
 def segment_lengths(points: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """(K,) float64 lengths of the segments between ``points[pairs[:, 0]]`` and ``pairs[:, 1]``.
 
-    Coordinate by coordinate, without (K, 3) temporaries; a coordinate that is
-    zero everywhere (z of a planar mesh) adds nothing and is skipped.
+    Coordinate by coordinate, in cache-sized blocks of segments, without
+    (K, 3) temporaries; a coordinate that is zero everywhere (z of a planar
+    mesh) adds nothing and is skipped.
     """
     total = np.zeros(len(pairs))
-    ends = [np.ascontiguousarray(pairs[:, k], dtype=np.intp) for k in (0, 1)]
-    for axis in range(points.shape[1]):
-        x = np.ascontiguousarray(points[:, axis])
-        if not x.any():
-            continue
-        d = x.take(ends[1])
-        d -= x.take(ends[0])
-        d *= d
-        total += d
+    axes = [np.ascontiguousarray(points[:, axis]) for axis in range(points.shape[1])]
+    axes = [x for x in axes if x.any()]
+    for lo in range(0, len(pairs), BLOCK):
+        block = pairs[lo : lo + BLOCK]
+        start, end = block[:, 0].astype(np.intp), block[:, 1].astype(np.intp)
+        acc = total[lo : lo + BLOCK]
+        for x in axes:
+            d = x.take(end)
+            d -= x.take(start)
+            d *= d
+            acc += d
     return np.sqrt(total, out=total)
 
 
@@ -247,19 +268,22 @@ def _adjacency_without_junctions(n_triangles: int, topo: EdgeTopology) -> sp.csr
     et = topo.edge_triangles
     # across an interior edge, the other triangle is (sum of both) - this one
     across = np.where(topo.valence == 2, et[:, 0] + et[:, 1], -1).astype(INDEX)
-    this = np.arange(n_triangles, dtype=INDEX)
-    side = []
-    for k in range(3):
-        other = across.take(topo.triangle_edges[:, k])
-        other -= this  # negative where there is no neighbour ...
-        side.append(other.view(np.uint32))  # ... which unsigned sorts after every triangle
-    a, b, c = side  # sort each row with three exchanges
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    mid, top = np.minimum(hi, c), np.maximum(hi, c)
     rows = np.empty((n_triangles, 3), dtype=np.uint32)
-    np.minimum(lo, mid, out=rows[:, 0])
-    np.maximum(lo, mid, out=rows[:, 1])
-    rows[:, 2] = top
+    for start in range(0, n_triangles, BLOCK):
+        block = topo.triangle_edges[start : start + BLOCK]
+        this = np.arange(start, start + len(block), dtype=INDEX)
+        side = []
+        for k in range(3):
+            other = across.take(block[:, k])
+            other -= this  # negative where there is no neighbour ...
+            side.append(other.view(np.uint32))  # ... which unsigned sorts after every triangle
+        a, b, c = side  # sort each row with three exchanges
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        mid, top = np.minimum(hi, c), np.maximum(hi, c)
+        out = rows[start : start + BLOCK]
+        np.minimum(lo, mid, out=out[:, 0])
+        np.maximum(lo, mid, out=out[:, 1])
+        out[:, 2] = top
     has = rows < n_triangles
     twice = ((rows[:, 0] == rows[:, 1]) & has[:, 1]) | ((rows[:, 1] == rows[:, 2]) & has[:, 2])
     if twice.any():
@@ -269,7 +293,7 @@ def _adjacency_without_junctions(n_triangles: int, topo: EdgeTopology) -> sp.csr
     count += has[:, 2]
     indptr = np.zeros(n_triangles + 1, dtype=INDEX)
     np.cumsum(count, out=indptr[1:])
-    indices = rows[has].view(INDEX)
+    indices = rows.reshape(-1).compress(has.reshape(-1)).view(INDEX)
     data = np.ones(len(indices), dtype=np.int8)
     return sp.csr_matrix((data, indices, indptr), shape=(n_triangles,) * 2)
 
