@@ -208,7 +208,7 @@ def take_pairs(pairs: np.ndarray, index: np.ndarray) -> np.ndarray:
 def compress_pairs(pairs: np.ndarray, keep: np.ndarray) -> np.ndarray:
     """``pairs[keep]`` for (K, 2) int32 rows and a (K,) boolean mask, as 8-byte items."""
     packed = np.ascontiguousarray(pairs, dtype=INDEX).view(np.int64).reshape(-1)
-    return packed.compress(keep).view(INDEX).reshape(-1, 2)
+    return packed[keep].view(INDEX).reshape(-1, 2)
 
 
 def segment_lengths(points: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -293,7 +293,7 @@ def _adjacency_without_junctions(n_triangles: int, topo: EdgeTopology) -> sp.csr
     count += has[:, 2]
     indptr = np.zeros(n_triangles + 1, dtype=INDEX)
     np.cumsum(count, out=indptr[1:])
-    indices = rows.reshape(-1).compress(has.reshape(-1)).view(INDEX)
+    indices = rows[has].view(INDEX)
     data = np.ones(len(indices), dtype=np.int8)
     return sp.csr_matrix((data, indices, indptr), shape=(n_triangles,) * 2)
 
