@@ -70,6 +70,10 @@ ARRAY = {"10k": (4, 0.25), "100k": (8, 0.125), "1M": (16, 0.05), "4M": (32, 0.05
 SPLIT = {"10k": (4.0, 14), "100k": (20.0, 20), "1M": (20.0, 63), "4M": (80.0, 63)}
 #: The tolerance variant of peer (a) is ~8x slower; run it up to this size.
 TOL_SIZES = ("10k", "100k", "1M")
+#: gmsh takes about a minute per million triangles here; 4M only on request.
+GMSH_SIZES = ("10k", "100k", "1M")
+#: Most repetitions of the slow peers (a-tol, gmsh at 1M and more).
+SLOW_REPS = 3
 
 
 @dataclass
@@ -81,7 +85,7 @@ class Workload:
     results: dict = field(default_factory=dict)
 
 
-def workloads(sizes: list[str], with_gmsh: bool) -> list[Workload]:
+def workloads(sizes: list[str], gmsh_sizes: list[str]) -> list[Workload]:
     out = []
     for size in sizes:
         n, step = RING[size]
@@ -119,7 +123,7 @@ def workloads(sizes: list[str], with_gmsh: bool) -> list[Workload]:
                 ["a-exact"],
             )
         )
-        if with_gmsh:
+        if size in gmsh_sizes:
             r, n = SPLIT[size]
             h = 1.0
             step = math.degrees(h / (r + h / 2))  # sectors about as long as they are wide
@@ -234,11 +238,13 @@ class Gmsh:
         gmsh.option.setNumber("General.Terminal", 0)
         r, h, g = params.inner_radius, params.patch_size, params.gap_width
         area = math.pi * ((r + h) ** 2 - r**2) - g * h  # slot area, nearly
-        # equilateral triangles of side s: T = 4 A / (sqrt(3) s^2); calibrate once
+        # equilateral triangles of side s: T = 4 A / (sqrt(3) s^2); calibrated on a
+        # coarser mesh (at most 20k triangles), where gmsh is quick
         size = math.sqrt(4 * area / (math.sqrt(3) * target))
+        coarse = max(1.0, target / 20_000)
         for _ in range(2):
-            got = len(self.run(size)[1])
-            size *= math.sqrt(got / target)
+            got = len(self.run(size * math.sqrt(coarse))[1])
+            size *= math.sqrt(got * coarse / target)
         self.size = size
 
     def run(self, size: float | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -348,19 +354,20 @@ def run_workload(w: Workload, reps: int) -> None:
                         f"{w.name} {w.size}: peer {peer} gives {key}={got[key]}, ours {check[key]}"
                     )
             runners[peer] = lambda poly=poly, k=k, tol=tol: peer_a(poly, k, tol)
-            peer_reps[peer] = min(reps, 3) if peer == "a-tol" else reps
+            peer_reps[peer] = min(reps, SLOW_REPS) if peer == "a-tol" else reps
         elif peer == "gmsh":
             g = Gmsh(p, check["triangles"])
-            nodes, tris = g.run()
+            nodes, tris = g.run()  # also gmsh's warm-up
             w.results["gmsh_triangles"] = len(tris)
             w.results["gmsh_min_angle_deg"] = float(min_angles_deg(nodes, tris).min())
             w.results["ours_min_angle_deg"] = float(mesh.min_angles.min())
             runners[peer] = g.run
-            peer_reps[peer] = reps
+            peer_reps[peer] = min(reps, SLOW_REPS) if len(tris) > 200_000 else reps
     del mesh, check
     times: dict[str, list[float]] = {name: [] for name in runners}
-    for func in runners.values():  # warm-up
-        func()
+    for name, func in runners.items():  # warm-up
+        if name != "gmsh":
+            func()
     for rep in range(reps):  # alternate: ours, peer, ours, peer ...
         for name, func in runners.items():
             if name == "ours" or rep < peer_reps[name]:
@@ -372,8 +379,8 @@ def run_workload(w: Workload, reps: int) -> None:
     mib = peak_traced_mib(runners["ours"])
     w.results["ours"]["peak_mib"] = mib
     w.results["ours"]["bytes_per_triangle"] = mib * 2**20 / w.results["triangles"]
-    for name, func in runners.items():
-        w.results[name]["peak_rss_mib"] = peak_rss_mib(func)
+    for name, func in runners.items():  # gmsh's memory is not of interest here
+        w.results[name]["peak_rss_mib"] = None if name == "gmsh" else peak_rss_mib(func)
 
 
 # -- output ------------------------------------------------------------------------
@@ -407,6 +414,7 @@ def table(ws: list[Workload]) -> str:
                     f"{r['gmsh_min_angle_deg']:.1f} vs ours {r['ours_min_angle_deg']:.1f} deg"
                 )
             left = ours_cols if i == 0 else " " * len(ours_cols)
+            note = note.removeprefix("; ")
             lines.append(f"{left}  {peer:7} {_span(s):>25} {s['ratio']:6.1f}  {note}")
     return "\n".join(lines)
 
@@ -432,6 +440,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--reps", type=int, default=5, help="timed repetitions (default 5)")
     ap.add_argument("--quick", action="store_true", help="smallest size, 2 repetitions")
     ap.add_argument("--no-gmsh", action="store_true", help="skip peer (b)")
+    ap.add_argument(
+        "--gmsh-sizes",
+        default=",".join(GMSH_SIZES),
+        help="sizes at which to run peer (b) (default: up to 1M; 4M takes minutes per run)",
+    )
     ap.add_argument("--json", type=Path, help="also write the results here")
     args = ap.parse_args(argv)
     sizes = ["10k"] if args.quick else [s.strip() for s in args.sizes.split(",") if s.strip()]
@@ -441,17 +454,22 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--sizes: unknown {unknown}; expected some of {', '.join(SIZES)}")
     if reps < 1:
         ap.error(f"--reps={reps}: expected at least 1")
-    with_gmsh = not args.no_gmsh
-    if with_gmsh:
+    gmsh_sizes = [s.strip() for s in args.gmsh_sizes.split(",") if s.strip()]
+    unknown = [s for s in gmsh_sizes if s not in SIZES]
+    if unknown:
+        ap.error(f"--gmsh-sizes: unknown {unknown}; expected some of {', '.join(SIZES)}")
+    gmsh_sizes = [] if args.no_gmsh else [s for s in gmsh_sizes if s in sizes]
+    if gmsh_sizes:
         try:
             import gmsh  # noqa: F401
         except ImportError:
             print("gmsh is not installed: skipping peer (b)", file=sys.stderr)
-            with_gmsh = False
-    ws = workloads(sizes, with_gmsh)
+            gmsh_sizes = []
+    ws = workloads(sizes, gmsh_sizes)
     for w in ws:
         print(f"running {w.name} {w.size} ...", file=sys.stderr, flush=True)
         run_workload(w, reps)
+        print("\n".join(table([w]).splitlines()[2:]), file=sys.stderr, flush=True)
     print(table(ws))
     info = machine()
     print(f"\n{info['cores']} cores, {info['cpu']}, Python {info['python']}, numpy {info['numpy']}")
