@@ -29,59 +29,9 @@ from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
 from core import TriMesh
 
+from .layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
+
 log = logging.getLogger(__name__)
-
-#: Layer names, in drawing order (bottom to top) and in the order the Layers panel lists them.
-LAYERS = (
-    "faces",
-    "triangle_edges",
-    "patch_outlines",
-    "shared_edges",
-    "boundary_edges",
-    "junction_edges",
-    "centroids",
-    "labels",
-)
-LAYER_TITLES = {
-    "faces": "Triangles (faces)",
-    "triangle_edges": "Triangle edges",
-    "patch_outlines": "Patch outlines",
-    "shared_edges": "Shared (interior) edges",
-    "boundary_edges": "Boundary edges",
-    "junction_edges": "Junction edges",
-    "centroids": "Centroids",
-    "labels": "Triangle index labels",
-}
-DEFAULT_VISIBLE = {
-    "faces": True,
-    "triangle_edges": True,
-    "patch_outlines": False,
-    "shared_edges": True,
-    "boundary_edges": True,
-    "junction_edges": True,
-    "centroids": True,
-    "labels": True,
-}
-
-#: Face colourings: key -> (cell array, colour bar title). ``None``: one solid colour.
-COLOR_BY = {
-    "none": (None, ""),
-    "patch": ("patch", "patch"),
-    "region": ("region", "region"),
-    "area": ("area", "area (mm²)"),
-    "min_angle": ("min_angle", "min angle (°)"),
-    "aspect_ratio": ("aspect_ratio", "aspect ratio"),
-}
-COLOR_BY_TITLES = {
-    "none": "Solid",
-    "patch": "Patch",
-    "region": "Region (ring)",
-    "area": "Area",
-    "min_angle": "Minimum angle",
-    "aspect_ratio": "Aspect ratio",
-}
-#: Triangle index labels are drawn for meshes up to this many triangles (paper's Fig. 10).
-LABEL_LIMIT = 300
 
 BACKGROUND = "white"
 COLORS = {

@@ -1,0 +1,770 @@
+"""The desktop window: controls, a live 3D view of the mesh, statistics and layers.
+
+The state lives in :class:`app.model.AppModel` (no Qt); this module wires the panels,
+the pyvistaqt view (:class:`app.scene.MeshScene`), the meshing controller
+(:class:`app.worker.MeshController`), menus and settings around it.
+
+Run ``barymesh`` or ``python -m app``; see :func:`main` for the options.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import sys
+import time
+import traceback
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from PySide6.QtCore import QByteArray, QSettings, Qt, QTimer
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QGuiApplication, QImage, QKeySequence
+from PySide6.QtWidgets import (
+    QApplication,
+    QCheckBox,
+    QDialog,
+    QDialogButtonBox,
+    QDockWidget,
+    QFileDialog,
+    QFormLayout,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QProgressBar,
+    QScrollArea,
+    QSpinBox,
+    QToolBar,
+    QWidget,
+)
+
+import core
+from core import MeshParams, TriMesh
+
+from .controls import ControlsPanel
+from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
+from .layers_panel import LayersPanel
+from .model import AppModel, MeshResult, ParamError
+from .scene import MeshScene, scene_data
+from .stats_panel import StatsPanel
+from .worker import MeshController
+
+log = logging.getLogger(__name__)
+
+ORGANIZATION = APPLICATION = "barymesh"
+SCRIPTED_SIZE = (1400, 860)
+
+ABOUT = """<h3>barymesh {version}</h3>
+<p>A square patch is split along its diagonal into two primary triangles, each subdivided
+uniformly into n² sub-triangles, and vertices closer than a tolerance ε are merged into one
+(the paper's metric-space constraint), so that neighbouring triangles share edges.
+Rings and split rings are assembled from such patches placed at (r cos θ, r sin θ), and
+every edge shared by exactly two triangles carries one Rao–Wilton–Glisson basis function
+for the Method of Moments.</p>
+<p>After <i>Discretization of Continuous Spaces using Barycentric Subdivision Method with
+Metric Space Constraints on the Nearest Neighbour Edges</i>.</p>
+{shortcuts}"""
+
+
+def app_settings() -> QSettings:
+    """The window's settings: an INI file in the user's configuration folder.
+
+    Tests point it elsewhere with ``QSettings.setPath(IniFormat, UserScope, folder)``.
+    """
+    return QSettings(
+        QSettings.Format.IniFormat, QSettings.Scope.UserScope, ORGANIZATION, APPLICATION
+    )
+
+
+class ScreenshotDialog(QDialog):
+    """Scale (1–4×) and transparency for File → Export screenshot; save or copy."""
+
+    def __init__(self, window: MainWindow) -> None:
+        super().__init__(window)
+        self.window_ = window
+        self.setWindowTitle("Export screenshot")
+        form = QFormLayout(self)
+        self.scale = QSpinBox(self)
+        self.scale.setRange(1, 4)
+        self.scale.setSuffix(" ×")
+        self.scale.setValue(int(window.settings.value("screenshot/scale", 2)))
+        self.transparent = QCheckBox("Transparent background", self)
+        self.transparent.setChecked(window.settings.value("screenshot/transparent", "false")
+                                    in (True, "true"))
+        w, h = window.plotter.width(), window.plotter.height()
+        self.size_label = QLabel(self)
+        self.scale.valueChanged.connect(
+            lambda s: self.size_label.setText(f"{w * s} × {h * s} px")
+        )
+        self.size_label.setText(f"{w * self.scale.value()} × {h * self.scale.value()} px")
+        form.addRow("&Scale", self.scale)
+        form.addRow("Size", self.size_label)
+        form.addRow(self.transparent)
+        buttons = QDialogButtonBox(self)
+        save = buttons.addButton("Save PNG…", QDialogButtonBox.ButtonRole.AcceptRole)
+        copy = buttons.addButton("Copy to clipboard", QDialogButtonBox.ButtonRole.ActionRole)
+        buttons.addButton(QDialogButtonBox.StandardButton.Close)
+        save.clicked.connect(self._save)
+        copy.clicked.connect(self._copy)
+        buttons.rejected.connect(self.reject)
+        form.addRow(buttons)
+
+    def _remember(self) -> None:
+        self.window_.settings.setValue("screenshot/scale", self.scale.value())
+        self.window_.settings.setValue("screenshot/transparent", self.transparent.isChecked())
+
+    def _save(self) -> None:
+        self._remember()
+        start = str(self.window_.settings.value("paths/screenshot", "barymesh.png"))
+        path, _ = QFileDialog.getSaveFileName(self, "Export screenshot", start, "PNG (*.png)")
+        if path:
+            if not path.lower().endswith(".png"):
+                path += ".png"
+            self.window_.settings.setValue("paths/screenshot", path)
+            if self.window_.save_view_png(path, self.scale.value(),
+                                          self.transparent.isChecked()):
+                self.accept()
+
+    def _copy(self) -> None:
+        self._remember()
+        self.window_.copy_view_to_clipboard(self.scale.value(), self.transparent.isChecked())
+        self.accept()
+
+
+class MainWindow(QMainWindow):
+    """The barymesh window.
+
+    Parameters
+    ----------
+    params : MeshParams, optional
+        Start from these (else the last session's, else the defaults).
+    settings : QSettings, optional
+    scripted : bool
+        A ``--screenshot``/``--quit`` run: fixed size and layout, settings not saved.
+    """
+
+    def __init__(self, params: MeshParams | None = None, settings: QSettings | None = None,
+                 scripted: bool = False) -> None:
+        super().__init__()
+        from pyvistaqt import QtInteractor
+
+        self.settings = settings if settings is not None else app_settings()
+        self.scripted = scripted
+        self.setObjectName("barymesh")
+        self.setWindowTitle("barymesh")
+        if params is None and not scripted:
+            params = self._saved_params()
+        self.model = AppModel(params)
+        if not scripted:
+            self.model.restore_view_state(self._saved_json("view"))
+
+        # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
+        self.plotter = QtInteractor(self, auto_update=False)
+        self.plotter.setMinimumSize(320, 240)
+        self.setCentralWidget(self.plotter)
+        for key in ("q", "e"):  # VTK's exit keys would close the render window under Qt
+            self.plotter.clear_events_for_key(key, raise_on_missing=False)
+        self.scene = MeshScene(self.plotter, visible=self.model.layers,
+                               color_by=self.model.color_by)
+        self.scene.top_view()
+        self.plotter.iren.add_observer("EndInteractionEvent", self._camera_moved)
+        self.plotter.iren.add_observer("MouseWheelForwardEvent", self._camera_moved)
+        self.plotter.iren.add_observer("MouseWheelBackwardEvent", self._camera_moved)
+        self._camera_key: tuple[Any, ...] | None = None
+        self.last_frame_seconds = 0.0
+        self._closed = False
+
+        self.controls = ControlsPanel(self.model, self)
+        self.stats = StatsPanel(self.model, self)
+        self.layers = LayersPanel(self.model, self)
+        self._add_dock("Parameters", self.controls, Qt.DockWidgetArea.LeftDockWidgetArea,
+                       scroll=True)
+        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea)
+        self._add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
+
+        self.busy = QProgressBar(self)
+        self.busy.setRange(0, 0)
+        self.busy.setMaximumWidth(120)
+        self.busy.setFormat("meshing…")
+        self.busy.hide()
+        self.summary = QLabel(self)
+        self.statusBar().addPermanentWidget(self.busy)
+        self.statusBar().addPermanentWidget(self.summary)
+
+        self.controller = MeshController(self.model, self)
+        self.controller.busy_changed.connect(self._busy_changed)
+        self.model.result_changed.connect(self._show_result)
+        self.model.error_changed.connect(self._show_error)
+        self.model.build_failed.connect(self._build_failed)
+        self.model.layer_changed.connect(self._layer_changed)
+        self.model.color_by_changed.connect(self._color_by_changed)
+        self.model.history_changed.connect(self._history_changed)
+        self._make_actions()
+        self._make_menus()
+        self._history_changed()
+
+        if scripted:
+            self.resize(*SCRIPTED_SIZE)
+        else:
+            self.resize(1400, 860)
+            self._restore_layout()
+        self.controller.request()
+
+    # -- construction ------------------------------------------------------------------
+
+    def _add_dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea,
+                  scroll: bool = False) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(f"dock_{title.lower()}")
+        if scroll:
+            area_widget = QScrollArea(dock)
+            area_widget.setWidget(widget)
+            area_widget.setWidgetResizable(True)
+            area_widget.setFrameShape(QScrollArea.Shape.NoFrame)
+            area_widget.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+            area_widget.setMinimumWidth(widget.sizeHint().width() + 24)
+            dock.setWidget(area_widget)
+        else:
+            dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        setattr(self, f"{title.lower()}_dock", dock)
+        return dock
+
+    def _action(self, text: str, slot: Any, shortcut: Any = None, tip: str = "",
+                checkable: bool = False) -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            keys = shortcut if isinstance(shortcut, list) else [shortcut]
+            action.setShortcuts([QKeySequence(k) for k in keys])
+        if tip:
+            action.setStatusTip(tip)
+            action.setToolTip(tip)
+        action.setCheckable(checkable)
+        action.triggered.connect(slot)
+        self.addAction(action)  # shortcuts work even when the menu bar is hidden
+        return action
+
+    def _make_actions(self) -> None:
+        try:
+            from core.io import EXPORT_FORMATS, IMPORT_FORMATS  # noqa: F401
+            self._io_error = None
+        except ImportError as exc:  # pragma: no cover - core.io ships with core
+            self._io_error = f"mesh files need core.io ({exc})"
+        a = self._action
+        self.act_open = a("&Open mesh file…", self.open_mesh_dialog, QKeySequence.StandardKey.Open,
+                          "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it")
+        self.act_load = a("&Load parameters…", self.load_params_dialog, "Ctrl+L",
+                          "Load a JSON parameter file")
+        self.act_save = a("&Save parameters…", self.save_params_dialog,
+                          QKeySequence.StandardKey.Save, "Save the parameters as a JSON file")
+        self.act_export = a("&Export mesh…", self.export_mesh_dialog, "Ctrl+E",
+                            "Write the mesh in a solver's format")
+        self.act_shot = a("Export &screenshot…", self.screenshot_dialog, "Ctrl+Shift+E",
+                          "Save a PNG of the 3D view (1–4×, optionally transparent)")
+        self.act_copy = a("&Copy screenshot", lambda: self.copy_view_to_clipboard(), "Ctrl+Shift+C",
+                          "Copy the 3D view to the clipboard")
+        self.act_quit = a("&Quit", self.close, QKeySequence.StandardKey.Quit, "Close barymesh")
+        for act in (self.act_open, self.act_export):
+            if self._io_error:
+                act.setEnabled(False)
+                act.setToolTip(self._io_error)
+        self.act_undo = a("&Undo", self.model.undo, ["Ctrl+Z"], "Undo the last parameter change")
+        self.act_redo = a("&Redo", self.model.redo, ["Ctrl+Shift+Z", "Ctrl+Y"],
+                          "Redo the parameter change")
+        self.act_reset = a("Reset to &defaults", self.model.reset, "Ctrl+Shift+R",
+                           "The paper's Fig. 12(a) parameters (undoable)")
+        self.act_camera = a("&Reset camera", self.reset_camera, "R",
+                            "Frame the whole mesh from above")
+        self.act_top = a("&Top view", self.top_view, "T",
+                         "Look down the z axis with a parallel projection")
+        self.layer_actions: dict[str, QAction] = {}
+        for i, name in enumerate(LAYERS):
+            act = a(LAYER_TITLES[name], lambda on, n=name: self.model.set_layer_visible(n, on),
+                    f"Ctrl+{i + 1}", f"Show or hide {LAYER_TITLES[name].lower()}",
+                    checkable=True)
+            act.setChecked(self.model.layers[name])
+            self.layer_actions[name] = act
+        self.color_group = QActionGroup(self)
+        self.color_actions: dict[str, QAction] = {}
+        for key, title in COLOR_BY_TITLES.items():
+            act = QAction(title, self.color_group)
+            act.setCheckable(True)
+            act.setChecked(key == self.model.color_by)
+            act.triggered.connect(lambda _=False, k=key: self.model.set_color_by(k))
+            self.color_actions[key] = act
+        self.act_help = a("&Keyboard shortcuts…", self.show_about, "F1", "Shortcuts and the method")
+        self.act_about = a("&About barymesh", self.show_about)
+
+    def _make_menus(self) -> None:
+        bar = self.menuBar()
+        file = bar.addMenu("&File")
+        file.addActions([self.act_open])
+        file.addSeparator()
+        file.addActions([self.act_load, self.act_save])
+        file.addSeparator()
+        file.addActions([self.act_export, self.act_shot, self.act_copy])
+        file.addSeparator()
+        file.addAction(self.act_quit)
+
+        presets = bar.addMenu("&Presets")
+        try:
+            from core.presets import preset_descriptions
+
+            descriptions = preset_descriptions()
+        except Exception as exc:  # noqa: BLE001 - a broken preset file must not stop the window
+            log.warning("presets unavailable: %s", exc)
+            descriptions = {}
+        for name, description in descriptions.items():
+            act = presets.addAction(name)
+            act.setStatusTip(description)
+            act.setToolTip(description)
+            act.triggered.connect(lambda _=False, n=name: self.load_preset(n))
+        presets.setToolTipsVisible(True)
+        if not descriptions:
+            presets.addAction("(no presets found)").setEnabled(False)
+
+        edit = bar.addMenu("&Edit")
+        edit.addActions([self.act_undo, self.act_redo])
+        edit.addSeparator()
+        edit.addAction(self.act_reset)
+
+        view = bar.addMenu("&View")
+        layers = view.addMenu("&Layers")
+        layers.addActions(list(self.layer_actions.values()))
+        colours = view.addMenu("&Colour faces by")
+        colours.addActions(list(self.color_actions.values()))
+        view.addSeparator()
+        view.addActions([self.act_camera, self.act_top])
+        view.addSeparator()
+        for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
+            view.addAction(dock.toggleViewAction())
+
+        help_ = bar.addMenu("&Help")
+        help_.addActions([self.act_help, self.act_about])
+
+        tools = QToolBar("Toolbar", self)
+        tools.setObjectName("toolbar")
+        tools.addActions([self.act_undo, self.act_redo])
+        tools.addSeparator()
+        tools.addActions([self.act_camera, self.act_top])
+        tools.addSeparator()
+        tools.addAction(self.act_shot)
+        self.addToolBar(tools)
+        view.addAction(tools.toggleViewAction())
+
+    # -- model -> view -------------------------------------------------------------------
+
+    def _show_result(self, result: MeshResult) -> None:
+        start = time.perf_counter()
+        if result.scene is None:
+            result.scene = scene_data(result.mesh)
+        self.scene.update(result.scene)
+        p = result.params
+        key = (result.source, p.structure if p else None)
+        bounds = np.asarray(result.scene.bounds)
+        if key != self._camera_key or self._bounds_jumped(bounds):
+            self.scene.reset_camera()
+        self._camera_key, self._camera_bounds = key, bounds
+        self.plotter.render()
+        self.last_frame_seconds = time.perf_counter() - start
+        s = result.stats
+        title = Path(result.source).name if result.source != "parameters" else p.structure
+        self.setWindowTitle(f"barymesh – {title}")
+        self.summary.setText(
+            f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns"
+        )
+        if self.model.error is None:
+            self.statusBar().clearMessage()
+
+    def _bounds_jumped(self, bounds: np.ndarray) -> bool:
+        old = getattr(self, "_camera_bounds", None)
+        if old is None:
+            return True
+        size_old = max(old[1] - old[0], old[3] - old[2], 1e-12)
+        size_new = max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-12)
+        return not 0.8 <= size_new / size_old <= 1.25
+
+    def _show_error(self, error: ParamError | None) -> None:
+        if error is None:
+            self.statusBar().clearMessage()
+        else:
+            self.statusBar().showMessage(f"{error.name}: {error.message}")
+
+    def _build_failed(self, message: str) -> None:
+        self.statusBar().showMessage(f"{message} (the last good mesh stays on screen)")
+
+    def _busy_changed(self, busy: bool) -> None:
+        self.busy.setVisible(busy)
+        if busy:
+            self.statusBar().showMessage("Meshing…")
+        elif self.model.error is None:
+            self.statusBar().clearMessage()
+
+    def _layer_changed(self, name: str, visible: bool) -> None:
+        self.scene.set_visible(name, visible)
+        act = self.layer_actions[name]
+        if act.isChecked() != visible:
+            act.setChecked(visible)
+        self.plotter.render()
+
+    def _color_by_changed(self, key: str) -> None:
+        self.scene.set_color_by(key)
+        self.color_actions[key].setChecked(True)
+        self.plotter.render()
+
+    def _history_changed(self) -> None:
+        self.act_undo.setEnabled(self.model.can_undo)
+        self.act_redo.setEnabled(self.model.can_redo)
+
+    def _camera_moved(self, *_args: Any) -> None:
+        self.scene.fit_marker_sizes()
+
+    # -- view ----------------------------------------------------------------------------
+
+    def reset_camera(self) -> None:
+        self.scene.reset_camera()
+        self.plotter.render()
+
+    def top_view(self) -> None:
+        self.scene.top_view()
+        self.plotter.render()
+
+    def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
+        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array, lines scaled along."""
+        if not 1 <= int(scale) <= 4:
+            raise ValueError(f"scale={scale!r} is outside 1..4")
+        with self.scene.scaled_lines(int(scale)):
+            image = self.plotter.screenshot(None, transparent_background=transparent,
+                                            return_img=True, scale=int(scale))
+        self.plotter.render()
+        return np.ascontiguousarray(image)
+
+    def save_view_png(self, path: str | os.PathLike[str], scale: int = 1,
+                      transparent: bool = False) -> bool:
+        """Write the 3D view to a PNG; errors go to the status bar. Returns success."""
+        try:
+            import imageio.v3 as iio
+
+            iio.imwrite(Path(path), self.view_image(scale, transparent), extension=".png")
+        except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
+            log.exception("screenshot failed")
+            self.statusBar().showMessage(f"Could not save the screenshot: {exc}")
+            return False
+        self.statusBar().showMessage(f"Saved {path}", 5000)
+        return True
+
+    def copy_view_to_clipboard(self, scale: int = 1, transparent: bool = False) -> None:
+        image = self.view_image(scale, transparent)
+        h, w, c = image.shape
+        fmt = QImage.Format.Format_RGBA8888 if c == 4 else QImage.Format.Format_RGB888
+        qimage = QImage(image.data, w, h, c * w, fmt).copy()
+        QGuiApplication.clipboard().setImage(qimage)
+        self.statusBar().showMessage(f"Copied a {w} × {h} px image of the view", 5000)
+
+    # -- files ---------------------------------------------------------------------------
+
+    def _path_setting(self, key: str, default: str) -> str:
+        return str(self.settings.value(f"paths/{key}", default))
+
+    def screenshot_dialog(self) -> None:
+        ScreenshotDialog(self).exec()
+
+    def open_mesh_dialog(self) -> None:
+        from core.io import IMPORT_EXTENSIONS
+
+        patterns = " ".join(f"*{e}" for e in IMPORT_EXTENSIONS)
+        path, _ = QFileDialog.getOpenFileName(
+            self, "Open mesh file", self._path_setting("mesh", ""),
+            f"Mesh files ({patterns});;All files (*)",
+        )
+        if path:
+            self.settings.setValue("paths/mesh", path)
+            self.open_mesh_file(path)
+
+    def open_mesh_file(self, path: str | os.PathLike[str]) -> bool:
+        """Show a mesh read from ``path`` until the next parameter change."""
+        from core.io import read_mesh
+
+        try:
+            mesh: TriMesh = read_mesh(path)
+        except (ValueError, OSError) as exc:
+            self._file_error(f"Could not open {path}", exc)
+            return False
+        result = self.model.show_imported(mesh, str(path))
+        return self.model.set_result(result)
+
+    def load_params_dialog(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(
+            self, "Load parameters", self._path_setting("params", ""),
+            "Parameter files (*.json);;All files (*)",
+        )
+        if path:
+            self.settings.setValue("paths/params", path)
+            self.load_params_file(path)
+
+    def load_params_file(self, path: str | os.PathLike[str]) -> bool:
+        from core.presets import load_params_file
+
+        try:
+            params = load_params_file(path)
+        except (ValueError, OSError) as exc:
+            self._file_error(f"Could not load {path}", exc)
+            return False
+        self.model.set_params(params)
+        return True
+
+    def save_params_dialog(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(
+            self, "Save parameters", self._path_setting("params", "barymesh-params.json"),
+            "Parameter files (*.json)",
+        )
+        if path:
+            if not path.lower().endswith(".json"):
+                path += ".json"
+            self.settings.setValue("paths/params", path)
+            self.save_params_file(path)
+
+    def save_params_file(self, path: str | os.PathLike[str]) -> bool:
+        from core.presets import save_params_file
+
+        try:
+            save_params_file(self.model.params, path)
+        except (ValueError, OSError) as exc:
+            self._file_error(f"Could not save {path}", exc)
+            return False
+        self.statusBar().showMessage(f"Saved {path}", 5000)
+        return True
+
+    def export_mesh_dialog(self) -> None:
+        from core.io import EXPORT_FORMATS
+
+        filters = [f"{fmt.name} (*{ext})" for ext, fmt in EXPORT_FORMATS.items()]
+        path, chosen = QFileDialog.getSaveFileName(
+            self, "Export mesh", self._path_setting("export", "barymesh.msh"), ";;".join(filters)
+        )
+        if path:
+            if not Path(path).suffix:
+                ext = next((e for e, f in EXPORT_FORMATS.items() if chosen.startswith(f.name)),
+                           ".msh")
+                path += ext
+            self.settings.setValue("paths/export", path)
+            self.export_mesh(path)
+
+    def export_mesh(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
+        from core.io import describe_export, write_mesh
+
+        result = self.model.result
+        if result is None or result.mesh is None:
+            self.statusBar().showMessage("No mesh to export yet")
+            return False
+        try:
+            write_mesh(result.mesh, path, unit=unit)
+            what = describe_export(path, unit)
+        except (ValueError, OSError) as exc:
+            self._file_error(f"Could not export {path}", exc)
+            return False
+        self.statusBar().showMessage(f"Wrote {what}", 5000)
+        return True
+
+    def load_preset(self, name: str) -> bool:
+        from core.presets import load_preset
+
+        try:
+            params, description = load_preset(name)
+        except (ValueError, OSError) as exc:
+            self._file_error(f"Could not load preset {name}", exc)
+            return False
+        self.model.set_params(params)
+        self.statusBar().showMessage(f"Preset {name}: {description}", 8000)
+        return True
+
+    def _file_error(self, title: str, exc: BaseException) -> None:
+        message = str(exc) or type(exc).__name__
+        self.statusBar().showMessage(f"{title}: {message}")
+        if not self.scripted:
+            QMessageBox.warning(self, "barymesh", f"{title}.\n\n{message}")
+
+    # -- help ----------------------------------------------------------------------------
+
+    def shortcuts_html(self) -> str:
+        rows = []
+        for act in self.findChildren(QAction):
+            keys = ", ".join(k.toString(QKeySequence.SequenceFormat.NativeText)
+                             for k in act.shortcuts())
+            if keys:
+                rows.append(f"<tr><td>{act.text().replace('&', '')}</td>"
+                            f"<td><b>{keys}</b></td></tr>")
+        rows.append("<tr><td>Rotate / pan / zoom the view</td>"
+                    "<td><b>left / middle drag, wheel</b></td></tr>")
+        rows.append("<tr><td>Move a slider</td><td><b>←/→, PgUp/PgDn, Home/End</b></td></tr>")
+        return "<h4>Keyboard shortcuts</h4><table cellspacing='6'>" + "".join(rows) + "</table>"
+
+    def show_about(self) -> None:
+        QMessageBox.about(self, "About barymesh",
+                          ABOUT.format(version=core.__version__, shortcuts=self.shortcuts_html()))
+
+    # -- settings ------------------------------------------------------------------------
+
+    def _saved_json(self, key: str) -> Any:
+        text = self.settings.value(key)
+        if not isinstance(text, str):
+            return None
+        try:
+            return json.loads(text)
+        except json.JSONDecodeError:
+            return None
+
+    def _saved_params(self) -> MeshParams | None:
+        data = self._saved_json("params")
+        if data is None:
+            return None
+        try:
+            return MeshParams.from_dict(data)
+        except (ValueError, TypeError) as exc:
+            log.warning("ignoring the saved parameters: %s", exc)
+            return None
+
+    def _restore_layout(self) -> None:
+        geometry = self.settings.value("window/geometry")
+        if isinstance(geometry, QByteArray):
+            self.restoreGeometry(geometry)
+        state = self.settings.value("window/state")
+        if isinstance(state, QByteArray):
+            self.restoreState(state)
+
+    def save_settings(self) -> None:
+        s = self.settings
+        s.setValue("window/geometry", self.saveGeometry())
+        s.setValue("window/state", self.saveState())
+        s.setValue("params", json.dumps(self.model.params.to_dict()))
+        s.setValue("view", json.dumps(self.model.view_state()))
+        s.sync()
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
+        if not self._closed:
+            self._closed = True
+            if not self.scripted:
+                self.save_settings()
+            self.controller.wait()
+            # Release VTK's render window and GL context while the widget still exists.
+            self.plotter.close()
+        super().closeEvent(event)
+
+
+# -- entry point ---------------------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="barymesh",
+        description="Open the barymesh window: sliders drive the mesher, the 3D view follows.",
+    )
+    parser.add_argument("--preset", metavar="NAME", help="start from a preset (see Presets menu)")
+    parser.add_argument("--params", metavar="FILE", help="start from a JSON parameter file")
+    parser.add_argument("--set", metavar="NAME=VALUE", nargs="+", action="extend", default=[],
+                        dest="sets", help="override parameters, e.g. --set subdivisions=8")
+    parser.add_argument("--screenshot", metavar="PNG",
+                        help="save a grab of the whole window once the mesh is shown")
+    parser.add_argument("--quit", action="store_true",
+                        help="exit once the mesh is shown (and the screenshot saved)")
+    return parser
+
+
+def _install_excepthook() -> None:
+    """Exceptions in Qt slots go to the log and the status bar, never a crash or dialog."""
+
+    def hook(kind: type[BaseException], exc: BaseException, tb: Any) -> None:
+        if issubclass(kind, KeyboardInterrupt):
+            QApplication.quit()
+            return
+        log.error("unexpected error:\n%s", "".join(traceback.format_exception(kind, exc, tb)))
+        for widget in QApplication.topLevelWidgets():
+            if isinstance(widget, MainWindow):
+                widget.statusBar().showMessage(f"Internal error: {kind.__name__}: {exc}")
+
+    sys.excepthook = hook
+
+
+def _has_display() -> bool:
+    if sys.platform != "linux" or os.environ.get("QT_QPA_PLATFORM"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the window; returns the exit code (0, 1 bad input or failure, 2 bad usage).
+
+    ``barymesh [--preset NAME] [--params FILE] [--set name=value ...] [--screenshot PNG]
+    [--quit]``: with ``--screenshot PNG --quit`` the window renders, saves a grab of the
+    whole window and exits.
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(sys.argv[1:] if argv is None else argv)
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    params = None
+    if args.preset or args.params or args.sets:
+        from core.presets import resolve_params
+
+        try:
+            params = resolve_params(args.preset, args.params, args.sets)
+        except (ValueError, TypeError, OSError) as exc:
+            print(f"barymesh: error: {exc}", file=sys.stderr)
+            return 1
+    if not _has_display():
+        print("barymesh: error: no display (DISPLAY is not set). The window needs one; "
+              "use `xvfb-run -a barymesh ...`, or `barymesh mesh --screenshot out.png` "
+              "to render without a window.", file=sys.stderr)
+        return 1
+    if os.environ.get("DISPLAY") and sys.platform == "linux":
+        os.environ.setdefault("QT_QPA_PLATFORM", "xcb")  # VTK's GL widget needs X, not Wayland
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    app = QApplication.instance() or QApplication([sys.argv[0] if sys.argv else "barymesh"])
+    app.setOrganizationName(ORGANIZATION)
+    app.setApplicationName(APPLICATION)
+    _install_excepthook()
+    scripted = bool(args.quit or args.screenshot)
+    window = MainWindow(params, scripted=scripted)
+    window.show()
+    if scripted:
+        window.scripted_run = _ScriptedRun(window, args.screenshot, args.quit)  # keep alive
+        window.scripted_run.start()
+    return int(app.exec())
+
+
+class _ScriptedRun:
+    """``--screenshot`` / ``--quit``: wait for the first mesh, grab, save, maybe exit."""
+
+    def __init__(self, window: MainWindow, screenshot: str | None, quit_after: bool) -> None:
+        self.window, self.path, self.quit_after = window, screenshot, quit_after
+        self.deadline = time.monotonic() + 120
+        self.timer = QTimer(window)
+        self.timer.setInterval(50)
+        self.timer.timeout.connect(self._poll)
+
+    def start(self) -> None:
+        self.timer.start()
+
+    def _poll(self) -> None:
+        w = self.window
+        ready = w.model.result is not None and not w.controller.busy and w.isVisible()
+        if not ready and time.monotonic() < self.deadline:
+            return
+        self.timer.stop()
+        code = 0
+        if not ready:
+            print("barymesh: error: the mesh was not ready in time", file=sys.stderr)
+            code = 1
+        elif self.path:
+            QApplication.processEvents()
+            w.plotter.render()
+            path = Path(self.path)
+            if not w.grab().save(str(path), "PNG"):
+                print(f"barymesh: error: could not write {path}", file=sys.stderr)
+                code = 1
+        if self.quit_after or code:
+            w.close()
+            QApplication.instance().exit(code)
