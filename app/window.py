@@ -55,6 +55,9 @@ log = logging.getLogger(__name__)
 
 ORGANIZATION = APPLICATION = "barymesh"
 SCRIPTED_SIZE = (1400, 860)
+#: MSAA samples of the 3D view on a GPU; Mesa's software llvmpipe gets none (4x MSAA there
+#: triples the frame time). ``BARYMESH_MSAA`` overrides both.
+MULTI_SAMPLES = 4
 
 ABOUT = """<h3>barymesh {version}</h3>
 <p>A square patch is split along its diagonal into two primary triangles, each subdivided
@@ -161,7 +164,7 @@ class MainWindow(QMainWindow):
             self.model.restore_view_state(self._saved_json("view"))
 
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
-        self.plotter = QtInteractor(self, auto_update=False)
+        self.plotter = QtInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
         self.plotter.setMinimumSize(320, 240)
         self.setCentralWidget(self.plotter)
         for key in ("q", "e"):  # VTK's exit keys would close the render window under Qt
@@ -175,6 +178,7 @@ class MainWindow(QMainWindow):
         self._camera_key: tuple[Any, ...] | None = None
         self.last_frame_seconds = 0.0
         self._closed = False
+        self._tuned = False
 
         self.controls = ControlsPanel(self.model, self)
         self.stats = StatsPanel(self.model, self)
@@ -356,7 +360,28 @@ class MainWindow(QMainWindow):
 
     # -- model -> view -------------------------------------------------------------------
 
+    def _tune_for_renderer(self) -> None:
+        """Once the GL context exists: no MSAA on a software rasteriser (unless asked for)."""
+        if self._tuned:
+            return
+        self._tuned = True
+        wanted = os.environ.get("BARYMESH_MSAA")
+        if wanted is None:
+            try:
+                info = self.plotter.ren_win.ReportCapabilities() or ""
+            except Exception:  # noqa: BLE001 - a report is a nicety
+                info = ""
+            wanted = "0" if "llvmpipe" in info or "softpipe" in info else str(MULTI_SAMPLES)
+        try:
+            self.plotter.ren_win.SetMultiSamples(max(0, int(wanted)))
+        except ValueError:
+            log.warning("BARYMESH_MSAA=%r is not a whole number", wanted)
+
     def _show_result(self, result: MeshResult) -> None:
+        if self._closed:
+            return
+        if self.isVisible():
+            self._tune_for_renderer()
         start = time.perf_counter()
         if result.scene is None:
             result.scene = scene_data(result.mesh)
@@ -403,6 +428,8 @@ class MainWindow(QMainWindow):
             self.statusBar().clearMessage()
 
     def _layer_changed(self, name: str, visible: bool) -> None:
+        if self._closed:
+            return
         self.scene.set_visible(name, visible)
         act = self.layer_actions[name]
         if act.isChecked() != visible:
@@ -410,6 +437,8 @@ class MainWindow(QMainWindow):
         self.plotter.render()
 
     def _color_by_changed(self, key: str) -> None:
+        if self._closed:
+            return
         self.scene.set_color_by(key)
         self.color_actions[key].setChecked(True)
         self.plotter.render()
@@ -647,7 +676,7 @@ class MainWindow(QMainWindow):
             self._closed = True
             if not self.scripted:
                 self.save_settings()
-            self.controller.wait()
+            self.controller.stop()
             # Release VTK's render window and GL context while the widget still exists.
             self.plotter.close()
         super().closeEvent(event)

@@ -101,6 +101,11 @@ class MeshController(QObject):
             if not self._running:
                 self.busy_changed.emit(False)
 
-    def wait(self, msecs: int = 30_000) -> bool:
-        """Block until the worker is idle (used when the window closes)."""
-        return self.pool.waitForDone(msecs)
+    def stop(self, msecs: int = 30_000) -> bool:
+        """Forget pending requests and wait for a running job (the window is closing)."""
+        self._timer.stop()
+        self._pending = None
+        self.model.params_changed.disconnect(self._on_params_changed)
+        done = self.pool.waitForDone(msecs)
+        self._job_done.disconnect(self._finished)
+        return done
