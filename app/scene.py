@@ -371,7 +371,8 @@ class MeshScene:
         if self.bounds is None:
             p.reset_camera(render=False)
             return
-        x0, x1, y0, y1 = self.bounds
+        # frame the rulers (rounded out to nice ticks), not only the mesh, so no label is cut
+        (x0, x1, _), (y0, y1, _) = nice_span(*self.bounds[:2]), nice_span(*self.bounds[2:])
         pad = 0.12 * max(x1 - x0, y1 - y0, 1e-9)
         p.reset_camera(render=False, bounds=(x0 - pad, x1 + pad / 3, y0 - pad, y1 + pad / 3,
                                              0.0, 0.0))
