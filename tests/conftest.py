@@ -11,3 +11,39 @@ import os
 # Before anything imports Qt: use Xvfb's X server, not Wayland (if the session has one) nor
 # the `offscreen` platform, which would not exercise a real window. An explicit choice wins.
 os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
+
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture
+def private_settings(tmp_path, monkeypatch):
+    """Never read or write the user's QSettings."""
+    from PySide6.QtCore import QSettings
+
+    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+
+
+@pytest.fixture
+def coarse_params():
+    """A Fig. 12-like double ring of a few hundred triangles: fast to mesh and render."""
+    from core import MeshParams
+
+    return MeshParams(angle_step=15.0, subdivisions=2)
+
+
+@pytest.fixture
+def window(qtbot, private_settings, coarse_params):
+    """The main window on ``coarse_params``, shown in the real (Xvfb) X display."""
+    pytest.importorskip("pyvistaqt")
+    from app.window import MainWindow
+
+    win = MainWindow(coarse_params, scripted=True)
+    qtbot.addWidget(win)
+    win.resize(1100, 700)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    yield win
+    win.close()

@@ -1,0 +1,104 @@
+"""The window's file operations: open, export, parameter files, presets; and keyboard focus."""
+
+import json
+
+import pytest
+
+pytest.importorskip("pyvistaqt")
+
+from PySide6.QtCore import Qt  # noqa: E402
+
+from core import MeshParams, build_mesh  # noqa: E402
+from core.io import read_mesh, write_mesh  # noqa: E402
+from core.presets import load_preset  # noqa: E402
+from tests.test_app_window import COARSE, assert_counts  # noqa: E402
+
+
+def test_open_mesh_file_shows_its_statistics(window, tmp_path):
+    other = build_mesh(MeshParams(structure="patch", subdivisions=3))
+    path = tmp_path / "other.msh"
+    write_mesh(other, path)
+    assert window.open_mesh_file(path)
+    window.controller.flush()
+    assert window.stats.text("triangles") == "18"
+    assert window.stats.text("interior_edges") == f"{len(other.interior_edges):,}"
+    assert window.scene.datasets["faces"].n_cells == 18
+
+
+def test_damaged_mesh_file_keeps_the_last_mesh(window, tmp_path):
+    bad = tmp_path / "bad.msh"
+    bad.write_text("$MeshFormat\n2.2 0 8\nthis is not gmsh\n")
+    assert not window.open_mesh_file(bad)
+    assert "bad.msh" in window.statusBar().currentMessage()
+    assert_counts(window, COARSE)
+
+
+@pytest.mark.parametrize("suffix", [".msh", ".vtu", ".stl", ".mat", ".npz"])
+def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix):
+    path = tmp_path / f"out{suffix}"
+    assert window.export_mesh(path)
+    assert path.exists()
+    if suffix != ".npz":
+        assert read_mesh(path).n_triangles == build_mesh(COARSE).n_triangles
+
+
+def test_export_to_a_missing_folder_says_so_and_writes_nothing(window, tmp_path):
+    path = tmp_path / "missing" / "out.msh"
+    assert not window.export_mesh(path)
+    assert "out.msh" in window.statusBar().currentMessage()
+    assert not path.parent.exists()
+
+
+def test_parameter_file_round_trip(window, tmp_path):
+    path = tmp_path / "params.json"
+    assert window.save_params_file(path)
+    saved = json.loads(path.read_text())
+    assert saved["angle_step"] == COARSE.angle_step and saved["subdivisions"] == 2
+    other = tmp_path / "other.json"
+    other.write_text(json.dumps({"structure": "patch", "patch_size": 10.0}))
+    assert window.load_params_file(other)
+    window.controller.flush()
+    assert window.model.params == MeshParams(structure="patch", patch_size=10.0)
+    assert window.stats.text("triangles") == "32"
+    assert window.load_params_file(path)
+    window.controller.flush()
+    assert window.model.params == COARSE
+
+
+def test_bad_parameter_file_is_refused_with_its_key(window, tmp_path):
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({"radius": 3}))
+    assert not window.load_params_file(path)
+    assert "radius" in window.statusBar().currentMessage()
+    assert window.model.params == COARSE
+
+
+def test_presets_menu_loads_each_preset(window):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    names = [a.text().replace("&", "") for a in menu.actions() if a.text()]
+    assert any(name.startswith("paper-fig10") for name in names)
+    assert window.load_preset("paper-fig12d")
+    window.controller.flush()
+    assert_counts(window, load_preset("paper-fig12d")[0])
+
+
+def test_tab_order_reaches_every_control_top_to_bottom(window):
+    """Tab walks the focus chain: each slider, then its spin box, in the panel's order.
+
+    Checked on Qt's focus chain itself (without a window manager Xvfb gives no keyboard
+    focus to a window, so real Tab presses would not be delivered reliably).
+    """
+    rows = list(window.controls.rows.values())
+    tabbable = []
+    w = rows[0].slider
+    for _ in range(500):
+        if w.focusPolicy() & Qt.FocusPolicy.TabFocus and w.isEnabled():
+            tabbable.append(w)
+        w = w.nextInFocusChain()
+        if w is rows[0].slider:
+            break
+    order = [tabbable.index(x) for r in rows if r.slider.isEnabled() for x in (r.slider, r.spin)]
+    assert order == sorted(order)
+    for r in rows:
+        assert (r.slider in tabbable) == r.slider.isEnabled()
+        assert (r.spin in tabbable) == r.spin.isEnabled()
