@@ -58,3 +58,26 @@ def test_mesher_benchmark_rejects_unknown_sizes() -> None:
     )
     assert proc.returncode == 2
     assert "7M" in proc.stderr
+
+
+def test_latency_benchmark_runs_a_few_frames_in_the_window(tmp_path: Path) -> None:
+    pytest.importorskip("pyvistaqt")
+    out = tmp_path / "latency.json"
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "latency.py"), "--quick", "--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    assert doc["frames"] == 6
+    assert doc["triangles"] == [23_040]  # the paper's Fig. 12(a)
+    parts = doc["seconds"]
+    assert set(parts) == {"meshing", "update", "rendering", "other", "total"}
+    for part in ("meshing", "update", "rendering", "total"):
+        assert len(parts[part]["samples"]) == 6
+        assert parts[part]["median"] > 0
+    assert parts["total"]["median"] >= parts["meshing"]["median"]
+    assert "whole frame median" in proc.stdout
