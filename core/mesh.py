@@ -20,6 +20,7 @@ from .topology import (
     RWGTable,
     edge_topology,
     rwg_table,
+    segment_lengths,
     triangle_adjacency,
     vertex_adjacency,
 )
@@ -181,8 +182,7 @@ class TriMesh:
     @cached_property
     def edge_lengths(self) -> np.ndarray:
         """(E,) float64 edge lengths (mm)."""
-        e = self.edges
-        return _frozen(np.linalg.norm(self.points[e[:, 1]] - self.points[e[:, 0]], axis=1))
+        return _frozen(segment_lengths(self.points, self.edges))
 
     @cached_property
     def rwg(self) -> RWGTable:
