@@ -11,7 +11,7 @@ import scipy.sparse as sp
 
 from .assembly import patch_topology
 from .overlap import union_area
-from .quality import aspect_ratios, min_angles_deg, triangle_areas
+from .quality import TriangleQuality, triangle_quality
 from .subdivision import PatchTemplate
 from .topology import (
     BLOCK,
@@ -124,19 +124,25 @@ class TriMesh:
         return _frozen(out)
 
     @cached_property
+    def quality(self) -> TriangleQuality:
+        """Areas, smallest angles and aspect ratios, computed together in one pass."""
+        q = triangle_quality(self.points, self.triangles)
+        return TriangleQuality(*(_frozen(a) for a in q))
+
+    @property
     def areas(self) -> np.ndarray:
         """(T,) float64 triangle areas (mm²)."""
-        return _frozen(triangle_areas(self.points, self.triangles))
+        return self.quality.areas
 
-    @cached_property
+    @property
     def min_angles(self) -> np.ndarray:
         """(T,) float64 smallest angle of each triangle (degrees)."""
-        return _frozen(min_angles_deg(self.points, self.triangles))
+        return self.quality.min_angles_deg
 
-    @cached_property
+    @property
     def aspect_ratios(self) -> np.ndarray:
         """(T,) float64 aspect ratio, 1 for an equilateral triangle."""
-        return _frozen(aspect_ratios(self.points, self.triangles))
+        return self.quality.aspect_ratios
 
     # -- topology ----------------------------------------------------------
 
