@@ -392,7 +392,7 @@ class MainWindow(QMainWindow):
         if key != self._camera_key or self._bounds_jumped(bounds):
             self.scene.reset_camera()
         self._camera_key, self._camera_bounds = key, bounds
-        self.plotter.render()
+        self.request_render()
         self.last_frame_seconds = time.perf_counter() - start
         s = result.stats
         title = Path(result.source).name if result.source != "parameters" else p.structure
@@ -434,14 +434,14 @@ class MainWindow(QMainWindow):
         act = self.layer_actions[name]
         if act.isChecked() != visible:
             act.setChecked(visible)
-        self.plotter.render()
+        self.request_render()
 
     def _color_by_changed(self, key: str) -> None:
         if self._closed:
             return
         self.scene.set_color_by(key)
         self.color_actions[key].setChecked(True)
-        self.plotter.render()
+        self.request_render()
 
     def _history_changed(self) -> None:
         self.act_undo.setEnabled(self.model.can_undo)
@@ -452,13 +452,21 @@ class MainWindow(QMainWindow):
 
     # -- view ----------------------------------------------------------------------------
 
+    def request_render(self) -> None:
+        """Schedule one repaint of the 3D view.
+
+        pyvistaqt's widget renders the scene in its paintGL anyway; calling
+        ``plotter.render()`` as well would draw every frame twice.
+        """
+        self.plotter.update()
+
     def reset_camera(self) -> None:
         self.scene.reset_camera()
-        self.plotter.render()
+        self.request_render()
 
     def top_view(self) -> None:
         self.scene.top_view()
-        self.plotter.render()
+        self.request_render()
 
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
         """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array, lines scaled along."""
