@@ -49,6 +49,7 @@ from .layers_panel import LayersPanel
 from .model import AppModel, MeshResult, ParamError
 from .scene import MeshScene, scene_data
 from .stats_panel import StatsPanel
+from .teaching_windows import TeachingWindows
 from .worker import MeshController
 
 log = logging.getLogger(__name__)
@@ -300,6 +301,8 @@ class MainWindow(QMainWindow):
             self.color_actions[key] = act
         self.act_help = a("&Keyboard shortcuts…", self.show_about, "F1", "Shortcuts and the method")
         self.act_about = a("&About barymesh", self.show_about)
+        # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
+        self.teaching_windows = TeachingWindows(self)
 
     def _make_menus(self) -> None:
         bar = self.menuBar()
@@ -309,6 +312,7 @@ class MainWindow(QMainWindow):
         file.addActions([self.act_load, self.act_save])
         file.addSeparator()
         file.addActions([self.act_export, self.act_shot, self.act_copy])
+        file.addAction(self.teaching_windows.act_sweep)
         file.addSeparator()
         file.addAction(self.act_quit)
 
@@ -344,6 +348,9 @@ class MainWindow(QMainWindow):
         view.addSeparator()
         for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
             view.addAction(dock.toggleViewAction())
+
+        self.teach_menu = getattr(self, "teach_menu", None) or bar.addMenu("&Teach")
+        self.teaching_windows.add_to_menu(self.teach_menu)
 
         help_ = bar.addMenu("&Help")
         help_.addActions([self.act_help, self.act_about])

@@ -1,0 +1,381 @@
+"""Teach → Paper vs conforming: the same parameters meshed both ways, side by side.
+
+One ``QtInteractor`` with two subplots (``shape=(1, 2)``) whose cameras are linked
+(``link_views``), each holding a :class:`app.scene.MeshScene`, and under each half its
+statistics: triangles, vertices, interior edges (the RWG unknowns), boundary edges and
+the overlap ratio. In paper mode the faces covered by two or more patches are shaded, so
+a student sees where the overlapping patches fail to share edges.
+
+The window follows the main window's parameters; both meshes are built in a worker
+thread, and a mode the core refuses (a conforming double ring whose rings overlap, say)
+shows its message in its half while the other half still draws.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+from typing import Any
+
+import numpy as np
+import pyvista as pv
+from PySide6.QtCore import QObject, QRunnable, Qt, QThreadPool, Signal
+from PySide6.QtGui import QCloseEvent
+from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
+
+from core import MeshParams, TriMesh
+
+from .model import AppModel, MeshResult, compute
+from .scene import MeshScene, scene_data
+
+log = logging.getLogger(__name__)
+
+MODES = ("paper", "conforming")
+TITLES = {"paper": "Paper mode: overlapping patches",
+          "conforming": "Conforming mode: one watertight mesh"}
+#: Faces covered by 2 and by 3 or more patches (drawn over the triangle and shared edges,
+#: under the boundary edges, so the patch outlines stay visible).
+COVERAGE_COLORS = ("#c6b9e4", "#7a5fb5")
+#: Coverage is computed when triangles × patches stays below this (a few hundred ms).
+COVERAGE_LIMIT = 100_000_000
+_CHUNK = 4_000_000
+LAYERS_SHOWN = {"labels": False, "patch_outlines": False, "centroids": False}
+
+
+def patch_coverage(mesh: TriMesh) -> np.ndarray | None:
+    """How many paper-mode patches cover each triangle's centroid.
+
+    Returns
+    -------
+    (T,) int32, or None
+        None when the mesh has no patch rectangles (conforming) or the count would take
+        too long (more than :data:`COVERAGE_LIMIT` triangle–patch pairs).
+    """
+    rects = mesh.patch_rects
+    if rects is None or len(rects) == 0 or mesh.n_triangles == 0:
+        return None
+    rects = np.asarray(rects, dtype=np.float64)
+    if mesh.n_triangles * len(rects) > COVERAGE_LIMIT:
+        return None
+    c = np.asarray(mesh.centroids)[:, :2]
+    out = np.zeros(len(c), dtype=np.int32)
+    step = max(1, _CHUNK // len(rects))
+    for lo in range(0, len(c), step):
+        x = c[lo:lo + step, 0:1]
+        y = c[lo:lo + step, 1:2]
+        inside = ((x > rects[:, 0]) & (x < rects[:, 2]) & (y > rects[:, 1])
+                  & (y < rects[:, 3]))
+        out[lo:lo + step] = inside.sum(axis=1)
+    return out
+
+
+def coverage_faces(mesh: TriMesh, coverage: np.ndarray | None, dz: float) -> pv.PolyData:
+    """Faces covered by two or more patches, with a cell array ``coverage`` (2 or 3 = 3+)."""
+    if coverage is None:
+        return pv.PolyData()
+    keep = coverage >= 2
+    if not keep.any():
+        return pv.PolyData()
+    pts = np.array(mesh.points, dtype=np.float64)
+    pts[:, 2] += dz
+    faces = pv.PolyData.from_regular_faces(pts, np.asarray(mesh.triangles)[keep])
+    faces.cell_data["coverage"] = np.minimum(coverage[keep], 3).astype(np.float64)
+    return faces.clean(point_merging=False) if faces.n_points > 3 * faces.n_cells else faces
+
+
+@dataclasses.dataclass
+class Half:
+    """What one half shows: a result (mesh, stats, scene data) or an error."""
+
+    mode: str
+    result: MeshResult | None = None
+    error: str | None = None
+    overlap: pv.PolyData | None = None
+    covered: float | None = None  # fraction of the triangles covered twice or more
+
+
+def compute_half(params: MeshParams, mode: str) -> Half:
+    """Mesh ``params`` in ``mode`` (never raises; errors come back as text)."""
+    try:
+        p = dataclasses.replace(params, mode=mode)
+    except (ValueError, TypeError) as exc:
+        return Half(mode, error=str(exc))
+    result = compute(p, prepare=scene_data)
+    if result.error is not None:
+        return Half(mode, error=result.error)
+    half = Half(mode, result)
+    if mode == "paper":
+        coverage = patch_coverage(result.mesh)
+        size = max(result.scene.bounds[1] - result.scene.bounds[0],
+                   result.scene.bounds[3] - result.scene.bounds[2], 1e-9)
+        half.overlap = coverage_faces(result.mesh, coverage, 3.5e-4 * size)
+        if coverage is not None:
+            half.covered = float(np.mean(coverage >= 2))
+    return half
+
+
+class _Job(QRunnable):
+    def __init__(self, params: MeshParams, generation: int, done: Signal) -> None:
+        super().__init__()
+        self.params, self.generation, self.done = params, generation, done
+        self.setAutoDelete(True)
+
+    def run(self) -> None:  # worker thread
+        halves = [compute_half(self.params, mode) for mode in MODES]
+        self.done.emit((self.generation, halves))
+
+
+class _Relay(QObject):
+    done = Signal(object)
+
+
+def stats_html(half: Half) -> str:
+    """The statistics under one half, as rich text."""
+    if half.error is not None:
+        return f"<span style='color:#d0021b'>{half.error}</span>"
+    s = half.result.stats
+    t, n = s["triangles"], s["interior_edges"]
+    rows = [
+        ("Triangles", f"{t:,}"),
+        ("Vertices", f"{s['vertices']:,}"),
+        ("Interior edges = RWG unknowns N", f"<b>{n:,}</b>"),
+        ("Boundary edges", f"{s['boundary_edges']:,}"),
+        ("Shared edges per triangle", f"{n / t:.2f}" if t else "–"),
+    ]
+    if s.get("junction_edges"):
+        rows.append(("Junction edges", f"<span style='color:#d0021b'>"
+                                       f"{s['junction_edges']:,}</span>"))
+    ratio = s.get("overlap_ratio")
+    rows.append(("Overlap ratio", "–" if ratio is None else f"{100 * ratio:.1f} %"))
+    if half.covered is not None:
+        rows.append(("Triangles under 2+ patches",
+                     f"{100 * half.covered:.1f} % "
+                     f"<span style='color:{COVERAGE_COLORS[0]}'>■</span>"
+                     f"<span style='color:{COVERAGE_COLORS[1]}'>■</span>"))
+    body = "".join(f"<tr><td>{k}</td><td align='right'>&nbsp;&nbsp;{v}</td></tr>"
+                   for k, v in rows)
+    return f"<table cellspacing='1'>{body}</table>"
+
+
+class CompareView(QWidget):
+    """Paper and conforming mode side by side (see the module docstring).
+
+    Parameters
+    ----------
+    model : AppModel
+        The main window's model; the view follows its parameters.
+    parent : QWidget, optional
+    """
+
+    shown = Signal()  # both halves drawn for the latest parameters
+
+    def __init__(self, model: AppModel, parent: QWidget | None = None) -> None:
+        super().__init__(parent, Qt.WindowType.Window)
+        from pyvistaqt import QtInteractor
+
+        self.model = model
+        self.setObjectName("compare")
+        self.setWindowTitle("barymesh – paper vs conforming")
+        self._closed = False
+        self.generation = 0
+        self.shown_generation = -1
+        self.halves: dict[str, Half] = {}
+        self._camera_key: tuple[Any, ...] | None = None
+
+        self.plotter = QtInteractor(self, shape=(1, 2), auto_update=False, border=True,
+                                    border_color="#c8c8c8", border_width=1.0)
+        self.plotter.setMinimumSize(640, 360)
+        for key in ("q", "e"):
+            self.plotter.clear_events_for_key(key, raise_on_missing=False)
+        self.scenes: dict[str, MeshScene] = {}
+        self.overlays: dict[str, pv.PolyData] = {}
+        self.messages: dict[str, Any] = {}
+        for col, mode in enumerate(MODES):
+            self.plotter.subplot(0, col)
+            scene = MeshScene(self.plotter, visible=LAYERS_SHOWN)
+            self.scenes[mode] = scene
+            self.plotter.add_text(TITLES[mode], position=(0.03, 0.93), viewport=True,
+                                  font_size=10, color="#202020")
+            self.messages[mode] = self.plotter.add_text(
+                "", position=(0.05, 0.45), viewport=True, font_size=12, color="#d0021b")
+            if mode == "paper":
+                self.overlays[mode] = pv.PolyData()
+                actor = self.plotter.add_mesh(
+                    self.overlays[mode], scalars=None, reset_camera=False, lighting=False,
+                    render=False, pickable=False, color=COVERAGE_COLORS[0])
+                actor.mapper.lookup_table = pv.LookupTable(
+                    cmap=[COVERAGE_COLORS[0], COVERAGE_COLORS[1]], n_values=2)
+                actor.mapper.SetScalarModeToUseCellFieldData()
+                actor.mapper.SelectColorArray("coverage")
+                actor.mapper.SetScalarRange(1.5, 3.5)
+                actor.mapper.lookup_table.scalar_range = (1.5, 3.5)
+                actor.mapper.SetScalarVisibility(True)
+                self.overlay_actor = actor
+        self.plotter.link_views()
+        self.plotter.subplot(0, 0)
+        self.plotter.enable_parallel_projection()
+        self.plotter.view_xy(render=False)
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
+                      "MouseWheelBackwardEvent"):
+            self.plotter.iren.add_observer(event, self._camera_moved)
+
+        self.stats: dict[str, QLabel] = {}
+        row = QHBoxLayout()
+        row.setContentsMargins(12, 4, 12, 8)
+        for mode in MODES:
+            label = QLabel(self)
+            label.setTextFormat(Qt.TextFormat.RichText)
+            label.setWordWrap(True)
+            label.setStyleSheet("font-size: 12pt;")
+            label.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
+            label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+            self.stats[mode] = label
+            row.addWidget(label, 1)
+        self.status = QLabel(self)
+        self.status.setStyleSheet("color: #555;")
+        col_layout = QVBoxLayout(self)
+        col_layout.setContentsMargins(0, 0, 0, 0)
+        col_layout.addWidget(self.plotter, 1)
+        col_layout.addLayout(row)
+        col_layout.addWidget(self.status)
+
+        self.pool = QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self._relay = _Relay(self)
+        self._relay.done.connect(self._finished)
+        self._running = False
+        self._pending: MeshParams | None = None
+        self.resize(1400, 800)
+        model.params_changed.connect(self._params_changed)
+        self.request(model.params)
+
+    # -- meshing -------------------------------------------------------------------------
+
+    def _params_changed(self, params: MeshParams) -> None:
+        if not self._closed:
+            self.request(params)
+
+    def request(self, params: MeshParams) -> None:
+        """Mesh ``params`` both ways in the worker (the latest request wins)."""
+        self.generation += 1
+        self._pending = params
+        self.status.setText("meshing both modes…")
+        self._start()
+
+    def _start(self) -> None:
+        if self._running or self._pending is None or self._closed:
+            return
+        params, self._pending = self._pending, None
+        self._running = True
+        self.pool.start(_Job(params, self.generation, self._relay.done))
+
+    def _finished(self, payload: tuple[int, list[Half]]) -> None:
+        self._running = False
+        if self._closed:
+            return
+        generation, halves = payload
+        if self._pending is not None:
+            self._start()  # a newer request is waiting: this result is stale
+            return
+        self.show_halves(halves)
+        self.shown_generation = generation
+        self.status.setText("")
+        self.shown.emit()
+
+    @property
+    def busy(self) -> bool:
+        return self._running or self._pending is not None
+
+    # -- drawing -------------------------------------------------------------------------
+
+    def show_halves(self, halves: list[Half]) -> None:
+        """Draw both halves (datasets copied into the existing actors) and one render."""
+        bounds = []
+        for col, half in enumerate(halves):
+            self.halves[half.mode] = half
+            self.plotter.subplot(0, col)
+            scene = self.scenes[half.mode]
+            message = self.messages[half.mode]
+            if half.error is not None:
+                for actor in scene.actors.values():
+                    actor.SetVisibility(False)
+                scene.axes.SetVisibility(False)
+                scene.scalar_bar.SetVisibility(False)
+                message.SetInput(_wrapped(f"Cannot mesh in {half.mode} mode:\n{half.error}"))
+                message.SetVisibility(True)
+                if half.mode in self.overlays:
+                    self.overlays[half.mode].copy_from(pv.PolyData(), deep=True)
+            else:
+                message.SetVisibility(False)
+                scene.update(half.result.scene)
+                if col == 1:  # one set of rulers: the cameras are linked, the scale is shared
+                    scene.axes.SetVisibility(False)
+                bounds.append(half.result.scene.bounds)
+                if half.mode in self.overlays:
+                    self.overlays[half.mode].copy_from(half.overlap or pv.PolyData(), deep=True)
+            self.stats[half.mode].setText(
+                f"<b style='font-size:13pt'>{TITLES[half.mode]}</b><br>{stats_html(half)}")
+        if bounds:
+            b = np.asarray(bounds)
+            union = (b[:, 0].min(), b[:, 1].max(), b[:, 2].min(), b[:, 3].max())
+            key = tuple(round(float(v), 6) for v in union)
+            if key != self._camera_key:
+                self._camera_key = key
+                self.frame(union)
+        self._camera_moved()
+
+    def frame(self, bounds: tuple[float, float, float, float]) -> None:
+        """Both halves from above on the union of their extents (linked cameras)."""
+        for mode, scene in self.scenes.items():
+            scene.bounds = bounds
+            if mode == "paper":
+                self.plotter.subplot(0, 0)
+                scene.top_view()
+        self.plotter.subplot(0, 0)
+
+    def _camera_moved(self, *_args: Any) -> None:
+        if self._closed:
+            return
+        for col, mode in enumerate(MODES):
+            self.plotter.subplot(0, col)
+            if self.halves.get(mode) is not None and self.halves[mode].error is None:
+                self.scenes[mode].fit_marker_sizes()
+        self.plotter.subplot(0, 0)
+        self.plotter.render()
+
+    def stats_of(self, mode: str) -> dict[str, Any] | None:
+        """The statistics shown for ``mode`` (None when that mode failed)."""
+        half = self.halves.get(mode)
+        return None if half is None or half.result is None else half.result.stats
+
+    def view_image(self) -> np.ndarray:
+        """The view (both halves) as an (h, w, 3) uint8 array."""
+        image = self.plotter.screenshot(None, return_img=True)
+        self.plotter.render()
+        return np.ascontiguousarray(image)
+
+    # -- closing -------------------------------------------------------------------------
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
+        self.shutdown()
+        super().closeEvent(event)
+
+    def shutdown(self) -> None:
+        """Stop following the model, wait for the worker and release the GL context."""
+        if self._closed:
+            return
+        self._closed = True
+        self._pending = None
+        try:
+            self.model.params_changed.disconnect(self._params_changed)
+        except ValueError:
+            pass
+        self.pool.waitForDone(30_000)
+        self.plotter.close()
+
+
+def _wrapped(text: str, width: int = 48) -> str:
+    """Break long error messages into lines for the 3D view."""
+    import textwrap
+
+    return "\n".join(textwrap.fill(line, width) for line in text.splitlines())

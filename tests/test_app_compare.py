@@ -1,0 +1,135 @@
+"""Teach → Paper vs conforming, in a real window under Xvfb (see conftest.py)."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pyvistaqt")
+
+from PySide6.QtCore import QSettings  # noqa: E402
+
+from app.compare_view import CompareView, patch_coverage  # noqa: E402
+from app.model import AppModel  # noqa: E402
+from app.window import MainWindow  # noqa: E402
+from core import MeshParams, build_mesh  # noqa: E402
+
+COARSE = MeshParams(angle_step=15.0, subdivisions=2)
+COUNTS = ("triangles", "vertices", "interior_edges", "boundary_edges")
+
+
+@pytest.fixture(autouse=True)
+def private_settings(tmp_path, monkeypatch):
+    """Never read or write the user's QSettings."""
+    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+
+
+def wait_shown(qtbot, view):
+    qtbot.waitUntil(lambda: not view.busy and view.shown_generation == view.generation,
+                    timeout=30_000)
+
+
+@pytest.fixture
+def view(qtbot):
+    win = CompareView(AppModel(COARSE))
+    qtbot.addWidget(win)
+    win.resize(1200, 700)
+    win.show()
+    qtbot.waitExposed(win)
+    wait_shown(qtbot, win)
+    yield win
+    win.close()
+
+
+def assert_half(view, params, mode):
+    stats = build_mesh(params.replace(mode=mode)).stats()
+    shown = view.stats_of(mode)
+    text = view.stats[mode].text()
+    for key in COUNTS:
+        assert shown[key] == stats[key], (mode, key)
+        assert f"{stats[key]:,}" in text, (mode, key)
+    assert view.scenes[mode].datasets["faces"].n_cells == stats["triangles"]
+
+
+def test_both_modes_with_the_counts_of_build_mesh(view):
+    for mode in ("paper", "conforming"):
+        assert_half(view, COARSE, mode)
+    assert "Overlap ratio" in view.stats["paper"].text()
+    assert "%" in view.stats["paper"].text()
+
+
+def test_the_cameras_are_linked(view):
+    renderers = view.plotter.renderers
+    assert len(renderers) == 2
+    assert renderers[0].camera is renderers[1].camera or \
+        renderers[0].GetActiveCamera() is renderers[1].GetActiveCamera()
+
+
+def test_overlap_of_paper_mode_is_shaded(view, qtbot):
+    view.model.set_value("angle_step", 5.0)  # 1 mm patches, 5 degrees apart: they overlap
+    wait_shown(qtbot, view)
+    overlay = view.overlays["paper"]
+    mesh = build_mesh(view.model.params)
+    assert 0 < overlay.n_cells < mesh.n_triangles
+    assert set(np.unique(overlay.cell_data["coverage"])) <= {2.0, 3.0}
+    assert "2+ patches" in view.stats["paper"].text()
+
+
+def test_patch_coverage_counts_covering_patches():
+    one = build_mesh(MeshParams(structure="patch", subdivisions=2))
+    assert (patch_coverage(one) == 1).all()
+    conforming = build_mesh(COARSE.replace(mode="conforming"))
+    assert patch_coverage(conforming) is None
+
+
+def test_an_invalid_mode_shows_its_error_in_its_half(view, qtbot):
+    bad = COARSE.replace(inner_radius=4.0, outer_radius=4.5, patch_size=1.0)
+    view.model.set_params(bad)  # paper accepts it; conforming rings would overlap
+    wait_shown(qtbot, view)
+    assert_half(view, bad, "paper")
+    assert view.stats_of("conforming") is None
+    assert "outer_radius" in view.stats["conforming"].text()
+    message = view.messages["conforming"]
+    assert message.GetVisibility() and "outer_radius" in message.GetInput()
+    assert not view.scenes["conforming"].actors["faces"].GetVisibility()
+    view.model.set_params(COARSE)  # and back
+    wait_shown(qtbot, view)
+    assert not message.GetVisibility()
+    assert_half(view, COARSE, "conforming")
+
+
+def test_follows_the_parameters_latest_wins(view, qtbot):
+    view.model.set_value("subdivisions", 3)
+    view.model.set_value("subdivisions", 1)
+    wait_shown(qtbot, view)
+    assert_half(view, COARSE.replace(subdivisions=1), "paper")
+    assert_half(view, COARSE.replace(subdivisions=1), "conforming")
+
+
+def test_screenshot_is_not_blank(view, tmp_path):
+    import imageio.v3 as iio
+
+    image = view.view_image()
+    iio.imwrite(tmp_path / "compare.png", image)
+    w = image.shape[1]
+    for half in (image[:, : w // 2], image[:, w // 2:]):
+        assert len(np.unique(half[..., :3].reshape(-1, 3), axis=0)) > 10
+    assert view.grab().save(str(tmp_path / "compare-window.png"))
+
+
+def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
+    win = MainWindow(COARSE, scripted=True)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    assert win.teaching_windows.act_compare in win.teach_menu.actions()
+    win.teaching_windows.act_compare.trigger()
+    view = win.teaching_windows.compare
+    wait_shown(qtbot, view)
+    assert_half(view, COARSE, "paper")
+    win.controls.rows["subdivisions"].spin.setValue(3)
+    win.controller.flush()
+    wait_shown(qtbot, view)
+    assert_half(view, COARSE.replace(subdivisions=3), "conforming")
+    win.close()
+    assert view._closed

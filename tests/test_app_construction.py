@@ -1,0 +1,190 @@
+"""Teach → Construction step by step, in a real window under Xvfb (see conftest.py)."""
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+pytest.importorskip("pyvistaqt")
+
+from PySide6.QtCore import QSettings, Qt  # noqa: E402
+
+from app.construction_view import ConstructionView, label_offsets, shown_labels  # noqa: E402
+from app.model import AppModel  # noqa: E402
+from app.window import MainWindow  # noqa: E402
+from core import MeshParams  # noqa: E402
+from core.construction import construction_steps  # noqa: E402
+
+PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
+#: The paper's n = 4: what each step adds, by the title's first words.
+PAPER_STEPS = ["Square patch ABCD", "Diagonal BC", "Edge midpoints", "Quarter points",
+               "Connecting lines", "32 sub-triangles", "Centroids", "Shared edges"]
+
+
+@pytest.fixture(autouse=True)
+def private_settings(tmp_path, monkeypatch):
+    """Never read or write the user's QSettings."""
+    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+
+
+@pytest.fixture
+def view(qtbot):
+    model = AppModel(PATCH)
+    win = ConstructionView(model)
+    qtbot.addWidget(win)
+    win.resize(1000, 700)
+    win.show()
+    qtbot.waitExposed(win)
+    yield win
+    win.close()
+
+
+def test_paper_patch_has_eight_steps_with_their_titles(view):
+    assert len(view.steps) == 8
+    assert view.slider.minimum() == 0 and view.slider.maximum() == 7
+    for i, start in enumerate(PAPER_STEPS):
+        view.slider.setValue(i)
+        assert view.index == i
+        assert view.title.text().startswith(start)
+        assert view.counter.text() == f"Step {i + 1} of 8"
+        assert view.description.text()
+
+
+def test_labels_appear_at_their_step(view):
+    corners = {"A", "B", "C", "D"}
+    midpoints = {"m1", "m2", "m3"}
+    quarters = {"m11", "m12", "m21", "m22"}
+    view.set_step(0)
+    assert set(view.labels) == corners
+    view.set_step(1)
+    assert set(view.labels) == corners
+    view.set_step(2)
+    assert set(view.labels) == corners | midpoints
+    view.set_step(3)
+    assert set(view.labels) == corners | midpoints | quarters
+    view.set_step(7)
+    assert set(view.labels) == corners | midpoints | quarters
+
+
+def test_labels_sit_next_to_their_points_not_on_them(view):
+    view.set_step(3)
+    step = view.steps[3]
+    anchors = view.label_points.points[:, :2]
+    at = {label: np.asarray(p) for label, p in zip(step.labels, step.points, strict=True)}
+    size = 10.0
+    for label, anchor in zip(view.labels, anchors, strict=True):
+        gap = np.linalg.norm(anchor - at[label])
+        assert 0.02 * size < gap < 0.15 * size, label
+
+
+def test_previous_next_buttons_and_keys(view, qtbot):
+    assert not view.prev_button.isEnabled() and view.next_button.isEnabled()
+    qtbot.mouseClick(view.next_button, Qt.MouseButton.LeftButton)
+    qtbot.mouseClick(view.next_button, Qt.MouseButton.LeftButton)
+    assert view.index == 2 and view.slider.value() == 2
+    qtbot.mouseClick(view.prev_button, Qt.MouseButton.LeftButton)
+    assert view.index == 1
+    with qtbot.waitActive(view):
+        view.activateWindow()
+    keys = view.plotter  # the keys work while the 3D view has the focus
+    keys.setFocus()
+    qtbot.keyClick(keys, Qt.Key.Key_Right)
+    assert view.index == 2
+    qtbot.keyClick(keys, Qt.Key.Key_PageDown)  # a presenter's remote
+    assert view.index == 3
+    qtbot.keyClick(keys, Qt.Key.Key_Left)
+    assert view.index == 2
+    qtbot.keyClick(keys, Qt.Key.Key_End)
+    assert view.index == 7 and not view.next_button.isEnabled()
+    view.next_step()  # past the end: stays
+    assert view.index == 7
+    qtbot.keyClick(keys, Qt.Key.Key_Home)
+    assert view.index == 0
+
+
+def test_each_step_draws_what_it_says(view):
+    view.set_step(1)
+    assert view.datasets["highlight"].n_cells == 1  # the diagonal, emphasised
+    assert view.datasets["primary_0"].n_cells == 1 and view.datasets["primary_1"].n_cells == 1
+    view.set_step(4)
+    assert view.datasets["highlight"].n_cells == 2 * 3 * 3  # n - 1 lines x 3 per primary
+    view.set_step(5)
+    assert view.datasets["subtriangles"].n_cells == 32
+    assert view.datasets["highlight"].n_cells == 0
+    view.set_step(6)
+    assert view.datasets["centroids"].n_points == 32
+    view.set_step(7)
+    assert view.datasets["shared_edges"].n_cells == 40
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8, 16])
+def test_any_n_and_the_triangle(qtbot, n):
+    for structure in ("patch", "triangle"):
+        params = PATCH.replace(structure=structure, subdivisions=n)
+        view = ConstructionView(AppModel(params))
+        qtbot.addWidget(view)
+        expected = construction_steps(params)
+        assert len(view.steps) == len(expected)
+        view.set_step(len(expected) - 1)
+        assert view.datasets["subtriangles"].n_cells == len(expected[-1].triangles)
+        assert view.title.text() == expected[-1].title
+        assert {"A", "B", "C"} <= set(view.labels)
+        view.close()
+
+
+def test_follows_the_main_parameters_and_drives_n(view):
+    view.set_step(5)
+    view.model.set_value("subdivisions", 2)
+    assert view.params.subdivisions == 2 and len(view.steps) == 7
+    assert view.datasets["subtriangles"].n_cells == 8
+    view.n_spin.setValue(4)  # the panel's n changes the model (undoable there)
+    assert view.model.params.subdivisions == 4 and len(view.steps) == 8
+    view.diagonal.setCurrentIndex(view.diagonal.findData("AD"))
+    assert view.model.params.diagonal == "AD"
+    assert view.steps[1].title.startswith("Diagonal AD")
+
+
+def test_unsupported_parameters_keep_the_last_steps(view):
+    steps = view.steps
+    view.model.set_value("scheme", "barycentric")
+    assert view.steps is steps
+    assert not view.error.isHidden() and "uniform" in view.error.text()
+    view.model.set_value("scheme", "uniform")
+    assert view.error.isHidden()
+
+
+def test_label_helpers():
+    assert shown_labels(["A", "m1", "m11", "m111", "ab4", "ab3"], 16) == [
+        "A", "m1", "m11", "", "ab4", ""]
+    assert shown_labels(["m111"], 8) == ["m111"]
+    offsets = label_offsets(["m1", "m22"], np.array([[0.0, -1.0], [-1.0, 0.0]]), 20, 6)
+    assert offsets[0, 0] == 0 and offsets[0, 1] < -12 - 6  # below, clear of half the height
+    assert offsets[1, 1] == 0 and offsets[1, 0] < -0.5 * 3 * 0.62 * 20
+
+
+def test_screenshot_is_not_blank(view, tmp_path):
+    view.set_step(3)
+    image = view.view_image()
+    path = tmp_path / "construction.png"
+    iio.imwrite(path, image)
+    assert len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
+    grab = tmp_path / "construction-window.png"
+    assert view.grab().save(str(grab))
+    assert iio.imread(grab).shape[1] >= 900
+
+
+def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
+    win = MainWindow(PATCH, scripted=True)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    assert win.teaching_windows.act_construction in win.teach_menu.actions()
+    win.teaching_windows.act_construction.trigger()
+    view = win.teaching_windows.construction
+    assert view is not None and view.isVisible() and len(view.steps) == 8
+    win.controls.rows["subdivisions"].spin.setValue(3)
+    win.controller.flush()
+    assert view.params.subdivisions == 3
+    win.close()
+    assert view._closed
