@@ -209,6 +209,7 @@ class MeshScene:
         self.n_triangles = 0
         self.typical_edge = 0.0
         self._line_scale = 1.0
+        self.emphasis = 1.0  # presentation mode: thicker lines, larger fonts
         plotter.set_background(BACKGROUND)
         plotter.theme.allow_empty_mesh = True  # datasets start empty and are filled later
         self._create_actors()
@@ -408,10 +409,24 @@ class MeshScene:
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
             if name == "centroids":
-                prop.point_size = float(np.clip(0.25 * edge_px, 1.5, width)) * self._line_scale
+                prop.point_size = (float(np.clip(0.25 * edge_px, 1.5, width))
+                                   * self._line_scale * self.emphasis)
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
-                prop.line_width = thin * self._line_scale
+                prop.line_width = thin * self._line_scale * self.emphasis
+
+    def set_emphasis(self, scale: float) -> None:
+        """Lines, dots and fonts ``scale`` times their normal size (presentation mode)."""
+        self.emphasis = float(scale)
+        self.fit_marker_sizes()
+        size = int(round(12 * self.emphasis))
+        self.actors["labels"].GetMapper().GetLabelTextProperty().SetFontSize(size)
+        for prop in (self.scalar_bar.GetTitleTextProperty(),
+                     self.scalar_bar.GetLabelTextProperty()):
+            prop.SetFontSize(int(round(14 * self.emphasis)))
+        for axis in range(3):
+            self.axes.GetTitleTextProperty(axis).SetFontSize(size)
+            self.axes.GetLabelTextProperty(axis).SetFontSize(size)
 
 
 def nice_span(lo: float, hi: float, ticks: int = 5) -> tuple[float, float, int]:

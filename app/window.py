@@ -49,6 +49,7 @@ from .layers_panel import LayersPanel
 from .model import AppModel, MeshResult, ParamError
 from .scene import MeshScene, scene_data
 from .stats_panel import StatsPanel
+from .teaching_tools import TeachingTools
 from .teaching_windows import TeachingWindows
 from .worker import MeshController
 
@@ -301,6 +302,8 @@ class MainWindow(QMainWindow):
             self.color_actions[key] = act
         self.act_help = a("&Keyboard shortcuts…", self.show_about, "F1", "Shortcuts and the method")
         self.act_about = a("&About barymesh", self.show_about)
+        # Teach: RWG basis inspector, connectivity matrix, presentation mode (issue 5)
+        self.teaching = TeachingTools(self)
         # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
         self.teaching_windows = TeachingWindows(self)
 
@@ -350,6 +353,7 @@ class MainWindow(QMainWindow):
             view.addAction(dock.toggleViewAction())
 
         self.teach_menu = getattr(self, "teach_menu", None) or bar.addMenu("&Teach")
+        self.teaching.add_to_menu(self.teach_menu)
         self.teaching_windows.add_to_menu(self.teach_menu)
 
         help_ = bar.addMenu("&Help")
@@ -393,6 +397,7 @@ class MainWindow(QMainWindow):
         if result.scene is None:
             result.scene = scene_data(result.mesh)
         self.scene.update(result.scene)
+        self.teaching.mesh_changed(result.mesh)
         p = result.params
         key = (result.source, p.structure if p else None)
         bounds = np.asarray(result.scene.bounds)

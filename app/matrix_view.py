@@ -1,0 +1,338 @@
+"""The connectivity matrix of the paper's Eq. 27: a spy plot and, for small meshes, the table.
+
+Entry (i, j) is 1 when triangles i and j share an edge. The spy plot draws any size: the
+matrix itself up to :data:`DENSE_LIMIT` triangles, above that an occupancy image of at
+most :data:`IMAGE_BINS` pixels a side (a pixel is dark when any entry in its block is
+nonzero), so a 23,040 × 23,040 matrix costs one ``bincount``. Meshes up to
+:data:`TABLE_LIMIT` triangles also get the 0/1 table. Hovering or clicking a cell emits
+``cell_hovered`` / ``cell_clicked`` (row, column); :meth:`MatrixView.highlight_row` marks
+a triangle's row. A hidden view only remembers that it is stale and redraws when shown.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
+from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
+from PySide6.QtCore import (
+    QAbstractTableModel,
+    QModelIndex,
+    QPersistentModelIndex,
+    Qt,
+    QTimer,
+    Signal,
+)
+from PySide6.QtGui import QBrush, QColor, QFont
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QHeaderView,
+    QLabel,
+    QTableView,
+    QTabWidget,
+    QVBoxLayout,
+    QWidget,
+)
+
+from core import TriMesh
+
+log = logging.getLogger(__name__)
+
+DENSE_LIMIT = 600
+IMAGE_BINS = 600
+TABLE_LIMIT = 64
+ONE_COLOR = "#1f4e9c"
+ROW_COLOR = "#f28e2b"
+CELL_COLOR = "#e0001b"
+
+
+def occupancy_image(matrix: sp.spmatrix, bins: int) -> np.ndarray:
+    """(b, b) bool: whether each block of a square sparse matrix holds a nonzero.
+
+    >>> occupancy_image(sp.eye(4, format="csr"), 2).astype(int).tolist()
+    [[1, 0], [0, 1]]
+    """
+    coo = sp.coo_matrix(matrix)
+    n = max(coo.shape[0], 1)
+    b = max(1, min(int(bins), n))
+    r = (coo.row.astype(np.int64) * b) // n
+    c = (coo.col.astype(np.int64) * b) // n
+    counts = np.bincount(r * b + c, minlength=b * b)
+    return counts.reshape(b, b) > 0
+
+
+class ConnectivityTableModel(QAbstractTableModel):
+    """The dense 0/1 matrix for a :class:`QTableView` (small meshes only)."""
+
+    def __init__(self, parent: Any = None) -> None:
+        super().__init__(parent)
+        self.dense = np.zeros((0, 0), dtype=np.int8)
+        self._bold = QFont()
+        self._bold.setBold(True)
+        self._one = QBrush(QColor("#c6d8f0"))
+        self._zero = QBrush(QColor("#9a9a9a"))
+
+    def set_matrix(self, dense: np.ndarray) -> None:
+        self.beginResetModel()
+        self.dense = np.asarray(dense, dtype=np.int8)
+        self.endResetModel()
+
+    def rowCount(self, parent: QModelIndex | QPersistentModelIndex = QModelIndex()) -> int:  # noqa: B008, N802
+        return 0 if parent.isValid() else self.dense.shape[0]
+
+    def columnCount(self, parent: QModelIndex | QPersistentModelIndex = QModelIndex()) -> int:  # noqa: B008, N802
+        return 0 if parent.isValid() else self.dense.shape[1]
+
+    def data(self, index: QModelIndex | QPersistentModelIndex,
+             role: int = Qt.ItemDataRole.DisplayRole) -> Any:
+        if not index.isValid():
+            return None
+        value = int(self.dense[index.row(), index.column()])
+        if role == Qt.ItemDataRole.DisplayRole:
+            return str(value)
+        if role == Qt.ItemDataRole.TextAlignmentRole:
+            return int(Qt.AlignmentFlag.AlignCenter)
+        if role == Qt.ItemDataRole.BackgroundRole and value:
+            return self._one
+        if role == Qt.ItemDataRole.ForegroundRole and not value:
+            return self._zero
+        if role == Qt.ItemDataRole.FontRole and value:
+            return self._bold
+        if role == Qt.ItemDataRole.ToolTipRole:
+            i, j = index.row(), index.column()
+            return (f"T{i} and T{j} share an edge" if value
+                    else f"T{i} and T{j} share no edge")
+        return None
+
+    def headerData(self, section: int, orientation: Qt.Orientation,  # noqa: N802
+                   role: int = Qt.ItemDataRole.DisplayRole) -> Any:
+        if role == Qt.ItemDataRole.DisplayRole:
+            return str(section)
+        return None
+
+
+class MatrixView(QWidget):
+    """Spy plot (and table) of the Eq. 27 connectivity matrix; see the module docstring."""
+
+    cell_hovered = Signal(int, int)
+    cell_clicked = Signal(int, int)
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.mesh: TriMesh | None = None
+        self.matrix: sp.csr_matrix | None = None
+        self.stale = False
+        self.row: int | None = None
+        self.cell: tuple[int, int] | None = None
+        self._hover: tuple[int, int] | None = None
+        self.font_scale = 1.0
+
+        self.figure = Figure(figsize=(4, 4), dpi=100, layout="constrained")
+        self.canvas = FigureCanvasQTAgg(self.figure)
+        self.canvas.setMinimumSize(220, 220)
+        self.axes = self.figure.add_subplot(1, 1, 1)
+        cmap = ListedColormap(["white", ONE_COLOR])
+        self.image = self.axes.imshow(np.zeros((1, 1)), cmap=cmap, vmin=0, vmax=1,
+                                      interpolation="nearest", aspect="equal")
+        self.row_band = Rectangle((-0.5, -0.5), 1, 1, facecolor=ROW_COLOR, alpha=0.35,
+                                  edgecolor="none", visible=False)
+        self.cell_box = Rectangle((-0.5, -0.5), 1, 1, facecolor="none", edgecolor=CELL_COLOR,
+                                  linewidth=2.0, visible=False)
+        self.axes.add_patch(self.row_band)
+        self.axes.add_patch(self.cell_box)
+        self.canvas.mpl_connect("motion_notify_event", self._mouse_moved)
+        self.canvas.mpl_connect("button_press_event", self._mouse_pressed)
+
+        self.table_model = ConnectivityTableModel(self)
+        self.table = QTableView(self)
+        self.table.setModel(self.table_model)
+        self.table.setMouseTracking(True)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
+        self.table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
+        self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        for header in (self.table.horizontalHeader(), self.table.verticalHeader()):
+            header.setSectionResizeMode(QHeaderView.ResizeMode.Fixed)
+            header.setDefaultSectionSize(26)
+            header.setMinimumSectionSize(18)
+        self.table.entered.connect(lambda i: self._table_cell(i, self.cell_hovered))
+        self.table.clicked.connect(lambda i: self._table_cell(i, self.cell_clicked))
+        self.caption = QLabel(self)
+        self.caption.setWordWrap(True)
+        self.table_note = QLabel(f"The 0/1 table is shown for meshes up to {TABLE_LIMIT} "
+                                 "triangles.", self)
+        self.table_note.setWordWrap(True)
+
+        self.tabs = QTabWidget(self)
+        self.tabs.addTab(self.canvas, "Spy plot")
+        table_page = QWidget(self)
+        table_layout = QVBoxLayout(table_page)
+        table_layout.setContentsMargins(0, 0, 0, 0)
+        table_layout.addWidget(self.table, 1)
+        table_layout.addWidget(self.table_note)
+        self.tabs.addTab(table_page, "0/1 table")
+        layout = QVBoxLayout(self)
+        layout.addWidget(self.caption)
+        layout.addWidget(self.tabs, 1)
+        self._style_axes()
+
+    # -- data ------------------------------------------------------------------------
+
+    def set_mesh(self, mesh: TriMesh | None) -> None:
+        """A new mesh: redraw now if shown, else when shown."""
+        self.mesh = mesh
+        self.row = self.cell = self._hover = None
+        self.stale = True
+        if self.isVisible():
+            self.refresh()
+
+    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().showEvent(event)
+        if self.stale:  # after the layout settles: never change labels inside a resize
+            QTimer.singleShot(0, self._refresh_if_stale)
+
+    def _refresh_if_stale(self) -> None:
+        if self.stale and self.isVisible():
+            self.refresh()
+
+    def refresh(self) -> None:
+        """Redraw the spy plot and the table from the current mesh."""
+        self.stale = False
+        mesh = self.mesh
+        if mesh is None or mesh.n_triangles == 0:
+            self.matrix = None
+            self.image.set_data(np.zeros((1, 1)))
+            self.caption.setText("No mesh.")
+            self.table_model.set_matrix(np.zeros((0, 0)))
+            self.canvas.draw_idle()
+            return
+        try:
+            matrix = sp.csr_matrix(mesh.connectivity)
+        except Exception:  # noqa: BLE001 - the window keeps the last good view
+            log.exception("connectivity failed")
+            return
+        self.matrix = matrix
+        n = matrix.shape[0]
+        if n <= DENSE_LIMIT:
+            picture = (matrix.toarray() != 0).astype(np.float64)
+        else:
+            picture = occupancy_image(matrix, IMAGE_BINS).astype(np.float64)
+        self.image.set_data(picture)
+        self.image.set_extent((-0.5, n - 0.5, n - 0.5, -0.5))
+        self.axes.set_xlim(-0.5, n - 0.5)
+        self.axes.set_ylim(n - 0.5, -0.5)
+        self.axes.set_title(f"Eq. 27: {n:,} × {n:,}, {matrix.nnz:,} nonzeros",
+                            fontsize=10 * self.font_scale)
+        interior = len(mesh.interior_edges)
+        self.caption.setText(
+            f"Entry (i, j) = 1 when triangles i and j share an edge. {matrix.nnz:,} ones "
+            f"= 2 × {interior:,} interior edges"
+            + ("" if matrix.nnz == 2 * interior else " (plus junction pairs)")
+            + ". Hover or click a cell to see its triangles."
+        )
+        small = n <= TABLE_LIMIT
+        self.table_model.set_matrix(matrix.toarray() != 0 if small else np.zeros((0, 0)))
+        self.table.setVisible(small)
+        self.table_note.setVisible(not small)
+        self.row_band.set_visible(False)
+        self.cell_box.set_visible(False)
+        self.canvas.draw_idle()
+
+    def nonzeros(self) -> int:
+        """Ones the spy plot shows (counted in the drawn picture when it is the matrix)."""
+        if self.matrix is None:
+            return 0
+        if self.matrix.shape[0] <= DENSE_LIMIT:
+            return int(np.count_nonzero(self.image.get_array()))
+        return int(self.matrix.nnz)
+
+    def table_nonzeros(self) -> int:
+        """Ones in the 0/1 table (0 when the mesh is too big for a table)."""
+        return int(np.count_nonzero(self.table_model.dense))
+
+    # -- highlights ------------------------------------------------------------------
+
+    def highlight_row(self, row: int | None) -> None:
+        """Mark triangle ``row``'s row (a triangle picked in the 3D view)."""
+        n = 0 if self.matrix is None else self.matrix.shape[0]
+        self.row = row if row is not None and 0 <= row < n else None
+        if self.row is None:
+            self.row_band.set_visible(False)
+            self.table.clearSelection()
+        else:
+            height = max(1.0, n / 300)  # at least a few pixels on a big matrix
+            self.row_band.set_bounds(-0.5, self.row - 0.5 * height, n, height)
+            self.row_band.set_visible(True)
+            if self.table_model.dense.size:
+                self.table.selectRow(self.row)
+                self.table.scrollTo(self.table_model.index(self.row, 0))
+        self.canvas.draw_idle()
+
+    def highlight_cell(self, row: int | None, col: int | None) -> None:
+        n = 0 if self.matrix is None else self.matrix.shape[0]
+        if row is None or col is None or not (0 <= row < n and 0 <= col < n):
+            self.cell = None
+            self.cell_box.set_visible(False)
+        else:
+            self.cell = (row, col)
+            size = max(1.0, n / 100)
+            self.cell_box.set_bounds(col - 0.5 * size, row - 0.5 * size, size, size)
+            self.cell_box.set_visible(True)
+        self.canvas.draw_idle()
+
+    def set_font_scale(self, scale: float) -> None:
+        self.font_scale = float(scale)
+        self._style_axes()
+        if self.matrix is not None:
+            self.axes.title.set_fontsize(10 * self.font_scale)
+        self.canvas.draw_idle()
+
+    def _style_axes(self) -> None:
+        self.axes.tick_params(labelsize=8 * self.font_scale, top=True, labeltop=True,
+                              bottom=False, labelbottom=False)
+        self.axes.set_xlabel("triangle j", fontsize=9 * self.font_scale)
+        self.axes.xaxis.set_label_position("top")
+        self.axes.set_ylabel("triangle i", fontsize=9 * self.font_scale)
+
+    # -- mouse -----------------------------------------------------------------------
+
+    def cell_at(self, x: float | None, y: float | None) -> tuple[int, int] | None:
+        """The (row, column) under data coordinates (x, y), or None outside."""
+        if self.matrix is None or x is None or y is None:
+            return None
+        n = self.matrix.shape[0]
+        col, row = int(np.floor(x + 0.5)), int(np.floor(y + 0.5))
+        if not (0 <= row < n and 0 <= col < n):
+            return None
+        return self._snapped(row, col)
+
+    def _snapped(self, row: int, col: int) -> tuple[int, int]:
+        """On a big matrix, a zero cell next to a one (within a few pixels) means the one."""
+        m = self.matrix
+        cols = m.indices[m.indptr[row]:m.indptr[row + 1]]
+        if len(cols) == 0 or col in cols:
+            return row, col
+        nearest = int(cols[np.argmin(np.abs(cols - col))])
+        return (row, nearest) if abs(nearest - col) <= m.shape[0] / 150 else (row, col)
+
+    def _mouse_moved(self, event: Any) -> None:
+        cell = self.cell_at(event.xdata, event.ydata) if event.inaxes is self.axes else None
+        if cell is not None and cell != self._hover:
+            self._hover = cell
+            self.cell_hovered.emit(*cell)
+
+    def _mouse_pressed(self, event: Any) -> None:
+        if event.inaxes is not self.axes:
+            return
+        cell = self.cell_at(event.xdata, event.ydata)
+        if cell is not None:
+            self.cell_clicked.emit(*cell)
+
+    def _table_cell(self, index: QModelIndex, signal: Any) -> None:
+        if index.isValid():
+            signal.emit(index.row(), index.column())
+

@@ -1,0 +1,203 @@
+"""Teach menu tools of the window: RWG inspector, connectivity matrix, presentation mode.
+
+:class:`TeachingTools` builds the two docks, the click picking of the 3D view, the
+overlays and the actions, and links them: a click on the mesh selects an edge in the
+inspector and the triangle's row in the matrix; hovering a matrix cell marks its two
+triangles; clicking a one selects the edge they share. The window calls
+:meth:`TeachingTools.mesh_changed` with every new mesh.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QDockWidget, QMenu
+
+from core import TriMesh
+
+from .highlight import TriangleHighlight
+from .inspector_panel import InspectorPanel, ViewPicker
+from .matrix_view import MatrixView
+from .presentation import EMPHASIS, PresentationMode
+
+if TYPE_CHECKING:
+    from .window import MainWindow
+
+log = logging.getLogger(__name__)
+
+
+def shared_edge(mesh: TriMesh, a: int, b: int) -> int | None:
+    """The edge triangles ``a`` and ``b`` share, or None."""
+    common = np.intersect1d(mesh.triangle_edges[a], mesh.triangle_edges[b])
+    return int(common[0]) if a != b and len(common) else None
+
+
+class TeachingTools:
+    """The inspector, matrix view and presentation mode of one :class:`MainWindow`."""
+
+    def __init__(self, window: MainWindow) -> None:
+        self.window = window
+        self.mesh: TriMesh | None = None
+        plotter = window.plotter
+        self.inspector = InspectorPanel(plotter)
+        self.matrix = MatrixView()
+        self.highlight = TriangleHighlight(plotter)
+        self.picker = ViewPicker(plotter, window.scene.actors["faces"], window)
+        self.picker.triangle_picked.connect(self._triangle_picked)
+        self.matrix.cell_hovered.connect(self._cell_hovered)
+        self.matrix.cell_clicked.connect(self._cell_clicked)
+        self.presentation = PresentationMode(window, self._emphasize)
+
+        self.inspector_dock = self._dock("RWG inspector", "dock_inspector", self.inspector)
+        self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", self.matrix)
+
+        a = window._action
+        self.act_inspector = a("RWG &basis inspector", self.set_inspector_active, "I",
+                               "Click an edge or triangle: T+, T−, ρ±, f_n and ∇·f_n",
+                               checkable=True)
+        self.act_next = a("&Next edge", self._next, ["N", "]"], "Next RWG unknown")
+        self.act_previous = a("&Previous edge", self._previous, ["P", "["],
+                              "Previous RWG unknown")
+        self.act_matrix = a("Connectivity &matrix", self.set_matrix_active, "M",
+                            "The paper's Eq. 27: which triangles share an edge",
+                            checkable=True)
+        self.act_presentation = a("Presentation &mode", self.presentation.set_active, "F5",
+                                  "Panels hidden, thicker lines, larger fonts (F5 again: back)",
+                                  checkable=True)
+        self._sync_step_actions()
+
+    def _dock(self, title: str, name: str, widget: Any) -> QDockWidget:
+        w = self.window
+        dock = QDockWidget(title, w)
+        dock.setObjectName(name)
+        dock.setWidget(widget)
+        w.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
+        anchor = getattr(w, "statistics_dock", None)
+        if anchor is not None:
+            w.tabifyDockWidget(anchor, dock)
+        dock.hide()
+        dock.visibilityChanged.connect(lambda _v, d=dock: self._dock_visibility(d))
+        return dock
+
+    def add_to_menu(self, menu: QMenu) -> None:
+        """Add the actions to the window's Teach (or View) menu."""
+        menu.addSeparator()
+        menu.addActions([self.act_inspector, self.act_next, self.act_previous])
+        menu.addSeparator()
+        menu.addAction(self.act_matrix)
+        menu.addSeparator()
+        menu.addAction(self.act_presentation)
+
+    # -- activation ------------------------------------------------------------------
+
+    @property
+    def inspector_active(self) -> bool:
+        return self.act_inspector.isChecked()
+
+    @property
+    def matrix_active(self) -> bool:
+        return self.act_matrix.isChecked()
+
+    def set_inspector_active(self, on: bool) -> None:
+        on = bool(on)
+        if self.act_inspector.isChecked() != on:
+            self.act_inspector.setChecked(on)
+        if on:
+            if self.inspector.mesh is not self.mesh:
+                self.inspector.set_mesh(self.mesh)
+            self._show_dock(self.inspector_dock)
+        elif not self.presentation.active:
+            self.inspector_dock.hide()
+        self.inspector.set_active(on)
+        self._sync_picking()
+
+    def set_matrix_active(self, on: bool) -> None:
+        on = bool(on)
+        if self.act_matrix.isChecked() != on:
+            self.act_matrix.setChecked(on)
+        if on:
+            self._show_dock(self.matrix_dock)
+        else:
+            if not self.presentation.active:
+                self.matrix_dock.hide()
+            self.highlight.set_visible(False)
+            self.window.plotter.render()
+        self._sync_picking()
+
+    def _show_dock(self, dock: QDockWidget) -> None:
+        if self.presentation.active:
+            return
+        dock.show()
+        dock.raise_()
+
+    def _dock_visibility(self, dock: QDockWidget) -> None:
+        """A dock closed with its own button turns its tool off (not while presenting)."""
+        if self.presentation.active or not dock.isHidden():
+            return
+        if dock is self.inspector_dock and self.inspector_active:
+            self.set_inspector_active(False)
+        elif dock is self.matrix_dock and self.matrix_active:
+            self.set_matrix_active(False)
+
+    def _sync_picking(self) -> None:
+        self.picker.enabled = self.inspector_active or self.matrix_active
+        self._sync_step_actions()
+
+    def _sync_step_actions(self) -> None:
+        for act in (self.act_next, self.act_previous):
+            act.setEnabled(self.inspector_active)
+
+    # -- events ----------------------------------------------------------------------
+
+    def mesh_changed(self, mesh: TriMesh | None) -> None:
+        """A new mesh is on screen (the window's result hook)."""
+        self.mesh = mesh
+        try:
+            self.inspector.set_mesh(mesh)
+            self.matrix.set_mesh(mesh)
+            self.highlight.show(None, None)
+        except Exception:  # noqa: BLE001 - a teaching view must never take the window down
+            log.exception("updating the teaching tools failed")
+
+    def _triangle_picked(self, triangle: int, point: np.ndarray) -> None:
+        if self.inspector_active:
+            self.inspector.select_triangle(triangle, point)
+        if self.matrix_active:
+            self.matrix.highlight_row(triangle)
+            if not self.inspector_active:
+                self.highlight.show(self.mesh, triangle)
+        self.window.plotter.render()
+
+    def _cell_hovered(self, row: int, col: int) -> None:
+        self.matrix.highlight_cell(row, col)
+        self.highlight.show(self.mesh, row, col if col != row else None)
+        self.window.plotter.render()
+
+    def _cell_clicked(self, row: int, col: int) -> None:
+        self._cell_hovered(row, col)
+        self.matrix.highlight_row(row)
+        if self.inspector_active and self.mesh is not None:
+            edge = shared_edge(self.mesh, row, col)
+            if edge is not None:
+                self.inspector.select_edge(edge)
+
+    def _next(self) -> None:
+        if self.inspector_active:
+            self.inspector.next_edge()
+
+    def _previous(self) -> None:
+        if self.inspector_active:
+            self.inspector.previous_edge()
+
+    def _emphasize(self, scale: float) -> None:
+        self.window.scene.set_emphasis(scale)
+        overlay = 1.0 if scale == 1.0 else 0.8 * EMPHASIS
+        self.inspector.overlay.set_scale(overlay)
+        self.highlight.set_scale(overlay)
+        self.matrix.set_font_scale(scale)
+        if self.act_presentation.isChecked() != self.presentation.active:
+            self.act_presentation.setChecked(self.presentation.active)
+        self.window.plotter.render()

@@ -1,0 +1,239 @@
+"""The RWG basis inspector and presentation mode in a real window (Xvfb, see conftest.py)."""
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+pytest.importorskip("pyvistaqt")
+
+from PySide6.QtCore import QPoint, QSettings, Qt  # noqa: E402
+
+from app.inspector import (  # noqa: E402
+    arrow_polygons,
+    edge_info,
+    nearest_edge,
+    step_edge,
+)
+from app.window import MainWindow  # noqa: E402
+from core import MeshParams, build_mesh  # noqa: E402
+
+FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
+
+
+@pytest.fixture(autouse=True)
+def private_settings(tmp_path, monkeypatch):
+    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+
+
+@pytest.fixture
+def window(qtbot):
+    win = MainWindow(FIG10, scripted=True)
+    qtbot.addWidget(win)
+    win.resize(1300, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    win.activateWindow()  # shortcuts (N, P, F5) need the active window
+    qtbot.waitActive(win)
+    win.controller.flush()
+    win.teaching.set_inspector_active(True)
+    qtbot.wait(50)
+    win.plotter.render()
+    yield win
+    win.close()
+
+
+def display_point(win, world):
+    """World (x, y, z) -> VTK display pixels (origin bottom left), as the camera sees it."""
+    renderer = win.plotter.renderer
+    renderer.SetWorldPoint(float(world[0]), float(world[1]), float(world[2]), 1.0)
+    renderer.WorldToDisplay()
+    x, y, _ = renderer.GetDisplayPoint()
+    return x, y
+
+
+def click_world(win, qtbot, world):
+    """A left click (press and release, no drag) on the 3D view at a world point."""
+    x, y = display_point(win, world)
+    ratio = win.plotter.devicePixelRatioF()
+    pos = QPoint(round(x / ratio), round(win.plotter.height() - 1 - y / ratio))
+    qtbot.mouseClick(win.plotter, Qt.MouseButton.LeftButton, pos=pos)
+
+
+def not_blank(path):
+    image = iio.imread(path)
+    return len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
+
+
+# -- pure selection logic ---------------------------------------------------------------
+
+
+def test_nearest_edge_and_stepping_follow_the_rwg_table():
+    mesh = build_mesh(FIG10)
+    rows = mesh.rwg.edge
+    assert step_edge(mesh, int(rows[0]), 1) == rows[1]
+    assert step_edge(mesh, int(rows[0]), -1) == rows[-1]  # wraps
+    boundary = int(mesh.boundary_edges[0])
+    after = rows[np.searchsorted(rows, boundary) % len(rows)]
+    assert step_edge(mesh, boundary, 1) == after
+    t = 5
+    for edge in mesh.triangle_edges[t]:
+        a, b = mesh.points[mesh.edges[edge]]
+        assert nearest_edge(mesh, t, 0.9 * (a + b) / 2 + 0.1 * mesh.centroids[t]) == edge
+
+
+def test_edge_info_for_interior_and_boundary_edges():
+    mesh = build_mesh(FIG10)
+    row = 7
+    info = edge_info(mesh, int(mesh.rwg.edge[row]))
+    assert info.is_rwg and info.sample.row == row
+    assert (info.sample.t_plus, info.sample.t_minus) == (mesh.rwg.t_plus[row],
+                                                         mesh.rwg.t_minus[row])
+    labels = dict(info.rows())
+    assert labels["RWG row n"] == str(row)
+    boundary = edge_info(mesh, int(mesh.boundary_edges[0]))
+    assert not boundary.is_rwg and boundary.status.startswith("boundary edge")
+
+
+def test_arrow_polygons_have_seven_corners_per_arrow():
+    arrows = arrow_polygons(np.zeros((3, 3)), np.array([[1, 0, 0], [0, 2, 0], [0, 0, 0]]), 0.1)
+    assert arrows.n_cells == 2 and arrows.n_points == 14  # the zero vector is dropped
+
+
+# -- in the window ------------------------------------------------------------------------
+
+
+def test_clicking_an_edge_selects_its_t_plus_and_t_minus(window, qtbot):
+    mesh = window.model.result.mesh
+    rwg = mesh.rwg
+    for row in (0, 17, len(rwg.edge) - 1):
+        edge = int(rwg.edge[row])
+        a, b = mesh.points[mesh.edges[edge]]
+        # a point on the edge, nudged into T+ so that the face under it is certainly T+ or T-
+        target = 0.5 * (a + b) + 0.02 * (mesh.centroids[rwg.t_plus[row]] - 0.5 * (a + b))
+        click_world(window, qtbot, target)
+        panel = window.teaching.inspector
+        assert panel.edge == edge, row
+        s = panel.info.sample
+        assert (s.t_plus, s.t_minus) == (rwg.t_plus[row], rwg.t_minus[row])
+        assert (s.free_plus, s.free_minus) == (rwg.free_vertex_plus[row],
+                                               rwg.free_vertex_minus[row])
+        assert panel.overlay.datasets["triangles"].n_cells == 2
+        # 4² quadrature points on each of T+ and T-: 32 arrows
+        assert panel.overlay.datasets["arrows"].n_cells == 2 * 16
+        assert f"{s.t_plus} / {s.t_minus}" in panel.info_label.text()
+
+
+def test_picker_at_a_display_position_returns_the_triangle(window):
+    mesh = window.model.result.mesh
+    for t in (0, 9, 31):
+        x, y = display_point(window, mesh.centroids[t])
+        hit = window.teaching.picker.pick_display(x, y)
+        assert hit is not None and hit[0] == t
+
+
+def test_a_drag_rotates_and_does_not_pick(window, qtbot):
+    panel = window.teaching.inspector
+    before = panel.edge
+    mesh = window.model.result.mesh
+    x, y = display_point(window, mesh.centroids[3])
+    start = QPoint(round(x), round(window.plotter.height() - 1 - y))
+    qtbot.mousePress(window.plotter, Qt.MouseButton.LeftButton, pos=start)
+    qtbot.mouseMove(window.plotter, start + QPoint(40, 30))
+    qtbot.mouseRelease(window.plotter, Qt.MouseButton.LeftButton, pos=start + QPoint(40, 30))
+    assert panel.edge == before
+
+
+def test_next_and_previous_edge_keys(window, qtbot):
+    mesh = window.model.result.mesh
+    rows = mesh.rwg.edge
+    panel = window.teaching.inspector
+    panel.select_edge(int(rows[3]))
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_N)
+    assert panel.edge == rows[4] and panel.info.sample.row == 4
+    qtbot.keyClick(window.plotter, Qt.Key.Key_BracketRight)
+    assert panel.edge == rows[5]
+    qtbot.keyClick(window.plotter, Qt.Key.Key_P)
+    qtbot.keyClick(window.plotter, Qt.Key.Key_BracketLeft)
+    assert panel.edge == rows[3]
+    panel.next_button.click()
+    assert panel.edge == rows[4]
+
+
+def test_boundary_edge_says_why_it_has_no_rwg_function(window, qtbot):
+    mesh = window.model.result.mesh
+    edge = int(mesh.boundary_edges[2])
+    (t,) = np.flatnonzero((mesh.triangle_edges == edge).any(axis=1))
+    a, b = mesh.points[mesh.edges[edge]]
+    click_world(window, qtbot, 0.5 * (a + b) + 0.05 * (mesh.centroids[t] - 0.5 * (a + b)))
+    panel = window.teaching.inspector
+    assert panel.edge == edge
+    assert panel.info.sample is None
+    assert "no RWG basis function" in panel.status_text
+    assert "boundary edge" in panel.info_label.text()
+    assert panel.overlay.datasets["arrows"].n_cells == 0
+    assert panel.overlay.datasets["others"].n_cells == 1
+
+
+def test_junction_edge_message():
+    from core.mesh import TriMesh
+    from core.rwg_basis import edge_status
+
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.0]])
+    tris = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    mesh = TriMesh(points, tris, np.zeros(3), np.ones(3), 1, mode="imported")
+    edge = int(mesh.junction_edges[0])
+    info = edge_info(mesh, edge)
+    assert info.sample is None and info.status == edge_status(mesh, edge)
+    assert "junction" in info.status and len(info.triangles) == 3
+
+
+def test_selection_survives_a_mesh_change(window):
+    panel = window.teaching.inspector
+    mesh = window.model.result.mesh
+    edge = int(mesh.rwg.edge[10])
+    panel.select_edge(edge)
+    window.controls.rows["subdivisions"].spin.setValue(3)
+    window.controller.flush()
+    new = window.model.result.mesh
+    assert panel.mesh is new and panel.edge is not None and panel.edge < len(new.edges)
+
+
+def test_presentation_mode_hides_panels_and_comes_back(window, qtbot, tmp_path):
+    docks = [window.parameters_dock, window.statistics_dock, window.layers_dock,
+             window.teaching.inspector_dock]
+    shown = {d: d.isVisible() for d in docks}
+    width = window.scene.actors["triangle_edges"].prop.line_width
+    qtbot.keyClick(window, Qt.Key.Key_F5)
+    assert window.teaching.presentation.active and window.teaching.act_presentation.isChecked()
+    assert not any(d.isVisible() for d in docks)
+    assert window.scene.actors["triangle_edges"].prop.line_width > width
+    assert window.teaching.inspector.overlay.visible  # the overlay stays on the slide
+    path = tmp_path / "presentation.png"
+    window.grab().save(str(path))
+    assert not_blank(path)
+    qtbot.keyClick(window, Qt.Key.Key_F5)
+    assert not window.teaching.presentation.active
+    assert {d: d.isVisible() for d in docks} == shown
+    assert window.scene.actors["triangle_edges"].prop.line_width == pytest.approx(width)
+    assert window.teaching.inspector_active
+
+
+def test_inspector_screenshot_is_not_blank(window, tmp_path):
+    mesh = window.model.result.mesh
+    window.teaching.inspector.select_edge(int(mesh.rwg.edge[20]))
+    view = tmp_path / "inspector-view.png"
+    assert window.save_view_png(view)
+    assert not_blank(view)
+    whole = tmp_path / "inspector-window.png"
+    window.grab().save(str(whole))
+    assert not_blank(whole)
+
+
+def test_turning_the_inspector_off_hides_the_overlay(window):
+    window.teaching.act_inspector.trigger()
+    assert not window.teaching.inspector_active
+    assert not window.teaching.inspector.overlay.visible
+    assert not window.teaching.picker.enabled
+    assert not window.teaching.act_next.isEnabled()
