@@ -170,6 +170,8 @@ def construction_steps(params: MeshParams) -> list[ConstructionStep]:
     first = primaries[0]
     p0, p1, p2 = first
     on_edge = {"AB": (p0, p1), "AC": (p0, p2)}
+    # the first primary is ABC, or ABD with Makarov's diagonal AD: name its third corner
+    third = "D" if len(names) == 4 and params.diagonal == "AD" else "C"
     halvings = _bisection_labels(n)
     if halvings is not None:
         m3 = (p1 + p2) / 2
@@ -186,13 +188,14 @@ def construction_steps(params: MeshParams) -> list[ConstructionStep]:
                 labels.append("m3")
                 add(
                     "Edge midpoints m1, m2, m3",
-                    "Eq. 24: halving AB, AC and BC gives m1, m2 and m3.",
+                    f"Eq. 24: halving AB, A{third} and B{third} of the primary triangle "
+                    f"AB{third} gives m1, m2 and m3.",
                 )
             elif level == 2:
                 add(
                     "Quarter points m11, m12, m21, m22",
-                    "Halving |Am1|, |Bm1|, |Am2| and |Cm2| gives m11, m12, m22 and m21: "
-                    "AB and AC are cut into four.",
+                    f"Halving |Am1|, |Bm1|, |Am2| and |{third}m2| gives m11, m12, m22 and m21: "
+                    f"AB and A{third} are cut into four.",
                 )
             else:
                 add(f"Points dividing the edges into {2**level}", "Halving every segment again.")
