@@ -156,8 +156,8 @@ class InspectorPanel(QWidget):
         legend = QLabel(
             "<small><span style='color:#b40426'>■</span> T+ (∇·f = +l/A+) &nbsp; "
             "<span style='color:#3b4cc0'>■</span> T− (∇·f = −l/A−)<br>"
-            "<span style='color:#ffb000'>━</span> the edge &nbsp; "
-            "<span style='color:#00823b'>➜</span> ρ± and free vertices r± &nbsp; "
+            "<span style='background:#000000;color:#ffe000'>━━</span> the edge &nbsp; "
+            "<span style='color:#00a651'>➜</span> ρ± and free vertices r± &nbsp; "
             "<b>➜</b> f_n at the quadrature points</small>", self)
         legend.setWordWrap(True)
         layout.addWidget(legend)
