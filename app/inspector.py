@@ -277,11 +277,12 @@ def overlay_data(mesh: TriMesh, info: EdgeInfo) -> OverlayData:
     if s is None:
         tri = np.asarray(mesh.triangles)[list(info.triangles)]
         if len(tri):
-            sets["others"] = pv.PolyData.from_regular_faces(_lift(pts, 0.5 * dz), tri)
+            sets["others"] = pv.PolyData.from_regular_faces(_lift(pts, 5.5 * dz), tri)
         return OverlayData(sets, 1.0, info.summary())
 
     corners = pts[np.asarray(mesh.triangles)[[s.t_plus, s.t_minus]]]  # (2, 3, 3)
-    faces = pv.PolyData.from_regular_faces(_lift(corners.reshape(-1, 3), 0.5 * dz),
+    # above the scene's edge lines (up to 5 dz), so overlapping patches do not hatch T±
+    faces = pv.PolyData.from_regular_faces(_lift(corners.reshape(-1, 3), 5.5 * dz),
                                            np.arange(6).reshape(2, 3))
     faces.cell_data["divergence"] = np.array([s.divergence_plus, s.divergence_minus])
     sets["triangles"] = faces
@@ -295,7 +296,7 @@ def overlay_data(mesh: TriMesh, info: EdgeInfo) -> OverlayData:
     where = np.vstack([s.points_plus, s.points_minus])
     peak = float(np.linalg.norm(values[:, :2], axis=1).max()) or 1.0
     vec = values * (0.85 * cell / peak)
-    sets["arrows"] = arrow_polygons(_lift(where - 0.5 * vec, 6 * dz), vec, 0.07 * cell,
+    sets["arrows"] = arrow_polygons(_lift(where - 0.5 * vec, 6.5 * dz), vec, 0.07 * cell,
                                     head=0.3 * cell)
     free = pts[[s.free_plus, s.free_minus]]
     rho_start = np.vstack([free[0], s.centroid_minus])
@@ -308,7 +309,7 @@ def overlay_data(mesh: TriMesh, info: EdgeInfo) -> OverlayData:
     away = free - mid
     away /= np.maximum(np.linalg.norm(away, axis=1, keepdims=True), 1e-300)
     # VTK string arrays are ASCII only: r- with a hyphen
-    sets["labels"] = _points(_lift(free + 0.2 * side * away, 10 * dz), ["r+", "r-"])
+    sets["labels"] = _points(_lift(free + 0.14 * side * away, 10 * dz), ["r+", "r-"])
     return OverlayData(sets, max(abs(s.divergence_plus), abs(s.divergence_minus)),
                        info.summary(), s.divergence_plus, s.divergence_minus)
 
@@ -387,13 +388,13 @@ class InspectorOverlay:
 
         bar = vtkScalarBarActor()
         bar.SetLookupTable(tri.mapper.lookup_table)
-        bar.SetTitle("div f_n (1/mm)")
+        bar.SetTitle("")  # VTK crowds a horizontal bar's title into its labels: own text
         bar.SetNumberOfLabels(3)
         bar.SetOrientationToHorizontal()
         bar.SetTextPositionToPrecedeScalarBar()  # labels under the bar, title above
-        bar.SetPosition(0.64, 0.84)
+        bar.SetPosition(0.64, 0.82)
         bar.SetWidth(0.33)
-        bar.SetHeight(0.14)
+        bar.SetHeight(0.12)
         bar.SetUseCustomLabels(True)
         self._bar_labels = vtkDoubleArray()
         bar.SetCustomLabels(self._bar_labels)
@@ -403,8 +404,24 @@ class InspectorOverlay:
             prop.SetColor(0.1, 0.1, 0.1)
             prop.SetShadow(False)
             prop.SetItalic(False)
+            prop.SetBackgroundColor(1.0, 1.0, 1.0)  # readable over a dense mesh
+            prop.SetBackgroundOpacity(0.85)
         p.add_actor(bar, reset_camera=False, pickable=False, render=False)
         self.scalar_bar = bar
+        title = vtkTextActor()
+        title.SetInput("div f_n (1/mm)")
+        title.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+        title.SetPosition(0.805, 0.975)
+        prop = title.GetTextProperty()
+        prop.SetColor(0.1, 0.1, 0.1)
+        prop.SetBold(True)
+        prop.SetShadow(False)
+        prop.SetJustificationToCentered()
+        prop.SetVerticalJustificationToTop()
+        prop.SetBackgroundColor(1.0, 1.0, 1.0)
+        prop.SetBackgroundOpacity(0.85)
+        p.add_actor(title, reset_camera=False, pickable=False, render=False)
+        self.bar_title = title
         self.set_scale(1.0)
 
     def set_scale(self, scale: float) -> None:
@@ -418,6 +435,7 @@ class InspectorOverlay:
         for prop in (self.scalar_bar.GetTitleTextProperty(),
                      self.scalar_bar.GetLabelTextProperty()):
             prop.SetFontSize(int(13 * self.scale))
+        self.bar_title.GetTextProperty().SetFontSize(int(13 * self.scale))
 
     def update(self, data: OverlayData | None) -> None:
         """Show ``data`` (``None``: nothing selected); the caller renders."""
@@ -449,3 +467,4 @@ class InspectorOverlay:
             actor.SetVisibility(self.visible)
         self.caption.SetVisibility(self.visible)
         self.scalar_bar.SetVisibility(self.visible and getattr(self, "_has_rwg", False))
+        self.bar_title.SetVisibility(self.scalar_bar.GetVisibility())

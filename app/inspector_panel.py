@@ -109,6 +109,7 @@ class InspectorPanel(QWidget):
     """
 
     edge_selected = Signal(int)
+    zoom_requested = Signal()
 
     def __init__(self, plotter: Any, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -144,8 +145,12 @@ class InspectorPanel(QWidget):
         self.next_button = QPushButton("Next ▶", self)
         self.prev_button.clicked.connect(self.previous_edge)
         self.next_button.clicked.connect(self.next_edge)
+        self.zoom_button = QPushButton("Zoom to edge", self)
+        self.zoom_button.setToolTip("Frame T+ and T− in the view (Z)")
+        self.zoom_button.clicked.connect(self.zoom_requested.emit)
         buttons.addWidget(self.prev_button)
         buttons.addWidget(self.next_button)
+        buttons.addWidget(self.zoom_button)
         layout.addLayout(buttons)
         self.info_label = QLabel(self)
         self.info_label.setWordWrap(True)

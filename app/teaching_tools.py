@@ -47,6 +47,7 @@ class TeachingTools:
         self.highlight = TriangleHighlight(plotter)
         self.picker = ViewPicker(plotter, window.scene.actors["faces"], window)
         self.picker.triangle_picked.connect(self._triangle_picked)
+        self.inspector.zoom_requested.connect(self.zoom_to_edge)
         self.matrix.cell_hovered.connect(self._cell_hovered)
         self.matrix.cell_clicked.connect(self._cell_clicked)
         self.presentation = PresentationMode(window, self._emphasize)
@@ -61,6 +62,8 @@ class TeachingTools:
         self.act_next = a("&Next edge", self._next, ["N", "]"], "Next RWG unknown")
         self.act_previous = a("&Previous edge", self._previous, ["P", "["],
                               "Previous RWG unknown")
+        self.act_zoom = a("&Zoom to edge", self.zoom_to_edge, "Z",
+                          "Frame the inspected edge's triangles in the view")
         self.act_matrix = a("Connectivity &matrix", self.set_matrix_active, "M",
                             "The paper's Eq. 27: which triangles share an edge",
                             checkable=True)
@@ -85,7 +88,7 @@ class TeachingTools:
     def add_to_menu(self, menu: QMenu) -> None:
         """Add the actions to the window's Teach (or View) menu."""
         menu.addSeparator()
-        menu.addActions([self.act_inspector, self.act_next, self.act_previous])
+        menu.addActions([self.act_inspector, self.act_next, self.act_previous, self.act_zoom])
         menu.addSeparator()
         menu.addAction(self.act_matrix)
         menu.addSeparator()
@@ -147,7 +150,7 @@ class TeachingTools:
         self._sync_step_actions()
 
     def _sync_step_actions(self) -> None:
-        for act in (self.act_next, self.act_previous):
+        for act in (self.act_next, self.act_previous, self.act_zoom):
             act.setEnabled(self.inspector_active)
 
     # -- events ----------------------------------------------------------------------
@@ -191,6 +194,22 @@ class TeachingTools:
     def _previous(self) -> None:
         if self.inspector_active:
             self.inspector.previous_edge()
+
+    def zoom_to_edge(self) -> None:
+        """Centre the view on the inspected edge, its triangles filling about a third."""
+        info, mesh = self.inspector.info, self.mesh
+        if not self.inspector_active or info is None or mesh is None:
+            return
+        corners = mesh.points[mesh.triangles[list(info.triangles)]].reshape(-1, 3)
+        centre = corners.mean(axis=0)
+        extent = float(np.ptp(corners[:, :2], axis=0).max())
+        camera = self.window.plotter.camera
+        shift = centre - np.asarray(camera.focal_point)
+        camera.focal_point = tuple(centre)
+        camera.position = tuple(np.asarray(camera.position) + shift)
+        camera.parallel_scale = max(1.6 * extent, 1e-9)
+        self.window.scene.fit_marker_sizes()
+        self.window.plotter.render()
 
     def _emphasize(self, scale: float) -> None:
         self.window.scene.set_emphasis(scale)

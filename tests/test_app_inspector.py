@@ -237,3 +237,17 @@ def test_turning_the_inspector_off_hides_the_overlay(window):
     assert not window.teaching.inspector.overlay.visible
     assert not window.teaching.picker.enabled
     assert not window.teaching.act_next.isEnabled()
+
+
+def test_zoom_to_edge_frames_its_triangles(window, qtbot):
+    window.controls.rows["subdivisions"].spin.setValue(16)  # 512 small triangles
+    window.controller.flush()
+    mesh = window.model.result.mesh
+    panel = window.teaching.inspector
+    panel.select_edge(int(mesh.rwg.edge[100]))
+    before = window.plotter.camera.parallel_scale
+    qtbot.keyClick(window.plotter, Qt.Key.Key_Z)
+    camera = window.plotter.camera
+    assert camera.parallel_scale < before / 4
+    centre = mesh.points[mesh.triangles[list(panel.info.triangles)]].reshape(-1, 3).mean(0)
+    assert np.allclose(camera.focal_point[:2], centre[:2])

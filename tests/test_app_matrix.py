@@ -124,9 +124,10 @@ def test_view_follows_the_mesh_and_skips_work_while_hidden(window):
     assert view.nonzeros() == 2 * len(mesh.interior_edges)
 
 
-def test_big_matrix_is_fast_and_drawn_as_occupancy():
+def test_big_matrix_is_fast_and_drawn_as_occupancy(qtbot):
     mesh = build_mesh(MeshParams())  # the paper's Fig. 12(a): 23,040 triangles
     view = MatrixView()
+    qtbot.addWidget(view)  # deleted with the test, not at interpreter exit
     view.set_mesh(mesh)
     start = time.perf_counter()
     view.refresh()
@@ -135,7 +136,6 @@ def test_big_matrix_is_fast_and_drawn_as_occupancy():
     assert view.nonzeros() == mesh.connectivity.nnz == 2 * len(mesh.interior_edges)
     assert view.image.get_array().shape == (600, 600)
     assert view.table_nonzeros() == 0 and not view.table_note.isHidden()
-    view.close()
 
 
 def test_occupancy_image_marks_blocks_with_a_nonzero():
