@@ -70,7 +70,10 @@ def uniform_subdivision(n: int) -> tuple[np.ndarray, np.ndarray]:
         [index[dn_i + 1, dn_j], index[dn_i + 1, dn_j + 1], index[dn_i, dn_j + 1]], axis=1
     )
     bary = np.stack([i, j], axis=1) / n
-    return bary, np.concatenate([up, down]).astype(INDEX)
+    # number the sub-triangles row by row from the base P0 P1, left to right, so that
+    # index labels read like the paper's Fig. 10 (up and down triangles alternate)
+    key = np.concatenate([up_j * 2 * n + 2 * up_i, dn_j * 2 * n + 2 * dn_i + 1])
+    return bary, np.concatenate([up, down])[np.argsort(key, kind="stable")].astype(INDEX)
 
 
 def barycentric_subdivision(levels: int) -> tuple[np.ndarray, np.ndarray]:
