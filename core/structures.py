@@ -196,7 +196,39 @@ def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
     else:
         arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
     widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
-    return arcs, _count(widest, step)
+    m = _count(widest, step)
+    for _ in range(64):
+        if _end_sectors_proper(params, arcs[0], m):
+            return arcs, m
+        m = m + max(1, m // 2)
+    raise ValueError(
+        f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
+        "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step"
+    )
+
+
+def _end_sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) -> bool:
+    """Whether the first and last sector of an arc hold only positively oriented triangles.
+
+    Next to a slot the inner and outer circles end at different angles (the slot's sides
+    are straight), so a coarse end sector is sheared; with a wide slot its chords can
+    cross and fold a triangle over. Middle sectors are sheared less.
+    """
+    template = patch_template(params.scheme, params.subdivisions, params.diagonal)
+    u, v = template.uv[:, 0], template.uv[:, 1]
+    start, end, _ = arc
+    for radius in _radii(params):
+        rho = radius + u * params.patch_size
+        alpha = _slot_half_angle(params, rho)
+        lo, hi = start + alpha, end - alpha
+        for k in {0, m - 1}:
+            theta = np.radians(lo + (k + v) * (hi - lo) / m)
+            x, y = rho * np.cos(theta), rho * np.sin(theta)
+            a, b, c = template.triangles.T
+            cross = (x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])
+            if (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():  # folded or flat
+                return False
+    return True
 
 
 def _outermost(params: MeshParams) -> float:

@@ -1,7 +1,7 @@
 """Invariants over random valid parameters (hypothesis)."""
 
 import numpy as np
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
@@ -72,6 +72,10 @@ def test_conforming_meshes_are_manifold(p):
 
 @SETTINGS
 @given(params())
+@example(  # a wide slot and coarse sectors: the end sectors' chords used to cross
+    MeshParams(structure="split_ring", mode="conforming", inner_radius=3.0, outer_radius=3.5,
+               patch_size=0.5, angle_step=66.0, subdivisions=1, gap_width=5.25)
+)  # fmt: skip
 def test_triangles_are_proper_and_centroids_inside(p):
     mesh = build_mesh(p)
     assert (signed_areas(mesh) > 0).all()
