@@ -7,6 +7,7 @@ needs are installed by scripts/system-deps.sh (run by `make test`).
 """
 
 import os
+import sys
 
 # Before anything imports Qt: use Xvfb's X server, not Wayland (if the session has one) nor
 # the `offscreen` platform, which would not exercise a real window. An explicit choice wins.
@@ -47,3 +48,41 @@ def window(qtbot, private_settings, coarse_params):
     win.controller.flush()
     yield win
     win.close()
+
+
+# -- a deterministic end of the test process ---------------------------------------------
+#
+# pytest-xvfb stops the X server in an atexit handler, before Python finalizes the modules
+# that still hold Qt and VTK objects connected to it; that teardown then aborted the
+# process now and then ("corrupted double-linked list", exit 134) after every test had
+# passed. So once pytest has reported, close the windows while the X server is alive, stop
+# it, and leave with pytest's own exit status without finalizing Qt and VTK.
+
+_EXIT_STATUS = pytest.StashKey[int]()
+
+
+def pytest_sessionfinish(session, exitstatus):
+    session.config.stash[_EXIT_STATUS] = int(exitstatus)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_unconfigure(config):
+    status = config.stash.get(_EXIT_STATUS, None)
+    if status is None or "PySide6.QtWidgets" not in sys.modules:
+        return
+    from PySide6.QtWidgets import QApplication
+
+    app = QApplication.instance()
+    if app is not None:
+        for widget in app.topLevelWidgets():
+            widget.close()
+        app.processEvents()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    try:
+        import pytest_xvfb
+
+        pytest_xvfb.shutdown_xvfb()
+    except Exception:  # noqa: BLE001 - the X server is gone anyway
+        pass
+    os._exit(status)
