@@ -17,9 +17,11 @@ os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
 import pytest  # noqa: E402
 
 
-@pytest.fixture
+@pytest.fixture(autouse=True)
 def private_settings(tmp_path, monkeypatch):
-    """Never read or write the user's QSettings."""
+    """GUI tests never read or write the user's QSettings."""
+    if "PySide6.QtCore" not in sys.modules:
+        return
     from PySide6.QtCore import QSettings
 
     QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
@@ -27,22 +29,25 @@ def private_settings(tmp_path, monkeypatch):
 
 
 @pytest.fixture
-def coarse_params():
-    """A Fig. 12-like double ring of a few hundred triangles: fast to mesh and render."""
+def window_params():
+    """Parameters the ``window`` fixture opens on (override per module).
+
+    By default a Fig. 12-like double ring of a few hundred triangles: fast to mesh and render.
+    """
     from core import MeshParams
 
     return MeshParams(angle_step=15.0, subdivisions=2)
 
 
 @pytest.fixture
-def window(qtbot, private_settings, coarse_params):
-    """The main window on ``coarse_params``, shown in the real (Xvfb) X display."""
+def window(qtbot, window_params):
+    """The main window on ``window_params``, shown in the real (Xvfb) X display."""
     pytest.importorskip("pyvistaqt")
     from app.window import MainWindow
 
-    win = MainWindow(coarse_params, scripted=True)
+    win = MainWindow(window_params, scripted=True)
     qtbot.addWidget(win)
-    win.resize(1100, 700)
+    win.resize(1300, 800)
     win.show()
     qtbot.waitExposed(win)
     win.controller.flush()

@@ -5,7 +5,6 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import QSettings  # noqa: E402
 
 from app.compare_view import CompareView, patch_coverage  # noqa: E402
 from app.model import AppModel  # noqa: E402
@@ -14,13 +13,6 @@ from core import MeshParams, build_mesh  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)
 COUNTS = ("triangles", "vertices", "interior_edges", "boundary_edges")
-
-
-@pytest.fixture(autouse=True)
-def private_settings(tmp_path, monkeypatch):
-    """Never read or write the user's QSettings."""
-    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
-    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
 
 
 def wait_shown(qtbot, view):

@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import QSettings, Qt  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
 
 from app.construction_view import ConstructionView, label_offsets, shown_labels  # noqa: E402
 from app.model import AppModel  # noqa: E402
@@ -18,13 +18,6 @@ PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.
 PAPER_STEPS = ["Square patch ABCD", "Diagonal BC", "Edge midpoints", "Quarter points",
                "Connecting lines", "32 sub-triangles", "Centroids", "Shared edges"]
-
-
-@pytest.fixture(autouse=True)
-def private_settings(tmp_path, monkeypatch):
-    """Never read or write the user's QSettings."""
-    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
-    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
 
 
 @pytest.fixture

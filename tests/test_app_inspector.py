@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import QPoint, QSettings, Qt  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
 from app.inspector import (  # noqa: E402
     arrow_polygons,
@@ -14,33 +14,25 @@ from app.inspector import (  # noqa: E402
     nearest_edge,
     step_edge,
 )
-from app.window import MainWindow  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
 
 
-@pytest.fixture(autouse=True)
-def private_settings(tmp_path, monkeypatch):
-    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
-    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+@pytest.fixture
+def window_params():
+    return FIG10
 
 
 @pytest.fixture
-def window(qtbot):
-    win = MainWindow(FIG10, scripted=True)
-    qtbot.addWidget(win)
-    win.resize(1300, 800)
-    win.show()
-    qtbot.waitExposed(win)
-    win.activateWindow()  # shortcuts (N, P, F5) need the active window
-    qtbot.waitActive(win)
-    win.controller.flush()
-    win.teaching.set_inspector_active(True)
+def window(window, qtbot):
+    """The main window on Fig. 10 with the inspector on."""
+    window.activateWindow()  # shortcuts (N, P, F5) need the active window
+    qtbot.waitActive(window)
+    window.teaching.set_inspector_active(True)
     qtbot.wait(50)
-    win.plotter.render()
-    yield win
-    win.close()
+    window.plotter.render()
+    return window
 
 
 def display_point(win, world):

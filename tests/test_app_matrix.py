@@ -10,34 +10,26 @@ pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
 import scipy.sparse as sp  # noqa: E402
-from PySide6.QtCore import QPoint, QSettings, Qt  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
 from app.matrix_view import MatrixView, occupancy_image  # noqa: E402
 from app.teaching_tools import shared_edge  # noqa: E402
-from app.window import MainWindow  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 
 
-@pytest.fixture(autouse=True)
-def private_settings(tmp_path, monkeypatch):
-    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
-    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+@pytest.fixture
+def window_params():
+    return FIG10
 
 
 @pytest.fixture
-def window(qtbot):
-    win = MainWindow(FIG10, scripted=True)
-    qtbot.addWidget(win)
-    win.resize(1300, 800)
-    win.show()
-    qtbot.waitExposed(win)
-    win.controller.flush()
-    win.teaching.set_matrix_active(True)
-    qtbot.waitUntil(lambda: not win.teaching.matrix.stale)
-    yield win
-    win.close()
+def window(window, qtbot):
+    """The main window on Fig. 10 with the matrix view on."""
+    window.teaching.set_matrix_active(True)
+    qtbot.waitUntil(lambda: not window.teaching.matrix.stale)
+    return window
 
 
 def canvas_point(view, row, col):

@@ -10,34 +10,15 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import QSettings, Qt  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
 
 from app.model import SPECS, applies  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 
-COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # a few hundred triangles: fast to render
+COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 COUNTS = ("patches", "vertices", "triangles", "edges", "interior_edges", "boundary_edges",
           "junction_edges")
-
-
-@pytest.fixture(autouse=True)
-def private_settings(tmp_path, monkeypatch):
-    """Never read or write the user's QSettings."""
-    QSettings.setPath(QSettings.Format.IniFormat, QSettings.Scope.UserScope, str(tmp_path))
-    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
-
-
-@pytest.fixture
-def window(qtbot):
-    win = MainWindow(COARSE, scripted=True)
-    qtbot.addWidget(win)
-    win.resize(1100, 700)
-    win.show()
-    qtbot.waitExposed(win)
-    win.controller.flush()
-    yield win
-    win.close()
 
 
 def assert_counts(win, params):
