@@ -31,13 +31,12 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-from vtkmodules.vtkRenderingCore import vtkActor2D
-from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
 from core import MeshParams
 from core.construction import ConstructionStep, construction_steps
 
 from .model import AppModel
+from .scene import add_text_labels
 
 log = logging.getLogger(__name__)
 
@@ -339,25 +338,9 @@ class ConstructionView(QWidget):
                                            point_size=WIDTHS[name], style="points",
                                            render_points_as_spheres=True, **common)
         self.label_points = pv.PolyData()
-        mapper = vtkLabeledDataMapper()
-        mapper.SetInputData(self.label_points)
-        mapper.SetLabelModeToLabelFieldData()
-        mapper.SetFieldDataName("label")
-        text = mapper.GetLabelTextProperty()
-        text.SetColor(pv.Color(COLORS["labels"]).float_rgb)
-        text.SetFontSize(LABEL_FONT)
-        text.SetBold(True)
-        text.SetItalic(False)
-        text.SetShadow(False)
-        text.SetJustificationToCentered()
-        text.SetVerticalJustificationToCentered()
-        text.SetBackgroundColor(1.0, 1.0, 1.0)
-        text.SetBackgroundOpacity(0.85)
-        self.label_mapper = mapper
-        labels = vtkActor2D()
-        labels.SetMapper(mapper)
-        p.add_actor(labels, reset_camera=False, pickable=False, render=False)
-        self.actors["labels"] = labels
+        self.label_mapper, self.actors["labels"] = add_text_labels(
+            p, self.label_points, COLORS["labels"], LABEL_FONT, background_opacity=0.85
+        )
         self.caption = p.add_text("", position="upper_edge", font_size=TITLE_FONT,
                                   color="#202020")
 

@@ -21,11 +21,12 @@ import numpy as np
 import pyvista as pv
 from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
-from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
-from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
+from vtkmodules.vtkRenderingCore import vtkTextActor
 
 from core import TriMesh
 from core.rwg_basis import BasisSample, edge_status, sample_rwg
+
+from .scene import add_text_labels
 
 #: Overlay colours: the selected edge, the quadrature arrows of f_n, the vectors ρ±, the
 #: free vertices; T± take the divergence colour map (red +, blue −).
@@ -354,24 +355,9 @@ class InspectorOverlay:
         self.actors["free"] = p.add_mesh(self.datasets["free"], color=COLORS["free"],
                                          point_size=FREE_SIZE, render_points_as_spheres=True,
                                          style="points", **common)
-        mapper = vtkLabeledDataMapper()
-        mapper.SetInputData(self.datasets["labels"])
-        mapper.SetLabelModeToLabelFieldData()
-        mapper.SetFieldDataName("label")
-        text = mapper.GetLabelTextProperty()
-        text.SetColor(pv.Color(COLORS["labels"]).float_rgb)
-        text.SetBold(True)
-        text.SetItalic(False)
-        text.SetShadow(False)
-        text.SetJustificationToCentered()
-        text.SetVerticalJustificationToCentered()
-        text.SetBackgroundColor(1.0, 1.0, 1.0)
-        text.SetBackgroundOpacity(0.75)
-        self.label_mapper = mapper
-        labels = vtkActor2D()
-        labels.SetMapper(mapper)
-        p.add_actor(labels, reset_camera=False, pickable=False, render=False)
-        self.actors["labels"] = labels
+        self.label_mapper, self.actors["labels"] = add_text_labels(
+            p, self.datasets["labels"], COLORS["labels"], background_opacity=0.75
+        )
 
         caption = vtkTextActor()
         caption.SetInput("")

@@ -179,6 +179,35 @@ def scene_data(mesh: TriMesh) -> SceneData:
     return SceneData(sets, bounds, ranges, len(tri), typical)
 
 
+def add_text_labels(
+    plotter: pv.Plotter,
+    points: pv.PolyData,
+    color: str,
+    font_size: int = 12,
+    background_opacity: float = 0.8,
+) -> tuple[vtkLabeledDataMapper, vtkActor2D]:
+    """One 2D actor drawing the string array ``"label"`` of ``points``, bold, centred on
+    each point over a light box so it reads on top of a mesh. Returns (mapper, actor)."""
+    mapper = vtkLabeledDataMapper()
+    mapper.SetInputData(points)
+    mapper.SetLabelModeToLabelFieldData()
+    mapper.SetFieldDataName("label")
+    text = mapper.GetLabelTextProperty()
+    text.SetColor(pv.Color(color).float_rgb)
+    text.SetFontSize(font_size)
+    text.SetBold(True)
+    text.SetItalic(False)
+    text.SetShadow(False)
+    text.SetJustificationToCentered()
+    text.SetVerticalJustificationToCentered()
+    text.SetBackgroundColor(1.0, 1.0, 1.0)
+    text.SetBackgroundOpacity(background_opacity)
+    actor = vtkActor2D()
+    actor.SetMapper(mapper)
+    plotter.add_actor(actor, reset_camera=False, pickable=False, render=False)
+    return mapper, actor
+
+
 class MeshScene:
     """The actors of every layer on one plotter, created once and updated in place.
 
