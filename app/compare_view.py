@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+from functools import partial
 from typing import Any
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QObject, QRunnable, Qt, QThreadPool, Signal
+from PySide6.QtCore import QObject, Qt, QThreadPool, Signal
 from PySide6.QtGui import QCloseEvent
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
@@ -27,6 +28,7 @@ from core import MeshParams, TriMesh
 
 from .model import AppModel, MeshResult, compute
 from .scene import MeshScene, scene_data
+from .worker import Job
 
 log = logging.getLogger(__name__)
 
@@ -114,15 +116,9 @@ def compute_half(params: MeshParams, mode: str) -> Half:
     return half
 
 
-class _Job(QRunnable):
-    def __init__(self, params: MeshParams, generation: int, done: Signal) -> None:
-        super().__init__()
-        self.params, self.generation, self.done = params, generation, done
-        self.setAutoDelete(True)
-
-    def run(self) -> None:  # worker thread
-        halves = [compute_half(self.params, mode) for mode in MODES]
-        self.done.emit((self.generation, halves))
+def compute_halves(params: MeshParams, generation: int) -> tuple[int, list[Half]]:
+    """Both halves for ``params`` (runs on a worker thread), tagged with ``generation``."""
+    return generation, [compute_half(params, mode) for mode in MODES]
 
 
 class _Relay(QObject):
@@ -267,7 +263,7 @@ class CompareView(QWidget):
             return
         params, self._pending = self._pending, None
         self._running = True
-        self.pool.start(_Job(params, self.generation, self._relay.done))
+        self.pool.start(Job(partial(compute_halves, params, self.generation), self._relay.done))
 
     def _finished(self, payload: tuple[int, list[Half]]) -> None:
         self._running = False

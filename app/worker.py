@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
+from functools import partial
 
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
 
@@ -27,15 +29,20 @@ log = logging.getLogger(__name__)
 SYNC_TRIANGLES = 60_000
 
 
-class _Job(QRunnable):
-    def __init__(self, params: MeshParams, generation: int, done: Signal) -> None:
+class Job(QRunnable):
+    """Run ``work()`` on a thread-pool thread and emit its return value with ``done``.
+
+    ``done`` is a signal of a QObject living on the GUI thread, so the result is
+    delivered there (a queued connection).
+    """
+
+    def __init__(self, work: Callable[[], object], done: Signal) -> None:
         super().__init__()
-        self.params, self.generation, self.done = params, generation, done
+        self.work, self.done = work, done
         self.setAutoDelete(True)
 
     def run(self) -> None:  # worker thread
-        result = compute(self.params, self.generation, prepare=scene_data)
-        self.done.emit(result)
+        self.done.emit(self.work())
 
 
 class MeshController(QObject):
@@ -89,7 +96,8 @@ class MeshController(QObject):
             return
         self._running = True
         self.busy_changed.emit(True)
-        self.pool.start(_Job(params, generation, self._job_done))
+        self.pool.start(Job(partial(compute, params, generation, prepare=scene_data),
+                            self._job_done))
 
     def _finished(self, result: MeshResult) -> None:
         self._running = False
