@@ -389,9 +389,8 @@ def _conforming_square_rects(params: MeshParams) -> tuple[np.ndarray, np.ndarray
     return rects, np.array(regions)
 
 
-def _rect_layout(
-    template: PatchTemplate, rects: np.ndarray, regions: np.ndarray, params: MeshParams
-) -> np.ndarray:
+def _rect_layout(template: PatchTemplate, rects: np.ndarray) -> np.ndarray:
+    """(P, Nv, 2) template points on the axis-aligned rectangles (x0, y0, wx, wy)."""
     u, v = template.uv[:, 0], template.uv[:, 1]
     x = rects[:, :1] + u[None, :] * rects[:, 2:3]
     y = rects[:, 1:2] + v[None, :] * rects[:, 3:4]
@@ -433,19 +432,19 @@ def layout(params: MeshParams) -> Layout:
     nv = len(template.uv)
     if s == "patch":
         rects = np.array([[params.origin[0], params.origin[1], h, w]])
-        xy = _rect_layout(template, rects, np.ones(1), params)
+        xy = _rect_layout(template, rects)
         ids = np.arange(nv, dtype=np.int32)
         return Layout(template, xy, np.ones(1, dtype=np.int32), ids, ids, _corners(rects))
     if params.mode == "conforming":
         if s == "square_split_double_ring":
             rects, regions = _conforming_square_rects(params)
-            xy = _rect_layout(template, rects, regions, params)
+            xy = _rect_layout(template, rects)
             ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
             return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
         return _conforming_ring_layout(params, template)
     origins, regions = _paper_origins(params)
     rects = np.concatenate([origins, np.broadcast_to([h, w], origins.shape)], axis=1)
-    xy = _rect_layout(template, rects, regions, params)
+    xy = _rect_layout(template, rects)
     if template.lattice:
         step = (h / template.segments, w / template.segments)
         ids, rep = weld_lattice_patches(origins, step, template.segments, params.weld_tolerance)
