@@ -72,30 +72,3 @@ def triangle_quality(points: np.ndarray, triangles: np.ndarray) -> TriangleQuali
     angle = np.degrees(np.arcsin(sine))
     angle[~np.isfinite(angle)] = 0.0
     return TriangleQuality(area, angle, aspect)
-
-
-def triangle_areas(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """(T,) float64 areas of triangles in 3D (half the norm of the edge cross product)."""
-    return _sides_and_areas(np.asarray(points), np.asarray(triangles))[1]
-
-
-def side_lengths(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """(T, 3) float64: length of side k (vertex k to k + 1) of each triangle."""
-    return np.stack(_sides_and_areas(np.asarray(points), np.asarray(triangles))[0], axis=1)
-
-
-def min_angles_deg(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """(T,) float64 smallest interior angle of each triangle, in degrees.
-
-    Examples
-    --------
-    >>> pts = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
-    >>> round(float(min_angles_deg(pts, np.array([[0, 1, 2]]))[0]), 9)
-    45.0
-    """
-    return triangle_quality(points, triangles).min_angles_deg
-
-
-def aspect_ratios(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """(T,) float64 aspect ratio, 1 for an equilateral triangle (see :func:`triangle_quality`)."""
-    return triangle_quality(points, triangles).aspect_ratios
