@@ -21,11 +21,11 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QObject, Qt, QThreadPool, Signal
-from PySide6.QtGui import QCloseEvent
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
 from core import MeshParams, TriMesh
 
+from .following_view import FollowingView
 from .model import AppModel, MeshResult, compute
 from .scene import MeshScene, scene_data
 from .worker import Job
@@ -153,7 +153,7 @@ def stats_html(half: Half) -> str:
     return f"<table cellspacing='1'>{body}</table>"
 
 
-class CompareView(QWidget):
+class CompareView(FollowingView):
     """Paper and conforming mode side by side (see the module docstring).
 
     Parameters
@@ -344,31 +344,9 @@ class CompareView(QWidget):
         half = self.halves.get(mode)
         return None if half is None or half.result is None else half.result.stats
 
-    def view_image(self) -> np.ndarray:
-        """The view (both halves) as an (h, w, 3) uint8 array."""
-        image = self.plotter.screenshot(None, return_img=True)
-        self.plotter.render()
-        return np.ascontiguousarray(image)
-
-    # -- closing -------------------------------------------------------------------------
-
-    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
-        self.shutdown()
-        super().closeEvent(event)
-
-    def shutdown(self) -> None:
-        """Stop following the model, wait for the worker and release the GL context."""
-        if self._closed:
-            return
-        self._closed = True
+    def _stop(self) -> None:
         self._pending = None
-        try:
-            self.model.params_changed.disconnect(self._params_changed)
-        except ValueError:
-            pass
         self.pool.waitForDone(30_000)
-        self.plotter.close()
-
 
 def _wrapped(text: str, width: int = 48) -> str:
     """Break long error messages into lines for the 3D view."""

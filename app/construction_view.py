@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, Qt, QTimer, Signal
-from PySide6.QtGui import QCloseEvent, QKeySequence, QShortcut
+from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import (
     QComboBox,
     QFormLayout,
@@ -35,6 +35,7 @@ from PySide6.QtWidgets import (
 from core import MeshParams
 from core.construction import ConstructionStep, construction_steps
 
+from .following_view import FollowingView
 from .model import AppModel
 from .scene import add_text_labels
 
@@ -193,7 +194,7 @@ def label_offsets(labels: list[str], direction: np.ndarray, font_px: float,
     return direction * r[:, None]
 
 
-class ConstructionView(QWidget):
+class ConstructionView(FollowingView):
     """The step-by-step construction window (see the module docstring).
 
     Parameters
@@ -495,26 +496,3 @@ class ConstructionView(QWidget):
         w, h = (max(v, 1) for v in p.window_size)
         camera.parallel_scale = max((y1 - y0) / 2, (x1 - x0) / 2 * h / w)
         p.renderer.ResetCameraClippingRange()
-
-    # -- output --------------------------------------------------------------------------
-
-    def view_image(self) -> np.ndarray:
-        """The 3D view as an (h, w, 3) uint8 array."""
-        image = self.plotter.screenshot(None, return_img=True)
-        self.plotter.render()
-        return np.ascontiguousarray(image)
-
-    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
-        self.shutdown()
-        super().closeEvent(event)
-
-    def shutdown(self) -> None:
-        """Stop following the model and release the GL context (idempotent)."""
-        if self._closed:
-            return
-        self._closed = True
-        try:
-            self.model.params_changed.disconnect(self._params_changed)
-        except ValueError:
-            pass
-        self.plotter.close()

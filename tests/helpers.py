@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from core import MeshParams, build_mesh
 from core.topology import edge_topology
 
 
@@ -37,3 +38,24 @@ def components(mesh):
     from scipy.sparse.csgraph import connected_components
 
     return connected_components(mesh.vertex_adjacency, directed=False)[0]
+
+
+def canonical_meshes():
+    """Tiny meshes that cover one region, two regions and disjoint paper-mode patches."""
+    return {
+        "patch": build_mesh(MeshParams(structure="patch", patch_size=10.0, origin=(-5, -5))),
+        "double-ring": build_mesh(
+            MeshParams(
+                structure="double_ring",
+                mode="conforming",
+                inner_radius=2.0,
+                outer_radius=3.5,
+                patch_size=1.0,
+                angle_step=60.0,
+                subdivisions=2,
+            )
+        ),
+        "paper-ring": build_mesh(
+            MeshParams(structure="ring", inner_radius=4.0, angle_step=90.0, subdivisions=2)
+        ),
+    }

@@ -5,34 +5,13 @@ import numpy as np
 import pytest
 import scipy.io
 
-from core import MeshParams, build_mesh
 from core.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
+from tests.helpers import canonical_meshes
 
 pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # meshio STL
 
 MESH_FORMATS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
 MESHIO_FORMATS = {".msh": "gmsh", ".vtu": "vtu", ".vtk": "vtk", ".stl": "stl", ".obj": "obj"}
-
-
-def canonical_meshes():
-    """Tiny meshes that cover one region, two regions and disjoint paper-mode patches."""
-    return {
-        "patch": build_mesh(MeshParams(structure="patch", patch_size=10.0, origin=(-5, -5))),
-        "double-ring": build_mesh(
-            MeshParams(
-                structure="double_ring",
-                mode="conforming",
-                inner_radius=2.0,
-                outer_radius=3.5,
-                patch_size=1.0,
-                angle_step=60.0,
-                subdivisions=2,
-            )
-        ),
-        "paper-ring": build_mesh(
-            MeshParams(structure="ring", inner_radius=4.0, angle_step=90.0, subdivisions=2)
-        ),
-    }
 
 
 MESHES = canonical_meshes()

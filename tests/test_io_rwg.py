@@ -4,20 +4,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from core import MeshParams, build_mesh
 from core.io import write_mesh
+from tests.helpers import canonical_meshes
 
-MESH = build_mesh(
-    MeshParams(
-        structure="double_ring",
-        mode="conforming",
-        inner_radius=2.0,
-        outer_radius=3.5,
-        patch_size=1.0,
-        angle_step=60.0,
-        subdivisions=2,
-    )
-)
+MESH = canonical_meshes()["double-ring"]
 
 
 @pytest.mark.parametrize(("unit", "scale"), [(None, 1.0), ("m", 1e-3), ("um", 1e3)])
