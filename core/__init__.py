@@ -7,13 +7,14 @@ Pure numpy/scipy; no Qt, VTK or pyvista.
 32
 """
 
-from .build import build_mesh
+from .build import BuildCancelled, build_mesh
 from .mesh import TriMesh
 from .params import DIAGONALS, MODES, SCHEMES, STRUCTURES, MeshParams
 from .topology import INDEX, EdgeTopology, RWGTable
 
 __all__ = [
     "DIAGONALS",
+    "BuildCancelled",
     "INDEX",
     "MODES",
     "SCHEMES",

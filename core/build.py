@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from .assembly import patch_triangles
@@ -12,13 +14,23 @@ from .subdivision import subdivide
 from .topology import INDEX
 
 
-def build_mesh(params: MeshParams | None = None) -> TriMesh:
+class BuildCancelled(Exception):
+    """Raised by :func:`build_mesh` when its ``cancel`` callable asked it to stop."""
+
+
+def build_mesh(
+    params: MeshParams | None = None, *, cancel: Callable[[], bool] | None = None
+) -> TriMesh:
     """Mesh the structure described by ``params``.
 
     Parameters
     ----------
     params : MeshParams, optional
         Defaults to ``MeshParams()``, the paper's Fig. 12(a).
+    cancel : callable, optional
+        Called without arguments between the stages of the build (layout and weld,
+        triangle assembly, finishing); when it returns True the build is abandoned
+        with :class:`BuildCancelled`. A window uses it to drop a stale build.
 
     Returns
     -------
@@ -35,15 +47,22 @@ def build_mesh(params: MeshParams | None = None) -> TriMesh:
         params = MeshParams()
     if not isinstance(params, MeshParams):
         raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
+    def checkpoint() -> None:
+        if cancel is not None and cancel():
+            raise BuildCancelled("the build was cancelled")
+
+    checkpoint()
     if params.structure == "triangle":
         return _triangle(params)
     lay = layout(params)
+    checkpoint()
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
     flat = np.ascontiguousarray(lay.xy).reshape(-1, 2).view(np.complex128).ravel()
     points = np.zeros((len(lay.representative), 3))
     points[:, :2] = flat.take(lay.representative).view(np.float64).reshape(-1, 2)
     vertex_map = lay.vertex_of_point.reshape(len(lay.xy), -1)
     triangles = patch_triangles(lay.template, vertex_map)
+    checkpoint()
     per_patch = len(lay.template.triangles)
     n_patches = len(lay.xy)
     return TriMesh(

@@ -1,11 +1,11 @@
 """Our square-patch subdivision reproduces Makarov's plate meshes exactly.
 
-Reference: ../shared/reference/makarov/ (plate.mat: n = 8, platefine.mat: n = 16;
+Reference: tests/data/makarov/, copied from the shared reference folder (see its README)
+(plate.mat: n = 8, platefine.mat: n = 16;
 a 1 m square centred on the origin, diagonal AD). Compared as sets of triangles,
 each a set of vertex coordinates rounded to 1e-9 m.
 """
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -14,11 +14,7 @@ import scipy.io
 
 from core import MeshParams, build_mesh
 
-REFERENCE = Path(
-    os.environ.get(
-        "BARYMESH_REFERENCE", Path(__file__).resolve().parents[2] / "shared" / "reference"
-    )
-) / "makarov"
+REFERENCE = Path(__file__).resolve().parent / "data" / "makarov"
 
 
 def triangle_set(points_m, triangles):
@@ -32,7 +28,7 @@ def triangle_set(points_m, triangles):
 )
 def test_same_triangles_as_makarov(name, n, nodes, tris, interior, boundary):
     path = REFERENCE / f"{name}.mat"
-    assert path.exists(), f"reference mesh {path} is missing (set BARYMESH_REFERENCE)"
+    assert path.exists(), f"reference mesh {path} is missing from the checkout"
     ref = scipy.io.loadmat(path)
     p_ref, t_ref = ref["p"].T, ref["t"][:3].T.astype(np.int64) - 1
     mesh = build_mesh(

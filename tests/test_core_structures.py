@@ -282,3 +282,19 @@ def test_barycentric_conforming_ring_is_manifold():
     assert mesh.topology.valence.max() == 2
     assert mesh.stats()["euler_characteristic"] == 0
     assert_topology_matches_generic(mesh)
+
+
+def test_build_mesh_stops_when_cancel_says_so():
+    from core import BuildCancelled
+
+    calls = []
+
+    def cancel():
+        calls.append(1)
+        return len(calls) >= 2  # let the first checkpoint pass, stop at the second
+
+    with pytest.raises(BuildCancelled):
+        build_mesh(MeshParams(), cancel=cancel)
+    assert len(calls) == 2
+    patch = build_mesh(MeshParams(structure="patch"), cancel=lambda: False)
+    assert patch.stats()["triangles"] == 32
