@@ -1,102 +1,202 @@
-"""The parameters panel: choice boxes and, per numeric parameter, a slider with a spin box.
+"""The parameters panel: choice boxes, a slider with a typed field per number, Advanced.
 
-Widgets only translate: a user action becomes one ``AppModel.set_value`` call, and the
-model's ``draft_changed`` / ``error_changed`` / ``params_changed`` events are copied back
-into the widgets with their signals blocked.
+Widgets only translate: a slider move becomes one ``AppModel.set_value`` call, a typed
+field one ``AppModel.set_text`` call (on Enter or when focus leaves it), Esc in a field one
+``AppModel.revert``; the model's ``draft_changed`` / ``error_changed`` / ``result_changed``
+events are copied back into the widgets with their signals blocked.
+
+A field takes what is typed exactly: the core accepts it, or refuses it and the field
+keeps the text, framed red, with the core's message under it, until it is corrected or
+Esc puts the accepted value back. Nothing is clamped, rounded or read through a locale
+without saying so.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QLocale, Qt, Signal
+from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (
-    QAbstractSpinBox,
     QComboBox,
-    QDoubleSpinBox,
     QFormLayout,
     QGridLayout,
     QGroupBox,
     QLabel,
+    QLineEdit,
+    QPushButton,
     QSlider,
-    QSpinBox,
     QVBoxLayout,
     QWidget,
 )
 
-from .model import CHOICES, PARAM_SPECS, AppModel, ParamError, ParamSpec, applies
-from .model import subdivisions_limit as _subdivisions_limit
+from .model import (
+    ADVANCED_SPECS,
+    CHOICES,
+    PARAM_SPECS,
+    POINT_PARAMS,
+    AppModel,
+    MeshResult,
+    ParamError,
+    ParamSpec,
+    applies,
+    format_value,
+    read_number,
+    subdivisions_limit,
+)
 
-ERROR_STYLE = "border: 2px solid #d0021b; border-radius: 3px;"
+ERROR_COLOUR = "#d0021b"
+ERROR_STYLE = f"border: 2px solid {ERROR_COLOUR}; border-radius: 3px;"
 
 
-class ParamRow:
-    """Label, slider, spin box (value + unit) and an error line for one parameter."""
+def decimal_point() -> str:
+    """The system locale's decimal separator (a dot is always accepted as well)."""
+    return QLocale().decimalPoint()
 
-    def __init__(self, spec: ParamSpec, grid: QGridLayout, row: int, parent: QWidget) -> None:
-        self.spec = spec
-        self.label = QLabel(spec.label, parent)
-        self.slider = QSlider(Qt.Orientation.Horizontal, parent)
-        self.slider.setObjectName(f"slider_{spec.name}")
-        self.slider.setRange(0, spec.slider_max)
-        self.slider.setSingleStep(1)
-        self.slider.setPageStep(max(1, spec.slider_max // 20))
-        self.slider.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
-        if spec.integer:
-            self.spin: QSpinBox | QDoubleSpinBox = QSpinBox(parent)
-            self.spin.setRange(int(spec.minimum), int(spec.maximum))
+
+class ValueField(QLineEdit):
+    """A line edit for one typed value.
+
+    ``submitted(text)`` on Enter or when focus leaves after an edit, ``reverted()`` on Esc,
+    ``stepped(steps)`` on ↑/↓ (±1) and PgUp/PgDn (±10), which move the paired slider.
+    """
+
+    submitted = Signal(str)
+    reverted = Signal()
+    stepped = Signal(int)
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self._shown = ""
+        self.editingFinished.connect(self._finished)
+
+    def show_text(self, text: str) -> None:
+        """Display ``text`` without submitting it."""
+        self._shown = text
+        if self.text() != text:
+            self.setText(text)
+            self.setCursorPosition(0)
+
+    def _finished(self) -> None:
+        if self.text() != self._shown or self.property("refused"):
+            self._shown = self.text()
+            self.submitted.emit(self.text())
+
+    def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt's name
+        steps = {Qt.Key.Key_Up: 1, Qt.Key.Key_Down: -1,
+                 Qt.Key.Key_PageUp: 10, Qt.Key.Key_PageDown: -10}
+        if event.key() == Qt.Key.Key_Escape:
+            self.reverted.emit()
+            event.accept()
+        elif event.key() in steps:
+            self.stepped.emit(steps[event.key()])
+            event.accept()
         else:
-            self.spin = QDoubleSpinBox(parent)
-            self.spin.setDecimals(spec.decimals)
-            lo = 0.0 if spec.optional else spec.minimum
-            self.spin.setRange(lo, spec.maximum)
-            self.spin.setSingleStep(spec.step if spec.step > 0 else spec.minimum * 1e3)
-            if spec.optional:
-                self.spin.setSpecialValueText("auto")
-                self.spin.setStepType(QAbstractSpinBox.StepType.AdaptiveDecimalStepType)
-        self.spin.setObjectName(f"spin_{spec.name}")
-        self.spin.setKeyboardTracking(False)  # typed values count on Enter / focus out
-        self.spin.setAccelerated(True)
-        if spec.unit:
-            self.spin.setSuffix(f" {spec.unit}")
-        self.spin.setMinimumWidth(110)
-        self.spin.setAlignment(Qt.AlignmentFlag.AlignRight)
-        self.error = QLabel(parent)
-        self.error.setObjectName(f"error_{spec.name}")
-        self.error.setWordWrap(True)
-        self.error.setStyleSheet("color: #d0021b;")
-        self.error.hide()
-        tip = spec.tooltip + (f" ({spec.unit})" if spec.unit else "")
-        for w in (self.label, self.slider, self.spin):
-            w.setToolTip(tip)
-        self.label.setBuddy(self.spin)
-        grid.addWidget(self.label, 2 * row, 0)
-        grid.addWidget(self.slider, 2 * row, 1)
-        grid.addWidget(self.spin, 2 * row, 2)
-        grid.addWidget(self.error, 2 * row + 1, 0, 1, 3)
+            super().keyPressEvent(event)
 
-    def show_value(self, value: Any) -> None:
-        for w in (self.slider, self.spin):
-            w.blockSignals(True)
-        try:
-            self.slider.setValue(self.spec.to_slider(value))
-            self.spin.setValue(0 if value is None else value)
-        finally:
-            for w in (self.slider, self.spin):
-                w.blockSignals(False)
+    # The old spin boxes' API, for scripts: ``setValue`` submits as if typed.
+
+    def setValue(self, value: Any) -> None:  # noqa: N802 - QSpinBox's name
+        self.setText(format_value(value))
+        self._finished()
+
+    def value(self) -> Any:
+        return read_number(self.text(), None, decimal_point()).value
+
+
+def _message_label(parent: QWidget, name: str, colour: str) -> QLabel:
+    label = QLabel(parent)
+    label.setObjectName(name)
+    label.setWordWrap(True)
+    label.setStyleSheet(f"color: {colour};")
+    label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+    label.hide()
+    return label
+
+
+class FieldRow:
+    """Label, optional slider, typed field and unit, with an error line and a note line."""
+
+    def __init__(self, name: str, label: str, grid: QGridLayout, row: int, parent: QWidget,
+                 spec: ParamSpec | None = None, tooltip: str = "", placeholder: str = "") -> None:
+        self.name = name
+        self.spec = spec
+        self.typed: str | None = None  # the text last typed, kept while it is refused
+        self.label = QLabel(label, parent)
+        self.slider: QSlider | None = None
+        if spec is not None and spec.slider:
+            self.slider = QSlider(Qt.Orientation.Horizontal, parent)
+            self.slider.setObjectName(f"slider_{name}")
+            self.slider.setRange(0, spec.slider_max)
+            self.slider.setSingleStep(1)
+            self.slider.setPageStep(max(1, spec.slider_max // 20))
+            self.slider.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.field = ValueField(parent)
+        self.field.setObjectName(f"field_{name}")
+        self.field.setMinimumWidth(96)
+        self.field.setAlignment(Qt.AlignmentFlag.AlignRight)
+        self.field.setPlaceholderText(placeholder)
+        unit = spec.unit if spec is not None else "mm"
+        self.unit = QLabel(unit, parent)
+        self.error = _message_label(parent, f"error_{name}", ERROR_COLOUR)
+        self.note = _message_label(parent, f"note_{name}", "#555")
+        tip = tooltip + (f" ({unit})" if unit else "")
+        for w in (self.label, self.slider, self.field):
+            if w is not None:
+                w.setToolTip(tip)
+        self.label.setBuddy(self.field)
+        grid.addWidget(self.label, 3 * row, 0)
+        if self.slider is not None:
+            grid.addWidget(self.slider, 3 * row, 1)
+            grid.addWidget(self.field, 3 * row, 2)
+        else:
+            grid.addWidget(self.field, 3 * row, 1, 1, 2)
+        grid.addWidget(self.unit, 3 * row, 3)
+        grid.addWidget(self.error, 3 * row + 1, 0, 1, 4)
+        grid.addWidget(self.note, 3 * row + 2, 0, 1, 4)
+
+    @property
+    def spin(self) -> ValueField:
+        """The field (the name the spin boxes had)."""
+        return self.field
+
+    def widgets(self) -> tuple[QWidget, ...]:
+        return tuple(w for w in (self.label, self.slider, self.field, self.unit) if w is not None)
+
+    def show_value(self, value: Any, refused: bool, fallback: Any) -> None:
+        """Show ``value``; a refused one keeps the text as typed."""
+        if not refused:
+            self.typed = None
+        typed = refused and self.typed is not None
+        self.field.show_text(self.typed if typed else format_value(value))
+        if self.slider is not None:  # a refused typed value leaves the slider where it was
+            on_slider = fallback if typed else value
+            self.slider.blockSignals(True)
+            self.slider.setValue(self.spec.to_slider(on_slider))
+            self.slider.blockSignals(False)
 
     def set_enabled(self, on: bool) -> None:
-        for w in (self.label, self.slider, self.spin):
+        for w in self.widgets():
             w.setEnabled(on)
 
     def set_error(self, message: str | None) -> None:
-        self.spin.setStyleSheet("" if message is None else f"QAbstractSpinBox {{{ERROR_STYLE}}}")
+        self.field.setProperty("refused", message is not None)
+        self.field.setStyleSheet("" if message is None else f"QLineEdit {{{ERROR_STYLE}}}")
         self.error.setText(message or "")
         self.error.setVisible(message is not None)
 
+    def set_note(self, note: str | None) -> None:
+        self.note.setText(note or "")
+        self.note.setVisible(bool(note))
+
+
+#: Kept for scripts that name the row type.
+ParamRow = FieldRow
+
 
 class ControlsPanel(QWidget):
-    """Structure, mode, diagonal, scheme and every numeric parameter of :data:`PARAM_SPECS`."""
+    """A file banner, the choices, every numeric parameter and the Advanced group."""
 
     def __init__(self, model: AppModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -104,11 +204,26 @@ class ControlsPanel(QWidget):
         layout = QVBoxLayout(self)
         layout.setContentsMargins(6, 6, 6, 6)
 
-        choices = QGroupBox("Structure", self)
-        form = QFormLayout(choices)
+        self.file_box = QGroupBox("Mesh file on screen", self)
+        self.file_box.setObjectName("file_box")
+        box = QVBoxLayout(self.file_box)
+        self.file_label = QLabel(self.file_box)
+        self.file_label.setObjectName("file_label")
+        self.file_label.setWordWrap(True)
+        self.back_button = QPushButton("&Back to the parametric mesh", self.file_box)
+        self.back_button.setObjectName("back_to_parameters")
+        self.back_button.setToolTip("Mesh the parameters below again (the file stays on disk)")
+        self.back_button.clicked.connect(model.return_to_parameters)
+        box.addWidget(self.file_label)
+        box.addWidget(self.back_button)
+        self.file_box.hide()
+        layout.addWidget(self.file_box)
+
+        self.choices_box = QGroupBox("Structure", self)
+        form = QFormLayout(self.choices_box)
         self.combos: dict[str, QComboBox] = {}
         for name, (label, titles) in CHOICES.items():
-            combo = QComboBox(choices)
+            combo = QComboBox(self.choices_box)
             combo.setObjectName(f"combo_{name}")
             for value, title in titles.items():
                 combo.addItem(title, value)
@@ -117,48 +232,65 @@ class ControlsPanel(QWidget):
             )
             form.addRow(f"&{label}", combo)
             self.combos[name] = combo
-        self.choice_error = QLabel(choices)
-        self.choice_error.setObjectName("error_choice")
-        self.choice_error.setWordWrap(True)
-        self.choice_error.setStyleSheet("color: #d0021b;")
-        self.choice_error.hide()
+        self.choice_error = _message_label(self.choices_box, "error_choice", ERROR_COLOUR)
         form.addRow(self.choice_error)
-        layout.addWidget(choices)
+        layout.addWidget(self.choices_box)
 
-        numbers = QGroupBox("Dimensions and discretisation", self)
-        grid = QGridLayout(numbers)
-        grid.setColumnStretch(1, 1)
-        grid.setVerticalSpacing(2)
-        self.rows: dict[str, ParamRow] = {}
-        for i, spec in enumerate(PARAM_SPECS):
-            row = ParamRow(spec, grid, i, numbers)
-            row.slider.valueChanged.connect(lambda pos, r=row: self._slider_moved(r, pos))
-            row.slider.sliderReleased.connect(self.model.end_merge)
-            row.spin.valueChanged.connect(lambda v, r=row: self._spin_changed(r, v))
-            self.rows[spec.name] = row
-        layout.addWidget(numbers)
+        self.rows: dict[str, FieldRow] = {}
+        self.numbers_box = self._group("Dimensions and discretisation", PARAM_SPECS, {})
+        self.advanced_box = self._group("Advanced", ADVANCED_SPECS, POINT_PARAMS)
+        layout.addWidget(self.numbers_box)
+        layout.addWidget(self.advanced_box)
         layout.addStretch(1)
 
         model.draft_changed.connect(self.show_draft)
         model.error_changed.connect(self.show_error)
+        model.result_changed.connect(self.show_source)
         self.show_draft(model.draft)
+        self.show_error(model.error)
+
+    def _group(self, title: str, specs: tuple[ParamSpec, ...],
+               points: dict[str, tuple[str, tuple[str, ...]]]) -> QGroupBox:
+        group = QGroupBox(title, self)
+        grid = QGridLayout(group)
+        grid.setColumnStretch(1, 1)
+        grid.setVerticalSpacing(2)
+        i = 0
+        for spec in specs:
+            row = FieldRow(spec.name, spec.label, grid, i, group, spec, spec.tooltip,
+                           spec.empty_text if spec.optional else "")
+            self._wire(row)
+            i += 1
+        tips = {"origin": "Lower-left corner A of a patch, first vertex of a triangle, centre "
+                          "of the rings: x, y",
+                "triangle_vertices": "Three vertices x, y; x, y; x, y of the triangle "
+                                     "structure; empty = equilateral of side patch size"}
+        for name, (label, _structures) in points.items():
+            row = FieldRow(name, label, grid, i, group, None, tips[name],
+                           "equilateral" if name == "triangle_vertices" else "")
+            self._wire(row)
+            i += 1
+        return group
+
+    def _wire(self, row: FieldRow) -> None:
+        row.field.submitted.connect(lambda text, r=row: self._typed(r, text))
+        row.field.reverted.connect(lambda n=row.name: self.model.revert(n))
+        if row.slider is not None:
+            row.slider.valueChanged.connect(lambda pos, r=row: self._slider_moved(r, pos))
+            row.slider.sliderReleased.connect(self.model.end_merge)
+            row.field.stepped.connect(
+                lambda k, s=row.slider: s.setValue(s.value() + k))  # ↑/↓ in the field
+        self.rows[row.name] = row
 
     # -- user -> model -------------------------------------------------------------------
 
-    def _slider_moved(self, row: ParamRow, pos: int) -> None:
-        value = row.spec.from_slider(pos)
-        row.spin.blockSignals(True)
-        row.spin.setValue(0 if value is None else value)
-        row.spin.blockSignals(False)
-        self.model.set_value(row.spec.name, value, merge=row.slider.isSliderDown())
+    def _slider_moved(self, row: FieldRow, pos: int) -> None:
+        row.typed = None
+        self.model.set_value(row.name, row.spec.from_slider(pos), merge=row.slider.isSliderDown())
 
-    def _spin_changed(self, row: ParamRow, value: float) -> None:
-        if row.spec.optional and value <= 0:
-            value = None
-        row.slider.blockSignals(True)
-        row.slider.setValue(row.spec.to_slider(value))
-        row.slider.blockSignals(False)
-        self.model.set_value(row.spec.name, value)
+    def _typed(self, row: FieldRow, text: str) -> None:
+        row.typed = text
+        self.model.set_text(row.name, text, decimal_point())
 
     # -- model -> widgets ----------------------------------------------------------------
 
@@ -172,25 +304,41 @@ class ControlsPanel(QWidget):
             combo.blockSignals(False)
             combo.setEnabled(applies(name, structure))
         scheme = draft.get("scheme", "uniform")
-        sub = self.rows["subdivisions"]
-        top = _subdivisions_limit(scheme if scheme in ("uniform", "barycentric") else "uniform")
-        if sub.spin.maximum() != top:
-            for w in (sub.slider, sub.spin):
-                w.blockSignals(True)
-            sub.slider.setRange(0, top - 1)
-            sub.spin.setRange(1, top)
-            for w in (sub.slider, sub.spin):
-                w.blockSignals(False)
+        sub = self.rows["subdivisions"].slider
+        top = subdivisions_limit(scheme if scheme in ("uniform", "barycentric") else "uniform")
+        if sub.maximum() != top - 1:
+            sub.blockSignals(True)
+            sub.setRange(0, top - 1)
+            sub.blockSignals(False)
+        committed = self.model.params.to_dict()
         for name, row in self.rows.items():
-            row.show_value(draft.get(name))
+            row.show_value(draft.get(name), name in self.model.refused, committed.get(name))
             row.set_enabled(applies(name, structure))
+            row.set_note(self.model.notes.get(name))
 
-    def show_error(self, error: ParamError | None) -> None:
+    def show_error(self, _error: ParamError | None) -> None:
+        errors = self.model.errors
         for name, row in self.rows.items():
-            row.set_error(error.message if error is not None and error.name == name else None)
-        choice = error is not None and error.name not in self.rows
-        self.choice_error.setText(error.message if choice else "")
-        self.choice_error.setVisible(choice)
+            row.set_error(errors[name].message if name in errors else None)
+        others = [e for name, e in errors.items() if name not in self.rows]
+        self.choice_error.setText("\n".join(e.message for e in others))
+        self.choice_error.setVisible(bool(others))
         for name, combo in self.combos.items():
-            marked = choice and error.name == name
-            combo.setStyleSheet(f"QComboBox {{{ERROR_STYLE}}}" if marked else "")
+            combo.setStyleSheet(f"QComboBox {{{ERROR_STYLE}}}" if name in errors else "")
+
+    def show_source(self, result: MeshResult | None) -> None:
+        """A mesh file on screen: say which, and keep the parameters out of reach."""
+        path = self.model.file_source
+        in_file = path is not None
+        if in_file:
+            s = result.stats
+            self.file_label.setText(
+                f"<b>{Path(path).name}</b><br>{s['triangles']:,} triangles · "
+                f"{s['vertices']:,} vertices · {s['interior_edges']:,} RWG unknowns<br>"
+                "The parameters below are not this mesh's; they apply again when you go "
+                "back to the parametric mesh."
+            )
+            self.file_label.setToolTip(path)
+        self.file_box.setVisible(in_file)
+        for group in (self.choices_box, self.numbers_box, self.advanced_box):
+            group.setEnabled(not in_file)

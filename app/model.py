@@ -73,15 +73,19 @@ STRUCTURE_TITLES = {
 }
 MODE_TITLES = {"paper": "Paper (overlapping patches)", "conforming": "Conforming (watertight)"}
 RING_STRUCTURES = tuple(s for s in STRUCTURES if s not in ("patch", "triangle"))
+NOT_TRIANGLE = tuple(s for s in STRUCTURES if s != "triangle")
 
 
 @dataclass(frozen=True)
 class ParamSpec:
-    """How one numeric parameter is shown: a slider paired with a spin box.
+    """How one parameter is shown: a field that takes typed values, and maybe a slider.
 
-    The slider moves in ``step`` increments between ``minimum`` and ``maximum`` (or in
-    quarter decades on a log scale); the spin box shows the exact value with ``unit``.
-    ``structures`` lists where the parameter applies (elsewhere the control is disabled).
+    The field takes any value and hands it to the core, which accepts or refuses it; the
+    slider only offers convenient values between ``minimum`` and ``maximum``: linearly in
+    ``step`` increments, or, with ``per_decade > 0``, on a logarithmic scale of that many
+    positions per decade (values rounded to three significant figures). ``optional``
+    parameters may be ``None``, typed as an empty field or ``empty_text`` and sitting at
+    slider position 0. ``structures`` lists where the parameter applies.
     """
 
     name: str
@@ -89,69 +93,104 @@ class ParamSpec:
     unit: str
     minimum: float
     maximum: float
-    step: float
-    decimals: int
+    step: float = 0.0
+    per_decade: int = 0
     structures: tuple[str, ...] = STRUCTURES
     integer: bool = False
-    log_scale: bool = False
-    optional: bool = False  # ``None`` allowed: shown as "auto" at the minimum
+    optional: bool = False
+    empty_text: str = "auto"
+    slider: bool = True
     tooltip: str = ""
+
+    @property
+    def log_scale(self) -> bool:
+        return self.per_decade > 0
+
+    @property
+    def _offset(self) -> int:
+        return 1 if self.optional else 0
 
     @property
     def slider_max(self) -> int:
         if self.log_scale:
-            return int(round(4 * math.log10(self.maximum / self.minimum))) + 1
-        return int(round((self.maximum - self.minimum) / self.step))
+            decades = math.log10(self.maximum / self.minimum)
+            return self._offset + math.ceil(self.per_decade * decades - 1e-9)
+        return self._offset + int(round((self.maximum - self.minimum) / self.step))
 
-    def to_slider(self, value: float | None) -> int:
+    def to_slider(self, value: Any) -> int:
         """Slider position of ``value`` (nearest; clamped to the slider's range)."""
-        if value is None:
+        if value is None or isinstance(value, str):
             return 0
+        try:
+            value = float(value)
+        except (TypeError, ValueError, OverflowError):
+            return 0
+        if not math.isfinite(value):
+            return self.slider_max if value > 0 else 0
+        if value >= self.maximum:
+            return self.slider_max
         if self.log_scale:
             if value <= 0:
                 return 0
-            pos = int(round(4 * math.log10(value / self.minimum))) + 1
+            pos = self._offset + int(round(self.per_decade * math.log10(value / self.minimum)))
         else:
-            pos = int(round((value - self.minimum) / self.step))
+            pos = self._offset + int(round((value - self.minimum) / self.step))
         return max(0, min(self.slider_max, pos))
 
     def from_slider(self, pos: int) -> float | int | None:
         """Value at slider position ``pos``."""
-        if self.log_scale:
-            if pos <= 0:
-                return None
-            return float(f"{self.minimum * 10 ** ((pos - 1) / 4):.3g}")
-        value = self.minimum + pos * self.step
-        return int(round(value)) if self.integer else round(value, self.decimals)
+        if self.optional and pos <= 0:
+            return None
+        if pos >= self.slider_max:
+            value = self.maximum
+        elif self.log_scale:
+            value = self.minimum * 10 ** ((pos - self._offset) / self.per_decade)
+            value = float(f"{value:.3g}")
+        else:
+            value = round(self.minimum + (pos - self._offset) * self.step, 10)
+        return int(round(value)) if self.integer else float(value)
 
     def applies(self, structure: str) -> bool:
         return structure in self.structures
 
 
+#: Lengths span what the presets use (0.5 mm split-ring tracks to Makarov's 1000 mm plate)
+#: with room on both sides, so their sliders are logarithmic.
+_LENGTH = {"unit": "mm", "minimum": 0.01, "maximum": 10_000.0, "per_decade": 48}
+
 PARAM_SPECS = (
-    ParamSpec("inner_radius", "Inner radius", "mm", 0.5, 50.0, 0.1, 3, RING_STRUCTURES,
+    ParamSpec("inner_radius", "Inner radius", structures=RING_STRUCTURES, **_LENGTH,
               tooltip="Radius of the (inner) ring; half side of the inner square ring"),
-    ParamSpec("outer_radius", "Outer radius", "mm", 0.5, 60.0, 0.1, 3, DOUBLE_STRUCTURES,
+    ParamSpec("outer_radius", "Outer radius", structures=DOUBLE_STRUCTURES, **_LENGTH,
               tooltip="Radius of the outer ring of a double ring"),
-    ParamSpec("patch_size", "Patch size", "mm", 0.05, 20.0, 0.05, 3,
+    ParamSpec("patch_size", "Patch size", **_LENGTH,
               tooltip="Side of a square patch, and width of a ring's track"),
-    ParamSpec("angle_step", "Angle step", "°", 0.25, 90.0, 0.25, 3, ANGULAR_STRUCTURES,
+    ParamSpec("angle_step", "Angle step", "°", 0.001, 360.0, per_decade=48,
+              structures=ANGULAR_STRUCTURES,
               tooltip="Angle between neighbouring patches (paper) or the widest sector "
-                      "(conforming)"),
-    ParamSpec("subdivisions", "Subdivisions n", "", 1, MAX_UNIFORM_SUBDIVISIONS, 1, 0,
+                      "(conforming), in (0, 360]"),
+    ParamSpec("subdivisions", "Subdivisions n", "", 1, MAX_UNIFORM_SUBDIVISIONS, 1,
               integer=True,
               tooltip="Segments per primary-triangle edge: n² sub-triangles each (uniform), "
                       "or barycentric levels"),
-    ParamSpec("gap_width", "Gap width", "mm", 0.05, 20.0, 0.05, 3, SPLIT_STRUCTURES,
+    ParamSpec("gap_width", "Gap width", structures=SPLIT_STRUCTURES, **_LENGTH,
               tooltip="Width of the slots cut through split rings"),
-    ParamSpec("gap_angle", "Gap angle", "°", -180.0, 180.0, 1.0, 2, SPLIT_STRUCTURES,
+    ParamSpec("gap_angle", "Gap angle", "°", -180.0, 180.0, 1.0, structures=SPLIT_STRUCTURES,
               tooltip="Direction of the slots' centre line, degrees from +x"),
-    ParamSpec("tolerance", "Tolerance ε", "mm", 1e-9, 1e-1, 0.0, 9, log_scale=True,
-              optional=True,
+    ParamSpec("tolerance", "Tolerance ε", "mm", 1e-9, 1e-1, per_decade=4, optional=True,
               tooltip="Welding distance: vertices closer than ε are one vertex (the paper's "
-                      "metric constraint). auto = 1e-9 of the structure's size"),
+                      "metric constraint). auto (empty) = 1e-9 of the structure's size"),
 )
-SPECS = {s.name: s for s in PARAM_SPECS}
+#: The Advanced group: rarely changed parameters.
+ADVANCED_SPECS = (
+    ParamSpec("patch_width", "Patch height w", optional=True, empty_text="square",
+              structures=NOT_TRIANGLE, **_LENGTH,
+              tooltip="Height of a rectangular patch; square (empty) = the patch size"),
+    ParamSpec("max_triangles", "Triangle budget", "", 1, 1e9, integer=True, slider=False,
+              tooltip="Meshes predicted above this many triangles are refused before they "
+                      "are built"),
+)
+SPECS = {s.name: s for s in PARAM_SPECS + ADVANCED_SPECS}
 #: Choice parameters: name -> (label, {value: title}).
 CHOICES = {
     "structure": ("Structure", STRUCTURE_TITLES),
@@ -159,18 +198,47 @@ CHOICES = {
     "diagonal": ("Diagonal", {"BC": "BC (paper)", "AD": "AD (Makarov)"}),
     "scheme": ("Scheme", {"uniform": "Uniform n × n", "barycentric": "Barycentric levels"}),
 }
-CHOICE_STRUCTURES = {"diagonal": tuple(s for s in STRUCTURES if s != "triangle")}
+CHOICE_STRUCTURES = {"diagonal": NOT_TRIANGLE}
+#: Parameters typed as coordinates in the Advanced group: name -> (label, structures).
+POINT_PARAMS = {
+    "origin": ("Origin x, y", STRUCTURES),
+    "triangle_vertices": ("Triangle A; B; C", ("triangle",)),
+}
 
 
 def applies(name: str, structure: str) -> bool:
     """Whether parameter ``name`` has an effect on ``structure``."""
     if name in SPECS:
         return SPECS[name].applies(structure)
+    if name in POINT_PARAMS:
+        return structure in POINT_PARAMS[name][1]
     return structure in CHOICE_STRUCTURES.get(name, STRUCTURES)
 
 
 def subdivisions_limit(scheme: str) -> int:
     return MAX_UNIFORM_SUBDIVISIONS if scheme == "uniform" else MAX_BARYCENTRIC_LEVELS
+
+
+def carried_subdivisions(n: Any, old_scheme: str, new_scheme: str) -> Any:
+    """The subdivisions of ``new_scheme`` closest to ``n`` of ``old_scheme`` in triangles.
+
+    Uniform n makes n² sub-triangles per primary triangle, barycentric L levels 6^L; the
+    result is the one whose count is nearest on a log scale, within the new scheme's range.
+    Anything but a valid integer comes back unchanged (the core refuses it).
+
+    >>> carried_subdivisions(16, "uniform", "barycentric"), carried_subdivisions(3, "barycentric", "uniform")
+    (3, 15)
+    """  # noqa: E501
+    if old_scheme == new_scheme or isinstance(n, bool) or not isinstance(n, int):
+        return n
+    if not 1 <= n <= subdivisions_limit(old_scheme):
+        return n
+    log_count = 2 * math.log(n) if old_scheme == "uniform" else n * math.log(6)
+    if new_scheme == "uniform":
+        best = round(math.exp(log_count / 2))
+    else:
+        best = round(log_count / math.log(6))
+    return max(1, min(subdivisions_limit(new_scheme), best))
 
 
 def named_parameter(message: str) -> str | None:
@@ -179,6 +247,121 @@ def named_parameter(message: str) -> str | None:
         if match.group(1) in MeshParams.__dataclass_fields__:
             return match.group(1)
     return None
+
+
+def _carry_note(n: int, m: int, old_scheme: str, new_scheme: str) -> str:
+    def what(k: int, scheme: str) -> str:
+        if scheme == "uniform":
+            return f"n = {k} ({k * k} sub-triangles per primary triangle)"
+        return f"{k} barycentric level{'s' if k > 1 else ''} ({6 ** k} sub-triangles)"
+
+    return f"{new_scheme} scheme: {what(n, old_scheme)} carried over as {what(m, new_scheme)}"
+
+
+# -- typed values ----------------------------------------------------------------------------
+
+_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
+_INTEGER = re.compile(r"[+-]?\d+")
+
+
+def format_value(value: Any) -> str:
+    """The text a field shows for ``value``: exact, shortest, with a decimal point.
+
+    >>> format_value(4.5), format_value(1000.0), format_value(1e-9), format_value(None)
+    ('4.5', '1000', '1e-09', '')
+    """
+    if value is None:
+        return ""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (tuple, list)):
+        if value and isinstance(value[0], (tuple, list)):
+            return "; ".join(format_value(p) for p in value)
+        return ", ".join(format_value(v) for v in value)
+    if isinstance(value, int):
+        return str(value)
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
+@dataclass(frozen=True)
+class Reading:
+    """What a typed text was read as: a number, ``None`` (empty), or the text itself.
+
+    ``value`` is the text unchanged when it is not a number, so that the core's refusal
+    names what the user typed. ``note`` says how the text was read when that is not
+    obvious (the locale's decimal separator).
+    """
+
+    value: Any
+    note: str | None = None
+
+
+def _locale_note(text: str, value: Any, decimal_point: str) -> str:
+    return (f"read {text.strip()!r} as {format_value(value)} "
+            f"({decimal_point!r} is this system's decimal separator)")
+
+
+def read_number(text: str, spec: ParamSpec | None = None, decimal_point: str = ".") -> Reading:
+    """Read a typed number exactly: no clamping, no rounding, no guessing.
+
+    A dot is always the decimal separator; the locale's own ``decimal_point`` is accepted
+    as well (and said so in the note). Group separators, which differ between locales,
+    are not: such text is returned unchanged for the core to refuse.
+
+    >>> read_number("4.5").value, read_number("1e-3").value, read_number("-3").value
+    (4.5, 0.001, -3.0)
+    >>> r = read_number("4,5", decimal_point=","); r.value, r.note
+    (4.5, "read '4,5' as 4.5 (',' is this system's decimal separator)")
+    >>> read_number("4,5").value
+    '4,5'
+    """
+    s = text.strip()
+    if spec is not None and spec.unit and s.endswith(spec.unit):
+        s = s[: -len(spec.unit)].strip()
+    if spec is not None and spec.optional and s.lower() in ("", spec.empty_text.lower()):
+        return Reading(None)
+    localized = decimal_point not in (".", "") and decimal_point in s and "." not in s
+    if localized:
+        s = s.replace(decimal_point, ".")
+    if spec is not None and spec.integer and _INTEGER.fullmatch(s):
+        value: Any = int(s)
+    elif _NUMBER.fullmatch(s):
+        value = float(s)
+        if spec is not None and spec.integer and math.isfinite(value) and value.is_integer():
+            value = int(value)
+    else:
+        return Reading(text.strip())
+    return Reading(value, _locale_note(text, value, decimal_point) if localized else None)
+
+
+def read_points(text: str, count: int, decimal_point: str = ".") -> Reading:
+    """Read ``count`` points typed as ``x, y; x, y; ...`` (``x y`` works too).
+
+    With a decimal comma the coordinates are separated by spaces only. Anything that is
+    not ``count`` pairs of numbers comes back as the text for the core to refuse.
+
+    >>> read_points("1, 2", 1).value, read_points("0 0; 4 0; 0 3", 3).value
+    ((1.0, 2.0), ((0.0, 0.0), (4.0, 0.0), (0.0, 3.0)))
+    """
+    s = text.strip()
+    if count > 1 and s == "":
+        return Reading(None)
+    points, notes = [], []
+    for part in s.split(";"):
+        if decimal_point == ",":
+            coords = part.split()
+        else:
+            coords = [c for c in re.split(r"[,\s]+", part.strip()) if c]
+        readings = [read_number(c, None, decimal_point) for c in coords]
+        if len(readings) != 2 or not all(isinstance(r.value, float) for r in readings):
+            return Reading(s)
+        points.append(tuple(r.value for r in readings))
+        notes += [r.note for r in readings if r.note]
+    if len(points) != count:
+        return Reading(s)
+    value = points[0] if count == 1 else tuple(points)
+    return Reading(value, _locale_note(s, value, decimal_point) if notes else None)
 
 
 # -- results -------------------------------------------------------------------------------
@@ -281,17 +464,24 @@ def stats_texts(result: MeshResult | None) -> dict[str, str]:
 
 @dataclass(frozen=True)
 class ParamError:
-    """A parameter combination the core refused: which control to mark, and why."""
+    """A value the core refused: which control to mark, and the core's message."""
 
     name: str
     message: str
 
 
+_REFUSALS = (ValueError, TypeError, OverflowError)
+
+
 class AppModel:
     """Parameters with undo/redo, the last good mesh, layer visibility and colouring.
 
-    ``params`` is always valid (the last combination the core accepted); ``draft`` holds
-    what the controls show, which may be invalid while ``error`` says why.
+    ``params`` is always valid and describes the mesh on screen (or the one being built):
+    the last combination the core accepted and built. A value the core refuses, typed or
+    built, is kept in ``refused`` (the control keeps showing it) with the core's message in
+    ``errors`` under the same name, until it is corrected, reverted (Esc) or replaced.
+    Other changes meanwhile are taken on their own. ``notes`` say how a value was read or
+    carried over (a decimal comma, a scheme change).
 
     Events (callbacks): ``params_changed(params)``, ``draft_changed(draft)``,
     ``error_changed(error or None)``, ``history_changed()``, ``result_changed(result)``,
@@ -301,12 +491,14 @@ class AppModel:
 
     def __init__(self, params: MeshParams | None = None) -> None:
         self.params = params if params is not None else MeshParams()
-        self.draft: dict[str, Any] = self.params.to_dict()
-        self.error: ParamError | None = None
+        self.refused: dict[str, Any] = {}
+        self.errors: dict[str, ParamError] = {}
+        self.notes: dict[str, str] = {}
         self.undo_stack: list[MeshParams] = []
         self.redo_stack: list[MeshParams] = []
         self._merging: str | None = None
         self.result: MeshResult | None = None
+        self.shown_params: MeshParams | None = None  # of the last parametric mesh shown
         self.generation = 0
         self.layers: dict[str, bool] = dict(DEFAULT_VISIBLE)
         self.color_by = "none"
@@ -321,25 +513,94 @@ class AppModel:
 
     # -- parameters ---------------------------------------------------------------
 
-    def set_value(self, name: str, value: Any, merge: bool = False) -> bool:
-        """Change one parameter as a user did; True if the core accepted the combination.
+    @property
+    def draft(self) -> dict[str, Any]:
+        """What the controls show: ``params`` with the refused values in their place."""
+        return {**self.params.to_dict(), **self.refused}
 
-        ``merge=True`` folds consecutive changes of the same parameter into one undo step
-        (a slider drag); :meth:`end_merge` ends such a run.
+    @property
+    def error(self) -> ParamError | None:
+        """The latest refusal still standing (``None`` when every value is taken)."""
+        return next(reversed(self.errors.values()), None)
+
+    def set_text(self, name: str, text: str, decimal_point: str = ".") -> bool:
+        """A value typed into the field of ``name``: read exactly, then :meth:`set_value`.
+
+        ``decimal_point`` is the system locale's (a dot is always accepted too). Text that
+        is not a number goes to the core as typed, so its refusal quotes it.
+        """
+        if name in POINT_PARAMS:
+            count = 1 if name == "origin" else 3
+            reading = read_points(text, count, decimal_point)
+        else:
+            reading = read_number(text, SPECS.get(name), decimal_point)
+        return self.set_value(name, reading.value, note=reading.note)
+
+    def set_value(self, name: str, value: Any, merge: bool = False,
+                  note: str | None = None) -> bool:
+        """Change one parameter as a user did; True if the core accepted it.
+
+        The change is tried together with the values refused so far (fixing one side of a
+        combination takes both), then on its own against ``params``. If the core refuses
+        it, ``params`` stay, and ``value`` is kept in :attr:`refused` with the core's
+        message under ``name``. ``merge=True`` folds consecutive changes of the same
+        parameter into one undo step (a slider drag); :meth:`end_merge` ends such a run.
         """
         if name not in MeshParams.__dataclass_fields__:
             raise ValueError(f"name={name!r} is not a parameter")
-        self.draft[name] = value
-        self.draft_changed.emit(dict(self.draft))
+        changes = {name: value}
+        carried = None
+        if name == "scheme":
+            draft = self.draft
+            n = draft["subdivisions"]
+            m = carried_subdivisions(n, draft["scheme"], value)
+            if m != n:
+                changes["subdivisions"] = m
+                carried = _carry_note(n, m, draft["scheme"], value)
+        for key in changes:
+            self.notes.pop(key, None)
+        base = self.params.to_dict()
+        pending = {k: v for k, v in self.refused.items() if k not in changes}
         try:
-            params = MeshParams.from_dict(self.draft)
-        except (ValueError, TypeError) as exc:
-            message = str(exc)
-            mark = name if name in SPECS else (named_parameter(message) or name)
-            self._set_error(ParamError(mark, message))
-            return False
+            params = MeshParams.from_dict({**base, **pending, **changes})
+            self.refused.clear()
+            self.errors.clear()
+        except _REFUSALS:
+            try:
+                params = MeshParams.from_dict({**base, **changes})
+            except _REFUSALS as exc:
+                self.refused[name] = value
+                self.errors.pop(name, None)
+                self.errors[name] = ParamError(name, str(exc))
+                if note:
+                    self.notes[name] = note
+                self.draft_changed.emit(self.draft)
+                self.error_changed.emit(self.error)
+                return False
+            for key in changes:
+                self.refused.pop(key, None)
+                self.errors.pop(key, None)
+            for key, pending_value in pending.items():  # still refused? say why, anew
+                try:
+                    params = MeshParams.from_dict({**params.to_dict(), key: pending_value})
+                    del self.refused[key], self.errors[key]
+                except _REFUSALS as exc:
+                    self.errors[key] = ParamError(key, str(exc))
+        if note:
+            self.notes[name] = note
+        if carried:
+            self.notes["subdivisions"] = carried
         self._commit(params, merge_name=name if merge else None)
         return True
+
+    def revert(self, name: str) -> None:
+        """Drop the refused value of ``name`` (Esc in its field): show ``params`` again."""
+        self.notes.pop(name, None)
+        self.refused.pop(name, None)
+        had = self.errors.pop(name, None)
+        self.draft_changed.emit(self.draft)
+        if had is not None:
+            self.error_changed.emit(self.error)
 
     def end_merge(self) -> None:
         """The slider was released: the next change starts a new undo step."""
@@ -349,11 +610,17 @@ class AppModel:
         """Replace every parameter (preset, parameter file, reset) as one undo step."""
         if not isinstance(params, MeshParams):
             raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
+        self._forget_refusals()
         self._commit(params, merge_name=None, force=True)
 
     def reset(self) -> None:
         """Back to the defaults (the paper's Fig. 12(a)); undoable."""
         self.set_params(MeshParams())
+
+    def _forget_refusals(self) -> None:
+        self.refused.clear()
+        self.notes.clear()
+        self.errors.clear()
 
     def _commit(self, params: MeshParams, merge_name: str | None, force: bool = False) -> None:
         changed = params != self.params
@@ -366,18 +633,12 @@ class AppModel:
 
     def _apply(self, params: MeshParams, changed: bool) -> None:
         self.params = params
-        self.draft = params.to_dict()
-        self._set_error(None)
-        self.draft_changed.emit(dict(self.draft))
+        self.draft_changed.emit(self.draft)
+        self.error_changed.emit(self.error)
         if changed:
             self.generation += 1
             self.params_changed.emit(params)
         self.history_changed.emit()
-
-    def _set_error(self, error: ParamError | None) -> None:
-        if error != self.error:
-            self.error = error
-            self.error_changed.emit(error)
 
     @property
     def can_undo(self) -> bool:
@@ -393,6 +654,7 @@ class AppModel:
             return
         self.redo_stack.append(self.params)
         self._merging = None
+        self._forget_refusals()
         self._apply(self.undo_stack.pop(), True)
 
     def redo(self) -> None:
@@ -400,6 +662,7 @@ class AppModel:
             return
         self.undo_stack.append(self.params)
         self._merging = None
+        self._forget_refusals()
         self._apply(self.redo_stack.pop(), True)
 
     # -- results ------------------------------------------------------------------
@@ -407,17 +670,57 @@ class AppModel:
     def set_result(self, result: MeshResult) -> bool:
         """Accept a finished build; stale (older generation) and failed ones are not shown.
 
-        Returns whether the result became the current mesh.
+        A failed build is not committed: ``params`` go back to those of the mesh on
+        screen and the value that failed is kept as refused, with the core's message
+        under its control. Returns whether the result became the current mesh.
         """
         if result.generation != self.generation:
             log.debug("dropped stale mesh of generation %d", result.generation)
             return False
         if result.error is not None or result.mesh is None:
-            self.build_failed.emit(result.error or "meshing failed")
+            message = result.error or "meshing failed"
+            self._refuse_build(result.params, message.removeprefix("meshing failed: "))
+            self.build_failed.emit(message)
             return False
         self.result = result
+        if result.params is not None:
+            self.shown_params = result.params
         self.result_changed.emit(result)
         return True
+
+    def _refuse_build(self, failed: MeshParams | None, message: str) -> None:
+        good = self.shown_params
+        named = named_parameter(message)
+        if failed is None or good is None or failed == good:
+            marks = [named or "structure"]  # nothing to go back to: mark what is shown
+        else:
+            changed = [k for k in MeshParams.__dataclass_fields__
+                       if getattr(failed, k) != getattr(good, k)]
+            marks = [named] if named in changed else changed
+            for key in marks:
+                self.refused[key] = failed.to_dict()[key]
+            if self.undo_stack and self.undo_stack[-1] == good:
+                self.undo_stack.pop()
+            self.params = good
+            self._merging = None
+        for key in marks:
+            self.errors.pop(key, None)
+            self.errors[key] = ParamError(key, message)
+        self.draft_changed.emit(self.draft)
+        self.error_changed.emit(self.error)
+        self.history_changed.emit()
+
+    @property
+    def file_source(self) -> str | None:
+        """The path of the mesh file on screen, or ``None`` for the parametric mesh."""
+        if self.result is None or self.result.source == "parameters":
+            return None
+        return self.result.source
+
+    def return_to_parameters(self) -> None:
+        """Leave a mesh file: build ``params`` again (the panel's explicit button)."""
+        self.generation += 1
+        self.params_changed.emit(self.params)
 
     def show_imported(self, mesh: TriMesh, path: str) -> MeshResult:
         """Show a mesh read from a file (until the next parameter change)."""

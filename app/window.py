@@ -210,6 +210,7 @@ class MainWindow(QMainWindow):
         self._make_actions()
         self._make_menus()
         self._history_changed()
+        self.model.result_changed.connect(self._source_changed)
 
         if scripted:
             self.resize(*SCRIPTED_SIZE)
@@ -459,6 +460,14 @@ class MainWindow(QMainWindow):
         self.act_undo.setEnabled(self.model.can_undo)
         self.act_redo.setEnabled(self.model.can_redo)
 
+    def _source_changed(self, _result: MeshResult) -> None:
+        """A mesh file on screen has no parameters to save: say so on the action."""
+        in_file = self.model.file_source is not None
+        self.act_save.setEnabled(not in_file)
+        self.act_save.setStatusTip("The view holds a mesh file: go back to the parametric "
+                                   "mesh to save parameters" if in_file
+                                   else "Save the parameters as a JSON file")
+
     def _camera_moved(self, *_args: Any) -> None:
         self.scene.fit_marker_sizes()
 
@@ -542,7 +551,12 @@ class MainWindow(QMainWindow):
             self._file_error(f"Could not open {path}", exc)
             return False
         result = self.model.show_imported(mesh, str(path))
-        return self.model.set_result(result)
+        if not self.model.set_result(result):
+            return False
+        self.statusBar().showMessage(
+            f"Opened {Path(path).name}: {mesh.n_triangles:,} triangles. The parameters apply "
+            "again with Back to the parametric mesh (Parameters panel).", 8000)
+        return True
 
     def load_params_dialog(self) -> None:
         path, _ = QFileDialog.getOpenFileName(
@@ -578,6 +592,11 @@ class MainWindow(QMainWindow):
     def save_params_file(self, path: str | os.PathLike[str]) -> bool:
         from core.presets import save_params_file
 
+        if self.model.file_source is not None:
+            self.statusBar().showMessage(
+                f"Not saved: the view holds {Path(self.model.file_source).name}, which has no "
+                "parameters; go back to the parametric mesh first")
+            return False
         try:
             save_params_file(self.model.params, path)
         except (ValueError, OSError) as exc:

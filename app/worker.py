@@ -91,7 +91,8 @@ class MeshController(QObject):
             return
         params, generation = self._pending
         self._pending = None
-        if params.predicted_triangles() <= self.sync_triangles:
+        # An explicit tolerance can make the weld slow or fail: never on the GUI thread.
+        if params.predicted_triangles() <= self.sync_triangles and params.tolerance is None:
             self.model.set_result(compute(params, generation, prepare=scene_data))
             return
         self._running = True

@@ -10,8 +10,8 @@ from PySide6.QtCore import Qt  # noqa: E402
 
 from core import MeshParams, build_mesh  # noqa: E402
 from core.io import read_mesh, write_mesh  # noqa: E402
-from core.presets import load_preset  # noqa: E402
-from tests.test_app_window import COARSE, assert_counts  # noqa: E402
+from tests.app_user import patch_counts  # noqa: E402
+from tests.test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 
 def test_open_mesh_file_shows_its_statistics(window, tmp_path):
@@ -20,8 +20,7 @@ def test_open_mesh_file_shows_its_statistics(window, tmp_path):
     write_mesh(other, path)
     assert window.open_mesh_file(path)
     window.controller.flush()
-    assert window.stats.text("triangles") == "18"
-    assert window.stats.text("interior_edges") == f"{len(other.interior_edges):,}"
+    assert_counts(window, patch_counts(1, 3))  # 16 vertices, 18 triangles, 21 interior edges
     assert window.scene.datasets["faces"].n_cells == 18
 
 
@@ -30,7 +29,7 @@ def test_damaged_mesh_file_keeps_the_last_mesh(window, tmp_path):
     bad.write_text("$MeshFormat\n2.2 0 8\nthis is not gmsh\n")
     assert not window.open_mesh_file(bad)
     assert "bad.msh" in window.statusBar().currentMessage()
-    assert_counts(window, COARSE)
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))
 
 
 @pytest.mark.parametrize("suffix", [".msh", ".vtu", ".stl", ".mat", ".npz"])
@@ -39,7 +38,7 @@ def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix):
     assert window.export_mesh(path)
     assert path.exists()
     if suffix != ".npz":
-        assert read_mesh(path).n_triangles == build_mesh(COARSE).n_triangles
+        assert read_mesh(path).n_triangles == 384  # 48 patches x 2 x 2²
 
 
 def test_export_to_a_missing_folder_says_so_and_writes_nothing(window, tmp_path):
@@ -77,13 +76,14 @@ def test_presets_menu_loads_each_preset(window):
     menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
     names = [a.text().replace("&", "") for a in menu.actions() if a.text()]
     assert any(name.startswith("paper-fig10") for name in names)
-    assert window.load_preset("paper-fig12d")
+    next(a for a in menu.actions() if a.text() == "paper-fig12d").trigger()
     window.controller.flush()
-    assert_counts(window, load_preset("paper-fig12d")[0])
+    # Fig. 12(d): 1 mm patches every 20 degrees on both rings, n = 4 (the paper's 32 each)
+    assert_counts(window, patch_counts(2 * 18, 4))
 
 
 def test_tab_order_reaches_every_control_top_to_bottom(window):
-    """Tab walks the focus chain: each slider, then its spin box, in the panel's order.
+    """Tab walks the focus chain: each slider, then its field, in the panel's order.
 
     Checked on Qt's focus chain itself (without a window manager Xvfb gives no keyboard
     focus to a window, so real Tab presses would not be delivered reliably).
@@ -97,8 +97,9 @@ def test_tab_order_reaches_every_control_top_to_bottom(window):
         w = w.nextInFocusChain()
         if w is rows[0].slider:
             break
-    order = [tabbable.index(x) for r in rows if r.slider.isEnabled() for x in (r.slider, r.spin)]
+    order = [tabbable.index(x) for r in rows if r.field.isEnabled()
+             for x in (r.slider, r.field) if x is not None]
     assert order == sorted(order)
     for r in rows:
-        assert (r.slider in tabbable) == r.slider.isEnabled()
-        assert (r.spin in tabbable) == r.spin.isEnabled()
+        for w in (r.slider, r.field):
+            assert w is None or (w in tabbable) == w.isEnabled()

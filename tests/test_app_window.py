@@ -12,35 +12,35 @@ pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
 
-from app.model import SPECS, applies  # noqa: E402
+from app.model import SPECS, applies, format_value  # noqa: E402
 from app.window import MainWindow  # noqa: E402
-from core import MeshParams, build_mesh  # noqa: E402
+from core import MeshParams  # noqa: E402
+from tests.app_user import choose, click_check_box, patch_counts, shown_counts, type_into  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
-COUNTS = ("patches", "vertices", "triangles", "edges", "interior_edges", "boundary_edges",
-          "junction_edges")
+#: COARSE has 24 patches on each ring, none touching another: closed forms hold.
+COARSE_PATCHES = 48
 
 
-def assert_counts(win, params):
-    stats = build_mesh(params).stats()
-    for key in COUNTS:
-        assert win.stats.text(key) == f"{stats[key]:,}", key
+def assert_counts(win, expected: dict) -> None:
+    assert shown_counts(win) == expected
 
 
 def test_window_opens_on_the_given_parameters(window):
     assert window.model.params == COARSE
-    assert_counts(window, COARSE)
-    assert window.scene.datasets["faces"].n_cells == build_mesh(COARSE).n_triangles
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))
+    assert window.scene.datasets["faces"].n_cells == 384  # 48 patches x 2 x 2**2
 
 
 @pytest.mark.parametrize("structure", ["double_ring", "split_double_ring", "patch"])
 def test_each_slider_updates_the_statistics(window, qtbot, structure):
-    window.controls.combos["structure"].setCurrentIndex(
-        window.controls.combos["structure"].findData(structure))
+    choose(window.controls.combos["structure"], structure)
     window.controller.flush()
     for name, row in window.controls.rows.items():
+        if row.slider is None:
+            continue
         if not applies(name, structure):
-            assert not row.slider.isEnabled()
+            assert not row.slider.isEnabled() and not row.field.isEnabled()
             continue
         before = window.model.params
         row.slider.setFocus()
@@ -50,39 +50,45 @@ def test_each_slider_updates_the_statistics(window, qtbot, structure):
         assert getattr(after, name) == SPECS[name].from_slider(row.slider.value()), name
         assert after != before or window.model.error is not None, name
         if window.model.error is None:
-            assert_counts(window, after)
-            assert window.controls.rows[name].spin.value() == pytest.approx(
-                getattr(after, name) or 0)
+            assert row.field.text() == format_value(getattr(after, name))
+            shown = shown_counts(window)
+            n = after.subdivisions
+            if structure == "patch":  # one patch: the closed form
+                assert shown == patch_counts(1, n), name
+            else:  # every patch is split in two primary triangles of n² each
+                assert shown["triangles"] == shown["patches"] * 2 * n * n, name
+            euler = int(window.stats.text("euler_characteristic").replace(",", ""))
+            assert euler == shown["vertices"] - shown["edges"] + shown["triangles"]
 
 
-def test_spinbox_and_slider_agree(window):
+def test_field_and_slider_agree(window):
     row = window.controls.rows["subdivisions"]
-    row.spin.setValue(3)
+    type_into(row.field, "3")
     window.controller.flush()
-    assert row.slider.value() == SPECS["subdivisions"].to_slider(3)
-    assert_counts(window, COARSE.replace(subdivisions=3))
+    assert row.slider.value() == SPECS["subdivisions"].to_slider(3) == 2
+    assert_counts(window, patch_counts(COARSE_PATCHES, 3))
 
 
-def test_each_layer_toggles(window):
+def test_each_layer_toggles(window, qtbot):
     for name, box in window.layers.boxes.items():
         actor = window.scene.actors[name]
         if not box.isEnabled():
             continue
         before = bool(actor.GetVisibility())
-        box.click()
+        click_check_box(box)
         assert window.model.layers[name] is not before or name == "labels"
         assert bool(actor.GetVisibility()) is not before
         assert window.layer_actions[name].isChecked() is box.isChecked()
-        box.click()
+        click_check_box(box)
         assert bool(actor.GetVisibility()) is before
 
 
 def test_colour_by_shows_a_colour_bar(window):
     combo = window.layers.color_by
-    combo.setCurrentIndex(combo.findData("min_angle"))
+    choose(combo, "min_angle")
     assert window.scene.actors["faces"].mapper.GetScalarVisibility()
     assert window.scene.scalar_bar.GetVisibility()
-    combo.setCurrentIndex(combo.findData("none"))
+    choose(combo, "none")
     assert not window.scene.scalar_bar.GetVisibility()
 
 
@@ -99,49 +105,53 @@ def test_screenshot_size_and_not_blank(window, tmp_path):
     assert transparent.shape[2] == 4 and (transparent[..., 3] == 0).any()
 
 
-def test_undo_redo_restore_parameters_and_counts(window, qtbot):
+def test_undo_redo_restore_parameters_and_counts(window):
     row = window.controls.rows["subdivisions"]
-    row.spin.setValue(3)
+    type_into(row.field, "3")
     window.controller.flush()
     assert window.act_undo.shortcut().toString() == "Ctrl+Z"
     assert window.act_redo.shortcut().toString() == "Ctrl+Shift+Z"
     window.act_undo.trigger()
     window.controller.flush()
-    assert window.model.params == COARSE and row.spin.value() == 2
-    assert_counts(window, COARSE)
+    assert window.model.params == COARSE and row.field.text() == "2"
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))
     window.act_redo.trigger()
     window.controller.flush()
-    assert window.model.params.subdivisions == 3
-    assert_counts(window, COARSE.replace(subdivisions=3))
+    assert window.model.params.subdivisions == 3 and row.field.text() == "3"
+    assert_counts(window, patch_counts(COARSE_PATCHES, 3))
 
 
 def test_invalid_value_keeps_last_mesh_and_shows_message(window):
     shown = window.model.result
     row = window.controls.rows["outer_radius"]
-    row.spin.setValue(2.0)  # below the inner radius
+    type_into(row.field, "2")  # below the inner radius
     window.controller.flush()
+    with pytest.raises(ValueError) as refusal:
+        COARSE.replace(outer_radius=2.0)
     assert window.model.result is shown
-    assert_counts(window, COARSE)
-    assert not row.error.isHidden() and "outer_radius" in row.error.text()
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))
+    assert not row.error.isHidden() and row.error.text() == str(refusal.value)
     assert "outer_radius" in window.statusBar().currentMessage()
-    assert "border" in row.spin.styleSheet()
-    row.spin.setValue(12.0)
+    assert "border" in row.field.styleSheet() and row.field.text() == "2"
+    type_into(row.field, "12")
     window.controller.flush()
     assert row.error.isHidden() and window.model.error is None
-    assert_counts(window, COARSE.replace(outer_radius=12.0))
+    assert window.model.params.outer_radius == 12.0
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))  # 24 separate patches per ring
 
 
 def test_big_meshes_are_built_in_the_worker(window, qtbot):
     window.controller.sync_triangles = 0  # everything goes to the worker
     busy = []
     window.controller.busy_changed.connect(busy.append)
-    window.controls.rows["subdivisions"].spin.setValue(3)
-    window.controls.rows["subdivisions"].spin.setValue(4)  # the latest value wins
+    field = window.controls.rows["subdivisions"].field
+    type_into(field, "3")
+    type_into(field, "4")  # the latest value wins
     window.controller.flush()
     qtbot.waitUntil(lambda: busy and busy[-1] is False and not window.controller.busy,
                     timeout=20_000)
     assert window.model.result.params.subdivisions == 4
-    assert_counts(window, COARSE.replace(subdivisions=4))
+    assert_counts(window, patch_counts(COARSE_PATCHES, 4))
 
 
 def test_settings_remember_parameters(qtbot):
