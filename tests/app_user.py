@@ -16,8 +16,9 @@ from PySide6.QtWidgets import (
 
 
 def type_into(field: QLineEdit, text: str, key=Qt.Key.Key_Return) -> None:
-    """Select all in ``field``, type ``text`` and press Enter (or ``key``)."""
+    """Select all in ``field``, delete it, type ``text`` and press Enter (or ``key``)."""
     QTest.keyClick(field, Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
+    QTest.keyClick(field, Qt.Key.Key_Backspace)
     QTest.keyClicks(field, text)
     if key is not None:
         QTest.keyClick(field, key)
@@ -80,6 +81,12 @@ def choose(combo: QComboBox, data) -> None:
         key = Qt.Key.Key_Down if combo.currentIndex() < target else Qt.Key.Key_Up
         QTest.keyClick(combo, key)
     assert combo.currentIndex() == target
+
+
+def settle(window, qtbot) -> None:
+    """Start the pending build and wait until no build runs (worker builds included)."""
+    window.controller.flush()
+    qtbot.waitUntil(lambda: not window.controller.busy, timeout=60_000)
 
 
 def patch_counts(patches: int, n: int) -> dict:
