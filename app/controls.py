@@ -255,6 +255,7 @@ class ControlsPanel(QWidget):
         grid = QGridLayout(group)
         grid.setColumnStretch(1, 1)
         grid.setVerticalSpacing(2)
+        grid.setHorizontalSpacing(8)
         i = 0
         for spec in specs:
             row = FieldRow(spec.name, spec.label, grid, i, group, spec, spec.tooltip,

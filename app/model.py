@@ -493,6 +493,7 @@ class AppModel:
         self.params = params if params is not None else MeshParams()
         self.refused: dict[str, Any] = {}
         self.errors: dict[str, ParamError] = {}
+        self._announced: dict[str, ParamError] = {}
         self.notes: dict[str, str] = {}
         self.undo_stack: list[MeshParams] = []
         self.redo_stack: list[MeshParams] = []
@@ -575,7 +576,7 @@ class AppModel:
                 if note:
                     self.notes[name] = note
                 self.draft_changed.emit(self.draft)
-                self.error_changed.emit(self.error)
+                self._errors_changed()
                 return False
             for key in changes:
                 self.refused.pop(key, None)
@@ -597,10 +598,9 @@ class AppModel:
         """Drop the refused value of ``name`` (Esc in its field): show ``params`` again."""
         self.notes.pop(name, None)
         self.refused.pop(name, None)
-        had = self.errors.pop(name, None)
+        self.errors.pop(name, None)
         self.draft_changed.emit(self.draft)
-        if had is not None:
-            self.error_changed.emit(self.error)
+        self._errors_changed()
 
     def end_merge(self) -> None:
         """The slider was released: the next change starts a new undo step."""
@@ -634,11 +634,17 @@ class AppModel:
     def _apply(self, params: MeshParams, changed: bool) -> None:
         self.params = params
         self.draft_changed.emit(self.draft)
-        self.error_changed.emit(self.error)
+        self._errors_changed()
         if changed:
             self.generation += 1
             self.params_changed.emit(params)
         self.history_changed.emit()
+
+    def _errors_changed(self) -> None:
+        """Announce the refusals when they differ from the last announcement."""
+        if self.errors != self._announced:
+            self._announced = dict(self.errors)
+            self.error_changed.emit(self.error)
 
     @property
     def can_undo(self) -> bool:
@@ -707,7 +713,7 @@ class AppModel:
             self.errors.pop(key, None)
             self.errors[key] = ParamError(key, message)
         self.draft_changed.emit(self.draft)
-        self.error_changed.emit(self.error)
+        self._errors_changed()
         self.history_changed.emit()
 
     @property
