@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from PySide6.QtCore import QLocale, Qt, Signal
+from PySide6.QtCore import QEvent, QLocale, Qt, Signal
 from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (
     QComboBox,
@@ -82,6 +82,16 @@ class ValueField(QLineEdit):
         if self.text() != self._shown or self.property("refused"):
             self._shown = self.text()
             self.submitted.emit(self.text())
+
+    def event(self, event: QEvent) -> bool:
+        # Esc belongs to the field while it holds an edit or a refused value, not to a
+        # window shortcut (such as cancelling a build).
+        if (event.type() == QEvent.Type.ShortcutOverride
+                and event.key() == Qt.Key.Key_Escape
+                and (self.property("refused") or self.text() != self._shown)):
+            event.accept()
+            return True
+        return super().event(event)
 
     def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt's name
         steps = {Qt.Key.Key_Up: 1, Qt.Key.Key_Down: -1,

@@ -597,12 +597,16 @@ class MainWindow(QMainWindow):
                 f"Not saved: the view holds {Path(self.model.file_source).name}, which has no "
                 "parameters; go back to the parametric mesh first")
             return False
+        result = self.model.result  # the parameters of the mesh on screen, as exported
+        params = result.params if result is not None and result.params else self.model.params
         try:
-            save_params_file(self.model.params, path)
+            save_params_file(params, path)
         except (ValueError, OSError) as exc:
             self._file_error(f"Could not save {path}", exc)
             return False
-        self.statusBar().showMessage(f"Saved {path}", 5000)
+        newer = " (those of the mesh on screen; newer ones are being meshed)"
+        self.statusBar().showMessage(f"Saved {path}{newer if params != self.model.params else ''}",
+                                     5000)
         return True
 
     def export_mesh_dialog(self) -> None:

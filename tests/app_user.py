@@ -7,6 +7,7 @@ from PySide6.QtTest import QTest
 from PySide6.QtWidgets import (
     QApplication,
     QComboBox,
+    QFileDialog,
     QLineEdit,
     QSlider,
     QStyle,
@@ -81,6 +82,22 @@ def choose(combo: QComboBox, data) -> None:
         key = Qt.Key.Key_Down if combo.currentIndex() < target else Qt.Key.Key_Up
         QTest.keyClick(combo, key)
     assert combo.currentIndex() == target
+
+
+def answer_file_dialogs(monkeypatch):
+    """File dialogs return what ``answer(path, chosen_filter)`` set last (what a user picks),
+    or nothing (Cancel) when no answer is pending."""
+    picked = {}
+
+    def answer(path, chosen=""):
+        picked["path"], picked["filter"] = str(path), chosen
+
+    def dialog(*_args, **_kwargs):
+        return picked.pop("path", ""), picked.pop("filter", "")
+
+    monkeypatch.setattr(QFileDialog, "getOpenFileName", dialog)
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", dialog)
+    return answer
 
 
 def settle(window, qtbot) -> None:

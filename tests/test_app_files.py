@@ -10,66 +10,96 @@ from PySide6.QtCore import Qt  # noqa: E402
 
 from core import MeshParams, build_mesh  # noqa: E402
 from core.io import read_mesh, write_mesh  # noqa: E402
-from tests.app_user import patch_counts  # noqa: E402
+from tests.app_user import answer_file_dialogs, patch_counts  # noqa: E402
 from tests.test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 
-def test_open_mesh_file_shows_its_statistics(window, tmp_path):
+@pytest.fixture
+def file_dialog(monkeypatch):
+    return answer_file_dialogs(monkeypatch)
+
+
+def test_open_mesh_file_shows_its_statistics(window, tmp_path, file_dialog):
     other = build_mesh(MeshParams(structure="patch", subdivisions=3))
     path = tmp_path / "other.msh"
     write_mesh(other, path)
-    assert window.open_mesh_file(path)
+    file_dialog(path)
+    window.act_open.trigger()
     window.controller.flush()
+    assert window.model.file_source == str(path)
     assert_counts(window, patch_counts(1, 3))  # 16 vertices, 18 triangles, 21 interior edges
     assert window.scene.datasets["faces"].n_cells == 18
 
 
-def test_damaged_mesh_file_keeps_the_last_mesh(window, tmp_path):
+def test_damaged_mesh_file_keeps_the_last_mesh(window, tmp_path, file_dialog):
     bad = tmp_path / "bad.msh"
     bad.write_text("$MeshFormat\n2.2 0 8\nthis is not gmsh\n")
-    assert not window.open_mesh_file(bad)
+    file_dialog(bad)
+    window.act_open.trigger()
     assert "bad.msh" in window.statusBar().currentMessage()
+    assert window.model.file_source is None
     assert_counts(window, patch_counts(COARSE_PATCHES, 2))
 
 
 @pytest.mark.parametrize("suffix", [".msh", ".vtu", ".stl", ".mat", ".npz"])
-def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix):
+def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix, file_dialog):
     path = tmp_path / f"out{suffix}"
-    assert window.export_mesh(path)
+    file_dialog(path)
+    window.act_export.trigger()
     assert path.exists()
     if suffix != ".npz":
         assert read_mesh(path).n_triangles == 384  # 48 patches x 2 x 2²
 
 
-def test_export_to_a_missing_folder_says_so_and_writes_nothing(window, tmp_path):
+def test_export_without_a_suffix_takes_the_chosen_format(window, tmp_path, file_dialog):
+    file_dialog(tmp_path / "plain", "VTK XML polydata (*.vtp)")
+    window.act_export.trigger()
+    written = list(tmp_path.iterdir())
+    assert [p.name for p in written] == ["plain.vtp"]
+    assert read_mesh(written[0]).n_triangles == 384
+
+
+def test_export_to_a_missing_folder_says_so_and_writes_nothing(window, tmp_path, file_dialog):
     path = tmp_path / "missing" / "out.msh"
-    assert not window.export_mesh(path)
+    file_dialog(path)
+    window.act_export.trigger()
     assert "out.msh" in window.statusBar().currentMessage()
     assert not path.parent.exists()
 
 
-def test_parameter_file_round_trip(window, tmp_path):
-    path = tmp_path / "params.json"
-    assert window.save_params_file(path)
-    saved = json.loads(path.read_text())
+def test_parameter_file_round_trip(window, tmp_path, file_dialog):
+    path = tmp_path / "params"  # the dialog adds .json
+    file_dialog(path)
+    window.act_save.trigger()
+    saved = json.loads(path.with_suffix(".json").read_text())
     assert saved["angle_step"] == COARSE.angle_step and saved["subdivisions"] == 2
     other = tmp_path / "other.json"
     other.write_text(json.dumps({"structure": "patch", "patch_size": 10.0}))
-    assert window.load_params_file(other)
+    file_dialog(other)
+    window.act_load.trigger()
     window.controller.flush()
     assert window.model.params == MeshParams(structure="patch", patch_size=10.0)
-    assert window.stats.text("triangles") == "32"
-    assert window.load_params_file(path)
+    assert_counts(window, patch_counts(1, 4))  # the paper's 32 triangles of Fig. 10
+    file_dialog(path.with_suffix(".json"))
+    window.act_load.trigger()
     window.controller.flush()
     assert window.model.params == COARSE
 
 
-def test_bad_parameter_file_is_refused_with_its_key(window, tmp_path):
+def test_bad_parameter_file_is_refused_with_its_key(window, tmp_path, file_dialog):
     path = tmp_path / "bad.json"
     path.write_text(json.dumps({"radius": 3}))
-    assert not window.load_params_file(path)
+    file_dialog(path)
+    window.act_load.trigger()
     assert "radius" in window.statusBar().currentMessage()
     assert window.model.params == COARSE
+
+
+def test_a_cancelled_dialog_changes_nothing(window, tmp_path, file_dialog):
+    for action in (window.act_open, window.act_load, window.act_save, window.act_export):
+        action.trigger()  # the dialog returns no path
+    assert window.model.params == COARSE and window.model.file_source is None
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_presets_menu_loads_each_preset(window):

@@ -25,6 +25,7 @@ from core import MeshParams, build_mesh  # noqa: E402
 from core.io import read_mesh, write_mesh  # noqa: E402
 from core.presets import load_preset, preset_names  # noqa: E402
 from tests.app_user import (  # noqa: E402
+    answer_file_dialogs,
     choose,
     drag_slider,
     patch_counts,
@@ -206,7 +207,7 @@ def test_tolerance_slider_at_its_maximum_is_refused_under_it(window, qtbot, monk
 
 
 @pytest.mark.parametrize("window_params", [FIG12A_N2])
-def test_a_failed_build_is_not_committed(window, qtbot, tmp_path):
+def test_a_failed_build_is_not_committed(window, qtbot, tmp_path, monkeypatch):
     """Item 3: after slider position 32 (0.0562 mm) fails, parameters, saved file, export
     and statistics all describe the mesh on screen; the refused value is marked."""
     row = window.controls.rows["tolerance"]
@@ -220,9 +221,12 @@ def test_a_failed_build_is_not_committed(window, qtbot, tmp_path):
     assert row.field.text() == "0.0562" and red_pixels(row.field) > 20
     assert window.model.params == FIG12A_N2 and not window.act_undo.isEnabled()
     assert "last good mesh" in window.statusBar().currentMessage()
-    assert window.save_params_file(tmp_path / "p.json")
+    file_dialog = answer_file_dialogs(monkeypatch)
+    file_dialog(tmp_path / "p.json")
+    window.act_save.trigger()
     assert json.loads((tmp_path / "p.json").read_text())["tolerance"] is None
-    assert window.export_mesh(tmp_path / "m.msh")
+    file_dialog(tmp_path / "m.msh")
+    window.act_export.trigger()
     exported = read_mesh(tmp_path / "m.msh")
     assert exported.n_triangles == 5760
     np.testing.assert_allclose(exported.points[:, :2], window.model.result.mesh.points[:, :2])
@@ -349,12 +353,14 @@ def test_advanced_controls_take_typed_values(window):
 # -- item 13: a mesh file on screen is said so; going back is explicit --------------------
 
 
-def test_an_opened_file_is_shown_as_such_until_going_back(window, qtbot, tmp_path):
+def test_an_opened_file_is_shown_as_such_until_going_back(window, qtbot, tmp_path,
+                                                         monkeypatch):
     path = tmp_path / "other.msh"
     write_mesh(build_mesh(MeshParams(structure="patch", subdivisions=3)), path)
     controls = window.controls
     assert not controls.file_box.isVisible()
-    assert window.open_mesh_file(path)
+    answer_file_dialogs(monkeypatch)(path)
+    window.act_open.trigger()
     assert controls.file_box.isVisible()
     text = controls.file_label.text()
     assert "other.msh" in text and "18 triangles" in text and "16 vertices" in text
