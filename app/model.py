@@ -298,21 +298,27 @@ class Reading:
 
 
 def _locale_note(text: str, value: Any, decimal_point: str) -> str:
-    return (f"read {text.strip()!r} as {format_value(value)} "
-            f"({decimal_point!r} is this system's decimal separator)")
+    if decimal_point == ".":
+        why = "a dot is always read as the decimal separator"
+    else:
+        why = f"{decimal_point!r} is this system's decimal separator"
+    return f"read {text.strip()!r} as {format_value(value)} ({why})"
 
 
 def read_number(text: str, spec: ParamSpec | None = None, decimal_point: str = ".") -> Reading:
     """Read a typed number exactly: no clamping, no rounding, no guessing.
 
     A dot is always the decimal separator; the locale's own ``decimal_point`` is accepted
-    as well (and said so in the note). Group separators, which differ between locales,
-    are not: such text is returned unchanged for the core to refuse.
+    as well. Where the locale's separator is not a dot, the note says which one was read.
+    Group separators, which differ between locales, are not accepted: such text is
+    returned unchanged for the core to refuse.
 
     >>> read_number("4.5").value, read_number("1e-3").value, read_number("-3").value
     (4.5, 0.001, -3.0)
     >>> r = read_number("4,5", decimal_point=","); r.value, r.note
     (4.5, "read '4,5' as 4.5 (',' is this system's decimal separator)")
+    >>> read_number("4.5", decimal_point=",").note
+    "read '4.5' as 4.5 (a dot is always read as the decimal separator)"
     >>> read_number("4,5").value
     '4,5'
     """
@@ -332,7 +338,11 @@ def read_number(text: str, spec: ParamSpec | None = None, decimal_point: str = "
             value = int(value)
     else:
         return Reading(text.strip())
-    return Reading(value, _locale_note(text, value, decimal_point) if localized else None)
+    if localized:
+        return Reading(value, _locale_note(text, value, decimal_point))
+    if decimal_point not in (".", "") and "." in s:
+        return Reading(value, _locale_note(text, value, "."))
+    return Reading(value)
 
 
 def read_points(text: str, count: int, decimal_point: str = ".") -> Reading:
@@ -361,7 +371,8 @@ def read_points(text: str, count: int, decimal_point: str = ".") -> Reading:
     if len(points) != count:
         return Reading(s)
     value = points[0] if count == 1 else tuple(points)
-    return Reading(value, _locale_note(s, value, decimal_point) if notes else None)
+    which = decimal_point if decimal_point in s else "."
+    return Reading(value, _locale_note(s, value, which) if notes else None)
 
 
 # -- results -------------------------------------------------------------------------------

@@ -136,7 +136,9 @@ def test_text_that_is_not_a_plain_number_goes_to_the_core_as_typed(text):
 def test_the_locale_decimal_separator_is_read_and_said():
     reading = read_number("4,5", SPECS["inner_radius"], decimal_point=",")
     assert reading.value == 4.5 and "','" in reading.note and "4.5" in reading.note
-    assert read_number("4.5", SPECS["inner_radius"], decimal_point=",") == read_number("4.5")
+    dot = read_number("4.5", SPECS["inner_radius"], decimal_point=",")
+    assert dot.value == 4.5 and "a dot is always" in dot.note
+    assert read_number("4.5", SPECS["inner_radius"]).note is None  # nothing to say
     model = AppModel()
     assert model.set_text("inner_radius", "4,5", decimal_point=",")
     assert model.params.inner_radius == 4.5 and "4.5" in model.notes["inner_radius"]

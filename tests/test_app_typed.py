@@ -18,6 +18,7 @@ pytest.importorskip("pyvistaqt")
 from PySide6.QtCore import QLocale, QPoint, Qt  # noqa: E402
 from PySide6.QtGui import QImage  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
+from PySide6.QtWidgets import QApplication  # noqa: E402
 
 import app.model  # noqa: E402
 from app.model import SPECS, format_value, read_number  # noqa: E402
@@ -71,6 +72,8 @@ def save_shot(window, name: str) -> None:
     """Keep a picture of the panel when BARYMESH_TEST_SHOTS names a folder (to look at)."""
     folder = os.environ.get("BARYMESH_TEST_SHOTS")
     if folder:
+        for _ in range(3):  # let the panel lay out the messages first
+            QApplication.processEvents()
         window.parameters_dock.grab().save(str(Path(folder) / f"{name}.png"))
 
 
@@ -154,8 +157,10 @@ def test_decimal_comma_is_read_where_the_locale_has_one_and_said(window, locale)
     assert window.model.params.inner_radius == 4.5
     assert row.note.isVisible() and "'4,5' as 4.5" in row.note.text()
     assert "decimal separator" in row.note.text()
-    type_into(row.field, "5.5")  # a dot is read everywhere
-    assert window.model.params.inner_radius == 5.5 and not row.note.isVisible()
+    type_into(row.field, "5.5")  # a dot is read everywhere, and said so here
+    assert window.model.params.inner_radius == 5.5
+    assert row.note.isVisible() and "a dot is always" in row.note.text()
+    save_shot(window, "decimal_point_note")
     assert_counts(window, patch_counts(COARSE_PATCHES, 2))
 
 
