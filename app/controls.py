@@ -201,10 +201,6 @@ class FieldRow:
         self.note.setVisible(bool(note))
 
 
-#: Kept for scripts that name the row type.
-ParamRow = FieldRow
-
-
 class ControlsPanel(QWidget):
     """A file banner, the choices, every numeric parameter and the Advanced group."""
 

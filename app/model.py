@@ -595,7 +595,8 @@ class AppModel:
             for key, pending_value in pending.items():  # still refused? say why, anew
                 try:
                     params = MeshParams.from_dict({**params.to_dict(), key: pending_value})
-                    del self.refused[key], self.errors[key]
+                    self.refused.pop(key)
+                    self.errors.pop(key, None)
                 except _REFUSALS as exc:
                     self.errors[key] = ParamError(key, str(exc))
         if note:

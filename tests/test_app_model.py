@@ -80,6 +80,16 @@ def test_other_changes_are_taken_while_one_value_is_refused():
     assert model.draft["outer_radius"] == 9.0 and model.error is None
 
 
+def test_a_refused_value_that_fits_after_another_change_is_taken():
+    model = AppModel()
+    assert not model.set_value("subdivisions", 65)
+    assert not model.set_value("outer_radius", 3.0)
+    assert model.set_value("inner_radius", 1.0)  # 3 now fits outside 1; 65 still does not
+    assert (model.params.inner_radius, model.params.outer_radius) == (1.0, 3.0)
+    assert list(model.errors) == ["subdivisions"] and model.refused == {"subdivisions": 65}
+    assert model.errors["subdivisions"].message == core_message(subdivisions=65)
+
+
 def test_a_failed_build_is_not_committed():
     """Issue 9 item 3: params go back to the mesh on screen; the failed value is marked."""
     model = AppModel(MeshParams(subdivisions=1))
