@@ -166,16 +166,17 @@ def _bad_files(tmp_path):
     files = {
         "empty": (tmp_path / "empty.msh", b"", "empty"),
         "garbage-msh": (tmp_path / "g.msh", garbage, "not a readable Gmsh"),
-        "garbage-vtu": (tmp_path / "g.vtu", garbage, "not a readable VTK"),
-        "garbage-vtp": (tmp_path / "g.vtp", garbage, "not a readable VTK XML polydata"),
+        "garbage-vtu": (tmp_path / "g.vtu", garbage, "it is not valid XML"),
+        "garbage-vtp": (tmp_path / "g.vtp", garbage, "it is not valid XML"),
         "garbage-vtk": (tmp_path / "g.vtk", garbage, "not a readable VTK"),
-        "garbage-stl": (tmp_path / "g.stl", garbage, "no triangles"),  # parses as binary STL
+        # bytes 80..84 of a binary STL count its triangles; here they do not match the size
+        "garbage-stl": (tmp_path / "g.stl", garbage, "declares 544,501,614 triangles"),
         "garbage-mat": (tmp_path / "g.mat", garbage, "not a readable MATLAB"),
         "wrong-xml": (tmp_path / "w.vtp", b'<VTKFile type="ImageData"/>', "PolyData"),
-        "truncated": (truncated, None, "not a readable Gmsh"),
+        "truncated": (truncated, None, "the file is truncated"),
         "no-triangles": (lines_only, None, "no triangles (only 2 line cells"),
         "no-p": (bad_mat, None, "no variable 'p'"),
-        "index-out-of-range": (out_of_range, None, "p has 3 vertices"),
+        "index-out-of-range": (out_of_range, None, "refers to vertex 9 but p has 3 vertices"),
         "unsupported": (tmp_path / "m.ply", b"ply\n", "cannot read .ply"),
         "missing": (tmp_path / "nope.msh", None, "does not exist"),
         "folder": (tmp_path / "dir.msh", "dir", "is a folder"),
