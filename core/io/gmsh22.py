@@ -105,10 +105,11 @@ def read_gmsh22(path: Path):
     values = flat.tolist()
     tri, physical, elementary, ignored = [], [], [], {}
     numbers, other, other_numbers = [], [], []
-    pos = 0
+    pos, parsed = 0, 0
     for _ in range(count):  # element lines differ in length: walk them
         if pos + 3 > len(values):
             break
+        parsed += 1
         number, kind, n_tags = values[pos : pos + 3]
         if kind not in ELEMENT_TYPES:
             raise Damaged(f"element {number} has type {kind}, which MSH 2.2 does not define")
@@ -128,7 +129,7 @@ def read_gmsh22(path: Path):
             ignored[name] = ignored.get(name, 0) + 1
             other.extend(nodes)
             other_numbers.extend([number] * n_nodes)
-    if pos != len(values):
+    if pos != len(values) or parsed != count:
         raise Damaged(f"its $Elements section declares {count:,} elements but its numbers do "
                       "not match that many element lines")  # fmt: skip
     _node_indices(tags, np.asarray(other, dtype=np.int64), np.asarray(other_numbers))

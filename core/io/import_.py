@@ -103,7 +103,10 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         else:
             check_declared_counts(path, ext)
             points, triangles, regions, patch_ids, ignored = _read_meshio(path, meshio_format)
-    except (Damaged, MeshFileError) as exc:
+        return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
+    except MeshFileError:
+        raise
+    except Damaged as exc:
         raise MeshFileError(f"{path}: {exc}") from None
     except MemoryError:
         raise MeshFileError(f"{path}: too large to read into memory") from None
@@ -117,7 +120,6 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         raise MeshFileError(
             f"{path}: not a readable {name} file ({_reason(exc, path)})"
         ) from None
-    return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
 
 
 def file_problem(path: Path) -> str | None:
@@ -182,6 +184,8 @@ def _reason(exc: BaseException, path: Path) -> str:
     text = str(exc).strip()
     text = text.splitlines()[0] if text else type(exc).__name__
     text = text.replace(str(path), "").replace(path.name, "").strip(" :")
+    if isinstance(exc, AssertionError | IndexError) or not text:
+        return "its structure is malformed (it may be truncated)"
     for pattern, plain in _INTERNALS:
         if pattern.search(text):
             return plain
@@ -221,7 +225,11 @@ def _read_meshio(path: Path, file_format: str):
         if block.type != "triangle":
             ignored[block.type] = ignored.get(block.type, 0) + len(block.data)
             continue
-        triangles.append(np.asarray(block.data, dtype=np.int64))
+        data = np.asarray(block.data)
+        if data.ndim != 2 or data.shape[1] != 3:
+            raise Damaged(f"a block of triangles holds {data.size:,} vertex indices in shape "
+                          f"{data.shape}, not 3 per triangle (the file is damaged)")  # fmt: skip
+        triangles.append(data.astype(np.int64))
         data = {key: values[k] for key, values in m.cell_data.items()}
         regions.append(_first(data, _REGION_KEYS))
         patches.append(_first(data, _PATCH_KEYS))

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import struct
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +43,7 @@ def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     :class:`~core.io.limits.Damaged` naming the problem when ``p`` or ``t`` is
     missing or malformed.
     """
+    _check_v4_headers(path)
     try:
         found = {name: (shape, kind) for name, shape, kind in scipy.io.whosmat(path)}
     except NotImplementedError:
@@ -90,3 +92,36 @@ def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if points.shape[1] == 2:
         points = np.column_stack([points, np.zeros(len(points))])
     return points, tri, regions
+
+
+#: MATLAB v4 precision digit -> bytes per value.
+_V4_ITEMSIZE = {0: 8, 1: 4, 2: 4, 3: 2, 4: 2, 5: 1}
+
+
+def _check_v4_headers(path: Path) -> None:
+    """Walk the variable headers of a MATLAB v4 file; each must fit in the file.
+
+    scipy trusts the sizes in v4 headers and allocates for them; v5 files
+    (``MI``/``IM`` at bytes 126-128) are left to scipy, which checks them.
+    """
+    data = path.read_bytes()
+    if len(data) >= 128 and data[126:128] in (b"IM", b"MI"):
+        return
+    pos = 0
+    while pos < len(data):
+        if pos + 20 > len(data):
+            raise Damaged("it is not a MATLAB file (a variable header is cut short)")
+        for order in "<>":
+            mopt, rows, cols, imag, namelen = struct.unpack(f"{order}5i", data[pos : pos + 20])
+            m, o, p, t = mopt // 1000, mopt // 100 % 10, mopt // 10 % 10, mopt % 10
+            if 0 <= mopt < 5000 and m <= 4 and o == 0 and p in _V4_ITEMSIZE and t <= 2:
+                break
+        else:
+            raise Damaged("it is not a MATLAB file (no v5 header and no valid v4 variable)")
+        if rows < 0 or cols < 0 or imag not in (0, 1) or not 0 < namelen <= 64:
+            raise Damaged("it is not a MATLAB file (a v4 variable header is invalid)")
+        size = rows * cols * (1 + imag) * _V4_ITEMSIZE[p]
+        pos += 20 + namelen + size
+        if pos > len(data):
+            raise Damaged(f"a MATLAB v4 variable declares {rows:,} x {cols:,} values but the "
+                          f"file has only {len(data):,} bytes")  # fmt: skip

@@ -46,6 +46,7 @@ _CELL_NAMES = {
     23: "quad8", 24: "tetra10", 25: "hexahedron20", 42: "polyhedron",
 }  # fmt: skip
 VTK_TRIANGLE = 5
+_SINGULAR = {"Verts": "vertex cell", "Lines": "line", "Polys": "polygon", "Strips": "strip"}
 #: Output is inflated this many bytes at a time.
 _CHUNK = 1 << 20
 #: Connectivity entries a file may declare (cells of up to 8 points on average).
@@ -370,7 +371,7 @@ def read_vtp(path: Path):
             if not count:
                 continue
             starts, ends, conn = _offsets(arrays, piece.find(kind), count, kind.lower())
-            _check_indices(conn, n_points, kind.lower()[:-1])
+            _check_indices(conn, n_points, _SINGULAR[kind])
             if kind != "Polys":
                 ignored[kind.lower()] = ignored.get(kind.lower(), 0) + count
                 continue
