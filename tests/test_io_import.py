@@ -171,7 +171,7 @@ def _bad_files(tmp_path):
         "garbage-vtk": (tmp_path / "g.vtk", garbage, "not a readable VTK"),
         # bytes 80..84 of a binary STL count its triangles; here they do not match the size
         "garbage-stl": (tmp_path / "g.stl", garbage, "declares 544,501,614 triangles"),
-        "garbage-mat": (tmp_path / "g.mat", garbage, "not a readable MATLAB"),
+        "garbage-mat": (tmp_path / "g.mat", garbage, "it is not a MATLAB file"),
         "wrong-xml": (tmp_path / "w.vtp", b'<VTKFile type="ImageData"/>', "PolyData"),
         "truncated": (truncated, None, "the file is truncated"),
         "no-triangles": (lines_only, None, "no triangles (only 2 line cells"),
