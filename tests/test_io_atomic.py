@@ -201,7 +201,7 @@ write_mesh(build_mesh(MeshParams(structure="patch")), sys.argv[1])
 
 @pytest.mark.parametrize("how", ["SIGTERM", "SIGINT", "SIGKILL"])
 def test_killed_mid_write(tmp_path, how):
-    """A real process killed while writing: the target stays, no temp file outlives the next write."""
+    """A process killed while writing: the target stays, no temp file outlives the next write."""
     import signal
     import subprocess
     import sys
