@@ -29,6 +29,9 @@ MESH = build_mesh(MeshParams(structure="patch", patch_size=10.0, subdivisions=2)
 N_POINTS, N_TRIANGLES = MESH.n_vertices, MESH.n_triangles  # 9 and 8
 #: No case may need more than this while it is refused.
 PEAK_BYTES = 200 * 2**20
+#: Words of a parser's internals that a message about a file must not show.
+INTERNALS = ("reshape", "codec", "array of size", "out of bounds", "exception", "error",
+             "unpack", "buffer", "dtype", "numpy", "meshio", "scipy", "traceback")  # fmt: skip
 HUGE_COUNTS = ["1000000000000", "-1", "abc", "4294967296", "99999999", "1e3"]
 
 
@@ -387,9 +390,11 @@ def test_every_damaged_file_is_refused_in_one_line_within_bounded_memory(damaged
             mesh = read_mesh(path)
         except MeshFileError as exc:
             message = str(exc)
-            if not message.startswith(f"{path}: ") or "\n" in message or str(path) in message[
-                len(str(path)) + 2 :
-            ]:
+            said = message[len(str(path)) + 2 :]
+            internal = [word for word in INTERNALS if word in said.lower()]
+            if not message.startswith(f"{path}: ") or "\n" in message or str(path) in said:
+                bad_messages.append((name, message))
+            elif internal or name in said:
                 bad_messages.append((name, message))
         else:
             accepted.append((name, mesh.n_triangles))

@@ -171,11 +171,14 @@ def _is_ascii_22(path: Path) -> bool:
 
 
 _INTERNALS = (
-    (re.compile(r"cannot reshape array of size \d+ into shape"), "the file ends early or its "
-     "counts do not match its data"),
+    (re.compile(r"cannot reshape array of size \d+ into shape"), "its counts do not match its "
+     "data, perhaps truncated"),
     (re.compile(r"codec can't decode"), "it holds bytes that are not text"),
     (re.compile(r"index -?\d+ is out of bounds"), "it refers to an entry that does not exist"),
     (re.compile(r"invalid literal for int|could not convert string"), "a number is malformed"),
+    (re.compile(r"values to unpack|unpack requires|buffer size|not enough data"),
+     "malformed, perhaps truncated"),
+    (re.compile(r"meshio|ReadError|does not recognise"), "its content does not match the format"),
 )  # fmt: skip
 
 
@@ -184,8 +187,8 @@ def _reason(exc: BaseException, path: Path) -> str:
     text = str(exc).strip()
     text = text.splitlines()[0] if text else type(exc).__name__
     text = text.replace(str(path), "").replace(path.name, "").strip(" :")
-    if isinstance(exc, AssertionError | IndexError) or not text:
-        return "its structure is malformed (it may be truncated)"
+    if isinstance(exc, AssertionError | IndexError | StopIteration) or not text:
+        return "malformed, perhaps truncated"
     for pattern, plain in _INTERNALS:
         if pattern.search(text):
             return plain
@@ -216,7 +219,7 @@ def _read_meshio(path: Path, file_format: str):
             m = meshio.read(path, file_format=file_format)
         except SystemExit:
             said = [line.strip() for line in out.getvalue().splitlines() if line.strip()]
-            raise ValueError(said[0] if said else "meshio does not recognise it") from None
+            raise ValueError(said[0] if said else "its content does not match the format") from None
     noise = (out.getvalue() + err.getvalue()).strip()
     if noise:
         log.info("meshio on %s: %s", path, noise)

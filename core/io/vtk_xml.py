@@ -271,7 +271,8 @@ def _parse(path: Path) -> tuple[ET.Element, bytes | None, bool]:
     try:
         root = ET.fromstring(data)
     except ET.ParseError as exc:
-        raise Damaged(f"it is not valid XML ({exc})") from None
+        line, column = exc.position
+        raise Damaged(f"it is not valid XML (at line {line}, column {column})") from None
     if not raw:
         section = root.find("AppendedData")
         if section is not None:
