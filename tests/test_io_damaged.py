@@ -221,10 +221,34 @@ def _msh_cases(tmp_path) -> dict[str, bytes]:
                 cases[f"{name}-nodes-{value.decode()}"] = data.replace(
                     b"$Nodes\n9\n", b"$Nodes\n" + value + b"\n", 1
                 )
+            cases.update(_binary_msh22_cases(data))
         elif not binary:
             cases[f"{name}-nodes-1e12"] = data.replace(
                 b"$Nodes\n1 9 1 9\n", b"$Nodes\n1 1000000000000 1 9\n", 1
             )
+    return cases
+
+
+def _binary_msh22_cases(data: bytes) -> dict[str, bytes]:
+    """Node tags and element node references broken inside binary MSH 2.2."""
+    cases = {}
+    nodes = data.index(b"$Nodes\n9\n") + len(b"$Nodes\n9\n")
+    for bad in (0, -3):  # node records: int32 tag, 3 float64
+        broken = bytearray(data)
+        broken[nodes : nodes + 4] = struct.pack("<i", bad)
+        cases[f"msh-gmsh22-binary-node-tag-{bad}"] = bytes(broken)
+    elements = data.index(b"$Elements\n8\n") + len(b"$Elements\n8\n")
+    kind, follow, n_tags = struct.unpack("<3i", data[elements : elements + 12])
+    assert (kind, follow) == (2, N_TRIANGLES)
+    first_node = elements + 12 + 4 * (1 + n_tags)  # after the element number and its tags
+    for bad in (0, -3, N_POINTS + 1, 2**31 - 1):
+        broken = bytearray(data)
+        broken[first_node : first_node + 4] = struct.pack("<i", bad)
+        cases[f"msh-gmsh22-binary-element-node-{bad}"] = bytes(broken)
+    for field, bad in ((0, 99), (1, 1000), (1, 0), (2, -1)):  # type, count, number of tags
+        broken = bytearray(data)
+        broken[elements + 4 * field : elements + 4 * field + 4] = struct.pack("<i", bad)
+        cases[f"msh-gmsh22-binary-block-{field}-{bad}"] = bytes(broken)
     return cases
 
 
@@ -426,6 +450,9 @@ NAMED = {
     "bomb-count.vtu": "it declares 67,108,864 points",
     "stl-binary-count-1000000000.stl": "declares 1,000,000,000 triangles",
     "msh-elements-9.msh": "declares 9 elements",
+    "msh-gmsh22-binary-element-node-0.msh": "element 1 refers to node 0, which the $Nodes",
+    "msh-gmsh22-binary-element-node--3.msh": "element 1 refers to node -3, which the $Nodes",
+    "msh-gmsh22-binary-node-tag-0.msh": "node tag 0 is invalid",
 }
 
 

@@ -1,10 +1,10 @@
-"""Read Gmsh MSH 2.2 ASCII files, checking every count and every node tag.
+"""Read Gmsh MSH 2.2 files (ASCII and binary), checking every count and every node tag.
 
 Triangles (element type 2) are kept with their physical and elementary tags;
 other elements are counted by kind in ``ignored_cells``. Every element must
 refer to nodes the ``$Nodes`` section defines (Gmsh node tags are positive
 integers), and every declared count must match the numbers present.
-Binary MSH 2.2 and MSH 4.x files are read by meshio (see ``import_``).
+MSH 4.x files are read by meshio (see ``import_``).
 """
 
 from __future__ import annotations
@@ -29,10 +29,12 @@ ELEMENT_TYPES = {
 TRIANGLE = 2
 
 
-def is_ascii_22(head: bytes) -> bool:
-    """Whether a file starting with ``head`` is MSH 2.x ASCII (which this module reads)."""
+def msh2_kind(head: bytes) -> str | None:
+    """``"ascii"`` or ``"binary"`` for a file starting with ``head`` in MSH 2.x, else None."""
     match = re.match(rb"\s*\$MeshFormat\s+(\S+)\s+(\S+)", head)
-    return bool(match) and match.group(1).startswith(b"2") and match.group(2) == b"0"
+    if not match or not match.group(1).startswith(b"2"):
+        return None
+    return {b"0": "ascii", b"1": "binary"}.get(match.group(2))
 
 
 def _section(text: str, name: str) -> str | None:
@@ -79,20 +81,15 @@ def _nodes(text: str) -> tuple[np.ndarray, np.ndarray]:
         raise Damaged(f"its $Nodes section declares {count:,} nodes but holds "
                       f"{len(values) / 4:,.4g} (4 numbers per node)")  # fmt: skip
     values = values.reshape(-1, 4)
-    tags = values[:, 0]
-    if count and (np.any(tags % 1 != 0) or tags.min() < 1 or tags.max() > 2**62):
-        bad = tags[(tags % 1 != 0) | (tags < 1) | (tags > 2**62)][0]
-        raise Damaged(f"node tag {bad:g} is invalid; Gmsh node tags are positive whole numbers")
-    tags = tags.astype(np.int64)
-    unique, counts = np.unique(tags, return_counts=True)
-    if np.any(counts > 1):
-        raise Damaged(f"node tag {int(unique[counts > 1][0])} is defined twice")
-    return tags, values[:, 1:]
+    return _tags_valid(values[:, 0]), values[:, 1:]
 
 
 def read_gmsh22(path: Path):
-    """``(points, triangles, regions, patch_ids, ignored_cells)`` of an MSH 2.2 ASCII file."""
-    text = path.read_bytes().decode("latin-1")
+    """``(points, triangles, regions, patch_ids, ignored_cells)`` of an MSH 2.2 file."""
+    data = path.read_bytes()
+    if msh2_kind(data[:256]) == "binary":
+        return _read_binary(data)
+    text = data.decode("latin-1")
     tags, points = _nodes(text)
     body = _section(text, "Elements")
     if body is None:
@@ -152,6 +149,97 @@ def _node_indices(tags: np.ndarray, refs: np.ndarray, elements: np.ndarray) -> n
     if not np.all(found):
         first = int(np.flatnonzero(~found.reshape(-1))[0])
         bad, element = int(refs.reshape(-1)[first]), int(elements.reshape(-1)[first])
-        raise Damaged(f"element {element} refers to node {bad}, which the $Nodes section "
-                      "does not define")
+        raise Damaged(
+            f"element {element} refers to node {bad}, which the $Nodes section does not define"
+        )
     return order[where]
+
+
+def _tags_valid(tags: np.ndarray) -> np.ndarray:
+    """``tags`` as int64 after checking they are positive, whole and defined once."""
+    tags = np.asarray(tags, dtype=np.float64)
+    bad = (tags % 1 != 0) | (tags < 1) | (tags > 2**62)
+    if np.any(bad):
+        raise Damaged(f"node tag {tags[bad][0]:g} is invalid; Gmsh node tags are positive "
+                      "whole numbers")  # fmt: skip
+    tags = tags.astype(np.int64)
+    unique, counts = np.unique(tags, return_counts=True)
+    if np.any(counts > 1):
+        raise Damaged(f"node tag {int(unique[counts > 1][0])} is defined twice")
+    return tags
+
+
+def _binary_section(data: bytes, name: bytes, start: int, limit: int, what: str):
+    """``(count, offset of the first binary byte)`` of section ``$name`` after ``start``."""
+    at = data.find(b"$" + name + b"\n", start)
+    if at < 0:
+        raise Damaged(f"it has no ${name.decode()} section")
+    line_end = data.find(b"\n", at + len(name) + 2)
+    if line_end < 0:
+        raise Damaged(f"its ${name.decode()} section is cut short (the file is truncated)")
+    return parse_count(data[at + len(name) + 2 : line_end], what, limit), line_end + 1
+
+
+def _read_binary(data: bytes):
+    """MSH 2.2 binary: nodes as (int tag, 3 doubles), elements in blocks of one type."""
+    head = re.match(rb"\s*\$MeshFormat\s+\S+\s+1\s+(\S+)[ \t\r]*\n", data)
+    if head is None or head.group(1) != b"8":
+        raise Damaged("its $MeshFormat line is not MSH 2.2 binary with 8-byte reals")
+    one = data[head.end() : head.end() + 4]
+    orders = {(1).to_bytes(4, "little"): "<", (1).to_bytes(4, "big"): ">"}
+    order = orders.get(one, "")
+    if not order:
+        raise Damaged("its $MeshFormat section lacks the binary integer 1 (byte order)")
+    count, at = _binary_section(data, b"Nodes", head.end() + 4, MAX_POINTS, "nodes")
+    node = np.dtype([("tag", order + "i4"), ("x", order + "f8", (3,))])
+    if at + count * node.itemsize > len(data):
+        most = (len(data) - at) // node.itemsize
+        raise Damaged(f"its $Nodes section declares {count:,} nodes but holds at most {most:,}")
+    nodes = np.frombuffer(data, dtype=node, count=count, offset=at)
+    tags, points = _tags_valid(nodes["tag"]), nodes["x"].astype(np.float64)
+    end = at + count * node.itemsize
+    if not data[end : end + 12].lstrip().startswith(b"$EndNodes"):
+        raise Damaged(f"its $Nodes section does not end after {count:,} nodes")
+    count, pos = _binary_section(data, b"Elements", end, MAX_CELLS, "elements")
+    word = np.dtype(order + "i4")
+    tri, physical, elementary, numbers, other, other_numbers = [], [], [], [], [], []
+    ignored: dict[str, int] = {}
+    parsed = 0
+    while parsed < count:
+        if pos + 12 > len(data):
+            raise Damaged(f"its $Elements section declares {count:,} elements but holds "
+                          f"{parsed:,} (the file is truncated)")  # fmt: skip
+        kind, follow, n_tags = np.frombuffer(data, dtype=word, count=3, offset=pos).tolist()
+        if kind not in ELEMENT_TYPES:
+            raise Damaged(f"an element block has type {kind}, which MSH 2.2 does not define")
+        if not 1 <= follow <= count - parsed or not 0 <= n_tags <= 64:
+            raise Damaged(f"an element block declares {follow:,} elements with {n_tags} tags, "
+                          f"which the $Elements count ({count:,}) cannot hold")  # fmt: skip
+        name, n_nodes = ELEMENT_TYPES[kind]
+        width = 1 + n_tags + n_nodes
+        if pos + 12 + follow * width * 4 > len(data):
+            raise Damaged(f"its $Elements section declares {count:,} elements but the file "
+                          "ends before them (truncated)")  # fmt: skip
+        block = np.frombuffer(data, dtype=word, count=follow * width, offset=pos + 12)
+        block = block.reshape(follow, width).astype(np.int64)
+        if kind == TRIANGLE:
+            tri.append(block[:, 1 + n_tags :])
+            numbers.append(np.repeat(block[:, 0], 3))
+            zeros = np.zeros(follow, dtype=np.int64)
+            physical.append(block[:, 1] if n_tags >= 1 else zeros)
+            elementary.append(block[:, 2] if n_tags >= 2 else zeros)
+        else:
+            ignored[name] = ignored.get(name, 0) + follow
+            other.append(block[:, 1 + n_tags :].reshape(-1))
+            other_numbers.append(np.repeat(block[:, 0], n_nodes))
+        pos += 12 + follow * width * 4
+        parsed += follow
+    if not data[pos : pos + 16].lstrip().startswith(b"$EndElements"):
+        raise Damaged(f"its $Elements section does not end after {count:,} elements")
+
+    def joined(parts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
+        return np.concatenate(parts) if parts else np.empty(shape, dtype=np.int64)
+
+    _node_indices(tags, joined(other, (0,)), joined(other_numbers, (0,)))
+    triangles = _node_indices(tags, joined(tri, (0, 3)), joined(numbers, (0,)))
+    return points, triangles, joined(physical, (0,)), joined(elementary, (0,)), ignored

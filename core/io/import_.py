@@ -22,7 +22,7 @@ import numpy as np
 
 from ..mesh import TriMesh
 from ..topology import INDEX
-from .gmsh22 import is_ascii_22, read_gmsh22
+from .gmsh22 import msh2_kind, read_gmsh22
 from .limits import Damaged
 from .makarov import read_makarov
 from .meshio_checks import check_declared_counts
@@ -98,7 +98,7 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         elif ext == ".obj":
             points, triangles, ignored = read_obj(path)
             regions = patch_ids = None
-        elif ext == ".msh" and _is_ascii_22(path):
+        elif ext == ".msh" and _is_msh2(path):
             points, triangles, regions, patch_ids, ignored = read_gmsh22(path)
         else:
             check_declared_counts(path, ext)
@@ -165,9 +165,9 @@ def file_problem(path: Path) -> str | None:
     return None
 
 
-def _is_ascii_22(path: Path) -> bool:
+def _is_msh2(path: Path) -> bool:
     with open(path, "rb") as fh:
-        return is_ascii_22(fh.read(256))
+        return msh2_kind(fh.read(256)) is not None
 
 
 _INTERNALS = (
