@@ -223,9 +223,9 @@ def _msh_cases(tmp_path) -> dict[str, bytes]:
                 )
             cases.update(_binary_msh22_cases(data))
         elif not binary:
-            cases[f"{name}-nodes-1e12"] = data.replace(
-                b"$Nodes\n1 9 1 9\n", b"$Nodes\n1 1000000000000 1 9\n", 1
-            )
+            cases.update(_ascii_msh41_cases(data.decode()))
+        else:
+            cases.update(_binary_msh41_cases(data))
     return cases
 
 
@@ -249,6 +249,66 @@ def _binary_msh22_cases(data: bytes) -> dict[str, bytes]:
         broken = bytearray(data)
         broken[elements + 4 * field : elements + 4 * field + 4] = struct.pack("<i", bad)
         cases[f"msh-gmsh22-binary-block-{field}-{bad}"] = bytes(broken)
+    return cases
+
+
+def _ascii_msh41_cases(text: str) -> dict[str, bytes]:
+    """Counts, node tags and element references broken inside MSH 4.1 ASCII."""
+    cases = {}
+    nodes = text.index("$Nodes\n") + len("$Nodes\n")
+    header = text[nodes : text.index("\n", nodes)]
+    blocks, count, low, high = header.split()
+    for value in ("1000000000000", "-1", "x", str(int(count) + 1)):
+        cases[f"msh-gmsh-ascii-nodes-{value}"] = text.replace(
+            "$Nodes\n" + header, f"$Nodes\n{blocks} {value} {low} {high}", 1
+        )
+    cases["msh-gmsh-ascii-node-blocks-5"] = text.replace(
+        "$Nodes\n" + header, f"$Nodes\n5 {count} {low} {high}", 1
+    )
+    lines = text.splitlines()
+    k = lines.index("$Nodes") + 3  # the first node tag of the first block
+    for bad in ("0", "-3", "2.5"):
+        broken = lines.copy()
+        broken[k] = bad
+        cases[f"msh-gmsh-ascii-node-tag-{bad}"] = "\n".join(broken) + "\n"
+    k = lines.index("$Elements") + 3  # the first element line of the first block
+    for bad in ("0", "-3", str(N_POINTS + 1), "x"):
+        broken = lines.copy()
+        tokens = broken[k].split()
+        tokens[2] = bad
+        broken[k] = " ".join(tokens)
+        cases[f"msh-gmsh-ascii-element-node-{bad}"] = "\n".join(broken) + "\n"
+    for field, bad in ((2, "99"), (3, "1000"), (3, "0")):  # type, count of the first block
+        broken = lines.copy()
+        tokens = broken[k - 1].split()
+        tokens[field] = bad
+        broken[k - 1] = " ".join(tokens)
+        cases[f"msh-gmsh-ascii-block-{field}-{bad}"] = "\n".join(broken) + "\n"
+    return {key: value.encode() for key, value in cases.items()}
+
+
+def _binary_msh41_cases(data: bytes) -> dict[str, bytes]:
+    """Counts, node tags and element references broken inside MSH 4.1 binary."""
+    cases = {}
+    nodes = data.index(b"$Nodes\n") + len(b"$Nodes\n")
+    for value in (10**12, N_POINTS + 1, 2**64 - 1):
+        broken = bytearray(data)
+        broken[nodes + 8 : nodes + 16] = struct.pack("<Q", value)
+        cases[f"msh-gmsh-binary-nodes-{value}"] = bytes(broken)
+    first_tag = nodes + 32 + 12 + 8  # header (4 size_t), block (3 int, 1 size_t)
+    for bad in (0, 2**63):
+        broken = bytearray(data)
+        broken[first_tag : first_tag + 8] = struct.pack("<Q", bad)
+        cases[f"msh-gmsh-binary-node-tag-{bad}"] = bytes(broken)
+    elements = data.index(b"$Elements\n") + len(b"$Elements\n")
+    first_node = elements + 32 + 12 + 8 + 8  # header, block header, element tag
+    for bad in (0, N_POINTS + 1, 2**40):
+        broken = bytearray(data)
+        broken[first_node : first_node + 8] = struct.pack("<Q", bad)
+        cases[f"msh-gmsh-binary-element-node-{bad}"] = bytes(broken)
+    broken = bytearray(data)
+    broken[elements + 32 + 12 : elements + 32 + 20] = struct.pack("<Q", 10**9)
+    cases["msh-gmsh-binary-element-block-1e9"] = bytes(broken)
     return cases
 
 
@@ -453,6 +513,10 @@ NAMED = {
     "msh-gmsh22-binary-element-node-0.msh": "element 1 refers to node 0, which the $Nodes",
     "msh-gmsh22-binary-element-node--3.msh": "element 1 refers to node -3, which the $Nodes",
     "msh-gmsh22-binary-node-tag-0.msh": "node tag 0 is invalid",
+    "msh-gmsh-ascii-element-node-0.msh": "refers to node 0, which the $Nodes section does not",
+    "msh-gmsh-ascii-element-node--3.msh": "refers to node -3, which the $Nodes section",
+    "msh-gmsh-binary-element-node-0.msh": "refers to node 0, which the $Nodes section does not",
+    "msh-gmsh-ascii-node-tag-0.msh": "node tag 0 is invalid",
 }
 
 

@@ -223,3 +223,22 @@ def test_bad_files_name_the_file_and_the_problem(tmp_path, case):
 def test_bad_unit(tmp_path):
     with pytest.raises(ValueError, match="unit='km' is unknown"):
         read_mesh(tmp_path / "x.msh", unit="km")
+
+
+@pytest.mark.parametrize("binary", [False, True], ids=["ascii", "binary"])
+def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
+    """MSH 4.1 is read by our own reader: the same triangles, regions and patches as written."""
+    from core.io.meshio_formats import to_meshio
+    from tests.helpers import canonical_meshes
+
+    mesh = canonical_meshes()["double-ring"]
+    path = tmp_path / "rings.msh"
+    m = to_meshio(mesh, ".msh", 1.0)
+    meshio.write(path, m, file_format="gmsh", binary=binary)
+    assert path.read_bytes().startswith(b"$MeshFormat\n4.1 " + (b"1" if binary else b"0"))
+    back = read_mesh(path)
+    assert (back.n_vertices, back.n_triangles) == (mesh.n_vertices, mesh.n_triangles)
+    np.testing.assert_allclose(back.points[back.triangles], mesh.points[mesh.triangles])
+    assert back.stats()["interior_edges"] == mesh.stats()["interior_edges"]
+    # meshio's 4.1 writer puts all triangles in one entity without a physical group
+    assert back.n_patches == 1 and back.regions.tolist() == [1] * mesh.n_triangles

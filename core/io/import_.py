@@ -23,6 +23,7 @@ import numpy as np
 from ..mesh import TriMesh
 from ..topology import INDEX
 from .gmsh22 import msh2_kind, read_gmsh22
+from .gmsh41 import msh4_kind, read_gmsh41
 from .limits import Damaged
 from .makarov import read_makarov
 from .meshio_checks import check_declared_counts
@@ -98,8 +99,10 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         elif ext == ".obj":
             points, triangles, ignored = read_obj(path)
             regions = patch_ids = None
-        elif ext == ".msh" and _is_msh2(path):
+        elif ext == ".msh" and _msh_version(path) == 2:
             points, triangles, regions, patch_ids, ignored = read_gmsh22(path)
+        elif ext == ".msh" and _msh_version(path) == 4:
+            points, triangles, regions, patch_ids, ignored = read_gmsh41(path.read_bytes())
         else:
             check_declared_counts(path, ext)
             points, triangles, regions, patch_ids, ignored = _read_meshio(path, meshio_format)
@@ -165,9 +168,11 @@ def file_problem(path: Path) -> str | None:
     return None
 
 
-def _is_msh2(path: Path) -> bool:
+def _msh_version(path: Path) -> int | None:
+    """2 or 4 for MSH 2.x or 4.1 files (read by our own readers), else None (meshio)."""
     with open(path, "rb") as fh:
-        return msh2_kind(fh.read(256)) is not None
+        head = fh.read(256)
+    return 2 if msh2_kind(head) else 4 if msh4_kind(head) else None
 
 
 _INTERNALS = (
@@ -268,6 +273,8 @@ def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> Tr
     points = points[used]
     triangles = inverse.reshape(-1, 3)
     n = len(triangles)
+    if regions is not None and len(regions) and not np.any(np.asarray(regions) != 0):
+        regions = None  # Gmsh's physical tag 0: no physical group
     regions = _labels(regions, n, default=1)
     patch_ids = _labels(patch_ids, n, default=0)  # renumbered 0.. below (Gmsh tags are 1..)
     _, patch_ids = np.unique(patch_ids, return_inverse=True)
