@@ -333,6 +333,15 @@ def _vtk_legacy_cases(tmp_path) -> dict[str, bytes]:
                 cells_line, b"CELLS " + value + b" " + cells_line.split()[2], 1
             )
         cases.update(_truncations(name, data, (0.3, 0.5, 0.7, 0.9)))
+        with_data = meshio.Mesh(MESH.points, [("triangle", MESH.triangles)],
+                                cell_data={"q": [np.ones(N_TRIANGLES)]})  # fmt: skip
+        meshio.write(out, with_data, file_format="vtk", binary=binary)
+        data = out.read_bytes()
+        field = f"q 1 {N_TRIANGLES} double".encode()
+        for value in (b"q 1 1000000000000 double", b"q 100000000 8 double"):
+            cases[f"{name}-field-{value.split()[1].decode()}x{value.split()[2].decode()}"] = (
+                data.replace(field, value, 1)
+            )
     ascii_text = (tmp_path / "legacy-False.vtk").read_text()
     rows = ascii_text.split("\n")
     k = rows.index(next(r for r in rows if r.startswith("CONNECTIVITY"))) + 2

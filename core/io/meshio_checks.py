@@ -28,6 +28,12 @@ _VTK_KEYWORDS = {
 _VTK_LINE = re.compile(
     rb"^[ \t]*(" + b"|".join(_VTK_KEYWORDS) + rb")[ \t]+(\S+)(?:[ \t]+(\S+))?", re.MULTILINE
 )
+_VTK_TYPES = (rb"bit|unsigned_char|char|unsigned_short|short|unsigned_int|int|unsigned_long|"
+              rb"long|float|double|vtktypeint64|vtktypeuint64|vtkIdType")  # fmt: skip
+#: ``FIELD`` arrays: ``name components tuples type``; ``SCALARS``: ``name type [components]``.
+_VTK_FIELD = re.compile(rb"^[ \t]*\S+[ \t]+(\d+)[ \t]+(\d+)[ \t]+(?:" + _VTK_TYPES + rb")[ \t\r]*$",
+                        re.MULTILINE)  # fmt: skip
+_VTK_SCALARS = re.compile(rb"^[ \t]*SCALARS[ \t]+\S+[ \t]+\S+[ \t]+(\S+)", re.MULTILINE)
 _MSH_SECTION = re.compile(rb"^\$(Nodes|Elements)[ \t\r]*\n([^\n]*)", re.MULTILINE)
 
 
@@ -56,6 +62,14 @@ def check_declared_counts(path: Path, ext: str) -> None:
             if per_item is None and match.group(3):
                 numbers = _number(match.group(3), f"{what} entries")
             _fits(numbers or 0, what, count, size)
+        for match in _VTK_FIELD.finditer(data):
+            components = _number(match.group(1), "field components")
+            tuples = _number(match.group(2), "field tuples")
+            _fits(components * tuples, "field values", components * tuples, size)
+        for match in _VTK_SCALARS.finditer(data):
+            if not 1 <= _number(match.group(1), "scalar components") <= 4:
+                raise Damaged(f"a SCALARS line declares {match.group(1).decode('latin-1')[:20]} "
+                              "components; VTK allows 1 to 4")  # fmt: skip
     elif ext == ".stl" and not data[:5].lower() == b"solid" and len(data) >= 84:
         count = int.from_bytes(data[80:84], "little")
         if 84 + 50 * count != size:

@@ -324,8 +324,8 @@ def _cell_data(arrays, piece, n_cells: int, keep: slice | np.ndarray) -> dict[st
     data = {}
     section = piece.find("CellData")
     for el in [] if section is None else section.findall("DataArray"):
-        if el.attrib.get("NumberOfComponents", "1") != "1":
-            continue
+        if el.attrib.get("NumberOfComponents", "1") != "1" or el.attrib.get("type") not in _DTYPES:
+            continue  # vectors, strings: not regions or patches
         name = el.attrib.get("Name", "")
         data[name] = arrays.read(el, f"cell data {name[:40]!r}", n_cells)[keep]
     return data
