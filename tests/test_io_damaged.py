@@ -592,3 +592,36 @@ def test_obj_with_texture_normals_and_relative_indices_is_read(tmp_path):
     assert mesh.ignored_cells == {"line": 1}
     assert mesh.areas.sum() == pytest.approx(1.5)
     np.testing.assert_array_equal(mesh.points[mesh.triangles[1]], [[0, 0, 0], [1, 1, 0], [0, 1, 0]])
+
+
+BOMB_CHILD = """
+import resource, sys
+from core.io import MeshFileError, read_mesh
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+for path in sys.argv[1:]:
+    try:
+        read_mesh(path)
+    except MeshFileError:
+        pass
+    else:
+        sys.exit(f"{path} was accepted")
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)  # kB
+"""
+
+
+def test_bombs_are_refused_without_the_memory_they_declare(damaged):
+    """Peak RSS of a real process (C allocations included) while it refuses every bomb."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    folder, names = damaged
+    bombs = [str(folder / name) for name in names if "bomb" in name]
+    assert len(bombs) == 6
+    root = Path(__file__).resolve().parents[1]
+    env = dict(os.environ, PYTHONPATH=str(root))
+    r = subprocess.run([sys.executable, "-c", BOMB_CHILD, *bombs], capture_output=True,
+                       text=True, timeout=120, env=env)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    grown_kb = int(r.stdout.strip().splitlines()[-1])
+    assert grown_kb < 50 * 1024  # the bombs declare 256 MiB to 1.5 GiB
