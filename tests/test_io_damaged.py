@@ -625,3 +625,18 @@ def test_bombs_are_refused_without_the_memory_they_declare(damaged):
     assert r.returncode == 0, r.stderr
     grown_kb = int(r.stdout.strip().splitlines()[-1])
     assert grown_kb < 50 * 1024  # the bombs declare 256 MiB to 1.5 GiB
+
+
+def test_unreadable_file_is_named_as_such(tmp_path, monkeypatch):
+    """Issue 10 #10: permission denied is said as such (root reads everything, so simulate)."""
+    from core.io import import_
+
+    path = write_mesh(MESH, tmp_path / "locked.msh")
+
+    def denied(name, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(name))
+
+    monkeypatch.setattr(import_, "open", denied, raising=False)
+    with pytest.raises(MeshFileError) as info:
+        read_mesh(path)
+    assert str(info.value) == f"{path}: cannot be read: Permission denied"

@@ -208,3 +208,32 @@ def test_rwg_tables_in_every_unit(tmp_path, unit):
     np.testing.assert_allclose(centroids[:, 4], mesh.areas * s**2, rtol=1e-12)
     table = np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=1)
     np.testing.assert_allclose(table[:, 7], mesh.rwg.length * s, rtol=1e-12)
+
+
+@pytest.mark.parametrize("mode", ["inline", "appended-raw", "appended-base64", "ascii"])
+def test_vtu_written_by_vtk_is_read(tmp_path, mode):
+    """Our VTK XML reader against VTK's own writer in each of its data modes."""
+    pv = pytest.importorskip("pyvista")
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    mesh = MESHES["double-ring"]
+    grid = pv.read(write_mesh(mesh, tmp_path / "q.vtu"))
+    out = tmp_path / f"vtk-{mode}.vtu"
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetFileName(str(out))
+    writer.SetInputData(grid)
+    if mode == "ascii":
+        writer.SetDataModeToAscii()
+    elif mode == "inline":
+        writer.SetDataModeToBinary()
+    else:
+        writer.SetDataModeToAppended()
+        writer.SetEncodeAppendedData(mode == "appended-base64")
+        writer.SetHeaderTypeToUInt64()
+    assert writer.Write() == 1
+    if mode == "appended-raw":
+        assert b'encoding="raw"' in out.read_bytes()
+    back = read_mesh(out)
+    assert triangle_set(back.points, back.triangles) == triangle_set(mesh.points, mesh.triangles)
+    assert back.n_patches == mesh.n_patches
+    assert sorted(np.unique(back.regions).tolist()) == [1, 2]
