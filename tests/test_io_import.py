@@ -242,3 +242,12 @@ def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
     assert back.stats()["interior_edges"] == mesh.stats()["interior_edges"]
     # meshio's 4.1 writer puts all triangles in one entity without a physical group
     assert back.n_patches == 1 and back.regions.tolist() == [1] * mesh.n_triangles
+
+
+def test_makarov_mat_version_4(tmp_path):
+    """MATLAB v4 files (no header) are read after their variable headers are checked."""
+    path = tmp_path / "v4.mat"
+    scipy.io.savemat(path, {"p": POINTS[:4].T, "t": np.vstack([TRIANGLES.T + 1, [1, 1]])},
+                     format="4")  # fmt: skip
+    mesh = read_mesh(path, unit="mm")
+    assert mesh.n_triangles == 2 and mesh.areas.sum() == pytest.approx(1.0)
