@@ -120,9 +120,7 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
     except RecursionError:
         raise MeshFileError(f"{path}: not a readable {name} file (nested too deeply)") from None
     except Exception as exc:  # every parser failure becomes one clear message
-        raise MeshFileError(
-            f"{path}: not a readable {name} file ({_reason(exc, path)})"
-        ) from None
+        raise MeshFileError(f"{path}: not a readable {name} file ({_reason(exc, path)})") from None
 
 
 def file_problem(path: Path) -> str | None:
@@ -153,8 +151,10 @@ def file_problem(path: Path) -> str | None:
     )
     for test, kind in kinds:
         if test(mode):
-            return f"the path is {link}, which is {kind}, not a file" if link else (
-                f"the path is {kind}, not a file"
+            return (
+                f"the path is {link}, which is {kind}, not a file"
+                if link
+                else (f"the path is {kind}, not a file")
             )
     if not stat.S_ISREG(mode):
         return "the path is not a regular file"
