@@ -16,7 +16,9 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import math
 import os
+import re
 import sys
 import threading
 import time
@@ -57,6 +59,23 @@ def _window_size(text: str) -> int:
     if not 16 <= value <= 16384:
         raise argparse.ArgumentTypeError(f"{value} pixels is outside 16..16384")
     return value
+
+
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a finite number")
+    return value
+
+
+def _whole(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a whole number") from None
 
 
 def _add_params_options(p: argparse.ArgumentParser) -> None:
@@ -151,7 +170,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_stats_option(info)
 
-    from core.sweep import SWEEPABLE
+    from core.sweep import MAX_FRAMES, SWEEPABLE
 
     sweep = verbs.add_parser(
         "sweep",
@@ -162,10 +181,14 @@ def build_parser() -> argparse.ArgumentParser:
     _add_params_options(sweep)
     anim = sweep.add_argument_group("sweep")
     anim.add_argument("--param", required=True, choices=SWEEPABLE, help="the parameter to vary")
-    anim.add_argument("--from", dest="start", required=True, type=float, metavar="A")
-    anim.add_argument("--to", dest="stop", required=True, type=float, metavar="B")
-    anim.add_argument("--frames", required=True, type=int, metavar="K", help="frames, >= 2")
-    anim.add_argument("--fps", type=float, default=4.0, help="frames per second (default 4)")
+    anim.add_argument("--from", dest="start", required=True, type=_finite, metavar="A")
+    anim.add_argument("--to", dest="stop", required=True, type=_finite, metavar="B")
+    anim.add_argument(
+        "--frames", required=True, type=_whole, metavar="K", help=f"frames, 2..{MAX_FRAMES}"
+    )
+    anim.add_argument(
+        "--fps", type=_finite, default=4.0, help="frames per second, up to 100 (default 4)"
+    )
     anim.add_argument(
         "-o", "--output", required=True, metavar="OUT", help="the animation: .gif or .mp4"
     )
@@ -273,7 +296,7 @@ def _emit_stats(stats: dict[str, Any], target: str | None) -> None:
 def _cmd_mesh(args: argparse.Namespace) -> int:
     from core import build_mesh
     from core.io import describe_export, export_format
-    from core.presets import preset_names, resolve_params
+    from core.presets import preset_names
 
     if args.preset is not None and args.preset not in preset_names():
         raise UsageError(
@@ -286,6 +309,8 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
             raise UsageError(f"mesh: -o {exc}") from None
     if args.transparent and not args.screenshot:
         raise UsageError("mesh: --transparent needs --screenshot")
+    if args.screenshot:
+        _check_render_size("mesh", *args.window_size)
     for text in args.sets:
         if "=" not in text or not text.partition("=")[0].strip():
             raise UsageError(f"mesh: --set {text!r} is invalid; expected name=value")
@@ -295,7 +320,7 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
     stats_to_stdout = args.stats_json == "-"
     say = sys.stderr if stats_to_stdout else sys.stdout
 
-    params = resolve_params(args.preset, args.params, args.sets)
+    params = _resolve(args)
     with progress(f"building {params.predicted_triangles():,} triangles"):
         mesh = build_mesh(params)
         stats = mesh.stats()
@@ -313,6 +338,37 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
         print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)", file=say)
     _emit_stats(stats, args.stats_json)
     return 0
+
+
+#: Bytes an off-screen render needs per pixel (colour, depth and VTK's copies; measured:
+#: 9.1 GB for 16384 x 16384 with llvmpipe).
+RENDER_BYTES_PER_PIXEL = 36
+#: Renders estimated above this are refused before they start.
+RENDER_MEMORY_LIMIT = 2 * 2**30
+
+
+def _check_render_size(verb: str, width: int, height: int) -> None:
+    need = width * height * RENDER_BYTES_PER_PIXEL
+    if need > RENDER_MEMORY_LIMIT:
+        raise UsageError(
+            f"{verb}: --window-size {width} {height} would need about {need / 2**30:.1f} GiB "
+            f"to render; at most {RENDER_MEMORY_LIMIT / 2**30:.0f} GiB "
+            f"({RENDER_MEMORY_LIMIT // RENDER_BYTES_PER_PIXEL:,} pixels)"
+        )
+
+
+def _resolve(args: argparse.Namespace) -> Any:
+    """The parameters of ``args``; every error names its source (preset, file, --set)."""
+    from core.presets import resolve_params
+
+    try:
+        return resolve_params(args.preset, args.params, args.sets)
+    except (ArithmeticError, RecursionError) as exc:  # ValueError already names the source
+        given = [f"preset {args.preset!r}" if args.preset else "", args.params or ""]
+        given += [f"--set {text!r}" for text in args.sets]
+        sources = ", ".join(filter(None, given)) or "default parameters"
+        why = "nested too deeply" if isinstance(exc, RecursionError) else str(exc)
+        raise InputError(f"{sources}: {why}") from None
 
 
 def _check_folder(target: str) -> None:
@@ -361,20 +417,27 @@ def _cmd_presets(args: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from core.presets import preset_names, resolve_params
+    from core.presets import preset_names
 
     if args.preset is not None and args.preset not in preset_names():
         raise UsageError(
             f"sweep: unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
         )
+    from core.sweep import check_sweep_size
+
     if args.frames < 2:
         raise UsageError(f"sweep: --frames {args.frames} is invalid; expected 2 or more")
     if Path(args.output).suffix.lower() not in (".gif", ".mp4"):
         raise UsageError(f"sweep: -o {args.output}: expected a .gif or .mp4 file")
-    if not args.fps > 0:
-        raise UsageError(f"sweep: --fps {args.fps} is invalid; expected a positive number")
+    if not 0 < args.fps <= 100:
+        raise UsageError(f"sweep: --fps {args.fps:g} is invalid; expected more than 0, up to 100")
+    _check_render_size("sweep", *args.window_size)
+    try:
+        check_sweep_size(args.frames, tuple(args.window_size))
+    except ValueError as exc:
+        raise UsageError(f"sweep: {exc}") from None
     _check_folder(args.output)
-    base = resolve_params(args.preset, args.params, args.sets)
+    base = _resolve(args)
     try:
         from app.sweep import render_sweep
     except ImportError as exc:
@@ -390,6 +453,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+#: Subcommand -> its function. A new subcommand adds its parser in ``build_parser`` (or a
+#: ``register(verbs)`` call there) and one entry here.
 VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
 
 
@@ -408,11 +473,26 @@ def _open_window(argv: list[str]) -> int:
         print(build_parser().format_help())
         print("The desktop window is not available yet; use the commands above.")
         return 0
+    from app import window
+
+    window_parser = getattr(window, "build_parser", None)
+    if window_parser is not None:  # bad options: one line and exit 2, before any window
+        parser = window_parser()
+
+        def one_line(message: str) -> NoReturn:
+            raise UsageError(f"{message} (see barymesh --help)")
+
+        parser.error = one_line
+        try:
+            parser.parse_args(argv)
+        except SystemExit as exc:  # --help
+            return int(exc.code or 0)
     return int(window_main(argv) or 0)
 
 
 def _fail(message: str, code: int) -> int:
     message = " ".join(str(message).split())  # one line
+    message = re.sub(r"\d{40,}", lambda m: f"{m[0][:8]}…({len(m[0]):,} digits)", message)
     print(f"{PROG}: error: {message}", file=sys.stderr)
     return code
 
@@ -438,8 +518,10 @@ def main(argv: list[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
-    except (InputError, ValueError, TypeError, OSError) as exc:
+    except (InputError, ValueError, TypeError, OSError, ArithmeticError) as exc:
         return _fail(str(exc) or type(exc).__name__, 1)
+    except RecursionError:
+        return _fail("the input is nested too deeply", 1)
     except KeyboardInterrupt:
         return _fail("interrupted", 130)
     except Exception as exc:  # noqa: BLE001 - the promise is: never a traceback

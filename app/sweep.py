@@ -16,12 +16,14 @@ import pyvista as pv
 
 from core import MeshParams, build_mesh
 from core.io import atomic_write
-from core.sweep import sweep_params
+from core.sweep import check_sweep_size, sweep_params
 
 from .scene import MeshScene, _prepare_headless, scene_data
 
 #: Encodings by extension.
 ANIMATION_EXTENSIONS = (".gif", ".mp4")
+#: GIF frame delays are whole hundredths of a second: 100 fps is the fastest.
+MAX_FPS = 100
 
 UNITS = {
     "inner_radius": "mm",
@@ -92,8 +94,9 @@ def render_sweep(
             f"{path}: unsupported animation format {suffix or '(none)'!r}; "
             f"expected one of {', '.join(ANIMATION_EXTENSIONS)}"
         )
-    if not fps > 0:
-        raise ValueError(f"fps={fps!r} is invalid; expected a positive number")
+    if not 0 < fps <= MAX_FPS:
+        raise ValueError(f"fps={fps!r} is invalid; expected more than 0, up to {MAX_FPS}")
+    check_sweep_size(frames, window_size)
     steps = sweep_params(base, name, start, stop, frames)
     total = 2 * len(steps)
     done = 0
@@ -106,17 +109,18 @@ def render_sweep(
         if should_stop is not None and should_stop():
             raise SweepCancelled("sweep cancelled")
 
-    data, captions = [], []
+    # first pass: every frame's extent and caption (one mesh in memory at a time)
+    extents, captions = [], []
     for p in steps:
         mesh = build_mesh(p)
-        data.append(scene_data(mesh))
+        pts = np.asarray(mesh.points)
+        extents.append((pts[:, 0].min(), pts[:, 0].max(), pts[:, 1].min(), pts[:, 1].max()))
         captions.append(frame_caption(p, name, mesh.n_triangles))
+        del mesh, pts
         tick()
-    x0 = min(d.bounds[0] for d in data)
-    x1 = max(d.bounds[1] for d in data)
-    y0 = min(d.bounds[2] for d in data)
-    y1 = max(d.bounds[3] for d in data)
+    x0, x1, y0, y1 = (f(e[k] for e in extents) for k, f in enumerate((min, max, min, max)))
 
+    # second pass: mesh again and render, so memory does not grow with the frame count
     width, height = (int(v) for v in window_size)
     _prepare_headless()
     plotter = pv.Plotter(off_screen=True, window_size=(width, height))
@@ -124,11 +128,12 @@ def render_sweep(
     try:
         scene = MeshScene(plotter)
         caption = plotter.add_text("", position="upper_left", font_size=11, color="#202020")
-        for d, text in zip(data, captions, strict=True):
-            scene.update(d)
+        for p, text in zip(steps, captions, strict=True):
+            caption.SetText(2, text)  # corner 2: upper left
+            scene.update(scene_data(build_mesh(p)))
             scene.bounds = (x0, x1, y0, y1)
             scene.top_view()
-            caption.SetText(2, text)  # corner 2: upper left
+            plotter.render()  # this frame's mesh *and* caption, before the grab
             images.append(np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3])
             tick()
     finally:
@@ -143,8 +148,8 @@ def _encode(images: list[np.ndarray], path: Path, fps: float) -> None:
     suffix = path.suffix.lower()
 
     def write(tmp: Path) -> None:
-        if suffix == ".gif":
-            imageio.mimwrite(tmp, images, format="GIF", duration=1.0 / fps, loop=0)
+        if suffix == ".gif":  # imageio's GIF writer takes each frame's duration in ms
+            imageio.mimwrite(tmp, images, format="GIF", duration=1000.0 / fps, loop=0)
         else:
             imageio.mimwrite(tmp, images, format="FFMPEG", fps=fps, macro_block_size=2)
 

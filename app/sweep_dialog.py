@@ -34,7 +34,7 @@ from PySide6.QtWidgets import (
 )
 
 from core import MeshParams
-from core.sweep import SWEEPABLE, sweep_params
+from core.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 
 from .sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
 
@@ -90,11 +90,14 @@ class SweepDialog(QDialog):
 
     Parameters
     ----------
-    params : MeshParams
-        The other parameters (the main window's current ones).
+    params : MeshParams or callable returning MeshParams
+        The other parameters. Pass a callable (e.g. ``lambda: window.model.params``)
+        so that an export uses the parameters of the moment Export is pressed, not
+        those of when the dialog opened.
     parent : QWidget, optional
     start_dir : str
-        Where the output file goes by default.
+        Where the output file goes by default (and what a relative file name is
+        relative to); the home folder when empty. Never the working directory.
     """
 
     finished_export = Signal(object)  # frame count, "cancelled" or an error message
@@ -103,12 +106,15 @@ class SweepDialog(QDialog):
                  start_dir: str = "") -> None:
         super().__init__(parent)
         self.setWindowTitle("Export sweep animation")
-        self.params = params
+        self._params = params
+        self.folder = Path(start_dir).expanduser() if start_dir else Path.home()
+        self.folder = self.folder.absolute()
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.stop = threading.Event()
         self.running = False
         self.result: object = None
+        self.result_path: Path | None = None
 
         form = QFormLayout(self)
         self.param = QComboBox(self)
@@ -121,7 +127,7 @@ class SweepDialog(QDialog):
             box.setRange(-1e6, 1e6)
             box.setDecimals(3)
         self.frames = QSpinBox(self)
-        self.frames.setRange(2, 1000)
+        self.frames.setRange(2, MAX_FRAMES)
         self.frames.setValue(20)
         self.fps = QDoubleSpinBox(self)
         self.fps.setRange(0.5, 60.0)
@@ -133,7 +139,7 @@ class SweepDialog(QDialog):
             self.size.addItem(title, size)
         self.path = QLineEdit(self)
         self.path.setPlaceholderText("sweep.gif or sweep.mp4")
-        self.path.setText(str(Path(start_dir or ".") / "sweep.gif"))
+        self.path.setText(str(self.folder / "sweep.gif"))
         browse = QPushButton("Browse…", self)
         browse.clicked.connect(self._browse)
         path_row = QHBoxLayout()
@@ -175,6 +181,11 @@ class SweepDialog(QDialog):
         self.param.setCurrentIndex(self.param.findData("angle_step"))
         self._param_changed()
 
+    @property
+    def params(self) -> MeshParams:
+        """The other parameters, as they are now (see the class docstring)."""
+        return self._params() if callable(self._params) else self._params
+
     # -- inputs --------------------------------------------------------------------------
 
     def _param_changed(self, *_args: object) -> None:
@@ -208,14 +219,18 @@ class SweepDialog(QDialog):
         if not text:
             raise ValueError("choose an output file (.gif or .mp4)")
         path = Path(text).expanduser()
+        if not path.is_absolute():  # relative to the dialog's folder, not the working directory
+            path = self.folder / path
         if path.suffix.lower() not in ANIMATION_EXTENSIONS:
             raise ValueError(f"{path.name}: the output file must end in .gif or .mp4")
         if not path.parent.is_dir():
             raise ValueError(f"{path.parent}: no such folder")
         name = self.param.currentData()
         start, stop, frames = self.start.value(), self.stop_value.value(), self.frames.value()
-        sweep_params(self.params, name, start, stop, frames)  # every frame valid?
-        return {"base": self.params, "name": name, "start": start, "stop": stop,
+        base = self.params  # read once: the parameters of the moment Export is pressed
+        sweep_params(base, name, start, stop, frames)  # every frame valid?
+        check_sweep_size(frames, self.size.currentData())
+        return {"base": base, "name": name, "start": start, "stop": stop,
                 "frames": frames, "path": path, "window_size": self.size.currentData(),
                 "fps": self.fps.value()}
 
@@ -231,6 +246,7 @@ class SweepDialog(QDialog):
             self._say(str(exc), error=True)
             return False
         self.stop.clear()
+        self.result_path = kwargs["path"]
         self.running = True
         self.result = None
         self.progress.setRange(0, 2 * kwargs["frames"])
@@ -258,7 +274,7 @@ class SweepDialog(QDialog):
             self._say("Cancelled: no file was written.")
         elif isinstance(outcome, int):
             self.progress.setValue(self.progress.maximum())
-            self._say(f"Wrote {outcome} frames to {self.path.text()}")
+            self._say(f"Wrote {outcome} frames to {self.result_path}")
         else:
             self._say(f"Could not export the sweep: {outcome}", error=True)
         self.finished_export.emit(outcome)

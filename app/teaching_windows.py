@@ -81,7 +81,7 @@ class TeachingWindows(QObject):
             return self.sweep
         start = str(self.window.settings.value("paths/sweep_dir", ""))
         try:
-            self.sweep = SweepDialog(self.window.model.params, self.window, start_dir=start)
+            self.sweep = SweepDialog(lambda: self.window.model.params, self.window, start_dir=start)
         except Exception as exc:  # noqa: BLE001 - reported, never a crash
             return self._failed("sweep dialog", exc)
         self.sweep.finished_export.connect(self._sweep_done)

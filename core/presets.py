@@ -40,6 +40,9 @@ def _read_json(path: Path) -> dict[str, Any]:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ValueError(f"{path}: invalid JSON at line {exc.lineno}: {exc.msg}") from None
+    except (ValueError, RecursionError) as exc:  # a number of over 4300 digits, deep nesting
+        why = "nested too deeply" if isinstance(exc, RecursionError) else "a number is too long"
+        raise ValueError(f"{path}: invalid JSON parameters ({why})") from None
     if not isinstance(data, dict):
         raise ValueError(
             f"{path}: expected a JSON object of parameter names to values, "
@@ -117,6 +120,9 @@ def parse_assignment(text: str) -> tuple[str, Any]:
         value = json.loads(raw)
     except json.JSONDecodeError:
         value = raw
+    except (ValueError, RecursionError):  # a number of over 4300 digits, deep nesting
+        message = f"--set {text[:60]!r}: the value is nested too deeply or too long"
+        raise ValueError(message) from None
     return name, value
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -18,6 +19,38 @@ SWEEPABLE = (
     "gap_width",
     "gap_angle",
 )
+
+
+#: Most frames a sweep may have.
+MAX_FRAMES = 1000
+#: Bytes a sweep keeps per pixel of each frame until it is encoded (RGB, plus the
+#: encoder's palette or YUV copy).
+FRAME_BYTES_PER_PIXEL = 4
+#: Sweeps estimated above this are refused before they start.
+SWEEP_MEMORY_LIMIT = 2 * 2**30
+
+
+def check_sweep_size(frames: int, window_size: tuple[int, int]) -> None:
+    """Refuse a sweep whose frames would not fit in memory, with a ``ValueError`` saying so.
+
+    >>> check_sweep_size(20, (800, 600))
+    >>> check_sweep_size(100_000, (800, 600))
+    Traceback (most recent call last):
+    ...
+    ValueError: frames=100000 is more than the 1000 a sweep may have
+    """
+    if isinstance(frames, bool) or not isinstance(frames, int) or frames < 2:
+        raise ValueError(f"frames={frames!r} is invalid; expected an integer >= 2")
+    if frames > MAX_FRAMES:
+        raise ValueError(f"frames={frames} is more than the {MAX_FRAMES} a sweep may have")
+    width, height = (int(v) for v in window_size)
+    need = frames * width * height * FRAME_BYTES_PER_PIXEL
+    if need > SWEEP_MEMORY_LIMIT:
+        most = SWEEP_MEMORY_LIMIT // (width * height * FRAME_BYTES_PER_PIXEL)
+        raise ValueError(
+            f"{frames} frames of {width} x {height} pixels need about {need / 2**30:.1f} GiB; "
+            f"at most {most} frames of that size fit in {SWEEP_MEMORY_LIMIT / 2**30:.0f} GiB"
+        )
 
 
 def sweep_params(
@@ -39,6 +72,15 @@ def sweep_params(
         raise ValueError(f"cannot sweep {name!r}; expected one of {', '.join(SWEEPABLE)}")
     if isinstance(frames, bool) or not isinstance(frames, int) or frames < 2:
         raise ValueError(f"frames={frames!r} is invalid; expected an integer >= 2")
+    if frames > MAX_FRAMES:
+        raise ValueError(f"frames={frames} is more than the {MAX_FRAMES} a sweep may have")
+    for label, value in (("start", start), ("stop", stop)):
+        try:
+            number = float(value)
+        except (TypeError, ValueError, OverflowError):
+            raise ValueError(f"{label}={value!r} is not a number") from None
+        if not math.isfinite(number):
+            raise ValueError(f"{label}={value!r} is not a finite number")
     values = np.linspace(float(start), float(stop), frames)
     is_int = isinstance(getattr(base, name), int) and not isinstance(getattr(base, name), bool)
     out = []

@@ -111,3 +111,44 @@ def test_opened_from_the_file_menu_with_the_window_parameters(qtbot, tmp_path):
     assert iio.imread(out, index=None).shape[0] == 2
     assert "Wrote 2 frames" in win.statusBar().currentMessage()
     win.close()
+
+
+def test_export_uses_the_parameters_of_the_moment(qtbot, tmp_path):
+    """Issue 9 #7: parameters changed while the dialog is open are the ones exported."""
+    current = {"params": COARSE}
+    d = SweepDialog(lambda: current["params"], start_dir=str(tmp_path))
+    qtbot.addWidget(d)
+    d.show()
+    qtbot.waitExposed(d)
+    d.size.setCurrentIndex(d.size.findText("640 × 480"))
+    current["params"] = COARSE.replace(structure="patch", patch_size=4.0)  # the window moved on
+    out = tmp_path / "now.gif"
+    assert run(qtbot, d, param="subdivisions", path=out, start=1, stop_value=2, frames=2)
+    assert d.result == 2
+    assert d.sweep_kwargs()["base"] == current["params"]
+    assert d.params.structure == "patch"
+    d.close()
+
+
+def test_default_output_is_absolute_and_not_the_working_directory(qtbot, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    d = SweepDialog(COARSE)
+    qtbot.addWidget(d)
+    from pathlib import Path
+
+    shown = Path(d.path.text())
+    assert shown.is_absolute() and shown.parent == Path.home().absolute()
+    folder = tmp_path / "exports"
+    folder.mkdir()
+    d2 = SweepDialog(COARSE, start_dir=str(folder))
+    qtbot.addWidget(d2)
+    d2.path.setText("relative.gif")
+    assert d2.sweep_kwargs()["path"] == folder / "relative.gif"  # not tmp_path / relative.gif
+
+
+def test_too_many_frames_for_the_size_is_refused_in_the_dialog(dialog, qtbot, tmp_path):
+    dialog.size.setCurrentIndex(dialog.size.findText("1280 × 720 (16:9)"))
+    assert not run(qtbot, dialog, param="angle_step", path=tmp_path / "big.gif", start=20.0,
+                   stop_value=1.0, frames=900)
+    assert "at most 582 frames" in dialog.message.text()
+    assert not list(tmp_path.glob("*.gif*"))

@@ -11,9 +11,8 @@ import numpy as np
 import pytest
 
 from app import cli
-from core import build_mesh
 from core.io import read_mesh
-from core.presets import load_preset, preset_names
+from core.presets import preset_names
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -50,20 +49,24 @@ def test_presets_lists_one_line_each(tmp_path):
     assert all(len(line.split(None, 1)) == 2 for line in lines)
 
 
+#: Paper Fig. 12(d): 2 rings x 18 sectors (20 deg) of one patch, 2 n^2 = 32 triangles each.
+FIG12D_TRIANGLES = 2 * 18 * 2 * 4**2
+
+
 def test_mesh_writes_every_output_and_summary(tmp_path):
-    outs = ["srr.msh", "srr.vtu", "srr.vtp", "srr.stl", "srr.obj", "srr.mat", "srr.npz"]
+    outs = ["d.msh", "d.vtu", "d.vtp", "d.stl", "d.obj", "d.mat", "d.npz", "d.csv"]
     args = [a for o in outs for a in ("-o", o)]
-    r = run("mesh", "--preset", "srr-openmodes", *args, cwd=tmp_path)
+    r = run("mesh", "--preset", "paper-fig12d", *args, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    mesh = build_mesh(load_preset("srr-openmodes")[0])
-    assert f"{mesh.n_triangles:,} triangles" in r.stdout
+    assert FIG12D_TRIANGLES == 1152
+    assert "1,152 triangles" in r.stdout
     for out in outs:
         assert (tmp_path / out).exists()
         assert f"wrote {out}" in r.stdout
-        if out.endswith(".npz"):
+        if out.endswith((".npz", ".csv")):
             continue
         back = read_mesh(tmp_path / out)
-        assert back.n_triangles == mesh.n_triangles
+        assert back.n_triangles == FIG12D_TRIANGLES
     assert "(MATLAB p/t (Makarov), m)" in r.stdout  # .mat defaults to metres
 
 
@@ -89,9 +92,24 @@ def test_stats_json_stdout_is_only_json(tmp_path):
         cwd=tmp_path,
     )
     assert r.returncode == 0, r.stderr
-    params = load_preset("paper-fig10")[0].replace(subdivisions=2)
-    assert json.loads(r.stdout) == json.loads(json.dumps(build_mesh(params).stats()))
-    assert "triangles" in r.stderr  # the human summary moved to stderr
+    stats = json.loads(r.stdout)
+    n = 2  # a 10 mm square patch in n x n cells, two triangles each
+    closed_forms = {
+        "triangles": 2 * n**2,
+        "vertices": (n + 1) ** 2,
+        "edges": 3 * n**2 + 2 * n,
+        "interior_edges": 3 * n**2 - 2 * n,
+        "boundary_edges": 4 * n,
+        "junction_edges": 0,
+        "euler_characteristic": 1,
+        "patches": 1,
+    }
+    assert {key: stats[key] for key in closed_forms} == closed_forms
+    assert stats["area"] == pytest.approx(100.0)
+    assert stats["min_edge"] == pytest.approx(5.0) and stats["max_edge"] == pytest.approx(
+        5.0 * 2**0.5
+    )
+    assert "8 triangles" in r.stderr  # the human summary moved to stderr
 
 
 def test_stats_json_file(tmp_path):
@@ -318,3 +336,69 @@ def test_screenshot_without_display(tmp_path, transparent):
     assert 0.05 < background.mean() < 0.98  # both background and mesh pixels
     assert len(np.unique(rgb[~background], axis=0)) > 3  # faces, edges, centroids
     assert [p.name for p in tmp_path.iterdir() if ".tmp" in p.name] == []
+
+
+# -- hostile input: one line on stderr naming the input (issue 10 #12, #7, #11) ----------
+
+
+def _write_inputs(folder):
+    (folder / "digits.json").write_text('{"subdivisions": ' + "9" * 5000 + "}")
+    (folder / "deep.json").write_text('{"origin": ' + "[" * 100_000 + "]" * 100_000 + "}")
+    import scipy.io
+
+    p = np.array([[0.0, 1, 0], [0, 0, 1], [0, 0, 0]])
+    scipy.io.savemat(folder / "complex.mat", {"p": p + 1j, "t": np.array([[1], [2], [3], [1]])})
+    (folder / "truncated.msh").write_text("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n423\n")
+    os.mkfifo(folder / "pipe.msh")
+    (folder / "zero.stl").symlink_to("/dev/zero")
+    (folder / "loop.obj").symlink_to(folder / "loop.obj")
+
+
+@pytest.mark.parametrize(
+    ("args", "code", "fragments"),
+    [
+        (["--frobnicate"], 2, ["unrecognized arguments: --frobnicate"]),
+        (["--preset", "paper-fig10", "--bogus", "1"], 2, ["unrecognized arguments: --bogus 1"]),
+        (["mesh", "--params", "digits.json"], 1, ["digits.json", "a number is too long"]),
+        (["mesh", "--params", "deep.json"], 1, ["deep.json", "nested too deeply"]),
+        (["mesh", "--set", "subdivisions=" + "9" * 5000], 1, ["--set 'subdivisions=9", "too long"]),
+        (["mesh", "--set", "origin=" + "[" * 100_000], 1, ["--set 'origin=[[", "too deeply"]),
+        (["mesh", "--screenshot", "a.png", "--window-size", "16384", "16384"], 2,
+         ["--window-size 16384 16384 would need about 9.0 GiB"]),
+        (["info", "complex.mat"], 1, ["complex.mat: its p holds complex numbers"]),
+        (["info", "truncated.msh"], 1, ["truncated.msh: its $Nodes section has no $EndNodes"]),
+        (["info", "pipe.msh"], 1, ["pipe.msh: the path is a named pipe (FIFO), not a file"]),
+        (["info", "zero.stl"], 1, ["zero.stl: the path is a symbolic link to /dev/zero, which is"]),
+        (["info", "loop.obj"], 1, ["loop.obj: the path is a symbolic link loop"]),
+    ],
+)  # fmt: skip
+def test_hostile_input_is_one_line_naming_it(tmp_path, args, code, fragments):
+    _write_inputs(tmp_path)
+    before = set(tmp_path.iterdir())
+    r = run(*args, cwd=tmp_path)
+    assert_one_line_error(r, code, *fragments)
+    assert "Warning" not in r.stderr and "Traceback" not in r.stderr
+    assert r.stderr.count(args[-1]) <= 1 or args[0] != "info"  # the path is said once
+    after = {p for p in tmp_path.iterdir() if p.name != "matplotlib"}  # XDG_CONFIG_HOME here
+    assert after == before  # nothing written, no temp file
+
+
+def test_messages_shorten_huge_numbers(capsys):
+    assert cli._fail("inner_radius=" + "1" * 500 + " is too large", 1) == 1
+    err = capsys.readouterr().err
+    assert len(err) < 80 and "inner_radius=11111111…" in err
+
+
+def test_screenshot_removes_what_a_killed_render_left(tmp_path):
+    """A killed render (VTK aborting, SIGKILL) leaves its temp file; the next write removes it."""
+    from core.io.atomic import TEMP_MARK
+
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    stale = tmp_path / f".shot.png{TEMP_MARK}{dead.pid}-x.tmp.png"
+    stale.write_bytes(b"")
+    os.utime(stale, (1e9, 1e9))
+    r = run("mesh", "--preset", "paper-fig10", "--screenshot", "shot.png", "--window-size", "64",
+            "48", cwd=tmp_path)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name != "matplotlib") == ["shot.png"]

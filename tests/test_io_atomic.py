@@ -130,3 +130,100 @@ def test_csv_companions_are_atomic(tmp_path, monkeypatch):
     with pytest.raises(OSError):
         write_mesh(build_mesh(MeshParams(structure="patch", subdivisions=2)), target)
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_csv_set_is_replaced_only_when_every_file_is_written(tmp_path, monkeypatch):
+    """Issue 10 #13: the centroids file failing keeps all three old files."""
+    from core.io import rwg
+
+    target = tmp_path / "rwg.csv"
+    write_mesh(MESH, target)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    real = rwg.csv_tables
+
+    def centroids_fail(*args, **kwargs):
+        tables = real(*args, **kwargs)
+        tables["_centroids"] = None  # writing it raises, after the other two were written
+        return tables
+
+    monkeypatch.setattr(rwg, "csv_tables", centroids_fail)
+    with pytest.raises(ExportError, match="rwg.csv"):
+        write_mesh(build_mesh(MeshParams(structure="patch", subdivisions=2)), target)
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_writing_through_a_symlink_writes_its_target(tmp_path):
+    real = tmp_path / "store" / "mesh.stl"
+    real.parent.mkdir()
+    real.write_text("old")
+    link = tmp_path / "mesh.stl"
+    link.symlink_to(real)
+    write_mesh(MESH, link)
+    assert link.is_symlink() and os.readlink(link) == str(real)
+    assert real.read_text().startswith("solid")
+    assert leftovers(tmp_path) == [] and leftovers(real.parent) == []
+
+
+def test_stale_temp_files_of_dead_exports_are_removed(tmp_path):
+    import subprocess
+    import sys
+
+    from core.io.atomic import TEMP_MARK
+
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    live = os.getppid()
+    stale = tmp_path / f".mesh.msh{TEMP_MARK}{dead.pid}-abc.tmp.msh"
+    busy = tmp_path / f".mesh.msh{TEMP_MARK}{live}-def.tmp.msh"
+    other_target = tmp_path / f".other.msh{TEMP_MARK}{dead.pid}-ghi.tmp.msh"
+    not_ours = tmp_path / ".mesh.msh.xyz.tmp.msh"
+    for path in (stale, busy, other_target, not_ours):
+        path.write_bytes(b"half")
+        os.utime(path, (1e9, 1e9))  # 2001: older than this process
+    write_mesh(MESH, tmp_path / "mesh.msh")
+    assert leftovers(tmp_path) == sorted(p.name for p in (busy, other_target, not_ours))
+
+
+CHILD = """
+import sys, time
+from core import MeshParams, build_mesh
+from core.io import export, write_mesh
+
+def slow(mesh, path, ext, factor):
+    path.write_bytes(b"half a mesh")
+    print("writing", flush=True)
+    time.sleep(60)
+
+export.write_meshio = slow
+write_mesh(build_mesh(MeshParams(structure="patch")), sys.argv[1])
+"""
+
+
+@pytest.mark.parametrize("how", ["SIGTERM", "SIGINT", "SIGKILL"])
+def test_killed_mid_write(tmp_path, how):
+    """A process killed while writing: the target stays, no temp file outlives the next write."""
+    import signal
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    target = tmp_path / "mesh.msh"
+    target.write_bytes(b"the old file")
+    env = dict(os.environ, PYTHONPATH=str(root))
+    child = subprocess.Popen([sys.executable, "-c", CHILD, str(target)], env=env,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    assert child.stdout.readline() == "writing\n"
+    assert len(leftovers(tmp_path)) == 1
+    child.send_signal(getattr(signal, how))
+    code = child.wait(timeout=60)
+    child.stdout.close()
+    child.stderr.close()
+    assert target.read_bytes() == b"the old file"
+    if how == "SIGKILL":
+        assert code == -signal.SIGKILL and len(leftovers(tmp_path)) == 1  # nothing can run
+        os.utime(tmp_path / leftovers(tmp_path)[0], (1e9, 1e9))
+        write_mesh(MESH, target)  # the next export removes what the killed one left
+    else:  # the temp file was removed as the process ended (SIGTERM: exit 143 like the default)
+        assert code == (143 if how == "SIGTERM" else -signal.SIGINT)
+    assert leftovers(tmp_path) == []

@@ -166,16 +166,17 @@ def _bad_files(tmp_path):
     files = {
         "empty": (tmp_path / "empty.msh", b"", "empty"),
         "garbage-msh": (tmp_path / "g.msh", garbage, "not a readable Gmsh"),
-        "garbage-vtu": (tmp_path / "g.vtu", garbage, "not a readable VTK"),
-        "garbage-vtp": (tmp_path / "g.vtp", garbage, "not a readable VTK XML polydata"),
+        "garbage-vtu": (tmp_path / "g.vtu", garbage, "it is not valid XML"),
+        "garbage-vtp": (tmp_path / "g.vtp", garbage, "it is not valid XML"),
         "garbage-vtk": (tmp_path / "g.vtk", garbage, "not a readable VTK"),
-        "garbage-stl": (tmp_path / "g.stl", garbage, "no triangles"),  # parses as binary STL
-        "garbage-mat": (tmp_path / "g.mat", garbage, "not a readable MATLAB"),
+        # bytes 80..84 of a binary STL count its triangles; here they do not match the size
+        "garbage-stl": (tmp_path / "g.stl", garbage, "declares 544,501,614 triangles"),
+        "garbage-mat": (tmp_path / "g.mat", garbage, "it is not a MATLAB file"),
         "wrong-xml": (tmp_path / "w.vtp", b'<VTKFile type="ImageData"/>', "PolyData"),
-        "truncated": (truncated, None, "not a readable Gmsh"),
+        "truncated": (truncated, None, "the file is truncated"),
         "no-triangles": (lines_only, None, "no triangles (only 2 line cells"),
         "no-p": (bad_mat, None, "no variable 'p'"),
-        "index-out-of-range": (out_of_range, None, "p has 3 vertices"),
+        "index-out-of-range": (out_of_range, None, "refers to vertex 9 but p has 3 vertices"),
         "unsupported": (tmp_path / "m.ply", b"ply\n", "cannot read .ply"),
         "missing": (tmp_path / "nope.msh", None, "does not exist"),
         "folder": (tmp_path / "dir.msh", "dir", "is a folder"),
@@ -222,3 +223,31 @@ def test_bad_files_name_the_file_and_the_problem(tmp_path, case):
 def test_bad_unit(tmp_path):
     with pytest.raises(ValueError, match="unit='km' is unknown"):
         read_mesh(tmp_path / "x.msh", unit="km")
+
+
+@pytest.mark.parametrize("binary", [False, True], ids=["ascii", "binary"])
+def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
+    """MSH 4.1 is read by our own reader: the same triangles, regions and patches as written."""
+    from core.io.meshio_formats import to_meshio
+    from tests.helpers import canonical_meshes
+
+    mesh = canonical_meshes()["double-ring"]
+    path = tmp_path / "rings.msh"
+    m = to_meshio(mesh, ".msh", 1.0)
+    meshio.write(path, m, file_format="gmsh", binary=binary)
+    assert path.read_bytes().startswith(b"$MeshFormat\n4.1 " + (b"1" if binary else b"0"))
+    back = read_mesh(path)
+    assert (back.n_vertices, back.n_triangles) == (mesh.n_vertices, mesh.n_triangles)
+    np.testing.assert_allclose(back.points[back.triangles], mesh.points[mesh.triangles])
+    assert back.stats()["interior_edges"] == mesh.stats()["interior_edges"]
+    # meshio's 4.1 writer puts all triangles in one entity without a physical group
+    assert back.n_patches == 1 and back.regions.tolist() == [1] * mesh.n_triangles
+
+
+def test_makarov_mat_version_4(tmp_path):
+    """MATLAB v4 files (no header) are read after their variable headers are checked."""
+    path = tmp_path / "v4.mat"
+    scipy.io.savemat(path, {"p": POINTS[:4].T, "t": np.vstack([TRIANGLES.T + 1, [1, 1]])},
+                     format="4")  # fmt: skip
+    mesh = read_mesh(path, unit="mm")
+    assert mesh.n_triangles == 2 and mesh.areas.sum() == pytest.approx(1.0)

@@ -152,3 +152,88 @@ def test_mat_layout(tmp_path):
     assert data["t"][:3].min() == 1 and data["t"][:3].max() == mesh.n_vertices  # 1-based
     assert np.all(data["t"][3] == 1)  # rwg1.m keeps only row 4 == 1
     np.testing.assert_allclose(data["p"].T, mesh.points * 1e-3)  # metres by default
+
+
+def _cell_data_back(path):
+    """Per-triangle data of a written VTK file, read by a library other than the writer."""
+    if path.suffix == ".vtp":
+        from core.io.vtk_xml import read_vtp  # the writer is ours; read it with pyvista too
+
+        pv = pytest.importorskip("pyvista")
+        poly = pv.read(path)
+        ours = read_vtp(path)[2]
+        for key, values in ours.items():
+            np.testing.assert_array_equal(values, np.asarray(poly.cell_data[key]))
+        return {k: np.asarray(poly.cell_data[k]) for k in poly.cell_data.keys()}
+    m = meshio.read(path)
+    return {k: np.asarray(v[0]).reshape(-1) for k, v in m.cell_data.items()}
+
+
+@pytest.mark.parametrize("ext", [".vtu", ".vtp", ".vtk"])
+@pytest.mark.parametrize("unit", ["m", "mm", "um"])
+def test_every_cell_data_field_in_every_unit(tmp_path, ext, unit):
+    """Issue 10 #15(b): areas scale with the square of the length unit (0.1 mm² = 1e-7 m²)."""
+    mesh = MESHES["double-ring"]
+    data = _cell_data_back(write_mesh(mesh, tmp_path / f"q{ext}", unit=unit))
+    s = per_mm(unit)
+    assert set(data) >= {"patch_id", "region", "area", "min_angle", "aspect_ratio"}
+    np.testing.assert_array_equal(data["patch_id"], mesh.patch_ids)
+    np.testing.assert_array_equal(data["region"], mesh.regions)
+    np.testing.assert_allclose(data["area"], mesh.areas * s**2, rtol=1e-12)
+    np.testing.assert_allclose(data["min_angle"], mesh.min_angles, rtol=1e-12)
+    np.testing.assert_allclose(data["aspect_ratio"], mesh.aspect_ratios, rtol=1e-12)
+
+
+def test_patch_area_in_metres_is_square_metres(tmp_path):
+    """The 10 mm patch is 1e-4 m² in a file written in metres (not 0.1, the factor once)."""
+    mesh = MESHES["patch"]
+    for ext in (".vtu", ".vtp", ".vtk"):
+        data = _cell_data_back(write_mesh(mesh, tmp_path / f"p{ext}", unit="m"))
+        assert data["area"].sum() == pytest.approx(1e-4, rel=1e-12)
+
+
+@pytest.mark.parametrize("unit", ["m", "mm", "um"])
+def test_rwg_tables_in_every_unit(tmp_path, unit):
+    mesh = MESHES["double-ring"]
+    s = per_mm(unit)
+    npz = np.load(write_mesh(mesh, tmp_path / "r.npz", unit=unit))
+    assert str(npz["unit"]) == unit
+    np.testing.assert_allclose(npz["points"], mesh.points * s, rtol=1e-12)
+    np.testing.assert_allclose(npz["centroids"], mesh.centroids * s, rtol=1e-12)
+    np.testing.assert_allclose(npz["areas"], mesh.areas * s**2, rtol=1e-12)
+    np.testing.assert_allclose(npz["length"], mesh.rwg.length * s, rtol=1e-12)
+    write_mesh(mesh, tmp_path / "r.csv", unit=unit)
+    centroids = np.loadtxt(tmp_path / "r_centroids.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(centroids[:, 1:4], mesh.centroids * s, rtol=1e-12)
+    np.testing.assert_allclose(centroids[:, 4], mesh.areas * s**2, rtol=1e-12)
+    table = np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(table[:, 7], mesh.rwg.length * s, rtol=1e-12)
+
+
+@pytest.mark.parametrize("mode", ["inline", "appended-raw", "appended-base64", "ascii"])
+def test_vtu_written_by_vtk_is_read(tmp_path, mode):
+    """Our VTK XML reader against VTK's own writer in each of its data modes."""
+    pv = pytest.importorskip("pyvista")
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    mesh = MESHES["double-ring"]
+    grid = pv.read(write_mesh(mesh, tmp_path / "q.vtu"))
+    out = tmp_path / f"vtk-{mode}.vtu"
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetFileName(str(out))
+    writer.SetInputData(grid)
+    if mode == "ascii":
+        writer.SetDataModeToAscii()
+    elif mode == "inline":
+        writer.SetDataModeToBinary()
+    else:
+        writer.SetDataModeToAppended()
+        writer.SetEncodeAppendedData(mode == "appended-base64")
+        writer.SetHeaderTypeToUInt64()
+    assert writer.Write() == 1
+    if mode == "appended-raw":
+        assert b'encoding="raw"' in out.read_bytes()
+    back = read_mesh(out)
+    assert triangle_set(back.points, back.triangles) == triangle_set(mesh.points, mesh.triangles)
+    assert back.n_patches == mesh.n_patches
+    assert sorted(np.unique(back.regions).tolist()) == [1, 2]

@@ -63,3 +63,66 @@ def test_sweep_errors(tmp_path, args, code, fragment):
     r = run("sweep", *args, cwd=tmp_path)
     assert_one_line_error(r, code, fragment)
     assert not any(tmp_path.iterdir())
+
+
+def test_each_frame_carries_its_own_caption(tmp_path):
+    """Issue 9 #7: captions were one frame late. Frame 0 of 20 → 1 must equal frame 2 of 1 → 20.
+
+    Both sweeps visit the same three meshes with the same camera (fixed on the union of all
+    extents), so with the right caption on each frame the mirrored frames are identical.
+    """
+    base = MeshParams(angle_step=20, subdivisions=1)
+    down, up = tmp_path / "down.gif", tmp_path / "up.gif"
+    render_sweep(base, "angle_step", 20, 10, 3, down, window_size=(240, 180))
+    render_sweep(base, "angle_step", 10, 20, 3, up, window_size=(240, 180))
+    a, b = imageio.mimread(down), imageio.mimread(up)
+    assert np.array_equal(a[0], b[2]) and np.array_equal(a[2], b[0])
+    assert np.array_equal(a[1], b[1])
+    assert not np.array_equal(a[0], a[2])
+
+
+@pytest.mark.parametrize("fps", [2.0, 4.0, 10.0])
+def test_gif_frame_delay_follows_fps(tmp_path, fps):
+    from PIL import Image
+
+    out = tmp_path / "a.gif"
+    render_sweep(MeshParams(), "patch_size", 1, 2, 3, out, window_size=(64, 48), fps=fps)
+    with Image.open(out) as gif:
+        delays = []
+        for k in range(gif.n_frames):
+            gif.seek(k)
+            delays.append(gif.info["duration"])
+    assert delays == [1000 / fps] * 3
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["--from", "inf"], "argument --from: 'inf' is not a finite number"),
+        (["--from", "nan"], "argument --from: 'nan' is not a finite number"),
+        (["--to", "Infinity"], "argument --to: 'Infinity' is not a finite number"),
+        (["--frames", "100000"], "frames=100000 is more than the 1000 a sweep may have"),
+        (["--frames", "1e3"], "'1e3' is not a whole number"),
+        (["--frames", "900", "--window-size", "1280", "720"], "at most 582 frames"),
+        (["--fps", "0"], "--fps 0 is invalid"),
+        (["--fps", "1000"], "--fps 1000 is invalid"),
+        (["--window-size", "16384", "16384"], "--window-size 16384 16384 would need about 9.0"),
+    ],
+)
+def test_sweep_limits_are_one_line(tmp_path, args, fragment):
+    base = {"--param": "angle_step", "--from": "20", "--to": "1", "--frames": "3", "-o": "a.gif"}
+    given = dict(zip(args[::2], args[1::2], strict=False))
+    argv = [x for k, v in {**base, **given}.items() if k != "--window-size" for x in (k, v)]
+    if "--window-size" in args:
+        argv += args[args.index("--window-size") :]
+    r = run("sweep", *argv, cwd=tmp_path)
+    assert_one_line_error(r, 2, fragment)
+    assert not any(tmp_path.iterdir())
+
+
+def test_render_sweep_refuses_before_rendering(tmp_path):
+    with pytest.raises(ValueError, match="more than the 1000"):
+        render_sweep(MeshParams(), "patch_size", 1, 2, 100_000, tmp_path / "a.gif")
+    with pytest.raises(ValueError, match="is not a finite number"):
+        render_sweep(MeshParams(), "patch_size", float("inf"), 2, 3, tmp_path / "a.gif")
+    assert not any(tmp_path.iterdir())

@@ -11,7 +11,15 @@ Pure Python over numpy, scipy.io and meshio; no Qt, VTK or pyvista.
 32
 """
 
-from .atomic import ExportError, atomic_path, atomic_write, atomic_write_bytes, atomic_write_text
+from .atomic import (
+    ExportError,
+    atomic_path,
+    atomic_paths,
+    atomic_write,
+    atomic_write_bytes,
+    atomic_write_text,
+    remove_stale_temp_files,
+)
 from .export import (
     EXPORT_EXTENSIONS,
     EXPORT_FORMATS,
@@ -35,6 +43,7 @@ __all__ = [
     "ExportFormat",
     "MeshFileError",
     "atomic_path",
+    "atomic_paths",
     "atomic_write",
     "atomic_write_bytes",
     "atomic_write_text",
@@ -43,5 +52,6 @@ __all__ = [
     "export_unit",
     "per_mm",
     "read_mesh",
+    "remove_stale_temp_files",
     "write_mesh",
 ]

@@ -9,8 +9,12 @@ RWG table, quality) runs as for our own meshes.
 from __future__ import annotations
 
 import contextlib
+import errno
 import io
 import logging
+import os
+import re
+import stat
 import warnings
 from pathlib import Path
 
@@ -18,9 +22,14 @@ import numpy as np
 
 from ..mesh import TriMesh
 from ..topology import INDEX
+from .gmsh22 import msh2_kind, read_gmsh22
+from .gmsh41 import msh4_kind, read_gmsh41
+from .limits import Damaged
 from .makarov import read_makarov
+from .meshio_checks import check_declared_counts
+from .obj import read_obj
 from .units import per_mm
-from .vtp import read_vtp
+from .vtk_xml import read_vtp, read_vtu
 
 log = logging.getLogger(__name__)
 
@@ -77,28 +86,118 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
     if unit is None:
         unit = "m" if ext == ".mat" else "mm"
     to_mm = 1.0 / per_mm(unit)
-    if not path.is_file():
-        what = "is a folder" if path.is_dir() else "does not exist"
-        raise MeshFileError(f"{path}: the file {what}")
-    if path.stat().st_size == 0:
-        raise MeshFileError(f"{path}: the file is empty")
+    problem = file_problem(path)
+    if problem:
+        raise MeshFileError(f"{path}: {problem}")
     try:
         if ext == ".mat":
             points, triangles, regions = read_makarov(path)
             patch_ids, ignored = None, {}
-        elif ext == ".vtp":
-            points, triangles, data, ignored = read_vtp(path)
+        elif ext in (".vtp", ".vtu"):
+            points, triangles, data, ignored = (read_vtp if ext == ".vtp" else read_vtu)(path)
             regions, patch_ids = _first(data, _REGION_KEYS), _first(data, _PATCH_KEYS)
+        elif ext == ".obj":
+            points, triangles, ignored = read_obj(path)
+            regions = patch_ids = None
+        elif ext == ".msh" and _msh_version(path) == 2:
+            points, triangles, regions, patch_ids, ignored = read_gmsh22(path)
+        elif ext == ".msh" and _msh_version(path) == 4:
+            points, triangles, regions, patch_ids, ignored = read_gmsh41(path.read_bytes())
         else:
+            check_declared_counts(path, ext)
             points, triangles, regions, patch_ids, ignored = _read_meshio(path, meshio_format)
+        return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
     except MeshFileError:
         raise
+    except Damaged as exc:
+        raise MeshFileError(f"{path}: {exc}") from None
     except MemoryError:
         raise MeshFileError(f"{path}: too large to read into memory") from None
+    except UnicodeDecodeError as exc:
+        raise MeshFileError(
+            f"{path}: not a readable {name} file (byte {exc.start:,} is not text)"
+        ) from None
+    except RecursionError:
+        raise MeshFileError(f"{path}: not a readable {name} file (nested too deeply)") from None
     except Exception as exc:  # every parser failure becomes one clear message
-        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise MeshFileError(f"{path}: not a readable {name} file ({reason})") from None
-    return _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm)
+        raise MeshFileError(f"{path}: not a readable {name} file ({_reason(exc, path)})") from None
+
+
+def file_problem(path: Path) -> str | None:
+    """Why ``path`` cannot be read as a mesh file, in a few words; None if it can.
+
+    Says what the path really is: missing, a folder, a named pipe, a device,
+    a dangling or looping symbolic link, unreadable or empty. Never opens a
+    pipe or a device (that could block or never end).
+    """
+    link = ""
+    try:
+        if path.is_symlink():
+            link = f"a symbolic link to {os.readlink(path)}"
+        info = path.stat()
+    except FileNotFoundError:
+        return f"the path is {link}, which does not exist" if link else "the file does not exist"
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            return "the path is a symbolic link loop (it leads back to itself)"
+        return f"cannot be read: {exc.strerror or exc}"
+    mode = info.st_mode
+    kinds = (
+        (stat.S_ISDIR, "a folder"),
+        (stat.S_ISFIFO, "a named pipe (FIFO)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    for test, kind in kinds:
+        if test(mode):
+            return (
+                f"the path is {link}, which is {kind}, not a file"
+                if link
+                else (f"the path is {kind}, not a file")
+            )
+    if not stat.S_ISREG(mode):
+        return "the path is not a regular file"
+    try:
+        with open(path, "rb"):
+            pass
+    except OSError as exc:
+        return f"cannot be read: {exc.strerror or exc}"
+    if info.st_size == 0:
+        return "the file is empty"
+    return None
+
+
+def _msh_version(path: Path) -> int | None:
+    """2 or 4 for MSH 2.x or 4.1 files (read by our own readers), else None (meshio)."""
+    with open(path, "rb") as fh:
+        head = fh.read(256)
+    return 2 if msh2_kind(head) else 4 if msh4_kind(head) else None
+
+
+_INTERNALS = (
+    (re.compile(r"cannot reshape array of size \d+ into shape"), "its counts do not match its "
+     "data, perhaps truncated"),
+    (re.compile(r"codec can't decode"), "it holds bytes that are not text"),
+    (re.compile(r"index -?\d+ is out of bounds"), "it refers to an entry that does not exist"),
+    (re.compile(r"invalid literal for int|could not convert string"), "a number is malformed"),
+    (re.compile(r"values to unpack|unpack requires|buffer size|not enough data"),
+     "malformed, perhaps truncated"),
+    (re.compile(r"meshio|ReadError|does not recognise"), "its content does not match the format"),
+)  # fmt: skip
+
+
+def _reason(exc: BaseException, path: Path) -> str:
+    """The first line of a parser's message, without the path and without numpy's words."""
+    text = str(exc).strip()
+    text = text.splitlines()[0] if text else type(exc).__name__
+    text = text.replace(str(path), "").replace(path.name, "").strip(" :")
+    if isinstance(exc, AssertionError | IndexError | StopIteration) or not text:
+        return "malformed, perhaps truncated"
+    for pattern, plain in _INTERNALS:
+        if pattern.search(text):
+            return plain
+    return text or type(exc).__name__
 
 
 def _first(data: dict, keys: tuple[str, ...]) -> np.ndarray | None:
@@ -125,7 +224,7 @@ def _read_meshio(path: Path, file_format: str):
             m = meshio.read(path, file_format=file_format)
         except SystemExit:
             said = [line.strip() for line in out.getvalue().splitlines() if line.strip()]
-            raise ValueError(said[0] if said else "meshio does not recognise it") from None
+            raise ValueError(said[0] if said else "its content does not match the format") from None
     noise = (out.getvalue() + err.getvalue()).strip()
     if noise:
         log.info("meshio on %s: %s", path, noise)
@@ -134,7 +233,11 @@ def _read_meshio(path: Path, file_format: str):
         if block.type != "triangle":
             ignored[block.type] = ignored.get(block.type, 0) + len(block.data)
             continue
-        triangles.append(np.asarray(block.data, dtype=np.int64))
+        data = np.asarray(block.data)
+        if data.ndim != 2 or data.shape[1] != 3:
+            raise Damaged(f"a block of triangles holds {data.size:,} vertex indices in shape "
+                          f"{data.shape}, not 3 per triangle (the file is damaged)")  # fmt: skip
+        triangles.append(data.astype(np.int64))
         data = {key: values[k] for key, values in m.cell_data.items()}
         regions.append(_first(data, _REGION_KEYS))
         patches.append(_first(data, _PATCH_KEYS))
@@ -155,10 +258,13 @@ def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> Tr
         raise MeshFileError(f"{path}: points have shape {points.shape}; expected (V, 3)")
     if not np.all(np.isfinite(points)):
         raise MeshFileError(f"{path}: some coordinates are not finite numbers")
-    if triangles.min() < 0 or triangles.max() >= len(points):
+    if triangles.min() < 0:
+        raise MeshFileError(f"{path}: a triangle refers to vertex {int(triangles.min())}, "
+                            "which cannot exist (a negative index)")  # fmt: skip
+    if triangles.max() >= len(points):
         raise MeshFileError(
-            f"{path}: triangles refer to vertex {int(triangles.max())} but there are "
-            f"{len(points)} vertices"
+            f"{path}: a triangle refers to vertex {int(triangles.max()):,} (counted from 0) "
+            f"but there are {len(points):,} vertices"
         )
     # keep only the vertices the triangles use (files often carry extra nodes)
     used, inverse = np.unique(triangles, return_inverse=True)
@@ -167,6 +273,8 @@ def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> Tr
     points = points[used]
     triangles = inverse.reshape(-1, 3)
     n = len(triangles)
+    if regions is not None and len(regions) and not np.any(np.asarray(regions) != 0):
+        regions = None  # Gmsh's physical tag 0: no physical group
     regions = _labels(regions, n, default=1)
     patch_ids = _labels(patch_ids, n, default=0)  # renumbered 0.. below (Gmsh tags are 1..)
     _, patch_ids = np.unique(patch_ids, return_inverse=True)

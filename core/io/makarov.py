@@ -7,12 +7,18 @@
 
 from __future__ import annotations
 
+import struct
 from pathlib import Path
 
 import numpy as np
 import scipy.io
 
 from ..mesh import TriMesh
+from .limits import MAX_CELLS, MAX_POINTS, Damaged, check_count
+
+#: MATLAB classes that hold numbers (logical, char, cell and struct do not).
+_NUMERIC = ("double", "single", "int8", "int16", "int32", "int64",
+            "uint8", "uint16", "uint32", "uint64")  # fmt: skip
 
 
 def makarov_arrays(mesh: TriMesh, per_mm: float) -> dict[str, np.ndarray]:
@@ -32,35 +38,90 @@ def write_makarov(mesh: TriMesh, path: Path, per_mm: float) -> None:
 def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(points (V, 3) in the file's unit, triangles (T, 3) 0-based, regions (T,))``.
 
-    Raises ``ValueError`` naming the problem when ``p`` or ``t`` is missing
-    or malformed.
+    The variables' shapes and classes are checked (from the file's headers,
+    before their data is read) against :mod:`core.io.limits`; raises
+    :class:`~core.io.limits.Damaged` naming the problem when ``p`` or ``t`` is
+    missing or malformed.
     """
-    data = scipy.io.loadmat(path)
-    missing = [k for k in ("p", "t") if k not in data]
+    _check_v4_headers(path)
+    try:
+        found = {name: (shape, kind) for name, shape, kind in scipy.io.whosmat(path)}
+    except NotImplementedError:
+        raise Damaged("it is a MATLAB v7.3 (HDF5) file; save it with -v7 or older") from None
+    missing = [k for k in ("p", "t") if k not in found]
     if missing:
-        keys = sorted(k for k in data if not k.startswith("__"))
-        raise ValueError(
-            f"no variable {missing[0]!r}; expected Makarov's p (3 x N) and t (4 x M), "
+        keys = sorted(found)
+        raise Damaged(
+            f"it has no variable {missing[0]!r}; expected Makarov's p (3 x N) and t (4 x M), "
             f"found {', '.join(keys) or 'no variables'}"
         )
-    p = np.asarray(data["p"], dtype=np.float64)
-    t = np.asarray(data["t"])
-    if p.ndim != 2 or p.shape[0] not in (2, 3):
-        raise ValueError(f"p has shape {p.shape}; expected 3 x N coordinates")
-    if t.ndim != 2 or t.shape[0] not in (3, 4):
-        raise ValueError(f"t has shape {t.shape}; expected 4 x M (or 3 x M) vertex indices")
-    if not np.issubdtype(t.dtype, np.number) or not np.all(np.isfinite(t)):
-        raise ValueError("t holds non-numeric or non-finite values; expected vertex indices")
+    for name, rows, limit, what in (("p", (2, 3), MAX_POINTS, "vertices"),
+                                    ("t", (3, 4), MAX_CELLS, "triangles")):  # fmt: skip
+        shape, kind = found[name]
+        if kind not in _NUMERIC:
+            raise Damaged(f"its {name} is of MATLAB class {kind}; expected numbers (double)")
+        if len(shape) != 2 or shape[0] not in rows:
+            expected = "3 x N coordinates" if name == "p" else "4 x M (or 3 x M) vertex indices"
+            raise Damaged(f"its {name} is {' x '.join(map(str, shape))}; expected {expected}")
+        check_count(shape[1], f"{what} (columns of {name})", limit)
+    data = scipy.io.loadmat(path, variable_names=["p", "t"])
+    p, t = np.asarray(data["p"]), np.asarray(data["t"])
+    for name, values in (("p", p), ("t", t)):
+        if np.iscomplexobj(values):
+            raise Damaged(f"its {name} holds complex numbers; expected real ones")
+        if not np.issubdtype(values.dtype, np.number) or values.dtype == bool:
+            raise Damaged(f"its {name} holds {values.dtype} values; expected numbers")
+    p = p.astype(np.float64)
+    if not np.all(np.isfinite(t)):
+        raise Damaged("its t holds non-finite values; expected vertex indices")
     if t.size and np.any(np.asarray(t[:3], dtype=np.float64) % 1 != 0):
-        raise ValueError("t holds non-integer vertex indices")
-    tri = np.asarray(t[:3], dtype=np.int64).T - 1
-    if tri.size and (tri.min() < 0 or tri.max() >= p.shape[1]):
-        raise ValueError(
-            f"t refers to vertex {int(tri.max()) + 1 if tri.max() >= p.shape[1] else 0} "
-            f"but p has {p.shape[1]} vertices (indices are 1-based)"
+        raise Damaged("its t holds vertex indices that are not whole numbers")
+    tri = np.asarray(t[:3], dtype=np.float64).T
+    if tri.size and tri.min() < 1:
+        raise Damaged(
+            f"its t refers to vertex {tri.min():g}; indices are 1-based (1..{p.shape[1]})"
         )
+    if tri.size and tri.max() > p.shape[1]:
+        raise Damaged(
+            f"its t refers to vertex {tri.max():g} but p has {p.shape[1]} vertices "
+            "(indices are 1-based)"
+        )
+    tri = tri.astype(np.int64) - 1
     regions = np.asarray(t[3], dtype=np.int64) if t.shape[0] == 4 else np.ones(len(tri), int)
     points = p.T
     if points.shape[1] == 2:
         points = np.column_stack([points, np.zeros(len(points))])
     return points, tri, regions
+
+
+#: MATLAB v4 precision digit -> bytes per value.
+_V4_ITEMSIZE = {0: 8, 1: 4, 2: 4, 3: 2, 4: 2, 5: 1}
+
+
+def _check_v4_headers(path: Path) -> None:
+    """Walk the variable headers of a MATLAB v4 file; each must fit in the file.
+
+    scipy trusts the sizes in v4 headers and allocates for them; v5 files
+    (``MI``/``IM`` at bytes 126-128) are left to scipy, which checks them.
+    """
+    data = path.read_bytes()
+    if len(data) >= 128 and data[126:128] in (b"IM", b"MI"):
+        return
+    pos = 0
+    while pos < len(data):
+        if pos + 20 > len(data):
+            raise Damaged("it is not a MATLAB file (a variable header is cut short)")
+        for order in "<>":
+            mopt, rows, cols, imag, namelen = struct.unpack(f"{order}5i", data[pos : pos + 20])
+            m, o, p, t = mopt // 1000, mopt // 100 % 10, mopt // 10 % 10, mopt % 10
+            if 0 <= mopt < 5000 and m <= 4 and o == 0 and p in _V4_ITEMSIZE and t <= 2:
+                break
+        else:
+            raise Damaged("it is not a MATLAB file (no v5 header and no valid v4 variable)")
+        if rows < 0 or cols < 0 or imag not in (0, 1) or not 0 < namelen <= 64:
+            raise Damaged("it is not a MATLAB file (a v4 variable header is invalid)")
+        size = rows * cols * (1 + imag) * _V4_ITEMSIZE[p]
+        pos += 20 + namelen + size
+        if pos > len(data):
+            raise Damaged(f"a MATLAB v4 variable declares {rows:,} x {cols:,} values but the "
+                          f"file has only {len(data):,} bytes")  # fmt: skip

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..mesh import TriMesh
-from .atomic import atomic_path
+from .atomic import atomic_paths
 
 RWG_COLUMNS = (
     "edge",
@@ -119,9 +119,10 @@ def csv_paths(path: Path) -> dict[str, Path]:
 
 
 def write_rwg_csv(mesh: TriMesh, path: Path, per_mm: float, unit: str) -> None:
-    """Write the three CSV files, each atomically (companions first, the table last)."""
-    tables = csv_tables(mesh, per_mm, unit)
+    """Write the three CSV files as one set: all to temporary files, then all renamed."""
     paths = csv_paths(path)
-    for key in ("_connectivity", "_centroids", ""):
-        with atomic_path(paths[key]) as tmp:
+    keys = ("", "_connectivity", "_centroids")
+    with atomic_paths([paths[key] for key in keys]) as tmps:
+        tables = csv_tables(mesh, per_mm, unit)
+        for key, tmp in zip(keys, tmps, strict=True):
             tmp.write_text(tables[key], encoding="utf-8")
