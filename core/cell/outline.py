@@ -23,7 +23,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from ..mesh import TriMesh
 from ..params import DOUBLE_STRUCTURES
+from ..topology import EdgeTopology
 from .build import build_cell, tile
 from .model import Element, UnitCell
 
@@ -126,49 +128,60 @@ def outline_polygons(
         raise ValueError(f"the outline needs parts that do not overlap: {exc}") from None
     if tuple(copies) != (1, 1):
         built = tile(built, *copies)
-    mesh = built.mesh
-    return mesh_outline(mesh.points[:, :2], mesh.triangles, mesh.topology, cell.lattice.size)
+    return mesh_outline(built.mesh, cell.lattice.size)
 
 
-def mesh_outline(
-    xy: np.ndarray, triangles: np.ndarray, topology, size: float
-) -> list[OutlinePolygon]:
+def mesh_outline(mesh: TriMesh, size: float) -> list[OutlinePolygon]:
     """Boundary loops of a conforming, counter-clockwise triangle mesh as polygons with holes.
+
+    A piece of metal is a set of triangles joined through shared edges; its
+    one counter-clockwise loop is the outer boundary and its clockwise loops
+    are its holes.
 
     Parameters
     ----------
-    xy : (V, 2) float64
-    triangles : (T, 3) int
-    topology : EdgeTopology
+    mesh : TriMesh
     size : float
         A length of the structure (mm), the scale of the straightness test.
     """
-    start, end = _boundary_half_edges(triangles, topology)
+    xy = mesh.points[:, :2]
+    start, end, tri = _boundary_half_edges(mesh.triangles, mesh.topology)
     if len(start) == 0:
         return []
     nxt = _next_half_edge(xy, start, end)
     loops = _loops(nxt)
+    piece = connected_components(mesh.connectivity, directed=False)[1]
+    loop_piece = piece[tri[[loop[0] for loop in loops]]]
     eps = 1e-9 * size
     rings = [_simplified(xy[start[loop]], eps) for loop in loops]
     areas = np.array([signed_area(r) for r in rings])
-    outers = [r for r, a in zip(rings, areas, strict=True) if a > 0]
-    outer_areas = [a for a in areas if a > 0]
-    holes: list[list[np.ndarray]] = [[] for _ in outers]
-    for ring in (r for r, a in zip(rings, areas, strict=True) if a <= 0):
-        probe = _metal_side_point(ring, eps * 1e3)
-        inside = [k for k, o in enumerate(outers) if _contains(o, probe)]
-        if inside:  # the smallest outer boundary around the hole
-            holes[min(inside, key=lambda k: outer_areas[k])].append(ring)
-    polys = [OutlinePolygon(o, tuple(h)) for o, h in zip(outers, holes, strict=True)]
+    outers: dict[int, list[int]] = {}
+    for k in np.flatnonzero(areas > 0).tolist():
+        outers.setdefault(int(loop_piece[k]), []).append(k)
+    holes: dict[int, list[np.ndarray]] = {k: [] for ks in outers.values() for k in ks}
+    for k in np.flatnonzero(areas <= 0).tolist():
+        candidates = outers.get(int(loop_piece[k]), [])
+        if len(candidates) > 1:  # not expected of a planar mesh: test containment
+            probe = _metal_side_point(rings[k], eps * 1e3)
+            candidates = [o for o in candidates if _contains(rings[o], probe)] or candidates
+        if candidates:
+            holes[min(candidates, key=lambda o: areas[o])].append(rings[k])
+    polys = [OutlinePolygon(rings[k], tuple(h)) for k, h in holes.items()]
     return sorted(polys, key=lambda p: -p.area)
 
 
-def _boundary_half_edges(triangles: np.ndarray, topology) -> tuple[np.ndarray, np.ndarray]:
-    """(B,), (B,) start and end vertex of every boundary edge, metal on the left."""
+def _boundary_half_edges(
+    triangles: np.ndarray, topology: EdgeTopology
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(B,) start vertex, end vertex and triangle of every boundary edge, metal on the left."""
     side_edge = topology.triangle_edges  # (T, 3): side k joins vertex k to k + 1
     on_boundary = topology.valence[side_edge] == 1
     t, k = np.nonzero(on_boundary)
-    return triangles[t, k].astype(np.int64), triangles[t, (k + 1) % 3].astype(np.int64)
+    return (
+        triangles[t, k].astype(np.int64),
+        triangles[t, (k + 1) % 3].astype(np.int64),
+        t.astype(np.int64),
+    )
 
 
 def _next_half_edge(xy: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
