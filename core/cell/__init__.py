@@ -9,19 +9,47 @@
 """
 
 from .build import CellMesh, build_cell, tile
+from .files import (
+    CellFileError,
+    cell_from_dict,
+    cell_preset_names,
+    cell_to_dict,
+    load_cell,
+    load_cell_preset,
+    save_cell,
+)
 from .model import SYMMETRIES, Element, Lattice, PixelGrid, UnitCell, symmetrized
+from .outline import (
+    OutlinePolygon,
+    export_outline,
+    outline_polygons,
+    write_outline_dxf,
+    write_outline_gds,
+)
 from .periodic import PeriodicPairs, periodic_pairs
 
 __all__ = [
     "SYMMETRIES",
+    "CellFileError",
     "CellMesh",
     "Element",
     "Lattice",
+    "OutlinePolygon",
     "PeriodicPairs",
     "PixelGrid",
     "UnitCell",
     "build_cell",
+    "cell_from_dict",
+    "cell_preset_names",
+    "cell_to_dict",
+    "export_outline",
+    "load_cell",
+    "load_cell_preset",
+    "outline_polygons",
     "periodic_pairs",
+    "save_cell",
     "symmetrized",
     "tile",
+    "write_outline_dxf",
+    "write_outline_gds",
 ]
