@@ -304,3 +304,19 @@ def test_tile_validates_counts():
     for bad in (0, -1, 1.5, True):
         with pytest.raises(ValueError, match="n1="):
             tile(cell, bad, 1)
+
+
+def test_metal_beyond_the_cell_and_an_empty_pixel_grid_are_noted_not_built():
+    cell = UnitCell(
+        Lattice.rectangular(4.0),
+        elements=(Element(patch(2.0), (1.0, -1.0), name="wide"),),  # x from 1 to 3 > 2
+        pixels=PixelGrid(np.zeros((2, 2), bool)),
+    )
+    cm = build_cell(cell)
+    assert cm.notes == (
+        "'wide' reaches beyond the cell boundary: copies of the cell would overlap there",
+    )
+    wide, grid = cm.part_stats()
+    assert (wide["name"], wide["triangles"]) == ("wide", 32)
+    assert (grid["name"], grid["triangles"]) == ("pixels", 0)
+    assert cm.mesh.n_triangles == 32
