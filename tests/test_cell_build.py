@@ -14,6 +14,7 @@ from core.cell import (
     tile,
 )
 from core.cell.files import load_cell_preset
+from tests.helpers import assert_topology_matches_generic, signed_areas
 
 
 def patch(size=1.0, n=4, **kw):
@@ -320,3 +321,12 @@ def test_metal_beyond_the_cell_and_an_empty_pixel_grid_are_noted_not_built():
     assert (wide["name"], wide["triangles"]) == ("wide", 32)
     assert (grid["name"], grid["triangles"]) == ("pixels", 0)
     assert cm.mesh.n_triangles == 32
+
+
+@pytest.mark.parametrize("name", ["coding-16x16", "double-ring-patch", "split-ring-pair"])
+def test_cell_meshes_are_consistent_template_copies(name):
+    cm = build_cell(load_cell_preset(name))
+    assert_topology_matches_generic(cm.mesh)  # the fast per-patch topology path is right
+    assert (signed_areas(cm.mesh) > 0).all()  # counter-clockwise after rotation
+    arr = tile(cm, 2, 2)
+    assert_topology_matches_generic(arr.mesh)
