@@ -330,3 +330,11 @@ def test_cell_meshes_are_consistent_template_copies(name):
     assert (signed_areas(cm.mesh) > 0).all()  # counter-clockwise after rotation
     arr = tile(cm, 2, 2)
     assert_topology_matches_generic(arr.mesh)
+
+
+def test_edges_on_a_side_line_beyond_the_corner_are_on_no_side():
+    # a patch outside the cell, x in [2, 3], y in [0, 2]: its left side lies on the cell's
+    # right side (4 unmatched edges); its top side is on the line y = 2 but past the corner
+    cell = UnitCell(Lattice.rectangular(4.0), elements=(Element(patch(2.0), (2.0, 0.0), name="p"),))
+    pairs = build_cell(cell).periodic_pairs
+    assert len(pairs.unmatched_edges) == 4

@@ -54,6 +54,9 @@ class PeriodicPairs:
 def side_vertices(points: np.ndarray, lattice: Lattice, tolerance: float) -> np.ndarray:
     """(V, 2) int8: for each lattice vector, -1 / +1 where a vertex lies on the minus / plus side.
 
+    A side is the segment between two corners of the cell: a vertex on the
+    line through it but beyond a corner is on no side.
+
     Parameters
     ----------
     points : (V, 2 or 3) float64
@@ -62,12 +65,14 @@ def side_vertices(points: np.ndarray, lattice: Lattice, tolerance: float) -> np.
         Distance (mm) from a side within which a vertex is on it.
     """
     frac = lattice.fractional(points)
+    # the tolerance in lattice coordinates: distance between the two sides of each pair
+    d = tolerance * np.array([np.hypot(*lattice.a2), np.hypot(*lattice.a1)]) / lattice.area
+    within = np.abs(frac) <= 0.5 + d
     out = np.zeros(frac.shape, dtype=np.int8)
     for k in (0, 1):
-        other = lattice.a2 if k == 0 else lattice.a1
-        d = tolerance * np.hypot(*other) / lattice.area  # tolerance in lattice coordinates
-        out[np.abs(frac[:, k] + 0.5) <= d, k] = -1
-        out[np.abs(frac[:, k] - 0.5) <= d, k] = 1
+        along = within[:, 1 - k]
+        out[(np.abs(frac[:, k] + 0.5) <= d[k]) & along, k] = -1
+        out[(np.abs(frac[:, k] - 0.5) <= d[k]) & along, k] = 1
     return out
 
 
