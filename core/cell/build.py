@@ -46,9 +46,9 @@ class CellMesh:
         (n1 a1, n2 a2) of the array as a whole.
     part_meshes : tuple of TriMesh
         Each part alone, placed (their own regions: inner / outer ring).
-    notes : tuple of str
-        Things a solver should know: hanging vertices, corner contacts, metal
-        beyond the cell, unmatched periodic edges. Empty when all is well.
+    contact_notes : tuple of str
+        How the parts meet: hanging vertices, corner contacts, metal beyond
+        the cell (see :attr:`notes` for these and the periodic check).
     copies : (n1, n2)
     """
 
@@ -56,13 +56,31 @@ class CellMesh:
     cell: UnitCell
     lattice: Lattice
     part_meshes: tuple[TriMesh, ...]
-    notes: tuple[str, ...]
+    contact_notes: tuple[str, ...]
     copies: tuple[int, int] = (1, 1)
 
     @cached_property
     def periodic_pairs(self) -> PeriodicPairs:
         """Edges on the cell boundary and their partners on the opposite side."""
         return periodic_pairs(self.mesh, self.lattice, self.cell.weld_tolerance)
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """Things a solver should know, empty when all is well.
+
+        The contact notes, then a note when edges on the cell's sides have no
+        partner on the opposite side (the mesh is not periodic).
+        """
+        pairs = self.periodic_pairs
+        if pairs.matched:
+            return self.contact_notes
+        mesh = self.mesh
+        mid = mesh.points[mesh.edges[pairs.unmatched_edges[0]], :2].mean(axis=0)
+        return self.contact_notes + (
+            f"{len(pairs.unmatched_edges)} boundary edge(s) on the cell's sides have no partner "
+            f"on the opposite side (first near ({mid[0]:.6g}, {mid[1]:.6g}) mm): the mesh is "
+            "not periodic there",
+        )
 
     @property
     def part_names(self) -> tuple[str, ...]:
@@ -268,17 +286,8 @@ def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellM
         notes += _conforming_notes(cell, mesh, part_of_vertex, refuse_corner_contacts)
     notes += _outside_notes(cell, parts)
     meshes = tuple(q.mesh if q is not None else _empty_mesh(cell) for q in parts)
-    pairs = periodic_pairs(mesh, cell.lattice, cell.weld_tolerance)
-    if not pairs.matched:
-        mid = mesh.points[mesh.edges[pairs.unmatched_edges[0]], :2].mean(axis=0)
-        notes.append(
-            f"{len(pairs.unmatched_edges)} boundary edge(s) on the cell's sides have no partner "
-            f"on the opposite side (first near ({mid[0]:.6g}, {mid[1]:.6g}) mm): the mesh is "
-            "not periodic there"
-        )
     result = CellMesh(mesh, cell, cell.lattice, meshes, tuple(notes))
-    result.__dict__["periodic_pairs"] = pairs  # the cached property, already computed
-    for note in result.notes:
+    for note in result.notes:  # checks the periodic match too
         log.info("cell %r: %s", cell.name, note)
     return result
 
@@ -461,12 +470,11 @@ def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
         _template=m._template,
     )
     array_lattice = Lattice(tuple(n1 * a1), tuple(n2 * a2))
-    notes = tuple(n for n in base.notes if "partner on the opposite side" not in n)
     return CellMesh(
         mesh,
         unit,
         array_lattice,
         base.part_meshes,
-        notes,
+        base.contact_notes,
         (base.copies[0] * n1, base.copies[1] * n2),
     )
