@@ -1,0 +1,480 @@
+"""Meshing a unit cell: every part built, placed, welded into one mesh; arrays of cells.
+
+Parts are the elements, in order, then the pixel grid. Each part is meshed
+on its own (:func:`core.build.build_mesh` for an element, one square patch
+per set pixel for the grid), placed, and all parts are welded together by
+the metric constraint of :mod:`core.weld` (vertices closer than the cell's
+tolerance are one vertex). In the merged mesh ``regions`` is the part
+number, 1-based (element k has region k + 1, the pixel grid the last one),
+as Gmsh physical groups are.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..build import build_mesh
+from ..mesh import TriMesh
+from ..subdivision import PatchTemplate, patch_template
+from ..topology import INDEX
+from ..weld import merge_pairs, weld_points
+from .contacts import hanging_vertices, overlapping_triangles, pinch_vertices
+from .model import Lattice, UnitCell
+from .periodic import PeriodicPairs, periodic_pairs, side_vertices
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, eq=False)
+class CellMesh:
+    """The welded mesh of a unit cell (or of an array of cells) and what was found.
+
+    Attributes
+    ----------
+    mesh : TriMesh
+        All parts welded; ``regions`` = part number (element index + 1, the
+        pixel grid last), ``patch_ids`` numbered across parts.
+    cell : UnitCell
+    lattice : Lattice
+        The cell's lattice, or for an array of n1 x n2 cells the lattice
+        (n1 a1, n2 a2) of the array as a whole.
+    part_meshes : tuple of TriMesh
+        Each part alone, placed (their own regions: inner / outer ring).
+    contact_notes : tuple of str
+        How the parts meet: hanging vertices, corner contacts, metal beyond
+        the cell (see :attr:`notes` for these and the periodic check).
+    copies : (n1, n2)
+    """
+
+    mesh: TriMesh
+    cell: UnitCell
+    lattice: Lattice
+    part_meshes: tuple[TriMesh, ...]
+    contact_notes: tuple[str, ...]
+    copies: tuple[int, int] = (1, 1)
+
+    @cached_property
+    def periodic_pairs(self) -> PeriodicPairs:
+        """Edges on the cell boundary and their partners on the opposite side."""
+        return periodic_pairs(self.mesh, self.lattice, self.cell.weld_tolerance)
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """Things a solver should know, empty when all is well.
+
+        The contact notes, then a note when edges on the cell's sides have no
+        partner on the opposite side (the mesh is not periodic).
+        """
+        pairs = self.periodic_pairs
+        if pairs.matched:
+            return self.contact_notes
+        mesh = self.mesh
+        mid = mesh.points[mesh.edges[pairs.unmatched_edges[0]], :2].mean(axis=0)
+        return self.contact_notes + (
+            f"{len(pairs.unmatched_edges)} boundary edge(s) on the cell's sides have no partner "
+            f"on the opposite side (first near ({mid[0]:.6g}, {mid[1]:.6g}) mm): the mesh is "
+            "not periodic there",
+        )
+
+    @property
+    def part_names(self) -> tuple[str, ...]:
+        return self.cell.part_names
+
+    def part_stats(self) -> list[dict[str, Any]]:
+        """Statistics of every part alone (:meth:`TriMesh.stats` plus its ``name``)."""
+        return [
+            {"name": n, **m.stats()} for n, m in zip(self.part_names, self.part_meshes, strict=True)
+        ]
+
+    def stats(self) -> dict[str, Any]:
+        """JSON-ready statistics: the whole cell, each part, the periodic match, the notes."""
+        pairs = self.periodic_pairs
+        return {
+            "cell": self.mesh.stats(),
+            "parts": self.part_stats(),
+            "copies": list(self.copies),
+            "periodic_edge_pairs": int(len(pairs.edges)),
+            "unmatched_periodic_edges": int(len(pairs.unmatched_edges)),
+            "notes": list(self.notes),
+        }
+
+
+@dataclass(frozen=True)
+class _Part:
+    xy: np.ndarray  # (V, 2) placed points
+    triangles: np.ndarray  # (T, 3)
+    patch_ids: np.ndarray  # (T,)
+    n_patches: int
+    rects: np.ndarray | None  # (P, 4) x0, y0, x1, y1 or None
+    template: PatchTemplate | None
+    mesh: TriMesh  # the part alone
+    min_spacing: float
+
+
+def _element_part(element) -> _Part:
+    mesh = build_mesh(element.params)
+    xy = element.place(mesh.points[:, :2])
+    rects = None
+    if mesh.patch_rects is not None and element.rotation % 90.0 == 0.0:
+        lo = element.place(mesh.patch_rects[:, :2])
+        hi = element.place(mesh.patch_rects[:, 2:])
+        rects = np.concatenate([np.minimum(lo, hi), np.maximum(lo, hi)], axis=1)
+    p = element.params
+    template = None
+    if p.structure != "triangle":
+        template = patch_template(p.scheme, p.subdivisions, p.diagonal)
+    placed = TriMesh(
+        xy,
+        mesh.triangles,
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        rects,
+        {},
+        mesh._template,
+    )
+    return _Part(
+        xy, mesh.triangles, mesh.patch_ids, mesh.n_patches, rects, template, placed, p.min_spacing
+    )
+
+
+def _pixel_part(cell: UnitCell) -> _Part:
+    """One square patch per set pixel, on one exact grid of points (no weld needed)."""
+    grid = cell.pixels
+    params = grid.patch_params()
+    template = patch_template(grid.scheme, grid.subdivisions, grid.diagonal)
+    rows, cols = np.nonzero(grid.mask)
+    n_pix = len(rows)
+    p = grid.pixel_size
+    corner = np.stack([cols, rows], axis=1).astype(np.float64)  # in pixels
+    if template.lattice:
+        n = template.segments
+        ncol = grid.shape[1] * n + 1
+        a = np.tile(np.arange(n + 1), n + 1)
+        b = np.repeat(np.arange(n + 1), n + 1)
+        gx = cols[:, None] * n + a[None, :]  # (K, Nv) grid column of every patch point
+        gy = rows[:, None] * n + b[None, :]
+        keys, ids = np.unique((gy * ncol + gx).ravel(), return_inverse=True)
+        gy_u, gx_u = np.divmod(keys, ncol)
+        xy = np.asarray(grid.origin) + p * np.stack([gx_u, gy_u], axis=1) / n
+    else:
+        local = (corner[:, None, :] + template.uv[None]) * p + np.asarray(grid.origin)
+        ids, rep = weld_points(local.reshape(-1, 2), 0.25 * params.min_spacing)
+        xy = local.reshape(-1, 2)[rep]
+    ids = ids.reshape(n_pix, -1).astype(INDEX)
+    triangles = ids.take(template.triangles.ravel(), axis=1).reshape(-1, 3)
+    per = len(template.triangles)
+    patch_ids = np.repeat(np.arange(n_pix, dtype=INDEX), per)
+    lower = np.asarray(grid.origin) + p * corner
+    rects = np.concatenate([lower, lower + p], axis=1)
+    mesh = TriMesh(
+        np.column_stack([xy, np.zeros(len(xy))]),
+        triangles,
+        patch_ids,
+        np.ones(len(triangles), dtype=INDEX),
+        n_pix,
+        cell.mode,
+        cell.weld_tolerance,
+        rects if cell.mode == "paper" else None,
+        {},
+        template,
+    )
+    return _Part(xy, triangles, patch_ids, n_pix, rects, template, mesh, params.min_spacing)
+
+
+def _check_overlaps(cell: UnitCell, parts: list[_Part]) -> None:
+    """Conforming mode: refuse parts whose metal overlaps, naming both."""
+    boxes = [np.concatenate([q.xy.min(axis=0), q.xy.max(axis=0)]) for q in parts]
+    tol = cell.weld_tolerance
+    for k in range(len(parts)):
+        for m in range(k + 1, len(parts)):
+            a, b = boxes[k], boxes[m]
+            if (a[:2] >= b[2:] - tol).any() or (b[:2] >= a[2:] - tol).any():
+                continue
+            pairs = overlapping_triangles(
+                parts[k].xy, parts[k].triangles, parts[m].xy, parts[m].triangles, tol
+            )
+            if len(pairs):
+                tk, tm = pairs[0]
+                where = parts[k].xy[parts[k].triangles[tk]].mean(axis=0)
+                other = _describe_part(cell, m, parts[m], tm)
+                raise ValueError(
+                    f"{_describe_part(cell, k, parts[k], tk)} and {other} overlap (first near "
+                    f"({where[0]:.6g}, {where[1]:.6g}) mm); conforming mode needs parts that "
+                    "at most touch: move one, or use paper mode"
+                )
+
+
+def _describe_part(cell: UnitCell, k: int, part: _Part, triangle: int) -> str:
+    if k < len(cell.elements):
+        return f"element {cell.elements[k].name!r} (elements[{k}])"
+    rows, cols = np.nonzero(cell.pixels.mask)
+    pix = part.patch_ids[triangle]
+    return f"pixel (row {rows[pix]}, column {cols[pix]})"
+
+
+def _check_tolerance(cell: UnitCell, parts: list[_Part]) -> None:
+    limit = 0.5 * min(q.min_spacing for q in parts)
+    if cell.weld_tolerance >= limit:
+        raise ValueError(
+            f"tolerance={cell.weld_tolerance!r} mm is too large for this cell: it must be below "
+            f"half the smallest sub-triangle edge of its parts, {limit:.6g} mm"
+        )
+
+
+def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellMesh:
+    """Mesh a unit cell: all parts welded into one mesh, contacts checked.
+
+    Parameters
+    ----------
+    cell : UnitCell
+    refuse_corner_contacts : bool
+        Raise ``ValueError`` instead of noting pixels (or, in conforming mode,
+        any parts) that meet at a single corner.
+
+    Returns
+    -------
+    CellMesh
+
+    Raises
+    ------
+    ValueError
+        In conforming mode, when two parts overlap (the message names both);
+        corner contacts with ``refuse_corner_contacts``; a tolerance too large.
+
+    Examples
+    --------
+    >>> from core.cell import PixelGrid
+    >>> cm = build_cell(UnitCell(pixels=PixelGrid(np.array([[True, True]]))))
+    >>> cm.mesh.n_triangles, cm.mesh.n_vertices
+    (64, 45)
+    """
+    if not isinstance(cell, UnitCell):
+        raise TypeError(f"cell must be a UnitCell, got {type(cell).__name__}")
+    parts = [_element_part(el) for el in cell.elements]
+    if cell.pixels is not None and cell.pixels.mask.any():
+        parts.append(_pixel_part(cell))
+    elif cell.pixels is not None:
+        parts.append(None)  # an empty grid: a part without metal
+    present = [q for q in parts if q is not None]
+    _check_tolerance(cell, present)
+    notes: list[str] = []
+    contacts = _pixel_corner_contacts(cell)
+    if len(contacts):
+        first = _pixel_pair(contacts[0])
+        if refuse_corner_contacts:
+            raise ValueError(
+                f"{len(contacts)} pixel pair(s) touch at a corner only, first {first}; a single "
+                "shared point is a junction risk for solvers: fill or clear a neighbour"
+            )
+        notes.append(
+            f"{len(contacts)} pixel pair(s) touch at a corner only (first {first}): "
+            "a junction risk for solvers"
+        )
+    if cell.mode == "conforming":
+        _check_overlaps(cell, [q for q in parts if q is not None])
+    mesh, part_of_vertex = _merge(cell, parts)
+    if cell.mode == "conforming":
+        notes += _conforming_notes(cell, mesh, part_of_vertex, refuse_corner_contacts)
+    notes += _outside_notes(cell, parts)
+    meshes = tuple(q.mesh if q is not None else _empty_mesh(cell) for q in parts)
+    result = CellMesh(mesh, cell, cell.lattice, meshes, tuple(notes))
+    for note in result.notes:  # checks the periodic match too
+        log.info("cell %r: %s", cell.name, note)
+    return result
+
+
+def _empty_mesh(cell: UnitCell) -> TriMesh:
+    return TriMesh(
+        np.zeros((0, 3)),
+        np.zeros((0, 3), INDEX),
+        np.zeros(0, INDEX),
+        np.zeros(0, INDEX),
+        0,
+        cell.mode,
+        cell.weld_tolerance,
+    )
+
+
+def _pixel_pair(pair: np.ndarray) -> str:
+    (r0, c0), (r1, c1) = pair.tolist()
+    return f"(row {r0}, column {c0}) and (row {r1}, column {c1})"
+
+
+def _pixel_corner_contacts(cell: UnitCell) -> np.ndarray:
+    if cell.pixels is None:
+        return np.empty((0, 2, 2), dtype=np.int64)
+    return cell.pixels.corner_contacts()
+
+
+def _merge(cell: UnitCell, parts: list[_Part | None]) -> tuple[TriMesh, np.ndarray]:
+    """Weld all parts into one TriMesh; also the part (0-based) of every vertex."""
+    present = [(k, q) for k, q in enumerate(parts) if q is not None]
+    xy = np.concatenate([q.xy for _, q in present])
+    offsets = np.cumsum([0] + [len(q.xy) for _, q in present])
+    patch_offsets = np.cumsum([0] + [q.n_patches for _, q in present])
+    if len(present) > 1:
+        ids, rep = weld_points(xy, cell.weld_tolerance)
+    else:
+        ids, rep = np.arange(len(xy), dtype=INDEX), np.arange(len(xy), dtype=INDEX)
+    triangles = np.concatenate([ids[q.triangles + offsets[i]] for i, (_, q) in enumerate(present)])
+    patch_ids = np.concatenate([q.patch_ids + patch_offsets[i] for i, (_, q) in enumerate(present)])
+    regions = np.concatenate([np.full(len(q.triangles), k + 1, INDEX) for k, q in present])
+    part_of_point = np.concatenate([np.full(len(q.xy), k) for k, q in present])
+    rects = None
+    if cell.mode == "paper" and all(q.rects is not None for _, q in present):
+        rects = np.concatenate([q.rects for _, q in present])
+    templates = {id(q.template) for _, q in present}
+    template = present[0][1].template if len(templates) == 1 else None
+    mesh = TriMesh(
+        points=np.column_stack([xy[rep], np.zeros(len(rep))]),
+        triangles=triangles,
+        patch_ids=patch_ids,
+        regions=regions,
+        n_patches=int(patch_offsets[-1]),
+        mode=cell.mode,
+        tolerance=cell.weld_tolerance,
+        patch_rects=rects,
+        _template=template,
+    )
+    return mesh, part_of_point[rep]
+
+
+def _conforming_notes(
+    cell: UnitCell, mesh: TriMesh, part_of_vertex: np.ndarray, refuse_corners: bool
+) -> list[str]:
+    notes = []
+    xy = mesh.points[:, :2]
+    topo = mesh.topology
+    tol = cell.weld_tolerance
+    hang = hanging_vertices(xy, topo.edges, topo.boundary_edges, max(tol, 1e-9 * cell.lattice.size))
+    if len(hang):
+        names = cell.part_names
+        edge_part = mesh.regions[topo.edge_triangles[hang[:, 0], 0]] - 1
+        vert_part = part_of_vertex[hang[:, 1]]
+        pair = np.sort(np.stack([edge_part, vert_part], axis=1), axis=1)
+        keys, first, count = np.unique(pair, axis=0, return_index=True, return_counts=True)
+        for (a, b), i, c in zip(keys.tolist(), first.tolist(), count.tolist(), strict=True):
+            p = xy[hang[i, 1]]
+            notes.append(
+                f"{names[a]!r} and {names[b]!r} touch with {c} hanging vertex(es) "
+                f"(first at ({p[0]:.6g}, {p[1]:.6g}) mm): their sides do not share vertices, "
+                "so the mesh is not conforming there"
+            )
+    pinch = pinch_vertices(topo, mesh.n_vertices)
+    # the ends of a side with hanging vertices are reported with them
+    pinch = np.setdiff1d(pinch, topo.edges[hang[:, 0]])
+    if cell.pixels is not None:  # pixel against pixel: reported from the mask already
+        pinch = pinch[part_of_vertex[pinch] != len(cell.elements)]
+    if len(pinch):
+        p = xy[pinch[0]]
+        message = (
+            f"{len(pinch)} vertex(es) where metal meets at a single point (first at "
+            f"({p[0]:.6g}, {p[1]:.6g}) mm): a junction risk for solvers"
+        )
+        if refuse_corners:
+            raise ValueError(message)
+        notes.append(message)
+    return notes
+
+
+def _outside_notes(cell: UnitCell, parts: list[_Part | None]) -> list[str]:
+    notes = []
+    lat = cell.lattice
+    tol = cell.weld_tolerance
+    for name, q in zip(cell.part_names, parts, strict=True):
+        if q is None:
+            continue
+        frac = lat.fractional(q.xy)
+        side = side_vertices(q.xy, lat, tol)
+        outside = (np.abs(frac) > 0.5) & (side == 0)
+        if outside.any():
+            notes.append(
+                f"{name!r} reaches beyond the cell boundary: copies of the cell would overlap there"
+            )
+    return notes
+
+
+def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
+    """An n1 x n2 array of the cell as one welded mesh, centred on the origin.
+
+    Copy (i, j) is the cell moved by (i − (n1 − 1)/2) a1 + (j − (n2 − 1)/2) a2;
+    vertices of neighbouring copies closer than the cell's tolerance are
+    welded. The result's lattice is (n1 a1, n2 a2), so its periodic pairs are
+    those of the array as a whole.
+
+    Parameters
+    ----------
+    cell : UnitCell or CellMesh
+        A built cell is not built again.
+    n1, n2 : int
+        Copies along a1 and a2, >= 1.
+
+    Returns
+    -------
+    CellMesh
+
+    Examples
+    --------
+    >>> from core.cell import PixelGrid
+    >>> one = PixelGrid(np.ones((1, 1)), origin=(-0.5, -0.5))
+    >>> full = UnitCell(Lattice.rectangular(1.0), pixels=one)
+    >>> tile(full, 3, 2).mesh.n_vertices  # (3 n + 1)(2 n + 1), n = 4
+    117
+    """
+    for name, n in (("n1", n1), ("n2", n2)):
+        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
+            raise ValueError(f"{name}={n!r} is invalid; expected an integer >= 1")
+    base = cell if isinstance(cell, CellMesh) else build_cell(cell)
+    unit = base.cell
+    lat = base.lattice
+    a1, a2 = np.asarray(lat.a1), np.asarray(lat.a2)
+    i, j = np.meshgrid(np.arange(n1) - (n1 - 1) / 2, np.arange(n2) - (n2 - 1) / 2, indexing="ij")
+    shifts = i.ravel()[:, None] * a1 + j.ravel()[:, None] * a2  # (n1 n2, 2)
+    m = base.mesh
+    v, copies = m.n_vertices, len(shifts)
+    xy = (m.points[None, :, :2] + shifts[:, None, :]).reshape(-1, 2)
+    tol = unit.weld_tolerance
+    frac = lat.fractional(m.points)
+    inside = (np.abs(frac) <= 0.5 + tol / lat.size + 1e-12).all()
+    if inside:  # only vertices on the cell's sides can meet a neighbour's
+        near = (side_vertices(m.points, lat, tol) != 0).any(axis=1)
+        candidates = (np.flatnonzero(near)[None, :] + (np.arange(copies) * v)[:, None]).ravel()
+    else:
+        candidates = np.arange(len(xy))
+    found = cKDTree(xy[candidates]).query_pairs(tol, output_type="ndarray")
+    ids, rep = merge_pairs(len(xy), candidates[found], xy, tol)
+    offsets = (np.arange(copies) * v).astype(INDEX)
+    triangles = ids[(m.triangles[None] + offsets[:, None, None]).reshape(-1, 3)]
+    patch_ids = (m.patch_ids[None] + (np.arange(copies) * m.n_patches)[:, None]).ravel()
+    rects = None
+    if m.patch_rects is not None:
+        rects = (m.patch_rects[None] + np.tile(shifts, 2)[:, None, :]).reshape(-1, 4)
+    mesh = TriMesh(
+        points=np.column_stack([xy[rep], np.zeros(len(rep))]),
+        triangles=triangles,
+        patch_ids=patch_ids,
+        regions=np.tile(m.regions, copies),
+        n_patches=m.n_patches * copies,
+        mode=m.mode,
+        tolerance=m.tolerance,
+        patch_rects=rects,
+        _template=m._template,
+    )
+    array_lattice = Lattice(tuple(n1 * a1), tuple(n2 * a2))
+    return CellMesh(
+        mesh,
+        unit,
+        array_lattice,
+        base.part_meshes,
+        base.contact_notes,
+        (base.copies[0] * n1, base.copies[1] * n2),
+    )

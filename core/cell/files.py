@@ -1,0 +1,288 @@
+"""Unit cells as JSON files (``*.cell.json``) and the shipped cell presets.
+
+A cell file is one JSON object::
+
+    {
+      "format": "barymesh-cell", "version": 1,
+      "name": "double-ring-patch", "description": "...",
+      "mode": "paper", "tolerance": null,
+      "lattice": {"rectangular": [20, 20]},      (or {"hexagonal": 12} or {"a1": [..], "a2": [..]})
+      "elements": [
+        {"name": "rings", "position": [0, 0], "rotation": 0,
+         "structure": "double_ring", "inner_radius": 5, ...},   (any MeshParams field)
+        ...
+      ],
+      "pixels": {"pixel_size": 0.5, "origin": [-4, -4], "subdivisions": 4,
+                 "rows": ["0110", "1001", ...]}                  (top row first, as drawn)
+    }
+
+Errors name the place in the document, e.g. ``elements[2].inner_radius``.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..params import MODES, MeshParams
+from .model import Element, Lattice, PixelGrid, UnitCell
+
+FORMAT = "barymesh-cell"
+VERSION = 1
+SUFFIX = ".cell.json"
+#: Folder of the shipped cell presets.
+CELL_PRESET_DIR = Path(__file__).resolve().parents[2] / "assets" / "cells"
+
+_ELEMENT_KEYS = ("name", "position", "rotation")
+_PIXEL_KEYS = ("rows", "pixel_size", "origin", "subdivisions", "scheme", "diagonal")
+_TOP_KEYS = (
+    "format",
+    "version",
+    "name",
+    "description",
+    "mode",
+    "tolerance",
+    "lattice",
+    "elements",
+    "pixels",
+)
+
+
+class CellFileError(ValueError):
+    """A cell document is invalid; the message names the file and the path in it."""
+
+
+def _fail(where: str, message: str) -> CellFileError:
+    return CellFileError(f"{where}: {message}")
+
+
+def _unknown(data: dict[str, Any], known: tuple[str, ...] | set[str], where: str) -> None:
+    extra = sorted(set(data) - set(known))
+    if extra:
+        prefix = f"{where}." if where else ""
+        raise _fail(
+            f"{prefix}{extra[0]}", f"unknown key; expected one of {', '.join(sorted(known))}"
+        )
+
+
+def _field_error(exc: Exception, where: str, fields: set[str]) -> CellFileError:
+    """Prefix a validation error with the document path of the field it names."""
+    text = str(exc)
+    match = re.match(r"(\w+)=", text)
+    path = f"{where}.{match.group(1)}" if match and match.group(1) in fields else where
+    return _fail(path, text)
+
+
+# -- dict <-> cell ------------------------------------------------------------
+
+
+def cell_to_dict(cell: UnitCell) -> dict[str, Any]:
+    """The JSON-ready document of ``cell`` (see the module docstring)."""
+    lat = cell.lattice
+    if lat.kind == "rectangular":
+        lattice: dict[str, Any] = {"rectangular": [lat.a1[0], lat.a2[1]]}
+    elif lat.kind == "hexagonal":
+        lattice = {"hexagonal": lat.a1[0]}
+    else:
+        lattice = {"a1": list(lat.a1), "a2": list(lat.a2)}
+    elements = []
+    for el in cell.elements:
+        params = el.params.to_dict()
+        params.pop("mode")  # the cell's
+        elements.append(
+            {"name": el.name, "position": list(el.position), "rotation": el.rotation, **params}
+        )
+    pixels = None
+    if cell.pixels is not None:
+        g = cell.pixels
+        pixels = {
+            "pixel_size": g.pixel_size,
+            "origin": list(g.origin),
+            "subdivisions": g.subdivisions,
+            "scheme": g.scheme,
+            "diagonal": g.diagonal,
+            "rows": ["".join("1" if v else "0" for v in row) for row in g.mask[::-1]],
+        }
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "name": cell.name,
+        "description": cell.description,
+        "mode": cell.mode,
+        "tolerance": cell.tolerance,
+        "lattice": lattice,
+        "elements": elements,
+        "pixels": pixels,
+    }
+
+
+def cell_from_dict(data: Any, source: str = "cell") -> UnitCell:
+    """Validate a document into a :class:`UnitCell`; errors name ``source`` and the path."""
+    try:
+        return _cell_from_dict(data)
+    except CellFileError as exc:
+        raise CellFileError(f"{source}: {exc}") from None
+
+
+def _cell_from_dict(data: Any) -> UnitCell:
+    if not isinstance(data, dict):
+        raise _fail("document", f"expected a JSON object, got {type(data).__name__}")
+    _unknown(data, _TOP_KEYS, "")
+    if data.get("format", FORMAT) != FORMAT:
+        raise _fail("format", f"{data['format']!r} is not a cell file; expected {FORMAT!r}")
+    version = data.get("version")
+    if version != VERSION:
+        raise _fail("version", f"{version!r} is not supported; expected {VERSION}")
+    mode = data.get("mode", "paper")
+    if mode not in MODES:
+        raise _fail("mode", f"{mode!r} is unknown; expected one of {', '.join(MODES)}")
+    lattice = _lattice(data.get("lattice"))
+    raw_elements = data.get("elements", [])
+    if not isinstance(raw_elements, list):
+        raise _fail("elements", f"expected a list of elements, got {type(raw_elements).__name__}")
+    elements = tuple(_element(e, f"elements[{k}]", mode) for k, e in enumerate(raw_elements))
+    pixels = None if data.get("pixels") is None else _pixels(data["pixels"])
+    for key in ("name", "description"):
+        if not isinstance(data.get(key, ""), str):
+            raise _fail(key, f"{data[key]!r} is not a string")
+    try:
+        return UnitCell(
+            lattice=lattice,
+            elements=elements,
+            pixels=pixels,
+            mode=mode,
+            tolerance=data.get("tolerance"),
+            name=data.get("name", "cell"),
+            description=data.get("description", ""),
+        )
+    except (ValueError, TypeError) as exc:
+        text = str(exc)
+        match = re.match(r"(elements\[\d+\](?:\.\w+)?)", text)
+        if match:
+            raise _fail(match.group(1), text) from None
+        match = re.match(r"(\w+)=", text)
+        raise _fail(match.group(1) if match else "document", text) from None
+
+
+def _lattice(raw: Any) -> Lattice:
+    if not isinstance(raw, dict):
+        raise _fail(
+            "lattice", f"expected an object such as {{'rectangular': [px, py]}}, got {raw!r}"
+        )
+    try:
+        if set(raw) == {"rectangular"}:
+            value = raw["rectangular"]
+            if isinstance(value, int | float):
+                return Lattice.rectangular(value)
+            px, py = value
+            return Lattice.rectangular(px, py)
+        if set(raw) == {"hexagonal"}:
+            return Lattice.hexagonal(raw["hexagonal"])
+        if set(raw) == {"a1", "a2"}:
+            return Lattice(raw["a1"], raw["a2"])
+    except (ValueError, TypeError) as exc:
+        match = re.match(r"(\w+)=", str(exc))
+        key = {"px": "rectangular", "py": "rectangular", "a": "hexagonal"}.get(
+            match.group(1) if match else "", match.group(1) if match else ""
+        )
+        raise _fail(f"lattice.{key}" if key else "lattice", str(exc)) from None
+    raise _fail(
+        "lattice",
+        f"keys {sorted(raw)} are invalid; expected 'rectangular', 'hexagonal', or 'a1' and 'a2'",
+    )
+
+
+def _element(raw: Any, where: str, mode: str) -> Element:
+    if not isinstance(raw, dict):
+        raise _fail(where, f"expected an object of element fields, got {type(raw).__name__}")
+    fields = set(MeshParams.__dataclass_fields__)
+    _unknown(raw, fields | set(_ELEMENT_KEYS), where)
+    params = {k: v for k, v in raw.items() if k not in _ELEMENT_KEYS}
+    if "mode" in params and params["mode"] != mode:
+        raise _fail(
+            f"{where}.mode",
+            f"mode={params['mode']!r} differs from the cell's mode={mode!r}; "
+            "an element takes the cell's mode (leave it out)",
+        )
+    params["mode"] = mode
+    try:
+        mp = MeshParams.from_dict(params)
+    except (ValueError, TypeError) as exc:
+        raise _field_error(exc, where, fields) from None
+    try:
+        return Element(
+            mp,
+            position=raw.get("position", (0.0, 0.0)),
+            rotation=raw.get("rotation", 0.0),
+            name=raw.get("name", where),
+        )
+    except (ValueError, TypeError) as exc:
+        raise _field_error(exc, where, set(_ELEMENT_KEYS)) from None
+
+
+def _pixels(raw: Any) -> PixelGrid:
+    where = "pixels"
+    if not isinstance(raw, dict):
+        raise _fail(where, f"expected an object with 'rows', got {type(raw).__name__}")
+    _unknown(raw, _PIXEL_KEYS, where)
+    rows = raw.get("rows")
+    if not isinstance(rows, list) or not rows or not all(isinstance(r, str) for r in rows):
+        raise _fail(f"{where}.rows", "expected a non-empty list of strings of 0 and 1")
+    width = len(rows[0])
+    for k, row in enumerate(rows):
+        if len(row) != width or set(row) - {"0", "1"}:
+            raise _fail(
+                f"{where}.rows[{k}]",
+                f"{row!r} is invalid; expected {width} characters, each 0 or 1",
+            )
+    mask = np.array([[c == "1" for c in row] for row in rows[::-1]], dtype=bool)
+    kwargs = {k: raw[k] for k in _PIXEL_KEYS[1:] if k in raw}
+    try:
+        return PixelGrid(mask, **kwargs)
+    except (ValueError, TypeError) as exc:
+        raise _field_error(exc, where, set(_PIXEL_KEYS)) from None
+
+
+# -- files --------------------------------------------------------------------
+
+
+def save_cell(cell: UnitCell, path: str | Path) -> None:
+    """Write ``cell`` as a cell file (written atomically) that :func:`load_cell` reads back."""
+    from ..io.atomic import atomic_write_text
+
+    atomic_write_text(Path(path), json.dumps(cell_to_dict(cell), indent=2) + "\n")
+
+
+def load_cell(path: str | Path) -> UnitCell:
+    """Read and validate a cell file; errors name the file and the path in the document."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CellFileError(f"{path}: no such cell file") from None
+    except OSError as exc:
+        raise CellFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise CellFileError(f"{path}: not a UTF-8 text file; expected a JSON cell") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise CellFileError(f"{path}: invalid JSON at line {exc.lineno}: {exc.msg}") from None
+    return cell_from_dict(data, str(path))
+
+
+def cell_preset_names() -> list[str]:
+    """Names of the shipped cell presets, sorted."""
+    return sorted(p.name[: -len(SUFFIX)] for p in CELL_PRESET_DIR.glob(f"*{SUFFIX}"))
+
+
+def load_cell_preset(name: str) -> UnitCell:
+    """The shipped cell preset ``name`` (see :func:`cell_preset_names`)."""
+    names = cell_preset_names()
+    if name not in names:
+        raise ValueError(f"unknown cell preset {name!r}; expected one of {', '.join(names)}")
+    return load_cell(CELL_PRESET_DIR / f"{name}{SUFFIX}")
