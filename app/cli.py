@@ -5,7 +5,12 @@
     barymesh                       open the desktop window (same options as below)
     barymesh mesh [options]        build a mesh, write files, render a screenshot
     barymesh info FILE             import a mesh file and print its statistics
-    barymesh presets               list the presets
+    barymesh presets               list the presets (structures, then unit cells)
+
+A unit cell (``--cell FILE.cell.json`` or ``--cell-preset NAME``) or an array
+(``--array N1xN2``, of a cell or of one structure) is meshed by
+:mod:`core.cell`; ``-o`` then also takes ``.dxf`` and ``.gds`` (the metal
+outline) and a ``.msh`` carries ``$Periodic`` when the mesh is periodic.
 
 Exit codes: 0 success, 1 bad input (parameter values, files), 2 bad usage.
 Errors are one line on stderr, never a traceback.
@@ -23,6 +28,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
@@ -78,6 +84,53 @@ def _whole(text: str) -> int:
         raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a whole number") from None
 
 
+def _array_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"\s*(\d{1,12})\s*[xX×]\s*(\d{1,12})\s*", text)
+    if not match:
+        raise argparse.ArgumentTypeError(
+            f"{text[:40]!r} is invalid; expected N1xN2 copies, e.g. 3x2"
+        )
+    n1, n2 = int(match[1]), int(match[2])
+    if n1 < 1 or n2 < 1:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected at least 1x1")
+    return n1, n2
+
+
+def _period(text: str) -> tuple[float, float]:
+    parts = text.split(",")
+    if len(parts) > 2:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected PX or PX,PY in mm")
+    values = [_finite(part) for part in parts]
+    if min(values) <= 0:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected periods > 0 mm")
+    return values[0], values[-1]
+
+
+def _add_cell_options(p: argparse.ArgumentParser, period: bool = True) -> None:
+    g = p.add_argument_group(
+        "unit cell (instead of --preset/--params/--set, except --array and --period)"
+    )
+    g.add_argument("--cell", metavar="FILE.cell.json", help="a unit-cell file")
+    g.add_argument(
+        "--cell-preset", metavar="NAME", help="a shipped unit cell (see `barymesh presets`)"
+    )
+    g.add_argument(
+        "--array",
+        type=_array_size,
+        metavar="N1xN2",
+        help="an N1 x N2 array of the cell, or of the structure on a rectangular lattice "
+        "whose period is its bounding box (copies touch), as one welded mesh",
+    )
+    if period:
+        g.add_argument(
+            "--period",
+            type=_period,
+            metavar="PX[,PY]",
+            help="lattice periods (mm) of a structure made into a cell, instead of its "
+            "bounding box",
+        )
+
+
 def _add_params_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("parameters (later sources win: preset, then file, then --set)")
     g.add_argument("--preset", metavar="NAME", help="start from a preset (see `barymesh presets`)")
@@ -104,6 +157,7 @@ def _add_stats_option(p: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the subcommands (``mesh``, ``info``, ``sweep``, ``presets``)."""
+    from core.cell.outline import DEFAULT_CHORD_ERROR
     from core.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, UNITS
 
     parser = _Parser(
@@ -125,6 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
         "without a display, and print a short summary.",
     )
     _add_params_options(mesh)
+    _add_cell_options(mesh)
     out = mesh.add_argument_group("output")
     out.add_argument(
         "-o",
@@ -133,8 +188,15 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="OUT",
         action="append",
         default=[],
-        help=f"write the mesh; the extension picks the format: {', '.join(EXPORT_EXTENSIONS)} "
-        "(repeatable)",
+        help=f"write the mesh; the extension picks the format: {', '.join(EXPORT_EXTENSIONS)}; "
+        "or the metal outline: .dxf, .gds (repeatable)",
+    )
+    out.add_argument(
+        "--chord-error",
+        type=_finite,
+        metavar="MM",
+        help=f"outlines: largest distance between an arc and its chords (default "
+        f"{DEFAULT_CHORD_ERROR:g} mm)",
     )
     out.add_argument(
         "--unit",
@@ -160,9 +222,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="import a mesh file and print its statistics",
         description="Import a mesh file and print the same statistics as `barymesh mesh`. "
         f"Reads {', '.join(IMPORT_EXTENSIONS)}; only triangles count, other cells are "
-        "reported as ignored.",
+        "reported as ignored. A unit cell (FILE.cell.json, --cell or --cell-preset) is "
+        "meshed instead and its statistics printed per part, with the periodic check.",
     )
-    info.add_argument("file", metavar="FILE", help="the mesh file")
+    info.add_argument("file", metavar="FILE", nargs="?", help="the mesh file (or a cell file)")
+    _add_cell_options(info, period=False)
     info.add_argument(
         "--unit",
         choices=UNITS,
@@ -179,6 +243,9 @@ def build_parser() -> argparse.ArgumentParser:
         "(integers rounded), without a display, and save them as an animation.",
     )
     _add_params_options(sweep)
+    for option in ("--cell", "--cell-preset", "--array", "--period"):  # refused in one line
+        dest = "refused_" + option[2:].replace("-", "_")
+        sweep.add_argument(option, dest=dest, help=argparse.SUPPRESS)
     anim = sweep.add_argument_group("sweep")
     anim.add_argument("--param", required=True, choices=SWEEPABLE, help="the parameter to vary")
     anim.add_argument("--from", dest="start", required=True, type=_finite, metavar="A")
@@ -204,7 +271,8 @@ def build_parser() -> argparse.ArgumentParser:
     verbs.add_parser(
         "presets",
         help="list the presets, one per line",
-        description="List the presets with a one-line description each.",
+        description="List the structure presets (--preset NAME), then the unit-cell presets "
+        "(--cell-preset NAME, described as 'cell: ...'), one line each.",
     )
     return parser
 
@@ -294,19 +362,54 @@ def _emit_stats(stats: dict[str, Any], target: str | None) -> None:
 
 
 def _cmd_mesh(args: argparse.Namespace) -> int:
-    from core import build_mesh
-    from core.io import describe_export, export_format
-    from core.presets import preset_names
+    _check_mesh_usage(args)
+    stats_to_stdout = args.stats_json == "-"
+    say = sys.stderr if stats_to_stdout else sys.stdout
+    outlines = [out for out in args.outputs if Path(out).suffix.lower() in OUTLINE_EXTENSIONS]
+    built = _build(args)
+    print(built.summary, file=say)
+    polygons = _outline_polygons(built, args, outlines[0]) if outlines else []
 
-    if args.preset is not None and args.preset not in preset_names():
-        raise UsageError(
-            f"mesh: unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
-        )
+    from core.io import describe_export
+
     for out in args.outputs:
+        with progress(f"writing {out}"):
+            if out in outlines:
+                _write_outline(polygons, out, built.name)
+                print(f"wrote {_describe_outline(out, polygons, args.chord_error)}", file=say)
+            else:
+                extra = _write_mesh_file(built, out, args.unit)
+                print(f"wrote {describe_export(out, args.unit)}{extra}", file=say)
+    if args.screenshot:
+        _screenshot(built.mesh, args.screenshot, tuple(args.window_size), args.transparent)
+        print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)", file=say)
+    _emit_stats(built.stats, args.stats_json)
+    return 0
+
+
+def _check_mesh_usage(args: argparse.Namespace) -> None:
+    """Usage errors of ``mesh``, all before any work (exit code 2)."""
+    from core.io import export_format
+
+    _check_preset(args, "mesh")
+    _check_cell_usage(args, "mesh")
+    for out in args.outputs:
+        if Path(out).suffix.lower() in OUTLINE_EXTENSIONS:
+            continue
         try:
             export_format(out)
         except ValueError as exc:
-            raise UsageError(f"mesh: -o {exc}") from None
+            raise UsageError(f"mesh: -o {exc}; or .dxf, .gds for the outline") from None
+    outlines = [out for out in args.outputs if Path(out).suffix.lower() in OUTLINE_EXTENSIONS]
+    if args.chord_error is not None and not outlines:
+        raise UsageError("mesh: --chord-error needs an outline output (-o FILE.dxf or .gds)")
+    if args.chord_error is not None and args.chord_error <= 0:
+        raise UsageError(f"mesh: --chord-error {args.chord_error:g} is invalid; expected > 0 mm")
+    if outlines and args.unit not in (None, "mm"):
+        raise UsageError(
+            f"mesh: -o {outlines[0]}: outlines are written in mm; --unit {args.unit} is for "
+            "mesh files (write them in a separate run)"
+        )
     if args.transparent and not args.screenshot:
         raise UsageError("mesh: --transparent needs --screenshot")
     if args.screenshot:
@@ -317,27 +420,300 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
     targets = [*args.outputs, args.screenshot, None if args.stats_json == "-" else args.stats_json]
     for target in filter(None, targets):
         _check_folder(target)  # before minutes of meshing, not after
-    stats_to_stdout = args.stats_json == "-"
-    say = sys.stderr if stats_to_stdout else sys.stdout
+    for out in outlines:
+        _check_outline_writer(out)
 
-    params = _resolve(args)
-    with progress(f"building {params.predicted_triangles():,} triangles"):
-        mesh = build_mesh(params)
-        stats = mesh.stats()
-    title = f"{args.preset or 'mesh'}: {params.structure}, {params.mode} mode"
-    print(_summary(stats, title), file=say)
 
-    from core.io import write_mesh
+def _check_preset(args: argparse.Namespace, verb: str) -> None:
+    from core.cell import cell_preset_names
+    from core.presets import preset_names
 
-    for out in args.outputs:
-        with progress(f"writing {out}"):
-            written = write_mesh(mesh, out, unit=args.unit)
-        print(f"wrote {describe_export(written, args.unit)}", file=say)
-    if args.screenshot:
-        _screenshot(mesh, args.screenshot, tuple(args.window_size), args.transparent)
-        print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)", file=say)
-    _emit_stats(stats, args.stats_json)
-    return 0
+    if args.preset is not None and args.preset not in preset_names():
+        if args.preset in cell_preset_names():
+            raise UsageError(
+                f"{verb}: {args.preset!r} is a unit-cell preset; use --cell-preset {args.preset}"
+            )
+        raise UsageError(
+            f"{verb}: unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
+        )
+
+
+# -- what a command meshes: one structure, or a unit cell / an array ----------
+
+#: Outline extensions of -o: (format name, the module that writes it).
+OUTLINE_EXTENSIONS = {".dxf": ("DXF", "ezdxf"), ".gds": ("GDSII", "gdstk")}
+
+
+@dataclass(frozen=True)
+class _Built:
+    """A finished mesh and what the outputs need of it."""
+
+    mesh: Any  # TriMesh
+    stats: dict[str, Any]  # TriMesh.stats(), or CellMesh.stats() for a cell
+    summary: str
+    name: str  # the structure's or the cell's name (GDSII cell name)
+    label: str  # where it came from, for messages
+    params: Any = None  # MeshParams of a plain structure
+    cell: Any = None  # UnitCell, or None for a plain structure
+    cell_mesh: Any = None  # CellMesh
+    copies: tuple[int, int] = (1, 1)
+
+
+def _check_cell_usage(args: argparse.Namespace, verb: str) -> None:
+    """A cell replaces the structure options; its preset must exist (exit code 2)."""
+    from core.cell import cell_preset_names
+    from core.presets import preset_names
+
+    cell_option = "--cell" if args.cell is not None else "--cell-preset"
+    if args.cell is not None and args.cell_preset is not None:
+        raise UsageError(f"{verb}: --cell and --cell-preset both name a cell; give one")
+    if args.cell is not None or args.cell_preset is not None:
+        given = [
+            option
+            for option, value in (
+                ("--preset", getattr(args, "preset", None)),
+                ("--params", getattr(args, "params", None)),
+                ("--set", getattr(args, "sets", None)),
+            )
+            if value
+        ]
+        if given:
+            raise UsageError(
+                f"{verb}: {given[0]} sets the parameters of one structure; a cell "
+                f"({cell_option}) holds its own elements: edit its file instead"
+            )
+        if getattr(args, "period", None) is not None:
+            raise UsageError(
+                f"{verb}: --period makes a structure into a cell; a cell ({cell_option}) "
+                "has its own lattice"
+            )
+    name = args.cell_preset
+    if name is not None and name not in cell_preset_names():
+        hint = ""
+        if name in preset_names():
+            hint = f"; {name!r} is a structure preset: use --preset {name}"
+        raise UsageError(
+            f"{verb}: unknown cell preset {name!r}; expected one of "
+            f"{', '.join(cell_preset_names())}{hint}"
+        )
+
+
+def _build(args: argparse.Namespace) -> _Built:
+    """Mesh what the options name: a structure, or a cell or array (with progress)."""
+    from core import build_mesh
+
+    array, period = args.array, getattr(args, "period", None)
+    if args.cell is not None or args.cell_preset is not None:
+        cell, label = _load_cell_source(args)
+        budget = None
+    else:
+        params = _resolve(args)
+        name = args.preset or params.structure
+        label = _structure_label(args)
+        with progress(f"building {params.predicted_triangles():,} triangles"):
+            mesh = build_mesh(params)
+        if array is None and period is None:
+            stats = mesh.stats()
+            title = f"{args.preset or 'mesh'}: {params.structure}, {params.mode} mode"
+            return _Built(mesh, stats, _summary(stats, title), name, label, params=params)
+        cell = _structure_cell(params, mesh, name, period)
+        budget = params.max_triangles
+    copies = array or (1, 1)
+    total = _check_cell_budget(cell, copies, label, budget)
+    from core.cell import build_cell, tile
+
+    with progress(f"building {total:,} triangles"):
+        try:
+            cell_mesh = build_cell(cell)
+            if copies != (1, 1):
+                cell_mesh = tile(cell_mesh, *copies)
+        except ValueError as exc:
+            raise InputError(f"{label}: {exc}") from None
+        stats = cell_mesh.stats()
+    return _Built(
+        cell_mesh.mesh,
+        stats,
+        _cell_summary(cell_mesh, stats, label),
+        cell.name,
+        label,
+        cell=cell,
+        cell_mesh=cell_mesh,
+        copies=copies,
+    )
+
+
+def _structure_label(args: argparse.Namespace) -> str:
+    given = [f"preset {args.preset!r}" if args.preset else "", args.params or ""]
+    given += [f"--set {text!r}" for text in args.sets]
+    return ", ".join(filter(None, given)) or "the default structure"
+
+
+def _load_cell_source(args: argparse.Namespace) -> tuple[Any, str]:
+    """The cell of ``--cell`` or ``--cell-preset`` and its label; errors name the file."""
+    from core.cell import CellFileError, load_cell, load_cell_preset
+
+    if args.cell_preset is not None:
+        return load_cell_preset(args.cell_preset), f"cell preset {args.cell_preset!r}"
+    from core.io.import_ import file_problem
+
+    path = Path(args.cell)
+    problem = file_problem(path)  # a pipe or a device is never opened
+    if problem:
+        raise InputError(f"{path}: {problem}")
+    try:
+        return load_cell(path), str(path)
+    except CellFileError:
+        raise
+    except RecursionError:
+        raise InputError(f"{path}: invalid JSON cell (nested too deeply)") from None
+    except (ValueError, TypeError) as exc:  # e.g. a number of over 4300 digits
+        why = "a number is too long" if "digits" in str(exc) else str(exc)
+        raise InputError(f"{path}: invalid JSON cell ({why})") from None
+
+
+def _structure_cell(params: Any, mesh: Any, name: str, period: tuple[float, float] | None) -> Any:
+    """One structure as a cell: centred on its bounding box, whose size is the period.
+
+    Without ``period`` the lattice is rectangular with the bounding box's width and
+    height as periods, so neighbouring copies touch.
+    """
+    from core.cell import Element, Lattice, UnitCell
+
+    lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
+    px, py = period if period is not None else (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
+    centre = (lo + hi) / 2
+    element = Element(params, position=(-centre[0], -centre[1]), name=name)
+    return UnitCell(
+        Lattice.rectangular(px, py),
+        (element,),
+        mode=params.mode,
+        tolerance=params.tolerance,
+        name=name,
+    )
+
+
+def _check_cell_budget(cell: Any, copies: tuple[int, int], label: str, budget: int | None) -> int:
+    """The predicted triangles of ``copies`` of ``cell``; refused above the budget."""
+    from core.params import DEFAULT_MAX_TRIANGLES
+
+    budget = DEFAULT_MAX_TRIANGLES if budget is None else budget
+    per = sum(el.params.predicted_triangles() for el in cell.elements)
+    if cell.pixels is not None:
+        per += int(cell.pixels.mask.sum()) * cell.pixels.patch_params().predicted_triangles()
+    total = per * copies[0] * copies[1]
+    if total > budget:
+        raise InputError(
+            f"{label}: {copies[0]} x {copies[1]} copies of {per:,} triangles make {total:,} "
+            f"triangles, above the budget of max_triangles={budget:,}; use fewer copies"
+        )
+    return total
+
+
+def _cell_summary(cell_mesh: Any, stats: dict[str, Any], label: str) -> str:
+    cell = cell_mesh.cell
+    parts = f"{len(cell.elements)} element(s)"
+    if cell.pixels is not None:
+        parts += f" and {int(cell.pixels.mask.sum()):,} pixel(s)"
+    n1, n2 = cell_mesh.copies
+    whole = "cell" if (n1, n2) == (1, 1) else "array"
+    title = f"{label}: unit cell {cell.name!r}, {parts}, {cell.mode} mode"
+    if whole == "array":
+        title += f", an array of {n1} x {n2} cells"
+    lat = cell.lattice
+    lines = [
+        _summary(stats["cell"], title),
+        f"  lattice {lat.kind}: a1 = ({lat.a1[0]:.6g}, {lat.a1[1]:.6g}) mm, "
+        f"a2 = ({lat.a2[0]:.6g}, {lat.a2[1]:.6g}) mm",
+        "  parts: "
+        + ", ".join(f"{part['name']!r} {part['triangles']:,} triangles" for part in stats["parts"]),
+    ]
+    pairs, unmatched = stats["periodic_edge_pairs"], stats["unmatched_periodic_edges"]
+    if unmatched:
+        lines.append(f"  periodic: no, {unmatched:,} edge(s) on the {whole}'s sides lack a partner")
+    elif pairs:
+        lines.append(f"  periodic: yes, {pairs:,} edge pairs across the {whole}'s sides")
+    else:
+        lines.append(f"  periodic: no metal on the {whole}'s sides")
+    lines += [f"  note: {note}" for note in stats["notes"]]
+    return "\n".join(lines)
+
+
+def _write_mesh_file(built: _Built, out: str, unit: str | None) -> str:
+    """Write a mesh file; a cell's .msh gets ``$Periodic`` when periodic. Returns a remark."""
+    from core.io import export_unit, per_mm, write_mesh
+
+    cell_mesh = built.cell_mesh
+    if cell_mesh is None or Path(out).suffix.lower() != ".msh":
+        write_mesh(built.mesh, out, unit=unit)
+        return ""
+    pairs = cell_mesh.periodic_pairs
+    if pairs.matched and len(pairs.edges):
+        from core.io.periodic_msh import write_periodic_msh
+
+        write_periodic_msh(cell_mesh, out, per_mm(export_unit(out, unit)))
+        return f" with $Periodic: {len(pairs.edges):,} edge pairs"
+    write_mesh(built.mesh, out, unit=unit)
+    why = "not periodic" if not pairs.matched else "no metal on its sides"
+    return f" without $Periodic ({why})"
+
+
+def _check_outline_writer(out: str) -> None:
+    import importlib
+
+    kind, module = OUTLINE_EXTENSIONS[Path(out).suffix.lower()]
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        raise InputError(
+            f"cannot write {out}: {kind} outlines need {module}: pip install 'barymesh[cell]'"
+        ) from None
+
+
+def _outline_polygons(built: _Built, args: argparse.Namespace, first: str) -> list[Any]:
+    """The metal outline of what was built (a structure alone keeps its coordinates)."""
+    from core.cell import Element, Lattice, UnitCell, outline_polygons
+    from core.cell.outline import DEFAULT_CHORD_ERROR
+
+    cell = built.cell
+    if cell is None:
+        params, xy = built.params, built.mesh.points[:, :2]
+        size = xy.max(axis=0) - xy.min(axis=0)
+        cell = UnitCell(
+            Lattice.rectangular(*size),
+            (Element(params, name=built.name),),
+            mode=params.mode,
+            tolerance=params.tolerance,
+            name=built.name,
+        )
+    error = DEFAULT_CHORD_ERROR if args.chord_error is None else args.chord_error
+    with progress(f"outlining for {first}"):
+        try:
+            return outline_polygons(cell, error, built.copies)
+        except ValueError as exc:
+            raise InputError(f"{built.label}: cannot write {first}: {exc}") from None
+
+
+def _write_outline(polygons: list[Any], out: str, name: str) -> None:
+    from core.cell import write_outline_dxf, write_outline_gds
+
+    if Path(out).suffix.lower() == ".dxf":
+        write_outline_dxf(polygons, out)
+    else:
+        gds_name = re.sub(r"[^A-Za-z0-9_$-]", "_", name)[:32] or "CELL"
+        write_outline_gds(polygons, out, cell_name=gds_name)
+
+
+def _describe_outline(out: str, polygons: list[Any], chord_error: float | None) -> str:
+    from core.cell.outline import DEFAULT_CHORD_ERROR
+
+    kind = OUTLINE_EXTENSIONS[Path(out).suffix.lower()][0]
+    holes = sum(len(p.holes) for p in polygons)
+    area = sum(p.area for p in polygons)
+    error = DEFAULT_CHORD_ERROR if chord_error is None else chord_error
+    return (
+        f"{out} ({kind} outline, mm: {len(polygons)} polygon(s), {holes} hole(s), "
+        f"metal area {area:.6g} mm^2, chord error {error:g} mm)"
+    )
 
 
 #: Bytes an off-screen render needs per pixel (colour, depth and VTK's copies; measured:
@@ -396,8 +772,28 @@ def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) 
 def _cmd_info(args: argparse.Namespace) -> int:
     from core.io import read_mesh
 
+    cell_given = args.cell is not None or args.cell_preset is not None
+    if args.file is not None and args.file.lower().endswith(".cell.json") and not cell_given:
+        args.cell, args.file, cell_given = args.file, None, True
+    if args.file is None and not cell_given:
+        raise UsageError(
+            "info: the following arguments are required: FILE "
+            "(or --cell FILE.cell.json, --cell-preset NAME)"
+        )
+    if args.file is not None and cell_given:
+        raise UsageError(f"info: give a mesh FILE or a cell, not both ({args.file})")
+    if args.array is not None and not cell_given:
+        raise UsageError("info: --array needs a cell (--cell or --cell-preset)")
+    if args.unit is not None and cell_given:
+        raise UsageError("info: --unit is for mesh files; a cell is in mm")
+    _check_cell_usage(args, "info")
     stats_to_stdout = args.stats_json == "-"
     say = sys.stderr if stats_to_stdout else sys.stdout
+    if cell_given:
+        built = _build(args)
+        print(built.summary, file=say)
+        _emit_stats(built.stats, args.stats_json)
+        return 0
     with progress(f"reading {args.file}"):
         mesh = read_mesh(args.file, unit=args.unit)
         stats = mesh.stats()
@@ -407,9 +803,12 @@ def _cmd_info(args: argparse.Namespace) -> int:
 
 
 def _cmd_presets(args: argparse.Namespace) -> int:
+    from core.cell import cell_preset_names, load_cell_preset
     from core.presets import preset_descriptions
 
     described = preset_descriptions()
+    for name in cell_preset_names():
+        described[name] = f"cell: {load_cell_preset(name).description}"
     width = max(map(len, described), default=0)
     for name, description in described.items():
         print(f"{name:<{width}}  {description}")
@@ -417,12 +816,14 @@ def _cmd_presets(args: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from core.presets import preset_names
-
-    if args.preset is not None and args.preset not in preset_names():
-        raise UsageError(
-            f"sweep: unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
-        )
+    for option in ("cell", "cell_preset", "array", "period"):
+        if getattr(args, f"refused_{option}") is not None:
+            raise UsageError(
+                f"sweep: --{option.replace('_', '-')} is not supported: a sweep varies one "
+                "parameter of one structure, and a cell's elements each have their own; "
+                "sweep the structure (--preset, --params, --set)"
+            )
+    _check_preset(args, "sweep")
     from core.sweep import check_sweep_size
 
     if args.frames < 2:

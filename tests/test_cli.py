@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from app import cli
+from core.cell import cell_preset_names
 from core.io import read_mesh
 from core.presets import preset_names
 
@@ -45,7 +46,7 @@ def test_presets_lists_one_line_each(tmp_path):
     r = run("presets", cwd=tmp_path)
     assert r.returncode == 0 and r.stderr == ""
     lines = r.stdout.strip().splitlines()
-    assert [line.split()[0] for line in lines] == preset_names()
+    assert [line.split()[0] for line in lines] == preset_names() + cell_preset_names()
     assert all(len(line.split(None, 1)) == 2 for line in lines)
 
 
