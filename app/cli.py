@@ -367,8 +367,8 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
     say = sys.stderr if stats_to_stdout else sys.stdout
     outlines = [out for out in args.outputs if Path(out).suffix.lower() in OUTLINE_EXTENSIONS]
     built = _build(args)
-    print(built.summary, file=say)
     polygons = _outline_polygons(built, args, outlines[0]) if outlines else []
+    print(built.summary, file=say)
 
     from core.io import describe_export
 
@@ -633,7 +633,7 @@ def _cell_summary(cell_mesh: Any, stats: dict[str, Any], label: str) -> str:
     elif pairs:
         lines.append(f"  periodic: yes, {pairs:,} edge pairs across the {whole}'s sides")
     else:
-        lines.append(f"  periodic: no metal on the {whole}'s sides")
+        lines.append(f"  periodic: no mesh edge on the {whole}'s sides")
     lines += [f"  note: {note}" for note in stats["notes"]]
     return "\n".join(lines)
 
@@ -653,7 +653,7 @@ def _write_mesh_file(built: _Built, out: str, unit: str | None) -> str:
         write_periodic_msh(cell_mesh, out, per_mm(export_unit(out, unit)))
         return f" with $Periodic: {len(pairs.edges):,} edge pairs"
     write_mesh(built.mesh, out, unit=unit)
-    why = "not periodic" if not pairs.matched else "no metal on its sides"
+    why = "not periodic" if not pairs.matched else "no mesh edge on its sides"
     return f" without $Periodic ({why})"
 
 
