@@ -106,22 +106,24 @@ def _period(text: str) -> tuple[float, float]:
     return values[0], values[-1]
 
 
-def _add_cell_options(p: argparse.ArgumentParser, period: bool = True) -> None:
-    g = p.add_argument_group(
-        "unit cell (instead of --preset/--params/--set, except --array and --period)"
-    )
+def _add_cell_options(p: argparse.ArgumentParser, structure: bool = True) -> None:
+    """``--cell``, ``--cell-preset``, ``--array`` and, with ``structure``, ``--period``."""
+    if structure:
+        title = "unit cell (instead of --preset/--params/--set, except --array and --period)"
+        array = (
+            "an N1 x N2 array of the cell, or of the structure on a rectangular lattice whose "
+            "periods are its bounding box (copies touch), as one welded mesh"
+        )
+    else:
+        title = "unit cell (instead of a mesh FILE)"
+        array = "an N1 x N2 array of the cell, as one welded mesh"
+    g = p.add_argument_group(title)
     g.add_argument("--cell", metavar="FILE.cell.json", help="a unit-cell file")
     g.add_argument(
         "--cell-preset", metavar="NAME", help="a shipped unit cell (see `barymesh presets`)"
     )
-    g.add_argument(
-        "--array",
-        type=_array_size,
-        metavar="N1xN2",
-        help="an N1 x N2 array of the cell, or of the structure on a rectangular lattice "
-        "whose period is its bounding box (copies touch), as one welded mesh",
-    )
-    if period:
+    g.add_argument("--array", type=_array_size, metavar="N1xN2", help=array)
+    if structure:
         g.add_argument(
             "--period",
             type=_period,
@@ -175,8 +177,8 @@ def build_parser() -> argparse.ArgumentParser:
         "mesh",
         help="build a mesh; write files, a screenshot, statistics",
         description="Build a mesh from a preset, a parameter file and/or single parameters, "
-        "write each -o file (format from its extension), optionally render a screenshot "
-        "without a display, and print a short summary.",
+        "or of a unit cell or an array, write each -o file (format from its extension), "
+        "optionally render a screenshot without a display, and print a short summary.",
     )
     _add_params_options(mesh)
     _add_cell_options(mesh)
@@ -226,7 +228,7 @@ def build_parser() -> argparse.ArgumentParser:
         "meshed instead and its statistics printed per part, with the periodic check.",
     )
     info.add_argument("file", metavar="FILE", nargs="?", help="the mesh file (or a cell file)")
-    _add_cell_options(info, period=False)
+    _add_cell_options(info, structure=False)
     info.add_argument(
         "--unit",
         choices=UNITS,
