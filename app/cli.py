@@ -390,7 +390,7 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
 
 
 def _check_mesh_usage(args: argparse.Namespace) -> None:
-    """Usage errors of ``mesh``, all before any work (exit code 2)."""
+    """Checks of ``mesh`` before any work: usage (exit code 2), then folders and writers (1)."""
     from core.io import export_format
 
     _check_preset(args, "mesh")
