@@ -232,14 +232,29 @@ def test_turning_the_inspector_off_hides_the_overlay(window):
 
 
 def test_zoom_to_edge_frames_its_triangles(window, qtbot):
-    window.controls.rows["subdivisions"].spin.setValue(16)  # 512 small triangles
+    spin = window.controls.rows["subdivisions"].spin
+    spin.lineEdit().selectAll()
+    qtbot.keyClicks(spin.lineEdit(), "16")  # 512 small triangles
+    qtbot.keyClick(spin.lineEdit(), Qt.Key.Key_Return)
     window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result.mesh.n_triangles == 2 * 16 * 16)
     mesh = window.model.result.mesh
     panel = window.teaching.inspector
     panel.select_edge(int(mesh.rwg.edge[100]))
-    before = window.plotter.camera.parallel_scale
+    corners = mesh.points[mesh.triangles[list(panel.info.triangles)]].reshape(-1, 3)
+
+    def on_screen():
+        xy = np.array([display_point(window, c) for c in corners])
+        return xy.min(axis=0), xy.max(axis=0)
+
+    lo, hi = on_screen()
+    before = float((hi - lo).max())
+    window.plotter.setFocus()
     qtbot.keyClick(window.plotter, Qt.Key.Key_Z)
-    camera = window.plotter.camera
-    assert camera.parallel_scale < before / 4
-    centre = mesh.points[mesh.triangles[list(panel.info.triangles)]].reshape(-1, 3).mean(0)
-    assert np.allclose(camera.focal_point[:2], centre[:2])
+    lo, hi = on_screen()
+    w, h = window.plotter.window_size
+    # the two triangles fill about a third of the view, wholly inside it, in its middle
+    assert (hi - lo).max() > 3 * before
+    assert 0.25 * min(w, h) < (hi - lo).max() <= 0.4 * min(w, h) + 1
+    assert (lo >= 0).all() and hi[0] <= w and hi[1] <= h
+    assert np.allclose((lo + hi) / 2, (w / 2, h / 2), atol=2)
