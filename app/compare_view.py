@@ -26,6 +26,7 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 from core import MeshParams, TriMesh
 
 from .following_view import FollowingView
+from .framing import frame_from_above
 from .model import AppModel, MeshResult, compute
 from .scene import MeshScene, scene_data
 from .worker import Job
@@ -208,6 +209,8 @@ class CompareView(FollowingView):
                 actor.mapper.SetScalarVisibility(True)
                 self.overlay_actor = actor
         self.plotter.link_views()
+        for col, mode in enumerate(MODES):  # the rulers follow the shared camera
+            self.scenes[mode].axes.SetCamera(self.plotter.renderers[col].GetActiveCamera())
         self.plotter.subplot(0, 0)
         self.plotter.enable_parallel_projection()
         self.plotter.view_xy(render=False)
@@ -241,6 +244,8 @@ class CompareView(FollowingView):
         self._relay.done.connect(self._finished)
         self._running = False
         self._pending: MeshParams | None = None
+        self._frame_bounds: tuple[float, float, float, float] | None = None
+        self._add_presentation_key()
         self.resize(1400, 800)
         model.params_changed.connect(self._params_changed)
         self.request(model.params)
@@ -303,9 +308,7 @@ class CompareView(FollowingView):
                     self.overlays[half.mode].copy_from(pv.PolyData(), deep=True)
             else:
                 message.SetVisibility(False)
-                scene.update(half.result.scene)
-                if col == 1:  # one set of rulers: the cameras are linked, the scale is shared
-                    scene.axes.SetVisibility(False)
+                scene.update(half.result.scene)  # each half with its rulers in mm
                 bounds.append(half.result.scene.bounds)
                 if half.mode in self.overlays:
                     self.overlays[half.mode].copy_from(half.overlap or pv.PolyData(), deep=True)
@@ -321,13 +324,16 @@ class CompareView(FollowingView):
         self._camera_moved()
 
     def frame(self, bounds: tuple[float, float, float, float]) -> None:
-        """Both halves from above on the union of their extents (linked cameras)."""
-        for mode, scene in self.scenes.items():
-            scene.bounds = bounds
-            if mode == "paper":
-                self.plotter.subplot(0, 0)
-                scene.top_view()
+        """Both halves from above on the union of their extents (linked cameras), fitted
+        to a half's width and height, rulers included."""
+        self._frame_bounds = bounds
         self.plotter.subplot(0, 0)
+        frame_from_above(self.plotter, bounds, top=0.1)  # room for the half's title
+
+    def refit(self) -> None:
+        if not self._closed and self._frame_bounds is not None:
+            self.frame(self._frame_bounds)
+            self._camera_moved()
 
     def _camera_moved(self, *_args: Any) -> None:
         if self._closed:

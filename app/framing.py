@@ -20,8 +20,13 @@ RULER_PAD = (0.12, 0.04)
 
 
 def view_size(plotter: Any) -> tuple[int, int]:
-    """(width, height) of the plotter's render window in pixels (at least 1 each)."""
-    size = plotter.window_size or (1, 1)
+    """(width, height) in pixels of the plotter's active renderer (at least 1 each)."""
+    try:  # the renderer's viewport: half the window in a side-by-side view
+        size = plotter.renderer.GetSize()
+    except AttributeError:
+        size = None
+    if not size or min(size) <= 0:
+        size = plotter.window_size or (1, 1)
     return max(int(size[0]), 1), max(int(size[1]), 1)
 
 
@@ -41,7 +46,7 @@ def look_from_above(plotter: Any) -> None:
 
 
 def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
-                     rulers: bool = True, margin: float = 0.04) -> None:
+                     rulers: bool = True, margin: float = 0.04, top: float = 0.0) -> None:
     """Look down the z axis at the rectangle ``bounds`` = (x0, x1, y0, y1) in mm, all of it
     in view whatever the view's aspect ratio.
 
@@ -54,6 +59,8 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
         rulers' nice ticks, see :func:`app.scene.nice_span`).
     margin : float
         Extra room on every side, as a fraction of the larger side.
+    top : float
+        More room on top (for a title drawn in the view), a fraction of the larger side.
     """
     x0, x1, y0, y1 = (float(v) for v in bounds)
     if rulers:
@@ -61,7 +68,7 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
     size = max(x1 - x0, y1 - y0, 1e-9)
     low, high = (RULER_PAD if rulers else (margin, margin))
     x0, y0 = x0 - low * size, y0 - low * size
-    x1, y1 = x1 + high * size, y1 + high * size
+    x1, y1 = x1 + high * size, y1 + (high + top) * size
     if not plotter.camera.parallel_projection:
         plotter.enable_parallel_projection()
     camera = plotter.camera
