@@ -476,14 +476,22 @@ class ConstructionView(FollowingView):
         world_per_px = 2.0 * camera.parallel_scale / height
         labels = [str(s) for s in anchors.point_data["label"]]
         extra = np.zeros((len(labels), 2))
+        direction = np.array(anchors.point_data["direction"], dtype=np.float64)
         if self._frame_bounds is not None:  # clear of the rulers' tick labels
             lo, hi = self._frame_bounds
             tol = 1e-9 * float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
             xy = anchors.points[:, :2]
-            extra[np.abs(xy[:, 0] - lo[0]) <= tol, 0] = RULER_CLEARANCE["left"]
-            extra[np.abs(xy[:, 1] - lo[1]) <= tol, 1] = RULER_CLEARANCE["bottom"]
-        offsets = label_offsets(labels, anchors.point_data["direction"], self.label_font,
-                                0.6 * WIDTHS["points"], extra)
+            left = np.abs(xy[:, 0] - lo[0]) <= tol
+            bottom = np.abs(xy[:, 1] - lo[1]) <= tol
+            inner_x = (xy[:, 0] > lo[0] + tol) & (xy[:, 0] < hi[0] - tol)
+            inner_y = (xy[:, 1] > lo[1] + tol) & (xy[:, 1] < hi[1] - tol)
+            extra[left, 0] = RULER_CLEARANCE["left"]
+            extra[bottom, 1] = RULER_CLEARANCE["bottom"]
+            # inside a ruled side, straight out past the tick label at the same place
+            direction[left & inner_y] = (-1.0, 0.0)
+            direction[bottom & inner_x] = (0.0, -1.0)
+        offsets = label_offsets(labels, direction, self.label_font, 0.6 * WIDTHS["points"],
+                                extra)
         moved = anchors.copy(deep=True)
         moved.points[:, :2] += offsets * world_per_px
         self.label_points.copy_from(moved, deep=True)

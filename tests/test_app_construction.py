@@ -8,7 +8,12 @@ pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
 
-from app.construction_view import ConstructionView, label_offsets, shown_labels  # noqa: E402
+from app.construction_view import (  # noqa: E402
+    RULER_CLEARANCE,
+    ConstructionView,
+    label_offsets,
+    shown_labels,
+)
 from app.model import AppModel  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
@@ -65,9 +70,17 @@ def test_labels_sit_next_to_their_points_not_on_them(view):
     anchors = view.label_points.points[:, :2]
     at = {label: np.asarray(p) for label, p in zip(step.labels, step.points, strict=True)}
     size = 10.0
+    px = 2.0 * view.plotter.camera.parallel_scale / view.plotter.window_size[1]  # mm per px
+    lo, hi = np.min(step.points, axis=0), np.max(step.points, axis=0)
     for label, anchor in zip(view.labels, anchors, strict=True):
         gap = np.linalg.norm(anchor - at[label])
-        assert 0.02 * size < gap < 0.15 * size, label
+        assert 0.02 * size < gap < 0.25 * size, label
+        # points inside the ruled sides (left, bottom): the label lies beyond the tick labels
+        x, y = at[label]
+        if np.isclose(x, lo[0]) and lo[1] + 1e-9 < y < hi[1] - 1e-9:
+            assert lo[0] - anchor[0] > RULER_CLEARANCE["left"] * px, label
+        if np.isclose(y, lo[1]) and lo[0] + 1e-9 < x < hi[0] - 1e-9:
+            assert lo[1] - anchor[1] > RULER_CLEARANCE["bottom"] * px, label
 
 
 def test_previous_next_buttons_and_keys(view, qtbot):
