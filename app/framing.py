@@ -21,12 +21,19 @@ RULER_PAD = (0.12, 0.04)
 
 def view_size(plotter: Any) -> tuple[int, int]:
     """(width, height) in pixels of the plotter's active renderer (at least 1 each)."""
-    try:  # the renderer's viewport: half the window in a side-by-side view
-        size = plotter.renderer.GetSize()
+    # the widget's size (the render window and the renderer catch up with a resize only
+    # when its event is handled or at the next render) times the renderer's viewport
+    # (half the window in a side-by-side view)
+    if callable(getattr(plotter, "devicePixelRatioF", None)):
+        ratio = plotter.devicePixelRatioF()
+        width, height = plotter.width() * ratio, plotter.height() * ratio
+    else:  # an off-screen plotter
+        width, height = plotter.window_size or (1, 1)
+    try:
+        x0, y0, x1, y1 = plotter.renderer.GetViewport()
     except AttributeError:
-        size = None
-    if not size or min(size) <= 0:
-        size = plotter.window_size or (1, 1)
+        x0, y0, x1, y1 = 0.0, 0.0, 1.0, 1.0
+    size = (round(width * (x1 - x0)), round(height * (y1 - y0)))
     return max(int(size[0]), 1), max(int(size[1]), 1)
 
 

@@ -19,7 +19,8 @@ COL_COLOR = "#7b3294"  # the triangle of the column
 OUTLINE_WIDTH = 4.0
 #: Markers are drawn while a marked triangle spans fewer pixels than this.
 SMALL_PIXELS = 12.0
-MARKER_PIXELS = 16.0
+#: Marker sizes: the row's square around the column's, so two neighbours show both.
+MARKER_PIXELS = {"row": 22.0, "col": 10.0}
 
 
 class TriangleHighlight:
@@ -48,7 +49,7 @@ class TriangleHighlight:
                 edge_color=color, line_width=OUTLINE_WIDTH, **common,
             )
             self.actors[f"{name}_marker"] = self.plotter.add_mesh(
-                self.datasets[f"{name}_marker"], color=color, point_size=MARKER_PIXELS,
+                self.datasets[f"{name}_marker"], color=color, point_size=MARKER_PIXELS[name],
                 style="points", render_points_as_spheres=False, **common,
             )
         self.triangles: tuple[int, ...] = ()
@@ -75,7 +76,9 @@ class TriangleHighlight:
                 corners[:, 2] += (1.5 if name == "col" else 1.0) * dz
                 poly = pv.PolyData.from_regular_faces(corners, np.array([[0, 1, 2]]))
                 centre = corners.mean(axis=0)
-                centre[2] += 10 * dz
+                # well above the scene: the centroid dots are drawn as spheres whose depth
+                # reaches up by their radius in pixels
+                centre[2] += (100 if name == "row" else 110) * dz
                 marker = pv.PolyData(centre[None, :])
                 extent = max(extent, float(np.ptp(corners[:, :2], axis=0).max()))
                 shown.append(int(t))
@@ -106,7 +109,7 @@ class TriangleHighlight:
         self.scale = float(scale)
         for name in ("row", "col"):
             self.actors[name].prop.line_width = OUTLINE_WIDTH * self.scale
-            self.actors[f"{name}_marker"].prop.point_size = MARKER_PIXELS * self.scale
+            self.actors[f"{name}_marker"].prop.point_size = MARKER_PIXELS[name] * self.scale
 
     def set_visible(self, on: bool) -> None:
         for name in ("row", "col"):

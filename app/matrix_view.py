@@ -182,6 +182,8 @@ class MatrixView(QWidget):
         self.cell_label = QLabel(self)
         self.cell_label.setObjectName("matrix_cell")
         self.cell_label.setWordWrap(True)
+        # two lines reserved: the plot above keeps its size while the text changes
+        self.cell_label.setMinimumHeight(2 * self.cell_label.fontMetrics().lineSpacing() + 4)
         self.zoom_button = QPushButton("Zoom to the cell's triangles", self)
         self.zoom_button.setToolTip("Frame the two triangles of the clicked cell in the 3D "
                                     "view (Z zooms to the selection too)")

@@ -141,7 +141,13 @@ class MeshLocator:
         else the triangle itself. ``triangle`` skips the search (a picked triangle)."""
         p = np.asarray(point, dtype=np.float64)
         t = self.triangle_at(p) if triangle is None else int(triangle)
-        if t is None or not 0 <= t < len(self.triangles):
+        if t is None:  # off the mesh: a vertex or an edge may still be within reach
+            t = self._nearest_triangle(p)
+            if t is None:
+                return None
+            found = self.hit(p, tolerance, t)
+            return found if found is not None and found.kind != "triangle" else None
+        if not 0 <= t < len(self.triangles):
             return None
         corners = self.triangles[t]
         dist = np.linalg.norm(self.points[corners] - p, axis=1)
@@ -157,6 +163,18 @@ class MeshLocator:
         if d_edge.min() <= tolerance:
             return Hit("edge", int(edges[np.argmin(d_edge)]), t, p)
         return Hit("triangle", t, t, p)
+
+    def _nearest_triangle(self, p: np.ndarray) -> int | None:
+        """The triangle with the nearest corner to ``p`` among the candidates."""
+        if self.tree is None:
+            return None
+        k = min(CANDIDATES, len(self.triangles))
+        _, ids = self.tree.query(p[:2], k=k)
+        ids = np.atleast_1d(ids)
+        ids = ids[ids < len(self.triangles)]
+        corners = self.points[self.triangles[ids]][:, :, :2]  # (k, 3, 2)
+        dist = np.linalg.norm(corners - p[:2], axis=2).min(axis=1)
+        return int(ids[np.argmin(dist)])
 
     # -- text ------------------------------------------------------------------------
 

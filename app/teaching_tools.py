@@ -139,14 +139,16 @@ class TeachingTools:
         dock.raise_()
 
     def _dock_visibility(self, dock: QDockWidget) -> None:
-        """A dock closed with its own button turns its tool off (not while presenting)."""
-        if (self.presentation.active or not dock.isHidden()
-                or getattr(self.window, "_arranging", False)):
+        """A dock closed with its own button turns its tool off, a dock shown (a restored
+        session, View menu) turns it on: a dock is never shown for a tool that is off.
+        Not while presenting or while the window arranges its docks."""
+        if self.presentation.active or getattr(self.window, "_arranging", False):
             return
-        if dock is self.inspector_dock and self.inspector_active:
-            self.set_inspector_active(False)
-        elif dock is self.matrix_dock and self.matrix_active:
-            self.set_matrix_active(False)
+        inspector = dock is self.inspector_dock
+        active = self.inspector_active if inspector else self.matrix_active
+        switch = self.set_inspector_active if inspector else self.set_matrix_active
+        if dock.isHidden() == active:
+            switch(not dock.isHidden())
 
     def _sync_picking(self) -> None:
         self.picker.enabled = self.inspector_active or self.matrix_active
