@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import logging
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
-from PySide6.QtWidgets import QHBoxLayout, QLabel, QSizePolicy, QVBoxLayout, QWidget
+from PySide6.QtGui import QPainter
+from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
 from core import TriMesh
 
@@ -38,6 +39,21 @@ log = logging.getLogger(__name__)
 SYNC_LOCATOR = 50_000
 #: A press and release closer than this (px) is a click, farther a drag (rotate, pan).
 CLICK_SLOP = 4
+
+
+class ElidedLabel(QLabel):
+    """One line of text, cut with "…" when it does not fit (the whole text is ``text()``)."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
+
+    def paintEvent(self, _event: Any) -> None:  # noqa: N802 - Qt's name
+        painter = QPainter(self)
+        shown = self.fontMetrics().elidedText(self.text(), Qt.TextElideMode.ElideRight,
+                                              self.contentsRect().width())
+        painter.setPen(self.palette().color(self.foregroundRole()))
+        painter.drawText(self.contentsRect(), int(self.alignment()), shown)
 
 
 class _Relay(QObject):
@@ -63,19 +79,22 @@ class ViewTools(QObject):
         self._pos: QPointF | None = None
         self._press: QPointF | None = None
 
+        # two lines of a fixed height (a new text never resizes, so never repaints, the
+        # 3D view): the note, then the readout; text too long is elided, whole in the tip
         self.strip = QWidget(window)
         self.strip.setObjectName("info_strip")
-        row = QHBoxLayout(self.strip)
-        row.setContentsMargins(8, 2, 8, 2)
-        self.note = QLabel(self.strip)
+        col = QVBoxLayout(self.strip)
+        col.setContentsMargins(8, 2, 8, 3)
+        col.setSpacing(1)
+        self.note = ElidedLabel(self.strip)
         self.note.setObjectName("view_note")
         self.note.setStyleSheet("color: #444;")
-        self.note.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
-        self.readout = QLabel(self.strip)
+        self.readout = ElidedLabel(self.strip)
         self.readout.setObjectName("readout")
-        self.readout.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
-        row.addWidget(self.note, 2)
-        row.addWidget(self.readout, 3)
+        col.addWidget(self.note)
+        col.addWidget(self.readout)
+        line = self.readout.fontMetrics().lineSpacing()
+        self.strip.setFixedHeight(2 * line + 8)
 
         self.measure = MeasureTool(self.plotter)
         self.pool = QThreadPool(self)

@@ -227,7 +227,9 @@ class ExportDialog(QDialog):
         row = QHBoxLayout()
         row.addWidget(self.path, 1)
         row.addWidget(browse)
-        form.addRow("&File", row)
+        label = QLabel("&File", self)
+        label.setBuddy(self.path)
+        form.addRow(label, row)
         self.format_label = QLabel(self)
         form.addRow("Format", self.format_label)
         self.unit = QComboBox(self)
@@ -855,6 +857,10 @@ class MainWindow(QMainWindow):
         rows.append("<tr><td>Rotate / pan / zoom the view</td>"
                     "<td><b>left / middle drag, wheel</b></td></tr>")
         rows.append("<tr><td>Move a slider</td><td><b>←/→, PgUp/PgDn, Home/End</b></td></tr>")
+        rows.append("<tr><td>What is under the cursor (strip under the view)</td>"
+                    "<td><b>hover</b></td></tr>")
+        rows.append("<tr><td>Select a triangle, edge or vertex (then Z)</td>"
+                    "<td><b>click</b></td></tr>")
         return "<h4>Keyboard shortcuts</h4><table cellspacing='6'>" + "".join(rows) + "</table>"
 
     def show_about(self) -> HelpDialog:
