@@ -80,3 +80,22 @@ def share(image, plotter, corners, colour, tol=40, samples=7, renderer=None):
             total += 1
             hits += near(pixel(image, plotter, p, renderer), colour, tol)
     return hits / max(total, 1)
+
+
+def type_into(qtbot, spin, text):
+    """Select a spin box's text, type ``text`` and press Return, as a user does."""
+    edit = spin.lineEdit()
+    edit.setFocus()
+    edit.selectAll()
+    qtbot.keyClicks(edit, str(text))
+    qtbot.keyClick(edit, Qt.Key.Key_Return)
+
+
+def drawn_near(image, plotter, world, colour, tol=40, radius=2, renderer=None):
+    """Whether a pixel within ``radius`` of where ``world`` is drawn has ``colour`` (for
+    lines one or two pixels wide)."""
+    x, y = display_point(plotter, world, renderer)
+    h, w = image.shape[:2]
+    row, col = h - 1 - int(round(y)), int(round(x))
+    patch = image[max(row - radius, 0):row + radius + 1, max(col - radius, 0):col + radius + 1]
+    return any(near(p, colour, tol) for p in patch.reshape(-1, patch.shape[-1]))

@@ -18,6 +18,7 @@ from app.model import AppModel  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.construction import construction_steps  # noqa: E402
+from tests.gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
 
 PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.
@@ -138,14 +139,15 @@ def test_any_n_and_the_triangle(qtbot, n):
         view.close()
 
 
-def test_follows_the_main_parameters_and_drives_n(view):
+def test_follows_the_main_parameters_and_drives_n(view, qtbot):
     view.set_step(5)
     view.model.set_value("subdivisions", 2)
     assert view.params.subdivisions == 2 and len(view.steps) == 7
     assert view.datasets["subtriangles"].n_cells == 8
-    view.n_spin.setValue(4)  # the panel's n changes the model (undoable there)
+    type_into(qtbot, view.n_spin, 4)  # the panel's n changes the model (undoable there)
     assert view.model.params.subdivisions == 4 and len(view.steps) == 8
-    view.diagonal.setCurrentIndex(view.diagonal.findData("AD"))
+    view.diagonal.setFocus()
+    qtbot.keyClick(view.diagonal, Qt.Key.Key_Down)  # "BC (paper)" -> "AD (Makarov)"
     assert view.model.params.diagonal == "AD"
     assert view.steps[1].title.startswith("Diagonal AD")
 
@@ -168,12 +170,25 @@ def test_label_helpers():
     assert offsets[1, 1] == 0 and offsets[1, 0] < -0.5 * 3 * 0.62 * 20
 
 
-def test_screenshot_is_not_blank(view, tmp_path):
-    view.set_step(3)
+def test_screenshot_shows_each_layer_where_it_is(view, qtbot, tmp_path):
+    """Pixels, not colour counts: step 4 (quarter points) of the 10 mm patch."""
+    from app.construction_view import COLORS
+
+    with qtbot.waitActive(view):  # the step keys are window shortcuts
+        view.activateWindow()
+    view.plotter.setFocus()
+    for _ in range(3):
+        qtbot.keyClick(view.plotter, Qt.Key.Key_Right)
+    assert view.index == 3
     image = view.view_image()
-    path = tmp_path / "construction.png"
-    iio.imwrite(path, image)
-    assert len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
+    iio.imwrite(tmp_path / "construction.png", image)
+    p = view.plotter
+    assert near(pixel(image, p, (2.0, 2.0, 0.0)), COLORS["primary_0"], 12)  # triangle ABC
+    assert near(pixel(image, p, (8.0, 8.0, 0.0)), COLORS["primary_1"], 12)  # triangle DCB
+    for corner in ((0.0, 0.0), (10.0, 0.0), (2.5, 0.0), (0.0, 7.5)):  # A, B, m11, m21
+        assert near(pixel(image, p, (*corner, 0.0)), COLORS["points"], 40), corner
+    assert drawn_near(image, p, (7.0, 3.0, 0.0), COLORS["segments"], 40)  # diagonal BC
+    assert near(pixel(image, p, (10.6, 5.0, 0.0)), "#ffffff", 3)  # right of the patch
     grab = tmp_path / "construction-window.png"
     assert view.grab().save(str(grab))
     assert iio.imread(grab).shape[1] >= 900
@@ -186,10 +201,13 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     qtbot.waitExposed(win)
     win.controller.flush()
     assert win.teaching_windows.act_construction in win.teach_menu.actions()
-    win.teaching_windows.act_construction.trigger()
+    with qtbot.waitActive(win):
+        win.activateWindow()
+    win.plotter.setFocus()
+    qtbot.keyClick(win.plotter, Qt.Key.Key_F7)  # Teach → Construction step by step
     view = win.teaching_windows.construction
     assert view is not None and view.isVisible() and len(view.steps) == 8
-    win.controls.rows["subdivisions"].spin.setValue(3)
+    type_into(qtbot, win.controls.rows["subdivisions"].spin, 3)
     win.controller.flush()
     assert view.params.subdivisions == 3
     win.close()

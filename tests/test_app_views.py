@@ -39,8 +39,8 @@ def window_params():
 @pytest.fixture
 def active(window, qtbot):
     """The window, active (its shortcuts need that) with the 3D view focused."""
-    window.activateWindow()
-    qtbot.waitActive(window)
+    with qtbot.waitActive(window):
+        window.activateWindow()
     window.plotter.setFocus()
     return window
 
@@ -201,8 +201,8 @@ def test_a_restored_session_shows_a_dock_only_with_its_tool(qtbot):
     first.show()
     qtbot.waitExposed(first)
     first.controller.flush()
-    first.activateWindow()
-    qtbot.waitActive(first)
+    with qtbot.waitActive(first):
+        first.activateWindow()
     first.teaching.act_inspector.trigger()  # Teach → RWG basis inspector
     assert first.teaching.inspector_active and first.teaching.inspector_dock.isVisible()
     first.close()
@@ -310,8 +310,8 @@ def test_f8_and_f1_work_while_the_construction_window_has_focus(active, qtbot):
     key(qtbot, active, Qt.Key.Key_F7)
     construction = active.teaching_windows.construction
     qtbot.waitExposed(construction)
-    construction.activateWindow()
-    qtbot.waitActive(construction)
+    with qtbot.waitActive(construction):
+        construction.activateWindow()
     key(qtbot, construction, Qt.Key.Key_F8)
     compare = active.teaching_windows.compare
     assert compare is not None
