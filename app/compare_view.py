@@ -28,7 +28,7 @@ from core import MeshParams, TriMesh
 from .following_view import FollowingView
 from .framing import frame_from_above
 from .model import AppModel, MeshResult, compute
-from .scene import MeshScene, scene_data
+from .scene import MeshScene, add_text_labels, nice_span, scene_data
 from .worker import Job
 
 log = logging.getLogger(__name__)
@@ -211,6 +211,13 @@ class CompareView(FollowingView):
         self.plotter.link_views()
         for col, mode in enumerate(MODES):  # the rulers follow the shared camera
             self.scenes[mode].axes.SetCamera(self.plotter.renderers[col].GetActiveCamera())
+        # VTK's 2D ruler labels are placed in window pixels as if every viewport began at
+        # the window's left edge, so the right half's fall outside it: that half gets its
+        # tick labels from a labelled-points actor, which knows its viewport
+        self.plotter.subplot(0, 1)
+        self.tick_points = pv.PolyData()
+        self.tick_mapper, self.tick_actor = add_text_labels(
+            self.plotter, self.tick_points, "#303030", font_size=12, background_opacity=0.0)
         self.plotter.subplot(0, 0)
         self.plotter.enable_parallel_projection()
         self.plotter.view_xy(render=False)
@@ -335,9 +342,29 @@ class CompareView(FollowingView):
             self.frame(self._frame_bounds)
             self._camera_moved()
 
+    def place_tick_labels(self) -> None:
+        """The conforming half's tick values, just outside its bottom and left rulers."""
+        half = self.halves.get("conforming")
+        if half is None or half.error is not None:
+            self.tick_points.copy_from(pv.PolyData(), deep=True)
+            self.tick_mapper.Modified()
+            return
+        x0, x1, y0, y1 = self.scenes["conforming"].bounds
+        (a, b, nx), (c, d, ny) = nice_span(x0, x1), nice_span(y0, y1)
+        height = max(self.plotter.window_size[1], 1)
+        per_px = 2.0 * self.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
+        xs, ys = np.linspace(a, b, nx), np.linspace(c, d, ny)
+        pts = np.vstack([np.column_stack([xs, np.full(nx, y0 - 14 * per_px), np.zeros(nx)]),
+                         np.column_stack([np.full(ny, x0 - 22 * per_px), ys, np.zeros(ny)])])
+        labels = pv.PolyData(pts)
+        labels.point_data["label"] = np.array([f"{v:.4g}" for v in (*xs, *ys)])
+        self.tick_points.copy_from(labels, deep=True)
+        self.tick_mapper.Modified()
+
     def _camera_moved(self, *_args: Any) -> None:
         if self._closed:
             return
+        self.place_tick_labels()
         for col, mode in enumerate(MODES):
             self.plotter.subplot(0, col)
             if self.halves.get(mode) is not None and self.halves[mode].error is None:
