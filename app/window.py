@@ -704,7 +704,8 @@ class MainWindow(QMainWindow):
             iio.imwrite(Path(path), self.view_image(scale, transparent), extension=".png")
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
-            self.statusBar().showMessage(f"Could not save the screenshot: {exc}")
+            self.statusBar().showMessage(
+                file_error_sentence(f"Could not save {Path(path).name}", exc, path))
             return False
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True

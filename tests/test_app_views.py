@@ -26,6 +26,7 @@ from tests.gui_helpers import (  # noqa: E402
     pixel,
     rendered,
     share,
+    type_into,
 )
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
@@ -510,3 +511,18 @@ def test_inspector_overlay_colours_on_screen(active, qtbot):
         # between the arrows of f_n and rho, T+ is red and T- blue (coolwarm's ends)
         tinted = [(p[0] > p[2] + 60) if red else (p[2] > p[0] + 60) for p in samples]
         assert np.mean(tinted) > 0.5, (t, samples)
+
+
+def test_a_big_mesh_gets_its_readout_from_a_locator_built_in_the_worker(active, qtbot,
+                                                                        monkeypatch):
+    import app.view_tools as view_tools
+
+    monkeypatch.setattr(view_tools, "SYNC_LOCATOR", 10)  # 32 triangles count as big here
+    tools = active.view_tools
+    type_into(qtbot, active.controls.rows["subdivisions"].spin, 3)
+    active.controller.flush()
+    mesh = active.model.result.mesh
+    assert mesh.n_triangles == 18 and tools.mesh is mesh
+    qtbot.waitUntil(lambda: tools.locator is not None and tools.locator.mesh is mesh)
+    hover_world(qtbot, active.plotter, mesh.centroids[7])
+    qtbot.waitUntil(lambda: "triangle 7 " in tools.readout.text())
