@@ -13,7 +13,7 @@ import logging
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QDockWidget, QMenu
 
 from core import TriMesh
@@ -28,6 +28,9 @@ if TYPE_CHECKING:
     from .window import MainWindow
 
 log = logging.getLogger(__name__)
+
+#: The 3D view is repainted this long after the last hover over the matrix.
+HOVER_REPAINT_MS = 80
 
 
 def shared_edge(mesh: TriMesh, a: int, b: int) -> int | None:
@@ -53,6 +56,12 @@ class TeachingTools:
         self.matrix.cell_clicked.connect(self._cell_clicked)
         self.matrix.zoom_requested.connect(self.zoom_to_cell)
         self.presentation = PresentationMode(window, self._emphasize)
+        # a hover marks the triangles at once but repaints the 3D view only when the
+        # pointer rests: a sweep across the spy plot costs one paint, not one per cell
+        self._repaint = QTimer(window)
+        self._repaint.setSingleShot(True)
+        self._repaint.setInterval(HOVER_REPAINT_MS)
+        self._repaint.timeout.connect(window.request_render)
 
         self.inspector_dock = self._dock("RWG inspector", "dock_inspector", self.inspector)
         self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", self.matrix)
@@ -196,10 +205,12 @@ class TeachingTools:
         repaint (coalesced by Qt), the two triangles are looked up, not searched for."""
         self.matrix.highlight_cell(row, col)
         self._mark(row, col if col != row else None)
-        self.window.request_render()
+        self._repaint.start()
 
     def _cell_clicked(self, row: int, col: int) -> None:
         self._cell_hovered(row, col)
+        self._repaint.stop()
+        self.window.request_render()
         self.matrix.highlight_row(row)
         if self.inspector_active and self.mesh is not None:
             edge = shared_edge(self.mesh, row, col)

@@ -464,6 +464,8 @@ def test_big_matrix_hover_blits_marks_tiny_triangles_and_a_click_zooms(active, q
 
     for dx in (-2, 0):  # moves over the cell: a pixel holds ~80 rows, a zero next to a
         qtbot.mouseMove(view.canvas, cell_pos(i, j) + QPoint(dx, 0))  # one means the one
+    # the 3D view is not repainted per hover: one repaint waits for the pointer to rest
+    assert active.teaching._repaint.isActive()
     qtbot.waitUntil(lambda: view.cell is not None and abs(view.cell[0] - i) < 200)
     i, j = view.cell
     assert mesh.connectivity[i, j] == 1
