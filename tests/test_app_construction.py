@@ -34,39 +34,52 @@ def view(qtbot):
     win.resize(1000, 700)
     win.show()
     qtbot.waitExposed(win)
+    with qtbot.waitActive(win):  # the step keys are window shortcuts
+        win.activateWindow()
     yield win
     win.close()
 
 
-def test_paper_patch_has_eight_steps_with_their_titles(view):
+def go_to_step(qtbot, view, index):
+    """Home, then → ``index`` times, with the focus on the step slider (as a user steps)."""
+    view.slider.setFocus()
+    qtbot.keyClick(view.slider, Qt.Key.Key_Home)
+    for _ in range(index):
+        qtbot.keyClick(view.slider, Qt.Key.Key_Right)
+    assert view.index == index
+
+
+def test_paper_patch_has_eight_steps_with_their_titles(view, qtbot):
     assert len(view.steps) == 8
     assert view.slider.minimum() == 0 and view.slider.maximum() == 7
+    view.slider.setFocus()
     for i, start in enumerate(PAPER_STEPS):
-        view.slider.setValue(i)
-        assert view.index == i
+        if i:
+            qtbot.keyClick(view.slider, Qt.Key.Key_Right)
+        assert view.index == i and view.slider.value() == i
         assert view.title.text().startswith(start)
         assert view.counter.text() == f"Step {i + 1} of 8"
         assert view.description.text()
 
 
-def test_labels_appear_at_their_step(view):
+def test_labels_appear_at_their_step(view, qtbot):
     corners = {"A", "B", "C", "D"}
     midpoints = {"m1", "m2", "m3"}
     quarters = {"m11", "m12", "m21", "m22"}
-    view.set_step(0)
+    go_to_step(qtbot, view, 0)
     assert set(view.labels) == corners
-    view.set_step(1)
+    go_to_step(qtbot, view, 1)
     assert set(view.labels) == corners
-    view.set_step(2)
+    go_to_step(qtbot, view, 2)
     assert set(view.labels) == corners | midpoints
-    view.set_step(3)
+    go_to_step(qtbot, view, 3)
     assert set(view.labels) == corners | midpoints | quarters
-    view.set_step(7)
+    go_to_step(qtbot, view, 7)
     assert set(view.labels) == corners | midpoints | quarters
 
 
-def test_labels_sit_next_to_their_points_not_on_them(view):
-    view.set_step(3)
+def test_labels_sit_next_to_their_points_not_on_them(view, qtbot):
+    go_to_step(qtbot, view, 3)
     step = view.steps[3]
     anchors = view.label_points.points[:, :2]
     at = {label: np.asarray(p) for label, p in zip(step.labels, step.points, strict=True)}
@@ -109,18 +122,18 @@ def test_previous_next_buttons_and_keys(view, qtbot):
     assert view.index == 0
 
 
-def test_each_step_draws_what_it_says(view):
-    view.set_step(1)
+def test_each_step_draws_what_it_says(view, qtbot):
+    go_to_step(qtbot, view, 1)
     assert view.datasets["highlight"].n_cells == 1  # the diagonal, emphasised
     assert view.datasets["primary_0"].n_cells == 1 and view.datasets["primary_1"].n_cells == 1
-    view.set_step(4)
+    go_to_step(qtbot, view, 4)
     assert view.datasets["highlight"].n_cells == 2 * 3 * 3  # n - 1 lines x 3 per primary
-    view.set_step(5)
+    go_to_step(qtbot, view, 5)
     assert view.datasets["subtriangles"].n_cells == 32
     assert view.datasets["highlight"].n_cells == 0
-    view.set_step(6)
+    go_to_step(qtbot, view, 6)
     assert view.datasets["centroids"].n_points == 32
-    view.set_step(7)
+    go_to_step(qtbot, view, 7)
     assert view.datasets["shared_edges"].n_cells == 40
 
 
@@ -140,7 +153,7 @@ def test_any_n_and_the_triangle(qtbot, n):
 
 
 def test_follows_the_main_parameters_and_drives_n(view, qtbot):
-    view.set_step(5)
+    go_to_step(qtbot, view, 5)
     view.model.set_value("subdivisions", 2)
     assert view.params.subdivisions == 2 and len(view.steps) == 7
     assert view.datasets["subtriangles"].n_cells == 8
