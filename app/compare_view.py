@@ -26,8 +26,9 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 from core import MeshParams, TriMesh
 
 from .following_view import FollowingView
+from .framing import frame_from_above
 from .model import AppModel, MeshResult, compute
-from .scene import MeshScene, scene_data
+from .scene import MeshScene, add_text_labels, nice_span, scene_data
 from .worker import Job
 
 log = logging.getLogger(__name__)
@@ -208,6 +209,15 @@ class CompareView(FollowingView):
                 actor.mapper.SetScalarVisibility(True)
                 self.overlay_actor = actor
         self.plotter.link_views()
+        for col, mode in enumerate(MODES):  # the rulers follow the shared camera
+            self.scenes[mode].axes.SetCamera(self.plotter.renderers[col].GetActiveCamera())
+        # VTK's 2D ruler labels are placed in window pixels as if every viewport began at
+        # the window's left edge, so the right half's fall outside it: that half gets its
+        # tick labels from a labelled-points actor, which knows its viewport
+        self.plotter.subplot(0, 1)
+        self.tick_points = pv.PolyData()
+        self.tick_mapper, self.tick_actor = add_text_labels(
+            self.plotter, self.tick_points, "#303030", font_size=12, background_opacity=0.0)
         self.plotter.subplot(0, 0)
         self.plotter.enable_parallel_projection()
         self.plotter.view_xy(render=False)
@@ -241,6 +251,8 @@ class CompareView(FollowingView):
         self._relay.done.connect(self._finished)
         self._running = False
         self._pending: MeshParams | None = None
+        self._frame_bounds: tuple[float, float, float, float] | None = None
+        self._add_presentation_key()
         self.resize(1400, 800)
         model.params_changed.connect(self._params_changed)
         self.request(model.params)
@@ -303,9 +315,7 @@ class CompareView(FollowingView):
                     self.overlays[half.mode].copy_from(pv.PolyData(), deep=True)
             else:
                 message.SetVisibility(False)
-                scene.update(half.result.scene)
-                if col == 1:  # one set of rulers: the cameras are linked, the scale is shared
-                    scene.axes.SetVisibility(False)
+                scene.update(half.result.scene)  # each half with its rulers in mm
                 bounds.append(half.result.scene.bounds)
                 if half.mode in self.overlays:
                     self.overlays[half.mode].copy_from(half.overlap or pv.PolyData(), deep=True)
@@ -321,17 +331,40 @@ class CompareView(FollowingView):
         self._camera_moved()
 
     def frame(self, bounds: tuple[float, float, float, float]) -> None:
-        """Both halves from above on the union of their extents (linked cameras)."""
-        for mode, scene in self.scenes.items():
-            scene.bounds = bounds
-            if mode == "paper":
-                self.plotter.subplot(0, 0)
-                scene.top_view()
+        """Both halves from above on the union of their extents (linked cameras), fitted
+        to a half's width and height, rulers included."""
+        self._frame_bounds = bounds
         self.plotter.subplot(0, 0)
+        frame_from_above(self.plotter, bounds, top=0.1)  # room for the half's title
+
+    def refit(self) -> None:
+        if not self._closed and self._frame_bounds is not None:
+            self.frame(self._frame_bounds)
+            self._camera_moved()
+
+    def place_tick_labels(self) -> None:
+        """The conforming half's tick values, just outside its bottom and left rulers."""
+        half = self.halves.get("conforming")
+        if half is None or half.error is not None:
+            self.tick_points.copy_from(pv.PolyData(), deep=True)
+            self.tick_mapper.Modified()
+            return
+        x0, x1, y0, y1 = self.scenes["conforming"].bounds
+        (a, b, nx), (c, d, ny) = nice_span(x0, x1), nice_span(y0, y1)
+        height = max(self.plotter.window_size[1], 1)
+        per_px = 2.0 * self.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
+        xs, ys = np.linspace(a, b, nx), np.linspace(c, d, ny)
+        pts = np.vstack([np.column_stack([xs, np.full(nx, y0 - 14 * per_px), np.zeros(nx)]),
+                         np.column_stack([np.full(ny, x0 - 22 * per_px), ys, np.zeros(ny)])])
+        labels = pv.PolyData(pts)
+        labels.point_data["label"] = np.array([f"{v:.4g}" for v in (*xs, *ys)])
+        self.tick_points.copy_from(labels, deep=True)
+        self.tick_mapper.Modified()
 
     def _camera_moved(self, *_args: Any) -> None:
         if self._closed:
             return
+        self.place_tick_labels()
         for col, mode in enumerate(MODES):
             self.plotter.subplot(0, col)
             if self.halves.get(mode) is not None and self.halves[mode].error is None:

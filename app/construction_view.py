@@ -36,8 +36,9 @@ from core import MeshParams
 from core.construction import ConstructionStep, construction_steps
 
 from .following_view import FollowingView
+from .layers import LAYERS as SCENE_LAYERS
 from .model import AppModel
-from .scene import add_text_labels
+from .scene import MeshScene, add_text_labels, nice_span
 
 log = logging.getLogger(__name__)
 
@@ -64,6 +65,11 @@ WIDTHS = {
     "shared_edges": 4.0,
 }
 LABEL_FONT = 22
+#: The rulers' fonts are this many times the main view's; point labels on the left and
+#: bottom sides of the patch keep this many pixels more from their points, so that they
+#: sit beyond the rulers' tick labels (left: up to four characters, below: one line).
+RULER_EMPHASIS = 1.4
+RULER_CLEARANCE = {"left": 48.0, "bottom": 26.0}
 TITLE_FONT = 10
 #: Labels are drawn when an edge is cut into at most this many segments, else only the
 #: first two levels of halving (m1, m2, m3, m11 … m22) or every few division points.
@@ -175,21 +181,24 @@ def step_datasets(params: MeshParams, step: ConstructionStep, index: int,
 
 
 def label_offsets(labels: list[str], direction: np.ndarray, font_px: float,
-                  gap_px: float) -> np.ndarray:
+                  gap_px: float, extra_px: np.ndarray | None = None) -> np.ndarray:
     """Pixel offsets (k, 2) that move each centred label box just clear of its point.
 
     The box (about 0.62 font sizes per character wide, 1.2 high) is pushed along
     ``direction`` until it no longer covers the point and a gap around it: far enough
-    horizontally or vertically, whichever comes first.
+    horizontally or vertically, whichever comes first. ``extra_px`` (k, 2) adds room
+    horizontally and vertically for each label (to clear the rulers' tick labels).
     """
     direction = np.asarray(direction, dtype=np.float64).reshape(-1, 2)
     half_w = 0.5 * (0.62 * font_px * np.array([len(s) for s in labels], dtype=float) + 6)
     half_h = 0.5 * (1.2 * font_px + 4)
+    extra = (np.zeros((len(direction), 2)) if extra_px is None
+             else np.asarray(extra_px, dtype=np.float64).reshape(-1, 2))
     with np.errstate(divide="ignore"):
-        rx = np.where(np.abs(direction[:, 0]) > 1e-9, (half_w + gap_px) / np.abs(direction[:, 0]),
-                      np.inf)
-        ry = np.where(np.abs(direction[:, 1]) > 1e-9, (half_h + gap_px) / np.abs(direction[:, 1]),
-                      np.inf)
+        rx = np.where(np.abs(direction[:, 0]) > 1e-9,
+                      (half_w + gap_px + extra[:, 0]) / np.abs(direction[:, 0]), np.inf)
+        ry = np.where(np.abs(direction[:, 1]) > 1e-9,
+                      (half_h + gap_px + extra[:, 1]) / np.abs(direction[:, 1]), np.inf)
     r = np.minimum(rx, ry)
     return direction * r[:, None]
 
@@ -316,6 +325,7 @@ class ConstructionView(FollowingView):
                 shortcut.setContext(Qt.ShortcutContext.WindowShortcut)
                 shortcut.activated.connect(slot)
 
+        self._add_presentation_key()
         self.resize(1200, 800)
         model.params_changed.connect(self._params_changed)
         self._syncing = False
@@ -344,6 +354,13 @@ class ConstructionView(FollowingView):
         )
         self.caption = p.add_text("", position="upper_edge", font_size=TITLE_FONT,
                                   color="#202020")
+        # rulers in mm: the main view's (an empty scene whose only visible part they are)
+        self.rulers = MeshScene(p, visible={name: False for name in SCENE_LAYERS})
+        self.rulers.set_emphasis(RULER_EMPHASIS)
+        # no axis titles (they would sit where the labels of the side points go): the
+        # legend says the rulers are in mm
+        self.rulers.axes.x_title = " "
+        self.rulers.axes.y_title = " "
 
     @staticmethod
     def _legend_html() -> str:
@@ -356,6 +373,7 @@ class ConstructionView(FollowingView):
             swatch(COLORS["points"], "labelled points"),
             swatch(COLORS["centroids"], "centroids (quadrature points)"),
             swatch(COLORS["shared_edges"], "shared edges: one RWG unknown each"),
+            "rulers: x and y in mm",
         ]) + "</div>"
 
     # -- parameters and steps ------------------------------------------------------------
@@ -441,6 +459,7 @@ class ConstructionView(FollowingView):
         if key != self._frame_key:
             self._frame_key = key
             self._frame_bounds = (lo, hi)
+            self.rulers.show_rulers((lo[0], hi[0], lo[1], hi[1]))
             self.frame(lo, hi)
         self.place_labels()
         self.plotter.render()
@@ -456,8 +475,23 @@ class ConstructionView(FollowingView):
         height = max(self.plotter.window_size[1], 1)
         world_per_px = 2.0 * camera.parallel_scale / height
         labels = [str(s) for s in anchors.point_data["label"]]
-        offsets = label_offsets(labels, anchors.point_data["direction"], self.label_font,
-                                0.6 * WIDTHS["points"])
+        extra = np.zeros((len(labels), 2))
+        direction = np.array(anchors.point_data["direction"], dtype=np.float64)
+        if self._frame_bounds is not None:  # clear of the rulers' tick labels
+            lo, hi = self._frame_bounds
+            tol = 1e-9 * float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
+            xy = anchors.points[:, :2]
+            left = np.abs(xy[:, 0] - lo[0]) <= tol
+            bottom = np.abs(xy[:, 1] - lo[1]) <= tol
+            inner_x = (xy[:, 0] > lo[0] + tol) & (xy[:, 0] < hi[0] - tol)
+            inner_y = (xy[:, 1] > lo[1] + tol) & (xy[:, 1] < hi[1] - tol)
+            extra[left, 0] = RULER_CLEARANCE["left"]
+            extra[bottom, 1] = RULER_CLEARANCE["bottom"]
+            # inside a ruled side, straight out past the tick label at the same place
+            direction[left & inner_y] = (-1.0, 0.0)
+            direction[bottom & inner_x] = (0.0, -1.0)
+        offsets = label_offsets(labels, direction, self.label_font, 0.6 * WIDTHS["points"],
+                                extra)
         moved = anchors.copy(deep=True)
         moved.points[:, :2] += offsets * world_per_px
         self.label_points.copy_from(moved, deep=True)
@@ -468,6 +502,9 @@ class ConstructionView(FollowingView):
                 and self._frame_bounds is not None and not self._closed):
             QTimer.singleShot(0, self._refit)
         return super().eventFilter(watched, event)
+
+    def refit(self) -> None:
+        self._refit()
 
     def _refit(self) -> None:
         if self._closed or self._frame_bounds is None:
@@ -481,11 +518,15 @@ class ConstructionView(FollowingView):
         self.plotter.render()
 
     def frame(self, lo: np.ndarray, hi: np.ndarray) -> None:
-        """Fit the whole patch and room for its labels, from above (kept for every step)."""
+        """Fit the whole patch, its rulers and room for its labels, from above (kept for
+        every step)."""
         p = self.plotter
         size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
-        x0, x1 = lo[0] - 0.12 * size, hi[0] + 0.12 * size
-        y0, y1 = lo[1] - 0.12 * size, hi[1] + 0.2 * size  # the caption sits on top
+        (rx0, rx1, _), (ry0, ry1, _) = nice_span(lo[0], hi[0]), nice_span(lo[1], hi[1])
+        # the rulers' labels and, past them, the point labels sit left and below; the
+        # caption sits on top
+        x0, x1 = min(lo[0], rx0) - 0.24 * size, max(hi[0], rx1) + 0.12 * size
+        y0, y1 = min(lo[1], ry0) - 0.2 * size, max(hi[1], ry1) + 0.2 * size
         p.view_xy(render=False)
         p.enable_parallel_projection()
         camera = p.camera

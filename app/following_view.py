@@ -3,18 +3,51 @@
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtGui import QCloseEvent
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtGui import QCloseEvent, QKeySequence, QShortcut
 from PySide6.QtWidgets import QWidget
+
+#: The window's own fonts grow by this factor in presentation mode (F5).
+FONT_FACTOR = 1.5
 
 
 class FollowingView(QWidget):
     """A window with its own pyvistaqt ``plotter`` that follows ``model.params_changed``.
 
-    Subclasses set ``self.model``, ``self.plotter``, connect ``self._params_changed`` and
-    may extend :meth:`_stop` (called once, before the GL context is released).
+    Subclasses set ``self.model``, ``self.plotter``, connect ``self._params_changed``,
+    call :meth:`_add_presentation_key` and may extend :meth:`_stop` (called once, before
+    the GL context is released) and :meth:`refit` (frame the view again after a resize).
     """
 
     _closed = False
+    presenting = False
+
+    def _add_presentation_key(self) -> None:
+        """F5 in this window: full screen with larger fonts, F5 again: back."""
+        shortcut = QShortcut(QKeySequence("F5"), self)
+        shortcut.setContext(Qt.ShortcutContext.WindowShortcut)
+        shortcut.activated.connect(self.toggle_presentation)
+
+    def toggle_presentation(self) -> None:
+        """Presentation mode of this window: the whole screen, fonts 1.5×, view re-framed."""
+        self.presenting = not self.presenting
+        if self.presenting:
+            self._normal = (self.windowState(), self.geometry(), self.font())
+            bigger = self.font()
+            bigger.setPointSizeF(max(bigger.pointSizeF(), 9.0) * FONT_FACTOR)
+            self.setFont(bigger)
+            self.showFullScreen()
+            self.setGeometry(self.screen().geometry())  # a bare X server has no manager
+        else:
+            state, geometry, font = self._normal
+            self.setFont(font)
+            self.setWindowState(state)
+            if not state & (Qt.WindowState.WindowMaximized | Qt.WindowState.WindowFullScreen):
+                self.setGeometry(geometry)
+        QTimer.singleShot(0, self.refit)
+
+    def refit(self) -> None:
+        """Frame the view again (after a resize); the subclass knows what to frame."""
 
     def view_image(self) -> np.ndarray:
         """The 3D view as an (h, w, 3) uint8 array."""

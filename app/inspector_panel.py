@@ -60,6 +60,8 @@ class ViewPicker(QObject):
         super().__init__(parent)
         self.plotter = plotter
         self.enabled = False
+        self.suspended = False  # the measure tool takes the clicks
+        self.faces_actor = faces_actor
         self.picker = vtkCellPicker()
         self.picker.SetTolerance(1e-4)
         self.picker.PickFromListOn()
@@ -67,20 +69,33 @@ class ViewPicker(QObject):
         self._press: QPointF | None = None
         plotter.installEventFilter(self)
 
-    def pick_display(self, x: float, y: float) -> tuple[int, np.ndarray] | None:
+    def pick_display(self, x: float, y: float,
+                     emit: bool = True) -> tuple[int, np.ndarray] | None:
         """Pick at VTK display coordinates (pixels, origin bottom left).
 
         Returns the triangle and the picked world point, or None off the mesh. Emits
-        ``triangle_picked`` on a hit.
+        ``triangle_picked`` on a hit (unless ``emit`` is false). The triangles are
+        picked even while the Triangles layer is hidden (VTK skips invisible actors, so
+        the faces are made visible for the pick, which draws nothing).
         """
         renderer = self.plotter.renderer
-        if not self.picker.Pick(float(x), float(y), 0.0, renderer):
+        actor = self.faces_actor
+        hidden = not actor.GetVisibility()
+        if hidden:
+            actor.SetVisibility(True)
+        try:
+            found = self.picker.Pick(float(x), float(y), 0.0, renderer)
+        finally:
+            if hidden:
+                actor.SetVisibility(False)
+        if not found:
             return None
         cell = int(self.picker.GetCellId())
         if cell < 0:
             return None
         point = np.array(self.picker.GetPickPosition(), dtype=np.float64)
-        self.triangle_picked.emit(cell, point)
+        if emit:
+            self.triangle_picked.emit(cell, point)
         return cell, point
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
@@ -91,7 +106,7 @@ class ViewPicker(QObject):
               and event.button() == Qt.MouseButton.LeftButton and self._press is not None):
             moved = (event.position() - self._press).manhattanLength()
             self._press = None
-            if self.enabled and moved <= CLICK_SLOP:
+            if self.enabled and not self.suspended and moved <= CLICK_SLOP:
                 try:
                     ratio = self.plotter.devicePixelRatioF()
                     pos = event.position()

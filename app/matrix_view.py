@@ -7,6 +7,12 @@ nonzero), so a 23,040 × 23,040 matrix costs one ``bincount``. Meshes up to
 :data:`TABLE_LIMIT` triangles also get the 0/1 table. Hovering or clicking a cell emits
 ``cell_hovered`` / ``cell_clicked`` (row, column); :meth:`MatrixView.highlight_row` marks
 a triangle's row. A hidden view only remembers that it is stale and redraws when shown.
+
+A hover stays cheap at any size: the cell box and the row band are matplotlib "animated"
+artists blitted over a cached picture of the plot (no full redraw), and the text under
+the plot names the two triangles and the edge they share. A click offers *Zoom to*
+(``zoom_requested``): at the zoom a big mesh is seen whole, its triangles are below a
+pixel.
 """
 
 from __future__ import annotations
@@ -31,8 +37,10 @@ from PySide6.QtCore import (
 from PySide6.QtGui import QBrush, QColor, QFont
 from PySide6.QtWidgets import (
     QAbstractItemView,
+    QHBoxLayout,
     QHeaderView,
     QLabel,
+    QPushButton,
     QTableView,
     QTabWidget,
     QVBoxLayout,
@@ -121,6 +129,7 @@ class MatrixView(QWidget):
 
     cell_hovered = Signal(int, int)
     cell_clicked = Signal(int, int)
+    zoom_requested = Signal()
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -131,6 +140,9 @@ class MatrixView(QWidget):
         self.cell: tuple[int, int] | None = None
         self._hover: tuple[int, int] | None = None
         self.font_scale = 1.0
+        self._background: Any = None
+        self.full_draws = 0  # complete redraws of the spy plot (a hover blits instead)
+        self.blits = 0
 
         self.figure = Figure(figsize=(4, 4), dpi=100, layout="constrained")
         self.canvas = FigureCanvasQTAgg(self.figure)
@@ -140,13 +152,14 @@ class MatrixView(QWidget):
         self.image = self.axes.imshow(np.zeros((1, 1)), cmap=cmap, vmin=0, vmax=1,
                                       interpolation="nearest", aspect="equal")
         self.row_band = Rectangle((-0.5, -0.5), 1, 1, facecolor=ROW_COLOR, alpha=0.35,
-                                  edgecolor="none", visible=False)
+                                  edgecolor="none", visible=False, animated=True)
         self.cell_box = Rectangle((-0.5, -0.5), 1, 1, facecolor="none", edgecolor=CELL_COLOR,
-                                  linewidth=2.0, visible=False)
+                                  linewidth=2.0, visible=False, animated=True)
         self.axes.add_patch(self.row_band)
         self.axes.add_patch(self.cell_box)
         self.canvas.mpl_connect("motion_notify_event", self._mouse_moved)
         self.canvas.mpl_connect("button_press_event", self._mouse_pressed)
+        self.canvas.mpl_connect("draw_event", self._drawn)
 
         self.table_model = ConnectivityTableModel(self)
         self.table = QTableView(self)
@@ -159,13 +172,23 @@ class MatrixView(QWidget):
             header.setSectionResizeMode(QHeaderView.ResizeMode.Fixed)
             header.setDefaultSectionSize(26)
             header.setMinimumSectionSize(18)
-        self.table.entered.connect(lambda i: self._table_cell(i, self.cell_hovered))
-        self.table.clicked.connect(lambda i: self._table_cell(i, self.cell_clicked))
+        self.table.entered.connect(lambda i: self._table_cell(i, False))
+        self.table.clicked.connect(lambda i: self._table_cell(i, True))
         self.caption = QLabel(self)
         self.caption.setWordWrap(True)
         self.table_note = QLabel(f"The 0/1 table is shown for meshes up to {TABLE_LIMIT} "
                                  "triangles.", self)
         self.table_note.setWordWrap(True)
+        self.cell_label = QLabel(self)
+        self.cell_label.setObjectName("matrix_cell")
+        self.cell_label.setWordWrap(True)
+        # two lines reserved: the plot above keeps its size while the text changes
+        self.cell_label.setMinimumHeight(2 * self.cell_label.fontMetrics().lineSpacing() + 4)
+        self.zoom_button = QPushButton("Zoom to the cell's triangles", self)
+        self.zoom_button.setToolTip("Frame the two triangles of the clicked cell in the 3D "
+                                    "view (Z zooms to the selection too)")
+        self.zoom_button.setEnabled(False)
+        self.zoom_button.clicked.connect(self.zoom_requested.emit)
 
         self.tabs = QTabWidget(self)
         self.tabs.addTab(self.canvas, "Spy plot")
@@ -178,6 +201,10 @@ class MatrixView(QWidget):
         layout = QVBoxLayout(self)
         layout.addWidget(self.caption)
         layout.addWidget(self.tabs, 1)
+        cell_row = QHBoxLayout()
+        cell_row.addWidget(self.cell_label, 1)
+        cell_row.addWidget(self.zoom_button)
+        layout.addLayout(cell_row)
         self._style_axes()
 
     # -- data ------------------------------------------------------------------------
@@ -186,6 +213,8 @@ class MatrixView(QWidget):
         """A new mesh: redraw now if shown, else when shown."""
         self.mesh = mesh
         self.row = self.cell = self._hover = None
+        self.cell_label.setText("")
+        self.zoom_button.setEnabled(False)
         self.stale = True
         if self.isVisible():
             self.refresh()
@@ -270,7 +299,7 @@ class MatrixView(QWidget):
             if self.table_model.dense.size:
                 self.table.selectRow(self.row)
                 self.table.scrollTo(self.table_model.index(self.row, 0))
-        self.canvas.draw_idle()
+        self._blit()
 
     def highlight_cell(self, row: int | None, col: int | None) -> None:
         n = 0 if self.matrix is None else self.matrix.shape[0]
@@ -282,7 +311,44 @@ class MatrixView(QWidget):
             size = max(1.0, n / 100)
             self.cell_box.set_bounds(col - 0.5 * size, row - 0.5 * size, size, size)
             self.cell_box.set_visible(True)
-        self.canvas.draw_idle()
+        self.cell_label.setText(self.cell_text())
+        self._blit()
+
+    def cell_text(self) -> str:
+        """What the cell under the mouse means: its two triangles and their shared edge."""
+        if self.cell is None or self.mesh is None:
+            return ""
+        i, j = self.cell
+        if i == j:
+            return f"T{i} (the diagonal: a triangle and itself)"
+        te = self.mesh.triangle_edges
+        common = np.intersect1d(te[i], te[j])
+        if len(common):
+            return f"T{i} and T{j} share edge {int(common[0])}: entry 1"
+        return f"T{i} and T{j} share no edge: entry 0"
+
+    # -- drawing -----------------------------------------------------------------------
+
+    def _drawn(self, _event: Any) -> None:
+        """After a full redraw: keep its picture for blitting and draw the marks over it."""
+        self.full_draws += 1
+        self._background = self.canvas.copy_from_bbox(self.figure.bbox)
+        self._draw_marks()
+
+    def _draw_marks(self) -> None:
+        for artist in (self.row_band, self.cell_box):
+            if artist.get_visible():
+                self.axes.draw_artist(artist)
+
+    def _blit(self) -> None:
+        """Redraw only the row band and the cell box over the cached plot."""
+        if self._background is None or not self.isVisible():
+            self.canvas.draw_idle()
+            return
+        self.canvas.restore_region(self._background)
+        self._draw_marks()
+        self.canvas.blit(self.figure.bbox)
+        self.blits += 1
 
     def set_font_scale(self, scale: float) -> None:
         self.font_scale = float(scale)
@@ -331,8 +397,19 @@ class MatrixView(QWidget):
         cell = self.cell_at(event.xdata, event.ydata)
         if cell is not None:
             self.cell_clicked.emit(*cell)
+            self._offer_zoom(*cell)
 
-    def _table_cell(self, index: QModelIndex, signal: Any) -> None:
-        if index.isValid():
-            signal.emit(index.row(), index.column())
+    def _table_cell(self, index: QModelIndex, clicked: bool) -> None:
+        if not index.isValid():
+            return
+        if clicked:
+            self.cell_clicked.emit(index.row(), index.column())
+            self._offer_zoom(index.row(), index.column())
+        else:
+            self.cell_hovered.emit(index.row(), index.column())
+
+    def _offer_zoom(self, row: int, col: int) -> None:
+        self.zoom_button.setEnabled(True)
+        self.zoom_button.setText(f"Zoom to T{row}" if row == col
+                                 else f"Zoom to T{row} and T{col}")
 

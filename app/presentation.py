@@ -1,14 +1,18 @@
-"""Presentation mode: panels hidden, thicker lines and larger fonts, one key there and back.
+"""Presentation mode: full screen, panels hidden, thicker lines and larger fonts, one key
+there and back.
 
 The window keeps working as usual (menus, shortcuts, picking); only what is shown
 changes. :class:`PresentationMode` remembers which docks, toolbars and the status bar were
-visible and restores exactly those.
+visible, and the window state (normal, maximised), and restores exactly those. The mesh
+grows with the view: a framed mesh stays framed through the resize (the window's
+``refit_if_framed``), a zoomed-in view keeps its zoom and simply gets more pixels.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QDockWidget, QMainWindow, QToolBar, QWidget
 
 #: Lines, dots and 3D-view fonts are this many times larger in presentation mode.
@@ -34,6 +38,7 @@ class PresentationMode:
         self.active = False
         self._hidden: list[QWidget] = []
         self._font = None
+        self._state = None
 
     def panels(self) -> list[QWidget]:
         """Docks and toolbars of the window (what presentation mode hides)."""
@@ -56,6 +61,12 @@ class PresentationMode:
             bigger = w.font()
             bigger.setPointSizeF(max(bigger.pointSizeF(), 9.0) * FONT_FACTOR)
             w.setFont(bigger)
+            self._state = w.windowState()
+            self._geometry = w.geometry()
+            w.showFullScreen()
+            # without a window manager (a bare X server) full screen is not applied by
+            # anyone else: take the screen ourselves (a window manager overrides this)
+            w.setGeometry(w.screen().geometry())
             self.emphasize(EMPHASIS)
         else:
             for panel in self._hidden:
@@ -64,6 +75,11 @@ class PresentationMode:
             w.statusBar().setVisible(self._status_visible)
             if self._font is not None:
                 w.setFont(self._font)
+            if self._state is not None:
+                w.setWindowState(self._state)
+                if not self._state & (Qt.WindowState.WindowMaximized
+                                      | Qt.WindowState.WindowFullScreen):
+                    w.setGeometry(self._geometry)
             self.emphasize(1.0)
 
     def toggle(self) -> None:

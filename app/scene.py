@@ -380,6 +380,12 @@ class MeshScene:
         self.scalar_bar.SetLookupTable(lut)
         self.scalar_bar.SetTitle(title)
 
+    def show_rulers(self, bounds: tuple[float, float, float, float]) -> None:
+        """Rulers in mm around ``bounds`` = (x0, x1, y0, y1) without a mesh (teaching views)."""
+        self.bounds = tuple(float(v) for v in bounds)
+        self._place_rulers()
+        self.axes.SetVisibility(True)
+
     def _place_rulers(self) -> None:
         if self.bounds is None:
             return

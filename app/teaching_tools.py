@@ -13,11 +13,12 @@ import logging
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QDockWidget, QMenu
 
 from core import TriMesh
 
+from .framing import pixels_per_mm
 from .highlight import TriangleHighlight
 from .inspector_panel import InspectorPanel, ViewPicker
 from .matrix_view import MatrixView
@@ -27,6 +28,9 @@ if TYPE_CHECKING:
     from .window import MainWindow
 
 log = logging.getLogger(__name__)
+
+#: The 3D view is repainted this long after the last hover over the matrix.
+HOVER_REPAINT_MS = 80
 
 
 def shared_edge(mesh: TriMesh, a: int, b: int) -> int | None:
@@ -50,7 +54,14 @@ class TeachingTools:
         self.inspector.zoom_requested.connect(self.zoom_to_edge)
         self.matrix.cell_hovered.connect(self._cell_hovered)
         self.matrix.cell_clicked.connect(self._cell_clicked)
+        self.matrix.zoom_requested.connect(self.zoom_to_cell)
         self.presentation = PresentationMode(window, self._emphasize)
+        # a hover marks the triangles at once but repaints the 3D view only when the
+        # pointer rests: a sweep across the spy plot costs one paint, not one per cell
+        self._repaint = QTimer(window)
+        self._repaint.setSingleShot(True)
+        self._repaint.setInterval(HOVER_REPAINT_MS)
+        self._repaint.timeout.connect(window.request_render)
 
         self.inspector_dock = self._dock("RWG inspector", "dock_inspector", self.inspector)
         self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", self.matrix)
@@ -62,8 +73,6 @@ class TeachingTools:
         self.act_next = a("&Next edge", self._next, ["N", "]"], "Next RWG unknown")
         self.act_previous = a("&Previous edge", self._previous, ["P", "["],
                               "Previous RWG unknown")
-        self.act_zoom = a("&Zoom to edge", self.zoom_to_edge, "Z",
-                          "Frame the inspected edge's triangles in the view")
         self.act_matrix = a("Connectivity &matrix", self.set_matrix_active, "M",
                             "The paper's Eq. 27: which triangles share an edge",
                             checkable=True)
@@ -88,7 +97,7 @@ class TeachingTools:
     def add_to_menu(self, menu: QMenu) -> None:
         """Add the actions to the window's Teach (or View) menu."""
         menu.addSeparator()
-        menu.addActions([self.act_inspector, self.act_next, self.act_previous, self.act_zoom])
+        menu.addActions([self.act_inspector, self.act_next, self.act_previous])
         menu.addSeparator()
         menu.addAction(self.act_matrix)
         menu.addSeparator()
@@ -115,6 +124,8 @@ class TeachingTools:
         elif not self.presentation.active:
             self.inspector_dock.hide()
         self.inspector.set_active(on)
+        # over T+ and T- the matrix marks are outlines: the divergence colours stay true
+        self.highlight.set_outline_only(on)
         self._sync_picking()
 
     def set_matrix_active(self, on: bool) -> None:
@@ -126,8 +137,8 @@ class TeachingTools:
         else:
             if not self.presentation.active:
                 self.matrix_dock.hide()
-            self.highlight.set_visible(False)
-            self.window.plotter.render()
+            self.highlight.show(None, None)
+            self.window.request_render()
         self._sync_picking()
 
     def _show_dock(self, dock: QDockWidget) -> None:
@@ -137,21 +148,32 @@ class TeachingTools:
         dock.raise_()
 
     def _dock_visibility(self, dock: QDockWidget) -> None:
-        """A dock closed with its own button turns its tool off (not while presenting)."""
-        if self.presentation.active or not dock.isHidden():
+        """A dock closed with its own button turns its tool off, a dock shown (a restored
+        session, View menu) turns it on: a dock is never shown for a tool that is off.
+        Not while presenting or while the window arranges its docks."""
+        if self.presentation.active or getattr(self.window, "_arranging", False):
             return
-        if dock is self.inspector_dock and self.inspector_active:
-            self.set_inspector_active(False)
-        elif dock is self.matrix_dock and self.matrix_active:
-            self.set_matrix_active(False)
+        inspector = dock is self.inspector_dock
+        active = self.inspector_active if inspector else self.matrix_active
+        switch = self.set_inspector_active if inspector else self.set_matrix_active
+        if dock.isHidden() == active:
+            switch(not dock.isHidden())
 
     def _sync_picking(self) -> None:
         self.picker.enabled = self.inspector_active or self.matrix_active
         self._sync_step_actions()
 
     def _sync_step_actions(self) -> None:
-        for act in (self.act_next, self.act_previous, self.act_zoom):
+        for act in (self.act_next, self.act_previous):
             act.setEnabled(self.inspector_active)
+
+    def sync_with_docks(self) -> None:
+        """After a restored layout: a tool whose dock came back visible is on, so a dock
+        is never shown for a tool that is off."""
+        if not self.inspector_dock.isHidden() and not self.inspector_active:
+            self.set_inspector_active(True)
+        if not self.matrix_dock.isHidden() and not self.matrix_active:
+            self.set_matrix_active(True)
 
     # -- events ----------------------------------------------------------------------
 
@@ -171,16 +193,24 @@ class TeachingTools:
         if self.matrix_active:
             self.matrix.highlight_row(triangle)
             if not self.inspector_active:
-                self.highlight.show(self.mesh, triangle)
-        self.window.plotter.render()
+                self._mark(triangle)
+        self.window.request_render()
+
+    def _mark(self, row: int | None, col: int | None = None) -> None:
+        self.highlight.show(self.mesh, row, col)
+        self.highlight.fit(pixels_per_mm(self.window.plotter))
 
     def _cell_hovered(self, row: int, col: int) -> None:
+        """Cheap at any size: the spy plot blits one box, the 3D view is asked for one
+        repaint (coalesced by Qt), the two triangles are looked up, not searched for."""
         self.matrix.highlight_cell(row, col)
-        self.highlight.show(self.mesh, row, col if col != row else None)
-        self.window.plotter.render()
+        self._mark(row, col if col != row else None)
+        self._repaint.start()
 
     def _cell_clicked(self, row: int, col: int) -> None:
         self._cell_hovered(row, col)
+        self._repaint.stop()
+        self.window.request_render()
         self.matrix.highlight_row(row)
         if self.inspector_active and self.mesh is not None:
             edge = shared_edge(self.mesh, row, col)
@@ -197,19 +227,18 @@ class TeachingTools:
 
     def zoom_to_edge(self) -> None:
         """Centre the view on the inspected edge, its triangles filling about a third."""
-        info, mesh = self.inspector.info, self.mesh
-        if not self.inspector_active or info is None or mesh is None:
+        if self.inspector_active and self.inspector.info is not None:
+            self.window.view_tools.zoom_to_selection()
+
+    def zoom_to_cell(self) -> None:
+        """Frame the two triangles of the clicked matrix cell (the spy plot's Zoom button)."""
+        cell = self.matrix.cell
+        if cell is None or self.mesh is None:
             return
-        corners = mesh.points[mesh.triangles[list(info.triangles)]].reshape(-1, 3)
-        centre = corners.mean(axis=0)
-        extent = float(np.ptp(corners[:, :2], axis=0).max())
-        camera = self.window.plotter.camera
-        shift = centre - np.asarray(camera.focal_point)
-        camera.focal_point = tuple(centre)
-        camera.position = tuple(np.asarray(camera.position) + shift)
-        camera.parallel_scale = max(1.6 * extent, 1e-9)
-        self.window.scene.fit_marker_sizes()
-        self.window.plotter.render()
+        self._mark(*cell)
+        tris = sorted(set(cell))
+        mesh = self.mesh
+        self.window.view_tools.zoom_to_points(mesh.points[mesh.triangles[tris]].reshape(-1, 3))
 
     def _emphasize(self, scale: float) -> None:
         self.window.scene.set_emphasis(scale)

@@ -25,18 +25,25 @@ from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QGuiApplication, Q
 from PySide6.QtWidgets import (
     QApplication,
     QCheckBox,
+    QComboBox,
     QDialog,
     QDialogButtonBox,
     QDockWidget,
     QFileDialog,
     QFormLayout,
+    QHBoxLayout,
     QLabel,
+    QLineEdit,
     QMainWindow,
     QMessageBox,
     QProgressBar,
+    QPushButton,
     QScrollArea,
     QSpinBox,
+    QStyle,
+    QTextBrowser,
     QToolBar,
+    QVBoxLayout,
     QWidget,
 )
 
@@ -44,6 +51,7 @@ import core
 from core import MeshParams, TriMesh
 
 from .controls import ControlsPanel
+from .framing import frame_from_above, look_from_above, pixels_per_mm
 from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from .layers_panel import LayersPanel
 from .model import AppModel, MeshResult, ParamError
@@ -51,12 +59,18 @@ from .scene import MeshScene, scene_data
 from .stats_panel import StatsPanel
 from .teaching_tools import TeachingTools
 from .teaching_windows import TeachingWindows
+from .view_tools import ViewTools
 from .worker import MeshController
 
 log = logging.getLogger(__name__)
 
 ORGANIZATION = APPLICATION = "barymesh"
 SCRIPTED_SIZE = (1400, 860)
+#: Below this window width the Statistics and Layers docks share the Parameters column
+#: (as tabs), so the 3D view keeps most of the width.
+NARROW_WIDTH = 1200
+#: Keys that work from every window of the program (the teaching windows too).
+APPLICATION_KEYS = ("F1", "F7", "F8")
 #: MSAA samples of the 3D view on a GPU; Mesa's software llvmpipe gets none (4x MSAA there
 #: triples the frame time). ``BARYMESH_MSAA`` overrides both.
 MULTI_SAMPLES = 4
@@ -138,6 +152,141 @@ class ScreenshotDialog(QDialog):
         self.accept()
 
 
+def file_error_sentence(title: str, exc: BaseException,
+                        path: str | os.PathLike[str] | None = None) -> str:
+    """``"Could not open a.msh: the file ends after 12 of 423 nodes."``: one sentence.
+
+    The path is said once (``title`` names the file; a message that starts with the path
+    or the file name again has it dropped), an operating-system error says what the system
+    said (not its errno and repeated path), and a text file that is not UTF-8 says so in
+    those words rather than in the codec's.
+
+    >>> file_error_sentence("Could not open a.msh", ValueError("/x/a.msh: a.msh: empty"),
+    ...                     "/x/a.msh")
+    'Could not open a.msh: empty.'
+    """
+    if isinstance(exc, UnicodeDecodeError):
+        bad = exc.object[exc.start:exc.start + 1]
+        code = f"0x{bad[0]:02x}" if bad else "?"
+        reason = f"it is not UTF-8 text (byte {code} at offset {exc.start})"
+    elif isinstance(exc, OSError) and exc.strerror:
+        reason = exc.strerror[:1].lower() + exc.strerror[1:]
+    else:
+        reason = str(exc) or type(exc).__name__
+    reason = " ".join(part.strip() for part in reason.splitlines() if part.strip())
+    prefixes = []
+    if path is not None:
+        full = str(path)
+        prefixes = [full, os.path.abspath(full), Path(full).name]
+    changed = True
+    while changed:  # "path: path: reason" -> "reason"
+        changed = False
+        for prefix in prefixes:
+            for sep in (": ", " "):
+                if prefix and reason.startswith(prefix + sep):
+                    reason = reason[len(prefix) + len(sep):].lstrip()
+                    changed = True
+    reason = reason.rstrip(". ")
+    return f"{title}: {reason}." if reason else f"{title}."
+
+
+class HelpDialog(QDialog):
+    """Help → About / F1: the method and every shortcut, scrolling inside the screen."""
+
+    def __init__(self, html: str, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("About barymesh")
+        self.browser = QTextBrowser(self)
+        self.browser.setOpenExternalLinks(True)
+        self.browser.setHtml(html)
+        buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Close, self)
+        buttons.rejected.connect(self.close)
+        col = QVBoxLayout(self)
+        col.addWidget(self.browser, 1)
+        col.addWidget(buttons)
+        screen = (parent.screen() if parent is not None else QGuiApplication.primaryScreen())
+        room = screen.availableGeometry()
+        self.resize(min(620, int(0.9 * room.width())), min(560, int(0.8 * room.height())))
+
+
+class ExportDialog(QDialog):
+    """File → Export mesh: the file (its extension picks the format) and the length unit."""
+
+    def __init__(self, window: MainWindow) -> None:
+        super().__init__(window)
+        from core.io import EXPORT_FORMATS, UNITS
+
+        self.window_ = window
+        self.formats = EXPORT_FORMATS
+        self.setWindowTitle("Export mesh")
+        form = QFormLayout(self)
+        self.path = QLineEdit(window._path_setting("export", "barymesh.msh"), self)
+        self.path.setMinimumWidth(360)
+        browse = QPushButton("Browse…", self)
+        browse.clicked.connect(self._browse)
+        row = QHBoxLayout()
+        row.addWidget(self.path, 1)
+        row.addWidget(browse)
+        label = QLabel("&File", self)
+        label.setBuddy(self.path)
+        form.addRow(label, row)
+        self.format_label = QLabel(self)
+        form.addRow("Format", self.format_label)
+        self.unit = QComboBox(self)
+        self.unit.addItem("the format's default", None)
+        names = {"m": "m (metres)", "mm": "mm (millimetres, the mesher's unit)",
+                 "um": "µm (micrometres)"}
+        for unit in UNITS:
+            self.unit.addItem(names.get(unit, unit), unit)
+        saved = window.settings.value("export/unit", "")
+        self.unit.setCurrentIndex(max(self.unit.findData(saved), 0) if saved else 0)
+        form.addRow("Length &unit", self.unit)
+        self.error = QLabel(self)
+        self.error.setStyleSheet("color: #d0021b;")
+        self.error.setWordWrap(True)
+        form.addRow(self.error)
+        buttons = QDialogButtonBox(self)
+        self.export_button = buttons.addButton("Export", QDialogButtonBox.ButtonRole.AcceptRole)
+        buttons.addButton(QDialogButtonBox.StandardButton.Cancel)
+        buttons.accepted.connect(self._export)
+        buttons.rejected.connect(self.reject)
+        form.addRow(buttons)
+        self.path.textChanged.connect(self._describe)
+        self.unit.currentIndexChanged.connect(self._describe)
+        self._describe()
+
+    def _describe(self) -> None:
+        from core.io import describe_export
+
+        try:
+            text = describe_export(Path(self.path.text()).name, self.unit.currentData())
+            self.format_label.setText(text.split(" (", 1)[1].rstrip(")"))
+            self.export_button.setEnabled(True)
+        except ValueError as exc:
+            self.format_label.setText(str(exc))
+            self.export_button.setEnabled(False)
+
+    def _browse(self) -> None:
+        filters = [f"{fmt.name} (*{ext})" for ext, fmt in self.formats.items()]
+        path, chosen = QFileDialog.getSaveFileName(self, "Export mesh", self.path.text(),
+                                                   ";;".join(filters))
+        if path:
+            if not Path(path).suffix:
+                path += next((e for e, f in self.formats.items() if chosen.startswith(f.name)),
+                             ".msh")
+            self.path.setText(path)
+
+    def _export(self) -> None:
+        path = self.path.text().strip()
+        unit = self.unit.currentData()
+        self.window_.settings.setValue("export/unit", unit or "")
+        self.window_.settings.setValue("paths/export", path)
+        if self.window_.export_mesh(path, unit):
+            self.accept()
+        else:
+            self.error.setText(self.window_.statusBar().currentMessage())
+
+
 class MainWindow(QMainWindow):
     """The barymesh window.
 
@@ -168,7 +317,6 @@ class MainWindow(QMainWindow):
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
         self.plotter = QtInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
         self.plotter.setMinimumSize(320, 240)
-        self.setCentralWidget(self.plotter)
         for key in ("q", "e"):  # VTK's exit keys would close the render window under Qt
             self.plotter.clear_events_for_key(key, raise_on_missing=False)
         self.scene = MeshScene(self.plotter, visible=self.model.layers,
@@ -211,12 +359,24 @@ class MainWindow(QMainWindow):
         self._make_menus()
         self._history_changed()
         self.model.result_changed.connect(self._source_changed)
+        # the 3D view with the readout strip under it
+        self.setCentralWidget(self.view_tools.container())
+        self.statusBar().messageChanged.connect(self._status_message_changed)
+        self._note_params: MeshParams | None = None
+        self.model.params_changed.connect(self._params_changed_note)
 
+        self._auto_docks = True  # narrow/wide dock layout follows the width until moved
+        self._arranging = False
+        self._narrow = False
+        for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
+            dock.dockLocationChanged.connect(self._dock_moved)
+            dock.topLevelChanged.connect(self._dock_moved)
         if scripted:
             self.resize(*SCRIPTED_SIZE)
         else:
             self.resize(1400, 860)
             self._restore_layout()
+            self.teaching.sync_with_docks()
         self.controller.request()
 
     # -- construction ------------------------------------------------------------------
@@ -231,7 +391,8 @@ class MainWindow(QMainWindow):
             area_widget.setWidgetResizable(True)
             area_widget.setFrameShape(QScrollArea.Shape.NoFrame)
             area_widget.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-            area_widget.setMinimumWidth(widget.sizeHint().width() + 24)
+            bar = self.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent)
+            area_widget.setMinimumWidth(widget.minimumSizeHint().width() + bar + 4)
             dock.setWidget(area_widget)
         else:
             dock.setWidget(widget)
@@ -249,6 +410,8 @@ class MainWindow(QMainWindow):
             action.setStatusTip(tip)
             action.setToolTip(tip)
         action.setCheckable(checkable)
+        if shortcut in APPLICATION_KEYS:  # also from the construction and compare windows
+            action.setShortcutContext(Qt.ShortcutContext.ApplicationShortcut)
         action.triggered.connect(slot)
         self.addAction(action)  # shortcuts work even when the menu bar is hidden
         return action
@@ -283,9 +446,9 @@ class MainWindow(QMainWindow):
         self.act_reset = a("Reset to &defaults", self.model.reset, "Ctrl+Shift+R",
                            "The paper's Fig. 12(a) parameters (undoable)")
         self.act_camera = a("&Reset camera", self.reset_camera, "R",
-                            "Frame the whole mesh from above")
+                            "Frame the whole mesh from above (undoes tilt, pan and zoom)")
         self.act_top = a("&Top view", self.top_view, "T",
-                         "Look down the z axis with a parallel projection")
+                         "Look straight down the z axis, keeping the zoom")
         self.layer_actions: dict[str, QAction] = {}
         for i, name in enumerate(LAYERS):
             act = a(LAYER_TITLES[name], lambda on, n=name: self.model.set_layer_visible(n, on),
@@ -307,6 +470,8 @@ class MainWindow(QMainWindow):
         self.teaching = TeachingTools(self)
         # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
         self.teaching_windows = TeachingWindows(self)
+        # View: hover readout, measure distance, zoom to selection
+        self.view_tools = ViewTools(self)
 
     def _make_menus(self) -> None:
         bar = self.menuBar()
@@ -348,7 +513,8 @@ class MainWindow(QMainWindow):
         colours = view.addMenu("&Colour faces by")
         colours.addActions(list(self.color_actions.values()))
         view.addSeparator()
-        view.addActions([self.act_camera, self.act_top])
+        view.addActions([self.act_camera, self.act_top, self.view_tools.act_zoom])
+        view.addAction(self.view_tools.act_measure)
         view.addSeparator()
         for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
             view.addAction(dock.toggleViewAction())
@@ -365,6 +531,7 @@ class MainWindow(QMainWindow):
         tools.addActions([self.act_undo, self.act_redo])
         tools.addSeparator()
         tools.addActions([self.act_camera, self.act_top])
+        tools.addAction(self.view_tools.act_measure)
         tools.addSeparator()
         tools.addAction(self.act_shot)
         self.addToolBar(tools)
@@ -399,11 +566,12 @@ class MainWindow(QMainWindow):
             result.scene = scene_data(result.mesh)
         self.scene.update(result.scene)
         self.teaching.mesh_changed(result.mesh)
+        self.view_tools.mesh_changed(result.mesh)
         p = result.params
         key = (result.source, p.structure if p else None)
         bounds = np.asarray(result.scene.bounds)
         if key != self._camera_key or self._bounds_jumped(bounds):
-            self.scene.reset_camera()
+            self.frame_mesh()
         self._camera_key, self._camera_bounds = key, bounds
         self.request_render()
         self.last_frame_seconds = time.perf_counter() - start
@@ -456,6 +624,16 @@ class MainWindow(QMainWindow):
         self.color_actions[key].setChecked(True)
         self.request_render()
 
+    def _status_message_changed(self, message: str) -> None:
+        """A message gets the whole status bar: the triangle count steps aside meanwhile."""
+        self.summary.setVisible(not message)
+        self.statusBar().setToolTip(message)
+
+    def _params_changed_note(self, params: MeshParams) -> None:
+        if self._note_params is not None and params != self._note_params:
+            self._note_params = None
+            self.view_tools.set_note("")
+
     def _history_changed(self) -> None:
         self.act_undo.setEnabled(self.model.can_undo)
         self.act_redo.setEnabled(self.model.can_redo)
@@ -470,6 +648,7 @@ class MainWindow(QMainWindow):
 
     def _camera_moved(self, *_args: Any) -> None:
         self.scene.fit_marker_sizes()
+        self.teaching.highlight.fit(pixels_per_mm(self.plotter))
 
     # -- view ----------------------------------------------------------------------------
 
@@ -482,12 +661,38 @@ class MainWindow(QMainWindow):
         self.plotter.update()
 
     def reset_camera(self) -> None:
-        self.scene.reset_camera()
+        """R: the whole mesh and its rulers from straight above, fitted to the view."""
+        self.frame_mesh()
         self.request_render()
 
     def top_view(self) -> None:
-        self.scene.top_view()
+        """T: straight down the z axis again (a tilt or roll undone), the zoom kept."""
+        look_from_above(self.plotter)
+        self.scene.fit_marker_sizes()
         self.request_render()
+
+    def frame_mesh(self) -> None:
+        """Frame the mesh and its rulers from above, fitted to the view's width and height;
+        the view keeps it framed through resizes until the camera is moved."""
+        if self.scene.bounds is None:
+            self.scene.top_view()
+        else:
+            frame_from_above(self.plotter, self.scene.bounds)
+        self.scene.fit_marker_sizes()
+        self.teaching.highlight.fit(pixels_per_mm(self.plotter))
+        self._framed = self._camera_state()
+
+    def _camera_state(self) -> tuple[float, ...]:
+        c = self.plotter.camera
+        return (*c.position, *c.focal_point, *c.up, float(c.parallel_scale))
+
+    def refit_if_framed(self) -> None:
+        """After the view changed size: keep a framed mesh framed (not a moved camera)."""
+        if self._closed or getattr(self, "_framed", None) is None:
+            return
+        if np.allclose(self._camera_state(), self._framed, rtol=1e-9, atol=1e-12):
+            self.frame_mesh()
+            self.request_render()
 
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
         """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array, lines scaled along."""
@@ -508,7 +713,8 @@ class MainWindow(QMainWindow):
             iio.imwrite(Path(path), self.view_image(scale, transparent), extension=".png")
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
-            self.statusBar().showMessage(f"Could not save the screenshot: {exc}")
+            self.statusBar().showMessage(
+                file_error_sentence(f"Could not save {Path(path).name}", exc, path))
             return False
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
@@ -548,7 +754,7 @@ class MainWindow(QMainWindow):
         try:
             mesh: TriMesh = read_mesh(path)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not open {path}", exc)
+            self._file_error(f"Could not open {Path(path).name}", exc, path)
             return False
         result = self.model.show_imported(mesh, str(path))
         if not self.model.set_result(result):
@@ -573,7 +779,7 @@ class MainWindow(QMainWindow):
         try:
             params = load_params_file(path)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not load {path}", exc)
+            self._file_error(f"Could not load {Path(path).name}", exc, path)
             return False
         self.model.set_params(params)
         return True
@@ -602,27 +808,19 @@ class MainWindow(QMainWindow):
         try:
             save_params_file(params, path)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not save {path}", exc)
+            self._file_error(f"Could not save {Path(path).name}", exc, path)
             return False
         newer = " (those of the mesh on screen; newer ones are being meshed)"
         self.statusBar().showMessage(f"Saved {path}{newer if params != self.model.params else ''}",
                                      5000)
         return True
 
-    def export_mesh_dialog(self) -> None:
-        from core.io import EXPORT_FORMATS
-
-        filters = [f"{fmt.name} (*{ext})" for ext, fmt in EXPORT_FORMATS.items()]
-        path, chosen = QFileDialog.getSaveFileName(
-            self, "Export mesh", self._path_setting("export", "barymesh.msh"), ";;".join(filters)
-        )
-        if path:
-            if not Path(path).suffix:
-                ext = next((e for e, f in EXPORT_FORMATS.items() if chosen.startswith(f.name)),
-                           ".msh")
-                path += ext
-            self.settings.setValue("paths/export", path)
-            self.export_mesh(path)
+    def export_mesh_dialog(self) -> ExportDialog:
+        """File → Export mesh: a file, its format and the length unit (window-modal)."""
+        dialog = ExportDialog(self)
+        dialog.open()
+        self.export_dialog = dialog
+        return dialog
 
     def export_mesh(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
         from core.io import describe_export, write_mesh
@@ -635,7 +833,7 @@ class MainWindow(QMainWindow):
             write_mesh(result.mesh, path, unit=unit)
             what = describe_export(path, unit)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not export {path}", exc)
+            self._file_error(f"Could not export {Path(path).name}", exc, path)
             return False
         self.statusBar().showMessage(f"Wrote {what}", 5000)
         return True
@@ -648,15 +846,27 @@ class MainWindow(QMainWindow):
         except (ValueError, OSError) as exc:
             self._file_error(f"Could not load preset {name}", exc)
             return False
+        self._note_params = None
         self.model.set_params(params)
+        # the description stays under the view until the parameters change
+        self._note_params = params
+        self.view_tools.set_note(f"Preset {name}: {description}")
         self.statusBar().showMessage(f"Preset {name}: {description}", 8000)
         return True
 
-    def _file_error(self, title: str, exc: BaseException) -> None:
-        message = str(exc) or type(exc).__name__
-        self.statusBar().showMessage(f"{title}: {message}")
+    def _file_error(self, title: str, exc: BaseException,
+                    path: str | os.PathLike[str] | None = None) -> None:
+        """One sentence in the status bar (and a warning box): the file once, the reason
+        in the file's terms."""
+        sentence = file_error_sentence(title, exc, path)
+        log.info("%s", sentence, exc_info=exc)
+        self.statusBar().showMessage(sentence)
         if not self.scripted:
-            QMessageBox.warning(self, "barymesh", f"{title}.\n\n{message}")
+            box = QMessageBox(QMessageBox.Icon.Warning, "barymesh", sentence,
+                              QMessageBox.StandardButton.Ok, self)
+            if path is not None:
+                box.setInformativeText(f"File: {path}")
+            box.exec()
 
     # -- help ----------------------------------------------------------------------------
 
@@ -671,11 +881,22 @@ class MainWindow(QMainWindow):
         rows.append("<tr><td>Rotate / pan / zoom the view</td>"
                     "<td><b>left / middle drag, wheel</b></td></tr>")
         rows.append("<tr><td>Move a slider</td><td><b>←/→, PgUp/PgDn, Home/End</b></td></tr>")
+        rows.append("<tr><td>What is under the cursor (strip under the view)</td>"
+                    "<td><b>hover</b></td></tr>")
+        rows.append("<tr><td>Select a triangle, edge or vertex (then Z)</td>"
+                    "<td><b>click</b></td></tr>")
         return "<h4>Keyboard shortcuts</h4><table cellspacing='6'>" + "".join(rows) + "</table>"
 
-    def show_about(self) -> None:
-        QMessageBox.about(self, "About barymesh",
-                          ABOUT.format(version=core.__version__, shortcuts=self.shortcuts_html()))
+    def show_about(self) -> HelpDialog:
+        """About and the keyboard shortcuts (F1): a scrolling dialog that fits the screen."""
+        dialog = getattr(self, "help_dialog", None)
+        if dialog is None:
+            dialog = self.help_dialog = HelpDialog(
+                ABOUT.format(version=core.__version__, shortcuts=self.shortcuts_html()), self)
+        dialog.show()
+        dialog.raise_()
+        dialog.activateWindow()
+        return dialog
 
     # -- settings ------------------------------------------------------------------------
 
@@ -704,12 +925,59 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         state = self.settings.value("window/state")
         if isinstance(state, QByteArray):
+            self._arranging = True
             self.restoreState(state)
+            self._arranging = False
+            auto = self.settings.value("window/auto_docks", "true")
+            self._auto_docks = auto in (True, "true")
+            self._narrow = (self.dockWidgetArea(self.statistics_dock)
+                            == Qt.DockWidgetArea.LeftDockWidgetArea)
+
+    # -- dock layout -----------------------------------------------------------------------
+
+    def resizeEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().resizeEvent(event)
+        if self._auto_docks and not self._arranging:
+            narrow = self.width() < NARROW_WIDTH
+            if narrow != self._narrow:
+                self.arrange_docks(narrow)
+
+    def arrange_docks(self, narrow: bool) -> None:
+        """Wide: Parameters left, Statistics over Layers right. Narrow: all three as tabs of
+        one column on the left, so the 3D view keeps most of the width. The teaching docks
+        stay tabbed with Statistics; hidden docks stay hidden."""
+        left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
+        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock]
+        hidden = {d: d.isHidden() for d in
+                  (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)}
+        self._arranging = True
+        try:
+            if narrow:
+                self.addDockWidget(left, self.statistics_dock)
+                self.addDockWidget(left, self.layers_dock)
+                self.tabifyDockWidget(self.parameters_dock, self.statistics_dock)
+                self.tabifyDockWidget(self.parameters_dock, self.layers_dock)
+            else:
+                self.addDockWidget(right, self.statistics_dock)
+                self.addDockWidget(right, self.layers_dock, Qt.Orientation.Vertical)
+            for dock in extra:
+                self.tabifyDockWidget(self.statistics_dock, dock)
+            for dock, was_hidden in hidden.items():
+                dock.setHidden(was_hidden)
+            self.parameters_dock.raise_()
+        finally:
+            self._arranging = False
+        self._narrow = narrow
+
+    def _dock_moved(self, *_args: Any) -> None:
+        if not self._arranging:
+            self._auto_docks = False  # the user arranged the docks: leave them be
 
     def save_settings(self) -> None:
         s = self.settings
         s.setValue("window/geometry", self.saveGeometry())
         s.setValue("window/state", self.saveState())
+        s.setValue("window/auto_docks", self._auto_docks)
         s.setValue("params", json.dumps(self.model.params.to_dict()))
         s.setValue("view", json.dumps(self.model.view_state()))
         s.sync()

@@ -5,11 +5,13 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from PySide6.QtCore import Qt  # noqa: E402
 
 from app.compare_view import CompareView, patch_coverage  # noqa: E402
 from app.model import AppModel  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
+from tests.gui_helpers import near, pixel, share, type_into  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)
 COUNTS = ("triangles", "vertices", "interior_edges", "boundary_edges")
@@ -97,14 +99,28 @@ def test_follows_the_parameters_latest_wins(view, qtbot):
     assert_half(view, COARSE.replace(subdivisions=1), "conforming")
 
 
-def test_screenshot_is_not_blank(view, tmp_path):
+def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
+    """Pixels, not colour counts: inside triangles of each half the face colour (or, in
+    paper mode, the shade of a face under two patches), at the rings' centre the white
+    background."""
     import imageio.v3 as iio
+
+    from app.compare_view import COVERAGE_COLORS
+    from app.scene import COLORS
 
     image = view.view_image()
     iio.imwrite(tmp_path / "compare.png", image)
-    w = image.shape[1]
-    for half in (image[:, : w // 2], image[:, w // 2:]):
-        assert len(np.unique(half[..., :3].reshape(-1, 3), axis=0)) > 10
+    for col, mode in enumerate(("paper", "conforming")):
+        renderer = view.plotter.renderers[col]
+        mesh = view.halves[mode].result.mesh
+        assert near(pixel(image, view.plotter, (0.0, 0.0, 0.0), renderer), "#ffffff", 3), mode
+        faces = [share(image, view.plotter, mesh.points[mesh.triangles[t]], colour, tol=25,
+                       renderer=renderer)
+                 for t in range(0, mesh.n_triangles, 37)
+                 for colour in (COLORS["faces"], *COVERAGE_COLORS)]
+        # inside a triangle most samples show a face colour (the rest: its edge lines)
+        per_triangle = np.array(faces).reshape(-1, 3).sum(axis=1)
+        assert np.median(per_triangle) > 0.5, (mode, per_triangle)
     assert view.grab().save(str(tmp_path / "compare-window.png"))
 
 
@@ -115,11 +131,14 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     qtbot.waitExposed(win)
     win.controller.flush()
     assert win.teaching_windows.act_compare in win.teach_menu.actions()
-    win.teaching_windows.act_compare.trigger()
+    with qtbot.waitActive(win):
+        win.activateWindow()
+    win.plotter.setFocus()
+    qtbot.keyClick(win.plotter, Qt.Key.Key_F8)  # Teach → Paper vs conforming
     view = win.teaching_windows.compare
     wait_shown(qtbot, view)
     assert_half(view, COARSE, "paper")
-    win.controls.rows["subdivisions"].spin.setValue(3)
+    type_into(qtbot, win.controls.rows["subdivisions"].spin, 3)
     win.controller.flush()
     wait_shown(qtbot, view)
     assert_half(view, COARSE.replace(subdivisions=3), "conforming")

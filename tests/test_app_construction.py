@@ -8,11 +8,17 @@ pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
 
-from app.construction_view import ConstructionView, label_offsets, shown_labels  # noqa: E402
+from app.construction_view import (  # noqa: E402
+    RULER_CLEARANCE,
+    ConstructionView,
+    label_offsets,
+    shown_labels,
+)
 from app.model import AppModel  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.construction import construction_steps  # noqa: E402
+from tests.gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
 
 PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.
@@ -28,46 +34,67 @@ def view(qtbot):
     win.resize(1000, 700)
     win.show()
     qtbot.waitExposed(win)
+    with qtbot.waitActive(win):  # the step keys are window shortcuts
+        win.activateWindow()
     yield win
     win.close()
 
 
-def test_paper_patch_has_eight_steps_with_their_titles(view):
+def go_to_step(qtbot, view, index):
+    """Home, then → ``index`` times, with the focus on the step slider (as a user steps)."""
+    view.slider.setFocus()
+    qtbot.keyClick(view.slider, Qt.Key.Key_Home)
+    for _ in range(index):
+        qtbot.keyClick(view.slider, Qt.Key.Key_Right)
+    assert view.index == index
+
+
+def test_paper_patch_has_eight_steps_with_their_titles(view, qtbot):
     assert len(view.steps) == 8
     assert view.slider.minimum() == 0 and view.slider.maximum() == 7
+    view.slider.setFocus()
     for i, start in enumerate(PAPER_STEPS):
-        view.slider.setValue(i)
-        assert view.index == i
+        if i:
+            qtbot.keyClick(view.slider, Qt.Key.Key_Right)
+        assert view.index == i and view.slider.value() == i
         assert view.title.text().startswith(start)
         assert view.counter.text() == f"Step {i + 1} of 8"
         assert view.description.text()
 
 
-def test_labels_appear_at_their_step(view):
+def test_labels_appear_at_their_step(view, qtbot):
     corners = {"A", "B", "C", "D"}
     midpoints = {"m1", "m2", "m3"}
     quarters = {"m11", "m12", "m21", "m22"}
-    view.set_step(0)
+    go_to_step(qtbot, view, 0)
     assert set(view.labels) == corners
-    view.set_step(1)
+    go_to_step(qtbot, view, 1)
     assert set(view.labels) == corners
-    view.set_step(2)
+    go_to_step(qtbot, view, 2)
     assert set(view.labels) == corners | midpoints
-    view.set_step(3)
+    go_to_step(qtbot, view, 3)
     assert set(view.labels) == corners | midpoints | quarters
-    view.set_step(7)
+    go_to_step(qtbot, view, 7)
     assert set(view.labels) == corners | midpoints | quarters
 
 
-def test_labels_sit_next_to_their_points_not_on_them(view):
-    view.set_step(3)
+def test_labels_sit_next_to_their_points_not_on_them(view, qtbot):
+    go_to_step(qtbot, view, 3)
     step = view.steps[3]
     anchors = view.label_points.points[:, :2]
     at = {label: np.asarray(p) for label, p in zip(step.labels, step.points, strict=True)}
     size = 10.0
+    px = 2.0 * view.plotter.camera.parallel_scale / view.plotter.window_size[1]  # mm per px
+    lo, hi = np.min(step.points, axis=0), np.max(step.points, axis=0)
     for label, anchor in zip(view.labels, anchors, strict=True):
         gap = np.linalg.norm(anchor - at[label])
-        assert 0.02 * size < gap < 0.15 * size, label
+        assert 0.02 * size < gap < 0.25 * size, label
+        # points inside the ruled sides (left, bottom): the label lies beyond the tick labels
+        x, y = at[label]
+        if np.isclose(x, lo[0]) and lo[1] + 1e-9 < y < hi[1] - 1e-9:
+            assert lo[0] - anchor[0] > RULER_CLEARANCE["left"] * px, label
+        if np.isclose(y, lo[1]) and lo[0] + 1e-9 < x < hi[0] - 1e-9:
+            assert lo[1] - anchor[1] > RULER_CLEARANCE["bottom"] * px, label
 
 
 def test_previous_next_buttons_and_keys(view, qtbot):
@@ -95,18 +122,18 @@ def test_previous_next_buttons_and_keys(view, qtbot):
     assert view.index == 0
 
 
-def test_each_step_draws_what_it_says(view):
-    view.set_step(1)
+def test_each_step_draws_what_it_says(view, qtbot):
+    go_to_step(qtbot, view, 1)
     assert view.datasets["highlight"].n_cells == 1  # the diagonal, emphasised
     assert view.datasets["primary_0"].n_cells == 1 and view.datasets["primary_1"].n_cells == 1
-    view.set_step(4)
+    go_to_step(qtbot, view, 4)
     assert view.datasets["highlight"].n_cells == 2 * 3 * 3  # n - 1 lines x 3 per primary
-    view.set_step(5)
+    go_to_step(qtbot, view, 5)
     assert view.datasets["subtriangles"].n_cells == 32
     assert view.datasets["highlight"].n_cells == 0
-    view.set_step(6)
+    go_to_step(qtbot, view, 6)
     assert view.datasets["centroids"].n_points == 32
-    view.set_step(7)
+    go_to_step(qtbot, view, 7)
     assert view.datasets["shared_edges"].n_cells == 40
 
 
@@ -125,14 +152,15 @@ def test_any_n_and_the_triangle(qtbot, n):
         view.close()
 
 
-def test_follows_the_main_parameters_and_drives_n(view):
-    view.set_step(5)
+def test_follows_the_main_parameters_and_drives_n(view, qtbot):
+    go_to_step(qtbot, view, 5)
     view.model.set_value("subdivisions", 2)
     assert view.params.subdivisions == 2 and len(view.steps) == 7
     assert view.datasets["subtriangles"].n_cells == 8
-    view.n_spin.setValue(4)  # the panel's n changes the model (undoable there)
+    type_into(qtbot, view.n_spin, 4)  # the panel's n changes the model (undoable there)
     assert view.model.params.subdivisions == 4 and len(view.steps) == 8
-    view.diagonal.setCurrentIndex(view.diagonal.findData("AD"))
+    view.diagonal.setFocus()
+    qtbot.keyClick(view.diagonal, Qt.Key.Key_Down)  # "BC (paper)" -> "AD (Makarov)"
     assert view.model.params.diagonal == "AD"
     assert view.steps[1].title.startswith("Diagonal AD")
 
@@ -155,12 +183,25 @@ def test_label_helpers():
     assert offsets[1, 1] == 0 and offsets[1, 0] < -0.5 * 3 * 0.62 * 20
 
 
-def test_screenshot_is_not_blank(view, tmp_path):
-    view.set_step(3)
+def test_screenshot_shows_each_layer_where_it_is(view, qtbot, tmp_path):
+    """Pixels, not colour counts: step 4 (quarter points) of the 10 mm patch."""
+    from app.construction_view import COLORS
+
+    with qtbot.waitActive(view):  # the step keys are window shortcuts
+        view.activateWindow()
+    view.plotter.setFocus()
+    for _ in range(3):
+        qtbot.keyClick(view.plotter, Qt.Key.Key_Right)
+    assert view.index == 3
     image = view.view_image()
-    path = tmp_path / "construction.png"
-    iio.imwrite(path, image)
-    assert len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
+    iio.imwrite(tmp_path / "construction.png", image)
+    p = view.plotter
+    assert near(pixel(image, p, (2.0, 2.0, 0.0)), COLORS["primary_0"], 12)  # triangle ABC
+    assert near(pixel(image, p, (8.0, 8.0, 0.0)), COLORS["primary_1"], 12)  # triangle DCB
+    for corner in ((0.0, 0.0), (10.0, 0.0), (2.5, 0.0), (0.0, 7.5)):  # A, B, m11, m21
+        assert near(pixel(image, p, (*corner, 0.0)), COLORS["points"], 40), corner
+    assert drawn_near(image, p, (7.0, 3.0, 0.0), COLORS["segments"], 40)  # diagonal BC
+    assert near(pixel(image, p, (10.6, 5.0, 0.0)), "#ffffff", 3)  # right of the patch
     grab = tmp_path / "construction-window.png"
     assert view.grab().save(str(grab))
     assert iio.imread(grab).shape[1] >= 900
@@ -173,10 +214,13 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     qtbot.waitExposed(win)
     win.controller.flush()
     assert win.teaching_windows.act_construction in win.teach_menu.actions()
-    win.teaching_windows.act_construction.trigger()
+    with qtbot.waitActive(win):
+        win.activateWindow()
+    win.plotter.setFocus()
+    qtbot.keyClick(win.plotter, Qt.Key.Key_F7)  # Teach → Construction step by step
     view = win.teaching_windows.construction
     assert view is not None and view.isVisible() and len(view.steps) == 8
-    win.controls.rows["subdivisions"].spin.setValue(3)
+    type_into(qtbot, win.controls.rows["subdivisions"].spin, 3)
     win.controller.flush()
     assert view.params.subdivisions == 3
     win.close()

@@ -9,12 +9,14 @@ pytest.importorskip("pyvistaqt")
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
 from app.inspector import (  # noqa: E402
+    COLORS,  # noqa: E402
     arrow_polygons,
     edge_info,
     nearest_edge,
     step_edge,
 )
 from core import MeshParams, build_mesh  # noqa: E402
+from tests.gui_helpers import near, type_into  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
 
@@ -27,9 +29,11 @@ def window_params():
 @pytest.fixture
 def window(window, qtbot):
     """The main window on Fig. 10 with the inspector on."""
-    window.activateWindow()  # shortcuts (N, P, F5) need the active window
-    qtbot.waitActive(window)
-    window.teaching.set_inspector_active(True)
+    with qtbot.waitActive(window):  # shortcuts (I, N, P, F5) need the active window
+        window.activateWindow()
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # Teach → RWG basis inspector
+    assert window.teaching.inspector_active
     qtbot.wait(50)
     window.plotter.render()
     return window
@@ -52,9 +56,30 @@ def click_world(win, qtbot, world):
     qtbot.mouseClick(win.plotter, Qt.MouseButton.LeftButton, pos=pos)
 
 
-def not_blank(path):
-    image = iio.imread(path)
-    return len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
+def choose_edge(qtbot, win, edge):
+    """Type an edge id into the inspector's Edge box."""
+    type_into(qtbot, win.teaching.inspector.edge_spin, edge)
+
+
+def assert_overlay_on_screen(image, win, edge, offset=(0, 0)):
+    """The edge drawn yellow; T+ red and T- blue between the arrows (pixels of ``image``,
+    a picture of the 3D view placed at ``offset`` (x, y) in it)."""
+    mesh = win.model.result.mesh
+    row = int(np.searchsorted(mesh.rwg.edge, edge))
+    a, b = mesh.points[mesh.edges[edge]]
+    h = win.plotter.height()
+
+    def at(world):
+        x, y = display_point(win, world)
+        return tuple(int(v) for v in image[offset[1] + h - 1 - round(y), offset[0] + round(x)])
+
+    assert near(at(0.4 * a + 0.6 * b), COLORS["edge"], 40)
+    for t, red in ((int(mesh.rwg.t_plus[row]), True), (int(mesh.rwg.t_minus[row]), False)):
+        corners = mesh.points[mesh.triangles[t]]
+        samples = [at(np.array([i, j, 10 - i - j]) / 10 @ corners)
+                   for i in range(1, 9) for j in range(1, 9 - i)]
+        tinted = [(p[0] > p[2] + 60) if red else (p[2] > p[0] + 60) for p in samples]
+        assert np.mean(tinted) > 0.5, (t, samples)
 
 
 # -- pure selection logic ---------------------------------------------------------------
@@ -140,7 +165,8 @@ def test_next_and_previous_edge_keys(window, qtbot):
     mesh = window.model.result.mesh
     rows = mesh.rwg.edge
     panel = window.teaching.inspector
-    panel.select_edge(int(rows[3]))
+    choose_edge(qtbot, window, int(rows[3]))
+    assert panel.edge == rows[3]
     window.plotter.setFocus()
     qtbot.keyClick(window.plotter, Qt.Key.Key_N)
     assert panel.edge == rows[4] and panel.info.sample.row == 4
@@ -149,7 +175,7 @@ def test_next_and_previous_edge_keys(window, qtbot):
     qtbot.keyClick(window.plotter, Qt.Key.Key_P)
     qtbot.keyClick(window.plotter, Qt.Key.Key_BracketLeft)
     assert panel.edge == rows[3]
-    panel.next_button.click()
+    qtbot.mouseClick(panel.next_button, Qt.MouseButton.LeftButton)
     assert panel.edge == rows[4]
 
 
@@ -181,12 +207,12 @@ def test_junction_edge_message():
     assert "junction" in info.status and len(info.triangles) == 3
 
 
-def test_selection_survives_a_mesh_change(window):
+def test_selection_survives_a_mesh_change(window, qtbot):
     panel = window.teaching.inspector
     mesh = window.model.result.mesh
     edge = int(mesh.rwg.edge[10])
-    panel.select_edge(edge)
-    window.controls.rows["subdivisions"].spin.setValue(3)
+    choose_edge(qtbot, window, edge)
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 3)
     window.controller.flush()
     new = window.model.result.mesh
     assert panel.mesh is new and panel.edge is not None and panel.edge < len(new.edges)
@@ -203,8 +229,13 @@ def test_presentation_mode_hides_panels_and_comes_back(window, qtbot, tmp_path):
     assert window.scene.actors["triangle_edges"].prop.line_width > width
     assert window.teaching.inspector.overlay.visible  # the overlay stays on the slide
     path = tmp_path / "presentation.png"
+    qtbot.waitUntil(lambda: window.geometry() == window.screen().geometry())
+    qtbot.wait(100)
+    window.plotter.render()
     window.grab().save(str(path))
-    assert not_blank(path)
+    corner = window.plotter.mapTo(window, QPoint(0, 0))
+    assert_overlay_on_screen(iio.imread(path)[..., :3], window, window.teaching.inspector.edge,
+                             (corner.x(), corner.y()))
     qtbot.keyClick(window, Qt.Key.Key_F5)
     assert not window.teaching.presentation.active
     assert {d: d.isVisible() for d in docks} == shown
@@ -212,19 +243,22 @@ def test_presentation_mode_hides_panels_and_comes_back(window, qtbot, tmp_path):
     assert window.teaching.inspector_active
 
 
-def test_inspector_screenshot_is_not_blank(window, tmp_path):
+def test_inspector_screenshot_shows_the_overlay_where_it_is(window, qtbot, tmp_path):
     mesh = window.model.result.mesh
-    window.teaching.inspector.select_edge(int(mesh.rwg.edge[20]))
+    edge = int(mesh.rwg.edge[20])
+    choose_edge(qtbot, window, edge)
     view = tmp_path / "inspector-view.png"
     assert window.save_view_png(view)
-    assert not_blank(view)
+    assert_overlay_on_screen(iio.imread(view)[..., :3], window, edge)
     whole = tmp_path / "inspector-window.png"
+    window.plotter.render()
     window.grab().save(str(whole))
-    assert not_blank(whole)
+    corner = window.plotter.mapTo(window, QPoint(0, 0))
+    assert_overlay_on_screen(iio.imread(whole)[..., :3], window, edge, (corner.x(), corner.y()))
 
 
-def test_turning_the_inspector_off_hides_the_overlay(window):
-    window.teaching.act_inspector.trigger()
+def test_turning_the_inspector_off_hides_the_overlay(window, qtbot):
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)
     assert not window.teaching.inspector_active
     assert not window.teaching.inspector.overlay.visible
     assert not window.teaching.picker.enabled
@@ -232,14 +266,26 @@ def test_turning_the_inspector_off_hides_the_overlay(window):
 
 
 def test_zoom_to_edge_frames_its_triangles(window, qtbot):
-    window.controls.rows["subdivisions"].spin.setValue(16)  # 512 small triangles
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 16)  # 512 small triangles
     window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result.mesh.n_triangles == 2 * 16 * 16)
     mesh = window.model.result.mesh
     panel = window.teaching.inspector
-    panel.select_edge(int(mesh.rwg.edge[100]))
-    before = window.plotter.camera.parallel_scale
+    choose_edge(qtbot, window, int(mesh.rwg.edge[100]))
+    corners = mesh.points[mesh.triangles[list(panel.info.triangles)]].reshape(-1, 3)
+
+    def on_screen():
+        xy = np.array([display_point(window, c) for c in corners])
+        return xy.min(axis=0), xy.max(axis=0)
+
+    lo, hi = on_screen()
+    before = float((hi - lo).max())
+    window.plotter.setFocus()
     qtbot.keyClick(window.plotter, Qt.Key.Key_Z)
-    camera = window.plotter.camera
-    assert camera.parallel_scale < before / 4
-    centre = mesh.points[mesh.triangles[list(panel.info.triangles)]].reshape(-1, 3).mean(0)
-    assert np.allclose(camera.focal_point[:2], centre[:2])
+    lo, hi = on_screen()
+    w, h = window.plotter.window_size
+    # the two triangles fill about a third of the view, wholly inside it, in its middle
+    assert (hi - lo).max() > 2 * before
+    assert 0.25 * min(w, h) < (hi - lo).max() <= 0.4 * min(w, h) + 1
+    assert (lo >= 0).all() and hi[0] <= w and hi[1] <= h
+    assert np.allclose((lo + hi) / 2, (w / 2, h / 2), atol=2)

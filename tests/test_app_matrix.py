@@ -11,10 +11,12 @@ pytest.importorskip("matplotlib")
 
 import scipy.sparse as sp  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
+from PySide6.QtWidgets import QApplication  # noqa: E402
 
 from app.matrix_view import MatrixView, occupancy_image  # noqa: E402
 from app.teaching_tools import shared_edge  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
+from tests.gui_helpers import blend, click_world, near, type_into  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 
@@ -26,9 +28,13 @@ def window_params():
 
 @pytest.fixture
 def window(window, qtbot):
-    """The main window on Fig. 10 with the matrix view on."""
-    window.teaching.set_matrix_active(True)
+    """The main window on Fig. 10 with the matrix view on (key M)."""
+    with qtbot.waitActive(window):
+        window.activateWindow()
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_M)
     qtbot.waitUntil(lambda: not window.teaching.matrix.stale)
+    qtbot.wait(50)  # the dock's layout settles before a test reads cell positions
     return window
 
 
@@ -63,8 +69,9 @@ def test_hovering_a_spy_cell_highlights_its_two_triangles(window, qtbot):
 
 def test_clicking_a_spy_one_selects_the_shared_edge_in_the_inspector(window, qtbot):
     mesh = window.model.result.mesh
-    window.teaching.set_inspector_active(True)
-    window.teaching.set_matrix_active(True)
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # the inspector too (the matrix stays on)
+    assert window.teaching.inspector_active and window.teaching.matrix_active
     view = window.teaching.matrix
     row = 11
     i, j = int(mesh.rwg.t_plus[row]), int(mesh.rwg.t_minus[row])
@@ -76,7 +83,8 @@ def test_clicking_a_spy_one_selects_the_shared_edge_in_the_inspector(window, qtb
 def test_table_hover_and_click(window, qtbot):
     mesh = window.model.result.mesh
     view = window.teaching.matrix
-    view.tabs.setCurrentIndex(1)
+    bar = view.tabs.tabBar()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(1).center())
     qtbot.waitUntil(view.table.isVisible)
     i, j = 0, int(mesh.connectivity[0].indices[0])
     rect = view.table.visualRect(view.table_model.index(i, j))
@@ -94,23 +102,24 @@ def test_picking_a_triangle_highlights_its_row(window, qtbot):
     view = window.teaching.matrix
     renderer = window.plotter.renderer
     t = 13
-    renderer.SetWorldPoint(*mesh.centroids[t], 1.0)
-    renderer.WorldToDisplay()
-    x, y, _ = renderer.GetDisplayPoint()
-    window.teaching.picker.pick_display(x, y)
+    assert renderer is window.plotter.renderer
+    click_world(qtbot, window.plotter, mesh.centroids[t])
     assert view.row == t and view.row_band.get_visible()
     assert [ix.row() for ix in view.table.selectionModel().selectedRows()] == [t]
     assert window.teaching.highlight.triangles == (t,)
 
 
-def test_view_follows_the_mesh_and_skips_work_while_hidden(window):
+def test_view_follows_the_mesh_and_skips_work_while_hidden(window, qtbot):
     view = window.teaching.matrix
-    window.teaching.set_matrix_active(False)
-    window.controls.rows["subdivisions"].spin.setValue(2)
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_M)  # off
+    assert not window.teaching.matrix_active
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 2)
     window.controller.flush()
     assert view.stale  # hidden: nothing redrawn yet
-    window.teaching.set_matrix_active(True)
-    view.refresh()  # (the view also does this itself once shown)
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_M)  # on: redrawn once shown
+    qtbot.waitUntil(lambda: not view.stale)
     mesh = window.model.result.mesh
     assert view.matrix.shape == (8, 8)
     assert view.nonzeros() == 2 * len(mesh.interior_edges)
@@ -144,14 +153,31 @@ def test_shared_edge_of_two_triangles():
     assert shared_edge(mesh, 0, 0) is None
 
 
-def test_matrix_screenshot_is_not_blank(window, qtbot, tmp_path):
+def test_matrix_screenshot_shows_ones_zeros_and_the_picked_row(window, qtbot, tmp_path):
+    """Pixels, not colour counts: a one is blue, a zero white, the picked row orange."""
+    from app.matrix_view import ONE_COLOR, ROW_COLOR
+
+    mesh = window.model.result.mesh
     view = window.teaching.matrix
-    view.highlight_row(4)
+    t = 4
+    click_world(qtbot, window.plotter, mesh.centroids[t])  # picks T4: its row is marked
+    assert view.row == t
+    QApplication.processEvents()
     path = tmp_path / "matrix.png"
     window.grab().save(str(path))
-    image = iio.imread(path)
-    assert len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
-    spy = tmp_path / "spy.png"
-    view.canvas.draw()
-    view.figure.savefig(spy)
-    assert len(np.unique(iio.imread(spy)[..., :3].reshape(-1, 3), axis=0)) > 3
+    image = iio.imread(path)[..., :3]
+    corner = view.canvas.mapTo(window, QPoint(0, 0))
+
+    def at(row, col):
+        p = canvas_point(view, row, col)
+        return tuple(int(v) for v in image[corner.y() + p.y(), corner.x() + p.x()])
+
+    dense = mesh.connectivity.toarray()
+    one = tuple(int(v) for v in np.argwhere(dense[10:] == 1)[0] + (10, 0))
+    zero = tuple(int(v) for v in np.argwhere(dense[10:] == 0)[0] + (10, 0))
+    assert near(at(*one), ONE_COLOR, 30) and near(at(*zero), "#ffffff", 3)
+    # the row band: orange at 35 % over white (a zero) and over blue (a one)
+    zero_in_row = int(np.flatnonzero(dense[t] == 0)[0])
+    one_in_row = int(np.flatnonzero(dense[t] == 1)[0])
+    assert near(at(t, zero_in_row), blend(ROW_COLOR, 0.35), 12)
+    assert near(at(t, one_in_row), blend(ROW_COLOR, 0.35, ONE_COLOR), 12)

@@ -1,0 +1,317 @@
+"""The 3D view's own tools: the hover readout, the measure tool and zoom-to-selection.
+
+:class:`ViewTools` adds an information strip under the 3D view (on the left a note, such
+as a preset's description, kept until the parameters change; on the right the readout of
+what is under the cursor: the vertex, edge or triangle with its numbers and coordinates
+in mm), the View actions *Measure distance* (D) and *Zoom to selection* (Z), and a click
+selection when no teaching tool takes the clicks.
+
+Hovering is cheap at any mesh size: mouse moves are coalesced into one query per event-
+loop pass, a query asks a :class:`app.readout.MeshLocator` (a k-d tree built once per mesh,
+in a worker thread for big meshes) about a dozen candidate triangles, and it only sets a
+label's text; the 3D view is not re-rendered for a hover.
+"""
+
+from __future__ import annotations
+
+import logging
+from functools import partial
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtGui import QPainter
+from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
+
+from core import TriMesh
+
+from .framing import frame_points, pixels_per_mm
+from .measure import MeasureTool
+from .readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
+from .worker import Job
+
+if TYPE_CHECKING:
+    from .window import MainWindow
+
+log = logging.getLogger(__name__)
+
+#: Meshes with more triangles get their locator built in a worker thread.
+SYNC_LOCATOR = 50_000
+#: A press and release closer than this (px) is a click, farther a drag (rotate, pan).
+CLICK_SLOP = 4
+
+
+class ElidedLabel(QLabel):
+    """One line of text, cut with "…" when it does not fit (the whole text is ``text()``)."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
+
+    def paintEvent(self, _event: Any) -> None:  # noqa: N802 - Qt's name
+        painter = QPainter(self)
+        shown = self.fontMetrics().elidedText(self.text(), Qt.TextElideMode.ElideRight,
+                                              self.contentsRect().width())
+        painter.setPen(self.palette().color(self.foregroundRole()))
+        painter.drawText(self.contentsRect(), int(self.alignment()), shown)
+
+
+class _Relay(QObject):
+    done = Signal(object)
+
+
+class ViewTools(QObject):
+    """Readout, measuring and zoom-to-selection of one :class:`app.window.MainWindow`.
+
+    The window puts :attr:`strip` under its 3D view and calls :meth:`mesh_changed` with
+    every new mesh.
+    """
+
+    def __init__(self, window: MainWindow) -> None:
+        super().__init__(window)
+        self.window = window
+        self.plotter = window.plotter
+        self.mesh: TriMesh | None = None
+        self.locator: MeshLocator | None = None
+        self.hit: Hit | None = None
+        self.selected: Hit | None = None
+        self.cursor: np.ndarray | None = None
+        self._pos: QPointF | None = None
+        self._press: QPointF | None = None
+
+        # two lines of a fixed height (a new text never resizes, so never repaints, the
+        # 3D view): the note, then the readout; text too long is elided, whole in the tip
+        self.strip = QWidget(window)
+        self.strip.setObjectName("info_strip")
+        col = QVBoxLayout(self.strip)
+        col.setContentsMargins(8, 2, 8, 3)
+        col.setSpacing(1)
+        self.note = ElidedLabel(self.strip)
+        self.note.setObjectName("view_note")
+        self.note.setStyleSheet("color: #444;")
+        self.readout = ElidedLabel(self.strip)
+        self.readout.setObjectName("readout")
+        col.addWidget(self.note)
+        col.addWidget(self.readout)
+        line = self.readout.fontMetrics().lineSpacing()
+        self.strip.setFixedHeight(2 * line + 8)
+
+        self.measure = MeasureTool(self.plotter)
+        self.pool = QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self._relay = _Relay(self)
+        self._relay.done.connect(self._locator_ready)
+        self._timer = QTimer(self)
+        self._timer.setSingleShot(True)
+        self._timer.setInterval(0)
+        self._timer.timeout.connect(self._update_hover)
+
+        a = window._action
+        self.act_measure = a("&Measure distance", self.set_measuring, "D",
+                             "Click two points in the view: the distance between them in mm",
+                             checkable=True)
+        self.act_zoom = a("&Zoom to selection", self.zoom_to_selection, "Z",
+                          "Frame the selected edge, triangles or measured segment")
+        self.plotter.setMouseTracking(True)
+        self.plotter.installEventFilter(self)
+
+    def container(self) -> QWidget:
+        """The 3D view with the strip under it (the window's central widget)."""
+        box = QWidget(self.window)
+        col = QVBoxLayout(box)
+        col.setContentsMargins(0, 0, 0, 0)
+        col.setSpacing(0)
+        col.addWidget(self.plotter, 1)
+        col.addWidget(self.strip)
+        return box
+
+    # -- mesh ------------------------------------------------------------------------
+
+    def mesh_changed(self, mesh: TriMesh | None) -> None:
+        """A new mesh on screen: a new locator (the old selection and measurement go)."""
+        self.mesh = mesh
+        self.locator = None
+        self.hit = self.selected = None
+        self.measure.set_active(self.measure.active)  # forget the points
+        if mesh is not None and mesh.n_triangles:
+            pts = np.asarray(mesh.points)
+            span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
+            self.measure.set_lift(8e-4 * max(span, 1e-9))
+            if mesh.n_triangles <= SYNC_LOCATOR:
+                self.locator = MeshLocator(mesh)
+            else:
+                self.pool.start(Job(partial(_build_locator, mesh), self._relay.done))
+        self._show_readout()
+
+    def _locator_ready(self, locator: MeshLocator | None) -> None:
+        if locator is not None and locator.mesh is self.mesh:
+            self.locator = locator
+
+    def set_note(self, text: str) -> None:
+        """Show ``text`` on the left of the strip (until the next parameter change)."""
+        self.note.setText(text)
+        self.note.setToolTip(text)
+
+    # -- hover -----------------------------------------------------------------------
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        kind = event.type()
+        if kind == QEvent.Type.Resize:
+            QTimer.singleShot(0, self.window.refit_if_framed)
+        elif kind == QEvent.Type.MouseMove:
+            if not event.buttons():
+                self._pos = event.position()
+                self._timer.start()
+        elif kind == QEvent.Type.Leave:
+            self._pos = None
+            self.hit = None
+            self.cursor = None
+            self._show_readout()
+        elif kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
+            self._press = event.position()
+        elif (kind == QEvent.Type.MouseButtonRelease and event.button() == Qt.MouseButton.LeftButton
+              and self._press is not None):
+            moved = (event.position() - self._press).manhattanLength()
+            self._press = None
+            if moved <= CLICK_SLOP:
+                try:
+                    self._clicked(event.position())
+                except Exception:  # noqa: BLE001 - a click must never take the window down
+                    log.exception("click in the view failed")
+        return False
+
+    def world_at(self, pos: QPointF) -> tuple[np.ndarray | None, int | None]:
+        """The mesh point under widget position ``pos`` and, if VTK picked it, its triangle."""
+        ratio = self.plotter.devicePixelRatioF()
+        x = pos.x() * ratio
+        y = (self.plotter.height() - 1 - pos.y()) * ratio
+        locator = self.locator
+        if locator is not None and not locator.planar:
+            return self._picked(x, y)
+        renderer = self.plotter.renderer
+        renderer.SetDisplayPoint(float(x), float(y), 0.0)
+        renderer.DisplayToWorld()
+        wx, wy, wz, w = renderer.GetWorldPoint()
+        if abs(w) < 1e-300:
+            return None, None
+        origin = np.array([wx, wy, wz]) / w
+        direction = np.asarray(self.plotter.camera.GetDirectionOfProjection())
+        z0 = locator.z0 if locator is not None else 0.0
+        return ray_plane_point(origin, direction, z0), None
+
+    def _picked(self, x: float, y: float) -> tuple[np.ndarray | None, int | None]:
+        picker = self.window.teaching.picker
+        hit = picker.pick_display(x, y, emit=False)
+        return (None, None) if hit is None else (hit[1], hit[0])
+
+    def _update_hover(self) -> None:
+        if self._pos is None:
+            return
+        try:
+            point, triangle = self.world_at(self._pos)
+            self.cursor = point
+            self.hit = None
+            if point is not None and self.locator is not None:
+                tol = SNAP_PIXELS / pixels_per_mm(self.plotter)
+                self.hit = self.locator.hit(point, tol, triangle)
+        except Exception:  # noqa: BLE001 - a hover must never take the window down
+            log.exception("hover readout failed")
+            self.hit = None
+        self._show_readout()
+
+    def _show_readout(self) -> None:
+        decimals = decimals_for(pixels_per_mm(self.plotter))
+        parts = []
+        if self.measure.active:
+            parts.append(self.measure.text(decimals))
+        if self.cursor is not None:
+            x, y = self.cursor[:2]
+            parts.append(f"x = {x:.{decimals}f}, y = {y:.{decimals}f} mm")
+        if self.hit is not None and self.locator is not None:
+            parts.append(self.locator.describe(self.hit, decimals))
+        elif self.cursor is not None and self.mesh is not None and self.locator is None:
+            parts.append("(finding elements…)")
+        if self.selected is not None and self.locator is not None and not self.measure.active:
+            parts.append("selected: " + self.locator.describe(self.selected, decimals)
+                         .split(" (")[0].split(" at ")[0] + " (Z: zoom to it)")
+        text = "  ·  ".join(parts)
+        self.readout.setText(text)
+        self.readout.setToolTip(text)
+
+    # -- clicks, measuring, selection ------------------------------------------------
+
+    def set_measuring(self, on: bool) -> None:
+        on = bool(on)
+        if self.act_measure.isChecked() != on:
+            self.act_measure.setChecked(on)
+        self.measure.set_active(on)
+        self.window.teaching.picker.suspended = on
+        self._show_readout()
+        self.window.request_render()
+
+    def _clicked(self, pos: QPointF) -> None:
+        point, triangle = self.world_at(pos)
+        if point is None:
+            return
+        hit = None
+        if self.locator is not None:
+            tol = SNAP_PIXELS / pixels_per_mm(self.plotter)
+            hit = self.locator.hit(point, tol, triangle)
+        if self.measure.active:
+            if hit is not None and hit.kind == "vertex":
+                point = self.locator.points[hit.index]  # snap to the vertex
+            self.measure.add_point(point)
+            self.window.request_render()
+        elif not self.window.teaching.picker.enabled:
+            self.selected = hit
+            self.window.teaching.highlight.show(self.mesh, None if hit is None else hit.triangle)
+            self.window.request_render()
+        self._show_readout()
+
+    def selection_points(self) -> np.ndarray | None:
+        """The corners of what is selected, (k, 3) mm, or None.
+
+        In order: a finished measurement, the inspector's edge (its triangles), the matrix
+        cell's triangles, a clicked element.
+        """
+        mesh = self.mesh
+        teaching = self.window.teaching
+        if self.measure.active and self.measure.complete:
+            return np.array(self.measure.points)
+        if mesh is None:
+            return None
+        if teaching.inspector_active and teaching.inspector.info is not None:
+            tris = list(teaching.inspector.info.triangles)
+            return mesh.points[mesh.triangles[tris]].reshape(-1, 3)
+        if teaching.matrix_active and teaching.highlight.triangles:
+            tris = list(teaching.highlight.triangles)
+            return mesh.points[mesh.triangles[tris]].reshape(-1, 3)
+        if self.selected is not None:
+            return mesh.points[mesh.triangles[self.selected.triangle]].reshape(-1, 3)
+        return None
+
+    def zoom_to_selection(self) -> bool:
+        """Centre the view on the selection, filling about a third of it."""
+        pts = self.selection_points()
+        if pts is None:
+            self.window.statusBar().showMessage(
+                "Nothing selected: click a triangle, an edge or a vertex first", 5000)
+            return False
+        self.zoom_to_points(pts)
+        return True
+
+    def zoom_to_points(self, pts: np.ndarray) -> None:
+        """Centre the view on the points (k, 3) mm, filling about a third of it."""
+        frame_points(self.plotter, pts, fill=0.35)
+        self.window.scene.fit_marker_sizes()
+        self.window.teaching.highlight.fit(pixels_per_mm(self.plotter))
+        self.window.request_render()
+        self._show_readout()
+
+
+def _build_locator(mesh: TriMesh) -> MeshLocator | None:
+    try:
+        return MeshLocator(mesh)
+    except Exception:  # noqa: BLE001 - no readout is better than a dead worker
+        log.exception("building the mesh locator failed")
+        return None
