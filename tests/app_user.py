@@ -9,6 +9,7 @@ from PySide6.QtWidgets import (
     QComboBox,
     QFileDialog,
     QLineEdit,
+    QPushButton,
     QSlider,
     QStyle,
     QStyleOptionButton,
@@ -98,6 +99,19 @@ def answer_file_dialogs(monkeypatch):
     monkeypatch.setattr(QFileDialog, "getOpenFileName", dialog)
     monkeypatch.setattr(QFileDialog, "getSaveFileName", dialog)
     return answer
+
+
+def export_through_dialog(window) -> bool:
+    """File → Export mesh as a user does it: the action, Browse… (the patched file dialog
+    answers), then Export. Returns whether the dialog closed (the export succeeded)."""
+    window.act_export.trigger()
+    dialog = window.export_dialog
+    browse = next(b for b in dialog.findChildren(QPushButton) if b.text().startswith("Browse"))
+    QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
+    QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+    closed = not dialog.isVisible()
+    dialog.close()
+    return closed
 
 
 def settle(window, qtbot) -> None:

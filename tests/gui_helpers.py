@@ -83,8 +83,8 @@ def share(image, plotter, corners, colour, tol=40, samples=7, renderer=None):
 
 
 def type_into(qtbot, spin, text):
-    """Select a spin box's text, type ``text`` and press Return, as a user does."""
-    edit = spin.lineEdit()
+    """Select a field's (or a spin box's) text, type ``text`` and press Return, as a user does."""
+    edit = spin.lineEdit() if hasattr(spin, "lineEdit") else spin
     edit.setFocus()
     edit.selectAll()
     qtbot.keyClicks(edit, str(text))

@@ -7,10 +7,15 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
 
 from core import MeshParams, build_mesh  # noqa: E402
 from core.io import read_mesh, write_mesh  # noqa: E402
-from tests.app_user import answer_file_dialogs, patch_counts  # noqa: E402
+from tests.app_user import (  # noqa: E402
+    answer_file_dialogs,
+    export_through_dialog,
+    patch_counts,
+)
 from tests.test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 
@@ -45,7 +50,7 @@ def test_damaged_mesh_file_keeps_the_last_mesh(window, tmp_path, file_dialog):
 def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix, file_dialog):
     path = tmp_path / f"out{suffix}"
     file_dialog(path)
-    window.act_export.trigger()
+    export_through_dialog(window)
     assert path.exists()
     if suffix != ".npz":
         assert read_mesh(path).n_triangles == 384  # 48 patches x 2 x 2²
@@ -53,7 +58,7 @@ def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix, file_dial
 
 def test_export_without_a_suffix_takes_the_chosen_format(window, tmp_path, file_dialog):
     file_dialog(tmp_path / "plain", "VTK XML polydata (*.vtp)")
-    window.act_export.trigger()
+    export_through_dialog(window)
     written = list(tmp_path.iterdir())
     assert [p.name for p in written] == ["plain.vtp"]
     assert read_mesh(written[0]).n_triangles == 384
@@ -62,7 +67,7 @@ def test_export_without_a_suffix_takes_the_chosen_format(window, tmp_path, file_
 def test_export_to_a_missing_folder_says_so_and_writes_nothing(window, tmp_path, file_dialog):
     path = tmp_path / "missing" / "out.msh"
     file_dialog(path)
-    window.act_export.trigger()
+    export_through_dialog(window)
     assert "out.msh" in window.statusBar().currentMessage()
     assert not path.parent.exists()
 
@@ -96,8 +101,11 @@ def test_bad_parameter_file_is_refused_with_its_key(window, tmp_path, file_dialo
 
 
 def test_a_cancelled_dialog_changes_nothing(window, tmp_path, file_dialog):
-    for action in (window.act_open, window.act_load, window.act_save, window.act_export):
+    for action in (window.act_open, window.act_load, window.act_save):
         action.trigger()  # the dialog returns no path
+    window.act_export.trigger()
+    QTest.keyClick(window.export_dialog, Qt.Key.Key_Escape)  # Esc cancels the export dialog
+    assert not window.export_dialog.isVisible()
     assert window.model.params == COARSE and window.model.file_source is None
     assert list(tmp_path.iterdir()) == []
 

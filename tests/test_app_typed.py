@@ -29,6 +29,7 @@ from tests.app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
     drag_slider,
+    export_through_dialog,
     patch_counts,
     settle,
     shown_counts,
@@ -231,7 +232,7 @@ def test_a_failed_build_is_not_committed(window, qtbot, tmp_path, monkeypatch):
     window.act_save.trigger()
     assert json.loads((tmp_path / "p.json").read_text())["tolerance"] is None
     file_dialog(tmp_path / "m.msh")
-    window.act_export.trigger()
+    export_through_dialog(window)
     exported = read_mesh(tmp_path / "m.msh")
     assert exported.n_triangles == 5760
     np.testing.assert_allclose(exported.points[:, :2], window.model.result.mesh.points[:, :2])

@@ -292,11 +292,9 @@ def test_a_preset_description_stays_until_the_parameters_change(active, qtbot):
     note = active.view_tools.note.text()
     assert note == f"Preset {name}: {description}"
     # a parameter typed by the user: the description no longer describes the mesh
-    spin = active.controls.rows["subdivisions"].spin
-    value = spin.value()
-    spin.lineEdit().selectAll()
-    qtbot.keyClicks(spin.lineEdit(), str(value + 1 if value < 6 else value - 1))
-    qtbot.keyClick(spin.lineEdit(), Qt.Key.Key_Return)
+    value = active.model.params.subdivisions
+    new = value + 1 if value < 6 else value - 1
+    type_into(qtbot, active.controls.rows["subdivisions"].field, new)
     qtbot.waitUntil(lambda: active.view_tools.note.text() == "")
 
 
