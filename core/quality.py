@@ -49,14 +49,18 @@ def _sides_and_areas(
     return sides, 0.5 * np.sqrt(cross2)
 
 
-def triangle_quality(points: np.ndarray, triangles: np.ndarray) -> TriangleQuality:
+def triangle_quality(
+    points: np.ndarray, triangles: np.ndarray, columns: list[np.ndarray] | None = None
+) -> TriangleQuality:
     """Areas, smallest angles (degrees) and aspect ratios of all triangles at once.
 
     The smallest angle lies opposite the shortest side and is at most 60°, so it
     is ``arcsin(2 A / (b c))`` with b, c the two longer sides (accurate for
     slivers, where the law of cosines loses digits). The aspect ratio is
     l_max (l_0 + l_1 + l_2) / (4 √3 A): 1 for an equilateral triangle, growing
-    without bound as a triangle flattens.
+    without bound as a triangle flattens. ``columns``: contiguous copies of the
+    x and y columns of ``points`` and of z unless it is zero everywhere, to save
+    making them again.
 
     Examples
     --------
@@ -69,9 +73,10 @@ def triangle_quality(points: np.ndarray, triangles: np.ndarray) -> TriangleQuali
     triangles = np.asarray(triangles)
     n = len(triangles)
     out = TriangleQuality(np.empty(n), np.empty(n), np.empty(n))
-    columns = [np.ascontiguousarray(points[:, k]) for k in range(points.shape[1])]
-    if len(columns) == 3 and not columns[2].any():
-        columns = columns[:2]  # z = 0 everywhere adds exact zeros: same values without it
+    if columns is None:
+        columns = [np.ascontiguousarray(points[:, k]) for k in range(points.shape[1])]
+        if len(columns) == 3 and not columns[2].any():
+            columns = columns[:2]  # z = 0 everywhere adds exact zeros: same values without it
     for lo in range(0, n, BLOCK):  # cache-sized blocks: no large temporaries
         hi = min(lo + BLOCK, n)
         (l0, l1, l2), area = _sides_and_areas(columns, triangles[lo:hi])
