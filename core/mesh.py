@@ -146,7 +146,16 @@ class TriMesh:
     @cached_property
     def quality(self) -> TriangleQuality:
         """Areas, smallest angles and aspect ratios, computed together in one pass."""
-        q = triangle_quality(self.points, self.triangles, self._columns)
+        if "edge_lengths" in self.__dict__:  # already known (stats): sides from the edges
+            q = triangle_quality(
+                self.points,
+                self.triangles,
+                self._columns,
+                self.edge_lengths,
+                self.topology.triangle_edges,
+            )
+        else:
+            q = triangle_quality(self.points, self.triangles, self._columns)
         return TriangleQuality(*(_frozen(a) for a in q))
 
     @property
