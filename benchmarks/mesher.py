@@ -14,6 +14,14 @@ points ("exact", its fastest configuration, correct here because shared
 corners are bitwise equal) and, on the paper ring up to 1M triangles, also
 with our weld tolerance ("tol").
 
+The paper double ring is also run at the paper's own n = 4 at 1M and 4M
+("paper double ring n=4": tens of thousands of small patches, where the weld,
+the layout and the per-patch work dominate instead of the template copy).
+
+For every workload the statistics are timed too: ``TriMesh.stats()`` (counts,
+edge lengths, triangle quality and, in paper mode, the overlap ratio) on a
+freshly built mesh, beside ``build_mesh`` alone, alternating.
+
 Peer (b): gmsh's default 2D mesher on the conforming split ring's geometry
 (an annulus cut by a straight slot) at a matching triangle count; its minimum
 angle is reported beside ours.
@@ -64,6 +72,8 @@ SIZES = ("10k", "100k", "1M", "4M")
 
 #: (subdivisions, angle_step) of the paper's double ring (inner 4, outer 9, patch 1 mm).
 RING = {"10k": (4, 2.5), "100k": (8, 0.9), "1M": (16, 0.36), "4M": (32, 0.36)}
+#: (subdivisions, angle_step) of the same ring at the paper's n = 4: many small patches.
+RING_N4 = {"1M": (4, 0.02304), "4M": (4, 0.00576)}
 #: (subdivisions, patch_size) of the square patch array (square split double ring).
 ARRAY = {"10k": (4, 0.25), "100k": (8, 0.125), "1M": (16, 0.05), "4M": (32, 0.05)}
 #: (inner_radius, subdivisions) of the conforming split ring for gmsh; near-square sectors.
@@ -98,6 +108,18 @@ def workloads(sizes: list[str], gmsh_sizes: list[str]) -> list[Workload]:
                 peers,
             )
         )
+        if size in RING_N4:
+            n, step = RING_N4[size]
+            out.append(
+                Workload(
+                    "paper double ring n=4",
+                    size,
+                    MeshParams(
+                        structure="double_ring", mode="paper", subdivisions=n, angle_step=step
+                    ),
+                    ["a-exact"],
+                )
+            )
         out.append(
             Workload(
                 "conforming double ring",
@@ -325,6 +347,23 @@ def timed(func: Callable[[], object]) -> float:
     return time.perf_counter() - t0
 
 
+def time_stats(params: MeshParams, reps: int) -> tuple[dict, dict]:
+    """``build_mesh`` alone and ``stats()`` on the fresh mesh, alternating (after a warm-up)."""
+    build_mesh(params).stats()
+    builds, stats = [], []
+    for _ in range(reps):
+        gc.collect()
+        t0 = time.perf_counter()
+        mesh = build_mesh(params)
+        t1 = time.perf_counter()
+        mesh.stats()
+        t2 = time.perf_counter()
+        builds.append(t1 - t0)
+        stats.append(t2 - t1)
+        del mesh
+    return summary(builds), summary(stats)
+
+
 def summary(times: list[float]) -> dict:
     return {
         "median": statistics.median(times),
@@ -375,6 +414,7 @@ def run_workload(w: Workload, reps: int) -> None:
                 times[name].append(timed(func))
     for name, t in times.items():
         w.results[name] = summary(t)
+    w.results["build_mesh"], w.results["stats"] = time_stats(p, reps)
     for name in w.peers:
         w.results[name]["ratio"] = w.results[name]["median"] / w.results["ours"]["median"]
     mib = peak_traced_mib(runners["ours"])
@@ -417,6 +457,22 @@ def table(ws: list[Workload]) -> str:
             left = ours_cols if i == 0 else " " * len(ours_cols)
             note = note.removeprefix("; ")
             lines.append(f"{left}  {peer:7} {_span(s):>25} {s['ratio']:6.1f}  {note}")
+    return "\n".join(lines)
+
+
+def stats_table(ws: list[Workload]) -> str:
+    head = (
+        f"{'workload':23} {'size':>4} {'triangles':>9} {'build_mesh s (min-max)':>23} "
+        f"{'stats() s (min-max)':>23} {'ratio':>6}"
+    )
+    lines = [head, "-" * len(head)]
+    for w in ws:
+        r = w.results
+        b, s = r["build_mesh"], r["stats"]
+        lines.append(
+            f"{w.name:23} {w.size:>4} {r['triangles']:>9} {_span(b):>23} {_span(s):>23} "
+            f"{s['median'] / b['median']:6.2f}"
+        )
     return "\n".join(lines)
 
 
@@ -472,6 +528,8 @@ def main(argv: list[str] | None = None) -> int:
         run_workload(w, reps)
         print("\n".join(table([w]).splitlines()[2:]), file=sys.stderr, flush=True)
     print(table(ws))
+    print()
+    print(stats_table(ws))
     info = machine()
     print(f"\n{info['cores']} cores, {info['cpu']}, Python {info['python']}, numpy {info['numpy']}")
     if args.json:

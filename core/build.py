@@ -59,7 +59,10 @@ def build_mesh(
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
     flat = np.ascontiguousarray(lay.xy).reshape(-1, 2).view(np.complex128).ravel()
     points = np.zeros((len(lay.representative), 3))
-    points[:, :2] = flat.take(lay.representative).view(np.float64).reshape(-1, 2)
+    if len(lay.representative) == len(flat):  # nothing welded: every point is a vertex
+        points[:, :2] = lay.xy.reshape(-1, 2)
+    else:
+        points[:, :2] = flat.take(lay.representative).view(np.float64).reshape(-1, 2)
     vertex_map = lay.vertex_of_point.reshape(len(lay.xy), -1)
     triangles = patch_triangles(lay.template, vertex_map)
     checkpoint()

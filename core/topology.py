@@ -172,8 +172,17 @@ def free_vertices(
     return triangles[tri, (side + 2) % 3]
 
 
-def rwg_table(points: np.ndarray, triangles: np.ndarray, topo: EdgeTopology) -> RWGTable:
-    """Build the RWG table (see :class:`RWGTable`) from a mesh and its edges."""
+def rwg_table(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    topo: EdgeTopology,
+    columns: list[np.ndarray] | None = None,
+) -> RWGTable:
+    """Build the RWG table (see :class:`RWGTable`) from a mesh and its edges.
+
+    ``columns``, if given, are contiguous copies of the coordinate columns of
+    ``points`` (see :func:`segment_lengths`).
+    """
     edge = topo.interior_edges
     index = edge.astype(np.intp)
     verts = take_pairs(topo.edges, index)
@@ -192,7 +201,7 @@ def rwg_table(points: np.ndarray, triangles: np.ndarray, topo: EdgeTopology) -> 
         t_minus=t_minus,
         free_vertex_plus=free_plus,
         free_vertex_minus=free_minus,
-        length=segment_lengths(points, verts),
+        length=segment_lengths(points, verts, columns),
     )
 
 
@@ -211,16 +220,21 @@ def compress_pairs(pairs: np.ndarray, keep: np.ndarray) -> np.ndarray:
     return packed[keep].view(INDEX).reshape(-1, 2)
 
 
-def segment_lengths(points: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+def segment_lengths(
+    points: np.ndarray, pairs: np.ndarray, columns: list[np.ndarray] | None = None
+) -> np.ndarray:
     """(K,) float64 lengths of the segments between ``points[pairs[:, 0]]`` and ``pairs[:, 1]``.
 
     Coordinate by coordinate, in cache-sized blocks of segments, without
     (K, 3) temporaries; a coordinate that is zero everywhere (z of a planar
-    mesh) adds nothing and is skipped.
+    mesh) adds nothing and is skipped. ``columns``: contiguous copies of the
+    coordinate columns of ``points`` (any all-zero ones may be left out), to
+    save making them again.
     """
     total = np.zeros(len(pairs))
-    axes = [np.ascontiguousarray(points[:, axis]) for axis in range(points.shape[1])]
-    axes = [x for x in axes if x.any()]
+    if columns is None:
+        columns = [np.ascontiguousarray(points[:, axis]) for axis in range(points.shape[1])]
+    axes = [x for x in columns if x.any()]
     for lo in range(0, len(pairs), BLOCK):
         block = pairs[lo : lo + BLOCK]
         start, end = block[:, 0].astype(np.intp), block[:, 1].astype(np.intp)

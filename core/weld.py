@@ -48,8 +48,10 @@ def merge_pairs(
     >>> ids.tolist(), rep.tolist()
     ([0, 1, 2, 1, 1], [0, 1, 2])
     """
-    label = np.arange(n_points, dtype=np.int64)
     pairs = np.asarray(pairs).reshape(-1, 2)
+    if len(pairs) == 0:  # nothing merged: every point is its own vertex
+        return np.arange(n_points, dtype=INDEX), np.arange(n_points, dtype=INDEX)
+    label = np.arange(n_points, dtype=np.int64)
     if len(pairs):
         nodes, inverse = np.unique(pairs, return_inverse=True)
         inverse = inverse.reshape(-1, 2)
@@ -189,7 +191,41 @@ def _lattice_candidates(
     if len(origins) < 2:
         return np.empty((0, 2), dtype=np.int64)
     scaled = (origins - origins.min(axis=0)) / reach * radius
+    pairs = _window_candidates(frac, scaled, radius * 1.000001)
+    if pairs is not None:
+        return pairs
     span = float(scaled.max(initial=0.0))
     box = np.array([1.0 + 1e-300, 1.0 + 1e-300, 3 * span + 1.0, 3 * span + 1.0])
-    tree = cKDTree(np.concatenate([frac, scaled], axis=1), boxsize=box)
+    # an unbalanced tree builds faster; the pairs found are the same
+    tree = cKDTree(np.concatenate([frac, scaled], axis=1), boxsize=box, balanced_tree=False)
     return tree.query_pairs(radius * 1.000001, p=np.inf, output_type="ndarray")
+
+
+def _window_candidates(frac: np.ndarray, scaled: np.ndarray, r: float) -> np.ndarray | None:
+    """The pairs of :func:`_lattice_candidates` by sorting on the first lattice phase.
+
+    Origins spread along a curve (a paper ring) have phases spread over [0, 1):
+    after sorting, the points within r of each one (periodically) are a short
+    window, and the windows' pairs are filtered on the other three coordinates.
+    Much faster than a k-d tree there; returns None when the windows hold many
+    pairs (patches sharing one lattice, as in a patch array), for the tree.
+    """
+    n = len(frac)
+    order = np.argsort(frac[:, 0], kind="stable")
+    key = frac[order, 0]
+    wrap = np.flatnonzero(key <= r)  # seen again one period on
+    ext_key = np.concatenate([key, key[wrap] + 1.0])
+    ext_point = np.concatenate([order, order[wrap]])
+    stop = np.searchsorted(ext_key, key + r, side="right")
+    count = np.maximum(stop - np.arange(1, n + 1), 0)  # the points after each, in reach
+    total = int(count.sum())
+    if total > 4 * n + 1024:
+        return None
+    first = np.repeat(np.arange(1, n + 1) - np.cumsum(count) + count, count)
+    a = np.repeat(order, count)
+    b = ext_point[first + np.arange(total)]
+    dy = np.abs(frac[a, 1] - frac[b, 1])
+    near = (np.minimum(dy, 1.0 - dy) <= r) & (a != b)
+    near &= (np.abs(scaled[a] - scaled[b]) <= r).all(axis=1)
+    a, b = a[near], b[near]
+    return np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1).astype(np.int64)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -24,6 +25,7 @@ def test_mesher_benchmark_runs_on_the_smallest_size(tmp_path: Path) -> None:
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
     assert proc.returncode == 0, proc.stderr
     assert "paper double ring" in proc.stdout
+    assert "stats() s" in proc.stdout
 
     doc = json.loads(out.read_text())
     names = {w["name"] for w in doc["workloads"]}
@@ -36,6 +38,8 @@ def test_mesher_benchmark_runs_on_the_smallest_size(tmp_path: Path) -> None:
         assert w["triangles"] > 1000
         assert w["ours"]["median"] > 0
         assert w["ours"]["peak_mib"] > 0
+        assert len(w["stats"]["times"]) == len(w["build_mesh"]["times"]) == 2
+        assert w["stats"]["median"] > 0 and w["build_mesh"]["median"] > 0
         for peer in {"a-exact", "a-tol", "gmsh"} & w.keys():
             assert w[peer]["median"] > 0
             assert w[peer]["ratio"] == pytest.approx(w[peer]["median"] / w["ours"]["median"])
@@ -46,6 +50,21 @@ def test_mesher_benchmark_runs_on_the_smallest_size(tmp_path: Path) -> None:
         split = next(w for w in doc["workloads"] if w["name"] == "conforming split ring")
         assert abs(split["gmsh_triangles"] - split["triangles"]) < 0.1 * split["triangles"]
         assert 0 < split["gmsh_min_angle_deg"] < 60
+
+
+def test_mesher_benchmark_has_paper_n4_rows_at_1m_and_4m(monkeypatch) -> None:
+    spec = importlib.util.spec_from_file_location("mesher", ROOT / "benchmarks" / "mesher.py")
+    mesher = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "mesher", mesher)  # its dataclasses look themselves up
+    spec.loader.exec_module(mesher)
+    rows = [w for w in mesher.workloads(list(mesher.SIZES), []) if w.name.endswith("n=4")]
+    assert [w.size for w in rows] == ["1M", "4M"]
+    for w in rows:
+        assert w.params.subdivisions == 4 and w.params.mode == "paper"
+        # ceil(360 / Δθ) patches per ring, two rings, 32 triangles per patch
+        patches = 2 * math.ceil(360 / w.params.angle_step - 1e-9)
+        assert w.params.predicted_triangles() == patches * 32
+    assert [w.params.predicted_triangles() for w in rows] == [1_000_000, 4_000_000]
 
 
 def test_mesher_benchmark_rejects_unknown_sizes() -> None:
