@@ -24,6 +24,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
+from app import cli_solve
+
 PROG = "barymesh"
 #: Options that belong to the desktop window when given without a verb.
 WINDOW_OPTIONS = ("--preset", "--params", "--set", "--screenshot", "--quit")
@@ -178,6 +180,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="frame size in pixels (default 800 600)",
     )
 
+    cli_solve.add_parser(verbs)
     verbs.add_parser(
         "presets",
         help="list the presets, one per line",
@@ -390,7 +393,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
-VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
+VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep,
+         "solve": cli_solve.run}  # fmt: skip
 
 
 # -- entry point -----------------------------------------------------------

@@ -325,7 +325,7 @@ def sweep(
     nf = len(freqs)
     ext = np.full(nf, np.nan)
     sca = np.full(nf, np.nan)
-    zin = np.full(nf, np.nan, dtype=complex)
+    zin = np.full(nf, complex(np.nan, np.nan))
     coefs = np.zeros((nf, geom.n_unknowns), dtype=complex)
     conds = np.zeros(nf)
     residuals = np.zeros(nf)
