@@ -280,14 +280,14 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     )
 
 
-def far_point_distances(far: Rule, lo: int, hi: int) -> np.ndarray:
-    """(Tb Qf, T Qf) distances from the far points of triangles lo..hi to all far points.
+def far_point_distances(far: Rule, lo: int, hi: int, src_lo: int = 0) -> np.ndarray:
+    """(Tb Qf, Ts Qf) distances from the far points of triangles lo..hi to those of src_lo..T.
 
     Exact zeros (a point paired with itself) are replaced by 1: such pairs are
     always near pairs, whose far-rule values are overwritten.
     """
     obs = far.points[lo:hi].reshape(-1, 3)
-    src = far.points.reshape(-1, 3)
+    src = far.points[src_lo:].reshape(-1, 3)
     d2 = np.zeros((len(obs), len(src)))
     for c in range(3):
         diff = obs[:, c, None] - src[None, :, c]

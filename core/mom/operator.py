@@ -91,26 +91,31 @@ def far_kernel(dist: np.ndarray, k: float) -> np.ndarray:
     return kernel
 
 
-def far_moments(geom: MomGeometry, k: float, lo: int, hi: int, axes: tuple[int, ...]) -> np.ndarray:
-    """(8, hi − lo, T) complex moments of G by the far rule, observation triangles lo..hi."""
+def far_moments(
+    geom: MomGeometry, k: float, lo: int, hi: int, axes: tuple[int, ...], src_lo: int = 0
+) -> np.ndarray:
+    """(8, hi − lo, T − src_lo) complex far-rule moments of G.
+
+    Observation triangles lo..hi against source triangles src_lo..T.
+    """
     far = geom.far
     q = far.size
-    t = geom.n_triangles
+    t = geom.n_triangles - src_lo
     if geom.far_distances is not None:
-        dist = geom.far_distances[lo * q : hi * q]
+        dist = geom.far_distances[lo * q : hi * q, src_lo * q :]
     else:
-        dist = far_point_distances(far, lo, hi)
-    kernel = far_kernel(dist, k)
-    kernel = kernel.reshape(len(dist), t, q)
+        dist = far_point_distances(far, lo, hi, src_lo)
+    kernel = far_kernel(dist, k).reshape(len(dist), t, q)
     # source side: contract over the source points with w and w ρ'
-    w = far.weights
+    w = far.weights[src_lo:]
+    rho = far.rho[src_lo:]
     h0 = np.einsum("ptb,tb->pt", kernel, w).reshape(hi - lo, q, t)
     out = np.zeros((8, hi - lo, t), dtype=np.complex128)
-    w_obs = w[lo:hi]
+    w_obs = far.weights[lo:hi]
     rho_obs = far.rho[lo:hi]
     out[0] = np.einsum("pa,pat->pt", w_obs, h0)
     for c in axes:
-        hc = np.einsum("ptb,tb->pt", kernel, w * far.rho[:, :, c]).reshape(hi - lo, q, t)
+        hc = np.einsum("ptb,tb->pt", kernel, w * rho[:, :, c]).reshape(hi - lo, q, t)
         wrho = w_obs * rho_obs[:, :, c]
         out[1 + c] = np.einsum("pa,pat->pt", wrho, h0)
         out[4 + c] = np.einsum("pa,pat->pt", w_obs, hc)
@@ -118,8 +123,26 @@ def far_moments(geom: MomGeometry, k: float, lo: int, hi: int, axes: tuple[int, 
     return out
 
 
+def _contribution(m, k, axes, left_a, left_d, right_a, right_d) -> np.ndarray:
+    """Rows of Z from moments ``m`` (8, Tb, Ts): left (R, Tb) and right (N, Ts) sparse maps."""
+    # right factors, transposed: (N, Tb) = sparse (N, Ts) @ dense (Ts, Tb)
+    wa = right_a @ (k * m[7] - (4.0 / k) * m[0]).T
+    for c in axes:
+        wa += k * (right_d[c] @ m[1 + c].T)
+    zr = left_a @ wa.T
+    for c in axes:
+        wc = k * (right_a @ m[4 + c].T + right_d[c] @ m[0].T)
+        zr += left_d[c] @ wc.T
+    return zr
+
+
 def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     """The (N, N) complex EFIE matrix at wavenumber ``k`` (rad/m).
+
+    Blocks of observation triangles are integrated against themselves and
+    the triangles after them only; the pairs before them are the transposes
+    of pairs already done (the Galerkin integrals are symmetric, swapping
+    the moments of ρ and ρ'), so Z comes out symmetric for half the work.
 
     Parameters
     ----------
@@ -138,33 +161,40 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     axes = active_axes(geom)
     t = geom.n_triangles
     n = geom.n_unknowns
-    a = geom.coef_matrix
-    d = geom.offset_matrices
-    a_cols = a.tocsc()
-    d_cols = [m.tocsc() for m in d]
+    a_cols = geom.coef_matrix.tocsc()
+    d_cols = [m.tocsc() for m in geom.offset_matrices]
     near = near_moments(geom, k)
     starts = np.searchsorted(geom.near_pairs[:, 0], np.arange(t + 1))
     z = np.zeros((n, n), dtype=np.complex128)
     block = max(1, BLOCK_ENTRIES // max(1, t * geom.far.size * geom.far.size))
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        m = far_moments(geom, k, lo, hi, axes)
-        span = slice(starts[lo], starts[hi])
-        rows = geom.near_pairs[span, 0] - lo
-        cols = geom.near_pairs[span, 1]
-        m[:, rows, cols] = near[span].T
-        # right factors, transposed: (N, Tb) = sparse (N, T) @ dense (T, Tb)
-        wa = a @ (k * m[7] - (4.0 / k) * m[0]).T
-        for c in axes:
-            wa += k * (d[c] @ m[1 + c].T)
         left_a = a_cols[:, lo:hi]
         touched = np.unique(left_a.indices)
         if len(touched) == 0:
             continue
-        zr = left_a[touched] @ wa.T
-        for c in axes:
-            wc = k * (a @ m[4 + c].T + d[c] @ m[0].T)
-            zr += d_cols[c][:, lo:hi][touched] @ wc.T
+        left_a = left_a[touched]
+        left_d = {c: d_cols[c][:, lo:hi][touched] for c in axes}
+        m = far_moments(geom, k, lo, hi, axes, src_lo=lo)
+        span = slice(starts[lo], starts[hi])
+        keep = geom.near_pairs[span, 1] >= lo
+        rows = geom.near_pairs[span, 0][keep] - lo
+        cols = geom.near_pairs[span, 1][keep] - lo
+        m[:, rows, cols] = near[span][keep].T
+        width = hi - lo
+        own = slice(lo, hi)
+        zr = _contribution(
+            m[:, :, :width], k, axes, left_a, left_d,
+            a_cols[:, own], {c: d_cols[c][:, own] for c in axes},
+        )  # fmt: skip
+        if hi < t:
+            after = slice(hi, None)
+            upper = _contribution(
+                m[:, :, width:], k, axes, left_a, left_d,
+                a_cols[:, after], {c: d_cols[c][:, after] for c in axes},
+            )  # fmt: skip
+            zr += upper
+            z[:, touched] += upper.T
         z[touched] += zr
     z *= 1j * ETA0 / (4.0 * np.pi)
     return z
