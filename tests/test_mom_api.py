@@ -13,11 +13,12 @@ from core.mom import (
     VoltageSource,
     check_memory,
     find_peaks,
+    lorentzian_peaks,
     solve,
     sweep,
 )
 from core.mom.operator import SPEED_OF_LIGHT
-from core.presets import load_preset
+from core.presets import load_preset, resolve_params
 
 
 @pytest.fixture(scope="module")
@@ -208,3 +209,24 @@ def test_peak_refinement_is_exact_for_a_lorentzian():
     gauss = np.exp(-(((x - 7.3) / 1.5) ** 2))
     assert find_peaks(x, gauss)[0] == pytest.approx(7.3, abs=0.1)
     assert len(find_peaks(x, x)) == 0  # monotonic: no interior peak
+    centres, half_widths = lorentzian_peaks(x, y)
+    np.testing.assert_allclose(half_widths, [0.3], rtol=1e-10)
+
+
+def test_sweep_quality_factor_of_the_split_ring():
+    # Q from the three-sample Lorentzian of a coarse sweep agrees with f0 / FWHM read off
+    # a dense sweep (half-maximum crossings interpolated)
+    mesh = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=1"]))
+    wave = PlaneWave(polarization=(0, 1, 0))
+    f = np.linspace(5.9e9, 6.6e9, 36)
+    dense = sweep(mesh, f, wave, scattering=False)
+    y = dense.extinction_cross_section
+    half = y.max() / 2
+    i = np.flatnonzero(y >= half)
+    lo = np.interp(half, y[i[0] - 1 : i[0] + 1], f[i[0] - 1 : i[0] + 1])
+    hi = np.interp(half, y[[i[-1] + 1, i[-1]]], f[[i[-1] + 1, i[-1]]])
+    coarse = sweep(mesh, f[::5], wave, scattering=False)
+    q = coarse.quality_factors
+    assert len(q) == 1 and q[0] > 5
+    assert q[0] == pytest.approx(dense.resonances[0] / (hi - lo), rel=0.03)
+    assert coarse.resonances[0] == pytest.approx(dense.resonances[0], rel=1e-3)

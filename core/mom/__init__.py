@@ -25,6 +25,7 @@ from .solve import (
     SweepResult,
     check_memory,
     find_peaks,
+    lorentzian_peaks,
     solve,
     sweep,
 )
@@ -41,6 +42,7 @@ __all__ = [
     "excitation_vector",
     "find_peaks",
     "impedance_matrix",
+    "lorentzian_peaks",
     "mom_geometry",
     "solve",
     "sweep",

@@ -227,6 +227,17 @@ class SweepResult:
         """
         return find_peaks(self.frequencies, self.extinction_cross_section)
 
+    @property
+    def quality_factors(self) -> np.ndarray:
+        """(R,) float64 Q = f0 / (2γ) of each resonance, from the same Lorentzian fit.
+
+        γ is the half width at half maximum of the Lorentzian through the peak
+        sample and its neighbours (one pole pair of a rational fit); sample the
+        peak finely enough that three samples fall within its width.
+        """
+        centres, half_widths = lorentzian_peaks(self.frequencies, self.extinction_cross_section)
+        return centres / (2.0 * half_widths)
+
 
 def find_peaks(x: np.ndarray, y: np.ndarray, floor: float = 0.05) -> np.ndarray:
     """Abscissae of the interior local maxima of ``y(x)``, refined between samples.
@@ -255,20 +266,43 @@ def find_peaks(x: np.ndarray, y: np.ndarray, floor: float = 0.05) -> np.ndarray:
     >>> round(float(find_peaks(x, 1 / ((x - 6.19) ** 2 + 0.04))[0]), 12)
     6.19
     """
+    return lorentzian_peaks(x, y, floor)[0]
+
+
+def lorentzian_peaks(
+    x: np.ndarray, y: np.ndarray, floor: float = 0.05
+) -> tuple[np.ndarray, np.ndarray]:
+    """Centres x0 and half widths γ of the Lorentzians through each peak (see :func:`find_peaks`).
+
+    Returns
+    -------
+    centres, half_widths : (R,) float64
+        γ is NaN where the three samples do not fit a Lorentzian.
+
+    Examples
+    --------
+    >>> x = np.linspace(5.0, 7.0, 5)
+    >>> c, g = lorentzian_peaks(x, 1 / ((x - 6.19) ** 2 + 0.04))
+    >>> round(float(g[0]), 12)
+    0.2
+    """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if len(x) < 3 or not np.all(np.isfinite(y)):
-        return np.zeros(0)
+        return np.zeros(0), np.zeros(0)
     mid = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]) & (y[1:-1] > floor * y.max()))
     i = mid + 1
     x0, x1, x2 = x[i - 1], x[i], x[i + 1]
     with np.errstate(divide="ignore", invalid="ignore"):
         u0, u1, u2 = 1.0 / y[i - 1], 1.0 / y[i], 1.0 / y[i + 1]
         d01, d12 = (u1 - u0) / (x1 - x0), (u2 - u1) / (x2 - x1)
-        curvature = (d12 - d01) / (x2 - x0)
+        curvature = (d12 - d01) / (x2 - x0)  # a in u = a (x − c)² + b
         vertex = 0.5 * (x0 + x1) - d01 / (2.0 * curvature)
+        bottom = u1 - curvature * (x1 - vertex) ** 2
+        half_width = np.sqrt(bottom / curvature)
     ok = np.isfinite(vertex) & (curvature > 0) & (y[i - 1] > 0) & (y[i + 1] > 0)
-    return np.where(ok, np.clip(vertex, x0, x2), x1)
+    centres = np.where(ok, np.clip(vertex, x0, x2), x1)
+    return centres, np.where(ok & (bottom > 0), half_width, np.nan)
 
 
 def sweep(
