@@ -44,8 +44,9 @@ class PlaneWave:
     --------
     >>> PlaneWave().polarization
     array([1., 0., 0.])
-    >>> PlaneWave.from_angles(180, 0).direction.round(12) + 0.0
-    array([ 0.,  0., -1.])
+    >>> w = PlaneWave.from_angles(0, 0)  # from straight above, E along θ̂ = x
+    >>> w.direction.round(12) + 0.0, w.polarization.round(12) + 0.0
+    (array([ 0.,  0., -1.]), array([1., 0., 0.]))
     """
 
     direction: np.ndarray = (0.0, 0.0, -1.0)  # type: ignore[assignment]

@@ -180,7 +180,7 @@ def solve(
     >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=100.0, subdivisions=2))
     >>> s = solve(mesh, 1e9)
     >>> s.coefficients.shape, s.current_density.shape
-    ((40,), (32, 3))
+    ((8,), (8, 3))
     """
     frequency = _check_frequency(frequency)
     excitation = _default_excitation(excitation)
