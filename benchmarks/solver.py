@@ -45,7 +45,7 @@ sys.path.insert(0, str(ROOT))
 
 from core import build_mesh  # noqa: E402
 from core.mesh import TriMesh  # noqa: E402
-from core.mom import PlaneWave, find_peaks, mom_geometry, solve, sweep  # noqa: E402
+from core.mom import PlaneWave, find_peaks, solve, sweep  # noqa: E402
 from core.mom.operator import ETA0, MU0, SPEED_OF_LIGHT  # noqa: E402
 from core.presets import load_preset, resolve_params  # noqa: E402
 
@@ -148,9 +148,10 @@ def current_error(j: np.ndarray, ref: np.ndarray) -> float:
 
 
 def bempp_available() -> bool:
-    return importlib.util.find_spec("bempp") is not None or importlib.util.find_spec(
-        "bempp_cl"
-    ) is not None
+    return (
+        importlib.util.find_spec("bempp") is not None
+        or importlib.util.find_spec("bempp_cl") is not None
+    )
 
 
 # -- workloads ------------------------------------------------------------------------
@@ -212,13 +213,15 @@ def machine() -> dict:
         "numpy": np.__version__,
         "cpus": os.cpu_count(),
         "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
+        "openblas_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
         "platform": platform.platform(),
     }
 
 
 def table(rows: list[dict]) -> str:
     lines = [
-        f"{'workload':<18} {'N':>6} {'ours s':>8} {'Makarov-style s':>16} {'speed-up':>9}  accuracy",
+        f"{'workload':<18} {'N':>6} {'ours s':>8} {'Makarov-style s':>16} {'speed-up':>9}"
+        "  accuracy",
     ]
     for r in rows:
         if "ours_error" in r:
