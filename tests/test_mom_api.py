@@ -230,3 +230,14 @@ def test_sweep_quality_factor_of_the_split_ring():
     assert len(q) == 1 and q[0] > 5
     assert q[0] == pytest.approx(dense.resonances[0] / (hi - lo), rel=0.03)
     assert coarse.resonances[0] == pytest.approx(dense.resonances[0], rel=1e-3)
+
+
+@pytest.mark.parametrize("k", [2.0, 300.0])  # phases up to 6 and up to 900 rad
+def test_far_kernel_is_accurate_at_any_electrical_size(k):
+    from core.mom.operator import far_kernel
+
+    dist = np.random.default_rng(3).uniform(0.01, 3.0, (50, 40))
+    exact = np.exp(-1j * k * dist) / dist
+    assert np.abs(far_kernel(dist, k) - exact).max() / np.abs(exact).max() < 1e-6
+    # and relative to each entry, so far pairs lose nothing either
+    assert np.max(np.abs(far_kernel(dist, k) - exact) / np.abs(exact)) < 1e-6
