@@ -84,20 +84,29 @@ def makarov_solve(mesh: TriMesh, frequency: float, wave: PlaneWave) -> np.ndarra
     rho_p = points[tp] - fp[:, None]  # (N, 9, 3)
     rho_m = fm[:, None] - points[tm]
     n = len(rwg)
+    t = mesh.n_triangles
     c_a = 1j * omega * MU0 / (4 * np.pi) / 4 / 9
     c_phi = 1 / (1j * 4 * np.pi * omega * eps0) / 9
     z = np.zeros((n, n), complex)
-    block = max(1, (1 << 22) // (9 * n))
-    for lo in range(0, n, block):
-        cols = slice(lo, min(n, lo + block))
-        for t_obs, rho_obs, s_obs in ((tp, rho_p, 1.0), (tm, rho_m, -1.0)):
-            c = centre[t_obs[cols]]  # test centroids of this block's edges
-            for t_src, rho_src, s_src in ((tp, rho_p, 1.0), (tm, rho_m, -1.0)):
-                r = np.linalg.norm(points[t_src][None] - c[:, None, None], axis=-1)  # (b, N, 9)
-                g = np.exp(-1j * k * r) / r
-                dots = np.einsum("bkc,nkc->bnk", rho_obs[cols], rho_src)
-                block_z = c_a * np.sum(g * dots, axis=2) + s_obs * s_src * c_phi * g.sum(axis=2)
-                z[:, cols] += block_z.T
+    sides = ((tp, rho_p, 1.0), (tm, rho_m, -1.0))
+    # as impmet.m: for each test triangle, g from its centroid to the 9 points of every
+    # triangle (computed once per triangle pair), then gathered for the RWG pairs
+    block = max(1, (1 << 21) // (9 * max(n, t)))
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        r = np.linalg.norm(points[None, :, :, :] - centre[lo:hi, None, None, :], axis=-1)
+        g = np.exp(-1j * k * r) / r  # (b, T, 9)
+        g_sum = g.sum(axis=2)  # (b, T)
+        for t_obs, rho_obs, s_obs in sides:
+            cols = np.flatnonzero((t_obs >= lo) & (t_obs < hi))
+            local = t_obs[cols] - lo
+            for t_src, rho_src, s_src in sides:
+                gg = g[local][:, t_src, :]  # (c, N, 9)
+                # the k-th ρ of the test triangle with the k-th ρ of the source triangle
+                dots = np.einsum("ckd,nkd->cnk", rho_obs[cols], rho_src)
+                part = c_a * np.einsum("cnk,cnk->cn", gg, dots)
+                part += s_obs * s_src * c_phi * g_sum[local][:, t_src]
+                z[:, cols] += part.T
     z *= length[:, None] * length[None, :]
     e_p = wave.field(centre[tp], k)
     e_m = wave.field(centre[tm], k)

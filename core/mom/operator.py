@@ -178,6 +178,7 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     near = near_moments(geom, k)
     starts = np.searchsorted(geom.near_pairs[:, 0], np.arange(t + 1))
     z = np.zeros((n, n), dtype=np.complex128)
+    mirrored = np.zeros((n, n), dtype=np.complex128)  # rows here are columns of z
     block = max(1, BLOCK_ENTRIES // max(1, t * geom.far.size * geom.far.size))
     for lo in range(0, t, block):
         hi = min(t, lo + block)
@@ -206,7 +207,9 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
                 a_cols[:, after], {c: d_cols[c][:, after] for c in axes},
             )  # fmt: skip
             zr += upper
-            z[:, touched] += upper.T
+            mirrored[touched] += upper
         z[touched] += zr
+    z += mirrored.T
+    del mirrored
     z *= 1j * ETA0 / (4.0 * np.pi)
     return z
