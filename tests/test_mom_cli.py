@@ -42,11 +42,15 @@ def one_line_error(result, code, *fragments):
 SMALL = ("--preset", "srr-openmodes", "--set", "subdivisions=1")
 
 
-def test_single_frequency_writes_the_currents_for_paraview(tmp_path):
-    r = run(*SMALL, "--freq", "6.19GHz", "--dir", "-z", "--pol", "y", "-o", "j.vtu",
-            "-o", "j.npz", "-o", "one.csv", cwd=tmp_path)  # fmt: skip
-    assert r.returncode == 0, r.stderr
-    assert "139 RWG unknowns" in r.stdout and "extinction" in r.stdout
+def test_single_frequency_writes_the_currents_for_paraview(tmp_path, monkeypatch, capsys):
+    from app import cli
+
+    monkeypatch.chdir(tmp_path)  # in-process (fast); the sweep below runs as a subprocess
+    code = cli.main(["solve", *SMALL, "--freq", "6.19GHz", "--dir", "-z", "--pol", "y",
+                     "-o", "j.vtu", "-o", "j.npz", "-o", "one.csv"])  # fmt: skip
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "139 RWG unknowns" in out.out and "extinction" in out.out
     mesh = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=1"]))
     want = solve(mesh, 6.19e9, PlaneWave(polarization=(0, 1, 0))).current_density
     vtu = meshio.read(tmp_path / "j.vtu")
@@ -87,12 +91,15 @@ def test_sweep_writes_csv_and_plot_and_finds_the_resonance(tmp_path):
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
 
 
-def test_feed_prints_the_input_impedance(tmp_path):
+def test_feed_prints_the_input_impedance(capsys):
+    from app import cli
+
     # Makarov's plate fed across its middle line x = 0 (a vertical mesh line)
-    r = run("--preset", "makarov-plate", "--freq", "100MHz", "--feed", "0,-500:0,500",
-            cwd=tmp_path)  # fmt: skip
-    assert r.returncode == 0, r.stderr
-    line = next(x for x in r.stdout.splitlines() if "input impedance" in x)
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "100MHz",
+                     "--feed", "0,-500:0,500"])  # fmt: skip
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    line = next(x for x in out.out.splitlines() if "input impedance" in x)
     assert line.strip().endswith("ohm")
     real = float(line.split()[2])
     assert real > 0  # a passive antenna radiates: positive input resistance
