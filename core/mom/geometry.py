@@ -250,9 +250,7 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     near_pairs = np.concatenate([selfs, pairs, pairs[:, ::-1]]).astype(np.intp)
     near_pairs = near_pairs[np.lexsort((near_pairs[:, 1], near_pairs[:, 0]))]
     obs, src = near_pairs[:, 0], near_pairs[:, 1]
-    near_distances = np.linalg.norm(
-        near.points[obs][:, :, None, :] - near.points[src][:, None, :, :], axis=-1
-    )
+    near_distances = _pair_distances(near.points[obs], near.points[src])
     static_inv_r, static_r = _static_moments(near, corners, centroids, obs, src)
 
     far_distances = None
@@ -295,6 +293,19 @@ def far_point_distances(far: Rule, lo: int, hi: int, src_lo: int = 0) -> np.ndar
     dist = np.sqrt(d2, out=d2)
     dist[dist == 0.0] = 1.0
     return dist
+
+
+def _pair_distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(K, Q, Q) |a_i − b_j| for point sets a, b (K, Q, 3), coordinate by coordinate."""
+    d2 = np.zeros(a.shape[:2] + b.shape[1:2])
+    for c in range(3):
+        ac, bc = a[:, :, c], b[:, :, c]
+        if not (ac.any() or bc.any()):
+            continue  # a flat mesh in z = 0
+        diff = ac[:, :, None] - bc[:, None, :]
+        diff *= diff
+        d2 += diff
+    return np.sqrt(d2, out=d2)
 
 
 def _static_moments(
