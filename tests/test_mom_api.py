@@ -137,6 +137,12 @@ def test_half_wave_strip_dipole_input_impedance():
     assert 0.45 < length_m * f0 / SPEED_OF_LIGHT < 0.5  # L / λ
     r = np.interp(f0, freqs, result.input_impedance.real)
     assert 55.0 < r < 80.0
+    # energy: the power the gap delivers is the power the far field carries away
+    s = solve(mesh, f0, feed)
+    assert s.radiated_power == pytest.approx(s.input_power, rel=0.01)
+    assert s.input_power == pytest.approx(
+        0.5 * s.input_impedance.real / abs(s.input_impedance) ** 2
+    )
 
 
 def test_voltage_source_needs_edges_on_its_segment():

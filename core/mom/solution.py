@@ -182,9 +182,9 @@ class Solution:
 
     def bistatic_rcs(self, theta, phi, *, radians: bool = False) -> np.ndarray:
         """σ(θ, φ) = 4π |r E_s|² / |E0|² (m²) on a grid of observation angles."""
-        e = self.far_field(theta, phi, radians=radians)
         if not isinstance(self.excitation, PlaneWave):
             raise ValueError("a radar cross-section needs a plane-wave excitation")
+        e = self.far_field(theta, phi, radians=radians)
         return 4.0 * np.pi * np.sum(np.abs(e) ** 2, axis=-1) / self.excitation.amplitude**2
 
     # -- moments and circuit quantities ------------------------------------------
@@ -221,6 +221,11 @@ class Solution:
             raise ValueError("feed_current needs a VoltageSource excitation")
         signs = self.excitation.feed_signs(self.geometry)
         return complex(np.sum(signs * self.geometry.rwg_lengths * self.coefficients))
+
+    @property
+    def input_power(self) -> float:
+        """½ Re(V I*) (W) delivered by a voltage source; equals the radiated power for PEC."""
+        return 0.5 * float(np.real(self.excitation.voltage * np.conj(self.feed_current)))
 
     @property
     def input_impedance(self) -> complex:
