@@ -31,6 +31,8 @@ MU0 = 4e-7 * np.pi
 ETA0 = MU0 * SPEED_OF_LIGHT
 #: Complex numbers held by one block of the far-pair kernel.
 BLOCK_ENTRIES = 1 << 21
+#: Fewest blocks of observation triangles per fill.
+MIN_BLOCKS = 8
 
 
 def wavenumber(frequency: float) -> float:
@@ -181,7 +183,8 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     starts = np.searchsorted(geom.near_pairs[:, 0], np.arange(t + 1))
     z = np.zeros((n, n), dtype=np.complex128)
     mirrored = np.zeros((n, n), dtype=np.complex128)  # rows here are columns of z
-    block = max(1, BLOCK_ENTRIES // max(1, t * geom.far.size * geom.far.size))
+    # at least MIN_BLOCKS blocks, so that the mirrored half is most of the work
+    block = max(1, min(BLOCK_ENTRIES // max(1, t * geom.far.size**2), -(-t // MIN_BLOCKS)))
     for lo in range(0, t, block):
         hi = min(t, lo + block)
         left_a = a_cols[:, lo:hi]
