@@ -393,8 +393,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
-VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep,
-         "solve": cli_solve.run}  # fmt: skip
+VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
+VERBS["solve"] = cli_solve.run
 
 
 # -- entry point -----------------------------------------------------------
