@@ -224,3 +224,54 @@ def test_pec_sphere_converges_to_mie():
         errors.append(abs(q / exact - 1))
     # faceted spheres converge to Mie at second order in the edge length
     assert errors[1] < 0.015 and errors[1] < errors[0] / 3
+
+
+def _delaunay_split_ring(rings, spacing, r_in=3.5, r_out=4.0, half_gap=0.5):
+    """The srr-openmodes geometry meshed independently of barymesh's mesher.
+
+    Points on ``rings`` concentric arcs (every other one staggered), ``spacing`` mm apart
+    along each arc, up to the straight 1 mm slot at 180°; scipy's Delaunay triangulation,
+    keeping the triangles whose centroid lies in the ring and outside the slot.
+    """
+    from scipy.spatial import Delaunay
+
+    pts = []
+    for i, r in enumerate(np.linspace(r_in, r_out, rings)):
+        end = np.pi - np.arcsin(half_gap / r)
+        t = np.linspace(-end, end, int(np.ceil(2 * r * end / spacing)) + 1)
+        if i % 2:
+            t = np.concatenate([[t[0]], 0.5 * (t[1:] + t[:-1]), [t[-1]]])
+        pts.append(np.column_stack([r * np.cos(t), r * np.sin(t)]))
+    p = np.concatenate(pts)
+    tri = Delaunay(p).simplices
+    c = p[tri].mean(axis=1)
+    radius = np.hypot(c[:, 0], c[:, 1])
+    inside = (radius > r_in) & (radius < r_out) & ~((c[:, 0] < 0) & (np.abs(c[:, 1]) < half_gap))
+    tri = tri[inside]
+    zeros = np.zeros(len(tri), dtype=int)
+    return TriMesh(
+        np.column_stack([p, np.zeros(len(p))]), tri, zeros, zeros + 1, 1, mode="imported"
+    )
+
+
+def _resonance_of(mesh):
+    freqs = np.linspace(6.0e9, 6.4e9, 5)
+    result = sweep(mesh, freqs, PlaneWave(polarization=(0, 1, 0)), scattering=False)
+    assert len(result.resonances) == 1
+    return result.resonances[0]
+
+
+def test_split_ring_resonance_is_the_same_on_an_unstructured_mesh():
+    # cross-mesh: our conforming ring (n = 2, 698 unknowns) against a Delaunay mesh of the
+    # same geometry made without barymesh (908 unknowns, other vertices and triangles)
+    other = _delaunay_split_ring(rings=4, spacing=0.2)
+    assert other.stats()["junction_edges"] == 0 and other.stats()["boundary_edges"] > 0
+    ours = build_mesh(load_preset("srr-openmodes")[0])
+    assert abs(_resonance_of(other) / _resonance_of(ours) - 1) < 0.005
+
+
+@pytest.mark.skipif(not os.environ.get("BARYMESH_SLOW"), reason="set BARYMESH_SLOW=1")
+def test_split_ring_resonance_is_the_same_on_a_fine_unstructured_mesh():
+    other = _delaunay_split_ring(rings=5, spacing=0.1)  # 2,488 unknowns
+    ours = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=4"]))
+    assert abs(_resonance_of(other) / _resonance_of(ours) - 1) < 0.005
