@@ -288,6 +288,8 @@ def far_point_distances(far: Rule, lo: int, hi: int, src_lo: int = 0) -> np.ndar
     src = far.points[src_lo:].reshape(-1, 3)
     d2 = np.zeros((len(obs), len(src)))
     for c in range(3):
+        if not (obs[:, c].any() or src[:, c].any()):
+            continue  # a flat mesh in z = 0
         diff = obs[:, c, None] - src[None, :, c]
         d2 += diff * diff
     dist = np.sqrt(d2, out=d2)
@@ -314,8 +316,7 @@ def _static_moments(
     """(K, 8) moments of 1/R and R: near rule outside, closed form inside."""
     k, q = len(obs), near.size
     r = near.points[obs].reshape(-1, 3)  # (K Q, 3)
-    src_corners = np.repeat(corners[src], q, axis=0)
-    inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(r, src_corners)
+    inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(r, corners, np.repeat(src, q))
     w = near.weights[obs]  # (K, Q)
     rho = near.rho[obs]  # (K, Q, 3)
     to_centroid = (r - np.repeat(centroids[src], q, axis=0)).reshape(k, q, 3)

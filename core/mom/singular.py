@@ -40,7 +40,7 @@ import numpy as np
 
 
 def potential_integrals(
-    r: np.ndarray, corners: np.ndarray
+    r: np.ndarray, corners: np.ndarray, index: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The integrals of 1/R, R, (r' − r)/R and (r' − r) R over triangles.
 
@@ -48,8 +48,11 @@ def potential_integrals(
     ----------
     r : (M, 3) float64
         Observation points.
-    corners : (M, 3, 3) float64
+    corners : (M, 3, 3) float64, or (T, 3, 3) with ``index``
         The source triangle of each point, corner by corner.
+    index : (M,) int, optional
+        The row of ``corners`` for each point; the triangles' normals and edge
+        frames are then computed once per triangle, not once per point.
 
     Returns
     -------
@@ -70,11 +73,15 @@ def potential_integrals(
     """
     r = np.asarray(r, dtype=np.float64)
     corners = np.asarray(corners, dtype=np.float64)
-    v0, v1, v2 = corners[:, 0], corners[:, 1], corners[:, 2]
-    normal = np.cross(v1 - v0, v2 - v0)
+    if index is None:
+        index = np.arange(len(r))
+    index = np.asarray(index, dtype=np.intp)
+    v0 = corners[:, 0]
+    normal = np.cross(corners[:, 1] - v0, corners[:, 2] - v0)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    d = np.einsum("ij,ij->i", r - v0, normal)
-    rho = r - d[:, None] * normal
+    n_r = normal[index]
+    d = np.einsum("ij,ij->i", r - v0[index], n_r)
+    rho = r - d[:, None] * n_r
     h = np.abs(d)
     d2 = d * d
 
@@ -89,10 +96,13 @@ def potential_integrals(
         length = np.linalg.norm(edge, axis=1)
         lhat = edge / length[:, None]
         uhat = np.cross(lhat, normal)  # outward for counter-clockwise corners about n
-        l_plus = np.einsum("ij,ij->i", end - rho, lhat)
-        l_minus = np.einsum("ij,ij->i", start - rho, lhat)
-        t = np.einsum("ij,ij->i", start - rho, uhat)
-        r0sq = np.maximum(t * t + d2, (1e-12 * length) ** 2)
+        # per point: the frame of its triangle's edge i
+        lhat_r, uhat_r, start_r = lhat[index], uhat[index], start[index]
+        to_start = start_r - rho
+        l_minus = np.einsum("ij,ij->i", to_start, lhat_r)
+        l_plus = l_minus + length[index]
+        t = np.einsum("ij,ij->i", to_start, uhat_r)
+        r0sq = np.maximum(t * t + d2, (1e-12 * length[index]) ** 2)
         r0 = np.sqrt(r0sq)
         r_plus = np.sqrt(l_plus * l_plus + r0sq)
         r_minus = np.sqrt(l_minus * l_minus + r0sq)
@@ -108,10 +118,10 @@ def potential_integrals(
         solid += np.arctan2(t * l_plus, r0sq + h * r_plus) - np.arctan2(
             t * l_minus, r0sq + h * r_minus
         )
-        vec_r1 += uhat * e_r1[:, None]
-        vec_r3 += uhat * e_r3[:, None]
+        vec_r1 += uhat_r * e_r1[:, None]
+        vec_r3 += uhat_r * e_r3[:, None]
     inv_r = sum_t_inv - h * solid
     r1 = (sum_t_r1 + d2 * inv_r) / 3.0
-    vec_inv_r = vec_r1 - (d * inv_r)[:, None] * normal
-    vec_r = vec_r3 / 3.0 - (d * r1)[:, None] * normal
+    vec_inv_r = vec_r1 - (d * inv_r)[:, None] * n_r
+    vec_r = vec_r3 / 3.0 - (d * r1)[:, None] * n_r
     return inv_r, r1, vec_inv_r, vec_r
