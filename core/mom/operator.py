@@ -19,6 +19,9 @@ table of moments is ever held whole.
 
 from __future__ import annotations
 
+import weakref
+from dataclasses import dataclass
+
 import numpy as np
 
 from .geometry import MomGeometry, far_point_distances
@@ -150,6 +153,59 @@ def _contribution(m, k, axes, left_a, left_d, right_a, right_d) -> np.ndarray:
     return zr
 
 
+@dataclass(frozen=True, eq=False)
+class FillBlock:
+    """One block of observation triangles lo..hi and its sparse maps, reused every fill.
+
+    ``touched`` are the unknowns living on the block; ``left_a``/``left_d`` their
+    coefficient and offset maps restricted to the block; ``own`` and ``after`` the
+    (coefficient, offsets) maps of all unknowns on triangles lo..hi and hi..T.
+    """
+
+    lo: int
+    hi: int
+    touched: np.ndarray
+    left_a: object
+    left_d: dict
+    own: tuple
+    after: tuple
+
+
+_BLOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
+    """The observation blocks of a fill (cached per geometry: a sweep slices once)."""
+    if geom in _BLOCKS:
+        return _BLOCKS[geom]
+    t = geom.n_triangles
+    a_cols = geom.coef_matrix.tocsc()
+    d_cols = [m.tocsc() for m in geom.offset_matrices]
+    # at least MIN_BLOCKS blocks, so that the mirrored half is most of the work
+    block = max(1, min(BLOCK_ENTRIES // max(1, t * geom.far.size**2), -(-t // MIN_BLOCKS)))
+    out = []
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        left_a = a_cols[:, lo:hi]
+        touched = np.unique(left_a.indices)
+        if len(touched) == 0:
+            continue
+        own, after = slice(lo, hi), slice(hi, None)
+        out.append(
+            FillBlock(
+                lo,
+                hi,
+                touched,
+                left_a[touched],
+                {c: d_cols[c][:, lo:hi][touched] for c in range(3)},
+                (a_cols[:, own], {c: d_cols[c][:, own] for c in range(3)}),
+                (a_cols[:, after], {c: d_cols[c][:, after] for c in range(3)}),
+            )  # fmt: skip
+        )
+    _BLOCKS[geom] = out
+    return out
+
+
 def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     """The (N, N) complex EFIE matrix at wavenumber ``k`` (rad/m).
 
@@ -177,22 +233,12 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     axes = active_axes(geom)
     t = geom.n_triangles
     n = geom.n_unknowns
-    a_cols = geom.coef_matrix.tocsc()
-    d_cols = [m.tocsc() for m in geom.offset_matrices]
     near = near_moments(geom, k)
     starts = np.searchsorted(geom.near_pairs[:, 0], np.arange(t + 1))
     z = np.zeros((n, n), dtype=np.complex128)
     mirrored = np.zeros((n, n), dtype=np.complex128)  # rows here are columns of z
-    # at least MIN_BLOCKS blocks, so that the mirrored half is most of the work
-    block = max(1, min(BLOCK_ENTRIES // max(1, t * geom.far.size**2), -(-t // MIN_BLOCKS)))
-    for lo in range(0, t, block):
-        hi = min(t, lo + block)
-        left_a = a_cols[:, lo:hi]
-        touched = np.unique(left_a.indices)
-        if len(touched) == 0:
-            continue
-        left_a = left_a[touched]
-        left_d = {c: d_cols[c][:, lo:hi][touched] for c in axes}
+    for blk in fill_blocks(geom):
+        lo, hi = blk.lo, blk.hi
         m = far_moments(geom, k, lo, hi, axes, src_lo=lo)
         span = slice(starts[lo], starts[hi])
         keep = geom.near_pairs[span, 1] >= lo
@@ -200,20 +246,12 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
         cols = geom.near_pairs[span, 1][keep] - lo
         m[:, rows, cols] = near[span][keep].T
         width = hi - lo
-        own = slice(lo, hi)
-        zr = _contribution(
-            m[:, :, :width], k, axes, left_a, left_d,
-            a_cols[:, own], {c: d_cols[c][:, own] for c in axes},
-        )  # fmt: skip
+        zr = _contribution(m[:, :, :width], k, axes, blk.left_a, blk.left_d, *blk.own)
         if hi < t:
-            after = slice(hi, None)
-            upper = _contribution(
-                m[:, :, width:], k, axes, left_a, left_d,
-                a_cols[:, after], {c: d_cols[c][:, after] for c in axes},
-            )  # fmt: skip
+            upper = _contribution(m[:, :, width:], k, axes, blk.left_a, blk.left_d, *blk.after)
             zr += upper
-            mirrored[touched] += upper
-        z[touched] += zr
+            mirrored[blk.touched] += upper
+        z[blk.touched] += zr
     z += mirrored.T
     del mirrored
     z *= 1j * ETA0 / (4.0 * np.pi)
