@@ -189,44 +189,60 @@ def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
     directions = _gap_directions(params)
     step = min(params.angle_step, MAX_SECTOR_DEG)
     if not directions:
-        return [(0.0, 360.0, True)], _count(360.0, step)
-    phi = params.gap_angle
-    if len(directions) == 1:
-        arcs = [(phi, phi + 360.0, False)]
+        arcs = [(0.0, 360.0, True)]
+        m = _count(360.0, step)
     else:
-        arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
-    widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
-    m = _count(widest, step)
+        phi = params.gap_angle
+        if len(directions) == 1:
+            arcs = [(phi, phi + 360.0, False)]
+        else:
+            arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
+        widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
+        m = _count(widest, step)
     for _ in range(64):
-        if _end_sectors_proper(params, arcs[0], m):
+        if _sectors_proper(params, arcs[0], m):
             return arcs, m
         m = m + max(1, m // 2)
     raise ValueError(
         f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
-        "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step"
+        "proper conforming mesh of the ring; use a narrower gap or a smaller angle step"
     )
 
 
-def _end_sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) -> bool:
-    """Whether the first and last sector of an arc hold only positively oriented triangles.
+def _sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) -> bool:
+    """Whether the sectors of an arc cut into m hold only positively oriented triangles.
 
-    Next to a slot the inner and outer circles end at different angles (the slot's sides
-    are straight), so a coarse end sector is sheared; with a wide slot its chords can
-    cross and fold a triangle over. Middle sectors are sheared less.
+    The template is mapped to polar coordinates, so a wide sector bends its
+    sub-triangles; thin ones (the barycentric scheme's) fold over when the
+    sector is too wide. Next to a slot the inner and outer circles end at
+    different angles (the slot's sides are straight), so the end sectors are
+    sheared as well, the first and the last most; with a wide slot their
+    chords can cross. A closed ring's sectors are congruent. Checked on the
+    first, middle and last sector at each radius, a triangle counting as flat
+    when its area is below 1e-9 of its longest edge squared.
     """
     template = patch_template(params.scheme, params.subdivisions, params.diagonal)
     u, v = template.uv[:, 0], template.uv[:, 1]
-    start, end, _ = arc
+    a, b, c = template.triangles.T
+    start, end, closed = arc
     for radius in _radii(params):
         rho = radius + u * params.patch_size
-        alpha = _slot_half_angle(params, rho)
-        lo, hi = start + alpha, end - alpha
-        for k in {0, m - 1}:
+        if closed:
+            lo, hi, sectors = start, end, [0]
+        else:
+            alpha = _slot_half_angle(params, rho)
+            lo, hi, sectors = start + alpha, end - alpha, sorted({0, m // 2, m - 1})
+        for k in sectors:
             theta = np.radians(lo + (k + v) * (hi - lo) / m)
             x, y = rho * np.cos(theta), rho * np.sin(theta)
-            a, b, c = template.triangles.T
             cross = (x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])
-            if (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():  # folded or flat
+            longest = np.maximum.reduce(
+                [np.hypot(x[b] - x[a], y[b] - y[a]), np.hypot(x[c] - x[b], y[c] - y[b]),
+                 np.hypot(x[a] - x[c], y[a] - y[c])]
+            )  # fmt: skip
+            if (cross <= 2e-9 * longest**2).any():  # folded or flat
+                return False
+            if not closed and (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():
                 return False
     return True
 

@@ -1,0 +1,257 @@
+"""What every mesh the core returns must satisfy, checked before it is returned.
+
+A violation is a bug in the core or a geometry it cannot mesh; either way the
+mesh is refused with :class:`MeshInvariantError` (a ``ValueError``) naming the
+parameters, instead of reaching a solver. The checks are vectorised and
+blocked (no (T, 3, 2) temporary), so they cost a fraction of the build:
+
+- every coordinate is finite;
+- every triangle is counter-clockwise seen from +z (our structures are planar)
+  and not flat: its area is at least ``FLAT`` times its longest edge squared;
+- in conforming mode: no two vertices at the same point and no edge on three
+  or more triangles (a watertight, manifold mesh).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from .topology import BLOCK, edge_keys
+
+#: A triangle whose area is below this fraction of its longest edge squared is flat.
+FLAT = 1e-12
+
+
+class MeshInvariantError(ValueError):
+    """A built mesh breaks an invariant; the message names the parameters."""
+
+
+def inverted_or_flat(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Triangles that are clockwise seen from +z or flatter than ``FLAT``.
+
+    Parameters
+    ----------
+    points : (V, 2 or 3) float64
+    triangles : (T, 3) int
+
+    Returns
+    -------
+    (K,) int
+        Indices of the offending triangles, ascending.
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [2.0, 0.0]])
+    >>> inverted_or_flat(pts, np.array([[0, 1, 2], [0, 2, 1], [0, 1, 3]])).tolist()
+    [1, 2]
+    """
+    x = np.ascontiguousarray(points[:, 0])
+    y = np.ascontiguousarray(points[:, 1])
+    bad = []
+    for lo in range(0, len(triangles), BLOCK):
+        tri = triangles[lo : lo + BLOCK]
+        hit = np.flatnonzero(_flagged(x, y, *(tri[:, c] for c in range(3))))
+        if len(hit):
+            bad.append(hit + lo)
+    return np.concatenate(bad) if bad else np.empty(0, dtype=np.intp)
+
+
+def _flagged(x: np.ndarray, y: np.ndarray, i, j, k) -> np.ndarray:
+    """Mask of the triangles (corners at i, j, k of x, y) that are clockwise or flat."""
+    x0, y0 = x.take(i), y.take(i)
+    ux = x.take(j)
+    ux -= x0
+    uy = y.take(j)
+    uy -= y0
+    vx = x.take(k)
+    vx -= x0
+    vy = y.take(k)
+    vy -= y0
+    twice_area = ux * vy
+    twice_area -= uy * vx
+    # first against 2 (|u|² + |v|²) >= the longest edge squared (a stricter test, fewer
+    # operations); the few triangles it flags are measured exactly
+    bound = ux * ux
+    bound += uy * uy
+    bound += vx * vx
+    bound += vy * vy
+    bound *= 4 * FLAT
+    flagged = ~(twice_area >= bound)  # NaN counts as bad
+    if flagged.any():
+        f = np.flatnonzero(flagged)
+        longest = np.maximum.reduce(
+            [ux[f] ** 2 + uy[f] ** 2, vx[f] ** 2 + vy[f] ** 2,
+             (ux[f] - vx[f]) ** 2 + (uy[f] - vy[f]) ** 2]
+        )  # fmt: skip
+        flagged[f] = ~(twice_area[f] >= 2 * FLAT * longest)
+    return flagged
+
+
+def inverted_or_flat_patches(
+    points: np.ndarray, vertex_map: np.ndarray, template_triangles: np.ndarray
+) -> np.ndarray:
+    """:func:`inverted_or_flat` of the triangles ``vertex_map[:, template_triangles]``.
+
+    The same answer on the same triangles, faster: each patch's vertex
+    coordinates are gathered once and its triangles' corners read from them.
+
+    Parameters
+    ----------
+    points : (V, 2 or 3) float64
+    vertex_map : (P, Nv) int
+        Global vertex of every patch-local vertex.
+    template_triangles : (Nt, 3) int
+        Local triangles of the template; triangle p Nt + l is patch p's triangle l.
+
+    Returns
+    -------
+    (K,) int
+    """
+    x = np.ascontiguousarray(points[:, 0])
+    y = np.ascontiguousarray(points[:, 1])
+    a, b, c = (np.ascontiguousarray(template_triangles[:, k]) for k in range(3))
+    n_tri = len(template_triangles)
+    per_block = max(1, BLOCK // n_tri)
+    nv = vertex_map.shape[1]
+    corners = [_rows(t, nv, min(per_block, len(vertex_map))) for t in (a, b, c)]
+    bad = []
+    for lo in range(0, len(vertex_map), per_block):
+        vmap = vertex_map[lo : lo + per_block]
+        px, py = x.take(vmap), y.take(vmap)  # (p, Nv): one read per patch vertex
+        size = len(vmap) * n_tri
+        hit = np.flatnonzero(_flagged(px, py, *(k[:size] for k in corners)))
+        if len(hit):
+            bad.append(hit + lo * n_tri)
+    return np.concatenate(bad) if bad else np.empty(0, dtype=np.intp)
+
+
+def _rows(corner: np.ndarray, nv: int, n_patches: int) -> np.ndarray:
+    """Flat indices of template corner ``corner`` in each of ``n_patches`` rows of width nv."""
+    return (np.arange(n_patches, dtype=np.intp)[:, None] * nv + corner[None, :]).ravel()
+
+
+def glued_edge_valence(template: Any, vertex_map: np.ndarray, n_vertices: int) -> int:
+    """Most triangles on one edge, counting only edges that patches may share.
+
+    An edge can be on triangles of two patches only if both its vertices are
+    shared with another patch; every other edge keeps its template valence (1
+    or 2). Those candidate edges are grouped by vertex pair and their
+    template valences added.
+
+    Parameters
+    ----------
+    template : PatchTemplate
+    vertex_map : (P, Nv) int
+    n_vertices : int
+
+    Returns
+    -------
+    int
+        The largest valence among the candidate edges (0 if there are none).
+    """
+    shared = (np.bincount(vertex_map.ravel(), minlength=n_vertices) > 1)[vertex_map]
+    edges = template.edges
+    on_sides = np.zeros(vertex_map.shape[1], dtype=bool)
+    on_sides[template.sides.ravel()] = True
+    if not shared[:, ~on_sides].any():  # as built: only side vertices are shared
+        edges = edges[on_sides[edges[:, 0]] & on_sides[edges[:, 1]]]
+    e0, e1 = edges[:, 0], edges[:, 1]
+    p, e = np.nonzero(shared.take(e0, axis=1) & shared.take(e1, axis=1))
+    if len(p) == 0:
+        return 0
+    keys = edge_keys(vertex_map[p, e0[e]], vertex_map[p, e1[e]], n_vertices)
+    _, group = np.unique(keys, return_inverse=True)
+    index = np.searchsorted(
+        template.edges[:, 0] * len(on_sides) + template.edges[:, 1], e0[e] * len(on_sides) + e1[e]
+    )
+    return int(np.bincount(group.ravel(), weights=template.valence[index]).max())
+
+
+def duplicate_vertices(points: np.ndarray, vertices: np.ndarray | None = None) -> int:
+    """Number of vertices at exactly the same (x, y) as another one.
+
+    Parameters
+    ----------
+    points : (V, 2 or 3) float64
+    vertices : (K,) int, optional
+        Only look among these vertices (for example those on the patches' sides).
+    """
+    if vertices is None:
+        xy = points[:, :2]
+    else:
+        seen = np.zeros(len(points), dtype=bool)
+        seen[vertices.ravel()] = True
+        xy = points[np.flatnonzero(seen), :2]
+    if len(xy) < 2:
+        return 0
+    order = np.lexsort((xy[:, 1], xy[:, 0]))
+    s = xy[order]
+    return int(((s[1:, 0] == s[:-1, 0]) & (s[1:, 1] == s[:-1, 1])).sum())
+
+
+def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> None:
+    """Raise :class:`MeshInvariantError` if ``mesh`` breaks an invariant.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        A freshly built mesh.
+    params : MeshParams
+        Named in the message.
+    vertex_map : (P, Nv) int, optional
+        With the mesh's patch template: the patch-local to global vertex map its
+        triangles were made from (``vertex_map[:, template.triangles]``); the
+        checks then read each patch once instead of every triangle corner.
+    """
+    points, triangles = mesh.points, mesh.triangles
+    template = mesh._template
+    if not np.isfinite(points).all():
+        _fail(params, "has coordinates that are not finite")
+    if vertex_map is not None and template is not None:
+        bad = inverted_or_flat_patches(points, vertex_map, template.triangles)
+    else:
+        bad = inverted_or_flat(points, triangles)
+    if len(bad):
+        c = points[triangles[bad[0]]].mean(axis=0)
+        _fail(
+            params,
+            f"has {len(bad):,} of {len(triangles):,} triangles clockwise or flat (area below "
+            f"{FLAT:g} of the longest edge squared), the first near ({c[0]:.6g}, {c[1]:.6g})",
+        )
+    if mesh.mode != "conforming":
+        return
+    if vertex_map is not None and template is not None:
+        # vertices on the patches' sides, where patches are glued; an interior vertex
+        # of a patch is its own (a second vertex there would need overlapping triangles)
+        dup = duplicate_vertices(points, vertex_map[:, template.sides.ravel()])
+        valence = glued_edge_valence(template, vertex_map, len(points))
+    else:
+        dup = duplicate_vertices(points)
+        valence = int(mesh.topology.valence.max(initial=0))
+    if dup:
+        _fail(params, f"has {dup:,} vertices at the same point as another vertex")
+    if valence >= 3:
+        _fail(params, f"has edges on {valence} triangles (a junction)")
+
+
+def _fail(params: Any, what: str) -> None:
+    changed = _changed(params)
+    raise MeshInvariantError(
+        f"the {params.mode} mesh of {params.structure} with {changed} {what}; "
+        "barymesh refuses it (a geometry it cannot mesh, or a bug to report)"
+    )
+
+
+def _changed(params: Any) -> str:
+    """The parameters that differ from the defaults, as ``name=value`` pairs."""
+    defaults = type(params)()
+    pairs = [
+        f"{f.name}={getattr(params, f.name)!r}"
+        for f in dataclasses.fields(params)
+        if f.name not in ("structure", "mode")
+        and getattr(params, f.name) != getattr(defaults, f.name)
+    ]
+    return ", ".join(pairs) if pairs else "default parameters"
