@@ -39,10 +39,10 @@ MAX_BARYCENTRIC_LEVELS = 6
 DEFAULT_MAX_TRIANGLES = 5_000_000
 #: Default welding tolerance, relative to the structure's size.
 RELATIVE_TOLERANCE = 1e-9
-#: Largest coordinate (mm) of a structure: squares and products of lengths stay finite.
-MAX_COORDINATE = 1e100
-#: Shortest sub-triangle edge (mm): areas stay normal float64 numbers.
-MIN_EDGE = 1e-100
+#: Largest coordinate (mm) of a structure: fourth powers of lengths (quality measures) stay finite.
+MAX_COORDINATE = 1e70
+#: Shortest sub-triangle edge (mm): fourth powers of edges stay normal float64 numbers.
+MIN_EDGE = 1e-70
 #: Shortest sub-triangle edge relative to the largest coordinate: float64 resolves the
 #: corners of every triangle (1e-16 relative rounding) and the default tolerance
 #: (1e-9 of the size) stays below half the edge.
@@ -347,8 +347,13 @@ class MeshParams:
         """The shortest sub-triangle edge of the mesh (mm), or a close lower bound."""
         return self._shortest_edge()[0]
 
-    def _shortest_edge(self) -> tuple[float, str]:
-        """(shortest sub-triangle edge in mm, the parameter that makes it short)."""
+    def _shortest_edge(self, final: bool = True) -> tuple[float, str]:
+        """(shortest sub-triangle edge in mm, the parameter that makes it short).
+
+        With ``final=False`` conforming rings are measured with the sectors
+        ``angle_step`` asks for, before they are narrowed so that no triangle
+        folds (which needs the float64 checks to have passed).
+        """
         from .structures import MAX_SECTOR_DEG, _arcs, _count, _slot_half_angle
         from .subdivision import edge_vectors
 
@@ -372,13 +377,18 @@ class MeshParams:
         h, w = self.patch_size, self.patch_height
         sides = [(h, w, "patch_size" if h <= w else "patch_width")]
         if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
-            arcs, m = _arcs(self)
             r = self.inner_radius
-            span = arcs[0][1] - arcs[0][0]
+            full = 360.0 if s in ("ring", "double_ring") else (
+                360.0 if s == "split_ring" else 180.0)  # fmt: skip
+            span = full
             if s in SPLIT_STRUCTURES:
                 span -= 2 * float(_slot_half_angle(self, r))
+            if final:
+                m = _arcs(self)[1]
+            else:
+                m = _count(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
             chord = 2 * r * math.sin(math.radians(span / m) / 2)
-            if s in SPLIT_STRUCTURES and span < 0.5 * (arcs[0][1] - arcs[0][0]):
+            if s in SPLIT_STRUCTURES and span < 0.5 * full:
                 name = "gap_width"
             elif r < h or self.angle_step >= MAX_SECTOR_DEG:
                 name = "inner_radius"
@@ -433,8 +443,10 @@ class MeshParams:
                 f"{name}={_short(getattr(self, name))} places points {extent:.3g} mm from "
                 f"(0, 0); expected coordinates within {MAX_COORDINATE:.0e} mm"
             )
-        edge, name = self._shortest_edge()
         floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * extent)
+        edge, name = self._shortest_edge(final=False)
+        if edge >= floor:
+            edge, name = self._shortest_edge()
         if not edge >= floor:
             lengths = self._lengths()
             if lengths["origin"] > 0.5 * extent and edge >= MIN_EDGE:

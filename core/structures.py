@@ -29,6 +29,8 @@ from .weld import merge_pairs, weld_lattice_patches, weld_points
 MAX_SECTOR_DEG = 120.0
 #: Above this many patches the count is estimated from above instead of placed.
 _EXACT_COUNT_LIMIT = 20_000_000
+#: Times a conforming arc's sectors are narrowed (by half) before giving up.
+_MAX_NARROWING = 32
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
 
@@ -199,13 +201,19 @@ def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
             arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
         widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
         m = _count(widest, step)
-    for _ in range(64):
+    for _ in range(_MAX_NARROWING):
         if _sectors_proper(params, arcs[0], m):
             return arcs, m
         m = m + max(1, m // 2)
+    if directions:
+        raise ValueError(
+            f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
+            "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step"
+        )
     raise ValueError(
-        f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
-        "proper conforming mesh of the ring; use a narrower gap or a smaller angle step"
+        f"inner_radius={params.inner_radius!r} mm and patch_size={params.patch_size!r} mm give "
+        "no proper conforming mesh of the ring: its sectors fold even when narrowed; use a "
+        "larger inner_radius"
     )
 
 
