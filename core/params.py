@@ -196,6 +196,14 @@ class MeshParams:
         put(self, "gap_angle", gap_angle)
         put(self, "origin", _point("origin", self.origin))
         self._check_subdivisions()
+        budget = self.max_triangles
+        if isinstance(budget, numbers.Integral) and not isinstance(budget, bool):
+            budget = int(budget)
+            put(self, "max_triangles", budget)
+        if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+            raise ValueError(
+                f"max_triangles={_short(budget)} is invalid; expected an integer >= 1"
+            )
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
         self._check_geometry()
@@ -219,13 +227,6 @@ class MeshParams:
                 )
         self._check_paper_chain()
         budget = self.max_triangles
-        if isinstance(budget, numbers.Integral) and not isinstance(budget, bool):
-            budget = int(budget)
-            put(self, "max_triangles", budget)
-        if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-            raise ValueError(
-                f"max_triangles={_short(budget)} is invalid; expected an integer >= 1"
-            )
         predicted = self.predicted_triangles()
         if predicted == 0:
             raise ValueError(
@@ -449,7 +450,7 @@ class MeshParams:
             edge, name = self._shortest_edge()
         if not edge >= floor:
             lengths = self._lengths()
-            if lengths["origin"] > 0.5 * extent and edge >= MIN_EDGE:
+            if lengths.get("origin", 0.0) > 0.5 * extent and edge >= MIN_EDGE:
                 name = "origin"
             limit = ""
             if name == "gap_width" and self.structure == "square_split_double_ring":

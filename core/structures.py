@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -29,8 +31,10 @@ from .weld import merge_pairs, weld_lattice_patches, weld_points
 MAX_SECTOR_DEG = 120.0
 #: Above this many patches the count is estimated from above instead of placed.
 _EXACT_COUNT_LIMIT = 20_000_000
-#: Times a conforming arc's sectors are narrowed (by half) before giving up.
-_MAX_NARROWING = 32
+#: Template points evaluated at once when checking a split ring's sectors for folds.
+_SECTOR_CHECK_POINTS = 1 << 14
+#: Times a conforming arc's sectors are narrowed (by a third) before giving up (1.5**12 = 130).
+_MAX_NARROWING = 12
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
 
@@ -182,12 +186,26 @@ def _paper_origins(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
 # -- conforming mode -------------------------------------------------------
 
 
+#: The parameters that decide a conforming ring's arcs and sector count.
+_ARC_FIELDS = ("structure", "scheme", "subdivisions", "diagonal", "inner_radius",
+               "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
+               "max_triangles")  # fmt: skip
+
+
 def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
     """Angular extent of the arcs of one ring, and the sector count per arc.
 
     Returns ``([(start, end, closed), ...], m)`` with angles in degrees at the
-    slot axis; the slot sides are added per radius by :func:`_arc_angles`.
+    slot axis; the slot sides are added per radius by :func:`_slot_half_angle`.
+    Cached: validation, the triangle count and the layout all ask for it.
     """
+    arcs, m = _cached_arcs(tuple(getattr(params, name) for name in _ARC_FIELDS))
+    return list(arcs), m
+
+
+@lru_cache(maxsize=64)
+def _cached_arcs(key: tuple) -> tuple[list[tuple[float, float, bool]], int]:
+    params = SimpleNamespace(**dict(zip(_ARC_FIELDS, key, strict=True)))
     directions = _gap_directions(params)
     step = min(params.angle_step, MAX_SECTOR_DEG)
     if not directions:
@@ -201,9 +219,14 @@ def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
             arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
         widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
         m = _count(widest, step)
+    per_sector = len(_radii(params)) * len(arcs) * len(
+        patch_template(params.scheme, params.subdivisions, params.diagonal).triangles
+    )
     for _ in range(_MAX_NARROWING):
         if _sectors_proper(params, arcs[0], m):
             return arcs, m
+        if m * per_sector > params.max_triangles:
+            return arcs, m  # over the budget anyway: refused with the triangle count
         m = m + max(1, m // 2)
     if directions:
         raise ValueError(
@@ -222,36 +245,44 @@ def _sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) 
 
     The template is mapped to polar coordinates, so a wide sector bends its
     sub-triangles; thin ones (the barycentric scheme's) fold over when the
-    sector is too wide. Next to a slot the inner and outer circles end at
-    different angles (the slot's sides are straight), so the end sectors are
-    sheared as well, the first and the last most; with a wide slot their
-    chords can cross. A closed ring's sectors are congruent. Checked on the
-    first, middle and last sector at each radius, a triangle counting as flat
-    when its area is below 1e-9 of its longest edge squared.
+    sector is too wide. A closed ring's sectors are congruent: one is checked.
+    Next to a slot the inner and outer circles end at different angles (the
+    slot's sides are straight), and the sides between sectors bend from that
+    straight line at the slot to a radius in the middle of the arc, most at
+    neither end; with a wide slot they fold thin sectors. Every sector is
+    checked, or, for large templates, sectors spread evenly along the arc
+    (the mesh's own invariant check catches a fold between them). A triangle
+    counts as flat when its area is below 1e-9 of its longest edge squared.
     """
     template = patch_template(params.scheme, params.subdivisions, params.diagonal)
     u, v = template.uv[:, 0], template.uv[:, 1]
     a, b, c = template.triangles.T
     start, end, closed = arc
+    if closed:
+        sectors = np.zeros(1)
+    else:
+        samples = min(m, max(3, _SECTOR_CHECK_POINTS // len(template.uv)))
+        sectors = np.unique(np.round(np.linspace(0, m - 1, samples)))
     for radius in _radii(params):
         rho = radius + u * params.patch_size
         if closed:
-            lo, hi, sectors = start, end, [0]
+            lo, hi = start, end
         else:
             alpha = _slot_half_angle(params, rho)
-            lo, hi, sectors = start + alpha, end - alpha, sorted({0, m // 2, m - 1})
-        for k in sectors:
-            theta = np.radians(lo + (k + v) * (hi - lo) / m)
-            x, y = rho * np.cos(theta), rho * np.sin(theta)
-            cross = (x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])
-            longest = np.maximum.reduce(
-                [np.hypot(x[b] - x[a], y[b] - y[a]), np.hypot(x[c] - x[b], y[c] - y[b]),
-                 np.hypot(x[a] - x[c], y[a] - y[c])]
-            )  # fmt: skip
-            if (cross <= 2e-9 * longest**2).any():  # folded or flat
-                return False
-            if not closed and (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():
-                return False
+            lo, hi = start + alpha, end - alpha
+        theta = np.radians(lo + (sectors[:, None] + v) * (hi - lo) / m)  # (K, Nv)
+        x, y = rho * np.cos(theta), rho * np.sin(theta)
+        ab = (x[:, b] - x[:, a], y[:, b] - y[:, a])
+        ac = (x[:, c] - x[:, a], y[:, c] - y[:, a])
+        cross = ab[0] * ac[1] - ab[1] * ac[0]
+        longest = np.maximum.reduce(
+            [ab[0] ** 2 + ab[1] ** 2, ac[0] ** 2 + ac[1] ** 2,
+             (ac[0] - ab[0]) ** 2 + (ac[1] - ab[1]) ** 2]
+        )  # fmt: skip
+        if (cross <= 2e-9 * longest).any():  # folded or flat
+            return False
+        if not closed and (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():
+            return False
     return True
 
 
