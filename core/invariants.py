@@ -112,9 +112,18 @@ def inverted_or_flat_patches(
     """
     x = np.ascontiguousarray(points[:, 0])
     y = np.ascontiguousarray(points[:, 1])
-    a, b, c = (np.ascontiguousarray(template_triangles[:, k]) for k in range(3))
     n_tri = len(template_triangles)
     per_block = max(1, BLOCK // n_tri)
+    diagonal = lattice_diagonal(template_triangles, vertex_map.shape[1])
+    if diagonal is not None:  # grid cells: edges by slicing, no per-corner gathers
+        n = round(np.sqrt(vertex_map.shape[1])) - 1
+        for lo in range(0, len(vertex_map), per_block):
+            vmap = vertex_map[lo : lo + per_block]
+            if _lattice_flagged(x.take(vmap), y.take(vmap), n, diagonal):
+                break
+        else:
+            return np.empty(0, dtype=np.intp)
+    a, b, c = (np.ascontiguousarray(template_triangles[:, k]) for k in range(3))
     nv = vertex_map.shape[1]
     corners = [_rows(t, nv, min(per_block, len(vertex_map))) for t in (a, b, c)]
     bad = []
@@ -126,6 +135,79 @@ def inverted_or_flat_patches(
         if len(hit):
             bad.append(hit + lo * n_tri)
     return np.concatenate(bad) if bad else np.empty(0, dtype=np.intp)
+
+
+_LATTICES: dict[tuple[int, bytes], str | None] = {}
+
+
+def lattice_diagonal(template_triangles: np.ndarray, nv: int) -> str | None:
+    """``"BC"`` or ``"AD"`` when the triangles cut the (n + 1)² grid's cells along it.
+
+    The grid point (a, b) is local vertex b (n + 1) + a, as in a uniform patch
+    template; each cell is two counter-clockwise triangles. None otherwise.
+    """
+    key = (nv, template_triangles.tobytes())
+    if key not in _LATTICES:
+        n = round(np.sqrt(nv)) - 1
+        found = None
+        if (n + 1) ** 2 == nv and len(template_triangles) == 2 * n * n:
+            got = _canonical(template_triangles)
+            for diagonal in ("BC", "AD"):
+                if np.array_equal(got, _canonical(_lattice_triangles(n, diagonal))):
+                    found = diagonal
+        _LATTICES[key] = found
+    return _LATTICES[key]
+
+
+def _canonical(triangles: np.ndarray) -> np.ndarray:
+    """Triangles as rows rotated to start at their smallest vertex, sorted (orientation kept)."""
+    t = np.asarray(triangles)
+    t = np.take_along_axis(t, (np.argmin(t, axis=1)[:, None] + np.arange(3)) % 3, axis=1)
+    return t[np.lexsort(t.T[::-1])]
+
+
+def _lattice_triangles(n: int, diagonal: str) -> np.ndarray:
+    """(2 n², 3) counter-clockwise triangles of the grid's cells cut along ``diagonal``."""
+    b, a = np.divmod(np.arange(n * n), n)
+    p00 = b * (n + 1) + a
+    p10, p01, p11 = p00 + 1, p00 + n + 1, p00 + n + 2
+    if diagonal == "BC":
+        return np.concatenate([np.stack([p00, p10, p01], 1), np.stack([p11, p01, p10], 1)])
+    return np.concatenate([np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)])
+
+
+def _lattice_flagged(px: np.ndarray, py: np.ndarray, n: int, diagonal: str) -> bool:
+    """Whether a triangle of these grid patches is clockwise or flat (stricter, see below).
+
+    Each cell's two triangles have two grid edges as legs (h along a, v along
+    b); the longest edge squared is at most 2 (|h|² + |v|²), which is tested
+    against (a stricter test: exact indices are found by the caller).
+
+    Parameters
+    ----------
+    px, py : (p, (n + 1)²) float64
+        Vertex coordinates of p patches in grid order.
+    """
+    x = px.reshape(-1, n + 1, n + 1)  # [patch, b, a]
+    y = py.reshape(-1, n + 1, n + 1)
+    hx, hy = x[:, :, 1:] - x[:, :, :-1], y[:, :, 1:] - y[:, :, :-1]  # (p, n + 1, n)
+    vx, vy = x[:, 1:, :] - x[:, :-1, :], y[:, 1:, :] - y[:, :-1, :]  # (p, n, n + 1)
+    h2 = hx * hx
+    h2 += hy * hy
+    v2 = vx * vx
+    v2 += vy * vy
+    if diagonal == "BC":  # (a, b, c): h(j, i) x v(j, i); (d, c, b): h(j + 1, i) x v(j, i + 1)
+        legs = ((slice(None, -1), slice(None, -1)), (slice(1, None), slice(1, None)))
+    else:  # (a, b, d): h(j, i) x v(j, i + 1); (a, d, c): h(j + 1, i) x v(j, i)
+        legs = ((slice(None, -1), slice(1, None)), (slice(1, None), slice(None, -1)))
+    for h_rows, v_cols in legs:
+        cross = hx[:, h_rows] * vy[:, :, v_cols]
+        cross -= hy[:, h_rows] * vx[:, :, v_cols]
+        bound = h2[:, h_rows] + v2[:, :, v_cols]
+        bound *= 4 * FLAT
+        if not (cross >= bound).all():  # NaN counts as bad
+            return True
+    return False
 
 
 def _rows(corner: np.ndarray, nv: int, n_patches: int) -> np.ndarray:
@@ -186,6 +268,12 @@ def duplicate_vertices(points: np.ndarray, vertices: np.ndarray | None = None) -
         seen[vertices.ravel()] = True
         xy = points[np.flatnonzero(seen), :2]
     if len(xy) < 2:
+        return 0
+    # equal points have equal bits (+ 0.0 turns -0.0 into 0.0): one integer key per point,
+    # sorted fast; only when two keys agree are the points compared exactly
+    bits = np.ascontiguousarray(xy + 0.0).view(np.int64)
+    key = np.sort(bits[:, 0] * np.int64(-7046029254386353131) + bits[:, 1])
+    if not (key[1:] == key[:-1]).any():
         return 0
     order = np.lexsort((xy[:, 1], xy[:, 0]))
     s = xy[order]

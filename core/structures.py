@@ -21,7 +21,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .params import DOUBLE_STRUCTURES, MeshParams
+from .params import DOUBLE_STRUCTURES, RELATIVE_TOLERANCE, MeshParams
 from .subdivision import PatchTemplate, patch_template
 from .topology import INDEX
 from .weld import merge_pairs, weld_lattice_patches, weld_points
@@ -494,7 +494,7 @@ def layout(params: MeshParams) -> Layout:
         if s == "square_split_double_ring":
             rects, regions = _conforming_square_rects(params)
             xy = _rect_layout(template, rects)
-            ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
+            ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
             return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
         return _conforming_ring_layout(params, template)
     origins, regions = _paper_origins(params)
@@ -502,10 +502,27 @@ def layout(params: MeshParams) -> Layout:
     xy = _rect_layout(template, rects)
     if template.lattice:
         step = (h / template.segments, w / template.segments)
-        ids, rep = weld_lattice_patches(origins, step, template.segments, params.weld_tolerance)
+        ids, rep = _welded(
+            params, weld_lattice_patches, origins, step, template.segments, params.weld_tolerance
+        )
     else:
-        ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
+        ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
     return Layout(template, xy, regions.astype(np.int32), ids, rep, _corners(rects))
+
+
+def _welded(params: MeshParams, weld, *args) -> tuple[np.ndarray, np.ndarray]:
+    """``weld(*args)``, its chain error reworded when the user set no tolerance."""
+    try:
+        return weld(*args)
+    except ValueError as err:
+        if params.tolerance is not None:
+            raise
+        found = str(err).split("; points farther")[0]
+        raise ValueError(
+            f"{found}, with the default tolerance ({RELATIVE_TOLERANCE:g} of the structure's "
+            "size): patches nearly, but not exactly, coincide; move them apart with "
+            "angle_step, patch_size or the radii, or set a tolerance"
+        ) from None
 
 
 def _corners(rects: np.ndarray) -> np.ndarray:

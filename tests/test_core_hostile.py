@@ -281,3 +281,39 @@ def test_numpy_scalars_are_taken_as_numbers():
                    inner_radius=np.float32(4.0))  # fmt: skip
     assert (p.subdivisions, p.max_triangles) == (3, 100_000)
     assert type(p.subdivisions) is int and type(p.max_triangles) is int
+
+
+def test_a_chain_at_the_default_tolerance_does_not_blame_a_tolerance_nobody_set():
+    from core.structures import _welded
+
+    coords = np.column_stack([np.arange(100) * 0.01, np.zeros(100)])
+    with pytest.raises(ValueError, match=r"with the default tolerance \(1e-09 of the") as err:
+        _welded(MeshParams(), weld_points, coords, 0.015)
+    assert "use a smaller tolerance" not in str(err.value)
+    with pytest.raises(ValueError, match="use a smaller tolerance"):
+        _welded(MeshParams(tolerance=0.015), weld_points, coords, 0.015)
+
+
+@pytest.mark.parametrize("diagonal", ["BC", "AD"])
+@pytest.mark.parametrize("scheme", ["uniform", "barycentric"])
+def test_the_per_patch_check_finds_what_the_per_triangle_check_finds(diagonal, scheme):
+    from core.invariants import inverted_or_flat_patches
+    from core.structures import layout
+
+    p = MeshParams(structure="ring", angle_step=30, subdivisions=2, diagonal=diagonal,
+                   scheme=scheme)  # fmt: skip
+    lay = layout(p)
+    vmap = lay.vertex_of_point.reshape(len(lay.xy), -1)
+    mesh = build_mesh(p)
+    pts = mesh.points.copy()
+    assert inverted_or_flat_patches(pts, vmap, lay.template.triangles).tolist() == []
+    rng = np.random.default_rng(7)
+    for victim in rng.choice(mesh.n_vertices, 5, replace=False):
+        moved = pts.copy()
+        moved[victim, :2] += 0.6 * rng.standard_normal(2)  # folds some of its triangles
+        want = inverted_or_flat(moved, mesh.triangles)
+        got = inverted_or_flat_patches(moved, vmap, lay.template.triangles)
+        assert got.tolist() == want.tolist()
+    moved = pts.copy()
+    moved[vmap[3, 0]] = moved[vmap[3, 1]]  # a flat (zero-area) triangle
+    assert len(inverted_or_flat_patches(moved, vmap, lay.template.triangles)) > 0
