@@ -317,3 +317,25 @@ def test_the_per_patch_check_finds_what_the_per_triangle_check_finds(diagonal, s
     moved = pts.copy()
     moved[vmap[3, 0]] = moved[vmap[3, 1]]  # a flat (zero-area) triangle
     assert len(inverted_or_flat_patches(moved, vmap, lay.template.triangles)) > 0
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {"structure": "patch", "subdivisions": 64},
+        {"structure": "triangle", "subdivisions": 64},
+        {"structure": "ring", "angle_step": 0.25},
+        {"structure": "double_ring", "angle_step": 0.5},
+        {"structure": "split_ring", "angle_step": 0.25},
+        {"structure": "split_double_ring", "angle_step": 0.5},
+        {"structure": "square_split_double_ring", "patch_size": 0.1},
+        {"structure": "double_ring", "scheme": "barycentric", "subdivisions": 3, "angle_step": 5},
+    ],
+)
+@pytest.mark.parametrize("mode", ["paper", "conforming"])
+def test_every_structure_builds_within_the_memory_budget(kw, mode):
+    p = MeshParams(**kw, mode=mode)
+    build_mesh(p)  # templates are cached: measure the structure, not the first template
+    mesh, peak = peak_bytes(lambda: build_mesh(p))
+    assert mesh.n_triangles >= 4096  # large enough for fixed costs not to count
+    assert peak <= BYTES_PER_TRIANGLE * mesh.n_triangles
