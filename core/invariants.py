@@ -244,12 +244,14 @@ def glued_edge_valence(template: Any, vertex_map: np.ndarray, n_vertices: int) -
     p, e = np.nonzero(shared.take(e0, axis=1) & shared.take(e1, axis=1))
     if len(p) == 0:
         return 0
-    keys = edge_keys(vertex_map[p, e0[e]], vertex_map[p, e1[e]], n_vertices)
-    _, group = np.unique(keys, return_inverse=True)
     index = np.searchsorted(
         template.edges[:, 0] * len(on_sides) + template.edges[:, 1], e0[e] * len(on_sides) + e1[e]
     )
-    return int(np.bincount(group.ravel(), weights=template.valence[index]).max())
+    # one sort of (edge key, template valence - 1) packed together; valences summed per key
+    keys = edge_keys(vertex_map[p, e0[e]], vertex_map[p, e1[e]], n_vertices)
+    packed = np.sort(keys * 2 + (template.valence[index] - 1))
+    starts = np.flatnonzero(np.r_[True, (packed[1:] >> 1) != (packed[:-1] >> 1)])
+    return int(np.add.reduceat((packed & 1) + 1, starts).max())
 
 
 def duplicate_vertices(points: np.ndarray, vertices: np.ndarray | None = None) -> int:

@@ -339,3 +339,23 @@ def test_every_structure_builds_within_the_memory_budget(kw, mode):
     mesh, peak = peak_bytes(lambda: build_mesh(p))
     assert mesh.n_triangles >= 4096  # large enough for fixed costs not to count
     assert peak <= BYTES_PER_TRIANGLE * mesh.n_triangles
+
+
+def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
+    from core.invariants import glued_edge_valence
+    from core.structures import layout
+
+    p = MeshParams(structure="ring", mode="conforming", angle_step=30, subdivisions=3)
+    lay = layout(p)
+    vmap = lay.vertex_of_point.reshape(len(lay.xy), -1)
+    n_vertices = len(lay.representative)
+    assert glued_edge_valence(lay.template, vmap, n_vertices) == 2  # a closed band
+    twice = np.vstack([vmap, vmap[:1]])  # sector 0 again: its inner edges on 4 triangles
+    assert glued_edge_valence(lay.template, twice, n_vertices) == 4
+    # a sector glued to one more neighbour at its side: that side's edges on 3
+    third = vmap[1].copy()
+    third[lay.template.sides[2]] = vmap[0, lay.template.sides[2]]
+    third[lay.template.sides[0]] = n_vertices + np.arange(lay.template.sides.shape[1])
+    interior = np.setdiff1d(np.arange(vmap.shape[1]), lay.template.sides[[0, 2]].ravel())
+    third[interior] = n_vertices + 100 + interior
+    assert glued_edge_valence(lay.template, np.vstack([vmap, third]), n_vertices + 200) == 3
