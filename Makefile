@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test bench lint system-deps clean
+.PHONY: run test fuzz bench lint system-deps clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -22,6 +22,11 @@ run: $(STAMP) system-deps
 
 test: $(STAMP) system-deps
 	$(BIN)/python -m pytest
+
+# The hostile-parameter fuzz of the core at 50,000 examples (make test runs 2,000).
+fuzz: $(STAMP)
+	BARYMESH_FUZZ_EXAMPLES=50000 $(BIN)/python -m pytest -p no:xvfb -q \
+		tests/test_core_properties.py -k hostile --hypothesis-show-statistics
 
 # The gmsh wheel links X11/OpenGL libraries even when it runs headless.
 GMSH_DEPS := libglu1-mesa libxcursor1 libxft2 libxinerama1 libxrender1 libxfixes3 libxext6 \

@@ -7,6 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .assembly import patch_triangles
+from .invariants import check_mesh
 from .mesh import TriMesh
 from .params import MeshParams
 from .structures import layout
@@ -35,6 +36,14 @@ def build_mesh(
     Returns
     -------
     TriMesh
+        Finite, counter-clockwise, without flat triangles and, in conforming mode,
+        manifold without duplicate vertices (:func:`core.invariants.check_mesh`).
+
+    Raises
+    ------
+    ValueError
+        :class:`core.invariants.MeshInvariantError` when the mesh breaks one of
+        those invariants (a geometry the core cannot mesh, or a bug).
 
     Examples
     --------
@@ -53,7 +62,9 @@ def build_mesh(
 
     checkpoint()
     if params.structure == "triangle":
-        return _triangle(params)
+        mesh = _triangle(params)
+        check_mesh(mesh, params)
+        return mesh
     lay = layout(params)
     checkpoint()
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
@@ -68,7 +79,7 @@ def build_mesh(
     checkpoint()
     per_patch = len(lay.template.triangles)
     n_patches = len(lay.xy)
-    return TriMesh(
+    mesh = TriMesh(
         points=points,
         triangles=triangles,
         patch_ids=_per_triangle(np.arange(n_patches, dtype=INDEX), per_patch),
@@ -79,6 +90,8 @@ def build_mesh(
         patch_rects=lay.rects if params.mode == "paper" else None,
         _template=lay.template,
     )
+    check_mesh(mesh, params, vertex_map)
+    return mesh
 
 
 def _per_triangle(per_patch_values: np.ndarray, per_patch: int) -> np.ndarray:

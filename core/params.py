@@ -8,8 +8,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Any
+
+import numpy as np
 
 STRUCTURES = (
     "patch",
@@ -36,43 +39,67 @@ MAX_BARYCENTRIC_LEVELS = 6
 DEFAULT_MAX_TRIANGLES = 5_000_000
 #: Default welding tolerance, relative to the structure's size.
 RELATIVE_TOLERANCE = 1e-9
+#: Largest coordinate (mm) of a structure: fourth powers of lengths (quality measures) stay finite.
+MAX_COORDINATE = 1e70
+#: Shortest sub-triangle edge (mm): fourth powers of edges stay normal float64 numbers.
+MIN_EDGE = 1e-70
+#: Shortest sub-triangle edge relative to the largest coordinate: float64 resolves the
+#: corners of every triangle (1e-16 relative rounding) and the default tolerance
+#: (1e-9 of the size) stays below half the edge.
+MIN_RELATIVE_EDGE = 1e-8
+#: Smallest welding tolerance relative to the largest coordinate: below it, rounding of
+#: the coordinates would keep shared points apart.
+MIN_RELATIVE_TOLERANCE = 1e-12
+#: Largest |gap_angle| (degrees); beyond it float64 cannot place the slot.
+MAX_GAP_ANGLE = 1e6
+#: More patches than this is beyond any budget; counted without rounding to an integer.
+MAX_PATCH_COUNT = 1e15
+
+
+def _short(value: Any) -> str:
+    """repr of a value, cut to a readable length (a 5000-digit integer is still named)."""
+    text = repr(value)
+    return text if len(text) <= 60 else f"{text[:28]}...{text[-28:]} ({len(text)} characters)"
+
+
+def _float(name: str, value: Any, expected: str) -> float:
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(f"{name}={_short(value)} is too large; expected {expected}") from None
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={_short(value)} is not a number; expected {expected}") from None
 
 
 def _positive(name: str, value: Any) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"{name}={value!r} is not a number; expected a positive length in mm"
-        ) from None
+    x = _float(name, value, "a positive length in mm")
     if not math.isfinite(x) or x <= 0:
-        raise ValueError(f"{name}={value!r} is invalid; expected a finite length > 0 mm")
+        raise ValueError(f"{name}={_short(value)} is invalid; expected a finite length > 0 mm")
     return x
 
 
 def _finite(name: str, value: Any) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number") from None
+    x = _float(name, value, "a finite number")
     if not math.isfinite(x):
-        raise ValueError(f"{name}={value!r} is invalid; expected a finite number")
+        raise ValueError(f"{name}={_short(value)} is invalid; expected a finite number")
     return x
 
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
-    if value not in allowed:
-        raise ValueError(f"{name}={value!r} is unknown; expected one of {', '.join(allowed)}")
+    if not isinstance(value, str) or value not in allowed:
+        raise ValueError(
+            f"{name}={_short(value)} is unknown; expected one of {', '.join(allowed)}"
+        )
     return value
 
 
-def _point(name: str, value: Any) -> tuple[float, float]:
+def _point(name: str, value: Any, whole: Any = None) -> tuple[float, float]:
+    shown = _short(value if whole is None else whole)
+    expected = "two numbers (x, y)" if whole is None else "three (x, y) points"
     try:
         x, y = value
     except (TypeError, ValueError):
-        raise ValueError(
-            f"{name}={value!r} is invalid; expected two numbers (x, y) in mm"
-        ) from None
+        raise ValueError(f"{name}={shown} is invalid; expected {expected} in mm") from None
     return (_finite(name, x), _finite(name, y))
 
 
@@ -153,26 +180,53 @@ class MeshParams:
             put(self, "patch_width", _positive("patch_width", self.patch_width))
         step = _finite("angle_step", self.angle_step)
         if not 0 < step <= 360:
-            raise ValueError(f"angle_step={self.angle_step!r} is outside (0, 360] degrees")
+            raise ValueError(f"angle_step={_short(self.angle_step)} is outside (0, 360] degrees")
+        if self.structure in ANGULAR_STRUCTURES and 360.0 / step > MAX_PATCH_COUNT:
+            raise ValueError(
+                f"angle_step={_short(self.angle_step)} degrees is too small: it would place "
+                f"more than {MAX_PATCH_COUNT:.0e} patches on a ring"
+            )
         put(self, "angle_step", step)
-        put(self, "gap_angle", _finite("gap_angle", self.gap_angle))
+        gap_angle = _finite("gap_angle", self.gap_angle)
+        if abs(gap_angle) > MAX_GAP_ANGLE:
+            raise ValueError(
+                f"gap_angle={_short(self.gap_angle)} is invalid; expected an angle within "
+                f"+-{MAX_GAP_ANGLE:.0e} degrees"
+            )
+        put(self, "gap_angle", gap_angle)
         put(self, "origin", _point("origin", self.origin))
         self._check_subdivisions()
+        budget = self.max_triangles
+        if isinstance(budget, numbers.Integral) and not isinstance(budget, bool):
+            budget = int(budget)
+            put(self, "max_triangles", budget)
+        if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+            raise ValueError(
+                f"max_triangles={_short(budget)} is invalid; expected an integer >= 1"
+            )
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
         self._check_geometry()
+        self._check_float64()
         if self.tolerance is not None:
             tol = _positive("tolerance", self.tolerance)
             put(self, "tolerance", tol)
             limit = 0.5 * self.min_spacing
             if tol >= limit:
                 raise ValueError(
-                    f"tolerance={self.tolerance!r} mm is too large: it must be below half the "
-                    f"smallest sub-triangle edge, {limit:.6g} mm, or it would collapse triangles"
+                    f"tolerance={_short(self.tolerance)} mm is too large: it must be below half "
+                    f"the smallest sub-triangle edge, {limit:.6g} mm, or it would collapse "
+                    "triangles"
                 )
+            floor = MIN_RELATIVE_TOLERANCE * self.extent
+            if tol < floor:
+                raise ValueError(
+                    f"tolerance={_short(self.tolerance)} mm is too small: float64 rounds "
+                    f"coordinates of {self.extent:.6g} mm by more, so shared points would stay "
+                    f"apart; expected tolerance >= {floor:.6g} mm"
+                )
+        self._check_paper_chain()
         budget = self.max_triangles
-        if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-            raise ValueError(f"max_triangles={budget!r} is invalid; expected an integer >= 1")
         predicted = self.predicted_triangles()
         if predicted == 0:
             raise ValueError(
@@ -193,30 +247,34 @@ class MeshParams:
         if isinstance(n, float) and n.is_integer():
             n = int(n)
             object.__setattr__(self, "subdivisions", n)
+        if isinstance(n, numbers.Integral) and not isinstance(n, bool):
+            n = int(n)
+            object.__setattr__(self, "subdivisions", n)
         if isinstance(n, bool) or not isinstance(n, int):
-            raise ValueError(f"subdivisions={self.subdivisions!r} is not an integer")
+            raise ValueError(f"subdivisions={_short(self.subdivisions)} is not an integer")
         top = MAX_UNIFORM_SUBDIVISIONS if self.scheme == "uniform" else MAX_BARYCENTRIC_LEVELS
         if not 1 <= n <= top:
             raise ValueError(
-                f"subdivisions={n!r} is outside 1..{top} for the {self.scheme} scheme"
+                f"subdivisions={_short(n)} is outside 1..{top} for the {self.scheme} scheme"
             )
 
     def _check_triangle_vertices(self) -> None:
+        given = self.triangle_vertices
         try:
-            pts = tuple(_point("triangle_vertices", p) for p in self.triangle_vertices)
+            items = list(given)
         except TypeError:
-            pts = ()
-        if len(pts) != 3:
+            items = []
+        if isinstance(given, (str, bytes)) or len(items) != 3:
             raise ValueError(
-                f"triangle_vertices={self.triangle_vertices!r} is invalid; "
-                "expected three (x, y) points in mm"
+                f"triangle_vertices={_short(given)} is invalid; expected three (x, y) points in mm"
             )
+        pts = tuple(_point("triangle_vertices", p, given) for p in items)
         (ax, ay), (bx, by), (cx, cy) = pts
         twice_area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
         scale = max(abs(v) for p in pts for v in p) or 1.0
         if abs(twice_area) <= 1e-12 * scale * scale:
             raise ValueError(
-                f"triangle_vertices={self.triangle_vertices!r} are collinear; "
+                f"triangle_vertices={_short(given)} are collinear; "
                 "a primary triangle needs a non-zero area"
             )
         object.__setattr__(self, "triangle_vertices", pts)
@@ -287,16 +345,162 @@ class MeshParams:
 
     @property
     def min_spacing(self) -> float:
-        """A lower bound of the shortest sub-triangle edge (mm), for the tolerance check."""
-        if self.structure == "triangle" and self.triangle_vertices is not None:
-            pts = self.triangle_vertices
-            side = min(math.dist(pts[i], pts[(i + 1) % 3]) for i in range(3))
-        else:
-            side = min(self.patch_size, self.patch_height)
-        if self.scheme == "uniform":
-            return side / self.segments
-        # A barycentric level shrinks the shortest edge by at most a factor of 6.
-        return side / 6**self.subdivisions
+        """The shortest sub-triangle edge of the mesh (mm), or a close lower bound."""
+        return self._shortest_edge()[0]
+
+    def _shortest_edge(self, final: bool = True) -> tuple[float, str]:
+        """(shortest sub-triangle edge in mm, the parameter that makes it short).
+
+        With ``final=False`` conforming rings are measured with the sectors
+        ``angle_step`` asks for, before they are narrowed so that no triangle
+        folds (which needs the float64 checks to have passed).
+        """
+        from .structures import MAX_SECTOR_DEG, _arcs, _count, _slot_half_angle
+        from .subdivision import edge_vectors
+
+        s = self.structure
+        if s == "triangle":
+            d = edge_vectors(self.scheme, self.subdivisions, None)
+            if self.triangle_vertices is None:
+                h = self.patch_size
+                p0, p1, p2 = (0.0, 0.0), (h, 0.0), (h / 2, h * math.sqrt(3) / 2)
+                name = "patch_size"
+            else:
+                p0, p1, p2 = self.triangle_vertices
+                name = "triangle_vertices"
+            e1 = (p1[0] - p0[0], p1[1] - p0[1])
+            e2 = (p2[0] - p0[0], p2[1] - p0[1])
+            x = d[:, 0] * e1[0] + d[:, 1] * e2[0]
+            y = d[:, 0] * e1[1] + d[:, 1] * e2[1]
+            return float(np.hypot(x, y).min()), name
+        d = edge_vectors(self.scheme, self.subdivisions, self.diagonal)
+        # (length along u, length along v, name of the parameter that sets the shorter one)
+        h, w = self.patch_size, self.patch_height
+        sides = [(h, w, "patch_size" if h <= w else "patch_width")]
+        if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
+            r = self.inner_radius
+            full = 360.0 if s in ("ring", "double_ring") else (
+                360.0 if s == "split_ring" else 180.0)  # fmt: skip
+            span = full
+            if s in SPLIT_STRUCTURES:
+                span -= 2 * float(_slot_half_angle(self, r))
+            if final:
+                m = _arcs(self)[1]
+            else:
+                m = _count(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
+            chord = 2 * r * math.sin(math.radians(span / m) / 2)
+            if s in SPLIT_STRUCTURES and span < 0.5 * full:
+                name = "gap_width"
+            elif r < h or self.angle_step >= MAX_SECTOR_DEG:
+                name = "inner_radius"
+            else:
+                name = "angle_step"
+            sides.append((h, chord, name))
+        elif self.mode == "conforming" and s == "square_split_double_ring":
+            r, g = self.inner_radius, self.gap_width
+            sides.append((h, (r - g / 2) / _count(r - g / 2, h), "gap_width"))
+            sides.append((h, 2 * r / _count(2 * r, h), "inner_radius"))
+        best = (math.inf, "patch_size")
+        for a, b, name in sides:
+            edge = float(np.hypot(a * d[:, 0], b * d[:, 1]).min())
+            if edge < best[0]:
+                best = (edge, name)
+        return best
+
+    @property
+    def extent(self) -> float:
+        """Largest coordinate magnitude of the structure (mm), origin included."""
+        s = self.structure
+        shift = max(abs(self.origin[0]), abs(self.origin[1]))
+        if s == "triangle" and self.triangle_vertices is not None:
+            return max(abs(v) for p in self.triangle_vertices for v in p)
+        if s in ("patch", "triangle"):
+            return shift + max(self.patch_size, self.patch_height)
+        radius = self.outer_radius if s in DOUBLE_STRUCTURES else self.inner_radius
+        return shift + radius + max(self.patch_size, self.patch_height)
+
+    def _lengths(self) -> dict[str, float]:
+        """The lengths (mm) that place the structure's points, by parameter name."""
+        s = self.structure
+        out = {"origin": max(abs(self.origin[0]), abs(self.origin[1]))}
+        if s == "triangle" and self.triangle_vertices is not None:
+            return {"triangle_vertices": self.extent}
+        out["patch_size"] = self.patch_size
+        if self.patch_width is not None and s != "triangle":
+            out["patch_width"] = self.patch_width
+        if s not in ("patch", "triangle"):
+            out["inner_radius"] = self.inner_radius
+        if s in DOUBLE_STRUCTURES:
+            out["outer_radius"] = self.outer_radius
+        return out
+
+    def _check_float64(self) -> None:
+        """Refuse lengths that float64 cannot mesh at the requested subdivision."""
+        extent = self.extent
+        if not extent <= MAX_COORDINATE:
+            lengths = self._lengths()
+            name = max(lengths, key=lengths.get)
+            raise ValueError(
+                f"{name}={_short(getattr(self, name))} places points {extent:.3g} mm from "
+                f"(0, 0); expected coordinates within {MAX_COORDINATE:.0e} mm"
+            )
+        floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * extent)
+        edge, name = self._shortest_edge(final=False)
+        if edge >= floor:
+            edge, name = self._shortest_edge()
+        if not edge >= floor:
+            lengths = self._lengths()
+            if lengths.get("origin", 0.0) > 0.5 * extent and edge >= MIN_EDGE:
+                name = "origin"
+            limit = ""
+            if name == "gap_width" and self.structure == "square_split_double_ring":
+                piece = self.inner_radius - self.gap_width / 2  # the shortest cut side
+                widest = 2 * (self.inner_radius - piece * floor / edge)
+                limit = f"; expected gap_width <= {widest:.12g} mm"
+            raise ValueError(
+                f"{name}={_short(getattr(self, name))} makes sub-triangle edges of {edge:.3g} mm "
+                f"at coordinates up to {extent:.3g} mm, too short for float64 to mesh: the "
+                f"shortest edge must be at least {floor:.3g} mm ({MIN_RELATIVE_EDGE:g} of the "
+                f"largest coordinate){limit}"
+            )
+
+    def _check_paper_chain(self) -> None:
+        """Refuse a paper ring whose neighbouring patches are within the welding tolerance.
+
+        Corresponding points of neighbouring patches would be welded, and so on around
+        the ring: a chain of near points, which the weld refuses anyway, but only after
+        finding every pair. Checked here from the angle between neighbours in O(1).
+        """
+        from .structures import _count
+
+        if self.mode != "paper" or self.structure not in ANGULAR_STRUCTURES:
+            return
+        step = self.angle_step
+        k = _count(360.0, step)
+        if k < 2:
+            return
+        gap = min(step, 360.0 - (k - 1) * step)
+        r = self.inner_radius
+        chord = 2 * r * math.sin(math.radians(gap) / 2)
+        tol = self.weld_tolerance
+        if chord > tol:
+            return
+        where = (
+            f"neighbouring patches of the ring of radius {r:.6g} mm are only {chord:.3g} mm "
+            f"apart (angle_step={_short(self.angle_step)})"
+        )
+        if self.tolerance is not None:
+            raise ValueError(
+                f"tolerance={_short(self.tolerance)} mm joins a chain of near points: {where}; "
+                "points farther apart than the tolerance are never merged: use a smaller "
+                f"tolerance (below {chord:.3g} mm) or a larger angle_step"
+            )
+        raise ValueError(
+            f"inner_radius={_short(self.inner_radius)} mm and angle_step="
+            f"{_short(self.angle_step)} put {where.split(' are only ')[0]} within the welding "
+            f"tolerance {tol:.3g} mm of each other ({chord:.3g} mm apart): they would be welded "
+            "into a chain; use a larger inner_radius or angle_step"
+        )
 
     @property
     def size(self) -> float:
@@ -342,17 +546,14 @@ class MeshParams:
         if not isinstance(data, dict):
             raise ValueError(f"parameters must be a mapping of names to values, got {data!r}")
         known = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(data) - known)
+        unknown = sorted((k for k in data if k not in known), key=repr)
         if unknown:
             raise ValueError(
-                f"unknown parameter {unknown[0]!r}; expected one of {', '.join(sorted(known))}"
+                f"unknown parameter {_short(unknown[0])}; expected one of "
+                f"{', '.join(sorted(known))}"
             )
-        kwargs = dict(data)
-        if kwargs.get("origin") is not None and isinstance(kwargs["origin"], list):
-            kwargs["origin"] = tuple(kwargs["origin"])
-        if isinstance(kwargs.get("triangle_vertices"), list):
-            kwargs["triangle_vertices"] = tuple(tuple(p) for p in kwargs["triangle_vertices"])
-        return cls(**kwargs)
+        # lists (JSON) become tuples in __post_init__, where they are checked
+        return cls(**data)
 
     def replace(self, **changes: Any) -> MeshParams:
         """A copy with some fields changed (validated again)."""

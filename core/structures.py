@@ -16,10 +16,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
+from types import SimpleNamespace
 
 import numpy as np
 
-from .params import DOUBLE_STRUCTURES, MeshParams
+from .params import DOUBLE_STRUCTURES, RELATIVE_TOLERANCE, MeshParams
 from .subdivision import PatchTemplate, patch_template
 from .topology import INDEX
 from .weld import merge_pairs, weld_lattice_patches, weld_points
@@ -29,6 +31,10 @@ from .weld import merge_pairs, weld_lattice_patches, weld_points
 MAX_SECTOR_DEG = 120.0
 #: Above this many patches the count is estimated from above instead of placed.
 _EXACT_COUNT_LIMIT = 20_000_000
+#: Template points evaluated at once when checking a split ring's sectors for folds.
+_SECTOR_CHECK_POINTS = 1 << 14
+#: Times a conforming arc's sectors are narrowed (by a third) before giving up (1.5**12 = 130).
+_MAX_NARROWING = 12
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
 
@@ -180,54 +186,103 @@ def _paper_origins(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
 # -- conforming mode -------------------------------------------------------
 
 
+#: The parameters that decide a conforming ring's arcs and sector count.
+_ARC_FIELDS = ("structure", "scheme", "subdivisions", "diagonal", "inner_radius",
+               "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
+               "max_triangles")  # fmt: skip
+
+
 def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
     """Angular extent of the arcs of one ring, and the sector count per arc.
 
     Returns ``([(start, end, closed), ...], m)`` with angles in degrees at the
-    slot axis; the slot sides are added per radius by :func:`_arc_angles`.
+    slot axis; the slot sides are added per radius by :func:`_slot_half_angle`.
+    Cached: validation, the triangle count and the layout all ask for it.
     """
+    arcs, m = _cached_arcs(tuple(getattr(params, name) for name in _ARC_FIELDS))
+    return list(arcs), m
+
+
+@lru_cache(maxsize=64)
+def _cached_arcs(key: tuple) -> tuple[list[tuple[float, float, bool]], int]:
+    params = SimpleNamespace(**dict(zip(_ARC_FIELDS, key, strict=True)))
     directions = _gap_directions(params)
     step = min(params.angle_step, MAX_SECTOR_DEG)
     if not directions:
-        return [(0.0, 360.0, True)], _count(360.0, step)
-    phi = params.gap_angle
-    if len(directions) == 1:
-        arcs = [(phi, phi + 360.0, False)]
+        arcs = [(0.0, 360.0, True)]
+        m = _count(360.0, step)
     else:
-        arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
-    widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
-    m = _count(widest, step)
-    for _ in range(64):
-        if _end_sectors_proper(params, arcs[0], m):
+        phi = params.gap_angle
+        if len(directions) == 1:
+            arcs = [(phi, phi + 360.0, False)]
+        else:
+            arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
+        widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
+        m = _count(widest, step)
+    per_sector = len(_radii(params)) * len(arcs) * len(
+        patch_template(params.scheme, params.subdivisions, params.diagonal).triangles
+    )
+    for _ in range(_MAX_NARROWING):
+        if _sectors_proper(params, arcs[0], m):
             return arcs, m
+        if m * per_sector > params.max_triangles:
+            return arcs, m  # over the budget anyway: refused with the triangle count
         m = m + max(1, m // 2)
+    if directions:
+        raise ValueError(
+            f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
+            "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step"
+        )
     raise ValueError(
-        f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
-        "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step"
+        f"inner_radius={params.inner_radius!r} mm and patch_size={params.patch_size!r} mm give "
+        "no proper conforming mesh of the ring: its sectors fold even when narrowed; use a "
+        "larger inner_radius"
     )
 
 
-def _end_sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) -> bool:
-    """Whether the first and last sector of an arc hold only positively oriented triangles.
+def _sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) -> bool:
+    """Whether the sectors of an arc cut into m hold only positively oriented triangles.
 
-    Next to a slot the inner and outer circles end at different angles (the slot's sides
-    are straight), so a coarse end sector is sheared; with a wide slot its chords can
-    cross and fold a triangle over. Middle sectors are sheared less.
+    The template is mapped to polar coordinates, so a wide sector bends its
+    sub-triangles; thin ones (the barycentric scheme's) fold over when the
+    sector is too wide. A closed ring's sectors are congruent: one is checked.
+    Next to a slot the inner and outer circles end at different angles (the
+    slot's sides are straight), and the sides between sectors bend from that
+    straight line at the slot to a radius in the middle of the arc, most at
+    neither end; with a wide slot they fold thin sectors. Every sector is
+    checked, or, for large templates, sectors spread evenly along the arc
+    (the mesh's own invariant check catches a fold between them). A triangle
+    counts as flat when its area is below 1e-9 of its longest edge squared.
     """
     template = patch_template(params.scheme, params.subdivisions, params.diagonal)
     u, v = template.uv[:, 0], template.uv[:, 1]
-    start, end, _ = arc
+    a, b, c = template.triangles.T
+    start, end, closed = arc
+    if closed:
+        sectors = np.zeros(1)
+    else:
+        samples = min(m, max(3, _SECTOR_CHECK_POINTS // len(template.uv)))
+        sectors = np.unique(np.round(np.linspace(0, m - 1, samples)))
     for radius in _radii(params):
         rho = radius + u * params.patch_size
-        alpha = _slot_half_angle(params, rho)
-        lo, hi = start + alpha, end - alpha
-        for k in {0, m - 1}:
-            theta = np.radians(lo + (k + v) * (hi - lo) / m)
-            x, y = rho * np.cos(theta), rho * np.sin(theta)
-            a, b, c = template.triangles.T
-            cross = (x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a])
-            if (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():  # folded or flat
-                return False
+        if closed:
+            lo, hi = start, end
+        else:
+            alpha = _slot_half_angle(params, rho)
+            lo, hi = start + alpha, end - alpha
+        theta = np.radians(lo + (sectors[:, None] + v) * (hi - lo) / m)  # (K, Nv)
+        x, y = rho * np.cos(theta), rho * np.sin(theta)
+        ab = (x[:, b] - x[:, a], y[:, b] - y[:, a])
+        ac = (x[:, c] - x[:, a], y[:, c] - y[:, a])
+        cross = ab[0] * ac[1] - ab[1] * ac[0]
+        longest = np.maximum.reduce(
+            [ab[0] ** 2 + ab[1] ** 2, ac[0] ** 2 + ac[1] ** 2,
+             (ac[0] - ab[0]) ** 2 + (ac[1] - ab[1]) ** 2]
+        )  # fmt: skip
+        if (cross <= 2e-9 * longest).any():  # folded or flat
+            return False
+        if not closed and (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():
+            return False
     return True
 
 
@@ -439,7 +494,7 @@ def layout(params: MeshParams) -> Layout:
         if s == "square_split_double_ring":
             rects, regions = _conforming_square_rects(params)
             xy = _rect_layout(template, rects)
-            ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
+            ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
             return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
         return _conforming_ring_layout(params, template)
     origins, regions = _paper_origins(params)
@@ -447,10 +502,27 @@ def layout(params: MeshParams) -> Layout:
     xy = _rect_layout(template, rects)
     if template.lattice:
         step = (h / template.segments, w / template.segments)
-        ids, rep = weld_lattice_patches(origins, step, template.segments, params.weld_tolerance)
+        ids, rep = _welded(
+            params, weld_lattice_patches, origins, step, template.segments, params.weld_tolerance
+        )
     else:
-        ids, rep = weld_points(xy.reshape(-1, 2), params.weld_tolerance)
+        ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
     return Layout(template, xy, regions.astype(np.int32), ids, rep, _corners(rects))
+
+
+def _welded(params: MeshParams, weld, *args) -> tuple[np.ndarray, np.ndarray]:
+    """``weld(*args)``, its chain error reworded when the user set no tolerance."""
+    try:
+        return weld(*args)
+    except ValueError as err:
+        if params.tolerance is not None:
+            raise
+        found = str(err).split("; points farther")[0]
+        raise ValueError(
+            f"{found}, with the default tolerance ({RELATIVE_TOLERANCE:g} of the structure's "
+            "size): patches nearly, but not exactly, coincide; move them apart with "
+            "angle_step, patch_size or the radii, or set a tolerance"
+        ) from None
 
 
 def _corners(rects: np.ndarray) -> np.ndarray:

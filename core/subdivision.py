@@ -237,3 +237,36 @@ def _counter_clockwise(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     flip = cross < 0
     out[flip] = out[flip][:, [0, 2, 1]]
     return out
+
+
+@lru_cache(maxsize=64)
+def edge_vectors(scheme: str, subdivisions: int, diagonal: str | None = None) -> np.ndarray:
+    """Distinct edge vectors of the sub-triangles, up to sign (cached).
+
+    Parameters
+    ----------
+    scheme, subdivisions : as for :func:`subdivide`
+    diagonal : str or None
+        ``"BC"`` or ``"AD"``: edges of the patch template, in (u, v) of the unit
+        square; ``None``: edges of one subdivided primary triangle, in its
+        barycentric coordinates (s, t).
+
+    Returns
+    -------
+    (K, 2) float64
+        A patch of sides (h, w) has its shortest edge at ``min |(h du, w dv)|``
+        over the rows; a triangle P0 P1 P2 at ``min |ds (P1 - P0) + dt (P2 - P0)|``.
+    """
+    if diagonal is None:
+        xy, tri = subdivide(scheme, subdivisions)
+    else:
+        template = patch_template(scheme, subdivisions, diagonal)
+        xy, tri = template.uv, template.triangles
+    d = (xy[tri[:, [1, 2, 0]]] - xy[tri]).reshape(-1, 2)
+    flip = (d[:, 0] < 0) | ((d[:, 0] == 0) & (d[:, 1] < 0))
+    d[flip] *= -1
+    key = np.round(d * 2**40).astype(np.int64)
+    _, first = np.unique(key, axis=0, return_index=True)
+    out = d[np.sort(first)]
+    out.flags.writeable = False
+    return out

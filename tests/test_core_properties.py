@@ -1,12 +1,23 @@
-"""Invariants over random valid parameters (hypothesis)."""
+"""Invariants over random parameters (hypothesis), valid and hostile.
+
+``make fuzz`` runs the hostile fuzz with 50,000 examples (``BARYMESH_FUZZ_EXAMPLES``).
+"""
+
+import dataclasses
+import os
+import tempfile
+from pathlib import Path
 
 import numpy as np
-from hypothesis import HealthCheck, assume, example, given, settings
+import pytest
+from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from core import MeshParams, build_mesh
+from core import STRUCTURES, MeshParams, build_mesh
+from core.io import read_mesh, write_mesh
 from core.structures import layout
+from core.topology import edge_topology
 from tests.helpers import assert_topology_matches_generic, signed_areas
 
 RINGS = ["ring", "double_ring", "split_ring", "split_double_ring", "square_split_double_ring"]
@@ -47,9 +58,9 @@ def expected_euler(p):
     if (
         rings == 2
         and p.mode == "conforming"
-        and p.outer_radius - p.inner_radius - p.patch_size < 1e-9
+        and abs(p.outer_radius - (p.inner_radius + p.patch_size)) <= p.weld_tolerance
     ):
-        rings = 1  # touching rings are welded into one band
+        rings = 1  # touching rings (within the welding tolerance) are glued into one band
     if p.structure in ("patch", "triangle"):
         return 1
     if p.structure in ("ring", "double_ring"):
@@ -114,3 +125,169 @@ def test_weld_merges_within_eps_and_never_beyond(p):
     assert moved.max() <= eps
     # and no two distinct vertices are within ε of each other
     assert len(cKDTree(mesh.points[:, :2]).query_pairs(eps)) == 0
+
+
+# -- hostile parameters: a clean error or a sound mesh ---------------------------------
+
+FIELDS = tuple(f.name for f in dataclasses.fields(MeshParams))
+#: Examples of the hostile fuzz: 2,000 in the normal run, 50,000 with ``make fuzz``.
+FUZZ_EXAMPLES = int(os.environ.get("BARYMESH_FUZZ_EXAMPLES", "2000"))
+#: Triangle budget inside the fuzz: large meshes are refused quickly, small ones checked fully.
+FUZZ_BUDGET = 4_000
+#: Meshes up to this size also go through a writer and back.
+ROUND_TRIP_LIMIT = 1_000
+WRITERS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
+
+NASTY = [0.0, -1.0, float("inf"), float("-inf"), float("nan"), 5e-324, 1e-320, 1e-200, 1e-15,
+         1e17, 1e300, 10**400, -(10**400), "4,5", [1, 2], True, np.array([1.0, 2.0])]  # fmt: skip
+
+
+def magnitude(lo=-320, hi=320):
+    """Floats spread over decades (mantissa times a power of ten), inf past float64."""
+    return st.builds(lambda m, e: m * 10.0**e if e < 308 else m * 1e300 * 10.0 ** (e - 300),
+                     st.floats(1.0, 9.99), st.integers(lo, hi))  # fmt: skip
+
+
+#: Values any parameter may be given by a hostile caller, beside its own extremes.
+WILD = st.one_of(magnitude(), st.sampled_from(NASTY))
+#: Extremes of each parameter a hostile caller may set (the others stay ordinary).
+EXTREMES = {
+    "inner_radius": WILD,
+    "outer_radius": WILD,
+    "patch_size": WILD,
+    "patch_width": WILD,
+    "gap_width": WILD,
+    "tolerance": st.one_of(WILD, st.sampled_from([0.05, 0.1, 0.0562, 1e-14])),
+    "angle_step": st.one_of(magnitude(-325, 3), st.sampled_from([1e-320, 5e-324, 0.0988, 361.0])),
+    "subdivisions": st.sampled_from([0, 65, 7, 2.0, 2.5, 10**400, "3", None]),
+    "gap_angle": st.one_of(magnitude(-5, 400), st.sampled_from(NASTY)),
+    "origin": st.one_of(st.tuples(magnitude(), magnitude()),
+                        st.sampled_from([(1e17, 0.0), (1.0,), "xy", (float("nan"), 0), None])),
+    "triangle_vertices": st.one_of(
+        st.lists(st.tuples(magnitude(), magnitude()), min_size=3, max_size=3),
+        st.sampled_from([[1, 2, 3], [(0, 0), (1, 0)], [(0, 0), (1, 1), (2, 2)], "abc"])),
+    "structure": st.sampled_from(["Ring", "", None, 3]),
+    "max_triangles": st.sampled_from([0, -1, 1, 2.5, True, 10**400]),
+}  # fmt: skip
+
+
+# strategies built once (building them inside the composite costs more than the mesh)
+SCALE = st.one_of(st.just(1.0), st.just(1.0), magnitude(-120, 120))
+RATIO = st.one_of(st.floats(0.05, 2.0), magnitude(-12, 1))
+RING_GAP = st.one_of(st.floats(0.0, 1.0), st.floats(0.0, 1e-6))
+OPENING = st.one_of(st.floats(0.01, 1.05), st.sampled_from([1 - 1e-9, 1 - 1e-8]))
+ANGLE_STEP = st.one_of(st.floats(2.0, 120.0), st.floats(0.05, 360.0),
+                       st.sampled_from([360.0, 120.0, 90.0, 60.0, 0.5, 0.2, 0.0988]))
+SUBDIVISIONS = st.one_of(st.integers(1, 4), st.integers(1, 64))
+GAP_ANGLE = st.one_of(st.sampled_from([0.0, 90.0, 180.0, 270.0, -90.0]), st.floats(-720, 720))
+ORIGIN = st.one_of(st.just((0.0, 0.0)), st.tuples(st.floats(-10, 10), st.floats(-10, 10)),
+                   st.tuples(magnitude(-3, 12), magnitude(-3, 12)))
+TRIANGLE = st.lists(st.tuples(st.floats(-10, 10), st.floats(-10, 10)), min_size=3, max_size=3)
+WILD_NAMES = st.one_of(st.just(()), st.lists(st.sampled_from(sorted(EXTREMES)), max_size=2))
+
+
+@st.composite
+def hostile(draw):
+    """Keyword arguments of MeshParams over every structure x mode x scheme x diagonal.
+
+    An ordinary structure, often scaled as a whole by up to 1e±120 or moved far
+    from the origin, with none, one or two parameters set to an extreme value.
+    """
+    structure = draw(st.sampled_from(STRUCTURES))
+    scale = draw(SCALE)
+    inner = draw(st.floats(0.3, 12.0))
+    size = inner * draw(RATIO)
+    scheme = draw(st.sampled_from(["uniform", "barycentric"]))
+    kw = dict(
+        structure=structure,
+        mode=draw(st.sampled_from(["paper", "conforming"])),
+        scheme=scheme,
+        diagonal=draw(st.sampled_from(["BC", "AD"])),
+        inner_radius=inner * scale,
+        outer_radius=(inner + size * (1 + 2 * draw(RING_GAP))) * scale,
+        patch_size=size * scale,
+        angle_step=draw(ANGLE_STEP),
+        subdivisions=draw(SUBDIVISIONS if scheme == "uniform" else st.integers(1, 3)),
+        gap_width=2 * inner * draw(OPENING) * scale,
+        gap_angle=draw(GAP_ANGLE),
+        origin=tuple(c * scale for c in draw(ORIGIN)),
+        max_triangles=FUZZ_BUDGET,
+    )
+    if draw(st.integers(0, 3)) == 0:
+        kw["tolerance"] = scale * draw(magnitude(-16, -1))
+    if draw(st.integers(0, 4)) == 0:
+        kw["patch_width"] = size * scale * draw(st.floats(0.1, 3.0))
+    if structure == "triangle" and draw(st.booleans()):
+        kw["triangle_vertices"] = [(x * scale, y * scale) for x, y in draw(TRIANGLE)]
+    for name in draw(WILD_NAMES):
+        kw[name] = draw(EXTREMES[name])
+    return kw
+
+
+def names_a_parameter(message):
+    return any(f"{name}=" in message for name in FIELDS) or "unknown parameter" in message
+
+
+def assert_sound(mesh, p):
+    """The mesh is finite, not flat, counter-clockwise, manifold in conforming mode, consistent."""
+    pts, tri = mesh.points, mesh.triangles
+    assert np.isfinite(pts).all()
+    corners = pts[tri][:, :, :2]
+    sides = corners[:, [1, 2, 0]] - corners
+    longest = (sides**2).sum(axis=2).max(axis=1)
+    area = signed_areas(mesh)
+    assert (area >= 1e-12 * longest).all(), "a triangle is clockwise or flat"
+    slow = edge_topology(tri, mesh.n_vertices)
+    if p.mode == "conforming":
+        assert slow.valence.max() <= 2, "an edge on three or more triangles"
+        assert len(np.unique(pts[:, :2], axis=0)) == mesh.n_vertices, "a duplicate vertex"
+    s = mesh.stats()
+    assert (s["triangles"], s["vertices"]) == (len(tri), len(pts))
+    assert s["edges"] == len(slow.edges)
+    assert s["edges"] == s["interior_edges"] + s["boundary_edges"] + s["junction_edges"]
+    assert s["euler_characteristic"] == len(pts) - len(slow.edges) + len(tri)
+    assert s["area"] == pytest.approx(area.sum(), rel=1e-9)
+    assert len(mesh.rwg) == s["interior_edges"]
+    conn = mesh.connectivity
+    assert (conn != conn.T).nnz == 0
+    if s["junction_edges"] == 0:
+        assert conn.nnz == 2 * s["interior_edges"]
+    if mesh._template is not None:  # the template fast path equals the general sort
+        fast = mesh.topology
+        assert np.array_equal(edge_rows(fast.edges, fast.edge_triangles, fast.valence),
+                              edge_rows(slow.edges, slow.edge_triangles, slow.valence))  # fmt: skip
+        assert np.array_equal(fast.edges[fast.triangle_edges], slow.edges[slow.triangle_edges])
+
+
+def edge_rows(edges, edge_triangles, valence):
+    """(E, 5) rows (v0, v1, t0, t1, valence) sorted by edge: order-free comparison."""
+    rows = np.column_stack([edges, edge_triangles, valence]).astype(np.int64)
+    return rows[np.lexsort(rows[:, 1::-1].T)]
+
+
+def assert_round_trip(mesh, ext):
+    with tempfile.TemporaryDirectory() as folder:
+        back = read_mesh(write_mesh(mesh, Path(folder) / f"mesh{ext}"))
+    assert (back.n_triangles, back.n_vertices) == (mesh.n_triangles, mesh.n_vertices)
+    assert back.stats()["area"] == pytest.approx(mesh.stats()["area"], rel=1e-6)
+    scale = np.abs(mesh.points).max()
+    got = np.sort(back.points[back.triangles].reshape(-1, 3), axis=0)
+    want = np.sort(mesh.points[mesh.triangles].reshape(-1, 3), axis=0)
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * scale)
+
+
+@settings(max_examples=FUZZ_EXAMPLES, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # fmt: skip
+@given(hostile(), st.sampled_from(WRITERS))
+def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
+    try:
+        p = MeshParams(**kw)
+        mesh = build_mesh(p)
+    except ValueError as err:
+        assert names_a_parameter(str(err)), str(err)
+        event(f"refused: {str(err).split('=')[0][-20:]}")
+        return
+    event(f"built: {p.mode} {'small' if mesh.n_triangles <= ROUND_TRIP_LIMIT else 'large'}")
+    assert_sound(mesh, p)
+    if mesh.n_triangles <= ROUND_TRIP_LIMIT:
+        assert_round_trip(mesh, ext)

@@ -1,0 +1,361 @@
+"""Regression tests of issue 10's core cases: never a wrong mesh, never a runaway.
+
+Each case is a parameter set a new user tried that gave a wrong mesh, a
+misleading message, an exception of another type or a memory blow-up. The
+fuzz in ``test_core_properties.py`` draws cases like these at random.
+"""
+
+import tracemalloc
+
+import numpy as np
+import pytest
+
+from core import MeshParams, build_mesh
+from core.invariants import MeshInvariantError, check_mesh, inverted_or_flat
+from core.mesh import TriMesh
+from core.topology import edge_topology
+from core.weld import merge_pairs, weld_points
+from tests.helpers import signed_areas
+
+#: The issue's budget: no structure may need more memory than this per triangle.
+BYTES_PER_TRIANGLE = 600
+
+
+def peak_bytes(fn):
+    """(result or exception, tracemalloc's peak in bytes) of calling ``fn``."""
+    tracemalloc.start()
+    try:
+        try:
+            out = fn()
+        except ValueError as err:
+            out = err
+        return out, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def assert_manifold_and_counter_clockwise(mesh):
+    assert (signed_areas(mesh) > 0).all()
+    topo = edge_topology(mesh.triangles, mesh.n_vertices)
+    assert topo.valence.max() == 2
+    assert len(np.unique(mesh.points[:, :2], axis=0)) == mesh.n_vertices
+
+
+# -- 1. inverted triangles -----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("structure", "levels", "angle_step", "sectors_per_ring"),
+    [
+        ("ring", 1, 120.0, 6),  # 12 of 36 triangles were clockwise with 3 sectors
+        ("double_ring", 2, 90.0, 13),  # 84 of 576 with 4 sectors per ring
+        ("double_ring", 3, 60.0, 13),  # 174 of 5,184 with 6 sectors per ring
+    ],
+)
+def test_barycentric_conforming_rings_are_counter_clockwise(
+    structure, levels, angle_step, sectors_per_ring
+):
+    p = MeshParams(
+        structure=structure,
+        mode="conforming",
+        scheme="barycentric",
+        subdivisions=levels,
+        angle_step=angle_step,
+    )
+    mesh = build_mesh(p)
+    rings = 2 if structure == "double_ring" else 1
+    # sectors narrower than asked until no sub-triangle folds: 2 primaries x 6**levels each
+    assert mesh.n_patches == rings * sectors_per_ring
+    assert mesh.n_triangles == rings * sectors_per_ring * 2 * 6**levels
+    assert p.predicted_triangles() == mesh.n_triangles
+    assert_manifold_and_counter_clockwise(mesh)
+    assert mesh.stats()["euler_characteristic"] == 0  # closed rings
+
+
+def test_invariant_check_refuses_a_clockwise_triangle_naming_the_parameters():
+    p = MeshParams(structure="patch", patch_size=2.0, subdivisions=1)
+    good = build_mesh(p)
+    flipped = good.triangles.copy()
+    flipped[1] = flipped[1, [0, 2, 1]]
+    bad = TriMesh(good.points, flipped, good.patch_ids, good.regions, 1, mode="paper")
+    with pytest.raises(MeshInvariantError, match=r"patch with patch_size=2\.0, subdivisions=1 "
+                       r"has 1 of 2 triangles clockwise or flat"):  # fmt: skip
+        check_mesh(bad, p)
+    assert isinstance(MeshInvariantError("x"), ValueError)
+
+
+def test_invariant_check_refuses_flat_and_non_finite_triangles():
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, 1e-13], [0.0, 1.0]])
+    # area 2.5e-14 is below 1e-12 x the longest edge squared (1): flat
+    assert inverted_or_flat(pts, np.array([[0, 1, 2], [0, 1, 3]])).tolist() == [0]
+    pts[3] = np.nan
+    assert inverted_or_flat(pts, np.array([[0, 1, 3]])).tolist() == [0]
+
+
+def test_invariant_check_refuses_a_conforming_junction():
+    p = MeshParams(structure="patch", mode="conforming", subdivisions=1)
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, -1.0], [1.0, 1.0]])
+    tri = np.array([[0, 1, 2], [0, 3, 1], [1, 4, 2]])
+    ok = TriMesh(pts, tri, np.zeros(3), np.ones(3), 1, mode="conforming")
+    check_mesh(ok, p)
+    third = np.array([[0, 1, 2], [0, 3, 1], [1, 4, 2], [0, 1, 4]])  # edge 0-1 on three
+    junction = TriMesh(pts, third, np.zeros(4), np.ones(4), 1, mode="conforming")
+    with pytest.raises(MeshInvariantError, match="edges on 3 triangles"):
+        check_mesh(junction, p)
+    twin = np.vstack([pts, pts[4]])  # vertex 5 at the same point as vertex 4
+    dup = TriMesh(twin, np.array([[0, 1, 2], [1, 5, 2]]), np.zeros(2), np.ones(2), 1,
+                  mode="conforming")  # fmt: skip
+    with pytest.raises(MeshInvariantError, match="1 vertices at the same point"):
+        check_mesh(dup, p)
+
+
+# -- 2. junctions in a conforming square ring ------------------------------------------
+
+
+@pytest.mark.parametrize("closeness", [1e-9, 1e-8])
+def test_square_ring_slot_leaving_slivers_is_refused_by_gap_width(closeness):
+    kw = dict(structure="square_split_double_ring", mode="conforming", inner_radius=1,
+              outer_radius=3)  # fmt: skip
+    with pytest.raises(ValueError, match=r"gap_width=1\.99999") as err:
+        MeshParams(**kw, gap_width=2 * (1 - closeness))
+    message = str(err.value)
+    assert "tolerance" not in message  # none was set
+    limit = float(message.split("expected gap_width <= ")[1].split(" mm")[0])
+    assert 1.9999 < limit < 2 * (1 - closeness)
+    # the limit itself meshes: watertight, no junction, no duplicate vertex
+    mesh = build_mesh(MeshParams(**kw, gap_width=limit))
+    assert_manifold_and_counter_clockwise(mesh)
+
+
+# -- 3. degenerate or non-finite meshes from validated values ----------------------------
+
+
+@pytest.mark.parametrize(
+    ("kw", "name"),
+    [
+        ({"structure": "patch", "origin": (1e17, 0)}, "origin"),
+        ({"structure": "patch", "patch_size": 1e-200}, "patch_size"),
+        ({"structure": "double_ring", "mode": "conforming", "patch_size": 1e-15}, "patch_size"),
+        ({"structure": "ring", "mode": "conforming", "inner_radius": 1e300}, "inner_radius"),
+        ({"structure": "patch", "patch_width": 1e300}, "patch_width"),
+        ({"structure": "ring", "mode": "conforming", "inner_radius": 1e-9}, "inner_radius"),
+    ],
+)
+def test_lengths_float64_cannot_mesh_are_refused(kw, name):
+    with pytest.raises(ValueError, match=rf"^{name}="):
+        MeshParams(**kw)
+
+
+@pytest.mark.parametrize("scale", [1e-60, 1e-6, 1e6, 1e60])
+def test_the_paper_structure_meshes_at_any_scale_float64_can_hold(scale):
+    p = MeshParams(inner_radius=4 * scale, outer_radius=9 * scale, patch_size=scale)
+    mesh = build_mesh(p)
+    # Fig. 12(a) at any scale: 720 patches of 32 triangles and 25 vertices, none welded
+    assert (mesh.n_triangles, mesh.n_vertices) == (23040, 18000)
+    s = mesh.stats()
+    assert s["area"] == pytest.approx(720 * scale**2)  # unit patches, none overlapping
+    assert all(np.isfinite(v) for v in s.values() if isinstance(v, float))
+
+
+def test_a_patch_far_from_the_origin_meshes_while_float64_resolves_it():
+    far = build_mesh(MeshParams(structure="patch", origin=(1e6, -1e6)))
+    assert far.n_triangles == 32 and (signed_areas(far) > 0.0299).all()  # 1/32 mm² each
+    with pytest.raises(ValueError, match="origin="):
+        MeshParams(structure="patch", origin=(1e8, 0))
+
+
+def test_tolerance_below_float64_rounding_is_refused():
+    with pytest.raises(ValueError, match=r"tolerance=1e-15 mm is too small"):
+        MeshParams(tolerance=1e-15)
+
+
+# -- 4. weld runaways ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {"structure": "ring", "angle_step": 0.5, "tolerance": 0.05},  # 4.8 GiB before
+        {"structure": "ring", "angle_step": 0.2, "tolerance": 0.1},  # 30 GiB before
+        {"tolerance": 0.1},  # Fig. 12(a), tolerance slider at its maximum
+        {"tolerance": 0.0562},  # slider position 32
+        {"tolerance": 0.03},
+        {"structure": "ring", "scheme": "barycentric", "subdivisions": 2, "angle_step": 0.2,
+         "tolerance": 0.0139},  # fmt: skip
+    ],
+)
+def test_a_chaining_tolerance_is_refused_in_bounded_memory(kw):
+    p = MeshParams(**{k: v for k, v in kw.items() if k != "tolerance"})
+    err, peak = peak_bytes(lambda: build_mesh(MeshParams(**kw)))
+    assert isinstance(err, ValueError)
+    assert f"tolerance={kw['tolerance']:g} mm joins a chain of near points" in str(err)
+    assert peak <= BYTES_PER_TRIANGLE * p.predicted_triangles()
+
+
+def test_patches_within_the_default_tolerance_are_refused_naming_the_radius():
+    # 3,644 patches within 2e-9 mm of each other tried to allocate 3.6 GiB
+    with pytest.raises(ValueError, match=r"^inner_radius=1e-09 mm and angle_step=0\.0988 put"):
+        MeshParams(structure="ring", inner_radius=1e-9, angle_step=0.0988, subdivisions=5)
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        # the heavily overlapping paper double ring of issue 10, item 5, welded up to
+        # just below its neighbours' distance (2.56e-5 mm)
+        {"structure": "double_ring", "inner_radius": 0.9159, "patch_size": 3.2376,
+         "outer_radius": 5.6588, "angle_step": 0.0568, "subdivisions": 2,
+         "tolerance": 2.5e-5},  # fmt: skip
+        {"structure": "square_split_double_ring", "tolerance": 0.1},
+        {"structure": "square_split_double_ring", "mode": "conforming", "tolerance": 0.1},
+        {"scheme": "barycentric", "subdivisions": 2, "tolerance": 0.002},
+    ],
+)
+def test_large_tolerances_that_do_not_chain_build_in_bounded_memory(kw):
+    mesh, peak = peak_bytes(lambda: build_mesh(MeshParams(**kw)))
+    assert isinstance(mesh, TriMesh)
+    assert peak <= BYTES_PER_TRIANGLE * mesh.n_triangles
+
+
+def test_weld_measures_a_long_chain_without_a_pairwise_matrix():
+    # 40,000 points 0.01 apart on a line: one chain, 400 long; all pairs would take 25 GB
+    n = 40_000
+    coords = np.column_stack([np.arange(n) * 0.01, np.zeros(n)])
+    err, peak = peak_bytes(lambda: weld_points(coords, 0.015))
+    assert "tolerance=0.015 mm joins a chain" in str(err)
+    assert "ends are 399.99 mm apart" in str(err)
+    assert peak < 20e6
+
+
+def test_weld_keeps_a_cluster_whose_diameter_is_just_below_the_tolerance():
+    # a regular 200-gon of diameter 0.999999: its bounding box diagonal exceeds 1
+    t = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    ring = 0.4999995 * np.column_stack([np.cos(t), np.sin(t)])
+    pairs = np.column_stack([np.zeros(199, dtype=int), np.arange(1, 200)])
+    ids, rep = merge_pairs(200, pairs, ring, 1.0)
+    assert len(rep) == 1 and (ids == 0).all()
+    with pytest.raises(ValueError, match="ends are 0.999999 mm apart"):
+        merge_pairs(200, pairs, ring, 0.9999985)
+
+
+# -- 11. exceptions that escaped as other types ------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kw", "name"),
+    [
+        ({"inner_radius": 10**400}, "inner_radius"),  # was OverflowError
+        ({"gap_angle": 10**400}, "gap_angle"),  # was OverflowError
+        ({"gap_angle": 1e300}, "gap_angle"),
+        ({"angle_step": 1e-320}, "angle_step"),  # was OverflowError
+        ({"tolerance": 10**400}, "tolerance"),
+        ({"structure": "triangle", "triangle_vertices": [1, 2, 3]}, "triangle_vertices"),
+        ({"structure": np.array(["ring", "patch"])}, "structure"),  # was "truth value ambiguous"
+        ({"subdivisions": 10**400}, "subdivisions"),
+        ({"origin": (10**400, 0)}, "origin"),
+        ({"structure": "patch", "patch_size": 5e-324}, "patch_size"),  # was scipy in build_mesh
+        ({"structure": "patch", "patch_size": 1e300}, "patch_size"),  # ditto
+    ],
+)
+def test_every_bad_parameter_is_a_value_error_naming_it(kw, name):
+    with pytest.raises(ValueError, match=rf"^{name}="):
+        MeshParams(**kw)
+
+
+@pytest.mark.parametrize(
+    ("data", "match"),
+    [
+        ({1: 2}, "unknown parameter 1"),  # was TypeError
+        ({1: 2, "radius": 3}, "unknown parameter"),  # mixed key types used to break sorting
+        ({"triangle_vertices": [1, 2, 3], "structure": "triangle"}, "triangle_vertices="),
+        ({"origin": 5}, "origin="),
+    ],
+)
+def test_from_dict_refuses_with_value_errors(data, match):
+    with pytest.raises(ValueError, match=match):
+        MeshParams.from_dict(data)
+
+
+def test_numpy_scalars_are_taken_as_numbers():
+    p = MeshParams(subdivisions=np.int64(3), max_triangles=np.int32(100_000),
+                   inner_radius=np.float32(4.0))  # fmt: skip
+    assert (p.subdivisions, p.max_triangles) == (3, 100_000)
+    assert type(p.subdivisions) is int and type(p.max_triangles) is int
+
+
+def test_a_chain_at_the_default_tolerance_does_not_blame_a_tolerance_nobody_set():
+    from core.structures import _welded
+
+    coords = np.column_stack([np.arange(100) * 0.01, np.zeros(100)])
+    with pytest.raises(ValueError, match=r"with the default tolerance \(1e-09 of the") as err:
+        _welded(MeshParams(), weld_points, coords, 0.015)
+    assert "use a smaller tolerance" not in str(err.value)
+    with pytest.raises(ValueError, match="use a smaller tolerance"):
+        _welded(MeshParams(tolerance=0.015), weld_points, coords, 0.015)
+
+
+@pytest.mark.parametrize("diagonal", ["BC", "AD"])
+@pytest.mark.parametrize("scheme", ["uniform", "barycentric"])
+def test_the_per_patch_check_finds_what_the_per_triangle_check_finds(diagonal, scheme):
+    from core.invariants import inverted_or_flat_patches
+    from core.structures import layout
+
+    p = MeshParams(structure="ring", angle_step=30, subdivisions=2, diagonal=diagonal,
+                   scheme=scheme)  # fmt: skip
+    lay = layout(p)
+    vmap = lay.vertex_of_point.reshape(len(lay.xy), -1)
+    mesh = build_mesh(p)
+    pts = mesh.points.copy()
+    assert inverted_or_flat_patches(pts, vmap, lay.template.triangles).tolist() == []
+    rng = np.random.default_rng(7)
+    for victim in rng.choice(mesh.n_vertices, 5, replace=False):
+        moved = pts.copy()
+        moved[victim, :2] += 0.6 * rng.standard_normal(2)  # folds some of its triangles
+        want = inverted_or_flat(moved, mesh.triangles)
+        got = inverted_or_flat_patches(moved, vmap, lay.template.triangles)
+        assert got.tolist() == want.tolist()
+    moved = pts.copy()
+    moved[vmap[3, 0]] = moved[vmap[3, 1]]  # a flat (zero-area) triangle
+    assert len(inverted_or_flat_patches(moved, vmap, lay.template.triangles)) > 0
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {"structure": "patch", "subdivisions": 64},
+        {"structure": "triangle", "subdivisions": 64},
+        {"structure": "ring", "angle_step": 0.25},
+        {"structure": "double_ring", "angle_step": 0.5},
+        {"structure": "split_ring", "angle_step": 0.25},
+        {"structure": "split_double_ring", "angle_step": 0.5},
+        {"structure": "square_split_double_ring", "patch_size": 0.1},
+        {"structure": "double_ring", "scheme": "barycentric", "subdivisions": 3, "angle_step": 5},
+    ],
+)
+@pytest.mark.parametrize("mode", ["paper", "conforming"])
+def test_every_structure_builds_within_the_memory_budget(kw, mode):
+    p = MeshParams(**kw, mode=mode)
+    build_mesh(p)  # templates are cached: measure the structure, not the first template
+    mesh, peak = peak_bytes(lambda: build_mesh(p))
+    assert mesh.n_triangles >= 4096  # large enough for fixed costs not to count
+    assert peak <= BYTES_PER_TRIANGLE * mesh.n_triangles
+
+
+def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
+    from core.invariants import glued_edge_valence
+    from core.structures import layout
+
+    p = MeshParams(structure="ring", mode="conforming", angle_step=30, subdivisions=3)
+    lay = layout(p)
+    vmap = lay.vertex_of_point.reshape(len(lay.xy), -1)
+    n_vertices = len(lay.representative)
+    assert glued_edge_valence(lay.template, vmap, n_vertices) == 2  # a closed band
+    twice = np.vstack([vmap, vmap[:1]])  # sector 0 again: its inner edges on 4 triangles
+    assert glued_edge_valence(lay.template, twice, n_vertices) == 4
+    # a sector glued to one more neighbour at its side: that side's edges on 3
+    third = vmap[1].copy()
+    third[lay.template.sides[2]] = vmap[0, lay.template.sides[2]]
+    third[lay.template.sides[0]] = n_vertices + np.arange(lay.template.sides.shape[1])
+    interior = np.setdiff1d(np.arange(vmap.shape[1]), lay.template.sides[[0, 2]].ravel())
+    third[interior] = n_vertices + 100 + interior
+    assert glued_edge_valence(lay.template, np.vstack([vmap, third]), n_vertices + 200) == 3
