@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, event, given, settings
+from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
 from core import MeshParams, TriMesh, build_mesh
@@ -138,3 +140,98 @@ def test_quality_of_structures_equals_the_reference_bit_for_bit(params):
     expect = reference_quality(fresh.points, fresh.triangles)
     assert_same_bits(fresh.quality, expect)
     assert_same_bits(after_stats.quality, expect)
+
+
+# -- stats() of unwelded translated copies: one patch measured instead of all ----------
+
+SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+STATS_KEYS_EXACT = ("edges", "interior_edges", "boundary_edges", "junction_edges")
+STATS_KEYS_CLOSE = ("min_edge", "max_edge", "min_angle_deg", "max_aspect_ratio", "area")
+
+
+def assert_stats_agree(fast, mesh):
+    full = mesh._measured_stats()
+    for key in STATS_KEYS_EXACT:
+        assert fast[key] == full[key], key
+    for key in STATS_KEYS_CLOSE:
+        assert fast[key] == pytest.approx(full[key], rel=1e-12, abs=0.0), key
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(),  # Fig. 12(a)
+        MeshParams(structure="double_ring", mode="paper", subdivisions=4, angle_step=0.5),
+        MeshParams(structure="double_ring", mode="paper", subdivisions=32, angle_step=20.0),
+        MeshParams(structure="ring", mode="paper", patch_size=0.3, origin=(4.0, -2.5)),
+        MeshParams(structure="split_double_ring", mode="paper", subdivisions=3, diagonal="AD"),
+        MeshParams(structure="patch", mode="paper", subdivisions=7),
+    ],
+)
+def test_stats_of_translated_copies_equal_the_measured_ones(params):
+    mesh = build_mesh(params)
+    fast = mesh._copy_stats()
+    assert fast is not None  # these layouts weld nothing: the fast path must be taken
+    assert_stats_agree(fast, mesh)
+    stats = build_mesh(params).stats()
+    assert {k: stats[k] for k in fast} == fast
+    assert stats["euler_characteristic"] == mesh.n_vertices - fast["edges"] + mesh.n_triangles
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(structure="square_split_double_ring", mode="paper", patch_size=0.5),  # welded
+        MeshParams(structure="double_ring", mode="conforming"),  # sectors, not translations
+        MeshParams(structure="split_ring", mode="conforming", scheme="barycentric"),
+    ],
+)
+def test_stats_fast_path_declines_welded_and_deformed_patches(params):
+    mesh = build_mesh(params)
+    assert mesh._copy_stats() is None
+    stats = mesh.stats()
+    assert {k: stats[k] for k in STATS_KEYS_EXACT + STATS_KEYS_CLOSE} == mesh._measured_stats()
+
+
+@pytest.mark.parametrize("shift", [1e-9, 1e-3])
+def test_stats_fast_path_declines_a_patch_moved_out_of_shape(shift):
+    # one vertex of the last patch nudged: that patch is no longer a translated copy
+    mesh = build_mesh(MeshParams(angle_step=30.0))
+    points = mesh.points.copy()
+    points[-1, 1] += shift
+    moved = TriMesh(
+        points, mesh.triangles, mesh.patch_ids, mesh.regions, mesh.n_patches,
+        mesh.mode, mesh.tolerance, mesh.patch_rects, _template=mesh._template,
+    )  # fmt: skip
+    assert moved._copy_stats() is None
+    assert moved.stats()["min_angle_deg"] == float(moved.min_angles.min())
+
+
+@SETTINGS
+@given(
+    structure=st.sampled_from(["ring", "double_ring", "split_ring", "split_double_ring"]),
+    inner=st.floats(0.8, 30.0),
+    size=st.floats(0.02, 2.0),
+    angle_step=st.floats(0.05, 120.0),
+    subdivisions=st.integers(1, 12),
+    diagonal=st.sampled_from(["BC", "AD"]),
+    scheme=st.sampled_from(["uniform", "barycentric"]),
+    origin=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+)
+def test_stats_fast_path_agrees_on_random_paper_rings(
+    structure, inner, size, angle_step, subdivisions, diagonal, scheme, origin
+):
+    try:
+        params = MeshParams(
+            structure=structure, mode="paper", inner_radius=inner, outer_radius=inner + 2 * size,
+            patch_size=size, angle_step=angle_step, subdivisions=subdivisions,
+            diagonal=diagonal, scheme=scheme, origin=origin, gap_width=0.5 * inner,
+            max_triangles=200_000,
+        )  # fmt: skip
+        mesh = build_mesh(params)
+    except ValueError:
+        assume(False)
+    fast = mesh._copy_stats()
+    event("fast path" if fast is not None else "full path")
+    if fast is not None:
+        assert_stats_agree(fast, mesh)
