@@ -11,7 +11,7 @@ import scipy.sparse as sp
 
 from .assembly import patch_topology
 from .overlap import union_area
-from .quality import TriangleQuality, triangle_quality
+from .quality import TriangleQuality, quality_and_side_range, triangle_quality
 from .subdivision import PatchTemplate
 from .topology import (
     BLOCK,
@@ -19,6 +19,7 @@ from .topology import (
     EdgeTopology,
     RWGTable,
     edge_topology,
+    patch_edge_counts,
     rwg_table,
     segment_lengths,
     triangle_adjacency,
@@ -186,13 +187,17 @@ class TriMesh:
     def topology(self) -> EdgeTopology:
         """Edges and their incidence (see :class:`core.topology.EdgeTopology`)."""
         if self._template is not None:
-            corners = self.triangles.reshape(self.n_patches, -1)
-            # the template's triangles cover all its vertices: recover the patch vertex
-            # map by taking, for each local vertex, one triangle corner where it sits
-            _, where = np.unique(self._template.triangles.ravel(), return_index=True)
-            vmap = corners.take(where, axis=1)
-            return patch_topology(self._template, vmap, self.n_vertices)
+            return patch_topology(self._template, self._vertex_map, self.n_vertices)
         return edge_topology(self.triangles, self.n_vertices)
+
+    @property
+    def _vertex_map(self) -> np.ndarray:
+        """(P, Nv) int: global vertex of each template vertex of each patch."""
+        corners = self.triangles.reshape(self.n_patches, -1)
+        # the template's triangles cover all its vertices: recover the patch vertex
+        # map by taking, for each local vertex, one triangle corner where it sits
+        _, where = np.unique(self._template.triangles.ravel(), return_index=True)
+        return corners.take(where, axis=1)
 
     @property
     def edges(self) -> np.ndarray:
@@ -271,8 +276,7 @@ class TriMesh:
             return None
         # the patch vertex map, as the template topology recovers it: unwelded means
         # patch p owns vertices p Nv ... p Nv + Nv - 1 in template order
-        _, where = np.unique(t.triangles.ravel(), return_index=True)
-        vmap = self.triangles.reshape(n_p, -1).take(where, axis=1)
+        vmap = self._vertex_map
         rows = max(1, BLOCK // nv)
         local = np.arange(nv, dtype=INDEX)
         deviation, extent = 0.0, 0.0
@@ -310,18 +314,37 @@ class TriMesh:
         }
 
     def _measured_stats(self) -> dict[str, Any]:
-        """Topology counts and quality aggregates from every edge and triangle."""
-        topo = self.topology
-        lengths = self.edge_lengths
+        """Topology counts and quality aggregates from every edge and triangle.
+
+        A mesh of patch copies whose edges are not known yet counts them without
+        making them (:func:`core.topology.patch_edge_counts`) and takes its shortest
+        and longest edge from the triangle sides of the quality pass, which is
+        cached; other meshes find their edges.
+        """
+        t = self._template
+        counts, side_range = None, None
+        if t is not None and "topology" not in self.__dict__:
+            counts = patch_edge_counts(t.edges, t.valence, self._vertex_map, self.n_vertices)
+            if "quality" not in self.__dict__:
+                q, shortest, longest = quality_and_side_range(
+                    self.points, self.triangles, self._columns
+                )
+                # what the cached property would hold: the same values, bit for bit
+                self.__dict__["quality"] = TriangleQuality(*(_frozen(a) for a in q))
+                side_range = (shortest, longest) if self.n_triangles else (0.0, 0.0)
+        if counts is None:
+            counts = np.bincount(self.topology.valence, minlength=3)  # one pass, not three
+        if side_range is None:
+            lengths = self.edge_lengths
+            side_range = (lengths.min(), lengths.max()) if len(lengths) else (0.0, 0.0)
         empty = self.n_triangles == 0
-        valence = np.bincount(topo.valence, minlength=3)  # one pass instead of three
         return {
-            "edges": int(len(topo.edges)),
-            "interior_edges": int(valence[2]),
-            "boundary_edges": int(valence[1]),
-            "junction_edges": int(valence[3:].sum()),
-            "min_edge": float(lengths.min()) if len(lengths) else 0.0,
-            "max_edge": float(lengths.max()) if len(lengths) else 0.0,
+            "edges": int(counts.sum()),
+            "interior_edges": int(counts[2]),
+            "boundary_edges": int(counts[1]),
+            "junction_edges": int(counts[3:].sum()),
+            "min_edge": float(side_range[0]),
+            "max_edge": float(side_range[1]),
             "min_angle_deg": 0.0 if empty else float(self.min_angles.min()),
             "max_aspect_ratio": 0.0 if empty else float(self.aspect_ratios.max()),
             "area": float(self.areas.sum()),

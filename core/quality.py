@@ -99,10 +99,43 @@ def triangle_quality(
     >>> float(q.areas[0]), round(float(q.min_angles_deg[0]), 9)
     (0.5, 45.0)
     """
+    return _quality(points, triangles, columns, edge_lengths, triangle_edges)[0]
+
+
+def quality_and_side_range(
+    points: np.ndarray, triangles: np.ndarray, columns: list[np.ndarray] | None = None
+) -> tuple[TriangleQuality, float, float]:
+    """:func:`triangle_quality` and the shortest and longest triangle side, in one pass.
+
+    Every edge of a mesh is a side of one of its triangles and a side's length is
+    computed from the same sum of squares as the edge's, so these are the mesh's
+    shortest and longest edge, bit for bit, without finding its edges.
+    (inf, -inf) when there is no triangle.
+
+    Parameters
+    ----------
+    points : (V, 2) or (V, 3) float64
+    triangles : (T, 3) int
+    columns : list of (V,) float64, optional
+        As for :func:`triangle_quality`.
+    """
+    q, (shortest, longest) = _quality(points, triangles, columns)
+    return q, float(shortest), float(longest)
+
+
+def _quality(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+    edge_lengths: np.ndarray | None = None,
+    triangle_edges: np.ndarray | None = None,
+) -> tuple[TriangleQuality, tuple[float, float]]:
+    """The loop of :func:`triangle_quality`, also keeping the shortest and longest side."""
     points = np.asarray(points)
     triangles = np.asarray(triangles)
     n = len(triangles)
     out = TriangleQuality(np.empty(n), np.empty(n), np.empty(n))
+    side_range = (np.inf, -np.inf)
     if columns is None:
         columns = [np.ascontiguousarray(points[:, k]) for k in range(points.shape[1])]
         if len(columns) == 3 and not columns[2].any():
@@ -113,6 +146,7 @@ def triangle_quality(
         (l0, l1, l2), area = _sides_and_areas(columns, triangles[lo:hi], edge_lengths, sides_of)
         longest = np.maximum(np.maximum(l0, l1), l2)
         shortest = np.minimum(np.minimum(l0, l1), l2)
+        side_range = (min(side_range[0], shortest.min()), max(side_range[1], longest.max()))
         perimeter = l0 + l1 + l2
         middle = perimeter - longest - shortest
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -123,4 +157,4 @@ def triangle_quality(
         angle[~np.isfinite(angle)] = 0.0
         out.areas[lo:hi] = area
         out.min_angles_deg[lo:hi] = angle
-    return out
+    return out, side_range

@@ -7,9 +7,11 @@ from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
 from core import MeshParams, TriMesh, build_mesh
-from core.quality import triangle_quality
+from core.quality import quality_and_side_range, triangle_quality
 from core.structures import _paper_origins
+from core.topology import edge_topology, segment_lengths
 from core.weld import _lattice_candidates, _window_candidates, merge_pairs
+from tests.test_core_properties import params
 
 
 def kd_tree_candidates(origins, frac, reach, radius):
@@ -235,3 +237,67 @@ def test_stats_fast_path_agrees_on_random_paper_rings(
     event("fast path" if fast is not None else "full path")
     if fast is not None:
         assert_stats_agree(fast, mesh)
+
+
+# -- stats() of other patch structures: edges counted, not made -------------------------
+
+
+def general_stats(params):
+    """Counts from the general edge finder and extremes from every edge, as first written."""
+    mesh = build_mesh(params)
+    topo = edge_topology(mesh.triangles, mesh.n_vertices)
+    lengths = segment_lengths(mesh.points, topo.edges)
+    valence = np.bincount(topo.valence, minlength=4)
+    return mesh, {
+        "edges": len(topo.edges),
+        "interior_edges": int(valence[2]),
+        "boundary_edges": int(valence[1]),
+        "junction_edges": int(valence[3:].sum()),
+        "min_edge": float(lengths.min()),
+        "max_edge": float(lengths.max()),
+    }
+
+
+def assert_counted_stats_equal_the_general_ones(params):
+    mesh, expect = general_stats(params)
+    fresh = build_mesh(params)
+    got = fresh._measured_stats()  # the counting path: no edges made
+    assert "topology" not in fresh.__dict__
+    assert {k: got[k] for k in expect} == expect  # counts and extremes bit for bit
+    assert_same_bits(fresh.quality, mesh.quality)
+    stats = build_mesh(params).stats()
+    assert {k: stats[k] for k in STATS_KEYS_EXACT} == {k: expect[k] for k in STATS_KEYS_EXACT}
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(structure="square_split_double_ring", mode="paper", patch_size=0.5),  # welded
+        MeshParams(structure="square_split_double_ring", mode="paper", gap_angle=90.0),
+        MeshParams(structure="double_ring", mode="conforming", subdivisions=3),
+        MeshParams(structure="split_double_ring", mode="conforming", scheme="barycentric"),
+        MeshParams(structure="double_ring", mode="conforming", outer_radius=5.0),  # touching
+        MeshParams(structure="double_ring", mode="paper", angle_step=30.0),
+        MeshParams(structure="patch", mode="paper", subdivisions=5),
+    ],
+)
+def test_counted_stats_equal_the_general_edge_finder(params):
+    assert_counted_stats_equal_the_general_ones(params)
+
+
+@SETTINGS
+@given(params())
+def test_counted_stats_equal_the_general_edge_finder_on_random_parameters(p):
+    assume(p.structure != "triangle")  # one patch without a template
+    assert_counted_stats_equal_the_general_ones(p)
+
+
+def test_side_range_is_the_edge_range_bit_for_bit():
+    rng = np.random.default_rng(3)
+    points = rng.normal(size=(400, 3))
+    triangles = rng.integers(0, 400, (3000, 3))
+    topo = edge_topology(triangles, 400)
+    lengths = segment_lengths(points, topo.edges)
+    q, shortest, longest = quality_and_side_range(points, triangles)
+    assert (shortest, longest) == (lengths.min(), lengths.max())
+    assert_same_bits(q, triangle_quality(points, triangles))
