@@ -11,7 +11,7 @@ import scipy.sparse as sp
 
 from .assembly import patch_topology
 from .overlap import union_area
-from .quality import TriangleQuality, quality_and_side_range, triangle_quality
+from .quality import TriangleQuality, quality_summary, triangle_quality
 from .subdivision import PatchTemplate
 from .topology import (
     BLOCK,
@@ -316,28 +316,29 @@ class TriMesh:
     def _measured_stats(self) -> dict[str, Any]:
         """Topology counts and quality aggregates from every edge and triangle.
 
-        A mesh of patch copies whose edges are not known yet counts them without
-        making them (:func:`core.topology.patch_edge_counts`) and takes its shortest
-        and longest edge from the triangle sides of the quality pass, which is
-        cached; other meshes find their edges.
+        A mesh of patch copies whose edges and quality are not known yet counts its
+        edges without making them (:func:`core.topology.patch_edge_counts`) and
+        reduces the quality block by block (:func:`core.quality.quality_summary`,
+        whose side range is the edge range); the per-triangle arrays stay lazy.
+        Other meshes find their edges and use the cached per-triangle quality.
         """
         t = self._template
-        counts, side_range = None, None
-        if t is not None and "topology" not in self.__dict__:
+        known = "topology" in self.__dict__ or "quality" in self.__dict__
+        if t is not None and not known:
             counts = patch_edge_counts(t.edges, t.valence, self._vertex_map, self.n_vertices)
-            if "quality" not in self.__dict__:
-                q, shortest, longest = quality_and_side_range(
-                    self.points, self.triangles, self._columns
-                )
-                # what the cached property would hold: the same values, bit for bit
-                self.__dict__["quality"] = TriangleQuality(*(_frozen(a) for a in q))
-                side_range = (shortest, longest) if self.n_triangles else (0.0, 0.0)
-        if counts is None:
+            s = quality_summary(self.points, self.triangles, self._columns)
+            summary = s.min_angle_deg, s.max_aspect_ratio, s.area
+            side_range = s.shortest_side, s.longest_side
+        else:
             counts = np.bincount(self.topology.valence, minlength=3)  # one pass, not three
-        if side_range is None:
             lengths = self.edge_lengths
             side_range = (lengths.min(), lengths.max()) if len(lengths) else (0.0, 0.0)
-        empty = self.n_triangles == 0
+            empty = self.n_triangles == 0
+            summary = (
+                0.0 if empty else self.min_angles.min(),
+                0.0 if empty else self.aspect_ratios.max(),
+                self.areas.sum(),
+            )
         return {
             "edges": int(counts.sum()),
             "interior_edges": int(counts[2]),
@@ -345,9 +346,9 @@ class TriMesh:
             "junction_edges": int(counts[3:].sum()),
             "min_edge": float(side_range[0]),
             "max_edge": float(side_range[1]),
-            "min_angle_deg": 0.0 if empty else float(self.min_angles.min()),
-            "max_aspect_ratio": 0.0 if empty else float(self.aspect_ratios.max()),
-            "area": float(self.areas.sum()),
+            "min_angle_deg": float(summary[0]),
+            "max_aspect_ratio": float(summary[1]),
+            "area": float(summary[2]),
         }
 
     def stats(self) -> dict[str, Any]:

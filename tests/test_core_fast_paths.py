@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
 from core import MeshParams, TriMesh, build_mesh
-from core.quality import quality_and_side_range, triangle_quality
+from core.quality import quality_summary, triangle_quality
 from core.structures import _paper_origins
 from core.topology import edge_topology, segment_lengths
 from core.weld import _lattice_candidates, _window_candidates, merge_pairs
@@ -144,19 +144,44 @@ def test_quality_of_structures_equals_the_reference_bit_for_bit(params):
     assert_same_bits(after_stats.quality, expect)
 
 
-# -- stats() of unwelded translated copies: one patch measured instead of all ----------
+# -- stats(): aggregates without the per-triangle arrays, checked against the general path
+
 
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 STATS_KEYS_EXACT = ("edges", "interior_edges", "boundary_edges", "junction_edges")
 STATS_KEYS_CLOSE = ("min_edge", "max_edge", "min_angle_deg", "max_aspect_ratio", "area")
 
 
-def assert_stats_agree(fast, mesh):
-    full = mesh._measured_stats()
+def general_stats(mesh):
+    """The stats' counts and figures from the general edge finder and every triangle."""
+    topo = edge_topology(mesh.triangles, mesh.n_vertices)
+    lengths = segment_lengths(mesh.points, topo.edges)
+    valence = np.bincount(topo.valence, minlength=4)
+    q = triangle_quality(mesh.points, mesh.triangles)
+    return {
+        "edges": len(topo.edges),
+        "interior_edges": int(valence[2]),
+        "boundary_edges": int(valence[1]),
+        "junction_edges": int(valence[3:].sum()),
+        "min_edge": float(lengths.min()),
+        "max_edge": float(lengths.max()),
+        "min_angle_deg": float(q.min_angles_deg.min()),
+        "max_aspect_ratio": float(q.aspect_ratios.max()),
+        "area": float(q.areas.sum()),
+    }
+
+
+def assert_stats_agree(got, mesh, edge_range_bits=False):
+    expect = general_stats(mesh)
     for key in STATS_KEYS_EXACT:
-        assert fast[key] == full[key], key
+        assert got[key] == expect[key], key
     for key in STATS_KEYS_CLOSE:
-        assert fast[key] == pytest.approx(full[key], rel=1e-12, abs=0.0), key
+        assert got[key] == pytest.approx(expect[key], rel=1e-12, abs=0.0), key
+    if edge_range_bits:
+        assert (got["min_edge"], got["max_edge"]) == (expect["min_edge"], expect["max_edge"])
+
+
+# unwelded translated copies (the paper rings): one patch measured instead of all
 
 
 @pytest.mark.parametrize(
@@ -170,7 +195,7 @@ def assert_stats_agree(fast, mesh):
         MeshParams(structure="patch", mode="paper", subdivisions=7),
     ],
 )
-def test_stats_of_translated_copies_equal_the_measured_ones(params):
+def test_stats_of_translated_copies_equal_the_general_ones(params):
     mesh = build_mesh(params)
     fast = mesh._copy_stats()
     assert fast is not None  # these layouts weld nothing: the fast path must be taken
@@ -189,10 +214,7 @@ def test_stats_of_translated_copies_equal_the_measured_ones(params):
     ],
 )
 def test_stats_fast_path_declines_welded_and_deformed_patches(params):
-    mesh = build_mesh(params)
-    assert mesh._copy_stats() is None
-    stats = mesh.stats()
-    assert {k: stats[k] for k in STATS_KEYS_EXACT + STATS_KEYS_CLOSE} == mesh._measured_stats()
+    assert build_mesh(params)._copy_stats() is None
 
 
 @pytest.mark.parametrize("shift", [1e-9, 1e-3])
@@ -206,7 +228,7 @@ def test_stats_fast_path_declines_a_patch_moved_out_of_shape(shift):
         mesh.mode, mesh.tolerance, mesh.patch_rects, _template=mesh._template,
     )  # fmt: skip
     assert moved._copy_stats() is None
-    assert moved.stats()["min_angle_deg"] == float(moved.min_angles.min())
+    assert_stats_agree(moved.stats(), moved)
 
 
 @SETTINGS
@@ -239,34 +261,16 @@ def test_stats_fast_path_agrees_on_random_paper_rings(
         assert_stats_agree(fast, mesh)
 
 
-# -- stats() of other patch structures: edges counted, not made -------------------------
-
-
-def general_stats(params):
-    """Counts from the general edge finder and extremes from every edge, as first written."""
-    mesh = build_mesh(params)
-    topo = edge_topology(mesh.triangles, mesh.n_vertices)
-    lengths = segment_lengths(mesh.points, topo.edges)
-    valence = np.bincount(topo.valence, minlength=4)
-    return mesh, {
-        "edges": len(topo.edges),
-        "interior_edges": int(valence[2]),
-        "boundary_edges": int(valence[1]),
-        "junction_edges": int(valence[3:].sum()),
-        "min_edge": float(lengths.min()),
-        "max_edge": float(lengths.max()),
-    }
+# other patch structures: edges counted, not made; quality reduced, not stored
 
 
 def assert_counted_stats_equal_the_general_ones(params):
-    mesh, expect = general_stats(params)
-    fresh = build_mesh(params)
-    got = fresh._measured_stats()  # the counting path: no edges made
-    assert "topology" not in fresh.__dict__
-    assert {k: got[k] for k in expect} == expect  # counts and extremes bit for bit
-    assert_same_bits(fresh.quality, mesh.quality)
+    mesh = build_mesh(params)
+    got = mesh._measured_stats()
+    assert "topology" not in mesh.__dict__ and "quality" not in mesh.__dict__  # stayed lazy
+    assert_stats_agree(got, mesh, edge_range_bits=True)
     stats = build_mesh(params).stats()
-    assert {k: stats[k] for k in STATS_KEYS_EXACT} == {k: expect[k] for k in STATS_KEYS_EXACT}
+    assert_stats_agree(stats, mesh)
 
 
 @pytest.mark.parametrize(
@@ -292,12 +296,29 @@ def test_counted_stats_equal_the_general_edge_finder_on_random_parameters(p):
     assert_counted_stats_equal_the_general_ones(p)
 
 
-def test_side_range_is_the_edge_range_bit_for_bit():
-    rng = np.random.default_rng(3)
-    points = rng.normal(size=(400, 3))
-    triangles = rng.integers(0, 400, (3000, 3))
-    topo = edge_topology(triangles, 400)
-    lengths = segment_lengths(points, topo.edges)
-    q, shortest, longest = quality_and_side_range(points, triangles)
-    assert (shortest, longest) == (lengths.min(), lengths.max())
-    assert_same_bits(q, triangle_quality(points, triangles))
+@pytest.mark.parametrize("scale", [1.0, 1e-160])
+@pytest.mark.parametrize("dims", [2, 3])
+def test_quality_summary_equals_the_reductions_of_the_per_triangle_quality(scale, dims):
+    # random triangles, slivers and repeated corners (undefined angles), tiny and large
+    rng = np.random.default_rng(10 + dims)
+    points = rng.normal(size=(400, dims)) * scale
+    triangles = rng.integers(0, 400, (160_000, 3))
+    distinct = (triangles[:, 0] != triangles[:, 1]) & (triangles[:, 1] != triangles[:, 2])
+    triangles = triangles[distinct & (triangles[:, 2] != triangles[:, 0])]  # > two blocks
+    q = triangle_quality(points, triangles)
+    lengths = segment_lengths(points, edge_topology(triangles, 400).edges)
+    for degenerate in (False, True):
+        if degenerate:
+            triangles[70_000, 2] = triangles[70_000, 1]  # a zero side: aspect ratio inf
+            triangles[90_000, :] = triangles[90_000, 0]  # a point: angle 0/0 (0), aspect NaN
+            q = triangle_quality(points, triangles)
+            lengths = segment_lengths(points, edge_topology(triangles, 400).edges)
+        s = quality_summary(points, triangles)
+        assert (s.shortest_side, s.longest_side) == (lengths.min(), lengths.max())
+        assert s.min_angle_deg == pytest.approx(float(q.min_angles_deg.min()), rel=1e-12)
+        if scale == 1.0:  # (at 1e-160 the area of 3-D triangles underflows to 0)
+            assert (s.min_angle_deg > 0.0) != degenerate
+        assert s.area == pytest.approx(float(q.areas.sum()), rel=1e-12)
+        assert np.array_equal(s.max_aspect_ratio, q.aspect_ratios.max(), equal_nan=True)
+        assert np.isnan(s.max_aspect_ratio) == degenerate
+    assert quality_summary(points, triangles[:0]) == (0.0,) * 5
