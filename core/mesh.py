@@ -279,7 +279,9 @@ class TriMesh:
         vmap = self._vertex_map
         rows = max(1, BLOCK // nv)
         local = np.arange(nv, dtype=INDEX)
-        deviation, extent = 0.0, 0.0
+        # reductions gathered into arrays, so that a NaN anywhere makes the check fail
+        extent = np.max([[x.max(), -x.min()] for x in self._columns])
+        deviations = []
         columns = [x.reshape(n_p, nv) for x in self._columns]
         firsts = [x[0] - x[0, 0] for x in columns]
         for lo in range(0, n_p, rows):
@@ -291,12 +293,11 @@ class TriMesh:
                 block = x[lo : lo + rows]
                 rel = block - block[:, :1]
                 rel -= first
-                deviation = max(deviation, float(np.abs(rel).max()))
-                extent = max(extent, float(np.abs(block).max()))
+                deviations += [rel.max(), -rel.min()]
         pts = self.points[:nv]
         lengths = segment_lengths(pts, t.edges)
         shortest = float(lengths.min()) if len(lengths) else 0.0
-        slack = deviation + 2.0 * np.finfo(np.float64).eps * extent
+        slack = np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent
         if not (shortest > 0 and slack <= _COPY_TOLERANCE * shortest):
             return None
         q = triangle_quality(pts, t.triangles)
