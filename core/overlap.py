@@ -191,32 +191,35 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     lb[:-1] = np.where(last[:-1], 0, lb_here[1:])
     lt[:-1] = np.where(last[:-1], 0, lt_here[1:])
 
-    # rank -> reach length in the piece's cell
-    y1_sorted = np.sort(y1)
-    y0_desc = np.sort(y0)[::-1]
+    # rank -> reach length in the piece's cell: rank 0 (none) reaches nothing and rank
+    # n + 1 (full) the whole cell, by infinite sentinels clipped to [0, height]; inside
+    # a cell every reach grows with its rank, so the longer of two reaches is the reach
+    # of the larger rank
+    y1_up = np.concatenate([[-np.inf], np.sort(y1), [np.inf]])  # by bottom-piece rank
+    y0_down = np.concatenate([[np.inf], np.sort(y0)[::-1], [-np.inf]])  # by top-piece rank
 
-    def reach(rank: np.ndarray, at: np.ndarray | slice, below: bool) -> np.ndarray:
-        """Length reached into the cell of pieces ``at`` by the piece of rank ``rank``."""
-        edge = y1_sorted if below else y0_desc
-        y = edge.take(np.clip(rank - 1, 0, n - 1))
-        inner = y - bottom[at] if below else top[at] - y
-        return np.where(rank == 0, 0.0, np.where(rank == full, height[at], inner))
-
-    def covered(rb_: np.ndarray, lb_: np.ndarray, rt_: np.ndarray, lt_: np.ndarray, at):
-        g = np.maximum(reach(rb_, at, True), reach(lb_, at, True))
-        t = np.maximum(reach(rt_, at, False), reach(lt_, at, False))
-        return np.minimum(height[at], g + t)
+    def covered(b_rank_: np.ndarray, t_rank_: np.ndarray, at) -> np.ndarray:
+        """Length of the cell's height covered by the bottom and the top family."""
+        g = y1_up.take(b_rank_)
+        g -= bottom[at]
+        np.clip(g, 0.0, height[at], out=g)
+        t = y0_down.take(t_rank_)
+        np.subtract(top[at], t, out=t)
+        np.clip(t, 0.0, height[at], out=t)
+        g += t
+        return np.minimum(height[at], g, out=g)
 
     # the stretch after each piece's event, up to the next event or the cell's right side
     nxt = np.empty(m)
     nxt[:-1] = event[1:]
     nxt[last] = right[last]
+    nxt -= event
     everything = slice(None)
-    area = float(((nxt - event) * covered(rb, lb, rt, lt, everything)).sum())
+    nxt *= covered(np.maximum(rb, lb), np.maximum(rt, lt), everything)
+    area = float(nxt.sum())
     # from each cell's left side to its first event only left-anchored pieces reach
     f = starts
-    none = np.zeros(len(f), dtype=np.int64)
-    first = covered(none, lb_here[f], none, lt_here[f], f)
+    first = covered(lb_here[f], lt_here[f], f)
     area += float(((event[f] - left[f]) * first).sum())
     return area
 

@@ -132,6 +132,67 @@ def edge_topology(triangles: np.ndarray, n_vertices: int) -> EdgeTopology:
     )
 
 
+def patch_edge_counts(
+    local_edges: np.ndarray, local_valence: np.ndarray, vertex_map: np.ndarray, n_vertices: int
+) -> np.ndarray:
+    """How many edges lie on 1, 2, 3, ... triangles in a structure of patch copies.
+
+    The counts of :func:`edge_topology` (and of the template path in
+    :mod:`core.assembly`) without making any per-edge array: an edge with an end
+    that belongs to one patch only is that patch's template edge; only edges with
+    both ends shared can be listed by several patches, and those are matched by
+    one sort of their packed vertex pairs (the template valence in the two low
+    bits, so the sort also groups what each copy contributes).
+
+    Parameters
+    ----------
+    local_edges : (Ne, 2) int
+        The template's edges (local vertex pairs).
+    local_valence : (Ne,) int
+        Triangles on each template edge (1 or 2).
+    vertex_map : (P, Nv) int
+        Global vertex of each local vertex of each patch.
+    n_vertices : int
+
+    Returns
+    -------
+    (K,) int64
+        ``counts[k]``: number of edges on exactly k triangles (``counts[0] == 0``);
+        its sum is the number of edges.
+    """
+    vmap = np.asarray(vertex_map)
+    local_valence = np.asarray(local_valence, dtype=np.int64)
+    n_patch = len(vmap)
+    counts = np.bincount(local_valence, minlength=3) * np.int64(n_patch)
+    if n_patch == 0 or len(local_edges) == 0:
+        return counts
+    shared = np.bincount(vmap.ravel(), minlength=n_vertices) > 1
+    e0, e1 = local_edges[:, 0], local_edges[:, 1]
+    keys = []
+    for lo in range(0, n_patch, max(1, BLOCK // len(local_edges))):
+        block = vmap[lo : lo + max(1, BLOCK // len(local_edges))]
+        a, b = block.take(e0, axis=1), block.take(e1, axis=1)
+        pooled = shared.take(a) & shared.take(b)  # (p, Ne)
+        slot = np.nonzero(pooled)
+        key = edge_keys(a[slot], b[slot], n_vertices)
+        key <<= 2
+        key |= local_valence.take(slot[1])
+        keys.append(key)
+    key = np.sort(np.concatenate(keys))
+    if len(key) == 0:
+        return counts
+    # take the pooled copies out, then put each group back once with its summed valence
+    counts -= np.bincount(key & 3, minlength=len(counts))[: len(counts)]
+    pair = key >> 2
+    start = np.flatnonzero(np.r_[True, pair[1:] != pair[:-1]])
+    valence = np.add.reduceat(key & 3, start)
+    grouped = np.bincount(valence)
+    out = np.zeros(max(len(counts), len(grouped)), dtype=np.int64)
+    out[: len(counts)] += counts
+    out[: len(grouped)] += grouped
+    return out
+
+
 @dataclass(frozen=True)
 class RWGTable:
     """The RWG basis functions of a mesh, in the convention of Makarov's codes.

@@ -2,12 +2,16 @@
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, event, given, settings
+from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
 from core import MeshParams, TriMesh, build_mesh
-from core.quality import triangle_quality
+from core.quality import quality_summary, triangle_quality
 from core.structures import _paper_origins
+from core.topology import edge_topology, segment_lengths
 from core.weld import _lattice_candidates, _window_candidates, merge_pairs
+from tests.test_core_properties import params
 
 
 def kd_tree_candidates(origins, frac, reach, radius):
@@ -138,3 +142,183 @@ def test_quality_of_structures_equals_the_reference_bit_for_bit(params):
     expect = reference_quality(fresh.points, fresh.triangles)
     assert_same_bits(fresh.quality, expect)
     assert_same_bits(after_stats.quality, expect)
+
+
+# -- stats(): aggregates without the per-triangle arrays, checked against the general path
+
+
+SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+STATS_KEYS_EXACT = ("edges", "interior_edges", "boundary_edges", "junction_edges")
+STATS_KEYS_CLOSE = ("min_edge", "max_edge", "min_angle_deg", "max_aspect_ratio", "area")
+
+
+def general_stats(mesh):
+    """The stats' counts and figures from the general edge finder and every triangle."""
+    topo = edge_topology(mesh.triangles, mesh.n_vertices)
+    lengths = segment_lengths(mesh.points, topo.edges)
+    valence = np.bincount(topo.valence, minlength=4)
+    q = triangle_quality(mesh.points, mesh.triangles)
+    return {
+        "edges": len(topo.edges),
+        "interior_edges": int(valence[2]),
+        "boundary_edges": int(valence[1]),
+        "junction_edges": int(valence[3:].sum()),
+        "min_edge": float(lengths.min()),
+        "max_edge": float(lengths.max()),
+        "min_angle_deg": float(q.min_angles_deg.min()),
+        "max_aspect_ratio": float(q.aspect_ratios.max()),
+        "area": float(q.areas.sum()),
+    }
+
+
+def assert_stats_agree(got, mesh, edge_range_bits=False):
+    expect = general_stats(mesh)
+    for key in STATS_KEYS_EXACT:
+        assert got[key] == expect[key], key
+    for key in STATS_KEYS_CLOSE:
+        assert got[key] == pytest.approx(expect[key], rel=1e-12, abs=0.0), key
+    if edge_range_bits:
+        assert (got["min_edge"], got["max_edge"]) == (expect["min_edge"], expect["max_edge"])
+
+
+# unwelded translated copies (the paper rings): one patch measured instead of all
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(),  # Fig. 12(a)
+        MeshParams(structure="double_ring", mode="paper", subdivisions=4, angle_step=0.5),
+        MeshParams(structure="double_ring", mode="paper", subdivisions=32, angle_step=20.0),
+        MeshParams(structure="ring", mode="paper", patch_size=0.3, origin=(4.0, -2.5)),
+        MeshParams(structure="split_double_ring", mode="paper", subdivisions=3, diagonal="AD"),
+        MeshParams(structure="patch", mode="paper", subdivisions=7),
+    ],
+)
+def test_stats_of_translated_copies_equal_the_general_ones(params):
+    mesh = build_mesh(params)
+    fast = mesh._copy_stats()
+    assert fast is not None  # these layouts weld nothing: the fast path must be taken
+    assert_stats_agree(fast, mesh)
+    stats = build_mesh(params).stats()
+    assert {k: stats[k] for k in fast} == fast
+    assert stats["euler_characteristic"] == mesh.n_vertices - fast["edges"] + mesh.n_triangles
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(structure="square_split_double_ring", mode="paper", patch_size=0.5),  # welded
+        MeshParams(structure="double_ring", mode="conforming"),  # sectors, not translations
+        MeshParams(structure="split_ring", mode="conforming", scheme="barycentric"),
+    ],
+)
+def test_stats_fast_path_declines_welded_and_deformed_patches(params):
+    assert build_mesh(params)._copy_stats() is None
+
+
+@pytest.mark.parametrize("shift", [1e-9, 1e-3])
+def test_stats_fast_path_declines_a_patch_moved_out_of_shape(shift):
+    # one vertex of the last patch nudged: that patch is no longer a translated copy
+    mesh = build_mesh(MeshParams(angle_step=30.0))
+    points = mesh.points.copy()
+    points[-1, 1] += shift
+    moved = TriMesh(
+        points, mesh.triangles, mesh.patch_ids, mesh.regions, mesh.n_patches,
+        mesh.mode, mesh.tolerance, mesh.patch_rects, _template=mesh._template,
+    )  # fmt: skip
+    assert moved._copy_stats() is None
+    assert_stats_agree(moved.stats(), moved)
+
+
+@SETTINGS
+@given(
+    structure=st.sampled_from(["ring", "double_ring", "split_ring", "split_double_ring"]),
+    inner=st.floats(0.8, 30.0),
+    size=st.floats(0.02, 2.0),
+    angle_step=st.floats(0.05, 120.0),
+    subdivisions=st.integers(1, 12),
+    diagonal=st.sampled_from(["BC", "AD"]),
+    scheme=st.sampled_from(["uniform", "barycentric"]),
+    origin=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+)
+def test_stats_fast_path_agrees_on_random_paper_rings(
+    structure, inner, size, angle_step, subdivisions, diagonal, scheme, origin
+):
+    try:
+        params = MeshParams(
+            structure=structure, mode="paper", inner_radius=inner, outer_radius=inner + 2 * size,
+            patch_size=size, angle_step=angle_step, subdivisions=subdivisions,
+            diagonal=diagonal, scheme=scheme, origin=origin, gap_width=0.5 * inner,
+            max_triangles=200_000,
+        )  # fmt: skip
+        mesh = build_mesh(params)
+    except ValueError:
+        assume(False)
+    fast = mesh._copy_stats()
+    event("fast path" if fast is not None else "full path")
+    if fast is not None:
+        assert_stats_agree(fast, mesh)
+
+
+# other patch structures: edges counted, not made; quality reduced, not stored
+
+
+def assert_counted_stats_equal_the_general_ones(params):
+    mesh = build_mesh(params)
+    got = mesh._measured_stats()
+    assert "topology" not in mesh.__dict__ and "quality" not in mesh.__dict__  # stayed lazy
+    assert_stats_agree(got, mesh, edge_range_bits=True)
+    stats = build_mesh(params).stats()
+    assert_stats_agree(stats, mesh)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(structure="square_split_double_ring", mode="paper", patch_size=0.5),  # welded
+        MeshParams(structure="square_split_double_ring", mode="paper", gap_angle=90.0),
+        MeshParams(structure="double_ring", mode="conforming", subdivisions=3),
+        MeshParams(structure="split_double_ring", mode="conforming", scheme="barycentric"),
+        MeshParams(structure="double_ring", mode="conforming", outer_radius=5.0),  # touching
+        MeshParams(structure="double_ring", mode="paper", angle_step=30.0),
+        MeshParams(structure="patch", mode="paper", subdivisions=5),
+    ],
+)
+def test_counted_stats_equal_the_general_edge_finder(params):
+    assert_counted_stats_equal_the_general_ones(params)
+
+
+@SETTINGS
+@given(params())
+def test_counted_stats_equal_the_general_edge_finder_on_random_parameters(p):
+    assume(p.structure != "triangle")  # one patch without a template
+    assert_counted_stats_equal_the_general_ones(p)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-160])
+@pytest.mark.parametrize("dims", [2, 3])
+def test_quality_summary_equals_the_reductions_of_the_per_triangle_quality(scale, dims):
+    # random triangles, slivers and repeated corners (undefined angles), tiny and large
+    rng = np.random.default_rng(10 + dims)
+    points = rng.normal(size=(400, dims)) * scale
+    triangles = rng.integers(0, 400, (160_000, 3))
+    distinct = (triangles[:, 0] != triangles[:, 1]) & (triangles[:, 1] != triangles[:, 2])
+    triangles = triangles[distinct & (triangles[:, 2] != triangles[:, 0])]  # > two blocks
+    q = triangle_quality(points, triangles)
+    lengths = segment_lengths(points, edge_topology(triangles, 400).edges)
+    for degenerate in (False, True):
+        if degenerate:
+            triangles[70_000, 2] = triangles[70_000, 1]  # a zero side: aspect ratio inf
+            triangles[90_000, :] = triangles[90_000, 0]  # a point: angle 0/0 (0), aspect NaN
+            q = triangle_quality(points, triangles)
+            lengths = segment_lengths(points, edge_topology(triangles, 400).edges)
+        s = quality_summary(points, triangles)
+        assert (s.shortest_side, s.longest_side) == (lengths.min(), lengths.max())
+        assert s.min_angle_deg == pytest.approx(float(q.min_angles_deg.min()), rel=1e-12)
+        if scale == 1.0:  # (at 1e-160 the area of 3-D triangles underflows to 0)
+            assert (s.min_angle_deg > 0.0) != degenerate
+        assert s.area == pytest.approx(float(q.areas.sum()), rel=1e-12)
+        assert np.array_equal(s.max_aspect_ratio, q.aspect_ratios.max(), equal_nan=True)
+        assert np.isnan(s.max_aspect_ratio) == degenerate
+    assert quality_summary(points, triangles[:0]) == (0.0,) * 5
