@@ -1,0 +1,108 @@
+"""The general topology path on meshes with junctions, against plain-Python references.
+
+Imported meshes can have an edge on three or more triangles (a junction). Such a mesh goes
+through :func:`core.topology.edge_topology` and the general branch of
+:func:`core.topology.triangle_adjacency`; here every one of them also has an interior edge,
+so both the junction pairs and the interior pairs of the connectivity matrix are exercised.
+References: an edge -> triangles dict built by plain Python (``tests.helpers``) and trimesh's
+``face_adjacency`` (edges on exactly two faces).
+"""
+
+import numpy as np
+import trimesh
+from hypothesis import given
+
+from core import TriMesh
+from core.topology import edge_topology, triangle_adjacency
+from tests.helpers import junction_meshes, reference_connectivity, reference_edge_triangles
+
+
+def imported(points, triangles):
+    n = len(triangles)
+    return TriMesh(points, triangles, np.zeros(n), np.ones(n), 1, mode="imported")
+
+
+def test_junction_next_to_an_interior_edge_by_hand():
+    """Triangles 0, 1, 2 on edge (0, 1) (a junction); triangle 3 shares edge (1, 2) with 0.
+
+    Triangle 0 is connected to all three others, 1 and 2 only to each other and to 0, 3 only
+    to 0: the matrix is symmetric although the interior pair (0, 3) is listed once.
+    """
+    tris = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4], [2, 1, 5]])
+    topo = edge_topology(tris, 6)
+    junction = topo.edges.tolist().index([0, 1])
+    interior = topo.edges.tolist().index([1, 2])
+    assert topo.valence[junction] == 3 and topo.valence[interior] == 2
+    assert topo.interior_edges.tolist() == [interior]
+    assert topo.junction_incidence.tolist() == [[junction, 0], [junction, 1], [junction, 2]]
+    assert topo.edge_triangles[interior].tolist() == [0, 3]
+    assert topo.free_vertices[interior].tolist() == [0, 5]
+    adj = triangle_adjacency(4, topo).toarray()
+    assert adj.tolist() == [[0, 1, 1, 1], [1, 0, 1, 0], [1, 1, 0, 0], [1, 0, 0, 0]]
+    assert adj.dtype == np.int8
+
+
+def test_two_triangles_sharing_two_edges_are_connected_once():
+    """A degenerate pair (the same triangle twice, reversed) goes through the general branch."""
+    tris = np.array([[0, 1, 2], [0, 2, 1]])
+    topo = edge_topology(tris, 3)
+    assert topo.valence.tolist() == [2, 2, 2]
+    assert triangle_adjacency(2, topo).toarray().tolist() == [[0, 1], [1, 0]]
+
+
+@given(junction_meshes())
+def test_edges_and_incidence_match_a_plain_python_table(mesh):
+    points, tris = mesh
+    topo = edge_topology(tris, len(points))
+    ref = reference_edge_triangles(tris)
+    edges = [tuple(e) for e in topo.edges.tolist()]
+    assert edges == sorted(ref)
+    assert topo.valence.tolist() == [len(ref[e]) for e in edges]
+    assert topo.edge_triangles.tolist() == [(ref[e] + [-1])[:2] for e in edges]
+    assert topo.junction_incidence.tolist() == [
+        [i, t] for i, e in enumerate(edges) if len(ref[e]) >= 3 for t in ref[e]
+    ]
+    # side k of every triangle is the edge from its vertex k to vertex k + 1
+    sides = np.sort(np.stack([tris, np.roll(tris, -1, axis=1)], axis=-1), axis=-1)
+    assert np.array_equal(topo.edges[topo.triangle_edges], sides)
+    # the free vertex of each listed triangle is its vertex off the edge
+    for i, (a, b) in enumerate(edges):
+        for j, t in enumerate(topo.edge_triangles[i]):
+            if t >= 0:
+                assert set(tris[t].tolist()) - {a, b} == {topo.free_vertices[i, j]}
+
+
+@given(junction_meshes())
+def test_connectivity_is_symmetric_and_equals_the_reference(mesh):
+    points, tris = mesh
+    m = imported(points, tris)
+    assert m.stats()["junction_edges"] >= 1 and m.stats()["interior_edges"] >= 1
+    c = m.connectivity
+    assert (c != c.T).nnz == 0
+    coo = c.tocoo()
+    assert set(zip(coo.row.tolist(), coo.col.tolist(), strict=True)) == reference_connectivity(
+        tris
+    )
+    assert c.nnz == len(reference_connectivity(tris))
+    assert set(np.unique(c.data).tolist()) == {1}
+
+
+@given(junction_meshes())
+def test_rwg_pairs_are_trimesh_face_adjacency(mesh):
+    """trimesh pairs faces only across edges on exactly two faces: our RWG functions."""
+    points, tris = mesh
+    m = imported(points, tris)
+    tm = trimesh.Trimesh(points, tris, process=False)
+    theirs = {tuple(sorted(p)) for p in tm.face_adjacency.tolist()}
+    ours = set(zip(m.rwg.t_plus.tolist(), m.rwg.t_minus.tolist(), strict=True))
+    # trimesh keeps one pair for two faces sharing several edges; we keep one function per edge
+    assert ours == theirs
+    assert (m.rwg.t_plus < m.rwg.t_minus).all()
+    ref = reference_edge_triangles(tris)
+    assert {tuple(v) for v in m.rwg.vertices.tolist()} == {
+        e for e, t in ref.items() if len(t) == 2
+    }
+    # every RWG pair is in the connectivity matrix, both ways
+    c = m.connectivity
+    assert (c[m.rwg.t_plus, m.rwg.t_minus] == 1).all()
+    assert (c[m.rwg.t_minus, m.rwg.t_plus] == 1).all()
