@@ -8,12 +8,16 @@ References: an edge -> triangles dict built by plain Python (``tests.helpers``) 
 ``face_adjacency`` (edges on exactly two faces).
 """
 
+from dataclasses import replace
+
 import numpy as np
+import pytest
 import trimesh
 from hypothesis import given
+from hypothesis import strategies as st
 
-from core import TriMesh
-from core.topology import edge_topology, triangle_adjacency
+from core import MeshParams, TriMesh, build_mesh
+from core.topology import edge_topology, rwg_table, triangle_adjacency
 from tests.helpers import junction_meshes, reference_connectivity, reference_edge_triangles
 
 
@@ -106,3 +110,73 @@ def test_rwg_pairs_are_trimesh_face_adjacency(mesh):
     c = m.connectivity
     assert (c[m.rwg.t_plus, m.rwg.t_minus] == 1).all()
     assert (c[m.rwg.t_minus, m.rwg.t_plus] == 1).all()
+
+
+# -- manifold meshes in any triangle order (the row-by-row connectivity path) --------------
+
+
+@st.composite
+def shuffled_meshes(draw):
+    """(points, triangles) of a small built mesh with its triangles shuffled and rotated.
+
+    Without junctions the connectivity is built row by row; a shuffle puts triangles that do
+    not touch at any pair of indices (0 and 1 in particular), and boundary edges anywhere.
+    """
+    params = draw(
+        st.sampled_from(
+            [
+                MeshParams(structure="patch", subdivisions=1),
+                MeshParams(structure="patch", subdivisions=3, diagonal="AD"),
+                MeshParams(structure="triangle", subdivisions=3),
+                MeshParams(structure="ring", mode="conforming", angle_step=45, subdivisions=1),
+                MeshParams(angle_step=45, subdivisions=1),  # paper double ring: many pieces
+            ]
+        )
+    )
+    mesh = build_mesh(params)
+    order = np.array(draw(st.permutations(range(mesh.n_triangles))))
+    tris = np.roll(mesh.triangles[order], draw(st.integers(0, 2)), axis=1)
+    return mesh.points, tris
+
+
+@given(shuffled_meshes())
+def test_connectivity_without_junctions_equals_the_reference(mesh):
+    points, tris = mesh
+    m = imported(points, tris)
+    assert m.stats()["junction_edges"] == 0
+    c = m.connectivity
+    coo = c.tocoo()
+    pairs = set(zip(coo.row.tolist(), coo.col.tolist(), strict=True))
+    assert pairs == reference_connectivity(tris)
+    assert c.nnz == len(pairs) == 2 * m.stats()["interior_edges"]
+    assert c.dtype == np.int8 and set(np.unique(c.data).tolist()) == {1}
+    # the row-by-row CSR has sorted column indices, as scipy's own constructors give
+    assert c.has_sorted_indices and all(
+        np.all(np.diff(c.indices[c.indptr[i] : c.indptr[i + 1]]) > 0) for i in range(len(tris))
+    )
+
+
+@pytest.mark.parametrize("with_junction", [False, True])
+def test_rwg_table_finds_free_vertices_when_the_topology_has_none(with_junction):
+    """The fallback of rwg_table (a topology without free vertices) gives the same table."""
+    if with_junction:
+        points = np.random.default_rng(1).random((6, 3))
+        mesh = imported(points, np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4], [2, 1, 5]]))
+    else:
+        mesh = build_mesh(MeshParams(structure="double_ring", mode="conforming", angle_step=30))
+    bare = replace(mesh.topology, free_vertices=None)
+    table = rwg_table(mesh.points, mesh.triangles, bare)
+    for name in ("edge", "vertices", "t_plus", "t_minus", "free_vertex_plus",
+                 "free_vertex_minus", "length"):
+        assert np.array_equal(getattr(table, name), getattr(mesh.rwg, name)), name
+    assert len(table) == mesh.stats()["interior_edges"] > 0
+
+
+def test_vertex_adjacency_counts_unused_vertices():
+    """An imported file may list vertices no triangle uses: the matrix is still V x V."""
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [5, 5, 0.0]])
+    mesh = imported(points, np.array([[0, 1, 2], [1, 3, 2]]))
+    a = mesh.vertex_adjacency
+    assert a.shape == (5, 5) and a.nnz == 2 * 5
+    assert a.dtype == np.int8
+    assert a[4].nnz == 0 and a[1, 2] == a[2, 1] == 1 and a[0, 3] == 0
