@@ -17,8 +17,15 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from core import MeshParams, TriMesh, build_mesh
-from core.topology import edge_topology, rwg_table, triangle_adjacency
+from core.topology import BLOCK, INDEX, edge_topology, rwg_table, triangle_adjacency
 from tests.helpers import junction_meshes, reference_connectivity, reference_edge_triangles
+
+
+def assert_index_dtypes(topo):
+    """Every index array of a topology has the one index dtype."""
+    for name in ("edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",
+                 "free_vertices"):
+        assert getattr(topo, name).dtype == INDEX, name
 
 
 def imported(points, triangles):
@@ -69,11 +76,14 @@ def test_edges_and_incidence_match_a_plain_python_table(mesh):
     # side k of every triangle is the edge from its vertex k to vertex k + 1
     sides = np.sort(np.stack([tris, np.roll(tris, -1, axis=1)], axis=-1), axis=-1)
     assert np.array_equal(topo.edges[topo.triangle_edges], sides)
-    # the free vertex of each listed triangle is its vertex off the edge
+    # the free vertex of each listed triangle is its vertex off the edge, -1 for no triangle
     for i, (a, b) in enumerate(edges):
         for j, t in enumerate(topo.edge_triangles[i]):
             if t >= 0:
                 assert set(tris[t].tolist()) - {a, b} == {topo.free_vertices[i, j]}
+            else:
+                assert topo.free_vertices[i, j] == -1
+    assert_index_dtypes(topo)
 
 
 @given(junction_meshes())
@@ -180,3 +190,34 @@ def test_vertex_adjacency_counts_unused_vertices():
     assert a.shape == (5, 5) and a.nnz == 2 * 5
     assert a.dtype == np.int8
     assert a[4].nnz == 0 and a[1, 2] == a[2, 1] == 1 and a[0, 3] == 0
+
+
+@pytest.mark.parametrize("with_junction", [False, True])
+def test_connectivity_is_t_by_t_when_the_last_triangle_is_alone(with_junction):
+    """A last triangle with no neighbour still has its row and column (both code paths)."""
+    tris = [[0, 1, 2], [2, 1, 3], [6, 7, 8]]
+    if with_junction:
+        tris[2:2] = [[1, 2, 4], [2, 1, 5]]  # edge (1, 2) on four triangles
+    points = np.random.default_rng(2).random((9, 3))
+    m = imported(points, np.array(tris))
+    assert (m.stats()["junction_edges"] > 0) == with_junction
+    assert m.connectivity.shape == (len(tris), len(tris))
+    assert m.connectivity[len(tris) - 1].nnz == 0
+    assert_index_dtypes(m.topology)
+    assert m.rwg.edge.dtype == m.rwg.t_plus.dtype == m.rwg.free_vertex_minus.dtype == INDEX
+
+
+def test_connectivity_across_blocks_of_triangles():
+    """More triangles than one block of the row-by-row path: rows past the first block."""
+    # 72 sectors of 2 n² triangles, n = 22: 69,696 triangles
+    mesh = build_mesh(
+        MeshParams(structure="ring", mode="conforming", angle_step=5, subdivisions=22)
+    )
+    assert mesh.n_triangles > BLOCK
+    topo = mesh.topology
+    inner = topo.edge_triangles[topo.valence == 2]
+    pairs = np.concatenate([inner, inner[:, ::-1]])  # both ways round each interior edge
+    c = mesh.connectivity.tocoo()
+    got = np.stack([c.row, c.col], axis=1)
+    assert np.array_equal(np.unique(got, axis=0), np.unique(pairs, axis=0))
+    assert c.nnz == len(pairs) == 2 * len(mesh.interior_edges)
