@@ -8,7 +8,6 @@ needs are installed by scripts/system-deps.sh (run by `make test`).
 
 import gc
 import os
-import shutil
 import sys
 import tempfile
 
@@ -48,11 +47,12 @@ settings.register_profile(
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 # Hypothesis also caches constants and character maps in its storage directory (./.hypothesis
-# unless told otherwise): point it at a temporary folder removed when pytest ends.
-_HYPOTHESIS_HOME = None
-if "HYPOTHESIS_STORAGE_DIRECTORY" not in os.environ:
-    _HYPOTHESIS_HOME = tempfile.mkdtemp(prefix="barymesh-hypothesis-")
-    os.environ["HYPOTHESIS_STORAGE_DIRECTORY"] = _HYPOTHESIS_HOME
+# unless told otherwise): keep them in one folder of the system's temporary directory, reused
+# by every run (and by the forked runs of `make mutate`, which never reach pytest's cleanup).
+os.environ.setdefault(
+    "HYPOTHESIS_STORAGE_DIRECTORY",
+    os.path.join(tempfile.gettempdir(), f"barymesh-hypothesis-{getattr(os, 'getuid', str)()}"),
+)
 
 
 @pytest.fixture(autouse=True)
@@ -151,5 +151,3 @@ def release_gui():
 
 def pytest_unconfigure(config):
     release_gui()
-    if _HYPOTHESIS_HOME is not None:
-        shutil.rmtree(_HYPOTHESIS_HOME, ignore_errors=True)
