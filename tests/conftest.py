@@ -6,8 +6,10 @@ into Qt's GLX context with Mesa's software rasteriser (llvmpipe). The Debian pac
 needs are installed by scripts/system-deps.sh (run by `make test`).
 """
 
+import gc
 import os
 import sys
+import tempfile
 
 # Before anything imports Qt: use Xvfb's X server, not Wayland (if the session has one) nor
 # the `offscreen` platform, which would not exercise a real window. An explicit choice wins.
@@ -15,6 +17,42 @@ os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
 
 
 import pytest  # noqa: E402
+from hypothesis import HealthCheck, settings  # noqa: E402
+
+# -- hypothesis: the same examples on every run, nothing written into the checkout ---------
+#
+# "repeatable" (the default) derives its examples from each test's name, so a run in CI and
+# on a laptop try the same cases and a failure reproduces by running the test again; no
+# example database, and no timing checks (the machines are shared and noisy). "fuzz"
+# (HYPOTHESIS_PROFILE=fuzz) draws fresh random examples on every run and prints the
+# @reproduce_failure blob of a failure. A test's own @settings (max_examples, ...) wins over
+# the profile for what it sets.
+
+settings.register_profile(
+    "repeatable",
+    derandomize=True,
+    database=None,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "fuzz",
+    derandomize=False,
+    database=None,
+    deadline=None,
+    print_blob=True,
+    max_examples=50_000,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
+
+# Hypothesis also caches constants and character maps in its storage directory (./.hypothesis
+# unless told otherwise): keep them in one folder of the system's temporary directory, reused
+# by every run (and by the forked runs of `make mutate`, which never reach pytest's cleanup).
+os.environ.setdefault(
+    "HYPOTHESIS_STORAGE_DIRECTORY",
+    os.path.join(tempfile.gettempdir(), f"barymesh-hypothesis-{getattr(os, 'getuid', str)()}"),
+)
 
 
 @pytest.fixture(autouse=True)
@@ -55,39 +93,61 @@ def window(qtbot, window_params):
     win.close()
 
 
-# -- a deterministic end of the test process ---------------------------------------------
+# -- VTK and Qt go before the X server -----------------------------------------------------
 #
-# pytest-xvfb stops the X server in an atexit handler, before Python finalizes the modules
-# that still hold Qt and VTK objects connected to it; that teardown then aborted the
-# process now and then ("corrupted double-linked list", exit 134) after every test had
-# passed. So once pytest has reported, close the windows while the X server is alive, stop
-# it, and leave with pytest's own exit status without finalizing Qt and VTK.
-
-_EXIT_STATUS = pytest.StashKey[int]()
-
-
-def pytest_sessionfinish(session, exitstatus):
-    session.config.stash[_EXIT_STATUS] = int(exitstatus)
+# pytest-xvfb stops Xvfb in an atexit handler. Every window a test opened used to outlive the
+# test (pytest-qt's deleteLater only runs in an event loop, and closed windows stay alive as
+# top-level widgets), so the interpreter's final cleanup destroyed Qt widgets holding VTK
+# OpenGL render windows after their X server was gone, and aborted now and then ("corrupted
+# double-linked list", exit 134) although every test had passed. Now windows are deleted
+# after each test, and at the end of the session every VTK render window is finalized and
+# every widget deleted while the X server is still there.
 
 
-@pytest.hookimpl(trylast=True)
-def pytest_unconfigure(config):
-    status = config.stash.get(_EXIT_STATUS, None)
-    if status is None or "PySide6.QtWidgets" not in sys.modules:
+def _flush_deleted_widgets():
+    from PySide6.QtCore import QCoreApplication, QEvent
+
+    QCoreApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete)
+
+
+@pytest.fixture(autouse=True)
+def delete_closed_windows():
+    """After each test, delete the windows pytest-qt closed (it only schedules deletion)."""
+    yield
+    if "PySide6.QtWidgets" not in sys.modules:
+        return
+    from PySide6.QtWidgets import QApplication
+
+    if QApplication.instance() is not None:
+        _flush_deleted_widgets()
+
+
+def release_gui():
+    """Finalize VTK render windows and interactors, then delete every top-level widget."""
+    if "PySide6.QtWidgets" not in sys.modules:
         return
     from PySide6.QtWidgets import QApplication
 
     app = QApplication.instance()
-    if app is not None:
-        for widget in app.topLevelWidgets():
-            widget.close()
-        app.processEvents()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    try:
-        import pytest_xvfb
+    if app is None:
+        return
+    if "pyvistaqt" in sys.modules:
+        from pyvistaqt import QtInteractor
 
-        pytest_xvfb.shutdown_xvfb()
-    except Exception:  # noqa: BLE001 - the X server is gone anyway
-        pass
-    os._exit(status)
+        for widget in app.allWidgets():
+            if isinstance(widget, QtInteractor):
+                widget.close()  # Finalize()s the render window (idempotent)
+    for widget in app.topLevelWidgets():
+        widget.close()
+        widget.deleteLater()
+    _flush_deleted_widgets()
+    app.processEvents()
+    if "pyvista" in sys.modules:
+        import pyvista
+
+        pyvista.close_all()  # off-screen plotters a test left open
+    gc.collect()
+
+
+def pytest_unconfigure(config):
+    release_gui()

@@ -1,6 +1,7 @@
 """Small shared checks for the core tests."""
 
 import numpy as np
+from hypothesis import strategies as st
 
 from core import MeshParams, build_mesh
 from core.topology import edge_topology
@@ -59,3 +60,59 @@ def canonical_meshes():
             MeshParams(structure="ring", inner_radius=4.0, angle_step=90.0, subdivisions=2)
         ),
     }
+
+
+# -- meshes with junctions (the general topology path) -------------------------------------
+
+
+def reference_edge_triangles(triangles):
+    """{(v0, v1): [triangle, ...]} by plain Python: side k joins vertices k and k + 1.
+
+    An outside reference for :func:`core.topology.edge_topology`, independent of its sorting;
+    triangles on each edge are listed in ascending order.
+    """
+    table = {}
+    for t, tri in enumerate(np.asarray(triangles).tolist()):
+        for k in range(3):
+            a, b = tri[k], tri[(k + 1) % 3]
+            table.setdefault((min(a, b), max(a, b)), []).append(t)
+    return table
+
+
+def reference_connectivity(triangles):
+    """{(s, t), s != t}: ordered pairs of triangles with a common edge (junctions included)."""
+    pairs = set()
+    for tris in reference_edge_triangles(triangles).values():
+        pairs.update((s, t) for s in tris for t in tris if s != t)
+    return pairs
+
+
+@st.composite
+def junction_meshes(draw, max_extra=6):
+    """(points (V, 3), triangles (T, 3)): a mesh with a junction edge and an interior edge.
+
+    A fan of 3 to 5 triangles on one edge (the junction), one more triangle glued to a fan
+    triangle along a second edge that nothing else uses (an interior edge), and up to
+    ``max_extra`` triangles on random distinct vertices; then vertices are relabelled and
+    triangles shuffled and rotated, so that the junction and the interior edge sit anywhere.
+    Coordinates are random in the unit cube (the topology does not look at them).
+    """
+    fan = draw(st.integers(3, 5))
+    # vertices 0, 1: the junction edge; 2 .. fan + 1: the fan's apexes; fan + 2: the glued apex
+    tris = [[0, 1, 2 + i] if i % 2 else [1, 0, 2 + i] for i in range(fan)]
+    tris.append([2, 1, fan + 2])  # across edge (1, 2) of the first fan triangle
+    n_vertices = fan + 3 + draw(st.integers(0, 3))
+    # extras may not use the interior edge (1, 2), which must keep exactly two triangles
+    triple = st.lists(st.integers(0, n_vertices - 1), min_size=3, max_size=3, unique=True)
+    extras = draw(
+        st.lists(triple.filter(lambda t: not {1, 2} <= set(t)), max_size=max_extra)
+    )
+    tris = np.array(tris + extras, dtype=np.int64)
+    relabel = np.array(draw(st.permutations(range(n_vertices))))
+    tris = relabel[tris]
+    tris = tris[np.array(draw(st.permutations(range(len(tris)))))]
+    turns = np.array(draw(st.lists(st.integers(0, 2), min_size=len(tris), max_size=len(tris))))
+    tris = np.stack([np.roll(t, r) for t, r in zip(tris, turns, strict=True)])
+    seed = draw(st.integers(0, 2**32 - 1))
+    points = np.random.default_rng(seed).random((n_vertices, 3))
+    return points, tris

@@ -54,11 +54,15 @@ def test_rwg_table_follows_makarov_convention(kw):
         mesh.points[rwg.vertices[:, 0]] - mesh.points[rwg.vertices[:, 1]], axis=1
     )
     assert np.allclose(rwg.length, expect)
-    # the RWG basis function's divergence integrates to zero over T+ and T- (l - l)
-    assert np.allclose(
-        rwg.length / mesh.areas[rwg.t_plus] * mesh.areas[rwg.t_plus],
-        rwg.length / mesh.areas[rwg.t_minus] * mesh.areas[rwg.t_minus],
-    )
+    # f_n = l / (2 A±) ρ± has unit normal component on edge n from both sides (no charge
+    # piles up on the edge): l h± / (2 A±) = 1, with h± the distance of the free vertex from
+    # the edge's line, found here by projection, independently of the mesh's areas
+    a, b = mesh.points[rwg.vertices[:, 0]], mesh.points[rwg.vertices[:, 1]]
+    along = (b - a) / rwg.length[:, None]
+    for t, free in ((rwg.t_plus, rwg.free_vertex_plus), (rwg.t_minus, rwg.free_vertex_minus)):
+        rho = mesh.points[free] - a
+        height = np.linalg.norm(rho - (rho * along).sum(1)[:, None] * along, axis=1)
+        assert np.allclose(rwg.length * height / (2 * mesh.areas[t]), 1.0)
 
 
 def test_paper_fig10_connectivity_matrix_rows():

@@ -5,9 +5,9 @@ Pure Python over numpy, scipy.io and meshio; no Qt, VTK or pyvista.
 >>> import tempfile, pathlib
 >>> from core import MeshParams, build_mesh
 >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0))
->>> folder = pathlib.Path(tempfile.mkdtemp())
->>> _ = write_mesh(mesh, folder / "patch.msh")
->>> read_mesh(folder / "patch.msh").stats()["triangles"]
+>>> with tempfile.TemporaryDirectory() as folder:
+...     path = write_mesh(mesh, pathlib.Path(folder) / "patch.msh")
+...     read_mesh(path).stats()["triangles"]
 32
 """
 
