@@ -1,5 +1,7 @@
 """Small shared checks for the core tests."""
 
+import functools
+
 import numpy as np
 from hypothesis import strategies as st
 
@@ -41,8 +43,12 @@ def components(mesh):
     return connected_components(mesh.vertex_adjacency, directed=False)[0]
 
 
+@functools.cache
 def canonical_meshes():
-    """Tiny meshes that cover one region, two regions and disjoint paper-mode patches."""
+    """Tiny meshes that cover one region, two regions and disjoint paper-mode patches.
+
+    Built on first call (inside a test, never at import: a core bug then fails the tests
+    that need the mesh instead of the collection) and shared; the meshes are immutable."""
     return {
         "patch": build_mesh(MeshParams(structure="patch", patch_size=10.0, origin=(-5, -5))),
         "double-ring": build_mesh(

@@ -1,5 +1,6 @@
 """Atomic writes: a failed export leaves no partial file and keeps the existing one."""
 
+import functools
 import os
 
 import numpy as np
@@ -8,7 +9,11 @@ import pytest
 from core import MeshParams, build_mesh
 from core.io import ExportError, atomic_write_text, export, meshio_formats, write_mesh
 
-MESH = build_mesh(MeshParams(structure="patch", patch_size=10.0))
+
+@functools.cache
+def patch_mesh():
+    """The 10 mm patch (built on first use, not at import)."""
+    return build_mesh(MeshParams(structure="patch", patch_size=10.0))
 
 
 def leftovers(folder):
@@ -20,7 +25,7 @@ def test_parent_is_a_file(tmp_path):
     blocker.write_text("x")
     target = blocker / "mesh.msh"
     with pytest.raises(ExportError) as info:
-        write_mesh(MESH, target)
+        write_mesh(patch_mesh(), target)
     assert str(target) in str(info.value) and "is not a folder" in str(info.value)
     assert blocker.read_text() == "x"
 
@@ -28,7 +33,7 @@ def test_parent_is_a_file(tmp_path):
 def test_missing_folder(tmp_path):
     target = tmp_path / "missing" / "mesh.stl"
     with pytest.raises(ExportError, match="does not exist"):
-        write_mesh(MESH, target)
+        write_mesh(patch_mesh(), target)
     assert not target.parent.exists()
 
 
@@ -43,7 +48,7 @@ def test_failure_mid_write_keeps_existing_file(tmp_path, monkeypatch, ext):
 
     monkeypatch.setattr(export, "write_meshio", half_then_fail)
     with pytest.raises(ExportError) as info:
-        write_mesh(MESH, target)
+        write_mesh(patch_mesh(), target)
     assert str(target) in str(info.value) and "No space left on device" in str(info.value)
     assert target.read_bytes() == b"the old file"
     assert leftovers(tmp_path) == []
@@ -56,7 +61,7 @@ def test_failure_without_existing_file_leaves_nothing(tmp_path, monkeypatch):
 
     monkeypatch.setattr(export, "write_meshio", fail)
     with pytest.raises(ExportError, match="the writer broke"):
-        write_mesh(MESH, tmp_path / "new.msh")
+        write_mesh(patch_mesh(), tmp_path / "new.msh")
     assert list(tmp_path.iterdir()) == []
 
 
@@ -70,7 +75,7 @@ def test_interrupt_mid_write(tmp_path, monkeypatch):
 
     monkeypatch.setattr(export, "write_makarov", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        write_mesh(MESH, target)
+        write_mesh(patch_mesh(), target)
     assert target.read_bytes() == b"old"
     assert leftovers(tmp_path) == []
 
@@ -87,7 +92,7 @@ def test_real_writer_failure(tmp_path, monkeypatch):
     real = meshio_formats.to_meshio
     monkeypatch.setattr(meshio_formats, "to_meshio", broken)
     with pytest.raises(ExportError, match=str(target)):
-        write_mesh(MESH, target)
+        write_mesh(patch_mesh(), target)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -95,7 +100,7 @@ def test_success_replaces_and_keeps_permissions(tmp_path):
     target = tmp_path / "mesh.obj"
     target.write_text("old")
     os.chmod(target, 0o640)
-    write_mesh(MESH, target)
+    write_mesh(patch_mesh(), target)
     assert target.read_text().lstrip().startswith(("#", "v"))
     assert target.stat().st_mode & 0o777 == 0o640
     assert leftovers(tmp_path) == []
@@ -104,7 +109,7 @@ def test_success_replaces_and_keeps_permissions(tmp_path):
 def test_new_file_gets_umask_permissions(tmp_path):
     umask = os.umask(0o022)
     try:
-        write_mesh(MESH, tmp_path / "m.stl")
+        write_mesh(patch_mesh(), tmp_path / "m.stl")
     finally:
         os.umask(umask)
     assert (tmp_path / "m.stl").stat().st_mode & 0o777 == 0o644
@@ -119,7 +124,7 @@ def test_csv_companions_are_atomic(tmp_path, monkeypatch):
     from core.io import rwg
 
     target = tmp_path / "rwg.csv"
-    write_mesh(MESH, target)
+    write_mesh(patch_mesh(), target)
     before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
     assert set(before) == {"rwg.csv", "rwg_connectivity.csv", "rwg_centroids.csv"}
 
@@ -137,7 +142,7 @@ def test_csv_set_is_replaced_only_when_every_file_is_written(tmp_path, monkeypat
     from core.io import rwg
 
     target = tmp_path / "rwg.csv"
-    write_mesh(MESH, target)
+    write_mesh(patch_mesh(), target)
     before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
     real = rwg.csv_tables
 
@@ -158,7 +163,7 @@ def test_writing_through_a_symlink_writes_its_target(tmp_path):
     real.write_text("old")
     link = tmp_path / "mesh.stl"
     link.symlink_to(real)
-    write_mesh(MESH, link)
+    write_mesh(patch_mesh(), link)
     assert link.is_symlink() and os.readlink(link) == str(real)
     assert real.read_text().startswith("solid")
     assert leftovers(tmp_path) == [] and leftovers(real.parent) == []
@@ -180,7 +185,7 @@ def test_stale_temp_files_of_dead_exports_are_removed(tmp_path):
     for path in (stale, busy, other_target, not_ours):
         path.write_bytes(b"half")
         os.utime(path, (1e9, 1e9))  # 2001: older than this process
-    write_mesh(MESH, tmp_path / "mesh.msh")
+    write_mesh(patch_mesh(), tmp_path / "mesh.msh")
     assert leftovers(tmp_path) == sorted(p.name for p in (busy, other_target, not_ours))
 
 
@@ -223,7 +228,7 @@ def test_killed_mid_write(tmp_path, how):
     if how == "SIGKILL":
         assert code == -signal.SIGKILL and len(leftovers(tmp_path)) == 1  # nothing can run
         os.utime(tmp_path / leftovers(tmp_path)[0], (1e9, 1e9))
-        write_mesh(MESH, target)  # the next export removes what the killed one left
+        write_mesh(patch_mesh(), target)  # the next export removes what the killed one left
     else:  # the temp file was removed as the process ended (SIGTERM: exit 143 like the default)
         assert code == (143 if how == "SIGTERM" else -signal.SIGINT)
     assert leftovers(tmp_path) == []

@@ -14,7 +14,8 @@ MESH_FORMATS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
 MESHIO_FORMATS = {".msh": "gmsh", ".vtu": "vtu", ".vtk": "vtk", ".stl": "stl", ".obj": "obj"}
 
 
-MESHES = canonical_meshes()
+#: the names of tests.helpers.canonical_meshes(), built lazily by the tests that use them
+MESH_NAMES = ("patch", "double-ring", "paper-ring")
 
 
 def triangle_set(points, triangles, decimals=9):
@@ -42,11 +43,11 @@ def test_every_export_extension_is_covered():
     assert set(EXPORT_EXTENSIONS) == set(MESH_FORMATS) | {".npz", ".csv"}
 
 
-@pytest.mark.parametrize("name", MESHES)
+@pytest.mark.parametrize("name", MESH_NAMES)
 @pytest.mark.parametrize("ext", MESH_FORMATS)
 @pytest.mark.parametrize("unit", [None, "m", "mm", "um"])
 def test_round_trip(tmp_path, name, ext, unit):
-    mesh = MESHES[name]
+    mesh = canonical_meshes()[name]
     path = write_mesh(mesh, tmp_path / f"mesh{ext}", unit=unit)
     file_unit = unit or ("m" if ext == ".mat" else "mm")
     scale = per_mm(file_unit)
@@ -80,7 +81,7 @@ def test_round_trip(tmp_path, name, ext, unit):
 
 @pytest.mark.parametrize("ext", [".msh", ".vtu", ".vtp", ".vtk"])
 def test_regions_and_patches_survive(tmp_path, ext):
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     back = read_mesh(write_mesh(mesh, tmp_path / f"rings{ext}"))
     assert back.n_patches == mesh.n_patches
     assert back.stats()["regions"] == 2
@@ -91,7 +92,7 @@ def test_regions_and_patches_survive(tmp_path, ext):
 
 
 def test_gmsh_tags_and_physical_names(tmp_path):
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     path = write_mesh(mesh, tmp_path / "rings.msh")
     text = path.read_text()
     assert text.startswith("$MeshFormat\n2.2 0 8\n")  # MSH 2.2 ASCII: what scuff-em reads
@@ -103,13 +104,13 @@ def test_gmsh_tags_and_physical_names(tmp_path):
 
 
 def test_single_patch_is_named_patch(tmp_path):
-    text = write_mesh(MESHES["patch"], tmp_path / "p.msh").read_text()
+    text = write_mesh(canonical_meshes()["patch"], tmp_path / "p.msh").read_text()
     assert '2 1 "patch"' in text
 
 
 @pytest.mark.parametrize("ext", [".vtu", ".vtk"])
 def test_vtk_cell_data(tmp_path, ext):
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     m = meshio.read(write_mesh(mesh, tmp_path / f"q{ext}", unit="m"))
     data = {k: np.asarray(v[0]).reshape(-1) for k, v in m.cell_data.items()}
     assert np.array_equal(data["patch_id"], mesh.patch_ids)
@@ -121,7 +122,7 @@ def test_vtk_cell_data(tmp_path, ext):
 
 def test_vtp_cell_data_read_by_vtk(tmp_path):
     pv = pytest.importorskip("pyvista")
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     poly = pv.read(write_mesh(mesh, tmp_path / "q.vtp"))
     assert poly.n_cells == mesh.n_triangles
     assert np.array_equal(poly.cell_data["region"], mesh.regions)
@@ -132,7 +133,7 @@ def test_vtp_cell_data_read_by_vtk(tmp_path):
 def test_vtp_written_by_vtk_is_read(tmp_path):
     """Binary and compressed PolyData as VTK itself writes it."""
     pv = pytest.importorskip("pyvista")
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     poly = pv.read(write_mesh(mesh, tmp_path / "q.vtp"))
     for binary in (True, False):
         out = tmp_path / f"vtk-{binary}.vtp"
@@ -145,7 +146,7 @@ def test_vtp_written_by_vtk_is_read(tmp_path):
 
 
 def test_mat_layout(tmp_path):
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     data = scipy.io.loadmat(write_mesh(mesh, tmp_path / "m.mat"))
     assert data["p"].shape == (3, mesh.n_vertices) and data["p"].dtype == np.float64
     assert data["t"].shape == (4, mesh.n_triangles)
@@ -173,7 +174,7 @@ def _cell_data_back(path):
 @pytest.mark.parametrize("unit", ["m", "mm", "um"])
 def test_every_cell_data_field_in_every_unit(tmp_path, ext, unit):
     """Issue 10 #15(b): areas scale with the square of the length unit (0.1 mm² = 1e-7 m²)."""
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     data = _cell_data_back(write_mesh(mesh, tmp_path / f"q{ext}", unit=unit))
     s = per_mm(unit)
     assert set(data) >= {"patch_id", "region", "area", "min_angle", "aspect_ratio"}
@@ -186,7 +187,7 @@ def test_every_cell_data_field_in_every_unit(tmp_path, ext, unit):
 
 def test_patch_area_in_metres_is_square_metres(tmp_path):
     """The 10 mm patch is 1e-4 m² in a file written in metres (not 0.1, the factor once)."""
-    mesh = MESHES["patch"]
+    mesh = canonical_meshes()["patch"]
     for ext in (".vtu", ".vtp", ".vtk"):
         data = _cell_data_back(write_mesh(mesh, tmp_path / f"p{ext}", unit="m"))
         assert data["area"].sum() == pytest.approx(1e-4, rel=1e-12)
@@ -194,7 +195,7 @@ def test_patch_area_in_metres_is_square_metres(tmp_path):
 
 @pytest.mark.parametrize("unit", ["m", "mm", "um"])
 def test_rwg_tables_in_every_unit(tmp_path, unit):
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     s = per_mm(unit)
     npz = np.load(write_mesh(mesh, tmp_path / "r.npz", unit=unit))
     assert str(npz["unit"]) == unit
@@ -216,7 +217,7 @@ def test_vtu_written_by_vtk_is_read(tmp_path, mode):
     pv = pytest.importorskip("pyvista")
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
 
-    mesh = MESHES["double-ring"]
+    mesh = canonical_meshes()["double-ring"]
     grid = pv.read(write_mesh(mesh, tmp_path / "q.vtu"))
     out = tmp_path / f"vtk-{mode}.vtu"
     writer = vtkXMLUnstructuredGridWriter()
