@@ -32,6 +32,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
+from app import cli_solve
+
 PROG = "barymesh"
 #: Options that belong to the desktop window when given without a verb.
 WINDOW_OPTIONS = ("--preset", "--params", "--set", "--screenshot", "--quit")
@@ -270,6 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="frame size in pixels (default 800 600)",
     )
 
+    cli_solve.add_parser(verbs)
     verbs.add_parser(
         "presets",
         help="list the presets, one per line",
@@ -859,6 +862,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 #: Subcommand -> its function. A new subcommand adds its parser in ``build_parser`` (or a
 #: ``register(verbs)`` call there) and one entry here.
 VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
+VERBS["solve"] = cli_solve.run
 
 
 # -- entry point -----------------------------------------------------------

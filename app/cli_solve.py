@@ -1,0 +1,502 @@
+"""``barymesh solve``: the MoM solver (core.mom) from the command line.
+
+::
+
+    barymesh solve --preset srr-openmodes --freq 6.19GHz --pol y -o current.vtu
+    barymesh solve --preset srr-openmodes --freq 3GHz:12GHz:91 --pol y -o sweep.csv \\
+        --plot sweep.png
+    barymesh solve --mesh strip.msh --freq 150MHz --feed 0,-10:0,10
+
+Registered in :mod:`app.cli` (``add_parser`` builds the subcommand, ``run``
+executes it). Errors are raised as ``app.cli`` exceptions (one line, exit 1
+or 2, never a traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import re
+from pathlib import Path
+from typing import Any
+
+#: Frequency units understood by --freq.
+FREQUENCY_UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9, "thz": 1e12}
+#: Named directions for --dir and --pol.
+AXES = {
+    "x": (1.0, 0.0, 0.0),
+    "y": (0.0, 1.0, 0.0),
+    "z": (0.0, 0.0, 1.0),
+}
+SWEEP_OUTPUTS = (".csv", ".npz")
+SINGLE_OUTPUTS = (".csv", ".npz", ".vtu")
+#: Columns of the sweep CSV, in order.
+CSV_COLUMNS = (
+    "frequency_hz",
+    "extinction_cross_section_m2",
+    "scattering_cross_section_m2",
+    "absorption_cross_section_m2",
+    "input_impedance_real_ohm",
+    "input_impedance_imag_ohm",
+    "condition_number",
+    "residual",
+)
+
+
+class SolveUsageError(ValueError):
+    """Bad usage of ``barymesh solve``; :func:`run` reports it through the parser (exit 2)."""
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add the ``solve`` subcommand to ``subparsers`` (of :func:`app.cli.build_parser`)."""
+    from app.cli import _add_params_options
+
+    p = subparsers.add_parser(
+        "solve",
+        help="solve for the currents (RWG Method of Moments) at one frequency or a sweep",
+        description="Build a mesh (or read one with --mesh) and solve the EFIE for a perfect "
+        "conductor in free space: a plane wave (--dir, --pol) or a delta-gap voltage source "
+        "(--feed). One --freq prints the cross-sections; a range sweeps them and finds the "
+        "resonances. Time convention exp(jwt); mesh lengths in mm.",
+    )
+    _add_params_options(p)
+    p.add_argument("--mesh", metavar="FILE", help="solve a mesh file instead of building one")
+    from core.io import UNITS
+
+    p.add_argument(
+        "--unit", choices=UNITS, help="length unit of --mesh's coordinates (default mm; .mat: m)"
+    )
+    s = p.add_argument_group("solve")
+    s.add_argument(
+        "--freq",
+        required=True,
+        metavar="F | A:B:K",
+        help="a frequency (6.19GHz, 300MHz, 1e9) or a sweep of K frequencies from A to B "
+        "(3GHz:12GHz:91)",
+    )
+    s.add_argument(
+        "--dir",
+        metavar="AXIS | X,Y,Z",
+        help="direction of travel of the plane wave: -z (default), +x, ... or a vector",
+    )
+    s.add_argument(
+        "--pol",
+        metavar="AXIS | X,Y,Z",
+        help="polarisation of E: x (default), y, ... or a vector, perpendicular to --dir",
+    )
+    s.add_argument("--amplitude", type=float, default=1.0, help="|E| in V/m (default 1)")
+    s.add_argument(
+        "--feed",
+        metavar="X0,Y0:X1,Y1",
+        help="a delta-gap voltage source on the mesh edges along this segment (mm) instead "
+        "of a plane wave; prints the input impedance",
+    )
+    s.add_argument("--volts", type=float, default=1.0, help="feed voltage (default 1 V)")
+    s.add_argument("--order", type=int, default=None, help="near quadrature degree (1-8)")
+    s.add_argument(
+        "--max-memory",
+        metavar="SIZE",
+        help="refuse problems needing more memory than this (e.g. 2GB, 500MB)",
+    )
+    out = p.add_argument_group("output")
+    out.add_argument(
+        "-o",
+        "--output",
+        dest="outputs",
+        metavar="OUT",
+        action="append",
+        default=[],
+        help="results: .csv (cross-sections per frequency), .npz (arrays), .vtu (one "
+        "frequency: J_abs, J_real, J_imag per triangle for ParaView) (repeatable)",
+    )
+    out.add_argument("--plot", metavar="PNG", help="plot the sweep's cross-sections to PNG")
+    # `--dir -z`, `--pol -1,0,0`: let values that start with "-" followed by an axis letter
+    # or a digit be values, as argparse already does for negative numbers
+    p._negative_number_matcher = re.compile(r"^-([xyzXYZ]$|\d|\.\d)")
+    # usage errors go through this parser, which raises the running cli's UsageError
+    p.set_defaults(solve_parser=p)
+    return p
+
+
+# -- parsing ---------------------------------------------------------------------------
+
+
+def parse_frequency(text: str) -> float:
+    """``'6.19GHz'`` -> 6.19e9 (Hz); a bare number is in Hz.
+
+    >>> parse_frequency("6.19GHz"), parse_frequency("300 MHz"), parse_frequency("1e9")
+    (6190000000.0, 300000000.0, 1000000000.0)
+    """
+    m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-zA-Z]*)\s*", text)
+    unit = m.group(2).lower() if m else ""
+    if not m or unit not in FREQUENCY_UNITS and unit != "":
+        raise SolveUsageError(
+            f"--freq {text!r} is invalid; expected a number with Hz, kHz, MHz, GHz "
+            "or THz, e.g. 6.19GHz"
+        )
+    try:
+        value = float(m.group(1)) * FREQUENCY_UNITS.get(unit, 1.0)
+    except ValueError:
+        raise SolveUsageError(f"--freq {text!r} is not a number") from None
+    if not value > 0 or value == float("inf"):
+        raise SolveUsageError(f"--freq {text!r} is invalid; expected a positive frequency")
+    return value
+
+
+def parse_frequencies(text: str) -> list[float]:
+    """One frequency, or ``A:B:K`` -> K frequencies from A to B inclusive.
+
+    >>> parse_frequencies("3GHz:12GHz:4")
+    [3000000000.0, 6000000000.0, 9000000000.0, 12000000000.0]
+    """
+    parts = text.split(":")
+    if len(parts) == 1:
+        return [parse_frequency(text)]
+    if len(parts) != 3:
+        raise SolveUsageError(f"--freq {text!r} is invalid; expected F or A:B:K")
+    a, b = parse_frequency(parts[0]), parse_frequency(parts[1])
+    try:
+        k = int(parts[2])
+    except ValueError:
+        raise SolveUsageError(f"--freq {text!r}: K={parts[2]!r} is not a whole number") from None
+    if k < 2 or not b > a:
+        raise SolveUsageError(f"--freq {text!r} is invalid; expected A < B and K >= 2 frequencies")
+    step = (b - a) / (k - 1)
+    return [a + i * step for i in range(k - 1)] + [b]
+
+
+def parse_vector(text: str, option: str) -> tuple[float, float, float]:
+    """``'-z'`` -> (0, 0, -1); ``'0,1,0'`` -> (0, 1, 0).
+
+    >>> parse_vector("-z", "--dir"), parse_vector("1,1,0", "--pol")
+    ((0.0, 0.0, -1.0), (1.0, 1.0, 0.0))
+    """
+    t = text.strip().lower()
+    sign = -1.0 if t.startswith("-") else 1.0
+    name = t.lstrip("+-")
+    if name in AXES:
+        return tuple(sign * c + 0.0 for c in AXES[name])  # type: ignore[return-value]
+    try:
+        values = tuple(float(v) for v in t.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 3:
+        raise SolveUsageError(
+            f"{option} {text!r} is invalid; expected an axis (x, -z, ...) or X,Y,Z"
+        )
+    return values  # type: ignore[return-value]
+
+
+def parse_feed(text: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """``'0,-10:0,10'`` -> ((0, -10), (0, 10)) in mm."""
+    try:
+        a, b = text.split(":")
+        start = tuple(float(v) for v in a.split(","))
+        end = tuple(float(v) for v in b.split(","))
+    except ValueError:
+        start = end = ()
+    if len(start) not in (2, 3) or len(end) != len(start):
+        raise SolveUsageError(
+            f"--feed {text!r} is invalid; expected X0,Y0:X1,Y1 (mm), e.g. 0,-10:0,10"
+        )
+    return start, end
+
+
+def parse_memory(text: str | None) -> float | None:
+    """``'2GB'`` -> 2 GiB in bytes; None stays None.
+
+    >>> parse_memory("500MB")
+    524288000.0
+    """
+    if text is None:
+        return None
+    m = re.fullmatch(r"\s*([0-9.]+)\s*([kKmMgGtT]?)i?[bB]?\s*", text)
+    if not m:
+        raise SolveUsageError(f"--max-memory {text!r} is invalid; expected e.g. 2GB or 500MB")
+    scale = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}[m.group(2).lower()]
+    return float(m.group(1)) * scale
+
+
+# -- running ---------------------------------------------------------------------------
+
+
+def run(args: argparse.Namespace) -> int:
+    """Execute ``barymesh solve``; returns the exit code.
+
+    Usage errors are raised through the subcommand's parser (the command
+    line's ``UsageError``, exit 2); bad input as ``ValueError`` (exit 1).
+    """
+    try:
+        return _run(args)
+    except SolveUsageError as exc:
+        args.solve_parser.error(str(exc))
+        raise  # error() raises; this line is never reached
+
+
+def _check_folder(target: str) -> None:
+    folder = Path(target).parent
+    if not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise ValueError(f"cannot write {target}: the folder {folder} {what}")
+
+
+def _run(args: argparse.Namespace) -> int:
+    from app.cli import progress
+
+    freqs = parse_frequencies(args.freq)
+    is_sweep = len(freqs) > 1
+    allowed = SWEEP_OUTPUTS if is_sweep else SINGLE_OUTPUTS
+    for out in args.outputs:
+        if Path(out).suffix.lower() not in allowed:
+            what = "a sweep" if is_sweep else "one frequency"
+            hint = (
+                " (a .vtu holds one frequency's currents)" if out.lower().endswith(".vtu") else ""
+            )
+            raise SolveUsageError(f"-o {out}: for {what} expected {', '.join(allowed)}{hint}")
+    if args.plot and not is_sweep:
+        raise SolveUsageError("--plot needs a sweep: --freq A:B:K")
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise SolveUsageError(f"--plot {args.plot}: expected a .png file")
+    if args.mesh and (args.preset or args.params or args.sets):
+        raise SolveUsageError("--mesh cannot be combined with --preset, --params or --set")
+    for target in [*args.outputs, args.plot]:
+        if target:
+            _check_folder(target)
+    memory = parse_memory(args.max_memory)
+    excitation = _excitation(args)
+
+    from core.mom import solve, sweep
+
+    mesh, title = _mesh(args, progress)
+    n = len(mesh.rwg)
+    print(f"{title}: {mesh.n_triangles:,} triangles, {n:,} RWG unknowns")
+    options: dict[str, Any] = {"memory_limit": memory}
+    if args.order is not None:
+        options["order"] = args.order
+    try:
+        if is_sweep:
+            with progress(f"solving {len(freqs)} frequencies, N = {n:,}"):
+                result = sweep(mesh, freqs, excitation, **options)
+            _report_sweep(result, excitation)
+            for out in args.outputs:
+                _write_sweep(result, out)
+                print(f"wrote {out}")
+            if args.plot:
+                _plot_sweep(result, args.plot)
+                print(f"wrote {args.plot}")
+        else:
+            with progress(f"solving N = {n:,}"):
+                solution = solve(mesh, freqs[0], excitation, **options)
+            _report_single(solution)
+            for out in args.outputs:
+                _write_single(solution, mesh, out)
+                print(f"wrote {out}")
+    except MemoryError as exc:
+        raise ValueError(f"not enough memory for N = {n:,} unknowns ({exc})") from None
+    return 0
+
+
+def _excitation(args: argparse.Namespace) -> Any:
+    from core.mom import PlaneWave, VoltageSource
+
+    if args.feed:
+        if args.dir is not None or args.pol is not None:
+            raise SolveUsageError("--feed replaces the plane wave; drop --dir and --pol")
+        start, end = parse_feed(args.feed)
+        try:
+            return VoltageSource(start, end, voltage=args.volts)
+        except ValueError as exc:
+            raise SolveUsageError(f"--feed {args.feed!r}: {exc}") from None
+    direction = parse_vector(args.dir or "-z", "--dir")
+    polarization = parse_vector(args.pol or "x", "--pol")
+    try:
+        return PlaneWave(direction, polarization, args.amplitude)
+    except ValueError as exc:
+        raise SolveUsageError(f"--dir {args.dir} --pol {args.pol}: {exc}") from None
+
+
+def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
+    from core import build_mesh
+    from core.presets import preset_names, resolve_params
+
+    if args.mesh:
+        from core.io import read_mesh
+
+        with progress(f"reading {args.mesh}"):
+            return read_mesh(args.mesh, unit=args.unit), args.mesh
+    if args.unit:
+        raise SolveUsageError("--unit applies to --mesh files only")
+    if args.preset is not None and args.preset not in preset_names():
+        raise SolveUsageError(
+            f"unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
+        )
+    params = resolve_params(args.preset, args.params, args.sets)
+    with progress(f"building {params.predicted_triangles():,} triangles"):
+        mesh = build_mesh(params)
+    return mesh, f"{args.preset or 'mesh'}: {params.structure}, {params.mode} mode"
+
+
+def _report_single(s: Any) -> None:
+    from core.mom import PlaneWave
+
+    print(f"  f = {s.frequency / 1e9:.6g} GHz")
+    if isinstance(s.excitation, PlaneWave):
+        print(
+            f"  extinction {s.extinction_cross_section:.6g} m^2, scattering "
+            f"{s.scattering_cross_section:.6g} m^2 (PEC: equal within the quadrature error)"
+        )
+    else:
+        z = s.input_impedance
+        print(f"  input impedance {z.real:.6g} {'+-'[z.imag < 0]} j{abs(z.imag):.6g} ohm")
+    j = abs(s.current_density).max(axis=0)
+    print(f"  largest |J| component {j.max():.6g} A/m")
+    print(f"  condition number ~{s.condition_number:.3g}, residual {s.residual:.2g}")
+    for text in s.warnings:
+        print(f"  warning: {text}")
+
+
+def _report_sweep(r: Any, excitation: Any) -> None:
+    from core.mom import PlaneWave
+
+    f = r.frequencies
+    print(f"  {len(f)} frequencies, {f[0] / 1e9:.6g} to {f[-1] / 1e9:.6g} GHz")
+    if isinstance(excitation, PlaneWave):
+        peaks = r.resonances
+        if len(peaks):
+            print("  resonances (extinction peaks): "
+                  + ", ".join(f"{p / 1e9:.6g} GHz" for p in peaks))  # fmt: skip
+        else:
+            print("  no extinction peak inside the sweep")
+        i = int(abs(r.extinction_cross_section).argmax())
+        print(f"  largest extinction {r.extinction_cross_section[i]:.6g} m^2 at "
+              f"{f[i] / 1e9:.6g} GHz")  # fmt: skip
+    print(f"  largest condition number ~{r.condition_numbers.max():.3g}")
+    for text in r.warnings:
+        print(f"  warning: {text}")
+
+
+def _csv_text(rows: list[list[float]]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for row in rows:
+        w.writerow([repr(float(v)) for v in row])
+    return buf.getvalue()
+
+
+def _write_sweep(r: Any, out: str) -> None:
+    import numpy as np
+
+    from core.io import atomic_path, atomic_write_text
+
+    if out.lower().endswith(".csv"):
+        rows = zip(
+            r.frequencies,
+            r.extinction_cross_section,
+            r.scattering_cross_section,
+            r.extinction_cross_section - r.scattering_cross_section,
+            r.input_impedance.real,
+            r.input_impedance.imag,
+            r.condition_numbers,
+            r.residuals,
+            strict=True,
+        )
+        atomic_write_text(out, _csv_text([list(row) for row in rows]))
+        return
+    with atomic_path(out) as tmp, open(tmp, "wb") as fh:
+        np.savez_compressed(
+            fh,
+            frequency_hz=r.frequencies,
+            extinction_cross_section_m2=r.extinction_cross_section,
+            scattering_cross_section_m2=r.scattering_cross_section,
+            input_impedance_ohm=r.input_impedance,
+            coefficients=r.coefficients,
+            resonances_hz=r.resonances,
+            condition_number=r.condition_numbers,
+            residual=r.residuals,
+        )
+
+
+def _write_single(s: Any, mesh: Any, out: str) -> None:
+    import numpy as np
+
+    from core.io import atomic_path, atomic_write_text
+    from core.mom import PlaneWave
+
+    plane = isinstance(s.excitation, PlaneWave)
+    nan = float("nan")
+    ext = s.extinction_cross_section if plane else nan
+    sca = s.scattering_cross_section if plane else nan
+    zin = complex(nan, nan) if plane else s.input_impedance
+    suffix = Path(out).suffix.lower()
+    j = s.current_density
+    if suffix == ".csv":
+        row = [s.frequency, ext, sca, ext - sca, zin.real, zin.imag, s.condition_number,
+               s.residual]  # fmt: skip
+        atomic_write_text(out, _csv_text([row]))
+    elif suffix == ".npz":
+        with atomic_path(out) as tmp, open(tmp, "wb") as fh:
+            np.savez_compressed(
+                fh,
+                frequency_hz=s.frequency,
+                coefficients=s.coefficients,
+                current_density=j,
+                charge_density=s.charge_density,
+                centroids_mm=mesh.centroids,
+                points_mm=mesh.points,
+                triangles=mesh.triangles,
+                extinction_cross_section_m2=ext,
+                scattering_cross_section_m2=sca,
+                input_impedance_ohm=zin,
+            )
+    else:
+        import meshio
+
+        cells = [("triangle", np.asarray(mesh.triangles, dtype=np.int64))]
+        data = {
+            "J_abs": [np.linalg.norm(j, axis=1)],
+            "J_real": [np.ascontiguousarray(j.real)],
+            "J_imag": [np.ascontiguousarray(j.imag)],
+            "charge_abs": [np.abs(s.charge_density)],
+        }
+        with atomic_path(out) as tmp:
+            meshio.write(str(tmp), meshio.Mesh(mesh.points, cells, cell_data=data),
+                         file_format="vtu")  # fmt: skip
+
+
+def _plot_sweep(r: Any, path: str) -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise ValueError(f"--plot needs matplotlib: pip install 'barymesh[app]' ({exc})") from None
+    from core.io import atomic_path
+
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
+    f = r.frequencies / 1e9
+    plotted = False
+    if not all(v != v for v in r.extinction_cross_section):  # not all NaN: a plane wave
+        ax.plot(f, r.extinction_cross_section * 1e6, label="extinction")
+        ax.plot(f, r.scattering_cross_section * 1e6, "--", label="scattering")
+        ax.set_ylabel("cross-section (mm²)")
+        for p in r.resonances:
+            ax.axvline(p / 1e9, color="0.5", lw=0.8)
+            ax.annotate(f"{p / 1e9:.4g} GHz", (p / 1e9, ax.get_ylim()[1]), ha="left",
+                        va="top", fontsize=8)  # fmt: skip
+        plotted = True
+    else:
+        ax.plot(f, r.input_impedance.real, label="R_in")
+        ax.plot(f, r.input_impedance.imag, "--", label="X_in")
+        ax.set_ylabel("input impedance (ohm)")
+        plotted = True
+    if plotted:
+        ax.legend()
+    ax.set_xlabel("frequency (GHz)")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(str(tmp), format="png")
+    plt.close(fig)

@@ -1,0 +1,50 @@
+"""Method of Moments on RWG meshes: the EFIE for perfect conductors in free space.
+
+Time convention e^(jωt); meshes in mm, everything else in SI units.
+
+>>> from core import MeshParams, build_mesh
+>>> from core.mom import PlaneWave, solve
+>>> mesh = build_mesh(MeshParams(structure="patch", patch_size=100.0, subdivisions=2))
+>>> s = solve(mesh, 1e9, PlaneWave(direction=(0, 0, -1), polarization=(1, 0, 0)))
+>>> bool(abs(s.extinction_cross_section / s.scattering_cross_section - 1) < 0.01)
+True
+
+Modules: :mod:`.quadrature` (triangle rules), :mod:`.singular` (closed-form
+potential integrals), :mod:`.geometry` (the per-mesh cache),
+:mod:`.operator` (the impedance matrix), :mod:`.excitation`,
+:mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep).
+"""
+
+from .excitation import PlaneWave, VoltageSource, excitation_vector
+from .geometry import MomGeometry, mom_geometry
+from .operator import impedance_matrix, wavenumber
+from .solution import Solution
+from .solve import (
+    ProblemTooLarge,
+    SolveCancelled,
+    SweepResult,
+    check_memory,
+    find_peaks,
+    lorentzian_peaks,
+    solve,
+    sweep,
+)
+
+__all__ = [
+    "MomGeometry",
+    "PlaneWave",
+    "ProblemTooLarge",
+    "Solution",
+    "SolveCancelled",
+    "SweepResult",
+    "VoltageSource",
+    "check_memory",
+    "excitation_vector",
+    "find_peaks",
+    "impedance_matrix",
+    "lorentzian_peaks",
+    "mom_geometry",
+    "solve",
+    "sweep",
+    "wavenumber",
+]

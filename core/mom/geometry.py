@@ -1,0 +1,333 @@
+"""The frequency-independent part of an RWG solve, computed once per mesh.
+
+:func:`mom_geometry` turns a :class:`~core.mesh.TriMesh` (mm) into a
+:class:`MomGeometry` (metres): triangle areas, normals and quadrature
+points, the RWG coefficients as sparse maps from triangles to unknowns,
+the near triangle pairs and the static (1/R and R) parts of their
+integrals. A sweep over frequency reuses it; only the kernel e^(−jkR)/R
+changes from one frequency to the next.
+
+RWG function n on its triangles T± (free vertices v±, edge length l)::
+
+    f_n(r) = s l / (2 A) (r − v),  ∇·f_n = s l / A,   s = +1 on T+, −1 on T−
+
+written per triangle p as ``coef * (ρ + offset)`` with ρ = r − c_p (the
+centroid) and ``offset = c_p − v``. A triangle-pair integral then needs
+only eight moments of the kernel g(r, r')::
+
+    ∫∫ g,  ∫∫ ρ g (3),  ∫∫ ρ' g (3),  ∫∫ ρ·ρ' g
+
+(``MOMENTS`` names them), and an RWG integral is a sum of at most four
+of those, collected by the sparse (N, T) matrices ``coef_matrix`` and
+``offset_matrices``.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from ..mesh import TriMesh
+from .quadrature import ORDERS, triangle_rule
+from .singular import potential_integrals
+
+#: Metres per mesh unit (meshes are in mm).
+METRES_PER_MESH_UNIT = 1e-3
+#: Order of the eight triangle-pair moments along the first axis of moment arrays.
+MOMENTS = ("1", "rho_x", "rho_y", "rho_z", "rho'_x", "rho'_y", "rho'_z", "rho.rho'")
+#: Default polynomial degree of the near-pair (and excitation, far-field) rule.
+NEAR_ORDER = 5
+#: Default degree of the rule for far pairs.
+FAR_ORDER = 2
+#: Pairs whose centroids are closer than this many times the larger triangle's longest
+#: edge are near: integrated with singularity subtraction and the near rule.
+NEAR_FACTOR = 1.5
+#: Largest cached table of far-pair point distances (bytes); above it, recomputed per fill.
+DISTANCE_CACHE_BYTES = 160 * 2**20
+
+
+@dataclass(frozen=True, eq=False)
+class Rule:
+    """A quadrature rule mapped onto every triangle.
+
+    Attributes
+    ----------
+    order : int
+        Polynomial degree.
+    points : (T, Q, 3) float64
+        Quadrature points (m).
+    weights : (T, Q) float64
+        Weights including the triangle's area (m²).
+    rho : (T, Q, 3) float64
+        Points minus their triangle's centroid (m).
+    """
+
+    order: int
+    points: np.ndarray
+    weights: np.ndarray
+    rho: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return self.weights.shape[1]
+
+
+@dataclass(frozen=True, eq=False)
+class MomGeometry:
+    """Everything about a mesh that an RWG solve needs and no frequency changes.
+
+    Attributes
+    ----------
+    vertices : (V, 3) float64
+        Vertex coordinates (m).
+    triangles : (T, 3) int
+    areas : (T,) float64
+        m².
+    centroids : (T, 3) float64
+    sizes : (T,) float64
+        Longest edge of each triangle (m).
+    rwg_triangles : (N, 2) int
+        T+ and T− of each unknown (``mesh.rwg.t_plus``, ``t_minus``).
+    rwg_lengths : (N,) float64
+        Edge lengths (m).
+    coef_matrix : (N, T) sparse float64
+        ± l / (2 A) where unknown n lives on triangle p.
+    offset_matrices : tuple of three (N, T) sparse float64
+        ``coef * (c_p − v_free)``, one matrix per coordinate.
+    far, near : Rule
+        The two quadrature rules.
+    near_pairs : (K, 2) int
+        (observation, source) triangle pairs integrated with singularity
+        subtraction, self pairs included, sorted by observation triangle.
+    near_distances : (K, Qn, Qn) float64
+        |r − r'| between the near rule's points of each near pair.
+    static_inv_r, static_r : (K, 8) float64
+        The eight moments (:data:`MOMENTS`) of 1/R and of R over each near
+        pair: outer integral by the near rule, inner one in closed form.
+    far_distances : (T Qf, T Qf) float64 or None
+        |r − r'| between all far-rule points (zeros replaced by 1; those pairs
+        are near ones), kept when it fits :data:`DISTANCE_CACHE_BYTES`.
+    near_factor : float
+    """
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    areas: np.ndarray
+    centroids: np.ndarray
+    sizes: np.ndarray
+    rwg_triangles: np.ndarray
+    rwg_lengths: np.ndarray
+    coef_matrix: sp.csr_matrix
+    offset_matrices: tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]
+    far: Rule
+    near: Rule
+    near_pairs: np.ndarray
+    near_distances: np.ndarray
+    static_inv_r: np.ndarray
+    static_r: np.ndarray
+    far_distances: np.ndarray | None
+    near_factor: float
+
+    @property
+    def n_unknowns(self) -> int:
+        return len(self.rwg_lengths)
+
+    @property
+    def n_triangles(self) -> int:
+        return len(self.triangles)
+
+    @property
+    def divergence_matrix(self) -> sp.csr_matrix:
+        """(N, T) sparse: ∇·f_n = ± l / A on each triangle of unknown n."""
+        return self.coef_matrix * 2.0
+
+
+_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def mom_geometry(
+    mesh: TriMesh,
+    order: int = NEAR_ORDER,
+    far_order: int = FAR_ORDER,
+    near_factor: float = NEAR_FACTOR,
+) -> MomGeometry:
+    """The frequency-independent solver data of ``mesh``, cached per mesh.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        Coordinates in mm (converted to metres here).
+    order : int
+        Degree of the near rule (self and near pairs, excitation, far field).
+    far_order : int
+        Degree of the rule for far pairs.
+    near_factor : float
+        Near-pair distance in units of the larger triangle's longest edge.
+
+    Returns
+    -------
+    MomGeometry
+
+    Raises
+    ------
+    ValueError
+        If the mesh has no RWG unknowns, a degenerate triangle, or an
+        option is out of range.
+    """
+    if not isinstance(mesh, TriMesh):
+        raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    for name, value in (("order", order), ("far_order", far_order)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise TypeError(f"{name} must be an integer, got {value!r}")
+        if value not in ORDERS:
+            raise ValueError(f"{name}={value} has no quadrature rule; expected one of {ORDERS}")
+    near_factor = float(near_factor)
+    if not np.isfinite(near_factor) or near_factor < 1.0:
+        raise ValueError(f"near_factor={near_factor} is invalid; expected a number >= 1")
+    key = (int(order), int(far_order), near_factor)
+    per_mesh = _CACHE.setdefault(mesh, {})
+    if key not in per_mesh:
+        per_mesh.clear()  # one set of options per mesh is enough; keep memory bounded
+        per_mesh[key] = _build(mesh, int(order), int(far_order), near_factor)
+    return per_mesh[key]
+
+
+def _rule(corners: np.ndarray, areas: np.ndarray, centroids: np.ndarray, order: int) -> Rule:
+    bary, w = triangle_rule(order)
+    points = np.einsum("qk,tkc->tqc", bary, corners)
+    return Rule(order, points, areas[:, None] * w[None, :], points - centroids[:, None, :])
+
+
+def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> MomGeometry:
+    rwg = mesh.rwg
+    if len(rwg) == 0:
+        raise ValueError(
+            "the mesh has no interior edges, so no RWG unknowns: nothing to solve "
+            f"({mesh.n_triangles} triangles)"
+        )
+    vertices = np.asarray(mesh.points, dtype=np.float64) * METRES_PER_MESH_UNIT
+    triangles = np.asarray(mesh.triangles, dtype=np.intp)
+    corners = vertices[triangles]
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    areas = 0.5 * np.linalg.norm(cross, axis=1)
+    sides = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2)
+    sizes = sides.max(axis=1)
+    if np.any(areas <= 1e-12 * sizes**2):
+        bad = int(np.argmax(areas <= 1e-12 * sizes**2))
+        raise ValueError(f"triangle {bad} is degenerate (zero area); it cannot carry RWG current")
+    centroids = corners.mean(axis=1)
+
+    # -- RWG functions as sparse maps from triangles to unknowns -------------------
+    n = len(rwg)
+    tri = np.stack([rwg.t_plus, rwg.t_minus], axis=1).astype(np.intp)
+    free = np.stack([rwg.free_vertex_plus, rwg.free_vertex_minus], axis=1).astype(np.intp)
+    lengths = np.asarray(rwg.length, dtype=np.float64) * METRES_PER_MESH_UNIT
+    coef = lengths[:, None] / (2.0 * areas[tri]) * np.array([1.0, -1.0])
+    offset = centroids[tri] - vertices[free]  # (N, 2, 3)
+    rows = np.repeat(np.arange(n), 2)
+    cols = tri.ravel()
+
+    def matrix(values: np.ndarray) -> sp.csr_matrix:
+        return sp.csr_matrix((values.ravel(), (rows, cols)), shape=(n, len(triangles)))
+
+    coef_matrix = matrix(coef)
+    offset_matrices = tuple(matrix(coef * offset[:, :, c]) for c in range(3))
+
+    far = _rule(corners, areas, centroids, far_order)
+    near = _rule(corners, areas, centroids, order)
+
+    # -- near pairs ------------------------------------------------------------------
+    tree = cKDTree(centroids)
+    pairs = tree.query_pairs(near_factor * sizes.max(), output_type="ndarray")
+    if len(pairs):
+        dist = np.linalg.norm(centroids[pairs[:, 0]] - centroids[pairs[:, 1]], axis=1)
+        pairs = pairs[dist < near_factor * np.maximum(sizes[pairs[:, 0]], sizes[pairs[:, 1]])]
+    selfs = np.repeat(np.arange(len(triangles))[:, None], 2, axis=1)
+    near_pairs = np.concatenate([selfs, pairs, pairs[:, ::-1]]).astype(np.intp)
+    near_pairs = near_pairs[np.lexsort((near_pairs[:, 1], near_pairs[:, 0]))]
+    obs, src = near_pairs[:, 0], near_pairs[:, 1]
+    near_distances = _pair_distances(near.points[obs], near.points[src])
+    static_inv_r, static_r = _static_moments(near, corners, centroids, obs, src)
+
+    far_distances = None
+    n_points = far.points.shape[0] * far.size
+    if n_points * n_points * 8 <= DISTANCE_CACHE_BYTES:
+        far_distances = far_point_distances(far, 0, len(triangles))
+    return MomGeometry(
+        vertices=vertices,
+        triangles=triangles,
+        areas=areas,
+        centroids=centroids,
+        sizes=sizes,
+        rwg_triangles=tri,
+        rwg_lengths=lengths,
+        coef_matrix=coef_matrix,
+        offset_matrices=offset_matrices,
+        far=far,
+        near=near,
+        near_pairs=near_pairs,
+        near_distances=near_distances,
+        static_inv_r=static_inv_r,
+        static_r=static_r,
+        far_distances=far_distances,
+        near_factor=near_factor,
+    )
+
+
+def far_point_distances(far: Rule, lo: int, hi: int, src_lo: int = 0) -> np.ndarray:
+    """(Tb Qf, Ts Qf) distances from the far points of triangles lo..hi to those of src_lo..T.
+
+    Exact zeros (a point paired with itself) are replaced by 1: such pairs are
+    always near pairs, whose far-rule values are overwritten.
+    """
+    obs = far.points[lo:hi].reshape(-1, 3)
+    src = far.points[src_lo:].reshape(-1, 3)
+    d2 = np.zeros((len(obs), len(src)))
+    for c in range(3):
+        diff = obs[:, c, None] - src[None, :, c]
+        d2 += diff * diff
+    dist = np.sqrt(d2, out=d2)
+    dist[dist == 0.0] = 1.0
+    return dist
+
+
+def _pair_distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(K, Q, Q) |a_i − b_j| for point sets a, b (K, Q, 3), coordinate by coordinate."""
+    d2 = np.zeros(a.shape[:2] + b.shape[1:2])
+    for c in range(3):
+        ac, bc = a[:, :, c], b[:, :, c]
+        if not (ac.any() or bc.any()):
+            continue  # a flat mesh in z = 0
+        diff = ac[:, :, None] - bc[:, None, :]
+        diff *= diff
+        d2 += diff
+    return np.sqrt(d2, out=d2)
+
+
+def _static_moments(
+    near: Rule, corners: np.ndarray, centroids: np.ndarray, obs: np.ndarray, src: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(K, 8) moments of 1/R and R: near rule outside, closed form inside."""
+    k, q = len(obs), near.size
+    r = near.points[obs].reshape(-1, 3)  # (K Q, 3)
+    src_corners = np.repeat(corners[src], q, axis=0)
+    inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(r, src_corners)
+    w = near.weights[obs]  # (K, Q)
+    rho = near.rho[obs]  # (K, Q, 3)
+    to_centroid = (r - np.repeat(centroids[src], q, axis=0)).reshape(k, q, 3)
+    out = []
+    for scalar, vector in ((inv_r, vec_inv_r), (r1, vec_r1)):
+        s = scalar.reshape(k, q)
+        # ∫ ρ' g dS' = ∫ (r' − r) g + (r − c_src) ∫ g
+        v = vector.reshape(k, q, 3) + to_centroid * s[:, :, None]
+        m = np.empty((k, 8))
+        m[:, 0] = (w * s).sum(axis=1)
+        m[:, 1:4] = np.einsum("kq,kqc->kc", w * s, rho)
+        m[:, 4:7] = np.einsum("kq,kqc->kc", w, v)
+        m[:, 7] = np.einsum("kq,kqc->k", w, rho * v)
+        out.append(m)
+    return out[0], out[1]

@@ -1,0 +1,383 @@
+"""Solve the EFIE at one frequency or over a sweep (dense LU)."""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+
+from ..mesh import TriMesh
+from .excitation import PlaneWave, VoltageSource, excitation_vector
+from .geometry import FAR_ORDER, NEAR_FACTOR, NEAR_ORDER, MomGeometry, mom_geometry
+from .operator import impedance_matrix, wavenumber
+from .solution import Solution
+
+log = logging.getLogger(__name__)
+
+#: Bytes per complex matrix entry; the matrix and its LU factors are both held.
+_ENTRY = 16
+_COPIES = 2
+
+
+class SolveCancelled(Exception):
+    """Raised by :func:`sweep` when its ``cancel`` callable asked it to stop."""
+
+
+class ProblemTooLarge(ValueError):
+    """The dense matrix would not fit the memory allowed; raised before allocating it."""
+
+
+def available_memory() -> int:
+    """Bytes of memory available to a new allocation (MemAvailable on Linux)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 1 << 62
+
+
+def check_memory(n: int, memory_limit: float | None = None) -> int:
+    """Refuse N unknowns whose dense matrix and LU factors exceed the memory allowed.
+
+    Parameters
+    ----------
+    n : int
+        Number of unknowns.
+    memory_limit : float, optional
+        A cap in bytes (in addition to the memory available now).
+
+    Returns
+    -------
+    int
+        The bytes needed, 2 × 16 N².
+
+    Raises
+    ------
+    ProblemTooLarge
+        Naming N, the memory needed and the memory allowed.
+    """
+    need = _COPIES * _ENTRY * n * n
+    avail = available_memory()
+    allowed = avail if memory_limit is None else min(avail, float(memory_limit))
+    if need > allowed:
+        source = (
+            f"the memory_limit of {_gb(memory_limit)}"
+            if memory_limit is not None and memory_limit < avail
+            else f"the {_gb(avail)} of memory available"
+        )
+        raise ProblemTooLarge(
+            f"N = {n:,} unknowns need {_gb(need)} for the dense impedance matrix and its LU "
+            f"factors (2 × 16 N² bytes), more than {source}; use a coarser mesh"
+        )
+    return need
+
+
+def _gb(b: float) -> str:
+    return f"{b / 2**30:.2f} GiB" if b >= 2**28 else f"{b / 2**20:.1f} MiB"
+
+
+def _check_frequency(frequency: float, name: str = "frequency") -> float:
+    try:
+        f = float(frequency)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={frequency!r} is not a number of Hz") from None
+    if not np.isfinite(f) or f <= 0:
+        raise ValueError(f"{name}={frequency!r} is invalid; expected a positive frequency in Hz")
+    return f
+
+
+def _default_excitation(excitation: PlaneWave | VoltageSource | None) -> PlaneWave | VoltageSource:
+    if excitation is None:
+        return PlaneWave()
+    if not isinstance(excitation, (PlaneWave, VoltageSource)):
+        raise TypeError(
+            f"excitation must be a PlaneWave or a VoltageSource, got {type(excitation).__name__}"
+        )
+    return excitation
+
+
+def _overlap_warning(mesh: TriMesh, cond: float) -> tuple[str, ...]:
+    ratio = mesh.overlap_ratio if mesh.mode == "paper" else None
+    if not ratio or ratio <= 1e-12:
+        return ()
+    return (
+        f"paper-mode mesh with overlapping patches (overlap ratio {ratio:.3g}): the "
+        f"overlaps carry doubled, non-conforming currents and the matrix condition number "
+        f"is {cond:.3g}; a conforming mesh gives the physical solution",
+    )
+
+
+def _solve_at(
+    mesh: TriMesh, geom: MomGeometry, frequency: float, excitation: PlaneWave | VoltageSource
+) -> Solution:
+    k = wavenumber(frequency)
+    z = impedance_matrix(geom, k)
+    v = excitation_vector(geom, k, excitation)
+    anorm = float(np.abs(z).sum(axis=0).max())
+    lu, piv = sla.lu_factor(z, check_finite=False)
+    i = sla.lu_solve((lu, piv), v, check_finite=False)
+    rcond, _ = sla.lapack.zgecon(lu, anorm, norm="1")
+    del lu
+    residual = float(np.linalg.norm(z @ i - v) / np.linalg.norm(v))
+    cond = float(1.0 / rcond) if rcond > 0 else float("inf")
+    warnings = _overlap_warning(mesh, cond)
+    for text in warnings:
+        log.warning(text)
+    return Solution(geom, frequency, excitation, i, v, cond, residual, warnings)
+
+
+def solve(
+    mesh: TriMesh,
+    frequency: float,
+    excitation: PlaneWave | VoltageSource | None = None,
+    *,
+    order: int = NEAR_ORDER,
+    far_order: int = FAR_ORDER,
+    near_factor: float = NEAR_FACTOR,
+    memory_limit: float | None = None,
+) -> Solution:
+    """Currents on a perfectly conducting mesh in free space at one frequency.
+
+    EFIE, RWG basis and Galerkin testing, time convention e^(jωt); the mesh's
+    mm are converted to metres.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+    frequency : float
+        Hz.
+    excitation : PlaneWave or VoltageSource, optional
+        Default ``PlaneWave()``: 1 V/m along x travelling along −z.
+    order, far_order : int
+        Quadrature degrees of the near and far rules (see :func:`mom_geometry`).
+    near_factor : float
+        Near-pair distance in units of the larger triangle's longest edge.
+    memory_limit : float, optional
+        Refuse problems whose matrix and LU need more bytes than this.
+
+    Returns
+    -------
+    Solution
+
+    Raises
+    ------
+    ProblemTooLarge
+        Before allocating, when 2 × 16 N² bytes exceed the memory allowed.
+
+    Examples
+    --------
+    >>> from core import MeshParams, build_mesh
+    >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=100.0, subdivisions=2))
+    >>> s = solve(mesh, 1e9)
+    >>> s.coefficients.shape, s.current_density.shape
+    ((8,), (8, 3))
+    """
+    frequency = _check_frequency(frequency)
+    excitation = _default_excitation(excitation)
+    if not isinstance(mesh, TriMesh):
+        raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    check_memory(len(mesh.rwg), memory_limit)
+    geom = mom_geometry(mesh, order, far_order, near_factor)
+    return _solve_at(mesh, geom, frequency, excitation)
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """Cross-sections (or input impedances) over a frequency sweep.
+
+    Attributes
+    ----------
+    frequencies : (F,) float64
+        Hz, as given.
+    extinction_cross_section, scattering_cross_section : (F,) float64
+        m² (NaN for a voltage source).
+    input_impedance : (F,) complex128
+        Ω for a voltage source, NaN for a plane wave.
+    coefficients : (F, N) complex128
+    condition_numbers, residuals : (F,) float64
+    warnings : tuple of str
+    """
+
+    frequencies: np.ndarray
+    extinction_cross_section: np.ndarray
+    scattering_cross_section: np.ndarray
+    input_impedance: np.ndarray
+    coefficients: np.ndarray
+    condition_numbers: np.ndarray
+    residuals: np.ndarray
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def resonances(self) -> np.ndarray:
+        """(R,) float64 frequencies (Hz) of the extinction peaks, refined between samples.
+
+        A sample larger than both neighbours (and above 5 % of the largest
+        value) is a peak, refined as the peak of the Lorentzian through it
+        and its two neighbours (see :func:`find_peaks`).
+        """
+        return find_peaks(self.frequencies, self.extinction_cross_section)
+
+    @property
+    def quality_factors(self) -> np.ndarray:
+        """(R,) float64 Q = f0 / (2γ) of each resonance, from the same Lorentzian fit.
+
+        γ is the half width at half maximum of the Lorentzian through the peak
+        sample and its neighbours (one pole pair of a rational fit); sample the
+        peak finely enough that three samples fall within its width.
+        """
+        centres, half_widths = lorentzian_peaks(self.frequencies, self.extinction_cross_section)
+        return centres / (2.0 * half_widths)
+
+
+def find_peaks(x: np.ndarray, y: np.ndarray, floor: float = 0.05) -> np.ndarray:
+    """Abscissae of the interior local maxima of ``y(x)``, refined between samples.
+
+    Near a resonance a cross-section is close to a Lorentzian
+    A / ((x − x0)² + γ²), whose reciprocal is a parabola; so the peak is the
+    vertex of the parabola through 1/y at the largest sample and its two
+    neighbours (exact for a Lorentzian, any spacing).
+
+    Parameters
+    ----------
+    x : (F,) float64
+        Strictly increasing.
+    y : (F,) float64
+        Positive near the peaks.
+    floor : float
+        Peaks below ``floor * max(y)`` are ignored.
+
+    Returns
+    -------
+    (R,) float64
+
+    Examples
+    --------
+    >>> x = np.linspace(5.0, 7.0, 5)
+    >>> round(float(find_peaks(x, 1 / ((x - 6.19) ** 2 + 0.04))[0]), 12)
+    6.19
+    """
+    return lorentzian_peaks(x, y, floor)[0]
+
+
+def lorentzian_peaks(
+    x: np.ndarray, y: np.ndarray, floor: float = 0.05
+) -> tuple[np.ndarray, np.ndarray]:
+    """Centres x0 and half widths γ of the Lorentzians through each peak (see :func:`find_peaks`).
+
+    Returns
+    -------
+    centres, half_widths : (R,) float64
+        γ is NaN where the three samples do not fit a Lorentzian.
+
+    Examples
+    --------
+    >>> x = np.linspace(5.0, 7.0, 5)
+    >>> c, g = lorentzian_peaks(x, 1 / ((x - 6.19) ** 2 + 0.04))
+    >>> round(float(g[0]), 12)
+    0.2
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if len(x) < 3 or not np.all(np.isfinite(y)):
+        return np.zeros(0), np.zeros(0)
+    mid = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]) & (y[1:-1] > floor * y.max()))
+    i = mid + 1
+    x0, x1, x2 = x[i - 1], x[i], x[i + 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u0, u1, u2 = 1.0 / y[i - 1], 1.0 / y[i], 1.0 / y[i + 1]
+        d01, d12 = (u1 - u0) / (x1 - x0), (u2 - u1) / (x2 - x1)
+        curvature = (d12 - d01) / (x2 - x0)  # a in u = a (x − c)² + b
+        vertex = 0.5 * (x0 + x1) - d01 / (2.0 * curvature)
+        bottom = u1 - curvature * (x1 - vertex) ** 2
+        half_width = np.sqrt(bottom / curvature)
+    ok = np.isfinite(vertex) & (curvature > 0) & (y[i - 1] > 0) & (y[i + 1] > 0)
+    centres = np.where(ok, np.clip(vertex, x0, x2), x1)
+    return centres, np.where(ok & (bottom > 0), half_width, np.nan)
+
+
+def sweep(
+    mesh: TriMesh,
+    frequencies: Sequence[float] | np.ndarray,
+    excitation: PlaneWave | VoltageSource | None = None,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+    scattering: bool = True,
+    order: int = NEAR_ORDER,
+    far_order: int = FAR_ORDER,
+    near_factor: float = NEAR_FACTOR,
+    memory_limit: float | None = None,
+) -> SweepResult:
+    """Solve at each frequency, reusing the frequency-independent geometry.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+    frequencies : (F,) float
+        Hz, strictly increasing.
+    excitation : PlaneWave or VoltageSource, optional
+    progress : callable, optional
+        ``progress(done, total)`` after each frequency.
+    cancel : callable, optional
+        Checked before each frequency; when it returns True the sweep stops
+        with :class:`SolveCancelled`.
+    scattering : bool
+        Also integrate the far field for the scattering cross-section.
+    order, far_order, near_factor, memory_limit
+        As for :func:`solve`.
+
+    Returns
+    -------
+    SweepResult
+    """
+    try:
+        freqs = np.asarray(frequencies, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"frequencies={frequencies!r} is not a list of numbers (Hz)") from None
+    if len(freqs) == 0:
+        raise ValueError("frequencies is empty; expected at least one frequency in Hz")
+    for f in freqs:
+        _check_frequency(f, "frequencies")
+    if np.any(np.diff(freqs) <= 0):
+        raise ValueError("frequencies must be strictly increasing")
+    excitation = _default_excitation(excitation)
+    if not isinstance(mesh, TriMesh):
+        raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    check_memory(len(mesh.rwg), memory_limit)
+    geom = mom_geometry(mesh, order, far_order, near_factor)
+    plane = isinstance(excitation, PlaneWave)
+    nf = len(freqs)
+    ext = np.full(nf, np.nan)
+    sca = np.full(nf, np.nan)
+    zin = np.full(nf, complex(np.nan, np.nan))
+    coefs = np.zeros((nf, geom.n_unknowns), dtype=complex)
+    conds = np.zeros(nf)
+    residuals = np.zeros(nf)
+    warnings: tuple[str, ...] = ()
+    for j, f in enumerate(freqs):
+        if cancel is not None and cancel():
+            raise SolveCancelled(f"the sweep was cancelled after {j} of {nf} frequencies")
+        s = _solve_at(mesh, geom, float(f), excitation)
+        coefs[j] = s.coefficients
+        conds[j] = s.condition_number
+        residuals[j] = s.residual
+        warnings = warnings or s.warnings
+        if plane:
+            ext[j] = s.extinction_cross_section
+            if scattering:
+                sca[j] = s.scattering_cross_section
+        else:
+            zin[j] = s.input_impedance
+        if progress is not None:
+            progress(j + 1, nf)
+    return SweepResult(freqs, ext, sca, zin, coefs, conds, residuals, warnings)

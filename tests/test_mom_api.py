@@ -1,0 +1,249 @@
+"""The solver's API: inputs checked at the door, limits, sweeps, feeds and derived quantities."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from core import MeshParams, TriMesh, build_mesh
+from core.mom import (
+    PlaneWave,
+    ProblemTooLarge,
+    SolveCancelled,
+    VoltageSource,
+    check_memory,
+    find_peaks,
+    lorentzian_peaks,
+    solve,
+    sweep,
+)
+from core.mom.operator import SPEED_OF_LIGHT
+from core.presets import load_preset, resolve_params
+
+
+@pytest.fixture(scope="module")
+def small_plate():
+    return build_mesh(MeshParams(structure="patch", patch_size=100.0, origin=(-50, -50)))
+
+
+def strip(length=1000.0, width=20.0, nx=40, ny=2):
+    """A flat strip along x centred on the origin (mm), with a row of vertices at x = 0."""
+    x = np.linspace(-length / 2, length / 2, nx + 1)
+    y = np.linspace(-width / 2, width / 2, ny + 1)
+    xx, yy = np.meshgrid(x, y, indexing="ij")
+    points = np.column_stack([xx.ravel(), yy.ravel(), np.zeros(xx.size)])
+    i, j = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
+    a = (i * (ny + 1) + j).ravel()
+    b, c, d = a + ny + 1, a + ny + 2, a + 1
+    tri = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    zeros = np.zeros(len(tri), dtype=int)
+    return TriMesh(points, tri, zeros, zeros + 1, 1, mode="imported")
+
+
+# -- inputs ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"direction": (0, 0, 0)}, "direction=.*zero vector"),
+        ({"direction": (0, 0, -1), "polarization": (0, 0, 1)}, "not perpendicular"),
+        ({"amplitude": -1.0}, "amplitude=-1.0"),
+        ({"polarization": (1, 0)}, "polarization=.*3 finite numbers"),
+    ],
+)
+def test_plane_wave_rejects_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        PlaneWave(**kwargs)
+
+
+def test_plane_wave_from_angles_travels_towards_the_origin():
+    w = PlaneWave.from_angles(90.0, 0.0, polarization_angle=90.0)
+    np.testing.assert_allclose(w.direction, [-1, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(w.polarization, [0, 1, 0], atol=1e-15)
+
+
+@pytest.mark.parametrize("freq", [0.0, -1e9, float("nan"), "fast"])
+def test_solve_rejects_bad_frequencies(small_plate, freq):
+    with pytest.raises(ValueError, match="frequency"):
+        solve(small_plate, freq)
+
+
+def test_solve_rejects_bad_quadrature_options(small_plate):
+    with pytest.raises(ValueError, match="order=11"):
+        solve(small_plate, 1e9, order=11)
+    with pytest.raises(ValueError, match="near_factor"):
+        solve(small_plate, 1e9, near_factor=0.5)
+
+
+def test_a_mesh_without_interior_edges_has_nothing_to_solve():
+    one = TriMesh(np.eye(3), [[0, 1, 2]], [0], [1], 1, mode="imported")
+    with pytest.raises(ValueError, match="no interior edges"):
+        solve(one, 1e9)
+
+
+def test_too_many_unknowns_are_refused_before_allocating(small_plate):
+    n = len(small_plate.rwg)
+    with pytest.raises(ProblemTooLarge, match=rf"N = {n} unknowns need .* MiB.*memory_limit"):
+        solve(small_plate, 1e9, memory_limit=1000)
+    # the bound is 2 × 16 N² bytes: the matrix and its LU factors
+    assert check_memory(n, memory_limit=32 * n * n) == 32 * n * n
+    with pytest.raises(ProblemTooLarge, match="N = 1,000,000 unknowns need 29802.32 GiB"):
+        check_memory(1_000_000)
+
+
+# -- physics of the derived quantities --------------------------------------------
+
+
+def test_total_charge_is_zero_and_charge_follows_continuity(small_plate):
+    s = solve(small_plate, 1e9)
+    areas = s.geometry.areas
+    q = np.sum(s.charge_density * areas)
+    assert abs(q) < 1e-12 * np.sum(np.abs(s.charge_density) * areas)
+    # the x-polarised wave piles charge of opposite signs on the two x edges
+    x = s.geometry.centroids[:, 0]
+    left, right = (
+        np.sum((s.charge_density * areas)[x < 0]),
+        np.sum((s.charge_density * areas)[x > 0]),
+    )
+    assert abs(left + right) < 1e-9 * abs(left)
+    # and the dipole moment is the first moment of that charge
+    p, _ = s.dipole_moments()
+    first = np.sum(s.charge_density[:, None] * areas[:, None] * s.geometry.centroids, axis=0)
+    np.testing.assert_allclose(p[0], first[0], rtol=0.02)
+
+
+def test_current_at_points_is_linear_on_each_triangle(small_plate):
+    s = solve(small_plate, 1e9)
+    centroids_mm = small_plate.centroids
+    tri = np.arange(small_plate.n_triangles)
+    np.testing.assert_allclose(s.current_at(tri, centroids_mm), s.current_density, atol=1e-15)
+
+
+def test_half_wave_strip_dipole_input_impedance():
+    # a 1 m strip, 20 mm wide (equivalent radius 5 mm), fed across its middle: the
+    # first series resonance lies a little below L = λ/2, with R_in near 70 Ω
+    mesh = strip()
+    feed = VoltageSource((0.0, -10.0), (0.0, 10.0), voltage=1.0, polarity=(1, 0, 0))
+    freqs = np.linspace(120e6, 160e6, 9)
+    result = sweep(mesh, freqs, feed)
+    x = result.input_impedance.imag
+    assert np.all(np.isnan(result.extinction_cross_section))
+    crossing = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    assert len(crossing) == 1
+    i = crossing[0]
+    f0 = freqs[i] - x[i] * (freqs[i + 1] - freqs[i]) / (x[i + 1] - x[i])
+    length_m = 1.0
+    assert 0.45 < length_m * f0 / SPEED_OF_LIGHT < 0.5  # L / λ
+    r = np.interp(f0, freqs, result.input_impedance.real)
+    assert 55.0 < r < 80.0
+    # energy: the power the gap delivers is the power the far field carries away
+    s = solve(mesh, f0, feed)
+    assert s.radiated_power == pytest.approx(s.input_power, rel=0.01)
+    assert s.input_power == pytest.approx(
+        0.5 * s.input_impedance.real / abs(s.input_impedance) ** 2
+    )
+
+
+def test_voltage_source_needs_edges_on_its_segment():
+    with pytest.raises(ValueError, match="no interior edge lies on the feed segment"):
+        solve(strip(), 150e6, VoltageSource((3.0, -10.0), (3.0, 10.0)))
+    with pytest.raises(ValueError, match="zero length"):
+        VoltageSource((0, 0), (0, 0))
+
+
+def test_plane_wave_quantities_refuse_a_voltage_source():
+    s = solve(strip(nx=10), 150e6, VoltageSource((0.0, -10.0), (0.0, 10.0)))
+    with pytest.raises(ValueError, match="plane-wave"):
+        _ = s.extinction_cross_section
+    assert np.isfinite(s.input_impedance)
+
+
+def test_overlapping_paper_mode_patches_carry_a_warning():
+    params = dataclasses.replace(load_preset("paper-fig12c")[0], subdivisions=1)
+    mesh = build_mesh(params)
+    s = solve(mesh, 10e9)
+    assert len(s.warnings) == 1
+    assert f"overlap ratio {mesh.overlap_ratio:.3g}" in s.warnings[0]
+    assert f"condition number is {s.condition_number:.3g}" in s.warnings[0]
+    assert np.isfinite(s.condition_number) and s.condition_number > 1
+
+
+def test_conforming_meshes_carry_no_warning(small_plate):
+    s = solve(small_plate, 1e9)
+    assert s.warnings == ()
+    assert 1 < s.condition_number < 1e8
+    assert s.residual < 1e-12
+
+
+# -- sweeps --------------------------------------------------------------------------
+
+
+def test_sweep_reports_progress_and_matches_single_solves(small_plate):
+    calls = []
+    freqs = [1e9, 1.5e9, 2e9]
+    result = sweep(small_plate, freqs, progress=lambda done, total: calls.append((done, total)))
+    assert calls == [(1, 3), (2, 3), (3, 3)]
+    single = solve(small_plate, 1.5e9)
+    assert result.extinction_cross_section[1] == pytest.approx(single.extinction_cross_section)
+    np.testing.assert_allclose(result.coefficients[1], single.coefficients, rtol=1e-12)
+
+
+def test_sweep_can_be_cancelled(small_plate):
+    calls = []
+
+    def cancel():
+        calls.append(1)
+        return len(calls) > 2
+
+    with pytest.raises(SolveCancelled, match="after 2 of 4"):
+        sweep(small_plate, [1e9, 2e9, 3e9, 4e9], cancel=cancel)
+
+
+def test_sweep_rejects_unsorted_or_empty_frequencies(small_plate):
+    with pytest.raises(ValueError, match="strictly increasing"):
+        sweep(small_plate, [2e9, 1e9])
+    with pytest.raises(ValueError, match="empty"):
+        sweep(small_plate, [])
+
+
+def test_peak_refinement_is_exact_for_a_lorentzian():
+    x = np.linspace(3.0, 12.0, 10)
+    y = 2.0 / ((x - 6.19) ** 2 + 0.3**2) + 0.0
+    np.testing.assert_allclose(find_peaks(x, y), [6.19], rtol=1e-12)
+    # a Gaussian is not a Lorentzian: refined within a tenth of the spacing
+    gauss = np.exp(-(((x - 7.3) / 1.5) ** 2))
+    assert find_peaks(x, gauss)[0] == pytest.approx(7.3, abs=0.1)
+    assert len(find_peaks(x, x)) == 0  # monotonic: no interior peak
+    centres, half_widths = lorentzian_peaks(x, y)
+    np.testing.assert_allclose(half_widths, [0.3], rtol=1e-10)
+
+
+def test_sweep_quality_factor_of_the_split_ring():
+    # Q from the three-sample Lorentzian of a coarse sweep agrees with f0 / FWHM read off
+    # a dense sweep (half-maximum crossings interpolated)
+    mesh = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=1"]))
+    wave = PlaneWave(polarization=(0, 1, 0))
+    f = np.linspace(5.9e9, 6.6e9, 36)
+    dense = sweep(mesh, f, wave, scattering=False)
+    y = dense.extinction_cross_section
+    half = y.max() / 2
+    i = np.flatnonzero(y >= half)
+    lo = np.interp(half, y[i[0] - 1 : i[0] + 1], f[i[0] - 1 : i[0] + 1])
+    hi = np.interp(half, y[[i[-1] + 1, i[-1]]], f[[i[-1] + 1, i[-1]]])
+    coarse = sweep(mesh, f[::5], wave, scattering=False)
+    q = coarse.quality_factors
+    assert len(q) == 1 and q[0] > 5
+    assert q[0] == pytest.approx(dense.resonances[0] / (hi - lo), rel=0.03)
+    assert coarse.resonances[0] == pytest.approx(dense.resonances[0], rel=1e-3)
+
+
+@pytest.mark.parametrize("k", [2.0, 300.0])  # phases up to 6 and up to 900 rad
+def test_far_kernel_is_accurate_at_any_electrical_size(k):
+    from core.mom.operator import far_kernel
+
+    dist = np.random.default_rng(3).uniform(0.01, 3.0, (50, 40))
+    exact = np.exp(-1j * k * dist) / dist
+    assert np.abs(far_kernel(dist, k) - exact).max() / np.abs(exact).max() < 1e-6
+    # and relative to each entry, so far pairs lose nothing either
+    assert np.max(np.abs(far_kernel(dist, k) - exact) / np.abs(exact)) < 1e-6

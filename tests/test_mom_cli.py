@@ -1,0 +1,144 @@
+"""``barymesh solve``, run as users run it (subprocesses)."""
+
+import csv
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytest
+
+from core import build_mesh
+from core.mom import PlaneWave, solve
+from core.presets import resolve_params
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(*args, cwd):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env.pop("DISPLAY", None)
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", "solve", *map(str, args)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+
+
+def one_line_error(result, code, *fragments):
+    assert result.returncode == code, result.stderr
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+SMALL = ("--preset", "srr-openmodes", "--set", "subdivisions=1")
+
+
+def test_single_frequency_writes_the_currents_for_paraview(tmp_path, monkeypatch, capsys):
+    from app import cli
+
+    monkeypatch.chdir(tmp_path)  # in-process (fast); the sweep below runs as a subprocess
+    code = cli.main(["solve", *SMALL, "--freq", "6.19GHz", "--dir", "-z", "--pol", "y",
+                     "-o", "j.vtu", "-o", "j.npz", "-o", "one.csv"])  # fmt: skip
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "139 RWG unknowns" in out.out and "extinction" in out.out
+    mesh = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=1"]))
+    want = solve(mesh, 6.19e9, PlaneWave(polarization=(0, 1, 0))).current_density
+    vtu = meshio.read(tmp_path / "j.vtu")
+    j_abs = vtu.cell_data["J_abs"][0]
+    j_re, j_im = vtu.cell_data["J_real"][0], vtu.cell_data["J_imag"][0]
+    assert j_re.shape == (mesh.n_triangles, 3)
+    np.testing.assert_allclose(j_re + 1j * j_im, want, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(j_abs, np.linalg.norm(want, axis=1), rtol=1e-9)
+    npz = np.load(tmp_path / "j.npz")
+    np.testing.assert_allclose(npz["current_density"], want, rtol=1e-9, atol=1e-12)
+    rows = list(csv.DictReader(open(tmp_path / "one.csv")))
+    assert float(rows[0]["frequency_hz"]) == 6.19e9
+    ext = float(rows[0]["extinction_cross_section_m2"])
+    assert float(rows[0]["scattering_cross_section_m2"]) == pytest.approx(ext, rel=0.01)
+
+
+def test_sweep_writes_csv_and_plot_and_finds_the_resonance(tmp_path):
+    r = run(*SMALL, "--freq", "5GHz:7.5GHz:11", "--pol", "0,1,0", "-o", "sweep.csv",
+            "--plot", "sweep.png", cwd=tmp_path)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "sweep.csv") as fh:
+        reader = csv.reader(fh)
+        header = next(reader)
+        rows = [list(map(float, row)) for row in reader]
+    assert header[:3] == [
+        "frequency_hz",
+        "extinction_cross_section_m2",
+        "scattering_cross_section_m2",
+    ]
+    data = np.array(rows)
+    np.testing.assert_allclose(data[:, 0], np.linspace(5e9, 7.5e9, 11))
+    np.testing.assert_allclose(data[:, 2], data[:, 1], rtol=0.01)
+    # the printed resonance is the peak of the written extinction
+    line = next(x for x in r.stdout.splitlines() if "resonances" in x)
+    f0 = float(line.split(":")[1].split()[0]) * 1e9
+    assert abs(f0 - data[np.argmax(data[:, 1]), 0]) <= 0.25e9
+    png = (tmp_path / "sweep.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
+
+
+def test_feed_prints_the_input_impedance(capsys):
+    from app import cli
+
+    # Makarov's plate fed across its middle line x = 0 (a vertical mesh line)
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "100MHz",
+                     "--feed", "0,-500:0,500"])  # fmt: skip
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    line = next(x for x in out.out.splitlines() if "input impedance" in x)
+    assert line.strip().endswith("ohm")
+    real = float(line.split()[2])
+    assert real > 0  # a passive antenna radiates: positive input resistance
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (("--freq", "6 parsecs"), "--freq '6 parsecs' is invalid"),
+        (("--freq", "6GHz:5GHz:3"), "expected A < B"),
+        (("--freq", "6GHz", "--pol", "z"), "not perpendicular"),
+        (("--freq", "6GHz", "--dir", "up"), "--dir 'up' is invalid"),
+        (("--freq", "6GHz", "-o", "a.vtk"), "expected .csv, .npz, .vtu"),
+        (("--freq", "3GHz:6GHz:4", "-o", "a.vtu"), "a .vtu holds one frequency"),
+        (("--freq", "6GHz", "--plot", "p.png"), "--plot needs a sweep"),
+        (("--freq", "6GHz", "--feed", "0,0:0,0"), "zero length"),
+    ],
+)
+def test_usage_errors_are_one_line_exit_2(tmp_path, monkeypatch, capsys, args, fragment):
+    monkeypatch.chdir(tmp_path)
+    in_process(capsys, 2, *SMALL, *args, fragments=(fragment,))
+
+
+def in_process(capsys, code, *args, fragments=()):
+    """Run ``barymesh solve ARGS`` in this process (fast); check the one-line error."""
+    from app import cli
+
+    assert cli.main(["solve", *map(str, args)]) == code
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    for fragment in fragments:
+        assert fragment in err
+
+
+def test_too_large_a_problem_is_refused_naming_n_and_memory(capsys):
+    in_process(capsys, 1, *SMALL, "--freq", "6GHz", "--max-memory", "100kB",
+               fragments=("N = 139 unknowns need", "MiB", "memory_limit of 0.1 MiB"))  # fmt: skip
+
+
+def test_feed_off_the_mesh_edges_is_bad_input(capsys):
+    in_process(capsys, 1, *SMALL, "--freq", "6GHz", "--feed", "100,100:100,101",
+               fragments=("no interior edge lies on the feed segment",))  # fmt: skip
