@@ -70,6 +70,7 @@ class CurrentLayer:
         self.magnitude: np.ndarray | None = None  # (T,) float
         self.surface: Any = None  # pyvista.PolyData with MAGNITUDE cell data
         self.arrows: Any = None  # pyvista.PolyData of the arrow glyphs
+        self.vectors: np.ndarray | None = None  # (T, 3) Re(J e^{jφ}) the arrows show
         self.scale = "linear"
         self.phase = 0.0
         self.visible = True
@@ -105,6 +106,7 @@ class CurrentLayer:
     def clear(self) -> None:
         """Remove the layer's actors (the mesh changed, or no result)."""
         self.mesh = self.current = self.magnitude = self.surface = self.arrows = None
+        self.vectors = None
         self._remove_actors()
         self.request_render()
 
@@ -139,7 +141,7 @@ class CurrentLayer:
         """The arrows: ``pyvista.Arrow`` glyphs at the centroids, longest = the scale."""
         import pyvista as pv
 
-        vectors = arrow_vectors(self.current, self.phase)
+        vectors = self.vectors = arrow_vectors(self.current, self.phase)
         peak = float(self.magnitude.max()) if self.magnitude.size else 0.0
         cloud = pv.PolyData(np.asarray(self.mesh.centroids, dtype=float)
                             + np.array([0.0, 0.0, 1e-3 * self._arrow_scale]))
@@ -169,9 +171,9 @@ class CurrentLayer:
             self.surface, scalars=MAGNITUDE, cmap="inferno", clim=clim, log_scale=log_scale,
             show_edges=False, lighting=False, reset_camera=False, render=False,
             name="surface_current", pickable=False,
-            scalar_bar_args={"title": self._bar_title, "vertical": True,
-                             "position_x": 0.9, "position_y": 0.25, "height": 0.5,
-                             "width": 0.035, "fmt": "%.2g", "color": "black",
+            scalar_bar_args={"title": self._bar_title, "vertical": False,
+                             "position_x": 0.25, "position_y": 0.9, "height": 0.07,
+                             "width": 0.5, "fmt": "%.2g", "color": "black",
                              "title_font_size": 12, "label_font_size": 11, "n_labels": 4},
         )
         # drawn just in front of the scene's faces, which lie in the same plane

@@ -279,7 +279,8 @@ class SolvePanel(QWidget):
         self.frequency = QLineEdit("1", page)
         self.frequency.setToolTip("The frequency of the incident plane wave")
         self.unit = QComboBox(page)
-        self.unit.addItems(list(UNITS))
+        for u in UNITS:
+            self.unit.addItem(u, u)
         self.unit.setCurrentText("GHz")
         row = QHBoxLayout()
         row.addWidget(self.frequency, 1)
@@ -364,7 +365,8 @@ class SolvePanel(QWidget):
         self.sweep_from = QLineEdit("3", page)
         self.sweep_to = QLineEdit("12", page)
         self.sweep_unit = QComboBox(page)
-        self.sweep_unit.addItems(list(UNITS))
+        for u in UNITS:
+            self.sweep_unit.addItem(u, u)
         self.sweep_unit.setCurrentText("GHz")
         row = QHBoxLayout()
         row.addWidget(self.sweep_from, 1)
