@@ -23,12 +23,17 @@ log = logging.getLogger(__name__)
 
 #: Cell-data name of |J| on the layer's surface (A/m).
 MAGNITUDE = "|J| (A/m)"
+#: Title of the colour bar (VTK's font draws no "|").
+BAR_TITLE = "current density (A/m)"
+#: Colour map of |J| (pale yellow to dark red) and the arrows' colour, dark on all of it.
+COLORMAP = "YlOrRd"
+ARROW_COLOR = "#10206b"
 #: Scales of the colour map.
 SCALES = ("linear", "log")
 #: On the log scale the colour map spans this many decades below the largest |J|.
 LOG_DECADES = 3.0
 #: The longest arrow, as a fraction of the mean triangle size (√ of the mean area).
-ARROW_LENGTH = 0.9
+ARROW_LENGTH = 1.4
 
 
 def arrow_vectors(current: np.ndarray, phase_deg: float) -> np.ndarray:
@@ -147,7 +152,7 @@ class CurrentLayer:
                             + np.array([0.0, 0.0, 1e-3 * self._arrow_scale]))
         cloud["J"] = vectors * (self._arrow_scale / peak if peak > 0 else 0.0)
         return cloud.glyph(orient="J", scale="J", factor=1.0,
-                           geom=pv.Arrow(tip_length=0.35, tip_radius=0.18, shaft_radius=0.06))
+                           geom=pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07))
 
     def _remove_actors(self) -> None:
         for actor in (self._surface_actor, self._arrow_actor):
@@ -156,6 +161,18 @@ class CurrentLayer:
         if self._bar_title is not None and self._bar_title in self.plotter.scalar_bars:
             self.plotter.remove_scalar_bar(self._bar_title, render=False)
         self._surface_actor = self._arrow_actor = self._bar_title = None
+
+    def _bar_args(self) -> dict[str, Any]:
+        """The colour bar where the framed mesh leaves room: above it in a tall view,
+        at its right in a wide one."""
+        args = {"title": self._bar_title, "fmt": "%.2g", "color": "black",
+                "title_font_size": 12, "label_font_size": 11, "n_labels": 4}
+        w, h = self.plotter.width(), self.plotter.height()
+        if w > 1.15 * h:
+            return args | {"vertical": True, "position_x": 0.86, "position_y": 0.3,
+                           "width": 0.1, "height": 0.4}
+        return args | {"vertical": False, "position_x": 0.25, "position_y": 0.86,
+                       "width": 0.5, "height": 0.12}
 
     def _draw(self) -> None:
         self._remove_actors()
@@ -166,23 +183,22 @@ class CurrentLayer:
         log_scale = self.scale == "log" and peak > 0
         clim = ([peak * 10 ** -LOG_DECADES, peak] if log_scale
                 else [0.0, peak if peak > 0 else 1.0])
-        self._bar_title = f"{MAGNITUDE}{' log' if log_scale else ''}"
+        self._bar_title = f"{BAR_TITLE}{', log scale' if log_scale else ''}"
         self._surface_actor = self.plotter.add_mesh(
-            self.surface, scalars=MAGNITUDE, cmap="inferno", clim=clim, log_scale=log_scale,
+            self.surface, scalars=MAGNITUDE, cmap=COLORMAP, clim=clim, log_scale=log_scale,
             show_edges=False, lighting=False, reset_camera=False, render=False,
             name="surface_current", pickable=False,
-            scalar_bar_args={"title": self._bar_title, "vertical": False,
-                             "position_x": 0.25, "position_y": 0.9, "height": 0.07,
-                             "width": 0.5, "fmt": "%.2g", "color": "black",
-                             "title_font_size": 12, "label_font_size": 11, "n_labels": 4},
+            scalar_bar_args=self._bar_args(),
         )
+        bar = self.plotter.scalar_bars[self._bar_title]
+        bar.SetTextPositionToPrecedeScalarBar()  # numbers under (left of) the bar
         # drawn just in front of the scene's faces, which lie in the same plane
         mapper = self._surface_actor.GetMapper()
         mapper.SetResolveCoincidentTopologyToPolygonOffset()
         mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-4.0, -8.0)
         self.arrows = self._glyphs()
         self._arrow_actor = self.plotter.add_mesh(
-            self.arrows, color="#3ec1ff", lighting=False, reset_camera=False, render=False,
+            self.arrows, color=ARROW_COLOR, lighting=False, reset_camera=False, render=False,
             name="surface_current_arrows", pickable=False, show_scalar_bar=False,
         )
         self.set_visible(self.visible)

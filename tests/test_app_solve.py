@@ -15,7 +15,7 @@ pytest.importorskip("matplotlib")
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
-from app.current_layer import MAGNITUDE  # noqa: E402
+from app.current_layer import BAR_TITLE, MAGNITUDE  # noqa: E402
 from app.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.mom import PlaneWave, solve, sweep  # noqa: E402
@@ -104,14 +104,14 @@ def test_result_is_invalidated_visibly(window, qtbot):
     assert panel.solution is not None and panel.layer.shown
     names = {"surface_current", "surface_current_arrows"}
     assert names <= set(window.plotter.renderer.actors)
-    assert MAGNITUDE in window.plotter.scalar_bars
+    assert BAR_TITLE in window.plotter.scalar_bars
     panel.auto.click()  # no auto-solve: a change leaves the view without a result
     assert not panel.auto.isChecked()
     type_into(panel.frequency, "2")
     assert panel.solution is None and panel.layer.current is None
     assert panel.stale.isVisible() and "other inputs" in panel.stale.text()
     assert not names & set(window.plotter.renderer.actors)  # |J| surface and arrows gone
-    assert MAGNITUDE not in window.plotter.scalar_bars
+    assert BAR_TITLE not in window.plotter.scalar_bars
     click(qtbot, panel.solve_button)
     assert panel.solution.frequency == 2e9 and not panel.stale.isVisible()
 
