@@ -25,7 +25,16 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QEvent, QObject, QRunnable, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtCore import (
+    QEvent,
+    QObject,
+    QRunnable,
+    QSize,
+    Qt,
+    QThreadPool,
+    QTimer,
+    Signal,
+)
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -53,6 +62,8 @@ log = logging.getLogger(__name__)
 #: (``core.mom.solve``, geometry + fill + LU, square patches): 40 unknowns 20 ms, 65
 #: unknowns 36 ms, 96 unknowns 85–127 ms while other jobs loaded the cores.
 AUTO_SOLVE_UNKNOWNS = 80
+#: The widest the panel asks to be (px).
+PANEL_WIDTH = 300
 #: Frequency units of the unit boxes.
 UNITS = {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6, "GHz": 1e9}
 #: Named directions (the direction boxes' presets and what they accept besides X, Y, Z).
@@ -161,7 +172,7 @@ class SweepPlot(QWidget):
         from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
         from matplotlib.figure import Figure
 
-        self.figure = Figure(figsize=(4, 3), dpi=90, layout="constrained")
+        self.figure = Figure(figsize=(3, 2.4), dpi=90, layout="constrained")
         self.canvas = FigureCanvasQTAgg(self.figure)
         self.canvas.setMinimumHeight(220)
         self.axes = self.figure.add_subplot()
@@ -238,6 +249,7 @@ class SolvePanel(QWidget):
         self.sweep_result: Any = None
         self.sweep_mesh: TriMesh | None = None
         self.last_outcome: Outcome | None = None
+        self.coefficient_label: QLabel | None = None  # put into the RWG inspector
         self._token = 0
         self._running: str | None = None
         self._cancel = threading.Event()
@@ -270,6 +282,11 @@ class SolvePanel(QWidget):
         self.timer.timeout.connect(self._step_phase)
         self.model.result_changed.connect(self._mesh_changed)
         window.installEventFilter(self)
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        """No wider than the Parameters panel asks: the 3D view keeps the width."""
+        hint = super().sizeHint()
+        return QSize(min(hint.width(), PANEL_WIDTH), hint.height())
 
     # -- layout ----------------------------------------------------------------------
 
@@ -584,7 +601,50 @@ class SolvePanel(QWidget):
         lines += [f"<span style='color:#b35900'>{w}</span>" for w in s.warnings]
         self.summary.setText("<br>".join(lines))
         self.plot.mark(s.frequency if self.sweep_mesh is outcome.mesh else None)
+        self._show_coefficient()
         self.solved.emit(s)
+
+    # -- the RWG inspector's I_n -------------------------------------------------------
+
+    def _inspector(self) -> Any:
+        """The window's RWG inspector, given a line for I_n the first time (or None)."""
+        inspector = getattr(getattr(self.window_, "teaching", None), "inspector", None)
+        if inspector is None:
+            return None
+        if self.coefficient_label is None:
+            self.coefficient_label = QLabel(inspector)
+            self.coefficient_label.setWordWrap(True)
+            self.coefficient_label.setTextInteractionFlags(
+                Qt.TextInteractionFlag.TextSelectableByMouse)
+            layout = inspector.layout()
+            layout.insertWidget(layout.indexOf(inspector.info_label) + 1,
+                                self.coefficient_label)
+            inspector.edge_selected.connect(self._show_coefficient)
+        return inspector
+
+    def coefficient_text(self, edge: int, mesh: TriMesh | None) -> str:
+        """The inspector's line for ``edge`` of ``mesh``: I_n of the solution, or why not."""
+        if edge < 0 or mesh is None:
+            return ""
+        if self.solution is None or self.solution_mesh is not mesh:
+            return "I_n: no current for this mesh (Solve dock)."
+        rows = np.asarray(mesh.rwg.edge)
+        n = int(np.searchsorted(rows, edge))
+        if n >= len(rows) or rows[n] != edge:
+            return "I_n: this edge carries no RWG function."
+        c = complex(self.solution.coefficients[n])
+        number, unit = format_frequency(self.solution.frequency)
+        return (f"I_{n} = {c.real:.4g} {'+' if c.imag >= 0 else '−'} j{abs(c.imag):.4g} A "
+                f"(|I_n| {abs(c):.4g} A, phase {np.degrees(np.angle(c)):.1f}°) at "
+                f"{number} {unit}")
+
+    def _show_coefficient(self, edge: int | None = None) -> None:
+        inspector = self._inspector()
+        if inspector is None:
+            return
+        if edge is None:
+            edge = -1 if inspector.edge is None else inspector.edge
+        self.coefficient_label.setText(self.coefficient_text(int(edge), inspector.mesh))
 
     def _show_sweep(self, outcome: Outcome) -> None:
         r = outcome.result
@@ -605,6 +665,7 @@ class SolvePanel(QWidget):
         self.stale.show()
         self.summary.setText("No result for what is on screen.")
         self.plot.mark(None)
+        self._show_coefficient()
 
     def _mesh_changed(self, result: Any) -> None:
         mesh = result.mesh

@@ -342,8 +342,8 @@ class MainWindow(QMainWindow):
         self.solve_panel = SolvePanel(self)
         self._add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea,
                        scroll=True)
-        self.tabifyDockWidget(self.layers_dock, self.solve_dock)
-        self.layers_dock.raise_()
+        self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
+        self.statistics_dock.raise_()
 
         self.busy = QProgressBar(self)
         self.busy.setRange(0, 0)
@@ -955,7 +955,7 @@ class MainWindow(QMainWindow):
         one column on the left, so the 3D view keeps most of the width. The teaching docks
         stay tabbed with Statistics; hidden docks stay hidden."""
         left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
-        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock]
+        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock, self.solve_dock]
         hidden = {d: d.isHidden() for d in
                   (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)}
         self._arranging = True

@@ -202,3 +202,26 @@ def test_cancel_drops_a_running_solve(window, qtbot):
     assert panel.pool.waitForDone(120_000)
     qtbot.wait(50)  # the dropped result arrives through the event loop
     assert panel.solution is None and panel.layer.current is None
+
+
+def test_rwg_inspector_shows_the_coefficient(window, qtbot):
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1.5")
+    with qtbot.waitActive(window):  # shortcuts (I, N) need the active window
+        window.activateWindow()
+    window.plotter.setFocus()
+    QTest.keyClick(window.plotter, Qt.Key.Key_I)  # Teach → RWG basis inspector
+    inspector = window.teaching.inspector
+    qtbot.waitUntil(lambda: inspector.edge is not None)
+    QTest.keyClick(window.plotter, Qt.Key.Key_N)
+    QTest.keyClick(window.plotter, Qt.Key.Key_N)  # the third RWG function
+    mesh = window.model.result.mesh
+    rows = np.asarray(mesh.rwg.edge)
+    assert inspector.edge == rows[2]
+    c = complex(solve(mesh, 1.5e9).coefficients[2])
+    text = panel.coefficient_label.text()
+    assert text.startswith(f"I_2 = {c.real:.4g} ")
+    assert f"|I_n| {abs(c):.4g} A" in text and "1.5 GHz" in text
+    panel.auto.click()
+    type_into(panel.frequency, "2")  # no current for these inputs: said so, not a stale I_n
+    assert "no current" in panel.coefficient_label.text()
