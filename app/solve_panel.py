@@ -8,7 +8,8 @@ cross-section against frequency (matplotlib), the resonances marked; a click on 
 plot sets the frequency and solves there.
 
 Meshes with at most :data:`AUTO_SOLVE_UNKNOWNS` RWG unknowns are solved on the GUI thread,
-and again whenever the mesh or a solve input changes (auto-solve). Larger ones are solved
+and, once a user has asked for a solve, again whenever the mesh or a solve input changes
+(auto-solve). Larger ones are solved
 when asked, in a ``QThreadPool`` worker with a busy bar (a sweep: progress per frequency)
 and Cancel. A result that no longer matches the mesh or the inputs is cleared from the
 view and the panel says so.
@@ -243,6 +244,9 @@ class SolvePanel(QWidget):
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
+        #: Set by the first Solve, sweep click or typed input: from then on small meshes
+        #: are solved whenever they change (the window opens without a current).
+        self.engaged = False
         self.solution: Any = None
         self.solution_mesh: TriMesh | None = None
         self.solution_inputs: tuple[Any, ...] | None = None
@@ -433,6 +437,7 @@ class SolvePanel(QWidget):
         return hz, tuple(wave.direction), tuple(np.asarray(wave.polarization))
 
     def _inputs_edited(self) -> None:
+        self.engaged = True
         key = self._inputs_key()
         if key is None:
             try:
@@ -447,8 +452,9 @@ class SolvePanel(QWidget):
             self.solve()
 
     def _small(self) -> bool:
+        """Whether to solve at once: asked for once, auto-solve on, N small."""
         mesh = self.mesh
-        return (self.auto.isChecked() and mesh is not None
+        return (self.engaged and self.auto.isChecked() and mesh is not None
                 and 0 < len(mesh.rwg) <= self.auto_unknowns)
 
     # -- solving ---------------------------------------------------------------------
@@ -459,6 +465,7 @@ class SolvePanel(QWidget):
 
     def solve_at(self, hz: float | None = None) -> bool:
         """Solve at ``hz`` (None: the field's frequency; else the field is set to it)."""
+        self.engaged = True
         if hz is not None:
             number, unit = format_frequency(hz)
             self.unit.blockSignals(True)

@@ -79,6 +79,8 @@ def test_small_mesh_auto_solves_and_follows_the_mesh(window, qtbot):
     panel = open_solve(window, qtbot)
     mesh = window.model.result.mesh
     assert len(mesh.rwg) == 40
+    assert panel.solution is None  # the window opens without a current
+    assert "surface_current" not in window.plotter.renderer.actors
     type_into(panel.frequency, "1.2")  # GHz: solved at once on the GUI thread
     assert panel.solution is not None
     assert panel.last_outcome.thread == threading.get_ident()
