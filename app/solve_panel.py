@@ -254,8 +254,9 @@ class SolvePanel(QWidget):
         self.sweep_mesh: TriMesh | None = None
         self.last_outcome: Outcome | None = None
         self.coefficient_label: QLabel | None = None  # put into the RWG inspector
-        self._token = 0
-        self._running: str | None = None
+        #: The latest job of each kind; a result whose token is older is dropped.
+        self._tokens = {"solve": 0, "sweep": 0}
+        self._running: set[str] = set()
         self._cancel = threading.Event()
         self._job_done.connect(self._finished)
         self._job_progress.connect(self._progress)
@@ -491,9 +492,10 @@ class SolvePanel(QWidget):
         from core.mom import solve
 
         work = lambda: solve(mesh, frequency, wave)  # noqa: E731
-        self._token += 1
+        self._tokens["solve"] += 1
+        self._running.discard("solve")  # a running solve's result is now stale
         if n <= self.auto_unknowns:
-            outcome = run_job(self._token, mesh, "solve", work)
+            outcome = run_job(self._tokens["solve"], mesh, "solve", work)
             outcome.inputs = key  # type: ignore[attr-defined]
             self._finished(outcome)
             return True
@@ -520,8 +522,8 @@ class SolvePanel(QWidget):
         from core.mom import sweep
 
         freqs = np.linspace(a, b, self.sweep_count.value())
-        self._token += 1
-        token = self._token
+        self._tokens["sweep"] += 1
+        token = self._tokens["sweep"]
         self._cancel.clear()
 
         def work() -> Any:
@@ -534,8 +536,8 @@ class SolvePanel(QWidget):
 
     def _start(self, mesh: TriMesh, kind: str, work: Callable[[], Any],
                key: tuple[Any, ...] | None, message: str) -> None:
-        token = self._token
-        self._running = kind
+        token = self._tokens[kind]
+        self._running.add(kind)
         self._cancel.clear()
         self.progress.setRange(0, 0)
         self.progress.setFormat("%v / %m")
@@ -553,30 +555,31 @@ class SolvePanel(QWidget):
     def cancel(self) -> None:
         """Stop the running job: a sweep stops before its next frequency; a single solve
         cannot be interrupted, so its result is dropped when it comes."""
-        if self._running is None:
+        if not self._running:
             return
         self._cancel.set()
-        self._token += 1  # whatever the running job returns is now stale
+        for kind in self._running:
+            self._tokens[kind] += 1  # whatever the running job returns is now stale
         self._job_ended()
-        self.status.setText(f"The {self._running or 'job'} was cancelled.")
-        self._running = None
+        self.status.setText(f"The {' and the '.join(sorted(self._running))} was cancelled.")
+        self._running.clear()
 
     def _job_ended(self) -> None:
         self.progress.hide()
         self.cancel_button.setEnabled(False)
 
     def _progress(self, token: int, done: int, total: int) -> None:
-        if token == self._token:
+        if token == self._tokens["sweep"] and "sweep" in self._running:
             self.progress.setRange(0, total)
             self.progress.setValue(done)
 
     def _finished(self, outcome: Outcome) -> None:
         self.last_outcome = outcome
-        if outcome.token != self._token:
+        if outcome.token != self._tokens[outcome.kind]:
             log.debug("dropped a stale %s", outcome.kind)
             return
-        if self._running is not None:
-            self._running = None
+        self._running.discard(outcome.kind)
+        if not self._running:
             self._job_ended()
         if outcome.error is not None:
             self.status.setText(f"The {outcome.kind} failed: {outcome.error}")
@@ -681,7 +684,7 @@ class SolvePanel(QWidget):
         if self.sweep_result is not None and self.sweep_mesh is not mesh:
             self.plot.show_result(self.sweep_result, note="this sweep is for the previous mesh")
             self.sweep_mesh = None
-        if self._running is not None:
+        if self._running:
             self.cancel()
         if self.solution is None and self._small():
             self.solve()
@@ -719,7 +722,8 @@ class SolvePanel(QWidget):
         """Cancel and wait for a running job (the window is closing)."""
         self.timer.stop()
         self._cancel.set()
-        self._token += 1
+        for kind in self._tokens:
+            self._tokens[kind] += 1
         try:
             self.model.result_changed.disconnect(self._mesh_changed)
         except ValueError:
