@@ -21,10 +21,14 @@ from core import TriMesh
 
 log = logging.getLogger(__name__)
 
-#: Cell-data name of |J| on the layer's surface (A/m).
+#: Cell-data names on the layer's surface: |J| (A/m) and Re(ρ_s e^{jφ}) (C/m²).
 MAGNITUDE = "|J| (A/m)"
-#: Title of the colour bar (VTK's font draws no "|").
+CHARGE = "Re rho_s (C/m^2)"
+#: What the colours show: |J|, or the surface charge density at phase φ.
+QUANTITIES = ("current", "charge")
+#: Titles of the colour bar (VTK's font draws no "|" nor Greek).
 BAR_TITLE = "current density (A/m)"
+CHARGE_TITLE = "charge density (C/m2)"
 #: Colour map of |J| (pale yellow to dark red) and the arrows' colour, dark on all of it.
 COLORMAP = "YlOrRd"
 ARROW_COLOR = "#10206b"
@@ -76,6 +80,8 @@ class CurrentLayer:
         self.surface: Any = None  # pyvista.PolyData with MAGNITUDE cell data
         self.arrows: Any = None  # pyvista.PolyData of the arrow glyphs
         self.vectors: np.ndarray | None = None  # (T, 3) Re(J e^{jφ}) the arrows show
+        self.charge: np.ndarray | None = None  # (T,) complex ρ_s (C/m²)
+        self.quantity = "current"
         self.scale = "linear"
         self.phase = 0.0
         self.visible = True
@@ -90,20 +96,34 @@ class CurrentLayer:
 
     # -- data ------------------------------------------------------------------------
 
-    def set_current(self, mesh: TriMesh, current: np.ndarray) -> None:
-        """Show ``current`` ((T, 3) complex, A/m at the centroids of ``mesh``)."""
+    def set_current(self, mesh: TriMesh, current: np.ndarray,
+                    charge: np.ndarray | None = None) -> None:
+        """Show ``current`` ((T, 3) complex, A/m at the centroids of ``mesh``) and keep
+        ``charge`` ((T,) complex ρ_s, C/m²) for the charge colouring.
+
+        A new current on the mesh already shown updates the layer's arrays in place.
+        """
         current = np.asarray(current)
         if current.shape != (len(mesh.triangles), 3):
             raise ValueError(f"current has shape {current.shape}; expected "
                              f"({len(mesh.triangles)}, 3) for this mesh")
+        if charge is not None and np.shape(charge) != (len(mesh.triangles),):
+            raise ValueError(f"charge has shape {np.shape(charge)}; expected "
+                             f"({len(mesh.triangles)},) for this mesh")
         import pyvista as pv
 
+        same = mesh is self.mesh and self._surface_actor is not None
         self.mesh, self.current = mesh, current
+        self.charge = None if charge is None else np.asarray(charge)
         self.magnitude = np.linalg.norm(np.abs(current), axis=1)
+        if same:
+            self._set_arrays()
+            self._refresh()
+            return
         tri = np.asarray(mesh.triangles, dtype=np.int64)
         faces = np.column_stack([np.full(len(tri), 3, dtype=np.int64), tri]).ravel()
         self.surface = pv.PolyData(np.asarray(mesh.points, dtype=float), faces)
-        self.surface.cell_data[MAGNITUDE] = self.magnitude
+        self._set_arrays()
         area = float(np.mean(mesh.areas)) if len(tri) else 1.0
         self._arrow_scale = ARROW_LENGTH * np.sqrt(max(area, 1e-300))
         self._draw()
@@ -111,7 +131,7 @@ class CurrentLayer:
     def clear(self) -> None:
         """Remove the layer's actors (the mesh changed, or no result)."""
         self.mesh = self.current = self.magnitude = self.surface = self.arrows = None
-        self.vectors = None
+        self.vectors = self.charge = None
         self._remove_actors()
         self.request_render()
 
@@ -123,12 +143,60 @@ class CurrentLayer:
             self.scale = scale
             self._draw()
 
+    def set_quantity(self, quantity: str) -> None:
+        """Colour by ``"current"`` (|J|) or ``"charge"`` (Re(ρ_s e^{jφ}), signed)."""
+        if quantity not in QUANTITIES:
+            raise ValueError(f"quantity={quantity!r}; expected one of {QUANTITIES}")
+        if quantity != self.quantity:
+            self.quantity = quantity
+            self._draw()
+
     def set_phase(self, phase_deg: float) -> None:
-        """Turn the arrows to Re(J e^{jφ}) at φ = ``phase_deg``; one repaint."""
+        """Turn the arrows to Re(J e^{jφ}) at φ = ``phase_deg`` (and the charge colours
+        to Re(ρ_s e^{jφ})); one repaint."""
         self.phase = float(phase_deg) % 360.0
         if self.current is None or self.arrows is None:
             return
+        if self.quantity == "charge":
+            self._set_arrays()
         self.arrows.copy_from(self._glyphs())
+        self.arrows.Modified()
+        self.request_render()
+
+    def _set_arrays(self) -> None:
+        """|J| and Re(ρ_s e^{jφ}) on the surface, the shown one active (the mapper
+        colours by the active cell scalars)."""
+        self.surface.cell_data[MAGNITUDE] = self.magnitude
+        self.surface.cell_data[CHARGE] = self._charge_values()
+        self.surface.set_active_scalars(CHARGE if self.quantity == "charge" else MAGNITUDE,
+                                        preference="cell")
+        self.surface.Modified()
+
+    def _charge_values(self) -> np.ndarray:
+        """(T,) Re(ρ_s e^{jφ}) (zeros without a charge density)."""
+        if self.charge is None:
+            return np.zeros(len(self.current))
+        return np.real(self.charge * np.exp(1j * np.deg2rad(self.phase)))
+
+    def _colouring(self) -> tuple[str, list[float], bool, str, str]:
+        """(array, clim, log scale, colour map, bar title) of the current quantity."""
+        if self.quantity == "charge":
+            peak = float(np.abs(self.charge).max()) if self.charge is not None else 0.0
+            peak = peak if peak > 0 else 1.0
+            return CHARGE, [-peak, peak], False, "coolwarm", CHARGE_TITLE
+        peak = float(self.magnitude.max())
+        log_scale = self.scale == "log" and peak > 0
+        clim = ([peak * 10 ** -LOG_DECADES, peak] if log_scale
+                else [0.0, peak if peak > 0 else 1.0])
+        return (MAGNITUDE, clim, log_scale, COLORMAP,
+                f"{BAR_TITLE}{', log scale' if log_scale else ''}")
+
+    def _refresh(self) -> None:
+        """New values on the same mesh: colour range and arrows updated, actors kept."""
+        _name, clim, _log, _cmap, _title = self._colouring()
+        self._surface_actor.GetMapper().SetScalarRange(*clim)
+        self.arrows.copy_from(self._glyphs())
+        self.arrows.Modified()
         self.request_render()
 
     def set_visible(self, visible: bool) -> None:
@@ -167,7 +235,7 @@ class CurrentLayer:
         at its right in a wide one."""
         args = {"title": self._bar_title, "fmt": "%.2g", "color": "black",
                 "title_font_size": 12, "label_font_size": 11, "n_labels": 4}
-        w, h = self.plotter.width(), self.plotter.height()
+        w, h = self.plotter.window_size  # the render window's pixels (Qt or not)
         if w > 1.15 * h:
             return args | {"vertical": True, "position_x": 0.86, "position_y": 0.3,
                            "width": 0.1, "height": 0.4}
@@ -179,17 +247,15 @@ class CurrentLayer:
         if self.current is None:
             self.request_render()
             return
-        peak = float(self.magnitude.max())
-        log_scale = self.scale == "log" and peak > 0
-        clim = ([peak * 10 ** -LOG_DECADES, peak] if log_scale
-                else [0.0, peak if peak > 0 else 1.0])
-        self._bar_title = f"{BAR_TITLE}{', log scale' if log_scale else ''}"
+        name, clim, log_scale, cmap, self._bar_title = self._colouring()
         self._surface_actor = self.plotter.add_mesh(
-            self.surface, scalars=MAGNITUDE, cmap=COLORMAP, clim=clim, log_scale=log_scale,
+            self.surface, scalars=name, cmap=cmap, clim=clim, log_scale=log_scale,
             show_edges=False, lighting=False, reset_camera=False, render=False,
             name="surface_current", pickable=False,
             scalar_bar_args=self._bar_args(),
         )
+        # the mapper reads self.surface through pyvista's producer: Modified() on it makes
+        # the next render take new values
         bar = self.plotter.scalar_bars[self._bar_title]
         bar.SetTextPositionToPrecedeScalarBar()  # numbers under (left of) the bar
         # drawn just in front of the scene's faces, which lie in the same plane

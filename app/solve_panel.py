@@ -342,6 +342,12 @@ class SolvePanel(QWidget):
         self.show_current.setChecked(True)
         self.show_current.toggled.connect(self._show_toggled)
         form.addRow(self.show_current)
+        self.quantity = QComboBox(page)
+        self.quantity.addItem("current density |J|", "current")
+        self.quantity.addItem("charge density Re(ρ e^{jωt})", "charge")
+        self.quantity.setToolTip("What the colours show; the charge follows the phase")
+        self.quantity.currentIndexChanged.connect(self._quantity_changed)
+        form.addRow("C&olour by", self.quantity)
         self.scale = QComboBox(page)
         for s in SCALES:
             self.scale.addItem(f"{s} |J|", s)
@@ -447,10 +453,12 @@ class SolvePanel(QWidget):
                 self.error.setText(str(exc))
             return
         self.error.clear()
-        if self.solution is not None and key != self.solution_inputs:
+        if self.solution is not None and key == self.solution_inputs:
+            return
+        if self._small():
+            self.solve()  # replaces the current in place
+        elif self.solution is not None:
             self._invalidate("The current on screen is for other inputs: Solve again.")
-        if self.solution is None and self._small():
-            self.solve()
 
     def _small(self) -> bool:
         """Whether to solve at once: asked for once, auto-solve on, N small."""
@@ -600,7 +608,7 @@ class SolvePanel(QWidget):
         self.stale.hide()
         self.layer.set_phase(self.phase.value())
         self.layer.visible = self.show_current.isChecked()
-        self.layer.set_current(outcome.mesh, s.current_density)
+        self.layer.set_current(outcome.mesh, s.current_density, s.charge_density)
         number, unit = format_frequency(s.frequency)
         jmax = float(self.layer.magnitude.max())
         lines = [f"<b>{len(s.coefficients):,} unknowns at {number} {unit}</b> "
@@ -695,6 +703,11 @@ class SolvePanel(QWidget):
         self.layer.set_visible(on)
         if not on:
             self.animate.setChecked(False)
+
+    def _quantity_changed(self, _index: int) -> None:
+        quantity = self.quantity.currentData()
+        self.scale.setEnabled(quantity == "current")
+        self.layer.set_quantity(quantity)
 
     def _phase_changed(self, value: int) -> None:
         self.phase_label.setText(f"{value}°")

@@ -8,6 +8,7 @@ import threading
 
 import numpy as np
 import pytest
+import pyvista as pv
 
 pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
@@ -15,7 +16,7 @@ pytest.importorskip("matplotlib")
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
-from app.current_layer import BAR_TITLE, MAGNITUDE  # noqa: E402
+from app.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
 from app.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.mom import PlaneWave, solve, sweep  # noqa: E402
@@ -86,6 +87,13 @@ def test_small_mesh_auto_solves_and_follows_the_mesh(window, qtbot):
     assert panel.last_outcome.thread == threading.get_ident()
     direct = solve(mesh, 1.2e9)
     np.testing.assert_allclose(panel.solution.coefficients, direct.coefficients, rtol=1e-12)
+    actor = panel.layer._surface_actor
+    type_into(panel.frequency, "1.3")  # the same mesh: its actors are updated in place
+    assert panel.layer._surface_actor is actor
+    assert panel.layer.magnitude.max() == pytest.approx(largest_j(solve(mesh, 1.3e9)), rel=1e-12)
+    np.testing.assert_allclose(panel.layer.surface.cell_data[MAGNITUDE], panel.layer.magnitude)
+    assert actor.GetMapper().GetScalarRange()[1] == pytest.approx(panel.layer.magnitude.max())
+    type_into(panel.frequency, "1.2")
     assert panel.layer.magnitude.max() == pytest.approx(largest_j(direct), rel=1e-12)
     assert panel.solution.extinction_cross_section == pytest.approx(
         direct.extinction_cross_section, rel=1e-12)
@@ -149,11 +157,30 @@ def test_phase_slider_turns_the_arrows(window, qtbot):
     assert 80 <= phi <= 100 and panel.phase_label.text() == f"{phi}°"
     np.testing.assert_allclose(layer.vectors, np.real(current * np.exp(1j * np.deg2rad(phi))))
     assert not np.allclose(np.asarray(layer.arrows.points), before)
+    window.plotter.render()
+    drawn = pv.wrap(layer._arrow_actor.GetMapper().GetInput())  # what was drawn
+    np.testing.assert_allclose(np.asarray(drawn.points), np.asarray(layer.arrows.points))
     drag_slider(panel.phase, 180)  # half a period later every arrow points the other way
     if panel.phase.value() == 180:
         np.testing.assert_allclose(layer.vectors, -current.real, atol=1e-15)
     choose(panel.scale, "log")
     assert layer.scale == "log" and layer.surface is not None
+    assert f"{BAR_TITLE}, log scale" in window.plotter.scalar_bars
+
+    # charge density ρ_s = j ∇·J / ω, signed, turning with the phase
+    choose(panel.quantity, "charge")
+    assert CHARGE_TITLE in window.plotter.scalar_bars and not panel.scale.isEnabled()
+    drag_slider(panel.phase, 45)
+    phi = panel.phase.value()
+    rho = panel.solution.charge_density
+    window.plotter.render()
+    shown = pv.wrap(layer._surface_actor.GetMapper().GetInput())  # what was drawn
+    np.testing.assert_allclose(np.asarray(shown.cell_data[CHARGE]),
+                               np.real(rho * np.exp(1j * np.deg2rad(phi))))
+    assert shown.active_scalars_name == CHARGE
+    # charge is conserved: the total over the plate vanishes (each RWG function's ±l/A)
+    total = np.sum(rho * window.model.result.mesh.areas)
+    assert abs(total) < 1e-9 * np.sum(np.abs(rho) * window.model.result.mesh.areas)
 
 
 def test_sweep_marks_the_resonance_and_a_click_solves_there(window, qtbot):
