@@ -254,3 +254,16 @@ def test_rwg_inspector_shows_the_coefficient(window, qtbot):
     panel.auto.click()
     type_into(panel.frequency, "2")  # no current for these inputs: said so, not a stale I_n
     assert "no current" in panel.coefficient_label.text()
+
+
+def test_closing_the_window_during_a_solve_waits_for_it(window, qtbot):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "6")
+    click(qtbot, panel.solve_button)
+    assert panel.cancel_button.isEnabled()
+    window.close()  # no crash, no traceback: the job is cancelled and waited for
+    assert panel.pool.activeThreadCount() == 0
+    qtbot.wait(50)
+    assert panel.solution is None
