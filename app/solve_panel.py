@@ -282,11 +282,19 @@ class SolvePanel(QWidget):
         col.addWidget(self.status)
         col.addStretch(1)
 
+        self._narrow_combos()
         self.timer = QTimer(self)
         self.timer.setInterval(ANIMATION_MS)
         self.timer.timeout.connect(self._step_phase)
         self.model.result_changed.connect(self._mesh_changed)
         window.installEventFilter(self)
+
+    def _narrow_combos(self) -> None:
+        """Combo boxes that do not widen the dock to their longest item."""
+        for box in self.findChildren(QComboBox):
+            box.setSizeAdjustPolicy(
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(6)
 
     def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
         """No wider than the Parameters panel asks: the 3D view keeps the width."""
@@ -298,6 +306,7 @@ class SolvePanel(QWidget):
     def _solve_page(self) -> QWidget:
         page = QWidget(self)
         form = QFormLayout(page)
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.frequency = QLineEdit("1", page)
         self.frequency.setToolTip("The frequency of the incident plane wave")
         self.unit = QComboBox(page)
@@ -316,9 +325,10 @@ class SolvePanel(QWidget):
                                              "or x, y, z, perpendicular to the direction")
         form.addRow("&Direction", self.direction)
         form.addRow("&Polarisation E", self.polarization)
-        self.auto = QCheckBox(f"Auto-solve up to {AUTO_SOLVE_UNKNOWNS} unknowns", page)
+        self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
         self.auto.setChecked(True)
-        self.auto.setToolTip("Solve small meshes at once whenever the mesh or an input changes")
+        self.auto.setToolTip(f"Solve meshes of at most {AUTO_SOLVE_UNKNOWNS} RWG unknowns at "
+                             "once whenever the mesh or an input changes")
         form.addRow(self.auto)
         self.solve_button = QPushButton("Solve", page)
         self.solve_button.setToolTip("Solve for the surface current of the mesh on screen")
@@ -338,13 +348,13 @@ class SolvePanel(QWidget):
         self.summary.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         form.addRow(self.summary)
 
-        self.show_current = QCheckBox("Show surface &current", page)
+        self.show_current = QCheckBox("Surface &current", page)
         self.show_current.setChecked(True)
         self.show_current.toggled.connect(self._show_toggled)
         form.addRow(self.show_current)
         self.quantity = QComboBox(page)
-        self.quantity.addItem("current density |J|", "current")
-        self.quantity.addItem("charge density Re(ρ e^{jωt})", "charge")
+        self.quantity.addItem("current |J|", "current")
+        self.quantity.addItem("charge Re(ρ e^{jωt})", "charge")
         self.quantity.setToolTip("What the colours show; the charge follows the phase")
         self.quantity.currentIndexChanged.connect(self._quantity_changed)
         form.addRow("C&olour by", self.quantity)
@@ -390,6 +400,7 @@ class SolvePanel(QWidget):
         page = QWidget(self)
         col = QVBoxLayout(page)
         form = QFormLayout()
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.sweep_from = QLineEdit("3", page)
         self.sweep_to = QLineEdit("12", page)
         self.sweep_unit = QComboBox(page)
