@@ -239,8 +239,8 @@ class CurrentLayer:
         if w > 1.15 * h:
             return args | {"vertical": True, "position_x": 0.86, "position_y": 0.3,
                            "width": 0.1, "height": 0.4}
-        return args | {"vertical": False, "position_x": 0.25, "position_y": 0.86,
-                       "width": 0.5, "height": 0.12}
+        return args | {"vertical": False, "position_x": 0.3, "position_y": 0.905,
+                       "width": 0.4, "height": 0.09}
 
     def _draw(self) -> None:
         self._remove_actors()
