@@ -267,3 +267,21 @@ def test_closing_the_window_during_a_solve_waits_for_it(window, qtbot):
     assert panel.pool.activeThreadCount() == 0
     qtbot.wait(50)
     assert panel.solution is None
+
+
+def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
+    panel = open_solve(window, qtbot)
+    panel.tabs.setCurrentIndex(1)
+    click(qtbot, panel.sweep_button)  # 46 frequencies, 3–12 GHz, 698 unknowns
+    qtbot.waitUntil(lambda: panel.progress.value() >= 1, timeout=60_000)
+    assert panel.progress.maximum() == 46
+    click(qtbot, panel.cancel_button)
+    assert "sweep was cancelled" in panel.status.text()
+    assert panel.pool.waitForDone(60_000)
+    qtbot.waitUntil(lambda: panel.last_outcome is not None)
+    outcome = panel.last_outcome
+    assert outcome.kind == "sweep" and outcome.cancelled
+    assert "cancelled after" in outcome.error and "of 46 frequencies" in outcome.error
+    assert panel.sweep_result is None
