@@ -378,7 +378,9 @@ class SolvePanel(QWidget):
         row.addWidget(self.phase, 1)
         row.addWidget(self.phase_label)
         row.addWidget(self.animate)
-        form.addRow("P&hase ωt", row)
+        label = QLabel("P&hase ωt", page)
+        label.setBuddy(self.phase)
+        form.addRow(label, row)
 
         for edit in (self.frequency, self.direction.lineEdit(), self.polarization.lineEdit()):
             edit.returnPressed.connect(self._inputs_edited)
@@ -412,7 +414,7 @@ class SolvePanel(QWidget):
         row.addWidget(QLabel("to", page))
         row.addWidget(self.sweep_to, 1)
         row.addWidget(self.sweep_unit)
-        form.addRow("&Range", row)
+        form.addRow("Range", row)
         self.sweep_count = QSpinBox(page)
         self.sweep_count.setRange(3, 1001)
         self.sweep_count.setValue(46)
