@@ -56,6 +56,7 @@ from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from .layers_panel import LayersPanel
 from .model import AppModel, MeshResult, ParamError
 from .scene import MeshScene, scene_data
+from .solve_panel import SolvePanel
 from .stats_panel import StatsPanel
 from .teaching_tools import TeachingTools
 from .teaching_windows import TeachingWindows
@@ -337,6 +338,12 @@ class MainWindow(QMainWindow):
                        scroll=True)
         self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea)
         self._add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
+        # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
+        self.solve_panel = SolvePanel(self)
+        self._add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea,
+                       scroll=True)
+        self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
+        self.statistics_dock.raise_()
 
         self.busy = QProgressBar(self)
         self.busy.setRange(0, 0)
@@ -516,7 +523,8 @@ class MainWindow(QMainWindow):
         view.addActions([self.act_camera, self.act_top, self.view_tools.act_zoom])
         view.addAction(self.view_tools.act_measure)
         view.addSeparator()
-        for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
+        for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock,
+                     self.solve_dock):
             view.addAction(dock.toggleViewAction())
 
         self.teach_menu = getattr(self, "teach_menu", None) or bar.addMenu("&Teach")
@@ -947,7 +955,7 @@ class MainWindow(QMainWindow):
         one column on the left, so the 3D view keeps most of the width. The teaching docks
         stay tabbed with Statistics; hidden docks stay hidden."""
         left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
-        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock]
+        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock, self.solve_dock]
         hidden = {d: d.isHidden() for d in
                   (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)}
         self._arranging = True

@@ -1,0 +1,757 @@
+"""The Solve dock: an RWG Method-of-Moments solve (:mod:`core.mom`) of the mesh on screen.
+
+Two tabs. **Solve**: a frequency with its unit, the plane wave's direction of travel and
+polarisation (an axis such as ``-z`` or ``x``, or a vector ``0, 0, -1``), a Solve button,
+and the "Surface current" layer's controls (show, linear/log colour map, phase slider and
+animation; :class:`app.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
+cross-section against frequency (matplotlib), the resonances marked; a click on the
+plot sets the frequency and solves there.
+
+Meshes with at most :data:`AUTO_SOLVE_UNKNOWNS` RWG unknowns are solved on the GUI thread,
+and, once a user has asked for a solve, again whenever the mesh or a solve input changes
+(auto-solve). Larger ones are solved
+when asked, in a ``QThreadPool`` worker with a busy bar (a sweep: progress per frequency)
+and Cancel. A result that no longer matches the mesh or the inputs is cleared from the
+view and the panel says so.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from PySide6.QtCore import (
+    QEvent,
+    QObject,
+    QRunnable,
+    QSize,
+    Qt,
+    QThreadPool,
+    QTimer,
+    Signal,
+)
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QProgressBar,
+    QPushButton,
+    QSlider,
+    QSpinBox,
+    QTabWidget,
+    QVBoxLayout,
+    QWidget,
+)
+
+from core import TriMesh
+
+from .current_layer import SCALES, CurrentLayer
+
+log = logging.getLogger(__name__)
+
+#: Meshes with at most this many RWG unknowns are solved on the GUI thread, and solved
+#: again at once when the mesh or an input changes. Measured on the 2-core test machine
+#: (``core.mom.solve``, geometry + fill + LU, square patches): 40 unknowns 20 ms, 65
+#: unknowns 36 ms, 96 unknowns 85–127 ms while other jobs loaded the cores.
+AUTO_SOLVE_UNKNOWNS = 80
+#: The widest the panel asks to be (px).
+PANEL_WIDTH = 300
+#: Frequency units of the unit boxes.
+UNITS = {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6, "GHz": 1e9}
+#: Named directions (the direction boxes' presets and what they accept besides X, Y, Z).
+AXES = {
+    "x": (1.0, 0.0, 0.0),
+    "y": (0.0, 1.0, 0.0),
+    "z": (0.0, 0.0, 1.0),
+}
+DIRECTION_PRESETS = ("-z", "+z", "-x", "+x", "-y", "+y")
+POLARIZATION_PRESETS = ("x", "y", "z")
+#: Phase step (degrees) of the animation, and its period (ms per step).
+ANIMATION_STEP = 10
+ANIMATION_MS = 60
+
+
+def read_frequency(text: str, unit: str) -> float:
+    """``("300", "MHz")`` -> 3e8 Hz; ValueError naming the field otherwise.
+
+    >>> read_frequency("6.19", "GHz")
+    6190000000.0
+    """
+    try:
+        value = float(text.strip()) * UNITS[unit]
+    except (ValueError, KeyError):
+        raise ValueError(f"Frequency {text!r} is not a number; type e.g. 300") from None
+    if not math.isfinite(value) or value <= 0:
+        raise ValueError(f"Frequency {text!r} {unit} is invalid; expected a positive number")
+    return value
+
+
+def read_vector(text: str, name: str) -> tuple[float, float, float]:
+    """``"-z"`` -> (0, 0, -1); ``"1, 1, 0"`` -> (1, 1, 0); ValueError naming ``name``.
+
+    >>> read_vector("-z", "Direction"), read_vector("0, 1, 0", "Polarisation")
+    ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
+    """
+    t = text.strip().lower().replace("−", "-")
+    name_ = t.lstrip("+-")
+    if name_ in AXES:
+        sign = -1.0 if t.startswith("-") else 1.0
+        return tuple(sign * c + 0.0 for c in AXES[name_])  # type: ignore[return-value]
+    try:
+        values = tuple(float(v) for v in t.replace(";", ",").split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"{name} {text!r} is invalid; expected an axis (x, -z, …) or "
+                         "three numbers x, y, z")
+    return values  # type: ignore[return-value]
+
+
+def format_frequency(hz: float) -> tuple[str, str]:
+    """A frequency as (number, unit) for the fields: 6.19e9 -> ("6.19", "GHz")."""
+    for unit in ("GHz", "MHz", "kHz"):
+        if hz >= UNITS[unit]:
+            return f"{hz / UNITS[unit]:.6g}", unit
+    return f"{hz:.6g}", "Hz"
+
+
+@dataclass
+class Outcome:
+    """What a solve or sweep job delivers to the GUI thread."""
+
+    token: int
+    mesh: TriMesh
+    kind: str  # "solve" or "sweep"
+    result: Any = None  # core.mom.Solution or SweepResult
+    error: str | None = None
+    cancelled: bool = False
+    seconds: float = 0.0
+    thread: int = field(default_factory=threading.get_ident)
+
+
+def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Outcome:
+    """Call ``work()`` and wrap what it returns or raises (never raises)."""
+    from core.mom import SolveCancelled
+
+    start = time.perf_counter()
+    try:
+        result = work()
+    except SolveCancelled as exc:
+        return Outcome(token, mesh, kind, error=str(exc), cancelled=True)
+    except Exception as exc:  # noqa: BLE001 - shown in the panel, never a crash
+        log.exception("the %s failed", kind)
+        return Outcome(token, mesh, kind, error=str(exc) or type(exc).__name__)
+    return Outcome(token, mesh, kind, result, seconds=time.perf_counter() - start)
+
+
+class _Task(QRunnable):
+    def __init__(self, work: Callable[[], Outcome], done: Any) -> None:
+        super().__init__()
+        self.work, self.done = work, done
+        self.setAutoDelete(True)
+
+    def run(self) -> None:  # worker thread
+        self.done.emit(self.work())
+
+
+class SweepPlot(QWidget):
+    """Extinction cross-section against frequency; a click reports a frequency (Hz)."""
+
+    clicked = Signal(float)
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
+        from matplotlib.figure import Figure
+
+        self.figure = Figure(figsize=(3, 2.4), dpi=90, layout="constrained")
+        self.canvas = FigureCanvasQTAgg(self.figure)
+        self.canvas.setMinimumHeight(220)
+        self.axes = self.figure.add_subplot()
+        self.result: Any = None
+        self.marker: Any = None
+        col = QVBoxLayout(self)
+        col.setContentsMargins(0, 0, 0, 0)
+        col.addWidget(self.canvas)
+        self.canvas.mpl_connect("button_press_event", self._pressed)
+        self.show_result(None)
+
+    def show_result(self, result: Any, note: str = "") -> None:
+        """Plot a ``core.mom.SweepResult`` (None: an empty plot with a hint)."""
+        self.result = result
+        ax = self.axes
+        ax.clear()
+        self.marker = None
+        ax.set_xlabel("frequency (GHz)")
+        ax.set_ylabel("extinction cross-section (mm²)")
+        ax.grid(alpha=0.3)
+        if result is not None:
+            f = result.frequencies / 1e9
+            ax.plot(f, result.extinction_cross_section * 1e6, color="#1f77b4")
+            for r in result.resonances:
+                ax.axvline(r / 1e9, color="#d62728", lw=1.0, ls="--")
+                ax.annotate(f"{r / 1e9:.4g} GHz", (r / 1e9, 0.97),
+                            xycoords=("data", "axes fraction"), ha="left", va="top",
+                            fontsize=8, color="#d62728")
+        ax.set_title(note or ("click to solve at a frequency" if result is not None
+                              else "no sweep yet"), fontsize=9)
+        self.canvas.draw_idle()
+
+    def mark(self, hz: float | None) -> None:
+        """A vertical line at the frequency of the current on screen."""
+        if self.marker is not None:
+            self.marker.remove()
+            self.marker = None
+        if hz is not None and self.result is not None:
+            self.marker = self.axes.axvline(hz / 1e9, color="0.3", lw=0.8)
+        self.canvas.draw_idle()
+
+    def data_to_widget(self, hz: float) -> tuple[int, int]:
+        """Widget pixel (x, y) of frequency ``hz`` half way up the axes (tests click there)."""
+        ymid = np.mean(self.axes.get_ylim())
+        x, y = self.axes.transData.transform((hz / 1e9, ymid))
+        ratio = self.canvas.device_pixel_ratio or 1.0
+        return round(x / ratio), round(self.canvas.height() - y / ratio)
+
+    def _pressed(self, event: Any) -> None:
+        if self.result is None or event.inaxes is not self.axes or event.xdata is None:
+            return
+        if event.xdata > 0:
+            self.clicked.emit(float(event.xdata) * 1e9)
+
+
+class SolvePanel(QWidget):
+    """The Solve dock's widget (see module docstring); ``window`` is the MainWindow."""
+
+    solved = Signal(object)  # the Solution now on screen
+    _job_done = Signal(object)
+    _job_progress = Signal(int, int, int)  # token, done, total
+
+    def __init__(self, window: Any) -> None:
+        super().__init__(window)
+        self.window_ = window
+        self.model = window.model
+        self.layer = CurrentLayer(window.plotter, window.request_render)
+        self.pool = QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
+        #: Set by the first Solve, sweep click or typed input: from then on small meshes
+        #: are solved whenever they change (the window opens without a current).
+        self.engaged = False
+        self.solution: Any = None
+        self.solution_mesh: TriMesh | None = None
+        self.solution_inputs: tuple[Any, ...] | None = None
+        self.sweep_result: Any = None
+        self.sweep_mesh: TriMesh | None = None
+        self.last_outcome: Outcome | None = None
+        self.coefficient_label: QLabel | None = None  # put into the RWG inspector
+        #: The latest job of each kind; a result whose token is older is dropped.
+        self._tokens = {"solve": 0, "sweep": 0}
+        self._running: set[str] = set()
+        self._cancel = threading.Event()
+        self._job_done.connect(self._finished)
+        self._job_progress.connect(self._progress)
+
+        self.tabs = QTabWidget(self)
+        self.tabs.addTab(self._solve_page(), "&Solve")
+        self.tabs.addTab(self._sweep_page(), "S&weep")
+        self.progress = QProgressBar(self)
+        self.progress.hide()
+        self.cancel_button = QPushButton("Cancel", self)
+        self.cancel_button.setToolTip("Stop the solve or sweep running in the background")
+        self.cancel_button.clicked.connect(self.cancel)
+        self.cancel_button.setEnabled(False)
+        row = QHBoxLayout()
+        row.addWidget(self.progress, 1)
+        row.addWidget(self.cancel_button)
+        self.status = QLabel(self)
+        self.status.setWordWrap(True)
+        self.status.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        col = QVBoxLayout(self)
+        col.addWidget(self.tabs)
+        col.addLayout(row)
+        col.addWidget(self.status)
+        col.addStretch(1)
+
+        self._narrow_combos()
+        self.timer = QTimer(self)
+        self.timer.setInterval(ANIMATION_MS)
+        self.timer.timeout.connect(self._step_phase)
+        self.model.result_changed.connect(self._mesh_changed)
+        window.installEventFilter(self)
+
+    def _narrow_combos(self) -> None:
+        """Combo boxes that do not widen the dock to their longest item."""
+        for box in self.findChildren(QComboBox):
+            box.setSizeAdjustPolicy(
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(6)
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        """No wider than the Parameters panel asks: the 3D view keeps the width."""
+        hint = super().sizeHint()
+        return QSize(min(hint.width(), PANEL_WIDTH), hint.height())
+
+    # -- layout ----------------------------------------------------------------------
+
+    def _solve_page(self) -> QWidget:
+        page = QWidget(self)
+        form = QFormLayout(page)
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        self.frequency = QLineEdit("1", page)
+        self.frequency.setToolTip("The frequency of the incident plane wave")
+        self.unit = QComboBox(page)
+        for u in UNITS:
+            self.unit.addItem(u, u)
+        self.unit.setCurrentText("GHz")
+        row = QHBoxLayout()
+        row.addWidget(self.frequency, 1)
+        row.addWidget(self.unit)
+        label = QLabel("&Frequency", page)
+        label.setBuddy(self.frequency)
+        form.addRow(label, row)
+        self.direction = self._vector_box(DIRECTION_PRESETS, "Direction of travel of the "
+                                          "plane wave: an axis (-z: from above) or x, y, z")
+        self.polarization = self._vector_box(POLARIZATION_PRESETS, "Direction of E: an axis "
+                                             "or x, y, z, perpendicular to the direction")
+        form.addRow("&Direction", self.direction)
+        form.addRow("&Polarisation E", self.polarization)
+        self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
+        self.auto.setChecked(True)
+        self.auto.setToolTip(f"Solve meshes of at most {AUTO_SOLVE_UNKNOWNS} RWG unknowns at "
+                             "once whenever the mesh or an input changes")
+        form.addRow(self.auto)
+        self.solve_button = QPushButton("Solve", page)
+        self.solve_button.setToolTip("Solve for the surface current of the mesh on screen")
+        self.solve_button.clicked.connect(self.solve)
+        form.addRow(self.solve_button)
+        self.error = QLabel(page)
+        self.error.setStyleSheet("color: #d0021b;")
+        self.error.setWordWrap(True)
+        form.addRow(self.error)
+        self.stale = QLabel(page)
+        self.stale.setStyleSheet("color: #b35900;")
+        self.stale.setWordWrap(True)
+        self.stale.hide()
+        form.addRow(self.stale)
+        self.summary = QLabel("No result yet.", page)
+        self.summary.setWordWrap(True)
+        self.summary.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        form.addRow(self.summary)
+
+        self.show_current = QCheckBox("Surface &current", page)
+        self.show_current.setChecked(True)
+        self.show_current.toggled.connect(self._show_toggled)
+        form.addRow(self.show_current)
+        self.quantity = QComboBox(page)
+        self.quantity.addItem("current |J|", "current")
+        self.quantity.addItem("charge Re(ρ e^{jωt})", "charge")
+        self.quantity.setToolTip("What the colours show; the charge follows the phase")
+        self.quantity.currentIndexChanged.connect(self._quantity_changed)
+        form.addRow("C&olour by", self.quantity)
+        self.scale = QComboBox(page)
+        for s in SCALES:
+            self.scale.addItem(f"{s} |J|", s)
+        self.scale.currentIndexChanged.connect(
+            lambda _i: self.layer.set_scale(self.scale.currentData()))
+        form.addRow("Colour &scale", self.scale)
+        self.phase = QSlider(Qt.Orientation.Horizontal, page)
+        self.phase.setRange(0, 360)
+        self.phase.setSingleStep(5)
+        self.phase.setPageStep(45)
+        self.phase.setToolTip("Arrows: Re(J e^{jωt}) at ωt = this phase")
+        self.phase.valueChanged.connect(self._phase_changed)
+        self.phase_label = QLabel("0°", page)
+        self.phase_label.setMinimumWidth(36)
+        self.animate = QCheckBox("&Animate", page)
+        self.animate.toggled.connect(self._animate_toggled)
+        row = QHBoxLayout()
+        row.addWidget(self.phase, 1)
+        row.addWidget(self.phase_label)
+        row.addWidget(self.animate)
+        label = QLabel("P&hase ωt", page)
+        label.setBuddy(self.phase)
+        form.addRow(label, row)
+
+        for edit in (self.frequency, self.direction.lineEdit(), self.polarization.lineEdit()):
+            edit.returnPressed.connect(self._inputs_edited)
+            edit.editingFinished.connect(self._inputs_edited)
+        self.unit.currentIndexChanged.connect(lambda _i: self._inputs_edited())
+        self.direction.activated.connect(lambda _i: self._inputs_edited())
+        self.polarization.activated.connect(lambda _i: self._inputs_edited())
+        return page
+
+    def _vector_box(self, presets: tuple[str, ...], tip: str) -> QComboBox:
+        box = QComboBox(self)
+        box.setEditable(True)
+        box.setInsertPolicy(QComboBox.InsertPolicy.NoInsert)
+        box.addItems(list(presets))
+        box.setToolTip(tip)
+        return box
+
+    def _sweep_page(self) -> QWidget:
+        page = QWidget(self)
+        col = QVBoxLayout(page)
+        form = QFormLayout()
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        self.sweep_from = QLineEdit("3", page)
+        self.sweep_to = QLineEdit("12", page)
+        self.sweep_unit = QComboBox(page)
+        for u in UNITS:
+            self.sweep_unit.addItem(u, u)
+        self.sweep_unit.setCurrentText("GHz")
+        row = QHBoxLayout()
+        row.addWidget(self.sweep_from, 1)
+        row.addWidget(QLabel("to", page))
+        row.addWidget(self.sweep_to, 1)
+        row.addWidget(self.sweep_unit)
+        form.addRow("Range", row)
+        self.sweep_count = QSpinBox(page)
+        self.sweep_count.setRange(3, 1001)
+        self.sweep_count.setValue(46)
+        form.addRow("&Frequencies", self.sweep_count)
+        self.sweep_button = QPushButton("Run sweep", page)
+        self.sweep_button.setToolTip("Extinction cross-section at each frequency, in the "
+                                     "background (direction and polarisation of the Solve tab)")
+        self.sweep_button.clicked.connect(self.run_sweep)
+        form.addRow(self.sweep_button)
+        col.addLayout(form)
+        self.plot = SweepPlot(page)
+        self.plot.clicked.connect(self.solve_at)
+        col.addWidget(self.plot, 1)
+        self.resonance_label = QLabel(page)
+        self.resonance_label.setWordWrap(True)
+        col.addWidget(self.resonance_label)
+        return page
+
+    # -- inputs ----------------------------------------------------------------------
+
+    @property
+    def mesh(self) -> TriMesh | None:
+        result = self.model.result
+        return None if result is None else result.mesh
+
+    def inputs(self) -> tuple[float, Any]:
+        """(frequency in Hz, core.mom.PlaneWave) from the fields; ValueError if invalid."""
+        from core.mom import PlaneWave
+
+        hz = read_frequency(self.frequency.text(), self.unit.currentText())
+        d = read_vector(self.direction.currentText(), "Direction")
+        p = read_vector(self.polarization.currentText(), "Polarisation")
+        return hz, PlaneWave(direction=d, polarization=p)
+
+    def _inputs_key(self) -> tuple[Any, ...] | None:
+        try:
+            hz, wave = self.inputs()
+        except ValueError:
+            return None
+        return hz, tuple(wave.direction), tuple(np.asarray(wave.polarization))
+
+    def _inputs_edited(self) -> None:
+        self.engaged = True
+        key = self._inputs_key()
+        if key is None:
+            try:
+                self.inputs()
+            except ValueError as exc:
+                self.error.setText(str(exc))
+            return
+        self.error.clear()
+        if self.solution is not None and key == self.solution_inputs:
+            return
+        if self._small():
+            self.solve()  # replaces the current in place
+        elif self.solution is not None:
+            self._invalidate("The current on screen is for other inputs: Solve again.")
+
+    def _small(self) -> bool:
+        """Whether to solve at once: asked for once, auto-solve on, N small."""
+        mesh = self.mesh
+        return (self.engaged and self.auto.isChecked() and mesh is not None
+                and 0 < len(mesh.rwg) <= self.auto_unknowns)
+
+    # -- solving ---------------------------------------------------------------------
+
+    def solve(self) -> bool:
+        """Solve the mesh on screen with the fields' inputs (GUI thread when small)."""
+        return self.solve_at(None)
+
+    def solve_at(self, hz: float | None = None) -> bool:
+        """Solve at ``hz`` (None: the field's frequency; else the field is set to it)."""
+        self.engaged = True
+        if hz is not None:
+            number, unit = format_frequency(hz)
+            self.unit.blockSignals(True)
+            self.unit.setCurrentText(unit)
+            self.unit.blockSignals(False)
+            self.frequency.setText(number)
+        mesh = self.mesh
+        try:
+            frequency, wave = self.inputs()
+            if mesh is None:
+                raise ValueError("No mesh on screen to solve.")
+            n = len(mesh.rwg)
+            if n == 0:
+                raise ValueError("The mesh has no interior edges: no RWG unknowns to solve for.")
+            from core.mom import check_memory
+
+            check_memory(n)
+        except ValueError as exc:
+            self.error.setText(str(exc))
+            return False
+        self.error.clear()
+        key = self._inputs_key()
+        from core.mom import solve
+
+        work = lambda: solve(mesh, frequency, wave)  # noqa: E731
+        self._tokens["solve"] += 1
+        self._running.discard("solve")  # a running solve's result is now stale
+        if n <= self.auto_unknowns:
+            outcome = run_job(self._tokens["solve"], mesh, "solve", work)
+            outcome.inputs = key  # type: ignore[attr-defined]
+            self._finished(outcome)
+            return True
+        self._start(mesh, "solve", work, key, f"Solving {n:,} unknowns…")
+        return True
+
+    def run_sweep(self) -> bool:
+        """Sweep the extinction cross-section over the Sweep tab's range (a worker)."""
+        mesh = self.mesh
+        try:
+            unit = self.sweep_unit.currentText()
+            a = read_frequency(self.sweep_from.text(), unit)
+            b = read_frequency(self.sweep_to.text(), unit)
+            if not b > a:
+                raise ValueError(f"Sweep range {self.sweep_from.text()} to "
+                                 f"{self.sweep_to.text()} {unit}: the end must be above the start")
+            _hz, wave = self.inputs()
+            if mesh is None or len(mesh.rwg) == 0:
+                raise ValueError("The mesh on screen has no RWG unknowns to solve for.")
+        except ValueError as exc:
+            self.error.setText(str(exc))
+            self.resonance_label.setText(str(exc))
+            return False
+        from core.mom import sweep
+
+        freqs = np.linspace(a, b, self.sweep_count.value())
+        self._tokens["sweep"] += 1
+        token = self._tokens["sweep"]
+        self._cancel.clear()
+
+        def work() -> Any:
+            return sweep(mesh, freqs, wave, scattering=False,
+                         progress=lambda done, total: self._job_progress.emit(token, done, total),
+                         cancel=self._cancel.is_set)
+
+        self._start(mesh, "sweep", work, None, f"Sweeping {len(freqs)} frequencies…")
+        return True
+
+    def _start(self, mesh: TriMesh, kind: str, work: Callable[[], Any],
+               key: tuple[Any, ...] | None, message: str) -> None:
+        token = self._tokens[kind]
+        self._running.add(kind)
+        self._cancel.clear()
+        self.progress.setRange(0, 0)
+        self.progress.setFormat("%v / %m")
+        self.progress.show()
+        self.cancel_button.setEnabled(True)
+        self.status.setText(message)
+
+        def job() -> Outcome:
+            outcome = run_job(token, mesh, kind, work)
+            outcome.inputs = key  # type: ignore[attr-defined]
+            return outcome
+
+        self.pool.start(_Task(job, self._job_done))
+
+    def cancel(self) -> None:
+        """Stop the running job: a sweep stops before its next frequency; a single solve
+        cannot be interrupted, so its result is dropped when it comes."""
+        if not self._running:
+            return
+        self._cancel.set()
+        for kind in self._running:
+            self._tokens[kind] += 1  # whatever the running job returns is now stale
+        self._job_ended()
+        self.status.setText(f"The {' and the '.join(sorted(self._running))} was cancelled.")
+        self._running.clear()
+
+    def _job_ended(self) -> None:
+        self.progress.hide()
+        self.cancel_button.setEnabled(False)
+
+    def _progress(self, token: int, done: int, total: int) -> None:
+        if token == self._tokens["sweep"] and "sweep" in self._running:
+            self.progress.setRange(0, total)
+            self.progress.setValue(done)
+
+    def _finished(self, outcome: Outcome) -> None:
+        self.last_outcome = outcome
+        if outcome.token != self._tokens[outcome.kind]:
+            log.debug("dropped a stale %s", outcome.kind)
+            return
+        self._running.discard(outcome.kind)
+        if not self._running:
+            self._job_ended()
+        if outcome.error is not None:
+            self.status.setText(f"The {outcome.kind} failed: {outcome.error}")
+            return
+        if outcome.mesh is not self.mesh:
+            self.status.setText(f"The {outcome.kind} was for a previous mesh: dropped.")
+            return
+        self.status.clear()
+        if outcome.kind == "sweep":
+            self._show_sweep(outcome)
+        else:
+            self._show_solution(outcome)
+
+    def _show_solution(self, outcome: Outcome) -> None:
+        s = outcome.result
+        self.solution, self.solution_mesh = s, outcome.mesh
+        self.solution_inputs = getattr(outcome, "inputs", None)
+        self.stale.hide()
+        self.layer.set_phase(self.phase.value())
+        self.layer.visible = self.show_current.isChecked()
+        self.layer.set_current(outcome.mesh, s.current_density, s.charge_density)
+        number, unit = format_frequency(s.frequency)
+        jmax = float(self.layer.magnitude.max())
+        lines = [f"<b>{len(s.coefficients):,} unknowns at {number} {unit}</b> "
+                 f"({outcome.seconds * 1e3:.0f} ms)",
+                 f"largest |J| {jmax:.5g} A/m",
+                 f"extinction cross-section {s.extinction_cross_section * 1e6:.5g} mm²",
+                 f"condition number {s.condition_number:.3g}, residual {s.residual:.1e}"]
+        lines += [f"<span style='color:#b35900'>{w}</span>" for w in s.warnings]
+        self.summary.setText("<br>".join(lines))
+        self.plot.mark(s.frequency if self.sweep_mesh is outcome.mesh else None)
+        self._show_coefficient()
+        self.solved.emit(s)
+
+    # -- the RWG inspector's I_n -------------------------------------------------------
+
+    def _inspector(self) -> Any:
+        """The window's RWG inspector, given a line for I_n the first time (or None)."""
+        inspector = getattr(getattr(self.window_, "teaching", None), "inspector", None)
+        if inspector is None:
+            return None
+        if self.coefficient_label is None:
+            self.coefficient_label = QLabel(inspector)
+            self.coefficient_label.setWordWrap(True)
+            self.coefficient_label.setTextInteractionFlags(
+                Qt.TextInteractionFlag.TextSelectableByMouse)
+            layout = inspector.layout()
+            layout.insertWidget(layout.indexOf(inspector.info_label) + 1,
+                                self.coefficient_label)
+            inspector.edge_selected.connect(self._show_coefficient)
+        return inspector
+
+    def coefficient_text(self, edge: int, mesh: TriMesh | None) -> str:
+        """The inspector's line for ``edge`` of ``mesh``: I_n of the solution, or why not."""
+        if edge < 0 or mesh is None:
+            return ""
+        if self.solution is None or self.solution_mesh is not mesh:
+            return "I_n: no current for this mesh (Solve dock)."
+        rows = np.asarray(mesh.rwg.edge)
+        n = int(np.searchsorted(rows, edge))
+        if n >= len(rows) or rows[n] != edge:
+            return "I_n: this edge carries no RWG function."
+        c = complex(self.solution.coefficients[n])
+        number, unit = format_frequency(self.solution.frequency)
+        return (f"I_{n} = {c.real:.4g} {'+' if c.imag >= 0 else '−'} j{abs(c.imag):.4g} A "
+                f"(|I_n| {abs(c):.4g} A, phase {np.degrees(np.angle(c)):.1f}°) at "
+                f"{number} {unit}")
+
+    def _show_coefficient(self, edge: int | None = None) -> None:
+        inspector = self._inspector()
+        if inspector is None:
+            return
+        if edge is None:
+            edge = -1 if inspector.edge is None else inspector.edge
+        self.coefficient_label.setText(self.coefficient_text(int(edge), inspector.mesh))
+
+    def _show_sweep(self, outcome: Outcome) -> None:
+        r = outcome.result
+        self.sweep_result, self.sweep_mesh = r, outcome.mesh
+        self.plot.show_result(r)
+        res = ", ".join(f"{f / 1e9:.4g} GHz" for f in r.resonances)
+        self.resonance_label.setText(
+            f"Resonance{'s' if len(r.resonances) != 1 else ''}: {res}" if res
+            else "No resonance in this range.")
+        self.tabs.setCurrentIndex(1)
+
+    # -- invalidation ----------------------------------------------------------------
+
+    def _invalidate(self, message: str) -> None:
+        self.solution = self.solution_mesh = self.solution_inputs = None
+        self.layer.clear()
+        self.stale.setText(message)
+        self.stale.show()
+        self.summary.setText("No result for what is on screen.")
+        self.plot.mark(None)
+        self._show_coefficient()
+
+    def _mesh_changed(self, result: Any) -> None:
+        mesh = result.mesh
+        if self.solution is not None and self.solution_mesh is not mesh:
+            self._invalidate("The result was for the previous mesh: Solve again.")
+        if self.sweep_result is not None and self.sweep_mesh is not mesh:
+            self.plot.show_result(self.sweep_result, note="this sweep is for the previous mesh")
+            self.sweep_mesh = None
+        if self._running:
+            self.cancel()
+        if self.solution is None and self._small():
+            self.solve()
+
+    # -- the layer's controls --------------------------------------------------------
+
+    def _show_toggled(self, on: bool) -> None:
+        self.layer.set_visible(on)
+        if not on:
+            self.animate.setChecked(False)
+
+    def _quantity_changed(self, _index: int) -> None:
+        quantity = self.quantity.currentData()
+        self.scale.setEnabled(quantity == "current")
+        self.layer.set_quantity(quantity)
+
+    def _phase_changed(self, value: int) -> None:
+        self.phase_label.setText(f"{value}°")
+        self.layer.set_phase(value)
+
+    def _animate_toggled(self, on: bool) -> None:
+        if on:
+            self.timer.start()
+        else:
+            self.timer.stop()
+
+    def _step_phase(self) -> None:
+        if not self.layer.shown:
+            return
+        self.phase.setValue((self.phase.value() + ANIMATION_STEP) % 360)
+
+    # -- closing ---------------------------------------------------------------------
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if watched is self.window_ and event.type() == QEvent.Type.Close:
+            self.stop()
+        return False
+
+    def stop(self, msecs: int = 30_000) -> bool:
+        """Cancel and wait for a running job (the window is closing)."""
+        self.timer.stop()
+        self._cancel.set()
+        for kind in self._tokens:
+            self._tokens[kind] += 1
+        try:
+            self.model.result_changed.disconnect(self._mesh_changed)
+        except ValueError:
+            pass
+        return self.pool.waitForDone(msecs)

@@ -1,0 +1,287 @@
+"""The Solve dock and the Surface current layer, driven as a user does (issue 11).
+
+Numbers are checked against ``core.mom`` run directly on the same mesh and against
+Makarov's published plate current (0.01853 A/m at 300 MHz, his chapter-2 code).
+"""
+
+import threading
+
+import numpy as np
+import pytest
+import pyvista as pv
+
+pytest.importorskip("pyvistaqt")
+pytest.importorskip("matplotlib")
+
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
+
+from app.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
+from app.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
+from core import MeshParams  # noqa: E402
+from core.mom import PlaneWave, solve, sweep  # noqa: E402
+from tests.app_user import choose, drag_slider, settle, type_into  # noqa: E402
+
+#: Makarov's chapter-2 code on platefine, plane wave along −z, E along x, 1 V/m, 300 MHz.
+MAKAROV_PLATEFINE_JMAX = 0.01853
+
+
+@pytest.fixture
+def window_params():
+    """A 100 mm square patch, n = 4: 40 RWG unknowns (3n² − 2n), solved on the GUI thread."""
+    return MeshParams(structure="patch", patch_size=100.0, subdivisions=4)
+
+
+def open_solve(window, qtbot):
+    settle(window, qtbot)
+    window.solve_dock.raise_()  # the dock's tab, as a user clicks it
+    qtbot.waitUntil(window.solve_panel.isVisible)
+    return window.solve_panel
+
+
+def largest_j(solution):
+    return float(np.linalg.norm(np.abs(solution.current_density), axis=1).max())
+
+
+def click(qtbot, button):
+    qtbot.mouseClick(button, Qt.MouseButton.LeftButton)
+
+
+def test_makarov_plate_current_in_the_layer(window, qtbot):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    next(a for a in menu.actions() if a.text() == "makarov-platefine").trigger()
+    panel = open_solve(window, qtbot)
+    mesh = window.model.result.mesh
+    assert len(mesh.rwg) == 736 > AUTO_SOLVE_UNKNOWNS
+    type_into(panel.frequency, "300")
+    choose(panel.unit, "MHz")
+    assert panel.solution is None  # 736 unknowns: not solved without asking
+    click(qtbot, panel.solve_button)
+    assert panel.cancel_button.isEnabled() and panel.progress.isVisible()
+    qtbot.waitUntil(lambda: panel.solution is not None, timeout=120_000)
+    outcome = panel.last_outcome
+    assert outcome.thread != threading.get_ident()  # solved off the GUI thread
+    assert not panel.progress.isVisible() and not panel.cancel_button.isEnabled()
+
+    direct = solve(mesh, 300e6, PlaneWave(direction=(0, 0, -1), polarization=(1, 0, 0)))
+    jmax = largest_j(direct)
+    layer = panel.layer
+    shown = np.asarray(layer.surface.cell_data[MAGNITUDE])
+    assert shown.max() == pytest.approx(jmax, rel=1e-12)
+    assert int(np.argmax(shown)) == int(np.argmax(np.linalg.norm(
+        np.abs(direct.current_density), axis=1)))
+    assert abs(shown.max() / MAKAROV_PLATEFINE_JMAX - 1) < 0.015
+    assert panel.solution.frequency == 300e6
+    assert f"{jmax:.5g}" in panel.summary.text()
+    assert layer._surface_actor.GetVisibility() and layer._arrow_actor.GetVisibility()
+
+
+def test_small_mesh_auto_solves_and_follows_the_mesh(window, qtbot):
+    panel = open_solve(window, qtbot)
+    mesh = window.model.result.mesh
+    assert len(mesh.rwg) == 40
+    assert panel.solution is None  # the window opens without a current
+    assert "surface_current" not in window.plotter.renderer.actors
+    type_into(panel.frequency, "1.2")  # GHz: solved at once on the GUI thread
+    assert panel.solution is not None
+    assert panel.last_outcome.thread == threading.get_ident()
+    direct = solve(mesh, 1.2e9)
+    np.testing.assert_allclose(panel.solution.coefficients, direct.coefficients, rtol=1e-12)
+    actor = panel.layer._surface_actor
+    type_into(panel.frequency, "1.3")  # the same mesh: its actors are updated in place
+    assert panel.layer._surface_actor is actor
+    assert panel.layer.magnitude.max() == pytest.approx(largest_j(solve(mesh, 1.3e9)), rel=1e-12)
+    np.testing.assert_allclose(panel.layer.surface.cell_data[MAGNITUDE], panel.layer.magnitude)
+    assert actor.GetMapper().GetScalarRange()[1] == pytest.approx(panel.layer.magnitude.max())
+    type_into(panel.frequency, "1.2")
+    assert panel.layer.magnitude.max() == pytest.approx(largest_j(direct), rel=1e-12)
+    assert panel.solution.extinction_cross_section == pytest.approx(
+        direct.extinction_cross_section, rel=1e-12)
+
+    # a new mesh (n = 5: 3·25 − 10 = 65 unknowns) is solved again, not shown with old data
+    type_into(window.controls.rows["subdivisions"].field, "5")
+    window.controller.flush()
+    new = window.model.result.mesh
+    assert len(new.rwg) == 65
+    assert panel.layer.mesh is new and panel.solution_mesh is new
+    assert panel.layer.magnitude.shape == (len(new.triangles),)
+    assert panel.layer.magnitude.max() == pytest.approx(largest_j(solve(new, 1.2e9)), rel=1e-12)
+
+
+def test_result_is_invalidated_visibly(window, qtbot):
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1")
+    assert panel.solution is not None and panel.layer.shown
+    names = {"surface_current", "surface_current_arrows"}
+    assert names <= set(window.plotter.renderer.actors)
+    assert BAR_TITLE in window.plotter.scalar_bars
+    panel.auto.click()  # no auto-solve: a change leaves the view without a result
+    assert not panel.auto.isChecked()
+    type_into(panel.frequency, "2")
+    assert panel.solution is None and panel.layer.current is None
+    assert panel.stale.isVisible() and "other inputs" in panel.stale.text()
+    assert not names & set(window.plotter.renderer.actors)  # |J| surface and arrows gone
+    assert BAR_TITLE not in window.plotter.scalar_bars
+    click(qtbot, panel.solve_button)
+    assert panel.solution.frequency == 2e9 and not panel.stale.isVisible()
+
+    type_into(window.controls.rows["patch_size"].field, "80")
+    window.controller.flush()
+    assert panel.solution is None and panel.layer.current is None
+    assert "previous mesh" in panel.stale.text() and panel.stale.isVisible()
+
+
+def test_bad_inputs_are_refused_in_words(window, qtbot):
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1")
+    good = panel.solution
+    type_into(panel.frequency, "abc")
+    assert "Frequency 'abc' is not a number" in panel.error.text()
+    type_into(panel.frequency, "1")
+    panel.polarization.lineEdit().setFocus()
+    type_into(panel.polarization.lineEdit(), "0, 0, 1")  # along the direction of travel
+    click(qtbot, panel.solve_button)
+    assert "not perpendicular" in panel.error.text()
+    assert panel.solution is good  # the last good result stays, like the last good mesh
+
+
+def test_phase_slider_turns_the_arrows(window, qtbot):
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1.5")
+    layer = panel.layer
+    current = panel.solution.current_density
+    np.testing.assert_allclose(layer.vectors, current.real)
+    before = np.asarray(layer.arrows.points).copy()
+    drag_slider(panel.phase, 90)
+    phi = panel.phase.value()
+    assert 80 <= phi <= 100 and panel.phase_label.text() == f"{phi}°"
+    np.testing.assert_allclose(layer.vectors, np.real(current * np.exp(1j * np.deg2rad(phi))))
+    assert not np.allclose(np.asarray(layer.arrows.points), before)
+    window.plotter.render()
+    drawn = pv.wrap(layer._arrow_actor.GetMapper().GetInput())  # what was drawn
+    np.testing.assert_allclose(np.asarray(drawn.points), np.asarray(layer.arrows.points))
+    drag_slider(panel.phase, 180)  # half a period later every arrow points the other way
+    if panel.phase.value() == 180:
+        np.testing.assert_allclose(layer.vectors, -current.real, atol=1e-15)
+    choose(panel.scale, "log")
+    assert layer.scale == "log" and layer.surface is not None
+    assert f"{BAR_TITLE}, log scale" in window.plotter.scalar_bars
+
+    # charge density ρ_s = j ∇·J / ω, signed, turning with the phase
+    choose(panel.quantity, "charge")
+    assert CHARGE_TITLE in window.plotter.scalar_bars and not panel.scale.isEnabled()
+    drag_slider(panel.phase, 45)
+    phi = panel.phase.value()
+    rho = panel.solution.charge_density
+    window.plotter.render()
+    shown = pv.wrap(layer._surface_actor.GetMapper().GetInput())  # what was drawn
+    np.testing.assert_allclose(np.asarray(shown.cell_data[CHARGE]),
+                               np.real(rho * np.exp(1j * np.deg2rad(phi))))
+    assert shown.active_scalars_name == CHARGE
+    # charge is conserved: the total over the plate vanishes (each RWG function's ±l/A)
+    total = np.sum(rho * window.model.result.mesh.areas)
+    assert abs(total) < 1e-9 * np.sum(np.abs(rho) * window.model.result.mesh.areas)
+
+
+def test_sweep_marks_the_resonance_and_a_click_solves_there(window, qtbot):
+    panel = open_solve(window, qtbot)
+    panel.tabs.setCurrentIndex(1)
+    type_into(panel.sweep_from, "0.8")
+    type_into(panel.sweep_to, "2.4")
+    panel.sweep_count.lineEdit().selectAll()
+    QTest.keyClicks(panel.sweep_count.lineEdit(), "17")
+    click(qtbot, panel.sweep_button)
+    qtbot.waitUntil(lambda: panel.sweep_result is not None, timeout=120_000)
+    assert panel.last_outcome.thread != threading.get_ident()
+    mesh = window.model.result.mesh
+    freqs = np.linspace(0.8e9, 2.4e9, 17)
+    direct = sweep(mesh, freqs, PlaneWave(), scattering=False)
+    np.testing.assert_allclose(panel.sweep_result.extinction_cross_section,
+                               direct.extinction_cross_section, rtol=1e-12)
+    # a 100 mm plate: its first resonance lies near c / (2 · 100 mm) = 1.5 GHz
+    assert len(direct.resonances) >= 1
+    np.testing.assert_allclose(panel.sweep_result.resonances, direct.resonances)
+    f0 = direct.resonances[0]
+    assert 1.0e9 < f0 < 2.0e9
+    assert f"{f0 / 1e9:.4g} GHz" in panel.resonance_label.text()
+    lines = [line for line in panel.plot.axes.lines if line.get_linestyle() == "--"]
+    assert any(line.get_xdata()[0] == pytest.approx(f0 / 1e9) for line in lines)
+
+    panel.plot.canvas.draw()
+    x, y = panel.plot.data_to_widget(2.0e9)
+    qtbot.mouseClick(panel.plot.canvas, Qt.MouseButton.LeftButton, pos=QPoint(x, y))
+    qtbot.waitUntil(lambda: panel.solution is not None, timeout=60_000)
+    hz = panel.solution.frequency
+    assert hz == pytest.approx(2.0e9, rel=0.02)  # within a pixel or two of the click
+    assert panel.unit.currentText() == "GHz"
+    assert float(panel.frequency.text()) * 1e9 == pytest.approx(hz)
+
+
+def test_cancel_drops_a_running_solve(window, qtbot):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
+    panel = open_solve(window, qtbot)
+    assert len(window.model.result.mesh.rwg) == 698
+    type_into(panel.frequency, "6")
+    click(qtbot, panel.solve_button)
+    assert panel.cancel_button.isEnabled()
+    click(qtbot, panel.cancel_button)
+    assert "cancelled" in panel.status.text()
+    assert not panel.progress.isVisible()
+    assert panel.pool.waitForDone(120_000)
+    qtbot.wait(50)  # the dropped result arrives through the event loop
+    assert panel.solution is None and panel.layer.current is None
+
+
+def test_rwg_inspector_shows_the_coefficient(window, qtbot):
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1.5")
+    with qtbot.waitActive(window):  # shortcuts (I, N) need the active window
+        window.activateWindow()
+    window.plotter.setFocus()
+    QTest.keyClick(window.plotter, Qt.Key.Key_I)  # Teach → RWG basis inspector
+    inspector = window.teaching.inspector
+    qtbot.waitUntil(lambda: inspector.edge is not None)
+    QTest.keyClick(window.plotter, Qt.Key.Key_N)
+    QTest.keyClick(window.plotter, Qt.Key.Key_N)  # the third RWG function
+    mesh = window.model.result.mesh
+    rows = np.asarray(mesh.rwg.edge)
+    assert inspector.edge == rows[2]
+    c = complex(solve(mesh, 1.5e9).coefficients[2])
+    text = panel.coefficient_label.text()
+    assert text.startswith(f"I_2 = {c.real:.4g} ")
+    assert f"|I_n| {abs(c):.4g} A" in text and "1.5 GHz" in text
+    panel.auto.click()
+    type_into(panel.frequency, "2")  # no current for these inputs: said so, not a stale I_n
+    assert "no current" in panel.coefficient_label.text()
+
+
+def test_closing_the_window_during_a_solve_waits_for_it(window, qtbot):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "6")
+    click(qtbot, panel.solve_button)
+    assert panel.cancel_button.isEnabled()
+    window.close()  # no crash, no traceback: the job is cancelled and waited for
+    assert panel.pool.activeThreadCount() == 0
+    qtbot.wait(50)
+    assert panel.solution is None
+
+
+def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
+    menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
+    next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
+    panel = open_solve(window, qtbot)
+    panel.tabs.setCurrentIndex(1)
+    click(qtbot, panel.sweep_button)  # 46 frequencies, 3–12 GHz, 698 unknowns
+    qtbot.waitUntil(lambda: panel.progress.value() >= 1, timeout=60_000)
+    assert panel.progress.maximum() == 46
+    click(qtbot, panel.cancel_button)
+    assert "sweep was cancelled" in panel.status.text()
+    assert panel.pool.waitForDone(60_000)
+    qtbot.waitUntil(lambda: panel.last_outcome is not None)
+    outcome = panel.last_outcome
+    assert outcome.kind == "sweep" and outcome.cancelled
+    assert "cancelled after" in outcome.error and "of 46 frequencies" in outcome.error
+    assert panel.sweep_result is None
