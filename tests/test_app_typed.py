@@ -207,7 +207,11 @@ def test_tolerance_slider_at_its_maximum_is_refused_under_it(window, qtbot, monk
         refused_up_front = True
     assert refused_up_front or on_gui_thread, "no build ran and nothing refused 0.1 mm"
     assert not any(on_gui_thread), "a build with this tolerance ran on the GUI thread"
-    assert window.model.params == FIG12A_N2
+    # the drag passed smaller tolerances on its way, which may have meshed: the window keeps
+    # the last good one, never the refused 0.1 mm
+    shown = window.model.params.to_dict()
+    assert shown.pop("tolerance") != 0.1
+    assert shown == {k: v for k, v in FIG12A_N2.to_dict().items() if k != "tolerance"}
     assert_counts(window, patch_counts(720, 2))
     save_shot(window, "tolerance_maximum")
 
