@@ -75,10 +75,12 @@ def triangle_raster(points: np.ndarray, triangles: np.ndarray,
                     shape: tuple[int, int]) -> np.ndarray:
     """The triangle covering each texel centre of a raster over ``bounds`` (seen from +z).
 
-    Exact point-in-triangle tests at the texel centres, vectorised over all triangles
-    grouped by the size of their texel bounding boxes, so the work is of the order of
-    (triangles + covered texels, overlaps counted as often as they overlap). Where
-    triangles overlap (paper mode), one of them is shown.
+    Point-in-triangle tests at the texel centres, vectorised over all triangles grouped
+    by the size of their texel bounding boxes, so the work is of the order of
+    (triangles + covered texels, overlaps counted as often as they overlap). A triangle
+    whose box holds a single texel claims that texel untested (it is smaller than a texel
+    and touches it; this keeps the cost of a mesh far denser than the raster linear).
+    Where triangles overlap (paper mode), one of them is shown.
 
     Parameters
     ----------

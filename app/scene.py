@@ -462,6 +462,7 @@ class MeshScene:
             render=False, pickable=False,
         )
         self.actors_overview.SetTexture(self.overview_texture)
+        self._set_overview_quad()
 
         # Axes in mm with "nice" tick values along the bottom and left of the mesh.
         self.axes = p.show_bounds(
@@ -583,13 +584,16 @@ class MeshScene:
     def _set_overview_quad(self) -> None:
         ov = self.overview
         if ov is None:
-            self.overview_quad.copy_from(pv.PolyData(), deep=False)
+            # a zero-area textured quad: drawn with every frame, so the textured shader is
+            # compiled with the first one, not when the first dense mesh arrives
             blank = pv.ImageData(dimensions=(2, 2, 1))
             blank.point_data["rgba"] = np.zeros((4, 4), dtype=np.uint8)
             self.overview_texture.SetInputDataObject(blank)
-            return
-        x0, x1, y0, y1 = ov.bounds
-        dz = -1e-4 * max(x1 - x0, y1 - y0, 1e-9)
+            bounds, dz = (0.0, 0.0, 0.0, 0.0), 0.0
+        else:
+            bounds = ov.bounds
+            dz = -1e-4 * max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-9)
+        x0, x1, y0, y1 = bounds
         quad = pv.PolyData(
             np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
             faces=np.array([4, 0, 1, 2, 3]),
@@ -655,8 +659,7 @@ class MeshScene:
     def _apply_visibility(self) -> None:
         for name in LAYERS:
             self.actors[name].SetVisibility(self.drawn(name))
-        self.actors_overview.SetVisibility(bool(self.visible["faces"]
-                                                and self.overview is not None))
+        self.actors_overview.SetVisibility(bool(self.visible["faces"]))
         legend = bool(self.visible["faces"] and self.color_by != "none" and self.n_triangles)
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)

@@ -217,6 +217,7 @@ class MainWindow(QMainWindow):
         # or hiding it never resizes (and repaints) the 3D view
         bar_height = max(self.busy.sizeHint().height(), self.cancel_button.sizeHint().height())
         self.statusBar().setMinimumHeight(bar_height + 6)
+        self._escape = EscapeCancels(self)
         self._progress_timer = QTimer(self)
         self._progress_timer.setInterval(100)
         self._progress_timer.timeout.connect(self._show_progress)
@@ -482,8 +483,10 @@ class MainWindow(QMainWindow):
         self.act_cancel.setEnabled(busy)
         if busy:
             self._progress_timer.start()
+            QApplication.instance().installEventFilter(self._escape)
         else:
             self._progress_timer.stop()
+            QApplication.instance().removeEventFilter(self._escape)
             if self.model.error is None:
                 self.statusBar().clearMessage()
 
@@ -822,6 +825,22 @@ class PaintCounter(QObject):
         if event.type() == QEvent.Type.Paint:
             self.paints += 1
             self.last = time.perf_counter()
+        return False
+
+
+class EscapeCancels(QObject):
+    """While installed on the application: Esc anywhere in the window cancels the build,
+    also when a text field has the focus (it would take Esc for itself)."""
+
+    def __init__(self, window: MainWindow) -> None:
+        super().__init__(window)
+        self.window_ = window
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if (event.type() == QEvent.Type.KeyPress and event.key() == Qt.Key.Key_Escape
+                and not event.modifiers() and self.window_.controller.busy):
+            self.window_.cancel_build()
+            return True
         return False
 
 
