@@ -61,7 +61,7 @@ REGION_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b"]
 REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
 #: centroids are not drawn (they would only paint a texture over the faces).
-LIGHT_PX = 4.0
+LIGHT_PX = 8.0
 #: Patch outlines of an overview are drawn as lines up to this many segments.
 OUTLINE_SEGMENTS = 40_000
 #: Layers that exist per triangle or per edge: drawn in full detail only.
@@ -95,6 +95,7 @@ class SceneData:
     typical_edge: float = 0.0  # mean edge length (mm), to size the centroid dots
     overview: Overview | None = None  # dense meshes: the faces as an image
     rect: tuple[float, float, float, float] | None = None  # a detail's extent (mm)
+    paper: bool = False  # paper mode: the boundary edges outline every patch
 
 
 def _line_set(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
@@ -206,7 +207,7 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData
     ranges = _ranges(mesh) if n else {}
     if n <= detail_limit:
         data = _detail_sets(mesh, None, bounds)
-        return SceneData(data, bounds, ranges, n, typical)
+        return SceneData(data, bounds, ranges, n, typical, paper=mesh.mode == "paper")
     size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
     dz = 1e-4 * size
     sets = {name: pv.PolyData() for name in LAYERS}
@@ -228,7 +229,7 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData
         values[name] = img
     centroids = np.asarray(mesh.centroids)[:, :2].astype(np.float32)
     overview = Overview(bounds, covered, values, centroids)
-    return SceneData(sets, bounds, ranges, n, typical, overview)
+    return SceneData(sets, bounds, ranges, n, typical, overview, paper=mesh.mode == "paper")
 
 
 def _compact_lines(points: np.ndarray, pairs: np.ndarray, dz: float) -> pv.PolyData:
@@ -378,6 +379,7 @@ class MeshScene:
         self.n_triangles = 0
         self.typical_edge = 0.0
         self.overview: Overview | None = None
+        self.paper = False
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
@@ -503,6 +505,7 @@ class MeshScene:
         self.n_triangles = data.n_triangles
         self.typical_edge = data.typical_edge
         self.overview = data.overview
+        self.paper = data.paper
         self.detail_rect = None
         self.detail_triangles = 0 if data.overview is not None else data.n_triangles
         self._set_overview_quad()
@@ -652,6 +655,8 @@ class MeshScene:
             return on and self.labels_shown
         if name in ("triangle_edges", "shared_edges", "centroids") and self.light:
             return False
+        if name == "boundary_edges" and self.light and self.paper:
+            return False  # in paper mode every patch's border: a texture at this size
         if name in DETAIL_LAYERS and self.overview is not None and self.detail_rect is None:
             return False
         return bool(on)
@@ -681,7 +686,8 @@ class MeshScene:
         wanted = [n for n in ("triangle_edges", "shared_edges", "centroids")
                   if self.visible[n]]
         if self.light and wanted and (self.overview is None or self.detail_rect is not None):
-            parts.append(f"Triangle edges and centroids hidden: triangles are "
+            borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
+            parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
                          f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
                          "zoom in)")
         return "\n".join(parts)

@@ -182,6 +182,7 @@ class MainWindow(QMainWindow):
         self.last_frame_seconds = 0.0
         self.paint_counter = PaintCounter(self.plotter)  # one paint per new mesh
         self._shown_scene: Any = None
+        self._last_triangles = 0
         # once the camera rests, the part in view of a dense mesh gets its full detail
         self._rest_timer = QTimer(self)
         self._rest_timer.setSingleShot(True)
@@ -445,9 +446,13 @@ class MainWindow(QMainWindow):
                 QApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest)
             if self.paint_counter.paints == painted:  # a resize may have painted it already
                 self.request_render()
-            # the old mesh's arrays are free now: hand the pages back (off this thread)
-            QTimer.singleShot(0, lambda: threading.Thread(target=release_memory,
-                                                          daemon=True).start())
+            # after a large mesh its arrays are free now: hand the pages back (off this
+            # thread; trimming after every small mesh would only cost time)
+            big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
+            self._last_triangles = result.mesh.n_triangles
+            if big:
+                QTimer.singleShot(0, lambda: threading.Thread(target=release_memory,
+                                                              daemon=True).start())
             if self.scene.reduced:
                 self._rest_timer.start()
         self.last_frame_seconds = time.perf_counter() - start

@@ -21,8 +21,8 @@ large builds on this machine (triangles per second).
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import dataclasses
+import functools
 import logging
 import threading
 import time
@@ -39,7 +39,7 @@ from .scene import detail_data, scene_data
 log = logging.getLogger(__name__)
 
 #: Meshes up to this many triangles are built on the GUI thread (well within a frame).
-SYNC_TRIANGLES = 30_000
+SYNC_TRIANGLES = 5_000
 #: Builds of at least this many triangles feed the speed estimate.
 _RATE_MIN_TRIANGLES = 100_000
 
@@ -55,16 +55,19 @@ class BuildJob:
     cancelled: bool = False
 
 
+@functools.lru_cache(maxsize=1)
+def _malloc_trim() -> Callable[[int], int] | None:
+    try:
+        return ctypes.CDLL(None).malloc_trim  # glibc
+    except (OSError, AttributeError):
+        return None
+
+
 def release_memory() -> None:
     """Give freed heap pages back to the system (glibc's ``malloc_trim``; no-op elsewhere)."""
-    name = ctypes.util.find_library("c")
-    if not name:
-        return
-    try:
-        libc = ctypes.CDLL(name)
-        libc.malloc_trim(0)
-    except (OSError, AttributeError):
-        pass
+    trim = _malloc_trim()
+    if trim is not None:
+        trim(0)
 
 
 class Job(QRunnable):

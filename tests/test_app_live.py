@@ -228,7 +228,8 @@ def test_small_triangles_on_screen_get_the_light_look_with_a_note(window, qtbot)
 
 
 @pytest.mark.parametrize("key, count", [("region", 3), ("patch", 10)])
-def test_region_and_patch_colours_have_a_categorical_legend(window, key, count):
+def test_region_and_patch_colours_have_a_categorical_legend(window, qtbot, key, count):
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     combo = window.layers.color_by
     combo.setCurrentIndex(combo.findData(key))
     bar = window.scene.scalar_bar
@@ -239,7 +240,8 @@ def test_region_and_patch_colours_have_a_categorical_legend(window, key, count):
     assert bar.GetMaximumNumberOfColors() == count
 
 
-def test_colour_bar_ticks_are_distinct_and_inside_the_range(window):
+def test_colour_bar_ticks_are_distinct_and_inside_the_range(window, qtbot):
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     combo = window.layers.color_by
     combo.setCurrentIndex(combo.findData("area"))
     lo, hi = window.scene.ranges["area"]
@@ -257,10 +259,12 @@ def test_readable_ticks_of_a_narrow_range():
                                         "0.0092"]
 
 
-def test_ruler_labels_sit_on_their_ticks_after_a_preset_change(window):
+def test_ruler_labels_sit_on_their_ticks_after_a_preset_change(window, qtbot):
     for name in ("paper-fig8-dsdr", "paper-fig10"):
         assert window.load_preset(name)
         window.controller.flush()
+        qtbot.waitUntil(lambda: not window.controller.busy
+                        and window.model.result.params == window.model.params, timeout=20_000)
         axes = window.scene.axes
         for axis, (lo, hi) in enumerate((axes.bounds[0:2], axes.bounds[2:4])):
             labels = axes.GetAxisLabels(axis)
