@@ -6,8 +6,9 @@ Small meshes (up to :data:`SYNC_TRIANGLES`) are built on the GUI thread, faster 
 thread hop; larger ones in a worker thread that also computes the statistics and the
 scene arrays (:func:`app.scene.scene_data`), while the window keeps answering.
 
-A newer request, Undo or :meth:`MeshController.cancel` abandons the running build
-cooperatively: its ``cancel`` callable (checked by ``core.build_mesh`` between its
+A newer request (for a build of :data:`CANCEL_TRIANGLES` or more; a shorter one
+finishes and is shown first), Undo or :meth:`MeshController.cancel` abandons the running
+build cooperatively: its ``cancel`` callable (checked by ``core.build_mesh`` between its
 stages and by :func:`app.model.compute` between build, statistics and scene) returns
 True, and the new build starts at once beside it; at most one abandoned build winds
 down at a time. Parameters equal to those of the mesh on screen (Undo of a change still
@@ -40,6 +41,10 @@ log = logging.getLogger(__name__)
 
 #: Meshes up to this many triangles are built on the GUI thread (well within a frame).
 SYNC_TRIANGLES = 5_000
+#: A newer request abandons a running build of at least this many triangles; a smaller
+#: one finishes and is shown first (during a slider drag every build would otherwise be
+#: abandoned by the next mouse move and nothing shown until the drag stops).
+CANCEL_TRIANGLES = 200_000
 #: Builds of at least this many triangles feed the speed estimate.
 _RATE_MIN_TRIANGLES = 100_000
 
@@ -139,8 +144,8 @@ class MeshController(QObject):
         """Mesh the model's current parameters (coalesced with other requests)."""
         self._pending = (self.model.params, self.model.generation)
         self.last_request_time = time.perf_counter()
-        if self.current is not None:  # a newer request: the running build is stale
-            self.current.cancelled = True
+        if self.current is not None and self.current.triangles >= CANCEL_TRIANGLES:
+            self.current.cancelled = True  # a newer request: the long build is stale
         self._timer.start()
 
     def _on_params_changed(self, _params: MeshParams) -> None:
@@ -169,9 +174,8 @@ class MeshController(QObject):
             return
         was_busy = self.current is not None
         if was_busy:
-            if self._stale:  # one build is already winding down: wait for it
-                self.current.cancelled = True
-                return
+            if not self.current.cancelled or self._stale:
+                return  # a short build finishes first / one is already winding down
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
@@ -230,6 +234,10 @@ class MeshController(QObject):
         was_current = job is self.current
         if was_current:
             self.current = None
+            if (self._pending is not None and not result.cancelled and result.error is None
+                    and result.generation != self.model.generation):
+                # the value moved on (a drag) and its build follows: show this one meanwhile
+                result = dataclasses.replace(result, generation=self.model.generation)
             self._deliver(result)
         elif job in self._stale:
             self._stale.remove(job)

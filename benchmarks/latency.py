@@ -140,7 +140,7 @@ def _stats(values: list[float]) -> dict:
             "min": min(values), "max": max(values), "samples": values}
 
 
-def _show(app_, window, params, beat: _Heartbeat, timeout: float = 300.0) -> dict:
+def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dict:
     """Set ``params`` as a preset would and time until the view has painted the mesh."""
     shown: list[float] = []
 
@@ -156,7 +156,9 @@ def _show(app_, window, params, beat: _Heartbeat, timeout: float = 300.0) -> dic
                      timeout)
     window.model.result_changed.disconnect(note)
     if not ok:
-        raise RuntimeError(f"no mesh on screen {timeout:.0f} s after {params}")
+        c = window.controller
+        raise RuntimeError(f"no mesh on screen {timeout:.0f} s after {params} (busy "
+                           f"{c.busy}, pending {c._pending is not None}, stale {len(c._stale)})")
     seconds = window.paint_counter.last - start
     _wait_until(app_, lambda: False, 0.8)  # a late second paint would show here
     result = window.model.result

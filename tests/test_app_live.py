@@ -140,6 +140,16 @@ def test_resting_zoomed_in_brings_back_full_detail_of_the_part_in_view(window, q
     assert window.scene.actors["faces"].GetVisibility()
     assert window.scene.actors["boundary_edges"].GetVisibility()
     assert "Full detail" in window.scene.note.GetInput()
+    # a click picks the mesh's own triangle under the cursor, not the detail's cell number
+    window.plotter.render()
+    width, height = window.plotter.renderer.GetSize()
+    hit = window.teaching.picker.pick_display(width / 2, height / 2)
+    assert hit is not None
+    triangle, point = hit
+    a, b, c = mesh.points[mesh.triangles[triangle], :2]
+    m = np.column_stack([b - a, c - a])
+    u, v = np.linalg.solve(m, point[:2] - a)
+    assert u >= -1e-6 and v >= -1e-6 and u + v <= 1 + 1e-6
 
 
 def test_esc_cancels_a_long_build_and_keeps_the_mesh_on_screen(window, qtbot):
