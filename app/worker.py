@@ -188,7 +188,7 @@ class MeshController(QObject):
         job = BuildJob(params, generation, triangles, time.perf_counter())
 
         def cancelled(job: BuildJob = job) -> bool:
-            return job.cancelled or self.model.generation != job.generation
+            return job.cancelled  # set by a newer request (long builds), Cancel or Undo
 
         self.current = job
         if not was_busy:

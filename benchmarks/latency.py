@@ -41,6 +41,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import weakref
 from collections.abc import Callable
 from pathlib import Path
 
@@ -142,19 +143,16 @@ def _stats(values: list[float]) -> dict:
 
 def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dict:
     """Set ``params`` as a preset would and time until the view has painted the mesh."""
-    shown: list[float] = []
-
-    def note(_result) -> None:
-        shown.append(time.perf_counter())
-
-    window.model.result_changed.connect(note)
+    old = weakref.ref(window.model.result)  # not a reference: the old mesh must be freed
     paints = window.paint_counter.paints
     beat.reset()
     start = time.perf_counter()
     window.model.set_params(params)
-    ok = _wait_until(app_, lambda: bool(shown) and window.paint_counter.last > shown[0],
-                     timeout)
-    window.model.result_changed.disconnect(note)
+    # shown: a new result and a paint since (the paint may come inside the result's
+    # handling, when a panel relayout resizes the view: it then is the only one)
+    ok = _wait_until(app_, lambda: window.model.result is not old()
+                     and window.model.result.params == params
+                     and window.paint_counter.paints > paints, timeout)
     if not ok:
         c = window.controller
         raise RuntimeError(f"no mesh on screen {timeout:.0f} s after {params} (busy "
@@ -168,17 +166,17 @@ def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dic
 
 
 def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
-    """Turn the camera ``frames`` times by 3 degrees, one paint each; frames per second."""
+    """Turn the camera ``frames`` times by 3 degrees and render each (the render window's
+    own ``Render``, what a rotating mouse drag costs per frame); frames per second."""
     camera = window.plotter.camera
     beat.reset()
     times = []
     for _ in range(frames):
-        paints = window.paint_counter.paints
-        start = time.perf_counter()
         camera.Azimuth(3.0)
-        window.plotter.update()
-        _wait_until(app_, lambda p=paints: window.paint_counter.paints > p, 30)
-        times.append(window.paint_counter.last - start)
+        start = time.perf_counter()
+        window.plotter.ren_win.Render()
+        times.append(time.perf_counter() - start)
+        _wait_until(app_, lambda: False, 0.02)
     window.top_view()
     _wait_until(app_, lambda: False, 0.3)
     return {"frame": _stats(times), "fps": 1.0 / statistics.median(times),
@@ -308,6 +306,11 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     shown: list = []
     window.model.result_changed.connect(lambda result: shown.append(time.perf_counter()))
 
+    def frame_done() -> bool:  # the new mesh is shown and painted (in either order)
+        return bool(shown) and bool(painted) and window.model.result.params == target[0]
+
+    target = [None]
+
     row = window.controls.rows[name]
     positions = [row.spec.to_slider(v) for v in values]
     if positions[0] == positions[1]:
@@ -315,7 +318,8 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     shown.clear()
     painted.clear()
     row.slider.setValue(positions[1])  # so that the first timed move changes the value
-    _wait_until(app_, lambda: bool(shown) and bool(painted) and painted[-1] > shown[0], 30)
+    target[0] = window.model.params
+    _wait_until(app_, frame_done, 30)
     beat = _Heartbeat()
     samples: dict[str, list[float]] = {part: [] for part in PARTS}
     triangles = set()
@@ -326,9 +330,9 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
         painted.clear()
         start = time.perf_counter()
         row.slider.setValue(positions[i % 2])
+        target[0] = window.model.params
         # a frame is finished when the new mesh is in the datasets and the view has painted
-        if not _wait_until(app_, lambda: bool(shown) and bool(painted)
-                           and painted[-1] > shown[0], 30):
+        if not _wait_until(app_, frame_done, 30):
             raise RuntimeError(f"no frame within 30 s after setting {name}")
         total = painted[-1] - start
         _wait_until(app_, lambda: False, 0.05)
