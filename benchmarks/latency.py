@@ -195,7 +195,10 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
     handle = slider.style().subControlRect(QStyle.ComplexControl.CC_Slider, option,
                                            QStyle.SubControl.SC_SliderHandle, slider)
     start = handle.center()
-    span = max(20, min(slider.width() - start.x() - 5, 120))
+    # stay among valid values: inner radius 4 mm up to about 7.5 mm (outer ring at 9 mm);
+    # on the default slider one pixel is about 0.46 mm
+    px_per_pos = max(slider.width() - handle.width(), 1) / max(slider.maximum(), 1)
+    span = max(2, int(3.5 / row_step(window, name) * px_per_pos))
     meshes: list[float] = []
 
     def note(_result) -> None:
@@ -209,7 +212,7 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
     while time.perf_counter() - t0 < seconds:
         step += 1
         # back and forth over ``span`` pixels, a move every ~8 ms as a mouse reports them
-        phase = (step * 2) % (2 * span)
+        phase = step % (2 * span)
         dx = phase if phase <= span else 2 * span - phase
         QTest.mouseMove(slider, QPoint(start.x() + dx, start.y()))
         _wait_until(app_, lambda: False, 0.008)
@@ -222,6 +225,11 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
     return {"seconds": elapsed, "meshes": len(meshes),
             "meshes_per_second": len(meshes) / elapsed, "moves": step,
             "longest_block": beat.longest}
+
+
+def row_step(window, name: str) -> float:
+    """The value step of one slider position of parameter ``name``."""
+    return float(window.controls.rows[name].spec.step) or 1.0
 
 
 def measure_big(app_, window, repeats: int) -> dict:
