@@ -450,7 +450,9 @@ class MeshScene:
         self.scalar_bar = bar
         self.legend_title = self._text_actor((0.985, 0.9), 14, bold=True, right=True)
         self.note = self._text_actor((0.01, 0.012), 12)
-        self.note.GetTextProperty().SetColor(0.25, 0.25, 0.25)
+        self.note.GetTextProperty().SetColor(0.2, 0.2, 0.2)
+        self.note.GetTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
+        self.note.GetTextProperty().SetBackgroundOpacity(0.85)  # readable over the mesh
 
         # the faces of a dense mesh as one textured rectangle (app.overview)
         self.overview_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
