@@ -93,6 +93,12 @@ class ViewPicker(QObject):
         cell = int(self.picker.GetCellId())
         if cell < 0:
             return None
+        # the faces of a dense mesh's detail are a part of it: the "triangle" cell array
+        # holds each cell's triangle in the mesh (app.scene.detail_data)
+        data = self.picker.GetDataSet()
+        ids = data.GetCellData().GetArray("triangle") if data is not None else None
+        if ids is not None and cell < ids.GetNumberOfTuples():
+            cell = int(ids.GetValue(cell))
         point = np.array(self.picker.GetPickPosition(), dtype=np.float64)
         if emit:
             self.triangle_picked.emit(cell, point)

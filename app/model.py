@@ -27,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from core import MeshParams, TriMesh, build_mesh
+from core import BuildCancelled, MeshParams, TriMesh, build_mesh
 from core.params import (
     ANGULAR_STRUCTURES,
     DOUBLE_STRUCTURES,
@@ -390,26 +390,52 @@ class MeshResult:
     scene: Any = None  # app.scene.SceneData, prepared off the GUI thread
     error: str | None = None
     source: str = "parameters"  # or the path of an imported mesh file
+    cancelled: bool = False  # abandoned because a newer request or Cancel came
+    timings: dict[str, float] = field(default_factory=dict)  # stage -> seconds
 
 
 def compute(
-    params: MeshParams, generation: int = 0, prepare: Callable[[TriMesh], Any] | None = None
+    params: MeshParams,
+    generation: int = 0,
+    prepare: Callable[[TriMesh], Any] | None = None,
+    cancel: Callable[[], bool] | None = None,
 ) -> MeshResult:
     """Build the mesh and its statistics (and ``prepare(mesh)``, e.g. the scene datasets).
 
-    Never raises: a failure comes back as ``MeshResult.error``. ``seconds`` is the time of
-    ``build_mesh`` plus the statistics (topology), what a user waits for.
+    Never raises: a failure comes back as ``MeshResult.error``, a build abandoned because
+    ``cancel()`` returned True (checked by the core between its stages and here between
+    build, statistics and ``prepare``) as ``MeshResult.cancelled``. ``seconds`` is the
+    time of ``build_mesh`` plus the statistics (topology), what a user waits for;
+    ``timings`` has each stage.
     """
+    timings: dict[str, float] = {}
+
+    def check() -> None:
+        if cancel is not None and cancel():
+            raise BuildCancelled("the build was cancelled")
+
     try:
         start = time.perf_counter()
-        mesh = build_mesh(params)
+        mesh = build_mesh(params, cancel=cancel)
+        timings["build"] = time.perf_counter() - start
+        check()
         stats = mesh.stats()
         seconds = time.perf_counter() - start
-        scene = prepare(mesh) if prepare is not None else None
+        timings["statistics"] = seconds - timings["build"]
+        check()
+        scene = None
+        if prepare is not None:
+            begin = time.perf_counter()
+            scene = prepare(mesh)
+            timings["scene"] = time.perf_counter() - begin
+            check()
+    except BuildCancelled:
+        return MeshResult(generation, params, error="cancelled", cancelled=True,
+                          timings=timings)
     except Exception as exc:  # noqa: BLE001 - reported in the window, never a crash
         log.exception("meshing failed for %s", params)
         return MeshResult(generation, params, error=f"meshing failed: {exc}")
-    return MeshResult(generation, params, mesh, stats, seconds, scene)
+    return MeshResult(generation, params, mesh, stats, seconds, scene, timings=timings)
 
 
 def mom_matrix_bytes(unknowns: int) -> int:

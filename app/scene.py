@@ -23,13 +23,16 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
-from vtkmodules.vtkRenderingCore import vtkActor2D
+from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
 from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
 from core import TriMesh
 
 from .layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
+from .overview import DETAIL_TRIANGLES, overview_raster, triangles_in_rect
 
 log = logging.getLogger(__name__)
 
@@ -54,6 +57,31 @@ WIDTHS = {
     "centroids": 5.0,
 }
 _CATEGORIES = 10  # patches are coloured cyclically with a 10-colour qualitative map
+REGION_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b"]
+REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
+#: Below this many pixels per typical triangle edge, triangle edges, shared edges and
+#: centroids are not drawn (they would only paint a texture over the faces).
+LIGHT_PX = 8.0
+#: Patch outlines of an overview are drawn as lines up to this many segments.
+OUTLINE_SEGMENTS = 40_000
+#: Layers that exist per triangle or per edge: drawn in full detail only.
+DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels")
+_ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio")
+
+
+@dataclass
+class Overview:
+    """The faces of a dense mesh as an image (see :mod:`app.overview`).
+
+    ``values`` holds, per colouring array, the value of the triangle under each texel
+    (float32, NaN where no triangle is); ``centroids`` (T, 2) float32 let the view count
+    the triangles in a rectangle without touching the mesh.
+    """
+
+    bounds: tuple[float, float, float, float]
+    covered: np.ndarray  # (rows, cols) bool
+    values: dict[str, np.ndarray]
+    centroids: np.ndarray
 
 
 @dataclass
@@ -65,6 +93,9 @@ class SceneData:
     ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
     n_triangles: int = 0
     typical_edge: float = 0.0  # mean edge length (mm), to size the centroid dots
+    overview: Overview | None = None  # dense meshes: the faces as an image
+    rect: tuple[float, float, float, float] | None = None  # a detail's extent (mm)
+    paper: bool = False  # paper mode: the boundary edges outline every patch
 
 
 def _line_set(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
@@ -118,65 +149,175 @@ def patch_outline_pairs(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
     return mesh.points, mesh.edges[outline]
 
 
-def scene_data(mesh: TriMesh) -> SceneData:
+def _face_arrays(mesh: TriMesh, sel: np.ndarray | None) -> dict[str, np.ndarray]:
+    """The colouring arrays of the triangles ``sel`` (all if None)."""
+    arrays = {
+        "patch": np.asarray(mesh.patch_ids) % _CATEGORIES,
+        "region": np.asarray(mesh.regions),
+        "area": np.asarray(mesh.areas),
+        "min_angle": np.asarray(mesh.min_angles),
+        "aspect_ratio": np.asarray(mesh.aspect_ratios),
+    }
+    if sel is not None:
+        arrays = {k: v[sel] for k, v in arrays.items()}
+    return {k: v.astype(np.float64) for k, v in arrays.items()}
+
+
+def _ranges(mesh: TriMesh) -> dict[str, tuple[float, float]]:
+    ranges = {}
+    for name, values in _face_arrays(mesh, None).items():
+        finite = values[np.isfinite(values)]
+        a, b = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
+        if b - a < 1e-12 * max(1.0, abs(a)):
+            a, b = a - 0.5, b + 0.5
+        ranges[name] = (a, b)
+    ranges["patch"] = (-0.5, _CATEGORIES - 0.5)
+    ranges["region"] = (0.5, 3.5)
+    return ranges
+
+
+def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData:
     """Build the datasets of every layer for ``mesh`` (thread-safe, no rendering).
+
+    A mesh of more than ``detail_limit`` triangles gets an :class:`Overview` (its faces
+    as an image) and only the layers whose size follows the outline, not the triangle
+    count (boundary and junction edges, patch outlines when few); :func:`detail_data`
+    gives the full detail of a part of it.
 
     Parameters
     ----------
     mesh : TriMesh
+    detail_limit : int
 
     Returns
     -------
     SceneData
-        ``datasets`` has one PolyData per layer name of :data:`LAYERS`; the faces carry
-        the cell arrays ``patch``, ``region``, ``area``, ``min_angle``, ``aspect_ratio``.
+        ``datasets`` has one PolyData per layer name of :data:`LAYERS`; full-detail faces
+        carry the cell arrays ``patch``, ``region``, ``area``, ``min_angle``,
+        ``aspect_ratio`` and ``triangle`` (the mesh's triangle index).
     """
     pts = np.asarray(mesh.points, dtype=np.float64)
-    tri = np.asarray(mesh.triangles)
+    n = mesh.n_triangles
     if len(pts):
         lo, hi = pts.min(axis=0), pts.max(axis=0)
     else:
         lo = hi = np.zeros(3)
+    bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
+    typical = float(np.mean(mesh.edge_lengths)) if n else 0.0
+    ranges = _ranges(mesh) if n else {}
+    if n <= detail_limit:
+        data = _detail_sets(mesh, None, bounds)
+        return SceneData(data, bounds, ranges, n, typical, paper=mesh.mode == "paper")
     size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
     dz = 1e-4 * size
+    sets = {name: pv.PolyData() for name in LAYERS}
+    edges = np.asarray(mesh.edges)
+    for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
+                             (5, "junction_edges", mesh.junction_edges)):
+        pairs = edges[np.asarray(ids, dtype=np.int64)]
+        sets[name] = _compact_lines(pts, pairs, level * dz)
+    out_pts, out_pairs = patch_outline_pairs(mesh)
+    if len(out_pairs) <= OUTLINE_SEGMENTS:
+        sets["patch_outlines"] = _compact_lines(out_pts, out_pairs, 2 * dz)
+    raster = overview_raster(pts, mesh.triangles, bounds)
+    covered = raster >= 0
+    where = np.where(covered, raster, 0)
+    values = {}
+    for name, v in _face_arrays(mesh, None).items():
+        img = v.astype(np.float32)[where]
+        img[~covered] = np.nan
+        values[name] = img
+    centroids = np.asarray(mesh.centroids)[:, :2].astype(np.float32)
+    overview = Overview(bounds, covered, values, centroids)
+    return SceneData(sets, bounds, ranges, n, typical, overview, paper=mesh.mode == "paper")
 
-    faces = pv.PolyData.from_regular_faces(pts, tri) if len(tri) else pv.PolyData()
-    ranges: dict[str, tuple[float, float]] = {}
-    if len(tri):
-        arrays = {
-            "patch": (np.asarray(mesh.patch_ids) % _CATEGORIES).astype(np.float64),
-            "region": np.asarray(mesh.regions, dtype=np.float64),
-            "area": np.asarray(mesh.areas),
-            "min_angle": np.asarray(mesh.min_angles),
-            "aspect_ratio": np.asarray(mesh.aspect_ratios),
-        }
-        for name, values in arrays.items():
-            faces.cell_data[name] = values
-            finite = values[np.isfinite(values)]
-            a, b = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
-            if b - a < 1e-12 * max(1.0, abs(a)):
-                a, b = a - 0.5, b + 0.5
-            ranges[name] = (a, b)
-        ranges["patch"] = (-0.5, _CATEGORIES - 0.5)
 
-    edges = np.asarray(mesh.edges) if len(tri) else np.empty((0, 2), dtype=np.int64)
-    sets = {"faces": faces}
-    sets["triangle_edges"] = _line_set(_lifted(pts, dz), edges)
-    out_pts, out_pairs = patch_outline_pairs(mesh) if len(tri) else (pts, edges)
-    sets["patch_outlines"] = _line_set(_lifted(out_pts, 2 * dz), out_pairs)
-    for level, name, ids in (
-        (3, "shared_edges", mesh.interior_edges if len(tri) else ()),
-        (4, "boundary_edges", mesh.boundary_edges if len(tri) else ()),
-        (5, "junction_edges", mesh.junction_edges if len(tri) else ()),
-    ):
-        sets[name] = _line_set(_lifted(pts, level * dz), edges[np.asarray(ids, dtype=np.int64)])
-    centroids = _lifted(np.asarray(mesh.centroids), 6 * dz) if len(tri) else np.empty((0, 3))
-    sets["centroids"] = pv.PolyData(centroids) if len(centroids) else pv.PolyData()
-    small = 0 < len(tri) <= LABEL_LIMIT
-    sets["labels"] = pv.PolyData(centroids) if small else pv.PolyData()
+def _compact_lines(points: np.ndarray, pairs: np.ndarray, dz: float) -> pv.PolyData:
+    """Line cells of ``pairs`` with only the points they use, lifted by ``dz``."""
+    pairs = np.asarray(pairs).reshape(-1, 2)
+    if len(pairs) == 0:
+        return pv.PolyData()
+    used, inverse = np.unique(pairs, return_inverse=True)
+    return _line_set(_lifted(points[used], dz), inverse.reshape(-1, 2))
+
+
+def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
+                limit: int = DETAIL_TRIANGLES) -> SceneData | None:
+    """Full-detail datasets of the triangles of ``mesh`` around ``rect`` (thread-safe).
+
+    ``rect`` (x0, x1, y0, y1, mm) is grown by half its size on every side, so a little
+    panning stays detailed. Returns None when that part holds more than ``limit``
+    triangles. Only the per-triangle layers (:data:`DETAIL_LAYERS`) are filled.
+    """
+    x0, x1, y0, y1 = rect
+    grow = 0.5 * max(x1 - x0, y1 - y0)
+    big = (x0 - grow, x1 + grow, y0 - grow, y1 + grow)
+    sel = triangles_in_rect(mesh.centroids, big)
+    if len(sel) > limit:
+        return None
+    pts = np.asarray(mesh.points)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
     bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
-    typical = float(np.mean(mesh.edge_lengths)) if len(tri) else 0.0
-    return SceneData(sets, bounds, ranges, len(tri), typical)
+    sets = _detail_sets(mesh, sel, bounds)
+    for name in LAYERS:
+        if name not in DETAIL_LAYERS:
+            sets[name] = pv.PolyData()
+    return SceneData(sets, bounds, {}, len(sel), 0.0, rect=big)
+
+
+def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
+                 bounds: tuple[float, float, float, float]) -> dict[str, pv.PolyData]:
+    """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None)."""
+    pts = np.asarray(mesh.points, dtype=np.float64)
+    tri = np.asarray(mesh.triangles)
+    x0, x1, y0, y1 = bounds
+    dz = 1e-4 * float(max(x1 - x0, y1 - y0, 1e-9))
+    if len(tri) == 0 or (sel is not None and len(sel) == 0):
+        return {name: pv.PolyData() for name in LAYERS}
+    edges = np.asarray(mesh.edges)
+    kind = np.zeros(len(edges), dtype=np.int8)  # 3 shared, 4 boundary, 5 junction
+    kind[np.asarray(mesh.interior_edges, dtype=np.int64)] = 3
+    kind[np.asarray(mesh.boundary_edges, dtype=np.int64)] = 4
+    kind[np.asarray(mesh.junction_edges, dtype=np.int64)] = 5
+    if sel is None:
+        ids = np.arange(len(tri))
+        local_pts, local_tri, local_edges = pts, tri, edges
+        centroids = np.asarray(mesh.centroids)
+    else:
+        ids = np.asarray(sel, dtype=np.int64)
+        inside = np.zeros(len(tri), dtype=bool)
+        inside[ids] = True
+        et = np.asarray(mesh.edge_triangles)
+        keep = inside[et[:, 0]] | ((et[:, 1] >= 0) & inside[np.maximum(et[:, 1], 0)])
+        used = np.unique(tri[ids])
+        remap = np.full(len(pts), -1, dtype=np.int64)
+        remap[used] = np.arange(len(used))
+        local_pts = pts[used]
+        local_tri = remap[tri[ids]]
+        edges_kept = edges[keep]
+        ok = (remap[edges_kept] >= 0).all(axis=1)
+        local_edges = remap[edges_kept[ok]]
+        kind = kind[keep][ok]
+        centroids = np.asarray(mesh.centroids)[ids]
+    faces = pv.PolyData.from_regular_faces(local_pts, local_tri)
+    for name, values in _face_arrays(mesh, None if sel is None else ids).items():
+        faces.cell_data[name] = values
+    faces.cell_data["triangle"] = ids.astype(np.int64)
+    sets = {"faces": faces}
+    lifted = _lifted(local_pts, dz)
+    sets["triangle_edges"] = _line_set(lifted, local_edges)
+    if sel is None:
+        out_pts, out_pairs = patch_outline_pairs(mesh)
+        sets["patch_outlines"] = _line_set(_lifted(out_pts, 2 * dz), out_pairs)
+    else:
+        sets["patch_outlines"] = pv.PolyData()
+    for level, name in ((3, "shared_edges"), (4, "boundary_edges"), (5, "junction_edges")):
+        sets[name] = _line_set(_lifted(local_pts, level * dz), local_edges[kind == level])
+    cents = _lifted(centroids, 6 * dz)
+    sets["centroids"] = pv.PolyData(cents)
+    small = len(ids) <= LABEL_LIMIT and sel is None
+    sets["labels"] = pv.PolyData(cents) if small else pv.PolyData()
+    return sets
 
 
 def add_text_labels(
@@ -237,6 +378,12 @@ class MeshScene:
         self.ranges: dict[str, tuple[float, float]] = {}
         self.n_triangles = 0
         self.typical_edge = 0.0
+        self.overview: Overview | None = None
+        self.paper = False
+        self.detail_rect: tuple[float, float, float, float] | None = None
+        self.detail_triangles = 0
+        self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
+        self.edge_px = np.inf
         self._line_scale = 1.0
         self.emphasis = 1.0  # presentation mode: thicker lines, larger fonts
         plotter.set_background(BACKGROUND)
@@ -295,8 +442,31 @@ class MeshScene:
             prop.SetFontSize(14)
         bar.GetTitleTextProperty().SetBold(True)
         bar.SetLabelFormat("%-#6.3g")
+        bar.SetPosition(0.9, 0.08)
+        bar.SetWidth(0.07)
+        bar.SetHeight(0.78)
+        bar.SetTitle("")  # drawn by legend_title: a bar's own title is cut at the edge
         p.add_actor(bar, reset_camera=False, pickable=False, render=False)
         self.scalar_bar = bar
+        self.legend_title = self._text_actor((0.985, 0.9), 14, bold=True, right=True)
+        self.note = self._text_actor((0.01, 0.012), 12)
+        self.note.GetTextProperty().SetColor(0.2, 0.2, 0.2)
+        self.note.GetTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
+        self.note.GetTextProperty().SetBackgroundOpacity(0.85)  # readable over the mesh
+
+        # the faces of a dense mesh as one textured rectangle (app.overview)
+        self.overview_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
+        # the texture's colours are the overview's own (a 4-component uint8 image)
+        self.overview_texture.SetColorModeToDirectScalars()
+        self.overview_texture.interpolate = True
+        self.overview_texture.mipmap = True
+        self.overview_quad = pv.PolyData()
+        self.actors_overview = p.add_mesh(
+            self.overview_quad, color="white", reset_camera=False, lighting=False,
+            render=False, pickable=False,
+        )
+        self.actors_overview.SetTexture(self.overview_texture)
+        self._set_overview_quad()
 
         # Axes in mm with "nice" tick values along the bottom and left of the mesh.
         self.axes = p.show_bounds(
@@ -311,6 +481,23 @@ class MeshScene:
 
     # -- state ----------------------------------------------------------------
 
+    def _text_actor(self, position: tuple[float, float], size: int, bold: bool = False,
+                    right: bool = False) -> vtkTextActor:
+        actor = vtkTextActor()
+        actor.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+        actor.GetPositionCoordinate().SetValue(*position)
+        prop = actor.GetTextProperty()
+        prop.SetFontSize(size)
+        prop.SetColor(0.1, 0.1, 0.1)
+        prop.SetBold(bold)
+        prop.SetShadow(False)
+        prop.SetItalic(False)
+        if right:
+            prop.SetJustificationToRight()
+        actor.SetPickable(False)
+        self.plotter.add_actor(actor, reset_camera=False, pickable=False, render=False)
+        return actor
+
     def update(self, data: SceneData) -> None:
         """Copy new datasets into the existing ones (no new actors); the caller renders."""
         for name in LAYERS:
@@ -319,10 +506,131 @@ class MeshScene:
         self.ranges = data.ranges
         self.n_triangles = data.n_triangles
         self.typical_edge = data.typical_edge
+        self.overview = data.overview
+        self.paper = data.paper
+        self.detail_rect = None
+        self.detail_triangles = 0 if data.overview is not None else data.n_triangles
+        self._set_overview_quad()
         self._place_rulers()
         self.fit_marker_sizes()
         self._apply_color_by()
         self._apply_visibility()
+
+    @property
+    def reduced(self) -> bool:
+        """Whether the mesh is drawn as an overview (not every triangle is a polygon)."""
+        return self.overview is not None
+
+    def show_detail(self, data: SceneData) -> None:
+        """Draw the full detail of a part of an overview mesh (see :func:`detail_data`)."""
+        if self.overview is None:
+            return
+        for name in DETAIL_LAYERS:
+            self.datasets[name].copy_from(data.datasets[name], deep=False)
+        self.detail_rect = data.rect
+        self.detail_triangles = data.n_triangles
+        self._apply_color_by()
+        self._apply_visibility()
+
+    def clear_detail(self) -> None:
+        """Drop the detailed part (the camera left it, or shows too much of the mesh)."""
+        if self.detail_rect is None:
+            return
+        for name in DETAIL_LAYERS:
+            self.datasets[name].copy_from(pv.PolyData(), deep=False)
+        self.detail_rect = None
+        self.detail_triangles = 0
+        self._apply_visibility()
+
+    def view_rect(self) -> tuple[float, float, float, float] | None:
+        """The part of the z = 0 plane the camera sees, (x0, x1, y0, y1) in mm."""
+        renderer = self.plotter.renderer
+        width, height = renderer.GetSize()
+        if width <= 0 or height <= 0:
+            return None
+        xs, ys = [], []
+        for px, py in ((0, 0), (width, 0), (0, height), (width, height)):
+            ends = []
+            for depth in (0.0, 1.0):
+                renderer.SetDisplayPoint(float(px), float(py), depth)
+                renderer.DisplayToWorld()
+                wx, wy, wz, ww = renderer.GetWorldPoint()
+                ends.append(np.array([wx, wy, wz]) / (ww or 1.0))
+            a, b = ends
+            dz = b[2] - a[2]
+            t = 0.0 if abs(dz) < 1e-15 else -a[2] / dz
+            hit = a + min(max(t, 0.0), 1.0) * (b - a)
+            xs.append(hit[0])
+            ys.append(hit[1])
+        return float(min(xs)), float(max(xs)), float(min(ys)), float(max(ys))
+
+    def wanted_detail(
+        self, limit: int = DETAIL_TRIANGLES
+    ) -> tuple[float, float, float, float] | None:
+        """The view's rectangle if the camera rests on a part of an overview mesh small
+        enough to draw in full and not yet drawn so; None otherwise."""
+        if self.overview is None:
+            return None
+        rect = self.view_rect()
+        if rect is None:
+            return None
+        x0, x1, y0, y1 = rect
+        have = self.detail_rect
+        if have is not None and have[0] <= x0 and x1 <= have[1] and have[2] <= y0 \
+                and y1 <= have[3]:
+            return None
+        c = self.overview.centroids
+        inside = int(np.count_nonzero((c[:, 0] >= x0) & (c[:, 0] <= x1)
+                                      & (c[:, 1] >= y0) & (c[:, 1] <= y1)))
+        if inside > limit // 4:  # the detail grows the rectangle 2 x 2 times
+            return None
+        return rect
+
+    def _set_overview_quad(self) -> None:
+        ov = self.overview
+        if ov is None:
+            # a zero-area textured quad: drawn with every frame, so the textured shader is
+            # compiled with the first one, not when the first dense mesh arrives
+            blank = pv.ImageData(dimensions=(2, 2, 1))
+            blank.point_data["rgba"] = np.zeros((4, 4), dtype=np.uint8)
+            self.overview_texture.SetInputDataObject(blank)
+            bounds, dz = (0.0, 0.0, 0.0, 0.0), 0.0
+        else:
+            bounds = ov.bounds
+            dz = -1e-4 * max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-9)
+        x0, x1, y0, y1 = bounds
+        quad = pv.PolyData(
+            np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
+            faces=np.array([4, 0, 1, 2, 3]),
+        )
+        quad.active_texture_coordinates = np.array([[0, 0], [1, 0], [1, 1], [0, 1]],
+                                                   dtype=np.float32)
+        self.overview_quad.copy_from(quad, deep=True)
+
+    def _overview_rgba(self) -> np.ndarray:
+        """(rows, cols, 4) uint8 colours of the overview for the current colouring."""
+        ov = self.overview
+        rows, cols = ov.covered.shape
+        array, _ = COLOR_BY[self.color_by]
+        if array is None or array not in ov.values:
+            rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
+            rgba[ov.covered] = (*pv.Color(COLORS["faces"]).int_rgb, 255)
+            return rgba
+        lut = self.actors["faces"].mapper.lookup_table
+        mapped = lut.MapScalars(numpy_to_vtk(ov.values[array].ravel()), 0, -1)
+        rgba = vtk_to_numpy(mapped).reshape(rows, cols, -1)
+        if rgba.shape[2] == 3:
+            rgba = np.dstack([rgba, np.full((rows, cols), 255, np.uint8)])
+        rgba = np.array(rgba, dtype=np.uint8)
+        rgba[~ov.covered] = 0
+        return rgba
+
+    def _recolor_overview(self) -> None:
+        if self.overview is None:
+            return
+        image = pv.ImageData(dimensions=(*self.overview.covered.shape[::-1], 1))
+        image.point_data["rgba"] = self._overview_rgba().reshape(-1, 4)
+        self.overview_texture.SetInputDataObject(image)
 
     def set_visible(self, layer: str, on: bool) -> None:
         if layer not in self.visible:
@@ -342,30 +650,64 @@ class MeshScene:
         """Whether index labels are drawn (asked for, and the mesh is small enough)."""
         return self.visible["labels"] and 0 < self.n_triangles <= LABEL_LIMIT
 
+    def drawn(self, name: str) -> bool:
+        """Whether layer ``name`` is drawn now (asked for, and not left out for density)."""
+        on = self.visible[name]
+        if name == "labels":
+            return on and self.labels_shown
+        if name in ("triangle_edges", "shared_edges", "centroids") and self.light:
+            return False
+        if name == "boundary_edges" and self.light and self.paper:
+            return False  # in paper mode every patch's border: a texture at this size
+        if name in DETAIL_LAYERS and self.overview is not None and self.detail_rect is None:
+            return False
+        return bool(on)
+
     def _apply_visibility(self) -> None:
         for name in LAYERS:
-            on = self.visible[name]
-            if name == "labels":
-                on = self.labels_shown
-            self.actors[name].SetVisibility(bool(on))
-        self.scalar_bar.SetVisibility(
-            bool(self.visible["faces"] and self.color_by not in ("none", "patch")
-                 and self.n_triangles)
-        )
+            self.actors[name].SetVisibility(self.drawn(name))
+        self.actors_overview.SetVisibility(bool(self.visible["faces"]))
+        legend = bool(self.visible["faces"] and self.color_by != "none" and self.n_triangles)
+        self.scalar_bar.SetVisibility(legend)
+        self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
+        self.note.SetInput(self.note_text())
+
+    def note_text(self) -> str:
+        """What the view leaves out and why (empty when it draws everything asked for)."""
+        if not self.n_triangles:
+            return ""
+        parts = []
+        if self.overview is not None:
+            if self.detail_rect is None:
+                parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "
+                             "image; zoom in and rest for triangles, edges and centroids")
+            else:
+                parts.append(f"Full detail of {self.detail_triangles:,} of "
+                             f"{self.n_triangles:,} triangles around the view")
+        wanted = [n for n in ("triangle_edges", "shared_edges", "centroids")
+                  if self.visible[n]]
+        if self.light and wanted and (self.overview is None or self.detail_rect is not None):
+            borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
+            parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
+                         f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
+                         "zoom in)")
+        return "\n".join(parts)
 
     def _apply_color_by(self) -> None:
         array, title = COLOR_BY[self.color_by]
         mapper = self.actors["faces"].mapper
-        if array is None or array not in self.datasets["faces"].cell_data:
+        if array is None or array not in self.datasets["faces"].cell_data and (
+                self.overview is None or array not in self.overview.values):
             mapper.SetScalarVisibility(False)
+            self._recolor_overview()
             return
         lut = mapper.lookup_table
         if array == "patch":
             lut.cmap = "tab10"
             lut.n_values = _CATEGORIES
         elif array == "region":
-            lut.cmap = ["#9ecae1", "#fdae6b", "#a1d99b"]
+            lut.cmap = REGION_COLORS
             lut.n_values = 3
         else:
             lut.cmap = "viridis"
@@ -378,7 +720,39 @@ class MeshScene:
         lut.scalar_range = (lo, hi)
         mapper.SetScalarVisibility(True)
         self.scalar_bar.SetLookupTable(lut)
-        self.scalar_bar.SetTitle(title)
+        self._set_legend(array, title, lo, hi)
+        self._recolor_overview()
+
+    def _set_legend(self, array: str, title: str, lo: float, hi: float) -> None:
+        """A categorical legend for patch and region colours, readable ticks otherwise."""
+        bar = self.scalar_bar
+        self.legend_title.SetInput(title)
+        labels = vtkDoubleArray()
+        if array in ("patch", "region"):
+            # one swatch per category, named at its middle
+            if array == "patch":
+                values = range(_CATEGORIES)
+                self.legend_title.SetInput("patch number, last digit\n(colours repeat)")
+            else:
+                values = range(1, 4)
+            bar.SetNumberOfLabels(len(values))
+            bar.SetMaximumNumberOfColors(len(values))
+            for v in values:
+                labels.InsertNextValue(float(v))
+            bar.SetLabelFormat("%.0f")
+            bar.SetDrawTickLabels(True)
+            bar.SetUseCustomLabels(True)
+            bar.SetCustomLabels(labels)
+            if array == "region":
+                self.legend_title.SetInput("region\n1 inner ring / patch\n2 outer ring")
+            return
+        ticks, fmt = readable_ticks(lo, hi)
+        for v in ticks:
+            labels.InsertNextValue(float(v))
+        bar.SetMaximumNumberOfColors(256)
+        bar.SetLabelFormat(fmt)
+        bar.SetUseCustomLabels(True)
+        bar.SetCustomLabels(labels)
 
     def show_rulers(self, bounds: tuple[float, float, float, float]) -> None:
         """Rulers in mm around ``bounds`` = (x0, x1, y0, y1) without a mesh (teaching views)."""
@@ -441,6 +815,13 @@ class MeshScene:
         edge_px = np.inf
         if self.typical_edge > 0 and camera.parallel_projection and height > 0:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
+        self.edge_px = float(edge_px)
+        light = bool(edge_px < LIGHT_PX)
+        if light != self.light:
+            self.light = light
+            self._apply_visibility()
+        else:
+            self.note.SetInput(self.note_text())
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
             if name == "centroids":
@@ -464,19 +845,63 @@ class MeshScene:
             self.axes.GetLabelTextProperty(axis).SetFontSize(size)
 
 
+def readable_ticks(lo: float, hi: float, count: int = 5) -> tuple[np.ndarray, str]:
+    """Tick values on a 1-2-5 step inside [lo, hi] and a printf format that tells them apart.
+
+    >>> readable_ticks(0.0081, 0.0093)
+    (array([0.0082, 0.0084, 0.0086, 0.0088, 0.009 , 0.0092]), '%.4f')
+    """
+    span = max(hi - lo, 1e-300)
+    power = 10.0 ** np.floor(np.log10(span))
+    steps = [m * power * f for f in (1.0, 0.1, 0.01) for m in (5, 2, 1)]
+    for step in steps:  # the widest step that still gives ``count - 1`` ticks
+        first = np.ceil(lo / step - 1e-9) * step
+        n = int(np.floor((hi - first) / step + 1e-9)) + 1
+        if n >= count - 1:
+            break
+    ticks = np.round((first + step * np.arange(n)) / step) * step
+    if len(ticks) < 2:
+        ticks = np.array([lo, hi])
+    decimals = max(0, int(-np.floor(np.log10(step) + 1e-9)))
+    big = max(abs(lo), abs(hi))
+    if big >= 1e5 or (big < 1e-4 and big > 0):
+        return ticks, "%.3g"
+    return ticks, f"%.{decimals}f"
+
+
+def _vtk_step(span: float) -> float:
+    """The major tick spacing ``vtkCubeAxesActor`` chooses for an axis of length ``span``."""
+    power = np.log10(span)
+    if power != 0.0:
+        power = np.copysign(abs(power) + 1e-9, power)
+    if power < 0.0:
+        power -= 1.0
+    decade = 10.0 ** int(power)
+    ticks = int(span / decade) + 1
+    return decade / (5.0 if ticks <= 2 else 2.0 if ticks < 5 else 1.0)
+
+
 def nice_span(lo: float, hi: float, ticks: int = 5) -> tuple[float, float, int]:
-    """Widen [lo, hi] to multiples of a 1-2-5 step; return the span and its label count.
+    """Widen [lo, hi] to multiples of the step the rulers tick at; return it and the count.
+
+    The step is the one ``vtkCubeAxesActor`` puts its ticks at (1, 2 or 5 times a power
+    of ten, from the span), so every label sits on its tick line.
 
     >>> nice_span(-9.7, 9.7)
     (-10.0, 10.0, 5)
+    >>> nice_span(0.0, 10.0)
+    (0.0, 10.0, 6)
     """
-    width = max(hi - lo, 1e-12)
-    raw = width / max(ticks - 1, 1)
-    power = 10.0 ** np.floor(np.log10(raw))
-    step = next(m * power for m in (1, 2, 2.5, 5, 10) if m * power >= raw * (1 - 1e-9))
-    a = np.floor(lo / step + 1e-9) * step
-    b = np.ceil(hi / step - 1e-9) * step
-    return float(a), float(b), int(round((b - a) / step)) + 1
+    a, b = float(lo), float(hi)
+    for _ in range(4):
+        step = _vtk_step(max(b - a, 1e-12))
+        a2 = float(np.floor(lo / step + 1e-9) * step)
+        b2 = float(np.ceil(hi / step - 1e-9) * step)
+        if (a2, b2) == (a, b):
+            break
+        a, b = a2, b2
+    step = _vtk_step(max(b - a, 1e-12))
+    return a, b, int(round((b - a) / step)) + 1
 
 
 def _prepare_headless() -> None:

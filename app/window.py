@@ -14,13 +14,14 @@ import json
 import logging
 import os
 import sys
+import threading
 import time
 import traceback
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QByteArray, QSettings, Qt, QTimer
+from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QGuiApplication, QImage, QKeySequence
 from PySide6.QtWidgets import (
     QApplication,
@@ -43,6 +44,7 @@ from PySide6.QtWidgets import (
     QStyle,
     QTextBrowser,
     QToolBar,
+    QToolButton,
     QVBoxLayout,
     QWidget,
 )
@@ -61,7 +63,7 @@ from .stats_panel import StatsPanel
 from .teaching_tools import TeachingTools
 from .teaching_windows import TeachingWindows
 from .view_tools import ViewTools
-from .worker import MeshController
+from .worker import BuildJob, MeshController, release_memory
 
 log = logging.getLogger(__name__)
 
@@ -318,8 +320,7 @@ class MainWindow(QMainWindow):
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
         self.plotter = QtInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
         self.plotter.setMinimumSize(320, 240)
-        for key in ("q", "e"):  # VTK's exit keys would close the render window under Qt
-            self.plotter.clear_events_for_key(key, raise_on_missing=False)
+        disable_view_keys(self.plotter)
         self.scene = MeshScene(self.plotter, visible=self.model.layers,
                                color_by=self.model.color_by)
         self.scene.top_view()
@@ -328,6 +329,15 @@ class MainWindow(QMainWindow):
         self.plotter.iren.add_observer("MouseWheelBackwardEvent", self._camera_moved)
         self._camera_key: tuple[Any, ...] | None = None
         self.last_frame_seconds = 0.0
+        self.paint_counter = PaintCounter(self.plotter)  # one paint per new mesh
+        self._shown_scene: Any = None
+        self._last_triangles = 0
+        # once the camera rests, the part in view of a dense mesh gets its full detail
+        self._rest_timer = QTimer(self)
+        self._rest_timer.setSingleShot(True)
+        self._rest_timer.setInterval(250)
+        self._rest_timer.timeout.connect(self._camera_rested)
+        self._detail_token: tuple[int, tuple[float, ...]] | None = None
         self._closed = False
         self._tuned = False
 
@@ -347,15 +357,31 @@ class MainWindow(QMainWindow):
 
         self.busy = QProgressBar(self)
         self.busy.setRange(0, 0)
-        self.busy.setMaximumWidth(120)
-        self.busy.setFormat("meshing…")
+        self.busy.setMaximumWidth(160)
+        self.busy.setTextVisible(True)
         self.busy.hide()
+        self.cancel_button = QToolButton(self)
+        self.cancel_button.setText("Cancel")
+        self.cancel_button.setToolTip("Abandon this build; the mesh on screen stays (Esc)")
+        self.cancel_button.clicked.connect(self.cancel_build)
+        self.cancel_button.hide()
         self.summary = QLabel(self)
         self.statusBar().addPermanentWidget(self.busy)
+        self.statusBar().addPermanentWidget(self.cancel_button)
         self.statusBar().addPermanentWidget(self.summary)
+        # the status bar keeps the height it has with the progress bar shown, so showing
+        # or hiding it never resizes (and repaints) the 3D view
+        bar_height = max(self.busy.sizeHint().height(), self.cancel_button.sizeHint().height())
+        self.statusBar().setMinimumHeight(bar_height + 6)
+        self._escape = EscapeCancels(self)
+        self._progress_timer = QTimer(self)
+        self._progress_timer.setInterval(100)
+        self._progress_timer.timeout.connect(self._show_progress)
 
         self.controller = MeshController(self.model, self)
         self.controller.busy_changed.connect(self._busy_changed)
+        self.controller.job_changed.connect(self._job_changed)
+        self.controller.detail_ready.connect(self._detail_ready)
         self.model.result_changed.connect(self._show_result)
         self.model.error_changed.connect(self._show_error)
         self.model.build_failed.connect(self._build_failed)
@@ -443,6 +469,9 @@ class MainWindow(QMainWindow):
         self.act_copy = a("&Copy screenshot", lambda: self.copy_view_to_clipboard(), "Ctrl+Shift+C",
                           "Copy the 3D view to the clipboard")
         self.act_quit = a("&Quit", self.close, QKeySequence.StandardKey.Quit, "Close barymesh")
+        self.act_cancel = a("&Cancel meshing", self.cancel_build, "Esc",
+                            "Abandon the running build; the mesh on screen stays")
+        self.act_cancel.setEnabled(False)
         for act in (self.act_open, self.act_export):
             if self._io_error:
                 act.setEnabled(False)
@@ -513,6 +542,7 @@ class MainWindow(QMainWindow):
         edit.addActions([self.act_undo, self.act_redo])
         edit.addSeparator()
         edit.addAction(self.act_reset)
+        edit.addAction(self.act_cancel)
 
         view = bar.addMenu("&View")
         layers = view.addMenu("&Layers")
@@ -572,16 +602,36 @@ class MainWindow(QMainWindow):
         start = time.perf_counter()
         if result.scene is None:
             result.scene = scene_data(result.mesh)
-        self.scene.update(result.scene)
-        self.teaching.mesh_changed(result.mesh)
-        self.view_tools.mesh_changed(result.mesh)
+        same = result.scene is self._shown_scene  # Undo back to the mesh on screen
+        self._shown_scene = result.scene
+        self._detail_token = None
+        if not same:
+            self.scene.update(result.scene)
+            self.teaching.mesh_changed(result.mesh)
+            self.view_tools.mesh_changed(result.mesh)
         p = result.params
         key = (result.source, p.structure if p else None)
         bounds = np.asarray(result.scene.bounds)
         if key != self._camera_key or self._bounds_jumped(bounds):
             self.frame_mesh()
         self._camera_key, self._camera_bounds = key, bounds
-        self.request_render()
+        if not same:
+            # panels that grew with the new numbers relayout now, not after the paint:
+            # then the view is painted once, at its final size
+            painted = self.paint_counter.paints
+            for _ in range(6):  # label -> panel -> dock -> window: one level per round
+                QApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest)
+            if self.paint_counter.paints == painted:  # a resize may have painted it already
+                self.request_render()
+            # after a large mesh its arrays are free now: hand the pages back (off this
+            # thread; trimming after every small mesh would only cost time)
+            big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
+            self._last_triangles = result.mesh.n_triangles
+            if big:
+                QTimer.singleShot(0, lambda: threading.Thread(target=release_memory,
+                                                              daemon=True).start())
+            if self.scene.reduced:
+                self._rest_timer.start()
         self.last_frame_seconds = time.perf_counter() - start
         s = result.stats
         title = Path(result.source).name if result.source != "parameters" else p.structure
@@ -611,10 +661,49 @@ class MainWindow(QMainWindow):
 
     def _busy_changed(self, busy: bool) -> None:
         self.busy.setVisible(busy)
+        self.cancel_button.setVisible(busy)
+        self.act_cancel.setEnabled(busy)
         if busy:
-            self.statusBar().showMessage("Meshing…")
-        elif self.model.error is None:
-            self.statusBar().clearMessage()
+            self._progress_timer.start()
+            QApplication.instance().installEventFilter(self._escape)
+        else:
+            self._progress_timer.stop()
+            QApplication.instance().removeEventFilter(self._escape)
+            if self.model.error is None:
+                self.statusBar().clearMessage()
+
+    def _job_changed(self, job: BuildJob | None) -> None:
+        if job is not None:
+            self._show_progress()
+
+    def _show_progress(self) -> None:
+        """'Meshing 4,844,160 triangles: 1.2 s of about 4 s' and the bar."""
+        job = self.controller.current
+        if job is None:
+            return
+        elapsed = time.perf_counter() - job.started
+        expected = self.controller.estimate(job.triangles)
+        text = f"Meshing {job.triangles:,} triangles: {elapsed:.1f} s"
+        if expected is not None:
+            text += f" of about {expected:.1f} s"
+            self.busy.setRange(0, 100)
+            self.busy.setValue(int(min(99, 100 * elapsed / max(expected, 1e-3))))
+        else:
+            text += " (no estimate yet: the first large build measures this machine)"
+            self.busy.setRange(0, 0)
+        self.statusBar().showMessage(text + " · Esc cancels")
+
+    def cancel_build(self) -> None:
+        """Abandon the running build; the parameters go back to the mesh on screen."""
+        if not self.controller.cancel():
+            return
+        shown = self.model.result
+        if shown is not None and shown.params is not None and self.model.params != shown.params:
+            if self.model.undo_stack and self.model.undo_stack[-1] == shown.params:
+                self.model.undo()
+            else:
+                self.model.set_params(shown.params)
+        self.statusBar().showMessage("Meshing cancelled; the mesh on screen stays", 5000)
 
     def _layer_changed(self, name: str, visible: bool) -> None:
         if self._closed:
@@ -657,6 +746,27 @@ class MainWindow(QMainWindow):
     def _camera_moved(self, *_args: Any) -> None:
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
+        if self.scene.reduced:
+            self._rest_timer.start()
+
+    def _camera_rested(self) -> None:
+        """Ask for the full detail of the part in view of a dense mesh (in a thread)."""
+        result = self.model.result
+        if self._closed or result is None or result.mesh is None or not self.scene.reduced:
+            return
+        rect = self.scene.wanted_detail()
+        if rect is None:
+            return
+        token = (result.generation, rect)
+        self._detail_token = token
+        self.controller.request_detail(result.mesh, rect, token)
+
+    def _detail_ready(self, payload: tuple[Any, Any]) -> None:
+        token, data = payload
+        if self._closed or token != self._detail_token or data is None:
+            return
+        self.scene.show_detail(data)
+        self.request_render()
 
     # -- view ----------------------------------------------------------------------------
 
@@ -995,13 +1105,62 @@ class MainWindow(QMainWindow):
             self._closed = True
             if not self.scripted:
                 self.save_settings()
-            self.controller.stop()
+            self.controller.stop()  # returns at once; a running build is abandoned
+            self._rest_timer.stop()
+            self._progress_timer.stop()
             # Release VTK's render window and GL context while the widget still exists.
             self.plotter.close()
         super().closeEvent(event)
 
 
 # -- entry point ---------------------------------------------------------------------------
+
+
+class PaintCounter(QObject):
+    """Counts the paint events of a widget (``paints``) and when the last one came."""
+
+    def __init__(self, widget: QWidget) -> None:
+        super().__init__(widget)
+        self.paints = 0
+        self.last = 0.0
+        widget.installEventFilter(self)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if event.type() == QEvent.Type.Paint:
+            self.paints += 1
+            self.last = time.perf_counter()
+        return False
+
+
+class EscapeCancels(QObject):
+    """While installed on the application: Esc anywhere in the window cancels the build,
+    also when a text field has the focus (it would take Esc for itself)."""
+
+    def __init__(self, window: MainWindow) -> None:
+        super().__init__(window)
+        self.window_ = window
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if (event.type() == QEvent.Type.KeyPress and event.key() == Qt.Key.Key_Escape
+                and not event.modifiers() and self.window_.controller.busy):
+            self.window_.cancel_build()
+            return True
+        return False
+
+
+def disable_view_keys(plotter: Any) -> None:
+    """Keys typed into the 3D view do nothing of VTK's or pyvista's own.
+
+    VTK's interactor style would switch to red-blue stereo on "3", to wireframe on "w",
+    fly on "f", exit on "q"/"e"…, and pyvista adds "v" (isometric view) and others; none
+    is a documented action of the window, whose own shortcuts (R, T, Ctrl+1…) are
+    QActions and keep working. An observer of the style's CharEvent replaces its OnChar.
+    """
+    for key in list(getattr(plotter, "_key_press_event_callbacks", {})):
+        plotter.clear_events_for_key(key, raise_on_missing=False)
+    style = plotter.iren.interactor.GetInteractorStyle()
+    if style is not None:
+        style.AddObserver("CharEvent", lambda *_: None)
 
 
 def build_parser() -> argparse.ArgumentParser:

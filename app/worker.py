@@ -1,39 +1,85 @@
-"""Meshing without freezing the window: coalesced requests, a worker thread for big meshes.
+"""Meshing without freezing the window: coalesced requests, worker threads, cancellation.
 
 :class:`MeshController` listens to ``AppModel.params_changed``. Requests arriving in one
 burst (a slider drag) are coalesced by a zero-delay timer: the latest parameters win.
-Small meshes are built on the GUI thread (faster than a thread hop); meshes predicted to
-be larger than :data:`SYNC_TRIANGLES` are built in a ``QThreadPool`` worker while the
-window keeps answering, with :attr:`MeshController.busy_changed` driving a busy
-indicator. At most one job runs; a request that arrives meanwhile waits, and results
-that are no longer the model's latest generation are dropped by ``AppModel.set_result``.
+Small meshes (up to :data:`SYNC_TRIANGLES`) are built on the GUI thread, faster than a
+thread hop; larger ones in a worker thread that also computes the statistics and the
+scene arrays (:func:`app.scene.scene_data`), while the window keeps answering.
+
+A newer request (for a build of :data:`CANCEL_TRIANGLES` or more; a shorter one
+finishes and is shown first), Undo or :meth:`MeshController.cancel` abandons the running
+build cooperatively: its ``cancel`` callable (checked by ``core.build_mesh`` between its
+stages and by :func:`app.model.compute` between build, statistics and scene) returns
+True, and the new build starts at once beside it; at most one abandoned build winds
+down at a time. Parameters equal to those of the mesh on screen (Undo of a change still
+being built) need no build at all. Results that are no longer the model's latest
+generation are dropped by ``AppModel.set_result``.
+
+:meth:`MeshController.estimate` predicts a build's time from the speed of the recent
+large builds on this machine (triangles per second).
 """
 
 from __future__ import annotations
 
+import ctypes
+import dataclasses
+import functools
 import logging
+import threading
 import time
 from collections.abc import Callable
 from functools import partial
 
-from PySide6.QtCore import QObject, QRunnable, QThreadPool, QTimer, Signal
+from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
 from core import MeshParams
 
 from .model import AppModel, MeshResult, compute
-from .scene import scene_data
+from .scene import detail_data, scene_data
 
 log = logging.getLogger(__name__)
 
 #: Meshes up to this many triangles are built on the GUI thread (well within a frame).
-SYNC_TRIANGLES = 60_000
+SYNC_TRIANGLES = 5_000
+#: A newer request abandons a running build of at least this many triangles; a smaller
+#: one finishes and is shown first (during a slider drag every build would otherwise be
+#: abandoned by the next mouse move and nothing shown until the drag stops).
+CANCEL_TRIANGLES = 200_000
+#: Builds of at least this many triangles feed the speed estimate.
+_RATE_MIN_TRIANGLES = 100_000
+
+
+@dataclasses.dataclass(eq=False)
+class BuildJob:
+    """One build in a worker thread."""
+
+    params: MeshParams
+    generation: int
+    triangles: int
+    started: float
+    cancelled: bool = False
+
+
+@functools.lru_cache(maxsize=1)
+def _malloc_trim() -> Callable[[int], int] | None:
+    try:
+        return ctypes.CDLL(None).malloc_trim  # glibc
+    except (OSError, AttributeError):
+        return None
+
+
+def release_memory() -> None:
+    """Give freed heap pages back to the system (glibc's ``malloc_trim``; no-op elsewhere)."""
+    trim = _malloc_trim()
+    if trim is not None:
+        trim(0)
 
 
 class Job(QRunnable):
     """Run ``work()`` on a thread-pool thread and emit its return value with ``done``.
 
     ``done`` is a signal of a QObject living on the GUI thread, so the result is
-    delivered there (a queued connection).
+    delivered there (a queued connection). Used by the compare view.
     """
 
     def __init__(self, work: Callable[[], object], done: Signal) -> None:
@@ -45,10 +91,31 @@ class Job(QRunnable):
         self.done.emit(self.work())
 
 
+def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) -> None:
+    """Run ``work()`` in a daemon thread and emit ``done((*payload, result))``.
+
+    ``done`` belongs to a QObject of the GUI thread, so the result is delivered there
+    (a queued connection). A window closed meanwhile simply drops it.
+    """
+
+    def run() -> None:
+        result = work()
+        try:
+            done.emit((*payload, result))
+        except RuntimeError:  # the receiver is gone (window closed)
+            pass
+
+    threading.Thread(target=run, daemon=True, name="barymesh-worker").start()
+
+
 class MeshController(QObject):
     """Turns parameter changes into mesh results for the model (see module docstring)."""
 
     busy_changed = Signal(bool)
+    #: (job or None): a worker build started (a BuildJob) or the last one ended (None).
+    job_changed = Signal(object)
+    #: (token, SceneData or None) from :meth:`request_detail`.
+    detail_ready = Signal(object)
     _job_done = Signal(object)
 
     def __init__(self, model: AppModel, parent: QObject | None = None,
@@ -56,11 +123,12 @@ class MeshController(QObject):
         super().__init__(parent)
         self.model = model
         self.sync_triangles = sync_triangles
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
         self._pending: tuple[MeshParams, int] | None = None
-        self._running = False
+        self.current: BuildJob | None = None
+        self._stale: list[BuildJob] = []
+        self.rate: float | None = None  # triangles per second of recent large builds
         self.last_request_time = 0.0
+        self.builds = 0  # results handed to the model
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(0)
@@ -70,12 +138,14 @@ class MeshController(QObject):
 
     @property
     def busy(self) -> bool:
-        return self._running
+        return self.current is not None
 
     def request(self) -> None:
         """Mesh the model's current parameters (coalesced with other requests)."""
         self._pending = (self.model.params, self.model.generation)
         self.last_request_time = time.perf_counter()
+        if self.current is not None and self.current.triangles >= CANCEL_TRIANGLES:
+            self.current.cancelled = True  # a newer request: the long build is stale
         self._timer.start()
 
     def _on_params_changed(self, _params: MeshParams) -> None:
@@ -86,35 +156,116 @@ class MeshController(QObject):
         self._timer.stop()
         self._flush()
 
+    def estimate(self, triangles: int) -> float | None:
+        """Seconds a build of ``triangles`` should take here (None before any large one)."""
+        return None if not self.rate else triangles / self.rate
+
     def _flush(self) -> None:
-        if self._pending is None or self._running:
+        if self._pending is None:
             return
         params, generation = self._pending
-        self._pending = None
-        # An explicit tolerance can make the weld slow or fail: never on the GUI thread.
-        if params.predicted_triangles() <= self.sync_triangles and params.tolerance is None:
-            self.model.set_result(compute(params, generation, prepare=scene_data))
+        shown = self.model.result
+        if (shown is not None and shown.mesh is not None and shown.params == params
+                and shown.source == "parameters"):
+            # back to what is on screen (Undo during a build): nothing to build
+            self._pending = None
+            self._abandon_current()
+            self.model.set_result(dataclasses.replace(shown, generation=generation))
             return
-        self._running = True
-        self.busy_changed.emit(True)
-        self.pool.start(Job(partial(compute, params, generation, prepare=scene_data),
-                            self._job_done))
+        was_busy = self.current is not None
+        if was_busy:
+            if not self.current.cancelled or self._stale:
+                return  # a short build finishes first / one is already winding down
+            self._abandon_current(announce=False)
+        self._pending = None
+        triangles = params.predicted_triangles()
+        # an explicit tolerance can make the weld slow or fail: never on the GUI thread
+        if triangles <= self.sync_triangles and params.tolerance is None:
+            self._deliver(compute(params, generation, prepare=scene_data))
+            if was_busy:
+                self.busy_changed.emit(False)
+                self.job_changed.emit(None)
+            return
+        job = BuildJob(params, generation, triangles, time.perf_counter())
 
-    def _finished(self, result: MeshResult) -> None:
-        self._running = False
-        if self._pending is None:
+        def cancelled(job: BuildJob = job) -> bool:
+            return job.cancelled  # set by a newer request (long builds), Cancel or Undo
+
+        self.current = job
+        if not was_busy:
+            self.busy_changed.emit(True)
+        self.job_changed.emit(job)
+        run_in_thread(partial(compute, params, generation, prepare=scene_data,
+                              cancel=cancelled), self._job_done, job)
+
+    def _abandon_current(self, announce: bool = True) -> None:
+        job = self.current
+        if job is None:
+            return
+        job.cancelled = True
+        self._stale.append(job)
+        self.current = None
+        if announce:
             self.busy_changed.emit(False)
-        self.model.set_result(result)  # dropped there if stale
+            self.job_changed.emit(None)
+
+    def cancel(self) -> bool:
+        """Abandon the running build (Cancel, Esc); True if there was one."""
+        self._pending = None
+        self._timer.stop()
+        if self.current is None:
+            return False
+        self._abandon_current()
+        return True
+
+    def _deliver(self, result: MeshResult) -> None:
+        if result.cancelled:
+            return
+        if (result.error is None and result.params is not None
+                and result.params.predicted_triangles() >= _RATE_MIN_TRIANGLES):
+            spent = sum(result.timings.values()) or result.seconds
+            if spent > 0:
+                rate = result.mesh.n_triangles / spent
+                self.rate = rate if self.rate is None else 0.5 * (self.rate + rate)
+        if self.model.set_result(result):  # dropped there if stale
+            self.builds += 1
+
+    def _finished(self, payload: tuple[BuildJob, MeshResult]) -> None:
+        job, result = payload
+        was_current = job is self.current
+        if was_current:
+            self.current = None
+            if (self._pending is not None and not result.cancelled and result.error is None
+                    and result.generation != self.model.generation):
+                # the value moved on (a drag) and its build follows: show this one meanwhile
+                result = dataclasses.replace(result, generation=self.model.generation)
+            self._deliver(result)
+        elif job in self._stale:
+            self._stale.remove(job)
         if self._pending is not None:
             self._flush()
-            if not self._running:
-                self.busy_changed.emit(False)
+        if was_current and self.current is None:
+            self.busy_changed.emit(False)
+            self.job_changed.emit(None)
 
-    def stop(self, msecs: int = 30_000) -> bool:
-        """Forget pending requests and wait for a running job (the window is closing)."""
+    def request_detail(self, mesh: object, rect: tuple[float, float, float, float],
+                       token: object) -> None:
+        """Build :func:`app.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
+        run_in_thread(partial(detail_data, mesh, rect), self.detail_ready, token)
+
+    def stop(self) -> None:
+        """Forget pending requests and abandon running builds (the window is closing).
+
+        Returns at once: an abandoned build stops at its next checkpoint in its own
+        (daemon) thread and its result goes nowhere.
+        """
         self._timer.stop()
         self._pending = None
-        self.model.params_changed.disconnect(self._on_params_changed)
-        done = self.pool.waitForDone(msecs)
-        self._job_done.disconnect(self._finished)
-        return done
+        if self.current is not None:
+            self.current.cancelled = True
+            self._stale.append(self.current)
+            self.current = None
+        try:
+            self.model.params_changed.disconnect(self._on_params_changed)
+        except ValueError:
+            pass

@@ -1,7 +1,7 @@
 """Slider-to-frame latency in the real barymesh window (under Xvfb when there is no display).
 
-The window opens on the paper's Fig. 12(a) settings (23,040 triangles) with a 1000 x 800
-3D view. A slider of the Parameters panel is set programmatically ``--frames`` times,
+The window (1400 x 860) opens on the paper's Fig. 12(a) settings (23,040 triangles). A
+slider of the Parameters panel is set programmatically ``--frames`` times,
 alternating between two values (inner radius 4.0 and 4.5 mm by default: same triangle
 count, new geometry), and each frame is timed from ``QSlider.setValue`` to the end of
 the first paint of the 3D view that shows the new mesh, split into
@@ -12,11 +12,19 @@ the first paint of the 3D view that shows the new mesh, split into
 * rendering: ``plotter.render()`` and the widget's ``paintGL`` (where pyvistaqt draws),
 * other: the rest (Qt signals, the controller's coalescing timer, panels).
 
+Then a real mouse drag of that slider's handle (QTest press, moves every ~8 ms,
+release) counts the meshes shown per second, and ``--big`` rounds show the dense meshes
+(Fig. 12(a) at n = 27, 1,049,760 triangles, and the conforming double ring at n = 58,
+4,844,160 triangles), each followed by Fig. 12(a) again: time until the view has painted
+the mesh, paints per mesh, camera rotation frames per second at 1M, RSS per triangle
+above the idle window and after returning to Fig. 12(a). A 10 ms heartbeat timer
+records the longest block of the event loop throughout.
+
 Usage::
 
-    python benchmarks/latency.py                    # 50 frames, table on stdout
+    python benchmarks/latency.py                    # 50 frames, drag, 3 big rounds
     python benchmarks/latency.py --frames 10 --json out.json
-    python benchmarks/latency.py --quick            # 6 frames (tests)
+    python benchmarks/latency.py --quick            # 6 frames, 0.5 s drag (tests)
 
 Without ``DISPLAY`` the script re-runs itself under ``xvfb-run``.
 """
@@ -33,13 +41,14 @@ import subprocess
 import sys
 import tempfile
 import time
+import weakref
 from collections.abc import Callable
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-VIEW_SIZE = (1000, 800)
+WINDOW_SIZE = (1400, 860)
 PARTS = ("meshing", "update", "rendering", "other", "total")
 WARM_UP = 4
 
@@ -64,8 +73,212 @@ def _percentile(values: list[float], q: float) -> float:
     return ordered[lo] + (ordered[hi] - ordered[lo]) * (k - lo)
 
 
-def measure(frames: int, name: str, values: tuple[float, float]) -> dict:
-    """Open the window and time ``frames`` slider moves; returns the JSON document."""
+def _wait_until(app_, condition: Callable[[], bool], timeout: float) -> bool:
+    """Run the event loop until ``condition()`` (polled every ms) or ``timeout`` (s).
+
+    An event loop rather than a ``processEvents()`` busy loop: PySide6 6.12 under
+    CPython 3.11 loses a reference to None with every call of a void method, and a busy
+    loop makes millions of them.
+    """
+    from PySide6.QtCore import QEventLoop, QTimer
+
+    if condition():
+        return True
+    loop = QEventLoop()
+    deadline = time.perf_counter() + timeout
+    poll = QTimer()
+    poll.setInterval(1)
+
+    def check() -> None:
+        if condition() or time.perf_counter() > deadline:
+            poll.stop()
+            loop.quit()
+
+    poll.timeout.connect(check)
+    poll.start()
+    loop.exec()
+    return condition()
+
+
+def _rss() -> int:
+    """Resident set size of this process (bytes; Linux)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except OSError:  # pragma: no cover - not Linux
+        return 0
+
+
+class _Heartbeat:
+    """A 10 ms timer; ``gaps`` are the times between beats (s): the event loop's blocks."""
+
+    def __init__(self) -> None:
+        from PySide6.QtCore import QTimer
+
+        self.gaps: list[float] = []
+        self.last = time.perf_counter()
+        self.timer = QTimer()
+        self.timer.setInterval(10)
+        self.timer.timeout.connect(self._beat)
+        self.timer.start()
+
+    def _beat(self) -> None:
+        now = time.perf_counter()
+        self.gaps.append(now - self.last)
+        self.last = now
+
+    def reset(self) -> None:
+        self.gaps = []
+        self.last = time.perf_counter()
+
+    @property
+    def longest(self) -> float:
+        return max(self.gaps, default=0.0)
+
+
+def _stats(values: list[float]) -> dict:
+    return {"median": statistics.median(values), "p95": _percentile(values, 0.95),
+            "min": min(values), "max": max(values), "samples": values}
+
+
+def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dict:
+    """Set ``params`` as a preset would and time until the view has painted the mesh."""
+    old = weakref.ref(window.model.result)  # not a reference: the old mesh must be freed
+    paints = window.paint_counter.paints
+    beat.reset()
+    start = time.perf_counter()
+    window.model.set_params(params)
+    # shown: a new result and a paint since (the paint may come inside the result's
+    # handling, when a panel relayout resizes the view: it then is the only one)
+    ok = _wait_until(app_, lambda: window.model.result is not old()
+                     and window.model.result.params == params
+                     and window.paint_counter.paints > paints, timeout)
+    if not ok:
+        c = window.controller
+        raise RuntimeError(f"no mesh on screen {timeout:.0f} s after {params} (busy "
+                           f"{c.busy}, pending {c._pending is not None}, stale {len(c._stale)})")
+    seconds = window.paint_counter.last - start
+    _wait_until(app_, lambda: False, 0.8)  # a late second paint would show here
+    result = window.model.result
+    return {"triangles": result.mesh.n_triangles, "shown": seconds,
+            "paints": window.paint_counter.paints - paints, "longest_block": beat.longest,
+            "timings": dict(result.timings), "reduced": bool(window.scene.reduced)}
+
+
+def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
+    """Turn the camera ``frames`` times by 3 degrees and render each (the render window's
+    own ``Render``, what a rotating mouse drag costs per frame); frames per second."""
+    camera = window.plotter.camera
+    beat.reset()
+    times = []
+    for _ in range(frames):
+        camera.Azimuth(3.0)
+        start = time.perf_counter()
+        window.plotter.ren_win.Render()
+        times.append(time.perf_counter() - start)
+        _wait_until(app_, lambda: False, 0.02)
+    window.top_view()
+    _wait_until(app_, lambda: False, 0.3)
+    return {"frame": _stats(times), "fps": 1.0 / statistics.median(times),
+            "longest_block": beat.longest}
+
+
+def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
+    """A real mouse drag of ``name``'s slider handle: press, moves, release (QTest)."""
+    from PySide6.QtCore import QPoint, Qt
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QStyle, QStyleOptionSlider
+
+    slider = window.controls.rows[name].slider
+    option = QStyleOptionSlider()
+    slider.initStyleOption(option)
+    handle = slider.style().subControlRect(QStyle.ComplexControl.CC_Slider, option,
+                                           QStyle.SubControl.SC_SliderHandle, slider)
+    start = handle.center()
+    # stay among valid values: inner radius 4 mm up to about 7.5 mm (outer ring at 9 mm);
+    # on the default slider one pixel is about 0.46 mm
+    px_per_pos = max(slider.width() - handle.width(), 1) / max(slider.maximum(), 1)
+    span = max(2, int(3.5 / row_step(window, name) * px_per_pos))
+    meshes: list[float] = []
+
+    def note(_result) -> None:
+        meshes.append(time.perf_counter())
+
+    window.model.result_changed.connect(note)
+    beat.reset()
+    QTest.mousePress(slider, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    t0 = time.perf_counter()
+    step = 0
+    while time.perf_counter() - t0 < seconds:
+        step += 1
+        # back and forth over ``span`` pixels, a move every ~8 ms as a mouse reports them
+        phase = step % (2 * span)
+        dx = phase if phase <= span else 2 * span - phase
+        QTest.mouseMove(slider, QPoint(start.x() + dx, start.y()))
+        _wait_until(app_, lambda: False, 0.008)
+    QTest.mouseRelease(slider, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
+                       QPoint(start.x(), start.y()))
+    elapsed = time.perf_counter() - t0
+    window.controller.flush()
+    _wait_until(app_, lambda: not window.controller.busy, 30)
+    window.model.result_changed.disconnect(note)
+    return {"seconds": elapsed, "meshes": len(meshes),
+            "meshes_per_second": len(meshes) / elapsed, "moves": step,
+            "longest_block": beat.longest}
+
+
+def row_step(window, name: str) -> float:
+    """The value step of one slider position of parameter ``name``."""
+    return float(window.controls.rows[name].spec.step) or 1.0
+
+
+def measure_big(app_, window, repeats: int) -> dict:
+    """Dense meshes: shown time, paints, blocks, rotation, memory per triangle."""
+    from core import MeshParams
+
+    beat = _Heartbeat()
+    fig12a = MeshParams()
+    out: dict = {}
+    idle = _rss()
+    cases = {
+        "1M": MeshParams(subdivisions=27),  # Fig. 12(a) at n = 27: 1,049,760 triangles
+        "4.8M": MeshParams(structure="double_ring", mode="conforming", subdivisions=58),
+    }
+    for key, params in cases.items():
+        runs, back = [], []
+        for _ in range(repeats):
+            runs.append(_show(app_, window, params, beat))
+            rss_big = _rss()
+            if key == "1M" and "rotation" not in out:
+                out["rotation"] = _rotate(app_, window, beat)
+            back.append(_show(app_, window, fig12a, beat))
+            runs[-1]["rss_above_idle"] = rss_big - idle
+            back[-1]["rss_after_return"] = _rss()
+        shown = [r["shown"] for r in runs]
+        out[key] = {
+            "params": params.to_dict(),
+            "triangles": runs[0]["triangles"],
+            "shown": _stats(shown),
+            "paints": [r["paints"] for r in runs],
+            "longest_block": _stats([r["longest_block"] for r in runs]),
+            "reduced": runs[0]["reduced"],
+            "timings": runs[-1]["timings"],
+            "bytes_per_triangle": statistics.median(
+                r["rss_above_idle"] / r["triangles"] for r in runs),
+            "return_to_fig12a": {
+                "rss_over_idle": statistics.median(b["rss_after_return"] / idle for b in back),
+                "longest_block": max(b["longest_block"] for b in back),
+            },
+        }
+    out["idle_rss"] = idle
+    beat.timer.stop()
+    return out
+
+
+def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3.0,
+            big: int = 0) -> dict:
+    """Open the window (1400 x 860) and time ``frames`` slider moves, a ``drag``-second
+    mouse drag and ``big`` rounds of the dense meshes; returns the JSON document."""
     os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
     from PySide6.QtCore import QSettings
     from PySide6.QtWidgets import QApplication
@@ -79,20 +292,12 @@ def measure(frames: int, name: str, values: tuple[float, float]) -> dict:
     settings = QSettings(str(Path(settings_dir) / "settings.ini"), QSettings.Format.IniFormat)
     params = MeshParams()  # the paper's Fig. 12(a)
     window = MainWindow(params, settings=settings, scripted=True)
+    window.resize(*WINDOW_SIZE)
     window.show()
-    deadline = time.perf_counter() + 30
-    while not window.plotter.isVisible() and time.perf_counter() < deadline:
-        app_.processEvents()
-    # size the 3D view, not the window, to VIEW_SIZE
-    for _ in range(3):
-        app_.processEvents()
-        dw = VIEW_SIZE[0] - window.plotter.width()
-        dh = VIEW_SIZE[1] - window.plotter.height()
-        if dw == 0 and dh == 0:
-            break
-        window.resize(window.width() + dw, window.height() + dh)
+    _wait_until(app_, lambda: window.plotter.isVisible(), 30)
     window.controller.flush()
-    app_.processEvents()
+    _wait_until(app_, lambda: window.model.result is not None, 30)
+    _wait_until(app_, lambda: False, 1.0)
 
     record: dict[str, float] = {}
     app.worker.scene_data = _timed(record, "scene_data", app.worker.scene_data)
@@ -109,26 +314,37 @@ def measure(frames: int, name: str, values: tuple[float, float]) -> dict:
     shown: list = []
     window.model.result_changed.connect(lambda result: shown.append(time.perf_counter()))
 
+    def frame_done() -> bool:  # the new mesh is shown and painted (in either order)
+        return bool(shown) and bool(painted) and window.model.result.params == target[0]
+
+    target = [None]
+
     row = window.controls.rows[name]
     positions = [row.spec.to_slider(v) for v in values]
     if positions[0] == positions[1]:
         raise ValueError(f"{name}={values}: both values fall on slider position {positions[0]}")
+    shown.clear()
+    painted.clear()
     row.slider.setValue(positions[1])  # so that the first timed move changes the value
+    target[0] = window.model.params
+    _wait_until(app_, frame_done, 30)
+    beat = _Heartbeat()
     samples: dict[str, list[float]] = {part: [] for part in PARTS}
     triangles = set()
+    paints_per_mesh = []
     for i in range(WARM_UP + frames):
         record.clear()
         shown.clear()
         painted.clear()
         start = time.perf_counter()
         row.slider.setValue(positions[i % 2])
-        deadline = start + 30
+        target[0] = window.model.params
         # a frame is finished when the new mesh is in the datasets and the view has painted
-        while not (shown and painted and painted[-1] > shown[0]) and time.perf_counter() < deadline:
-            app_.processEvents()
-        if not (shown and painted):
+        if not _wait_until(app_, frame_done, 30):
             raise RuntimeError(f"no frame within 30 s after setting {name}")
         total = painted[-1] - start
+        _wait_until(app_, lambda: False, 0.05)
+        paints_per_mesh.append(len(painted))
         result = window.model.result
         triangles.add(result.mesh.n_triangles)
         meshing = result.seconds
@@ -138,29 +354,29 @@ def measure(frames: int, name: str, values: tuple[float, float]) -> dict:
             parts = (meshing, update, rendering, total - meshing - update - rendering, total)
             for part, value in zip(PARTS, parts, strict=True):
                 samples[part].append(value)
+    slider_block = beat.longest
+    drag_doc = _drag(app_, window, name, drag, beat) if drag > 0 else None
+    beat.timer.stop()
+    big_doc = measure_big(app_, window, big) if big > 0 else None
     size = tuple(window.plotter.ren_win.GetSize())
     info = window.plotter.ren_win.ReportCapabilities() or ""
     renderer = re.search(r"OpenGL renderer string:\s*(.+)", info)
     window.close()
-    app_.processEvents()
+    _wait_until(app_, lambda: False, 0.2)
     shutil.rmtree(settings_dir, ignore_errors=True)
     return {
         "slider": name,
         "values": list(values),
         "frames": frames,
         "triangles": sorted(triangles),
+        "window_size": list(WINDOW_SIZE),
         "view_size": list(size),
         "renderer": renderer.group(1).strip() if renderer else "unknown",
-        "seconds": {
-            part: {
-                "median": statistics.median(v),
-                "p95": _percentile(v, 0.95),
-                "min": min(v),
-                "max": max(v),
-                "samples": v,
-            }
-            for part, v in samples.items()
-        },
+        "seconds": {part: _stats(v) for part, v in samples.items()},
+        "paints_per_frame": max(paints_per_mesh[WARM_UP:]),
+        "longest_block": slider_block,
+        "drag": drag_doc,
+        "big": big_doc,
     }
 
 
@@ -182,9 +398,42 @@ def table(doc: dict) -> str:
         m + u for m, u in zip(s["meshing"]["samples"], s["update"]["samples"], strict=True)
     )
     lines.append(
-        f"meshing + update median {mesh_update * 1e3:.1f} ms (target <= 15), "
-        f"whole frame median {s['total']['median'] * 1e3:.1f} ms (target <= 100)"
+        f"meshing + update median {mesh_update * 1e3:.1f} ms, "
+        f"whole frame median {s['total']['median'] * 1e3:.1f} ms (target <= 60), "
+        f"paints per frame {doc['paints_per_frame']}, "
+        f"longest event-loop block {doc['longest_block'] * 1e3:.0f} ms (target <= 100)"
     )
+    d = doc.get("drag")
+    if d:
+        lines.append(
+            f"mouse drag: {d['meshes']} meshes in {d['seconds']:.1f} s = "
+            f"{d['meshes_per_second']:.1f} meshes/s (target >= 10), {d['moves']} moves, "
+            f"longest block {d['longest_block'] * 1e3:.0f} ms"
+        )
+    big = doc.get("big")
+    if big:
+        for key, target in (("1M", 1.5), ("4.8M", 6.0)):
+            c = big[key]
+            lines.append(
+                f"{key} ({c['triangles']:,} triangles): shown median "
+                f"{c['shown']['median']:.2f} s, p95 {c['shown']['p95']:.2f} s (target <= "
+                f"{target:g}), paints {c['paints']}, longest block median "
+                f"{c['longest_block']['median'] * 1e3:.0f} ms, max "
+                f"{c['longest_block']['max'] * 1e3:.0f} ms, level of detail "
+                f"{'on' if c['reduced'] else 'off'}, "
+                f"{c['bytes_per_triangle']:.0f} B/triangle above idle (target <= 700), "
+                f"back at Fig. 12(a): {100 * c['return_to_fig12a']['rss_over_idle']:.0f} % "
+                f"of idle (target <= 120 %)"
+            )
+            stages = ", ".join(f"{k} {v:.2f} s" for k, v in c["timings"].items())
+            lines.append(f"    worker stages: {stages}")
+        r = big["rotation"]
+        lines.append(
+            f"1M camera rotation: {r['fps']:.1f} frames/s (frame median "
+            f"{r['frame']['median'] * 1e3:.0f} ms, p95 {r['frame']['p95'] * 1e3:.0f} ms; "
+            f"target >= 5), longest block {r['longest_block'] * 1e3:.0f} ms"
+        )
+        lines.append(f"idle RSS {big['idle_rss'] / 2**20:.0f} MiB")
     return "\n".join(lines)
 
 
@@ -196,9 +445,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--values", type=float, nargs=2, default=(4.0, 4.5), help="the two slider values"
     )
+    ap.add_argument("--drag", type=float, default=3.0,
+                    help="seconds of a real mouse drag of the slider (default 3, 0: none)")
+    ap.add_argument("--big", type=int, default=3,
+                    help="rounds of the 1M and 4.8M meshes (default 3, 0: none)")
     ap.add_argument("--json", type=Path, help="also write the results here")
     args = ap.parse_args(argv)
     frames = 6 if args.quick else args.frames
+    drag = 0.5 if args.quick else args.drag
+    big = 0 if args.quick else args.big
     if frames < 1:
         ap.error(f"--frames={frames}: expected at least 1")
     if sys.platform == "linux" and not os.environ.get("DISPLAY"):
@@ -212,7 +467,7 @@ def main(argv: list[str] | None = None) -> int:
 
     if args.slider not in SPECS:
         ap.error(f"--slider={args.slider!r}: expected one of {', '.join(SPECS)}")
-    doc = measure(frames, args.slider, tuple(args.values))
+    doc = measure(frames, args.slider, tuple(args.values), drag, big)
     print(table(doc))
     if args.json:
         args.json.write_text(json.dumps(doc, indent=2))

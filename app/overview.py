@@ -1,0 +1,211 @@
+"""Level of detail for dense meshes: a triangle-index raster and the part of a mesh in view.
+
+A view draws every triangle, edge and centroid only while that stays within a frame's
+budget on a software rasteriser (:data:`DETAIL_TRIANGLES`). Above it the window shows
+an *overview*: an image of the faces in which each texel holds the index of the triangle
+covering its centre (:func:`triangle_raster`), coloured per triangle like the faces
+would be, drawn as one textured rectangle. Its cost on screen depends on the texture's
+size, not the mesh's. When the camera rests on a part holding few enough triangles
+(:func:`triangles_in_rect`), the full detail of that part is drawn over the overview.
+
+Everything here is plain numpy and safe to call from a worker thread.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Meshes up to this many triangles are drawn in full (faces, edges, centroids): about
+#: 100 ms per frame with Mesa's llvmpipe at 1000 x 800 px on one core.
+DETAIL_TRIANGLES = 40_000
+#: Longest side of the overview raster (texels): about a full-screen view's pixels.
+RASTER_SIDE = 1024
+#: Point-in-triangle tests one raster may cost (about a second in numpy); a mesh whose
+#: triangles overlap many times over (paper mode at tiny angle steps) gets fewer texels.
+RASTER_TESTS = 8_000_000
+#: Test points generated per block of the rasteriser (bounds its temporary memory).
+_BLOCK_TESTS = 1 << 22
+
+
+def raster_shape(bounds: tuple[float, float, float, float],
+                 side: int = RASTER_SIDE) -> tuple[int, int]:
+    """(rows, columns) of a raster of at most ``side`` texels covering ``bounds``."""
+    x0, x1, y0, y1 = bounds
+    w, h = max(x1 - x0, 1e-12), max(y1 - y0, 1e-12)
+    scale = side / max(w, h)
+    return max(1, int(np.ceil(h * scale))), max(1, int(np.ceil(w * scale)))
+
+
+def overview_raster(points: np.ndarray, triangles: np.ndarray,
+                    bounds: tuple[float, float, float, float], side: int = RASTER_SIDE,
+                    tests: int = RASTER_TESTS) -> np.ndarray:
+    """:func:`triangle_raster` over ``bounds`` with at most ``side`` texels on a side, fewer
+    where that would cost more than ``tests`` point-in-triangle tests (heavy overlaps).
+
+    Returns
+    -------
+    (rows, columns) int32
+    """
+    tri = np.asarray(triangles)
+    shape = raster_shape(bounds, side)
+    if len(tri) == 0:
+        return np.full(shape, -1, dtype=np.int32)
+    x0, x1, y0, y1 = bounds
+    per_mm = shape[1] / max(x1 - x0, 1e-300)
+    ext = []
+    for axis in (0, 1):
+        c = np.asarray(points[:, axis], dtype=np.float32)
+        a, b, d = (c.take(tri[:, k]) for k in range(3))
+        ext.append((np.maximum(np.maximum(a, b), d) - np.minimum(np.minimum(a, b), d))
+                   .astype(np.float64))
+    # tests(s) ~ sum((wx s + 1)(wy s + 1)) - T for s texels per mm (a box of one texel
+    # costs no test): solve tests(s) = budget
+    qa = float(np.dot(ext[0], ext[1]))
+    qb = float(ext[0].sum() + ext[1].sum())
+    qc = -float(tests)
+    cost = qa * per_mm**2 + qb * per_mm
+    if cost > tests:
+        s = (-qb + np.sqrt(qb * qb - 4 * qa * qc)) / (2 * qa) if qa > 0 else -qc / qb
+        shape = raster_shape(bounds, max(64, int(side * s / per_mm)))
+    return triangle_raster(points, tri, bounds, shape)
+
+
+def triangle_raster(points: np.ndarray, triangles: np.ndarray,
+                    bounds: tuple[float, float, float, float],
+                    shape: tuple[int, int]) -> np.ndarray:
+    """The triangle covering each texel centre of a raster over ``bounds`` (seen from +z).
+
+    Point-in-triangle tests at the texel centres, vectorised over all triangles grouped
+    by the size of their texel bounding boxes, so the work is of the order of
+    (triangles + covered texels, overlaps counted as often as they overlap). A triangle
+    whose box holds a single texel claims that texel untested (it is smaller than a texel
+    and touches it; this keeps the cost of a mesh far denser than the raster linear).
+    Where triangles overlap (paper mode), one of them is shown.
+
+    Parameters
+    ----------
+    points : (V, 2) or (V, 3) float
+        Vertex coordinates (x, y used).
+    triangles : (T, 3) int
+    bounds : (x0, x1, y0, y1)
+        The rectangle the raster covers; texel (0, 0) is its lower left corner.
+    shape : (rows, columns)
+
+    Returns
+    -------
+    (rows, columns) int32
+        Triangle index per texel, -1 where no triangle covers the centre.
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 0.0], [3.0, 0.0], [0.0, 2.0], [3.0, 2.0]])
+    >>> triangle_raster(pts, np.array([[0, 1, 2], [1, 3, 2]]), (0, 3, 0, 2), (2, 3))
+    array([[0, 0, 1],
+           [0, 1, 1]], dtype=int32)
+    """
+    rows, cols = int(shape[0]), int(shape[1])
+    out = np.full((rows, cols), -1, dtype=np.int32)
+    tri = np.asarray(triangles)
+    if len(tri) == 0:
+        return out
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    sx = cols / max(x1 - x0, 1e-300)
+    sy = rows / max(y1 - y0, 1e-300)
+    # vertex coordinates in texel units (texel centres at i + 0.5)
+    px = ((np.asarray(points[:, 0], dtype=np.float64) - x0) * sx).astype(np.float32)
+    py = ((np.asarray(points[:, 1], dtype=np.float64) - y0) * sy).astype(np.float32)
+    lo_x = np.full(len(tri), np.inf, dtype=np.float32)
+    hi_x = np.full(len(tri), -np.inf, dtype=np.float32)
+    lo_y, hi_y = lo_x.copy(), hi_x.copy()
+    for k in range(3):
+        corner = tri[:, k]
+        cx_, cy_ = px.take(corner), py.take(corner)
+        np.minimum(lo_x, cx_, out=lo_x)
+        np.maximum(hi_x, cx_, out=hi_x)
+        np.minimum(lo_y, cy_, out=lo_y)
+        np.maximum(hi_y, cy_, out=hi_y)
+    i0 = np.maximum(np.ceil(lo_x - 0.5), 0).astype(np.int32)
+    i1 = np.minimum(np.floor(hi_x - 0.5), cols - 1).astype(np.int32)
+    j0 = np.maximum(np.ceil(lo_y - 0.5), 0).astype(np.int32)
+    j1 = np.minimum(np.floor(hi_y - 0.5), rows - 1).astype(np.int32)
+    del lo_x, hi_x, lo_y, hi_y
+    w, h = i1 - i0 + 1, j1 - j0 + 1
+    # a box of one texel: the triangle claims it (no test; it is smaller than a texel, and
+    # its neighbours would claim the texel anyway), the rest are tested exactly
+    one = (w == 1) & (h == 1)
+    out[j0[one], i0[one]] = np.flatnonzero(one).astype(np.int32)
+    many = np.flatnonzero((w > 0) & (h > 0) & ~one)
+    if len(many) == 0:
+        return out
+    tm = tri[many]
+    ax, bx, cx = (px.take(tm[:, k]).astype(np.float64) for k in range(3))
+    ay, by, cy = (py.take(tm[:, k]).astype(np.float64) for k in range(3))
+    i0, j0, w, h = i0[many], j0[many], w[many], h[many]
+    # twice the signed area; degenerate triangles cover nothing
+    area2 = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay)
+    live = area2 != 0
+    sign = np.sign(area2)
+    tol = 1e-6 * np.abs(area2)
+    # edge functions A x + B y + C >= 0 inside (signs folded in, tolerance in C)
+    coef = []
+    for ux, uy, vx, vy in ((ax, ay, bx, by), (bx, by, cx, cy), (cx, cy, ax, ay)):
+        coef.append((-(vy - uy) * sign, (vx - ux) * sign,
+                     ((vy - uy) * ux - (vx - ux) * uy) * sign + tol))
+    del ax, bx, cx, ay, by, cy
+    # group by the exact texel box (w, h): no test is wasted, no mask needed
+    key = w.astype(np.int64) * (1 << 32) + h
+    ids = np.flatnonzero(live)
+    ids = ids[np.argsort(key[ids], kind="stable")]
+    keys = key[ids]
+    starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
+    ends = np.r_[starts[1:], len(ids)]
+    coef32 = [tuple(c.astype(np.float32) for c in abc) for abc in coef]
+    for s, e in zip(starts, ends, strict=True):
+        gw, gh = int(w[ids[s]]), int(h[ids[s]])
+        dx = np.tile(np.arange(gw, dtype=np.float32), gh)
+        dy = np.repeat(np.arange(gh, dtype=np.float32), gw)
+        step = max(1, _BLOCK_TESTS // (gw * gh))
+        for lo in range(s, e, step):
+            t = ids[lo:min(e, lo + step)]
+            # texel centres relative to the box corner: x = i0 + 0.5 + dx
+            ox = (i0[t] + 0.5).astype(np.float32)[:, None]
+            oy = (j0[t] + 0.5).astype(np.float32)[:, None]
+            inside = None
+            for ea, eb, ec in coef32:
+                a_, b_ = ea[t, None], eb[t, None]
+                value = a_ * dx + b_ * dy
+                value += a_ * ox + b_ * oy + ec[t, None]
+                inside = value >= 0 if inside is None else inside & (value >= 0)
+            rows_, cols_ = np.nonzero(inside)
+            hit = t[rows_]
+            out[j0[hit] + (cols_ // gw), i0[hit] + (cols_ % gw)] = many[hit]
+    return out
+
+
+def triangles_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, float],
+                      margin: float = 0.0) -> np.ndarray:
+    """Indices of the triangles whose centroid lies in ``rect`` grown by ``margin``.
+
+    Parameters
+    ----------
+    centroids : (T, 2) or (T, 3) float
+    rect : (x0, x1, y0, y1)
+    margin : float
+
+    Returns
+    -------
+    (k,) int64
+    """
+    x0, x1, y0, y1 = rect
+    c = np.asarray(centroids)
+    keep = (c[:, 0] >= x0 - margin) & (c[:, 0] <= x1 + margin)
+    keep &= (c[:, 1] >= y0 - margin) & (c[:, 1] <= y1 + margin)
+    return np.flatnonzero(keep)
+
+
+def count_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, float]) -> int:
+    """Number of centroids inside ``rect`` (cheap enough for the GUI thread at 5M)."""
+    x0, x1, y0, y1 = rect
+    c = np.asarray(centroids)
+    return int(np.count_nonzero((c[:, 0] >= x0) & (c[:, 0] <= x1)
+                                & (c[:, 1] >= y0) & (c[:, 1] <= y1)))
