@@ -50,8 +50,14 @@ def active_axes(geom: MomGeometry) -> tuple[int, ...]:
 
 
 def near_moments(geom: MomGeometry, k: float) -> np.ndarray:
-    """(K, 8) complex moments of G over the near pairs, at wavenumber ``k``."""
-    obs, src = geom.near_pairs[:, 0], geom.near_pairs[:, 1]
+    """(K, 8) complex moments of G over the near pairs, at wavenumber ``k``.
+
+    The smooth kernel is evaluated on one of each mirrored pair (a, b), (b, a)
+    only: with L = [w, w ρ] on each triangle, the 4 × 4 moments of (b, a) are
+    the transpose of those of (a, b).
+    """
+    upper = geom.near_upper
+    obs, src = geom.near_pairs[upper, 0], geom.near_pairs[upper, 1]
     dist = geom.near_distances
     x = k * dist
     smooth = np.empty(dist.shape, dtype=np.complex128)
@@ -62,12 +68,13 @@ def near_moments(geom: MomGeometry, k: float) -> np.ndarray:
         smooth.imag = -np.sin(x) * inv
     at_zero = dist == 0.0
     smooth[at_zero] = -1j * k
-    w_obs = geom.near.weights[obs]
-    w_src = geom.near.weights[src]
-    left = np.concatenate([w_obs[:, :, None], (w_obs[:, :, None] * geom.near.rho[obs])], axis=2)
-    right = np.concatenate([w_src[:, :, None], (w_src[:, :, None] * geom.near.rho[src])], axis=2)
-    m4 = np.matmul(left.transpose(0, 2, 1), smooth @ right.astype(np.complex128))  # (K, 4, 4)
-    out = np.empty((len(obs), 8), dtype=np.complex128)
+    w = geom.near.weights[:, :, None]
+    frame = np.concatenate([w, w * geom.near.rho], axis=2)  # (T, Qn, 4): w, w ρ
+    m4 = np.matmul(frame[obs].transpose(0, 2, 1), smooth @ frame[src].astype(np.complex128))
+    m4 = m4[geom.near_half]  # (K, 4, 4)
+    mirrored = geom.near_mirrored
+    m4[mirrored] = m4[mirrored].transpose(0, 2, 1)
+    out = np.empty((len(m4), 8), dtype=np.complex128)
     out[:, 0] = m4[:, 0, 0]
     out[:, 1:4] = m4[:, 1:, 0]
     out[:, 4:7] = m4[:, 0, 1:]
