@@ -298,14 +298,18 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     )
 
 
-def far_point_distances(far: Rule, lo: int, hi: int, src_lo: int = 0) -> np.ndarray:
-    """(Tb Qf, Ts Qf) distances from the far points of triangles lo..hi to those of src_lo..T.
+def far_point_distances(
+    far: Rule, lo: int, hi: int, src_lo: int = 0, src_hi: int | None = None
+) -> np.ndarray:
+    """(Tb Qf, Ts Qf) distances from the far points of triangles lo..hi to those of src_lo..src_hi.
 
-    Exact zeros (a point paired with itself) are replaced by 1: such pairs are
-    always near pairs, whose far-rule values are overwritten.
+    ``src_hi`` defaults to the last triangle. Exact zeros (a point paired with
+    itself) are replaced by 1: such pairs are always near pairs, whose
+    far-rule values are overwritten. The table is symmetric bit for bit:
+    swapping the two ranges gives its transpose.
     """
     obs = far.points[lo:hi].reshape(-1, 3)
-    src = far.points[src_lo:].reshape(-1, 3)
+    src = far.points[src_lo:src_hi].reshape(-1, 3)
     d2 = np.zeros((len(obs), len(src)))
     for c in range(3):
         if not (obs[:, c].any() or src[:, c].any()):

@@ -117,45 +117,54 @@ def far_kernel(dist: np.ndarray, k: float, max_phase: float | None = None) -> np
 def far_moments(
     geom: MomGeometry, k: float, lo: int, hi: int, axes: tuple[int, ...], src_lo: int = 0
 ) -> np.ndarray:
-    """(8, hi − lo, T − src_lo) complex far-rule moments of G.
+    """(8, T − src_lo, hi − lo) complex far-rule moments of G, source triangle first.
 
-    Observation triangles lo..hi against source triangles src_lo..T.
+    Source triangles src_lo..T against observation triangles lo..hi; entry
+    ``[i, s, o]`` is moment i (:data:`~core.mom.geometry.MOMENTS`) of the pair
+    (observation lo + o, source src_lo + s). The kernel is laid out source
+    point by observation point, so the contraction over the source points is
+    one batched real matrix product per source triangle (its weights w and
+    w ρ' against the real and imaginary parts of the kernel).
     """
     far = geom.far
     q = far.size
-    t = geom.n_triangles - src_lo
-    if geom.far_distances is not None:
-        dist = geom.far_distances[lo * q : hi * q, src_lo * q :]
+    ts = geom.n_triangles - src_lo
+    tb = hi - lo
+    if geom.far_distances is not None:  # symmetric: the rows may be the sources
+        dist = geom.far_distances[src_lo * q :, lo * q : hi * q]
     else:
-        dist = far_point_distances(far, lo, hi, src_lo)
+        dist = far_point_distances(far, src_lo, geom.n_triangles, lo, hi)
     span = np.ptp(geom.vertices, axis=0)
-    kernel = far_kernel(dist, k, k * float(np.linalg.norm(span))).reshape(len(dist), t, q)
-    # source side: contract over the source points with w and w ρ'
-    w = far.weights[src_lo:]
-    rho = far.rho[src_lo:]
-    h0 = np.einsum("ptb,tb->pt", kernel, w).reshape(hi - lo, q, t)
-    out = np.zeros((8, hi - lo, t), dtype=np.complex128)
+    kernel = far_kernel(dist, k, k * float(np.linalg.norm(span))).reshape(ts, q, tb * q)
+    # source side: (Ts, 1 + len(axes), Qf) weights w, w ρ'_c against (Ts, Qf, 2 Tb Qf) reals
+    w = far.weights[src_lo:, None, :]
+    src_weights = np.concatenate([w] + [w * far.rho[src_lo:, None, :, c] for c in axes], axis=1)
+    h = np.matmul(src_weights, kernel.view(np.float64)).view(np.complex128)
+    del kernel
+    h = h.reshape(ts, 1 + len(axes), tb, q)
+    out = np.zeros((8, ts, tb), dtype=np.complex128)
     w_obs = far.weights[lo:hi]
     rho_obs = far.rho[lo:hi]
-    out[0] = np.einsum("pa,pat->pt", w_obs, h0)
-    for c in axes:
-        hc = np.einsum("ptb,tb->pt", kernel, w * rho[:, :, c]).reshape(hi - lo, q, t)
+    h0 = h[:, 0]
+    out[0] = np.einsum("tpa,pa->tp", h0, w_obs)
+    for i, c in enumerate(axes):
+        hc = h[:, 1 + i]
         wrho = w_obs * rho_obs[:, :, c]
-        out[1 + c] = np.einsum("pa,pat->pt", wrho, h0)
-        out[4 + c] = np.einsum("pa,pat->pt", w_obs, hc)
-        out[7] += np.einsum("pa,pat->pt", wrho, hc)
+        out[1 + c] = np.einsum("tpa,pa->tp", h0, wrho)
+        out[4 + c] = np.einsum("tpa,pa->tp", hc, w_obs)
+        out[7] += np.einsum("tpa,pa->tp", hc, wrho)
     return out
 
 
 def _contribution(m, k, axes, left_a, left_d, right_a, right_d) -> np.ndarray:
-    """Rows of Z from moments ``m`` (8, Tb, Ts): left (R, Tb) and right (N, Ts) sparse maps."""
-    # right factors, transposed: (N, Tb) = sparse (N, Ts) @ dense (Ts, Tb)
-    wa = right_a @ (k * m[7] - (4.0 / k) * m[0]).T
+    """Rows of Z from moments ``m`` (8, Ts, Tb): left (R, Tb) and right (N, Ts) sparse maps."""
+    # right factors: (N, Tb) = sparse (N, Ts) @ dense (Ts, Tb)
+    wa = right_a @ (k * m[7] - (4.0 / k) * m[0])
     for c in axes:
-        wa += k * (right_d[c] @ m[1 + c].T)
+        wa += k * (right_d[c] @ m[1 + c])
     zr = left_a @ wa.T
     for c in axes:
-        wc = k * (right_a @ m[4 + c].T + right_d[c] @ m[0].T)
+        wc = k * (right_a @ m[4 + c] + right_d[c] @ m[0])
         zr += left_d[c] @ wc.T
     return zr
 
@@ -251,11 +260,11 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
         keep = geom.near_pairs[span, 1] >= lo
         rows = geom.near_pairs[span, 0][keep] - lo
         cols = geom.near_pairs[span, 1][keep] - lo
-        m[:, rows, cols] = near[span][keep].T
+        m[:, cols, rows] = near[span][keep].T
         width = hi - lo
-        zr = _contribution(m[:, :, :width], k, axes, blk.left_a, blk.left_d, *blk.own)
+        zr = _contribution(m[:, :width], k, axes, blk.left_a, blk.left_d, *blk.own)
         if hi < t:
-            upper = _contribution(m[:, :, width:], k, axes, blk.left_a, blk.left_d, *blk.after)
+            upper = _contribution(m[:, width:], k, axes, blk.left_a, blk.left_d, *blk.after)
             zr += upper
             mirrored[blk.touched] += upper
         z[blk.touched] += zr
