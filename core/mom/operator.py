@@ -23,6 +23,7 @@ import weakref
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from .geometry import MomGeometry, far_point_distances
 
@@ -156,35 +157,44 @@ def far_moments(
     return out
 
 
-def _contribution(m, k, axes, left_a, left_d, right_a, right_d) -> np.ndarray:
-    """Rows of Z from moments ``m`` (8, Ts, Tb): left (R, Tb) and right (N, Ts) sparse maps."""
-    # right factors: (N, Tb) = sparse (N, Ts) @ dense (Ts, Tb)
-    wa = right_a @ (k * m[7] - (4.0 / k) * m[0])
-    for c in axes:
-        wa += k * (right_d[c] @ m[1 + c])
-    zr = left_a @ wa.T
-    for c in axes:
-        wc = k * (right_a @ m[4 + c] + right_d[c] @ m[0])
-        zr += left_d[c] @ wc.T
-    return zr
+def _contribution(m, k, axes, left, right) -> np.ndarray:
+    """Rows of Z from moments ``m`` (8, Ts, Tb) and the stacked sparse maps of a block.
+
+    With A, D_c the coefficient and offset maps (:class:`FillBlock`), a pair's
+    Galerkin terms are A·(k ∫∫ρ·ρ'G − 4/k ∫∫G)·Aᵀ + Σ_c [D_c·k∫∫ρ'_c G·Aᵀ +
+    A·k∫∫ρ_c G·D_cᵀ + D_c·k∫∫G·D_cᵀ] (observation on the left). Stacking
+    ``right`` = [A | D_x | D_y ...] (N, (1+a) Ts) and ``left`` likewise on the
+    block's triangles, Z rows = left · (right · S)ᵀ for one dense (1+a) × (1+a)
+    block matrix S of moments: two sparse products instead of ten.
+    """
+    ts, tb = m.shape[1:]
+    size = 1 + len(axes)
+    blocks = np.zeros((size, ts, size, tb), dtype=np.complex128)
+    blocks[0, :, 0] = k * m[7] - (4.0 / k) * m[0]
+    for i, c in enumerate(axes, start=1):
+        blocks[i, :, 0] = k * m[1 + c]
+        blocks[0, :, i] = k * m[4 + c]
+        blocks[i, :, i] = k * m[0]
+    w = right @ blocks.reshape(size * ts, size * tb)  # (N, (1+a) Tb)
+    return left @ w.T
 
 
 @dataclass(frozen=True, eq=False)
 class FillBlock:
     """One block of observation triangles lo..hi and its sparse maps, reused every fill.
 
-    ``touched`` are the unknowns living on the block; ``left_a``/``left_d`` their
-    coefficient and offset maps restricted to the block; ``own`` and ``after`` the
-    (coefficient, offsets) maps of all unknowns on triangles lo..hi and hi..T.
+    ``touched`` are the unknowns living on the block; ``left`` their coefficient
+    and offset maps restricted to the block, side by side, (R, (1+a) Tb) with a
+    the number of active axes; ``own`` and ``after`` the same maps, (N, (1+a) Ts),
+    of all unknowns on triangles lo..hi and hi..T.
     """
 
     lo: int
     hi: int
     touched: np.ndarray
-    left_a: object
-    left_d: dict
-    own: tuple
-    after: tuple
+    left: sp.csr_matrix
+    own: sp.csr_matrix
+    after: sp.csr_matrix | None
 
 
 _BLOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -195,15 +205,17 @@ def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
     if geom in _BLOCKS:
         return _BLOCKS[geom]
     t = geom.n_triangles
-    a_cols = geom.coef_matrix.tocsc()
-    d_cols = [m.tocsc() for m in geom.offset_matrices]
+    maps = [geom.coef_matrix.tocsc()] + [geom.offset_matrices[c].tocsc() for c in active_axes(geom)]
+
+    def stacked(rows, cols: slice) -> sp.csr_matrix:
+        return sp.hstack([m[rows, cols] if rows is not None else m[:, cols] for m in maps], "csr")
+
     # at least MIN_BLOCKS blocks, so that the mirrored half is most of the work
     block = max(1, min(BLOCK_ENTRIES // max(1, t * geom.far.size**2), -(-t // MIN_BLOCKS)))
     out = []
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        left_a = a_cols[:, lo:hi]
-        touched = np.unique(left_a.indices)
+        touched = np.unique(maps[0][:, lo:hi].indices)
         if len(touched) == 0:
             continue
         own, after = slice(lo, hi), slice(hi, None)
@@ -212,11 +224,10 @@ def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
                 lo,
                 hi,
                 touched,
-                left_a[touched],
-                {c: d_cols[c][:, lo:hi][touched] for c in range(3)},
-                (a_cols[:, own], {c: d_cols[c][:, own] for c in range(3)}),
-                (a_cols[:, after], {c: d_cols[c][:, after] for c in range(3)}),
-            )  # fmt: skip
+                sp.hstack([m[:, own][touched] for m in maps], "csr"),
+                stacked(None, own),
+                stacked(None, after) if hi < t else None,
+            )
         )
     _BLOCKS[geom] = out
     return out
@@ -262,9 +273,9 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
         cols = geom.near_pairs[span, 1][keep] - lo
         m[:, cols, rows] = near[span][keep].T
         width = hi - lo
-        zr = _contribution(m[:, :width], k, axes, blk.left_a, blk.left_d, *blk.own)
+        zr = _contribution(m[:, :width], k, axes, blk.left, blk.own)
         if hi < t:
-            upper = _contribution(m[:, width:], k, axes, blk.left_a, blk.left_d, *blk.after)
+            upper = _contribution(m[:, width:], k, axes, blk.left, blk.after)
             zr += upper
             mirrored[blk.touched] += upper
         z[blk.touched] += zr
