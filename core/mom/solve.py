@@ -149,8 +149,10 @@ def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float]
     """
     n = len(v)
     z32 = z.astype(np.complex64)
-    anorm = float(np.abs(z32).sum(axis=0).max())
-    inf_norm = float(np.abs(z32).sum(axis=1).max())
+    magnitude = np.abs(z32)
+    anorm = float(magnitude.sum(axis=0).max())
+    inf_norm = float(magnitude.sum(axis=1).max())
+    del magnitude
     lu32, piv32, info = sla.lapack.cgetrf(z32, overwrite_a=True)
     del z32
     current = None
