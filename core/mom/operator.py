@@ -158,13 +158,13 @@ def far_moments(
 
 
 def _contribution(m, k, axes, left, right) -> np.ndarray:
-    """Rows of Z from moments ``m`` (8, Ts, Tb) and the stacked sparse maps of a block.
+    """Part of Z from moments ``m`` (8, Ts, Tb) and the stacked sparse maps of a block.
 
     With A, D_c the coefficient and offset maps (:class:`FillBlock`), a pair's
     Galerkin terms are A·(k ∫∫ρ·ρ'G − 4/k ∫∫G)·Aᵀ + Σ_c [D_c·k∫∫ρ'_c G·Aᵀ +
     A·k∫∫ρ_c G·D_cᵀ + D_c·k∫∫G·D_cᵀ] (observation on the left). Stacking
-    ``right`` = [A | D_x | D_y ...] (N, (1+a) Ts) and ``left`` likewise on the
-    block's triangles, Z rows = left · (right · S)ᵀ for one dense (1+a) × (1+a)
+    ``right`` = [A | D_x | D_y ...] (Nr, (1+a) Ts) and ``left`` likewise on the
+    block's triangles, the (R, Nr) part of Z = left · (right · S)ᵀ for one dense (1+a) × (1+a)
     block matrix S of moments: two sparse products instead of ten.
     """
     ts, tb = m.shape[1:]
@@ -175,7 +175,7 @@ def _contribution(m, k, axes, left, right) -> np.ndarray:
         blocks[i, :, 0] = k * m[1 + c]
         blocks[0, :, i] = k * m[4 + c]
         blocks[i, :, i] = k * m[0]
-    w = right @ blocks.reshape(size * ts, size * tb)  # (N, (1+a) Tb)
+    w = right @ blocks.reshape(size * ts, size * tb)  # (Nr, (1+a) Tb)
     return left @ w.T
 
 
@@ -185,15 +185,16 @@ class FillBlock:
 
     ``touched`` are the unknowns living on the block; ``left`` their coefficient
     and offset maps restricted to the block, side by side, (R, (1+a) Tb) with a
-    the number of active axes; ``own`` and ``after`` the same maps, (N, (1+a) Ts),
-    of all unknowns on triangles lo..hi and hi..T.
+    the number of active axes (it is also the right factor of the block against
+    itself); ``after_rows`` the unknowns living on triangles hi..T and ``after``
+    their maps there, (Na, (1+a) Ts).
     """
 
     lo: int
     hi: int
     touched: np.ndarray
     left: sp.csr_matrix
-    own: sp.csr_matrix
+    after_rows: np.ndarray
     after: sp.csr_matrix | None
 
 
@@ -206,10 +207,6 @@ def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
         return _BLOCKS[geom]
     t = geom.n_triangles
     maps = [geom.coef_matrix.tocsc()] + [geom.offset_matrices[c].tocsc() for c in active_axes(geom)]
-
-    def stacked(rows, cols: slice) -> sp.csr_matrix:
-        return sp.hstack([m[rows, cols] if rows is not None else m[:, cols] for m in maps], "csr")
-
     # at least MIN_BLOCKS blocks, so that the mirrored half is most of the work
     block = max(1, min(BLOCK_ENTRIES // max(1, t * geom.far.size**2), -(-t // MIN_BLOCKS)))
     out = []
@@ -218,17 +215,12 @@ def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
         touched = np.unique(maps[0][:, lo:hi].indices)
         if len(touched) == 0:
             continue
-        own, after = slice(lo, hi), slice(hi, None)
-        out.append(
-            FillBlock(
-                lo,
-                hi,
-                touched,
-                sp.hstack([m[:, own][touched] for m in maps], "csr"),
-                stacked(None, own),
-                stacked(None, after) if hi < t else None,
-            )
-        )
+        after_rows = np.unique(maps[0][:, hi:].indices)
+        after = None
+        if len(after_rows):
+            after = sp.hstack([m[:, hi:][after_rows] for m in maps], "csr")
+        left = sp.hstack([m[:, lo:hi][touched] for m in maps], "csr")
+        out.append(FillBlock(lo, hi, touched, left, after_rows, after))
     _BLOCKS[geom] = out
     return out
 
@@ -263,7 +255,6 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     near = near_moments(geom, k)
     starts = np.searchsorted(geom.near_pairs[:, 0], np.arange(t + 1))
     z = np.zeros((n, n), dtype=np.complex128)
-    mirrored = np.zeros((n, n), dtype=np.complex128)  # rows here are columns of z
     for blk in fill_blocks(geom):
         lo, hi = blk.lo, blk.hi
         m = far_moments(geom, k, lo, hi, axes, src_lo=lo)
@@ -273,13 +264,11 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
         cols = geom.near_pairs[span, 1][keep] - lo
         m[:, cols, rows] = near[span][keep].T
         width = hi - lo
-        zr = _contribution(m[:, :width], k, axes, blk.left, blk.own)
-        if hi < t:
+        own = np.ix_(blk.touched, blk.touched)
+        z[own] += _contribution(m[:, :width], k, axes, blk.left, blk.left)
+        if blk.after is not None:
             upper = _contribution(m[:, width:], k, axes, blk.left, blk.after)
-            zr += upper
-            mirrored[blk.touched] += upper
-        z[blk.touched] += zr
-    z += mirrored.T
-    del mirrored
+            z[np.ix_(blk.touched, blk.after_rows)] += upper
+            z[np.ix_(blk.after_rows, blk.touched)] += upper.T  # the mirrored pairs
     z *= 1j * ETA0 / (4.0 * np.pi)
     return z
