@@ -247,3 +247,28 @@ def test_far_kernel_is_accurate_at_any_electrical_size(k):
     assert np.abs(far_kernel(dist, k) - exact).max() / np.abs(exact).max() < 1e-6
     # and relative to each entry, so far pairs lose nothing either
     assert np.max(np.abs(far_kernel(dist, k) - exact) / np.abs(exact)) < 1e-6
+
+
+def _matrix_with_condition(n, cond, seed):
+    """A random complex symmetric (n, n) matrix with singular values from 1 down to 1/cond."""
+    rng = np.random.default_rng(seed)
+    q, _ = np.linalg.qr(rng.standard_normal((n, n)) + 1j * rng.standard_normal((n, n)))
+    return (q * np.logspace(0, -np.log10(cond), n)) @ q.T
+
+
+@pytest.mark.parametrize("cond", [1e3, 1e5, 1e11])  # refined in single precision; falls back
+def test_dense_solve_matches_a_double_precision_lu(cond):
+    import importlib
+
+    import scipy.linalg as sla
+
+    dense_solve = importlib.import_module("core.mom.solve").dense_solve
+    z = _matrix_with_condition(300, cond, seed=int(np.log10(cond)))
+    v = np.random.default_rng(0).standard_normal(300) + 0j
+    current, estimate, residual = dense_solve(z, v)
+    exact = sla.solve(z, v)
+    double_residual = np.linalg.norm(z @ exact - v) / np.linalg.norm(v)
+    assert residual == pytest.approx(np.linalg.norm(z @ current - v) / np.linalg.norm(v))
+    assert residual < 10 * double_residual + 1e-15
+    assert np.abs(current - exact).max() / np.abs(exact).max() < 100 * cond * 2.2e-16
+    assert np.linalg.cond(z, 1) / 10 < estimate < 10 * np.linalg.cond(z, 1)

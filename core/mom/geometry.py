@@ -103,8 +103,15 @@ class MomGeometry:
     near_pairs : (K, 2) int
         (observation, source) triangle pairs integrated with singularity
         subtraction, self pairs included, sorted by observation triangle.
-    near_distances : (K, Qn, Qn) float64
-        |r − r'| between the near rule's points of each near pair.
+    near_upper : (H,) int
+        The near pairs with observation ≤ source triangle (self pairs and one
+        of each mirrored pair): the kernel is evaluated on those only.
+    near_half : (K,) int
+        For each near pair, the row of ``near_upper`` holding it or its mirror.
+    near_mirrored : (K,) bool
+        True where that row is the mirror (source, observation) of the pair.
+    near_distances : (H, Qn, Qn) float64
+        |r − r'| between the near rule's points of each pair of ``near_upper``.
     static_inv_r, static_r : (K, 8) float64
         The eight moments (:data:`MOMENTS`) of 1/R and of R over each near
         pair: outer integral by the near rule, inner one in closed form.
@@ -126,6 +133,9 @@ class MomGeometry:
     far: Rule
     near: Rule
     near_pairs: np.ndarray
+    near_upper: np.ndarray
+    near_half: np.ndarray
+    near_mirrored: np.ndarray
     near_distances: np.ndarray
     static_inv_r: np.ndarray
     static_r: np.ndarray
@@ -250,7 +260,14 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     near_pairs = np.concatenate([selfs, pairs, pairs[:, ::-1]]).astype(np.intp)
     near_pairs = near_pairs[np.lexsort((near_pairs[:, 1], near_pairs[:, 0]))]
     obs, src = near_pairs[:, 0], near_pairs[:, 1]
-    near_distances = _pair_distances(near.points[obs], near.points[src])
+    # (a, b) and (b, a) share their point distances, transposed: keep one of the two
+    near_mirrored = obs > src
+    near_upper = np.flatnonzero(~near_mirrored)
+    key = obs * len(triangles) + src  # ascending, as the pairs are sorted
+    partner = np.where(near_mirrored, np.searchsorted(key, src * len(triangles) + obs), 0)
+    rank = np.cumsum(~near_mirrored) - 1
+    near_half = np.where(near_mirrored, rank[partner], rank)
+    near_distances = _pair_distances(near.points[obs[near_upper]], near.points[src[near_upper]])
     static_inv_r, static_r = _static_moments(near, corners, centroids, obs, src)
 
     far_distances = None
@@ -270,6 +287,9 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
         far=far,
         near=near,
         near_pairs=near_pairs,
+        near_upper=near_upper,
+        near_half=near_half,
+        near_mirrored=near_mirrored,
         near_distances=near_distances,
         static_inv_r=static_inv_r,
         static_r=static_r,
@@ -278,14 +298,18 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     )
 
 
-def far_point_distances(far: Rule, lo: int, hi: int, src_lo: int = 0) -> np.ndarray:
-    """(Tb Qf, Ts Qf) distances from the far points of triangles lo..hi to those of src_lo..T.
+def far_point_distances(
+    far: Rule, lo: int, hi: int, src_lo: int = 0, src_hi: int | None = None
+) -> np.ndarray:
+    """(Tb Qf, Ts Qf) distances from the far points of triangles lo..hi to those of src_lo..src_hi.
 
-    Exact zeros (a point paired with itself) are replaced by 1: such pairs are
-    always near pairs, whose far-rule values are overwritten.
+    ``src_hi`` defaults to the last triangle. Exact zeros (a point paired with
+    itself) are replaced by 1: such pairs are always near pairs, whose
+    far-rule values are overwritten. The table is symmetric bit for bit:
+    swapping the two ranges gives its transpose.
     """
     obs = far.points[lo:hi].reshape(-1, 3)
-    src = far.points[src_lo:].reshape(-1, 3)
+    src = far.points[src_lo:src_hi].reshape(-1, 3)
     d2 = np.zeros((len(obs), len(src)))
     for c in range(3):
         if not (obs[:, c].any() or src[:, c].any()):

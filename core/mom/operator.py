@@ -23,6 +23,7 @@ import weakref
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from .geometry import MomGeometry, far_point_distances
 
@@ -50,8 +51,14 @@ def active_axes(geom: MomGeometry) -> tuple[int, ...]:
 
 
 def near_moments(geom: MomGeometry, k: float) -> np.ndarray:
-    """(K, 8) complex moments of G over the near pairs, at wavenumber ``k``."""
-    obs, src = geom.near_pairs[:, 0], geom.near_pairs[:, 1]
+    """(K, 8) complex moments of G over the near pairs, at wavenumber ``k``.
+
+    The smooth kernel is evaluated on one of each mirrored pair (a, b), (b, a)
+    only: with L = [w, w ρ] on each triangle, the 4 × 4 moments of (b, a) are
+    the transpose of those of (a, b).
+    """
+    upper = geom.near_upper
+    obs, src = geom.near_pairs[upper, 0], geom.near_pairs[upper, 1]
     dist = geom.near_distances
     x = k * dist
     smooth = np.empty(dist.shape, dtype=np.complex128)
@@ -62,12 +69,13 @@ def near_moments(geom: MomGeometry, k: float) -> np.ndarray:
         smooth.imag = -np.sin(x) * inv
     at_zero = dist == 0.0
     smooth[at_zero] = -1j * k
-    w_obs = geom.near.weights[obs]
-    w_src = geom.near.weights[src]
-    left = np.concatenate([w_obs[:, :, None], (w_obs[:, :, None] * geom.near.rho[obs])], axis=2)
-    right = np.concatenate([w_src[:, :, None], (w_src[:, :, None] * geom.near.rho[src])], axis=2)
-    m4 = np.matmul(left.transpose(0, 2, 1), smooth @ right.astype(np.complex128))  # (K, 4, 4)
-    out = np.empty((len(obs), 8), dtype=np.complex128)
+    w = geom.near.weights[:, :, None]
+    frame = np.concatenate([w, w * geom.near.rho], axis=2)  # (T, Qn, 4): w, w ρ
+    m4 = np.matmul(frame[obs].transpose(0, 2, 1), smooth @ frame[src].astype(np.complex128))
+    m4 = m4[geom.near_half]  # (K, 4, 4)
+    mirrored = geom.near_mirrored
+    m4[mirrored] = m4[mirrored].transpose(0, 2, 1)
+    out = np.empty((len(m4), 8), dtype=np.complex128)
     out[:, 0] = m4[:, 0, 0]
     out[:, 1:4] = m4[:, 1:, 0]
     out[:, 4:7] = m4[:, 0, 1:]
@@ -110,65 +118,84 @@ def far_kernel(dist: np.ndarray, k: float, max_phase: float | None = None) -> np
 def far_moments(
     geom: MomGeometry, k: float, lo: int, hi: int, axes: tuple[int, ...], src_lo: int = 0
 ) -> np.ndarray:
-    """(8, hi − lo, T − src_lo) complex far-rule moments of G.
+    """(8, T − src_lo, hi − lo) complex far-rule moments of G, source triangle first.
 
-    Observation triangles lo..hi against source triangles src_lo..T.
+    Source triangles src_lo..T against observation triangles lo..hi; entry
+    ``[i, s, o]`` is moment i (:data:`~core.mom.geometry.MOMENTS`) of the pair
+    (observation lo + o, source src_lo + s). The kernel is laid out source
+    point by observation point, so the contraction over the source points is
+    one batched real matrix product per source triangle (its weights w and
+    w ρ' against the real and imaginary parts of the kernel).
     """
     far = geom.far
     q = far.size
-    t = geom.n_triangles - src_lo
-    if geom.far_distances is not None:
-        dist = geom.far_distances[lo * q : hi * q, src_lo * q :]
+    ts = geom.n_triangles - src_lo
+    tb = hi - lo
+    if geom.far_distances is not None:  # symmetric: the rows may be the sources
+        dist = geom.far_distances[src_lo * q :, lo * q : hi * q]
     else:
-        dist = far_point_distances(far, lo, hi, src_lo)
+        dist = far_point_distances(far, src_lo, geom.n_triangles, lo, hi)
     span = np.ptp(geom.vertices, axis=0)
-    kernel = far_kernel(dist, k, k * float(np.linalg.norm(span))).reshape(len(dist), t, q)
-    # source side: contract over the source points with w and w ρ'
-    w = far.weights[src_lo:]
-    rho = far.rho[src_lo:]
-    h0 = np.einsum("ptb,tb->pt", kernel, w).reshape(hi - lo, q, t)
-    out = np.zeros((8, hi - lo, t), dtype=np.complex128)
+    kernel = far_kernel(dist, k, k * float(np.linalg.norm(span))).reshape(ts, q, tb * q)
+    # source side: (Ts, 1 + len(axes), Qf) weights w, w ρ'_c against (Ts, Qf, 2 Tb Qf) reals
+    w = far.weights[src_lo:, None, :]
+    src_weights = np.concatenate([w] + [w * far.rho[src_lo:, None, :, c] for c in axes], axis=1)
+    h = np.matmul(src_weights, kernel.view(np.float64)).view(np.complex128)
+    del kernel
+    h = h.reshape(ts, 1 + len(axes), tb, q)
+    out = np.zeros((8, ts, tb), dtype=np.complex128)
     w_obs = far.weights[lo:hi]
     rho_obs = far.rho[lo:hi]
-    out[0] = np.einsum("pa,pat->pt", w_obs, h0)
-    for c in axes:
-        hc = np.einsum("ptb,tb->pt", kernel, w * rho[:, :, c]).reshape(hi - lo, q, t)
+    h0 = h[:, 0]
+    out[0] = np.einsum("tpa,pa->tp", h0, w_obs)
+    for i, c in enumerate(axes):
+        hc = h[:, 1 + i]
         wrho = w_obs * rho_obs[:, :, c]
-        out[1 + c] = np.einsum("pa,pat->pt", wrho, h0)
-        out[4 + c] = np.einsum("pa,pat->pt", w_obs, hc)
-        out[7] += np.einsum("pa,pat->pt", wrho, hc)
+        out[1 + c] = np.einsum("tpa,pa->tp", h0, wrho)
+        out[4 + c] = np.einsum("tpa,pa->tp", hc, w_obs)
+        out[7] += np.einsum("tpa,pa->tp", hc, wrho)
     return out
 
 
-def _contribution(m, k, axes, left_a, left_d, right_a, right_d) -> np.ndarray:
-    """Rows of Z from moments ``m`` (8, Tb, Ts): left (R, Tb) and right (N, Ts) sparse maps."""
-    # right factors, transposed: (N, Tb) = sparse (N, Ts) @ dense (Ts, Tb)
-    wa = right_a @ (k * m[7] - (4.0 / k) * m[0]).T
-    for c in axes:
-        wa += k * (right_d[c] @ m[1 + c].T)
-    zr = left_a @ wa.T
-    for c in axes:
-        wc = k * (right_a @ m[4 + c].T + right_d[c] @ m[0].T)
-        zr += left_d[c] @ wc.T
-    return zr
+def _contribution(m, k, axes, left, right) -> np.ndarray:
+    """Part of Z from moments ``m`` (8, Ts, Tb) and the stacked sparse maps of a block.
+
+    With A, D_c the coefficient and offset maps (:class:`FillBlock`), a pair's
+    Galerkin terms are A·(k ∫∫ρ·ρ'G − 4/k ∫∫G)·Aᵀ + Σ_c [D_c·k∫∫ρ'_c G·Aᵀ +
+    A·k∫∫ρ_c G·D_cᵀ + D_c·k∫∫G·D_cᵀ] (observation on the left). Stacking
+    ``right`` = [A | D_x | D_y ...] (Nr, (1+a) Ts) and ``left`` likewise on the
+    block's triangles, the (R, Nr) part of Z = left · (right · S)ᵀ for one dense (1+a) × (1+a)
+    block matrix S of moments: two sparse products instead of ten.
+    """
+    ts, tb = m.shape[1:]
+    size = 1 + len(axes)
+    blocks = np.zeros((size, ts, size, tb), dtype=np.complex128)
+    blocks[0, :, 0] = k * m[7] - (4.0 / k) * m[0]
+    for i, c in enumerate(axes, start=1):
+        blocks[i, :, 0] = k * m[1 + c]
+        blocks[0, :, i] = k * m[4 + c]
+        blocks[i, :, i] = k * m[0]
+    w = right @ blocks.reshape(size * ts, size * tb)  # (Nr, (1+a) Tb)
+    return left @ w.T
 
 
 @dataclass(frozen=True, eq=False)
 class FillBlock:
     """One block of observation triangles lo..hi and its sparse maps, reused every fill.
 
-    ``touched`` are the unknowns living on the block; ``left_a``/``left_d`` their
-    coefficient and offset maps restricted to the block; ``own`` and ``after`` the
-    (coefficient, offsets) maps of all unknowns on triangles lo..hi and hi..T.
+    ``touched`` are the unknowns living on the block; ``left`` their coefficient
+    and offset maps restricted to the block, side by side, (R, (1+a) Tb) with a
+    the number of active axes (it is also the right factor of the block against
+    itself); ``after_rows`` the unknowns living on triangles hi..T and ``after``
+    their maps there, (Na, (1+a) Ts).
     """
 
     lo: int
     hi: int
     touched: np.ndarray
-    left_a: object
-    left_d: dict
-    own: tuple
-    after: tuple
+    left: sp.csr_matrix
+    after_rows: np.ndarray
+    after: sp.csr_matrix | None
 
 
 _BLOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -179,29 +206,21 @@ def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
     if geom in _BLOCKS:
         return _BLOCKS[geom]
     t = geom.n_triangles
-    a_cols = geom.coef_matrix.tocsc()
-    d_cols = [m.tocsc() for m in geom.offset_matrices]
+    maps = [geom.coef_matrix.tocsc()] + [geom.offset_matrices[c].tocsc() for c in active_axes(geom)]
     # at least MIN_BLOCKS blocks, so that the mirrored half is most of the work
     block = max(1, min(BLOCK_ENTRIES // max(1, t * geom.far.size**2), -(-t // MIN_BLOCKS)))
     out = []
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        left_a = a_cols[:, lo:hi]
-        touched = np.unique(left_a.indices)
+        touched = np.unique(maps[0][:, lo:hi].indices)
         if len(touched) == 0:
             continue
-        own, after = slice(lo, hi), slice(hi, None)
-        out.append(
-            FillBlock(
-                lo,
-                hi,
-                touched,
-                left_a[touched],
-                {c: d_cols[c][:, lo:hi][touched] for c in range(3)},
-                (a_cols[:, own], {c: d_cols[c][:, own] for c in range(3)}),
-                (a_cols[:, after], {c: d_cols[c][:, after] for c in range(3)}),
-            )  # fmt: skip
-        )
+        after_rows = np.unique(maps[0][:, hi:].indices)
+        after = None
+        if len(after_rows):
+            after = sp.hstack([m[:, hi:][after_rows] for m in maps], "csr")
+        left = sp.hstack([m[:, lo:hi][touched] for m in maps], "csr")
+        out.append(FillBlock(lo, hi, touched, left, after_rows, after))
     _BLOCKS[geom] = out
     return out
 
@@ -236,7 +255,6 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     near = near_moments(geom, k)
     starts = np.searchsorted(geom.near_pairs[:, 0], np.arange(t + 1))
     z = np.zeros((n, n), dtype=np.complex128)
-    mirrored = np.zeros((n, n), dtype=np.complex128)  # rows here are columns of z
     for blk in fill_blocks(geom):
         lo, hi = blk.lo, blk.hi
         m = far_moments(geom, k, lo, hi, axes, src_lo=lo)
@@ -244,15 +262,13 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
         keep = geom.near_pairs[span, 1] >= lo
         rows = geom.near_pairs[span, 0][keep] - lo
         cols = geom.near_pairs[span, 1][keep] - lo
-        m[:, rows, cols] = near[span][keep].T
+        m[:, cols, rows] = near[span][keep].T
         width = hi - lo
-        zr = _contribution(m[:, :, :width], k, axes, blk.left_a, blk.left_d, *blk.own)
-        if hi < t:
-            upper = _contribution(m[:, :, width:], k, axes, blk.left_a, blk.left_d, *blk.after)
-            zr += upper
-            mirrored[blk.touched] += upper
-        z[blk.touched] += zr
-    z += mirrored.T
-    del mirrored
+        own = np.ix_(blk.touched, blk.touched)
+        z[own] += _contribution(m[:, :width], k, axes, blk.left, blk.left)
+        if blk.after is not None:
+            upper = _contribution(m[:, width:], k, axes, blk.left, blk.after)
+            z[np.ix_(blk.touched, blk.after_rows)] += upper
+            z[np.ix_(blk.after_rows, blk.touched)] += upper.T  # the mirrored pairs
     z *= 1j * ETA0 / (4.0 * np.pi)
     return z

@@ -1,4 +1,4 @@
-"""Solve the EFIE at one frequency or over a sweep (dense LU)."""
+"""Solve the EFIE at one frequency or over a sweep (dense LU, refined in mixed precision)."""
 
 from __future__ import annotations
 
@@ -117,19 +117,84 @@ def _overlap_warning(mesh: TriMesh, cond: float) -> tuple[str, ...]:
     )
 
 
+#: Most refinement steps of the single-precision LU before falling back to double precision.
+REFINEMENT_STEPS = 10
+
+
+def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Solve Z I = V: single-precision LU refined in double precision, else a double LU.
+
+    The LU of Z rounded to complex64 costs half that of complex128; iterative
+    refinement with residuals computed in double precision (as LAPACK's
+    ``zcgesv``) then recovers the double-precision solution in a few O(N²)
+    steps when cond(Z) is well under 1/ε₃₂ ≈ 1e7, which it is for conforming
+    meshes. It refines until the residual stops halving (the floor of double
+    precision, that of a complex128 LU) and accepts the result when it passes
+    ``zcgesv``'s test ‖r‖∞ ≤ ‖I‖∞ ‖Z‖∞ ε₆₄ √N. When that fails within
+    :data:`REFINEMENT_STEPS` steps (an ill-conditioned matrix, e.g. overlapping
+    paper-mode patches), Z is factorised in double precision.
+
+    Parameters
+    ----------
+    z : (N, N) complex128
+    v : (N,) complex128
+
+    Returns
+    -------
+    current : (N,) complex128
+    condition_number : float
+        LAPACK's estimate of the 1-norm condition number.
+    residual : float
+        ‖Z I − V‖ / ‖V‖.
+    """
+    n = len(v)
+    z32 = z.astype(np.complex64)
+    magnitude = np.abs(z32)
+    anorm = float(magnitude.sum(axis=0).max())
+    inf_norm = float(magnitude.sum(axis=1).max())
+    del magnitude
+    lu32, piv32, info = sla.lapack.cgetrf(z32, overwrite_a=True)
+    del z32
+    current = None
+    if info == 0:
+        rcond, _ = sla.lapack.cgecon(lu32, anorm, norm="1")
+        x = np.zeros(n, dtype=np.complex128)
+        r = v
+        best, found = np.inf, None
+        for _ in range(REFINEMENT_STEPS):
+            dx, _ = sla.lapack.cgetrs(lu32, piv32, r.astype(np.complex64))
+            x = x + dx
+            r = v - z @ x
+            size = float(np.abs(r).max())
+            if size >= best:
+                break  # stalled at the double-precision floor (or diverging)
+            improved = size < 0.5 * best
+            best, found = size, (x, r)
+            if not improved:
+                break
+        tol = np.finfo(np.float64).eps * np.sqrt(n) * inf_norm
+        if found is not None and best <= tol * float(np.abs(found[0]).max()):
+            current, r = found
+    del lu32
+    if current is None:
+        lu, piv = sla.lu_factor(z, check_finite=False)
+        current = sla.lu_solve((lu, piv), v, check_finite=False)
+        rcond, _ = sla.lapack.zgecon(lu, anorm, norm="1")
+        del lu
+        r = v - z @ current
+    residual = float(np.linalg.norm(r) / np.linalg.norm(v))
+    cond = float(1.0 / rcond) if rcond > 0 else float("inf")
+    return current, cond, residual
+
+
 def _solve_at(
     mesh: TriMesh, geom: MomGeometry, frequency: float, excitation: PlaneWave | VoltageSource
 ) -> Solution:
     k = wavenumber(frequency)
     z = impedance_matrix(geom, k)
     v = excitation_vector(geom, k, excitation)
-    anorm = float(np.abs(z).sum(axis=0).max())
-    lu, piv = sla.lu_factor(z, check_finite=False)
-    i = sla.lu_solve((lu, piv), v, check_finite=False)
-    rcond, _ = sla.lapack.zgecon(lu, anorm, norm="1")
-    del lu
-    residual = float(np.linalg.norm(z @ i - v) / np.linalg.norm(v))
-    cond = float(1.0 / rcond) if rcond > 0 else float("inf")
+    i, cond, residual = dense_solve(z, v)
+    del z
     warnings = _overlap_warning(mesh, cond)
     for text in warnings:
         log.warning(text)
