@@ -157,7 +157,8 @@ class ViewTools(QObject):
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         kind = event.type()
         if kind == QEvent.Type.Resize:
-            QTimer.singleShot(0, self.window.refit_if_framed)
+            # at once, before the paint this resize brings: the refit then costs no paint
+            self.window.refit_if_framed(render=False)
         elif kind == QEvent.Type.MouseMove:
             if not event.buttons():
                 self._pos = event.position()

@@ -804,13 +804,17 @@ class MainWindow(QMainWindow):
         c = self.plotter.camera
         return (*c.position, *c.focal_point, *c.up, float(c.parallel_scale))
 
-    def refit_if_framed(self) -> None:
-        """After the view changed size: keep a framed mesh framed (not a moved camera)."""
+    def refit_if_framed(self, render: bool = True) -> None:
+        """After the view changed size: keep a framed mesh framed (not a moved camera).
+
+        From the view's resize event pass ``render=False``: a resized widget is repainted
+        anyway, and that one paint then shows the refitted camera."""
         if self._closed or getattr(self, "_framed", None) is None:
             return
         if np.allclose(self._camera_state(), self._framed, rtol=1e-9, atol=1e-12):
             self.frame_mesh()
-            self.request_render()
+            if render:
+                self.request_render()
 
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
         """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array, lines scaled along."""

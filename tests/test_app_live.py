@@ -56,10 +56,9 @@ class Heartbeat:
 
 
 def type_value(qtbot, window, name: str, text: str) -> None:
-    """Select the spin box's text, type ``text`` and press Enter, as a user does."""
-    spin = window.controls.rows[name].spin
-    spin.setFocus()
-    line = spin.lineEdit()
+    """Select the field's text, type ``text`` and press Enter, as a user does."""
+    line = window.controls.rows[name].field
+    line.setFocus()
     qtbot.keyClick(line, Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
     qtbot.keyClicks(line, text)
     qtbot.keyClick(line, Qt.Key.Key_Return)

@@ -275,13 +275,13 @@ def test_a_refusal_stays_under_its_control_while_others_change(window):
 # -- item 5: switching scheme carries a valid value over and says so ----------------------
 
 
-def test_scheme_switch_carries_subdivisions_over(window):
+def test_scheme_switch_carries_subdivisions_over(window, qtbot):
     sub = window.controls.rows["subdivisions"]
     type_into(sub.field, "16")
-    window.controller.flush()
+    settle(window, qtbot)
     assert_counts(window, patch_counts(COARSE_PATCHES, 16))
     choose(window.controls.combos["scheme"], "barycentric")
-    window.controller.flush()
+    settle(window, qtbot)
     assert (window.model.params.scheme, window.model.params.subdivisions) == ("barycentric", 3)
     assert sub.field.text() == "3" and not sub.error.isVisible()
     assert sub.note.isVisible() and "n = 16" in sub.note.text()
@@ -290,7 +290,7 @@ def test_scheme_switch_carries_subdivisions_over(window):
     assert shown_counts(window)["triangles"] == COARSE_PATCHES * 2 * 6**3
     save_shot(window, "scheme_carried")
     choose(window.controls.combos["scheme"], "uniform")
-    window.controller.flush()
+    settle(window, qtbot)
     assert window.model.params.subdivisions == 15  # 225 sub-triangles, nearest 216
     assert shown_counts(window)["triangles"] == COARSE_PATCHES * 2 * 15**2
 

@@ -77,12 +77,12 @@ def test_construction_window_has_rulers_in_mm(active, qtbot):
     view = active.teaching_windows.construction
     qtbot.waitExposed(view)
     assert view.rulers.axes.GetVisibility()
-    assert ruler_labels(view.rulers.axes, 0) == ["0", "2.5", "5", "7.5", "10"]
-    assert ruler_labels(view.rulers.axes, 1) == ["0", "2.5", "5", "7.5", "10"]
-    # the tick label "5" is drawn under the bottom side: dark pixels there, not under m1's
-    # label (which sits farther down)
+    assert ruler_labels(view.rulers.axes, 0) == ["0", "2", "4", "6", "8", "10"]
+    assert ruler_labels(view.rulers.axes, 1) == ["0", "2", "4", "6", "8", "10"]
+    # the tick label "4" is drawn under the bottom side: dark pixels there, not under a
+    # point's label (which sits farther down)
     image = view.view_image()
-    x, y = display_point(view.plotter, (5.0, 0.0, 0.0))
+    x, y = display_point(view.plotter, (4.0, 0.0, 0.0))
     h = image.shape[0]
     band = image[h - int(y) + 6:h - int(y) + 24, int(x) - 8:int(x) + 9, :3]
     assert (band.max(axis=2) < 120).any()
@@ -95,17 +95,17 @@ def test_compare_view_has_rulers_in_both_halves(active, qtbot):
     for col, mode in enumerate(("paper", "conforming")):
         axes = view.scenes[mode].axes
         assert axes.GetVisibility(), mode
-        assert ruler_labels(axes, 0) == ["0", "2.5", "5", "7.5", "10"], mode
+        assert ruler_labels(axes, 0) == ["0", "2", "4", "6", "8", "10"], mode
         # the labels follow the linked camera of their own half
         assert axes.GetCamera() is view.plotter.renderers[col].GetActiveCamera()
     # the conforming half draws its tick values (VTK's 2D labels cannot: they are placed
-    # as if the half began at the window's left edge): "5" under its bottom ruler
+    # as if the half began at the window's left edge): "4" under its bottom ruler
     ticks = view.tick_points
     labels = [str(t) for t in ticks.point_data["label"]]
-    assert labels == ["0", "2.5", "5", "7.5", "10"] * 2
+    assert labels == ["0", "2", "4", "6", "8", "10"] * 2
     image = view.view_image()
     renderer = view.plotter.renderers[1]
-    where = ticks.points[labels.index("5")]
+    where = ticks.points[labels.index("4")]
     assert where[1] < 0  # below the patch's bottom side (y = 0)
     x, y = display_point(view.plotter, where, renderer)
     h = image.shape[0]
