@@ -61,7 +61,7 @@ REGION_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b"]
 REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
 #: centroids are not drawn (they would only paint a texture over the faces).
-LIGHT_PX = 8.0
+LIGHT_PX = 12.0
 #: Patch outlines of an overview are drawn as lines up to this many segments.
 OUTLINE_SEGMENTS = 40_000
 #: Layers that exist per triangle or per edge: drawn in full detail only.

@@ -1057,6 +1057,15 @@ class MainWindow(QMainWindow):
 
     # -- dock layout -----------------------------------------------------------------------
 
+    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().showEvent(event)
+        if not getattr(self, "_shown_once", False):
+            self._shown_once = True
+            # dock tabs exist once shown: Statistics on top of the docks tabbed with it,
+            # unless a saved layout says otherwise
+            if not isinstance(self.settings.value("window/state"), QByteArray):
+                QTimer.singleShot(0, self.statistics_dock.raise_)
+
     def resizeEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().resizeEvent(event)
         if self._auto_docks and not self._arranging:
@@ -1086,6 +1095,8 @@ class MainWindow(QMainWindow):
                 self.tabifyDockWidget(self.statistics_dock, dock)
             for dock, was_hidden in hidden.items():
                 dock.setHidden(was_hidden)
+            if not narrow:  # the statistics, not the last dock tabbed with them, on top
+                self.statistics_dock.raise_()
             self.parameters_dock.raise_()
         finally:
             self._arranging = False
