@@ -475,9 +475,14 @@ class SolvePanel(QWidget):
 
     def _small(self) -> bool:
         """Whether to solve at once: asked for once, auto-solve on, N small."""
-        mesh = self.mesh
-        return (self.engaged and self.auto.isChecked() and mesh is not None
-                and 0 < len(mesh.rwg) <= self.auto_unknowns)
+        result = self.model.result
+        if not (self.engaged and self.auto.isChecked()) or result is None or result.mesh is None:
+            return False
+        # N from the statistics the worker computed: never the RWG table of a big mesh here
+        unknowns = (result.stats or {}).get("interior_edges")
+        if unknowns is None:
+            return False
+        return 0 < unknowns <= self.auto_unknowns
 
     # -- solving ---------------------------------------------------------------------
 

@@ -15,6 +15,7 @@ label's text; the 3D view is not re-rendered for a hover.
 from __future__ import annotations
 
 import logging
+import threading
 from functools import partial
 from typing import TYPE_CHECKING, Any
 
@@ -28,7 +29,7 @@ from core import TriMesh
 from .framing import frame_points, pixels_per_mm
 from .measure import MeasureTool
 from .readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
-from .worker import Job
+from .worker import Job, release_memory
 
 if TYPE_CHECKING:
     from .window import MainWindow
@@ -134,8 +135,14 @@ class ViewTools(QObject):
         self.hit = self.selected = None
         self.measure.set_active(self.measure.active)  # forget the points
         if mesh is not None and mesh.n_triangles:
-            pts = np.asarray(mesh.points)
-            span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
+            # the scene's bounds (computed in the worker): a pass over millions of points
+            # here would block the GUI thread
+            b = getattr(self.window.scene, "bounds", None)
+            if b is not None:
+                span = float(max(b[1] - b[0], b[3] - b[2]))
+            else:
+                pts = np.asarray(mesh.points)
+                span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
             self.measure.set_lift(8e-4 * max(span, 1e-9))
             if mesh.n_triangles <= SYNC_LOCATOR:
                 self.locator = MeshLocator(mesh)
@@ -146,6 +153,12 @@ class ViewTools(QObject):
     def _locator_ready(self, locator: MeshLocator | None) -> None:
         if locator is not None and locator.mesh is self.mesh:
             self.locator = locator
+            return
+        if locator is not None and locator.mesh.n_triangles > 200_000:
+            # the locator of a mesh no longer on screen (built while the user moved on)
+            # held it alive until now: once dropped, hand the pages back, off this thread
+            QTimer.singleShot(0, lambda: threading.Thread(target=release_memory,
+                                                          daemon=True).start())
 
     def set_note(self, text: str) -> None:
         """Show ``text`` on the left of the strip (until the next parameter change)."""
