@@ -273,7 +273,9 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
     menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
     next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
     panel = open_solve(window, qtbot)
-    panel.tabs.setCurrentIndex(1)
+    bar = panel.tabs.tabBar()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(1).center())
+    assert panel.tabs.currentIndex() == 1
     click(qtbot, panel.sweep_button)  # 46 frequencies, 3–12 GHz, 698 unknowns
     qtbot.waitUntil(lambda: panel.progress.value() >= 1, timeout=60_000)
     assert panel.progress.maximum() == 46
@@ -324,6 +326,14 @@ def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(window, qtb
     assert 55 < z.real < 80 and z.imag < 0
     assert f"input impedance {format_impedance(z)}" in panel.summary.text()
     assert panel.layer._surface_actor.GetVisibility()
+    # the Sweep tab plots a plane wave's extinction: with the feed it says so, runs nothing
+    bar = panel.tabs.tabBar()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(1).center())
+    assert panel.tabs.currentIndex() == 1
+    click(qtbot, panel.sweep_button)
+    assert "choose Excitation: plane wave" in panel.resonance_label.text()
+    assert panel.sweep_result is None and not panel.progress.isVisible()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(0).center())
 
     # back to a plane wave: its rows return
     choose(panel.excitation, "plane")
