@@ -6,6 +6,7 @@
     barymesh solve --preset srr-openmodes --freq 3GHz:12GHz:91 --pol y -o sweep.csv \\
         --plot sweep.png
     barymesh solve --mesh strip.msh --freq 150MHz --feed 0,-10:0,10
+    barymesh solve --preset makarov-platefine --freq 300MHz --screenshot current.png
 
 Registered in :mod:`app.cli` (``add_parser`` builds the subcommand, ``run``
 executes it). Errors are raised as ``app.cli`` exceptions (one line, exit 1
@@ -111,6 +112,22 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "frequency: J_abs, J_real, J_imag per triangle for ParaView) (repeatable)",
     )
     out.add_argument("--plot", metavar="PNG", help="plot the sweep's cross-sections to PNG")
+    from app.cli import _window_size
+
+    out.add_argument(
+        "--screenshot",
+        metavar="PNG",
+        help="render |J| on the mesh off-screen to PNG (one frequency), as the window's "
+        "Surface current layer shows it",
+    )
+    out.add_argument(
+        "--window-size",
+        nargs=2,
+        type=_window_size,
+        metavar=("W", "H"),
+        default=(1024, 768),
+        help="screenshot size in pixels (default 1024 768)",
+    )
     # `--dir -z`, `--pol -1,0,0`: let values that start with "-" followed by an axis letter
     # or a digit be values, as argparse already does for negative numbers
     p._negative_number_matcher = re.compile(r"^-([xyzXYZ]$|\d|\.\d)")
@@ -258,9 +275,17 @@ def _run(args: argparse.Namespace) -> int:
         raise SolveUsageError("--plot needs a sweep: --freq A:B:K")
     if args.plot and Path(args.plot).suffix.lower() != ".png":
         raise SolveUsageError(f"--plot {args.plot}: expected a .png file")
+    if args.screenshot and is_sweep:
+        raise SolveUsageError("--screenshot shows one frequency's current: --freq F")
+    if args.screenshot and Path(args.screenshot).suffix.lower() != ".png":
+        raise SolveUsageError(f"--screenshot {args.screenshot}: expected a .png file")
+    if args.screenshot:
+        from app.cli import _check_render_size
+
+        _check_render_size("solve", *args.window_size)
     if args.mesh and (args.preset or args.params or args.sets):
         raise SolveUsageError("--mesh cannot be combined with --preset, --params or --set")
-    for target in [*args.outputs, args.plot]:
+    for target in [*args.outputs, args.plot, args.screenshot]:
         if target:
             _check_folder(target)
     memory = parse_memory(args.max_memory)
@@ -292,6 +317,11 @@ def _run(args: argparse.Namespace) -> int:
             for out in args.outputs:
                 _write_single(solution, mesh, out)
                 print(f"wrote {out}")
+            if args.screenshot:
+                with progress(f"rendering {args.screenshot}"):
+                    render_current(mesh, solution.current_density, args.screenshot,
+                                   tuple(args.window_size))  # fmt: skip
+                print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)")
     except MemoryError as exc:
         raise ValueError(f"not enough memory for N = {n:,} unknowns ({exc})") from None
     return 0
@@ -500,3 +530,48 @@ def _plot_sweep(r: Any, path: str) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(str(tmp), format="png")
     plt.close(fig)
+
+
+#: Scene layers drawn under the current in a --screenshot (the orange shared edges and
+#: the centroids would be lost in the colour map).
+SCREENSHOT_LAYERS = {"faces": True, "triangle_edges": True, "patch_outlines": False,
+                     "shared_edges": False, "boundary_edges": True, "junction_edges": True,
+                     "centroids": False, "labels": False}  # fmt: skip
+
+
+def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, int]) -> None:
+    """Render |J| of ``current`` ((T, 3) complex, A/m) on ``mesh`` off-screen to a PNG of
+    exactly ``window_size`` pixels: the mesh as :func:`app.scene.render_screenshot` draws
+    it, under the window's Surface current layer (:class:`app.current_layer.CurrentLayer`:
+    colour map, scale bar, arrows of Re J). Works without an X display."""
+    try:
+        import imageio.v3 as iio
+        import numpy as np
+        import pyvista as pv
+
+        from app.current_layer import CurrentLayer
+        from app.scene import MeshScene, _prepare_headless, _resized, scene_data
+    except ImportError as exc:
+        raise ValueError(
+            f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' "
+            f"({exc})"
+        ) from None
+    from core.io import atomic_path
+
+    width, height = (int(v) for v in window_size)
+    _prepare_headless()
+    plotter = pv.Plotter(off_screen=True, window_size=(width, height))
+    try:
+        scene = MeshScene(plotter, visible=SCREENSHOT_LAYERS)
+        scene.update(scene_data(mesh))
+        scene.top_view()
+        CurrentLayer(plotter, lambda: None).set_current(mesh, current)
+        image = np.asarray(plotter.screenshot(None, return_img=True))
+    finally:
+        plotter.close()
+    if image.shape[:2] != (height, width):
+        image = _resized(image, width, height)
+    with atomic_path(path) as tmp:
+        iio.imwrite(tmp, image, extension=".png")
+        if not tmp.exists() or tmp.stat().st_size == 0:
+            raise ValueError(f"cannot write {path}: the renderer produced no image")

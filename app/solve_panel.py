@@ -1,7 +1,9 @@
 """The Solve dock: an RWG Method-of-Moments solve (:mod:`core.mom`) of the mesh on screen.
 
-Two tabs. **Solve**: a frequency with its unit, the plane wave's direction of travel and
-polarisation (an axis such as ``-z`` or ``x``, or a vector ``0, 0, -1``), a Solve button,
+Two tabs. **Solve**: a frequency with its unit, the excitation: a plane wave (its
+direction of travel and polarisation: an axis such as ``-z`` or ``x``, or a vector
+``0, 0, -1``) or a delta-gap voltage feed (1 V across the mesh edges on a line between
+two points typed in mm; the input impedance is shown after the solve), a Solve button,
 and the "Surface current" layer's controls (show, linear/log colour map, phase slider and
 animation; :class:`app.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
 cross-section against frequency (matplotlib), the resonances marked; a click on the
@@ -114,6 +116,27 @@ def read_vector(text: str, name: str) -> tuple[float, float, float]:
         raise ValueError(f"{name} {text!r} is invalid; expected an axis (x, -z, …) or "
                          "three numbers x, y, z")
     return values  # type: ignore[return-value]
+
+
+def read_point(text: str, name: str) -> tuple[float, ...]:
+    """``"0, -10"`` -> (0.0, -10.0) (mm; two or three numbers); ValueError naming ``name``.
+
+    >>> read_point("0, -10", "Feed start"), read_point("1 2 3", "Feed end")
+    ((0.0, -10.0), (1.0, 2.0, 3.0))
+    """
+    try:
+        values = tuple(float(v) for v in text.replace(";", ",").replace(",", " ").split())
+    except ValueError:
+        values = ()
+    if len(values) not in (2, 3) or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"{name} {text!r} is invalid; expected a point x, y in mm "
+                         "(e.g. 0, -10)")
+    return values
+
+
+def format_impedance(z: complex) -> str:
+    """``"73.1 + j42.5 Ω"`` (5 significant digits)."""
+    return f"{z.real:.5g} {'+-'[z.imag < 0]} j{abs(z.imag):.5g} Ω"
 
 
 def format_frequency(hz: float) -> tuple[str, str]:
@@ -308,7 +331,7 @@ class SolvePanel(QWidget):
         form = QFormLayout(page)
         form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.frequency = QLineEdit("1", page)
-        self.frequency.setToolTip("The frequency of the incident plane wave")
+        self.frequency.setToolTip("The frequency of the plane wave or the feed voltage")
         self.unit = QComboBox(page)
         for u in UNITS:
             self.unit.addItem(u, u)
@@ -323,8 +346,22 @@ class SolvePanel(QWidget):
                                           "plane wave: an axis (-z: from above) or x, y, z")
         self.polarization = self._vector_box(POLARIZATION_PRESETS, "Direction of E: an axis "
                                              "or x, y, z, perpendicular to the direction")
+        self.excitation = QComboBox(page)
+        self.excitation.addItem("plane wave", "plane")
+        self.excitation.addItem("voltage feed", "feed")
+        self.excitation.setToolTip("What drives the current: an incident plane wave, or a "
+                                   "1 V delta-gap source on the mesh edges along a line")
+        form.addRow("E&xcitation", self.excitation)
         form.addRow("&Direction", self.direction)
         form.addRow("&Polarisation E", self.polarization)
+        self.feed_start = QLineEdit("0, -10", page)
+        self.feed_end = QLineEdit("0, 10", page)
+        for edit in (self.feed_start, self.feed_end):
+            edit.setToolTip("An end of the feed line, x, y in mm: the 1 V gap lies on the "
+                            "interior mesh edges along the line, across the conductor")
+        form.addRow("Feed sta&rt (mm)", self.feed_start)
+        form.addRow("Feed &end (mm)", self.feed_end)
+        self.form = form
         self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
         self.auto.setChecked(True)
         self.auto.setToolTip(f"Solve meshes of at most {AUTO_SOLVE_UNKNOWNS} RWG unknowns at "
@@ -382,13 +419,27 @@ class SolvePanel(QWidget):
         label.setBuddy(self.phase)
         form.addRow(label, row)
 
-        for edit in (self.frequency, self.direction.lineEdit(), self.polarization.lineEdit()):
+        for edit in (self.frequency, self.direction.lineEdit(), self.polarization.lineEdit(),
+                     self.feed_start, self.feed_end):
             edit.returnPressed.connect(self._inputs_edited)
             edit.editingFinished.connect(self._inputs_edited)
         self.unit.currentIndexChanged.connect(lambda _i: self._inputs_edited())
         self.direction.activated.connect(lambda _i: self._inputs_edited())
         self.polarization.activated.connect(lambda _i: self._inputs_edited())
+        self.excitation.currentIndexChanged.connect(self._excitation_changed)
+        self._show_excitation_rows()
         return page
+
+    def _show_excitation_rows(self) -> None:
+        feed = self.excitation.currentData() == "feed"
+        for widget in (self.direction, self.polarization):
+            self.form.setRowVisible(widget, not feed)
+        for widget in (self.feed_start, self.feed_end):
+            self.form.setRowVisible(widget, feed)
+
+    def _excitation_changed(self, _index: int) -> None:
+        self._show_excitation_rows()
+        self._inputs_edited()
 
     def _vector_box(self, presets: tuple[str, ...], tip: str) -> QComboBox:
         box = QComboBox(self)
@@ -441,20 +492,35 @@ class SolvePanel(QWidget):
         return None if result is None else result.mesh
 
     def inputs(self) -> tuple[float, Any]:
-        """(frequency in Hz, core.mom.PlaneWave) from the fields; ValueError if invalid."""
-        from core.mom import PlaneWave
+        """(frequency in Hz, core.mom.PlaneWave or VoltageSource) from the fields;
+        ValueError naming the field if invalid."""
+        from core.mom import PlaneWave, VoltageSource
 
         hz = read_frequency(self.frequency.text(), self.unit.currentText())
+        if self.excitation.currentData() == "feed":
+            start = read_point(self.feed_start.text(), "Feed start")
+            end = read_point(self.feed_end.text(), "Feed end")
+            if len(start) != len(end):
+                raise ValueError("Feed start and end: give both as x, y or both as x, y, z")
+            try:
+                return hz, VoltageSource(start, end)
+            except ValueError as exc:
+                raise ValueError(f"Feed {self.feed_start.text()!r} to "
+                                 f"{self.feed_end.text()!r}: {exc}") from None
         d = read_vector(self.direction.currentText(), "Direction")
         p = read_vector(self.polarization.currentText(), "Polarisation")
         return hz, PlaneWave(direction=d, polarization=p)
 
     def _inputs_key(self) -> tuple[Any, ...] | None:
+        from core.mom import VoltageSource
+
         try:
             hz, wave = self.inputs()
         except ValueError:
             return None
-        return hz, tuple(wave.direction), tuple(np.asarray(wave.polarization))
+        if isinstance(wave, VoltageSource):
+            return hz, "feed", tuple(wave.start), tuple(wave.end)
+        return hz, "plane", tuple(wave.direction), tuple(np.asarray(wave.polarization))
 
     def _inputs_edited(self) -> None:
         self.engaged = True
@@ -507,9 +573,11 @@ class SolvePanel(QWidget):
             n = len(mesh.rwg)
             if n == 0:
                 raise ValueError("The mesh has no interior edges: no RWG unknowns to solve for.")
-            from core.mom import check_memory
+            from core.mom import VoltageSource, check_memory, mom_geometry
 
             check_memory(n)
+            if isinstance(wave, VoltageSource):  # a line off the mesh edges: say so now
+                wave.feed_signs(mom_geometry(mesh))
         except ValueError as exc:
             self.error.setText(str(exc))
             return False
@@ -539,6 +607,10 @@ class SolvePanel(QWidget):
                 raise ValueError(f"Sweep range {self.sweep_from.text()} to "
                                  f"{self.sweep_to.text()} {unit}: the end must be above the start")
             _hz, wave = self.inputs()
+            if self.excitation.currentData() == "feed":
+                raise ValueError("The sweep plots the extinction cross-section of a plane "
+                                 "wave: choose Excitation: plane wave (barymesh solve --feed "
+                                 "sweeps the input impedance)")
             if mesh is None or len(mesh.rwg) == 0:
                 raise ValueError("The mesh on screen has no RWG unknowns to solve for.")
         except ValueError as exc:
@@ -629,10 +701,15 @@ class SolvePanel(QWidget):
         self.layer.set_current(outcome.mesh, s.current_density, s.charge_density)
         number, unit = format_frequency(s.frequency)
         jmax = float(self.layer.magnitude.max())
+        from core.mom import VoltageSource
+
+        driven = (f"input impedance {format_impedance(s.input_impedance)}"
+                  if isinstance(s.excitation, VoltageSource) else
+                  f"extinction cross-section {s.extinction_cross_section * 1e6:.5g} mm²")
         lines = [f"<b>{len(s.coefficients):,} unknowns at {number} {unit}</b> "
                  f"({outcome.seconds * 1e3:.0f} ms)",
                  f"largest |J| {jmax:.5g} A/m",
-                 f"extinction cross-section {s.extinction_cross_section * 1e6:.5g} mm²",
+                 driven,
                  f"condition number {s.condition_number:.3g}, residual {s.residual:.1e}"]
         lines += [f"<span style='color:#b35900'>{w}</span>" for w in s.warnings]
         self.summary.setText("<br>".join(lines))

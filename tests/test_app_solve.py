@@ -273,7 +273,9 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
     menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
     next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
     panel = open_solve(window, qtbot)
-    panel.tabs.setCurrentIndex(1)
+    bar = panel.tabs.tabBar()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(1).center())
+    assert panel.tabs.currentIndex() == 1
     click(qtbot, panel.sweep_button)  # 46 frequencies, 3–12 GHz, 698 unknowns
     qtbot.waitUntil(lambda: panel.progress.value() >= 1, timeout=60_000)
     assert panel.progress.maximum() == 46
@@ -285,3 +287,54 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
     assert outcome.kind == "sweep" and outcome.cancelled
     assert "cancelled after" in outcome.error and "of 46 frequencies" in outcome.error
     assert panel.sweep_result is None
+
+
+def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(window, qtbot, tmp_path,
+                                                                     monkeypatch):
+    from app.solve_panel import format_impedance
+    from core.io import write_mesh
+    from core.mom import VoltageSource
+    from tests.app_user import answer_file_dialogs
+    from tests.test_mom_api import strip
+
+    # File > Open the 1 m × 20 mm strip of the API tests (40 × 2 cells, a vertex row at x = 0)
+    answer = answer_file_dialogs(monkeypatch)
+    answer(write_mesh(strip(), tmp_path / "strip.vtu"))
+    window.act_open.trigger()
+    panel = open_solve(window, qtbot)
+    mesh = window.model.result.mesh
+    assert mesh.n_triangles == 160 and len(mesh.rwg) > AUTO_SOLVE_UNKNOWNS
+
+    choose(panel.excitation, "feed")
+    assert panel.feed_start.isVisible() and not panel.direction.isVisible()
+    type_into(panel.frequency, "140")
+    choose(panel.unit, "MHz")
+    type_into(panel.feed_start, "3, -10")  # not on a mesh line: said at once, nothing solved
+    type_into(panel.feed_end, "3, 10")
+    click(qtbot, panel.solve_button)
+    assert "no interior edge lies on the feed segment" in panel.error.text()
+    assert panel.solution is None
+    type_into(panel.feed_start, "0, -10")
+    type_into(panel.feed_end, "0, 10")
+    click(qtbot, panel.solve_button)
+    qtbot.waitUntil(lambda: panel.solution is not None, timeout=120_000)
+
+    direct = solve(strip(), 140e6, VoltageSource((0.0, -10.0), (0.0, 10.0)))
+    z = panel.solution.input_impedance
+    assert z == pytest.approx(direct.input_impedance, rel=1e-9)
+    # just below the strip's half-wave series resonance: R_in near 70 Ω, X_in < 0
+    assert 55 < z.real < 80 and z.imag < 0
+    assert f"input impedance {format_impedance(z)}" in panel.summary.text()
+    assert panel.layer._surface_actor.GetVisibility()
+    # the Sweep tab plots a plane wave's extinction: with the feed it says so, runs nothing
+    bar = panel.tabs.tabBar()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(1).center())
+    assert panel.tabs.currentIndex() == 1
+    click(qtbot, panel.sweep_button)
+    assert "choose Excitation: plane wave" in panel.resonance_label.text()
+    assert panel.sweep_result is None and not panel.progress.isVisible()
+    qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(0).center())
+
+    # back to a plane wave: its rows return
+    choose(panel.excitation, "plane")
+    assert panel.direction.isVisible() and not panel.feed_start.isVisible()

@@ -105,6 +105,31 @@ def test_feed_prints_the_input_impedance(capsys):
     assert real > 0  # a passive antenna radiates: positive input resistance
 
 
+def test_screenshot_renders_the_current_headless(tmp_path):
+    import imageio.v3 as iio
+
+    # without a display (run() drops DISPLAY), as `barymesh mesh --screenshot` renders
+    r = run("--preset", "makarov-platefine", "--freq", "300MHz", "--screenshot", "j.png",
+            "--window-size", "640", "480", cwd=tmp_path)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert "wrote j.png (640x480 px)" in r.stdout
+    image = iio.imread(tmp_path / "j.png")[..., :3].astype(int)
+    assert image.shape == (480, 640, 3)
+    # the plate (left of the colour bar, which sits at 86 % of a wide view's width) is
+    # painted with the YlOrRd map: warm pixels, from dark red (|J| peaks at the plate's
+    # edges along E) to pale yellow (its corners), not one colour
+    plate = image[:, : int(0.8 * 640)]
+    warm = plate[..., 0] - plate[..., 2] > 60
+    assert warm.sum() > 0.1 * warm.size
+    green = plate[..., 1][warm]
+    assert np.percentile(green, 1) < 80 and np.percentile(green, 95) > 200
+    rows = np.nonzero((plate[..., 1] < 80) & warm)[0]  # the darkest reds
+    ys = np.nonzero(warm)[0]
+    middle = (ys.min() + ys.max()) / 2
+    # |J| of an x-polarised wave peaks at the edges y = ±500 mm, not in the middle
+    assert np.abs(rows - middle).min() > 0.3 * (ys.max() - ys.min()) / 2
+
+
 @pytest.mark.parametrize(
     ("args", "fragment"),
     [
@@ -116,6 +141,8 @@ def test_feed_prints_the_input_impedance(capsys):
         (("--freq", "3GHz:6GHz:4", "-o", "a.vtu"), "a .vtu holds one frequency"),
         (("--freq", "6GHz", "--plot", "p.png"), "--plot needs a sweep"),
         (("--freq", "6GHz", "--feed", "0,0:0,0"), "zero length"),
+        (("--freq", "3GHz:6GHz:4", "--screenshot", "j.png"), "--screenshot shows one"),
+        (("--freq", "6GHz", "--screenshot", "j.jpg"), "expected a .png file"),
     ],
 )
 def test_usage_errors_are_one_line_exit_2(tmp_path, monkeypatch, capsys, args, fragment):

@@ -275,3 +275,46 @@ def test_split_ring_resonance_is_the_same_on_a_fine_unstructured_mesh():
     other = _delaunay_split_ring(rings=5, spacing=0.1)  # 2,488 unknowns
     ours = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=4"]))
     assert abs(_resonance_of(other) / _resonance_of(ours) - 1) < 0.005
+
+
+def _gmsh_split_ring(size, r_in=3.5, r_out=4.0, half_gap=0.5):
+    """The srr-openmodes geometry meshed by gmsh (OpenCASCADE: a disc minus a disc minus
+    the slot, Delaunay-refined triangles of about ``size`` mm)."""
+    gmsh = pytest.importorskip("gmsh")
+    gmsh.initialize(["-noenv"], readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("srr")
+        occ = gmsh.model.occ
+        ring, _ = occ.cut([(2, occ.addDisk(0, 0, 0, r_out, r_out))],
+                          [(2, occ.addDisk(0, 0, 0, r_in, r_in)),
+                           (2, occ.addRectangle(-r_out - 1, -half_gap, 0, r_out + 1,
+                                                2 * half_gap))])  # fmt: skip
+        occ.synchronize()
+        assert len(ring) == 1
+        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.option.setNumber("Mesh.Algorithm", 5)  # Delaunay
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _types, _ids, nodes = gmsh.model.mesh.getElements(2)
+    finally:
+        gmsh.finalize()
+    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+    tri = index[np.asarray(nodes[0], dtype=np.int64).reshape(-1, 3)]
+    points = coords.reshape(-1, 3)
+    points[:, 2] = 0.0
+    zeros = np.zeros(len(tri), dtype=int)
+    return TriMesh(points, tri, zeros, zeros + 1, 1, mode="imported")
+
+
+def test_split_ring_resonance_is_the_same_on_a_gmsh_mesh():
+    # the issue's cross-mesh check (needs the `bench` extra): the same ring meshed by gmsh
+    other = _gmsh_split_ring(size=0.15)  # 1,603 unknowns (at 0.2 mm: 1,092, 0.48 %)
+    stats = other.stats()
+    assert stats["junction_edges"] == 0 and stats["boundary_edges"] > 0
+    # the ring's area, 0.75π mm² less the slot's 0.5 mm² (to the arcs' chords)
+    assert other.areas.sum() == pytest.approx(np.pi * (4.0**2 - 3.5**2) - 0.5, rel=0.01)
+    ours = build_mesh(load_preset("srr-openmodes")[0])
+    assert abs(_resonance_of(other) / _resonance_of(ours) - 1) < 0.005
