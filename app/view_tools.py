@@ -36,7 +36,8 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-#: Meshes with more triangles get their locator built in a worker thread.
+#: Meshes with more triangles get their locator built in a worker thread, when the
+#: pointer first comes over the view.
 SYNC_LOCATOR = 50_000
 #: A press and release closer than this (px) is a click, farther a drag (rotate, pan).
 CLICK_SLOP = 4
@@ -74,6 +75,7 @@ class ViewTools(QObject):
         self.plotter = window.plotter
         self.mesh: TriMesh | None = None
         self.locator: MeshLocator | None = None
+        self._locator_started: TriMesh | None = None  # the mesh whose locator is being built
         self.hit: Hit | None = None
         self.selected: Hit | None = None
         self.cursor: np.ndarray | None = None
@@ -146,13 +148,25 @@ class ViewTools(QObject):
             self.measure.set_lift(8e-4 * max(span, 1e-9))
             if mesh.n_triangles <= SYNC_LOCATOR:
                 self.locator = MeshLocator(mesh)
-            else:
-                self.pool.start(Job(partial(_build_locator, mesh), self._relay.done))
+            # a big mesh's locator is built in a worker when the pointer first comes over
+            # the view (_ensure_locator): a mesh only passed through (a drag, a return to
+            # the last one) never builds one, nor keeps its memory alive while it does
+        self._locator_started = None
         self._show_readout()
+
+    def _ensure_locator(self) -> None:
+        """Start building the locator of the mesh on screen, once, if it has none."""
+        mesh = self.mesh
+        if (mesh is None or not mesh.n_triangles or self.locator is not None
+                or self._locator_started is mesh):
+            return
+        self._locator_started = mesh
+        self.pool.start(Job(partial(_build_locator, mesh), self._relay.done))
 
     def _locator_ready(self, locator: MeshLocator | None) -> None:
         if locator is not None and locator.mesh is self.mesh:
             self.locator = locator
+            self._update_hover()  # the pointer may be resting there already
             return
         if locator is not None and locator.mesh.n_triangles > 200_000:
             # the locator of a mesh no longer on screen (built while the user moved on)
@@ -173,6 +187,7 @@ class ViewTools(QObject):
             # at once, before the paint this resize brings: the refit then costs no paint
             self.window.refit_if_framed(render=False)
         elif kind == QEvent.Type.MouseMove:
+            self._ensure_locator()
             if not event.buttons():
                 self._pos = event.position()
                 self._timer.start()
@@ -182,6 +197,7 @@ class ViewTools(QObject):
             self.cursor = None
             self._show_readout()
         elif kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
+            self._ensure_locator()
             self._press = event.position()
         elif (kind == QEvent.Type.MouseButtonRelease and event.button() == Qt.MouseButton.LeftButton
               and self._press is not None):

@@ -444,6 +444,9 @@ def test_export_dialog_writes_in_the_chosen_unit(active, qtbot, tmp_path):
 
 @pytest.mark.parametrize("window_params", [MeshParams()])  # the paper's Fig. 12(a)
 def test_big_matrix_hover_blits_marks_tiny_triangles_and_a_click_zooms(active, qtbot):
+    # Fig. 12(a) is built in the worker thread: wait for it to be on screen
+    qtbot.waitUntil(lambda: active.model.result is not None and not active.controller.busy,
+                    timeout=30_000)
     mesh = active.model.result.mesh
     assert mesh.n_triangles == 23_040
     key(qtbot, active.plotter, Qt.Key.Key_M)
@@ -523,6 +526,7 @@ def test_a_big_mesh_gets_its_readout_from_a_locator_built_in_the_worker(active, 
     active.controller.flush()
     mesh = active.model.result.mesh
     assert mesh.n_triangles == 18 and tools.mesh is mesh
-    qtbot.waitUntil(lambda: tools.locator is not None and tools.locator.mesh is mesh)
+    assert tools.locator is None  # not built until the pointer comes over the view
     hover_world(qtbot, active.plotter, mesh.centroids[7])
+    qtbot.waitUntil(lambda: tools.locator is not None and tools.locator.mesh is mesh)
     qtbot.waitUntil(lambda: "triangle 7 " in tools.readout.text())
