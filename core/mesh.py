@@ -12,6 +12,7 @@ import scipy.sparse as sp
 from .assembly import patch_topology
 from .overlap import union_area
 from .quality import TriangleQuality, quality_summary, triangle_quality
+from .structures import _sector_chain_vertices
 from .subdivision import PatchTemplate
 from .topology import (
     BLOCK,
@@ -314,6 +315,42 @@ class TriMesh:
             "area": n_p * float(q.areas.sum()),
         }
 
+    def _sector_edge_counts(self) -> np.ndarray | None:
+        """Edge counts by valence of closed rings of sectors glued side 2 to side 0.
+
+        A conforming ring without a slot (and not touching the other ring) is a
+        closed chain of m sectors; when the vertex map is exactly that chain's, ring
+        after ring (checked against :func:`core.structures._sector_chain_vertices`,
+        m ≥ 3), every sector adds the same edges, so the counts are m/3 times those
+        of a closed chain of three sectors, per ring: the counts of
+        :func:`core.topology.patch_edge_counts` without sorting the glued edges.
+        Returns None otherwise (split, touching, paper or imported rings).
+        """
+        t = self._template
+        n_p = self.n_patches
+        if t is None or n_p == 0 or self.mode != "conforming":
+            return None
+        nv, nt = len(t.uv), len(t.triangles)
+        if self.n_triangles != n_p * nt:
+            return None
+        ring_of_patch = self.regions[::nt]
+        starts = np.flatnonzero(np.r_[True, ring_of_patch[1:] != ring_of_patch[:-1]])
+        n_rings = len(starts)
+        m = n_p // n_rings
+        if m < 3 or m * n_rings != n_p or not np.array_equal(starts, np.arange(n_rings) * m):
+            return None
+        s = t.sides.shape[1]
+        if self.n_vertices != n_rings * m * (nv - s):
+            return None
+        ids, _ = _sector_chain_vertices(t, m, [True] * n_rings)
+        if not np.array_equal(self._vertex_map.ravel(), ids):
+            return None
+        chain3, _ = _sector_chain_vertices(t, 3, [True])
+        counts3 = patch_edge_counts(t.edges, t.valence, chain3.reshape(3, nv), 3 * (nv - s))
+        if (counts3 % 3).any():  # not one sector's worth three times: count them all
+            return None
+        return counts3 // 3 * np.int64(n_p)
+
     def _measured_stats(self) -> dict[str, Any]:
         """Topology counts and quality aggregates from every edge and triangle.
 
@@ -326,7 +363,9 @@ class TriMesh:
         t = self._template
         known = "topology" in self.__dict__ or "quality" in self.__dict__
         if t is not None and not known:
-            counts = patch_edge_counts(t.edges, t.valence, self._vertex_map, self.n_vertices)
+            counts = self._sector_edge_counts()
+            if counts is None:
+                counts = patch_edge_counts(t.edges, t.valence, self._vertex_map, self.n_vertices)
             s = quality_summary(self.points, self.triangles, self._columns)
             summary = s.min_angle_deg, s.max_aspect_ratio, s.area
             side_range = s.shortest_side, s.longest_side
@@ -395,4 +434,3 @@ class TriMesh:
             dict(self.ignored_cells),
             self._template,
         )
-

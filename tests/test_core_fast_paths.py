@@ -322,3 +322,69 @@ def test_quality_summary_equals_the_reductions_of_the_per_triangle_quality(scale
         assert np.array_equal(s.max_aspect_ratio, q.aspect_ratios.max(), equal_nan=True)
         assert np.isnan(s.max_aspect_ratio) == degenerate
     assert quality_summary(points, triangles[:0]) == (0.0,) * 5
+
+
+# closed conforming rings: edges counted for a chain of three sectors, then scaled
+
+
+def general_counts(mesh):
+    return np.bincount(edge_topology(mesh.triangles, mesh.n_vertices).valence, minlength=3)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(structure="double_ring", mode="conforming"),
+        MeshParams(structure="double_ring", mode="conforming", subdivisions=3, diagonal="AD"),
+        MeshParams(structure="ring", mode="conforming", scheme="barycentric", origin=(3.0, -7.0)),
+        MeshParams(structure="ring", mode="conforming", subdivisions=1, angle_step=120.0),
+    ],
+)
+def test_sector_edge_counts_of_closed_rings_equal_the_general_edge_finder(params):
+    mesh = build_mesh(params)
+    counts = mesh._sector_edge_counts()
+    assert counts is not None  # closed rings of glued sectors: the fast path must be taken
+    np.testing.assert_array_equal(counts, general_counts(mesh))
+    # V − E + F = 0 per closed ring
+    assert mesh.n_vertices - counts.sum() + mesh.n_triangles == 0
+    assert_counted_stats_equal_the_general_ones(params)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(structure="split_double_ring", mode="conforming"),  # open arcs
+        MeshParams(structure="double_ring", mode="conforming", outer_radius=5.0),  # touching
+        MeshParams(structure="double_ring", mode="paper", angle_step=30.0),
+        MeshParams(structure="square_split_double_ring", mode="conforming"),
+    ],
+)
+def test_sector_edge_counts_decline_other_layouts(params):
+    assert build_mesh(params)._sector_edge_counts() is None
+
+
+def test_sector_edge_counts_decline_renumbered_vertices():
+    # the same ring with its vertices numbered at random: the vertex map is no longer
+    # the chain's formula, so the edges are counted in general, with the same result
+    mesh = build_mesh(MeshParams(structure="ring", mode="conforming", angle_step=30.0))
+    new_id = np.random.default_rng(0).permutation(mesh.n_vertices)
+    points = np.empty_like(mesh.points)
+    points[new_id] = mesh.points
+    renumbered = TriMesh(
+        points, new_id[mesh.triangles], mesh.patch_ids, mesh.regions, mesh.n_patches,
+        mesh.mode, mesh.tolerance, _template=mesh._template,
+    )  # fmt: skip
+    assert renumbered._sector_edge_counts() is None
+    assert_stats_agree(renumbered.stats(), renumbered)
+    assert renumbered.stats()["edges"] == mesh.stats()["edges"]
+
+
+@SETTINGS
+@given(params(modes=("conforming",)))
+def test_sector_edge_counts_equal_the_general_edge_finder_on_random_rings(p):
+    assume(p.structure != "triangle")
+    mesh = build_mesh(p)
+    counts = mesh._sector_edge_counts()
+    event("sector counts" if counts is not None else "declined")
+    if counts is not None:
+        np.testing.assert_array_equal(counts, general_counts(mesh))
