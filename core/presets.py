@@ -27,22 +27,34 @@ def preset_names() -> list[str]:
     return sorted(p.stem for p in PRESET_DIR.glob("*.json"))
 
 
-def _read_json(path: Path) -> dict[str, Any]:
+def read_json_file(path: Path, kind: str = "parameter file",
+                   document: str = "JSON parameters", article: str = "") -> Any:
+    """The JSON document in ``path``; a ``ValueError`` naming the file for anything wrong.
+
+    ``kind`` names the file in "no such …" (``"parameter file"``, ``"cell file"``),
+    ``document`` what it should hold (``"JSON parameters"``, ``"JSON cell"``, with
+    ``article`` before it where English wants one).
+    """
+    expected = f"{article} {document}".strip()
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise ValueError(f"{path}: no such parameter file") from None
+        raise ValueError(f"{path}: no such {kind}") from None
     except OSError as exc:
         raise ValueError(f"{path}: cannot read it ({exc.strerror or exc})") from None
     except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a UTF-8 text file; expected JSON parameters") from None
+        raise ValueError(f"{path}: not a UTF-8 text file; expected {expected}") from None
     try:
-        data = json.loads(text)
+        return json.loads(text)
     except json.JSONDecodeError as exc:
         raise ValueError(f"{path}: invalid JSON at line {exc.lineno}: {exc.msg}") from None
     except (ValueError, RecursionError) as exc:  # a number of over 4300 digits, deep nesting
         why = "nested too deeply" if isinstance(exc, RecursionError) else "a number is too long"
-        raise ValueError(f"{path}: invalid JSON parameters ({why})") from None
+        raise ValueError(f"{path}: invalid {document} ({why})") from None
+
+
+def _read_json(path: Path) -> dict[str, Any]:
+    data = read_json_file(path)
     if not isinstance(data, dict):
         raise ValueError(
             f"{path}: expected a JSON object of parameter names to values, "

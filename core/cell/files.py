@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..params import MODES, MeshParams
+from ..presets import read_json_file
 from .model import Element, Lattice, PixelGrid, UnitCell
 
 FORMAT = "barymesh-cell"
@@ -261,17 +262,9 @@ def load_cell(path: str | Path) -> UnitCell:
     """Read and validate a cell file; errors name the file and the path in the document."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CellFileError(f"{path}: no such cell file") from None
-    except OSError as exc:
-        raise CellFileError(f"{path}: cannot read it ({exc.strerror or exc})") from None
-    except UnicodeDecodeError:
-        raise CellFileError(f"{path}: not a UTF-8 text file; expected a JSON cell") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise CellFileError(f"{path}: invalid JSON at line {exc.lineno}: {exc.msg}") from None
+        data = read_json_file(path, "cell file", "JSON cell", article="a")
+    except ValueError as exc:
+        raise CellFileError(str(exc)) from None
     return cell_from_dict(data, str(path))
 
 
