@@ -64,6 +64,9 @@ import numpy as np
 import scipy.sparse as sp
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from gmsh_peer import Gmsh, split_ring_fields  # noqa: E402
 
 from core import MeshParams, build_mesh  # noqa: E402
 from core.quality import triangle_quality  # noqa: E402
@@ -77,8 +80,6 @@ RING = {"10k": (4, 2.5), "100k": (8, 0.9), "1M": (16, 0.36), "4M": (32, 0.36)}
 RING_N4 = {"1M": (4, 0.02304), "4M": (4, 0.00576)}
 #: (subdivisions, patch_size) of the square patch array (square split double ring).
 ARRAY = {"10k": (4, 0.25), "100k": (8, 0.125), "1M": (16, 0.05), "4M": (32, 0.05)}
-#: (inner_radius, subdivisions) of the conforming split ring for gmsh; near-square sectors.
-SPLIT = {"10k": (4.0, 14), "100k": (20.0, 20), "1M": (20.0, 63), "4M": (80.0, 63)}
 #: The tolerance variant of peer (a) is ~8x slower; run it up to this size.
 TOL_SIZES = ("10k", "100k", "1M")
 #: gmsh takes about a minute per million triangles here; 4M only on request.
@@ -146,27 +147,9 @@ def workloads(sizes: list[str], gmsh_sizes: list[str]) -> list[Workload]:
                 ["a-exact"],
             )
         )
-        if size in gmsh_sizes:
-            r, n = SPLIT[size]
-            h = 1.0
-            step = math.degrees(h / (r + h / 2))  # sectors about as long as they are wide
-            out.append(
-                Workload(
-                    "conforming split ring",
-                    size,
-                    MeshParams(
-                        structure="split_ring",
-                        mode="conforming",
-                        inner_radius=r,
-                        outer_radius=r + 5 * h,
-                        patch_size=h,
-                        subdivisions=n,
-                        angle_step=step,
-                        gap_width=1.0,
-                    ),
-                    ["gmsh"],
-                )
-            )
+        if size in gmsh_sizes:  # sectors about as long as they are wide (gmsh_peer.SPLIT)
+            params = MeshParams(**split_ring_fields(size))
+            out.append(Workload("conforming split ring", size, params, ["gmsh"]))
     return out
 
 
@@ -243,55 +226,6 @@ def peer_a(poly, k: int, tolerance: float | None) -> dict:
         "shared_edges": len(adjacency),
         "nnz": conn.nnz,
     }
-
-
-# -- peer (b): gmsh ------------------------------------------------------------
-
-
-class Gmsh:
-    """gmsh's 2D mesher on the conforming split ring's geometry."""
-
-    def __init__(self, params: MeshParams, target: int) -> None:
-        import gmsh
-
-        self.gmsh = gmsh
-        self.params = params
-        if not gmsh.isInitialized():
-            gmsh.initialize(["-noenv"], readConfigFiles=False)
-        gmsh.option.setNumber("General.Terminal", 0)
-        r, h, g = params.inner_radius, params.patch_size, params.gap_width
-        area = math.pi * ((r + h) ** 2 - r**2) - g * h  # slot area, nearly
-        # equilateral triangles of side s: T = 4 A / (sqrt(3) s^2); calibrated on a
-        # coarser mesh (at most 20k triangles), where gmsh is quick
-        size = math.sqrt(4 * area / (math.sqrt(3) * target))
-        coarse = max(1.0, target / 20_000)
-        for _ in range(2):
-            got = len(self.run(size * math.sqrt(coarse))[1])
-            size *= math.sqrt(got * coarse / target)
-        self.size = size
-
-    def run(self, size: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        gmsh = self.gmsh
-        size = self.size if size is None else size
-        p = self.params
-        r, h, g = p.inner_radius, p.patch_size, p.gap_width
-        gmsh.clear()
-        occ = gmsh.model.occ
-        outer = occ.addDisk(0, 0, 0, r + h, r + h)
-        inner = occ.addDisk(0, 0, 0, r, r)
-        ring, _ = occ.cut([(2, outer)], [(2, inner)])
-        slot = occ.addRectangle(0, -g / 2, 0, r + 2 * h, g)
-        occ.rotate([(2, slot)], 0, 0, 0, 0, 0, 1, math.radians(p.gap_angle))
-        occ.cut(ring, [(2, slot)])
-        occ.synchronize()
-        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-        gmsh.model.mesh.generate(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, node_tags = gmsh.model.mesh.getElementsByType(2)
-        index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
-        index[tags] = np.arange(len(tags))
-        return coords.reshape(-1, 3), index[node_tags.astype(np.int64)].reshape(-1, 3)
 
 
 # -- measurement -----------------------------------------------------------------

@@ -100,3 +100,89 @@ def test_latency_benchmark_runs_a_few_frames_in_the_window(tmp_path: Path) -> No
         assert parts[part]["median"] > 0
     assert parts["total"]["median"] >= parts["meshing"]["median"]
     assert "whole frame median" in proc.stdout
+
+
+def _interior_edge_count(triangles) -> int:
+    """Edges on exactly two triangles, counted from the triangles alone."""
+    import numpy as np
+
+    edges = np.sort(np.asarray(triangles)[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    return int((counts == 2).sum())
+
+
+def _angles_and_aspects(points, triangles):
+    """Smallest angle (law of cosines) and l_max / (2 √3 inradius) of every triangle."""
+    import numpy as np
+
+    p = np.asarray(points)[np.asarray(triangles)]  # (T, 3, 3)
+    sides = np.linalg.norm(p[:, [1, 2, 0]] - p, axis=2)  # side k from vertex k to k + 1
+    a, b, c = sides[:, 1], sides[:, 2], sides[:, 0]  # a opposite vertex 0, ...
+    cosines = np.stack([(b**2 + c**2 - a**2) / (2 * b * c),
+                        (c**2 + a**2 - b**2) / (2 * c * a),
+                        (a**2 + b**2 - c**2) / (2 * a * b)], axis=1)
+    angles = np.degrees(np.arccos(np.clip(cosines, -1, 1))).min(axis=1)
+    s = sides.sum(axis=1) / 2
+    area = np.sqrt(np.maximum(s * (s - a) * (s - b) * (s - c), 0))  # Heron
+    return angles, sides.max(axis=1) / (2 * math.sqrt(3) * (area / s))
+
+
+def test_quality_benchmark_measures_presets_and_the_split_ring(tmp_path: Path) -> None:
+    from core import MeshParams, build_mesh
+    from core.presets import load_preset, preset_names
+
+    spec = importlib.util.spec_from_file_location("gmsh_peer", ROOT / "benchmarks" / "gmsh_peer.py")
+    gmsh_peer = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gmsh_peer)
+    has_gmsh = importlib.util.find_spec("gmsh") is not None
+    out = tmp_path / "quality.json"
+    # this checkout as its own baseline: the "today" figures must be the "new" ones
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "quality.py"), "--sizes", "10k",
+           "--baseline", str(ROOT), "--markdown", "--json", str(out)]
+    if not has_gmsh:
+        cmd.append("--no-gmsh")
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    rows = {row["name"]: row for row in doc["rows"]}
+    assert set(rows) == {"split ring 10k", *preset_names()}
+    assert proc.stdout.count("\n| ") == len(rows) + 1  # header rule and one line per row
+
+    for row in rows.values():
+        assert 0 < row["min_angle_deg"] <= 60
+        assert row["max_aspect_ratio"] >= 1
+        assert 0 < row["unknowns"] <= 3 * row["triangles"] / 2
+        for key in ("triangles", "unknowns", "min_angle_deg", "max_aspect_ratio"):
+            assert row["baseline"][key] == row[key]
+        if row["mode"] == "paper":
+            # right isosceles sub-triangles: 45°, aspect √2 (2 + √2) / (4 √3 / 2) = (1 + √2) / √3
+            assert row["min_angle_deg"] == pytest.approx(45.0, abs=1e-9)
+            assert row["max_aspect_ratio"] == pytest.approx((1 + math.sqrt(2)) / math.sqrt(3))
+            assert "gmsh" not in row
+
+    cases = {"srr-openmodes": load_preset("srr-openmodes")[0],
+             "split ring 10k": MeshParams(**gmsh_peer.split_ring_fields("10k"))}
+    for name, params in cases.items():
+        mesh = build_mesh(params)
+        row = rows[name]
+        assert row["triangles"] == len(mesh.triangles)
+        assert row["unknowns"] == _interior_edge_count(mesh.triangles)
+        angles, aspects = _angles_and_aspects(mesh.points, mesh.triangles)
+        assert row["min_angle_deg"] == pytest.approx(angles.min(), abs=1e-7)
+        assert row["max_aspect_ratio"] == pytest.approx(aspects.max(), rel=1e-9)
+        if has_gmsh:
+            g = row["gmsh"]
+            assert abs(g["triangles"] - row["triangles"]) < 0.1 * row["triangles"]
+            assert 0 < g["min_angle_deg"] <= 60 and g["max_aspect_ratio"] >= 1
+            assert g["junction_edges"] == 0
+            # the same geometry: ours is inscribed in gmsh's curved boundary
+            assert row["area_mm2"] == pytest.approx(g["area_mm2"], rel=2e-3)
+
+
+def test_quality_benchmark_rejects_a_baseline_without_core(tmp_path: Path) -> None:
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "quality.py"), "--baseline", str(tmp_path)],
+        capture_output=True, text=True, timeout=120, check=False,
+    )
+    assert proc.returncode == 2
+    assert str(tmp_path) in proc.stderr and "core/__init__.py" in proc.stderr
