@@ -269,3 +269,38 @@ def resized(mask: np.ndarray, rows: int, cols: int) -> np.ndarray:
         dst.append(slice(max(0, shift), max(0, shift) + n))
     out[tuple(dst)] = m[tuple(src)]
     return out
+
+
+def pixel_at(shape: tuple[int, int], origin: tuple[float, float], pixel_size: float,
+             xy: tuple[float, float]) -> tuple[int, int] | None:
+    """(row, column) of the pixel containing the point ``xy`` (mm), None outside the grid.
+
+    A point on a side between two pixels belongs to the upper / right one.
+
+    Examples
+    --------
+    >>> pixel_at((16, 16), (-4.0, -4.0), 0.5, (0.1, -3.9))
+    (0, 8)
+    >>> pixel_at((16, 16), (-4.0, -4.0), 0.5, (4.2, 0.0)) is None
+    True
+    """
+    col = int(np.floor((float(xy[0]) - origin[0]) / pixel_size))
+    row = int(np.floor((float(xy[1]) - origin[1]) / pixel_size))
+    if 0 <= row < shape[0] and 0 <= col < shape[1]:
+        return row, col
+    return None
+
+
+def pixel_line(start: tuple[int, int], end: tuple[int, int]) -> np.ndarray:
+    """(K, 2) int64 pixels from ``start`` to ``end`` with no gap (a fast drag skips pixels
+    between two mouse events; the stroke fills them in, sharing a side or a corner).
+
+    Examples
+    --------
+    >>> pixel_line((0, 0), (2, 4)).tolist()
+    [[0, 0], [1, 1], [1, 2], [2, 3], [2, 4]]
+    """
+    a, b = np.asarray(start, dtype=np.float64), np.asarray(end, dtype=np.float64)
+    n = int(np.abs(b - a).max())
+    t = np.linspace(0.0, 1.0, n + 1)[:, None]
+    return np.floor(a + t * (b - a) + 0.5).astype(np.int64)
