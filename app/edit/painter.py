@@ -75,6 +75,7 @@ COLORS = {
     "outline": "#3a4250",
     "contacts": "#e0001b",
     "erased": "#ffffff",
+    "hover": "#1f6fd1",
 }
 #: Triangle edges are drawn while a pixel covers at least this many screen pixels.
 EDGES_MIN_PIXELS = 14.0
@@ -306,6 +307,7 @@ class PixelPainterWindow(QMainWindow):
         if reframe:
             self.reset_view()
         self._draw_pending()
+        self._refresh_hover()
         self.request_build()
 
     # -- edits (each one undo step) ----------------------------------------------------------
@@ -369,6 +371,7 @@ class PixelPainterWindow(QMainWindow):
             return
         self._last_symmetry = mode
         self._square_symmetry = None
+        self._refresh_hover()
         if not pixels.is_invariant(self.mask, mode):
             self.statusBar().showMessage(
                 f"The grid is not {pixels.SYMMETRY_TITLES[mode]} symmetric: the next edit adds "
@@ -464,6 +467,9 @@ class PixelPainterWindow(QMainWindow):
             if self._stroke is not None:
                 self._move(event.position())
                 return True
+            self._hover(self.pixel_at(event.position()))
+        elif kind == QEvent.Type.Leave:
+            self._hover(None)
         elif kind == QEvent.Type.MouseButtonRelease:
             if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
                 self._release()
@@ -494,6 +500,31 @@ class PixelPainterWindow(QMainWindow):
         pixel = self.pixel_at(pos)
         if pixel is not None and pixel != self._stroke["last"]:
             self._add_to_stroke(pixel)
+
+    def _hover(self, pixel: tuple[int, int] | None) -> None:
+        """Outline the pixel under the mouse and its images under the symmetry mode."""
+        if pixel == self._hovered:
+            return
+        self._hovered = pixel
+        cells = np.empty((0, 2), dtype=np.int64)
+        if pixel is not None:
+            try:
+                ids = pixels.orbit_ids(self.mask.shape, self.symmetry)
+                cells = np.argwhere(ids == ids[pixel])
+            except ValueError:
+                cells = np.array([pixel])
+        self._set("hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells,
+                                  5 * self._dz))
+        self._schedule_render()
+
+    _hovered: tuple[int, int] | None = None
+
+    def _refresh_hover(self) -> None:
+        pixel, self._hovered = self._hovered, (-1, -1)
+        shape = self.mask.shape
+        if pixel is not None and not (0 <= pixel[0] < shape[0] and 0 <= pixel[1] < shape[1]):
+            pixel = None
+        self._hover(pixel)
 
     def _add_to_stroke(self, pixel: tuple[int, int]) -> None:
         stroke = self._stroke
@@ -566,7 +597,8 @@ class PixelPainterWindow(QMainWindow):
     def _make_actors(self) -> None:
         p = self.plotter
         self.datasets = {name: pv.PolyData() for name in
-                         ("grid", "faces", "edges", "painted", "erased", "outline", "contacts")}
+                         ("grid", "faces", "edges", "painted", "erased", "outline", "contacts",
+                          "hover")}
         d = self.datasets
         self.actors = {
             "grid": p.add_mesh(d["grid"], color=COLORS["grid"], line_width=1.0, lighting=False,
@@ -586,13 +618,16 @@ class PixelPainterWindow(QMainWindow):
             "contacts": p.add_mesh(d["contacts"], color=COLORS["contacts"], point_size=11.0,
                                    render_points_as_spheres=True, lighting=False,
                                    reset_camera=False, render=False, pickable=False),
+            "hover": p.add_mesh(d["hover"], color=COLORS["hover"], line_width=2.5,
+                                style="wireframe", lighting=False, reset_camera=False,
+                                render=False, pickable=False),
         }
         for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
                       "MouseWheelBackwardEvent"):
             p.iren.add_observer(event, self._zoomed)
 
-    def _set(self, name: str, data: pv.PolyData) -> None:
-        self.datasets[name].copy_from(data, deep=True)
+    def _set(self, name: str, data: pv.PolyData, deep: bool = True) -> None:
+        self.datasets[name].copy_from(data, deep=deep)
 
     def _draw_grid(self) -> None:
         """The pixel grid's lines (under the metal) and the cell outline."""
@@ -641,8 +676,8 @@ class PixelPainterWindow(QMainWindow):
             return
         self.cell_mesh = built.cell_mesh
         self._built_mask = built.mask
-        self._set("faces", built.faces)
-        self._set("edges", built.edges)
+        self._set("faces", built.faces, deep=False)  # the worker's arrays, kept in `built`
+        self._set("edges", built.edges, deep=False)
         self._zoomed()
         self._draw_pending()
 
@@ -678,6 +713,9 @@ class PixelPainterWindow(QMainWindow):
 
         on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
         self.actors["edges"].SetVisibility(on_screen >= EDGES_MIN_PIXELS)
+        # a contact dot of at most half a pixel, so that many of them still read as dots
+        self.actors["contacts"].GetProperty().SetPointSize(float(np.clip(0.45 * on_screen,
+                                                                         4.0, 12.0)))
         self._schedule_render()
 
     def reset_view(self) -> None:
@@ -817,7 +855,25 @@ class PixelPainterWindow(QMainWindow):
     def _first_frame(self) -> None:
         if not self._closed and not self._framed:
             self._framed = True
+            self._tune_for_renderer()
             self.reset_view()
+
+    def _tune_for_renderer(self) -> None:
+        """No multi-sampling on a software rasteriser (llvmpipe: it triples a frame's time),
+        as the main window does; ``BARYMESH_MSAA`` overrides."""
+        import os
+
+        wanted = os.environ.get("BARYMESH_MSAA")
+        if wanted is None:
+            try:
+                info = self.plotter.ren_win.ReportCapabilities() or ""
+            except Exception:  # noqa: BLE001 - a report is a nicety
+                info = ""
+            wanted = "0" if "llvmpipe" in info or "softpipe" in info else "4"
+        try:
+            self.plotter.ren_win.SetMultiSamples(max(0, int(wanted)))
+        except ValueError:
+            log.warning("BARYMESH_MSAA=%r is not a whole number", wanted)
 
     _framed = False
 
