@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
 from app.edit import pixels  # noqa: E402
@@ -334,3 +334,79 @@ def test_opened_from_the_cell_menu(window, qtbot):
     assert painter.cell_mesh.mesh.n_triangles == 32 * int(painter.mask.sum())
     window.close()
     assert painter._closed
+
+
+def test_the_mouse_over_a_pixel_outlines_its_orbit(painter):
+    for mode, order in (("none", 1), ("mirror_x", 2), ("4-fold", 4), ("8-fold", 8)):
+        choose(painter.symmetry_box, mode)
+        QTest.mouseMove(painter.plotter, at(painter, 2, 5))  # on no mirror line
+        assert painter.datasets["hover"].n_cells == order, mode
+        QTest.mouseMove(painter.plotter, at(painter, 3, 5))
+        assert painter.datasets["hover"].n_cells == order, mode
+    # the outlined squares are the pixel's images under the eight maps of the square
+    centres = painter.datasets["hover"].cell_centers().points[:, :2]
+    images = {g(3, 5, 16, 16) for g in transforms("8-fold")}
+    expected = np.array([painter.pixel_centre(r, c)[:2] for r, c in images])
+    assert len(centres) == len(expected) == 8
+    assert {tuple(p) for p in np.round(centres, 6)} == {tuple(p) for p in np.round(expected, 6)}
+    QTest.mouseMove(painter.plotter, QPoint(2, 2))  # off the grid: no outline
+    assert painter.datasets["hover"].n_cells == 0
+
+
+def test_keys_of_the_painter(painter, qtbot):
+    with qtbot.waitActive(painter):
+        painter.activateWindow()
+    painter.plotter.setFocus()
+    mask = painter.mask.copy()
+    for key, mode in ((Qt.Key.Key_8, "8-fold"), (Qt.Key.Key_X, "mirror_x"),
+                      (Qt.Key.Key_Y, "mirror_y"), (Qt.Key.Key_0, "none"),
+                      (Qt.Key.Key_4, "4-fold")):
+        QTest.keyClick(painter.plotter, key)
+        assert painter.symmetry == mode
+    QTest.keyClick(painter.plotter, Qt.Key.Key_I)
+    assert np.array_equal(painter.mask, ~mask)
+    QTest.keyClick(painter.plotter, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert np.array_equal(painter.mask, mask)
+    QTest.keyClick(painter.plotter, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)
+    assert np.array_equal(painter.mask, ~mask)
+    QTest.keyClick(painter.plotter, Qt.Key.Key_E)
+    assert painter.act_erase.isChecked()
+    QTest.keyClick(painter.plotter, Qt.Key.Key_F)
+    assert painter.act_fill.isChecked()
+    QTest.keyClick(painter.plotter, Qt.Key.Key_P)
+    assert painter.act_pen.isChecked()
+    QTest.keyClick(painter.plotter, Qt.Key.Key_W)  # VTK's wireframe key does nothing here
+    assert painter.actors["faces"].GetProperty().GetRepresentation() == 2  # surface
+
+
+def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
+    """Conforming mode refuses a pixel over an element: the message is shown, the last
+    good mesh stays, and undo goes back to a cell that meshes."""
+    from core import MeshParams
+    from core.cell import Element, Lattice, PixelGrid, UnitCell
+
+    patch = Element(MeshParams(structure="patch", patch_size=1.0), position=(2.0, 2.0),
+                    name="patch")
+    grid = PixelGrid(np.zeros((16, 16), bool), 0.5, (-4.0, -4.0))
+    win = PixelPainterWindow(UnitCell(Lattice.rectangular(8.0), (patch,), grid,
+                                      mode="conforming"))
+    win.qtbot = qtbot
+    qtbot.addWidget(win)
+    win.resize(900, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    wait_built(qtbot, win)
+    win.reset_view()
+    assert win.cell_mesh.mesh.n_triangles == 32  # the element alone
+    drag(win, [(0, 0)])
+    wait_built(qtbot, win)
+    assert win.cell_mesh.mesh.n_triangles == 64
+    drag(win, [(12, 12)])  # under the element [2, 3] x [2, 3] mm
+    wait_built(qtbot, win)
+    assert "overlap" in win.statusBar().currentMessage()
+    assert "pixel (row 12, column 12)" in win.statusBar().currentMessage()
+    assert win.cell_mesh.mesh.n_triangles == 64 and win.datasets["faces"].n_cells == 64
+    click_action(win, win.act_undo)
+    wait_built(qtbot, win)
+    assert win.cell_mesh.mesh.n_triangles == 64 and not win.mask[12, 12]
+    win.close()
