@@ -684,7 +684,12 @@ class PixelPainterWindow(QMainWindow):
     def _show_stats(self, mask: np.ndarray) -> None:
         g = self.grid
         set_pixels = int(mask.sum())
-        parts = [f"Pixels <b>{set_pixels:,}</b> of {mask.size:,}"]
+        lattice = self.state.lattice
+        if lattice.kind == "rectangular":
+            cell = f"Cell {lattice.a1[0]:.6g} × {lattice.a2[1]:.6g} mm"
+        else:
+            cell = f"Cell {lattice.kind}, {lattice.area:.6g} mm²"
+        parts = [cell, f"Pixels <b>{set_pixels:,}</b> of {mask.size:,}"]
         built = self.last_built
         current = built is not None and built.stats is not None and np.array_equal(
             built.mask, mask) and built.error is None
@@ -797,6 +802,7 @@ class PixelPainterWindow(QMainWindow):
 
         self.seed_box = QSpinBox(self)
         self.seed_box.setRange(0, 2**31 - 1)
+        self.seed_box.setMaximumWidth(110)
         self.seed_box.setToolTip("Seed of the random fill (the same seed, the same pixels)")
         self.density_box = QSpinBox(self)
         self.density_box.setRange(0, 100)
@@ -830,12 +836,12 @@ class PixelPainterWindow(QMainWindow):
         edit.addWidget(self.seed_box)
         edit.addWidget(QLabel(" metal ", self))
         edit.addWidget(self.density_box)
-        edit.addSeparator()
-        edit.addActions([self.act_undo, self.act_redo])
         self.addToolBar(edit)
         self.addToolBarBreak()
         grid = QToolBar("Grid", self)
         grid.setObjectName("grid_toolbar")
+        grid.addActions([self.act_undo, self.act_redo])
+        grid.addSeparator()
         grid.addWidget(QLabel(" Rows ", self))
         grid.addWidget(self.rows_box)
         grid.addWidget(QLabel(" Columns ", self))
