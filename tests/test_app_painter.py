@@ -299,7 +299,36 @@ def test_a_64_by_64_grid_is_built_in_the_worker(painter, qtbot):
     drag(painter, [(0, 0), (0, 5)], RIGHT)  # strokes still land while it builds
     assert not painter.mask[0, :6].any()
     wait_built(qtbot, painter)
-    assert painter.cell_mesh.mesh.n_triangles == 32 * int(painter.mask.sum())
+    mesh = painter.cell_mesh.mesh
+    k = int(painter.mask.sum())
+    assert mesh.n_triangles == 32 * k
+    # drawn as one square per pixel, no triangle edges at this size on screen
+    assert painter.datasets["faces"].n_cells == k
+    assert np.isclose(painter.datasets["faces"].area, k * 0.25)
+    assert not painter.actors["edges"].GetVisibility()
+    # the wheel zooms in on the middle: the triangle edges come, those in view only
+    centre = at(painter, 32, 32)
+    for _ in range(8):
+        wheel(painter.plotter, centre, 120)
+        qtbot.wait(20)
+    qtbot.waitUntil(lambda: painter.actors["edges"].GetVisibility(), timeout=10_000)
+    x0, x1, y0, y1 = painter._view_rect(margin=0.5)
+    mid = 0.5 * (mesh.points[mesh.edges[:, 0], :2] + mesh.points[mesh.edges[:, 1], :2])
+    inside = ((mid[:, 0] >= x0) & (mid[:, 0] <= x1) & (mid[:, 1] >= y0) & (mid[:, 1] <= y1))
+    drawn = painter.datasets["edges"]
+    assert 0 < drawn.n_cells == inside.sum() < len(mesh.edges)
+
+
+def wheel(widget, pos, delta):
+    """One notch of the mouse wheel over ``widget`` at ``pos`` (positive: away, zoom in)."""
+    from PySide6.QtCore import QPointF
+    from PySide6.QtGui import QWheelEvent
+    from PySide6.QtWidgets import QApplication
+
+    event = QWheelEvent(QPointF(pos), QPointF(widget.mapToGlobal(pos)), QPoint(0, 0),
+                        QPoint(0, delta), Qt.MouseButton.NoButton, NONE,
+                        Qt.ScrollPhase.NoScrollPhase, False)
+    QApplication.sendEvent(widget, event)
 
 
 def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):

@@ -54,6 +54,8 @@ from core.cell import (
     load_cell_preset,
     save_cell,
 )
+from core.params import DEFAULT_MAX_TRIANGLES
+from core.subdivision import patch_template
 
 from ..framing import frame_from_above
 from ..worker import Job
@@ -78,7 +80,12 @@ COLORS = {
     "hover": "#1f6fd1",
 }
 #: Triangle edges are drawn while a pixel covers at least this many screen pixels.
-EDGES_MIN_PIXELS = 14.0
+EDGES_MIN_PIXELS = 20.0
+#: Larger meshes draw each pixel as one square (the same flat colour: the triangles are
+#: seen through their edges), which keeps a frame of a 128 x 128 grid cheap.
+FACES_AS_TRIANGLES = 40_000
+#: Meshes with more edges draw only the edges in view (again after a zoom or a pan).
+EDGES_ALL = 150_000
 #: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
 SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
 
@@ -103,6 +110,9 @@ class Built:
     edges: pv.PolyData | None = None
     stats: dict[str, Any] | None = None
     seconds: float = 0.0
+    lifted: np.ndarray | None = None  # (V, 3) points raised over the faces
+    edge_pairs: np.ndarray | None = None  # (E, 2) the mesh's edges
+    midpoints: np.ndarray | None = None  # (E, 2) their midpoints, to clip to the view
 
 
 def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
@@ -111,20 +121,45 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
     start = time.perf_counter()
     if cell is None:
         return Built(generation, mask, faces=pv.PolyData(), edges=pv.PolyData(), stats=None)
+    grid = cell.pixels
+    per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
+    triangles = per_pixel * int(mask.sum())
+    if triangles > DEFAULT_MAX_TRIANGLES:
+        return Built(generation, mask, error=(
+            f"{int(mask.sum()):,} pixels make {triangles:,} triangles, more than the budget "
+            f"of {DEFAULT_MAX_TRIANGLES:,}"))
     try:
         cm = build_cell(cell)
-    except ValueError as exc:
+    except Exception as exc:  # noqa: BLE001 - shown in the window, the last mesh stays
+        if not isinstance(exc, ValueError):
+            log.exception("building the painted cell failed")
         return Built(generation, mask, error=str(exc))
     mesh = cm.mesh
-    faces = pv.PolyData.from_regular_faces(np.asarray(mesh.points, dtype=np.float64),
-                                           np.asarray(mesh.triangles))
-    lifted = np.array(mesh.points, dtype=np.float64)
+    points = np.asarray(mesh.points, dtype=np.float64)
+    triangles = np.asarray(mesh.triangles)
+    if mesh.n_triangles > FACES_AS_TRIANGLES:  # pixels as one square each, elements as they are
+        pixel_region = len(cell.elements) + 1
+        own = triangles[np.asarray(mesh.regions) != pixel_region]
+        faces = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
+        if len(own):
+            faces = faces.merge(pv.PolyData.from_regular_faces(points, own))
+    else:
+        faces = pv.PolyData.from_regular_faces(points, triangles)
+    lifted = points.copy()
     lifted[:, 2] += dz
     e = np.asarray(mesh.edges)
-    lines = np.column_stack([np.full(len(e), 2, dtype=e.dtype), e]).ravel()
-    edges = pv.PolyData(lifted, lines=lines)
+    midpoints = 0.5 * (points[e[:, 0], :2] + points[e[:, 1], :2])
     stats = mesh.stats()
-    return Built(generation, mask, cm, None, faces, edges, stats, time.perf_counter() - start)
+    return Built(generation, mask, cm, None, faces, _lines(lifted, e), stats,
+                 time.perf_counter() - start, lifted, e, midpoints)
+
+
+def _lines(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
+    """A PolyData of the line cells ``pairs`` (k, 2) over all of ``points`` (V, 3)."""
+    if len(pairs) == 0:
+        return pv.PolyData()
+    lines = np.column_stack([np.full(len(pairs), 2, dtype=pairs.dtype), pairs]).ravel()
+    return pv.PolyData(points, lines=lines)
 
 
 def _quads(origin: np.ndarray, size: float, cells: np.ndarray, z: float) -> pv.PolyData:
@@ -156,7 +191,8 @@ class PixelPainterWindow(QMainWindow):
     ----------
     cell : UnitCell, optional
         The cell to edit; its elements stay as they are (drawn and meshed with the
-        pixels). A cell without a grid gets an empty 16 x 16 grid of 0.5 mm.
+        pixels). A cell without a grid gets an empty one over the cell
+        (:func:`blank_grid`).
         Default: the 16 x 16 coding cell preset.
     parent : QWidget, optional
     """
@@ -176,7 +212,6 @@ class PixelPainterWindow(QMainWindow):
         self.last_built: Built | None = None
         self._built_mask: np.ndarray | None = None
         self._stroke: dict[str, Any] | None = None
-        self._camera_key: tuple[float, ...] | None = None
         self.path: Path | None = None
 
         self.plotter = QtInteractor(self, auto_update=False)
@@ -240,9 +275,7 @@ class PixelPainterWindow(QMainWindow):
 
     def open_cell(self, cell: UnitCell) -> None:
         """Edit ``cell`` (a new history)."""
-        grid = cell.pixels
-        if grid is None:
-            grid = PixelGrid(np.zeros((16, 16), bool), 0.5, (-4.0, -4.0))
+        grid = cell.pixels if cell.pixels is not None else blank_grid(cell.lattice)
         self._elements = cell.elements
         self._mode, self._tolerance = cell.mode, cell.tolerance
         self._name, self._description = cell.name, cell.description
@@ -518,6 +551,7 @@ class PixelPainterWindow(QMainWindow):
         self._schedule_render()
 
     _hovered: tuple[int, int] | None = None
+    _last_good: Built | None = None
 
     def _refresh_hover(self) -> None:
         pixel, self._hovered = self._hovered, (-1, -1)
@@ -622,9 +656,14 @@ class PixelPainterWindow(QMainWindow):
                                 style="wireframe", lighting=False, reset_camera=False,
                                 render=False, pickable=False),
         }
+        # after the style has moved the camera (observers run in no promised order)
+        self._camera_timer = QTimer(self)
+        self._camera_timer.setSingleShot(True)
+        self._camera_timer.setInterval(0)
+        self._camera_timer.timeout.connect(self._zoomed)
         for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
                       "MouseWheelBackwardEvent"):
-            p.iren.add_observer(event, self._zoomed)
+            p.iren.add_observer(event, lambda *_: self._camera_timer.start())
 
     def _set(self, name: str, data: pv.PolyData, deep: bool = True) -> None:
         self.datasets[name].copy_from(data, deep=deep)
@@ -675,9 +714,10 @@ class PixelPainterWindow(QMainWindow):
             self.statusBar().showMessage(f"Cannot mesh this cell: {built.error}", 10000)
             return
         self.cell_mesh = built.cell_mesh
+        self._last_good = built
         self._built_mask = built.mask
         self._set("faces", built.faces, deep=False)  # the worker's arrays, kept in `built`
-        self._set("edges", built.edges, deep=False)
+        self._edges_view = None
         self._zoomed()
         self._draw_pending()
 
@@ -717,11 +757,52 @@ class PixelPainterWindow(QMainWindow):
         from ..framing import pixels_per_mm
 
         on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
-        self.actors["edges"].SetVisibility(on_screen >= EDGES_MIN_PIXELS)
+        shown = on_screen >= EDGES_MIN_PIXELS
+        self.actors["edges"].SetVisibility(shown)
+        if shown:
+            self._edges_in_view()
         # a contact dot of at most half a pixel, so that many of them still read as dots
         self.actors["contacts"].GetProperty().SetPointSize(float(np.clip(0.45 * on_screen,
                                                                          4.0, 12.0)))
         self._schedule_render()
+
+    _edges_view: tuple[float, ...] | None = None
+
+    def _edges_in_view(self) -> None:
+        """The triangle edges to draw: all of them, or on a large mesh those whose midpoint
+        is in view (with a margin of a pixel)."""
+        built = self._last_good
+        if built is None:
+            return
+        if built.edge_pairs is None:  # no mesh (no metal)
+            self._set("edges", pv.PolyData())
+            self._edges_view = None
+            return
+        if len(built.edge_pairs) <= EDGES_ALL:
+            if self._edges_view != ("all", id(built)):
+                self._set("edges", built.edges, deep=False)
+                self._edges_view = ("all", id(built))
+            return
+        x0, x1, y0, y1 = self._view_rect(margin=self.grid.pixel_size)
+        key = (id(built), x0, x1, y0, y1)
+        if self._edges_view == key:
+            return
+        m = built.midpoints
+        keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
+        self._set("edges", _lines(built.lifted, built.edge_pairs[keep]), deep=False)
+        self._edges_view = key
+
+    def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
+        """(x0, x1, y0, y1) mm the view shows from above, widened by ``margin``."""
+        from ..framing import view_size
+
+        camera = self.plotter.camera
+        w, h = view_size(self.plotter)
+        half_h = float(camera.parallel_scale)
+        half_w = half_h * w / h
+        cx, cy, _ = camera.focal_point
+        return (cx - half_w - margin, cx + half_w + margin,
+                cy - half_h - margin, cy + half_h + margin)
 
     def reset_view(self) -> None:
         """Frame the cell and the grid from above (R)."""
@@ -894,6 +975,7 @@ class PixelPainterWindow(QMainWindow):
         self._closed = True
         self._pending = None
         self._render_timer.stop()
+        self._camera_timer.stop()
         self.pool.waitForDone(30_000)
         self.plotter.close()
 
@@ -905,6 +987,23 @@ def _fits(grid: PixelGrid, lattice: Lattice) -> bool:
     w, h = grid.shape[1] * grid.pixel_size, grid.shape[0] * grid.pixel_size
     tol = 1e-9 * max(w, h)
     return abs(lattice.a1[0] - w) <= tol and abs(lattice.a2[1] - h) <= tol
+
+
+def blank_grid(lattice: Lattice, columns: int = 16) -> PixelGrid:
+    """An empty grid of ``columns`` square pixels across the cell's bounding box, centred.
+
+    Examples
+    --------
+    >>> g = blank_grid(Lattice.rectangular(8.0, 4.0))
+    >>> g.shape, g.pixel_size, g.origin
+    ((8, 16), 0.5, (-4.0, -2.0))
+    """
+    corners = lattice.corners()
+    w, h = np.ptp(corners, axis=0)
+    size = float(w) / columns
+    rows = max(1, int(round(float(h) / size)))
+    return PixelGrid(np.zeros((rows, columns), bool), size,
+                     (-0.5 * columns * size, -0.5 * rows * size))
 
 
 def _square_or_mirror(mode: str, shape: tuple[int, int]) -> bool:

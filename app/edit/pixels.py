@@ -40,8 +40,9 @@ SYMMETRY_TITLES = {
     "4-fold": "4-fold (quarter turns, C4)",
     "8-fold": "8-fold (turns + mirrors, D4)",
 }
-#: Largest rows or columns of a grid the editor accepts.
-MAX_SIDE = 1024
+#: Largest rows or columns of a grid the editor accepts (256 x 256 pixels: 2,097,152
+#: triangles when all are set, within the mesher's 5,000,000 budget).
+MAX_SIDE = 256
 
 
 def _mask(mask: np.ndarray) -> np.ndarray:
