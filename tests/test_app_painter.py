@@ -439,3 +439,28 @@ def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
     wait_built(qtbot, win)
     assert win.cell_mesh.mesh.n_triangles == 64 and not win.mask[12, 12]
     win.close()
+
+
+def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
+    import doctest
+
+    from app.edit import painter as module
+    from core import MeshParams
+    from core.cell import Element, Lattice, UnitCell
+
+    finder = doctest.DocTestFinder()
+    runner = doctest.DocTestRunner()
+    for test in finder.find(module.blank_grid, "blank_grid", globs=vars(module)):
+        runner.run(test)
+    assert runner.tries >= 2 and runner.failures == 0
+    ring = Element(MeshParams(angle_step=15.0, subdivisions=2), name="rings")
+    win = PixelPainterWindow(UnitCell(Lattice.rectangular(24.0, 12.0), (ring,)))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    wait_built(qtbot, win)
+    assert win.mask.shape == (8, 16) and not win.mask.any()
+    assert win.grid.pixel_size == 1.5 and win.grid.origin == (-12.0, -6.0)
+    rings = win.cell_mesh.mesh.n_triangles
+    assert rings > 0 and win.cell_mesh.mesh.n_triangles == win.datasets["faces"].n_cells
+    win.close()

@@ -220,3 +220,11 @@ def test_bad_input_is_refused_with_the_parameter_named():
         pixels.random_mask((2, 2), 0, density=1.5)
     with pytest.raises(ValueError, match="rows=0"):
         pixels.resized(m, 0, 2)
+
+
+def test_the_docstring_examples_hold():
+    """app/ is not in the doctest paths: run this module's examples here."""
+    import doctest
+
+    result = doctest.testmod(pixels, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted >= 8 and result.failed == 0
