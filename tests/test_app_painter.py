@@ -464,3 +464,20 @@ def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
     rings = win.cell_mesh.mesh.n_triangles
     assert rings > 0 and win.cell_mesh.mesh.n_triangles == win.datasets["faces"].n_cells
     win.close()
+
+
+def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
+    from core.cell import Lattice, PixelGrid, UnitCell
+
+    grid = PixelGrid(np.eye(4, dtype=bool), 0.123456, (-0.246912, -0.246912))
+    win = PixelPainterWindow(UnitCell(Lattice.rectangular(4 * 0.123456), pixels=grid))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    type_into(qtbot, win.rows_box, "6")
+    type_into(qtbot, win.size_box, "0.1235")  # what the field shows: no change
+    assert win.mask.shape == (6, 4) and win.grid.pixel_size == 0.123456
+    assert len(win.history) == 2
+    type_into(qtbot, win.size_box, "0.2")
+    assert win.grid.pixel_size == 0.2 and len(win.history) == 3
+    win.close()

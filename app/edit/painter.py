@@ -388,11 +388,16 @@ class PixelPainterWindow(QMainWindow):
             return False
         return self.push(new, lattice)
 
-    def _size_edited(self) -> None:
-        rows, cols, size = self.rows_box.value(), self.cols_box.value(), self.size_box.value()
-        grid = self.grid
-        if (rows, cols) != grid.shape or abs(size - grid.pixel_size) > 1e-12:
-            self.set_grid_size(rows, cols, size)
+    def _shape_edited(self) -> None:
+        rows, cols = self.rows_box.value(), self.cols_box.value()
+        if (rows, cols) != self.grid.shape:
+            self.set_grid_size(rows, cols, self.grid.pixel_size)
+
+    def _pixel_size_edited(self) -> None:
+        # the field shows 4 decimals: a pixel size from a file is only changed when typed
+        size, grid = self.size_box.value(), self.grid
+        if abs(size - round(grid.pixel_size, self.size_box.decimals())) > 1e-12:
+            self.set_grid_size(*grid.shape, size)
 
     def _symmetry_chosen(self) -> None:
         mode = self.symmetry
@@ -407,8 +412,8 @@ class PixelPainterWindow(QMainWindow):
         self._refresh_hover()
         if not pixels.is_invariant(self.mask, mode):
             self.statusBar().showMessage(
-                f"The grid is not {pixels.SYMMETRY_TITLES[mode]} symmetric: the next edit adds "
-                "the images of its metal", 8000)
+                f"The grid is not {pixels.SYMMETRY_TITLES[mode]} symmetric: the next stroke or "
+                "fill adds the images of its metal", 8000)
         else:
             self.statusBar().showMessage(f"Symmetry: {pixels.SYMMETRY_TITLES[mode]}", 4000)
 
@@ -896,14 +901,14 @@ class PixelPainterWindow(QMainWindow):
             box.setRange(1, pixels.MAX_SIDE)
             box.setKeyboardTracking(False)
             box.setToolTip(f"{what} of the grid (resized about its centre)")
-            box.editingFinished.connect(self._size_edited)
+            box.editingFinished.connect(self._shape_edited)
         self.size_box = QDoubleSpinBox(self)
         self.size_box.setDecimals(4)
         self.size_box.setRange(1e-4, 1e4)
         self.size_box.setSuffix(" mm")
         self.size_box.setKeyboardTracking(False)
         self.size_box.setToolTip("Side of a pixel; the grid keeps its centre")
-        self.size_box.editingFinished.connect(self._size_edited)
+        self.size_box.editingFinished.connect(self._pixel_size_edited)
 
         edit = QToolBar("Paint", self)
         edit.setObjectName("paint_toolbar")
