@@ -481,3 +481,18 @@ def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
     type_into(qtbot, win.size_box, "0.2")
     assert win.grid.pixel_size == 0.2 and len(win.history) == 3
     win.close()
+
+
+def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
+    from PySide6.QtWidgets import QMainWindow
+
+    from app.edit.painter import cell_menu
+
+    win = QMainWindow()
+    qtbot.addWidget(win)
+    made = win.menuBar().addMenu("&Cell")
+    assert cell_menu(win) is made
+    other = QMainWindow()
+    qtbot.addWidget(other)
+    new = cell_menu(other)
+    assert new.title() == "&Cell" and cell_menu(other) is new

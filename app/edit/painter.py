@@ -1067,7 +1067,7 @@ class PainterOpener(QObject):
 def cell_menu(window: QMainWindow) -> QMenu:
     """The main window's "&Cell" menu, made (before Help) when no one has made it yet."""
     bar = window.menuBar()
-    for menu in bar.findChildren(QMenu):
+    for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
         if menu.title() == "&Cell":
             return menu
     return bar.addMenu("&Cell")
