@@ -561,6 +561,9 @@ class MainWindow(QMainWindow):
         self.teaching.add_to_menu(self.teach_menu)
         self.teaching_windows.add_to_menu(self.teach_menu)
 
+        from .edit.painter import PainterOpener, cell_menu  # Cell → Paint pixels… (issue 13)
+        self.painter_opener = PainterOpener(self, cell_menu(self))
+
         help_ = bar.addMenu("&Help")
         help_.addActions([self.act_help, self.act_about])
 

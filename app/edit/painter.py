@@ -1,0 +1,1073 @@
+"""Cell → Paint pixels: paint a coding cell's pixel grid with the mouse, in top view.
+
+A top-level window with its own ``QtInteractor`` looking straight down the z axis
+(parallel projection). It shows the mesh that :func:`core.cell.build_cell` makes of the
+cell (each set pixel a square patch of 32 triangles, edge-sharing pixels welded), the
+pixel grid, the cell outline and, as red dots, the corners where two pixels touch at a
+point only (reported by :meth:`core.cell.PixelGrid.corner_contacts`).
+
+Mouse: the left button paints (erases with Erase on), the right button erases; a press,
+the drag and the release are one stroke and one undo step. The middle button pans, the
+wheel zooms; nothing rotates. A mouse position is turned into a pixel by casting its
+ray through the camera onto the plane z = 0 (exact for the parallel projection).
+
+The edits themselves are :mod:`app.edit.pixels` (no Qt); this window keeps the undo
+history of (pixel grid, lattice) states, draws, and rebuilds the mesh in a worker thread
+after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
+131,072 triangles). While the build runs, pixels painted or erased since the mesh on
+screen are drawn as flat squares over it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from functools import partial
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pyvista as pv
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDoubleSpinBox,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMenu,
+    QSpinBox,
+    QToolBar,
+    QWidget,
+)
+
+from core.cell import (
+    SYMMETRIES,
+    CellMesh,
+    Lattice,
+    PixelGrid,
+    UnitCell,
+    build_cell,
+    load_cell,
+    load_cell_preset,
+    save_cell,
+)
+from core.params import DEFAULT_MAX_TRIANGLES
+from core.subdivision import patch_template
+
+from ..framing import frame_from_above
+from ..worker import Job
+from . import pixels
+
+if TYPE_CHECKING:
+    from ..window import MainWindow
+
+log = logging.getLogger(__name__)
+
+#: The cell the painter opens on.
+START_PRESET = "coding-16x16"
+SUFFIX = ".cell.json"
+COLORS = {
+    "background": "#ffffff",
+    "metal": "#e2b65c",
+    "triangle_edges": "#8a6320",
+    "grid": "#c9ced6",
+    "outline": "#3a4250",
+    "contacts": "#e0001b",
+    "erased": "#ffffff",
+    "hover": "#1f6fd1",
+}
+#: Triangle edges are drawn while a pixel covers at least this many screen pixels.
+EDGES_MIN_PIXELS = 20.0
+#: Larger meshes draw each pixel as one square (the same flat colour: the triangles are
+#: seen through their edges), which keeps a frame of a 128 x 128 grid cheap.
+FACES_AS_TRIANGLES = 40_000
+#: Meshes with more edges draw only the edges in view (again after a zoom or a pan).
+EDGES_ALL = 150_000
+#: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
+SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
+
+
+@dataclasses.dataclass(frozen=True)
+class PainterState:
+    """One undo step: the pixel grid and the lattice (the lattice follows a resize)."""
+
+    grid: PixelGrid
+    lattice: Lattice
+
+
+@dataclasses.dataclass
+class Built:
+    """A mesh built in the worker for one mask, with the datasets to draw it."""
+
+    generation: int
+    mask: np.ndarray
+    cell_mesh: CellMesh | None = None
+    error: str | None = None
+    faces: pv.PolyData | None = None
+    edges: pv.PolyData | None = None
+    stats: dict[str, Any] | None = None
+    seconds: float = 0.0
+    lifted: np.ndarray | None = None  # (V, 3) points raised over the faces
+    edge_pairs: np.ndarray | None = None  # (E, 2) the mesh's edges
+    midpoints: np.ndarray | None = None  # (E, 2) their midpoints, to clip to the view
+
+
+def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
+                  generation: int) -> Built:
+    """Mesh ``cell`` and make its face and edge datasets (thread-safe, never raises)."""
+    start = time.perf_counter()
+    if cell is None:
+        return Built(generation, mask, faces=pv.PolyData(), edges=pv.PolyData(), stats=None)
+    grid = cell.pixels
+    per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
+    triangles = per_pixel * int(mask.sum())
+    if triangles > DEFAULT_MAX_TRIANGLES:
+        return Built(generation, mask, error=(
+            f"{int(mask.sum()):,} pixels make {triangles:,} triangles, more than the budget "
+            f"of {DEFAULT_MAX_TRIANGLES:,}"))
+    try:
+        cm = build_cell(cell)
+    except Exception as exc:  # noqa: BLE001 - shown in the window, the last mesh stays
+        if not isinstance(exc, ValueError):
+            log.exception("building the painted cell failed")
+        return Built(generation, mask, error=str(exc))
+    mesh = cm.mesh
+    points = np.asarray(mesh.points, dtype=np.float64)
+    triangles = np.asarray(mesh.triangles)
+    if mesh.n_triangles > FACES_AS_TRIANGLES:  # pixels as one square each, elements as they are
+        pixel_region = len(cell.elements) + 1
+        own = triangles[np.asarray(mesh.regions) != pixel_region]
+        faces = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
+        if len(own):
+            faces = faces.merge(pv.PolyData.from_regular_faces(points, own))
+    else:
+        faces = pv.PolyData.from_regular_faces(points, triangles)
+    lifted = points.copy()
+    lifted[:, 2] += dz
+    e = np.asarray(mesh.edges)
+    midpoints = 0.5 * (points[e[:, 0], :2] + points[e[:, 1], :2])
+    stats = mesh.stats()
+    return Built(generation, mask, cm, None, faces, _lines(lifted, e), stats,
+                 time.perf_counter() - start, lifted, e, midpoints)
+
+
+def _lines(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
+    """A PolyData of the line cells ``pairs`` (k, 2) over all of ``points`` (V, 3)."""
+    if len(pairs) == 0:
+        return pv.PolyData()
+    lines = np.column_stack([np.full(len(pairs), 2, dtype=pairs.dtype), pairs]).ravel()
+    return pv.PolyData(points, lines=lines)
+
+
+def _quads(origin: np.ndarray, size: float, cells: np.ndarray, z: float) -> pv.PolyData:
+    """Squares of side ``size`` for the (row, column) pairs ``cells`` (K, 2), at height z."""
+    if len(cells) == 0:
+        return pv.PolyData()
+    lower = origin + size * cells[:, ::-1].astype(np.float64)  # (K, 2) x, y
+    offsets = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float64) * size
+    xy = (lower[:, None, :] + offsets[None]).reshape(-1, 2)
+    pts = np.column_stack([xy, np.full(len(xy), z)])
+    return pv.PolyData.from_regular_faces(pts, np.arange(len(xy)).reshape(-1, 4))
+
+
+def _segments(a: np.ndarray, b: np.ndarray, z: float) -> pv.PolyData:
+    """Line segments from ``a`` (k, 2) to ``b`` (k, 2) at height z."""
+    pts = np.column_stack([np.stack([a, b], axis=1).reshape(-1, 2), np.full(2 * len(a), z)])
+    k = np.arange(len(a))
+    return pv.PolyData(pts, lines=np.column_stack([np.full(len(a), 2), 2 * k, 2 * k + 1]).ravel())
+
+
+class _Relay(QObject):
+    done = Signal(object)
+
+
+class PixelPainterWindow(QMainWindow):
+    """The pixel painter (see the module docstring).
+
+    Parameters
+    ----------
+    cell : UnitCell, optional
+        The cell to edit; its elements stay as they are (drawn and meshed with the
+        pixels). A cell without a grid gets an empty one over the cell
+        (:func:`blank_grid`).
+        Default: the 16 x 16 coding cell preset.
+    parent : QWidget, optional
+    """
+
+    #: A mesh was drawn for the latest edit.
+    built = Signal()
+
+    def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
+        super().__init__(parent, Qt.WindowType.Window)
+        from pyvistaqt import QtInteractor
+
+        self.setObjectName("pixel_painter")
+        self._closed = False
+        self.generation = 0
+        self.shown_generation = -1
+        self.cell_mesh: CellMesh | None = None
+        self.last_built: Built | None = None
+        self._built_mask: np.ndarray | None = None
+        self._stroke: dict[str, Any] | None = None
+        self.path: Path | None = None
+
+        self.plotter = QtInteractor(self, auto_update=False)
+        self.plotter.theme.allow_empty_mesh = True  # datasets start empty, filled later
+        self.plotter.set_background(COLORS["background"])
+        self.plotter.enable_parallel_projection()
+        self.plotter.view_xy(render=False)
+        self.plotter.setMinimumSize(480, 420)
+        self.plotter.installEventFilter(self)
+        self.plotter.setMouseTracking(True)
+        self.setCentralWidget(self.plotter)
+        self._make_actors()
+        self._make_toolbars()
+        self.stats_label = QLabel(self)
+        self.stats_label.setTextFormat(Qt.TextFormat.RichText)
+        self.statusBar().addPermanentWidget(self.stats_label)
+
+        self.pool = QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self._relay = _Relay(self)
+        self._relay.done.connect(self._finished)
+        self._running = False
+        self._pending: tuple[UnitCell | None, np.ndarray, float, int] | None = None
+        self._render_timer = QTimer(self)
+        self._render_timer.setSingleShot(True)
+        self._render_timer.setInterval(0)
+        self._render_timer.timeout.connect(self._render)
+
+        self.history: list[PainterState] = []
+        self.position = -1
+        self.open_cell(cell if cell is not None else _start_cell())
+        self.resize(1100, 860)
+
+    # -- the document ----------------------------------------------------------------------
+
+    @property
+    def state(self) -> PainterState:
+        return self.history[self.position]
+
+    @property
+    def grid(self) -> PixelGrid:
+        """The pixel grid being painted."""
+        return self.state.grid
+
+    @property
+    def mask(self) -> np.ndarray:
+        """(R, C) bool: the grid's mask (row 0 at the bottom)."""
+        return self.state.grid.mask
+
+    @property
+    def symmetry(self) -> str:
+        return str(self.symmetry_box.currentData())
+
+    def cell(self) -> UnitCell | None:
+        """The edited cell (None when it would have no metal: no element, no pixel)."""
+        st = self.state
+        if not self._elements and not st.grid.mask.any():
+            return None
+        return UnitCell(st.lattice, self._elements, st.grid, self._mode, self._tolerance,
+                        self._name, self._description)
+
+    def open_cell(self, cell: UnitCell) -> None:
+        """Edit ``cell`` (a new history)."""
+        grid = cell.pixels if cell.pixels is not None else blank_grid(cell.lattice)
+        self._elements = cell.elements
+        self._mode, self._tolerance = cell.mode, cell.tolerance
+        self._name, self._description = cell.name, cell.description
+        self.history = [PainterState(grid, cell.lattice)]
+        self.position = 0
+        self.setWindowTitle(f"barymesh – paint pixels – {cell.name}")
+        if grid.mask.any():  # start in the largest symmetry the cell has
+            fits = [m for m in ("8-fold", "4-fold", "mirror_x", "mirror_y")
+                    if _square_or_mirror(m, grid.shape) and pixels.is_invariant(grid.mask, m)]
+            self._set_symmetry_box(fits[0] if fits else "none")
+        self._state_changed(reframe=True)
+
+    def push(self, grid: PixelGrid, lattice: Lattice | None = None) -> bool:
+        """Make (grid, lattice) the current state, one undo step (False when unchanged)."""
+        state = PainterState(grid, lattice or self.state.lattice)
+        if state.grid == self.grid and state.lattice == self.state.lattice:
+            return False
+        del self.history[self.position + 1:]
+        self.history.append(state)
+        self.position += 1
+        reframe = grid.shape != self.history[self.position - 1].grid.shape or (
+            grid.pixel_size != self.history[self.position - 1].grid.pixel_size)
+        self._state_changed(reframe=reframe)
+        return True
+
+    def undo(self) -> None:
+        if self.position > 0:
+            self._go(self.position - 1)
+
+    def redo(self) -> None:
+        if self.position < len(self.history) - 1:
+            self._go(self.position + 1)
+
+    def _go(self, position: int) -> None:
+        old = self.grid
+        self.position = position
+        new = self.grid
+        self._state_changed(reframe=old.shape != new.shape or old.pixel_size != new.pixel_size)
+
+    def _state_changed(self, reframe: bool = False) -> None:
+        grid = self.grid
+        for box, value in ((self.rows_box, grid.shape[0]), (self.cols_box, grid.shape[1])):
+            box.blockSignals(True)
+            box.setValue(value)
+            box.blockSignals(False)
+        self.size_box.blockSignals(True)
+        self.size_box.setValue(grid.pixel_size)
+        self.size_box.blockSignals(False)
+        if grid.shape[0] != grid.shape[1] and self.symmetry in ("4-fold", "8-fold"):
+            self._square_symmetry = self.symmetry  # back when the grid is square again
+            self._set_symmetry_box("none")
+            self.statusBar().showMessage(
+                "The grid is not square: symmetry none until it is square again (4- and "
+                "8-fold need a square grid)", 8000)
+        elif grid.shape[0] == grid.shape[1] and self._square_symmetry:
+            if self.symmetry == "none":
+                self._set_symmetry_box(self._square_symmetry)
+            self._square_symmetry = None
+        self.act_undo.setEnabled(self.position > 0)
+        self.act_redo.setEnabled(self.position < len(self.history) - 1)
+        self._draw_grid()
+        if reframe:
+            self.reset_view()
+        self._draw_pending()
+        self._refresh_hover()
+        self.request_build()
+
+    # -- edits (each one undo step) ----------------------------------------------------------
+
+    def _edit(self, make_mask: Any) -> bool:
+        try:
+            mask = make_mask()
+        except ValueError as exc:
+            self.statusBar().showMessage(str(exc), 8000)
+            return False
+        return self.push(self.grid.replaced(mask=mask))
+
+    def invert(self) -> bool:
+        """The Babinet complement of the grid."""
+        return self._edit(lambda: pixels.inverted(self.mask))
+
+    def clear(self) -> bool:
+        return self._edit(lambda: np.zeros_like(self.mask))
+
+    def random_fill(self) -> bool:
+        """A random mask under the symmetry mode, from the seed and metal % fields."""
+        return self._edit(lambda: pixels.random_mask(
+            self.mask.shape, self.seed_box.value(), self.symmetry,
+            self.density_box.value() / 100.0))
+
+    def fill_at(self, row: int, col: int, value: bool) -> bool:
+        """Flood fill the 4-connected region of (row, col) (and its images) with ``value``."""
+        return self._edit(lambda: pixels.flood_filled(self.mask, row, col, self.symmetry, value))
+
+    def set_grid_size(self, rows: int, cols: int, pixel_size: float) -> bool:
+        """Resize the grid (centred) and/or change the pixel size; the grid keeps its centre,
+        and a lattice that was the grid's extent follows it."""
+        grid, lattice = self.grid, self.state.lattice
+        try:
+            mask = pixels.resized(grid.mask, rows, cols)
+            centre = np.asarray(grid.origin) + 0.5 * grid.pixel_size * np.array(
+                [grid.shape[1], grid.shape[0]])
+            origin = centre - 0.5 * pixel_size * np.array([cols, rows])
+            new = grid.replaced(mask=mask, pixel_size=pixel_size, origin=tuple(origin))
+            if _fits(grid, lattice):
+                lattice = Lattice.rectangular(cols * pixel_size, rows * pixel_size)
+        except ValueError as exc:
+            self.statusBar().showMessage(str(exc), 8000)
+            self._state_changed()
+            return False
+        return self.push(new, lattice)
+
+    def _shape_edited(self) -> None:
+        rows, cols = self.rows_box.value(), self.cols_box.value()
+        if (rows, cols) != self.grid.shape:
+            self.set_grid_size(rows, cols, self.grid.pixel_size)
+
+    def _pixel_size_edited(self) -> None:
+        # the field shows 4 decimals: a pixel size from a file is only changed when typed
+        size, grid = self.size_box.value(), self.grid
+        if abs(size - round(grid.pixel_size, self.size_box.decimals())) > 1e-12:
+            self.set_grid_size(*grid.shape, size)
+
+    def _symmetry_chosen(self) -> None:
+        mode = self.symmetry
+        try:
+            pixels.check_symmetry(mode, self.mask.shape)
+        except ValueError as exc:
+            self._set_symmetry_box(self._last_symmetry)
+            self.statusBar().showMessage(str(exc), 8000)
+            return
+        self._last_symmetry = mode
+        self._square_symmetry = None
+        self._refresh_hover()
+        if not pixels.is_invariant(self.mask, mode):
+            self.statusBar().showMessage(
+                f"The grid is not {pixels.SYMMETRY_TITLES[mode]} symmetric: the next stroke or "
+                "fill adds the images of its metal", 8000)
+        else:
+            self.statusBar().showMessage(f"Symmetry: {pixels.SYMMETRY_TITLES[mode]}", 4000)
+
+    def _set_symmetry_box(self, mode: str) -> None:
+        self.symmetry_box.blockSignals(True)
+        self.symmetry_box.setCurrentIndex(self.symmetry_box.findData(mode))
+        self.symmetry_box.blockSignals(False)
+        self._last_symmetry = mode
+
+    # -- files -------------------------------------------------------------------------------
+
+    def save_dialog(self) -> None:
+        """Save cell…: a ``*.cell.json`` file."""
+        start = str(self.path or Path.cwd() / f"{self._name}{SUFFIX}")
+        path, _ = QFileDialog.getSaveFileName(self, "Save cell", start,
+                                              f"Cell files (*{SUFFIX})")
+        if path:
+            self.save(path)
+
+    def save(self, path: str | Path) -> bool:
+        path = Path(path)
+        if not path.name.endswith(SUFFIX):
+            path = path.with_name(path.name.removesuffix(".json") + SUFFIX)
+        cell = self.cell()
+        if cell is None:
+            self.statusBar().showMessage("Nothing to save: the cell has no metal", 8000)
+            return False
+        try:
+            save_cell(cell, path)
+        except (OSError, ValueError) as exc:
+            self.statusBar().showMessage(f"Could not save {path}: {exc}", 10000)
+            return False
+        self.path = path
+        self.statusBar().showMessage(f"Saved {path}", 6000)
+        return True
+
+    def open_dialog(self) -> None:
+        """Open cell…: edit a ``*.cell.json`` file."""
+        path, _ = QFileDialog.getOpenFileName(self, "Open cell", str(self.path or Path.cwd()),
+                                              f"Cell files (*{SUFFIX});;JSON (*.json)")
+        if not path:
+            return
+        try:
+            cell = load_cell(path)
+        except (OSError, ValueError) as exc:
+            self.statusBar().showMessage(str(exc), 10000)
+            return
+        self.path = Path(path)
+        self.open_cell(cell)
+
+    # -- mouse -------------------------------------------------------------------------------
+
+    def pixel_at(self, pos: QPointF) -> tuple[int, int] | None:
+        """The pixel under the widget position ``pos`` (None off the grid): the ray of the
+        view through ``pos`` meets z = 0."""
+        ratio = self.plotter.devicePixelRatioF()
+        x = pos.x() * ratio
+        y = (self.plotter.height() - 1 - pos.y()) * ratio
+        renderer = self.plotter.renderer
+        ends = []
+        for depth in (0.0, 1.0):
+            renderer.SetDisplayPoint(x, y, depth)
+            renderer.DisplayToWorld()
+            w = np.array(renderer.GetWorldPoint(), dtype=np.float64)
+            ends.append(w[:3] / w[3])
+        a, b = ends
+        if abs(b[2] - a[2]) < 1e-300:
+            return None
+        t = a[2] / (a[2] - b[2])
+        point = a + t * (b - a)
+        g = self.grid
+        return pixels.pixel_at(g.shape, g.origin, g.pixel_size, point[:2])
+
+    def pixel_centre(self, row: int, col: int) -> tuple[float, float, float]:
+        """World point (mm) of the centre of pixel (row, col)."""
+        g = self.grid
+        return (g.origin[0] + (col + 0.5) * g.pixel_size,
+                g.origin[1] + (row + 0.5) * g.pixel_size, 0.0)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if watched is not self.plotter or self._closed:
+            return False
+        kind = event.type()
+        if kind in (QEvent.Type.MouseButtonPress, QEvent.Type.MouseButtonDblClick):
+            if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
+                self._press(event.position(), event.button() == Qt.MouseButton.RightButton)
+                return True
+        elif kind == QEvent.Type.MouseMove:
+            if self._stroke is not None:
+                self._move(event.position())
+                return True
+            self._hover(self.pixel_at(event.position()))
+        elif kind == QEvent.Type.Leave:
+            self._hover(None)
+        elif kind == QEvent.Type.MouseButtonRelease:
+            if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
+                self._release()
+                return True
+        elif kind == QEvent.Type.KeyPress:
+            return True  # VTK's own keys (w, s, 3, q, e, …) would change the view
+        return False
+
+    def _press(self, pos: QPointF, right: bool) -> None:
+        if self._stroke is not None:
+            self._release()
+        value = not (right or self.act_erase.isChecked())
+        pixel = self.pixel_at(pos)
+        if self.act_fill.isChecked():
+            if pixel is not None:
+                self.fill_at(*pixel, value)
+            return
+        try:
+            pixels.check_symmetry(self.symmetry, self.mask.shape)
+        except ValueError as exc:
+            self.statusBar().showMessage(str(exc), 8000)
+            return
+        self._stroke = {"start": self.mask, "value": value, "pixels": [], "last": None}
+        if pixel is not None:
+            self._add_to_stroke(pixel)
+
+    def _move(self, pos: QPointF) -> None:
+        pixel = self.pixel_at(pos)
+        if pixel is not None and pixel != self._stroke["last"]:
+            self._add_to_stroke(pixel)
+
+    def _hover(self, pixel: tuple[int, int] | None) -> None:
+        """Outline the pixel under the mouse and its images under the symmetry mode."""
+        if pixel == self._hovered:
+            return
+        self._hovered = pixel
+        cells = np.empty((0, 2), dtype=np.int64)
+        if pixel is not None:
+            try:
+                ids = pixels.orbit_ids(self.mask.shape, self.symmetry)
+                cells = np.argwhere(ids == ids[pixel])
+            except ValueError:
+                cells = np.array([pixel])
+        self._set("hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells,
+                                  5 * self._dz))
+        self._schedule_render()
+
+    _hovered: tuple[int, int] | None = None
+    _last_good: Built | None = None
+
+    def _refresh_hover(self) -> None:
+        pixel, self._hovered = self._hovered, (-1, -1)
+        shape = self.mask.shape
+        if pixel is not None and not (0 <= pixel[0] < shape[0] and 0 <= pixel[1] < shape[1]):
+            pixel = None
+        self._hover(pixel)
+
+    def _add_to_stroke(self, pixel: tuple[int, int]) -> None:
+        stroke = self._stroke
+        last = stroke["last"]
+        new = pixels.pixel_line(last, pixel) if last is not None else np.array([pixel])
+        stroke["pixels"].extend(map(tuple, new.tolist()))
+        stroke["last"] = pixel
+        stroke["mask"] = pixels.painted(stroke["start"], stroke["pixels"], self.symmetry,
+                                        stroke["value"])
+        self._draw_pending(stroke["mask"])
+
+    def _release(self) -> None:
+        stroke, self._stroke = self._stroke, None
+        if stroke is None or "mask" not in stroke:
+            return
+        if not self.push(self.grid.replaced(mask=stroke["mask"])):
+            self._draw_pending()
+
+    # -- meshing -----------------------------------------------------------------------------
+
+    def request_build(self) -> None:
+        """Mesh the current cell in the worker (the latest request wins)."""
+        self.generation += 1
+        try:
+            cell = self.cell()
+        except ValueError as exc:
+            self.statusBar().showMessage(str(exc), 8000)
+            return
+        self._pending = (cell, self.mask, self._dz, self.generation)
+        self._start()
+
+    def _start(self) -> None:
+        if self._running or self._pending is None or self._closed:
+            return
+        cell, mask, dz, generation = self._pending
+        self._pending = None
+        self._running = True
+        self.pool.start(Job(partial(build_preview, cell, mask, dz, generation), self._relay.done))
+
+    def _finished(self, built: Built) -> None:
+        self._running = False
+        if self._closed:
+            return
+        if self._pending is not None:
+            self._start()  # a newer edit is waiting: this result is stale
+            return
+        self.show_built(built)
+        self.shown_generation = built.generation
+        self.built.emit()
+
+    @property
+    def busy(self) -> bool:
+        return self._running or self._pending is not None
+
+    def wait_built(self, timeout_ms: int = 30_000) -> None:
+        """Block until the mesh of the latest edit is on screen (for scripts and tests)."""
+        from PySide6.QtWidgets import QApplication
+
+        end = time.monotonic() + timeout_ms / 1000
+        while (self.busy or self.shown_generation != self.generation) and time.monotonic() < end:
+            QApplication.processEvents()
+            time.sleep(0.005)
+
+    # -- drawing -----------------------------------------------------------------------------
+
+    @property
+    def _dz(self) -> float:
+        return 1e-3 * self.state.lattice.size
+
+    def _make_actors(self) -> None:
+        p = self.plotter
+        self.datasets = {name: pv.PolyData() for name in
+                         ("grid", "faces", "edges", "painted", "erased", "outline", "contacts",
+                          "hover")}
+        d = self.datasets
+        self.actors = {
+            "grid": p.add_mesh(d["grid"], color=COLORS["grid"], line_width=1.0, lighting=False,
+                               reset_camera=False, render=False, pickable=False),
+            "faces": p.add_mesh(d["faces"], color=COLORS["metal"], lighting=False,
+                                reset_camera=False, render=False, pickable=False),
+            "edges": p.add_mesh(d["edges"], color=COLORS["triangle_edges"], line_width=1.0,
+                                lighting=False, reset_camera=False, render=False,
+                                pickable=False),
+            "painted": p.add_mesh(d["painted"], color=COLORS["metal"], lighting=False,
+                                  reset_camera=False, render=False, pickable=False),
+            "erased": p.add_mesh(d["erased"], color=COLORS["erased"], lighting=False,
+                                 reset_camera=False, render=False, pickable=False),
+            "outline": p.add_mesh(d["outline"], color=COLORS["outline"], line_width=2.0,
+                                  lighting=False, reset_camera=False, render=False,
+                                  pickable=False),
+            "contacts": p.add_mesh(d["contacts"], color=COLORS["contacts"], point_size=11.0,
+                                   render_points_as_spheres=True, lighting=False,
+                                   reset_camera=False, render=False, pickable=False),
+            "hover": p.add_mesh(d["hover"], color=COLORS["hover"], line_width=2.5,
+                                style="wireframe", lighting=False, reset_camera=False,
+                                render=False, pickable=False),
+        }
+        # after the style has moved the camera (observers run in no promised order)
+        self._camera_timer = QTimer(self)
+        self._camera_timer.setSingleShot(True)
+        self._camera_timer.setInterval(0)
+        self._camera_timer.timeout.connect(self._zoomed)
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
+                      "MouseWheelBackwardEvent"):
+            p.iren.add_observer(event, lambda *_: self._camera_timer.start())
+
+    def _set(self, name: str, data: pv.PolyData, deep: bool = True) -> None:
+        self.datasets[name].copy_from(data, deep=deep)
+
+    def _draw_grid(self) -> None:
+        """The pixel grid's lines (under the metal) and the cell outline."""
+        g = self.grid
+        rows, cols = g.shape
+        x0, y0 = g.origin
+        p = g.pixel_size
+        xs = x0 + p * np.arange(cols + 1)
+        ys = y0 + p * np.arange(rows + 1)
+        a = np.vstack([np.column_stack([xs, np.full(cols + 1, ys[0])]),
+                       np.column_stack([np.full(rows + 1, xs[0]), ys])])
+        b = np.vstack([np.column_stack([xs, np.full(cols + 1, ys[-1])]),
+                       np.column_stack([np.full(rows + 1, xs[-1]), ys])])
+        self._set("grid", _segments(a, b, -self._dz))
+        corners = self.state.lattice.corners()
+        self._set("outline", _segments(corners, np.roll(corners, -1, axis=0), 3 * self._dz))
+        self._schedule_render()
+
+    def _draw_pending(self, mask: np.ndarray | None = None) -> None:
+        """Pixels that differ from the mesh on screen, as flat squares over it; and the
+        corner contacts of ``mask`` (default: the current one)."""
+        mask = self.mask if mask is None else mask
+        built = self._built_mask
+        if built is None or built.shape != mask.shape:
+            built = np.zeros_like(mask)
+        origin = np.asarray(self.grid.origin)
+        p = self.grid.pixel_size
+        self._set("painted", _quads(origin, p, np.argwhere(mask & ~built), 2 * self._dz))
+        self._set("erased", _quads(origin, p, np.argwhere(built & ~mask), 2 * self._dz))
+        contacts = self.grid.replaced(mask=mask).corner_contacts()
+        if len(contacts):
+            corner = contacts.max(axis=1)[:, ::-1]  # (row, col) of the upper right → (x, y)
+            xy = origin + p * corner
+            self._set("contacts", pv.PolyData(np.column_stack(
+                [xy, np.full(len(xy), 4 * self._dz)])))
+        else:
+            self._set("contacts", pv.PolyData())
+        self._show_stats(mask)
+        self._schedule_render()
+
+    def show_built(self, built: Built) -> None:
+        """Draw the mesh ``built`` (the faces and every triangle edge)."""
+        self.last_built = built
+        if built.error is not None:  # keep the last good mesh
+            self.statusBar().showMessage(f"Cannot mesh this cell: {built.error}", 10000)
+            return
+        self.cell_mesh = built.cell_mesh
+        self._last_good = built
+        self._built_mask = built.mask
+        self._set("faces", built.faces, deep=False)  # the worker's arrays, kept in `built`
+        self._edges_view = None
+        self._zoomed()
+        self._draw_pending()
+
+    def _show_stats(self, mask: np.ndarray) -> None:
+        g = self.grid
+        set_pixels = int(mask.sum())
+        lattice = self.state.lattice
+        if lattice.kind == "rectangular":
+            cell = f"Cell {lattice.a1[0]:.6g} × {lattice.a2[1]:.6g} mm"
+        else:
+            cell = f"Cell {lattice.kind}, {lattice.area:.6g} mm²"
+        parts = [cell, f"Pixels <b>{set_pixels:,}</b> of {mask.size:,}"]
+        built = self.last_built
+        current = built is not None and built.stats is not None and np.array_equal(
+            built.mask, mask) and built.error is None
+        if current:
+            s = built.stats
+            parts += [f"Triangles <b>{s['triangles']:,}</b>", f"Vertices {s['vertices']:,}",
+                      f"RWG unknowns {s['interior_edges']:,}"]
+        elif set_pixels == 0 and not self._elements:
+            parts.append("no metal")
+        else:
+            parts.append("meshing…")
+        contacts = len(g.replaced(mask=mask).corner_contacts())
+        if contacts:
+            parts.append(f"<span style='color:{COLORS['contacts']}'>● <b>{contacts}</b> "
+                         "corner-only contact(s)</span>")
+        self.stats_label.setText(" &nbsp;·&nbsp; ".join(parts))
+        self.stats_label.setToolTip(
+            "Red dots: pixels that touch at a corner only, a junction risk for solvers"
+            if contacts else "")
+
+    def _zoomed(self, *_args: Any) -> None:
+        """Hide the triangle edges when a pixel is too small on screen to read them."""
+        if self._closed:
+            return
+        from ..framing import pixels_per_mm
+
+        on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
+        shown = on_screen >= EDGES_MIN_PIXELS
+        self.actors["edges"].SetVisibility(shown)
+        if shown:
+            self._edges_in_view()
+        # a contact dot of at most half a pixel, so that many of them still read as dots
+        self.actors["contacts"].GetProperty().SetPointSize(float(np.clip(0.45 * on_screen,
+                                                                         4.0, 12.0)))
+        self._schedule_render()
+
+    _edges_view: tuple[float, ...] | None = None
+
+    def _edges_in_view(self) -> None:
+        """The triangle edges to draw: all of them, or on a large mesh those whose midpoint
+        is in view (with a margin of a pixel)."""
+        built = self._last_good
+        if built is None:
+            return
+        if built.edge_pairs is None:  # no mesh (no metal)
+            self._set("edges", pv.PolyData())
+            self._edges_view = None
+            return
+        if len(built.edge_pairs) <= EDGES_ALL:
+            if self._edges_view != ("all", id(built)):
+                self._set("edges", built.edges, deep=False)
+                self._edges_view = ("all", id(built))
+            return
+        x0, x1, y0, y1 = self._view_rect(margin=self.grid.pixel_size)
+        key = (id(built), x0, x1, y0, y1)
+        if self._edges_view == key:
+            return
+        m = built.midpoints
+        keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
+        self._set("edges", _lines(built.lifted, built.edge_pairs[keep]), deep=False)
+        self._edges_view = key
+
+    def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
+        """(x0, x1, y0, y1) mm the view shows from above, widened by ``margin``."""
+        from ..framing import view_size
+
+        camera = self.plotter.camera
+        w, h = view_size(self.plotter)
+        half_h = float(camera.parallel_scale)
+        half_w = half_h * w / h
+        cx, cy, _ = camera.focal_point
+        return (cx - half_w - margin, cx + half_w + margin,
+                cy - half_h - margin, cy + half_h + margin)
+
+    def reset_view(self) -> None:
+        """Frame the cell and the grid from above (R)."""
+        g = self.grid
+        c = self.state.lattice.corners()
+        x = [g.origin[0], g.origin[0] + g.shape[1] * g.pixel_size, *c[:, 0]]
+        y = [g.origin[1], g.origin[1] + g.shape[0] * g.pixel_size, *c[:, 1]]
+        frame_from_above(self.plotter, (min(x), max(x), min(y), max(y)), rulers=False,
+                         margin=0.03)
+        self._zoomed()
+
+    def _schedule_render(self) -> None:
+        if not self._closed:
+            self._render_timer.start()
+
+    def _render(self) -> None:
+        if not self._closed:
+            self.plotter.render()
+
+    def view_image(self) -> np.ndarray:
+        """The 3D view as an (h, w, 3) uint8 array."""
+        image = self.plotter.screenshot(None, return_img=True)
+        self.plotter.render()
+        return np.ascontiguousarray(image)
+
+    # -- toolbars ----------------------------------------------------------------------------
+
+    def _action(self, text: str, slot: Any, shortcut: Any = None, tip: str = "",
+                checkable: bool = False) -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            keys = shortcut if isinstance(shortcut, list) else [shortcut]
+            action.setShortcuts([QKeySequence(k) for k in keys])
+            tip = f"{tip} ({', '.join(QKeySequence(k).toString() for k in keys)})"
+        action.setToolTip(tip)
+        action.setStatusTip(tip)
+        action.setCheckable(checkable)
+        action.triggered.connect(slot)
+        self.addAction(action)
+        return action
+
+    def _make_toolbars(self) -> None:
+        a = self._action
+        tools = QActionGroup(self)
+        self.act_pen = a("Pen", lambda: None, "P", "Left button paints, right button erases; "
+                         "a drag is one stroke", checkable=True)
+        self.act_fill = a("Fill", lambda: None, "F", "Click fills the connected region "
+                          "(4-neighbours) with metal, right click with none", checkable=True)
+        for act in (self.act_pen, self.act_fill):
+            tools.addAction(act)
+        self.act_pen.setChecked(True)
+        self.act_erase = a("Erase", lambda: None, "E", "The left button erases too",
+                           checkable=True)
+        self.act_invert = a("Invert", self.invert, "I",
+                            "Babinet complement: metal where there was none")
+        self.act_clear = a("Clear", self.clear, "Ctrl+Backspace", "No metal anywhere")
+        self.act_random = a("Random", self.random_fill, "G",
+                            "Random pixels under the symmetry, from the seed")
+        self.act_undo = a("Undo", self.undo, "Ctrl+Z", "Undo the last stroke or edit")
+        self.act_redo = a("Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "Redo")
+        self.act_open = a("Open cell…", self.open_dialog, "Ctrl+O", "Edit a *.cell.json file")
+        self.act_save = a("Save cell…", self.save_dialog, "Ctrl+S",
+                          "Write the cell as a *.cell.json file")
+        self.act_view = a("Reset view", self.reset_view, "R", "Frame the cell from above")
+
+        self.symmetry_box = QComboBox(self)
+        for mode in SYMMETRIES:
+            self.symmetry_box.addItem(pixels.SYMMETRY_TITLES[mode], mode)
+        self.symmetry_box.setToolTip("Symmetry of every edit about the grid's centre "
+                                     "(keys 0, X, Y, 4, 8)")
+        self._last_symmetry = "none"
+        self._square_symmetry: str | None = None
+        self.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
+        for mode, key in SYMMETRY_KEYS.items():
+            a(f"Symmetry {pixels.SYMMETRY_TITLES[mode]}",
+              lambda _=False, m=mode: self.symmetry_box.setCurrentIndex(
+                  self.symmetry_box.findData(m)), key, "Symmetry mode")
+
+        self.seed_box = QSpinBox(self)
+        self.seed_box.setRange(0, 2**31 - 1)
+        self.seed_box.setMaximumWidth(110)
+        self.seed_box.setToolTip("Seed of the random fill (the same seed, the same pixels)")
+        self.density_box = QSpinBox(self)
+        self.density_box.setRange(0, 100)
+        self.density_box.setValue(50)
+        self.density_box.setSuffix(" %")
+        self.density_box.setToolTip("Share of metal in the random fill")
+        self.rows_box = QSpinBox(self)
+        self.cols_box = QSpinBox(self)
+        for box, what in ((self.rows_box, "Rows"), (self.cols_box, "Columns")):
+            box.setRange(1, pixels.MAX_SIDE)
+            box.setKeyboardTracking(False)
+            box.setToolTip(f"{what} of the grid (resized about its centre)")
+            box.editingFinished.connect(self._shape_edited)
+        self.size_box = QDoubleSpinBox(self)
+        self.size_box.setDecimals(4)
+        self.size_box.setRange(1e-4, 1e4)
+        self.size_box.setSuffix(" mm")
+        self.size_box.setKeyboardTracking(False)
+        self.size_box.setToolTip("Side of a pixel; the grid keeps its centre")
+        self.size_box.editingFinished.connect(self._pixel_size_edited)
+
+        edit = QToolBar("Paint", self)
+        edit.setObjectName("paint_toolbar")
+        edit.addActions([self.act_pen, self.act_fill, self.act_erase])
+        edit.addSeparator()
+        edit.addWidget(QLabel(" Symmetry ", self))
+        edit.addWidget(self.symmetry_box)
+        edit.addSeparator()
+        edit.addActions([self.act_invert, self.act_clear, self.act_random])
+        edit.addWidget(QLabel(" seed ", self))
+        edit.addWidget(self.seed_box)
+        edit.addWidget(QLabel(" metal ", self))
+        edit.addWidget(self.density_box)
+        self.addToolBar(edit)
+        self.addToolBarBreak()
+        grid = QToolBar("Grid", self)
+        grid.setObjectName("grid_toolbar")
+        grid.addActions([self.act_undo, self.act_redo])
+        grid.addSeparator()
+        grid.addWidget(QLabel(" Rows ", self))
+        grid.addWidget(self.rows_box)
+        grid.addWidget(QLabel(" Columns ", self))
+        grid.addWidget(self.cols_box)
+        grid.addWidget(QLabel(" Pixel ", self))
+        grid.addWidget(self.size_box)
+        grid.addSeparator()
+        grid.addActions([self.act_view, self.act_open, self.act_save])
+        self.addToolBar(grid)
+
+    # -- closing -----------------------------------------------------------------------------
+
+    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().showEvent(event)
+        QTimer.singleShot(0, self._first_frame)
+
+    def _first_frame(self) -> None:
+        if not self._closed and not self._framed:
+            self._framed = True
+            self._tune_for_renderer()
+            self.reset_view()
+
+    def _tune_for_renderer(self) -> None:
+        """No multi-sampling on a software rasteriser (llvmpipe: it triples a frame's time),
+        as the main window does; ``BARYMESH_MSAA`` overrides."""
+        import os
+
+        wanted = os.environ.get("BARYMESH_MSAA")
+        if wanted is None:
+            try:
+                info = self.plotter.ren_win.ReportCapabilities() or ""
+            except Exception:  # noqa: BLE001 - a report is a nicety
+                info = ""
+            wanted = "0" if "llvmpipe" in info or "softpipe" in info else "4"
+        try:
+            self.plotter.ren_win.SetMultiSamples(max(0, int(wanted)))
+        except ValueError:
+            log.warning("BARYMESH_MSAA=%r is not a whole number", wanted)
+
+    _framed = False
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
+        self.shutdown()
+        super().closeEvent(event)
+
+    def shutdown(self) -> None:
+        """Stop the worker and release the GL context (idempotent)."""
+        if self._closed:
+            return
+        self._closed = True
+        self._pending = None
+        self._render_timer.stop()
+        self._camera_timer.stop()
+        self.pool.waitForDone(30_000)
+        self.plotter.close()
+
+
+def _fits(grid: PixelGrid, lattice: Lattice) -> bool:
+    """Whether the lattice is rectangular and exactly the grid's extent."""
+    if lattice.kind != "rectangular":
+        return False
+    w, h = grid.shape[1] * grid.pixel_size, grid.shape[0] * grid.pixel_size
+    tol = 1e-9 * max(w, h)
+    return abs(lattice.a1[0] - w) <= tol and abs(lattice.a2[1] - h) <= tol
+
+
+def blank_grid(lattice: Lattice, columns: int = 16) -> PixelGrid:
+    """An empty grid of ``columns`` square pixels across the cell's bounding box, centred.
+
+    Examples
+    --------
+    >>> g = blank_grid(Lattice.rectangular(8.0, 4.0))
+    >>> g.shape, g.pixel_size, g.origin
+    ((8, 16), 0.5, (-4.0, -2.0))
+    """
+    corners = lattice.corners()
+    w, h = np.ptp(corners, axis=0)
+    size = float(w) / columns
+    rows = max(1, int(round(float(h) / size)))
+    return PixelGrid(np.zeros((rows, columns), bool), size,
+                     (-0.5 * columns * size, -0.5 * rows * size))
+
+
+def _square_or_mirror(mode: str, shape: tuple[int, int]) -> bool:
+    return mode.startswith("mirror") or shape[0] == shape[1]
+
+
+def _start_cell() -> UnitCell:
+    try:
+        return load_cell_preset(START_PRESET)
+    except (OSError, ValueError) as exc:  # a damaged preset: start blank
+        log.warning("cell preset %s unavailable: %s", START_PRESET, exc)
+        grid = PixelGrid(np.zeros((16, 16), bool), 0.5, (-4.0, -4.0))
+        return UnitCell(Lattice.rectangular(8.0), pixels=grid.replaced(
+            mask=np.eye(16, dtype=bool)), name="pixels")
+
+
+# -- the main window's Cell menu ------------------------------------------------------------
+
+
+class PainterOpener(QObject):
+    """Cell → Paint pixels… (Ctrl+Shift+P) of a main window: the painter, made on first use,
+    closed with the main window."""
+
+    def __init__(self, window: MainWindow, menu: QMenu) -> None:
+        super().__init__(window)
+        self.window = window
+        self.painter: PixelPainterWindow | None = None
+        self.act_paint = window._action(
+            "&Paint pixels…", self.show, "Ctrl+Shift+P",
+            "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo")
+        menu.addAction(self.act_paint)
+        window.installEventFilter(self)
+
+    def show(self) -> PixelPainterWindow | None:
+        if self.painter is None or self.painter._closed:
+            try:
+                self.painter = PixelPainterWindow(parent=self.window)
+            except Exception as exc:  # noqa: BLE001 - reported, never a crash
+                log.exception("could not open the pixel painter")
+                self.window.statusBar().showMessage(f"Could not open the pixel painter: {exc}")
+                return None
+        self.painter.show()
+        self.painter.raise_()
+        self.painter.activateWindow()
+        return self.painter
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if watched is self.window and event.type() == QEvent.Type.Close and self.painter:
+            try:
+                self.painter.close()
+            except RuntimeError:  # already deleted by Qt
+                pass
+        return False
+
+
+def cell_menu(window: QMainWindow) -> QMenu:
+    """The main window's "&Cell" menu, made (before Help) when no one has made it yet."""
+    bar = window.menuBar()
+    for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
+        if menu.title() == "&Cell":
+            return menu
+    return bar.addMenu("&Cell")
