@@ -348,6 +348,10 @@ def _summary(stats: dict[str, Any], title: str) -> str:
     if stats.get("ignored_cells"):
         cells = ", ".join(f"{n:,} {kind}" for kind, n in sorted(stats["ignored_cells"].items()))
         lines.append(f"  ignored non-triangle cells: {cells}")
+    if "subdivisions_chosen" in stats:
+        from core.sizing import sizing_summary
+
+        lines.append(sizing_summary(stats))
     return "\n".join(lines)
 
 
