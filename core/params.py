@@ -299,9 +299,10 @@ class MeshParams:
             f = _float("frequency", _not_bool("frequency", self.frequency),
                        "a frequency in Hz")
             if not math.isfinite(f) or f <= 0:
+                ghz = f" (= {f / 1e9:g} GHz)" if math.isfinite(f) and f else ""
                 raise ValueError(
-                    f"frequency={_short(self.frequency)} Hz is invalid; expected a finite "
-                    "frequency > 0 Hz (10e9 for 10 GHz), or None for no sizing from frequency"
+                    f"frequency={_short(self.frequency)} Hz{ghz} is invalid; expected a "
+                    "finite frequency > 0 Hz (10e9 for 10 GHz), or none for no sizing"
                 )
             put(self, "frequency", f)
         for name, what in (("cells_per_wavelength", "edges per wavelength"),
