@@ -283,8 +283,9 @@ def sized_mesh(
                 _refuse(params, name, target, bad, edges, budget=False)
             n = min(top, max(bad + 1, _estimate(scheme, bad, edges[bad], target)))
         elif good - bad > 1:
-            # from above: n - 1 first (the estimate is usually exact), bisecting wide gaps
-            n = good - 1 if good - bad <= 3 else (bad + good) // 2
+            # from above: the estimate from ``good``'s own edge, at most n - 1 (usually n - 1
+            # exactly: the first estimate is usually right, and n - 1 proves it minimal)
+            n = max(bad + 1, min(good - 1, _estimate(scheme, good, edges[good], target)))
     check(chosen)
     return chosen
 
