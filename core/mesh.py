@@ -77,6 +77,10 @@ class TriMesh:
         Axis-aligned patches (x0, y0, x1, y1) in paper mode, for the overlap ratio.
     ignored_cells : dict
         For imported meshes: cell type -> number of non-triangle cells skipped.
+    params : MeshParams or None
+        The parameters :func:`core.build.build_mesh` built it from, with the
+        ``subdivisions`` the sizing chose when ``frequency`` or ``max_edge`` is set;
+        None for imported, cell and scaled meshes.
 
     Everything else (centroids, edges, RWG table, connectivity, quality) is
     derived on first use and cached.
@@ -92,8 +96,6 @@ class TriMesh:
     patch_rects: np.ndarray | None = None
     ignored_cells: dict[str, int] = field(default_factory=dict)
     _template: PatchTemplate | None = field(default=None, repr=False)
-    #: The parameters the mesh was built from (with the subdivisions the sizing chose);
-    #: None for imported, cell and scaled meshes.
     params: MeshParams | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
