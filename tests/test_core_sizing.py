@@ -88,6 +88,9 @@ def test_stricter_of_frequency_and_max_edge_wins():
     assert target_edge(both) == (2.0, "max_edge")
     loose = both.replace(max_edge=5.0)
     assert target_edge(loose) == pytest.approx((LAMBDA_10GHZ / 10, "frequency"))
+    # the 10 mm patch's longest edge is 10 √2 / n: 2 mm needs n = 8, λ/10 (2.998 mm) n = 5
+    assert build_mesh(both).params.subdivisions == 8
+    assert build_mesh(loose).params.subdivisions == 5
     # Feko's λ/12 in a substrate of εr = 2.2
     feko = MeshParams(**PATCH10, frequency=10e9, cells_per_wavelength=12,
                       relative_permittivity=2.2)
