@@ -519,7 +519,9 @@ def _build(args: argparse.Namespace) -> _Built:
         params = _resolve(args)
         name = args.preset or params.structure
         label = _structure_label(args)
-        with progress(f"building {params.predicted_triangles():,} triangles"):
+        what = ("choosing the subdivisions" if params.sized
+                else f"building {params.predicted_triangles():,} triangles")
+        with progress(what):
             mesh = build_mesh(params)
         if array is None and period is None:
             stats = mesh.stats()
