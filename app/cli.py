@@ -348,6 +348,10 @@ def _summary(stats: dict[str, Any], title: str) -> str:
     if stats.get("ignored_cells"):
         cells = ", ".join(f"{n:,} {kind}" for kind, n in sorted(stats["ignored_cells"].items()))
         lines.append(f"  ignored non-triangle cells: {cells}")
+    if "subdivisions_chosen" in stats:
+        from core.sizing import sizing_summary
+
+        lines.append(sizing_summary(stats))
     return "\n".join(lines)
 
 
@@ -515,7 +519,9 @@ def _build(args: argparse.Namespace) -> _Built:
         params = _resolve(args)
         name = args.preset or params.structure
         label = _structure_label(args)
-        with progress(f"building {params.predicted_triangles():,} triangles"):
+        what = ("choosing the subdivisions" if params.sized
+                else f"building {params.predicted_triangles():,} triangles")
+        with progress(what):
             mesh = build_mesh(params)
         if array is None and period is None:
             stats = mesh.stats()

@@ -179,7 +179,10 @@ class FieldRow:
         if not refused:
             self.typed = None
         typed = refused and self.typed is not None
-        self.field.show_text(self.typed if typed else format_value(value))
+        shown = value
+        if self.spec is not None and self.spec.scale != 1 and isinstance(value, (int, float)):
+            shown = value / self.spec.scale  # Hz shown in GHz
+        self.field.show_text(self.typed if typed else format_value(shown))
         if self.slider is not None:  # a refused typed value leaves the slider where it was
             on_slider = fallback if typed else value
             self.slider.blockSignals(True)
@@ -252,6 +255,7 @@ class ControlsPanel(QWidget):
         model.draft_changed.connect(self.show_draft)
         model.error_changed.connect(self.show_error)
         model.result_changed.connect(self.show_source)
+        model.result_changed.connect(self._show_chosen)
         self.show_draft(model.draft)
         self.show_error(model.error)
 
@@ -318,10 +322,26 @@ class ControlsPanel(QWidget):
             sub.setRange(0, top - 1)
             sub.blockSignals(False)
         committed = self.model.params.to_dict()
+        sized = self.model.params.sized
         for name, row in self.rows.items():
             row.show_value(draft.get(name), name in self.model.refused, committed.get(name))
-            row.set_enabled(applies(name, structure))
+            row.set_enabled(applies(name, structure) and not (sized and name == "subdivisions"))
             row.set_note(self.model.notes.get(name))
+        self._show_chosen()
+
+    def _show_chosen(self, _result: MeshResult | None = None) -> None:
+        if self.model.params.sized:
+            self.rows["subdivisions"].set_note(self._chosen_note())
+
+    def _chosen_note(self) -> str:
+        """Under the greyed subdivisions: the n the sizing chose for the mesh on screen."""
+        result = self.model.result
+        chosen = None if result is None else result.stats.get("subdivisions_chosen")
+        if chosen is None or result.params != self.model.params:
+            return "chosen by the mesher from the frequency or the largest edge"
+        what = "levels" if self.model.params.scheme == "barycentric" else "n"
+        return f"chosen by the mesher: {what} = {chosen} (edges ≤ " \
+               f"{result.stats['target_edge']:.4g} mm)"
 
     def show_error(self, _error: ParamError | None) -> None:
         errors = self.model.errors

@@ -101,6 +101,8 @@ class ParamSpec:
     empty_text: str = "auto"
     slider: bool = True
     tooltip: str = ""
+    #: The field shows value / scale in ``unit`` (frequency: Hz shown in GHz, scale 1e9).
+    scale: float = 1.0
 
     @property
     def log_scale(self) -> bool:
@@ -180,6 +182,10 @@ PARAM_SPECS = (
     ParamSpec("tolerance", "Tolerance ε", "mm", 1e-9, 1e-1, per_decade=4, optional=True,
               tooltip="Welding distance: vertices closer than ε are one vertex (the paper's "
                       "metric constraint). auto (empty) = 1e-9 of the structure's size"),
+    ParamSpec("frequency", "Frequency", "GHz", 0.0, math.inf, optional=True, empty_text="off",
+              slider=False, scale=1e9,
+              tooltip="Size the mesh for this frequency: the smallest subdivisions whose edges "
+                      "are all at most λ / cells per wavelength; off (empty) = subdivisions n"),
 )
 #: The Advanced group: rarely changed parameters.
 ADVANCED_SPECS = (
@@ -189,6 +195,17 @@ ADVANCED_SPECS = (
     ParamSpec("max_triangles", "Triangle budget", "", 1, 1e9, integer=True, slider=False,
               tooltip="Meshes predicted above this many triangles are refused before they "
                       "are built"),
+    ParamSpec("cells_per_wavelength", "Cells per λ", "", 1.0, math.inf, slider=False,
+              tooltip="With a frequency: edges at most λ / this (10 is the common rule, "
+                      "Feko's standard 12)"),
+    ParamSpec("relative_permittivity", "Permittivity εr", "", 1.0, math.inf,
+              slider=False,
+              tooltip="With a frequency: the wavelength in a medium of this εr, "
+                      "λ = c0 / (f √εr)"),
+    ParamSpec("max_edge", "Largest edge", "mm", 0.0, math.inf, optional=True, empty_text="off",
+              slider=False,
+              tooltip="The smallest subdivisions whose edges are all at most this; with a "
+                      "frequency too, the stricter of the two; off (empty) = no limit"),
 )
 SPECS = {s.name: s for s in PARAM_SPECS + ADVANCED_SPECS}
 #: Choice parameters: name -> (label, {value: title}).
@@ -571,7 +588,10 @@ class AppModel:
             count = 1 if name == "origin" else 3
             reading = read_points(text, count, decimal_point)
         else:
-            reading = read_number(text, SPECS.get(name), decimal_point)
+            spec = SPECS.get(name)
+            reading = read_number(text, spec, decimal_point)
+            if spec is not None and spec.scale != 1 and isinstance(reading.value, float):
+                reading = Reading(reading.value * spec.scale, reading.note)  # GHz -> Hz
         return self.set_value(name, reading.value, note=reading.note)
 
     def set_value(self, name: str, value: Any, merge: bool = False,

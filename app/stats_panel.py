@@ -1,4 +1,8 @@
-"""The statistics panel: counts and quality of the mesh on screen, updated with every mesh."""
+"""The statistics panel: counts and quality of the mesh on screen, updated with every mesh.
+
+With a frequency, the mesh's sizing too: the subdivisions chosen, λ, the longest edge in
+wavelengths, the largest area in λ² and whether every edge is within λ/10.
+"""
 
 from __future__ import annotations
 
@@ -14,7 +18,35 @@ TOOLTIPS = {
     "overlap_ratio": "1 − union area / sum of patch areas: how much paper-mode patches overlap",
     "mesh_time": "build_mesh plus the edge topology and statistics",
     "mom_memory": "A dense N × N complex128 impedance matrix, N = interior edges",
+    "subdivisions_chosen": "The smallest subdivisions whose edges all meet the frequency's "
+                           "λ / cells per wavelength or the largest edge",
+    "wavelength": "λ = c0 / (f √εr) at the frequency, in the medium of εr",
+    "max_edge_wavelengths": "Longest edge of the mesh in wavelengths (λ/10 = 0.1)",
+    "max_area_wavelengths2": "Largest triangle area in square wavelengths (λ²/30 = 0.033)",
+    "lambda_10_rule": "Whether every edge is at most a tenth of the wavelength",
 }
+#: Sizing rows (``TriMesh.stats()`` keys present when a frequency or largest edge is set).
+SIZING_LABELS = {
+    "subdivisions_chosen": "Subdivisions chosen",
+    "wavelength": "Wavelength λ",
+    "max_edge_wavelengths": "Longest edge / λ",
+    "max_area_wavelengths2": "Largest area / λ²",
+    "lambda_10_rule": "Edges ≤ λ/10",
+}
+
+
+def sizing_texts(result: MeshResult | None) -> dict[str, str]:
+    """The sizing rows' text: "–" without a frequency (or a largest edge for the n)."""
+    s = {} if result is None or result.mesh is None else result.stats
+    out = dict.fromkeys(SIZING_LABELS, "–")
+    if "subdivisions_chosen" in s:
+        out["subdivisions_chosen"] = f"{s['subdivisions_chosen']}"
+    if "wavelength" in s:
+        out["wavelength"] = f"{s['wavelength']:.4g} mm"
+        out["max_edge_wavelengths"] = f"{s['max_edge_wavelengths']:.4f} λ"
+        out["max_area_wavelengths2"] = f"{s['max_area_wavelengths2']:.3g} λ²"
+        out["lambda_10_rule"] = "yes" if s["lambda_10_rule"] else "no"
+    return out
 
 
 class StatsPanel(QWidget):
@@ -26,7 +58,7 @@ class StatsPanel(QWidget):
         form.setContentsMargins(8, 6, 8, 6)
         form.setLabelAlignment(Qt.AlignmentFlag.AlignLeft)
         self.values: dict[str, QLabel] = {}
-        for key, label in STAT_LABELS.items():
+        for key, label in {**STAT_LABELS, **SIZING_LABELS}.items():
             value = QLabel("–", self)
             value.setObjectName(f"stat_{key}")
             value.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
@@ -44,8 +76,11 @@ class StatsPanel(QWidget):
         self.show_result(model.result)
 
     def show_result(self, result: MeshResult | None) -> None:
-        for key, text in stats_texts(result).items():
+        for key, text in {**stats_texts(result), **sizing_texts(result)}.items():
             self.values[key].setText(text)
+        broken = result is not None and result.stats.get("lambda_10_rule") is False
+        self.values["lambda_10_rule"].setStyleSheet(
+            "color: #d0021b; font-weight: bold;" if broken else "")
         junctions = result is not None and result.stats.get("junction_edges", 0) > 0
         self.values["junction_edges"].setStyleSheet(
             "color: #d0021b; font-weight: bold;" if junctions else ""

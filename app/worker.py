@@ -179,8 +179,9 @@ class MeshController(QObject):
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
-        # an explicit tolerance can make the weld slow or fail: never on the GUI thread
-        if triangles <= self.sync_triangles and params.tolerance is None:
+        # an explicit tolerance can make the weld slow or fail: never on the GUI thread;
+        # nor a sized mesh, whose triangles depend on the subdivisions the mesher picks
+        if triangles <= self.sync_triangles and params.tolerance is None and not params.sized:
             self._deliver(compute(params, generation, prepare=scene_data))
             if was_busy:
                 self.busy_changed.emit(False)

@@ -10,6 +10,7 @@ from .assembly import patch_triangles
 from .invariants import check_mesh
 from .mesh import TriMesh
 from .params import MeshParams
+from .sizing import sized_mesh
 from .structures import layout
 from .subdivision import subdivide
 from .topology import INDEX
@@ -43,7 +44,16 @@ def build_mesh(
     ------
     ValueError
         :class:`core.invariants.MeshInvariantError` when the mesh breaks one of
-        those invariants (a geometry the core cannot mesh, or a bug).
+        those invariants (a geometry the core cannot mesh, or a bug); with
+        ``frequency`` or ``max_edge`` set, naming that parameter when no
+        subdivision within the scheme's range and ``max_triangles`` meets it.
+
+    Notes
+    -----
+    With ``params.frequency`` or ``params.max_edge`` set, ``params.subdivisions``
+    is not used: the smallest n whose mesh has every edge at most the target is
+    chosen (:func:`core.sizing.sized_mesh`); ``mesh.params`` holds the parameters
+    with that n, and ``mesh.stats()["subdivisions_chosen"]`` reports it.
 
     Examples
     --------
@@ -60,11 +70,26 @@ def build_mesh(
         if cancel is not None and cancel():
             raise BuildCancelled("the build was cancelled")
 
+    if params.sized:
+        return sized_mesh(params, lambda p: _assemble(p, checkpoint)[0], _check_chosen)
+    mesh, vertex_map = _assemble(params, checkpoint)
+    check_mesh(mesh, params, vertex_map)
+    return mesh
+
+
+def _check_chosen(mesh: TriMesh) -> None:
+    """The invariant check of a mesh whose subdivisions the sizing chose."""
+    vertex_map = None if mesh._template is None else mesh._vertex_map
+    check_mesh(mesh, mesh.params, vertex_map)
+
+
+def _assemble(
+    params: MeshParams, checkpoint: Callable[[], None]
+) -> tuple[TriMesh, np.ndarray | None]:
+    """The mesh of ``params`` at its ``subdivisions``, unchecked, and its patch vertex map."""
     checkpoint()
     if params.structure == "triangle":
-        mesh = _triangle(params)
-        check_mesh(mesh, params)
-        return mesh
+        return _triangle(params), None
     lay = layout(params)
     checkpoint()
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
@@ -89,9 +114,9 @@ def build_mesh(
         tolerance=params.weld_tolerance,
         patch_rects=lay.rects if params.mode == "paper" else None,
         _template=lay.template,
+        params=params,
     )
-    check_mesh(mesh, params, vertex_map)
-    return mesh
+    return mesh, vertex_map
 
 
 def _per_triangle(per_patch_values: np.ndarray, per_patch: int) -> np.ndarray:
@@ -124,4 +149,5 @@ def _triangle(params: MeshParams) -> TriMesh:
         mode=params.mode,
         tolerance=params.weld_tolerance,
         patch_rects=None,
+        params=params,
     )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -12,6 +12,7 @@ import scipy.sparse as sp
 from .assembly import patch_topology
 from .overlap import union_area
 from .quality import TriangleQuality, quality_summary, triangle_quality
+from .sizing import sizing_stats
 from .structures import _sector_chain_vertices
 from .subdivision import PatchTemplate
 from .topology import (
@@ -26,6 +27,9 @@ from .topology import (
     triangle_adjacency,
     vertex_adjacency,
 )
+
+if TYPE_CHECKING:
+    from .params import MeshParams
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
@@ -73,6 +77,10 @@ class TriMesh:
         Axis-aligned patches (x0, y0, x1, y1) in paper mode, for the overlap ratio.
     ignored_cells : dict
         For imported meshes: cell type -> number of non-triangle cells skipped.
+    params : MeshParams or None
+        The parameters :func:`core.build.build_mesh` built it from, with the
+        ``subdivisions`` the sizing chose when ``frequency`` or ``max_edge`` is set;
+        None for imported, cell and scaled meshes.
 
     Everything else (centroids, edges, RWG table, connectivity, quality) is
     derived on first use and cached.
@@ -88,6 +96,7 @@ class TriMesh:
     patch_rects: np.ndarray | None = None
     ignored_cells: dict[str, int] = field(default_factory=dict)
     _template: PatchTemplate | None = field(default=None, repr=False)
+    params: MeshParams | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         pts = np.asarray(self.points, dtype=np.float64)
@@ -399,7 +408,8 @@ class TriMesh:
         ``junction_edges``, ``min_edge``, ``max_edge`` (mm), ``min_angle_deg``,
         ``max_aspect_ratio``, ``area`` (mm², overlaps counted twice),
         ``euler_characteristic`` (V − E + F), ``regions``, and in paper mode
-        ``overlap_ratio``; for imported meshes ``ignored_cells``.
+        ``overlap_ratio``; for imported meshes ``ignored_cells``; for meshes sized
+        by ``frequency`` or ``max_edge`` the keys of :func:`core.sizing.sizing_stats`.
         """
         known = "topology" in self.__dict__ and "quality" in self.__dict__
         measured = None if known else self._copy_stats()
@@ -417,6 +427,8 @@ class TriMesh:
             out["overlap_ratio"] = self.overlap_ratio
         if self.ignored_cells:
             out["ignored_cells"] = dict(self.ignored_cells)
+        if self.params is not None and self.params.sized:
+            out.update(sizing_stats(self, measured["max_edge"]))
         return out
 
     def scaled(self, factor: float) -> TriMesh:

@@ -149,6 +149,26 @@ class MeshParams:
         (centroid and edge midpoints, 6 per level).
     max_triangles : int
         Triangle budget; larger meshes are refused before they are built.
+    max_edge : float or None
+        Longest edge allowed (mm); ``None``: no limit. With it (or ``frequency``) the
+        mesher chooses ``subdivisions`` itself (see *Sizing* below).
+    frequency : float or None
+        Frequency (Hz) the mesh is sized for; ``None``: no sizing from frequency.
+    cells_per_wavelength : float
+        Edges per wavelength, at least 1 (default 10: edges ≤ λ/10; Feko's standard is 12).
+    relative_permittivity : float
+        εr of the medium the wavelength is measured in, at least 1 (default 1.0, vacuum):
+        λ = c0 / (f √εr).
+
+    Notes
+    -----
+    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`core.build.build_mesh`
+    picks the smallest ``subdivisions`` (within the scheme's range and ``max_triangles``)
+    whose mesh has every edge at most the target, λ / ``cells_per_wavelength`` or
+    ``max_edge``; with both, the smaller (stricter) of the two. The ``subdivisions``
+    given is then not used, and the budget is checked against the n chosen.
+    ``cells_per_wavelength`` and ``relative_permittivity`` do nothing without a
+    ``frequency``.
     """
 
     structure: str = "double_ring"
@@ -167,6 +187,11 @@ class MeshParams:
     triangle_vertices: tuple[tuple[float, float], ...] | None = None
     scheme: str = "uniform"
     max_triangles: int = field(default=DEFAULT_MAX_TRIANGLES)
+    # sizing from frequency (core/sizing.py): validated in _check_sizing
+    max_edge: float | None = None
+    frequency: float | None = None
+    cells_per_wavelength: float = 10.0
+    relative_permittivity: float = 1.0
 
     def __post_init__(self) -> None:
         put = object.__setattr__
@@ -206,6 +231,7 @@ class MeshParams:
             )
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
+        self._check_sizing()
         self._check_geometry()
         self._check_float64()
         if self.tolerance is not None:
@@ -233,7 +259,7 @@ class MeshParams:
                 f"gap_width={self.gap_width!r} mm removes every patch of the {self.structure}; "
                 "the slot must leave metal on both sides: use a narrower gap or larger radii"
             )
-        if predicted > budget:
+        if predicted > budget and not self.sized:  # sized: checked at the n chosen
             raise ValueError(
                 f"these parameters would make {predicted:,} triangles, above the budget "
                 f"max_triangles={budget:,}; use a larger angle_step or patch_size, fewer "
@@ -257,6 +283,51 @@ class MeshParams:
             raise ValueError(
                 f"subdivisions={_short(n)} is outside 1..{top} for the {self.scheme} scheme"
             )
+
+    def _check_sizing(self) -> None:
+        """Check the sizing fields: max_edge, frequency, cells per wavelength, εr."""
+        put = object.__setattr__
+
+        def _not_bool(name: str, value: Any) -> Any:
+            if isinstance(value, bool):
+                raise ValueError(f"{name}={value!r} is not a number")
+            return value
+
+        if self.max_edge is not None:
+            put(self, "max_edge", _positive("max_edge", _not_bool("max_edge", self.max_edge)))
+        if self.frequency is not None:
+            f = _float("frequency", _not_bool("frequency", self.frequency),
+                       "a frequency in Hz")
+            if not math.isfinite(f) or f <= 0:
+                ghz = f" (= {f / 1e9:g} GHz)" if math.isfinite(f) and f else ""
+                raise ValueError(
+                    f"frequency={_short(self.frequency)} Hz{ghz} is invalid; expected a "
+                    "finite frequency > 0 Hz (10e9 for 10 GHz), or none for no sizing"
+                )
+            put(self, "frequency", f)
+        for name, what in (("cells_per_wavelength", "edges per wavelength"),
+                           ("relative_permittivity", "a relative permittivity")):
+            value = getattr(self, name)
+            x = _float(name, _not_bool(name, value), f"{what} >= 1")
+            if not (math.isfinite(x) and x >= 1):
+                raise ValueError(f"{name}={_short(value)} is invalid; expected {what}: a "
+                                 "finite number >= 1")
+            put(self, name, x)
+        if self.frequency is not None:
+            from .sizing import wavelength
+
+            lam = wavelength(self.frequency, self.relative_permittivity)
+            if not lam / self.cells_per_wavelength >= MIN_EDGE:
+                raise ValueError(
+                    f"frequency={_short(self.frequency)} Hz is too high: edges of λ/"
+                    f"{self.cells_per_wavelength:g} = {lam / self.cells_per_wavelength:.3g} mm "
+                    f"are below the shortest edge float64 can mesh, {MIN_EDGE:g} mm"
+                )
+
+    @property
+    def sized(self) -> bool:
+        """Whether the mesher chooses ``subdivisions`` (``max_edge`` or ``frequency`` set)."""
+        return self.max_edge is not None or self.frequency is not None
 
     def _check_triangle_vertices(self) -> None:
         given = self.triangle_vertices
