@@ -58,10 +58,10 @@ def test_no_wavelength_no_edge_field_and_solver_formats_stay_lean(tmp_path):
     mesh = build_mesh(MeshParams(structure="patch", subdivisions=2))
     for ext in (".vtu", ".vtk", ".vtp"):
         assert "edge_wavelength" not in cell_data_back(write_mesh(mesh, tmp_path / f"a{ext}"))
-    # Gmsh keeps its tags only (what the solvers read); STL (facet normals only) and OBJ
-    # have no per-triangle data
+    # Gmsh keeps its tags only (what the solvers read); STL and OBJ carry only what their
+    # readers make up (normals, group ids)
     msh = meshio.read(write_mesh(mesh, tmp_path / "a.msh", wavelength=30.0))
     assert set(msh.cell_data) == {"gmsh:physical", "gmsh:geometrical"}
     for ext in (".stl", ".obj"):
         back = meshio.read(write_mesh(mesh, tmp_path / f"a{ext}", wavelength=30.0))
-        assert set(back.cell_data) <= {"facet_normals"}
+        assert set(back.cell_data) <= {"facet_normals", "obj:group_ids"}
