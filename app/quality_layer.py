@@ -47,12 +47,18 @@ class WorstTrianglesLayer:
         self.triangles = np.empty(0, dtype=np.int64)
         self.chosen: int | None = None
         self._mesh: TriMesh | None = None
+        self._lift_mesh: TriMesh | None = None
+        self._dz = 0.0
         self._apply()
 
     def _lift(self, mesh: TriMesh) -> float:
-        pts = np.asarray(mesh.points)
-        span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
-        return 2e-4 * max(span, 1e-9)  # above the faces and the matrix highlight
+        """Height above the faces (and the matrix highlight), once per mesh: the span of
+        millions of points is not measured again on every click."""
+        if mesh is not self._lift_mesh:
+            pts = np.asarray(mesh.points)
+            span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
+            self._lift_mesh, self._dz = mesh, 2e-4 * max(span, 1e-9)
+        return self._dz
 
     def show(self, mesh: TriMesh | None, triangles: np.ndarray | list[int]) -> None:
         """Draw ``triangles`` (indices into ``mesh``) in red; the chosen one is forgotten."""

@@ -6,10 +6,11 @@ worst triangles by smallest angle: a click on one zooms the view to it and outli
 over the worst triangles drawn in red (:class:`app.quality_layer.WorstTrianglesLayer`,
 toggled by the check box here or View → Worst triangles).
 
-The report is :func:`core.quality.quality_report`, measured when the panel is seen or the
-red layer is on: on the GUI thread up to :data:`SYNC_TRIANGLES` triangles (about a
-millisecond), else in a worker thread (:func:`app.worker.run_in_thread`) while the window
-keeps answering; only the small report comes back.
+The report is :func:`core.quality.quality_report`, measured when the panel is seen (its
+dock's ``visibilityChanged`` calls :meth:`QualityPanel.set_seen`) or the red layer is on:
+on the GUI thread up to :data:`SYNC_TRIANGLES` triangles (about a millisecond), else in a
+worker thread (:func:`app.worker.run_in_thread`) while the window keeps answering; only
+the small report comes back.
 """
 
 from __future__ import annotations
@@ -182,6 +183,7 @@ class QualityPanel(QWidget):
         self._stale = False
         self._token: object | None = None
         self.measuring = False
+        self.seen = False  # see set_seen
 
         box = QVBoxLayout(self)
         box.setContentsMargins(8, 6, 8, 6)
@@ -224,7 +226,14 @@ class QualityPanel(QWidget):
     # -- measuring ---------------------------------------------------------------------
 
     def _wanted(self) -> bool:
-        return self.isVisible() or self.layer.visible
+        return self.seen or self.layer.visible
+
+    def set_seen(self, seen: bool) -> None:
+        """The dock's ``visibilityChanged``: a tab behind another one is not seen (yet it
+        counts as visible for Qt), so the report waits until its tab is chosen."""
+        self.seen = bool(seen)
+        if self.seen and self._stale:
+            self.refresh()
 
     def mesh_changed(self, result: Any) -> None:
         """A new mesh on screen: measure it now if seen, else when the panel is shown."""
@@ -238,11 +247,6 @@ class QualityPanel(QWidget):
         if self._wanted():
             self.refresh()
 
-    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
-        super().showEvent(event)
-        if self._stale:
-            self.refresh()
-
     def refresh(self) -> None:
         """Measure the mesh on screen (on this thread when small, else in a worker)."""
         self._stale = False
@@ -253,7 +257,10 @@ class QualityPanel(QWidget):
             self._show(None, None)
             return
         params = result.params if result.source == "parameters" else None
-        wavelength = params_wavelength(params)
+        try:
+            wavelength = params_wavelength(params)
+        except ValueError:  # a frequency the parameters should have refused: no edge/λ
+            wavelength = None
         if mesh.n_triangles <= SYNC_TRIANGLES:
             self._token = None
             self._show(mesh, measure(mesh, wavelength))

@@ -359,6 +359,7 @@ class MainWindow(QMainWindow):
         self._add_dock("Quality", self.quality_panel, Qt.DockWidgetArea.RightDockWidgetArea,
                        scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.quality_dock)
+        self.quality_dock.visibilityChanged.connect(self.quality_panel.set_seen)
         self.statistics_dock.raise_()
 
         self.busy = QProgressBar(self)
