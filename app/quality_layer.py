@@ -52,16 +52,23 @@ class WorstTrianglesLayer:
         self._apply()
 
     def _lift(self, mesh: TriMesh) -> float:
-        """Height above the faces (and the matrix highlight), once per mesh: the span of
-        millions of points is not measured again on every click."""
+        """Height above the faces (and the matrix highlight): a fraction of the mesh's
+        span, from :meth:`show`'s ``span`` or else measured once per mesh."""
         if mesh is not self._lift_mesh:
             pts = np.asarray(mesh.points)
-            span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
+            span = max(float(np.ptp(pts[:, k])) for k in (0, 1)) if len(pts) else 1.0
             self._lift_mesh, self._dz = mesh, 2e-4 * max(span, 1e-9)
         return self._dz
 
-    def show(self, mesh: TriMesh | None, triangles: np.ndarray | list[int]) -> None:
-        """Draw ``triangles`` (indices into ``mesh``) in red; the chosen one is forgotten."""
+    def show(self, mesh: TriMesh | None, triangles: np.ndarray | list[int],
+             span: float | None = None) -> None:
+        """Draw ``triangles`` (indices into ``mesh``) in red; the chosen one is forgotten.
+
+        ``span``: the larger side of the mesh's extent (mm) when the caller knows it (the
+        scene does), which saves reducing millions of points on the GUI thread.
+        """
+        if mesh is not None and span is not None and np.isfinite(span):
+            self._lift_mesh, self._dz = mesh, 2e-4 * max(float(span), 1e-9)
         tris = np.asarray(triangles, dtype=np.int64).reshape(-1)
         if mesh is None:
             tris = tris[:0]

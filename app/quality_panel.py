@@ -303,8 +303,11 @@ class QualityPanel(QWidget):
             item.setData(Qt.ItemDataRole.UserRole, row["triangle"])
             x, y, _ = row["centroid"]
             item.setToolTip(f"Triangle {row['triangle']:,}, centroid ({x:.6g}, {y:.6g}) mm")
-        self.layer.show(mesh, [row["triangle"] for row in report["worst"]])
-        self._render()
+        bounds = getattr(getattr(self.window, "scene", None), "bounds", None)
+        span = None if bounds is None else max(bounds[1] - bounds[0], bounds[3] - bounds[2])
+        self.layer.show(mesh, [row["triangle"] for row in report["worst"]], span)
+        if self.layer.visible:  # else the view has nothing new to draw
+            self._render()
         self.report_changed.emit(report)
 
     def _render(self) -> None:
