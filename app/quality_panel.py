@@ -239,7 +239,8 @@ class QualityPanel(QWidget):
         """A new mesh on screen: measure it now if seen, else when the panel is shown."""
         old = self._result
         if result is old or (result is not None and old is not None
-                             and result.mesh is not None and result.mesh is old.mesh):
+                             and result.mesh is not None and result.mesh is old.mesh
+                             and result.params == old.params and result.source == old.source):
             self._result = result  # Undo back to the mesh on screen: nothing new to measure
             return
         self._result = result

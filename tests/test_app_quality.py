@@ -163,3 +163,27 @@ def test_a_new_mesh_is_measured_again(small, qtbot):
     qtbot.waitUntil(lambda: window.quality_panel.report["triangles"] == 560, timeout=30_000)
     assert round(window.quality_panel.report["min_angle_deg"]["min"], 1) == 28.1
     assert np.isclose(window.quality_panel.report["aspect_ratio"]["max"], 1.74, atol=0.005)
+
+
+@pytest.mark.parametrize("window_params", [load_preset("paper-fig10")[0]])
+def test_edge_over_wavelength_histogram_with_a_frequency(small, qtbot):
+    """Parameters with a frequency (10 GHz: λ = 29.98 mm) add the edge/λ histogram: Fig. 10's
+    32 triangles all have a longest side of 2.5√2 mm = 0.118 λ, above λ/10. The parameters
+    are a stand-in with the attributes the sizing options add to MeshParams."""
+    from types import SimpleNamespace
+
+    window = small
+    panel = window.quality_panel
+    open_quality_tab(window, qtbot)
+    assert panel.histograms["edge_wavelength"].isHidden()
+    mesh = window.model.result.mesh
+    params = SimpleNamespace(frequency=10e9, relative_permittivity=None)
+    panel.mesh_changed(SimpleNamespace(mesh=mesh, params=params, source="parameters"))
+    report = panel.report
+    assert report == quality_report(mesh, wavelength=29.9792458, worst=20)
+    over = report["edge_wavelength"]
+    assert over["above"] == 32 and over["max"] == pytest.approx(2.5 * np.sqrt(2) / 29.9792458)
+    view = panel.histograms["edge_wavelength"]
+    assert not view.isHidden() and view.counts.sum() == 32 and view.threshold == 0.1
+    assert "above λ/10: " in panel.figures.text() and "32 (100%)" in panel.figures.text()
+    assert panel.worst_list.item(0).text().endswith("0.118 λ")
