@@ -20,7 +20,7 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QPointF, QRectF, QSize, Qt, Signal
+from PySide6.QtCore import QPointF, QRectF, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QColor, QFont, QPainter, QPen
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -228,11 +228,22 @@ class QualityPanel(QWidget):
     def _wanted(self) -> bool:
         return self.seen or self.layer.visible
 
+    @property
+    def up_to_date(self) -> bool:
+        """The report on show is the mesh on screen's (not waiting, not measuring)."""
+        return not self._stale and not self.measuring
+
     def set_seen(self, seen: bool) -> None:
         """The dock's ``visibilityChanged``: a tab behind another one is not seen (yet it
         counts as visible for Qt), so the report waits until its tab is chosen."""
         self.seen = bool(seen)
         if self.seen and self._stale:
+            QTimer.singleShot(0, self._refresh_if_wanted)
+
+    def _refresh_if_wanted(self) -> None:
+        # a turn of the event loop later: when the window is first shown every dock is
+        # announced visible for a moment before the tabs hide all but the raised one
+        if self._stale and self._wanted():
             self.refresh()
 
     def mesh_changed(self, result: Any) -> None:
@@ -246,7 +257,7 @@ class QualityPanel(QWidget):
         self._result = result
         self._stale = True
         if self._wanted():
-            self.refresh()
+            QTimer.singleShot(0, self._refresh_if_wanted)
 
     def refresh(self) -> None:
         """Measure the mesh on screen (on this thread when small, else in a worker)."""

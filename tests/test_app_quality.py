@@ -39,7 +39,7 @@ def open_quality_tab(window, qtbot):
 
 def wait_report(window, qtbot):
     panel = window.quality_panel
-    qtbot.waitUntil(lambda: panel.report is not None and not panel.measuring, timeout=60_000)
+    qtbot.waitUntil(lambda: panel.report is not None and panel.up_to_date, timeout=60_000)
     return panel.report
 
 
@@ -111,11 +111,16 @@ def small(window, qtbot):
 
 
 @pytest.mark.parametrize("window_params", [load_preset("conforming-double-ring")[0]])
-def test_small_mesh_measured_at_once_and_layer_toggles(small, qtbot):
+def test_small_mesh_measured_at_once_and_layer_toggles(small, qtbot, monkeypatch):
+    threads = []
+    real = quality_panel.quality_report
+    monkeypatch.setattr(quality_panel, "quality_report",
+                        lambda *a, **k: threads.append(threading.current_thread()) or real(*a, **k))
     window = small
     panel = window.quality_panel
     open_quality_tab(window, qtbot)
-    report = panel.report  # 1,152 triangles: measured on the spot, no wait
+    report = wait_report(window, qtbot)
+    assert threads == [threading.main_thread()]  # 1,152 triangles: on the GUI thread
     mesh = window.model.result.mesh
     assert report == quality_report(mesh, worst=20)
     assert round(report["min_angle_deg"]["min"], 1) == 19.1  # the figure
@@ -175,11 +180,12 @@ def test_edge_over_wavelength_histogram_with_a_frequency(small, qtbot):
     window = small
     panel = window.quality_panel
     open_quality_tab(window, qtbot)
+    wait_report(window, qtbot)
     assert panel.histograms["edge_wavelength"].isHidden()
     mesh = window.model.result.mesh
     params = SimpleNamespace(frequency=10e9, relative_permittivity=None)
     panel.mesh_changed(SimpleNamespace(mesh=mesh, params=params, source="parameters"))
-    report = panel.report
+    report = wait_report(window, qtbot)
     assert report == quality_report(mesh, wavelength=29.9792458, worst=20)
     over = report["edge_wavelength"]
     assert over["above"] == 32 and over["max"] == pytest.approx(2.5 * np.sqrt(2) / 29.9792458)
