@@ -159,6 +159,15 @@ def _add_stats_option(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _add_quality_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--quality-json",
+        metavar="PATH|-",
+        help="write the quality report (smallest angle, aspect ratio, edge/wavelength: "
+        "figures, histograms, the 20 worst triangles) as JSON to PATH, or to stdout with '-'",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the subcommands (``mesh``, ``info``, ``sweep``, ``presets``)."""
     from core.cell.outline import DEFAULT_CHORD_ERROR
@@ -220,6 +229,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--transparent", action="store_true", help="screenshot with a transparent background"
     )
     _add_stats_option(out)
+    _add_quality_option(out)
 
     info = verbs.add_parser(
         "info",
@@ -236,7 +246,15 @@ def build_parser() -> argparse.ArgumentParser:
         choices=UNITS,
         help="length unit of the file's coordinates (default mm; .mat: m)",
     )
+    info.add_argument(
+        "--frequency",
+        type=_finite,
+        metavar="HZ",
+        help="the quality report adds each triangle's longest edge over the free-space "
+        "wavelength at this frequency (the lambda/10 rule)",
+    )
     _add_stats_option(info)
+    _add_quality_option(info)
 
     from core.sweep import MAX_FRAMES, SWEEPABLE
 
@@ -355,10 +373,47 @@ def _summary(stats: dict[str, Any], title: str) -> str:
     return "\n".join(lines)
 
 
+def _quality(mesh: Any, wavelength: float | None) -> dict[str, Any]:
+    from core.quality import quality_report
+
+    with progress("measuring the quality"):
+        return quality_report(mesh, wavelength=wavelength)
+
+
+def _quality_text(report: dict[str, Any]) -> str:
+    from core.quality import quality_lines
+
+    return "\n".join(["  quality:", *("  " + line for line in quality_lines(report))])
+
+
+def _to_stdout(args: argparse.Namespace) -> bool:
+    """Whether a JSON output goes to stdout (then the summary goes to stderr)."""
+    return "-" in (args.stats_json, args.quality_json)
+
+
+def _check_json_targets(args: argparse.Namespace, verb: str) -> None:
+    if args.stats_json == "-" and args.quality_json == "-":
+        raise UsageError(
+            f"{verb}: --stats-json - and --quality-json - both want stdout; write one to a file"
+        )
+
+
+def _json_ready(value: Any) -> Any:
+    """``value`` with every float that is not finite (NaN, ±inf) replaced by None."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_ready(v) for v in value]
+    return value
+
+
 def _emit_stats(stats: dict[str, Any], target: str | None) -> None:
     if target is None:
         return
-    text = json.dumps(stats, indent=2) + "\n"
+    # no NaN or Infinity: strict JSON parsers refuse them (null instead)
+    text = json.dumps(_json_ready(stats), indent=2, allow_nan=False) + "\n"
     if target == "-":
         sys.stdout.write(text)
         return
@@ -372,12 +427,16 @@ def _emit_stats(stats: dict[str, Any], target: str | None) -> None:
 
 def _cmd_mesh(args: argparse.Namespace) -> int:
     _check_mesh_usage(args)
-    stats_to_stdout = args.stats_json == "-"
-    say = sys.stderr if stats_to_stdout else sys.stdout
+    say = sys.stderr if _to_stdout(args) else sys.stdout
     outlines = [out for out in args.outputs if Path(out).suffix.lower() in OUTLINE_EXTENSIONS]
     built = _build(args)
     polygons = _outline_polygons(built, args, outlines[0]) if outlines else []
     print(built.summary, file=say)
+    from core.quality import params_wavelength
+
+    wavelength = params_wavelength(built.params)
+    report = _quality(built.mesh, wavelength)
+    print(_quality_text(report), file=say)
 
     from core.io import describe_export
 
@@ -387,12 +446,13 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
                 _write_outline(polygons, out, built.name)
                 print(f"wrote {_describe_outline(out, polygons, args.chord_error)}", file=say)
             else:
-                extra = _write_mesh_file(built, out, args.unit)
+                extra = _write_mesh_file(built, out, args.unit, wavelength)
                 print(f"wrote {describe_export(out, args.unit)}{extra}", file=say)
     if args.screenshot:
         _screenshot(built.mesh, args.screenshot, tuple(args.window_size), args.transparent)
         print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)", file=say)
     _emit_stats(built.stats, args.stats_json)
+    _emit_stats(report, args.quality_json)
     return 0
 
 
@@ -426,7 +486,9 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
     for text in args.sets:
         if "=" not in text or not text.partition("=")[0].strip():
             raise UsageError(f"mesh: --set {text!r} is invalid; expected name=value")
-    targets = [*args.outputs, args.screenshot, None if args.stats_json == "-" else args.stats_json]
+    _check_json_targets(args, "mesh")
+    targets = [*args.outputs, args.screenshot]
+    targets += [t for t in (args.stats_json, args.quality_json) if t != "-"]
     for target in filter(None, targets):
         _check_folder(target)  # before minutes of meshing, not after
     for out in outlines:
@@ -641,13 +703,17 @@ def _cell_summary(cell_mesh: Any, stats: dict[str, Any], label: str) -> str:
     return "\n".join(lines)
 
 
-def _write_mesh_file(built: _Built, out: str, unit: str | None) -> str:
-    """Write a mesh file; a cell's .msh gets ``$Periodic`` when periodic. Returns a remark."""
+def _write_mesh_file(
+    built: _Built, out: str, unit: str | None, wavelength: float | None = None
+) -> str:
+    """Write a mesh file; a cell's .msh gets ``$Periodic`` when periodic. Returns a remark.
+
+    With ``wavelength`` (mm) VTK files also carry each triangle's edge/wavelength."""
     from core.io import export_unit, per_mm, write_mesh
 
     cell_mesh = built.cell_mesh
     if cell_mesh is None or Path(out).suffix.lower() != ".msh":
-        write_mesh(built.mesh, out, unit=unit)
+        write_mesh(built.mesh, out, unit=unit, wavelength=wavelength)
         return ""
     pairs = cell_mesh.periodic_pairs
     if pairs.matched and len(pairs.edges):
@@ -790,18 +856,32 @@ def _cmd_info(args: argparse.Namespace) -> int:
     if args.unit is not None and cell_given:
         raise UsageError("info: --unit is for mesh files; a cell is in mm")
     _check_cell_usage(args, "info")
-    stats_to_stdout = args.stats_json == "-"
-    say = sys.stderr if stats_to_stdout else sys.stdout
+    _check_json_targets(args, "info")
+    from core.quality import wavelength_mm
+
+    try:
+        wavelength = wavelength_mm(args.frequency)
+    except ValueError:
+        raise UsageError(
+            f"info: --frequency {args.frequency:g} is invalid; expected a positive number of Hz"
+        ) from None
+    for target in (args.stats_json, args.quality_json):
+        if target is not None and target != "-":
+            _check_folder(target)
+    say = sys.stderr if _to_stdout(args) else sys.stdout
     if cell_given:
         built = _build(args)
-        print(built.summary, file=say)
-        _emit_stats(built.stats, args.stats_json)
-        return 0
-    with progress(f"reading {args.file}"):
-        mesh = read_mesh(args.file, unit=args.unit)
-        stats = mesh.stats()
-    print(_summary(stats, f"{args.file}: imported mesh"), file=say)
+        mesh, stats, summary = built.mesh, built.stats, built.summary
+    else:
+        with progress(f"reading {args.file}"):
+            mesh = read_mesh(args.file, unit=args.unit)
+            stats = mesh.stats()
+        summary = _summary(stats, f"{args.file}: imported mesh")
+    print(summary, file=say)
+    report = _quality(mesh, wavelength)
+    print(_quality_text(report), file=say)
     _emit_stats(stats, args.stats_json)
+    _emit_stats(report, args.quality_json)
     return 0
 
 

@@ -57,6 +57,7 @@ from .framing import frame_from_above, look_from_above, pixels_per_mm
 from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from .layers_panel import LayersPanel
 from .model import AppModel, MeshResult, ParamError
+from .quality_panel import QualityPanel
 from .scene import MeshScene, scene_data
 from .solve_panel import SolvePanel
 from .stats_panel import StatsPanel
@@ -353,6 +354,12 @@ class MainWindow(QMainWindow):
         self._add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea,
                        scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
+        # Quality: the quality report, its histograms and worst triangles (red layer)
+        self.quality_panel = QualityPanel(self)
+        self._add_dock("Quality", self.quality_panel, Qt.DockWidgetArea.RightDockWidgetArea,
+                       scroll=True)
+        self.tabifyDockWidget(self.statistics_dock, self.quality_dock)
+        self.quality_dock.visibilityChanged.connect(self.quality_panel.set_seen)
         self.statistics_dock.raise_()
 
         self.busy = QProgressBar(self)
@@ -554,8 +561,9 @@ class MainWindow(QMainWindow):
         view.addAction(self.view_tools.act_measure)
         view.addSeparator()
         for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock,
-                     self.solve_dock):
+                     self.solve_dock, self.quality_dock):
             view.addAction(dock.toggleViewAction())
+        layers.addAction(self.quality_panel.act_layer)
 
         self.teach_menu = getattr(self, "teach_menu", None) or bar.addMenu("&Teach")
         self.teaching.add_to_menu(self.teach_menu)
@@ -949,13 +957,15 @@ class MainWindow(QMainWindow):
 
     def export_mesh(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
         from core.io import describe_export, write_mesh
+        from core.quality import params_wavelength
 
         result = self.model.result
         if result is None or result.mesh is None:
             self.statusBar().showMessage("No mesh to export yet")
             return False
         try:
-            write_mesh(result.mesh, path, unit=unit)
+            params = result.params if result.source == "parameters" else None
+            write_mesh(result.mesh, path, unit=unit, wavelength=params_wavelength(params))
             what = describe_export(path, unit)
         except (ValueError, OSError) as exc:
             self._file_error(f"Could not export {Path(path).name}", exc, path)
@@ -1081,7 +1091,8 @@ class MainWindow(QMainWindow):
         one column on the left, so the 3D view keeps most of the width. The teaching docks
         stay tabbed with Statistics; hidden docks stay hidden."""
         left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
-        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock, self.solve_dock]
+        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock, self.solve_dock,
+                 self.quality_dock]
         hidden = {d: d.isHidden() for d in
                   (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)}
         self._arranging = True

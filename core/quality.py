@@ -8,11 +8,14 @@ new mesh.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from .topology import BLOCK
+
+if TYPE_CHECKING:
+    from .mesh import TriMesh
 
 
 class TriangleQuality(NamedTuple):
@@ -190,3 +193,264 @@ def quality_summary(
         shortest_side=float(np.min(short)),
         longest_side=float(np.max(long_)),
     )
+
+
+# -- the quality report: what a solver's user checks before a run -----------------------
+
+#: Smallest angle below which a triangle counts as thin (degrees): PSSFSS meshes with a
+#: 30° minimum angle, and the property tests hold conforming meshes to it.
+MIN_ANGLE_THRESHOLD = 30.0
+#: Aspect ratio (l_max × perimeter / (4√3 area), 1 for an equilateral triangle) above which
+#: a triangle counts as distorted. A triangle whose smallest angle is at least 30° has an
+#: aspect ratio of at most (2 + √3)/√3 ≈ 2.155 (the 30-30-120° triangle), so 3 flags only
+#: triangles well beyond what the 30° rule tolerates: about a flat cap whose smallest
+#: angle is below 21° or a needle below 11°.
+ASPECT_RATIO_THRESHOLD = 3.0
+#: Longest edge over the wavelength above which a triangle is too coarse (λ/10).
+EDGE_WAVELENGTH_THRESHOLD = 0.1
+#: Percentiles of the smallest angle in the report.
+ANGLE_PERCENTILES = (1, 5, 25, 50)
+#: Bins of the histograms.
+HISTOGRAM_BINS = 30
+#: The aspect-ratio histogram spans 1 .. at most this; larger (and infinite) ratios are
+#: counted in its ``above_range``.
+ASPECT_RATIO_RANGE_CAP = 20.0
+#: Speed of light in mm/s, for wavelengths in mm.
+SPEED_OF_LIGHT_MM = 299_792_458.0e3
+
+
+def wavelength_mm(
+    frequency: float | None, relative_permittivity: float | None = None
+) -> float | None:
+    """Wavelength (mm) at ``frequency`` (Hz) in a medium of ``relative_permittivity``.
+
+    ``None`` without a frequency. λ = c / (f √ε_r).
+
+    Examples
+    --------
+    >>> round(wavelength_mm(10e9), 6)
+    29.979246
+    >>> round(wavelength_mm(10e9, 4.0), 6)
+    14.989623
+    """
+    if frequency is None:
+        return None
+    f = float(frequency)
+    eps = 1.0 if relative_permittivity is None else float(relative_permittivity)
+    if not (np.isfinite(f) and f > 0):
+        raise ValueError(f"frequency={frequency!r} is invalid; expected a positive number of Hz")
+    if not (np.isfinite(eps) and eps >= 1.0):
+        raise ValueError(
+            f"relative_permittivity={relative_permittivity!r} is invalid; expected a number >= 1"
+        )
+    return SPEED_OF_LIGHT_MM / (f * float(np.sqrt(eps)))
+
+
+def params_wavelength(params: object) -> float | None:
+    """The wavelength (mm) that mesh parameters ask for, or None.
+
+    Read defensively (``frequency`` and ``relative_permittivity`` are optional
+    attributes), so any parameter object, or None, will do.
+    """
+    return wavelength_mm(
+        getattr(params, "frequency", None), getattr(params, "relative_permittivity", None)
+    )
+
+
+def longest_sides(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """The longest side of every triangle, (T,) float64, in the unit of ``points``.
+
+    Parameters
+    ----------
+    points : (V, 2) or (V, 3) float64
+    triangles : (T, 3) int
+    """
+    points = np.asarray(points, dtype=np.float64)
+    triangles = np.asarray(triangles)
+    columns = [np.ascontiguousarray(points[:, k]) for k in range(points.shape[1])]
+    out = np.empty(len(triangles))
+    for lo in range(0, len(triangles), BLOCK):
+        (l0, l1, l2), _ = _sides_and_areas(columns, triangles[lo : lo + BLOCK])
+        np.maximum(np.maximum(l0, l1), l2, out=out[lo : lo + BLOCK])
+    return out
+
+
+def _number(x: float) -> float | None:
+    """A JSON-ready float: None for NaN and ±inf."""
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
+def _histogram(values: np.ndarray, edges: np.ndarray) -> dict[str, Any]:
+    """Bin edges, counts and what falls outside, of the finite and infinite values."""
+    counts, _ = np.histogram(values, bins=edges)
+    return {
+        "edges": [float(e) for e in edges],
+        "counts": counts.tolist(),
+        "below_range": int(np.count_nonzero(values < edges[0])),
+        "above_range": int(np.count_nonzero(values > edges[-1])),
+    }
+
+
+def _range_top(largest: float, floor: float, step: float) -> float:
+    """``largest`` rounded up to a multiple of ``step``, at least ``floor``."""
+    if not np.isfinite(largest):
+        return floor
+    return max(floor, float(np.ceil(largest / step - 1e-9)) * step)
+
+
+def _worst_indices(min_angles: np.ndarray, k: int) -> np.ndarray:
+    """The ``k`` triangles of smallest angle, smallest first, ties by index (deterministic)."""
+    n = len(min_angles)
+    k = min(int(k), n)
+    if k <= 0:
+        return np.empty(0, dtype=np.int64)
+    kth = np.partition(min_angles, k - 1)[k - 1]
+    less = np.flatnonzero(min_angles < kth)
+    tied = np.flatnonzero(min_angles == kth)[: k - len(less)]
+    picked = np.concatenate([less, tied])
+    return picked[np.lexsort((picked, min_angles[picked]))]
+
+
+def quality_report(
+    mesh: TriMesh, wavelength: float | None = None, worst: int = 20
+) -> dict[str, Any]:
+    """The quality of a mesh as a solver's user checks it, as a plain JSON-ready dict.
+
+    Smallest angle (minimum, percentiles, triangles below
+    :data:`MIN_ANGLE_THRESHOLD`), aspect ratio (maximum, triangles above
+    :data:`ASPECT_RATIO_THRESHOLD`), and with a wavelength the longest edge of each
+    triangle over λ (maximum, triangles above :data:`EDGE_WAVELENGTH_THRESHOLD`),
+    each with a histogram; and the ``worst`` triangles by smallest angle. Floats
+    that are not finite (the aspect ratio of a degenerate triangle) are None, so
+    ``json.dumps(..., allow_nan=False)`` takes the dict as it is.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+    wavelength : float, optional
+        λ in mm. Default: from ``mesh.params`` (``frequency``, ``relative_permittivity``)
+        when the mesh has them, else no edge/λ figures.
+    worst : int
+        How many of the worst triangles to list (0 or more).
+
+    Returns
+    -------
+    dict
+        ``triangles``; ``min_angle_deg``: ``min``, ``percentiles`` (str(p) -> degrees),
+        ``threshold``, ``below``, ``histogram``; ``aspect_ratio``: ``max``, ``median``,
+        ``threshold``, ``above``, ``degenerate`` (area 0), ``histogram``;
+        ``edge_wavelength``: None, or ``wavelength_mm``, ``max``, ``threshold``,
+        ``above``, ``histogram``; ``worst``: list of dicts with ``triangle``,
+        ``min_angle_deg``, ``aspect_ratio``, ``centroid`` (mm) and, with a wavelength,
+        ``edge_wavelength``. A histogram is ``edges`` (bins + 1), ``counts`` (bins),
+        ``below_range`` and ``above_range``.
+
+    Examples
+    --------
+    >>> from core import MeshParams, build_mesh
+    >>> r = quality_report(build_mesh(MeshParams(structure="patch")), worst=1)
+    >>> round(r["min_angle_deg"]["min"], 9), r["min_angle_deg"]["below"], r["worst"][0]["triangle"]
+    (45.0, 0, 0)
+    """
+    if isinstance(worst, bool) or not isinstance(worst, (int, np.integer)) or worst < 0:
+        raise ValueError(f"worst={worst!r} is invalid; expected a whole number >= 0")
+    if wavelength is None:
+        wavelength = params_wavelength(getattr(mesh, "params", None))
+    elif not (np.isfinite(float(wavelength)) and float(wavelength) > 0):
+        raise ValueError(f"wavelength={wavelength!r} is invalid; expected a positive length in mm")
+    n = mesh.n_triangles
+    angles = np.asarray(mesh.min_angles)
+    ratios = np.asarray(mesh.aspect_ratios)
+    finite = np.isfinite(ratios)
+    out: dict[str, Any] = {"triangles": int(n)}
+
+    angle_edges = np.linspace(0.0, 60.0, HISTOGRAM_BINS + 1)  # the smallest angle is ≤ 60°
+    pct = np.percentile(angles, ANGLE_PERCENTILES) if n else [np.nan] * len(ANGLE_PERCENTILES)
+    out["min_angle_deg"] = {
+        "min": _number(angles.min()) if n else None,
+        "percentiles": {str(p): _number(v) for p, v in zip(ANGLE_PERCENTILES, pct, strict=True)},
+        "threshold": MIN_ANGLE_THRESHOLD,
+        "below": int(np.count_nonzero(angles < MIN_ANGLE_THRESHOLD)),
+        "histogram": _histogram(angles, angle_edges),
+    }
+
+    largest = float(ratios[finite].max()) if finite.any() else np.nan
+    top = min(_range_top(largest, 2.0 * ASPECT_RATIO_THRESHOLD, 1.0), ASPECT_RATIO_RANGE_CAP)
+    out["aspect_ratio"] = {
+        "max": (None if not finite.all() else _number(largest)) if n else None,
+        "median": _number(np.median(ratios)) if n and finite.all() else None,
+        "threshold": ASPECT_RATIO_THRESHOLD,
+        "above": int(np.count_nonzero(~(ratios <= ASPECT_RATIO_THRESHOLD))),
+        "degenerate": int(np.count_nonzero(~finite)),
+        "histogram": _histogram(
+            ratios[~np.isnan(ratios)], np.linspace(1.0, top, HISTOGRAM_BINS + 1)
+        ),
+    }
+
+    edge_ratio = None
+    out["edge_wavelength"] = None
+    if wavelength is not None:
+        edge_ratio = longest_sides(mesh.points, mesh.triangles) / float(wavelength)
+        biggest = float(edge_ratio.max()) if n else 0.0
+        top = _range_top(biggest, 1.5 * EDGE_WAVELENGTH_THRESHOLD, 0.05)
+        out["edge_wavelength"] = {
+            "wavelength_mm": float(wavelength),
+            "max": _number(biggest) if n else None,
+            "threshold": EDGE_WAVELENGTH_THRESHOLD,
+            "above": int(np.count_nonzero(edge_ratio > EDGE_WAVELENGTH_THRESHOLD)),
+            "histogram": _histogram(edge_ratio, np.linspace(0.0, top, HISTOGRAM_BINS + 1)),
+        }
+
+    picked = _worst_indices(angles, worst)
+    corners = np.asarray(mesh.points)[np.asarray(mesh.triangles)[picked]]  # (k, 3, 3)
+    centroids = corners.mean(axis=1)
+    rows = []
+    for i, t in enumerate(picked.tolist()):  # at most ``worst`` rows, not a loop over the mesh
+        row = {
+            "triangle": t,
+            "min_angle_deg": _number(angles[t]),
+            "aspect_ratio": _number(ratios[t]),
+            "centroid": [float(c) for c in centroids[i]],
+        }
+        if edge_ratio is not None:
+            row["edge_wavelength"] = _number(edge_ratio[t])
+        rows.append(row)
+    out["worst"] = rows
+    return out
+
+
+def quality_lines(report: dict[str, Any]) -> list[str]:
+    """A few lines of text summing up :func:`quality_report` (the command line's)."""
+    a, r, e = report["min_angle_deg"], report["aspect_ratio"], report["edge_wavelength"]
+    n = report["triangles"]
+
+    def share(count: int) -> str:
+        return f"{count:,} ({100.0 * count / n:.3g}%)" if n else f"{count:,}"
+
+    def num(x: float | None, fmt: str) -> str:
+        return "undefined" if x is None else format(x, fmt)
+
+    p = a["percentiles"]
+    lines = [
+        f"  smallest angle {num(a['min'], '.3g')} deg (1%: {num(p['1'], '.3g')}, 5%: "
+        f"{num(p['5'], '.3g')}, median {num(p['50'], '.3g')}); below {a['threshold']:g} deg: "
+        f"{share(a['below'])}",
+        f"  aspect ratio max {num(r['max'], '.4g')}, median {num(r['median'], '.4g')}; "
+        f"above {r['threshold']:g}: {share(r['above'])}",
+    ]
+    if r["degenerate"]:
+        lines.append(f"  degenerate (zero-area) triangles: {r['degenerate']:,}")
+    if e is not None:
+        lines.append(
+            f"  longest edge / wavelength {num(e['max'], '.3g')} (lambda = "
+            f"{e['wavelength_mm']:.4g} mm); above 1/10: {share(e['above'])}"
+        )
+    if report["worst"]:
+        w = report["worst"][0]
+        x, y, _ = w["centroid"]
+        lines.append(
+            f"  worst triangle #{w['triangle']:,}: {num(w['min_angle_deg'], '.3g')} deg at "
+            f"({x:.4g}, {y:.4g}) mm"
+        )
+    return lines

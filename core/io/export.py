@@ -69,7 +69,9 @@ def describe_export(path: str | Path, unit: str | None = None) -> str:
     return f"{path} ({export_format(path).name}, {export_unit(path, unit)})"
 
 
-def write_mesh(mesh: TriMesh, path: str | Path, unit: str | None = None) -> Path:
+def write_mesh(
+    mesh: TriMesh, path: str | Path, unit: str | None = None, wavelength: float | None = None
+) -> Path:
     """Write ``mesh`` to ``path``; the extension picks the format (see ``EXPORT_FORMATS``).
 
     Parameters
@@ -79,6 +81,9 @@ def write_mesh(mesh: TriMesh, path: str | Path, unit: str | None = None) -> Path
     path : str or Path
     unit : {"m", "mm", "um"}, optional
         Length unit of the file; default ``"mm"``, except ``.mat`` (``"m"``).
+    wavelength : float, optional
+        λ in mm: VTK files (``.vtu``, ``.vtp``, ``.vtk``) then also carry the cell
+        array ``edge_wavelength`` (longest side of each triangle over λ).
 
     Returns
     -------
@@ -107,9 +112,9 @@ def write_mesh(mesh: TriMesh, path: str | Path, unit: str | None = None) -> Path
         elif ext == ".npz":
             write_rwg_npz(mesh, tmp, factor, u)
         elif ext == ".vtp":
-            write_vtp(mesh, tmp, factor)
+            write_vtp(mesh, tmp, factor, wavelength)
         else:
-            write_meshio(mesh, tmp, ext, factor)
+            write_meshio(mesh, tmp, ext, factor, wavelength)
         if not tmp.exists():
             raise ExportError(f"cannot write {path}: the writer produced no file")
     return path

@@ -33,11 +33,14 @@ def _array(name: str, data: np.ndarray, components: int = 1) -> str:
     )
 
 
-def write_vtp(mesh: TriMesh, path: Path, per_mm: float) -> None:
-    """Write ``mesh`` as ASCII PolyData with coordinates multiplied by ``per_mm``."""
+def write_vtp(mesh: TriMesh, path: Path, per_mm: float, wavelength: float | None = None) -> None:
+    """Write ``mesh`` as ASCII PolyData with coordinates multiplied by ``per_mm``.
+
+    ``wavelength`` (mm) adds the cell array ``edge_wavelength``.
+    """
     points = np.asarray(mesh.points, dtype=np.float64) * per_mm
     tri = np.asarray(mesh.triangles, dtype=np.int64)
-    data = cell_quality(mesh)
+    data = cell_quality(mesh, wavelength)
     data["area"] = data["area"] * per_mm**2
     parts = [
         '<?xml version="1.0"?>\n',

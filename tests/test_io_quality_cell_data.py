@@ -1,0 +1,67 @@
+"""The exports carry the quality report's figures per triangle (VTK files), read back by
+meshio (and pyvista for our own .vtp writer)."""
+
+import meshio
+import numpy as np
+import pytest
+
+from core import MeshParams, build_mesh
+from core.io import write_mesh
+from core.presets import load_preset
+from core.quality import quality_report
+
+
+def cell_data_back(path):
+    if path.suffix == ".vtp":  # meshio reads no PolyData: pyvista (VTK) does
+        pv = pytest.importorskip("pyvista")
+        poly = pv.read(path)
+        return {k: np.asarray(poly.cell_data[k]) for k in poly.cell_data.keys()}
+    m = meshio.read(path)
+    return {k: np.asarray(v[0]).reshape(-1) for k, v in m.cell_data.items()}
+
+
+@pytest.fixture(scope="module")
+def dsdr():
+    """The issue's paper-fig8-dsdr: 11,008 triangles, all under 30°, ratios up to 4.8."""
+    return build_mesh(load_preset("paper-fig8-dsdr")[0])
+
+
+@pytest.mark.parametrize("ext", [".vtu", ".vtk", ".vtp"])
+@pytest.mark.parametrize("unit", ["mm", "m"])
+def test_vtk_files_carry_the_reports_figures(tmp_path, dsdr, ext, unit):
+    wavelength = 2.55  # mm: longest sides 0.2506 .. 0.2619 mm, some above λ/10, some under
+    report = quality_report(dsdr, wavelength=wavelength, worst=5)
+    data = cell_data_back(write_mesh(dsdr, tmp_path / f"q{ext}", unit=unit, wavelength=wavelength))
+    assert len(data["min_angle"]) == dsdr.n_triangles == 11_008
+    assert data["min_angle"].min() == pytest.approx(report["min_angle_deg"]["min"], rel=1e-15)
+    assert np.count_nonzero(data["min_angle"] < 30) == report["min_angle_deg"]["below"] == 11_008
+    assert data["aspect_ratio"].max() == pytest.approx(report["aspect_ratio"]["max"], rel=1e-15)
+    assert np.count_nonzero(data["aspect_ratio"] > 3) == report["aspect_ratio"]["above"]
+    over = report["edge_wavelength"]
+    # edge/λ has no unit: the same numbers in a file in metres
+    assert data["edge_wavelength"].max() == pytest.approx(over["max"], rel=1e-15)
+    assert 0 < np.count_nonzero(data["edge_wavelength"] > 0.1) == over["above"] < 11_008
+    for row in report["worst"]:
+        t = row["triangle"]
+        assert data["min_angle"][t] == pytest.approx(row["min_angle_deg"], rel=1e-15)
+        assert data["edge_wavelength"][t] == pytest.approx(row["edge_wavelength"], rel=1e-15)
+
+
+def test_edge_wavelength_of_the_papers_patch(tmp_path):
+    """Fig. 10: every longest side is 2.5√2 mm; at λ = 30 mm that is 0.1179 > 1/10."""
+    mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0, subdivisions=4))
+    data = cell_data_back(write_mesh(mesh, tmp_path / "p.vtu", wavelength=30.0))
+    np.testing.assert_allclose(data["edge_wavelength"], 2.5 * np.sqrt(2) / 30.0, rtol=1e-15)
+
+
+def test_no_wavelength_no_edge_field_and_solver_formats_stay_lean(tmp_path):
+    mesh = build_mesh(MeshParams(structure="patch", subdivisions=2))
+    for ext in (".vtu", ".vtk", ".vtp"):
+        assert "edge_wavelength" not in cell_data_back(write_mesh(mesh, tmp_path / f"a{ext}"))
+    # Gmsh keeps its tags only (what the solvers read); STL and OBJ carry only what their
+    # readers make up (normals, group ids)
+    msh = meshio.read(write_mesh(mesh, tmp_path / "a.msh", wavelength=30.0))
+    assert set(msh.cell_data) == {"gmsh:physical", "gmsh:geometrical"}
+    for ext in (".stl", ".obj"):
+        back = meshio.read(write_mesh(mesh, tmp_path / f"a{ext}", wavelength=30.0))
+        assert set(back.cell_data) <= {"facet_normals", "obj:group_ids"}
