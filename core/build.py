@@ -89,6 +89,7 @@ def build_mesh(
         tolerance=params.weld_tolerance,
         patch_rects=lay.rects if params.mode == "paper" else None,
         _template=lay.template,
+        min_angle_floor=lay.min_angle_floor,
     )
     check_mesh(mesh, params, vertex_map)
     return mesh

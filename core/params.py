@@ -525,10 +525,9 @@ class MeshParams:
 
     def predicted_triangles(self) -> int:
         """Number of triangles the mesh will have (computed without building it)."""
-        from .structures import predicted_patches
+        from .structures import predicted_triangles
 
-        per_patch = self.triangles_per_primary * (1 if self.structure == "triangle" else 2)
-        return predicted_patches(self) * per_patch
+        return predicted_triangles(self)
 
     # -- (de)serialisation --------------------------------------------------
 
