@@ -156,8 +156,10 @@ class MeshParams:
     growth_ratio : float
         Largest ratio of neighbouring cells when grading, in (1, 2].
     min_edge : float or None
-        Width (mm) of the cells at the circles when grading, below
-        patch_size / subdivisions; ``None`` is that uniform width / growth_ratio².
+        Width (mm) of the cells at the circles (and along the arc at a slot)
+        when grading, below patch_size / subdivisions; ``None`` is that uniform
+        width / growth_ratio². A track too narrow for the growth to reach the
+        uniform width scales all its cells down alike (ends below min_edge).
     """
 
     structure: str = "double_ring"
@@ -436,6 +438,10 @@ class MeshParams:
             else:
                 m = _count(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
             chord = 2 * r * math.sin(math.radians(span / m) / 2)
+            if final and self.grading:
+                from .structures import narrowest_sector
+
+                chord *= narrowest_sector(self)
             if s in SPLIT_STRUCTURES and span < 0.5 * full:
                 name = "gap_width"
             elif r < h or self.angle_step >= MAX_SECTOR_DEG:

@@ -292,6 +292,13 @@ def graded_track_nodes(params) -> tuple[float, ...]:
     return graded_nodes(n, fine / h, params.growth_ratio)
 
 
+def narrowest_sector(params) -> float:
+    """The narrowest sector of a graded slotted arc against the even ones asked (<= 1)."""
+    plan = sector_plan(params)
+    widths = [min(np.diff(b)) * plan.base for b in plan.boundaries if b is not None]
+    return min([1.0, *widths])
+
+
 @lru_cache(maxsize=64)
 def _cached_plan(key: tuple) -> SectorPlan:
     params = SimpleNamespace(**dict(zip(_ARC_FIELDS, key, strict=True)))

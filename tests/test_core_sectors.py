@@ -146,6 +146,7 @@ def test_sectors_are_well_shaped_where_the_geometry_allows(p):
 def test_never_more_triangles_than_sectors_of_n_by_n_cells(p):
     mesh = build_mesh(p)
     assert mesh.n_triangles <= old_triangles(p)
+    assert mesh.stats()["min_edge"] >= p.min_spacing * (1 - 1e-9)  # a lower bound
     assert mesh.n_triangles == p.predicted_triangles()
     # angle_step stays the widest sector: at least the asked number per arc and ring
     arcs = _geometry(p)[0]
@@ -251,6 +252,8 @@ def _growth(lengths):
 def test_graded_cells_grow_by_at_most_the_growth_ratio(p):
     mesh = build_mesh(p)
     assert mesh.topology.valence.max() <= 2
+    # the tolerance and float64 checks measure against a lower bound of the edges
+    assert mesh.stats()["min_edge"] >= p.min_spacing * (1 - 1e-9)
     q = p.growth_ratio
     fine = p.min_edge if p.min_edge is not None else p.patch_size / p.subdivisions / q**2
     rel = mesh.points[:, :2] - np.asarray(p.origin)
