@@ -115,6 +115,7 @@ def _assemble(
         patch_rects=lay.rects if params.mode == "paper" else None,
         _template=lay.template,
         params=params,
+        min_angle_floor=lay.min_angle_floor,
     )
     return mesh, vertex_map
 

@@ -237,7 +237,7 @@ def glued_edge_valence(template: Any, vertex_map: np.ndarray, n_vertices: int) -
     shared = (np.bincount(vertex_map.ravel(), minlength=n_vertices) > 1)[vertex_map]
     edges = template.edges
     on_sides = np.zeros(vertex_map.shape[1], dtype=bool)
-    on_sides[template.sides.ravel()] = True
+    on_sides[template.side_vertices] = True
     if not shared[:, ~on_sides].any():  # as built: only side vertices are shared
         edges = edges[on_sides[edges[:, 0]] & on_sides[edges[:, 1]]]
     e0, e1 = edges[:, 0], edges[:, 1]
@@ -316,7 +316,7 @@ def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> 
     if vertex_map is not None and template is not None:
         # vertices on the patches' sides, where patches are glued; an interior vertex
         # of a patch is its own (a second vertex there would need overlapping triangles)
-        dup = duplicate_vertices(points, vertex_map[:, template.sides.ravel()])
+        dup = duplicate_vertices(points, vertex_map[:, template.side_vertices])
         valence = glued_edge_valence(template, vertex_map, len(points))
     else:
         dup = duplicate_vertices(points)

@@ -81,6 +81,9 @@ class TriMesh:
         The parameters :func:`core.build.build_mesh` built it from, with the
         ``subdivisions`` the sizing chose when ``frequency`` or ``max_edge`` is set;
         None for imported, cell and scaled meshes.
+    min_angle_floor : float or None
+        Conforming circular rings: the best smallest angle (degrees) their
+        geometry allows (see :class:`core.structures.SectorPlan`).
 
     Everything else (centroids, edges, RWG table, connectivity, quality) is
     derived on first use and cached.
@@ -97,6 +100,7 @@ class TriMesh:
     ignored_cells: dict[str, int] = field(default_factory=dict)
     _template: PatchTemplate | None = field(default=None, repr=False)
     params: MeshParams | None = field(default=None, repr=False)
+    min_angle_floor: float | None = None
 
     def __post_init__(self) -> None:
         pts = np.asarray(self.points, dtype=np.float64)
@@ -328,10 +332,11 @@ class TriMesh:
         """Edge counts by valence of closed rings of sectors glued side 2 to side 0.
 
         A conforming ring without a slot (and not touching the other ring) is a
-        closed chain of m sectors; when the vertex map is exactly that chain's, ring
-        after ring (checked against :func:`core.structures._sector_chain_vertices`,
-        m ≥ 3), every sector adds the same edges, so the counts are m/3 times those
-        of a closed chain of three sectors, per ring: the counts of
+        closed chain of sectors (m_i in ring i); when the vertex map is exactly those
+        chains', ring after ring (checked against
+        :func:`core.structures._sector_chain_vertices`, every m_i ≥ 3), every sector
+        adds the same edges, so the counts are Σ m_i / 3 times those of a closed
+        chain of three sectors: the counts of
         :func:`core.topology.patch_edge_counts` without sorting the glued edges.
         Returns None otherwise (split, touching, paper or imported rings).
         """
@@ -345,13 +350,13 @@ class TriMesh:
         ring_of_patch = self.regions[::nt]
         starts = np.flatnonzero(np.r_[True, ring_of_patch[1:] != ring_of_patch[:-1]])
         n_rings = len(starts)
-        m = n_p // n_rings
-        if m < 3 or m * n_rings != n_p or not np.array_equal(starts, np.arange(n_rings) * m):
+        sectors = np.diff(np.r_[starts, n_p]).tolist()  # sectors of each ring
+        if min(sectors) < 3:
             return None
-        s = t.sides.shape[1]
-        if self.n_vertices != n_rings * m * (nv - s):
+        s = len(t.sides[0])
+        if self.n_vertices != n_p * (nv - s):
             return None
-        ids, _ = _sector_chain_vertices(t, m, [True] * n_rings)
+        ids, _ = _sector_chain_vertices(t, sectors, [True] * n_rings)
         if not np.array_equal(self._vertex_map.ravel(), ids):
             return None
         chain3, _ = _sector_chain_vertices(t, 3, [True])
@@ -407,9 +412,12 @@ class TriMesh:
         ``interior_edges`` (= RWG unknowns), ``boundary_edges``,
         ``junction_edges``, ``min_edge``, ``max_edge`` (mm), ``min_angle_deg``,
         ``max_aspect_ratio``, ``area`` (mm², overlaps counted twice),
-        ``euler_characteristic`` (V − E + F), ``regions``, and in paper mode
-        ``overlap_ratio``; for imported meshes ``ignored_cells``; for meshes sized
-        by ``frequency`` or ``max_edge`` the keys of :func:`core.sizing.sizing_stats`.
+        ``euler_characteristic`` (V − E + F), ``regions``, for conforming
+        circular rings ``min_angle_floor_deg`` (the best smallest angle their
+        track width, sector bound and slot allow the construction: below 30°,
+        the geometry is to blame), in paper mode ``overlap_ratio``; for
+        imported meshes ``ignored_cells``; for meshes sized by ``frequency`` or
+        ``max_edge`` the keys of :func:`core.sizing.sizing_stats`.
         """
         known = "topology" in self.__dict__ and "quality" in self.__dict__
         measured = None if known else self._copy_stats()
@@ -423,6 +431,8 @@ class TriMesh:
             "euler_characteristic": int(self.n_vertices - measured["edges"] + self.n_triangles),
             "regions": _count_distinct(self.regions),
         }
+        if self.min_angle_floor is not None:
+            out["min_angle_floor_deg"] = float(self.min_angle_floor)
         if self.mode == "paper":
             out["overlap_ratio"] = self.overlap_ratio
         if self.ignored_cells:
@@ -445,4 +455,5 @@ class TriMesh:
             rects,
             dict(self.ignored_cells),
             self._template,
+            self.min_angle_floor,
         )

@@ -9,7 +9,11 @@ corner is (r cos θ, r sin θ) for θ = 0, Δθ, 2Δθ, … below 360°, welded 
 metric constraint. Conforming mode cuts each ring's band [r, r + patch_size]
 into sectors no wider than ``angle_step`` whose vertices lie on the true
 circles (at most 120° wide, so a closed ring has at least three);
-neighbouring sectors are glued topologically (exactly).
+neighbouring sectors are glued topologically (exactly). With the uniform
+scheme a sector is n cells across its track (n = ``subdivisions``) and as
+many along its arc, and each ring as many sectors, as make the cells nearly
+square (see :func:`_plan_sectors`), never more cells round a circle than n per
+asked sector; the barycentric scheme keeps its square template per sector.
 """
 
 from __future__ import annotations
@@ -21,8 +25,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .params import DOUBLE_STRUCTURES, RELATIVE_TOLERANCE, MeshParams
-from .subdivision import PatchTemplate, patch_template
+from .params import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, RELATIVE_TOLERANCE, MeshParams
+from .quality import triangle_quality
+from .subdivision import PatchTemplate, graded_nodes, patch_template, tensor_template
 from .topology import INDEX
 from .weld import merge_pairs, weld_lattice_patches, weld_points
 
@@ -56,6 +61,9 @@ class Layout:
         One patch-local point per global vertex (its coordinates are used).
     rects : (P, 4) float64 or None
         (x0, y0, x1, y1) of each axis-aligned patch in paper mode.
+    min_angle_floor : float or None
+        Conforming circular rings (uniform scheme): the best smallest angle
+        (degrees) their geometry allows this construction (see :class:`SectorPlan`).
     """
 
     template: PatchTemplate
@@ -64,6 +72,7 @@ class Layout:
     vertex_of_point: np.ndarray
     representative: np.ndarray
     rects: np.ndarray | None
+    min_angle_floor: float | None = None
 
 
 def _count(span: float, step: float) -> int:
@@ -186,47 +195,133 @@ def _paper_origins(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
 # -- conforming mode -------------------------------------------------------
 
 
-#: The parameters that decide a conforming ring's arcs and sector count.
+#: The parameters that decide a conforming ring's arcs, sector counts and template.
 _ARC_FIELDS = ("structure", "scheme", "subdivisions", "diagonal", "inner_radius",
                "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
-               "max_triangles")  # fmt: skip
+               "max_triangles", "tolerance", "grading", "growth_ratio",
+               "min_edge")  # fmt: skip
+#: Smallest angle (degrees) the conforming sectors aim at: PSSFSS meshes with a 30° minimum.
+TARGET_MIN_ANGLE = 30.0
+#: A coarser arc division (fewer, longer sectors) is taken when its smallest angle is
+#: within this many degrees of the best one and still at the target.
+_ANGLE_SLACK = 2.0
+
+
+@dataclass(frozen=True)
+class SectorPlan:
+    """How the arcs of a conforming circular structure are cut into sectors.
+
+    Attributes
+    ----------
+    arcs : tuple of (start, end, closed)
+        Angular extent (degrees, at the slot axis) of the arcs of one ring.
+    sectors : tuple of int
+        Sectors per arc of each ring (inner ring first).
+    base : int
+        The sector count ``angle_step`` asks for (after any narrowing against
+        folds); every ring's arc holds at most ``segments x base`` cells along
+        it, so no more triangles than sectors of ``segments x segments`` cells.
+    template : PatchTemplate
+        The template of every sector: ``segments`` cells across the track by
+        n_v along the arc (uniform scheme), or the square patch template
+        (barycentric scheme).
+    min_angle_floor : float or None
+        The best smallest angle (degrees) any arc division of this
+        construction reaches with this track width, sector bound, slot and
+        triangle budget; None for the barycentric scheme and graded meshes.
+    boundaries : tuple of (tuple of float or None)
+        Per ring: where its sectors start and end along a slotted arc, as
+        fractions of it (m + 1 increasing values), when ``grading`` narrows
+        the sectors toward the slot's sides; None for evenly spaced sectors.
+    """
+
+    arcs: tuple[tuple[float, float, bool], ...]
+    sectors: tuple[int, ...]
+    base: int
+    template: PatchTemplate
+    min_angle_floor: float | None
+    boundaries: tuple[tuple[float, ...] | None, ...] = ()
+
+    def sector_bounds(self, ring: int) -> tuple[float, ...] | None:
+        """The ``boundaries`` of one ring (None: evenly spaced sectors)."""
+        return self.boundaries[ring] if self.boundaries else None
+
+
+def _arc_theta(lo, hi, ks: np.ndarray, v: np.ndarray, m: int, bounds) -> np.ndarray:
+    """(K, Nv) angles (radians) of template rows v in sectors ks of an arc from lo to hi.
+
+    ``bounds``: the sectors' ends as fractions of the arc, or None for m equal sectors.
+    """
+    if bounds is None:
+        return np.radians(lo + (ks[:, None] + v) * (hi - lo) / m)
+    t = np.asarray(bounds)
+    k = ks.astype(np.intp)
+    return np.radians(lo + (t[k][:, None] + v * (t[k + 1] - t[k])[:, None]) * (hi - lo))
 
 
 def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
-    """Angular extent of the arcs of one ring, and the sector count per arc.
+    """Angular extent of the arcs of one ring, and the base sector count per arc.
 
     Returns ``([(start, end, closed), ...], m)`` with angles in degrees at the
     slot axis; the slot sides are added per radius by :func:`_slot_half_angle`.
-    Cached: validation, the triangle count and the layout all ask for it.
+    Every ring's arc holds at most ``segments x m`` cells along it.
     """
-    arcs, m = _cached_arcs(tuple(getattr(params, name) for name in _ARC_FIELDS))
-    return list(arcs), m
+    plan = sector_plan(params)
+    return list(plan.arcs), plan.base
+
+
+def sector_plan(params: MeshParams) -> SectorPlan:
+    """The sectors and template of a conforming circular structure (cached).
+
+    Validation, the triangle count and the layout all ask for it.
+    """
+    return _cached_plan(tuple(getattr(params, name) for name in _ARC_FIELDS))
+
+
+def graded_track_nodes(params) -> tuple[float, ...]:
+    """Nodes across a conforming track, 0 at the inner circle and 1 at the outer.
+
+    n uniform cells, or with ``grading`` cells from ``min_edge`` (default
+    h / n / growth_ratio²) at both circles growing by ``growth_ratio`` to h / n
+    (:func:`core.subdivision.graded_nodes`).
+    """
+    n, h = params.subdivisions, params.patch_size
+    if not params.grading:
+        return tuple(np.arange(n + 1) / n)
+    fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
+    return graded_nodes(n, fine / h, params.growth_ratio)
+
+
+def narrowest_sector(params) -> float:
+    """The narrowest sector of a graded slotted arc against the even ones asked (<= 1)."""
+    plan = sector_plan(params)
+    widths = [min(np.diff(b)) * plan.base for b in plan.boundaries if b is not None]
+    return min([1.0, *widths])
 
 
 @lru_cache(maxsize=64)
-def _cached_arcs(key: tuple) -> tuple[list[tuple[float, float, bool]], int]:
+def _cached_plan(key: tuple) -> SectorPlan:
     params = SimpleNamespace(**dict(zip(_ARC_FIELDS, key, strict=True)))
     directions = _gap_directions(params)
     step = min(params.angle_step, MAX_SECTOR_DEG)
     if not directions:
-        arcs = [(0.0, 360.0, True)]
+        arcs = ((0.0, 360.0, True),)
         m = _count(360.0, step)
     else:
         phi = params.gap_angle
         if len(directions) == 1:
-            arcs = [(phi, phi + 360.0, False)]
+            arcs = ((phi, phi + 360.0, False),)
         else:
-            arcs = [(phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False)]
+            arcs = ((phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False))
         widest = arcs[0][1] - arcs[0][0] - 2 * _slot_half_angle(params, _outermost(params))
         m = _count(widest, step)
-    per_sector = len(_radii(params)) * len(arcs) * len(
-        patch_template(params.scheme, params.subdivisions, params.diagonal).triangles
-    )
     for _ in range(_MAX_NARROWING):
-        if _sectors_proper(params, arcs[0], m):
-            return arcs, m
-        if m * per_sector > params.max_triangles:
-            return arcs, m  # over the budget anyway: refused with the triangle count
+        plan = _plan_sectors(params, arcs, m)
+        if _sectors_proper(params, arcs[0], plan):
+            return plan
+        total = sum(plan.sectors) * len(arcs) * len(plan.template.triangles)
+        if total > params.max_triangles:
+            return plan  # over the budget anyway: refused with the triangle count
         m = m + max(1, m // 2)
     if directions:
         raise ValueError(
@@ -240,37 +335,150 @@ def _cached_arcs(key: tuple) -> tuple[list[tuple[float, float, bool]], int]:
     )
 
 
-def _sectors_proper(params: MeshParams, arc: tuple[float, float, bool], m: int) -> bool:
-    """Whether the sectors of an arc cut into m hold only positively oriented triangles.
+def _touching(params) -> bool:
+    radii = _radii(params)
+    return len(radii) == 2 and abs(radii[1] - (radii[0] + params.patch_size)) <= (
+        params.tolerance if params.tolerance is not None
+        else RELATIVE_TOLERANCE * 2 * (radii[-1] + params.patch_size)
+    )  # fmt: skip
 
-    The template is mapped to polar coordinates, so a wide sector bends its
-    sub-triangles; thin ones (the barycentric scheme's) fold over when the
-    sector is too wide. A closed ring's sectors are congruent: one is checked.
-    Next to a slot the inner and outer circles end at different angles (the
-    slot's sides are straight), and the sides between sectors bend from that
-    straight line at the slot to a radius in the middle of the arc, most at
-    neither end; with a wide slot they fold thin sectors. Every sector is
-    checked, or, for large templates, sectors spread evenly along the arc
-    (the mesh's own invariant check catches a fold between them). A triangle
-    counts as flat when its area is below 1e-9 of its longest edge squared.
+
+def _plan_sectors(params, arcs: tuple, m: int) -> SectorPlan:
+    """Choose the cells along the arc of every ring, for at least m sectors per arc.
+
+    Uniform scheme: a sector is n (``subdivisions``) cells across its track and
+    n_v along its arc, each cell cut by one diagonal. For every n_v in 1..n
+    each ring (or pair of touching rings, which share a circle) takes the
+    sector count m' ≥ m nearest to square cells at the geometric mean radius of
+    its track, with m' n_v ≤ n m (never more triangles than n x n sectors);
+    the smallest angle of the cells at the sectors' ends (where tracks are
+    widest, narrowest and most skewed by a slot) ranks the choices. The
+    coarsest n_v within ``_ANGLE_SLACK`` of the best that still reaches
+    ``TARGET_MIN_ANGLE`` (or the best when none does) is taken.
+    The barycentric scheme keeps m sectors of its square template.
     """
-    template = patch_template(params.scheme, params.subdivisions, params.diagonal)
+    radii = _radii(params)
+    if params.scheme != "uniform":
+        template = patch_template(params.scheme, params.subdivisions, params.diagonal)
+        return SectorPlan(arcs, (m,) * len(radii), m, template, None)
+    n, h = params.subdivisions, params.patch_size
+    u_nodes = graded_track_nodes(params)
+    groups = [[0, 1]] if _touching(params) else [[i] for i in range(len(radii))]
+    arc = arcs[0]
+    choices = []  # (smallest angle, n_v, sectors per ring, template)
+    for nv in range(1, n + 1):
+        template = tensor_template(u_nodes, tuple(np.arange(nv + 1) / nv), params.diagonal)
+        cap = max(m, n * m // nv)
+        sectors = [m] * len(radii)
+        score = math.inf
+        for group in groups:
+            r_lo, r_hi = radii[group[0]], radii[group[-1]] + h
+            mid = math.sqrt(r_lo * r_hi)
+            span = arc[1] - arc[0]
+            if not arc[2]:
+                span -= 2 * float(_slot_half_angle(params, mid))
+            ideal = math.radians(span) * mid * n / (h * nv)
+            candidates = {min(cap, max(m, c)) for c in (math.floor(ideal), math.ceil(ideal))}
+            best = max(
+                (min(_end_cells_min_angle(params, radii[i], arc, c, template) for i in group), -c)
+                for c in candidates
+            )
+            for i in group:
+                sectors[i] = -best[1]
+            score = min(score, best[0])
+        choices.append((score, nv, tuple(sectors), template))
+    top = max(c[0] for c in choices)
+    threshold = max(min(top, TARGET_MIN_ANGLE), top - _ANGLE_SLACK)
+    good = [c for c in choices if c[0] >= threshold]
+    score, nv, sectors, template = max(good, key=lambda c: c[1])
+    if not params.grading:
+        return SectorPlan(arcs, sectors, m, template, top)
+    if arc[2]:
+        return SectorPlan(arcs, sectors, m, template, None)
+    # graded toward the slot's sides: the end sectors hold cells about min_edge long
+    fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
+    bounds = [None] * len(radii)
+    for group in groups:
+        mid = math.sqrt(radii[group[0]] * (radii[group[-1]] + h))
+        span = math.radians(arc[1] - arc[0] - 2 * float(_slot_half_angle(params, mid)))
+        k = sectors[group[0]]
+        first = min(1.0 / k, fine * nv / (span * mid))
+        for i in group:
+            bounds[i] = graded_nodes(k, first, params.growth_ratio)
+    sectors = tuple(len(b) - 1 for b in bounds)
+    return SectorPlan(arcs, sectors, m, template, None, tuple(bounds))
+
+
+def _end_columns(template: PatchTemplate) -> tuple[np.ndarray, np.ndarray]:
+    """Triangles of the first and last column of cells along v, and the vertices they use."""
+    v = template.uv[:, 1]
+    first, last = np.unique(v)[[1, -2]]
+    corner_v = v[template.triangles]
+    ends = np.flatnonzero((corner_v.max(1) <= first) | (corner_v.min(1) >= last))
+    used = np.unique(template.triangles[ends])
+    return ends, used
+
+
+def _end_cells_min_angle(
+    params, radius: float, arc: tuple[float, float, bool], m: int, template: PatchTemplate
+) -> float:
+    """Smallest angle (degrees) of the end cells of the sectors of one ring's arc.
+
+    A closed ring's sectors and their columns of cells are congruent: the first
+    column of one sector is measured. Along a slotted arc the sides of the
+    sectors lean most next to the slot and least in the middle: the end
+    columns of the first, middle and last sectors are measured.
+    """
+    ends, used = _end_columns(template)
+    uv = template.uv[used]
+    rho = radius + uv[:, 0] * params.patch_size
+    start, end, closed = arc
+    if closed:
+        lo, hi = start, end
+        sectors = np.zeros(1)
+    else:
+        alpha = _slot_half_angle(params, rho)
+        lo, hi = start + alpha, end - alpha
+        sectors = np.unique([0, m // 2, m - 1]).astype(float)
+    theta = np.radians(lo + (sectors[:, None] + uv[:, 1]) * (hi - lo) / m)  # (K, U)
+    xy = np.stack([rho * np.cos(theta), rho * np.sin(theta)], axis=-1).reshape(-1, 2)
+    local = np.searchsorted(used, template.triangles[ends])
+    tri = (local[None] + (np.arange(len(sectors)) * len(used))[:, None, None]).reshape(-1, 3)
+    return float(triangle_quality(xy, tri).min_angles_deg.min())
+
+
+def _sectors_proper(params, arc: tuple[float, float, bool], plan: SectorPlan) -> bool:
+    """Whether the sectors of an arc hold only positively oriented triangles.
+
+    ``plan.sectors[i]`` is the sector count of ring i. The template is mapped to
+    polar coordinates, so a wide sector bends its sub-triangles; thin ones
+    (the barycentric scheme's) fold over when the sector is too wide. A closed
+    ring's sectors are congruent: one is checked. Next to a slot the inner and
+    outer circles end at different angles (the slot's sides are straight), and
+    the sides between sectors bend from that straight line at the slot to a
+    radius in the middle of the arc, most at neither end; with a wide slot
+    they fold thin sectors. Every sector is checked, or, for large templates,
+    sectors spread evenly along the arc (the mesh's own invariant check
+    catches a fold between them). A triangle counts as flat when its area is
+    below 1e-9 of its longest edge squared.
+    """
+    template = plan.template
     u, v = template.uv[:, 0], template.uv[:, 1]
     a, b, c = template.triangles.T
     start, end, closed = arc
-    if closed:
-        sectors = np.zeros(1)
-    else:
-        samples = min(m, max(3, _SECTOR_CHECK_POINTS // len(template.uv)))
-        sectors = np.unique(np.round(np.linspace(0, m - 1, samples)))
-    for radius in _radii(params):
+    for ring, (radius, m) in enumerate(zip(_radii(params), plan.sectors, strict=True)):
+        if closed:
+            ks = np.zeros(1)
+        else:
+            samples = min(m, max(3, _SECTOR_CHECK_POINTS // len(template.uv)))
+            ks = np.unique(np.round(np.linspace(0, m - 1, samples)))
         rho = radius + u * params.patch_size
         if closed:
             lo, hi = start, end
         else:
             alpha = _slot_half_angle(params, rho)
             lo, hi = start + alpha, end - alpha
-        theta = np.radians(lo + (sectors[:, None] + v) * (hi - lo) / m)  # (K, Nv)
+        theta = _arc_theta(lo, hi, ks, v, m, plan.sector_bounds(ring))  # (K, Nv)
         x, y = rho * np.cos(theta), rho * np.sin(theta)
         ab = (x[:, b] - x[:, a], y[:, b] - y[:, a])
         ac = (x[:, c] - x[:, a], y[:, c] - y[:, a])
@@ -295,20 +503,22 @@ def _slot_half_angle(params: MeshParams, rho: np.ndarray | float) -> np.ndarray 
     return np.degrees(np.arcsin(params.gap_width / (2 * np.asarray(rho))))
 
 
-def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layout:
-    arcs, m = _arcs(params)
+def _conforming_ring_layout(params: MeshParams) -> Layout:
+    plan = sector_plan(params)
+    arcs, template = plan.arcs, plan.template
     split = bool(_gap_directions(params))
     h = params.patch_size
     u, v = template.uv[:, 0], template.uv[:, 1]
     nv = len(u)
-    n_total = len(_radii(params)) * len(arcs) * m
+    n_total = len(arcs) * sum(plan.sectors)
     xy = np.empty((n_total, nv, 2))
-    regions, pairs = [], []
+    regions, pairs, chains = [], [], []
     sides = template.sides
     n_patches = 0
     first_patch = {}  # (ring, arc) -> first patch index
     for ring, radius in enumerate(_radii(params)):
         rho = radius + u * h  # (Nv,)
+        m = plan.sectors[ring]
         for a, (start, end, closed) in enumerate(arcs):
             if split:
                 alpha = _slot_half_angle(params, rho)
@@ -316,8 +526,7 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
             else:
                 lo, hi = np.full(nv, start), np.full(nv, end)
             if split:
-                k = np.arange(m)[:, None] + v[None, :]  # (m, Nv) sector coordinate
-                theta = np.radians(lo + k * (hi - lo) / m)
+                theta = _arc_theta(lo, hi, np.arange(m), v, m, plan.sector_bounds(ring))
                 cos, sin = np.cos(theta), np.sin(theta)
             else:
                 # the angle depends on v alone: evaluate cos and sin once per row of the template
@@ -331,6 +540,7 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
             np.multiply(rho, sin, out=pts[..., 1])
             regions.append(np.full(m, ring + 1))
             first_patch[ring, a] = n_patches
+            chains.append((m, closed))
             # glue side 2 (v = 1) of sector k to side 0 (v = 0) of sector k + 1
             nxt = np.arange(1, m + 1)
             cur = np.arange(m)
@@ -349,18 +559,21 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
                 )
             )
             n_patches += m
-    radii = _radii(params)
-    touching = len(radii) == 2 and abs(radii[1] - (radii[0] + h)) <= params.weld_tolerance
+    touching = _touching(params)
     if any(params.origin):
         xy += np.asarray(params.origin)
+    floor = plan.min_angle_floor
     if not touching and _sides_in_rows(template):
-        ids, rep = _sector_chain_vertices(template, m, [c for _, _, c in arcs] * len(radii))
-        return Layout(template, xy, np.concatenate(regions), ids, rep, None)
+        ids, rep = _sector_chain_vertices(
+            template, [c[0] for c in chains], [c[1] for c in chains]
+        )
+        return Layout(template, xy, np.concatenate(regions), ids, rep, None, floor)
     if touching:
-        # touching rings: the inner ring's outer circle is the outer ring's inner circle
+        # touching rings (as many sectors): the inner ring's outer circle is the
+        # outer ring's inner circle
         for a in range(len(arcs)):
-            p0 = first_patch[0, a] + np.arange(m)
-            p1 = first_patch[1, a] + np.arange(m)
+            p0 = first_patch[0, a] + np.arange(plan.sectors[0])
+            p1 = first_patch[1, a] + np.arange(plan.sectors[1])
             pairs.append(
                 np.stack(
                     [
@@ -371,49 +584,59 @@ def _conforming_ring_layout(params: MeshParams, template: PatchTemplate) -> Layo
                 )
             )
     vertex_of_point, rep = merge_pairs(n_patches * nv, np.concatenate(pairs))
-    return Layout(template, xy, np.concatenate(regions), vertex_of_point, rep, None)
+    return Layout(template, xy, np.concatenate(regions), vertex_of_point, rep, None, floor)
 
 
 def _sides_in_rows(template: PatchTemplate) -> bool:
     """True when side 0 (v = 0) is the first local vertices and side 2 (v = 1) the last."""
     sides, nv = template.sides, len(template.uv)
-    s = sides.shape[1]
-    return np.array_equal(sides[0], np.arange(s)) and np.array_equal(
-        sides[2], np.arange(nv - s, nv)
+    s = len(sides[0])
+    return (
+        len(sides[2]) == s
+        and np.array_equal(sides[0], np.arange(s))
+        and np.array_equal(sides[2], np.arange(nv - s, nv))
     )
 
 
 def _sector_chain_vertices(
-    template: PatchTemplate, m: int, closed: list[bool]
+    template: PatchTemplate, m: int | list[int], closed: list[bool]
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Vertex ids of chains of m sectors glued side 2 to side 0, by formula.
+    """Vertex ids of chains of sectors glued side 2 to side 0, by formula.
 
     The same ``(vertex_of_point, representative)`` as :func:`core.weld.merge_pairs`
     on the glue pairs (vertices numbered by first appearance), without sorting:
     with the template's side 0 first and side 2 last, local vertex l of
     sector k is vertex k S + l, S = Nv − (side length), and a closed chain's
     last side 2 is its first side 0.
+
+    Parameters
+    ----------
+    template : PatchTemplate
+    m : int or list of int
+        Sectors of every chain, or of each chain.
+    closed : list of bool
+        Whether each chain closes on itself.
     """
     nv = len(template.uv)
-    s = template.sides.shape[1]
+    s = len(template.sides[0])
     stride = nv - s
+    counts = [m] * len(closed) if isinstance(m, (int, np.integer)) else list(m)
     local = np.arange(nv, dtype=INDEX)
-    sector = np.arange(m, dtype=INDEX)[:, None]
-    chain = sector * INDEX(stride) + local  # (m, Nv)
-    new = np.ones((m, nv), dtype=bool)  # first appearance of its vertex
-    new[1:, :s] = False
     ids, reps = [], []
     n_vertices = 0
-    for i, is_closed in enumerate(closed):
-        block = chain + INDEX(n_vertices)
-        first = new
+    n_points = 0
+    for k, is_closed in zip(counts, closed, strict=True):
+        sector = np.arange(k, dtype=INDEX)[:, None]
+        block = sector * INDEX(stride) + local + INDEX(n_vertices)  # (k, Nv)
+        first = np.ones((k, nv), dtype=bool)  # first appearance of its vertex
+        first[1:, :s] = False
         if is_closed:
             block[-1, nv - s :] = n_vertices + np.arange(s, dtype=INDEX)
-            first = new.copy()
             first[-1, nv - s :] = False
         ids.append(block.ravel())
-        reps.append(np.flatnonzero(first.ravel()).astype(INDEX) + INDEX(i * m * nv))
-        n_vertices += m * stride + (0 if is_closed else s)
+        reps.append(np.flatnonzero(first.ravel()).astype(INDEX) + INDEX(n_points))
+        n_vertices += k * stride + (0 if is_closed else s)
+        n_points += k * nv
     return np.concatenate(ids), np.concatenate(reps)
 
 
@@ -464,8 +687,8 @@ def predicted_patches(params: MeshParams) -> int:
         h = params.patch_size
         upper = sum(2 * _count(2 * (r + h), h) + 2 * _count(2 * r, h) + 8 for r in _radii(params))
     elif params.mode == "conforming":
-        arcs, m = _arcs(params)
-        return len(_radii(params)) * len(arcs) * m
+        plan = sector_plan(params)
+        return len(plan.arcs) * sum(plan.sectors)
     else:
         upper = len(_radii(params)) * _count(360.0, params.angle_step)
     if upper > _EXACT_COUNT_LIMIT:
@@ -475,6 +698,16 @@ def predicted_patches(params: MeshParams) -> int:
     if _gap_directions(params):
         return len(_paper_origins(params)[0])
     return upper
+
+
+def predicted_triangles(params: MeshParams) -> int:
+    """Number of triangles of the structure, computed cheaply."""
+    if params.structure == "triangle":
+        return params.triangles_per_primary
+    if params.mode == "conforming" and params.structure in ANGULAR_STRUCTURES:
+        plan = sector_plan(params)
+        return len(plan.arcs) * sum(plan.sectors) * len(plan.template.triangles)
+    return predicted_patches(params) * 2 * params.triangles_per_primary
 
 
 def layout(params: MeshParams) -> Layout:
@@ -496,7 +729,7 @@ def layout(params: MeshParams) -> Layout:
             xy = _rect_layout(template, rects)
             ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
             return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
-        return _conforming_ring_layout(params, template)
+        return _conforming_ring_layout(params)
     origins, regions = _paper_origins(params)
     rects = np.concatenate([origins, np.broadcast_to([h, w], origins.shape)], axis=1)
     xy = _rect_layout(template, rects)

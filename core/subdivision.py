@@ -18,6 +18,7 @@ and every grid cell is cut parallel to the chosen diagonal.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -152,9 +153,12 @@ class PatchTemplate:
         The one or two local triangles on each edge, ascending, -1 padded.
     valence : (Ne,) int
         Triangles on each edge: 1 on the patch border, 2 inside.
-    sides : (4, segments + 1) int
+    sides : (4, segments + 1) int, or a tuple of four (k,) int arrays
         Vertices along each side of the square, in increasing running
-        coordinate (see ``SIDES``).
+        coordinate (see ``SIDES``); sides 0 and 2 of a tensor template (see
+        :func:`tensor_template`) hold n_u + 1 vertices, sides 1 and 3 n_v + 1.
+    segments : int
+        Segments along side 0 (n, 2**levels, or n_u).
     lattice : bool
         True when ``uv`` is the regular grid (a/n, b/n) at index b (n + 1) + a.
     """
@@ -168,6 +172,11 @@ class PatchTemplate:
     sides: np.ndarray
     segments: int
     lattice: bool
+
+    @property
+    def side_vertices(self) -> np.ndarray:
+        """(K,) int the vertices of the four sides, side after side (corners repeated)."""
+        return np.concatenate(list(self.sides))
 
 
 @lru_cache(maxsize=64)
@@ -219,6 +228,122 @@ def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTempla
         sides=sides,
         segments=segments,
         lattice=lattice,
+    )
+
+
+def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
+    """Nodes in [0, 1] fine at both ends, growing geometrically to the uniform 1 / cells.
+
+    From each end the cells are ``fine``, ``fine * ratio``, ``fine * ratio**2``, …
+    up to the last below 1 / cells; cells of 1 / cells fill the middle (enough to
+    reach 1), and every cell is then scaled by one factor (at most 1) so that
+    they add up to 1. Neighbouring cells therefore differ by at most ``ratio``,
+    and no cell is wider than 1 / cells or than ``fine`` at the ends.
+
+    Parameters
+    ----------
+    cells : int
+        The uniform division the grading refines (>= 1).
+    fine : float
+        The end cells before the final scaling, as a fraction of 1, in (0, 1 / cells].
+    ratio : float
+        Growth between neighbouring cells, > 1.
+
+    Returns
+    -------
+    tuple of float
+        Increasing nodes from 0.0 to 1.0 exactly.
+
+    Examples
+    --------
+    >>> [round(x, 4) for x in graded_nodes(4, 0.125, 2.0)]
+    [0.0, 0.125, 0.375, 0.625, 0.875, 1.0]
+    """
+    coarse = 1.0 / cells
+    side = []
+    size = fine
+    while size < coarse * (1 - 1e-12):
+        side.append(size)
+        size *= ratio
+    graded = 2 * sum(side)
+    middle = max(0, math.ceil((1.0 - graded) / coarse - 1e-9))  # cells end no wider than 1/cells
+    sizes = np.array(side + [coarse] * middle + side[::-1])
+    nodes = np.concatenate([[0.0], np.cumsum(sizes / sizes.sum())])
+    nodes[-1] = 1.0
+    return tuple(float(x) for x in nodes)
+
+
+@lru_cache(maxsize=256)
+def tensor_template(
+    u_nodes: tuple[float, ...], v_nodes: tuple[float, ...], diagonal: str
+) -> PatchTemplate:
+    """Mesh the unit square on the grid of ``u_nodes`` x ``v_nodes`` (cached).
+
+    Every grid cell is cut by one diagonal, as the uniform scheme cuts its
+    cells: ``"BC"`` from (u1, v0) to (u0, v1), ``"AD"`` from (u0, v0) to
+    (u1, v1). The nodes need not be evenly spaced (graded meshes), and the
+    two directions need not have as many (a conforming sector is n_u cells
+    across its track and n_v along its arc)::
+
+        v = 1  C --+-----+-- D       vertex of node (a, b): b (n_u + 1) + a
+               |  /|    /|           cell (a, b): triangles (00, 10, 01) and
+               | / |   / |           (11, 01, 10) with diagonal "BC"
+        v = 0  A --+-----+-- B
+             u = 0            u = 1
+
+    Parameters
+    ----------
+    u_nodes, v_nodes : tuple of float
+        Increasing node coordinates from 0 to 1 (n_u + 1 and n_v + 1 of them).
+    diagonal : str
+        ``"BC"`` or ``"AD"``.
+
+    Returns
+    -------
+    PatchTemplate
+        With ``sides`` a tuple of four arrays (side 0 is the first n_u + 1
+        vertices, side 2 the last n_u + 1), ``segments`` = n_u and
+        ``lattice`` False.
+
+    Examples
+    --------
+    >>> t = tensor_template((0.0, 0.5, 1.0), (0.0, 1.0), "BC")
+    >>> len(t.uv), len(t.triangles), len(t.edges), [len(s) for s in t.sides]
+    (6, 4, 9, [3, 2, 3, 2])
+    """
+    u = np.asarray(u_nodes, dtype=np.float64)
+    v = np.asarray(v_nodes, dtype=np.float64)
+    for name, x in (("u_nodes", u), ("v_nodes", v)):
+        if x.ndim != 1 or len(x) < 2 or x[0] != 0.0 or x[-1] != 1.0 or (np.diff(x) <= 0).any():
+            raise ValueError(f"{name}={x.tolist()!r} must increase from 0 to 1")
+    if diagonal not in ("BC", "AD"):
+        raise ValueError(f"diagonal={diagonal!r} is unknown; expected 'BC' or 'AD'")
+    nu, nv = len(u) - 1, len(v) - 1
+    uu, vv = np.meshgrid(u, v, indexing="xy")
+    uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
+    a, b = np.meshgrid(np.arange(nu), np.arange(nv), indexing="xy")
+    p00 = (b * (nu + 1) + a).ravel()
+    p10, p01 = p00 + 1, p00 + nu + 1
+    p11 = p01 + 1
+    if diagonal == "BC":
+        pairs = [np.stack([p00, p10, p01], 1), np.stack([p11, p01, p10], 1)]
+    else:
+        pairs = [np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)]
+    triangles = np.stack(pairs, axis=1).reshape(-1, 3).astype(INDEX)  # cell by cell
+    topo = edge_topology(triangles, len(uv))
+    first = np.arange(nu + 1, dtype=INDEX)
+    rows = np.arange(nv + 1, dtype=INDEX) * INDEX(nu + 1)
+    sides = (first, rows + INDEX(nu), first + INDEX(nv * (nu + 1)), rows)
+    return PatchTemplate(
+        uv=uv,
+        triangles=triangles,
+        edges=topo.edges,
+        triangle_edges=topo.triangle_edges,
+        edge_triangles=topo.edge_triangles,
+        valence=topo.valence,
+        sides=sides,
+        segments=nu,
+        lattice=False,
     )
 
 

@@ -221,7 +221,7 @@ def test_cancel_drops_a_running_solve(window, qtbot):
     menu = next(a.menu() for a in window.menuBar().actions() if "Presets" in a.text())
     next(a for a in menu.actions() if a.text() == "srr-openmodes").trigger()
     panel = open_solve(window, qtbot)
-    assert len(window.model.result.mesh.rwg) == 698
+    assert len(window.model.result.mesh.rwg) == 448  # 90 sectors of 2 x 1 cells
     type_into(panel.frequency, "6")
     click(qtbot, panel.solve_button)
     assert panel.cancel_button.isEnabled()
@@ -276,7 +276,7 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
     bar = panel.tabs.tabBar()
     qtbot.mouseClick(bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(1).center())
     assert panel.tabs.currentIndex() == 1
-    click(qtbot, panel.sweep_button)  # 46 frequencies, 3–12 GHz, 698 unknowns
+    click(qtbot, panel.sweep_button)  # 46 frequencies, 3–12 GHz, 448 unknowns
     qtbot.waitUntil(lambda: panel.progress.value() >= 1, timeout=60_000)
     assert panel.progress.maximum() == 46
     click(qtbot, panel.cancel_button)

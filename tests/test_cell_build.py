@@ -258,9 +258,11 @@ def test_hexagonal_lattice_preset():
     assert cell.lattice.kind == "hexagonal"
     assert cell.lattice.area == pytest.approx(12.0**2 * np.sqrt(3) / 2)
     cm = build_cell(cell)
-    assert (cm.mesh.n_triangles, cm.mesh.n_vertices) == (36 * 32, 36 * 20)  # 36 sectors
+    # r = 3..4 mm, n = 4: 86 square-ish cells round the circle at √12 mm (2π √12 x 4 = 87.1),
+    # as 43 sectors (≤ 10°) of 4 x 2 cells: 16 triangles and 10 new vertices each
+    assert (cm.mesh.n_triangles, cm.mesh.n_vertices) == (43 * 16, 43 * 10)
     arr = tile(cm, 3, 2)  # rings do not touch: nothing welds
-    assert (arr.mesh.n_triangles, arr.mesh.n_vertices) == (6 * 36 * 32, 6 * 36 * 20)
+    assert (arr.mesh.n_triangles, arr.mesh.n_vertices) == (6 * 43 * 16, 6 * 43 * 10)
     centres = arr.mesh.points[:, :2].reshape(6, -1, 2).mean(axis=1)
     d = np.linalg.norm(centres[:, None] - centres[None], axis=-1)
     assert np.isclose(d[d > 0].min(), 12.0)  # nearest neighbours one spacing apart

@@ -103,12 +103,14 @@ def test_ring_outline_area_within_the_chord_error(chord_error):
 
 
 def test_outline_area_equals_mesh_area_within_the_chord_errors():
-    cell = load_cell_preset("hexagonal-rings")  # conforming, 10° sectors, n = 4
-    mesh_area = build_cell(cell).mesh.stats()["area"]
+    cell = load_cell_preset("hexagonal-rings")  # conforming, r = 3..4 mm, n = 4
+    mesh = build_cell(cell).mesh
+    mesh_area = mesh.stats()["area"]
     chord = 0.005
     [poly] = outline_polygons(cell, chord)
-    # the mesh's boundary points are 10° / n = 2.5° apart on the circles
-    mesh_chord = 4.0 * (1 - math.cos(math.radians(1.25)))
+    # the mesh's boundary points are 360° / (cells round a circle) apart on the circles
+    cells = mesh.stats()["boundary_edges"] // 2
+    mesh_chord = 4.0 * (1 - math.cos(math.radians(180.0 / cells)))
     perimeter = 2 * math.pi * 7.0
     assert abs(poly.area - mesh_area) <= perimeter * (chord + mesh_chord)
     # at the mesh's own sector width the outline is the mesh boundary: equal areas

@@ -192,10 +192,11 @@ def test_element_cell_presets_counts(capsys):
     assert s["cell"]["triangles"] == 361 * 32
     assert s["cell"]["vertices"] == 361 * (n + 1) ** 2  # paper mode: patches are not merged
     assert s["cell"]["regions"] == 2 and s["periodic_edge_pairs"] == 0
-    # hexagonal rings, conforming: 36 sectors of 10 degrees glued side to side
+    # hexagonal rings, conforming: 43 sectors (≤ 10 degrees) of n x 2 cells glued side to
+    # side, 86 cells round the circle (square-ish at the track's mean radius)
     s = stats_of(capsys, "info", "--cell-preset", "hexagonal-rings")
-    assert s["cell"]["triangles"] == 36 * 2 * n**2
-    assert s["cell"]["vertices"] == 36 * (n + 1) ** 2 - 36 * (n + 1)
+    assert s["cell"]["triangles"] == 43 * 2 * n * 2
+    assert s["cell"]["vertices"] == 43 * (n + 1) * 3 - 43 * (n + 1)
     # split-ring pair: each ring as the structure alone would be meshed
     doc = preset_document("split-ring-pair")
     alone = [build_mesh(_element_params(e, doc["mode"])) for e in doc["elements"]]
@@ -266,7 +267,7 @@ def test_msh_without_periodic_when_no_edge_is_on_a_side(capsys, in_tmp):
     assert code == 0, err
     assert "wrote h.msh (Gmsh MSH 2.2 ASCII, mm) without $Periodic (no mesh edge on its" in out
     assert "$Periodic" not in (in_tmp / "h.msh").read_text()
-    assert read_mesh(in_tmp / "h.msh").n_triangles == 1152
+    assert read_mesh(in_tmp / "h.msh").n_triangles == 43 * 16  # 43 sectors of 4 x 2 cells
 
 
 def test_plain_structure_msh_is_unchanged(capsys, in_tmp):

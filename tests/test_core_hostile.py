@@ -355,7 +355,8 @@ def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
     # a sector glued to one more neighbour at its side: that side's edges on 3
     third = vmap[1].copy()
     third[lay.template.sides[2]] = vmap[0, lay.template.sides[2]]
-    third[lay.template.sides[0]] = n_vertices + np.arange(lay.template.sides.shape[1])
-    interior = np.setdiff1d(np.arange(vmap.shape[1]), lay.template.sides[[0, 2]].ravel())
+    third[lay.template.sides[0]] = n_vertices + np.arange(len(lay.template.sides[0]))
+    ends = np.concatenate([lay.template.sides[0], lay.template.sides[2]])
+    interior = np.setdiff1d(np.arange(vmap.shape[1]), ends)
     third[interior] = n_vertices + 100 + interior
     assert glued_edge_valence(lay.template, np.vstack([vmap, third]), n_vertices + 200) == 3

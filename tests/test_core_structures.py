@@ -89,11 +89,17 @@ def test_paper_ring_patch_positions():
 
 
 def test_conforming_ring_issue_example():
-    """r = 4, patch 1, 10°, n = 4: 1152 triangles, 720 vertices, 1872 edges."""
+    """r = 4, patch 1, 10°, n = 4: 111 square-ish cells round the circle.
+
+    Square cells at the track's geometric mean radius √20 mm need 2π √20 x 4 = 112.4
+    cells; 37 sectors (≤ 10°) of 4 x 3 cells make 111: 888 triangles (was 36 sectors
+    of 4 x 4 cells, 1152), 555 vertices, 1443 edges (V − E + F = 0), 222 on the circles.
+    """
     mesh = build_mesh(MeshParams(structure="ring", mode="conforming", angle_step=10))
-    assert counts(mesh) == (36, 1152, 720, 1872, 1584, 288)
+    assert counts(mesh) == (37, 888, 555, 1443, 1221, 222)
     assert mesh.stats()["euler_characteristic"] == 0
     assert mesh.stats()["junction_edges"] == 0
+    assert mesh.stats()["min_angle_deg"] >= 30.0
     # vertices on the true circles r + k h / n
     radius = np.hypot(mesh.points[:, 0], mesh.points[:, 1])
     assert np.allclose(np.round(radius * 4) / 4, radius, atol=1e-12)
@@ -103,12 +109,15 @@ def test_conforming_ring_issue_example():
 @pytest.mark.parametrize("angle_step", [1, 7, 10, 45, 120, 360])
 @pytest.mark.parametrize("n", [1, 2, 4])
 def test_conforming_ring_formula(angle_step, n):
-    m = max(3, math.ceil(360 / angle_step - 1e-9))  # at least three sectors
+    m_asked = max(3, math.ceil(360 / angle_step - 1e-9))  # at least three sectors
     mesh = build_mesh(
         MeshParams(structure="ring", mode="conforming", angle_step=angle_step, subdivisions=n)
     )
-    cols = m * n
-    assert mesh.n_triangles == 2 * n * n * m
+    m = mesh.n_patches
+    cols = len(mesh.boundary_edges) // 2  # cells round the circle
+    assert m >= m_asked and cols % m == 0  # sectors no wider than asked, n_v cells each
+    assert cols <= n * m_asked  # never more triangles than n x n sectors
+    assert mesh.n_triangles == 2 * n * cols
     assert mesh.n_vertices == (n + 1) * cols
     assert len(mesh.boundary_edges) == 2 * cols
     assert mesh.stats()["euler_characteristic"] == 0
@@ -133,7 +142,11 @@ def test_conforming_double_ring_is_two_closed_rings():
 def test_touching_conforming_rings_are_one_band():
     mesh = build_mesh(MeshParams(mode="conforming", angle_step=10, inner_radius=4, outer_radius=5))
     assert components(mesh) == 1
-    assert mesh.stats()["boundary_edges"] == 2 * 36 * 4
+    # both rings cut alike (41 sectors of 4 x 3 cells, 123 cells round each circle): only
+    # the innermost and outermost circles are boundary (was 36 sectors of 4 x 4, 2 x 144)
+    cells = mesh.n_triangles // (2 * 2 * 4)
+    assert (mesh.n_patches, cells) == (82, 123)
+    assert mesh.stats()["boundary_edges"] == 2 * cells
     assert mesh.stats()["euler_characteristic"] == 0
     assert mesh.topology.valence.max() == 2
     assert_topology_matches_generic(mesh)

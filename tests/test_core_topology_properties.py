@@ -209,9 +209,12 @@ def test_connectivity_is_t_by_t_when_the_last_triangle_is_alone(with_junction):
 
 def test_connectivity_across_blocks_of_triangles():
     """More triangles than one block of the row-by-row path: rows past the first block."""
-    # 72 sectors of 2 n² triangles, n = 22: 69,696 triangles
+    # r = 12 mm: 72 sectors of 5° (1.09 mm at mid track) are square n x n cells, n = 22:
+    # 69,696 triangles
     mesh = build_mesh(
-        MeshParams(structure="ring", mode="conforming", angle_step=5, subdivisions=22)
+        MeshParams(
+            structure="ring", mode="conforming", inner_radius=12, angle_step=5, subdivisions=22
+        )
     )
     assert mesh.n_triangles > BLOCK
     topo = mesh.topology

@@ -262,7 +262,7 @@ def _resonance_of(mesh):
 
 
 def test_split_ring_resonance_is_the_same_on_an_unstructured_mesh():
-    # cross-mesh: our conforming ring (n = 2, 698 unknowns) against a Delaunay mesh of the
+    # cross-mesh: our conforming ring (n = 2, 448 unknowns) against a Delaunay mesh of the
     # same geometry made without barymesh (908 unknowns, other vertices and triangles)
     other = _delaunay_split_ring(rings=4, spacing=0.2)
     assert other.stats()["junction_edges"] == 0 and other.stats()["boundary_edges"] > 0

@@ -126,9 +126,7 @@ def _element_part(element) -> _Part:
         hi = element.place(mesh.patch_rects[:, 2:])
         rects = np.concatenate([np.minimum(lo, hi), np.maximum(lo, hi)], axis=1)
     p = element.params
-    template = None
-    if p.structure != "triangle":
-        template = patch_template(p.scheme, p.subdivisions, p.diagonal)
+    template = mesh._template  # the layout's (conforming rings: their sector template)
     placed = TriMesh(
         xy,
         mesh.triangles,
