@@ -149,6 +149,17 @@ class MeshParams:
         (centroid and edge midpoints, 6 per level).
     max_triangles : int
         Triangle budget; larger meshes are refused before they are built.
+    grading : bool
+        Conforming circular rings (uniform scheme): refine the cells across the
+        track geometrically toward both circles (the metal edges, where the
+        current is singular), from ``min_edge`` up to patch_size / subdivisions.
+    growth_ratio : float
+        Largest ratio of neighbouring cells when grading, in (1, 2].
+    min_edge : float or None
+        Width (mm) of the cells at the circles (and along the arc at a slot)
+        when grading, below patch_size / subdivisions; ``None`` is that uniform
+        width / growth_ratio². A track too narrow for the growth to reach the
+        uniform width scales all its cells down alike (ends below min_edge).
     """
 
     structure: str = "double_ring"
@@ -167,6 +178,9 @@ class MeshParams:
     triangle_vertices: tuple[tuple[float, float], ...] | None = None
     scheme: str = "uniform"
     max_triangles: int = field(default=DEFAULT_MAX_TRIANGLES)
+    grading: bool = False
+    growth_ratio: float = 1.5
+    min_edge: float | None = None
 
     def __post_init__(self) -> None:
         put = object.__setattr__
@@ -206,6 +220,7 @@ class MeshParams:
             )
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
+        self._check_grading()
         self._check_geometry()
         self._check_float64()
         if self.tolerance is not None:
@@ -256,6 +271,35 @@ class MeshParams:
         if not 1 <= n <= top:
             raise ValueError(
                 f"subdivisions={_short(n)} is outside 1..{top} for the {self.scheme} scheme"
+            )
+
+    def _check_grading(self) -> None:
+        if not isinstance(self.grading, (bool, np.bool_)):
+            raise ValueError(f"grading={_short(self.grading)} is invalid; expected true or false")
+        object.__setattr__(self, "grading", bool(self.grading))
+        ratio = _finite("growth_ratio", self.growth_ratio)
+        if not 1.0 < ratio <= 2.0:
+            raise ValueError(
+                f"growth_ratio={_short(self.growth_ratio)} is outside (1, 2]: neighbouring "
+                "cells may differ by at most a factor of 2"
+            )
+        object.__setattr__(self, "growth_ratio", ratio)
+        if self.min_edge is not None:
+            object.__setattr__(self, "min_edge", _positive("min_edge", self.min_edge))
+        if not self.grading:
+            return
+        if self.mode != "conforming" or self.structure not in ANGULAR_STRUCTURES:
+            raise ValueError(
+                f"grading=True applies to conforming circular rings, not to the {self.mode} "
+                f"{self.structure}; expected mode='conforming' and a ring structure"
+            )
+        if self.scheme != "uniform":
+            raise ValueError("grading=True needs scheme='uniform' (graded cells across the track)")
+        cell = self.patch_size / self.subdivisions
+        if self.min_edge is not None and not self.min_edge < cell:
+            raise ValueError(
+                f"min_edge={_short(self.min_edge)} mm is not below the uniform cell "
+                f"patch_size / subdivisions = {cell:.6g} mm; expected a smaller min_edge"
             )
 
     def _check_triangle_vertices(self) -> None:
@@ -377,6 +421,11 @@ class MeshParams:
         # (length along u, length along v, name of the parameter that sets the shorter one)
         h, w = self.patch_size, self.patch_height
         sides = [(h, w, "patch_size" if h <= w else "patch_width")]
+        if self.grading:  # graded cells: the narrowest across the track, instead of h / n
+            from .structures import graded_track_nodes
+
+            h *= self.subdivisions * graded_track_nodes(self)[1]
+            sides = [(h, w, "min_edge")]
         if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
             r = self.inner_radius
             full = 360.0 if s in ("ring", "double_ring") else (
@@ -389,6 +438,10 @@ class MeshParams:
             else:
                 m = _count(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
             chord = 2 * r * math.sin(math.radians(span / m) / 2)
+            if final and self.grading:
+                from .structures import narrowest_sector
+
+                chord *= narrowest_sector(self)
             if s in SPLIT_STRUCTURES and span < 0.5 * full:
                 name = "gap_width"
             elif r < h or self.angle_step >= MAX_SECTOR_DEG:

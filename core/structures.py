@@ -27,7 +27,7 @@ import numpy as np
 
 from .params import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, RELATIVE_TOLERANCE, MeshParams
 from .quality import triangle_quality
-from .subdivision import PatchTemplate, patch_template, tensor_template
+from .subdivision import PatchTemplate, graded_nodes, patch_template, tensor_template
 from .topology import INDEX
 from .weld import merge_pairs, weld_lattice_patches, weld_points
 
@@ -198,7 +198,8 @@ def _paper_origins(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
 #: The parameters that decide a conforming ring's arcs, sector counts and template.
 _ARC_FIELDS = ("structure", "scheme", "subdivisions", "diagonal", "inner_radius",
                "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
-               "max_triangles", "tolerance")  # fmt: skip
+               "max_triangles", "tolerance", "grading", "growth_ratio",
+               "min_edge")  # fmt: skip
 #: Smallest angle (degrees) the conforming sectors aim at: PSSFSS meshes with a 30° minimum.
 TARGET_MIN_ANGLE = 30.0
 #: A coarser arc division (fewer, longer sectors) is taken when its smallest angle is
@@ -227,7 +228,11 @@ class SectorPlan:
     min_angle_floor : float or None
         The best smallest angle (degrees) any arc division of this
         construction reaches with this track width, sector bound, slot and
-        triangle budget; None for the barycentric scheme.
+        triangle budget; None for the barycentric scheme and graded meshes.
+    boundaries : tuple of (tuple of float or None)
+        Per ring: where its sectors start and end along a slotted arc, as
+        fractions of it (m + 1 increasing values), when ``grading`` narrows
+        the sectors toward the slot's sides; None for evenly spaced sectors.
     """
 
     arcs: tuple[tuple[float, float, bool], ...]
@@ -235,6 +240,23 @@ class SectorPlan:
     base: int
     template: PatchTemplate
     min_angle_floor: float | None
+    boundaries: tuple[tuple[float, ...] | None, ...] = ()
+
+    def sector_bounds(self, ring: int) -> tuple[float, ...] | None:
+        """The ``boundaries`` of one ring (None: evenly spaced sectors)."""
+        return self.boundaries[ring] if self.boundaries else None
+
+
+def _arc_theta(lo, hi, ks: np.ndarray, v: np.ndarray, m: int, bounds) -> np.ndarray:
+    """(K, Nv) angles (radians) of template rows v in sectors ks of an arc from lo to hi.
+
+    ``bounds``: the sectors' ends as fractions of the arc, or None for m equal sectors.
+    """
+    if bounds is None:
+        return np.radians(lo + (ks[:, None] + v) * (hi - lo) / m)
+    t = np.asarray(bounds)
+    k = ks.astype(np.intp)
+    return np.radians(lo + (t[k][:, None] + v * (t[k + 1] - t[k])[:, None]) * (hi - lo))
 
 
 def _arcs(params: MeshParams) -> tuple[list[tuple[float, float, bool]], int]:
@@ -256,6 +278,27 @@ def sector_plan(params: MeshParams) -> SectorPlan:
     return _cached_plan(tuple(getattr(params, name) for name in _ARC_FIELDS))
 
 
+def graded_track_nodes(params) -> tuple[float, ...]:
+    """Nodes across a conforming track, 0 at the inner circle and 1 at the outer.
+
+    n uniform cells, or with ``grading`` cells from ``min_edge`` (default
+    h / n / growth_ratio²) at both circles growing by ``growth_ratio`` to h / n
+    (:func:`core.subdivision.graded_nodes`).
+    """
+    n, h = params.subdivisions, params.patch_size
+    if not params.grading:
+        return tuple(np.arange(n + 1) / n)
+    fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
+    return graded_nodes(n, fine / h, params.growth_ratio)
+
+
+def narrowest_sector(params) -> float:
+    """The narrowest sector of a graded slotted arc against the even ones asked (<= 1)."""
+    plan = sector_plan(params)
+    widths = [min(np.diff(b)) * plan.base for b in plan.boundaries if b is not None]
+    return min([1.0, *widths])
+
+
 @lru_cache(maxsize=64)
 def _cached_plan(key: tuple) -> SectorPlan:
     params = SimpleNamespace(**dict(zip(_ARC_FIELDS, key, strict=True)))
@@ -274,7 +317,7 @@ def _cached_plan(key: tuple) -> SectorPlan:
         m = _count(widest, step)
     for _ in range(_MAX_NARROWING):
         plan = _plan_sectors(params, arcs, m)
-        if _sectors_proper(params, arcs[0], plan.sectors, plan.template):
+        if _sectors_proper(params, arcs[0], plan):
             return plan
         total = sum(plan.sectors) * len(arcs) * len(plan.template.triangles)
         if total > params.max_triangles:
@@ -319,7 +362,7 @@ def _plan_sectors(params, arcs: tuple, m: int) -> SectorPlan:
         template = patch_template(params.scheme, params.subdivisions, params.diagonal)
         return SectorPlan(arcs, (m,) * len(radii), m, template, None)
     n, h = params.subdivisions, params.patch_size
-    u_nodes = tuple(np.arange(n + 1) / n)
+    u_nodes = graded_track_nodes(params)
     groups = [[0, 1]] if _touching(params) else [[i] for i in range(len(radii))]
     arc = arcs[0]
     choices = []  # (smallest angle, n_v, sectors per ring, template)
@@ -346,8 +389,24 @@ def _plan_sectors(params, arcs: tuple, m: int) -> SectorPlan:
         choices.append((score, nv, tuple(sectors), template))
     top = max(c[0] for c in choices)
     threshold = max(min(top, TARGET_MIN_ANGLE), top - _ANGLE_SLACK)
-    score, _, sectors, template = max((c for c in choices if c[0] >= threshold), key=lambda c: c[1])
-    return SectorPlan(arcs, sectors, m, template, top)
+    good = [c for c in choices if c[0] >= threshold]
+    score, nv, sectors, template = max(good, key=lambda c: c[1])
+    if not params.grading:
+        return SectorPlan(arcs, sectors, m, template, top)
+    if arc[2]:
+        return SectorPlan(arcs, sectors, m, template, None)
+    # graded toward the slot's sides: the end sectors hold cells about min_edge long
+    fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
+    bounds = [None] * len(radii)
+    for group in groups:
+        mid = math.sqrt(radii[group[0]] * (radii[group[-1]] + h))
+        span = math.radians(arc[1] - arc[0] - 2 * float(_slot_half_angle(params, mid)))
+        k = sectors[group[0]]
+        first = min(1.0 / k, fine * nv / (span * mid))
+        for i in group:
+            bounds[i] = graded_nodes(k, first, params.growth_ratio)
+    sectors = tuple(len(b) - 1 for b in bounds)
+    return SectorPlan(arcs, sectors, m, template, None, tuple(bounds))
 
 
 def _end_columns(template: PatchTemplate) -> tuple[np.ndarray, np.ndarray]:
@@ -388,12 +447,10 @@ def _end_cells_min_angle(
     return float(triangle_quality(xy, tri).min_angles_deg.min())
 
 
-def _sectors_proper(
-    params, arc: tuple[float, float, bool], sectors: tuple[int, ...], template: PatchTemplate
-) -> bool:
+def _sectors_proper(params, arc: tuple[float, float, bool], plan: SectorPlan) -> bool:
     """Whether the sectors of an arc hold only positively oriented triangles.
 
-    ``sectors[i]`` is the sector count of ring i. The template is mapped to
+    ``plan.sectors[i]`` is the sector count of ring i. The template is mapped to
     polar coordinates, so a wide sector bends its sub-triangles; thin ones
     (the barycentric scheme's) fold over when the sector is too wide. A closed
     ring's sectors are congruent: one is checked. Next to a slot the inner and
@@ -405,10 +462,11 @@ def _sectors_proper(
     catches a fold between them). A triangle counts as flat when its area is
     below 1e-9 of its longest edge squared.
     """
+    template = plan.template
     u, v = template.uv[:, 0], template.uv[:, 1]
     a, b, c = template.triangles.T
     start, end, closed = arc
-    for radius, m in zip(_radii(params), sectors, strict=True):
+    for ring, (radius, m) in enumerate(zip(_radii(params), plan.sectors, strict=True)):
         if closed:
             ks = np.zeros(1)
         else:
@@ -420,7 +478,7 @@ def _sectors_proper(
         else:
             alpha = _slot_half_angle(params, rho)
             lo, hi = start + alpha, end - alpha
-        theta = np.radians(lo + (ks[:, None] + v) * (hi - lo) / m)  # (K, Nv)
+        theta = _arc_theta(lo, hi, ks, v, m, plan.sector_bounds(ring))  # (K, Nv)
         x, y = rho * np.cos(theta), rho * np.sin(theta)
         ab = (x[:, b] - x[:, a], y[:, b] - y[:, a])
         ac = (x[:, c] - x[:, a], y[:, c] - y[:, a])
@@ -468,8 +526,7 @@ def _conforming_ring_layout(params: MeshParams) -> Layout:
             else:
                 lo, hi = np.full(nv, start), np.full(nv, end)
             if split:
-                k = np.arange(m)[:, None] + v[None, :]  # (m, Nv) sector coordinate
-                theta = np.radians(lo + k * (hi - lo) / m)
+                theta = _arc_theta(lo, hi, np.arange(m), v, m, plan.sector_bounds(ring))
                 cos, sin = np.cos(theta), np.sin(theta)
             else:
                 # the angle depends on v alone: evaluate cos and sin once per row of the template

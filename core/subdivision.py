@@ -18,6 +18,7 @@ and every grid cell is cut parallel to the chosen diagonal.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -228,6 +229,48 @@ def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTempla
         segments=segments,
         lattice=lattice,
     )
+
+
+def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
+    """Nodes in [0, 1] fine at both ends, growing geometrically to the uniform 1 / cells.
+
+    From each end the cells are ``fine``, ``fine * ratio``, ``fine * ratio**2``, …
+    up to the last below 1 / cells; cells of 1 / cells fill the middle (enough to
+    reach 1), and every cell is then scaled by one factor (at most 1) so that
+    they add up to 1. Neighbouring cells therefore differ by at most ``ratio``,
+    and no cell is wider than 1 / cells or than ``fine`` at the ends.
+
+    Parameters
+    ----------
+    cells : int
+        The uniform division the grading refines (>= 1).
+    fine : float
+        The end cells before the final scaling, as a fraction of 1, in (0, 1 / cells].
+    ratio : float
+        Growth between neighbouring cells, > 1.
+
+    Returns
+    -------
+    tuple of float
+        Increasing nodes from 0.0 to 1.0 exactly.
+
+    Examples
+    --------
+    >>> [round(x, 4) for x in graded_nodes(4, 0.125, 2.0)]
+    [0.0, 0.125, 0.375, 0.625, 0.875, 1.0]
+    """
+    coarse = 1.0 / cells
+    side = []
+    size = fine
+    while size < coarse * (1 - 1e-12):
+        side.append(size)
+        size *= ratio
+    graded = 2 * sum(side)
+    middle = max(0, math.ceil((1.0 - graded) / coarse - 1e-9))  # cells end no wider than 1/cells
+    sizes = np.array(side + [coarse] * middle + side[::-1])
+    nodes = np.concatenate([[0.0], np.cumsum(sizes / sizes.sum())])
+    nodes[-1] = 1.0
+    return tuple(float(x) for x in nodes)
 
 
 @lru_cache(maxsize=256)

@@ -146,6 +146,7 @@ def test_sectors_are_well_shaped_where_the_geometry_allows(p):
 def test_never_more_triangles_than_sectors_of_n_by_n_cells(p):
     mesh = build_mesh(p)
     assert mesh.n_triangles <= old_triangles(p)
+    assert mesh.stats()["min_edge"] >= p.min_spacing * (1 - 1e-9)  # a lower bound
     assert mesh.n_triangles == p.predicted_triangles()
     # angle_step stays the widest sector: at least the asked number per arc and ring
     arcs = _geometry(p)[0]
@@ -224,3 +225,87 @@ def test_tensor_template_on_graded_nodes(diagonal):
 def test_tensor_template_refuses_nodes_that_do_not_run_from_0_to_1(nodes):
     with pytest.raises(ValueError, match="u_nodes"):
         tensor_template(nodes, (0.0, 1.0), "BC")
+
+
+# -- grading toward the metal edges ---------------------------------------------------------
+
+
+@st.composite
+def graded_rings(draw):
+    p = draw(conforming_rings())
+    cell = p.patch_size / p.subdivisions
+    min_edge = draw(st.none() | st.floats(0.05, 0.95).map(lambda f: f * cell))
+    try:
+        return p.replace(grading=True, growth_ratio=draw(st.floats(1.05, 2.0)), min_edge=min_edge)
+    except ValueError:
+        assume(False)
+
+
+def _growth(lengths):
+    """Largest ratio of neighbouring lengths, either way round."""
+    lengths = np.asarray(lengths)
+    return float(np.maximum(lengths[1:] / lengths[:-1], lengths[:-1] / lengths[1:]).max())
+
+
+@PROPERTY
+@given(graded_rings())
+def test_graded_cells_grow_by_at_most_the_growth_ratio(p):
+    mesh = build_mesh(p)
+    assert mesh.topology.valence.max() <= 2
+    # the tolerance and float64 checks measure against a lower bound of the edges
+    assert mesh.stats()["min_edge"] >= p.min_spacing * (1 - 1e-9)
+    q = p.growth_ratio
+    fine = p.min_edge if p.min_edge is not None else p.patch_size / p.subdivisions / q**2
+    rel = mesh.points[:, :2] - np.asarray(p.origin)
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    for lo, hi in _rings(p):
+        band = np.sort(rho[(rho > lo - 1e-9) & (rho < hi + 1e-9)])
+        circles = np.split(band, np.flatnonzero(np.diff(band) > 1e-9) + 1)
+        widths = np.diff([c.mean() for c in circles])  # across the track, circle to circle
+        assert _growth(widths) <= q * (1 + 1e-9)
+        assert max(widths[0], widths[-1]) <= fine * (1 + 1e-9)  # fine at both metal edges
+        assert widths.max() <= p.patch_size / p.subdivisions * (1 + 1e-9)
+    if p.structure.startswith("split"):
+        # along the inner circle, from slot side to slot side: chords grow by at most q
+        on = np.abs(rho - p.inner_radius) < 1e-9 * p.inner_radius
+        angle = (np.degrees(np.arctan2(rel[on, 1], rel[on, 0])) - p.gap_angle) % 360.0
+        if p.structure == "split_double_ring":
+            halves = [angle < 180.0, angle >= 180.0]
+        else:
+            halves = [np.ones(len(angle), dtype=bool)]
+        for half in halves:
+            ends = rel[on][half][np.argsort(angle[half])]
+            chords = np.hypot(*np.diff(ends, axis=0).T)
+            assert _growth(chords) <= q * (1 + 1e-9)
+    # angle_step stays the widest sector
+    per_arc = np.bincount(mesh.regions[:: len(mesh._template.triangles)])[1:]
+    assert (per_arc // _geometry(p)[0] >= asked_sectors(p)).all()
+
+
+def test_grading_refines_the_srr_toward_its_edges_and_slot():
+    p = load_preset("srr-openmodes")[0]
+    plain = build_mesh(p).stats()
+    graded = build_mesh(p.replace(grading=True, min_edge=0.05)).stats()
+    # 0.5 mm track, n = 2: cells 0.05, 0.075, 0.1125, then 0.25 … (scaled to fill 0.5 mm)
+    assert graded["min_edge"] <= 0.05 + 1e-12 < plain["min_edge"]
+    assert graded["triangles"] > plain["triangles"]
+    assert graded["euler_characteristic"] == plain["euler_characteristic"] == 1
+    assert "min_angle_floor_deg" not in graded
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        (dict(growth_ratio=2.5), "growth_ratio=2.5 is outside"),
+        (dict(growth_ratio=1.0), "growth_ratio=1.0 is outside"),
+        (dict(grading="yes"), "grading='yes' is invalid"),
+        (dict(grading=True), "applies to conforming circular rings"),
+        (dict(grading=True, mode="conforming", min_edge=0.25), "min_edge=0.25 mm is not below"),
+        (dict(grading=True, mode="conforming", scheme="barycentric", subdivisions=1),
+         "scheme='uniform'"),
+        (dict(min_edge=-1.0), "min_edge"),
+    ],
+)  # fmt: skip
+def test_grading_parameters_are_checked(kw, match):
+    with pytest.raises(ValueError, match=match):
+        MeshParams(**kw)
