@@ -143,3 +143,14 @@ def test_grading_benchmark_uniform_series_converges_to_its_reference(tmp_path: P
     graded = [r for r in doc["rows"] if r["series"] != "uniform"]
     if doc["graded"] != "run":
         assert not graded and "skipped" in proc.stdout
+        return
+    # grading toward the circles and the slot sides: at about the unknowns of the finest
+    # uniform mesh (within 5 %), the current leaving the slot side is closer to the limit
+    assert [r["growth_ratio"] for r in graded] == [2.0, 2.0]
+    finest = uniform[-1]
+    peer = min(graded, key=lambda r: abs(r["unknowns"] - finest["unknowns"]))
+    assert abs(peer["unknowns"] - finest["unknowns"]) < 0.05 * finest["unknowns"]
+    assert peer["min_edge_mm"] < finest["min_edge_mm"] / 2
+    assert peer["I_cut_error"] < finest["I_cut_error"] / 2
+    # both series approach the limit from the same side: the graded one is further along
+    assert abs(complex(*peer["I_cut"])) > abs(complex(*finest["I_cut"])) * 1.005
