@@ -35,6 +35,8 @@ SPLIT_STRUCTURES = ("split_ring", "split_double_ring", "square_split_double_ring
 ANGULAR_STRUCTURES = ("ring", "double_ring", "split_ring", "split_double_ring")
 
 MAX_UNIFORM_SUBDIVISIONS = 64
+#: Most cells across a graded track (grading from min_edge adds cells at both circles).
+MAX_GRADED_CELLS = 256
 MAX_BARYCENTRIC_LEVELS = 6
 DEFAULT_MAX_TRIANGLES = 5_000_000
 #: Default welding tolerance, relative to the structure's size.
@@ -300,6 +302,14 @@ class MeshParams:
             raise ValueError(
                 f"min_edge={_short(self.min_edge)} mm is not below the uniform cell "
                 f"patch_size / subdivisions = {cell:.6g} mm; expected a smaller min_edge"
+            )
+        fine = cell / ratio**2 if self.min_edge is None else self.min_edge
+        cells = self.subdivisions + 2 * math.ceil(math.log(cell / fine) / math.log(ratio))
+        if cells > MAX_GRADED_CELLS:
+            raise ValueError(
+                f"min_edge={_short(self.min_edge)} mm with growth_ratio={ratio!r} grades the "
+                f"track into about {cells} cells across; expected at most {MAX_GRADED_CELLS}: "
+                "use a larger min_edge or growth_ratio"
             )
 
     def _check_triangle_vertices(self) -> None:

@@ -168,6 +168,9 @@ EXTREMES = {
         st.sampled_from([[1, 2, 3], [(0, 0), (1, 0)], [(0, 0), (1, 1), (2, 2)], "abc"])),
     "structure": st.sampled_from(["Ring", "", None, 3]),
     "max_triangles": st.sampled_from([0, -1, 1, 2.5, True, 10**400]),
+    "grading": st.sampled_from([True, 1, "yes", None, np.True_]),
+    "growth_ratio": st.one_of(WILD, st.sampled_from([1.0, 1.0 + 1e-12, 2.0, 2.0 + 1e-12])),
+    "min_edge": WILD,
 }  # fmt: skip
 
 
@@ -217,6 +220,11 @@ def hostile(draw):
         kw["tolerance"] = scale * draw(magnitude(-16, -1))
     if draw(st.integers(0, 4)) == 0:
         kw["patch_width"] = size * scale * draw(st.floats(0.1, 3.0))
+    if draw(st.integers(0, 5)) == 0:  # graded toward the metal edges
+        kw["grading"] = True
+        kw["growth_ratio"] = draw(st.floats(1.01, 2.0))
+        if draw(st.booleans()):
+            kw["min_edge"] = size * scale * draw(magnitude(-6, 0))
     if structure == "triangle" and draw(st.booleans()):
         kw["triangle_vertices"] = [(x * scale, y * scale) for x, y in draw(TRIANGLE)]
     for name in draw(WILD_NAMES):
