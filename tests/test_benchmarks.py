@@ -186,3 +186,55 @@ def test_quality_benchmark_rejects_a_baseline_without_core(tmp_path: Path) -> No
     )
     assert proc.returncode == 2
     assert str(tmp_path) in proc.stderr and "core/__init__.py" in proc.stderr
+def test_grading_benchmark_uniform_series_converges_to_its_reference(tmp_path: Path) -> None:
+    out = tmp_path / "grading.json"
+    png = tmp_path / "grading.png"
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "grading.py"), "--quick",
+         "--json", str(out), "--png", str(png)],  # fmt: skip
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert png.stat().st_size > 10_000
+    doc = json.loads(out.read_text())
+    uniform = [r for r in doc["rows"] if r["series"] == "uniform"]
+    assert [r["subdivisions"] for r in uniform] == [1, 2, 3, 4]
+    # the cut lies one sector from the slot side, across the 0.5 mm track
+    near, far = doc["slot_distance_mm"]
+    assert 0.2 < near < far < 0.5
+    for r in doc["rows"]:
+        current = complex(*r["I_cut"])
+        assert math.isfinite(abs(current)) and abs(current) > 1e-9  # A, for 1 V/m
+        # charge conservation: the current through the cut is −jω × the charge before it
+        assert r["continuity_error"] < 1e-9
+        assert r["residual"] < 1e-8
+    for key in ("I_cut", "m_z"):
+        errors = [r[f"{key}_error"] for r in uniform]
+        # refinement brings each mesh closer to the extrapolated value, ...
+        assert all(b < a * 1.02 for a, b in zip(errors[1:], errors[2:], strict=False)), errors
+        assert errors[-1] < errors[0] / 3, errors
+        # ... the reference: Richardson of order 1 in h = N^(-1/2) through the last two
+        # meshes, and the two meshes before them extrapolate to within 5 % of it
+        ref = doc["reference"][key]
+        (h1, q1), (h2, q2) = ((r["unknowns"] ** -0.5, complex(*r[key])) for r in uniform[-2:])
+        limit = complex(*ref["value"])
+        assert limit == pytest.approx(q2 + (q2 - q1) * h2 / (h1 - h2), rel=1e-12)
+        assert 0 < ref["uncertainty"] < 0.05
+        assert abs(complex(*ref["previous_pair"]) - limit) <= ref["uncertainty"] * abs(limit)
+    graded = [r for r in doc["rows"] if r["series"] != "uniform"]
+    if doc["graded"] != "run":
+        assert not graded and "skipped" in proc.stdout
+        return
+    # grading toward the circles and the slot sides: at about the unknowns of the finest
+    # uniform mesh (within 5 %), the current leaving the slot side is closer to the limit
+    assert [r["growth_ratio"] for r in graded] == [2.0, 2.0]
+    finest = uniform[-1]
+    peer = min(graded, key=lambda r: abs(r["unknowns"] - finest["unknowns"]))
+    assert abs(peer["unknowns"] - finest["unknowns"]) < 0.05 * finest["unknowns"]
+    assert peer["min_edge_mm"] < finest["min_edge_mm"] / 2
+    assert peer["I_cut_error"] < finest["I_cut_error"] / 2
+    # both series approach the limit from the same side: the graded one is further along
+    assert abs(complex(*peer["I_cut"])) > abs(complex(*finest["I_cut"])) * 1.005
