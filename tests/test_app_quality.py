@@ -14,12 +14,17 @@ from PySide6.QtWidgets import QTabBar  # noqa: E402
 
 from app import quality_panel  # noqa: E402
 from app.quality_layer import WORST_COLOR  # noqa: E402
+from core import MeshParams  # noqa: E402
 from core.presets import load_preset  # noqa: E402
 from core.quality import quality_report  # noqa: E402
 from tests.app_user import click_check_box, settle  # noqa: E402
 from tests.gui_helpers import hex_rgb, near, widget_pos  # noqa: E402
 
-DSDR = load_preset("paper-fig8-dsdr")[0]  # 11,008 triangles: measured in a worker thread
+#: A 10 mm x 2 mm patch: every triangle has legs in the ratio 5:1, smallest angle
+#: atan(0.2) = 11.31°, aspect ratio 3.267 (closed forms in test_core_quality_report.py).
+#: At n = 64, 8,192 triangles: measured in a worker thread; at n = 8, 128: at once.
+THIN = MeshParams(structure="patch", patch_size=10.0, patch_width=2.0, subdivisions=64)
+THIN_SMALL = MeshParams(structure="patch", patch_size=10.0, patch_width=2.0, subdivisions=8)
 
 
 def open_quality_tab(window, qtbot):
@@ -45,7 +50,7 @@ def wait_report(window, qtbot):
 
 @pytest.fixture
 def window_params():
-    return DSDR
+    return THIN
 
 
 def test_panel_shows_cores_report_and_a_click_frames_the_triangle(window, qtbot, monkeypatch):
@@ -63,20 +68,20 @@ def test_panel_shows_cores_report_and_a_click_frames_the_triangle(window, qtbot,
     open_quality_tab(window, qtbot)
     report = wait_report(window, qtbot)
     mesh = window.model.result.mesh
-    assert mesh.n_triangles == 11_008
+    assert mesh.n_triangles == 8_192
     # above 5,000 triangles the report is measured off the GUI thread
     assert threads and all(t is not threading.main_thread() for t in threads)
     assert report == quality_report(mesh, worst=20)
-    # what is on screen: the issue's figures, the histograms, twenty worst triangles
+    # what is on screen: the closed forms, the histograms, twenty worst triangles
     text = panel.figures.text()
-    assert "7.41°" in text and "11,008 (100%)" in text and "4.83" in text and "7,786" in text
+    assert "11.3°" in text and "8,192 (100%)" in text and "3.27" in text
     for key in ("min_angle_deg", "aspect_ratio"):
         view = panel.histograms[key]
         assert view.counts.tolist() == report[key]["histogram"]["counts"]
         assert view.threshold == report[key]["threshold"]
     assert panel.histograms["edge_wavelength"].isHidden()  # no frequency: no edge/λ
     assert panel.worst_list.count() == 20
-    assert panel.worst_list.item(0).text().startswith("1. triangle 0: 7.41°")
+    assert panel.worst_list.item(0).text().startswith("1. triangle 0: 11.3°")
     assert not panel.layer.visible
 
     # click the third worst triangle in the list with the mouse
@@ -110,7 +115,7 @@ def small(window, qtbot):
     return window
 
 
-@pytest.mark.parametrize("window_params", [load_preset("conforming-double-ring")[0]])
+@pytest.mark.parametrize("window_params", [THIN_SMALL])
 def test_small_mesh_measured_at_once_and_layer_toggles(small, qtbot, monkeypatch):
     threads = []
     real = quality_panel.quality_report
@@ -120,11 +125,11 @@ def test_small_mesh_measured_at_once_and_layer_toggles(small, qtbot, monkeypatch
     panel = window.quality_panel
     open_quality_tab(window, qtbot)
     report = wait_report(window, qtbot)
-    assert threads == [threading.main_thread()]  # 1,152 triangles: on the GUI thread
+    assert threads == [threading.main_thread()]  # 128 triangles: on the GUI thread
     mesh = window.model.result.mesh
     assert report == quality_report(mesh, worst=20)
-    assert round(report["min_angle_deg"]["min"], 1) == 19.1  # the issue's figure
-    assert report["min_angle_deg"]["below"] == 576
+    assert report["min_angle_deg"]["min"] == pytest.approx(np.degrees(np.arctan(0.2)))
+    assert report["min_angle_deg"]["below"] == 128
     click_check_box(panel.show_layer)
     assert panel.layer.visible and panel.act_layer.isChecked()
     assert panel.layer.actors["fill"].GetVisibility()
@@ -165,9 +170,12 @@ def test_a_new_mesh_is_measured_again(small, qtbot):
     assert first["triangles"] == window.model.result.mesh.n_triangles
     assert window.load_preset("srr-openmodes")  # Presets menu
     settle(window, qtbot)
-    qtbot.waitUntil(lambda: window.quality_panel.report["triangles"] == 560, timeout=30_000)
-    assert round(window.quality_panel.report["min_angle_deg"]["min"], 1) == 28.1
-    assert np.isclose(window.quality_panel.report["aspect_ratio"]["max"], 1.74, atol=0.005)
+    mesh = window.model.result.mesh
+    assert mesh.n_triangles != first["triangles"]
+    qtbot.waitUntil(lambda: window.quality_panel.report["triangles"] == mesh.n_triangles,
+                    timeout=30_000)
+    assert window.quality_panel.report == quality_report(mesh, worst=20)
+    assert window.quality_panel.report["min_angle_deg"]["min"] >= 30.0  # issue 12's floor
 
 
 @pytest.mark.parametrize("window_params", [load_preset("paper-fig10")[0]])
