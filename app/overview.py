@@ -18,13 +18,26 @@ import numpy as np
 #: Meshes up to this many triangles are drawn in full (faces, edges, centroids): about
 #: 100 ms per frame with Mesa's llvmpipe at 1000 x 800 px on one core.
 DETAIL_TRIANGLES = 40_000
-#: Longest side of the overview raster (texels): about a full-screen view's pixels.
+#: Longest side of the overview raster (texels) when the view's size is not known.
 RASTER_SIDE = 1024
+#: Bounds of the raster's longest side when it follows the view (about one texel a pixel).
+MIN_SIDE, MAX_SIDE = 256, 2048
+#: Memory bound of one overview (texels): about 21 bytes each (colours, five colouring
+#: arrays, coverage), so at most about 44 MB.
+MAX_TEXELS = 1 << 21
 #: Point-in-triangle tests one raster may cost (about a second in numpy); a mesh whose
 #: triangles overlap many times over (paper mode at tiny angle steps) gets fewer texels.
 RASTER_TESTS = 8_000_000
 #: Test points generated per block of the rasteriser (bounds its temporary memory).
 _BLOCK_TESTS = 1 << 22
+
+
+def raster_side(pixels: tuple[int, int] | None) -> int:
+    """Longest raster side for a view of ``pixels`` = (width, height): one texel a pixel
+    of the view's longer side, within [:data:`MIN_SIDE`, :data:`MAX_SIDE`]."""
+    if not pixels or min(pixels) <= 0:
+        return RASTER_SIDE
+    return int(np.clip(max(pixels), MIN_SIDE, MAX_SIDE))
 
 
 def raster_shape(bounds: tuple[float, float, float, float],
@@ -33,6 +46,7 @@ def raster_shape(bounds: tuple[float, float, float, float],
     x0, x1, y0, y1 = bounds
     w, h = max(x1 - x0, 1e-12), max(y1 - y0, 1e-12)
     scale = side / max(w, h)
+    scale = min(scale, np.sqrt(MAX_TEXELS / (w * h)))  # the memory bound
     return max(1, int(np.ceil(h * scale))), max(1, int(np.ceil(w * scale)))
 
 
@@ -209,3 +223,127 @@ def count_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, float]
     c = np.asarray(centroids)
     return int(np.count_nonzero((c[:, 0] >= x0) & (c[:, 0] <= x1)
                                 & (c[:, 1] >= y0) & (c[:, 1] <= y1)))
+
+
+def overlap_count_raster(rects: np.ndarray, bounds: tuple[float, float, float, float],
+                         shape: tuple[int, int]) -> np.ndarray:
+    """How many of the rectangles ``rects`` cover each texel centre of a raster.
+
+    Exact at the texel centres, in O(P + texels): each rectangle adds +1/-1 at the
+    corners of the texel block whose centres it covers, and two cumulative sums spread
+    them.
+
+    Parameters
+    ----------
+    rects : (P, 4) float
+        Axis-aligned rectangles (x0, y0, x1, y1) — paper-mode patches.
+    bounds : (x0, x1, y0, y1)
+    shape : (rows, columns)
+
+    Returns
+    -------
+    (rows, columns) int32
+
+    Examples
+    --------
+    >>> overlap_count_raster(np.array([[0, 0, 2, 1], [1, 0, 3, 1]]), (0, 3, 0, 1), (1, 3))
+    array([[1, 2, 1]], dtype=int32)
+    """
+    rows, cols = int(shape[0]), int(shape[1])
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    sx = cols / max(x1 - x0, 1e-300)
+    sy = rows / max(y1 - y0, 1e-300)
+    # texel i's centre is x0 + (i + 0.5) / sx: covered for ceil(a - 0.5) <= i <= floor(b - 0.5)
+    i0 = np.clip(np.ceil((r[:, 0] - x0) * sx - 0.5), 0, cols).astype(np.int64)
+    i1 = np.clip(np.floor((r[:, 2] - x0) * sx - 0.5) + 1, 0, cols).astype(np.int64)
+    j0 = np.clip(np.ceil((r[:, 1] - y0) * sy - 0.5), 0, rows).astype(np.int64)
+    j1 = np.clip(np.floor((r[:, 3] - y0) * sy - 0.5) + 1, 0, rows).astype(np.int64)
+    ok = (i1 > i0) & (j1 > j0)
+    i0, i1, j0, j1 = i0[ok], i1[ok], j0[ok], j1[ok]
+    diff = np.zeros((rows + 1) * (cols + 1), dtype=np.int32)
+    for jj, ii, sign in ((j0, i0, 1), (j0, i1, -1), (j1, i0, -1), (j1, i1, 1)):
+        np.add.at(diff, jj * (cols + 1) + ii, sign)
+    diff = diff.reshape(rows + 1, cols + 1)
+    return np.cumsum(np.cumsum(diff, axis=0), axis=1)[:rows, :cols].astype(np.int32)
+
+
+def overlap_counts_at(rects: np.ndarray, xy: np.ndarray, side: int = MAX_SIDE) -> np.ndarray:
+    """How many rectangles cover each point of ``xy`` (read off a raster of ``side``
+    texels over the points' extent: exact but within half a texel of a rectangle's side).
+
+    Parameters
+    ----------
+    rects : (P, 4) float
+        (x0, y0, x1, y1) each.
+    xy : (k, 2) or (k, 3) float
+
+    Returns
+    -------
+    (k,) int32
+    """
+    xy = np.asarray(xy)
+    if len(xy) == 0:
+        return np.zeros(0, dtype=np.int32)
+    x, y = xy[:, 0], xy[:, 1]
+    bounds = (float(x.min()), float(x.max()), float(y.min()), float(y.max()))
+    pad = 1e-9 * max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1.0)
+    bounds = (bounds[0] - pad, bounds[1] + pad, bounds[2] - pad, bounds[3] + pad)
+    shape = raster_shape(bounds, side)
+    counts = overlap_count_raster(rects, bounds, shape)
+    i = np.clip(((x - bounds[0]) * shape[1] / (bounds[1] - bounds[0])).astype(np.int64),
+                0, shape[1] - 1)
+    j = np.clip(((y - bounds[2]) * shape[0] / (bounds[3] - bounds[2])).astype(np.int64),
+                0, shape[0] - 1)
+    return counts[j, i]
+
+
+def decimated_lines(points: np.ndarray, pairs: np.ndarray,
+                    bounds: tuple[float, float, float, float],
+                    shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Line segments snapped to the texel centres of a raster, as many as it can show.
+
+    Each end moves to the centre of its texel; segments that shrink to a point or
+    repeat another are dropped. The result's size follows the raster (at most the
+    texels the lines pass through, times four), not the number of segments given.
+
+    Parameters
+    ----------
+    points : (V, 2) or (V, 3) float
+    pairs : (k, 2) int
+    bounds : (x0, x1, y0, y1)
+    shape : (rows, columns)
+
+    Returns
+    -------
+    points : (m, 2) float64
+        Texel centres in the units of ``points``.
+    pairs : (j, 2) int64
+
+    Examples
+    --------
+    >>> pts = np.array([[0.1, 0.1], [0.2, 0.1], [1.6, 0.4]])
+    >>> decimated_lines(pts, np.array([[0, 1], [1, 2]]), (0, 2, 0, 1), (1, 2))
+    (array([[0.5, 0.5],
+           [1.5, 0.5]]), array([[0, 1]]))
+    """
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    if len(pairs) == 0:
+        return np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64)
+    rows, cols = int(shape[0]), int(shape[1])
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    sx = cols / max(x1 - x0, 1e-300)
+    sy = rows / max(y1 - y0, 1e-300)
+    p = np.asarray(points)
+    i = np.clip(((p[:, 0] - x0) * sx).astype(np.int64), 0, cols - 1)
+    j = np.clip(((p[:, 1] - y0) * sy).astype(np.int64), 0, rows - 1)
+    cell = j * cols + i
+    ends = np.sort(cell[pairs], axis=1)
+    ends = ends[ends[:, 0] != ends[:, 1]]
+    if len(ends) == 0:
+        return np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64)
+    ends = np.unique(ends[:, 0] * (rows * cols) + ends[:, 1])
+    ends = np.column_stack([ends // (rows * cols), ends % (rows * cols)])
+    used, inverse = np.unique(ends, return_inverse=True)
+    xy = np.column_stack([x0 + (used % cols + 0.5) / sx, y0 + (used // cols + 0.5) / sy])
+    return xy, inverse.reshape(-1, 2)

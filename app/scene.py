@@ -32,7 +32,15 @@ from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 from core import TriMesh
 
 from .layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
-from .overview import DETAIL_TRIANGLES, overview_raster, triangles_in_rect
+from .overview import (
+    DETAIL_TRIANGLES,
+    decimated_lines,
+    overlap_count_raster,
+    overlap_counts_at,
+    overview_raster,
+    raster_side,
+    triangles_in_rect,
+)
 
 log = logging.getLogger(__name__)
 
@@ -62,11 +70,17 @@ REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
 #: centroids are not drawn (they would only paint a texture over the faces).
 LIGHT_PX = 12.0
-#: Patch outlines of an overview are drawn as lines up to this many segments.
-OUTLINE_SEGMENTS = 40_000
 #: Layers that exist per triangle or per edge: drawn in full detail only.
 DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels")
-_ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio")
+_ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio", "overlap")
+#: Paper-mode meshes whose patches overlap at least this much (``TriMesh.overlap_ratio``)
+#: get the *overlap look* by default (colouring "none"): faces coloured by how many
+#: patches cover each point, patch outlines drawn, every patch's triangle edges hidden
+#: until the outlines are far enough apart to tell the patches apart.
+OVERLAP_LOOK = 0.2
+#: In the overlap look, outlines are drawn at least this far apart on screen (px) on
+#: average: every k-th patch is outlined, k chosen from the zoom.
+OUTLINE_SPACING_PX = 9.0
 
 
 @dataclass
@@ -82,6 +96,10 @@ class Overview:
     covered: np.ndarray  # (rows, cols) bool
     values: dict[str, np.ndarray]
     centroids: np.ndarray
+    #: the texture's image, made in the worker for the colouring ``image_key`` (the GUI
+    #: thread only hands it to the texture when that is still the colouring shown)
+    image: pv.ImageData | None = None
+    image_key: str | None = None
 
 
 @dataclass
@@ -96,6 +114,8 @@ class SceneData:
     overview: Overview | None = None  # dense meshes: the faces as an image
     rect: tuple[float, float, float, float] | None = None  # a detail's extent (mm)
     paper: bool = False  # paper mode: the boundary edges outline every patch
+    overlap_ratio: float | None = None  # paper mode: TriMesh.overlap_ratio
+    patch_rects: np.ndarray | None = None  # paper mode: (P, 4) x0, y0, x1, y1 (mm)
 
 
 def _line_set(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
@@ -130,15 +150,7 @@ def patch_outline_pairs(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
     pairs : (k, 2) int
     """
     if mesh.patch_rects is not None and len(mesh.patch_rects):
-        r = np.asarray(mesh.patch_rects, dtype=np.float64)
-        x0, y0, x1, y1 = r.T
-        corners = np.stack(
-            [np.column_stack(c) for c in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))], axis=1
-        )  # (P, 4, 2)
-        points = np.column_stack([corners.reshape(-1, 2), np.zeros(4 * len(r))])
-        sides = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
-        pairs = (4 * np.arange(len(r))[:, None, None] + sides[None]).reshape(-1, 2)
-        return points, pairs
+        return rect_outlines(mesh.patch_rects)
     et = mesh.edge_triangles
     pid = mesh.patch_ids
     two = (et[:, 1] >= 0)
@@ -149,8 +161,39 @@ def patch_outline_pairs(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
     return mesh.points, mesh.edges[outline]
 
 
-def _face_arrays(mesh: TriMesh, sel: np.ndarray | None) -> dict[str, np.ndarray]:
-    """The colouring arrays of the triangles ``sel`` (all if None)."""
+def rect_outlines(rects: np.ndarray, z: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The four sides of each rectangle (x0, y0, x1, y1) of ``rects`` (P, 4) at height
+    ``z``: points (4P, 3) float64 and vertex pairs (4P, 2) int."""
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    x0, y0, x1, y1 = r.T
+    corners = np.stack(
+        [np.column_stack(c) for c in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))], axis=1
+    )  # (P, 4, 2)
+    points = np.column_stack([corners.reshape(-1, 2), np.full(4 * len(r), float(z))])
+    sides = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    pairs = (4 * np.arange(len(r))[:, None, None] + sides[None]).reshape(-1, 2)
+    return points, pairs
+
+
+def outline_stride(rects: np.ndarray, overlap_ratio: float, px_per_mm: float,
+                   spacing_px: float = OUTLINE_SPACING_PX) -> int:
+    """Outline every k-th of the overlapping patches ``rects`` so that their sides lie
+    about ``spacing_px`` apart on screen: the union's area over the sides' total length
+    is their mean spacing (mm). Returns k >= 1."""
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    w, h = r[:, 2] - r[:, 0], r[:, 3] - r[:, 1]
+    length = float(2.0 * (w + h).sum())
+    union = float((w * h).sum()) * max(1.0 - overlap_ratio, 1e-9)
+    if length <= 0 or px_per_mm <= 0 or not np.isfinite(px_per_mm):
+        return 1
+    spacing = union / length * px_per_mm
+    return max(1, min(len(r), int(np.ceil(spacing_px / max(spacing, 1e-12)))))
+
+
+def _face_arrays(mesh: TriMesh, sel: np.ndarray | None,
+                 overlap: bool = True) -> dict[str, np.ndarray]:
+    """The colouring arrays of the triangles ``sel`` (all if None); ``overlap`` (paper
+    mode, if asked for): how many patches cover each triangle's centroid."""
     arrays = {
         "patch": np.asarray(mesh.patch_ids) % _CATEGORIES,
         "region": np.asarray(mesh.regions),
@@ -160,23 +203,87 @@ def _face_arrays(mesh: TriMesh, sel: np.ndarray | None) -> dict[str, np.ndarray]
     }
     if sel is not None:
         arrays = {k: v[sel] for k, v in arrays.items()}
+    rects = _paper_rects(mesh)
+    if overlap and rects is not None:
+        cents = np.asarray(mesh.centroids)
+        arrays["overlap"] = overlap_counts_at(rects, cents if sel is None else cents[sel])
     return {k: v.astype(np.float64) for k, v in arrays.items()}
 
 
-def _ranges(mesh: TriMesh) -> dict[str, tuple[float, float]]:
+def _paper_rects(mesh: TriMesh) -> np.ndarray | None:
+    """(P, 4) patch rectangles of a paper-mode mesh, else None."""
+    rects = mesh.patch_rects
+    if mesh.mode != "paper" or rects is None or len(rects) == 0:
+        return None
+    return np.asarray(rects, dtype=np.float64)
+
+
+def lut_settings(array: str, ranges: dict[str, tuple[float, float]]
+                 ) -> tuple[object, int, float, float]:
+    """(colour map, number of colours, low, high) of the face colouring ``array``."""
+    lo, hi = ranges.get(array, (0.0, 1.0))
+    if array == "patch":
+        return "tab10", _CATEGORIES, lo, hi
+    if array == "region":
+        return REGION_COLORS, 3, 0.5, 3.5
+    if array == "overlap":  # whole counts: one colour each
+        return "viridis", int(np.clip(round(hi - lo), 1, 256)), lo, hi
+    return "viridis", 256, lo, hi
+
+
+def overview_rgba(ov: Overview, key: str, ranges: dict[str, tuple[float, float]]
+                  ) -> np.ndarray:
+    """(rows, cols, 4) uint8 colours of the overview ``ov`` for the colouring ``key`` (a
+    key of :data:`COLOR_BY`). Uses its own lookup table: safe in a worker thread."""
+    rows, cols = ov.covered.shape
+    array, _ = COLOR_BY[key]
+    if array is None or array not in ov.values:
+        rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
+        rgba[ov.covered] = (*pv.Color(COLORS["faces"]).int_rgb, 255)
+        return rgba
+    cmap, n_values, lo, hi = lut_settings(array, ranges)
+    lut = pv.LookupTable(cmap=cmap, n_values=n_values, scalar_range=(lo, hi))
+    mapped = lut.MapScalars(numpy_to_vtk(ov.values[array].ravel()), 0, -1)
+    rgba = vtk_to_numpy(mapped).reshape(rows, cols, -1)
+    if rgba.shape[2] == 3:
+        rgba = np.dstack([rgba, np.full((rows, cols), 255, np.uint8)])
+    rgba = np.array(rgba, dtype=np.uint8)
+    rgba[~ov.covered] = 0
+    return rgba
+
+
+def overview_image(rgba: np.ndarray) -> pv.ImageData:
+    """The texture input of an overview's (rows, cols, 4) colours."""
+    rows, cols = rgba.shape[:2]
+    image = pv.ImageData(dimensions=(cols, rows, 1))
+    image.point_data["rgba"] = rgba.reshape(-1, 4)
+    return image
+
+
+def shown_color(color_by: str, overlap_ratio: float | None) -> str:
+    """The colouring drawn for the chosen one: the overlap look replaces "none"."""
+    if color_by == "none" and overlap_ratio is not None and overlap_ratio >= OVERLAP_LOOK:
+        return "overlap"
+    return color_by
+
+
+def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[float, float]]:
     ranges = {}
-    for name, values in _face_arrays(mesh, None).items():
+    for name, values in arrays.items():
         finite = values[np.isfinite(values)]
         a, b = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
         if b - a < 1e-12 * max(1.0, abs(a)):
             a, b = a - 0.5, b + 0.5
         ranges[name] = (a, b)
+    if "overlap" in ranges:
+        ranges["overlap"] = (0.5, max(ranges["overlap"][1], 1.0) + 0.5)
     ranges["patch"] = (-0.5, _CATEGORIES - 0.5)
     ranges["region"] = (0.5, 3.5)
     return ranges
 
 
-def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData:
+def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
+               color_by: str = "none", pixels: tuple[int, int] | None = None) -> SceneData:
     """Build the datasets of every layer for ``mesh`` (thread-safe, no rendering).
 
     A mesh of more than ``detail_limit`` triangles gets an :class:`Overview` (its faces
@@ -188,6 +295,13 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData
     ----------
     mesh : TriMesh
     detail_limit : int
+    color_by : str
+        The colouring the window shows (a key of :data:`COLOR_BY`): a dense mesh's
+        overview image is coloured for it here, not on the GUI thread.
+    pixels : (int, int), optional
+        The view's size: the overview has about one texel per pixel of its longer side
+        (:func:`app.overview.raster_side`), and its line layers are cut down to what
+        those texels can show (:func:`app.overview.decimated_lines`).
 
     Returns
     -------
@@ -204,41 +318,58 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData
         lo = hi = np.zeros(3)
     bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
     typical = float(np.mean(mesh.edge_lengths)) if n else 0.0
-    ranges = _ranges(mesh) if n else {}
-    if n <= detail_limit:
-        data = _detail_sets(mesh, None, bounds)
-        return SceneData(data, bounds, ranges, n, typical, paper=mesh.mode == "paper")
+    rects = _paper_rects(mesh)
+    ratio = mesh.overlap_ratio if rects is not None else None
+    paper = {"paper": mesh.mode == "paper", "overlap_ratio": ratio, "patch_rects": rects}
+    dense = n > detail_limit
+    arrays = _face_arrays(mesh, None, overlap=not dense) if n else {}
+    ranges = _ranges(mesh, arrays) if n else {}
+    if not dense:
+        data = _detail_sets(mesh, None, bounds, arrays)
+        return SceneData(data, bounds, ranges, n, typical, **paper)
     size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
     dz = 1e-4 * size
+    raster = overview_raster(pts, mesh.triangles, bounds, raster_side(pixels))
+    shape = raster.shape
     sets = {name: pv.PolyData() for name in LAYERS}
     edges = np.asarray(mesh.edges)
     for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
                              (5, "junction_edges", mesh.junction_edges)):
         pairs = edges[np.asarray(ids, dtype=np.int64)]
-        sets[name] = _compact_lines(pts, pairs, level * dz)
-    out_pts, out_pairs = patch_outline_pairs(mesh)
-    if len(out_pairs) <= OUTLINE_SEGMENTS:
-        sets["patch_outlines"] = _compact_lines(out_pts, out_pairs, 2 * dz)
-    raster = overview_raster(pts, mesh.triangles, bounds)
+        sets[name] = _screen_lines(pts, pairs, bounds, shape, level * dz)
+    if rects is None:  # (paper mode: the window outlines a part of the patches)
+        out_pts, out_pairs = patch_outline_pairs(mesh)
+        sets["patch_outlines"] = _screen_lines(out_pts, out_pairs, bounds, shape, 2 * dz)
     covered = raster >= 0
     where = np.where(covered, raster, 0)
     values = {}
-    for name, v in _face_arrays(mesh, None).items():
+    for name, v in arrays.items():
         img = v.astype(np.float32)[where]
         img[~covered] = np.nan
         values[name] = img
+    del where, raster, arrays
+    if rects is not None:
+        count = overlap_count_raster(rects, bounds, shape).astype(np.float32)
+        count[~covered] = np.nan
+        values["overlap"] = count
+        top = float(np.nanmax(count)) if covered.any() else 1.0
+        ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
     centroids = np.asarray(mesh.centroids)[:, :2].astype(np.float32)
     overview = Overview(bounds, covered, values, centroids)
-    return SceneData(sets, bounds, ranges, n, typical, overview, paper=mesh.mode == "paper")
+    key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
+    overview.image = overview_image(overview_rgba(overview, key, ranges))
+    overview.image_key = key
+    return SceneData(sets, bounds, ranges, n, typical, overview, **paper)
 
 
-def _compact_lines(points: np.ndarray, pairs: np.ndarray, dz: float) -> pv.PolyData:
-    """Line cells of ``pairs`` with only the points they use, lifted by ``dz``."""
-    pairs = np.asarray(pairs).reshape(-1, 2)
-    if len(pairs) == 0:
+def _screen_lines(points: np.ndarray, pairs: np.ndarray,
+                  bounds: tuple[float, float, float, float], shape: tuple[int, int],
+                  dz: float) -> pv.PolyData:
+    """Line cells of ``pairs`` snapped to a raster's texels (as many as it can show)."""
+    xy, snapped = decimated_lines(points, pairs, bounds, shape)
+    if len(snapped) == 0:
         return pv.PolyData()
-    used, inverse = np.unique(pairs, return_inverse=True)
-    return _line_set(_lifted(points[used], dz), inverse.reshape(-1, 2))
+    return _line_set(np.column_stack([xy, np.full(len(xy), dz)]), snapped)
 
 
 def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
@@ -258,7 +389,7 @@ def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
     pts = np.asarray(mesh.points)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
-    sets = _detail_sets(mesh, sel, bounds)
+    sets = _detail_sets(mesh, sel, bounds, _face_arrays(mesh, sel))
     for name in LAYERS:
         if name not in DETAIL_LAYERS:
             sets[name] = pv.PolyData()
@@ -266,8 +397,10 @@ def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
 
 
 def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
-                 bounds: tuple[float, float, float, float]) -> dict[str, pv.PolyData]:
-    """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None)."""
+                 bounds: tuple[float, float, float, float],
+                 arrays: dict[str, np.ndarray]) -> dict[str, pv.PolyData]:
+    """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None), the
+    faces carrying the colouring ``arrays`` of those triangles."""
     pts = np.asarray(mesh.points, dtype=np.float64)
     tri = np.asarray(mesh.triangles)
     x0, x1, y0, y1 = bounds
@@ -300,7 +433,7 @@ def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
         kind = kind[keep][ok]
         centroids = np.asarray(mesh.centroids)[ids]
     faces = pv.PolyData.from_regular_faces(local_pts, local_tri)
-    for name, values in _face_arrays(mesh, None if sel is None else ids).items():
+    for name, values in arrays.items():
         faces.cell_data[name] = values
     faces.cell_data["triangle"] = ids.astype(np.int64)
     sets = {"faces": faces}
@@ -380,6 +513,10 @@ class MeshScene:
         self.typical_edge = 0.0
         self.overview: Overview | None = None
         self.paper = False
+        self.overlap_ratio: float | None = None
+        self.patch_rects: np.ndarray | None = None
+        self.outline_stride = 0  # overlap look: every k-th patch outlined (0: look off)
+        self._outlines = pv.PolyData()  # the mesh's own patch outlines
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
@@ -508,6 +645,10 @@ class MeshScene:
         self.typical_edge = data.typical_edge
         self.overview = data.overview
         self.paper = data.paper
+        self.overlap_ratio = data.overlap_ratio
+        self.patch_rects = data.patch_rects
+        self.outline_stride = 0
+        self._outlines = data.datasets["patch_outlines"]
         self.detail_rect = None
         self.detail_triangles = 0 if data.overview is not None else data.n_triangles
         self._set_overview_quad()
@@ -515,6 +656,16 @@ class MeshScene:
         self.fit_marker_sizes()
         self._apply_color_by()
         self._apply_visibility()
+
+    @property
+    def overlap_look(self) -> bool:
+        """Whether the overlap look is on (overlapping paper patches, colouring "none")."""
+        return self.shown_color_by == "overlap" and self.color_by == "none"
+
+    @property
+    def shown_color_by(self) -> str:
+        """The colouring drawn: the chosen one, or "overlap" for the overlap look."""
+        return shown_color(self.color_by, self.overlap_ratio)
 
     @property
     def reduced(self) -> bool:
@@ -607,30 +758,15 @@ class MeshScene:
                                                    dtype=np.float32)
         self.overview_quad.copy_from(quad, deep=True)
 
-    def _overview_rgba(self) -> np.ndarray:
-        """(rows, cols, 4) uint8 colours of the overview for the current colouring."""
-        ov = self.overview
-        rows, cols = ov.covered.shape
-        array, _ = COLOR_BY[self.color_by]
-        if array is None or array not in ov.values:
-            rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
-            rgba[ov.covered] = (*pv.Color(COLORS["faces"]).int_rgb, 255)
-            return rgba
-        lut = self.actors["faces"].mapper.lookup_table
-        mapped = lut.MapScalars(numpy_to_vtk(ov.values[array].ravel()), 0, -1)
-        rgba = vtk_to_numpy(mapped).reshape(rows, cols, -1)
-        if rgba.shape[2] == 3:
-            rgba = np.dstack([rgba, np.full((rows, cols), 255, np.uint8)])
-        rgba = np.array(rgba, dtype=np.uint8)
-        rgba[~ov.covered] = 0
-        return rgba
-
     def _recolor_overview(self) -> None:
-        if self.overview is None:
+        ov = self.overview
+        if ov is None:
             return
-        image = pv.ImageData(dimensions=(*self.overview.covered.shape[::-1], 1))
-        image.point_data["rgba"] = self._overview_rgba().reshape(-1, 4)
-        self.overview_texture.SetInputDataObject(image)
+        key = self.shown_color_by
+        if ov.image is None or ov.image_key != key:  # the colouring changed since the build
+            ov.image = overview_image(overview_rgba(ov, key, self.ranges))
+            ov.image_key = key
+        self.overview_texture.SetInputDataObject(ov.image)
 
     def set_visible(self, layer: str, on: bool) -> None:
         if layer not in self.visible:
@@ -643,6 +779,7 @@ class MeshScene:
             raise ValueError(f"color_by={key!r} is unknown; expected one of {', '.join(COLOR_BY)}")
         self.color_by = key
         self._apply_color_by()
+        self.fit_marker_sizes()  # the overlap look's outlines come and go with it
         self._apply_visibility()
 
     @property
@@ -661,13 +798,20 @@ class MeshScene:
             return False  # in paper mode every patch's border: a texture at this size
         if name in DETAIL_LAYERS and self.overview is not None and self.detail_rect is None:
             return False
+        if self.overlap_look:
+            if name == "patch_outlines":
+                return True  # part of the look (every k-th patch, see fit_marker_sizes)
+            if name in ("triangle_edges", "shared_edges", "centroids", "boundary_edges"):
+                # the patches' own edges tangle into a moire until they are apart
+                return bool(on) and self.outline_stride == 1
         return bool(on)
 
     def _apply_visibility(self) -> None:
         for name in LAYERS:
             self.actors[name].SetVisibility(self.drawn(name))
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
-        legend = bool(self.visible["faces"] and self.color_by != "none" and self.n_triangles)
+        legend = bool(self.visible["faces"] and self.shown_color_by != "none"
+                      and self.n_triangles)
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
@@ -678,6 +822,13 @@ class MeshScene:
         if not self.n_triangles:
             return ""
         parts = []
+        if self.overlap_look:
+            patches = len(self.patch_rects)
+            which = ("all patches outlined" if self.outline_stride == 1 else
+                     f"1 in {self.outline_stride} of {patches:,} patches outlined, no "
+                     "triangle edges (zoom in)")
+            parts.append(f"Patches overlap (ratio {self.overlap_ratio:.2f}): colour = patches "
+                         f"covering a point, {which}")
         if self.overview is not None:
             if self.detail_rect is None:
                 parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "
@@ -687,7 +838,8 @@ class MeshScene:
                              f"{self.n_triangles:,} triangles around the view")
         wanted = [n for n in ("triangle_edges", "shared_edges", "centroids")
                   if self.visible[n]]
-        if self.light and wanted and (self.overview is None or self.detail_rect is not None):
+        if (self.light and wanted and not self.overlap_look
+                and (self.overview is None or self.detail_rect is not None)):
             borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
             parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
                          f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
@@ -695,7 +847,7 @@ class MeshScene:
         return "\n".join(parts)
 
     def _apply_color_by(self) -> None:
-        array, title = COLOR_BY[self.color_by]
+        array, title = COLOR_BY[self.shown_color_by]
         mapper = self.actors["faces"].mapper
         if array is None or array not in self.datasets["faces"].cell_data and (
                 self.overview is None or array not in self.overview.values):
@@ -703,18 +855,7 @@ class MeshScene:
             self._recolor_overview()
             return
         lut = mapper.lookup_table
-        if array == "patch":
-            lut.cmap = "tab10"
-            lut.n_values = _CATEGORIES
-        elif array == "region":
-            lut.cmap = REGION_COLORS
-            lut.n_values = 3
-        else:
-            lut.cmap = "viridis"
-            lut.n_values = 256
-        lo, hi = self.ranges.get(array, (0.0, 1.0))
-        if array == "region":
-            lo, hi = 0.5, 3.5
+        lut.cmap, lut.n_values, lo, hi = lut_settings(array, self.ranges)
         mapper.SelectColorArray(array)
         mapper.SetScalarRange(lo, hi)
         lut.scalar_range = (lo, hi)
@@ -817,7 +958,8 @@ class MeshScene:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
         light = bool(edge_px < LIGHT_PX)
-        if light != self.light:
+        stride_changed = self._fit_outlines(height, camera)
+        if light != self.light or stride_changed:
             self.light = light
             self._apply_visibility()
         else:
@@ -830,6 +972,26 @@ class MeshScene:
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
                 prop.line_width = thin * self._line_scale * self.emphasis
+
+    def _fit_outlines(self, height: int, camera: object) -> bool:
+        """In the overlap look, outline every k-th patch for the zoom (see
+        :func:`outline_stride`); else the layer's own outlines. True if that changed."""
+        stride = 0
+        if self.overlap_look and self.patch_rects is not None:
+            px_per_mm = (height / max(2.0 * camera.parallel_scale, 1e-12)
+                         if camera.parallel_projection and height > 0 else np.inf)
+            stride = outline_stride(self.patch_rects, self.overlap_ratio, px_per_mm)
+        if stride == self.outline_stride:
+            return False
+        self.outline_stride = stride
+        if stride == 0:
+            self.datasets["patch_outlines"].copy_from(self._outlines, deep=False)
+        else:
+            x0, x1, y0, y1 = self.bounds
+            z = 2e-4 * max(x1 - x0, y1 - y0, 1e-9)
+            pts, pairs = rect_outlines(self.patch_rects[::stride], z)
+            self.datasets["patch_outlines"].copy_from(_line_set(pts, pairs), deep=False)
+        return True
 
     def set_emphasis(self, scale: float) -> None:
         """Lines, dots and fonts ``scale`` times their normal size (presentation mode)."""

@@ -129,6 +129,9 @@ class MeshController(QObject):
         self.rate: float | None = None  # triangles per second of recent large builds
         self.last_request_time = 0.0
         self.builds = 0  # results handed to the model
+        #: the 3D view's size in pixels (set by the window): the scene arrays made in the
+        #: worker follow it (an overview's texels, its lines), not the mesh
+        self.view_size: Callable[[], tuple[int, int]] | None = None
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(0)
@@ -179,9 +182,11 @@ class MeshController(QObject):
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
+        prepare = partial(scene_data, color_by=self.model.color_by,
+                          pixels=self.view_size() if self.view_size else None)
         # an explicit tolerance can make the weld slow or fail: never on the GUI thread
         if triangles <= self.sync_triangles and params.tolerance is None:
-            self._deliver(compute(params, generation, prepare=scene_data))
+            self._deliver(compute(params, generation, prepare=prepare))
             if was_busy:
                 self.busy_changed.emit(False)
                 self.job_changed.emit(None)
@@ -195,7 +200,7 @@ class MeshController(QObject):
         if not was_busy:
             self.busy_changed.emit(True)
         self.job_changed.emit(job)
-        run_in_thread(partial(compute, params, generation, prepare=scene_data,
+        run_in_thread(partial(compute, params, generation, prepare=prepare,
                               cancel=cancelled), self._job_done, job)
 
     def _abandon_current(self, announce: bool = True) -> None:

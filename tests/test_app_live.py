@@ -21,7 +21,7 @@ from PySide6.QtCore import Qt, QTimer  # noqa: E402
 from PySide6.QtWidgets import QToolBar  # noqa: E402
 
 import app.worker  # noqa: E402
-from app.overview import DETAIL_TRIANGLES, triangle_raster  # noqa: E402
+from app.overview import DETAIL_TRIANGLES, MIN_SIDE, triangle_raster  # noqa: E402
 from app.scene import _vtk_step, readable_ticks  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 
@@ -108,9 +108,18 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
     assert scene.actors_overview.GetVisibility()
     assert "Detail reduced" in scene.note.GetInput()
     assert f"{720 * 2 * DENSE_N**2:,}" in scene.note.GetInput()
-    # the boundary stays a line layer (46,080 edges: 2 rings x 2 sides x 720 x 32 / 2)
-    assert scene.datasets["boundary_edges"].n_cells == window.model.result.stats[
-        "boundary_edges"]
+    # what the GUI thread uploads follows the view, not the mesh: about one texel a pixel
+    # of the view's longer side, and the boundary (paper mode: every patch's border,
+    # 720 x 4 sides x 32 = 92,160 edges) as the segments those texels can show, ends on
+    # texel centres
+    rows, cols = scene.overview.covered.shape
+    assert max(rows, cols) == max(MIN_SIDE, max(window.plotter.renderer.GetSize()))
+    assert scene.overview.image.dimensions == (cols, rows, 1)
+    boundary = scene.datasets["boundary_edges"]
+    assert 0 < boundary.n_cells < window.model.result.stats["boundary_edges"] == 92_160
+    x0, x1, y0, y1 = scene.overview.bounds
+    u = (boundary.points[:, 0] - x0) * cols / (x1 - x0) - 0.5
+    assert np.allclose(u, np.round(u), atol=1e-6)
     # the old mesh is gone: nothing keeps a dead mesh alive
     gc.collect()
     assert old() is None
@@ -220,6 +229,8 @@ def test_vtk_keys_do_not_act_in_the_view(window, qtbot):
 
 def test_small_triangles_on_screen_get_the_light_look_with_a_note(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    combo = window.layers.color_by  # a colouring chosen: not the overlap look
+    combo.setCurrentIndex(combo.findData("patch"))
     scene = window.scene
     window.reset_camera()
     full_scale = window.plotter.camera.parallel_scale
