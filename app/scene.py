@@ -34,6 +34,8 @@ from core import TriMesh
 from .layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
 from .overview import (
     DETAIL_TRIANGLES,
+    count_grid,
+    count_in_rect,
     decimated_lines,
     overlap_count_raster,
     overlap_counts_at,
@@ -81,21 +83,25 @@ OVERLAP_LOOK = 0.2
 #: In the overlap look, outlines are drawn at least this far apart on screen (px) on
 #: average: every k-th patch is outlined, k chosen from the zoom.
 OUTLINE_SPACING_PX = 9.0
+#: A resting view whose overview texels cover more than this many pixels gets a sharper
+#: image of the part in view (when it holds too many triangles for full detail).
+ZOOM_TEXEL_PX = 1.6
 
 
 @dataclass
 class Overview:
-    """The faces of a dense mesh as an image (see :mod:`app.overview`).
+    """The faces of a dense mesh (or of a part of it) as an image (see :mod:`app.overview`).
 
     ``values`` holds, per colouring array, the value of the triangle under each texel
-    (float32, NaN where no triangle is); ``centroids`` (T, 2) float32 let the view count
-    the triangles in a rectangle without touching the mesh.
+    (float32, NaN where no triangle is); ``centroid_counts`` (a 256 x 256 grid over
+    ``bounds``, :func:`app.overview.count_grid`) lets the view count the triangles in a
+    rectangle without touching the mesh.
     """
 
     bounds: tuple[float, float, float, float]
     covered: np.ndarray  # (rows, cols) bool
     values: dict[str, np.ndarray]
-    centroids: np.ndarray
+    centroid_counts: np.ndarray | None = None
     #: the texture's image, made in the worker for the colouring ``image_key`` (the GUI
     #: thread only hands it to the texture when that is still the colouring shown)
     image: pv.ImageData | None = None
@@ -354,8 +360,7 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         values["overlap"] = count
         top = float(np.nanmax(count)) if covered.any() else 1.0
         ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
-    centroids = np.asarray(mesh.centroids)[:, :2].astype(np.float32)
-    overview = Overview(bounds, covered, values, centroids)
+    overview = Overview(bounds, covered, values, count_grid(mesh.centroids, bounds))
     key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
     overview.image = overview_image(overview_rgba(overview, key, ranges))
     overview.image_key = key
@@ -373,27 +378,72 @@ def _screen_lines(points: np.ndarray, pairs: np.ndarray,
 
 
 def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
-                limit: int = DETAIL_TRIANGLES) -> SceneData | None:
+                limit: int = DETAIL_TRIANGLES, *, color_by: str = "none",
+                pixels: tuple[int, int] | None = None,
+                ranges: dict[str, tuple[float, float]] | None = None,
+                bounds: tuple[float, float, float, float] | None = None) -> SceneData | None:
     """Full-detail datasets of the triangles of ``mesh`` around ``rect`` (thread-safe).
 
     ``rect`` (x0, x1, y0, y1, mm) is grown by half its size on every side, so a little
-    panning stays detailed. Returns None when that part holds more than ``limit``
-    triangles. Only the per-triangle layers (:data:`DETAIL_LAYERS`) are filled.
+    panning stays detailed. Only the per-triangle layers (:data:`DETAIL_LAYERS`) are
+    filled. When that part holds more than ``limit`` triangles: given the view's
+    ``pixels``, the overview's ``ranges`` (colour scales) and the mesh's ``bounds``, an
+    :class:`Overview` of just that part at about one texel a pixel (a sharper image of
+    the part in view, coloured for ``color_by``, in ``SceneData.overview``); else None.
     """
     x0, x1, y0, y1 = rect
     grow = 0.5 * max(x1 - x0, y1 - y0)
     big = (x0 - grow, x1 + grow, y0 - grow, y1 + grow)
     sel = triangles_in_rect(mesh.centroids, big)
     if len(sel) > limit:
-        return None
-    pts = np.asarray(mesh.points)
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
+        if pixels is None or ranges is None or bounds is None:
+            return None
+        return _zoom_data(mesh, big, bounds, color_by, pixels, ranges)
+    if bounds is None:
+        pts = np.asarray(mesh.points)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
     sets = _detail_sets(mesh, sel, bounds, _face_arrays(mesh, sel))
     for name in LAYERS:
         if name not in DETAIL_LAYERS:
             sets[name] = pv.PolyData()
     return SceneData(sets, bounds, {}, len(sel), 0.0, rect=big)
+
+
+def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
+               bounds: tuple[float, float, float, float], color_by: str,
+               pixels: tuple[int, int], ranges: dict[str, tuple[float, float]]) -> SceneData:
+    """An overview of the part ``big`` of ``mesh`` (the view grown 2 x 2 times) at about
+    one texel a pixel: ``2 * max(pixels)`` texels on its longer side, within the bounds of
+    :mod:`app.overview`."""
+    zone = (max(big[0], bounds[0]), min(big[1], bounds[1]),
+            max(big[2], bounds[2]), min(big[3], bounds[3]))
+    if zone[1] <= zone[0] or zone[3] <= zone[2]:
+        zone = big
+    reach = float(np.max(mesh.edge_lengths)) if mesh.n_triangles else 0.0
+    sel = triangles_in_rect(mesh.centroids, zone, margin=reach)
+    pts = np.asarray(mesh.points)
+    tri = np.asarray(mesh.triangles)[sel]
+    raster = overview_raster(pts, tri, zone, raster_side((2 * max(pixels), 1)))
+    covered = raster >= 0
+    where = np.where(covered, raster, 0)
+    values = {}
+    for name, v in _face_arrays(mesh, sel, overlap=False).items():
+        img = v.astype(np.float32)[where]
+        img[~covered] = np.nan
+        values[name] = img
+    rects = _paper_rects(mesh)
+    if rects is not None:
+        count = overlap_count_raster(rects, zone, raster.shape).astype(np.float32)
+        count[~covered] = np.nan
+        values["overlap"] = count
+    zoom = Overview(zone, covered, values)
+    key = shown_color(color_by if color_by in COLOR_BY else "none",
+                      mesh.overlap_ratio if rects is not None else None)
+    zoom.image = overview_image(overview_rgba(zoom, key, ranges))
+    zoom.image_key = key
+    sets = {name: pv.PolyData() for name in LAYERS}
+    return SceneData(sets, bounds, ranges, len(sel), 0.0, zoom, rect=zone)
 
 
 def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
@@ -512,6 +562,7 @@ class MeshScene:
         self.n_triangles = 0
         self.typical_edge = 0.0
         self.overview: Overview | None = None
+        self.zoom: Overview | None = None  # a sharper image of the part in view
         self.paper = False
         self.overlap_ratio: float | None = None
         self.patch_rects: np.ndarray | None = None
@@ -595,14 +646,26 @@ class MeshScene:
         self.overview_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
         # the texture's colours are the overview's own (a 4-component uint8 image)
         self.overview_texture.SetColorModeToDirectScalars()
-        self.overview_texture.interpolate = True
-        self.overview_texture.mipmap = True
         self.overview_quad = pv.PolyData()
         self.actors_overview = p.add_mesh(
             self.overview_quad, color="white", reset_camera=False, lighting=False,
             render=False, pickable=False,
         )
         self.actors_overview.SetTexture(self.overview_texture)
+        # a sharper image of the part in view, over the overview (detail_data)
+        self.zoom_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
+        self.zoom_texture.SetColorModeToDirectScalars()
+        self.zoom_quad = pv.PolyData()
+        self.actors_zoom = p.add_mesh(
+            self.zoom_quad, color="white", reset_camera=False, lighting=False,
+            render=False, pickable=False,
+        )
+        self.actors_zoom.SetTexture(self.zoom_texture)
+        for texture in (self.overview_texture, self.zoom_texture):
+            # about one texel a pixel: no mipmaps to make on the GUI thread (llvmpipe
+            # builds them on the CPU with every new image)
+            texture.mipmap = False
+            texture.interpolate = True
         self._set_overview_quad()
 
         # Axes in mm with "nice" tick values along the bottom and left of the mesh.
@@ -644,6 +707,7 @@ class MeshScene:
         self.n_triangles = data.n_triangles
         self.typical_edge = data.typical_edge
         self.overview = data.overview
+        self.zoom = None
         self.paper = data.paper
         self.overlap_ratio = data.overlap_ratio
         self.patch_rects = data.patch_rects
@@ -675,6 +739,12 @@ class MeshScene:
     def show_detail(self, data: SceneData) -> None:
         """Draw the full detail of a part of an overview mesh (see :func:`detail_data`)."""
         if self.overview is None:
+            return
+        if data.overview is not None:  # too many triangles there: a sharper image of it
+            self.zoom = data.overview
+            self._set_quad(self.zoom_quad, data.overview.bounds, -0.5)
+            self._recolor_overview()
+            self._apply_visibility()
             return
         for name in DETAIL_LAYERS:
             self.datasets[name].copy_from(data.datasets[name], deep=False)
@@ -725,19 +795,40 @@ class MeshScene:
         rect = self.view_rect()
         if rect is None:
             return None
-        x0, x1, y0, y1 = rect
-        have = self.detail_rect
-        if have is not None and have[0] <= x0 and x1 <= have[1] and have[2] <= y0 \
-                and y1 <= have[3]:
+        if _inside(rect, self.detail_rect):
             return None
-        c = self.overview.centroids
-        inside = int(np.count_nonzero((c[:, 0] >= x0) & (c[:, 0] <= x1)
-                                      & (c[:, 1] >= y0) & (c[:, 1] <= y1)))
-        if inside > limit // 4:  # the detail grows the rectangle 2 x 2 times
-            return None
-        return rect
+        ov = self.overview
+        inside = count_in_rect(ov.centroid_counts, ov.bounds, rect)
+        if inside <= limit // 4:  # the detail grows the rectangle 2 x 2 times
+            return rect
+        # too many for full detail: a sharper image when the texels show as blocks
+        image = self.zoom if self.zoom is not None and _inside(rect, self.zoom.bounds) \
+            else ov
+        if self.texel_px(image, rect) > ZOOM_TEXEL_PX:
+            return rect
+        return None
+
+    def texel_px(self, image: Overview, rect: tuple[float, float, float, float]) -> float:
+        """Pixels a texel of ``image`` covers on screen when the view shows ``rect``."""
+        width, _ = self.plotter.renderer.GetSize()
+        texel = (image.bounds[1] - image.bounds[0]) / image.covered.shape[1]
+        return float(texel * width / max(rect[1] - rect[0], 1e-12))
+
+    def _set_quad(self, quad: pv.PolyData, bounds: tuple[float, float, float, float],
+                  level: float) -> None:
+        """``quad`` spans ``bounds`` at ``level`` * 1e-4 of the mesh's size above z = 0."""
+        size = max(self.bounds[1] - self.bounds[0], self.bounds[3] - self.bounds[2], 1e-9) \
+            if self.bounds is not None else 1.0
+        x0, x1, y0, y1 = bounds
+        dz = level * 1e-4 * size
+        new = pv.PolyData(np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
+                          faces=np.array([4, 0, 1, 2, 3]))
+        new.active_texture_coordinates = np.array([[0, 0], [1, 0], [1, 1], [0, 1]],
+                                                  dtype=np.float32)
+        quad.copy_from(new, deep=True)
 
     def _set_overview_quad(self) -> None:
+        self._set_quad(self.zoom_quad, (0.0, 0.0, 0.0, 0.0), 0.0)  # no sharper part yet
         ov = self.overview
         if ov is None:
             # a zero-area textured quad: drawn with every frame, so the textured shader is
@@ -763,10 +854,13 @@ class MeshScene:
         if ov is None:
             return
         key = self.shown_color_by
-        if ov.image is None or ov.image_key != key:  # the colouring changed since the build
-            ov.image = overview_image(overview_rgba(ov, key, self.ranges))
-            ov.image_key = key
-        self.overview_texture.SetInputDataObject(ov.image)
+        for image, texture in ((ov, self.overview_texture), (self.zoom, self.zoom_texture)):
+            if image is None:
+                continue
+            if image.image is None or image.image_key != key:  # colouring changed since
+                image.image = overview_image(overview_rgba(image, key, self.ranges))
+                image.image_key = key
+            texture.SetInputDataObject(image.image)
 
     def set_visible(self, layer: str, on: bool) -> None:
         if layer not in self.visible:
@@ -810,6 +904,7 @@ class MeshScene:
         for name in LAYERS:
             self.actors[name].SetVisibility(self.drawn(name))
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
+        self.actors_zoom.SetVisibility(bool(self.visible["faces"] and self.zoom is not None))
         legend = bool(self.visible["faces"] and self.shown_color_by != "none"
                       and self.n_triangles)
         self.scalar_bar.SetVisibility(legend)
@@ -824,11 +919,10 @@ class MeshScene:
         parts = []
         if self.overlap_look:
             patches = len(self.patch_rects)
-            which = ("all patches outlined" if self.outline_stride == 1 else
-                     f"1 in {self.outline_stride} of {patches:,} patches outlined, no "
-                     "triangle edges (zoom in)")
+            which = ("all outlined" if self.outline_stride == 1 else
+                     f"1 in {self.outline_stride} of {patches:,} outlined (zoom in for all)")
             parts.append(f"Patches overlap (ratio {self.overlap_ratio:.2f}): colour = patches "
-                         f"covering a point, {which}")
+                         f"covering a point; {which}")
         if self.overview is not None:
             if self.detail_rect is None:
                 parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "
@@ -1005,6 +1099,15 @@ class MeshScene:
         for axis in range(3):
             self.axes.GetTitleTextProperty(axis).SetFontSize(size)
             self.axes.GetLabelTextProperty(axis).SetFontSize(size)
+
+
+def _inside(rect: tuple[float, float, float, float],
+            outer: tuple[float, float, float, float] | None) -> bool:
+    """Whether ``rect`` (x0, x1, y0, y1) lies within ``outer`` (False if None)."""
+    if outer is None:
+        return False
+    return (outer[0] <= rect[0] and rect[1] <= outer[1] and outer[2] <= rect[2]
+            and rect[3] <= outer[3])
 
 
 def readable_ticks(lo: float, hi: float, count: int = 5) -> tuple[np.ndarray, str]:

@@ -256,7 +256,12 @@ class MeshController(QObject):
     def request_detail(self, mesh: object, rect: tuple[float, float, float, float],
                        token: object) -> None:
         """Build :func:`app.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
-        run_in_thread(partial(detail_data, mesh, rect), self.detail_ready, token)
+        shown = self.model.result
+        scene = shown.scene if shown is not None and shown.mesh is mesh else None
+        extra = {} if scene is None else {
+            "color_by": self.model.color_by, "ranges": scene.ranges, "bounds": scene.bounds,
+            "pixels": self.view_size() if self.view_size else None}
+        run_in_thread(partial(detail_data, mesh, rect, **extra), self.detail_ready, token)
 
     def stop(self) -> None:
         """Forget pending requests and abandon running builds (the window is closing).
