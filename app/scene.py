@@ -40,6 +40,7 @@ from .overview import (
     overlap_count_raster,
     overlap_counts_at,
     overview_raster,
+    raster_shape,
     raster_side,
     triangles_in_rect,
 )
@@ -77,8 +78,8 @@ DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels
 _ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio", "overlap")
 #: Paper-mode meshes whose patches overlap at least this much (``TriMesh.overlap_ratio``)
 #: get the *overlap look* by default (colouring "none"): faces coloured by how many
-#: patches cover each point, patch outlines drawn, every patch's triangle edges hidden
-#: until the outlines are far enough apart to tell the patches apart.
+#: patches cover each point, 1 in k patch outlines drawn for the zoom, every patch's
+#: triangle edges, centroids and borders hidden (overlapping, they tangle into a moire).
 OVERLAP_LOOK = 0.2
 #: In the overlap look, outlines are drawn at least this far apart on screen (px) on
 #: average: every k-th patch is outlined, k chosen from the zoom.
@@ -335,8 +336,9 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         return SceneData(data, bounds, ranges, n, typical, **paper)
     size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
     dz = 1e-4 * size
-    raster = overview_raster(pts, mesh.triangles, bounds, raster_side(pixels))
-    shape = raster.shape
+    side = raster_side(pixels)
+    shape = raster_shape(bounds, side)
+    raster = overview_raster(pts, mesh.triangles, bounds, side)
     sets = {name: pv.PolyData() for name in LAYERS}
     edges = np.asarray(mesh.edges)
     for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
@@ -346,25 +348,52 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
     if rects is None:  # (paper mode: the window outlines a part of the patches)
         out_pts, out_pairs = patch_outline_pairs(mesh)
         sets["patch_outlines"] = _screen_lines(out_pts, out_pairs, bounds, shape, 2 * dz)
-    covered = raster >= 0
-    where = np.where(covered, raster, 0)
-    values = {}
-    for name, v in arrays.items():
-        img = v.astype(np.float32)[where]
-        img[~covered] = np.nan
-        values[name] = img
-    del where, raster, arrays
+    covered, values = _image_values(raster, shape, arrays, rects, bounds)
+    del raster, arrays
     if rects is not None:
-        count = overlap_count_raster(rects, bounds, shape).astype(np.float32)
-        count[~covered] = np.nan
-        values["overlap"] = count
-        top = float(np.nanmax(count)) if covered.any() else 1.0
+        top = float(np.nanmax(values["overlap"])) if covered.any() else 1.0
         ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
     overview = Overview(bounds, covered, values, count_grid(mesh.centroids, bounds))
     key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
     overview.image = overview_image(overview_rgba(overview, key, ranges))
     overview.image_key = key
     return SceneData(sets, bounds, ranges, n, typical, overview, **paper)
+
+
+def _image_values(raster: np.ndarray, shape: tuple[int, int], arrays: dict[str, np.ndarray],
+                  rects: np.ndarray | None, bounds: tuple[float, float, float, float]
+                  ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Texel coverage and colouring values of an image of ``shape`` texels.
+
+    ``raster`` (triangle per texel, :func:`app.overview.overview_raster`) may be coarser
+    than ``shape`` (heavy overlaps cost more tests): it is stretched to it. Paper mode
+    (``rects`` given): the count of patches over each texel centre is exact at the full
+    ``shape`` (:func:`app.overview.overlap_count_raster`), and so is the coverage.
+
+    Returns
+    -------
+    covered : (rows, cols) bool
+    values : dict of str to (rows, cols) float32
+        NaN where no triangle is.
+    """
+    rows, cols = shape
+    if raster.shape != (rows, cols):  # nearest texel of the coarser raster
+        jj = np.minimum(np.arange(rows) * raster.shape[0] // rows, raster.shape[0] - 1)
+        ii = np.minimum(np.arange(cols) * raster.shape[1] // cols, raster.shape[1] - 1)
+        raster = raster[np.ix_(jj, ii)]
+    hit = raster >= 0
+    where = np.where(hit, raster, 0)
+    values = {}
+    for name, v in arrays.items():
+        img = v.astype(np.float32)[where]
+        img[~hit] = np.nan
+        values[name] = img
+    covered = hit
+    if rects is not None:
+        count = overlap_count_raster(rects, bounds, shape)
+        covered = count > 0
+        values["overlap"] = np.where(covered, count, np.nan).astype(np.float32)
+    return covered, values
 
 
 def _screen_lines(points: np.ndarray, pairs: np.ndarray,
@@ -424,19 +453,11 @@ def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
     sel = triangles_in_rect(mesh.centroids, zone, margin=reach)
     pts = np.asarray(mesh.points)
     tri = np.asarray(mesh.triangles)[sel]
-    raster = overview_raster(pts, tri, zone, raster_side((2 * max(pixels), 1)))
-    covered = raster >= 0
-    where = np.where(covered, raster, 0)
-    values = {}
-    for name, v in _face_arrays(mesh, sel, overlap=False).items():
-        img = v.astype(np.float32)[where]
-        img[~covered] = np.nan
-        values[name] = img
+    side = raster_side((2 * max(pixels), 1))
+    raster = overview_raster(pts, tri, zone, side)
     rects = _paper_rects(mesh)
-    if rects is not None:
-        count = overlap_count_raster(rects, zone, raster.shape).astype(np.float32)
-        count[~covered] = np.nan
-        values["overlap"] = count
+    covered, values = _image_values(raster, raster_shape(zone, side),
+                                    _face_arrays(mesh, sel, overlap=False), rects, zone)
     zoom = Overview(zone, covered, values)
     key = shown_color(color_by if color_by in COLOR_BY else "none",
                       mesh.overlap_ratio if rects is not None else None)
@@ -896,8 +917,8 @@ class MeshScene:
             if name == "patch_outlines":
                 return True  # part of the look (every k-th patch, see fit_marker_sizes)
             if name in ("triangle_edges", "shared_edges", "centroids", "boundary_edges"):
-                # the patches' own edges tangle into a moire until they are apart
-                return bool(on) and self.outline_stride == 1
+                return False  # overlapping patches' own edges tangle into a moire
+
         return bool(on)
 
     def _apply_visibility(self) -> None:
@@ -920,9 +941,10 @@ class MeshScene:
         if self.overlap_look:
             patches = len(self.patch_rects)
             which = ("all outlined" if self.outline_stride == 1 else
-                     f"1 in {self.outline_stride} of {patches:,} outlined (zoom in for all)")
+                     f"1 in {self.outline_stride} of {patches:,} outlined")
             parts.append(f"Patches overlap (ratio {self.overlap_ratio:.2f}): colour = patches "
-                         f"covering a point; {which}")
+                         f"covering a point; {which}; no triangle edges (pick a colouring "
+                         "under Layers for them)")
         if self.overview is not None:
             if self.detail_rect is None:
                 parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "

@@ -146,6 +146,8 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
 
 
 def test_resting_zoomed_in_brings_back_full_detail_of_the_part_in_view(window, qtbot):
+    combo = window.layers.color_by  # patch colours: every edge drawn (no overlap look)
+    combo.setCurrentIndex(combo.findData("patch"))
     type_value(qtbot, window, "subdivisions", "16")  # 368,640 triangles
     qtbot.waitUntil(lambda: shown_triangles(window) == 368_640, timeout=60_000)
     assert window.scene.reduced and window.scene.detail_rect is None
@@ -405,17 +407,21 @@ def test_overlapping_paper_patches_get_the_overlap_look(window, qtbot):
         assert window.model.layers[layer] and not scene.actors[layer].GetVisibility(), layer
     assert "Patches overlap (ratio 0.86)" in scene.note.GetInput()
     assert f"1 in {k} of 720 outlined" in scene.note.GetInput()
-    # zoomed in until the patches are apart: every patch outlined, triangle edges back
+    # zoomed in until the outlines are apart: every patch outlined, and still no
+    # triangle edge (those of overlapping patches cross each other at any zoom)
     camera.parallel_scale /= 40
     window._camera_moved()
     assert scene.outline_stride == 1
     assert scene.datasets["patch_outlines"].n_cells == 4 * 720
-    assert scene.actors["triangle_edges"].GetVisibility()
-    # a colouring chosen in the Layers panel ends the look: its own legend, no outlines
+    assert not scene.actors["triangle_edges"].GetVisibility()
+    assert "all outlined" in scene.note.GetInput()
+    # a colouring chosen in the Layers panel ends the look: its own legend, the mesh's
+    # triangle edges, no outlines (that layer is off by default)
     combo = window.layers.color_by
     combo.setCurrentIndex(combo.findData("area"))
     assert not scene.overlap_look and scene.shown_color_by == "area"
     assert not scene.actors["patch_outlines"].GetVisibility()
+    assert scene.actors["triangle_edges"].GetVisibility()
     assert "Patches overlap" not in scene.note.GetInput()
 
 
