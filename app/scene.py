@@ -942,9 +942,10 @@ class MeshScene:
             patches = len(self.patch_rects)
             which = ("all outlined" if self.outline_stride == 1 else
                      f"1 in {self.outline_stride} of {patches:,} outlined")
-            parts.append(f"Patches overlap (ratio {self.overlap_ratio:.2f}): colour = patches "
-                         f"covering a point; {which}; no triangle edges (pick a colouring "
-                         "under Layers for them)")
+            parts.append(f"Overlapping patches (ratio {self.overlap_ratio:.2f}): colour = "
+                         f"patches over each point, {which}")
+            parts.append("Triangle edges hidden: they cross between overlapping patches "
+                         "(a colouring under Layers shows them)")
         if self.overview is not None:
             if self.detail_rect is None:
                 parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "

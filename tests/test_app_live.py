@@ -405,7 +405,7 @@ def test_overlapping_paper_patches_get_the_overlap_look(window, qtbot):
     assert scene.actors["patch_outlines"].GetVisibility()
     for layer in ("triangle_edges", "boundary_edges", "centroids"):
         assert window.model.layers[layer] and not scene.actors[layer].GetVisibility(), layer
-    assert "Patches overlap (ratio 0.86)" in scene.note.GetInput()
+    assert "Overlapping patches (ratio 0.86)" in scene.note.GetInput()
     assert f"1 in {k} of 720 outlined" in scene.note.GetInput()
     # zoomed in until the outlines are apart: every patch outlined, and still no
     # triangle edge (those of overlapping patches cross each other at any zoom)
@@ -422,7 +422,7 @@ def test_overlapping_paper_patches_get_the_overlap_look(window, qtbot):
     assert not scene.overlap_look and scene.shown_color_by == "area"
     assert not scene.actors["patch_outlines"].GetVisibility()
     assert scene.actors["triangle_edges"].GetVisibility()
-    assert "Patches overlap" not in scene.note.GetInput()
+    assert "Overlapping patches" not in scene.note.GetInput()
 
 
 def test_patches_that_do_not_overlap_keep_the_plain_look(window, qtbot):
