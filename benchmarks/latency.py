@@ -322,11 +322,12 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     if frames == 0:  # --big-only
         big_doc = measure_big(app_, window, big) if big > 0 else None
         size = tuple(window.plotter.ren_win.GetSize())
+        renderer = _renderer(window)
         window.close()
         _wait_until(app_, lambda: False, 0.2)
         shutil.rmtree(settings_dir, ignore_errors=True)
         return {"frames": 0, "window_size": list(WINDOW_SIZE), "view_size": list(size),
-                "renderer": _renderer(window), "big": big_doc}
+                "renderer": renderer, "big": big_doc}
 
     row = window.controls.rows[name]
     positions = [row.spec.to_slider(v) for v in values]
