@@ -120,7 +120,11 @@ class MeshController(QObject):
 
     def __init__(self, model: AppModel, parent: QObject | None = None,
                  sync_triangles: int = SYNC_TRIANGLES) -> None:
-        super().__init__(parent)
+        # no Qt parent: Python owns the controller, so a worker thread that finishes
+        # after the window is deleted still emits into a live object (emitting into one
+        # being deleted crashed the process); ``parent`` is accepted for the signature
+        super().__init__()
+        del parent
         self.model = model
         self.sync_triangles = sync_triangles
         self._pending: tuple[MeshParams, int] | None = None
