@@ -948,8 +948,10 @@ class MeshScene:
                          "(a colouring under Layers shows them)")
         if self.overview is not None:
             if self.detail_rect is None:
+                rest = "" if self.overlap_look else (
+                    "; zoom in and rest for triangles, edges and centroids")
                 parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "
-                             "image; zoom in and rest for triangles, edges and centroids")
+                             f"image{rest}")
             else:
                 parts.append(f"Full detail of {self.detail_triangles:,} of "
                              f"{self.n_triangles:,} triangles around the view")
