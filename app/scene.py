@@ -587,6 +587,7 @@ class MeshScene:
         self.paper = False
         self.overlap_ratio: float | None = None
         self.patch_rects: np.ndarray | None = None
+        self._lut_key: tuple | None = None  # the face colours' table as last set
         self.outline_stride = 0  # overlap look: every k-th patch outlined (0: look off)
         self._outlines = pv.PolyData()  # the mesh's own patch outlines
         self.detail_rect: tuple[float, float, float, float] | None = None
@@ -974,13 +975,18 @@ class MeshScene:
             self._recolor_overview()
             return
         lut = mapper.lookup_table
-        lut.cmap, lut.n_values, lo, hi = lut_settings(array, self.ranges)
+        cmap, n_values, lo, hi = lut_settings(array, self.ranges)
+        key = (array, cmap if isinstance(cmap, str) else tuple(cmap), n_values, lo, hi)
+        if key != self._lut_key:  # (a new mesh of the same colouring and range: as is;
+            # a changed table would also make the legend lay out its labels again)
+            lut.cmap, lut.n_values = cmap, n_values
+            mapper.SetScalarRange(lo, hi)
+            lut.scalar_range = (lo, hi)
+            self.scalar_bar.SetLookupTable(lut)
+            self._set_legend(array, title, lo, hi)
+            self._lut_key = key
         mapper.SelectColorArray(array)
-        mapper.SetScalarRange(lo, hi)
-        lut.scalar_range = (lo, hi)
         mapper.SetScalarVisibility(True)
-        self.scalar_bar.SetLookupTable(lut)
-        self._set_legend(array, title, lo, hi)
         self._recolor_overview()
 
     def _set_legend(self, array: str, title: str, lo: float, hi: float) -> None:
