@@ -28,6 +28,8 @@ MAX_TEXELS = 1 << 21
 #: Point-in-triangle tests one raster may cost (about a second in numpy); a mesh whose
 #: triangles overlap many times over (paper mode at tiny angle steps) gets fewer texels.
 RASTER_TESTS = 8_000_000
+#: Cells of the grid :func:`overlap_counts_at` sorts rectangles into, at most about.
+_GRID_CELLS = 1 << 20
 #: Test points generated per block of the rasteriser (bounds its temporary memory).
 _BLOCK_TESTS = 1 << 22
 
@@ -325,10 +327,13 @@ def overlap_counts_at(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:
     if len(r) == 0:
         return np.zeros(len(xy), dtype=np.int64)
     cell = 0.25 * float(np.median(np.maximum(r[:, 2] - r[:, 0], r[:, 3] - r[:, 1])))
-    cell = max(cell, 1e-9 * max(float(np.ptp(x)), float(np.ptp(y)), 1.0))
     ox, oy = min(float(x.min()), float(r[:, 0].min())), min(float(y.min()), float(r[:, 1].min()))
-    cols = int((max(float(x.max()), float(r[:, 2].max())) - ox) // cell) + 1
-    rows = int((max(float(y.max()), float(r[:, 3].max())) - oy) // cell) + 1
+    wide = max(float(x.max()), float(r[:, 2].max())) - ox
+    high = max(float(y.max()), float(r[:, 3].max())) - oy
+    # at most about _GRID_CELLS cells (rectangles far apart on a wide plate: larger cells)
+    cell = max(cell, np.sqrt(wide * high / _GRID_CELLS), 1e-9 * max(wide, high, 1.0))
+    cols = int(wide // cell) + 1
+    rows = int(high // cell) + 1
     ix0, ix1 = ((r[:, 0] - ox) // cell).astype(np.int64), ((r[:, 2] - ox) // cell).astype(np.int64)
     iy0, iy1 = ((r[:, 1] - oy) // cell).astype(np.int64), ((r[:, 3] - oy) // cell).astype(np.int64)
     pc = ((y - oy) // cell).astype(np.int64) * cols + ((x - ox) // cell).astype(np.int64)

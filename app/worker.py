@@ -108,6 +108,18 @@ def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) ->
     threading.Thread(target=run, daemon=True, name="barymesh-worker").start()
 
 
+class _Gate:
+    """``emit`` of a controller's signal from a build thread, dropped once it is stopped."""
+
+    def __init__(self, controller: MeshController, signal: Signal) -> None:
+        self.controller, self.signal = controller, signal
+
+    def emit(self, payload: object) -> None:
+        with self.controller._emit_lock:
+            if not self.controller._stopped:
+                self.signal.emit(payload)
+
+
 class MeshController(QObject):
     """Turns parameter changes into mesh results for the model (see module docstring)."""
 
@@ -120,11 +132,12 @@ class MeshController(QObject):
 
     def __init__(self, model: AppModel, parent: QObject | None = None,
                  sync_triangles: int = SYNC_TRIANGLES) -> None:
-        # no Qt parent: Python owns the controller, so a worker thread that finishes
-        # after the window is deleted still emits into a live object (emitting into one
-        # being deleted crashed the process); ``parent`` is accepted for the signature
-        super().__init__()
-        del parent
+        super().__init__(parent)
+        # a build thread emits its result under this lock unless stop() came first: the
+        # window deletes the controller after stop(), and a signal emitted into a QObject
+        # being deleted crashed the process (seen in the live tests' teardown)
+        self._emit_lock = threading.Lock()
+        self._stopped = False
         self.model = model
         self.sync_triangles = sync_triangles
         self._pending: tuple[MeshParams, int] | None = None
@@ -205,7 +218,7 @@ class MeshController(QObject):
             self.busy_changed.emit(True)
         self.job_changed.emit(job)
         run_in_thread(partial(compute, params, generation, prepare=prepare,
-                              cancel=cancelled), self._job_done, job)
+                              cancel=cancelled), _Gate(self, self._job_done), job)
 
     def _abandon_current(self, announce: bool = True) -> None:
         job = self.current
@@ -265,7 +278,8 @@ class MeshController(QObject):
         extra = {} if scene is None else {
             "color_by": self.model.color_by, "ranges": scene.ranges, "bounds": scene.bounds,
             "pixels": self.view_size() if self.view_size else None}
-        run_in_thread(partial(detail_data, mesh, rect, **extra), self.detail_ready, token)
+        run_in_thread(partial(detail_data, mesh, rect, **extra),
+                      _Gate(self, self.detail_ready), token)
 
     def stop(self) -> None:
         """Forget pending requests and abandon running builds (the window is closing).
@@ -273,6 +287,8 @@ class MeshController(QObject):
         Returns at once: an abandoned build stops at its next checkpoint in its own
         (daemon) thread and its result goes nowhere.
         """
+        with self._emit_lock:  # no thread emits into this controller after this
+            self._stopped = True
         self._timer.stop()
         self._pending = None
         if self.current is not None:
