@@ -23,7 +23,6 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
@@ -103,10 +102,11 @@ class Overview:
     covered: np.ndarray  # (rows, cols) bool
     values: dict[str, np.ndarray]
     centroid_counts: np.ndarray | None = None
-    #: the texture's image, made in the worker for the colouring ``image_key`` (the GUI
-    #: thread only hands it to the texture when that is still the colouring shown)
-    image: pv.ImageData | None = None
+    #: (rows, cols, 4) uint8 colours, made in the worker for the colouring ``image_key``
+    #: (plain numpy there; the GUI thread wraps them as the texture's ``image``)
+    rgba: np.ndarray | None = None
     image_key: str | None = None
+    image: pv.ImageData | None = None
 
 
 @dataclass
@@ -241,22 +241,33 @@ def lut_settings(array: str, ranges: dict[str, tuple[float, float]]
 def overview_rgba(ov: Overview, key: str, ranges: dict[str, tuple[float, float]]
                   ) -> np.ndarray:
     """(rows, cols, 4) uint8 colours of the overview ``ov`` for the colouring ``key`` (a
-    key of :data:`COLOR_BY`). Uses its own lookup table: safe in a worker thread."""
+    key of :data:`COLOR_BY`): the faces' lookup table (:func:`lut_settings`) applied as
+    VTK's ``vtkLookupTable`` does, in plain numpy (no VTK object in a worker thread)."""
     rows, cols = ov.covered.shape
     array, _ = COLOR_BY[key]
+    rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
     if array is None or array not in ov.values:
-        rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
         rgba[ov.covered] = (*pv.Color(COLORS["faces"]).int_rgb, 255)
         return rgba
     cmap, n_values, lo, hi = lut_settings(array, ranges)
-    lut = pv.LookupTable(cmap=cmap, n_values=n_values, scalar_range=(lo, hi))
-    mapped = lut.MapScalars(numpy_to_vtk(ov.values[array].ravel()), 0, -1)
-    rgba = vtk_to_numpy(mapped).reshape(rows, cols, -1)
-    if rgba.shape[2] == 3:
-        rgba = np.dstack([rgba, np.full((rows, cols), 255, np.uint8)])
-    rgba = np.array(rgba, dtype=np.uint8)
-    rgba[~ov.covered] = 0
+    table = colour_table(cmap, n_values)
+    v = ov.values[array][ov.covered].astype(np.float64)
+    index = np.floor((v - lo) * (n_values / max(hi - lo, 1e-300)))
+    index = np.clip(np.nan_to_num(index, nan=0.0), 0, n_values - 1).astype(np.intp)
+    colours = table[index]
+    colours[np.isnan(v)] = (128, 0, 0, 255)  # VTK's colour for NaN
+    rgba[ov.covered] = colours
     return rgba
+
+
+def colour_table(cmap: object, n_values: int) -> np.ndarray:
+    """(n_values, 4) uint8: the table pyvista's ``LookupTable(cmap, n_values)`` holds."""
+    from pyvista.plotting.colors import get_cmap_safe
+
+    if isinstance(cmap, list):
+        n_values = len(cmap)
+    values = get_cmap_safe(cmap)(np.linspace(0, 1, n_values)) * 255
+    return values.astype(np.uint8)
 
 
 def overview_image(rgba: np.ndarray) -> pv.ImageData:
@@ -355,7 +366,7 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
     overview = Overview(bounds, covered, values, count_grid(mesh.centroids, bounds))
     key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
-    overview.image = overview_image(overview_rgba(overview, key, ranges))
+    overview.rgba = overview_rgba(overview, key, ranges)
     overview.image_key = key
     return SceneData(sets, bounds, ranges, n, typical, overview, **paper)
 
@@ -461,7 +472,7 @@ def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
     zoom = Overview(zone, covered, values)
     key = shown_color(color_by if color_by in COLOR_BY else "none",
                       mesh.overlap_ratio if rects is not None else None)
-    zoom.image = overview_image(overview_rgba(zoom, key, ranges))
+    zoom.rgba = overview_rgba(zoom, key, ranges)
     zoom.image_key = key
     sets = {name: pv.PolyData() for name in LAYERS}
     return SceneData(sets, bounds, ranges, len(sel), 0.0, zoom, rect=zone)
@@ -879,9 +890,11 @@ class MeshScene:
         for image, texture in ((ov, self.overview_texture), (self.zoom, self.zoom_texture)):
             if image is None:
                 continue
-            if image.image is None or image.image_key != key:  # colouring changed since
-                image.image = overview_image(overview_rgba(image, key, self.ranges))
-                image.image_key = key
+            if image.rgba is None or image.image_key != key:  # colouring changed since
+                image.rgba = overview_rgba(image, key, self.ranges)
+                image.image_key, image.image = key, None
+            if image.image is None:
+                image.image = overview_image(image.rgba)
             texture.SetInputDataObject(image.image)
 
     def set_visible(self, layer: str, on: bool) -> None:

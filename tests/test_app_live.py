@@ -458,3 +458,29 @@ def test_resting_zoomed_in_on_too_many_triangles_gives_a_sharper_image(window, q
     assert x0 <= rect[0] and rect[1] <= x1 and y0 <= rect[2] and rect[3] <= y1
     # coloured like the overview (the overlap look), off the GUI thread
     assert scene.zoom.image_key == "overlap" and scene.zoom.image is not None
+
+
+@pytest.mark.parametrize("key, span", [("area", (0.01, 0.05)), ("overlap", (0.5, 20.5)),
+                                       ("patch", (-0.5, 9.5)), ("region", (0.5, 3.5))])
+def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
+    # the worker colours an overview without VTK; the result is what the faces' VTK
+    # lookup table gives the same values
+    import pyvista as pv
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+    from app.layers import COLOR_BY
+    from app.scene import Overview, lut_settings, overview_rgba
+
+    array = COLOR_BY[key][0]
+    lo, hi = span
+    values = np.random.default_rng(1).uniform(lo, hi, (40, 30)).astype(np.float32)
+    values[0, :3], values[1, :3] = lo, hi  # both ends of the range
+    covered = np.ones(values.shape, bool)
+    covered[5] = False
+    rgba = overview_rgba(Overview((0, 1, 0, 1), covered, {array: values}), key, {array: span})
+    cmap, n_values, a, b = lut_settings(array, {array: span})
+    lut = pv.LookupTable(cmap=cmap, n_values=n_values, scalar_range=(a, b))
+    expected = vtk_to_numpy(lut.MapScalars(numpy_to_vtk(values.ravel()), 0, -1))
+    expected = expected.reshape(40, 30, -1)
+    np.testing.assert_array_equal(rgba[covered][:, :3], expected[covered][:, :3])
+    assert np.all(rgba[~covered] == 0)  # transparent where no triangle is
