@@ -43,6 +43,7 @@ COLOR_BY = {
     "area": ("area", "area (mm²)"),
     "min_angle": ("min_angle", "min angle (°)"),
     "aspect_ratio": ("aspect_ratio", "aspect ratio"),
+    "overlap": ("overlap", "patches covering\neach point"),
 }
 COLOR_BY_TITLES = {
     "none": "Solid",
@@ -51,6 +52,7 @@ COLOR_BY_TITLES = {
     "area": "Area",
     "min_angle": "Minimum angle",
     "aspect_ratio": "Aspect ratio",
+    "overlap": "Overlap (patches per point)",
 }
 #: Triangle index labels are drawn for meshes up to this many triangles (paper's Fig. 10).
 LABEL_LIMIT = 300

@@ -18,13 +18,28 @@ import numpy as np
 #: Meshes up to this many triangles are drawn in full (faces, edges, centroids): about
 #: 100 ms per frame with Mesa's llvmpipe at 1000 x 800 px on one core.
 DETAIL_TRIANGLES = 40_000
-#: Longest side of the overview raster (texels): about a full-screen view's pixels.
+#: Longest side of the overview raster (texels) when the view's size is not known.
 RASTER_SIDE = 1024
+#: Bounds of the raster's longest side when it follows the view (about one texel a pixel).
+MIN_SIDE, MAX_SIDE = 256, 2048
+#: Memory bound of one overview (texels): about 21 bytes each (colours, five colouring
+#: arrays, coverage), so at most about 44 MB.
+MAX_TEXELS = 1 << 21
 #: Point-in-triangle tests one raster may cost (about a second in numpy); a mesh whose
 #: triangles overlap many times over (paper mode at tiny angle steps) gets fewer texels.
 RASTER_TESTS = 8_000_000
+#: Cells of the grid :func:`overlap_counts_at` sorts rectangles into, at most about.
+_GRID_CELLS = 1 << 20
 #: Test points generated per block of the rasteriser (bounds its temporary memory).
 _BLOCK_TESTS = 1 << 22
+
+
+def raster_side(pixels: tuple[int, int] | None) -> int:
+    """Longest raster side for a view of ``pixels`` = (width, height): one texel a pixel
+    of the view's longer side, within [:data:`MIN_SIDE`, :data:`MAX_SIDE`]."""
+    if not pixels or min(pixels) <= 0:
+        return RASTER_SIDE
+    return int(np.clip(max(pixels), MIN_SIDE, MAX_SIDE))
 
 
 def raster_shape(bounds: tuple[float, float, float, float],
@@ -33,6 +48,7 @@ def raster_shape(bounds: tuple[float, float, float, float],
     x0, x1, y0, y1 = bounds
     w, h = max(x1 - x0, 1e-12), max(y1 - y0, 1e-12)
     scale = side / max(w, h)
+    scale = min(scale, np.sqrt(MAX_TEXELS / (w * h)))  # the memory bound
     return max(1, int(np.ceil(h * scale))), max(1, int(np.ceil(w * scale)))
 
 
@@ -203,9 +219,200 @@ def triangles_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, fl
     return np.flatnonzero(keep)
 
 
-def count_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, float]) -> int:
-    """Number of centroids inside ``rect`` (cheap enough for the GUI thread at 5M)."""
-    x0, x1, y0, y1 = rect
-    c = np.asarray(centroids)
-    return int(np.count_nonzero((c[:, 0] >= x0) & (c[:, 0] <= x1)
-                                & (c[:, 1] >= y0) & (c[:, 1] <= y1)))
+def count_grid(points: np.ndarray, bounds: tuple[float, float, float, float],
+               side: int = 256) -> np.ndarray:
+    """How many of ``points`` fall in each cell of a ``side`` x ``side`` grid over ``bounds``.
+
+    Returns
+    -------
+    (side, side) int32
+        Row j, column i: the cell [x0 + i w, x0 + (i + 1) w) x [y0 + j h, ...).
+    """
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    p = np.asarray(points)
+    i = np.clip(((p[:, 0] - x0) * side / max(x1 - x0, 1e-300)).astype(np.int64), 0, side - 1)
+    j = np.clip(((p[:, 1] - y0) * side / max(y1 - y0, 1e-300)).astype(np.int64), 0, side - 1)
+    return np.bincount(j * side + i, minlength=side * side).reshape(side, side).astype(np.int32)
+
+
+def count_in_rect(grid: np.ndarray, bounds: tuple[float, float, float, float],
+                  rect: tuple[float, float, float, float]) -> int:
+    """At least the number of points of :func:`count_grid` ``grid`` inside ``rect``: the
+    cells it touches are counted whole (cost: the grid's size, not the points')."""
+    rows, cols = grid.shape
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    a, b, c, d = rect
+    i0 = int(np.clip(np.floor((a - x0) * cols / max(x1 - x0, 1e-300)), 0, cols))
+    i1 = int(np.clip(np.floor((b - x0) * cols / max(x1 - x0, 1e-300)) + 1, 0, cols))
+    j0 = int(np.clip(np.floor((c - y0) * rows / max(y1 - y0, 1e-300)), 0, rows))
+    j1 = int(np.clip(np.floor((d - y0) * rows / max(y1 - y0, 1e-300)) + 1, 0, rows))
+    return int(grid[j0:j1, i0:i1].sum())
+
+
+def overlap_count_raster(rects: np.ndarray, bounds: tuple[float, float, float, float],
+                         shape: tuple[int, int]) -> np.ndarray:
+    """How many of the rectangles ``rects`` cover each texel centre of a raster.
+
+    Exact at the texel centres, in O(P + texels): each rectangle adds +1/-1 at the
+    corners of the texel block whose centres it covers, and two cumulative sums spread
+    them.
+
+    Parameters
+    ----------
+    rects : (P, 4) float
+        Axis-aligned rectangles (x0, y0, x1, y1) — paper-mode patches.
+    bounds : (x0, x1, y0, y1)
+    shape : (rows, columns)
+
+    Returns
+    -------
+    (rows, columns) int32
+
+    Examples
+    --------
+    >>> overlap_count_raster(np.array([[0, 0, 2, 1], [1, 0, 3, 1]]), (0, 3, 0, 1), (1, 3))
+    array([[1, 2, 1]], dtype=int32)
+    """
+    rows, cols = int(shape[0]), int(shape[1])
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    sx = cols / max(x1 - x0, 1e-300)
+    sy = rows / max(y1 - y0, 1e-300)
+    # texel i's centre is x0 + (i + 0.5) / sx: covered for ceil(a - 0.5) <= i <= floor(b - 0.5)
+    i0 = np.clip(np.ceil((r[:, 0] - x0) * sx - 0.5), 0, cols).astype(np.int64)
+    i1 = np.clip(np.floor((r[:, 2] - x0) * sx - 0.5) + 1, 0, cols).astype(np.int64)
+    j0 = np.clip(np.ceil((r[:, 1] - y0) * sy - 0.5), 0, rows).astype(np.int64)
+    j1 = np.clip(np.floor((r[:, 3] - y0) * sy - 0.5) + 1, 0, rows).astype(np.int64)
+    ok = (i1 > i0) & (j1 > j0)
+    i0, i1, j0, j1 = i0[ok], i1[ok], j0[ok], j1[ok]
+    diff = np.zeros((rows + 1) * (cols + 1), dtype=np.int32)
+    for jj, ii, sign in ((j0, i0, 1), (j0, i1, -1), (j1, i0, -1), (j1, i1, 1)):
+        np.add.at(diff, jj * (cols + 1) + ii, sign)
+    diff = diff.reshape(rows + 1, cols + 1)
+    return np.cumsum(np.cumsum(diff, axis=0), axis=1)[:rows, :cols].astype(np.int32)
+
+
+def overlap_counts_at(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    """How many of the rectangles ``rects`` cover each point of ``xy`` (sides included).
+
+    Exact: a grid of cells a quarter of a rectangle wide; a rectangle counts at once for
+    every point of the cells it covers whole, and is tested only against the points of
+    the cells its sides cross (vectorised; about points x rectangles over a point x 2
+    tests).
+
+    Parameters
+    ----------
+    rects : (P, 4) float
+        (x0, y0, x1, y1) each.
+    xy : (k, 2) or (k, 3) float
+
+    Returns
+    -------
+    (k,) int64
+
+    Examples
+    --------
+    >>> overlap_counts_at(np.array([[0, 0, 2, 1], [1, 0, 3, 1]]),
+    ...                   np.array([[0.5, 0.5], [1.5, 0.5], [5, 5]]))
+    array([1, 2, 0])
+    """
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    xy = np.asarray(xy, dtype=np.float64)
+    if len(xy) == 0 or len(r) == 0:
+        return np.zeros(len(xy), dtype=np.int64)
+    x, y = xy[:, 0], xy[:, 1]
+    near = ((r[:, 2] >= x.min()) & (r[:, 0] <= x.max()) & (r[:, 3] >= y.min())
+            & (r[:, 1] <= y.max()))
+    r = r[near]  # (a detail's few points: only the rectangles around them)
+    if len(r) == 0:
+        return np.zeros(len(xy), dtype=np.int64)
+    cell = 0.25 * float(np.median(np.maximum(r[:, 2] - r[:, 0], r[:, 3] - r[:, 1])))
+    ox, oy = min(float(x.min()), float(r[:, 0].min())), min(float(y.min()), float(r[:, 1].min()))
+    wide = max(float(x.max()), float(r[:, 2].max())) - ox
+    high = max(float(y.max()), float(r[:, 3].max())) - oy
+    # at most about _GRID_CELLS cells (rectangles far apart on a wide plate: larger cells)
+    cell = max(cell, np.sqrt(wide * high / _GRID_CELLS), 1e-9 * max(wide, high, 1.0))
+    cols = int(wide // cell) + 1
+    rows = int(high // cell) + 1
+    ix0, ix1 = ((r[:, 0] - ox) // cell).astype(np.int64), ((r[:, 2] - ox) // cell).astype(np.int64)
+    iy0, iy1 = ((r[:, 1] - oy) // cell).astype(np.int64), ((r[:, 3] - oy) // cell).astype(np.int64)
+    pc = ((y - oy) // cell).astype(np.int64) * cols + ((x - ox) // cell).astype(np.int64)
+    # cells strictly inside a rectangle's cell range are covered whole: a 2D difference
+    # array counts them for all their points at once
+    diff = np.zeros((rows + 1) * (cols + 1), dtype=np.int64)
+    inner = (ix1 - ix0 >= 2) & (iy1 - iy0 >= 2)
+    a0, a1, b0, b1 = ix0[inner] + 1, ix1[inner], iy0[inner] + 1, iy1[inner]
+    for jj, ii, sign in ((b0, a0, 1), (b0, a1, -1), (b1, a0, -1), (b1, a1, 1)):
+        diff += np.bincount(jj * (cols + 1) + ii, minlength=len(diff)) * sign
+    whole = np.cumsum(np.cumsum(diff.reshape(rows + 1, cols + 1), axis=0), axis=1)
+    out = whole[:rows, :cols].ravel()[pc]
+    # (cell, rectangle) pairs of the cells on a rectangle's rim: tested point by point
+    nx, ny = ix1 - ix0 + 1, iy1 - iy0 + 1
+    per = nx * ny
+    rid = np.repeat(np.arange(len(r)), per)
+    k = np.arange(int(per.sum())) - np.repeat(np.cumsum(per) - per, per)
+    ci, cj = ix0[rid] + k % nx[rid], iy0[rid] + k // nx[rid]
+    rim = (ci == ix0[rid]) | (ci == ix1[rid]) | (cj == iy0[rid]) | (cj == iy1[rid])
+    cells, rid = (cj * cols + ci)[rim], rid[rim]
+    order = np.argsort(cells, kind="stable")
+    cells, rid = cells[order], rid[order]
+    start = np.searchsorted(cells, pc, side="left")
+    count = np.searchsorted(cells, pc, side="right") - start
+    point = np.repeat(np.arange(len(xy)), count)
+    cand = rid[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+               + np.repeat(start, count)]
+    px, py = x[point], y[point]
+    inside = ((r[cand, 0] <= px) & (px <= r[cand, 2]) & (r[cand, 1] <= py)
+              & (py <= r[cand, 3]))
+    return out + np.bincount(point[inside], minlength=len(xy))
+
+
+def decimated_lines(points: np.ndarray, pairs: np.ndarray,
+                    bounds: tuple[float, float, float, float],
+                    shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Line segments snapped to the texel centres of a raster, as many as it can show.
+
+    Each end moves to the centre of its texel; segments that shrink to a point or
+    repeat another are dropped. The result's size follows the raster (at most the
+    texels the lines pass through, times four), not the number of segments given.
+
+    Parameters
+    ----------
+    points : (V, 2) or (V, 3) float
+    pairs : (k, 2) int
+    bounds : (x0, x1, y0, y1)
+    shape : (rows, columns)
+
+    Returns
+    -------
+    points : (m, 2) float64
+        Texel centres in the units of ``points``.
+    pairs : (j, 2) int64
+
+    Examples
+    --------
+    >>> pts = np.array([[0.1, 0.1], [0.2, 0.1], [1.6, 0.4]])
+    >>> decimated_lines(pts, np.array([[0, 1], [1, 2]]), (0, 2, 0, 1), (1, 2))
+    (array([[0.5, 0.5],
+           [1.5, 0.5]]), array([[0, 1]]))
+    """
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    if len(pairs) == 0:
+        return np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64)
+    rows, cols = int(shape[0]), int(shape[1])
+    x0, x1, y0, y1 = (float(v) for v in bounds)
+    sx = cols / max(x1 - x0, 1e-300)
+    sy = rows / max(y1 - y0, 1e-300)
+    p = np.asarray(points)
+    i = np.clip(((p[:, 0] - x0) * sx).astype(np.int64), 0, cols - 1)
+    j = np.clip(((p[:, 1] - y0) * sy).astype(np.int64), 0, rows - 1)
+    cell = j * cols + i
+    ends = np.sort(cell[pairs], axis=1)
+    ends = ends[ends[:, 0] != ends[:, 1]]
+    if len(ends) == 0:
+        return np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64)
+    ends = np.unique(ends[:, 0] * (rows * cols) + ends[:, 1])
+    ends = np.column_stack([ends // (rows * cols), ends % (rows * cols)])
+    used, inverse = np.unique(ends, return_inverse=True)
+    xy = np.column_stack([x0 + (used % cols + 0.5) / sx, y0 + (used // cols + 0.5) / sy])
+    return xy, inverse.reshape(-1, 2)

@@ -23,7 +23,6 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
@@ -32,7 +31,18 @@ from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 from core import TriMesh
 
 from .layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
-from .overview import DETAIL_TRIANGLES, overview_raster, triangles_in_rect
+from .overview import (
+    DETAIL_TRIANGLES,
+    count_grid,
+    count_in_rect,
+    decimated_lines,
+    overlap_count_raster,
+    overlap_counts_at,
+    overview_raster,
+    raster_shape,
+    raster_side,
+    triangles_in_rect,
+)
 
 log = logging.getLogger(__name__)
 
@@ -62,26 +72,41 @@ REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
 #: centroids are not drawn (they would only paint a texture over the faces).
 LIGHT_PX = 12.0
-#: Patch outlines of an overview are drawn as lines up to this many segments.
-OUTLINE_SEGMENTS = 40_000
 #: Layers that exist per triangle or per edge: drawn in full detail only.
 DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels")
-_ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio")
+_ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio", "overlap")
+#: Paper-mode meshes whose patches overlap at least this much (``TriMesh.overlap_ratio``)
+#: get the *overlap look* by default (colouring "none"): faces coloured by how many
+#: patches cover each point, 1 in k patch outlines drawn for the zoom, every patch's
+#: triangle edges, centroids and borders hidden (overlapping, they tangle into a moire).
+OVERLAP_LOOK = 0.2
+#: In the overlap look, outlines are drawn at least this far apart on screen (px) on
+#: average: every k-th patch is outlined, k chosen from the zoom.
+OUTLINE_SPACING_PX = 9.0
+#: A resting view whose overview texels cover more than this many pixels gets a sharper
+#: image of the part in view (when it holds too many triangles for full detail).
+ZOOM_TEXEL_PX = 1.6
 
 
 @dataclass
 class Overview:
-    """The faces of a dense mesh as an image (see :mod:`app.overview`).
+    """The faces of a dense mesh (or of a part of it) as an image (see :mod:`app.overview`).
 
     ``values`` holds, per colouring array, the value of the triangle under each texel
-    (float32, NaN where no triangle is); ``centroids`` (T, 2) float32 let the view count
-    the triangles in a rectangle without touching the mesh.
+    (float32, NaN where no triangle is); ``centroid_counts`` (a 256 x 256 grid over
+    ``bounds``, :func:`app.overview.count_grid`) lets the view count the triangles in a
+    rectangle without touching the mesh.
     """
 
     bounds: tuple[float, float, float, float]
     covered: np.ndarray  # (rows, cols) bool
     values: dict[str, np.ndarray]
-    centroids: np.ndarray
+    centroid_counts: np.ndarray | None = None
+    #: (rows, cols, 4) uint8 colours, made in the worker for the colouring ``image_key``
+    #: (plain numpy there; the GUI thread wraps them as the texture's ``image``)
+    rgba: np.ndarray | None = None
+    image_key: str | None = None
+    image: pv.ImageData | None = None
 
 
 @dataclass
@@ -96,6 +121,8 @@ class SceneData:
     overview: Overview | None = None  # dense meshes: the faces as an image
     rect: tuple[float, float, float, float] | None = None  # a detail's extent (mm)
     paper: bool = False  # paper mode: the boundary edges outline every patch
+    overlap_ratio: float | None = None  # paper mode: TriMesh.overlap_ratio
+    patch_rects: np.ndarray | None = None  # paper mode: (P, 4) x0, y0, x1, y1 (mm)
 
 
 def _line_set(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
@@ -130,15 +157,7 @@ def patch_outline_pairs(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
     pairs : (k, 2) int
     """
     if mesh.patch_rects is not None and len(mesh.patch_rects):
-        r = np.asarray(mesh.patch_rects, dtype=np.float64)
-        x0, y0, x1, y1 = r.T
-        corners = np.stack(
-            [np.column_stack(c) for c in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))], axis=1
-        )  # (P, 4, 2)
-        points = np.column_stack([corners.reshape(-1, 2), np.zeros(4 * len(r))])
-        sides = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
-        pairs = (4 * np.arange(len(r))[:, None, None] + sides[None]).reshape(-1, 2)
-        return points, pairs
+        return rect_outlines(mesh.patch_rects)
     et = mesh.edge_triangles
     pid = mesh.patch_ids
     two = (et[:, 1] >= 0)
@@ -149,8 +168,39 @@ def patch_outline_pairs(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
     return mesh.points, mesh.edges[outline]
 
 
-def _face_arrays(mesh: TriMesh, sel: np.ndarray | None) -> dict[str, np.ndarray]:
-    """The colouring arrays of the triangles ``sel`` (all if None)."""
+def rect_outlines(rects: np.ndarray, z: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The four sides of each rectangle (x0, y0, x1, y1) of ``rects`` (P, 4) at height
+    ``z``: points (4P, 3) float64 and vertex pairs (4P, 2) int."""
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    x0, y0, x1, y1 = r.T
+    corners = np.stack(
+        [np.column_stack(c) for c in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))], axis=1
+    )  # (P, 4, 2)
+    points = np.column_stack([corners.reshape(-1, 2), np.full(4 * len(r), float(z))])
+    sides = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    pairs = (4 * np.arange(len(r))[:, None, None] + sides[None]).reshape(-1, 2)
+    return points, pairs
+
+
+def outline_stride(rects: np.ndarray, overlap_ratio: float, px_per_mm: float,
+                   spacing_px: float = OUTLINE_SPACING_PX) -> int:
+    """Outline every k-th of the overlapping patches ``rects`` so that their sides lie
+    about ``spacing_px`` apart on screen: the union's area over the sides' total length
+    is their mean spacing (mm). Returns k >= 1."""
+    r = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
+    w, h = r[:, 2] - r[:, 0], r[:, 3] - r[:, 1]
+    length = float(2.0 * (w + h).sum())
+    union = float((w * h).sum()) * max(1.0 - overlap_ratio, 1e-9)
+    if length <= 0 or px_per_mm <= 0 or not np.isfinite(px_per_mm):
+        return 1
+    spacing = union / length * px_per_mm
+    return max(1, min(len(r), int(np.ceil(spacing_px / max(spacing, 1e-12)))))
+
+
+def _face_arrays(mesh: TriMesh, sel: np.ndarray | None,
+                 overlap: bool = True) -> dict[str, np.ndarray]:
+    """The colouring arrays of the triangles ``sel`` (all if None); ``overlap`` (paper
+    mode, if asked for): how many patches cover each triangle's centroid."""
     arrays = {
         "patch": np.asarray(mesh.patch_ids) % _CATEGORIES,
         "region": np.asarray(mesh.regions),
@@ -160,23 +210,98 @@ def _face_arrays(mesh: TriMesh, sel: np.ndarray | None) -> dict[str, np.ndarray]
     }
     if sel is not None:
         arrays = {k: v[sel] for k, v in arrays.items()}
+    rects = _paper_rects(mesh)
+    if overlap and rects is not None:
+        cents = np.asarray(mesh.centroids)
+        arrays["overlap"] = overlap_counts_at(rects, cents if sel is None else cents[sel])
     return {k: v.astype(np.float64) for k, v in arrays.items()}
 
 
-def _ranges(mesh: TriMesh) -> dict[str, tuple[float, float]]:
+def _paper_rects(mesh: TriMesh) -> np.ndarray | None:
+    """(P, 4) patch rectangles of a paper-mode mesh, else None."""
+    rects = mesh.patch_rects
+    if mesh.mode != "paper" or rects is None or len(rects) == 0:
+        return None
+    return np.asarray(rects, dtype=np.float64)
+
+
+def lut_settings(array: str, ranges: dict[str, tuple[float, float]]
+                 ) -> tuple[object, int, float, float]:
+    """(colour map, number of colours, low, high) of the face colouring ``array``."""
+    lo, hi = ranges.get(array, (0.0, 1.0))
+    if array == "patch":
+        return "tab10", _CATEGORIES, lo, hi
+    if array == "region":
+        return REGION_COLORS, 3, 0.5, 3.5
+    if array == "overlap":  # whole counts: one colour each
+        return "viridis", int(np.clip(round(hi - lo), 1, 256)), lo, hi
+    return "viridis", 256, lo, hi
+
+
+def overview_rgba(ov: Overview, key: str, ranges: dict[str, tuple[float, float]]
+                  ) -> np.ndarray:
+    """(rows, cols, 4) uint8 colours of the overview ``ov`` for the colouring ``key`` (a
+    key of :data:`COLOR_BY`): the faces' lookup table (:func:`lut_settings`) applied as
+    VTK's ``vtkLookupTable`` does, in plain numpy (no VTK object in a worker thread)."""
+    rows, cols = ov.covered.shape
+    array, _ = COLOR_BY[key]
+    rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
+    if array is None or array not in ov.values:
+        rgba[ov.covered] = (*pv.Color(COLORS["faces"]).int_rgb, 255)
+        return rgba
+    cmap, n_values, lo, hi = lut_settings(array, ranges)
+    table = colour_table(cmap, n_values)
+    v = ov.values[array][ov.covered].astype(np.float64)
+    index = np.floor((v - lo) * (n_values / max(hi - lo, 1e-300)))
+    index = np.clip(np.nan_to_num(index, nan=0.0), 0, n_values - 1).astype(np.intp)
+    colours = table[index]
+    colours[np.isnan(v)] = (128, 0, 0, 255)  # VTK's colour for NaN
+    rgba[ov.covered] = colours
+    return rgba
+
+
+def colour_table(cmap: object, n_values: int) -> np.ndarray:
+    """(n_values, 4) uint8: the table pyvista's ``LookupTable(cmap, n_values)`` holds."""
+    from pyvista.plotting.colors import get_cmap_safe
+
+    if isinstance(cmap, list):
+        n_values = len(cmap)
+    values = get_cmap_safe(cmap)(np.linspace(0, 1, n_values)) * 255
+    return values.astype(np.uint8)
+
+
+def overview_image(rgba: np.ndarray) -> pv.ImageData:
+    """The texture input of an overview's (rows, cols, 4) colours."""
+    rows, cols = rgba.shape[:2]
+    image = pv.ImageData(dimensions=(cols, rows, 1))
+    image.point_data["rgba"] = rgba.reshape(-1, 4)
+    return image
+
+
+def shown_color(color_by: str, overlap_ratio: float | None) -> str:
+    """The colouring drawn for the chosen one: the overlap look replaces "none"."""
+    if color_by == "none" and overlap_ratio is not None and overlap_ratio >= OVERLAP_LOOK:
+        return "overlap"
+    return color_by
+
+
+def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[float, float]]:
     ranges = {}
-    for name, values in _face_arrays(mesh, None).items():
+    for name, values in arrays.items():
         finite = values[np.isfinite(values)]
         a, b = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
         if b - a < 1e-12 * max(1.0, abs(a)):
             a, b = a - 0.5, b + 0.5
         ranges[name] = (a, b)
+    if "overlap" in ranges:
+        ranges["overlap"] = (0.5, max(ranges["overlap"][1], 1.0) + 0.5)
     ranges["patch"] = (-0.5, _CATEGORIES - 0.5)
     ranges["region"] = (0.5, 3.5)
     return ranges
 
 
-def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData:
+def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
+               color_by: str = "none", pixels: tuple[int, int] | None = None) -> SceneData:
     """Build the datasets of every layer for ``mesh`` (thread-safe, no rendering).
 
     A mesh of more than ``detail_limit`` triangles gets an :class:`Overview` (its faces
@@ -188,6 +313,13 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData
     ----------
     mesh : TriMesh
     detail_limit : int
+    color_by : str
+        The colouring the window shows (a key of :data:`COLOR_BY`): a dense mesh's
+        overview image is coloured for it here, not on the GUI thread.
+    pixels : (int, int), optional
+        The view's size: the overview has about one texel per pixel of its longer side
+        (:func:`app.overview.raster_side`), and its line layers are cut down to what
+        those texels can show (:func:`app.overview.decimated_lines`).
 
     Returns
     -------
@@ -204,70 +336,153 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES) -> SceneData
         lo = hi = np.zeros(3)
     bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
     typical = float(np.mean(mesh.edge_lengths)) if n else 0.0
-    ranges = _ranges(mesh) if n else {}
-    if n <= detail_limit:
-        data = _detail_sets(mesh, None, bounds)
-        return SceneData(data, bounds, ranges, n, typical, paper=mesh.mode == "paper")
+    rects = _paper_rects(mesh)
+    ratio = mesh.overlap_ratio if rects is not None else None
+    paper = {"paper": mesh.mode == "paper", "overlap_ratio": ratio, "patch_rects": rects}
+    dense = n > detail_limit
+    arrays = _face_arrays(mesh, None, overlap=not dense) if n else {}
+    ranges = _ranges(mesh, arrays) if n else {}
+    if not dense:
+        data = _detail_sets(mesh, None, bounds, arrays)
+        return SceneData(data, bounds, ranges, n, typical, **paper)
     size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))
     dz = 1e-4 * size
+    side = raster_side(pixels)
+    shape = raster_shape(bounds, side)
+    raster = overview_raster(pts, mesh.triangles, bounds, side)
     sets = {name: pv.PolyData() for name in LAYERS}
     edges = np.asarray(mesh.edges)
     for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
                              (5, "junction_edges", mesh.junction_edges)):
         pairs = edges[np.asarray(ids, dtype=np.int64)]
-        sets[name] = _compact_lines(pts, pairs, level * dz)
-    out_pts, out_pairs = patch_outline_pairs(mesh)
-    if len(out_pairs) <= OUTLINE_SEGMENTS:
-        sets["patch_outlines"] = _compact_lines(out_pts, out_pairs, 2 * dz)
-    raster = overview_raster(pts, mesh.triangles, bounds)
-    covered = raster >= 0
-    where = np.where(covered, raster, 0)
+        sets[name] = _screen_lines(pts, pairs, bounds, shape, level * dz)
+    if rects is None:  # (paper mode: the window outlines a part of the patches)
+        out_pts, out_pairs = patch_outline_pairs(mesh)
+        sets["patch_outlines"] = _screen_lines(out_pts, out_pairs, bounds, shape, 2 * dz)
+    covered, values = _image_values(raster, shape, arrays, rects, bounds)
+    del raster, arrays
+    if rects is not None:
+        top = float(np.nanmax(values["overlap"])) if covered.any() else 1.0
+        ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
+    overview = Overview(bounds, covered, values, count_grid(mesh.centroids, bounds))
+    key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
+    overview.rgba = overview_rgba(overview, key, ranges)
+    overview.image_key = key
+    return SceneData(sets, bounds, ranges, n, typical, overview, **paper)
+
+
+def _image_values(raster: np.ndarray, shape: tuple[int, int], arrays: dict[str, np.ndarray],
+                  rects: np.ndarray | None, bounds: tuple[float, float, float, float]
+                  ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Texel coverage and colouring values of an image of ``shape`` texels.
+
+    ``raster`` (triangle per texel, :func:`app.overview.overview_raster`) may be coarser
+    than ``shape`` (heavy overlaps cost more tests): it is stretched to it. Paper mode
+    (``rects`` given): the count of patches over each texel centre is exact at the full
+    ``shape`` (:func:`app.overview.overlap_count_raster`), and so is the coverage.
+
+    Returns
+    -------
+    covered : (rows, cols) bool
+    values : dict of str to (rows, cols) float32
+        NaN where no triangle is.
+    """
+    rows, cols = shape
+    if raster.shape != (rows, cols):  # nearest texel of the coarser raster
+        jj = np.minimum(np.arange(rows) * raster.shape[0] // rows, raster.shape[0] - 1)
+        ii = np.minimum(np.arange(cols) * raster.shape[1] // cols, raster.shape[1] - 1)
+        raster = raster[np.ix_(jj, ii)]
+    hit = raster >= 0
+    where = np.where(hit, raster, 0)
     values = {}
-    for name, v in _face_arrays(mesh, None).items():
+    for name, v in arrays.items():
         img = v.astype(np.float32)[where]
-        img[~covered] = np.nan
+        img[~hit] = np.nan
         values[name] = img
-    centroids = np.asarray(mesh.centroids)[:, :2].astype(np.float32)
-    overview = Overview(bounds, covered, values, centroids)
-    return SceneData(sets, bounds, ranges, n, typical, overview, paper=mesh.mode == "paper")
+    covered = hit
+    if rects is not None:
+        count = overlap_count_raster(rects, bounds, shape)
+        covered = count > 0
+        values["overlap"] = np.where(covered, count, np.nan).astype(np.float32)
+    return covered, values
 
 
-def _compact_lines(points: np.ndarray, pairs: np.ndarray, dz: float) -> pv.PolyData:
-    """Line cells of ``pairs`` with only the points they use, lifted by ``dz``."""
-    pairs = np.asarray(pairs).reshape(-1, 2)
-    if len(pairs) == 0:
+def _screen_lines(points: np.ndarray, pairs: np.ndarray,
+                  bounds: tuple[float, float, float, float], shape: tuple[int, int],
+                  dz: float) -> pv.PolyData:
+    """Line cells of ``pairs`` snapped to a raster's texels (as many as it can show)."""
+    xy, snapped = decimated_lines(points, pairs, bounds, shape)
+    if len(snapped) == 0:
         return pv.PolyData()
-    used, inverse = np.unique(pairs, return_inverse=True)
-    return _line_set(_lifted(points[used], dz), inverse.reshape(-1, 2))
+    return _line_set(np.column_stack([xy, np.full(len(xy), dz)]), snapped)
 
 
 def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
-                limit: int = DETAIL_TRIANGLES) -> SceneData | None:
+                limit: int = DETAIL_TRIANGLES, *, color_by: str = "none",
+                pixels: tuple[int, int] | None = None,
+                ranges: dict[str, tuple[float, float]] | None = None,
+                bounds: tuple[float, float, float, float] | None = None) -> SceneData | None:
     """Full-detail datasets of the triangles of ``mesh`` around ``rect`` (thread-safe).
 
     ``rect`` (x0, x1, y0, y1, mm) is grown by half its size on every side, so a little
-    panning stays detailed. Returns None when that part holds more than ``limit``
-    triangles. Only the per-triangle layers (:data:`DETAIL_LAYERS`) are filled.
+    panning stays detailed. Only the per-triangle layers (:data:`DETAIL_LAYERS`) are
+    filled. When that part holds more than ``limit`` triangles: given the view's
+    ``pixels``, the overview's ``ranges`` (colour scales) and the mesh's ``bounds``, an
+    :class:`Overview` of just that part at about one texel a pixel (a sharper image of
+    the part in view, coloured for ``color_by``, in ``SceneData.overview``); else None.
     """
     x0, x1, y0, y1 = rect
     grow = 0.5 * max(x1 - x0, y1 - y0)
     big = (x0 - grow, x1 + grow, y0 - grow, y1 + grow)
     sel = triangles_in_rect(mesh.centroids, big)
     if len(sel) > limit:
-        return None
-    pts = np.asarray(mesh.points)
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
-    sets = _detail_sets(mesh, sel, bounds)
+        if pixels is None or ranges is None or bounds is None:
+            return None
+        return _zoom_data(mesh, big, bounds, color_by, pixels, ranges)
+    if bounds is None:
+        pts = np.asarray(mesh.points)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        bounds = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
+    sets = _detail_sets(mesh, sel, bounds, _face_arrays(mesh, sel))
     for name in LAYERS:
         if name not in DETAIL_LAYERS:
             sets[name] = pv.PolyData()
     return SceneData(sets, bounds, {}, len(sel), 0.0, rect=big)
 
 
+def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
+               bounds: tuple[float, float, float, float], color_by: str,
+               pixels: tuple[int, int], ranges: dict[str, tuple[float, float]]) -> SceneData:
+    """An overview of the part ``big`` of ``mesh`` (the view grown 2 x 2 times) at about
+    one texel a pixel: ``2 * max(pixels)`` texels on its longer side, within the bounds of
+    :mod:`app.overview`."""
+    zone = (max(big[0], bounds[0]), min(big[1], bounds[1]),
+            max(big[2], bounds[2]), min(big[3], bounds[3]))
+    if zone[1] <= zone[0] or zone[3] <= zone[2]:
+        zone = big
+    reach = float(np.max(mesh.edge_lengths)) if mesh.n_triangles else 0.0
+    sel = triangles_in_rect(mesh.centroids, zone, margin=reach)
+    pts = np.asarray(mesh.points)
+    tri = np.asarray(mesh.triangles)[sel]
+    side = raster_side((2 * max(pixels), 1))
+    raster = overview_raster(pts, tri, zone, side)
+    rects = _paper_rects(mesh)
+    covered, values = _image_values(raster, raster_shape(zone, side),
+                                    _face_arrays(mesh, sel, overlap=False), rects, zone)
+    zoom = Overview(zone, covered, values)
+    key = shown_color(color_by if color_by in COLOR_BY else "none",
+                      mesh.overlap_ratio if rects is not None else None)
+    zoom.rgba = overview_rgba(zoom, key, ranges)
+    zoom.image_key = key
+    sets = {name: pv.PolyData() for name in LAYERS}
+    return SceneData(sets, bounds, ranges, len(sel), 0.0, zoom, rect=zone)
+
+
 def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
-                 bounds: tuple[float, float, float, float]) -> dict[str, pv.PolyData]:
-    """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None)."""
+                 bounds: tuple[float, float, float, float],
+                 arrays: dict[str, np.ndarray]) -> dict[str, pv.PolyData]:
+    """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None), the
+    faces carrying the colouring ``arrays`` of those triangles."""
     pts = np.asarray(mesh.points, dtype=np.float64)
     tri = np.asarray(mesh.triangles)
     x0, x1, y0, y1 = bounds
@@ -300,7 +515,7 @@ def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
         kind = kind[keep][ok]
         centroids = np.asarray(mesh.centroids)[ids]
     faces = pv.PolyData.from_regular_faces(local_pts, local_tri)
-    for name, values in _face_arrays(mesh, None if sel is None else ids).items():
+    for name, values in arrays.items():
         faces.cell_data[name] = values
     faces.cell_data["triangle"] = ids.astype(np.int64)
     sets = {"faces": faces}
@@ -379,7 +594,13 @@ class MeshScene:
         self.n_triangles = 0
         self.typical_edge = 0.0
         self.overview: Overview | None = None
+        self.zoom: Overview | None = None  # a sharper image of the part in view
         self.paper = False
+        self.overlap_ratio: float | None = None
+        self.patch_rects: np.ndarray | None = None
+        self._lut_key: tuple | None = None  # the face colours' table as last set
+        self.outline_stride = 0  # overlap look: every k-th patch outlined (0: look off)
+        self._outlines = pv.PolyData()  # the mesh's own patch outlines
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
@@ -458,14 +679,26 @@ class MeshScene:
         self.overview_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
         # the texture's colours are the overview's own (a 4-component uint8 image)
         self.overview_texture.SetColorModeToDirectScalars()
-        self.overview_texture.interpolate = True
-        self.overview_texture.mipmap = True
         self.overview_quad = pv.PolyData()
         self.actors_overview = p.add_mesh(
             self.overview_quad, color="white", reset_camera=False, lighting=False,
             render=False, pickable=False,
         )
         self.actors_overview.SetTexture(self.overview_texture)
+        # a sharper image of the part in view, over the overview (detail_data)
+        self.zoom_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
+        self.zoom_texture.SetColorModeToDirectScalars()
+        self.zoom_quad = pv.PolyData()
+        self.actors_zoom = p.add_mesh(
+            self.zoom_quad, color="white", reset_camera=False, lighting=False,
+            render=False, pickable=False,
+        )
+        self.actors_zoom.SetTexture(self.zoom_texture)
+        for texture in (self.overview_texture, self.zoom_texture):
+            # about one texel a pixel: no mipmaps to make on the GUI thread (llvmpipe
+            # builds them on the CPU with every new image)
+            texture.mipmap = False
+            texture.interpolate = True
         self._set_overview_quad()
 
         # Axes in mm with "nice" tick values along the bottom and left of the mesh.
@@ -507,7 +740,12 @@ class MeshScene:
         self.n_triangles = data.n_triangles
         self.typical_edge = data.typical_edge
         self.overview = data.overview
+        self.zoom = None
         self.paper = data.paper
+        self.overlap_ratio = data.overlap_ratio
+        self.patch_rects = data.patch_rects
+        self.outline_stride = 0
+        self._outlines = data.datasets["patch_outlines"]
         self.detail_rect = None
         self.detail_triangles = 0 if data.overview is not None else data.n_triangles
         self._set_overview_quad()
@@ -517,6 +755,16 @@ class MeshScene:
         self._apply_visibility()
 
     @property
+    def overlap_look(self) -> bool:
+        """Whether the overlap look is on (overlapping paper patches, colouring "none")."""
+        return self.shown_color_by == "overlap" and self.color_by == "none"
+
+    @property
+    def shown_color_by(self) -> str:
+        """The colouring drawn: the chosen one, or "overlap" for the overlap look."""
+        return shown_color(self.color_by, self.overlap_ratio)
+
+    @property
     def reduced(self) -> bool:
         """Whether the mesh is drawn as an overview (not every triangle is a polygon)."""
         return self.overview is not None
@@ -524,6 +772,12 @@ class MeshScene:
     def show_detail(self, data: SceneData) -> None:
         """Draw the full detail of a part of an overview mesh (see :func:`detail_data`)."""
         if self.overview is None:
+            return
+        if data.overview is not None:  # too many triangles there: a sharper image of it
+            self.zoom = data.overview
+            self._set_quad(self.zoom_quad, data.overview.bounds, -0.5)
+            self._recolor_overview()
+            self._apply_visibility()
             return
         for name in DETAIL_LAYERS:
             self.datasets[name].copy_from(data.datasets[name], deep=False)
@@ -574,19 +828,40 @@ class MeshScene:
         rect = self.view_rect()
         if rect is None:
             return None
-        x0, x1, y0, y1 = rect
-        have = self.detail_rect
-        if have is not None and have[0] <= x0 and x1 <= have[1] and have[2] <= y0 \
-                and y1 <= have[3]:
+        if _inside(rect, self.detail_rect):
             return None
-        c = self.overview.centroids
-        inside = int(np.count_nonzero((c[:, 0] >= x0) & (c[:, 0] <= x1)
-                                      & (c[:, 1] >= y0) & (c[:, 1] <= y1)))
-        if inside > limit // 4:  # the detail grows the rectangle 2 x 2 times
-            return None
-        return rect
+        ov = self.overview
+        inside = count_in_rect(ov.centroid_counts, ov.bounds, rect)
+        if inside <= limit // 4:  # the detail grows the rectangle 2 x 2 times
+            return rect
+        # too many for full detail: a sharper image when the texels show as blocks
+        image = self.zoom if self.zoom is not None and _inside(rect, self.zoom.bounds) \
+            else ov
+        if self.texel_px(image, rect) > ZOOM_TEXEL_PX:
+            return rect
+        return None
+
+    def texel_px(self, image: Overview, rect: tuple[float, float, float, float]) -> float:
+        """Pixels a texel of ``image`` covers on screen when the view shows ``rect``."""
+        width, _ = self.plotter.renderer.GetSize()
+        texel = (image.bounds[1] - image.bounds[0]) / image.covered.shape[1]
+        return float(texel * width / max(rect[1] - rect[0], 1e-12))
+
+    def _set_quad(self, quad: pv.PolyData, bounds: tuple[float, float, float, float],
+                  level: float) -> None:
+        """``quad`` spans ``bounds`` at ``level`` * 1e-4 of the mesh's size above z = 0."""
+        size = max(self.bounds[1] - self.bounds[0], self.bounds[3] - self.bounds[2], 1e-9) \
+            if self.bounds is not None else 1.0
+        x0, x1, y0, y1 = bounds
+        dz = level * 1e-4 * size
+        new = pv.PolyData(np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
+                          faces=np.array([4, 0, 1, 2, 3]))
+        new.active_texture_coordinates = np.array([[0, 0], [1, 0], [1, 1], [0, 1]],
+                                                  dtype=np.float32)
+        quad.copy_from(new, deep=True)
 
     def _set_overview_quad(self) -> None:
+        self._set_quad(self.zoom_quad, (0.0, 0.0, 0.0, 0.0), 0.0)  # no sharper part yet
         ov = self.overview
         if ov is None:
             # a zero-area textured quad: drawn with every frame, so the textured shader is
@@ -607,30 +882,20 @@ class MeshScene:
                                                    dtype=np.float32)
         self.overview_quad.copy_from(quad, deep=True)
 
-    def _overview_rgba(self) -> np.ndarray:
-        """(rows, cols, 4) uint8 colours of the overview for the current colouring."""
-        ov = self.overview
-        rows, cols = ov.covered.shape
-        array, _ = COLOR_BY[self.color_by]
-        if array is None or array not in ov.values:
-            rgba = np.zeros((rows, cols, 4), dtype=np.uint8)
-            rgba[ov.covered] = (*pv.Color(COLORS["faces"]).int_rgb, 255)
-            return rgba
-        lut = self.actors["faces"].mapper.lookup_table
-        mapped = lut.MapScalars(numpy_to_vtk(ov.values[array].ravel()), 0, -1)
-        rgba = vtk_to_numpy(mapped).reshape(rows, cols, -1)
-        if rgba.shape[2] == 3:
-            rgba = np.dstack([rgba, np.full((rows, cols), 255, np.uint8)])
-        rgba = np.array(rgba, dtype=np.uint8)
-        rgba[~ov.covered] = 0
-        return rgba
-
     def _recolor_overview(self) -> None:
-        if self.overview is None:
+        ov = self.overview
+        if ov is None:
             return
-        image = pv.ImageData(dimensions=(*self.overview.covered.shape[::-1], 1))
-        image.point_data["rgba"] = self._overview_rgba().reshape(-1, 4)
-        self.overview_texture.SetInputDataObject(image)
+        key = self.shown_color_by
+        for image, texture in ((ov, self.overview_texture), (self.zoom, self.zoom_texture)):
+            if image is None:
+                continue
+            if image.rgba is None or image.image_key != key:  # colouring changed since
+                image.rgba = overview_rgba(image, key, self.ranges)
+                image.image_key, image.image = key, None
+            if image.image is None:
+                image.image = overview_image(image.rgba)
+            texture.SetInputDataObject(image.image)
 
     def set_visible(self, layer: str, on: bool) -> None:
         if layer not in self.visible:
@@ -643,6 +908,7 @@ class MeshScene:
             raise ValueError(f"color_by={key!r} is unknown; expected one of {', '.join(COLOR_BY)}")
         self.color_by = key
         self._apply_color_by()
+        self.fit_marker_sizes()  # the overlap look's outlines come and go with it
         self._apply_visibility()
 
     @property
@@ -661,13 +927,21 @@ class MeshScene:
             return False  # in paper mode every patch's border: a texture at this size
         if name in DETAIL_LAYERS and self.overview is not None and self.detail_rect is None:
             return False
+        if self.overlap_look:
+            if name == "patch_outlines":
+                return True  # part of the look (every k-th patch, see fit_marker_sizes)
+            if name in ("triangle_edges", "shared_edges", "centroids", "boundary_edges"):
+                return False  # overlapping patches' own edges tangle into a moire
+
         return bool(on)
 
     def _apply_visibility(self) -> None:
         for name in LAYERS:
             self.actors[name].SetVisibility(self.drawn(name))
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
-        legend = bool(self.visible["faces"] and self.color_by != "none" and self.n_triangles)
+        self.actors_zoom.SetVisibility(bool(self.visible["faces"] and self.zoom is not None))
+        legend = bool(self.visible["faces"] and self.shown_color_by != "none"
+                      and self.n_triangles)
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
@@ -678,16 +952,27 @@ class MeshScene:
         if not self.n_triangles:
             return ""
         parts = []
+        if self.overlap_look:
+            patches = len(self.patch_rects)
+            which = ("all outlined" if self.outline_stride == 1 else
+                     f"1 in {self.outline_stride} of {patches:,} outlined")
+            parts.append(f"Overlapping patches (ratio {self.overlap_ratio:.2f}): colour = "
+                         f"patches over each point, {which}")
+            parts.append("Triangle edges hidden: they cross between overlapping patches "
+                         "(a colouring under Layers shows them)")
         if self.overview is not None:
             if self.detail_rect is None:
+                rest = "" if self.overlap_look else (
+                    "; zoom in and rest for triangles, edges and centroids")
                 parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "
-                             "image; zoom in and rest for triangles, edges and centroids")
+                             f"image{rest}")
             else:
                 parts.append(f"Full detail of {self.detail_triangles:,} of "
                              f"{self.n_triangles:,} triangles around the view")
         wanted = [n for n in ("triangle_edges", "shared_edges", "centroids")
                   if self.visible[n]]
-        if self.light and wanted and (self.overview is None or self.detail_rect is not None):
+        if (self.light and wanted and not self.overlap_look
+                and (self.overview is None or self.detail_rect is not None)):
             borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
             parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
                          f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
@@ -695,7 +980,7 @@ class MeshScene:
         return "\n".join(parts)
 
     def _apply_color_by(self) -> None:
-        array, title = COLOR_BY[self.color_by]
+        array, title = COLOR_BY[self.shown_color_by]
         mapper = self.actors["faces"].mapper
         if array is None or array not in self.datasets["faces"].cell_data and (
                 self.overview is None or array not in self.overview.values):
@@ -703,24 +988,18 @@ class MeshScene:
             self._recolor_overview()
             return
         lut = mapper.lookup_table
-        if array == "patch":
-            lut.cmap = "tab10"
-            lut.n_values = _CATEGORIES
-        elif array == "region":
-            lut.cmap = REGION_COLORS
-            lut.n_values = 3
-        else:
-            lut.cmap = "viridis"
-            lut.n_values = 256
-        lo, hi = self.ranges.get(array, (0.0, 1.0))
-        if array == "region":
-            lo, hi = 0.5, 3.5
+        cmap, n_values, lo, hi = lut_settings(array, self.ranges)
+        key = (array, cmap if isinstance(cmap, str) else tuple(cmap), n_values, lo, hi)
+        if key != self._lut_key:  # (a new mesh of the same colouring and range: as is;
+            # a changed table would also make the legend lay out its labels again)
+            lut.cmap, lut.n_values = cmap, n_values
+            mapper.SetScalarRange(lo, hi)
+            lut.scalar_range = (lo, hi)
+            self.scalar_bar.SetLookupTable(lut)
+            self._set_legend(array, title, lo, hi)
+            self._lut_key = key
         mapper.SelectColorArray(array)
-        mapper.SetScalarRange(lo, hi)
-        lut.scalar_range = (lo, hi)
         mapper.SetScalarVisibility(True)
-        self.scalar_bar.SetLookupTable(lut)
-        self._set_legend(array, title, lo, hi)
         self._recolor_overview()
 
     def _set_legend(self, array: str, title: str, lo: float, hi: float) -> None:
@@ -817,7 +1096,8 @@ class MeshScene:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
         light = bool(edge_px < LIGHT_PX)
-        if light != self.light:
+        stride_changed = self._fit_outlines(height, camera)
+        if light != self.light or stride_changed:
             self.light = light
             self._apply_visibility()
         else:
@@ -831,6 +1111,26 @@ class MeshScene:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
                 prop.line_width = thin * self._line_scale * self.emphasis
 
+    def _fit_outlines(self, height: int, camera: object) -> bool:
+        """In the overlap look, outline every k-th patch for the zoom (see
+        :func:`outline_stride`); else the layer's own outlines. True if that changed."""
+        stride = 0
+        if self.overlap_look and self.patch_rects is not None:
+            px_per_mm = (height / max(2.0 * camera.parallel_scale, 1e-12)
+                         if camera.parallel_projection and height > 0 else np.inf)
+            stride = outline_stride(self.patch_rects, self.overlap_ratio, px_per_mm)
+        if stride == self.outline_stride:
+            return False
+        self.outline_stride = stride
+        if stride == 0:
+            self.datasets["patch_outlines"].copy_from(self._outlines, deep=False)
+        else:
+            x0, x1, y0, y1 = self.bounds
+            z = 2e-4 * max(x1 - x0, y1 - y0, 1e-9)
+            pts, pairs = rect_outlines(self.patch_rects[::stride], z)
+            self.datasets["patch_outlines"].copy_from(_line_set(pts, pairs), deep=False)
+        return True
+
     def set_emphasis(self, scale: float) -> None:
         """Lines, dots and fonts ``scale`` times their normal size (presentation mode)."""
         self.emphasis = float(scale)
@@ -843,6 +1143,15 @@ class MeshScene:
         for axis in range(3):
             self.axes.GetTitleTextProperty(axis).SetFontSize(size)
             self.axes.GetLabelTextProperty(axis).SetFontSize(size)
+
+
+def _inside(rect: tuple[float, float, float, float],
+            outer: tuple[float, float, float, float] | None) -> bool:
+    """Whether ``rect`` (x0, x1, y0, y1) lies within ``outer`` (False if None)."""
+    if outer is None:
+        return False
+    return (outer[0] <= rect[0] and rect[1] <= outer[1] and outer[2] <= rect[2]
+            and rect[3] <= outer[3])
 
 
 def readable_ticks(lo: float, hi: float, count: int = 5) -> tuple[np.ndarray, str]:

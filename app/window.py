@@ -386,6 +386,7 @@ class MainWindow(QMainWindow):
         self._progress_timer.timeout.connect(self._show_progress)
 
         self.controller = MeshController(self.model, self)
+        self.controller.view_size = lambda: tuple(self.plotter.renderer.GetSize())
         self.controller.busy_changed.connect(self._busy_changed)
         self.controller.job_changed.connect(self._job_changed)
         self.controller.detail_ready.connect(self._detail_ready)

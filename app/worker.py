@@ -108,6 +108,18 @@ def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) ->
     threading.Thread(target=run, daemon=True, name="barymesh-worker").start()
 
 
+class _Gate:
+    """``emit`` of a controller's signal from a build thread, dropped once it is stopped."""
+
+    def __init__(self, controller: MeshController, signal: Signal) -> None:
+        self.controller, self.signal = controller, signal
+
+    def emit(self, payload: object) -> None:
+        with self.controller._emit_lock:
+            if not self.controller._stopped:
+                self.signal.emit(payload)
+
+
 class MeshController(QObject):
     """Turns parameter changes into mesh results for the model (see module docstring)."""
 
@@ -121,6 +133,11 @@ class MeshController(QObject):
     def __init__(self, model: AppModel, parent: QObject | None = None,
                  sync_triangles: int = SYNC_TRIANGLES) -> None:
         super().__init__(parent)
+        # a build thread emits its result under this lock unless stop() came first: the
+        # window deletes the controller after stop(), and a signal emitted into a QObject
+        # being deleted crashed the process (seen in the live tests' teardown)
+        self._emit_lock = threading.Lock()
+        self._stopped = False
         self.model = model
         self.sync_triangles = sync_triangles
         self._pending: tuple[MeshParams, int] | None = None
@@ -129,6 +146,9 @@ class MeshController(QObject):
         self.rate: float | None = None  # triangles per second of recent large builds
         self.last_request_time = 0.0
         self.builds = 0  # results handed to the model
+        #: the 3D view's size in pixels (set by the window): the scene arrays made in the
+        #: worker follow it (an overview's texels, its lines), not the mesh
+        self.view_size: Callable[[], tuple[int, int]] | None = None
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(0)
@@ -179,10 +199,12 @@ class MeshController(QObject):
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
+        prepare = partial(scene_data, color_by=self.model.color_by,
+                          pixels=self.view_size() if self.view_size else None)
         # an explicit tolerance can make the weld slow or fail: never on the GUI thread;
         # nor a sized mesh, whose triangles depend on the subdivisions the mesher picks
         if triangles <= self.sync_triangles and params.tolerance is None and not params.sized:
-            self._deliver(compute(params, generation, prepare=scene_data))
+            self._deliver(compute(params, generation, prepare=prepare))
             if was_busy:
                 self.busy_changed.emit(False)
                 self.job_changed.emit(None)
@@ -196,8 +218,8 @@ class MeshController(QObject):
         if not was_busy:
             self.busy_changed.emit(True)
         self.job_changed.emit(job)
-        run_in_thread(partial(compute, params, generation, prepare=scene_data,
-                              cancel=cancelled), self._job_done, job)
+        run_in_thread(partial(compute, params, generation, prepare=prepare,
+                              cancel=cancelled), _Gate(self, self._job_done), job)
 
     def _abandon_current(self, announce: bool = True) -> None:
         job = self.current
@@ -252,7 +274,13 @@ class MeshController(QObject):
     def request_detail(self, mesh: object, rect: tuple[float, float, float, float],
                        token: object) -> None:
         """Build :func:`app.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
-        run_in_thread(partial(detail_data, mesh, rect), self.detail_ready, token)
+        shown = self.model.result
+        scene = shown.scene if shown is not None and shown.mesh is mesh else None
+        extra = {} if scene is None else {
+            "color_by": self.model.color_by, "ranges": scene.ranges, "bounds": scene.bounds,
+            "pixels": self.view_size() if self.view_size else None}
+        run_in_thread(partial(detail_data, mesh, rect, **extra),
+                      _Gate(self, self.detail_ready), token)
 
     def stop(self) -> None:
         """Forget pending requests and abandon running builds (the window is closing).
@@ -260,6 +288,8 @@ class MeshController(QObject):
         Returns at once: an abandoned build stops at its next checkpoint in its own
         (daemon) thread and its result goes nowhere.
         """
+        with self._emit_lock:  # no thread emits into this controller after this
+            self._stopped = True
         self._timer.stop()
         self._pending = None
         if self.current is not None:

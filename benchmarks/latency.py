@@ -25,6 +25,7 @@ Usage::
     python benchmarks/latency.py                    # 50 frames, drag, 3 big rounds
     python benchmarks/latency.py --frames 10 --json out.json
     python benchmarks/latency.py --quick            # 6 frames, 0.5 s drag (tests)
+    python benchmarks/latency.py --big-only --big 3 # only the 1M and 4.8M rounds
 
 Without ``DISPLAY`` the script re-runs itself under ``xvfb-run``.
 """
@@ -318,6 +319,15 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
         return bool(shown) and bool(painted) and window.model.result.params == target[0]
 
     target = [None]
+    if frames == 0:  # --big-only
+        big_doc = measure_big(app_, window, big) if big > 0 else None
+        size = tuple(window.plotter.ren_win.GetSize())
+        renderer = _renderer(window)
+        window.close()
+        _wait_until(app_, lambda: False, 0.2)
+        shutil.rmtree(settings_dir, ignore_errors=True)
+        return {"frames": 0, "window_size": list(WINDOW_SIZE), "view_size": list(size),
+                "renderer": renderer, "big": big_doc}
 
     row = window.controls.rows[name]
     positions = [row.spec.to_slider(v) for v in values]
@@ -359,8 +369,7 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     beat.timer.stop()
     big_doc = measure_big(app_, window, big) if big > 0 else None
     size = tuple(window.plotter.ren_win.GetSize())
-    info = window.plotter.ren_win.ReportCapabilities() or ""
-    renderer = re.search(r"OpenGL renderer string:\s*(.+)", info)
+    renderer = _renderer(window)
     window.close()
     _wait_until(app_, lambda: False, 0.2)
     shutil.rmtree(settings_dir, ignore_errors=True)
@@ -371,7 +380,7 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
         "triangles": sorted(triangles),
         "window_size": list(WINDOW_SIZE),
         "view_size": list(size),
-        "renderer": renderer.group(1).strip() if renderer else "unknown",
+        "renderer": renderer,
         "seconds": {part: _stats(v) for part, v in samples.items()},
         "paints_per_frame": max(paints_per_mesh[WARM_UP:]),
         "longest_block": slider_block,
@@ -380,7 +389,17 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     }
 
 
+def _renderer(window) -> str:
+    info = window.plotter.ren_win.ReportCapabilities() or ""
+    found = re.search(r"OpenGL renderer string:\s*(.+)", info)
+    return found.group(1).strip() if found else "unknown"
+
+
 def table(doc: dict) -> str:
+    if doc["frames"] == 0:
+        lines = [f"view {doc['view_size'][0]}x{doc['view_size'][1]}, "
+                 f"renderer {doc['renderer']}"]
+        return "\n".join(lines + _big_lines(doc.get("big")))
     s = doc["seconds"]
     lines = [
         f"slider {doc['slider']} {doc['values'][0]} <-> {doc['values'][1]}, "
@@ -410,7 +429,11 @@ def table(doc: dict) -> str:
             f"{d['meshes_per_second']:.1f} meshes/s (target >= 10), {d['moves']} moves, "
             f"longest block {d['longest_block'] * 1e3:.0f} ms"
         )
-    big = doc.get("big")
+    return "\n".join(lines + _big_lines(doc.get("big")))
+
+
+def _big_lines(big: dict | None) -> list[str]:
+    lines: list[str] = []
     if big:
         for key, target in (("1M", 1.5), ("4.8M", 6.0)):
             c = big[key]
@@ -418,7 +441,8 @@ def table(doc: dict) -> str:
                 f"{key} ({c['triangles']:,} triangles): shown median "
                 f"{c['shown']['median']:.2f} s, p95 {c['shown']['p95']:.2f} s (target <= "
                 f"{target:g}), paints {c['paints']}, longest block median "
-                f"{c['longest_block']['median'] * 1e3:.0f} ms, max "
+                f"{c['longest_block']['median'] * 1e3:.0f} ms, p95 "
+                f"{c['longest_block']['p95'] * 1e3:.0f} ms, max "
                 f"{c['longest_block']['max'] * 1e3:.0f} ms, level of detail "
                 f"{'on' if c['reduced'] else 'off'}, "
                 f"{c['bytes_per_triangle']:.0f} B/triangle above idle (target <= 700), "
@@ -434,7 +458,7 @@ def table(doc: dict) -> str:
             f"target >= 5), longest block {r['longest_block'] * 1e3:.0f} ms"
         )
         lines.append(f"idle RSS {big['idle_rss'] / 2**20:.0f} MiB")
-    return "\n".join(lines)
+    return lines
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -449,12 +473,18 @@ def main(argv: list[str] | None = None) -> int:
                     help="seconds of a real mouse drag of the slider (default 3, 0: none)")
     ap.add_argument("--big", type=int, default=3,
                     help="rounds of the 1M and 4.8M meshes (default 3, 0: none)")
+    ap.add_argument("--big-only", action="store_true",
+                    help="no slider frames and no drag: only the --big rounds")
     ap.add_argument("--json", type=Path, help="also write the results here")
     args = ap.parse_args(argv)
     frames = 6 if args.quick else args.frames
     drag = 0.5 if args.quick else args.drag
     big = 0 if args.quick else args.big
-    if frames < 1:
+    if args.big_only:
+        frames, drag = 0, 0.0
+        if big < 1:
+            ap.error(f"--big-only with --big={big}: expected at least 1 round")
+    elif frames < 1:
         ap.error(f"--frames={frames}: expected at least 1")
     if sys.platform == "linux" and not os.environ.get("DISPLAY"):
         if not os.environ.get("BARYMESH_LATENCY_XVFB") and shutil.which("xvfb-run"):

@@ -20,9 +20,19 @@ pytest.importorskip("pyvistaqt")
 from PySide6.QtCore import Qt, QTimer  # noqa: E402
 from PySide6.QtWidgets import QToolBar  # noqa: E402
 
+import app.scene  # noqa: E402
 import app.worker  # noqa: E402
-from app.overview import DETAIL_TRIANGLES, triangle_raster  # noqa: E402
-from app.scene import _vtk_step, readable_ticks  # noqa: E402
+from app.overview import (  # noqa: E402
+    DETAIL_TRIANGLES,
+    MAX_TEXELS,
+    MIN_SIDE,
+    count_grid,
+    count_in_rect,
+    decimated_lines,
+    overlap_count_raster,
+    triangle_raster,
+)
+from app.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 
 FIG12A = MeshParams()  # the paper's Fig. 12(a): 720 patches, 23,040 triangles at n = 4
@@ -78,6 +88,15 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
         threads.append(threading.current_thread())
         return real_compute(*args, **kwargs)
 
+    colouring = []  # the overview image's colours are made off the GUI thread
+    real_rgba = app.scene.overview_rgba
+
+    def overview_rgba(*args, **kwargs):
+        colouring.append(threading.current_thread())
+        return real_rgba(*args, **kwargs)
+
+    monkeypatch.setattr(app.scene, "overview_rgba", overview_rgba)
+
     monkeypatch.setattr(app.worker, "compute", compute)
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     old = weakref.ref(window.model.result.mesh)
@@ -108,15 +127,27 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
     assert scene.actors_overview.GetVisibility()
     assert "Detail reduced" in scene.note.GetInput()
     assert f"{720 * 2 * DENSE_N**2:,}" in scene.note.GetInput()
-    # the boundary stays a line layer (46,080 edges: 2 rings x 2 sides x 720 x 32 / 2)
-    assert scene.datasets["boundary_edges"].n_cells == window.model.result.stats[
-        "boundary_edges"]
+    # what the GUI thread uploads follows the view, not the mesh: about one texel a pixel
+    # of the view's longer side, and the boundary (paper mode: every patch's border,
+    # 720 x 4 sides x 32 = 92,160 edges) as the segments those texels can show, ends on
+    # texel centres
+    rows, cols = scene.overview.covered.shape
+    assert max(rows, cols) == max(MIN_SIDE, max(window.plotter.renderer.GetSize()))
+    assert scene.overview.image.dimensions == (cols, rows, 1)
+    boundary = scene.datasets["boundary_edges"]
+    assert 0 < boundary.n_cells < window.model.result.stats["boundary_edges"] == 92_160
+    x0, x1, y0, y1 = scene.overview.bounds
+    u = (boundary.points[:, 0] - x0) * cols / (x1 - x0) - 0.5
+    assert np.allclose(u, np.round(u), atol=1e-6)
+    assert colouring and threading.main_thread() not in colouring
     # the old mesh is gone: nothing keeps a dead mesh alive
     gc.collect()
     assert old() is None
 
 
 def test_resting_zoomed_in_brings_back_full_detail_of_the_part_in_view(window, qtbot):
+    combo = window.layers.color_by  # patch colours: every edge drawn (no overlap look)
+    combo.setCurrentIndex(combo.findData("patch"))
     type_value(qtbot, window, "subdivisions", "16")  # 368,640 triangles
     qtbot.waitUntil(lambda: shown_triangles(window) == 368_640, timeout=60_000)
     assert window.scene.reduced and window.scene.detail_rect is None
@@ -220,6 +251,8 @@ def test_vtk_keys_do_not_act_in_the_view(window, qtbot):
 
 def test_small_triangles_on_screen_get_the_light_look_with_a_note(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    combo = window.layers.color_by  # a colouring chosen: not the overlap look
+    combo.setCurrentIndex(combo.findData("patch"))
     scene = window.scene
     window.reset_camera()
     full_scale = window.plotter.camera.parallel_scale
@@ -302,3 +335,152 @@ def test_triangle_raster_covers_a_watertight_square_with_the_triangles_under_it(
                   & (corners.max(axis=1) >= np.column_stack([x.ravel(), y.ravel()])
                      - texel / 2 - 1e-12))
     assert inside_box.all()
+
+
+def _brute_overlap(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    """Patches covering each point, one comparison per (point, patch) pair."""
+    x, y = xy[:, :1], xy[:, 1:2]
+    return ((rects[:, 0] <= x) & (x <= rects[:, 2]) & (rects[:, 1] <= y)
+            & (y <= rects[:, 3])).sum(axis=1)
+
+
+def test_overlap_count_raster_counts_the_rectangles_over_each_texel_centre():
+    rng = np.random.default_rng(7)
+    lo = rng.uniform(0, 8, (200, 2))
+    rects = np.column_stack([lo, lo + rng.uniform(0.1, 3, (200, 2))])
+    bounds, shape = (0.0, 11.0, 0.0, 11.0), (37, 53)
+    counts = overlap_count_raster(rects, bounds, shape)
+    jj, ii = np.mgrid[0:37, 0:53]
+    centres = np.column_stack([((ii + 0.5) * 11 / 53).ravel(), ((jj + 0.5) * 11 / 37).ravel()])
+    np.testing.assert_array_equal(counts.ravel(), _brute_overlap(rects, centres))
+
+
+def test_decimated_lines_follow_the_texels_not_the_segments():
+    # a circle of 100,000 segments on a 200 x 200 raster
+    t = np.linspace(0, 2 * np.pi, 100_000, endpoint=False)
+    pts = np.column_stack([np.cos(t), np.sin(t)])
+    pairs = np.column_stack([np.arange(100_000), (np.arange(100_000) + 1) % 100_000])
+    xy, kept = decimated_lines(pts, pairs, (-1, 1, -1, 1), (200, 200))
+    # about the circle's length in texels (2 pi 100 = 628), each end a texel centre
+    assert 600 <= len(kept) <= 1300
+    texel = (xy + 1) * 100 - 0.5
+    np.testing.assert_allclose(texel, np.round(texel), atol=1e-9)
+    assert np.all(np.abs(np.hypot(*xy.T) - 1) <= np.sqrt(2) * 0.01)
+
+
+def test_count_in_rect_never_undercounts():
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(-5, 5, (50_000, 2))
+    grid = count_grid(pts, (-5, 5, -5, 5), side=64)
+    assert grid.sum() == 50_000
+    for _ in range(20):
+        a, c = rng.uniform(-5, 4, 2)
+        rect = (a, a + rng.uniform(0.01, 1), c, c + rng.uniform(0.01, 1))
+        exact = np.count_nonzero((pts[:, 0] >= rect[0]) & (pts[:, 0] <= rect[1])
+                                 & (pts[:, 1] >= rect[2]) & (pts[:, 1] <= rect[3]))
+        assert exact <= count_in_rect(grid, (-5, 5, -5, 5), rect) <= exact + 4 * 50_000 / 64
+
+
+def test_overlapping_paper_patches_get_the_overlap_look(window, qtbot):
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    scene, result = window.scene, window.model.result
+    window.reset_camera()
+    # Fig. 12(a): 720 squares at 1 degree steps overlap (ratio 0.86): faces coloured by
+    # the patches covering each triangle, 1 in k patches outlined for the zoom, no
+    # triangle edges or patch borders (they tangle into a moire), and the note says so
+    assert result.stats["overlap_ratio"] > 0.8
+    assert scene.overlap_look and scene.shown_color_by == "overlap"
+    faces = scene.datasets["faces"]
+    rects = np.asarray(result.mesh.patch_rects)
+    expected = _brute_overlap(rects, result.mesh.centroids)
+    counts = np.asarray(faces.cell_data["overlap"])
+    np.testing.assert_array_equal(counts, expected)
+    assert counts.max() == 20  # ring of 720: at most 20 squares over one point
+    assert scene.scalar_bar.GetVisibility()
+    k = scene.outline_stride
+    camera = window.plotter.camera
+    px_per_mm = window.plotter.renderer.GetSize()[1] / (2 * camera.parallel_scale)
+    assert k == outline_stride(rects, result.stats["overlap_ratio"], px_per_mm) > 1
+    assert scene.datasets["patch_outlines"].n_cells == 4 * len(rects[::k])
+    assert scene.actors["patch_outlines"].GetVisibility()
+    for layer in ("triangle_edges", "boundary_edges", "centroids"):
+        assert window.model.layers[layer] and not scene.actors[layer].GetVisibility(), layer
+    assert "Overlapping patches (ratio 0.86)" in scene.note.GetInput()
+    assert f"1 in {k} of 720 outlined" in scene.note.GetInput()
+    # zoomed in until the outlines are apart: every patch outlined, and still no
+    # triangle edge (those of overlapping patches cross each other at any zoom)
+    camera.parallel_scale /= 40
+    window._camera_moved()
+    assert scene.outline_stride == 1
+    assert scene.datasets["patch_outlines"].n_cells == 4 * 720
+    assert not scene.actors["triangle_edges"].GetVisibility()
+    assert "all outlined" in scene.note.GetInput()
+    # a colouring chosen in the Layers panel ends the look: its own legend, the mesh's
+    # triangle edges, no outlines (that layer is off by default)
+    combo = window.layers.color_by
+    combo.setCurrentIndex(combo.findData("area"))
+    assert not scene.overlap_look and scene.shown_color_by == "area"
+    assert not scene.actors["patch_outlines"].GetVisibility()
+    assert scene.actors["triangle_edges"].GetVisibility()
+    assert "Overlapping patches" not in scene.note.GetInput()
+
+
+def test_patches_that_do_not_overlap_keep_the_plain_look(window, qtbot):
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    type_value(qtbot, window, "angle_step", "20")  # 18 squares a ring, far apart
+    qtbot.waitUntil(lambda: window.model.params.angle_step == 20
+                    and window.model.result.params == window.model.params, timeout=10_000)
+    scene = window.scene
+    assert window.model.result.stats["overlap_ratio"] == 0
+    assert not scene.overlap_look and scene.shown_color_by == "none"
+    assert not scene.scalar_bar.GetVisibility()
+    assert not scene.actors["patch_outlines"].GetVisibility()
+
+
+def test_resting_zoomed_in_on_too_many_triangles_gives_a_sharper_image(window, qtbot):
+    type_value(qtbot, window, "subdivisions", str(DENSE_N))  # 1,474,560 triangles
+    qtbot.waitUntil(lambda: shown_triangles(window) == 720 * 2 * DENSE_N**2, timeout=120_000)
+    scene = window.scene
+    base = scene.overview
+    window.reset_camera()
+    camera = window.plotter.camera
+    camera.parallel_scale /= 4  # a quarter of the view: ~90,000 triangles, too many
+    window.plotter.iren.interactor.InvokeEvent("EndInteractionEvent")  # the camera rests
+    qtbot.waitUntil(lambda: scene.zoom is not None, timeout=30_000)
+    rect = scene.view_rect()
+    assert scene.detail_rect is None  # no full detail: an image of the part in view
+    assert scene.texel_px(base, rect) > ZOOM_TEXEL_PX  # the overview's texels are blocks
+    assert scene.texel_px(scene.zoom, rect) <= ZOOM_TEXEL_PX  # this one's are not
+    rows, cols = scene.zoom.covered.shape
+    assert rows * cols <= MAX_TEXELS  # the memory bound
+    assert scene.actors_zoom.GetVisibility()
+    x0, x1, y0, y1 = scene.zoom.bounds
+    assert x0 <= rect[0] and rect[1] <= x1 and y0 <= rect[2] and rect[3] <= y1
+    # coloured like the overview (the overlap look), off the GUI thread
+    assert scene.zoom.image_key == "overlap" and scene.zoom.image is not None
+
+
+@pytest.mark.parametrize("key, span", [("area", (0.01, 0.05)), ("overlap", (0.5, 20.5)),
+                                       ("patch", (-0.5, 9.5)), ("region", (0.5, 3.5))])
+def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
+    # the worker colours an overview without VTK; the result is what the faces' VTK
+    # lookup table gives the same values
+    import pyvista as pv
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+    from app.layers import COLOR_BY
+    from app.scene import Overview, lut_settings, overview_rgba
+
+    array = COLOR_BY[key][0]
+    lo, hi = span
+    values = np.random.default_rng(1).uniform(lo, hi, (40, 30)).astype(np.float32)
+    values[0, :3], values[1, :3] = lo, hi  # both ends of the range
+    covered = np.ones(values.shape, bool)
+    covered[5] = False
+    rgba = overview_rgba(Overview((0, 1, 0, 1), covered, {array: values}), key, {array: span})
+    cmap, n_values, a, b = lut_settings(array, {array: span})
+    lut = pv.LookupTable(cmap=cmap, n_values=n_values, scalar_range=(a, b))
+    expected = vtk_to_numpy(lut.MapScalars(numpy_to_vtk(values.ravel()), 0, -1))
+    expected = expected.reshape(40, 30, -1)
+    np.testing.assert_array_equal(rgba[covered][:, :3], expected[covered][:, :3])
+    assert np.all(rgba[~covered] == 0)  # transparent where no triangle is
