@@ -34,6 +34,7 @@ from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
 from core import MeshParams
 
+from .edit.cell_document import predicted_triangles
 from .model import AppModel, MeshResult, compute
 from .scene import detail_data, scene_data
 
@@ -142,7 +143,8 @@ class MeshController(QObject):
 
     def request(self) -> None:
         """Mesh the model's current parameters (coalesced with other requests)."""
-        self._pending = (self.model.params, self.model.generation)
+        # the parameters, or the unit cell (its visible elements): compute() builds either
+        self._pending = (self.model.build_target(), self.model.generation)
         self.last_request_time = time.perf_counter()
         if self.current is not None and self.current.triangles >= CANCEL_TRIANGLES:
             self.current.cancelled = True  # a newer request: the long build is stale
@@ -165,7 +167,7 @@ class MeshController(QObject):
             return
         params, generation = self._pending
         shown = self.model.result
-        if (shown is not None and shown.mesh is not None and shown.params == params
+        if (shown is not None and shown.mesh is not None and shown.target == params
                 and shown.source == "parameters"):
             # back to what is on screen (Undo during a build): nothing to build
             self._pending = None
@@ -178,7 +180,7 @@ class MeshController(QObject):
                 return  # a short build finishes first / one is already winding down
             self._abandon_current(announce=False)
         self._pending = None
-        triangles = params.predicted_triangles()
+        triangles = predicted_triangles(params)
         # an explicit tolerance can make the weld slow or fail: never on the GUI thread
         if triangles <= self.sync_triangles and params.tolerance is None:
             self._deliver(compute(params, generation, prepare=scene_data))

@@ -1,0 +1,2 @@
+"""Editing unit cells in the window: the cell document with undo, the Elements and
+Lattice panels, the array preview and the Cell menu's actions."""
