@@ -19,12 +19,13 @@ from PySide6.QtTest import QTest  # noqa: E402
 from app.window import file_error_sentence  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.cell import (  # noqa: E402
+    Element,
     build_cell,
     cell_to_dict,
     load_cell,
     load_cell_preset,
 )
-from tests.app_user import answer_file_dialogs, settle, shown_counts  # noqa: E402
+from tests.app_user import answer_file_dialogs, settle, shown_counts, type_into  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 
@@ -65,8 +66,22 @@ def list_click(window, row, column=0, double=False):
     pos = rect.center()
     if column == 0:
         pos.setX(rect.left() + tree.columnWidth(0) // 2 + 10)
-    click = QTest.mouseDClick if double else QTest.mouseClick
-    click(tree.viewport(), Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, pos)
+    left, none = Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier
+    QTest.mouseClick(tree.viewport(), left, none, pos)
+    if double:  # a double click is a click, then the second press (a double-click event)
+        QTest.mouseDClick(tree.viewport(), left, none, pos)
+
+
+def rename(window, row, text):
+    """Double-click the name of ``row``, type ``text`` and Enter into the editor it opens."""
+    from PySide6.QtWidgets import QApplication, QLineEdit
+
+    list_click(window, row, double=True)
+    editors = window.cell_tools.elements.list.findChildren(QLineEdit)
+    assert len(editors) == 1
+    type_into(editors[0], text)
+    QApplication.processEvents()  # the view commits the editor's text in a queued call
+    QApplication.processEvents()  # and a refused name is put back in the next round
 
 
 def check_box_click(window, row):
@@ -176,3 +191,161 @@ def test_main_cli_passes_cell_options_to_the_window(monkeypatch):
     monkeypatch.setattr(app.window, "main", lambda argv: seen.append(argv) or 0)
     assert cli.main(["--cell-preset", "coding-16x16"]) == 0
     assert seen == [["--cell-preset", "coding-16x16"]]
+
+
+# -- the Elements panel ----------------------------------------------------------------
+
+
+def replaced(cell, k, **changes):
+    """``cell`` with element ``k`` changed (params fields, or position/rotation/name)."""
+    el = cell.elements[k]
+    own = {key: changes.pop(key) for key in ("position", "rotation", "name") if key in changes}
+    params = el.params.replace(**changes) if changes else el.params
+    new = Element(params, own.get("position", el.position), own.get("rotation", el.rotation),
+                  own.get("name", el.name))
+    return cell.replace(elements=cell.elements[:k] + (new,) + cell.elements[k + 1:])
+
+
+def test_selected_element_is_edited_by_the_parameters_and_its_fields(window, qtbot):
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    panel = window.cell_tools.elements
+    list_click(window, 1)
+    assert window.model.cell_state.selected == 1
+    assert window.controls.combos["structure"].currentData() == "patch"
+    assert window.controls.rows["patch_size"].field.text() == "3"
+    assert panel.position.text() == "-1.5, -1.5"
+    assert window.parameters_dock.windowTitle() == "Parameters – element centre patch"
+    steps = len(window.model.undo_stack)
+
+    type_into(window.controls.rows["patch_size"].field, "4")
+    settle(window, qtbot)
+    edited = replaced(cell, 1, patch_size=4.0)
+    assert_shows(window, edited)
+    type_into(panel.position, "-2, -2")
+    settle(window, qtbot)
+    edited = replaced(edited, 1, position=(-2.0, -2.0))
+    assert_shows(window, edited)
+    type_into(panel.rotation, "45")
+    settle(window, qtbot)
+    edited = replaced(edited, 1, rotation=45.0)
+    assert_shows(window, edited)
+    assert len(window.model.undo_stack) == steps + 3  # one undo step per edit
+
+    # a value the element refuses: the field says why, the cell and its mesh stay
+    shown = window.model.result
+    type_into(panel.position, "left")
+    settle(window, qtbot)
+    assert window.model.result is shown and window.model.cell == edited
+    assert panel.error.text() == "position='left' is invalid; expected two numbers (x, y) in mm"
+    assert panel.position.text() == "left"
+
+    # the first element again: the Parameters panel shows the rings
+    list_click(window, 0)
+    assert window.controls.rows["inner_radius"].field.text() == "5"
+    assert window.model.cell_state.selected == 0
+    for _ in range(3):
+        window.act_undo.trigger()
+    settle(window, qtbot)
+    assert_shows(window, cell)
+    assert window.model.cell_state.selected == 1  # the selection of that step
+
+
+def test_add_duplicate_delete_move_hide_rename(window, qtbot):
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    panel = window.cell_tools.elements
+    steps = len(window.model.undo_stack)
+    ring = Element(MeshParams(structure="ring"), name="ring")
+
+    add = next(a for a in panel.add_menu.actions() if a.text() == "Ring")
+    add.trigger()  # Add ▸ Ring (a worker build: 11,520 triangles)
+    settle(window, qtbot)
+    expected = cell.replace(elements=cell.elements + (ring,))
+    assert_shows(window, expected)
+    assert window.model.cell_state.selected == 2
+
+    QTest.mouseClick(panel.findChild(type(panel.add_button), "element_duplicate"),
+                     Qt.MouseButton.LeftButton)
+    settle(window, qtbot)
+    twin = Element(ring.params, name="ring 2")
+    assert_shows(window, cell.replace(elements=cell.elements + (ring, twin)))
+
+    panel.list.setFocus()
+    QTest.keyClick(panel.list, Qt.Key.Key_Delete)  # the selected copy
+    settle(window, qtbot)
+    assert_shows(window, expected)
+
+    QTest.keyClick(panel.list, Qt.Key.Key_Up, Qt.KeyboardModifier.AltModifier)
+    settle(window, qtbot)
+    moved = cell.replace(elements=(cell.elements[0], ring, cell.elements[1]))
+    assert_shows(window, moved)
+    assert [panel.list.topLevelItem(k).text(0) for k in range(3)] == [
+        "rings", "ring", "centre patch"]
+
+    check_box_click(window, 0)  # hide the rings: not meshed, still in the cell
+    settle(window, qtbot)
+    assert window.model.cell == moved
+    assert_shows(window, moved.replace(elements=moved.elements[1:]))
+
+    rename(window, 2, "disc")  # the centre patch
+    settle(window, qtbot)
+    renamed = replaced(moved, 2, name="disc")
+    assert window.model.cell == renamed
+    assert_shows(window, renamed.replace(elements=renamed.elements[1:]))
+
+    # a name already taken is refused with the core's words; nothing changes
+    rename(window, 2, "ring")
+    settle(window, qtbot)
+    assert window.model.cell == renamed and panel.list.topLevelItem(2).text(0) == "disc"
+    assert panel.error.text() == ("elements[2].name='ring' is already the name of elements[1]; "
+                                  "element names must be unique")
+
+    assert len(window.model.undo_stack) == steps + 6  # add, duplicate, delete, move, hide, rename
+    for _ in range(6):
+        window.act_undo.trigger()
+    settle(window, qtbot)
+    assert_shows(window, cell)
+
+
+def test_hiding_every_element_is_refused(window, qtbot):
+    open_preset(window, qtbot, "hexagonal-rings")
+    shown = window.model.result
+    check_box_click(window, 0)
+    settle(window, qtbot)
+    assert window.model.result is shown and window.model.cell_state.hidden == (False,)
+    assert window.cell_tools.elements.error.text() == (
+        "every element is hidden: the cell would have no metal to mesh")
+    tree = window.cell_tools.elements.list
+    qtbot.waitUntil(lambda: tree.topLevelItem(0).checkState(0) == Qt.CheckState.Checked)
+
+
+def test_conforming_overlap_is_refused_naming_both_and_the_mesh_stays(window, qtbot):
+    open_preset(window, qtbot, "hexagonal-rings")
+    cell = load_cell_preset("hexagonal-rings")
+    panel = window.cell_tools.elements
+    next(a for a in panel.add_menu.actions() if a.text() == "Square patch").trigger()
+    settle(window, qtbot)
+    patch = Element(MeshParams(structure="patch", mode="conforming"), name="patch")
+    with_patch = cell.replace(elements=cell.elements + (patch,))  # inside the ring's hole
+    assert_shows(window, with_patch)
+    shown = window.model.result
+    steps = len(window.model.undo_stack)
+
+    type_into(panel.position, "2.5, 0")  # onto the ring's track
+    settle(window, qtbot)
+    with pytest.raises(ValueError) as refusal:
+        build_cell(replaced(with_patch, 1, position=(2.5, 0.0)))
+    assert "element 'ring' (elements[0]) and element 'patch' (elements[1]) overlap" in str(
+        refusal.value)
+    assert panel.error.text() == f"cell 'hexagonal-rings': {refusal.value}"
+    assert not panel.error.isHidden()
+    assert window.model.result is shown and window.model.cell == with_patch
+    assert panel.position.text() == "0, 0"
+    assert len(window.model.undo_stack) == steps  # the refused edit left no undo step
+    assert "(the last good mesh stays on screen)" in window.statusBar().currentMessage()
+
+    type_into(panel.position, "-0.5, -0.5")  # a good place clears the message
+    settle(window, qtbot)
+    assert_shows(window, replaced(with_patch, 1, position=(-0.5, -0.5)))
+    assert panel.error.isHidden()

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (
     QAbstractItemView,
@@ -71,6 +71,7 @@ class ElementsPanel(QWidget):
         self.list.currentItemChanged.connect(self._current_changed)
         self.list.itemChanged.connect(self._item_changed)
         self.list.itemDoubleClicked.connect(self._double_clicked)
+        self.list.installEventFilter(self)
         col.addWidget(self.list, 1)
 
         row = QHBoxLayout()
@@ -126,6 +127,7 @@ class ElementsPanel(QWidget):
         self.error.hide()
         col.addWidget(self.error)
 
+        self._rows: tuple[Any, ...] | None = ()
         model.cell_changed.connect(self.show_cell)
         model.cell_error_changed.connect(self.show_error)
         self.show_cell(model.cell_state)
@@ -142,6 +144,18 @@ class ElementsPanel(QWidget):
         button.setObjectName(f"element_{text.lower()}")
         row.addWidget(button)
         return act
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        """Keys typed into the list: Del deletes, Alt+↑/↓ move the selected element."""
+        if watched is self.list and event.type() == QEvent.Type.KeyPress:
+            alt = event.modifiers() == Qt.KeyboardModifier.AltModifier
+            if event.key() == Qt.Key.Key_Delete and not event.modifiers():
+                self.delete()
+                return True
+            if alt and event.key() in (Qt.Key.Key_Up, Qt.Key.Key_Down):
+                self.move(-1 if event.key() == Qt.Key.Key_Up else 1)
+                return True
+        return super().eventFilter(watched, event)
 
     # -- user -> model -------------------------------------------------------------------
 
@@ -193,12 +207,18 @@ class ElementsPanel(QWidget):
         hide = item.checkState(0) != Qt.CheckState.Checked
         if hide != state.hidden[k]:
             if not self.model.edit_cell(lambda s: s.with_hidden(k, hide)):
-                self.show_cell(self.state)
+                self._refill_later()
             return
         name = item.text(0)
         if name != state.elements[k].name:
             if not self.model.edit_cell(lambda s: s.renamed(k, name)):
-                self.show_cell(self.state)
+                self._refill_later()
+
+    def _refill_later(self) -> None:
+        """A refused check or name: the items show the cell again, once the view is done
+        with the item it is changing (never from inside its signal)."""
+        self._rows = ("stale",)
+        QTimer.singleShot(0, lambda: self.show_cell(self.model.cell_state))
 
     def _position_typed(self, text: str) -> None:
         k = self._selected()
@@ -225,23 +245,15 @@ class ElementsPanel(QWidget):
     def show_cell(self, state: CellState | None) -> None:
         self.hint.setVisible(state is None)
         self.list.blockSignals(True)
-        self.list.clear()
-        if state is not None:
-            for el, hidden in zip(state.elements, state.hidden, strict=True):
-                item = QTreeWidgetItem([el.name, STRUCTURE_TITLES.get(el.params.structure,
-                                                                      el.params.structure)])
-                item.setFlags(item.flags() | Qt.ItemFlag.ItemIsEditable
-                              | Qt.ItemFlag.ItemIsUserCheckable)
-                item.setCheckState(0, Qt.CheckState.Unchecked if hidden else Qt.CheckState.Checked)
-                if hidden:
-                    for c in (0, 1):
-                        item.setForeground(c, Qt.GlobalColor.gray)
-                    item.setToolTip(0, "Hidden: not meshed")
-                self.list.addTopLevelItem(item)
-            if state.selected is not None:
-                self.list.setCurrentItem(self.list.topLevelItem(state.selected))
+        rows = None if state is None else tuple(
+            (el.name, el.params.structure, h)
+            for el, h in zip(state.elements, state.hidden, strict=True))
+        if rows != self._rows:  # a new selection alone keeps the items (and a double click)
+            self._rows = rows
+            self._fill(state)
+        if state is not None and state.selected is not None:
+            self.list.setCurrentItem(self.list.topLevelItem(state.selected))
         self.list.blockSignals(False)
-        self.list.resizeColumnToContents(0)
         has = state is not None
         selected = has and state.selected is not None
         for w in (self.list, self.add_button):
@@ -253,6 +265,23 @@ class ElementsPanel(QWidget):
         self.position.setEnabled(selected)
         self.rotation.setEnabled(selected)
         self._show_selected()
+
+    def _fill(self, state: CellState | None) -> None:
+        self.list.clear()
+        if state is None:
+            return
+        for el, hidden in zip(state.elements, state.hidden, strict=True):
+            item = QTreeWidgetItem([el.name, STRUCTURE_TITLES.get(el.params.structure,
+                                                                  el.params.structure)])
+            item.setFlags(item.flags() | Qt.ItemFlag.ItemIsEditable
+                          | Qt.ItemFlag.ItemIsUserCheckable)
+            item.setCheckState(0, Qt.CheckState.Unchecked if hidden else Qt.CheckState.Checked)
+            if hidden:
+                for c in (0, 1):
+                    item.setForeground(c, Qt.GlobalColor.gray)
+                item.setToolTip(0, "Hidden: not meshed")
+            self.list.addTopLevelItem(item)
+        self.list.resizeColumnToContents(0)
 
     def _show_selected(self) -> None:
         state = self.state
