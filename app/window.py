@@ -55,6 +55,7 @@ from core import MeshParams, TriMesh
 
 from .controls import ControlsPanel
 from .edit.cell_tools import CellTools
+from .edit.lattice_panel import parse_copies
 from .framing import frame_from_above, look_from_above, pixels_per_mm
 from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from .layers_panel import LayersPanel
@@ -1214,6 +1215,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="open a unit cell file (instead of --preset/--params/--set)")
     parser.add_argument("--cell-preset", metavar="NAME",
                         help="open a shipped unit cell (see the Cell menu)")
+    parser.add_argument("--array", metavar="N1xN2", type=parse_copies,
+                        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)")
     parser.add_argument("--screenshot", metavar="PNG",
                         help="save a grab of the whole window once the mesh is shown")
     parser.add_argument("--quit", action="store_true",
@@ -1274,6 +1277,10 @@ def main(argv: list[str] | None = None) -> int:
         except (ValueError, TypeError, OSError) as exc:
             print(f"barymesh: error: {exc}", file=sys.stderr)
             return 1
+    elif args.array is not None:
+        print("barymesh: error: --array previews copies of a unit cell: give --cell or "
+              "--cell-preset too (see barymesh --help)", file=sys.stderr)
+        return 2
     elif args.preset or args.params or args.sets:
         from core.presets import resolve_params
 
@@ -1296,6 +1303,8 @@ def main(argv: list[str] | None = None) -> int:
     _install_excepthook()
     scripted = bool(args.quit or args.screenshot)
     window = MainWindow(params, scripted=scripted, cell=cell)
+    if args.array is not None:
+        window.cell_tools.lattice.set_copies(*args.array)
     window.show()
     if scripted:
         window.scripted_run = _ScriptedRun(window, args.screenshot, args.quit)  # keep alive

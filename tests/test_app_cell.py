@@ -20,12 +20,20 @@ from app.window import file_error_sentence  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.cell import (  # noqa: E402
     Element,
+    Lattice,
     build_cell,
     cell_to_dict,
     load_cell,
     load_cell_preset,
+    tile,
 )
-from tests.app_user import answer_file_dialogs, settle, shown_counts, type_into  # noqa: E402
+from tests.app_user import (  # noqa: E402
+    answer_file_dialogs,
+    choose,
+    settle,
+    shown_counts,
+    type_into,
+)
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 
@@ -349,3 +357,101 @@ def test_conforming_overlap_is_refused_naming_both_and_the_mesh_stays(window, qt
     settle(window, qtbot)
     assert_shows(window, replaced(with_patch, 1, position=(-0.5, -0.5)))
     assert panel.error.isHidden()
+
+
+# -- the lattice and the array preview -------------------------------------------------
+
+
+def test_lattice_kind_and_periods(window, qtbot):
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    lattice = window.cell_tools.lattice
+    steps = len(window.model.undo_stack)
+    choose(lattice.kind, "hexagonal")
+    settle(window, qtbot)
+    assert_shows(window, cell.replace(lattice=Lattice.hexagonal(20.0)))
+    assert not lattice.period2.isEnabled()
+    assert lattice.vectors.text() == "a1 = (20, 0) mm, a2 = (10, 17.320508076) mm"
+    type_into(lattice.period1, "25")
+    settle(window, qtbot)
+    assert_shows(window, cell.replace(lattice=Lattice.hexagonal(25.0)))
+    choose(lattice.kind, "rectangular")
+    type_into(lattice.period2, "30")
+    settle(window, qtbot)
+    assert_shows(window, cell.replace(lattice=Lattice.rectangular(25.0, 30.0)))
+    assert len(window.model.undo_stack) == steps + 4
+
+    shown = window.model.result
+    type_into(lattice.period1, "-1")
+    settle(window, qtbot)
+    assert window.model.result is shown
+    assert window.cell_tools.elements.error.text() == (
+        "px=-1.0 is invalid; expected a finite length > 0 mm")
+    for _ in range(4):
+        window.act_undo.trigger()
+    settle(window, qtbot)
+    assert_shows(window, cell)
+
+
+def spin_to(box, value):
+    """Type ``value`` into a spin box and press Enter."""
+    type_into(box.lineEdit(), str(value))
+
+
+def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path, monkeypatch):
+    from core.io import read_mesh
+    from tests.gui_helpers import near, pixel, rendered
+
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    lattice = window.cell_tools.lattice
+    preview = window.cell_tools.preview
+    assert preview.ghost_triangles == 0 and "cell_outline" in window.plotter.actors
+    spin_to(lattice.n1, 3)
+    spin_to(lattice.n2, 2)
+    assert lattice.copies == (3, 2)
+    one = build_cell(cell).mesh
+    assert preview.ghost_triangles == 5 * one.n_triangles  # drawn, the cell itself not again
+    assert_shows(window, cell)  # the mesh is still the one cell
+    ghosts = window.plotter.actors["cell_ghosts"].mapper.dataset
+    assert ghosts.n_cells == 5 * one.n_triangles
+    lo, hi = one.points[:, :2].min(axis=0), one.points[:, :2].max(axis=0)
+    assert np.allclose(ghosts.bounds[:4], (lo[0] - 20, hi[0] + 20, lo[1], hi[1] + 20))
+    assert window.plotter.actors["cell_copy_outlines"].mapper.dataset.n_lines == 5
+    assert preview.bounds == (-30.0, 30.0, -10.0, 30.0)  # the copies framed, all in view
+
+    image = rendered(window.plotter)
+    background = pixel(image, window.plotter, (27.0, 7.0, 0.0))  # a copy's empty corner
+    assert near(background, "#ffffff", tol=10)
+    for centre in ((20.0, 0.0), (-20.0, 20.0)):  # the centre patch of two copies
+        assert not near(pixel(image, window.plotter, (*centre, 0.0)), "#ffffff", tol=10)
+
+    # Cell ▸ Export array mesh: the copies welded into one mesh, as tile() makes it
+    answer = answer_file_dialogs(monkeypatch)
+    answer(tmp_path / "array.msh")
+    window.cell_tools.act_export_array.trigger()
+    written = read_mesh(tmp_path / "array.msh")
+    array = tile(cell, 3, 2).mesh
+    assert (written.n_triangles, written.n_vertices) == (array.n_triangles, array.n_vertices)
+    assert written.n_triangles == 6 * one.n_triangles
+
+    spin_to(lattice.n1, 1)
+    spin_to(lattice.n2, 1)
+    assert preview.ghost_triangles == 0 and "cell_ghosts" not in window.plotter.actors
+    window.act_undo.trigger()  # back to the structure: no outline
+    settle(window, qtbot)
+    assert "cell_outline" not in window.plotter.actors
+
+
+def test_window_command_line_previews_an_array(tmp_path):
+    out = tmp_path / "array.png"
+    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
+    proc = subprocess.run(
+        [sys.executable, "-m", "app", "--cell-preset", "coding-16x16", "--array", "3x3",
+         "--screenshot", str(out), "--quit"], env=env, capture_output=True, text=True,
+        timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert iio.imread(out).shape[0] > 300
+    alone = subprocess.run([sys.executable, "-m", "app", "--array", "3x3", "--quit"], env=env,
+                           capture_output=True, text=True, timeout=60)
+    assert alone.returncode == 2 and "--array previews copies of a unit cell" in alone.stderr

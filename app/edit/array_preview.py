@@ -18,9 +18,9 @@ from core.cell import Lattice
 
 #: Ghost copies are drawn up to this many triangles in all (beyond: outlines only).
 GHOST_TRIANGLES = 2_000_000
-GHOST_OPACITY = 0.45
-#: The faces' colour, a shade darker: ghosts stay visible at their lower opacity.
-GHOST_COLOR = "#a9c3e3"
+GHOST_OPACITY = 0.4
+#: A grey blue: copies read as copies beside the cell's own (light blue) faces.
+GHOST_COLOR = "#b4bdc8"
 OUTLINE_COLOR = "#2b2b2b"
 COPY_OUTLINE_COLOR = "#8c8c8c"
 _NAMES = ("cell_ghosts", "cell_outline", "cell_copy_outlines")

@@ -261,6 +261,8 @@ class CellTools:
         framed = getattr(w, "_framed", None)
         was_framed = framed is not None and w._camera_state() == framed
         self.preview.show(result.mesh, cell.lattice, *self.lattice.copies)
+        if self.preview.bounds is not None:  # rulers (and R) span the cell and its copies
+            w.scene.show_rulers(self.preview.bounds)
         if (reframe or was_framed) and self.preview.bounds is not None:
             frame_from_above(w.plotter, self.preview.bounds)
             w.scene.fit_marker_sizes()

@@ -3,6 +3,9 @@ n1 x n2 copies (a view setting, not part of the cell)."""
 
 from __future__ import annotations
 
+import argparse
+import re
+
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
 
@@ -14,6 +17,19 @@ KIND_TITLES = {"rectangular": "Rectangular", "hexagonal": "Hexagonal",
                "oblique": "Oblique (from the file)"}
 #: Copies per direction the preview offers.
 MAX_COPIES = 50
+
+
+def parse_copies(text: str) -> tuple[int, int]:
+    """``"3x2"`` -> (3, 2): the preview's copies as typed on the command line.
+
+    >>> parse_copies("3x2"), parse_copies(" 4 × 1 ")
+    ((3, 2), (4, 1))
+    """
+    match = re.fullmatch(r"\s*(\d{1,6})\s*[xX×]\s*(\d{1,6})\s*", text)
+    if not match or not all(1 <= int(g) <= MAX_COPIES for g in match.groups()):
+        raise argparse.ArgumentTypeError(
+            f"{text[:40]!r} is invalid; expected N1xN2 copies, each 1 to {MAX_COPIES}, e.g. 3x2")
+    return int(match[1]), int(match[2])
 
 
 class LatticePanel(QGroupBox):
@@ -64,6 +80,11 @@ class LatticePanel(QGroupBox):
     @property
     def copies(self) -> tuple[int, int]:
         return self.n1.value(), self.n2.value()
+
+    def set_copies(self, n1: int, n2: int) -> None:
+        """Preview ``n1`` x ``n2`` copies (the command line's ``--array``)."""
+        self.n1.setValue(n1)
+        self.n2.setValue(n2)
 
     def _kind_chosen(self, _index: int) -> None:
         state = self.model.cell_state
