@@ -455,3 +455,31 @@ def test_window_command_line_previews_an_array(tmp_path):
     alone = subprocess.run([sys.executable, "-m", "app", "--array", "3x3", "--quit"], env=env,
                            capture_output=True, text=True, timeout=60)
     assert alone.returncode == 2 and "--array previews copies of a unit cell" in alone.stderr
+
+
+def test_mode_of_an_element_is_the_cells(window, qtbot):
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    choose(window.controls.combos["mode"], "conforming")
+    settle(window, qtbot)
+    conforming = cell.replace(mode="conforming")
+    assert_shows(window, conforming)
+    assert {el.params.mode for el in window.model.cell.elements} == {"conforming"}
+    window.act_undo.trigger()
+    settle(window, qtbot)
+    assert_shows(window, cell)
+
+
+def test_new_cell_from_the_structure_on_screen(window, qtbot):
+    window.cell_tools.act_new.trigger()
+    settle(window, qtbot)
+    cell = window.model.cell
+    assert [el.params for el in cell.elements] == [COARSE]
+    # COARSE's outer patches (1 mm) are centred on r = 9 mm: the one at 0° reaches
+    # x = 9.5, a 19 mm box, centred; the cell is 1.25 times that
+    points = window.model.result.mesh.points[:, :2]
+    assert np.allclose(points.min(axis=0), -9.5) and np.allclose(points.max(axis=0), 9.5)
+    assert cell.lattice == Lattice.rectangular(23.75)
+    assert_shows(window, cell)
+    assert shown_counts(window)["triangles"] == 384  # the structure's own mesh, one copy
+    assert window.cell_menu.title() == "&Cell" and window._cell_menu() is window.cell_menu
