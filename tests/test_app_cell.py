@@ -483,3 +483,87 @@ def test_new_cell_from_the_structure_on_screen(window, qtbot):
     assert_shows(window, cell)
     assert shown_counts(window)["triangles"] == 384  # the structure's own mesh, one copy
     assert window.cell_menu.title() == "&Cell" and window._cell_menu() is window.cell_menu
+
+
+# -- dragging in the view --------------------------------------------------------------
+
+
+def mouse(window, kind, world, buttons):
+    """A mouse event of ``kind`` on the 3D view where ``world`` (x, y mm) is drawn."""
+    from PySide6.QtCore import QEvent, QPointF
+    from PySide6.QtGui import QMouseEvent
+    from PySide6.QtWidgets import QApplication
+
+    from tests.gui_helpers import widget_pos
+
+    plotter = window.plotter
+    pos = widget_pos(plotter, (*world, 0.0))
+    button = Qt.MouseButton.NoButton if kind == QEvent.Type.MouseMove else Qt.MouseButton.LeftButton
+    event = QMouseEvent(kind, QPointF(pos), QPointF(plotter.mapToGlobal(pos)), button, buttons,
+                        Qt.KeyboardModifier.NoModifier)
+    QApplication.sendEvent(plotter, event)
+
+
+def drag(window, path):
+    """Press at ``path[0]``, move through the rest with the button held, release at the end."""
+    from PySide6.QtCore import QEvent
+
+    left = Qt.MouseButton.LeftButton
+    mouse(window, QEvent.Type.MouseButtonPress, path[0], left)
+    for point in path[1:]:
+        mouse(window, QEvent.Type.MouseMove, point, left)
+    mouse(window, QEvent.Type.MouseButtonRelease, path[-1], Qt.MouseButton.NoButton)
+
+
+def test_drag_an_element_in_the_view_snaps_to_the_grid(window, qtbot):
+    from PySide6.QtCore import QEvent
+
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    tool = window.cell_tools.dragger
+    assert tool.act.shortcut().toString() == "G"
+    tool.act.trigger()
+    assert tool.active and window.cell_tools.elements.snap_grid == 0.5
+    steps = len(window.model.undo_stack)
+
+    # press on the centre patch (its centre is the origin), move: it follows, on the grid
+    left = Qt.MouseButton.LeftButton
+    mouse(window, QEvent.Type.MouseButtonPress, (0.0, 0.0), left)
+    assert tool.dragging == 1 and window.model.cell_state.selected == 1
+    mouse(window, QEvent.Type.MouseMove, (1.4, 0.9), left)
+    assert tool.target == (0.0, -0.5)  # (-1.5, -1.5) + (1.4, 0.9) on the 0.5 mm grid
+    ghost = window.plotter.actors["element_drag"]
+    assert ghost.GetPosition() == (1.5, 1.0, 0.0)
+    mouse(window, QEvent.Type.MouseMove, (3.5, 2.0), left)
+    mouse(window, QEvent.Type.MouseButtonRelease, (3.5, 2.0), Qt.MouseButton.NoButton)
+    settle(window, qtbot)
+    moved = replaced(cell, 1, position=(2.0, 0.5))
+    assert_shows(window, moved)
+    assert "element_drag" not in window.plotter.actors
+    assert len(window.model.undo_stack) == steps + 1  # the whole drag: one undo step
+    assert window.cell_tools.elements.position.text() == "2, 0.5"
+
+    # without a grid the position follows the pointer (to a pixel's size)
+    type_into(window.cell_tools.elements.snap, "")
+    assert window.cell_tools.elements.snap_grid is None
+    drag(window, [(2.0 + 1.5, 0.5 + 1.5), (2.0 + 1.5 - 1.13, 0.5 + 1.5 + 0.61)])
+    settle(window, qtbot)
+    x, y = window.model.cell.elements[1].position
+    pixel_mm = 60.0 / window.plotter.width()  # the view spans more than 20 mm: generous
+    assert abs(x - 0.87) < pixel_mm and abs(y - 1.11) < pixel_mm
+
+    # a press off the metal is the camera's: nothing moves
+    before = window.model.cell
+    drag(window, [(9.0, 9.0), (5.0, 5.0)])
+    settle(window, qtbot)
+    assert window.model.cell == before and tool.dragging is None
+
+    tool.act.trigger()  # off: a press on an element no longer moves it
+    assert not tool.active
+    drag(window, [(0.0, 8.5), (3.0, 8.5)])
+    settle(window, qtbot)
+    assert window.model.cell == before
+    window.act_undo.trigger()
+    window.act_undo.trigger()
+    settle(window, qtbot)
+    assert_shows(window, cell)

@@ -22,6 +22,7 @@ from ..framing import frame_from_above
 from ..model import MeshResult
 from .array_preview import ArrayPreview
 from .cell_document import CellState
+from .drag_tool import ElementDragger
 from .elements_panel import ElementsPanel
 from .lattice_panel import LatticePanel
 
@@ -58,6 +59,7 @@ class CellTools:
         self.act_export_array = a("Export &array mesh…", self.export_array_dialog,
                                   tip="Weld n1 x n2 copies of the cell (the preview's) into "
                                       "one mesh and write it")
+        self.dragger = ElementDragger(window)
         self.preset_actions: dict[str, QAction] = {}
         self.model.cell_changed.connect(self._cell_changed)
         self.model.result_changed.connect(self._result_changed)
@@ -88,6 +90,7 @@ class CellTools:
         cell.addSeparator()
         cell.addActions([self.elements.act_duplicate, self.elements.act_delete,
                          self.elements.act_up, self.elements.act_down])
+        cell.addAction(self.dragger.act)
         cell.addAction(self.act_export_array)
         cell.addSeparator()
         cell.addAction(self.dock.toggleViewAction())
@@ -239,7 +242,7 @@ class CellTools:
             w.parameters_dock.setWindowTitle(f"Parameters – element {name}")
         else:
             w.parameters_dock.setWindowTitle("Parameters – no element selected")
-        for act in (self.act_save, self.act_export_array):
+        for act in (self.act_save, self.act_export_array, self.dragger.act):
             act.setEnabled(state is not None)
 
     def _result_changed(self, result: MeshResult) -> None:

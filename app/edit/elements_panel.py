@@ -9,6 +9,7 @@ under the list; the cell and its mesh stay as they were.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
@@ -32,7 +33,8 @@ from ..controls import ERROR_COLOUR, ValueField, decimal_point
 from ..model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
 from .cell_document import CellState
 
-HIDDEN_COLOUR = "#9a9a9a"
+#: The grid (mm) a dragged element's position snaps to, until the user types another.
+DEFAULT_SNAP = 0.5
 
 
 def structure_presets() -> dict[str, str]:
@@ -115,8 +117,17 @@ class ElementsPanel(QWidget):
         self.rotation.setToolTip("Counter-clockwise turn about the element's own origin (°)")
         self.rotation.submitted.connect(self._rotation_typed)
         self.rotation.reverted.connect(self._show_selected)
+        self.snap = ValueField(self)
+        self.snap.setObjectName("snap_grid")
+        self.snap.setToolTip("Cell ▸ Drag elements puts positions on multiples of this "
+                             "(mm); empty or 0: no snapping")
+        self.snap.submitted.connect(self._snap_typed)
+        self.snap.reverted.connect(lambda: self.snap.show_text(format_value(self.snap_grid)))
+        self.snap_grid: float | None = DEFAULT_SNAP
+        self.snap.show_text(format_value(self.snap_grid))
         form.addRow("&Position x, y (mm)", self.position)
         form.addRow("&Rotation (°)", self.rotation)
+        form.addRow("Drag &snap grid (mm)", self.snap)
         col.addLayout(form)
 
         self.error = QLabel(self)
@@ -235,6 +246,21 @@ class ElementsPanel(QWidget):
         value = read_number(text, None, decimal_point()).value
         if not self.model.edit_cell(lambda s: s.placed(k, rotation=value)):
             self._keep_typed(self.rotation, text)
+
+    def _snap_typed(self, text: str) -> None:
+        value = read_number(text, None, decimal_point()).value
+        if text.strip() in ("", "0") or value == 0:
+            self.snap_grid = None
+            self.snap.show_text("")
+            self.show_error(None)
+        elif isinstance(value, float) and math.isfinite(value) and value > 0:
+            self.snap_grid = value
+            self.snap.show_text(format_value(value))
+            self.show_error(None)
+        else:
+            self.show_error(f"snap grid={text.strip()!r} is invalid; expected a length > 0 mm, "
+                            "or empty for no snapping")
+            self._keep_typed(self.snap, text)
 
     def _keep_typed(self, field: ValueField, text: str) -> None:
         field.show_text(text)
