@@ -405,7 +405,7 @@ class MeshResult:
 
 
 def compute(
-    params: MeshParams,
+    params: MeshParams | UnitCell,
     generation: int = 0,
     prepare: Callable[[TriMesh], Any] | None = None,
     cancel: Callable[[], bool] | None = None,
@@ -916,17 +916,26 @@ class AppModel:
         self.history_changed.emit()
 
     def _refuse_cell_build(self, message: str) -> None:
-        """The core refused the cell (overlapping elements): back to the cell on screen,
-        the refused edit dropped from the history, the message kept."""
-        good = self.shown_state
-        if good is not None and good != self.cell_state:
+        """The core refused the cell (overlapping elements): back to what is on screen (a
+        cell, or the structure before a cell was opened), the refused edit dropped from
+        the history, the message kept."""
+        shown = self.result
+        good: MeshParams | CellState | None = None
+        if shown is not None and shown.cell is not None:
+            good = self.shown_state
+        elif shown is not None and shown.source == "parameters":
+            good = shown.params
+        if good is not None and good != self._state():
             if self.undo_stack and self.undo_stack[-1] == good:
                 self.undo_stack.pop()
-            self.cell_state = good
-            self.params = good.params or self.params
+            if isinstance(good, CellState):
+                self.cell_state = good
+                self.params = good.params or self.params
+            else:
+                self.cell_state, self.params = None, good
             self._merging = None
             self._forget_refusals()
-            self.cell_changed.emit(good)
+            self.cell_changed.emit(self.cell_state)
             self.draft_changed.emit(self.draft)
             self._errors_changed()
             self.history_changed.emit()

@@ -567,3 +567,99 @@ def test_drag_an_element_in_the_view_snaps_to_the_grid(window, qtbot):
     window.act_undo.trigger()
     settle(window, qtbot)
     assert_shows(window, cell)
+
+
+# -- refusals on opening, cancelling, and the model without a window -------------------
+
+
+def overlapping_cell():
+    """A conforming cell whose two elements overlap (build_cell refuses it)."""
+    from core.cell import UnitCell
+
+    ring = Element(MeshParams(structure="ring", mode="conforming", inner_radius=3.0,
+                              angle_step=10.0), name="ring")
+    patch = Element(MeshParams(structure="patch", mode="conforming"), (2.5, 0.0), name="bar")
+    return UnitCell(Lattice.rectangular(12.0), (ring, patch), mode="conforming", name="clash")
+
+
+def test_opening_a_cell_the_core_refuses_keeps_the_structure(window, qtbot, tmp_path,
+                                                              monkeypatch):
+    from core.cell import save_cell
+
+    path = tmp_path / "clash.cell.json"
+    save_cell(overlapping_cell(), path)
+    shown = window.model.result
+    answer = answer_file_dialogs(monkeypatch)
+    answer(path)
+    window.cell_tools.act_open.trigger()
+    settle(window, qtbot)
+    with pytest.raises(ValueError) as refusal:
+        build_cell(overlapping_cell())
+    assert "element 'ring' (elements[0]) and element 'bar' (elements[1]) overlap" in str(
+        refusal.value)
+    assert window.model.result is shown and window.model.cell is None
+    assert window.model.params == COARSE and not window.model.undo_stack
+    assert window.cell_tools.elements.error.text() == f"cell 'clash': {refusal.value}"
+    assert window.statusBar().currentMessage() == (
+        f"cell 'clash': {refusal.value} (the last good mesh stays on screen)")
+
+
+def test_cancel_returns_to_the_cell_on_screen(window, qtbot):
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    window.controller.sync_triangles = 0  # every build in the worker
+    list_click(window, 1)
+    type_into(window.cell_tools.elements.position, "4, 4")
+    window.controller.flush()
+    assert window.controller.busy
+    window.cancel_build()  # before the worker's result is delivered
+    assert window.model.cell == cell and not window.controller.busy
+    qtbot.wait(200)  # the abandoned build's result arrives and is dropped
+    assert_shows(window, cell)
+    assert window.cell_tools.elements.position.text() == "-1.5, -1.5"
+
+
+def test_model_cell_undo_and_refusals_without_qt():
+    from app.edit.cell_document import CellState, predicted_triangles
+    from app.model import AppModel, compute
+
+    cell = load_cell_preset("split-ring-pair")
+    model = AppModel(COARSE)
+    model.set_cell(cell)
+    assert model.build_target() == cell and model.params == cell.elements[0].params
+    assert predicted_triangles(cell) == build_cell(cell).mesh.n_triangles
+    result = compute(model.build_target(), model.generation)
+    assert model.set_result(result) and result.cell_stats["parts"][1]["name"] == "right ring"
+
+    assert model.set_value("gap_width", 0.5)  # the selected element's parameter
+    assert model.cell.elements[0].params.gap_width == 0.5
+    assert model.cell.elements[1] == cell.elements[1]
+    assert not model.edit_cell(lambda s: s.renamed(0, "right ring"))
+    assert model.cell_error.endswith("element names must be unique")
+    assert model.edit_cell(lambda s: s.placed(1, rotation=90))
+    model.select_element(1)
+    assert model.params == cell.elements[1].params and model.cell_state.selected == 1
+    model.undo()
+    assert model.cell.elements[1].rotation == cell.elements[1].rotation
+    model.undo()
+    assert model.cell == cell
+    model.undo()
+    assert model.cell is None and model.params == COARSE
+    model.redo()
+    assert model.cell == cell and isinstance(model.undo_stack[-1], MeshParams)
+
+    # a structure preset leaves the cell (undoable), like a parameter file
+    model.set_params(MeshParams(structure="patch"))
+    assert model.cell is None and isinstance(model.undo_stack[-1], CellState)
+
+    # a failed cell build: back to the cell on screen, the edit gone from the history
+    model.undo()
+    result = compute(model.build_target(), model.generation)
+    model.set_result(result)
+    steps = len(model.undo_stack)
+    assert model.edit_cell(lambda s: s.placed(1, position=(-2.0, 0.0)))
+    failed = compute(model.build_target(), model.generation)
+    failed = type(failed)(model.generation, None, error="cell 'x': refused", cell=failed.cell)
+    assert not model.set_result(failed)
+    assert model.cell == cell and len(model.undo_stack) == steps
+    assert model.cell_error == "cell 'x': refused"

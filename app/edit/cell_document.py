@@ -56,7 +56,8 @@ class CellState:
     hidden : tuple of bool
         One per element: a hidden element is not meshed.
     selected : int or None
-        The element the Parameters panel edits.
+        The element the Parameters panel edits (not compared: two states that differ
+        only in their selection make the same mesh and are the same undo step).
     visible : UnitCell
         The cell that is meshed: ``cell`` without its hidden elements (computed; a state
         whose visible cell the core refuses, e.g. with no metal left, cannot exist).
@@ -64,7 +65,7 @@ class CellState:
 
     cell: UnitCell
     hidden: tuple[bool, ...] = ()
-    selected: int | None = None
+    selected: int | None = field(default=None, compare=False)
     visible: UnitCell = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
