@@ -38,7 +38,7 @@ from core.params import (
     STRUCTURES,
 )
 
-from .edit.cell_document import CellState
+from .edit.cell_document import CellState, CellTarget
 from .layers import COLOR_BY, DEFAULT_VISIBLE
 
 log = logging.getLogger(__name__)
@@ -399,13 +399,13 @@ class MeshResult:
     cell_stats: dict[str, Any] = field(default_factory=dict)  # CellMesh.stats()
 
     @property
-    def target(self) -> MeshParams | UnitCell | None:
-        """What was built: the cell, or the parameters."""
-        return self.cell if self.cell is not None else self.params
+    def target(self) -> MeshParams | CellTarget | None:
+        """What was built, as :meth:`AppModel.build_target` asks for it."""
+        return CellTarget(self.cell) if self.cell is not None else self.params
 
 
 def compute(
-    params: MeshParams | UnitCell,
+    params: MeshParams | CellTarget,
     generation: int = 0,
     prepare: Callable[[TriMesh], Any] | None = None,
     cancel: Callable[[], bool] | None = None,
@@ -416,11 +416,11 @@ def compute(
     ``cancel()`` returned True (checked by the core between its stages and here between
     build, statistics and ``prepare``) as ``MeshResult.cancelled``. ``seconds`` is the
     time of ``build_mesh`` plus the statistics (topology), what a user waits for;
-    ``timings`` has each stage. A :class:`core.cell.UnitCell` in place of ``params`` is
-    built by :func:`compute_cell`.
+    ``timings`` has each stage. A unit cell (a :class:`app.edit.cell_document.CellTarget`
+    in place of ``params``) is built by :func:`compute_cell`.
     """
-    if isinstance(params, UnitCell):
-        return compute_cell(params, generation, prepare, cancel)
+    if isinstance(params, CellTarget):
+        return compute_cell(params.cell, generation, prepare, cancel)
     timings: dict[str, float] = {}
 
     def check() -> None:
@@ -723,9 +723,11 @@ class AppModel:
         """What an undo step restores: the parameters, or the cell state."""
         return self.cell_state if self.cell_state is not None else self.params
 
-    def build_target(self) -> MeshParams | UnitCell:
+    def build_target(self) -> MeshParams | CellTarget:
         """What the mesh on screen should be: the parameters, or the cell's visible part."""
-        return self.cell_state.visible if self.cell_state is not None else self.params
+        if self.cell_state is None:
+            return self.params
+        return CellTarget(self.cell_state.visible)
 
     def revert(self, name: str) -> None:
         """Drop the refused value of ``name`` (Esc in its field): show ``params`` again."""
@@ -775,8 +777,9 @@ class AppModel:
         else:
             self.cell_state = None
             self.params = state
-        if changed or was_cell is not self.cell_state:
-            self._set_cell_error(None)
+        if was_cell is not self.cell_state:  # a cell edited, opened or left
+            if changed:
+                self._set_cell_error(None)
             self.cell_changed.emit(self.cell_state)
         self.draft_changed.emit(self.draft)
         self._errors_changed()

@@ -517,11 +517,14 @@ class MainWindow(QMainWindow):
         self.cell_tools = CellTools(self)
 
     def _cell_menu(self) -> QMenu:
-        """The Cell menu (made on first use, so that every tool can add to it)."""
-        menu = getattr(self, "cell_menu", None)
-        if menu is None:
-            menu = self.cell_menu = self.menuBar().addMenu("&Cell")
-        return menu
+        """The menu bar's "&Cell" menu, made on first use, so that every tool adds to one."""
+        bar = self.menuBar()
+        for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
+            if menu.title() == "&Cell":
+                self.cell_menu = menu
+                return menu
+        self.cell_menu = bar.addMenu("&Cell")
+        return self.cell_menu
 
     def _make_menus(self) -> None:
         bar = self.menuBar()

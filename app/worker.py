@@ -34,7 +34,6 @@ from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
 from core import MeshParams
 
-from .edit.cell_document import predicted_triangles
 from .model import AppModel, MeshResult, compute
 from .scene import detail_data, scene_data
 
@@ -143,7 +142,8 @@ class MeshController(QObject):
 
     def request(self) -> None:
         """Mesh the model's current parameters (coalesced with other requests)."""
-        # the parameters, or the unit cell (its visible elements): compute() builds either
+        # the parameters, or a unit cell's visible elements (a CellTarget): compute()
+        # builds either
         self._pending = (self.model.build_target(), self.model.generation)
         self.last_request_time = time.perf_counter()
         if self.current is not None and self.current.triangles >= CANCEL_TRIANGLES:
@@ -180,7 +180,7 @@ class MeshController(QObject):
                 return  # a short build finishes first / one is already winding down
             self._abandon_current(announce=False)
         self._pending = None
-        triangles = predicted_triangles(params)
+        triangles = params.predicted_triangles()
         # an explicit tolerance can make the weld slow or fail: never on the GUI thread
         if triangles <= self.sync_triangles and params.tolerance is None:
             self._deliver(compute(params, generation, prepare=scene_data))

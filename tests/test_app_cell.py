@@ -620,13 +620,13 @@ def test_cancel_returns_to_the_cell_on_screen(window, qtbot):
 
 
 def test_model_cell_undo_and_refusals_without_qt():
-    from app.edit.cell_document import CellState, predicted_triangles
+    from app.edit.cell_document import CellState, CellTarget, predicted_triangles
     from app.model import AppModel, compute
 
     cell = load_cell_preset("split-ring-pair")
     model = AppModel(COARSE)
     model.set_cell(cell)
-    assert model.build_target() == cell and model.params == cell.elements[0].params
+    assert model.build_target() == CellTarget(cell) and model.params == cell.elements[0].params
     assert predicted_triangles(cell) == build_cell(cell).mesh.n_triangles
     result = compute(model.build_target(), model.generation)
     assert model.set_result(result) and result.cell_stats["parts"][1]["name"] == "right ring"

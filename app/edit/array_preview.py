@@ -58,11 +58,14 @@ class ArrayPreview:
         self.ghost_triangles = 0  # triangles drawn as ghosts (tests, the panel's note)
         self.bounds: tuple[float, float, float, float] | None = None
 
-    def clear(self) -> None:
-        for name in _NAMES:
+    def clear(self) -> bool:
+        """Remove the preview's actors; whether there were any (a render is due then)."""
+        drawn = [name for name in _NAMES if name in self.plotter.actors]
+        for name in drawn:
             self.plotter.remove_actor(name, render=False)
         self.ghost_triangles = 0
         self.bounds = None
+        return bool(drawn)
 
     def show(self, mesh: TriMesh | None, lattice: Lattice | None, n1: int, n2: int) -> None:
         """Draw the outline of the cell and of its n1 x n2 copies, and the copies' faces."""

@@ -198,6 +198,23 @@ class CellState:
         return CellState(self.cell.replace(lattice=lattice), self.hidden, self.selected)
 
 
+@dataclass(frozen=True)
+class CellTarget:
+    """A cell to mesh, as the meshing controller sees a build: like :class:`MeshParams`
+    it predicts its triangles and has a ``tolerance`` (the worker builds it off the GUI
+    thread above the same size, and with an explicit tolerance always)."""
+
+    cell: UnitCell
+    sized = False  # the subdivisions are the elements' own, not chosen by the mesher
+
+    @property
+    def tolerance(self) -> float | None:
+        return self.cell.tolerance
+
+    def predicted_triangles(self) -> int:
+        return predicted_triangles(self.cell)
+
+
 def lattice_periods(lattice: Lattice) -> tuple[float, float]:
     """The two lengths the Lattice panel shows: |a1| and |a2| (mm)."""
     return math.hypot(*lattice.a1), math.hypot(*lattice.a2)

@@ -47,6 +47,8 @@ class CellTools:
         col.addWidget(self.elements, 1)
         col.addWidget(self.lattice)
         self.dock = window._add_dock("Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea)
+        if self.model.cell_state is None:  # shown when a cell is opened (or from the menu)
+            self.dock.hide()
         self.preview = ArrayPreview(window.plotter)
         a = window._action
         self.act_open = a("Open c&ell…", self.open_cell_dialog, "Ctrl+Shift+O",
@@ -235,8 +237,8 @@ class CellTools:
         w.controls.setEnabled(editable)
         if state is None:
             w.parameters_dock.setWindowTitle("Parameters")
-            self.preview.clear()
-            w.request_render()
+            if self.preview.clear():
+                w.request_render()
         elif state.selected is not None:
             name = state.elements[state.selected].name
             w.parameters_dock.setWindowTitle(f"Parameters – element {name}")
@@ -256,9 +258,9 @@ class CellTools:
         if w._closed:
             return
         cell = result.cell if result is not None else None
-        if cell is None:
-            self.preview.clear()
-            w.request_render()
+        if cell is None:  # a structure: no outline (and no extra paint of the view)
+            if self.preview.clear():
+                w.request_render()
             return
         # a freshly framed mesh (not a camera the user moved) is framed with its copies
         framed = getattr(w, "_framed", None)
