@@ -1253,7 +1253,8 @@ def main(argv: list[str] | None = None) -> int:
 
     ``barymesh [--preset NAME] [--params FILE] [--set name=value ...] [--screenshot PNG]
     [--quit]``: with ``--screenshot PNG --quit`` the window renders, saves a grab of the
-    whole window and exits.
+    whole window and exits. ``--cell FILE`` or ``--cell-preset NAME`` (with
+    ``--array N1xN2`` for the preview) open a unit cell instead of one structure.
     """
     parser = build_parser()
     try:

@@ -246,7 +246,7 @@ def test_selected_element_is_edited_by_the_parameters_and_its_fields(window, qtb
     settle(window, qtbot)
     assert window.model.result is shown and window.model.cell == edited
     assert panel.error.text() == "position='left' is invalid; expected two numbers (x, y) in mm"
-    assert panel.position.text() == "left"
+    assert panel.position.text() == "left" and "border" in panel.position.styleSheet()
 
     # the first element again: the Parameters panel shows the rings
     list_click(window, 0)
@@ -543,7 +543,11 @@ def test_drag_an_element_in_the_view_snaps_to_the_grid(window, qtbot):
     assert len(window.model.undo_stack) == steps + 1  # the whole drag: one undo step
     assert window.cell_tools.elements.position.text() == "2, 0.5"
 
-    # without a grid the position follows the pointer (to a pixel's size)
+    # a grid must be a length; without one the position follows the pointer (to a pixel)
+    type_into(window.cell_tools.elements.snap, "-1")
+    assert window.cell_tools.elements.snap_grid == 0.5
+    assert window.cell_tools.elements.error.text() == (
+        "snap grid='-1' is invalid; expected a length > 0 mm, or empty for no snapping")
     type_into(window.cell_tools.elements.snap, "")
     assert window.cell_tools.elements.snap_grid is None
     drag(window, [(2.0 + 1.5, 0.5 + 1.5), (2.0 + 1.5 - 1.13, 0.5 + 1.5 + 0.61)])
@@ -663,3 +667,14 @@ def test_model_cell_undo_and_refusals_without_qt():
     assert not model.set_result(failed)
     assert model.cell == cell and len(model.undo_stack) == steps
     assert model.cell_error == "cell 'x': refused"
+
+
+@pytest.mark.parametrize("module", ["app.edit.cell_document", "app.edit.array_preview",
+                                    "app.edit.drag_tool", "app.edit.lattice_panel"])
+def test_docstring_examples(module):
+    """The examples in the cell editor's docstrings (app/ is not in the doctest paths)."""
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.attempted > 0 and result.failed == 0

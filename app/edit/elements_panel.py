@@ -29,7 +29,7 @@ from PySide6.QtWidgets import (
 
 from core import MeshParams
 
-from ..controls import ERROR_COLOUR, ValueField, decimal_point
+from ..controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
 from ..model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
 from .cell_document import CellState
 
@@ -252,10 +252,14 @@ class ElementsPanel(QWidget):
         if text.strip() in ("", "0") or value == 0:
             self.snap_grid = None
             self.snap.show_text("")
+            self.snap.setProperty("refused", False)
+            self.snap.setStyleSheet("")
             self.show_error(None)
         elif isinstance(value, float) and math.isfinite(value) and value > 0:
             self.snap_grid = value
             self.snap.show_text(format_value(value))
+            self.snap.setProperty("refused", False)
+            self.snap.setStyleSheet("")
             self.show_error(None)
         else:
             self.show_error(f"snap grid={text.strip()!r} is invalid; expected a length > 0 mm, "
@@ -263,8 +267,10 @@ class ElementsPanel(QWidget):
             self._keep_typed(self.snap, text)
 
     def _keep_typed(self, field: ValueField, text: str) -> None:
+        """A refused value stays as typed, framed red, until corrected or Esc."""
         field.show_text(text)
         field.setProperty("refused", True)
+        field.setStyleSheet(f"QLineEdit {{{ERROR_STYLE}}}")
 
     # -- model -> widgets ----------------------------------------------------------------
 
@@ -316,6 +322,7 @@ class ElementsPanel(QWidget):
             el = state.elements[state.selected]
         for field in (self.position, self.rotation):
             field.setProperty("refused", False)
+            field.setStyleSheet("")
         self.position.show_text("" if el is None else format_value(el.position))
         self.rotation.show_text("" if el is None else format_value(el.rotation))
 
