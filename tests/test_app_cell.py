@@ -678,3 +678,25 @@ def test_docstring_examples(module):
 
     result = doctest.testmod(importlib.import_module(module))
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_drag_snaps_a_side_onto_another_elements_side(window, qtbot):
+    from app.edit.drag_tool import EDGE_SNAP_PX
+    from app.framing import pixels_per_mm
+
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    rings = build_cell(cell).part_meshes[0].points[:, :2]
+    right = float(rings[:, 0].max())  # 8.5: the ring patch at 0° reaches r + 1 mm
+    window.cell_tools.dragger.act.trigger()
+    type_into(window.cell_tools.elements.snap, "")  # no grid: only the sides snap
+    reach = EDGE_SNAP_PX / pixels_per_mm(window.plotter)
+    assert 0.2 < reach < 1.0  # a few tenths of a mm at this zoom
+    # the patch's left side (x = -1.5 at the press on its centre) dragged to 0.2 mm right
+    # of the rings' right side: it lands on it; y follows the pointer
+    drag(window, [(0.0, 0.0), (4.0, 1.0), (right + 0.2 + 1.5, 1.75)])
+    settle(window, qtbot)
+    x, y = window.model.cell.elements[1].position
+    assert x == right
+    assert abs(y - 0.25) < 60.0 / window.plotter.width()
+    assert_shows(window, replaced(cell, 1, position=(x, y)))

@@ -1,5 +1,7 @@
 """Cell ▸ Drag elements (G): press on an element in the 3D view, drag, release: the
-element moves there, its position snapped to the grid of the Elements panel.
+element moves there, its position snapped to the grid of the Elements panel, or, when
+one of its bounding box's sides comes within :data:`EDGE_SNAP_PX` screen pixels of a
+side of another element's box, onto that side (so that elements line up and touch).
 
 While the tool is on and a cell is on screen, a press on an element's metal belongs to
 the tool (the view does not rotate); a press elsewhere still turns or pans the camera.
@@ -18,11 +20,15 @@ import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
 
+from ..framing import pixels_per_mm
+
 if TYPE_CHECKING:
     from ..window import MainWindow
 
 log = logging.getLogger(__name__)
 DRAG_COLOR = "#00a0b0"
+#: A side of the dragged element's box this close (screen pixels) to another's snaps to it.
+EDGE_SNAP_PX = 8.0
 
 
 def snapped(value: float, grid: float | None) -> float:
@@ -36,6 +42,30 @@ def snapped(value: float, grid: float | None) -> float:
     return round(round(value / grid) * grid, 12)
 
 
+def edge_snap(moving: np.ndarray, others: np.ndarray, reach: float) -> tuple[float | None,
+                                                                               float | None]:
+    """The shift (dx, dy) that puts a side of box ``moving`` onto the nearest side of one
+    of ``others`` within ``reach`` mm, per axis; None where no side is that close.
+
+    Boxes are ``(x0, y0, x1, y1)``: ``moving`` (4,), ``others`` (K, 4) float.
+
+    >>> edge_snap(np.array([0, 0, 1, 1.]), np.array([[1.25, 5, 3, 6]]), 0.5)
+    (0.25, None)
+    """
+    out: list[float | None] = []
+    for lo, hi in ((0, 2), (1, 3)):
+        if not len(others):
+            out.append(None)
+            continue
+        sides = np.array([moving[lo], moving[hi]])
+        targets = np.concatenate([others[:, lo], others[:, hi]])
+        gaps = targets[None, :] - sides[:, None]  # (2, 2K)
+        k = np.unravel_index(np.argmin(np.abs(gaps)), gaps.shape)
+        gap = float(gaps[k])
+        out.append(gap if abs(gap) <= reach else None)
+    return out[0], out[1]
+
+
 class ElementDragger(QObject):
     """The drag tool of one window (see the module docstring)."""
 
@@ -47,6 +77,8 @@ class ElementDragger(QObject):
         self._start: np.ndarray | None = None  # world point of the press
         self._origin = (0.0, 0.0)  # the element's position at the press
         self.target: tuple[float, float] | None = None  # where the release puts it
+        self._box = np.zeros(4)  # the dragged element's box (x0, y0, x1, y1) at the press
+        self._others = np.zeros((0, 4))  # the other shown elements' boxes
         self._actor: Any = None
         self.act = window._action("&Drag elements", self.set_active, "G",
                                   "Move an element by dragging it in the view (snapped to the "
@@ -111,8 +143,22 @@ class ElementDragger(QObject):
         self.dragging, self._start = k, start
         self._origin = model.cell_state.elements[k].position
         self.target = self._origin
+        boxes = self._boxes()
+        self._box = boxes.pop(k)
+        self._others = np.array(list(boxes.values())).reshape(-1, 4)
         self._draw_part(k)
         return True
+
+    def _boxes(self) -> dict[int, np.ndarray]:
+        """Bounding box (x0, y0, x1, y1) of every shown element as placed, by its index."""
+        result, state = self.window.model.result, self.window.model.cell_state
+        shown = [k for k, hidden in enumerate(state.hidden) if not hidden]
+        boxes = {}
+        for k, mesh in zip(shown, result.cell_mesh.part_meshes, strict=False):
+            if mesh.n_vertices:
+                xy = mesh.points[:, :2]
+                boxes[k] = np.concatenate([xy.min(axis=0), xy.max(axis=0)])
+        return boxes
 
     def _move(self, pos: QPointF) -> None:
         point = self._world(pos)
@@ -120,8 +166,18 @@ class ElementDragger(QObject):
             return
         grid = self.window.cell_tools.elements.snap_grid
         delta = point - self._start
-        self.target = (snapped(self._origin[0] + delta[0], grid),
-                       snapped(self._origin[1] + delta[1], grid))
+        x = snapped(self._origin[0] + delta[0], grid)
+        y = snapped(self._origin[1] + delta[1], grid)
+        # a side near another element's side wins over the grid
+        raw = np.array([self._origin[0] + delta[0], self._origin[1] + delta[1]])
+        shift = np.tile(raw - self._origin, 2)
+        reach = EDGE_SNAP_PX / max(pixels_per_mm(self.window.plotter), 1e-12)
+        dx, dy = edge_snap(self._box + shift, self._others, reach)
+        if dx is not None:
+            x = round(float(raw[0] + dx), 12)
+        if dy is not None:
+            y = round(float(raw[1] + dy), 12)
+        self.target = (x, y)
         if self._actor is not None:
             self._actor.SetPosition(self.target[0] - self._origin[0],
                                     self.target[1] - self._origin[1], 0.0)
