@@ -46,7 +46,8 @@ class CellTools:
         self.lattice = LatticePanel(self.model, box)
         col.addWidget(self.elements, 1)
         col.addWidget(self.lattice)
-        self.dock = window._add_dock("Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.dock = window._add_dock("Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea,
+                                     scroll=True)
         if self.model.cell_state is None:  # shown when a cell is opened (or from the menu)
             self.dock.hide()
         self.preview = ArrayPreview(window.plotter)

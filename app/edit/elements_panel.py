@@ -74,7 +74,10 @@ class ElementsPanel(QWidget):
         self.list.itemChanged.connect(self._item_changed)
         self.list.itemDoubleClicked.connect(self._double_clicked)
         self.list.installEventFilter(self)
-        col.addWidget(self.list, 1)
+        row_height = self.list.fontMetrics().height() + 4
+        self.list.setMinimumHeight(5 * row_height + 8)  # the header and 4 rows
+        self.list.setMaximumHeight(7 * row_height + 8)
+        col.addWidget(self.list)
 
         row = QHBoxLayout()
         self.add_button = QToolButton(self)
