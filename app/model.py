@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from core import BuildCancelled, MeshParams, TriMesh, build_mesh
+from core.cell import UnitCell, build_cell
 from core.params import (
     ANGULAR_STRUCTURES,
     DOUBLE_STRUCTURES,
@@ -37,6 +38,7 @@ from core.params import (
     STRUCTURES,
 )
 
+from .edit.cell_document import CellState, CellTarget
 from .layers import COLOR_BY, DEFAULT_VISIBLE
 
 log = logging.getLogger(__name__)
@@ -409,10 +411,18 @@ class MeshResult:
     source: str = "parameters"  # or the path of an imported mesh file
     cancelled: bool = False  # abandoned because a newer request or Cancel came
     timings: dict[str, float] = field(default_factory=dict)  # stage -> seconds
+    cell: UnitCell | None = None  # the (visible) unit cell meshed instead of ``params``
+    cell_mesh: Any = None  # its core.cell.CellMesh: parts, periodic pairs, notes
+    cell_stats: dict[str, Any] = field(default_factory=dict)  # CellMesh.stats()
+
+    @property
+    def target(self) -> MeshParams | CellTarget | None:
+        """What was built, as :meth:`AppModel.build_target` asks for it."""
+        return CellTarget(self.cell) if self.cell is not None else self.params
 
 
 def compute(
-    params: MeshParams,
+    params: MeshParams | CellTarget,
     generation: int = 0,
     prepare: Callable[[TriMesh], Any] | None = None,
     cancel: Callable[[], bool] | None = None,
@@ -423,8 +433,11 @@ def compute(
     ``cancel()`` returned True (checked by the core between its stages and here between
     build, statistics and ``prepare``) as ``MeshResult.cancelled``. ``seconds`` is the
     time of ``build_mesh`` plus the statistics (topology), what a user waits for;
-    ``timings`` has each stage.
+    ``timings`` has each stage. A unit cell (a :class:`app.edit.cell_document.CellTarget`
+    in place of ``params``) is built by :func:`compute_cell`.
     """
+    if isinstance(params, CellTarget):
+        return compute_cell(params.cell, generation, prepare, cancel)
     timings: dict[str, float] = {}
 
     def check() -> None:
@@ -453,6 +466,50 @@ def compute(
         log.exception("meshing failed for %s", params)
         return MeshResult(generation, params, error=f"meshing failed: {exc}")
     return MeshResult(generation, params, mesh, stats, seconds, scene, timings=timings)
+
+
+def compute_cell(
+    cell: UnitCell,
+    generation: int = 0,
+    prepare: Callable[[TriMesh], Any] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> MeshResult:
+    """:func:`compute` of a unit cell: :func:`core.cell.build_cell`, the whole cell's
+    statistics, every part's and the periodic match (``cell_stats``). A refusal of the
+    core (overlapping elements in conforming mode) comes back as ``error``."""
+    timings: dict[str, float] = {}
+
+    def check() -> None:
+        if cancel is not None and cancel():
+            raise BuildCancelled("the build was cancelled")
+
+    try:
+        start = time.perf_counter()
+        cell_mesh = build_cell(cell)
+        timings["build"] = time.perf_counter() - start
+        check()
+        mesh = cell_mesh.mesh
+        stats = mesh.stats()
+        seconds = time.perf_counter() - start
+        timings["statistics"] = seconds - timings["build"]
+        cell_stats = cell_mesh.stats()
+        check()
+        scene = None
+        if prepare is not None:
+            begin = time.perf_counter()
+            scene = prepare(mesh)
+            timings["scene"] = time.perf_counter() - begin
+            check()
+    except BuildCancelled:
+        return MeshResult(generation, None, error="cancelled", cancelled=True, timings=timings,
+                          cell=cell)
+    except ValueError as exc:  # the core's refusal: overlapping elements, a tolerance
+        return MeshResult(generation, None, error=f"cell {cell.name!r}: {exc}", cell=cell)
+    except Exception as exc:  # noqa: BLE001 - reported in the window, never a crash
+        log.exception("meshing failed for cell %r", cell.name)
+        return MeshResult(generation, None, error=f"meshing failed: {exc}", cell=cell)
+    return MeshResult(generation, None, mesh, stats, seconds, scene, timings=timings,
+                      cell=cell, cell_mesh=cell_mesh, cell_stats=cell_stats)
 
 
 def mom_matrix_bytes(unknowns: int) -> int:
@@ -541,16 +598,29 @@ class AppModel:
     ``error_changed(error or None)``, ``history_changed()``, ``result_changed(result)``,
     ``layer_changed(name, visible)``, ``color_by_changed(key)``,
     ``build_failed(message)``.
+
+    A unit cell (:attr:`cell_state`, see :mod:`app.edit.cell_document`) replaces the one
+    structure when one is open: ``params`` are then the selected element's, every edit of
+    the cell or of those parameters is one undo step (the undo stack holds parameters and
+    cell states alike), and the cell is what is built. Cell events:
+    ``cell_changed(state or None)`` and ``cell_error_changed(message or None)`` (an edit
+    or a build of the cell the core refused; the last good cell stays).
     """
 
-    def __init__(self, params: MeshParams | None = None) -> None:
+    def __init__(self, params: MeshParams | None = None, cell: UnitCell | None = None) -> None:
         self.params = params if params is not None else MeshParams()
+        self.cell_state: CellState | None = None
+        if cell is not None:
+            self.cell_state = CellState.of(cell)
+            self.params = self.cell_state.params or self.params
+        self.shown_state: CellState | None = None  # of the last cell mesh shown
+        self.cell_error: str | None = None
         self.refused: dict[str, Any] = {}
         self.errors: dict[str, ParamError] = {}
         self._announced: dict[str, ParamError] = {}
         self.notes: dict[str, str] = {}
-        self.undo_stack: list[MeshParams] = []
-        self.redo_stack: list[MeshParams] = []
+        self.undo_stack: list[MeshParams | CellState] = []
+        self.redo_stack: list[MeshParams | CellState] = []
         self._merging: str | None = None
         self.result: MeshResult | None = None
         self.shown_params: MeshParams | None = None  # of the last parametric mesh shown
@@ -565,6 +635,8 @@ class AppModel:
         self.layer_changed = Event()
         self.color_by_changed = Event()
         self.build_failed = Event()
+        self.cell_changed = Event()
+        self.cell_error_changed = Event()
 
     # -- parameters ---------------------------------------------------------------
 
@@ -645,12 +717,37 @@ class AppModel:
                     self.errors.pop(key, None)
                 except _REFUSALS as exc:
                     self.errors[key] = ParamError(key, str(exc))
+        try:
+            state = self._with_params(params)
+        except _REFUSALS as exc:  # the cell refuses it (a mode an element cannot take)
+            self.refused[name] = value
+            self.errors.pop(name, None)
+            self.errors[name] = ParamError(name, str(exc))
+            self.draft_changed.emit(self.draft)
+            self._errors_changed()
+            return False
         if note:
             self.notes[name] = note
         if carried:
             self.notes["subdivisions"] = carried
-        self._commit(params, merge_name=name if merge else None)
+        self._commit(state, merge_name=name if merge else None)
         return True
+
+    def _with_params(self, params: MeshParams) -> MeshParams | CellState:
+        """The state with ``params``: the selected element's in a cell."""
+        if self.cell_state is None:
+            return params
+        return self.cell_state.with_params(params)
+
+    def _state(self) -> MeshParams | CellState:
+        """What an undo step restores: the parameters, or the cell state."""
+        return self.cell_state if self.cell_state is not None else self.params
+
+    def build_target(self) -> MeshParams | CellTarget:
+        """What the mesh on screen should be: the parameters, or the cell's visible part."""
+        if self.cell_state is None:
+            return self.params
+        return CellTarget(self.cell_state.visible)
 
     def revert(self, name: str) -> None:
         """Drop the refused value of ``name`` (Esc in its field): show ``params`` again."""
@@ -665,7 +762,9 @@ class AppModel:
         self._merging = None
 
     def set_params(self, params: MeshParams) -> None:
-        """Replace every parameter (preset, parameter file, reset) as one undo step."""
+        """Replace every parameter (preset, parameter file, reset) as one undo step.
+
+        An open cell is left: the window shows this one structure again (undoable)."""
         if not isinstance(params, MeshParams):
             raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
         self._forget_refusals()
@@ -680,23 +779,84 @@ class AppModel:
         self.notes.clear()
         self.errors.clear()
 
-    def _commit(self, params: MeshParams, merge_name: str | None, force: bool = False) -> None:
-        changed = params != self.params
+    def _commit(self, state: MeshParams | CellState, merge_name: str | None,
+                force: bool = False) -> None:
+        changed = state != self._state()
         if changed:
             if not (merge_name is not None and merge_name == self._merging):
-                self.undo_stack.append(self.params)
+                self.undo_stack.append(self._state())
                 self.redo_stack.clear()
             self._merging = merge_name
-        self._apply(params, changed or force)
+        self._apply(state, changed or force)
 
-    def _apply(self, params: MeshParams, changed: bool) -> None:
-        self.params = params
+    def _apply(self, state: MeshParams | CellState, changed: bool) -> None:
+        was_cell = self.cell_state
+        if isinstance(state, CellState):
+            self.cell_state = state
+            self.params = state.params or self.params
+        else:
+            self.cell_state = None
+            self.params = state
+        if was_cell is not self.cell_state:  # a cell edited, opened or left
+            if changed:
+                self._set_cell_error(None)
+            self.cell_changed.emit(self.cell_state)
         self.draft_changed.emit(self.draft)
         self._errors_changed()
         if changed:
             self.generation += 1
-            self.params_changed.emit(params)
+            self.params_changed.emit(self.params)
         self.history_changed.emit()
+
+    # -- the unit cell ------------------------------------------------------------
+
+    @property
+    def cell(self) -> UnitCell | None:
+        """The open unit cell (hidden elements included), or None."""
+        return None if self.cell_state is None else self.cell_state.cell
+
+    def set_cell(self, cell: UnitCell) -> None:
+        """Open ``cell`` (a cell file, a preset) as one undo step; its first element is
+        selected."""
+        if not isinstance(cell, UnitCell):
+            raise TypeError(f"cell must be a UnitCell, got {type(cell).__name__}")
+        self._forget_refusals()
+        self._commit(CellState.of(cell), merge_name=None, force=True)
+
+    def edit_cell(self, edit: Callable[[CellState], CellState]) -> bool:
+        """Apply one edit of the Elements or Lattice panel as one undo step.
+
+        ``edit(state)`` returns the new state or raises ``ValueError``/``TypeError``: then
+        the cell stays as it is and the message is the :attr:`cell_error`. Returns whether
+        the edit was taken.
+        """
+        if self.cell_state is None:
+            self._set_cell_error("no unit cell is open")
+            return False
+        try:
+            state = edit(self.cell_state)
+        except _REFUSALS as exc:
+            self._set_cell_error(str(exc))
+            return False
+        self._forget_refusals()
+        self._commit(state, merge_name=None)
+        return True
+
+    def select_element(self, k: int | None) -> None:
+        """Make element ``k`` the one the Parameters panel edits (not an undo step)."""
+        if self.cell_state is None or k == self.cell_state.selected:
+            return
+        self.cell_state = self.cell_state.with_selected(k)
+        self._forget_refusals()
+        self.params = self.cell_state.params or self.params
+        self.cell_changed.emit(self.cell_state)
+        self.draft_changed.emit(self.draft)
+        self._errors_changed()
+
+    def _set_cell_error(self, message: str | None) -> None:
+        if message != self.cell_error:
+            self.cell_error = message
+            self.cell_error_changed.emit(message)
 
     def _errors_changed(self) -> None:
         """Announce the refusals when they differ from the last announcement."""
@@ -716,7 +876,7 @@ class AppModel:
         """Back to the parameters before the last accepted change (no-op if none)."""
         if not self.undo_stack:
             return
-        self.redo_stack.append(self.params)
+        self.redo_stack.append(self._state())
         self._merging = None
         self._forget_refusals()
         self._apply(self.undo_stack.pop(), True)
@@ -724,7 +884,7 @@ class AppModel:
     def redo(self) -> None:
         if not self.redo_stack:
             return
-        self.undo_stack.append(self.params)
+        self.undo_stack.append(self._state())
         self._merging = None
         self._forget_refusals()
         self._apply(self.redo_stack.pop(), True)
@@ -743,12 +903,16 @@ class AppModel:
             return False
         if result.error is not None or result.mesh is None:
             message = result.error or "meshing failed"
-            self._refuse_build(result.params, message.removeprefix("meshing failed: "))
+            if result.cell is not None:
+                self._refuse_cell_build(message)
+            else:
+                self._refuse_build(result.params, message.removeprefix("meshing failed: "))
             self.build_failed.emit(message)
             return False
         self.result = result
         if result.params is not None:
             self.shown_params = result.params
+        self.shown_state = self.cell_state if result.cell is not None else None
         self.result_changed.emit(result)
         return True
 
@@ -773,6 +937,32 @@ class AppModel:
         self.draft_changed.emit(self.draft)
         self._errors_changed()
         self.history_changed.emit()
+
+    def _refuse_cell_build(self, message: str) -> None:
+        """The core refused the cell (overlapping elements): back to what is on screen (a
+        cell, or the structure before a cell was opened), the refused edit dropped from
+        the history, the message kept."""
+        shown = self.result
+        good: MeshParams | CellState | None = None
+        if shown is not None and shown.cell is not None:
+            good = self.shown_state
+        elif shown is not None and shown.source == "parameters":
+            good = shown.params
+        if good is not None and good != self._state():
+            if self.undo_stack and self.undo_stack[-1] == good:
+                self.undo_stack.pop()
+            if isinstance(good, CellState):
+                self.cell_state = good
+                self.params = good.params or self.params
+            else:
+                self.cell_state, self.params = None, good
+            self._merging = None
+            self._forget_refusals()
+            self.cell_changed.emit(self.cell_state)
+            self.draft_changed.emit(self.draft)
+            self._errors_changed()
+            self.history_changed.emit()
+        self._set_cell_error(message)
 
     @property
     def file_source(self) -> str | None:

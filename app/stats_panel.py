@@ -9,6 +9,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFormLayout, QLabel, QWidget
 
+from .edit.cell_stats import CellStats
 from .model import STAT_LABELS, AppModel, MeshResult, stats_texts
 
 TOOLTIPS = {
@@ -72,6 +73,8 @@ class StatsPanel(QWidget):
         self.source.setWordWrap(True)
         self.source.setStyleSheet("color: #555;")
         form.addRow(self.source)
+        self.cell = CellStats(self)  # a unit cell: each element's rows
+        form.addRow(self.cell)
         model.result_changed.connect(self.show_result)
         self.show_result(model.result)
 
@@ -87,6 +90,7 @@ class StatsPanel(QWidget):
         )
         imported = result is not None and result.source != "parameters"
         self.source.setText(f"Mesh file: {result.source}" if imported else "")
+        self.cell.show_result(result)
 
     def text(self, key: str) -> str:
         """The value shown for ``key`` (tests, copy)."""

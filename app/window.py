@@ -36,6 +36,7 @@ from PySide6.QtWidgets import (
     QLabel,
     QLineEdit,
     QMainWindow,
+    QMenu,
     QMessageBox,
     QProgressBar,
     QPushButton,
@@ -53,6 +54,8 @@ import core
 from core import MeshParams, TriMesh
 
 from .controls import ControlsPanel
+from .edit.cell_tools import CellTools
+from .edit.lattice_panel import parse_copies
 from .framing import frame_from_above, look_from_above, pixels_per_mm
 from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from .layers_panel import LayersPanel
@@ -301,10 +304,12 @@ class MainWindow(QMainWindow):
     settings : QSettings, optional
     scripted : bool
         A ``--screenshot``/``--quit`` run: fixed size and layout, settings not saved.
+    cell : core.cell.UnitCell, optional
+        Open this unit cell (its first element's parameters in the Parameters panel).
     """
 
     def __init__(self, params: MeshParams | None = None, settings: QSettings | None = None,
-                 scripted: bool = False) -> None:
+                 scripted: bool = False, cell: Any = None) -> None:
         super().__init__()
         from pyvistaqt import QtInteractor
 
@@ -314,7 +319,7 @@ class MainWindow(QMainWindow):
         self.setWindowTitle("barymesh")
         if params is None and not scripted:
             params = self._saved_params()
-        self.model = AppModel(params)
+        self.model = AppModel(params, cell)
         if not scripted:
             self.model.restore_view_state(self._saved_json("view"))
 
@@ -516,6 +521,18 @@ class MainWindow(QMainWindow):
         self.teaching_windows = TeachingWindows(self)
         # View: hover readout, measure distance, zoom to selection
         self.view_tools = ViewTools(self)
+        # Cell: unit-cell files and presets, the Elements dock, the array preview (issue 13)
+        self.cell_tools = CellTools(self)
+
+    def _cell_menu(self) -> QMenu:
+        """The menu bar's "&Cell" menu, made on first use, so that every tool adds to one."""
+        bar = self.menuBar()
+        for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
+            if menu.title() == "&Cell":
+                self.cell_menu = menu
+                return menu
+        self.cell_menu = bar.addMenu("&Cell")
+        return self.cell_menu
 
     def _make_menus(self) -> None:
         bar = self.menuBar()
@@ -545,6 +562,7 @@ class MainWindow(QMainWindow):
         presets.setToolTipsVisible(True)
         if not descriptions:
             presets.addAction("(no presets found)").setEnabled(False)
+        self.cell_tools.add_to_menus(file, self._cell_menu())
 
         edit = bar.addMenu("&Edit")
         edit.addActions([self.act_undo, self.act_redo])
@@ -622,7 +640,8 @@ class MainWindow(QMainWindow):
             self.teaching.mesh_changed(result.mesh)
             self.view_tools.mesh_changed(result.mesh)
         p = result.params
-        key = (result.source, p.structure if p else None)
+        key = (result.source, p.structure if p else None,
+               result.cell.name if result.cell is not None else None)
         bounds = np.asarray(result.scene.bounds)
         if key != self._camera_key or self._bounds_jumped(bounds):
             self.frame_mesh()
@@ -646,7 +665,8 @@ class MainWindow(QMainWindow):
                 self._rest_timer.start()
         self.last_frame_seconds = time.perf_counter() - start
         s = result.stats
-        title = Path(result.source).name if result.source != "parameters" else p.structure
+        title = Path(result.source).name if result.source != "parameters" else (
+            f"cell {result.cell.name}" if result.cell is not None else p.structure)
         self.setWindowTitle(f"barymesh – {title}")
         self.summary.setText(
             f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns"
@@ -710,7 +730,14 @@ class MainWindow(QMainWindow):
         if not self.controller.cancel():
             return
         shown = self.model.result
-        if shown is not None and shown.params is not None and self.model.params != shown.params:
+        good = self.model.shown_state  # a unit cell on screen: back to it
+        if shown is not None and shown.cell is not None and good is not None:
+            if self.model.cell_state != good:
+                if self.model.undo_stack and self.model.undo_stack[-1] == good:
+                    self.model.undo()
+                else:
+                    self.model.set_cell(good.cell)
+        elif shown is not None and shown.params is not None and self.model.params != shown.params:
             if self.model.undo_stack and self.model.undo_stack[-1] == shown.params:
                 self.model.undo()
             else:
@@ -1202,6 +1229,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--params", metavar="FILE", help="start from a JSON parameter file")
     parser.add_argument("--set", metavar="NAME=VALUE", nargs="+", action="extend", default=[],
                         dest="sets", help="override parameters, e.g. --set subdivisions=8")
+    parser.add_argument("--cell", metavar="FILE.cell.json",
+                        help="open a unit cell file (instead of --preset/--params/--set)")
+    parser.add_argument("--cell-preset", metavar="NAME",
+                        help="open a shipped unit cell (see the Cell menu)")
+    parser.add_argument("--array", metavar="N1xN2", type=parse_copies,
+                        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)")
     parser.add_argument("--screenshot", metavar="PNG",
                         help="save a grab of the whole window once the mesh is shown")
     parser.add_argument("--quit", action="store_true",
@@ -1235,7 +1268,8 @@ def main(argv: list[str] | None = None) -> int:
 
     ``barymesh [--preset NAME] [--params FILE] [--set name=value ...] [--screenshot PNG]
     [--quit]``: with ``--screenshot PNG --quit`` the window renders, saves a grab of the
-    whole window and exits.
+    whole window and exits. ``--cell FILE`` or ``--cell-preset NAME`` (with
+    ``--array N1xN2`` for the preview) open a unit cell instead of one structure.
     """
     parser = build_parser()
     try:
@@ -1243,7 +1277,30 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:
         return int(exc.code or 0)
     params = None
-    if args.preset or args.params or args.sets:
+    cell = None
+    if args.cell is not None or args.cell_preset is not None:
+        given = [o for o, v in (("--cell-preset", args.cell_preset), ("--preset", args.preset),
+                                ("--params", args.params), ("--set", args.sets)) if v]
+        if args.cell is None:
+            given = given[1:]
+        if given:
+            option = "--cell" if args.cell is not None else "--cell-preset"
+            print(f"barymesh: error: {given[0]} cannot go with {option}: a cell holds its own "
+                  "elements and their parameters (see barymesh --help)", file=sys.stderr)
+            return 2
+        from core.cell import load_cell, load_cell_preset
+
+        try:
+            cell = load_cell(args.cell) if args.cell is not None else load_cell_preset(
+                args.cell_preset)
+        except (ValueError, TypeError, OSError) as exc:
+            print(f"barymesh: error: {exc}", file=sys.stderr)
+            return 1
+    elif args.array is not None:
+        print("barymesh: error: --array previews copies of a unit cell: give --cell or "
+              "--cell-preset too (see barymesh --help)", file=sys.stderr)
+        return 2
+    elif args.preset or args.params or args.sets:
         from core.presets import resolve_params
 
         try:
@@ -1264,7 +1321,9 @@ def main(argv: list[str] | None = None) -> int:
     app.setApplicationName(APPLICATION)
     _install_excepthook()
     scripted = bool(args.quit or args.screenshot)
-    window = MainWindow(params, scripted=scripted)
+    window = MainWindow(params, scripted=scripted, cell=cell)
+    if args.array is not None:
+        window.cell_tools.lattice.set_copies(*args.array)
     window.show()
     if scripted:
         window.scripted_run = _ScriptedRun(window, args.screenshot, args.quit)  # keep alive

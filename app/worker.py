@@ -162,7 +162,9 @@ class MeshController(QObject):
 
     def request(self) -> None:
         """Mesh the model's current parameters (coalesced with other requests)."""
-        self._pending = (self.model.params, self.model.generation)
+        # the parameters, or a unit cell's visible elements (a CellTarget): compute()
+        # builds either
+        self._pending = (self.model.build_target(), self.model.generation)
         self.last_request_time = time.perf_counter()
         if self.current is not None and self.current.triangles >= CANCEL_TRIANGLES:
             self.current.cancelled = True  # a newer request: the long build is stale
@@ -185,7 +187,7 @@ class MeshController(QObject):
             return
         params, generation = self._pending
         shown = self.model.result
-        if (shown is not None and shown.mesh is not None and shown.params == params
+        if (shown is not None and shown.mesh is not None and shown.target == params
                 and shown.source == "parameters"):
             # back to what is on screen (Undo during a build): nothing to build
             self._pending = None

@@ -1,2 +1,3 @@
-"""Editors of a unit cell: the pixel painter (:mod:`app.edit.painter`) and its pure edits
-(:mod:`app.edit.pixels`)."""
+"""Editing unit cells in the window: the cell document with undo, the Elements and
+Lattice panels, the array preview and the Cell menu's actions, and the pixel painter
+(:mod:`app.edit.painter`) with its pure edits (:mod:`app.edit.pixels`)."""

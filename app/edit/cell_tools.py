@@ -1,0 +1,276 @@
+"""The window's unit-cell tools: cell files and presets, the Elements dock (elements,
+lattice, array preview) and the export of an array, wired to the model.
+
+:class:`CellTools` is made by :class:`app.window.MainWindow` with its actions; the
+window adds :meth:`CellTools.add_to_menus` to its File and Cell menus.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QAction
+from PySide6.QtWidgets import QApplication, QFileDialog, QMenu, QVBoxLayout, QWidget
+
+from core.cell import Element, Lattice, UnitCell
+
+from ..framing import frame_from_above
+from ..model import MeshResult
+from .array_preview import ArrayPreview
+from .cell_document import CellState
+from .drag_tool import ElementDragger
+from .elements_panel import ElementsPanel
+from .lattice_panel import LatticePanel
+
+if TYPE_CHECKING:
+    from ..window import MainWindow
+
+log = logging.getLogger(__name__)
+CELL_FILTER = "Unit cells (*.cell.json);;All files (*)"
+
+
+class CellTools:
+    """Cell files, presets, the Elements dock and the array preview of one window."""
+
+    def __init__(self, window: MainWindow) -> None:
+        self.window = window
+        self.model = window.model
+        box = QWidget(window)
+        col = QVBoxLayout(box)
+        col.setContentsMargins(0, 0, 0, 0)
+        self.elements = ElementsPanel(self.model, box)
+        self.lattice = LatticePanel(self.model, box)
+        col.addWidget(self.elements, 1)
+        col.addWidget(self.lattice)
+        self.dock = window._add_dock("Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea,
+                                     scroll=True)
+        if self.model.cell_state is None:  # shown when a cell is opened (or from the menu)
+            self.dock.hide()
+        self.preview = ArrayPreview(window.plotter)
+        a = window._action
+        self.act_open = a("Open c&ell…", self.open_cell_dialog, "Ctrl+Shift+O",
+                          "Open a unit cell (*.cell.json): its elements, lattice and pixels")
+        self.act_save = a("Sa&ve cell…", self.save_cell_dialog, "Ctrl+Shift+S",
+                          "Save the unit cell (hidden elements included) as *.cell.json")
+        self.act_new = a("&New cell from this structure", self.new_cell_from_structure,
+                         tip="A unit cell holding the structure of the Parameters panel, on a "
+                             "square lattice a little larger than it")
+        self.act_export_array = a("Export &array mesh…", self.export_array_dialog,
+                                  tip="Weld n1 x n2 copies of the cell (the preview's) into "
+                                      "one mesh and write it")
+        self.dragger = ElementDragger(window)
+        self.preset_actions: dict[str, QAction] = {}
+        self.model.cell_changed.connect(self._cell_changed)
+        self.model.result_changed.connect(self._result_changed)
+        self.lattice.copies_changed.connect(self._copies_changed)
+        self._cell_changed(self.model.cell_state)
+
+    def add_to_menus(self, file: QMenu, cell: QMenu) -> None:
+        """Open / Save cell into File (after Save parameters), the rest into Cell."""
+        anchor = next((act for act in file.actions()
+                       if act is self.window.act_save), None)
+        after = file.actions()[file.actions().index(anchor) + 1] if anchor else None
+        file.insertActions(after, [self.act_open, self.act_save])
+        presets = cell.addMenu("Cell &presets")
+        try:
+            from core.cell import cell_preset_names
+
+            names = cell_preset_names()
+        except Exception as exc:  # noqa: BLE001 - a broken preset folder must not stop the window
+            log.warning("cell presets unavailable: %s", exc)
+            names = []
+        for name in names:
+            act = presets.addAction(name)
+            act.triggered.connect(lambda _=False, n=name: self.load_cell_preset(n))
+            self.preset_actions[name] = act
+        if not names:
+            presets.addAction("(no cell presets found)").setEnabled(False)
+        cell.addActions([self.act_new, self.act_open, self.act_save])
+        cell.addSeparator()
+        cell.addActions([self.elements.act_duplicate, self.elements.act_delete,
+                         self.elements.act_up, self.elements.act_down])
+        cell.addAction(self.dragger.act)
+        cell.addAction(self.act_export_array)
+        cell.addSeparator()
+        cell.addAction(self.dock.toggleViewAction())
+
+    # -- files and presets ---------------------------------------------------------------
+
+    def open_cell_dialog(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self.window, "Open cell",
+                                              self.window._path_setting("cell", ""), CELL_FILTER)
+        if path:
+            self.window.settings.setValue("paths/cell", path)
+            self.open_cell_file(path)
+
+    def open_cell_file(self, path: str | os.PathLike[str]) -> bool:
+        """Open a cell file; an invalid one is one sentence naming the file and the place
+        in it (``elements[1].inner_radius``), and the window keeps what it shows."""
+        from core.cell import load_cell
+
+        try:
+            cell = load_cell(path)
+        except (ValueError, OSError) as exc:
+            self.window._file_error(f"Could not open {Path(path).name}", exc, path)
+            return False
+        self.open_cell(cell, f"Opened {Path(path).name}")
+        return True
+
+    def load_cell_preset(self, name: str) -> bool:
+        from core.cell import load_cell_preset
+
+        try:
+            cell = load_cell_preset(name)
+        except (ValueError, OSError) as exc:
+            self.window._file_error(f"Could not load cell preset {name}", exc)
+            return False
+        self.open_cell(cell, f"Cell preset {name}: {cell.description}")
+        return True
+
+    def open_cell(self, cell: UnitCell, message: str) -> None:
+        self.model.set_cell(cell)
+        self.dock.show()
+        self.dock.raise_()
+        self.window.statusBar().showMessage(message, 8000)
+
+    def save_cell_dialog(self) -> None:
+        if self.model.cell is None:
+            self.window.statusBar().showMessage("No unit cell is open: nothing to save")
+            return
+        start = self.window._path_setting("cell", f"{self.model.cell.name}.cell.json")
+        path, _ = QFileDialog.getSaveFileName(self.window, "Save cell", start, CELL_FILTER)
+        if path:
+            if not path.lower().endswith(".json"):
+                path += ".cell.json"
+            self.window.settings.setValue("paths/cell", path)
+            self.save_cell_file(path)
+
+    def save_cell_file(self, path: str | os.PathLike[str]) -> bool:
+        from core.cell import save_cell
+
+        cell = self.model.cell
+        if cell is None:
+            self.window.statusBar().showMessage("No unit cell is open: nothing to save")
+            return False
+        try:
+            save_cell(cell, path)
+        except (ValueError, OSError) as exc:
+            self.window._file_error(f"Could not save {Path(path).name}", exc, path)
+            return False
+        self.window.statusBar().showMessage(f"Saved {path}", 5000)
+        return True
+
+    def new_cell_from_structure(self) -> None:
+        """The Parameters panel's structure as the one element of a new cell, centred on
+        a square lattice 1.25 times its larger side."""
+        result = self.model.result
+        params = self.model.params
+        mesh = result.mesh if result is not None and result.params == params else None
+        if mesh is None or not mesh.n_vertices:
+            from core import build_mesh
+
+            try:
+                mesh = build_mesh(params)
+            except (ValueError, TypeError) as exc:
+                self.model._set_cell_error(f"could not mesh the structure: {exc}")
+                return
+        lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
+        centre, size = (lo + hi) / 2, float((hi - lo).max())
+        element = Element(params, position=(-float(centre[0]), -float(centre[1])),
+                          name=params.structure)
+        cell = UnitCell(Lattice.rectangular(round(1.25 * size, 6)), (element,), mode=params.mode,
+                        name=params.structure)
+        self.open_cell(cell, f"New cell of the {params.structure}")
+
+    # -- the array -------------------------------------------------------------------------
+
+    def export_array_dialog(self) -> None:
+        if self.model.cell_state is None:
+            self.window.statusBar().showMessage("No unit cell is open: no array to export")
+            return
+        n1, n2 = self.lattice.copies
+        start = self.window._path_setting("array", f"{self.model.cell.name}-{n1}x{n2}.msh")
+        path, _ = QFileDialog.getSaveFileName(self.window, f"Export {n1} x {n2} array mesh",
+                                              start, "Mesh files (*.msh *.vtk *.stl *.obj *.mat"
+                                              " *.nas *.ply);;All files (*)")
+        if path:
+            self.window.settings.setValue("paths/array", path)
+            self.export_array(path)
+
+    def export_array(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
+        """Weld the preview's n1 x n2 copies of the cell (:func:`core.cell.tile`) and write
+        them (the format from the extension)."""
+        from core.cell import tile
+        from core.io import describe_export, write_mesh
+
+        state = self.model.cell_state
+        if state is None:
+            self.window.statusBar().showMessage("No unit cell is open: no array to export")
+            return False
+        n1, n2 = self.lattice.copies
+        result = self.model.result
+        base = (result.cell_mesh if result is not None and result.cell == state.visible
+                else state.visible)
+        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+        try:
+            array = tile(base, n1, n2)
+            write_mesh(array.mesh, path, unit=unit)
+            what = describe_export(path, unit)
+        except (ValueError, OSError) as exc:
+            self.window._file_error(f"Could not export {Path(path).name}", exc, path)
+            return False
+        finally:
+            QApplication.restoreOverrideCursor()
+        self.last_array = array
+        self.window.statusBar().showMessage(
+            f"Wrote the {n1} x {n2} array ({array.mesh.n_triangles:,} triangles): {what}", 8000)
+        return True
+
+    # -- model -> window ---------------------------------------------------------------------
+
+    def _cell_changed(self, state: CellState | None) -> None:
+        w = self.window
+        editable = state is None or state.selected is not None
+        w.controls.setEnabled(editable)
+        if state is None:
+            w.parameters_dock.setWindowTitle("Parameters")
+            if self.preview.clear():
+                w.request_render()
+        elif state.selected is not None:
+            name = state.elements[state.selected].name
+            w.parameters_dock.setWindowTitle(f"Parameters – element {name}")
+        else:
+            w.parameters_dock.setWindowTitle("Parameters – no element selected")
+        for act in (self.act_save, self.act_export_array, self.dragger.act):
+            act.setEnabled(state is not None)
+
+    def _result_changed(self, result: MeshResult) -> None:
+        self._draw_preview(result, reframe=False)
+
+    def _copies_changed(self, _n1: int, _n2: int) -> None:
+        self._draw_preview(self.model.result, reframe=True)
+
+    def _draw_preview(self, result: MeshResult | None, reframe: bool) -> None:
+        w = self.window
+        if w._closed:
+            return
+        cell = result.cell if result is not None else None
+        if cell is None:  # a structure: no outline (and no extra paint of the view)
+            if self.preview.clear():
+                w.request_render()
+            return
+        # a freshly framed mesh (not a camera the user moved) is framed with its copies
+        framed = getattr(w, "_framed", None)
+        was_framed = framed is not None and w._camera_state() == framed
+        self.preview.show(result.mesh, cell.lattice, *self.lattice.copies)
+        if self.preview.bounds is not None:  # rulers (and R) span the cell and its copies
+            w.scene.show_rulers(self.preview.bounds)
+        if (reframe or was_framed) and self.preview.bounds is not None:
+            frame_from_above(w.plotter, self.preview.bounds)
+            w.scene.fit_marker_sizes()
+            w._framed = w._camera_state()
+        w.request_render()
