@@ -396,3 +396,129 @@ def vertex_adjacency(n_vertices: int, edges: np.ndarray) -> sp.csr_matrix:
     return sp.coo_matrix(
         (np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_vertices,) * 2
     ).tocsr()
+
+
+#: Sectors in the short chain whose topology a long chain repeats: two first, the middle
+#: one (``MIDDLE``), two last. A sector's edges reach the vertices of the sector after
+#: next (the free vertex across a glued side), so the middle one needs two on each side.
+CHAIN = 5
+MIDDLE = 2
+
+
+def chain_topology(
+    shorts: list[EdgeTopology], m: int, n_tri: int, stride: int, chain_vertices: list[int]
+) -> EdgeTopology:
+    """Topology of chains of m sectors, each repeated from a chain of :data:`CHAIN` sectors.
+
+    In a chain of sectors glued side 2 to side 0 and numbered by formula
+    (:func:`core.structures._sector_chain_vertices`: sector k's vertices start
+    at k ``stride``), every sector between the first and the last lists the
+    same edges, in the same order, with the same incidence, shifted by one
+    sector's worth of vertices, triangles and edges. The short chain's first
+    two sectors are the long chain's first two, its middle one is repeated for
+    sectors 2 … m − 3 and its last two are the last two; a value of the first
+    two that refers to the last sector (across a closed chain's seam) and one
+    of the last two that refers to the middle sector or later move to the end
+    of the long chain, a reference of the last two back to sector 0 (a closed
+    chain) stays. Chains follow one another (vertices, triangles and edges
+    numbered on). The same arrays as :func:`core.assembly.patch_topology` on
+    the whole structure, bit for bit (the tests compare them on many chains),
+    without sorting or gathering anything of the size of the mesh.
+
+    Parameters
+    ----------
+    shorts : list of EdgeTopology
+        Per chain, ``patch_topology`` of the chain with :data:`CHAIN` sectors
+        (vertices numbered by the formula from 0); free vertices filled in, no
+        junctions.
+    m : int
+        Sectors of each long chain, at least :data:`CHAIN`.
+    n_tri : int
+        Triangles per sector.
+    stride : int
+        Vertices each sector adds (its own, side 0 included, side 2 not).
+    chain_vertices : list of int
+        Vertices of each long chain (m ``stride``, plus side 2's of an open chain).
+
+    Returns
+    -------
+    EdgeTopology
+    """
+    if m < CHAIN or any(len(s.junction_incidence) or s.free_vertices is None for s in shorts):
+        raise ValueError(f"chain_topology: m={m} below {CHAIN}, or a chain with junctions")
+    extra = m - CHAIN  # sectors 2 … m − 3 are extra + 1 copies of the short chain's sector 2
+    tri_cut = np.arange(CHAIN + 1) * n_tri
+    vertex_starts = np.arange(CHAIN + 1) * stride
+    edge_cuts, n_edges = [], []
+    for short in shorts:  # edges are listed sector by sector
+        cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
+        edge_cuts.append(cut)
+        n_edges.append(int(cut[-1] + extra * (cut[MIDDLE + 1] - cut[MIDDLE])))
+    total = sum(n_edges)
+    edges = np.empty((total, 2), dtype=INDEX)
+    edge_triangles = np.empty((total, 2), dtype=INDEX)
+    free_vertices = np.empty((total, 2), dtype=INDEX)
+    valence = np.empty(total, dtype=INDEX)
+    triangle_edges = np.empty((len(shorts) * m * n_tri, 3), dtype=INDEX)
+    e0 = t0 = v0 = 0
+    for short, cut, n_e, n_v in zip(shorts, edge_cuts, n_edges, chain_vertices, strict=True):
+        per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])  # edges listed by a middle sector
+        rows = slice(e0, e0 + n_e)
+        _extend(short.edges, edges[rows], cut, extra, per_sector, stride, vertex_starts, v0)
+        _extend(short.edge_triangles, edge_triangles[rows], cut, extra, per_sector, n_tri,
+                tri_cut, t0)  # fmt: skip
+        _extend(short.free_vertices, free_vertices[rows], cut, extra, per_sector, stride,
+                vertex_starts, v0)  # fmt: skip
+        _extend(short.valence, valence[rows], cut, extra, per_sector, 0, cut, 0)
+        _extend(short.triangle_edges, triangle_edges[t0 : t0 + m * n_tri], tri_cut, extra,
+                n_tri, per_sector, cut, e0)  # fmt: skip
+        e0, t0, v0 = e0 + n_e, t0 + m * n_tri, v0 + n_v
+    return EdgeTopology(
+        edges=edges,
+        triangle_edges=triangle_edges,
+        edge_triangles=edge_triangles,
+        valence=valence,
+        junction_incidence=np.empty((0, 2), dtype=INDEX),
+        free_vertices=free_vertices,
+    )
+
+
+def _extend(
+    short: np.ndarray,
+    out: np.ndarray,
+    cuts: np.ndarray,
+    extra: int,
+    unit: int,
+    step: int,
+    starts: np.ndarray,
+    base: int,
+) -> None:
+    """Fill ``out`` with a long chain's rows from a short chain's (see :func:`chain_topology`).
+
+    Rows ``cuts[q]:cuts[q + 1]`` of ``short`` belong to sector q; the middle
+    sector's ``unit`` rows are written ``extra + 1`` times. Values are ids of
+    things of which a middle sector has ``step`` (0: not ids), sector q's from
+    ``starts[q]`` on, or -1 for none; ``base`` is added to every id.
+    """
+    n_head = int(cuts[MIDDLE])
+    head = out[:n_head]
+    head[...] = short[:n_head]
+    middle = short[cuts[MIDDLE] : cuts[MIDDLE + 1]]
+    block = out[n_head : n_head + (extra + 1) * unit].reshape((extra + 1,) + middle.shape)
+    tail = out[n_head + (extra + 1) * unit :]
+    tail[...] = short[cuts[MIDDLE + 1] :]
+    if step == 0:
+        block[...] = middle
+        return
+    # the first sectors reach at most two sectors on, or the last one across the seam
+    head[head >= starts[MIDDLE + 2]] += INDEX(extra * step)
+    # the last ones reach back to the middle one, or to sector 0 across the seam
+    tail[tail >= starts[MIDDLE]] += INDEX(extra * step)
+    shift = np.arange(extra + 1, dtype=INDEX) * INDEX(step) + INDEX(base)
+    np.add(middle, shift.reshape((-1,) + (1,) * middle.ndim), out=block)
+    missing = middle < 0
+    if missing.any():
+        block[:, missing] = -1
+    if base:
+        for part in (head, tail):
+            part[part >= 0] += INDEX(base)
