@@ -27,6 +27,7 @@ from .topology import (
     EdgeTopology,
     RWGTable,
     chain_topology,
+    copies_topology,
     edge_topology,
     patch_edge_counts,
     rwg_table,
@@ -225,6 +226,10 @@ class TriMesh:
         t = self._template
         if t is None:
             return edge_topology(self.triangles, self.n_vertices)
+        nv = len(t.uv)
+        if self.n_vertices == self.n_patches * nv and self._unwelded_copies:
+            local = patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
+            return copies_topology(local, self.n_patches, nv, len(t.triangles))
         chains = self._sector_chains
         if chains is None:
             return patch_topology(t, self._vertex_map, self.n_vertices)
@@ -233,6 +238,33 @@ class TriMesh:
         shorts = [_short_chain_topology(t, c) for c in closed]
         counts = [m * (len(t.uv) - s) + (0 if c else s) for c in closed]
         return chain_topology(shorts, m, len(t.triangles), len(t.uv) - s, counts)
+
+    @cached_property
+    def _unwelded_copies(self) -> bool:
+        """Whether patch p's triangles use vertices p Nv … p Nv + Nv − 1 in template order.
+
+        True for paper meshes whose patches share no vertex (nothing welded):
+        their topology is the template's, copy after copy
+        (:func:`core.topology.copies_topology`). Checked on the vertex map,
+        block by block.
+        """
+        t = self._template
+        if t is None or self.n_patches == 0:
+            return False
+        nv = len(t.uv)
+        if self.n_vertices != self.n_patches * nv or self.n_triangles != self.n_patches * len(
+            t.triangles
+        ):
+            return False
+        vmap = self._vertex_map
+        rows = max(1, BLOCK // nv)
+        local = np.arange(nv, dtype=INDEX)
+        for lo in range(0, self.n_patches, rows):
+            ids = vmap[lo : lo + rows]
+            base = (np.arange(lo, lo + len(ids), dtype=INDEX) * INDEX(nv))[:, None]
+            if not np.array_equal(ids - base, np.broadcast_to(local, ids.shape)):
+                return False
+        return True
 
     @cached_property
     def _sector_chains(self) -> tuple[int, tuple[bool, ...]] | None:

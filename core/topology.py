@@ -522,3 +522,47 @@ def _extend(
     if base:
         for part in (head, tail):
             part[part >= 0] += INDEX(base)
+
+
+def copies_topology(
+    local: EdgeTopology, n_patches: int, n_vertices: int, n_tri: int
+) -> EdgeTopology:
+    """Topology of ``n_patches`` unwelded copies of one patch, patch p's vertices from p Nv.
+
+    Every edge is a template edge of one copy: the template's arrays shifted by
+    p times the vertices, triangles and edges of a patch, written once each
+    (no gathers). The same arrays as :func:`core.assembly.patch_topology` on an
+    identity vertex map, bit for bit.
+
+    Parameters
+    ----------
+    local : EdgeTopology
+        The template's topology, edges ascending within each pair, free vertices
+        filled in, no junctions.
+    n_patches : int
+    n_vertices : int
+        Vertices of one patch (Nv).
+    n_tri : int
+        Triangles of one patch.
+    """
+    n_loc = len(local.edges)
+    patch = np.arange(n_patches, dtype=INDEX)
+
+    def shifted(a: np.ndarray, step: int) -> np.ndarray:
+        out = np.empty((n_patches,) + a.shape, dtype=INDEX)
+        np.add(a, (patch * INDEX(step)).reshape((-1,) + (1,) * a.ndim), out=out)
+        missing = a < 0
+        if missing.any():
+            out[:, missing] = -1
+        return out.reshape((-1,) + a.shape[1:])
+
+    valence = np.empty((n_patches, n_loc), dtype=INDEX)
+    valence[...] = local.valence
+    return EdgeTopology(
+        edges=shifted(local.edges, n_vertices),
+        triangle_edges=shifted(local.triangle_edges, n_loc),
+        edge_triangles=shifted(local.edge_triangles, n_tri),
+        valence=valence.reshape(-1),
+        junction_incidence=np.empty((0, 2), dtype=INDEX),
+        free_vertices=shifted(local.free_vertices, n_vertices),
+    )

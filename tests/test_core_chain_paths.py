@@ -288,3 +288,38 @@ def test_stats_of_grid_patches_equal_the_general_figures(params):
     assert (got["min_edge"], got["max_edge"]) == (expect["min_edge"], expect["max_edge"])
     for key in ("min_angle_deg", "max_aspect_ratio", "area"):
         assert got[key] == pytest.approx(expect[key], rel=1e-12), key
+
+
+# -- unwelded copies (paper rings whose patches share no vertex) -----------------------
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        MeshParams(),  # Fig. 12(a)
+        MeshParams(structure="double_ring", mode="paper", subdivisions=4, angle_step=0.5),
+        MeshParams(structure="ring", mode="paper", scheme="barycentric", subdivisions=2),
+        MeshParams(structure="split_double_ring", mode="paper", diagonal="AD", origin=(2.0, 1.0)),
+        MeshParams(structure="patch", mode="paper", subdivisions=7),
+    ],
+)
+def test_copies_topology_equals_the_patch_topology_bit_for_bit(params):
+    mesh = build_mesh(params)
+    assert mesh._unwelded_copies
+    expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
+    assert_same_topology(mesh.topology, expect)
+    general = edge_topology(mesh.triangles, mesh.n_vertices)
+    assert np.array_equal(np.bincount(mesh.topology.valence), np.bincount(general.valence))
+
+
+def test_welded_or_renumbered_patches_are_not_taken_for_copies():
+    welded = build_mesh(MeshParams(structure="square_split_double_ring", patch_size=0.5))
+    assert not welded._unwelded_copies
+    mesh = build_mesh(MeshParams(angle_step=30.0))
+    # the last two vertices swapped: still unwelded, but not in template order
+    swap = np.arange(mesh.n_vertices)
+    swap[[-1, -2]] = swap[[-2, -1]]
+    renumbered = rebuilt(mesh, mesh.points[np.argsort(swap)], swap[mesh.triangles])
+    assert not renumbered._unwelded_copies
+    expect = patch_topology(renumbered._template, renumbered._vertex_map, renumbered.n_vertices)
+    assert_same_topology(renumbered.topology, expect)
