@@ -24,9 +24,15 @@ from .topology import (
     BLOCK,
     CHAIN,
     INDEX,
+    MIDDLE,
     EdgeTopology,
     RWGTable,
+    _adjacency_without_junctions,
+    chain_adjacency,
+    chain_rwg,
     chain_topology,
+    copies_adjacency,
+    copies_rwg,
     copies_topology,
     edge_topology,
     patch_edge_counts,
@@ -230,14 +236,22 @@ class TriMesh:
         if self.n_vertices == self.n_patches * nv and self._unwelded_copies:
             local = patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
             return copies_topology(local, self.n_patches, nv, len(t.triangles))
-        chains = self._sector_chains
+        chains = self._chain_arguments()
         if chains is None:
             return patch_topology(t, self._vertex_map, self.n_vertices)
+        return chain_topology(*chains)
+
+    def _chain_arguments(self) -> tuple | None:
+        """(short chains, m, triangles and vertices per sector, vertices per chain) or None."""
+        chains = self._sector_chains
+        if chains is None:
+            return None
+        t = self._template
         m, closed = chains
         s = t.sides.shape[1]
         shorts = [_short_chain_topology(t, c) for c in closed]
         counts = [m * (len(t.uv) - s) + (0 if c else s) for c in closed]
-        return chain_topology(shorts, m, len(t.triangles), len(t.uv) - s, counts)
+        return shorts, m, len(t.triangles), len(t.uv) - s, counts
 
     @cached_property
     def _unwelded_copies(self) -> bool:
@@ -349,11 +363,34 @@ class TriMesh:
     @cached_property
     def rwg(self) -> RWGTable:
         """The RWG table: one row per interior edge (see :class:`core.topology.RWGTable`)."""
+        t = self._template
+        if t is not None:  # repeated structures: rows of the topology, repeated as it is
+            nv, nt = len(t.uv), len(t.triangles)
+            if self._unwelded_copies:
+                local = patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
+                return copies_rwg(local, self.n_patches, nv, nt, self.points, self._columns)
+            chains = self._chain_arguments()
+            if chains is not None:
+                return chain_rwg(*chains, self.points, self._columns)
         return rwg_table(self.points, self.triangles, self.topology, self._columns)
 
     @cached_property
     def connectivity(self) -> sp.csr_matrix:
         """T x T symmetric 0/1 matrix of triangles sharing an edge (the paper's Eq. 27)."""
+        t = self._template
+        if t is not None:  # repeated structures: rows repeated as the edges are
+            nv, nt = len(t.uv), len(t.triangles)
+            if self._unwelded_copies:
+                local = _adjacency_without_junctions(
+                    nt, patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
+                )
+                if local is not None:
+                    return copies_adjacency(local, self.n_patches)
+            chains = self._chain_arguments()
+            if chains is not None:
+                shorts = [_adjacency_without_junctions(CHAIN * nt, c) for c in chains[0]]
+                if all(c is not None for c in shorts):
+                    return chain_adjacency(shorts, chains[1], nt)
         return triangle_adjacency(self.n_triangles, self.topology)
 
     @cached_property
@@ -438,8 +475,23 @@ class TriMesh:
         m ≥ 3), every sector adds the same edges, so the counts are m/3 times those
         of a closed chain of three sectors, per ring: the counts of
         :func:`core.topology.patch_edge_counts` without sorting the glued edges.
-        Returns None otherwise (split, touching, paper or imported rings).
+        Rings of at least :data:`core.topology.CHAIN` sectors, closed or split, whose
+        numbering the build has already checked (``_sector_chains``, cached) add up
+        the counts of their short chains' sectors instead, as
+        :func:`core.topology.chain_topology` repeats them.
+        Returns None otherwise (touching, paper or imported rings).
         """
+        chains = self._chain_arguments() if "_sector_chains" in self.__dict__ else None
+        if chains is not None:
+            shorts, m, n_tri = chains[:3]
+            counts = np.zeros(4, dtype=np.int64)
+            for short in shorts:
+                cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
+                for lo, hi, times in ((0, MIDDLE, 1), (MIDDLE, MIDDLE + 1, m - CHAIN + 1),
+                                      (MIDDLE + 1, CHAIN, 1)):  # fmt: skip
+                    part = np.bincount(short.valence[cut[lo] : cut[hi]], minlength=4)
+                    counts[: len(part)] += times * part[:4]
+            return counts[: max(3, len(np.trim_zeros(counts, "b")))]  # as a bincount
         t = self._template
         n_p = self.n_patches
         if t is None or n_p == 0 or self.mode != "conforming":

@@ -546,23 +546,160 @@ def copies_topology(
         Triangles of one patch.
     """
     n_loc = len(local.edges)
-    patch = np.arange(n_patches, dtype=INDEX)
-
-    def shifted(a: np.ndarray, step: int) -> np.ndarray:
-        out = np.empty((n_patches,) + a.shape, dtype=INDEX)
-        np.add(a, (patch * INDEX(step)).reshape((-1,) + (1,) * a.ndim), out=out)
-        missing = a < 0
-        if missing.any():
-            out[:, missing] = -1
-        return out.reshape((-1,) + a.shape[1:])
-
     valence = np.empty((n_patches, n_loc), dtype=INDEX)
     valence[...] = local.valence
     return EdgeTopology(
-        edges=shifted(local.edges, n_vertices),
-        triangle_edges=shifted(local.triangle_edges, n_loc),
-        edge_triangles=shifted(local.edge_triangles, n_tri),
+        edges=_tiled(local.edges, n_patches, n_vertices),
+        triangle_edges=_tiled(local.triangle_edges, n_patches, n_loc),
+        edge_triangles=_tiled(local.edge_triangles, n_patches, n_tri),
         valence=valence.reshape(-1),
         junction_incidence=np.empty((0, 2), dtype=INDEX),
-        free_vertices=shifted(local.free_vertices, n_vertices),
+        free_vertices=_tiled(local.free_vertices, n_patches, n_vertices),
     )
+
+
+def _tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
+    """``a`` once per patch, patch p's ids (not the -1 entries) shifted by p ``step``."""
+    out = np.empty((n_patches,) + a.shape, dtype=INDEX)
+    shift = np.arange(n_patches, dtype=INDEX) * INDEX(step)
+    np.add(a, shift.reshape((-1,) + (1,) * a.ndim), out=out)
+    missing = a < 0
+    if missing.any():
+        out[:, missing] = -1
+    return out.reshape((-1,) + a.shape[1:])
+
+
+def copies_rwg(
+    local: EdgeTopology,
+    n_patches: int,
+    n_vertices: int,
+    n_tri: int,
+    points: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+) -> RWGTable:
+    """:func:`rwg_table` of the topology :func:`copies_topology` makes, without gathers.
+
+    The template's interior edges, copy after copy; only the lengths are
+    measured. Parameters as for :func:`copies_topology`, plus the mesh's
+    ``points`` (and ``columns``, see :func:`segment_lengths`).
+    """
+    rows = np.flatnonzero(local.valence == 2)
+    vertices = _tiled(local.edges[rows], n_patches, n_vertices)
+    return RWGTable(
+        edge=_tiled(rows.astype(INDEX), n_patches, len(local.edges)),
+        vertices=vertices,
+        t_plus=_tiled(local.edge_triangles[rows, 0], n_patches, n_tri),
+        t_minus=_tiled(local.edge_triangles[rows, 1], n_patches, n_tri),
+        free_vertex_plus=_tiled(local.free_vertices[rows, 0], n_patches, n_vertices),
+        free_vertex_minus=_tiled(local.free_vertices[rows, 1], n_patches, n_vertices),
+        length=segment_lengths(points, vertices, columns),
+    )
+
+
+def chain_rwg(
+    shorts: list[EdgeTopology],
+    m: int,
+    n_tri: int,
+    stride: int,
+    chain_vertices: list[int],
+    points: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+) -> RWGTable:
+    """:func:`rwg_table` of the topology :func:`chain_topology` makes, without gathers.
+
+    The short chains' interior edges are repeated as their edges are; only the
+    lengths are measured. Parameters as for :func:`chain_topology`, plus the
+    mesh's ``points`` (and ``columns``, see :func:`segment_lengths`).
+    """
+    extra = m - CHAIN
+    tri_cut = np.arange(CHAIN + 1) * n_tri
+    vertex_starts = np.arange(CHAIN + 1) * stride
+    parts = []
+    for short in shorts:
+        cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
+        rows = np.flatnonzero(short.valence == 2)
+        row_cut = np.searchsorted(rows, cut)  # the interior edges of each sector
+        parts.append((short, cut, rows, row_cut))
+    total = sum(int(rc[-1] + extra * (rc[MIDDLE + 1] - rc[MIDDLE])) for _, _, _, rc in parts)
+    edge = np.empty(total, dtype=INDEX)
+    vertices = np.empty((total, 2), dtype=INDEX)
+    columns_out = [np.empty(total, dtype=INDEX) for _ in range(4)]
+    r0 = e0 = t0 = v0 = 0
+    for (short, cut, rows, row_cut), n_v in zip(parts, chain_vertices, strict=True):
+        per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])
+        unit = int(row_cut[MIDDLE + 1] - row_cut[MIDDLE])
+        n_rows = int(row_cut[-1]) + extra * unit
+        out = slice(r0, r0 + n_rows)
+        _extend(rows.astype(INDEX), edge[out], row_cut, extra, unit, per_sector, cut, e0)
+        _extend(short.edges[rows], vertices[out], row_cut, extra, unit, stride,
+                vertex_starts, v0)  # fmt: skip
+        for k, (source, step, starts, base) in enumerate(
+            [
+                (short.edge_triangles[rows, 0], n_tri, tri_cut, t0),
+                (short.edge_triangles[rows, 1], n_tri, tri_cut, t0),
+                (short.free_vertices[rows, 0], stride, vertex_starts, v0),
+                (short.free_vertices[rows, 1], stride, vertex_starts, v0),
+            ]
+        ):
+            _extend(source, columns_out[k][out], row_cut, extra, unit, step, starts, base)
+        n_e = int(cut[-1]) + extra * per_sector
+        r0, e0, t0, v0 = r0 + n_rows, e0 + n_e, t0 + m * n_tri, v0 + n_v
+    t_plus, t_minus, free_plus, free_minus = columns_out
+    return RWGTable(
+        edge=edge,
+        vertices=vertices,
+        t_plus=t_plus,
+        t_minus=t_minus,
+        free_vertex_plus=free_plus,
+        free_vertex_minus=free_minus,
+        length=segment_lengths(points, vertices, columns),
+    )
+
+
+def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
+    """The connectivity matrix of ``n_patches`` unwelded copies of one patch.
+
+    Block diagonal: the patch's matrix ``local`` (sorted rows, as
+    :func:`triangle_adjacency` makes them) once per copy, its column ids
+    shifted by the patch's triangles; the same matrix as
+    :func:`triangle_adjacency` on the whole mesh, array for array.
+    """
+    n_tri = local.shape[0]
+    counts = np.diff(local.indptr).astype(INDEX)
+    indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)
+    per_row = np.empty((n_patches, n_tri), dtype=INDEX)
+    per_row[...] = counts
+    np.cumsum(per_row.reshape(-1), out=indptr[1:])
+    indices = _tiled(local.indices.astype(INDEX), n_patches, n_tri)
+    data = np.ones(len(indices), dtype=np.int8)
+    return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
+
+
+def chain_adjacency(shorts: list[sp.csr_matrix], m: int, n_tri: int) -> sp.csr_matrix:
+    """The connectivity matrix of chains of m sectors, repeated from short chains.
+
+    ``shorts``: per chain, the matrix of its chain of :data:`CHAIN` sectors (as
+    :func:`triangle_adjacency` makes it). Rows are repeated as the edges are in
+    :func:`chain_topology`: a shift keeps each row's neighbours in ascending
+    order, so the result is the matrix of the whole mesh, array for array.
+    """
+    extra = m - CHAIN
+    tri_cut = np.arange(CHAIN + 1) * n_tri
+    n_rows = len(shorts) * m * n_tri
+    counts = np.empty(n_rows, dtype=INDEX)
+    nnz = [int(s.indptr[-1]) + extra * int(s.indptr[tri_cut[MIDDLE + 1]] -
+                                           s.indptr[tri_cut[MIDDLE]]) for s in shorts]  # fmt: skip
+    indices = np.empty(sum(nnz), dtype=INDEX)
+    i0 = t0 = 0
+    for short, n in zip(shorts, nnz, strict=True):
+        rows = slice(t0, t0 + m * n_tri)
+        _extend(np.diff(short.indptr).astype(INDEX), counts[rows], tri_cut, extra, n_tri, 0,
+                tri_cut, 0)  # fmt: skip
+        cuts = short.indptr[tri_cut]
+        _extend(short.indices.astype(INDEX), indices[i0 : i0 + n], cuts, extra,
+                int(cuts[MIDDLE + 1] - cuts[MIDDLE]), n_tri, tri_cut, t0)  # fmt: skip
+        i0, t0 = i0 + n, t0 + m * n_tri
+    indptr = np.zeros(n_rows + 1, dtype=INDEX)
+    np.cumsum(counts, out=indptr[1:])
+    data = np.ones(len(indices), dtype=np.int8)
+    return sp.csr_matrix((data, indices, indptr), shape=(n_rows, n_rows))

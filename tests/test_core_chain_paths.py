@@ -29,7 +29,7 @@ from core.quality import (
     quality_summary,
     triangle_quality,
 )
-from core.topology import CHAIN, edge_topology
+from core.topology import CHAIN, edge_topology, rwg_table, triangle_adjacency
 
 TOPOLOGY_FIELDS = (
     "edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",
@@ -42,6 +42,29 @@ def assert_same_topology(got, expect):
         a, b = getattr(got, name), getattr(expect, name)
         assert a.dtype == b.dtype, name
         assert np.array_equal(a, b), name
+
+
+RWG_FIELDS = (
+    "edge", "vertices", "t_plus", "t_minus", "free_vertex_plus", "free_vertex_minus", "length",
+)  # fmt: skip
+
+
+def assert_same_rwg(mesh):
+    """The repeated RWG table and connectivity equal those gathered from the topology."""
+    fresh = rebuilt(mesh)
+    got = fresh.rwg  # before the topology: the repeated rows
+    expect = rwg_table(mesh.points, mesh.triangles, mesh.topology)
+    for name in RWG_FIELDS:
+        a, b = getattr(got, name), getattr(expect, name)
+        assert a.dtype == b.dtype and a.shape == b.shape, name
+        assert np.array_equal(a, b), name
+        assert a.flags.c_contiguous, name
+    got = rebuilt(mesh).connectivity
+    expect = triangle_adjacency(mesh.n_triangles, mesh.topology)
+    assert got.shape == expect.shape and got.has_sorted_indices
+    for name in ("data", "indices", "indptr"):
+        a, b = getattr(got, name), getattr(expect, name)
+        assert a.dtype == b.dtype and np.array_equal(a, b), name
 
 
 def rebuilt(mesh, points=None, triangles=None):
@@ -84,6 +107,7 @@ def test_chain_topology_equals_the_patch_topology_bit_for_bit(params):
     assert (mesh.connectivity != mesh.connectivity.T).nnz == 0
     euler = mesh.n_vertices - len(mesh.edges) + mesh.n_triangles
     assert euler == sum(0 if c else 1 for c in closed)  # a closed ring 0, an arc 1
+    assert_same_rwg(mesh)
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -109,6 +133,7 @@ def test_chain_topology_equals_the_patch_topology_on_random_rings(
         assume(False)
     expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
     assert_same_topology(mesh.topology, expect)
+    assert_same_rwg(mesh)
 
 
 @pytest.mark.parametrize(
@@ -310,6 +335,7 @@ def test_copies_topology_equals_the_patch_topology_bit_for_bit(params):
     assert_same_topology(mesh.topology, expect)
     general = edge_topology(mesh.triangles, mesh.n_vertices)
     assert np.array_equal(np.bincount(mesh.topology.valence), np.bincount(general.valence))
+    assert_same_rwg(mesh)
 
 
 def test_welded_or_renumbered_patches_are_not_taken_for_copies():
