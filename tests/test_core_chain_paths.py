@@ -212,6 +212,26 @@ def test_a_sector_glued_twice_is_refused_as_a_junction():
         check_mesh(twice, ring_params(), twice._vertex_map)
 
 
+def test_a_sector_glued_to_a_third_neighbour_is_refused_as_a_junction():
+    # a copy of sector 1 on new vertices a hair (1e-9) further out, but for its side 0,
+    # which stays sector 0's side 2: those edges on 3 triangles, no two points equal
+    mesh = build_mesh(MeshParams(structure="ring", mode="conforming", angle_step=30.0))
+    t = mesh._template
+    vmap = mesh._vertex_map
+    extra = mesh.n_vertices + np.arange(len(t.uv))
+    extra[t.sides[0]] = vmap[1, t.sides[0]]
+    points = np.vstack([mesh.points, mesh.points[vmap[1]] * (1 + 1e-9)])
+    vmap3 = np.vstack([vmap, extra])
+    per = len(t.triangles)
+    third = TriMesh(
+        points, vmap3[:, t.triangles].reshape(-1, 3), np.r_[mesh.patch_ids, np.full(per, 12)],
+        np.r_[mesh.regions, mesh.regions[:per]], mesh.n_patches + 1, mesh.mode, _template=t,
+    )  # fmt: skip
+    assert third._sector_chains is None  # not the formula: the valence is counted
+    with pytest.raises(MeshInvariantError, match="edges on 3 triangles"):
+        check_mesh(third, ring_params(), vmap3)
+
+
 @pytest.mark.parametrize(
     ("plant", "message"),
     [
