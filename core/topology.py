@@ -514,11 +514,7 @@ def _extend(
     head[head >= starts[MIDDLE + 2]] += INDEX(extra * step)
     # the last ones reach back to the middle one, or to sector 0 across the seam
     tail[tail >= starts[MIDDLE]] += INDEX(extra * step)
-    shift = np.arange(extra + 1, dtype=INDEX) * INDEX(step) + INDEX(base)
-    np.add(middle, shift.reshape((-1,) + (1,) * middle.ndim), out=block)
-    missing = middle < 0
-    if missing.any():
-        block[:, missing] = -1
+    _fill_tiled(block.reshape(-1), middle, extra + 1, step, base)
     if base:
         for part in (head, tail):
             part[part >= 0] += INDEX(base)
@@ -561,12 +557,38 @@ def copies_topology(
 def _tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
     """``a`` once per patch, patch p's ids (not the -1 entries) shifted by p ``step``."""
     out = np.empty((n_patches,) + a.shape, dtype=INDEX)
-    shift = np.arange(n_patches, dtype=INDEX) * INDEX(step)
-    np.add(a, shift.reshape((-1,) + (1,) * a.ndim), out=out)
-    missing = a < 0
-    if missing.any():
-        out[:, missing] = -1
+    _fill_tiled(out.reshape(-1), a, n_patches, step, 0)
     return out.reshape((-1,) + a.shape[1:])
+
+
+def _fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int) -> None:
+    """Write ``copies`` copies of ``a`` into the flat ``out``, copy k's ids plus k ``step`` + base.
+
+    Entries of -1 (none) stay -1. Block by block over a pattern of whole copies:
+    long, contiguous adds even when ``a`` is a handful of values (a broadcast add
+    over (copies, len(a)) would run one short inner loop per copy).
+    """
+    flat = np.ascontiguousarray(a, dtype=INDEX).reshape(-1)
+    k = len(flat)
+    if copies == 0 or k == 0:
+        return
+    per = max(1, min(copies, BLOCK // k))  # copies per block
+    ramp = np.repeat(np.arange(per, dtype=INDEX) * INDEX(step), k)
+    missing = flat < 0
+    if missing.any():
+        keep = np.tile(~missing, per).astype(INDEX)  # 0 where -1 must stay
+        pattern = np.tile(flat, per) + ramp * keep + INDEX(base) * keep
+    else:
+        keep = None
+        pattern = np.tile(flat, per) + ramp + INDEX(base)
+    for lo in range(0, copies, per):
+        n = min(per, copies - lo) * k
+        block = out[lo * k : lo * k + n]
+        if keep is None:
+            np.add(pattern[:n], INDEX(lo * step), out=block)
+        else:
+            np.multiply(keep[:n], INDEX(lo * step), out=block)
+            block += pattern[:n]
 
 
 def copies_rwg(
