@@ -93,7 +93,10 @@ def _flagged(x: np.ndarray, y: np.ndarray, i, j, k) -> np.ndarray:
 
 
 def inverted_or_flat_patches(
-    points: np.ndarray, vertex_map: np.ndarray, template_triangles: np.ndarray
+    points: np.ndarray,
+    vertex_map: np.ndarray,
+    template_triangles: np.ndarray,
+    columns: list[np.ndarray] | None = None,
 ) -> np.ndarray:
     """:func:`inverted_or_flat` of the triangles ``vertex_map[:, template_triangles]``.
 
@@ -107,13 +110,16 @@ def inverted_or_flat_patches(
         Global vertex of every patch-local vertex.
     template_triangles : (Nt, 3) int
         Local triangles of the template; triangle p Nt + l is patch p's triangle l.
+    columns : list of (V,) float64, optional
+        Contiguous copies of the x and y columns of ``points`` (then not made again).
 
     Returns
     -------
     (K,) int
     """
-    x = np.ascontiguousarray(points[:, 0])
-    y = np.ascontiguousarray(points[:, 1])
+    if columns is None:
+        columns = [np.ascontiguousarray(points[:, k]) for k in (0, 1)]
+    x, y = columns[0], columns[1]
     n_tri = len(template_triangles)
     per_block = max(1, BLOCK // n_tri)
     diagonal = lattice_diagonal(template_triangles, vertex_map.shape[1])
@@ -304,7 +310,8 @@ def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> 
     if not np.isfinite(points).all():
         _fail(params, "has coordinates that are not finite")
     if vertex_map is not None and template is not None:
-        bad = inverted_or_flat_patches(points, vertex_map, template.triangles)
+        # the mesh's own x and y columns, which centroids, lengths and quality reuse
+        bad = inverted_or_flat_patches(points, vertex_map, template.triangles, mesh._columns)
     else:
         bad = inverted_or_flat(points, triangles)
     if len(bad):
