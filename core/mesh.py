@@ -60,6 +60,10 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 _COPY_TOLERANCE = 2.5e-13
 
 
+#: Chains of sectors the chain paths take at most (a conforming ring has one or two
+#: rings of one or two arcs); more and the mesh takes the general paths.
+_MAX_CHAINS = 16
+
 #: (id of the template, closed) -> (template, topology of its short chain); a few entries.
 _SHORT_CHAINS: dict[tuple[int, bool], tuple[PatchTemplate, EdgeTopology]] = {}
 
@@ -71,7 +75,7 @@ def _short_chain_topology(template: PatchTemplate, closed: bool) -> EdgeTopology
     if hit is not None and hit[0] is template:  # the template itself is kept: ids stay unique
         return hit[1]
     ids, _ = _sector_chain_vertices(template, CHAIN, [closed])
-    s = template.sides.shape[1]
+    s = len(template.sides[0])
     n_vertices = CHAIN * (len(template.uv) - s) + (0 if closed else s)
     topo = patch_topology(template, ids.reshape(CHAIN, -1), n_vertices)
     if len(_SHORT_CHAINS) >= 16:
@@ -255,16 +259,16 @@ class TriMesh:
         return chain_topology(*chains)
 
     def _chain_arguments(self) -> tuple | None:
-        """(short chains, m, triangles and vertices per sector, vertices per chain) or None."""
+        """(short chains, m_i, triangles and vertices per sector, vertices per chain) or None."""
         chains = self._sector_chains
         if chains is None:
             return None
         t = self._template
-        m, closed = chains
-        s = t.sides.shape[1]
+        ms, closed = chains
+        s = len(t.sides[0])
         shorts = [_short_chain_topology(t, c) for c in closed]
-        counts = [m * (len(t.uv) - s) + (0 if c else s) for c in closed]
-        return shorts, m, len(t.triangles), len(t.uv) - s, counts
+        counts = [m * (len(t.uv) - s) + (0 if c else s) for m, c in zip(ms, closed, strict=True)]
+        return shorts, list(ms), len(t.triangles), len(t.uv) - s, counts
 
     @cached_property
     def _unwelded_copies(self) -> bool:
@@ -294,43 +298,48 @@ class TriMesh:
         return True
 
     @cached_property
-    def _sector_chains(self) -> tuple[int, tuple[bool, ...]] | None:
-        """(m, closed per ring) when the mesh is rings of m sectors numbered by formula.
+    def _sector_chains(self) -> tuple[tuple[int, ...], tuple[bool, ...]] | None:
+        """(m_i, closed_i) per chain when the mesh is chains of sectors numbered by formula.
 
-        A conforming ring (closed, or split by one slot) is a chain of m ≥
-        :data:`core.topology.CHAIN` sectors glued side 2 to side 0; when the
-        patch vertex map is exactly that of
-        :func:`core.structures._sector_chain_vertices`, ring after ring (checked
-        here, every entry), its topology repeats that of a short chain
+        A conforming ring's arc (closed, or ended by a slot) is a chain of m_i ≥
+        :data:`core.topology.CHAIN` sectors glued side 2 to side 0; rings and
+        arcs may hold different numbers of sectors. The chains are read off the
+        vertex map (where a sector's side 2 is not the next one's side 0, a chain
+        ends; it is closed when its last side 2 is its first side 0), then the
+        whole map is checked, every entry, against
+        :func:`core.structures._sector_chain_vertices` for those chains: only
+        then does the topology repeat that of short chains
         (:func:`core.topology.chain_topology`). None for anything else
-        (touching rings, several arcs per ring, paper mode, imported meshes).
+        (touching rings, a chain shorter than ``CHAIN``, renumbered vertices,
+        paper mode, imported meshes).
         """
         t = self._template
         n_p = self.n_patches
-        if t is None or n_p == 0 or self.mode != "conforming":
+        if t is None or n_p < CHAIN or self.mode != "conforming":
             return None
         nv, nt = len(t.uv), len(t.triangles)
-        if self.n_triangles != n_p * nt:
-            return None
-        ring_of_patch = self.regions[::nt]
-        starts = np.flatnonzero(np.r_[True, ring_of_patch[1:] != ring_of_patch[:-1]])
-        n_rings = len(starts)
-        m = n_p // n_rings
-        if m < CHAIN or m * n_rings != n_p or not np.array_equal(starts, np.arange(n_rings) * m):
+        side0, side2 = np.asarray(t.sides[0]), np.asarray(t.sides[2])
+        s = len(side0)
+        if self.n_triangles != n_p * nt or len(side2) != s:
             return None
         vmap = self._vertex_map
-        sides = t.sides
-        s = sides.shape[1]
-        closed = tuple(
-            bool(np.array_equal(vmap[r * m + m - 1, sides[2]], vmap[r * m, sides[0]]))
-            for r in range(n_rings)
-        )
-        if self.n_vertices != sum(m * (nv - s) + (0 if c else s) for c in closed):
+        glued = (vmap[:-1].take(side2, axis=1) == vmap[1:].take(side0, axis=1)).all(axis=1)
+        starts = np.flatnonzero(np.r_[True, ~glued])
+        if len(starts) > _MAX_CHAINS:
             return None
-        ids, _ = _sector_chain_vertices(t, m, list(closed))
+        ends = np.r_[starts[1:], n_p]
+        ms = ends - starts
+        if ms.min() < CHAIN:
+            return None
+        closed = (vmap[ends - 1].take(side2, axis=1) == vmap[starts].take(side0, axis=1)).all(1)
+        ms, closed = tuple(int(m) for m in ms), tuple(bool(c) for c in closed)
+        sizes = [m * (nv - s) + (0 if c else s) for m, c in zip(ms, closed, strict=True)]
+        if self.n_vertices != sum(sizes):
+            return None
+        ids, _ = _sector_chain_vertices(t, list(ms), list(closed))
         if not np.array_equal(vmap.ravel(), ids):
             return None
-        return m, closed
+        return ms, closed
 
     @property
     def _vertex_map(self) -> np.ndarray:
@@ -497,9 +506,9 @@ class TriMesh:
         """
         chains = self._chain_arguments() if "_sector_chains" in self.__dict__ else None
         if chains is not None:
-            shorts, m, n_tri = chains[:3]
+            shorts, ms, n_tri = chains[:3]
             counts = np.zeros(4, dtype=np.int64)
-            for short in shorts:
+            for short, m in zip(shorts, ms, strict=True):
                 cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
                 for lo, hi, times in ((0, MIDDLE, 1), (MIDDLE, MIDDLE + 1, m - CHAIN + 1),
                                       (MIDDLE + 1, CHAIN, 1)):  # fmt: skip

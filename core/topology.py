@@ -406,9 +406,13 @@ MIDDLE = 2
 
 
 def chain_topology(
-    shorts: list[EdgeTopology], m: int, n_tri: int, stride: int, chain_vertices: list[int]
+    shorts: list[EdgeTopology],
+    ms: list[int],
+    n_tri: int,
+    stride: int,
+    chain_vertices: list[int],
 ) -> EdgeTopology:
-    """Topology of chains of m sectors, each repeated from a chain of :data:`CHAIN` sectors.
+    """Topology of chains of m_i sectors, each repeated from a chain of :data:`CHAIN` sectors.
 
     In a chain of sectors glued side 2 to side 0 and numbered by formula
     (:func:`core.structures._sector_chain_vertices`: sector k's vertices start
@@ -431,37 +435,40 @@ def chain_topology(
         Per chain, ``patch_topology`` of the chain with :data:`CHAIN` sectors
         (vertices numbered by the formula from 0); free vertices filled in, no
         junctions.
-    m : int
-        Sectors of each long chain, at least :data:`CHAIN`.
+    ms : list of int
+        Sectors of each long chain (m_i), each at least :data:`CHAIN`.
     n_tri : int
         Triangles per sector.
     stride : int
         Vertices each sector adds (its own, side 0 included, side 2 not).
     chain_vertices : list of int
-        Vertices of each long chain (m ``stride``, plus side 2's of an open chain).
+        Vertices of each long chain (m_i ``stride``, plus side 2's of an open chain).
 
     Returns
     -------
     EdgeTopology
     """
-    if m < CHAIN or any(len(s.junction_incidence) or s.free_vertices is None for s in shorts):
-        raise ValueError(f"chain_topology: m={m} below {CHAIN}, or a chain with junctions")
-    extra = m - CHAIN  # sectors 2 … m − 3 are extra + 1 copies of the short chain's sector 2
+    if len(ms) != len(shorts) or min(ms, default=CHAIN) < CHAIN:
+        raise ValueError(f"chain_topology: sectors per chain {list(ms)!r}, each >= {CHAIN}")
+    if any(len(s.junction_incidence) or s.free_vertices is None for s in shorts):
+        raise ValueError("chain_topology: a short chain with junctions or without free vertices")
     tri_cut = np.arange(CHAIN + 1) * n_tri
     vertex_starts = np.arange(CHAIN + 1) * stride
     edge_cuts, n_edges = [], []
-    for short in shorts:  # edges are listed sector by sector
+    for short, m in zip(shorts, ms, strict=True):  # edges are listed sector by sector
         cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
         edge_cuts.append(cut)
-        n_edges.append(int(cut[-1] + extra * (cut[MIDDLE + 1] - cut[MIDDLE])))
+        n_edges.append(int(cut[-1] + (m - CHAIN) * (cut[MIDDLE + 1] - cut[MIDDLE])))
     total = sum(n_edges)
     edges = np.empty((total, 2), dtype=INDEX)
     edge_triangles = np.empty((total, 2), dtype=INDEX)
     free_vertices = np.empty((total, 2), dtype=INDEX)
     valence = np.empty(total, dtype=INDEX)
-    triangle_edges = np.empty((len(shorts) * m * n_tri, 3), dtype=INDEX)
+    triangle_edges = np.empty((sum(ms) * n_tri, 3), dtype=INDEX)
     e0 = t0 = v0 = 0
-    for short, cut, n_e, n_v in zip(shorts, edge_cuts, n_edges, chain_vertices, strict=True):
+    for short, m, cut, n_e, n_v in zip(shorts, ms, edge_cuts, n_edges, chain_vertices,
+                                       strict=True):  # fmt: skip
+        extra = m - CHAIN  # sectors 2 … m − 3: extra + 1 copies of the short chain's sector 2
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])  # edges listed by a middle sector
         rows = slice(e0, e0 + n_e)
         _extend(short.edges, edges[rows], cut, extra, per_sector, stride, vertex_starts, v0)
@@ -620,7 +627,7 @@ def copies_rwg(
 
 def chain_rwg(
     shorts: list[EdgeTopology],
-    m: int,
+    ms: list[int],
     n_tri: int,
     stride: int,
     chain_vertices: list[int],
@@ -633,7 +640,6 @@ def chain_rwg(
     lengths are measured. Parameters as for :func:`chain_topology`, plus the
     mesh's ``points`` (and ``columns``, see :func:`segment_lengths`).
     """
-    extra = m - CHAIN
     tri_cut = np.arange(CHAIN + 1) * n_tri
     vertex_starts = np.arange(CHAIN + 1) * stride
     parts = []
@@ -642,12 +648,16 @@ def chain_rwg(
         rows = np.flatnonzero(short.valence == 2)
         row_cut = np.searchsorted(rows, cut)  # the interior edges of each sector
         parts.append((short, cut, rows, row_cut))
-    total = sum(int(rc[-1] + extra * (rc[MIDDLE + 1] - rc[MIDDLE])) for _, _, _, rc in parts)
+    total = sum(
+        int(rc[-1] + (m - CHAIN) * (rc[MIDDLE + 1] - rc[MIDDLE]))
+        for (_, _, _, rc), m in zip(parts, ms, strict=True)
+    )
     edge = np.empty(total, dtype=INDEX)
     vertices = np.empty((total, 2), dtype=INDEX)
     columns_out = [np.empty(total, dtype=INDEX) for _ in range(4)]
     r0 = e0 = t0 = v0 = 0
-    for (short, cut, rows, row_cut), n_v in zip(parts, chain_vertices, strict=True):
+    for (short, cut, rows, row_cut), m, n_v in zip(parts, ms, chain_vertices, strict=True):
+        extra = m - CHAIN
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])
         unit = int(row_cut[MIDDLE + 1] - row_cut[MIDDLE])
         n_rows = int(row_cut[-1]) + extra * unit
@@ -697,23 +707,24 @@ def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
     return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
 
 
-def chain_adjacency(shorts: list[sp.csr_matrix], m: int, n_tri: int) -> sp.csr_matrix:
-    """The connectivity matrix of chains of m sectors, repeated from short chains.
+def chain_adjacency(shorts: list[sp.csr_matrix], ms: list[int], n_tri: int) -> sp.csr_matrix:
+    """The connectivity matrix of chains of m_i sectors, repeated from short chains.
 
     ``shorts``: per chain, the matrix of its chain of :data:`CHAIN` sectors (as
     :func:`triangle_adjacency` makes it). Rows are repeated as the edges are in
     :func:`chain_topology`: a shift keeps each row's neighbours in ascending
     order, so the result is the matrix of the whole mesh, array for array.
     """
-    extra = m - CHAIN
     tri_cut = np.arange(CHAIN + 1) * n_tri
-    n_rows = len(shorts) * m * n_tri
+    n_rows = sum(ms) * n_tri
     counts = np.empty(n_rows, dtype=INDEX)
-    nnz = [int(s.indptr[-1]) + extra * int(s.indptr[tri_cut[MIDDLE + 1]] -
-                                           s.indptr[tri_cut[MIDDLE]]) for s in shorts]  # fmt: skip
+    nnz = [int(s.indptr[-1]) + (m - CHAIN) * int(s.indptr[tri_cut[MIDDLE + 1]] -
+                                                 s.indptr[tri_cut[MIDDLE]])
+           for s, m in zip(shorts, ms, strict=True)]  # fmt: skip
     indices = np.empty(sum(nnz), dtype=INDEX)
     i0 = t0 = 0
-    for short, n in zip(shorts, nnz, strict=True):
+    for short, m, n in zip(shorts, ms, nnz, strict=True):
+        extra = m - CHAIN
         rows = slice(t0, t0 + m * n_tri)
         _extend(np.diff(short.indptr).astype(INDEX), counts[rows], tri_cut, extra, n_tri, 0,
                 tri_cut, 0)  # fmt: skip

@@ -86,7 +86,17 @@ RINGS = [
     MeshParams(structure="ring", mode="conforming", subdivisions=1, angle_step=3.0),  # no interior
     MeshParams(structure="split_ring", mode="conforming", angle_step=20.0),  # open chains
     MeshParams(structure="split_ring", mode="conforming", subdivisions=2, origin=(3.0, -1.0)),
-]
+    # the near-square sectors: n x n_v cells (sides 0 and 2 longer than sides 1 and 3),
+    # as many sectors per ring as its track's length asks for (36 and 57 here, n_v = 5)
+    MeshParams(structure="double_ring", mode="conforming", subdivisions=8, angle_step=10.0,
+               inner_radius=3.0, outer_radius=6.0),
+    # 36 and 108 sectors, n_v = 1: a free vertex across a glued side is two sectors on
+    MeshParams(structure="double_ring", mode="conforming", subdivisions=3, angle_step=10.0,
+               inner_radius=1.5, outer_radius=6.0, diagonal="AD"),
+    MeshParams(structure="split_double_ring", mode="conforming"),  # two arcs per ring
+    MeshParams(structure="double_ring", mode="conforming", subdivisions=6, grading=True),
+    MeshParams(structure="split_ring", mode="conforming", grading=True, min_edge=0.05),
+]  # fmt: skip
 
 
 @pytest.mark.parametrize("params", RINGS)
@@ -94,9 +104,10 @@ def test_chain_topology_equals_the_patch_topology_bit_for_bit(params):
     mesh = build_mesh(params)
     chains = mesh._sector_chains
     assert chains is not None  # rings of sectors numbered by formula: the shortcut is taken
-    m, closed = chains
-    assert m >= CHAIN and m * len(closed) == mesh.n_patches
-    assert all(closed) == (params.structure != "split_ring")
+    ms, closed = chains
+    assert min(ms) >= CHAIN and sum(ms) == mesh.n_patches
+    assert all(closed) == ("split" not in params.structure)
+    assert not any(closed) or all(closed)
     expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
     assert_same_topology(mesh.topology, expect)
     general = edge_topology(mesh.triangles, mesh.n_vertices)
@@ -118,13 +129,16 @@ def test_chain_topology_equals_the_patch_topology_bit_for_bit(params):
     diagonal=st.sampled_from(["BC", "AD"]),
     scheme=st.sampled_from(["uniform", "barycentric"]),
     outer=st.floats(5.0, 9.0),
+    inner=st.floats(1.0, 4.0),
+    grading=st.booleans(),
 )
 def test_chain_topology_equals_the_patch_topology_on_random_rings(
-    structure, angle_step, subdivisions, diagonal, scheme, outer
+    structure, angle_step, subdivisions, diagonal, scheme, outer, inner, grading
 ):
     try:
         params = MeshParams(
             structure=structure, mode="conforming", angle_step=angle_step, outer_radius=outer,
+            inner_radius=inner, grading=grading and scheme == "uniform",
             subdivisions=min(subdivisions, 3) if scheme == "barycentric" else subdivisions,
             diagonal=diagonal, scheme=scheme, max_triangles=200_000,
         )  # fmt: skip
@@ -190,7 +204,7 @@ def test_two_rings_laid_on_each_other_are_refused_as_duplicate_vertices():
     stacked = rebuilt(mesh, points)
     assert stacked._sector_chains is not None  # still the formula path
     # (the check looks among the vertices on the sectors' sides, where sectors are glued)
-    sides = mesh._vertex_map[:, mesh._template.sides.ravel()]
+    sides = mesh._vertex_map[:, mesh._template.side_vertices]
     on_sides = len(np.unique(sides[sides < half]))
     with pytest.raises(MeshInvariantError, match=f"has {on_sides:,} vertices at the same point"):
         check_mesh(stacked, p, stacked._vertex_map)
