@@ -555,9 +555,10 @@ class TriMesh:
             counts = self._sector_edge_counts()
             if counts is None:
                 counts = patch_edge_counts(t.edges, t.valence, self._vertex_map, self.n_vertices)
-            diagonal = lattice_diagonal(t.triangles, len(t.uv))
+            cells = (len(t.sides[0]) - 1, len(t.sides[1]) - 1)  # n x n, or a sector's n x n_v
+            diagonal = lattice_diagonal(t.triangles, len(t.uv), cells)
             if diagonal is not None and len(self._columns) == 2:  # planar grid patches
-                s = lattice_quality_summary(self._columns, self._vertex_map, diagonal)
+                s = lattice_quality_summary(self._columns, self._vertex_map, diagonal, cells)
             else:
                 s = quality_summary(self.points, self.triangles, self._columns)
             summary = s.min_angle_deg, s.max_aspect_ratio, s.area

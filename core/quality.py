@@ -454,23 +454,32 @@ def quality_lines(report: dict[str, Any]) -> list[str]:
             f"({x:.4g}, {y:.4g}) mm"
         )
     return lines
-_LATTICES: dict[tuple[int, bytes], str | None] = {}
 
 
-def lattice_diagonal(template_triangles: np.ndarray, nv: int) -> str | None:
-    """``"BC"`` or ``"AD"`` when the triangles cut the (n + 1)² grid's cells along it.
+_LATTICES: dict[tuple[int, tuple[int, int] | None, bytes], str | None] = {}
 
-    The grid point (a, b) is local vertex b (n + 1) + a, as in a uniform patch
+
+def lattice_diagonal(
+    template_triangles: np.ndarray, nv: int, cells: tuple[int, int] | None = None
+) -> str | None:
+    """``"BC"`` or ``"AD"`` when the triangles cut the grid's cells along it.
+
+    The grid is (n + 1)² points, or (n_u + 1) x (n_v + 1) with ``cells`` =
+    (n_u, n_v) (a conforming sector's :func:`core.subdivision.tensor_template`);
+    the grid point (a, b) is local vertex b (n_u + 1) + a, as in a uniform patch
     template; each cell is two counter-clockwise triangles. None otherwise.
     """
-    key = (nv, template_triangles.tobytes())
+    key = (nv, cells, template_triangles.tobytes())
     if key not in _LATTICES:
-        n = round(np.sqrt(nv)) - 1
+        if cells is None:
+            n = round(np.sqrt(nv)) - 1
+            cells = (n, n)
+        n_u, n_v = cells
         found = None
-        if (n + 1) ** 2 == nv and len(template_triangles) == 2 * n * n:
+        if (n_u + 1) * (n_v + 1) == nv and len(template_triangles) == 2 * n_u * n_v:
             got = _canonical(template_triangles)
             for diagonal in ("BC", "AD"):
-                if np.array_equal(got, _canonical(_lattice_triangles(n, diagonal))):
+                if np.array_equal(got, _canonical(_lattice_triangles(n_u, diagonal, n_v))):
                     found = diagonal
         _LATTICES[key] = found
     return _LATTICES[key]
@@ -483,9 +492,12 @@ def _canonical(triangles: np.ndarray) -> np.ndarray:
     return t[np.lexsort(t.T[::-1])]
 
 
-def _lattice_triangles(n: int, diagonal: str) -> np.ndarray:
-    """(2 n², 3) counter-clockwise triangles of the grid's cells cut along ``diagonal``."""
-    b, a = np.divmod(np.arange(n * n), n)
+def _lattice_triangles(n: int, diagonal: str, n_v: int | None = None) -> np.ndarray:
+    """(2 n n_v, 3) counter-clockwise triangles of the grid's cells cut along ``diagonal``.
+
+    n cells along a (u), ``n_v`` (default n) along b (v).
+    """
+    b, a = np.divmod(np.arange(n * (n if n_v is None else n_v)), n)
     p00 = b * (n + 1) + a
     p10, p01, p11 = p00 + 1, p00 + n + 1, p00 + n + 2
     if diagonal == "BC":
@@ -494,7 +506,10 @@ def _lattice_triangles(n: int, diagonal: str) -> np.ndarray:
 
 
 def lattice_quality_summary(
-    columns: list[np.ndarray], vertex_map: np.ndarray, diagonal: str
+    columns: list[np.ndarray],
+    vertex_map: np.ndarray,
+    diagonal: str,
+    cells: tuple[int, int] | None = None,
 ) -> QualitySummary:
     """:func:`quality_summary` of planar grid patches, from their vertices and grid edges.
 
@@ -510,26 +525,32 @@ def lattice_quality_summary(
     ----------
     columns : list of two (V,) float64
         x and y of the points (planar meshes only).
-    vertex_map : (P, (n + 1)²) int
-        Global vertex of each grid point (a, b) = local vertex b (n + 1) + a of
+    vertex_map : (P, (n_u + 1) (n_v + 1)) int
+        Global vertex of each grid point (a, b) = local vertex b (n_u + 1) + a of
         each patch, whose triangles cut the grid cells along ``diagonal``
         (:func:`lattice_diagonal`).
     diagonal : {"BC", "AD"}
+    cells : (int, int), optional
+        (n_u, n_v), the cells along a and along b; (n, n) by default, n + 1 the
+        square root of the points per patch.
     """
     x, y = columns
     nv = vertex_map.shape[1]
-    n = round(np.sqrt(nv)) - 1
+    if cells is None:
+        n = round(np.sqrt(nv)) - 1
+        cells = (n, n)
+    n_u, n_v = cells
     n_patches = len(vertex_map)
-    if n_patches == 0 or n < 1:
+    if n_patches == 0 or min(n_u, n_v) < 1:
         return QualitySummary(0.0, 0.0, 0.0, 0.0, 0.0)
-    per_block = max(1, BLOCK // (2 * n * n))
+    per_block = max(1, BLOCK // (2 * n_u * n_v))
     sine_max_inverse, aspect_max, area_sum, short, long_ = [], [], [], [], []
     for lo in range(0, n_patches, per_block):
         vmap = vertex_map[lo : lo + per_block]
-        px = x.take(vmap).reshape(-1, n + 1, n + 1)  # [patch, b, a]
-        py = y.take(vmap).reshape(-1, n + 1, n + 1)
-        hx, hy = px[:, :, 1:] - px[:, :, :-1], py[:, :, 1:] - py[:, :, :-1]  # (p, n + 1, n)
-        vx, vy = px[:, 1:, :] - px[:, :-1, :], py[:, 1:, :] - py[:, :-1, :]  # (p, n, n + 1)
+        px = x.take(vmap).reshape(-1, n_v + 1, n_u + 1)  # [patch, b, a]
+        py = y.take(vmap).reshape(-1, n_v + 1, n_u + 1)
+        hx, hy = px[:, :, 1:] - px[:, :, :-1], py[:, :, 1:] - py[:, :, :-1]  # (p, n_v + 1, n_u)
+        vx, vy = px[:, 1:, :] - px[:, :-1, :], py[:, 1:, :] - py[:, :-1, :]  # (p, n_v, n_u + 1)
         if diagonal == "BC":  # from (a + 1, b) to (a, b + 1)
             dx, dy = px[:, 1:, :-1] - px[:, :-1, 1:], py[:, 1:, :-1] - py[:, :-1, 1:]
             legs = ((slice(None, -1), slice(None, -1)), (slice(1, None), slice(1, None)))

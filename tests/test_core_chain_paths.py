@@ -29,6 +29,7 @@ from core.quality import (
     quality_summary,
     triangle_quality,
 )
+from core.subdivision import tensor_template
 from core.topology import CHAIN, edge_topology, rwg_table, triangle_adjacency
 
 TOPOLOGY_FIELDS = (
@@ -328,15 +329,46 @@ def test_lattice_quality_summary_equals_the_triangle_by_triangle_one(diagonal, d
         assert got.min_angle_deg == expect.min_angle_deg == 0.0
 
 
+@pytest.mark.parametrize("diagonal", ["BC", "AD"])
+def test_lattice_quality_summary_of_sector_grids_of_n_by_n_v_cells(diagonal):
+    # a conforming sector's template: 6 graded cells across, 3 along; distorted at random
+    t = tensor_template((0.0, 0.05, 0.2, 0.5, 0.8, 0.95, 1.0), (0.0, 0.3, 0.7, 1.0), diagonal)
+    nv = len(t.uv)
+    assert lattice_diagonal(t.triangles, nv) is None  # not an (n + 1)² grid
+    assert lattice_diagonal(t.triangles, nv, (3, 6)) is None  # the cells the other way
+    assert lattice_diagonal(t.triangles, nv, (6, 3)) == diagonal
+    rng = np.random.default_rng(4)
+    n_patches = 200
+    points = (t.uv[None] + rng.normal(scale=0.02, size=(n_patches, nv, 2))).reshape(-1, 2)
+    points += np.repeat(rng.uniform(-50, 50, (n_patches, 2)), nv, axis=0)
+    vmap = np.arange(n_patches * nv).reshape(n_patches, nv)
+    triangles = vmap[:, t.triangles].reshape(-1, 3)
+    columns = [np.ascontiguousarray(points[:, k]) for k in (0, 1)]
+    got = lattice_quality_summary(columns, vmap, diagonal, (6, 3))
+    expect = quality_summary(points, triangles)
+    q = triangle_quality(points, triangles)
+    assert (got.shortest_side, got.longest_side) == (expect.shortest_side, expect.longest_side)
+    assert got.min_angle_deg == pytest.approx(expect.min_angle_deg, rel=1e-12)
+    assert got.max_aspect_ratio == pytest.approx(expect.max_aspect_ratio, rel=1e-12)
+    assert got.area == pytest.approx(float(q.areas.sum()), rel=1e-12)
+
+
 @pytest.mark.parametrize(
     "params",
     [
         MeshParams(structure="square_split_double_ring", mode="paper", patch_size=0.25),
         MeshParams(structure="double_ring", mode="conforming", subdivisions=5, diagonal="AD"),
+        # sectors of 8 x 5 cells, and graded ones of 6 x 2
+        MeshParams(structure="double_ring", mode="conforming", subdivisions=8, angle_step=10.0,
+                   inner_radius=3.0, outer_radius=6.0),  # fmt: skip
+        MeshParams(structure="split_ring", mode="conforming", subdivisions=6, grading=True),
     ],
 )
 def test_stats_of_grid_patches_equal_the_general_figures(params):
     mesh = build_mesh(params)
+    t = mesh._template
+    cells = (len(t.sides[0]) - 1, len(t.sides[1]) - 1)
+    assert lattice_diagonal(t.triangles, len(t.uv), cells) == params.diagonal  # grid path
     got = mesh.stats()
     assert "topology" not in mesh.__dict__ and "quality" not in mesh.__dict__  # stayed lazy
     full = build_mesh(params)
