@@ -635,5 +635,5 @@ class TriMesh:
             rects,
             dict(self.ignored_cells),
             self._template,
-            self.min_angle_floor,
+            min_angle_floor=self.min_angle_floor,  # params stays None (the next field)
         )

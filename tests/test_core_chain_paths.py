@@ -181,6 +181,20 @@ def test_renumbered_vertices_take_the_general_topology():
     assert renumbered.stats()["edges"] == mesh.stats()["edges"]
 
 
+def test_a_scaled_formula_ring_keeps_its_chains_and_its_floor():
+    # millimetres to metres: same numbering, so the same repeated topology; the floor kept
+    mesh = build_mesh(MeshParams(structure="split_double_ring", mode="conforming"))
+    metres = mesh.scaled(1e-3)
+    assert metres.params is None and metres.min_angle_floor == mesh.min_angle_floor
+    assert metres._sector_chains == mesh._sector_chains
+    assert_same_topology(metres.topology, mesh.topology)
+    got, expect = metres.stats(), mesh.stats()
+    assert got["min_angle_floor_deg"] == expect["min_angle_floor_deg"]
+    assert got["edges"] == expect["edges"] and got["min_edge"] == pytest.approx(
+        expect["min_edge"] * 1e-3, rel=1e-12
+    )
+
+
 # -- defects planted in meshes of the formula path are still refused ------------------
 
 
