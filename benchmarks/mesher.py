@@ -395,6 +395,8 @@ def table(ws: list[Workload]) -> str:
             f"{w.name:23} {w.size:>4} {r['triangles']:>9} {_span(o):>23} "
             f"{o['peak_mib']:6.1f} {o['bytes_per_triangle']:5.0f}"
         )
+        if not w.peers:  # the conforming ring's n x n_v sectors: no peer (a) builds them
+            lines.append(f"{ours_cols}  {'-':7} {'-':>25} {'-':>6}  no peer")
         for i, peer in enumerate(w.peers):
             s = r[peer]
             note = ""
