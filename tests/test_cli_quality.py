@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from core import build_mesh
+from core import MeshParams, build_mesh
 from core.cell import cell_preset_names
 from core.io import read_mesh
 from core.presets import load_preset
@@ -21,15 +21,22 @@ def strict_json(text):
     return json.loads(text, parse_constant=refuse)
 
 
+#: A 10 mm x 2 mm patch, n = 4: every triangle has legs 2.5 and 0.5 mm, so its smallest
+#: angle is atan(0.2) = 11.31° and its aspect ratio c (a + b + c) / (4√3 ab/2) = 3.2675
+#: (c = √6.5 mm): all 32 under 30° and above 3.
+THIN = ("--set", "structure=patch", "--set", "patch_size=10", "--set", "patch_width=2")
+
+
 def test_mesh_prints_and_writes_the_report(tmp_path):
-    r = run("mesh", "--preset", "paper-fig8-dsdr", "--quality-json", "q.json", cwd=tmp_path)
+    r = run("mesh", *THIN, "--quality-json", "q.json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    # the issue's figures: 7.4° and ratios up to 4.8, all 11,008 triangles under 30°
-    assert "smallest angle 7.41 deg" in r.stdout
-    assert "below 30 deg: 11,008 (100%)" in r.stdout
-    assert "aspect ratio max 4.831" in r.stdout
+    assert "smallest angle 11.3 deg" in r.stdout
+    assert "below 30 deg: 32 (100%)" in r.stdout
+    assert "aspect ratio max 3.267, median 3.267; above 3: 32 (100%)" in r.stdout
     written = strict_json((tmp_path / "q.json").read_text())
-    expected = quality_report(build_mesh(load_preset("paper-fig8-dsdr")[0]))
+    assert written["min_angle_deg"]["min"] == pytest.approx(np.degrees(np.arctan(0.2)))
+    expected = quality_report(build_mesh(MeshParams(structure="patch", patch_size=10.0,
+                                                    patch_width=2.0)))
     assert written == json.loads(json.dumps(expected))
     assert len(written["worst"]) == 20 and written["edge_wavelength"] is None
 
@@ -38,10 +45,14 @@ def test_report_alone_on_stdout(tmp_path):
     r = run("mesh", "--preset", "srr-openmodes", "--quality-json", "-", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     report = strict_json(r.stdout)  # nothing else on stdout
-    assert round(report["min_angle_deg"]["min"], 1) == 28.1
+    assert report == json.loads(json.dumps(quality_report(build_mesh(
+        load_preset("srr-openmodes")[0]))))
+    # issue 12: the conforming preset's sectors are nearly square, no triangle under 30°
+    assert report["min_angle_deg"]["min"] >= 30.0
     below = sum(report["min_angle_deg"]["histogram"]["counts"][:15])  # bins 0..30°
-    assert report["min_angle_deg"]["below"] == below
-    assert "quality:" in r.stderr and "smallest angle 28.1 deg" in r.stderr
+    assert report["min_angle_deg"]["below"] == below == 0
+    smallest = f"{report['min_angle_deg']['min']:.3g}"
+    assert "quality:" in r.stderr and f"smallest angle {smallest} deg" in r.stderr
 
 
 def test_info_with_frequency_adds_edge_over_wavelength(tmp_path):
