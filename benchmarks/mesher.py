@@ -78,6 +78,16 @@ SIZES = ("10k", "100k", "1M", "4M")
 RING = {"10k": (4, 2.5), "100k": (8, 0.9), "1M": (16, 0.36), "4M": (32, 0.36)}
 #: (subdivisions, angle_step) of the same ring at the paper's n = 4: many small patches.
 RING_N4 = {"1M": (4, 0.02304), "4M": (4, 0.00576)}
+#: (subdivisions, inner_radius, outer_radius, angle_step) of the conforming double ring
+#: (patch 1 mm). Its sectors are n cells across the track by n_v along it, nearly square,
+#: so the triangle count grows with the rings' length in tracks, not with n² / angle_step:
+#: 9,600, 105,984, 982,016 and 3,928,064 triangles.
+CONFORMING = {
+    "10k": (6, 4.0, 9.0, 0.9),
+    "100k": (16, 12.0, 20.0, 0.9),
+    "1M": (32, 30.0, 44.0, 0.9),
+    "4M": (64, 30.0, 44.0, 0.9),
+}
 #: (subdivisions, patch_size) of the square patch array (square split double ring).
 ARRAY = {"10k": (4, 0.25), "100k": (8, 0.125), "1M": (16, 0.05), "4M": (32, 0.05)}
 #: The tolerance variant of peer (a) is ~8x slower; run it up to this size.
@@ -111,23 +121,29 @@ def workloads(sizes: list[str], gmsh_sizes: list[str]) -> list[Workload]:
             )
         )
         if size in RING_N4:
-            n, step = RING_N4[size]
+            n4, step4 = RING_N4[size]
             out.append(
                 Workload(
                     "paper double ring n=4",
                     size,
                     MeshParams(
-                        structure="double_ring", mode="paper", subdivisions=n, angle_step=step
+                        structure="double_ring", mode="paper", subdivisions=n4, angle_step=step4
                     ),
                     ["a-exact"],
                 )
             )
+        n, inner, outer, step = CONFORMING[size]
         out.append(
             Workload(
                 "conforming double ring",
                 size,
                 MeshParams(
-                    structure="double_ring", mode="conforming", subdivisions=n, angle_step=step
+                    structure="double_ring",
+                    mode="conforming",
+                    subdivisions=n,
+                    inner_radius=inner,
+                    outer_radius=outer,
+                    angle_step=step,
                 ),
                 [],  # sectors of n x n_v cells: no subdivision of primary triangles matches them
             )
@@ -379,6 +395,8 @@ def table(ws: list[Workload]) -> str:
             f"{w.name:23} {w.size:>4} {r['triangles']:>9} {_span(o):>23} "
             f"{o['peak_mib']:6.1f} {o['bytes_per_triangle']:5.0f}"
         )
+        if not w.peers:  # the conforming ring's n x n_v sectors: no peer (a) builds them
+            lines.append(f"{ours_cols}  {'-':7} {'-':>25} {'-':>6}  no peer")
         for i, peer in enumerate(w.peers):
             s = r[peer]
             note = ""

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from .mesh import _short_chain_topology
+from .quality import lattice_diagonal
 from .topology import BLOCK, edge_keys
 
 #: A triangle whose area is below this fraction of its longest edge squared is flat.
@@ -91,7 +93,10 @@ def _flagged(x: np.ndarray, y: np.ndarray, i, j, k) -> np.ndarray:
 
 
 def inverted_or_flat_patches(
-    points: np.ndarray, vertex_map: np.ndarray, template_triangles: np.ndarray
+    points: np.ndarray,
+    vertex_map: np.ndarray,
+    template_triangles: np.ndarray,
+    columns: list[np.ndarray] | None = None,
 ) -> np.ndarray:
     """:func:`inverted_or_flat` of the triangles ``vertex_map[:, template_triangles]``.
 
@@ -105,13 +110,16 @@ def inverted_or_flat_patches(
         Global vertex of every patch-local vertex.
     template_triangles : (Nt, 3) int
         Local triangles of the template; triangle p Nt + l is patch p's triangle l.
+    columns : list of (V,) float64, optional
+        Contiguous copies of the x and y columns of ``points`` (then not made again).
 
     Returns
     -------
     (K,) int
     """
-    x = np.ascontiguousarray(points[:, 0])
-    y = np.ascontiguousarray(points[:, 1])
+    if columns is None:
+        columns = [np.ascontiguousarray(points[:, k]) for k in (0, 1)]
+    x, y = columns[0], columns[1]
     n_tri = len(template_triangles)
     per_block = max(1, BLOCK // n_tri)
     diagonal = lattice_diagonal(template_triangles, vertex_map.shape[1])
@@ -135,45 +143,6 @@ def inverted_or_flat_patches(
         if len(hit):
             bad.append(hit + lo * n_tri)
     return np.concatenate(bad) if bad else np.empty(0, dtype=np.intp)
-
-
-_LATTICES: dict[tuple[int, bytes], str | None] = {}
-
-
-def lattice_diagonal(template_triangles: np.ndarray, nv: int) -> str | None:
-    """``"BC"`` or ``"AD"`` when the triangles cut the (n + 1)² grid's cells along it.
-
-    The grid point (a, b) is local vertex b (n + 1) + a, as in a uniform patch
-    template; each cell is two counter-clockwise triangles. None otherwise.
-    """
-    key = (nv, template_triangles.tobytes())
-    if key not in _LATTICES:
-        n = round(np.sqrt(nv)) - 1
-        found = None
-        if (n + 1) ** 2 == nv and len(template_triangles) == 2 * n * n:
-            got = _canonical(template_triangles)
-            for diagonal in ("BC", "AD"):
-                if np.array_equal(got, _canonical(_lattice_triangles(n, diagonal))):
-                    found = diagonal
-        _LATTICES[key] = found
-    return _LATTICES[key]
-
-
-def _canonical(triangles: np.ndarray) -> np.ndarray:
-    """Triangles as rows rotated to start at their smallest vertex, sorted (orientation kept)."""
-    t = np.asarray(triangles)
-    t = np.take_along_axis(t, (np.argmin(t, axis=1)[:, None] + np.arange(3)) % 3, axis=1)
-    return t[np.lexsort(t.T[::-1])]
-
-
-def _lattice_triangles(n: int, diagonal: str) -> np.ndarray:
-    """(2 n², 3) counter-clockwise triangles of the grid's cells cut along ``diagonal``."""
-    b, a = np.divmod(np.arange(n * n), n)
-    p00 = b * (n + 1) + a
-    p10, p01, p11 = p00 + 1, p00 + n + 1, p00 + n + 2
-    if diagonal == "BC":
-        return np.concatenate([np.stack([p00, p10, p01], 1), np.stack([p11, p01, p10], 1)])
-    return np.concatenate([np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)])
 
 
 def _lattice_flagged(px: np.ndarray, py: np.ndarray, n: int, diagonal: str) -> bool:
@@ -234,7 +203,7 @@ def glued_edge_valence(template: Any, vertex_map: np.ndarray, n_vertices: int) -
     int
         The largest valence among the candidate edges (0 if there are none).
     """
-    shared = (np.bincount(vertex_map.ravel(), minlength=n_vertices) > 1)[vertex_map]
+    shared = (np.bincount(vertex_map.ravel(), minlength=n_vertices) > 1).take(vertex_map)
     edges = template.edges
     on_sides = np.zeros(vertex_map.shape[1], dtype=bool)
     on_sides[template.side_vertices] = True
@@ -262,24 +231,64 @@ def duplicate_vertices(points: np.ndarray, vertices: np.ndarray | None = None) -
     points : (V, 2 or 3) float64
     vertices : (K,) int, optional
         Only look among these vertices (for example those on the patches' sides).
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 1.0], [-0.0, 1.0], [1.0, 0.0], [-1.0, -1.0], [1.0, 1.0]])
+    >>> duplicate_vertices(pts), duplicate_vertices(pts, np.array([2, 3, 4]))
+    (1, 0)
     """
+    points = np.asarray(points)
     if vertices is None:
-        xy = points[:, :2]
+        index = None
+        n = len(points)
     else:
         seen = np.zeros(len(points), dtype=bool)
         seen[vertices.ravel()] = True
-        xy = points[np.flatnonzero(seen), :2]
-    if len(xy) < 2:
+        index = np.flatnonzero(seen)
+        n = len(index)
+    if n < 2:
         return 0
     # equal points have equal bits (+ 0.0 turns -0.0 into 0.0): one integer key per point,
     # sorted fast; only when two keys agree are the points compared exactly
-    bits = np.ascontiguousarray(xy + 0.0).view(np.int64)
-    key = np.sort(bits[:, 0] * np.int64(-7046029254386353131) + bits[:, 1])
+    x, y = (_column(points, axis, index) for axis in (0, 1))
+    key = _point_keys(x, y)
+    key.sort()
     if not (key[1:] == key[:-1]).any():
         return 0
-    order = np.lexsort((xy[:, 1], xy[:, 0]))
-    s = xy[order]
-    return int(((s[1:, 0] == s[:-1, 0]) & (s[1:, 1] == s[:-1, 1])).sum())
+    order = np.lexsort((y, x))
+    sx, sy = x[order], y[order]
+    return int(((sx[1:] == sx[:-1]) & (sy[1:] == sy[:-1])).sum())
+
+
+def _column(points: np.ndarray, axis: int, index: np.ndarray | None) -> np.ndarray:
+    """(K,) float64 coordinate ``axis`` of the points ``index`` (all if None), + 0.0."""
+    if index is None:
+        column = np.ascontiguousarray(points[:, axis])
+    else:  # gathered straight from the rows: no copy of the whole column
+        flat = points.reshape(-1) if points.flags.c_contiguous else points.ravel()
+        column = flat.take(index * points.shape[1] + axis)
+    column += 0.0  # -0.0 becomes 0.0 (in place: a fresh array either way)
+    return column
+
+
+#: An odd 64-bit multiplier (the golden ratio's bits) spreading x over the key.
+_MIX = np.uint64(0x9E3779B97F4A7C15)
+
+
+def _point_keys(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """(K,) uint64 keys, equal for equal points (and rarely otherwise).
+
+    x's bits times an odd constant plus y's bits with their halves swapped: a
+    sum of x's and y's bits would give (x, y) and (−x, −y) (sign bits 2⁶³ apart
+    in both) the same key, so every point-symmetric ring would fall through to
+    the exact comparison.
+    """
+    xb = x.view(np.uint64)
+    yb = y.view(np.uint64)
+    key = xb * _MIX
+    key += (yb << np.uint64(32)) | (yb >> np.uint64(32))
+    return key
 
 
 def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> None:
@@ -301,7 +310,8 @@ def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> 
     if not np.isfinite(points).all():
         _fail(params, "has coordinates that are not finite")
     if vertex_map is not None and template is not None:
-        bad = inverted_or_flat_patches(points, vertex_map, template.triangles)
+        # the mesh's own x and y columns, which centroids, lengths and quality reuse
+        bad = inverted_or_flat_patches(points, vertex_map, template.triangles, mesh._columns)
     else:
         bad = inverted_or_flat(points, triangles)
     if len(bad):
@@ -317,7 +327,9 @@ def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> 
         # vertices on the patches' sides, where patches are glued; an interior vertex
         # of a patch is its own (a second vertex there would need overlapping triangles)
         dup = duplicate_vertices(points, vertex_map[:, template.side_vertices])
-        valence = glued_edge_valence(template, vertex_map, len(points))
+        valence = _chain_valence(mesh)
+        if valence is None:
+            valence = glued_edge_valence(template, vertex_map, len(points))
     else:
         dup = duplicate_vertices(points)
         valence = int(mesh.topology.valence.max(initial=0))
@@ -325,6 +337,22 @@ def check_mesh(mesh: Any, params: Any, vertex_map: np.ndarray | None = None) -> 
         _fail(params, f"has {dup:,} vertices at the same point as another vertex")
     if valence >= 3:
         _fail(params, f"has edges on {valence} triangles (a junction)")
+
+
+def _chain_valence(mesh: Any) -> int | None:
+    """Most triangles on one edge of rings of sectors numbered by formula, else None.
+
+    When the vertex map is, entry for entry, that of chains of m sectors
+    (``TriMesh._sector_chains``), every edge of a chain is a shifted copy of an
+    edge of the short chain its topology repeats, on as many triangles
+    (:func:`core.topology.chain_topology`): the short chains' largest valence
+    is the mesh's. Anything else (a sector glued twice, renumbered vertices)
+    is counted by :func:`glued_edge_valence`.
+    """
+    chains = mesh._sector_chains
+    if chains is None:
+        return None
+    return max(int(_short_chain_topology(mesh._template, c).valence.max()) for c in chains[1])
 
 
 def _fail(params: Any, what: str) -> None:

@@ -11,15 +11,30 @@ import scipy.sparse as sp
 
 from .assembly import patch_topology
 from .overlap import union_area
-from .quality import TriangleQuality, quality_summary, triangle_quality
+from .quality import (
+    TriangleQuality,
+    lattice_diagonal,
+    lattice_quality_summary,
+    quality_summary,
+    triangle_quality,
+)
 from .sizing import sizing_stats
 from .structures import _sector_chain_vertices
 from .subdivision import PatchTemplate
 from .topology import (
     BLOCK,
+    CHAIN,
     INDEX,
+    MIDDLE,
     EdgeTopology,
     RWGTable,
+    _adjacency_without_junctions,
+    chain_adjacency,
+    chain_rwg,
+    chain_topology,
+    copies_adjacency,
+    copies_rwg,
+    copies_topology,
     edge_topology,
     patch_edge_counts,
     rwg_table,
@@ -45,11 +60,42 @@ def _frozen(a: np.ndarray) -> np.ndarray:
 _COPY_TOLERANCE = 2.5e-13
 
 
+#: Chains of sectors the chain paths take at most (a conforming ring has one or two
+#: rings of one or two arcs); more and the mesh takes the general paths.
+_MAX_CHAINS = 16
+
+#: (id of the template, closed) -> (template, topology of its short chain); a few entries.
+_SHORT_CHAINS: dict[tuple[int, bool], tuple[PatchTemplate, EdgeTopology]] = {}
+
+
+def _short_chain_topology(template: PatchTemplate, closed: bool) -> EdgeTopology:
+    """``patch_topology`` of a chain of :data:`core.topology.CHAIN` sectors numbered by formula."""
+    key = (id(template), closed)
+    hit = _SHORT_CHAINS.get(key)
+    if hit is not None and hit[0] is template:  # the template itself is kept: ids stay unique
+        return hit[1]
+    ids, _ = _sector_chain_vertices(template, CHAIN, [closed])
+    s = len(template.sides[0])
+    n_vertices = CHAIN * (len(template.uv) - s) + (0 if closed else s)
+    topo = patch_topology(template, ids.reshape(CHAIN, -1), n_vertices)
+    if len(_SHORT_CHAINS) >= 16:
+        _SHORT_CHAINS.clear()
+    _SHORT_CHAINS[key] = (template, topo)
+    return topo
+
+
 def _count_distinct(labels: np.ndarray) -> int:
-    """Number of distinct values of small non-negative labels, without sorting them."""
+    """Number of distinct values of integer labels, without sorting them.
+
+    The smallest and the largest label are there; only labels strictly between
+    them are looked for (none for one or two regions, the usual case).
+    """
     if len(labels) == 0:
         return 0
-    if labels.min() >= 0 and labels.max() < 1 << 20:
+    lo, hi = int(labels.min()), int(labels.max())
+    if hi - lo < 64:
+        return min(2, hi - lo + 1) + sum(bool((labels == v).any()) for v in range(lo + 1, hi))
+    if lo >= 0 and hi < 1 << 20:
         return int(np.count_nonzero(np.bincount(labels)))
     return len(np.unique(labels))
 
@@ -200,9 +246,100 @@ class TriMesh:
     @cached_property
     def topology(self) -> EdgeTopology:
         """Edges and their incidence (see :class:`core.topology.EdgeTopology`)."""
-        if self._template is not None:
-            return patch_topology(self._template, self._vertex_map, self.n_vertices)
-        return edge_topology(self.triangles, self.n_vertices)
+        t = self._template
+        if t is None:
+            return edge_topology(self.triangles, self.n_vertices)
+        nv = len(t.uv)
+        if self.n_vertices == self.n_patches * nv and self._unwelded_copies:
+            local = patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
+            return copies_topology(local, self.n_patches, nv, len(t.triangles))
+        chains = self._chain_arguments()
+        if chains is None:
+            return patch_topology(t, self._vertex_map, self.n_vertices)
+        return chain_topology(*chains)
+
+    def _chain_arguments(self) -> tuple | None:
+        """(short chains, m_i, triangles and vertices per sector, vertices per chain) or None."""
+        chains = self._sector_chains
+        if chains is None:
+            return None
+        t = self._template
+        ms, closed = chains
+        s = len(t.sides[0])
+        shorts = [_short_chain_topology(t, c) for c in closed]
+        counts = [m * (len(t.uv) - s) + (0 if c else s) for m, c in zip(ms, closed, strict=True)]
+        return shorts, list(ms), len(t.triangles), len(t.uv) - s, counts
+
+    @cached_property
+    def _unwelded_copies(self) -> bool:
+        """Whether patch p's triangles use vertices p Nv … p Nv + Nv − 1 in template order.
+
+        True for paper meshes whose patches share no vertex (nothing welded):
+        their topology is the template's, copy after copy
+        (:func:`core.topology.copies_topology`). Checked on the vertex map,
+        block by block.
+        """
+        t = self._template
+        if t is None or self.n_patches == 0:
+            return False
+        nv = len(t.uv)
+        if self.n_vertices != self.n_patches * nv or self.n_triangles != self.n_patches * len(
+            t.triangles
+        ):
+            return False
+        vmap = self._vertex_map
+        rows = max(1, BLOCK // nv)
+        local = np.arange(nv, dtype=INDEX)
+        for lo in range(0, self.n_patches, rows):
+            ids = vmap[lo : lo + rows]
+            base = (np.arange(lo, lo + len(ids), dtype=INDEX) * INDEX(nv))[:, None]
+            if not np.array_equal(ids - base, np.broadcast_to(local, ids.shape)):
+                return False
+        return True
+
+    @cached_property
+    def _sector_chains(self) -> tuple[tuple[int, ...], tuple[bool, ...]] | None:
+        """(m_i, closed_i) per chain when the mesh is chains of sectors numbered by formula.
+
+        A conforming ring's arc (closed, or ended by a slot) is a chain of m_i ≥
+        :data:`core.topology.CHAIN` sectors glued side 2 to side 0; rings and
+        arcs may hold different numbers of sectors. The chains are read off the
+        vertex map (where a sector's side 2 is not the next one's side 0, a chain
+        ends; it is closed when its last side 2 is its first side 0), then the
+        whole map is checked, every entry, against
+        :func:`core.structures._sector_chain_vertices` for those chains: only
+        then does the topology repeat that of short chains
+        (:func:`core.topology.chain_topology`). None for anything else
+        (touching rings, a chain shorter than ``CHAIN``, renumbered vertices,
+        paper mode, imported meshes).
+        """
+        t = self._template
+        n_p = self.n_patches
+        if t is None or n_p < CHAIN or self.mode != "conforming":
+            return None
+        nv, nt = len(t.uv), len(t.triangles)
+        side0, side2 = np.asarray(t.sides[0]), np.asarray(t.sides[2])
+        s = len(side0)
+        if self.n_triangles != n_p * nt or len(side2) != s:
+            return None
+        vmap = self._vertex_map
+        glued = (vmap[:-1].take(side2, axis=1) == vmap[1:].take(side0, axis=1)).all(axis=1)
+        starts = np.flatnonzero(np.r_[True, ~glued])
+        if len(starts) > _MAX_CHAINS:
+            return None
+        ends = np.r_[starts[1:], n_p]
+        ms = ends - starts
+        if ms.min() < CHAIN:
+            return None
+        closed = (vmap[ends - 1].take(side2, axis=1) == vmap[starts].take(side0, axis=1)).all(1)
+        ms, closed = tuple(int(m) for m in ms), tuple(bool(c) for c in closed)
+        sizes = [m * (nv - s) + (0 if c else s) for m, c in zip(ms, closed, strict=True)]
+        if self.n_vertices != sum(sizes):
+            return None
+        ids, _ = _sector_chain_vertices(t, list(ms), list(closed))
+        if not np.array_equal(vmap.ravel(), ids):
+            return None
+        return ms, closed
 
     @property
     def _vertex_map(self) -> np.ndarray:
@@ -248,11 +385,34 @@ class TriMesh:
     @cached_property
     def rwg(self) -> RWGTable:
         """The RWG table: one row per interior edge (see :class:`core.topology.RWGTable`)."""
+        t = self._template
+        if t is not None:  # repeated structures: rows of the topology, repeated as it is
+            nv, nt = len(t.uv), len(t.triangles)
+            if self._unwelded_copies:
+                local = patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
+                return copies_rwg(local, self.n_patches, nv, nt, self.points, self._columns)
+            chains = self._chain_arguments()
+            if chains is not None:
+                return chain_rwg(*chains, self.points, self._columns)
         return rwg_table(self.points, self.triangles, self.topology, self._columns)
 
     @cached_property
     def connectivity(self) -> sp.csr_matrix:
         """T x T symmetric 0/1 matrix of triangles sharing an edge (the paper's Eq. 27)."""
+        t = self._template
+        if t is not None:  # repeated structures: rows repeated as the edges are
+            nv, nt = len(t.uv), len(t.triangles)
+            if self._unwelded_copies:
+                local = _adjacency_without_junctions(
+                    nt, patch_topology(t, np.arange(nv, dtype=INDEX)[None], nv)
+                )
+                if local is not None:
+                    return copies_adjacency(local, self.n_patches)
+            chains = self._chain_arguments()
+            if chains is not None:
+                shorts = [_adjacency_without_junctions(CHAIN * nt, c) for c in chains[0]]
+                if all(c is not None for c in shorts):
+                    return chain_adjacency(shorts, chains[1], nt)
         return triangle_adjacency(self.n_triangles, self.topology)
 
     @cached_property
@@ -338,8 +498,23 @@ class TriMesh:
         adds the same edges, so the counts are Σ m_i / 3 times those of a closed
         chain of three sectors: the counts of
         :func:`core.topology.patch_edge_counts` without sorting the glued edges.
-        Returns None otherwise (split, touching, paper or imported rings).
+        Rings of at least :data:`core.topology.CHAIN` sectors, closed or split, whose
+        numbering the build has already checked (``_sector_chains``, cached) add up
+        the counts of their short chains' sectors instead, as
+        :func:`core.topology.chain_topology` repeats them.
+        Returns None otherwise (touching, paper or imported rings).
         """
+        chains = self._chain_arguments() if "_sector_chains" in self.__dict__ else None
+        if chains is not None:
+            shorts, ms, n_tri = chains[:3]
+            counts = np.zeros(4, dtype=np.int64)
+            for short, m in zip(shorts, ms, strict=True):
+                cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
+                for lo, hi, times in ((0, MIDDLE, 1), (MIDDLE, MIDDLE + 1, m - CHAIN + 1),
+                                      (MIDDLE + 1, CHAIN, 1)):  # fmt: skip
+                    part = np.bincount(short.valence[cut[lo] : cut[hi]], minlength=4)
+                    counts[: len(part)] += times * part[:4]
+            return counts[: max(3, len(np.trim_zeros(counts, "b")))]  # as a bincount
         t = self._template
         n_p = self.n_patches
         if t is None or n_p == 0 or self.mode != "conforming":
@@ -380,7 +555,12 @@ class TriMesh:
             counts = self._sector_edge_counts()
             if counts is None:
                 counts = patch_edge_counts(t.edges, t.valence, self._vertex_map, self.n_vertices)
-            s = quality_summary(self.points, self.triangles, self._columns)
+            cells = (len(t.sides[0]) - 1, len(t.sides[1]) - 1)  # n x n, or a sector's n x n_v
+            diagonal = lattice_diagonal(t.triangles, len(t.uv), cells)
+            if diagonal is not None and len(self._columns) == 2:  # planar grid patches
+                s = lattice_quality_summary(self._columns, self._vertex_map, diagonal, cells)
+            else:
+                s = quality_summary(self.points, self.triangles, self._columns)
             summary = s.min_angle_deg, s.max_aspect_ratio, s.area
             side_range = s.shortest_side, s.longest_side
         else:
@@ -455,5 +635,5 @@ class TriMesh:
             rects,
             dict(self.ignored_cells),
             self._template,
-            self.min_angle_floor,
+            min_angle_floor=self.min_angle_floor,  # params stays None (the next field)
         )

@@ -247,6 +247,8 @@ class MeshParams:
             )
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
+        if self.tolerance is not None:  # a number before the sector plan (keyed on it) is made
+            put(self, "tolerance", _positive("tolerance", self.tolerance))
         self._check_sizing()
         self._check_grading()
         self._check_geometry()

@@ -396,3 +396,343 @@ def vertex_adjacency(n_vertices: int, edges: np.ndarray) -> sp.csr_matrix:
     return sp.coo_matrix(
         (np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_vertices,) * 2
     ).tocsr()
+
+
+#: Sectors in the short chain whose topology a long chain repeats: two first, the middle
+#: one (``MIDDLE``), two last. A sector's edges reach the vertices of the sector after
+#: next (the free vertex across a glued side), so the middle one needs two on each side.
+CHAIN = 5
+MIDDLE = 2
+
+
+def chain_topology(
+    shorts: list[EdgeTopology],
+    ms: list[int],
+    n_tri: int,
+    stride: int,
+    chain_vertices: list[int],
+) -> EdgeTopology:
+    """Topology of chains of m_i sectors, each repeated from a chain of :data:`CHAIN` sectors.
+
+    In a chain of sectors glued side 2 to side 0 and numbered by formula
+    (:func:`core.structures._sector_chain_vertices`: sector k's vertices start
+    at k ``stride``), every sector between the first and the last lists the
+    same edges, in the same order, with the same incidence, shifted by one
+    sector's worth of vertices, triangles and edges. The short chain's first
+    two sectors are the long chain's first two, its middle one is repeated for
+    sectors 2 … m − 3 and its last two are the last two; a value of the first
+    two that refers to the last sector (across a closed chain's seam) and one
+    of the last two that refers to the middle sector or later move to the end
+    of the long chain, a reference of the last two back to sector 0 (a closed
+    chain) stays. Chains follow one another (vertices, triangles and edges
+    numbered on). The same arrays as :func:`core.assembly.patch_topology` on
+    the whole structure, bit for bit (the tests compare them on many chains),
+    without sorting or gathering anything of the size of the mesh.
+
+    Parameters
+    ----------
+    shorts : list of EdgeTopology
+        Per chain, ``patch_topology`` of the chain with :data:`CHAIN` sectors
+        (vertices numbered by the formula from 0); free vertices filled in, no
+        junctions.
+    ms : list of int
+        Sectors of each long chain (m_i), each at least :data:`CHAIN`.
+    n_tri : int
+        Triangles per sector.
+    stride : int
+        Vertices each sector adds (its own, side 0 included, side 2 not).
+    chain_vertices : list of int
+        Vertices of each long chain (m_i ``stride``, plus side 2's of an open chain).
+
+    Returns
+    -------
+    EdgeTopology
+    """
+    if len(ms) != len(shorts) or min(ms, default=CHAIN) < CHAIN:
+        raise ValueError(f"chain_topology: sectors per chain {list(ms)!r}, each >= {CHAIN}")
+    if any(len(s.junction_incidence) or s.free_vertices is None for s in shorts):
+        raise ValueError("chain_topology: a short chain with junctions or without free vertices")
+    tri_cut = np.arange(CHAIN + 1) * n_tri
+    vertex_starts = np.arange(CHAIN + 1) * stride
+    edge_cuts, n_edges = [], []
+    for short, m in zip(shorts, ms, strict=True):  # edges are listed sector by sector
+        cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
+        edge_cuts.append(cut)
+        n_edges.append(int(cut[-1] + (m - CHAIN) * (cut[MIDDLE + 1] - cut[MIDDLE])))
+    total = sum(n_edges)
+    edges = np.empty((total, 2), dtype=INDEX)
+    edge_triangles = np.empty((total, 2), dtype=INDEX)
+    free_vertices = np.empty((total, 2), dtype=INDEX)
+    valence = np.empty(total, dtype=INDEX)
+    triangle_edges = np.empty((sum(ms) * n_tri, 3), dtype=INDEX)
+    e0 = t0 = v0 = 0
+    for short, m, cut, n_e, n_v in zip(shorts, ms, edge_cuts, n_edges, chain_vertices,
+                                       strict=True):  # fmt: skip
+        extra = m - CHAIN  # sectors 2 … m − 3: extra + 1 copies of the short chain's sector 2
+        per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])  # edges listed by a middle sector
+        rows = slice(e0, e0 + n_e)
+        _extend(short.edges, edges[rows], cut, extra, per_sector, stride, vertex_starts, v0)
+        _extend(short.edge_triangles, edge_triangles[rows], cut, extra, per_sector, n_tri,
+                tri_cut, t0)  # fmt: skip
+        _extend(short.free_vertices, free_vertices[rows], cut, extra, per_sector, stride,
+                vertex_starts, v0)  # fmt: skip
+        _extend(short.valence, valence[rows], cut, extra, per_sector, 0, cut, 0)
+        _extend(short.triangle_edges, triangle_edges[t0 : t0 + m * n_tri], tri_cut, extra,
+                n_tri, per_sector, cut, e0)  # fmt: skip
+        e0, t0, v0 = e0 + n_e, t0 + m * n_tri, v0 + n_v
+    return EdgeTopology(
+        edges=edges,
+        triangle_edges=triangle_edges,
+        edge_triangles=edge_triangles,
+        valence=valence,
+        junction_incidence=np.empty((0, 2), dtype=INDEX),
+        free_vertices=free_vertices,
+    )
+
+
+def _extend(
+    short: np.ndarray,
+    out: np.ndarray,
+    cuts: np.ndarray,
+    extra: int,
+    unit: int,
+    step: int,
+    starts: np.ndarray,
+    base: int,
+) -> None:
+    """Fill ``out`` with a long chain's rows from a short chain's (see :func:`chain_topology`).
+
+    Rows ``cuts[q]:cuts[q + 1]`` of ``short`` belong to sector q; the middle
+    sector's ``unit`` rows are written ``extra + 1`` times. Values are ids of
+    things of which a middle sector has ``step`` (0: not ids), sector q's from
+    ``starts[q]`` on, or -1 for none; ``base`` is added to every id.
+    """
+    n_head = int(cuts[MIDDLE])
+    head = out[:n_head]
+    head[...] = short[:n_head]
+    middle = short[cuts[MIDDLE] : cuts[MIDDLE + 1]]
+    block = out[n_head : n_head + (extra + 1) * unit].reshape((extra + 1,) + middle.shape)
+    tail = out[n_head + (extra + 1) * unit :]
+    tail[...] = short[cuts[MIDDLE + 1] :]
+    if step == 0:
+        block[...] = middle
+        return
+    # the first sectors reach at most two sectors on, or the last one across the seam
+    head[head >= starts[MIDDLE + 2]] += INDEX(extra * step)
+    # the last ones reach back to the middle one, or to sector 0 across the seam
+    tail[tail >= starts[MIDDLE]] += INDEX(extra * step)
+    _fill_tiled(block.reshape(-1), middle, extra + 1, step, base)
+    if base:
+        for part in (head, tail):
+            part[part >= 0] += INDEX(base)
+
+
+def copies_topology(
+    local: EdgeTopology, n_patches: int, n_vertices: int, n_tri: int
+) -> EdgeTopology:
+    """Topology of ``n_patches`` unwelded copies of one patch, patch p's vertices from p Nv.
+
+    Every edge is a template edge of one copy: the template's arrays shifted by
+    p times the vertices, triangles and edges of a patch, written once each
+    (no gathers). The same arrays as :func:`core.assembly.patch_topology` on an
+    identity vertex map, bit for bit.
+
+    Parameters
+    ----------
+    local : EdgeTopology
+        The template's topology, edges ascending within each pair, free vertices
+        filled in, no junctions.
+    n_patches : int
+    n_vertices : int
+        Vertices of one patch (Nv).
+    n_tri : int
+        Triangles of one patch.
+    """
+    n_loc = len(local.edges)
+    valence = np.empty((n_patches, n_loc), dtype=INDEX)
+    valence[...] = local.valence
+    return EdgeTopology(
+        edges=_tiled(local.edges, n_patches, n_vertices),
+        triangle_edges=_tiled(local.triangle_edges, n_patches, n_loc),
+        edge_triangles=_tiled(local.edge_triangles, n_patches, n_tri),
+        valence=valence.reshape(-1),
+        junction_incidence=np.empty((0, 2), dtype=INDEX),
+        free_vertices=_tiled(local.free_vertices, n_patches, n_vertices),
+    )
+
+
+def _tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
+    """``a`` once per patch, patch p's ids (not the -1 entries) shifted by p ``step``."""
+    out = np.empty((n_patches,) + a.shape, dtype=INDEX)
+    _fill_tiled(out.reshape(-1), a, n_patches, step, 0)
+    return out.reshape((-1,) + a.shape[1:])
+
+
+def _fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int) -> None:
+    """Write ``copies`` copies of ``a`` into the flat ``out``, copy k's ids plus k ``step`` + base.
+
+    Entries of -1 (none) stay -1. Block by block over a pattern of whole copies:
+    long, contiguous adds even when ``a`` is a handful of values (a broadcast add
+    over (copies, len(a)) would run one short inner loop per copy).
+    """
+    flat = np.ascontiguousarray(a, dtype=INDEX).reshape(-1)
+    k = len(flat)
+    if copies == 0 or k == 0:
+        return
+    per = max(1, min(copies, BLOCK // k))  # copies per block
+    ramp = np.repeat(np.arange(per, dtype=INDEX) * INDEX(step), k)
+    missing = flat < 0
+    if missing.any():
+        keep = np.tile(~missing, per).astype(INDEX)  # 0 where -1 must stay
+        pattern = np.tile(flat, per) + ramp * keep + INDEX(base) * keep
+    else:
+        keep = None
+        pattern = np.tile(flat, per) + ramp + INDEX(base)
+    for lo in range(0, copies, per):
+        n = min(per, copies - lo) * k
+        block = out[lo * k : lo * k + n]
+        if keep is None:
+            np.add(pattern[:n], INDEX(lo * step), out=block)
+        else:
+            np.multiply(keep[:n], INDEX(lo * step), out=block)
+            block += pattern[:n]
+
+
+def copies_rwg(
+    local: EdgeTopology,
+    n_patches: int,
+    n_vertices: int,
+    n_tri: int,
+    points: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+) -> RWGTable:
+    """:func:`rwg_table` of the topology :func:`copies_topology` makes, without gathers.
+
+    The template's interior edges, copy after copy; only the lengths are
+    measured. Parameters as for :func:`copies_topology`, plus the mesh's
+    ``points`` (and ``columns``, see :func:`segment_lengths`).
+    """
+    rows = np.flatnonzero(local.valence == 2)
+    vertices = _tiled(local.edges[rows], n_patches, n_vertices)
+    return RWGTable(
+        edge=_tiled(rows.astype(INDEX), n_patches, len(local.edges)),
+        vertices=vertices,
+        t_plus=_tiled(local.edge_triangles[rows, 0], n_patches, n_tri),
+        t_minus=_tiled(local.edge_triangles[rows, 1], n_patches, n_tri),
+        free_vertex_plus=_tiled(local.free_vertices[rows, 0], n_patches, n_vertices),
+        free_vertex_minus=_tiled(local.free_vertices[rows, 1], n_patches, n_vertices),
+        length=segment_lengths(points, vertices, columns),
+    )
+
+
+def chain_rwg(
+    shorts: list[EdgeTopology],
+    ms: list[int],
+    n_tri: int,
+    stride: int,
+    chain_vertices: list[int],
+    points: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+) -> RWGTable:
+    """:func:`rwg_table` of the topology :func:`chain_topology` makes, without gathers.
+
+    The short chains' interior edges are repeated as their edges are; only the
+    lengths are measured. Parameters as for :func:`chain_topology`, plus the
+    mesh's ``points`` (and ``columns``, see :func:`segment_lengths`).
+    """
+    tri_cut = np.arange(CHAIN + 1) * n_tri
+    vertex_starts = np.arange(CHAIN + 1) * stride
+    parts = []
+    for short in shorts:
+        cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
+        rows = np.flatnonzero(short.valence == 2)
+        row_cut = np.searchsorted(rows, cut)  # the interior edges of each sector
+        parts.append((short, cut, rows, row_cut))
+    total = sum(
+        int(rc[-1] + (m - CHAIN) * (rc[MIDDLE + 1] - rc[MIDDLE]))
+        for (_, _, _, rc), m in zip(parts, ms, strict=True)
+    )
+    edge = np.empty(total, dtype=INDEX)
+    vertices = np.empty((total, 2), dtype=INDEX)
+    columns_out = [np.empty(total, dtype=INDEX) for _ in range(4)]
+    r0 = e0 = t0 = v0 = 0
+    for (short, cut, rows, row_cut), m, n_v in zip(parts, ms, chain_vertices, strict=True):
+        extra = m - CHAIN
+        per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])
+        unit = int(row_cut[MIDDLE + 1] - row_cut[MIDDLE])
+        n_rows = int(row_cut[-1]) + extra * unit
+        out = slice(r0, r0 + n_rows)
+        _extend(rows.astype(INDEX), edge[out], row_cut, extra, unit, per_sector, cut, e0)
+        _extend(short.edges[rows], vertices[out], row_cut, extra, unit, stride,
+                vertex_starts, v0)  # fmt: skip
+        for k, (source, step, starts, base) in enumerate(
+            [
+                (short.edge_triangles[rows, 0], n_tri, tri_cut, t0),
+                (short.edge_triangles[rows, 1], n_tri, tri_cut, t0),
+                (short.free_vertices[rows, 0], stride, vertex_starts, v0),
+                (short.free_vertices[rows, 1], stride, vertex_starts, v0),
+            ]
+        ):
+            _extend(source, columns_out[k][out], row_cut, extra, unit, step, starts, base)
+        n_e = int(cut[-1]) + extra * per_sector
+        r0, e0, t0, v0 = r0 + n_rows, e0 + n_e, t0 + m * n_tri, v0 + n_v
+    t_plus, t_minus, free_plus, free_minus = columns_out
+    return RWGTable(
+        edge=edge,
+        vertices=vertices,
+        t_plus=t_plus,
+        t_minus=t_minus,
+        free_vertex_plus=free_plus,
+        free_vertex_minus=free_minus,
+        length=segment_lengths(points, vertices, columns),
+    )
+
+
+def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
+    """The connectivity matrix of ``n_patches`` unwelded copies of one patch.
+
+    Block diagonal: the patch's matrix ``local`` (sorted rows, as
+    :func:`triangle_adjacency` makes them) once per copy, its column ids
+    shifted by the patch's triangles; the same matrix as
+    :func:`triangle_adjacency` on the whole mesh, array for array.
+    """
+    n_tri = local.shape[0]
+    counts = np.diff(local.indptr).astype(INDEX)
+    indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)
+    per_row = np.empty((n_patches, n_tri), dtype=INDEX)
+    per_row[...] = counts
+    np.cumsum(per_row.reshape(-1), out=indptr[1:])
+    indices = _tiled(local.indices.astype(INDEX), n_patches, n_tri)
+    data = np.ones(len(indices), dtype=np.int8)
+    return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
+
+
+def chain_adjacency(shorts: list[sp.csr_matrix], ms: list[int], n_tri: int) -> sp.csr_matrix:
+    """The connectivity matrix of chains of m_i sectors, repeated from short chains.
+
+    ``shorts``: per chain, the matrix of its chain of :data:`CHAIN` sectors (as
+    :func:`triangle_adjacency` makes it). Rows are repeated as the edges are in
+    :func:`chain_topology`: a shift keeps each row's neighbours in ascending
+    order, so the result is the matrix of the whole mesh, array for array.
+    """
+    tri_cut = np.arange(CHAIN + 1) * n_tri
+    n_rows = sum(ms) * n_tri
+    counts = np.empty(n_rows, dtype=INDEX)
+    nnz = [int(s.indptr[-1]) + (m - CHAIN) * int(s.indptr[tri_cut[MIDDLE + 1]] -
+                                                 s.indptr[tri_cut[MIDDLE]])
+           for s, m in zip(shorts, ms, strict=True)]  # fmt: skip
+    indices = np.empty(sum(nnz), dtype=INDEX)
+    i0 = t0 = 0
+    for short, m, n in zip(shorts, ms, nnz, strict=True):
+        extra = m - CHAIN
+        rows = slice(t0, t0 + m * n_tri)
+        _extend(np.diff(short.indptr).astype(INDEX), counts[rows], tri_cut, extra, n_tri, 0,
+                tri_cut, 0)  # fmt: skip
+        cuts = short.indptr[tri_cut]
+        _extend(short.indices.astype(INDEX), indices[i0 : i0 + n], cuts, extra,
+                int(cuts[MIDDLE + 1] - cuts[MIDDLE]), n_tri, tri_cut, t0)  # fmt: skip
+        i0, t0 = i0 + n, t0 + m * n_tri
+    indptr = np.zeros(n_rows + 1, dtype=INDEX)
+    np.cumsum(counts, out=indptr[1:])
+    data = np.ones(len(indices), dtype=np.int8)
+    return sp.csr_matrix((data, indices, indptr), shape=(n_rows, n_rows))

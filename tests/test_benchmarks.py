@@ -67,6 +67,28 @@ def test_mesher_benchmark_has_paper_n4_rows_at_1m_and_4m(monkeypatch) -> None:
     assert [w.params.predicted_triangles() for w in rows] == [1_000_000, 4_000_000]
 
 
+def test_mesher_benchmark_conforming_rows_reach_their_nominal_sizes(monkeypatch) -> None:
+    from core.structures import sector_plan
+
+    spec = importlib.util.spec_from_file_location("mesher", ROOT / "benchmarks" / "mesher.py")
+    mesher = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "mesher", mesher)
+    spec.loader.exec_module(mesher)
+    rows = [w for w in mesher.workloads(list(mesher.SIZES), []) if w.name.startswith("conf")]
+    assert [w.size for w in rows] == list(mesher.SIZES)  # not the n = 4 rows' parameters
+    nominal = {"10k": 1e4, "100k": 1e5, "1M": 1e6, "4M": 4e6}
+    counts = []
+    for w in rows:
+        plan = sector_plan(w.params)
+        n = w.params.subdivisions
+        n_v = len(plan.template.sides[1]) - 1  # cells along each sector's arc
+        # m_i sectors in ring i, n x n_v cells of two triangles each
+        counts.append(w.params.predicted_triangles())
+        assert counts[-1] == 2 * n * n_v * sum(plan.sectors)
+        assert abs(counts[-1] / nominal[w.size] - 1) < 0.1, w.size
+    assert counts == [9_600, 105_984, 982_016, 3_928_064]
+
+
 def test_mesher_benchmark_rejects_unknown_sizes() -> None:
     proc = subprocess.run(
         [sys.executable, str(ROOT / "benchmarks" / "mesher.py"), "--sizes", "7M"],

@@ -353,7 +353,27 @@ def test_sector_edge_counts_of_closed_rings_equal_the_general_edge_finder(params
 @pytest.mark.parametrize(
     "params",
     [
-        MeshParams(structure="split_double_ring", mode="conforming"),  # open arcs
+        MeshParams(structure="split_double_ring", mode="conforming"),  # two arcs per ring
+        MeshParams(structure="split_ring", mode="conforming", grading=True),  # graded sectors
+    ],
+)
+def test_sector_edge_counts_of_open_arcs_come_from_their_short_chains(params):
+    # the build has checked the arcs' numbering (the invariant check reads the chains):
+    # counts summed from the short chains, one arc of sectors per ring and slot side
+    mesh = build_mesh(params)
+    assert "_sector_chains" in mesh.__dict__ and mesh._sector_chains is not None
+    ms, closed = mesh._sector_chains
+    assert not any(closed) and sum(ms) == mesh.n_patches
+    counts = mesh._sector_edge_counts()
+    np.testing.assert_array_equal(counts, general_counts(mesh))
+    # V − E + F = 1 per open arc
+    assert mesh.n_vertices - counts.sum() + mesh.n_triangles == len(ms)
+    assert_counted_stats_equal_the_general_ones(params)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
         MeshParams(structure="double_ring", mode="conforming", outer_radius=5.0),  # touching
         MeshParams(structure="double_ring", mode="paper", angle_step=30.0),
         MeshParams(structure="square_split_double_ring", mode="conforming"),
