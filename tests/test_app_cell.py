@@ -421,7 +421,8 @@ def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path
     assert preview.bounds == (-30.0, 30.0, -10.0, 30.0)  # the copies framed, all in view
 
     image = rendered(window.plotter)
-    background = pixel(image, window.plotter, (27.0, 7.0, 0.0))  # a copy's empty corner
+    # a copy's empty corner (on the left: the overlap look's colour bar stands on the right)
+    background = pixel(image, window.plotter, (-27.0, 7.0, 0.0))
     assert near(background, "#ffffff", tol=10)
     for centre in ((20.0, 0.0), (-20.0, 20.0)):  # the centre patch of two copies
         assert not near(pixel(image, window.plotter, (*centre, 0.0)), "#ffffff", tol=10)
