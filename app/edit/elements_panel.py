@@ -214,6 +214,15 @@ class ElementsPanel(QWidget):
         self.list.editItem(item, 0)  # the name only; the structure is the Parameters'
 
     def _item_changed(self, item: QTreeWidgetItem, column: int) -> None:
+        # the model's cell_changed comes back before Qt is done with ``item``: refilling
+        # the list then would delete the item under the view's hands (a crash)
+        self._changing_item = True
+        try:
+            self._apply_item(item, column)
+        finally:
+            self._changing_item = False
+
+    def _apply_item(self, item: QTreeWidgetItem, column: int) -> None:
         state = self.state
         k = self.list.indexOfTopLevelItem(item)
         if state is None or column != 0 or not 0 <= k < len(state.elements):
@@ -278,6 +287,9 @@ class ElementsPanel(QWidget):
     # -- model -> widgets ----------------------------------------------------------------
 
     def show_cell(self, state: CellState | None) -> None:
+        if getattr(self, "_changing_item", False):  # from inside itemChanged: after it
+            QTimer.singleShot(0, lambda: self.show_cell(self.model.cell_state))
+            return
         self.hint.setVisible(state is None)
         self.list.blockSignals(True)
         rows = None if state is None else tuple(
