@@ -383,7 +383,18 @@ class MatrixView(QWidget):
         if len(cols) == 0 or col in cols:
             return row, col
         nearest = int(cols[np.argmin(np.abs(cols - col))])
-        return (row, nearest) if abs(nearest - col) <= m.shape[0] / 150 else (row, col)
+        reach = max(m.shape[0] / 150, 3.0 * self._columns_per_pixel())
+        return (row, nearest) if abs(nearest - col) <= reach else (row, col)
+
+    def _columns_per_pixel(self) -> float:
+        """Matrix columns under one screen pixel of the spy plot at its present size."""
+        try:
+            x0, _ = self.axes.transData.inverted().transform((0.0, 0.0))
+            x1, _ = self.axes.transData.inverted().transform((1.0, 0.0))
+        except (ValueError, np.linalg.LinAlgError):  # a collapsed axes: no scale
+            return 0.0
+        step = abs(float(x1 - x0))
+        return step if np.isfinite(step) else 0.0
 
     def _mouse_moved(self, event: Any) -> None:
         cell = self.cell_at(event.xdata, event.ydata) if event.inaxes is self.axes else None
