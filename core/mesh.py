@@ -130,6 +130,10 @@ class TriMesh:
     min_angle_floor : float or None
         Conforming circular rings: the best smallest angle (degrees) their
         geometry allows (see :class:`core.structures.SectorPlan`).
+    lattice : core.cell.Lattice or None
+        The lattice of the unit cell (or array) the mesh is, set by
+        :func:`core.cell.build_cell` and :func:`core.cell.tile`; None otherwise.
+        It gives :attr:`periodic_pairs`.
 
     Everything else (centroids, edges, RWG table, connectivity, quality) is
     derived on first use and cached.
@@ -147,6 +151,7 @@ class TriMesh:
     _template: PatchTemplate | None = field(default=None, repr=False)
     params: MeshParams | None = field(default=None, repr=False)
     min_angle_floor: float | None = None
+    lattice: Any = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         pts = np.asarray(self.points, dtype=np.float64)
@@ -584,6 +589,22 @@ class TriMesh:
             "max_aspect_ratio": float(summary[1]),
             "area": float(summary[2]),
         }
+
+    @cached_property
+    def periodic_pairs(self) -> Any:
+        """The cell-boundary edges and their partners on the opposite side.
+
+        A :class:`core.cell.PeriodicPairs` for the mesh of a unit cell
+        (:attr:`lattice` set): ``edges`` (K, 2) vertex pairs on the boundary,
+        ``partners``, ``matched`` and the ``unmatched_edges`` (what scuff-em
+        and the ``$Periodic`` section of an msh file need); None for a mesh
+        that is not a cell's.
+        """
+        if self.lattice is None:
+            return None
+        from .cell.periodic import periodic_pairs
+
+        return periodic_pairs(self, self.lattice, self.tolerance)
 
     def stats(self) -> dict[str, Any]:
         """Counts and quality figures as a plain, JSON-ready dict.

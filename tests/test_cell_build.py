@@ -340,3 +340,23 @@ def test_edges_on_a_side_line_beyond_the_corner_are_on_no_side():
     cell = UnitCell(Lattice.rectangular(4.0), elements=(Element(patch(2.0), (2.0, 0.0), name="p"),))
     pairs = build_cell(cell).periodic_pairs
     assert len(pairs.unmatched_edges) == 4
+
+
+def test_the_cell_mesh_carries_its_periodic_pairs():
+    """Issue 13's name: ``TriMesh.periodic_pairs`` of a cell's (or an array's) mesh, on its
+    lattice; None for a structure's mesh, which has no lattice."""
+    from core import build_mesh
+
+    cell = UnitCell(
+        Lattice.rectangular(3.0, 2.0), pixels=pixels(np.ones((2, 3)), origin=(-1.5, -1))
+    )
+    cm = build_cell(cell)
+    assert cm.mesh.lattice == cell.lattice
+    assert cm.mesh.periodic_pairs is cm.periodic_pairs and cm.mesh.periodic_pairs.matched
+    assert np.bincount(cm.mesh.periodic_pairs.edge_shift).tolist() == [2 * 4, 3 * 4]
+    array = tile(cell, 2, 3)
+    assert array.mesh.lattice == array.lattice == Lattice.rectangular(6.0, 6.0)
+    pairs = array.mesh.periodic_pairs
+    # the array's outer sides: 2 x 3 pixel rows on the left/right, 3 x 2 columns top/bottom
+    assert pairs.matched and np.bincount(pairs.edge_shift).tolist() == [6 * 4, 6 * 4]
+    assert build_mesh(MeshParams(structure="patch")).periodic_pairs is None

@@ -61,7 +61,10 @@ class CellMesh:
 
     @cached_property
     def periodic_pairs(self) -> PeriodicPairs:
-        """Edges on the cell boundary and their partners on the opposite side."""
+        """Edges on the cell boundary and their partners on the opposite side
+        (the mesh's own :attr:`TriMesh.periodic_pairs`)."""
+        if self.mesh.lattice is not None and self.mesh.tolerance == self.cell.weld_tolerance:
+            return self.mesh.periodic_pairs
         return periodic_pairs(self.mesh, self.lattice, self.cell.weld_tolerance)
 
     @property
@@ -342,6 +345,7 @@ def _merge(cell: UnitCell, parts: list[_Part | None]) -> tuple[TriMesh, np.ndarr
         tolerance=cell.weld_tolerance,
         patch_rects=rects,
         _template=template,
+        lattice=cell.lattice,
     )
     return mesh, part_of_point[rep]
 
@@ -456,6 +460,7 @@ def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
     rects = None
     if m.patch_rects is not None:
         rects = (m.patch_rects[None] + np.tile(shifts, 2)[:, None, :]).reshape(-1, 4)
+    array_lattice = Lattice(tuple(n1 * a1), tuple(n2 * a2))
     mesh = TriMesh(
         points=np.column_stack([xy[rep], np.zeros(len(rep))]),
         triangles=triangles,
@@ -466,8 +471,8 @@ def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
         tolerance=m.tolerance,
         patch_rects=rects,
         _template=m._template,
+        lattice=array_lattice,
     )
-    array_lattice = Lattice(tuple(n1 * a1), tuple(n2 * a2))
     return CellMesh(
         mesh,
         unit,
