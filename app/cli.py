@@ -825,7 +825,7 @@ def _check_folder(target: str) -> None:
 
 def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) -> None:
     try:
-        from app.scene import render_screenshot
+        from app.view.scene import render_screenshot
     except ImportError as exc:
         raise InputError(
             f"screenshots need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
@@ -923,7 +923,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     _check_folder(args.output)
     base = _resolve(args)
     try:
-        from app.sweep import render_sweep
+        from app.teach.sweep import render_sweep
     except ImportError as exc:
         raise InputError(
             f"sweeps need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"

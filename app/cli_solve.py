@@ -541,16 +541,16 @@ SCREENSHOT_LAYERS = {"faces": True, "triangle_edges": True, "patch_outlines": Fa
 
 def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, int]) -> None:
     """Render |J| of ``current`` ((T, 3) complex, A/m) on ``mesh`` off-screen to a PNG of
-    exactly ``window_size`` pixels: the mesh as :func:`app.scene.render_screenshot` draws
-    it, under the window's Surface current layer (:class:`app.current_layer.CurrentLayer`:
+    exactly ``window_size`` pixels: the mesh as :func:`app.view.scene.render_screenshot` draws
+    it, under the window's Surface current layer (:class:`app.view.current_layer.CurrentLayer`:
     colour map, scale bar, arrows of Re J). Works without an X display."""
     try:
         import imageio.v3 as iio
         import numpy as np
         import pyvista as pv
 
-        from app.current_layer import CurrentLayer
-        from app.scene import MeshScene, _prepare_headless, _resized, scene_data
+        from app.view.current_layer import CurrentLayer
+        from app.view.scene import MeshScene, _prepare_headless, _resized, scene_data
     except ImportError as exc:
         raise ValueError(
             f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' "

@@ -27,6 +27,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from app.edit.cell_document import CellState, CellTarget
+from app.view.layers import COLOR_BY, DEFAULT_VISIBLE
 from core import BuildCancelled, MeshParams, TriMesh, build_mesh
 from core.cell import UnitCell, build_cell
 from core.params import (
@@ -37,9 +39,6 @@ from core.params import (
     SPLIT_STRUCTURES,
     STRUCTURES,
 )
-
-from .edit.cell_document import CellState, CellTarget
-from .layers import COLOR_BY, DEFAULT_VISIBLE
 
 log = logging.getLogger(__name__)
 _COLOR_KEYS = tuple(COLOR_BY)
@@ -406,7 +405,7 @@ class MeshResult:
     mesh: TriMesh | None = None
     stats: dict[str, Any] = field(default_factory=dict)
     seconds: float = 0.0
-    scene: Any = None  # app.scene.SceneData, prepared off the GUI thread
+    scene: Any = None  # app.view.scene.SceneData, prepared off the GUI thread
     error: str | None = None
     source: str = "parameters"  # or the path of an imported mesh file
     cancelled: bool = False  # abandoned because a newer request or Cancel came

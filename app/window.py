@@ -1,7 +1,7 @@
 """The desktop window: controls, a live 3D view of the mesh, statistics and layers.
 
 The state lives in :class:`app.model.AppModel` (no Qt); this module wires the panels,
-the pyvistaqt view (:class:`app.scene.MeshScene`), the meshing controller
+the pyvistaqt view (:class:`app.view.scene.MeshScene`), the meshing controller
 (:class:`app.worker.MeshController`), menus and settings around it.
 
 Run ``barymesh`` or ``python -m app``; see :func:`main` for the options.
@@ -51,23 +51,22 @@ from PySide6.QtWidgets import (
 )
 
 import core
+from app.edit.cell_tools import CellTools
+from app.edit.lattice_panel import parse_copies
+from app.model import AppModel, MeshResult, ParamError
+from app.panels.controls import ControlsPanel
+from app.panels.layers_panel import LayersPanel
+from app.panels.quality_panel import QualityPanel
+from app.panels.solve_panel import SolvePanel
+from app.panels.stats_panel import StatsPanel
+from app.teach.teaching_tools import TeachingTools
+from app.teach.teaching_windows import TeachingWindows
+from app.view.framing import frame_from_above, look_from_above, pixels_per_mm
+from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
+from app.view.scene import MeshScene, scene_data
+from app.view.view_tools import ViewTools
+from app.worker import BuildJob, MeshController, release_memory
 from core import MeshParams, TriMesh
-
-from .controls import ControlsPanel
-from .edit.cell_tools import CellTools
-from .edit.lattice_panel import parse_copies
-from .framing import frame_from_above, look_from_above, pixels_per_mm
-from .layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
-from .layers_panel import LayersPanel
-from .model import AppModel, MeshResult, ParamError
-from .quality_panel import QualityPanel
-from .scene import MeshScene, scene_data
-from .solve_panel import SolvePanel
-from .stats_panel import StatsPanel
-from .teaching_tools import TeachingTools
-from .teaching_windows import TeachingWindows
-from .view_tools import ViewTools
-from .worker import BuildJob, MeshController, release_memory
 
 log = logging.getLogger(__name__)
 
@@ -588,7 +587,7 @@ class MainWindow(QMainWindow):
         self.teaching.add_to_menu(self.teach_menu)
         self.teaching_windows.add_to_menu(self.teach_menu)
 
-        from .edit.painter import PainterOpener, cell_menu  # Cell → Paint pixels… (issue 13)
+        from app.edit.painter import PainterOpener, cell_menu  # Cell → Paint pixels… (issue 13)
         self.painter_opener = PainterOpener(self, cell_menu(self))
 
         help_ = bar.addMenu("&Help")

@@ -4,7 +4,7 @@
 burst (a slider drag) are coalesced by a zero-delay timer: the latest parameters win.
 Small meshes (up to :data:`SYNC_TRIANGLES`) are built on the GUI thread, faster than a
 thread hop; larger ones in a worker thread that also computes the statistics and the
-scene arrays (:func:`app.scene.scene_data`), while the window keeps answering.
+scene arrays (:func:`app.view.scene.scene_data`), while the window keeps answering.
 
 A newer request (for a build of :data:`CANCEL_TRIANGLES` or more; a shorter one
 finishes and is shown first), Undo or :meth:`MeshController.cancel` abandons the running
@@ -32,10 +32,9 @@ from functools import partial
 
 from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
+from app.model import AppModel, MeshResult, compute
+from app.view.scene import detail_data, scene_data
 from core import MeshParams
-
-from .model import AppModel, MeshResult, compute
-from .scene import detail_data, scene_data
 
 log = logging.getLogger(__name__)
 
@@ -275,7 +274,7 @@ class MeshController(QObject):
 
     def request_detail(self, mesh: object, rect: tuple[float, float, float, float],
                        token: object) -> None:
-        """Build :func:`app.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
+        """Build :func:`app.view.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
         shown = self.model.result
         scene = shown.scene if shown is not None and shown.mesh is mesh else None
         extra = {} if scene is None else {

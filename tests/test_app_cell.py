@@ -683,7 +683,7 @@ def test_docstring_examples(module):
 
 def test_drag_snaps_a_side_onto_another_elements_side(window, qtbot):
     from app.edit.drag_tool import EDGE_SNAP_PX
-    from app.framing import pixels_per_mm
+    from app.view.framing import pixels_per_mm
 
     open_preset(window, qtbot, "double-ring-patch")
     cell = load_cell_preset("double-ring-patch")

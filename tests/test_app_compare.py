@@ -7,8 +7,8 @@ pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
 
-from app.compare_view import CompareView, patch_coverage  # noqa: E402
 from app.model import AppModel  # noqa: E402
+from app.teach.compare_view import CompareView, patch_coverage  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 from tests.gui_helpers import near, pixel, share, type_into  # noqa: E402
@@ -105,8 +105,8 @@ def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
     background."""
     import imageio.v3 as iio
 
-    from app.compare_view import COVERAGE_COLORS
-    from app.scene import COLORS
+    from app.teach.compare_view import COVERAGE_COLORS
+    from app.view.scene import COLORS
 
     image = view.view_image()
     iio.imwrite(tmp_path / "compare.png", image)

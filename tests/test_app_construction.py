@@ -8,13 +8,13 @@ pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
 
-from app.construction_view import (  # noqa: E402
+from app.model import AppModel  # noqa: E402
+from app.teach.construction_view import (  # noqa: E402
     RULER_CLEARANCE,
     ConstructionView,
     label_offsets,
     shown_labels,
 )
-from app.model import AppModel  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.construction import construction_steps  # noqa: E402
@@ -185,7 +185,7 @@ def test_label_helpers():
 
 def test_screenshot_shows_each_layer_where_it_is(view, qtbot, tmp_path):
     """Pixels, not colour counts: step 4 (quarter points) of the 10 mm patch."""
-    from app.construction_view import COLORS
+    from app.teach.construction_view import COLORS
 
     with qtbot.waitActive(view):  # the step keys are window shortcuts
         view.activateWindow()

@@ -8,7 +8,7 @@ pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
-from app.inspector import (  # noqa: E402
+from app.teach.inspector import (  # noqa: E402
     COLORS,  # noqa: E402
     arrow_polygons,
     edge_info,

@@ -20,9 +20,9 @@ pytest.importorskip("pyvistaqt")
 from PySide6.QtCore import Qt, QTimer  # noqa: E402
 from PySide6.QtWidgets import QToolBar  # noqa: E402
 
-import app.scene  # noqa: E402
+import app.view.scene  # noqa: E402
 import app.worker  # noqa: E402
-from app.overview import (  # noqa: E402
+from app.view.overview import (  # noqa: E402
     DETAIL_TRIANGLES,
     MAX_TEXELS,
     MIN_SIDE,
@@ -32,7 +32,7 @@ from app.overview import (  # noqa: E402
     overlap_count_raster,
     triangle_raster,
 )
-from app.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
+from app.view.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
 from core import MeshParams, build_mesh  # noqa: E402
 
 FIG12A = MeshParams()  # the paper's Fig. 12(a): 720 patches, 23,040 triangles at n = 4
@@ -89,13 +89,13 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
         return real_compute(*args, **kwargs)
 
     colouring = []  # the overview image's colours are made off the GUI thread
-    real_rgba = app.scene.overview_rgba
+    real_rgba = app.view.scene.overview_rgba
 
     def overview_rgba(*args, **kwargs):
         colouring.append(threading.current_thread())
         return real_rgba(*args, **kwargs)
 
-    monkeypatch.setattr(app.scene, "overview_rgba", overview_rgba)
+    monkeypatch.setattr(app.view.scene, "overview_rgba", overview_rgba)
 
     monkeypatch.setattr(app.worker, "compute", compute)
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
@@ -468,8 +468,8 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     import pyvista as pv
     from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
-    from app.layers import COLOR_BY
-    from app.scene import Overview, lut_settings, overview_rgba
+    from app.view.layers import COLOR_BY
+    from app.view.scene import Overview, lut_settings, overview_rgba
 
     array = COLOR_BY[key][0]
     lo, hi = span

@@ -12,8 +12,8 @@ from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QTabBar  # noqa: E402
 
-from app import quality_panel  # noqa: E402
-from app.quality_layer import WORST_COLOR  # noqa: E402
+from app.panels import quality_panel  # noqa: E402
+from app.view.quality_layer import WORST_COLOR  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.presets import load_preset  # noqa: E402
 from core.quality import quality_report  # noqa: E402

@@ -16,8 +16,8 @@ pytest.importorskip("matplotlib")
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
-from app.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
-from app.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
+from app.panels.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
+from app.view.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.mom import PlaneWave, solve, sweep  # noqa: E402
 from tests.app_user import choose, drag_slider, settle, type_into  # noqa: E402
@@ -291,7 +291,7 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
 
 def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(window, qtbot, tmp_path,
                                                                      monkeypatch):
-    from app.solve_panel import format_impedance
+    from app.panels.solve_panel import format_impedance
     from core.io import write_mesh
     from core.mom import VoltageSource
     from tests.app_user import answer_file_dialogs

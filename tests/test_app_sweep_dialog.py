@@ -7,7 +7,7 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 
-from app.sweep_dialog import SweepDialog  # noqa: E402
+from app.teach.sweep_dialog import SweepDialog  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
 

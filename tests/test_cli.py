@@ -307,9 +307,9 @@ def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
 @pytest.mark.parametrize("transparent", [False, True])
 def test_screenshot_without_display(tmp_path, transparent):
     pytest.importorskip("pyvista")
-    scene = pytest.importorskip("app.scene")
+    scene = pytest.importorskip("app.view.scene")
     if not hasattr(scene, "render_screenshot"):
-        pytest.skip("app.scene.render_screenshot is not there yet")
+        pytest.skip("app.view.scene.render_screenshot is not there yet")
     iio = pytest.importorskip("imageio.v3")
     args = [
         "mesh",

@@ -4,7 +4,7 @@ import imageio.v2 as imageio
 import numpy as np
 import pytest
 
-from app.sweep import frame_caption, render_sweep
+from app.teach.sweep import frame_caption, render_sweep
 from core import MeshParams
 from tests.test_cli import assert_one_line_error, run
 

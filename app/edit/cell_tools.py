@@ -16,18 +16,17 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QApplication, QFileDialog, QMenu, QVBoxLayout, QWidget
 
+from app.edit.array_preview import ArrayPreview
+from app.edit.cell_document import CellState
+from app.edit.drag_tool import ElementDragger
+from app.edit.elements_panel import ElementsPanel
+from app.edit.lattice_panel import LatticePanel
+from app.model import MeshResult
+from app.view.framing import frame_from_above
 from core.cell import Element, Lattice, UnitCell
 
-from ..framing import frame_from_above
-from ..model import MeshResult
-from .array_preview import ArrayPreview
-from .cell_document import CellState
-from .drag_tool import ElementDragger
-from .elements_panel import ElementsPanel
-from .lattice_panel import LatticePanel
-
 if TYPE_CHECKING:
-    from ..window import MainWindow
+    from app.window import MainWindow
 
 log = logging.getLogger(__name__)
 CELL_FILTER = "Unit cells (*.cell.json);;All files (*)"

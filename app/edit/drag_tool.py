@@ -20,10 +20,10 @@ import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
 
-from ..framing import pixels_per_mm
+from app.view.framing import pixels_per_mm
 
 if TYPE_CHECKING:
-    from ..window import MainWindow
+    from app.window import MainWindow
 
 log = logging.getLogger(__name__)
 DRAG_COLOR = "#00a0b0"

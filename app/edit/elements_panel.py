@@ -27,11 +27,10 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.edit.cell_document import CellState
+from app.model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
+from app.panels.controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
 from core import MeshParams
-
-from ..controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
-from ..model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
-from .cell_document import CellState
 
 #: The grid (mm) a dragged element's position snaps to, until the user types another.
 DEFAULT_SNAP = 0.5

@@ -9,9 +9,9 @@ import re
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
 
-from ..controls import ValueField, decimal_point
-from ..model import AppModel, format_value, read_number
-from .cell_document import LATTICE_KINDS, CellState, lattice_periods
+from app.edit.cell_document import LATTICE_KINDS, CellState, lattice_periods
+from app.model import AppModel, format_value, read_number
+from app.panels.controls import ValueField, decimal_point
 
 KIND_TITLES = {"rectangular": "Rectangular", "hexagonal": "Hexagonal",
                "oblique": "Oblique (from the file)"}

@@ -43,6 +43,9 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.edit import pixels
+from app.view.framing import frame_from_above
+from app.worker import Job
 from core.cell import (
     SYMMETRIES,
     CellMesh,
@@ -57,12 +60,8 @@ from core.cell import (
 from core.params import DEFAULT_MAX_TRIANGLES
 from core.subdivision import patch_template
 
-from ..framing import frame_from_above
-from ..worker import Job
-from . import pixels
-
 if TYPE_CHECKING:
-    from ..window import MainWindow
+    from app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -759,7 +758,7 @@ class PixelPainterWindow(QMainWindow):
         """Hide the triangle edges when a pixel is too small on screen to read them."""
         if self._closed:
             return
-        from ..framing import pixels_per_mm
+        from app.view.framing import pixels_per_mm
 
         on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
         shown = on_screen >= EDGES_MIN_PIXELS
@@ -799,7 +798,7 @@ class PixelPainterWindow(QMainWindow):
 
     def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
         """(x0, x1, y0, y1) mm the view shows from above, widened by ``margin``."""
-        from ..framing import view_size
+        from app.view.framing import view_size
 
         camera = self.plotter.camera
         w, h = view_size(self.plotter)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QVBoxLayout, QWidget
 
-from .layers import COLOR_BY_TITLES, LABEL_LIMIT, LAYER_TITLES, LAYERS
-from .model import AppModel, MeshResult
-from .scene import COLORS
+from app.model import AppModel, MeshResult
+from app.view.layers import COLOR_BY_TITLES, LABEL_LIMIT, LAYER_TITLES, LAYERS
+from app.view.scene import COLORS
 
 
 class LayersPanel(QWidget):

@@ -7,7 +7,7 @@ in mm), the View actions *Measure distance* (D) and *Zoom to selection* (Z), and
 selection when no teaching tool takes the clicks.
 
 Hovering is cheap at any mesh size: mouse moves are coalesced into one query per event-
-loop pass, a query asks a :class:`app.readout.MeshLocator` (a k-d tree built once per mesh,
+loop pass, a query asks a :class:`app.view.readout.MeshLocator` (a k-d tree built once per mesh,
 in a worker thread for big meshes) about a dozen candidate triangles, and it only sets a
 label's text; the 3D view is not re-rendered for a hover.
 """
@@ -24,15 +24,14 @@ from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Si
 from PySide6.QtGui import QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
+from app.view.framing import frame_points, pixels_per_mm
+from app.view.measure import MeasureTool
+from app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
+from app.worker import Job, release_memory
 from core import TriMesh
 
-from .framing import frame_points, pixels_per_mm
-from .measure import MeasureTool
-from .readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
-from .worker import Job, release_memory
-
 if TYPE_CHECKING:
-    from .window import MainWindow
+    from app.window import MainWindow
 
 log = logging.getLogger(__name__)
 

@@ -5,7 +5,7 @@ direction of travel and polarisation: an axis such as ``-z`` or ``x``, or a vect
 ``0, 0, -1``) or a delta-gap voltage feed (1 V across the mesh edges on a line between
 two points typed in mm; the input impedance is shown after the solve), a Solve button,
 and the "Surface current" layer's controls (show, linear/log colour map, phase slider and
-animation; :class:`app.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
+animation; :class:`app.view.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
 cross-section against frequency (matplotlib), the resonances marked; a click on the
 plot sets the frequency and solves there.
 
@@ -54,9 +54,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.view.current_layer import SCALES, CurrentLayer
 from core import TriMesh
-
-from .current_layer import SCALES, CurrentLayer
 
 log = logging.getLogger(__name__)
 

@@ -16,16 +16,15 @@ import numpy as np
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QDockWidget, QMenu
 
+from app.teach.inspector_panel import InspectorPanel, ViewPicker
+from app.teach.matrix_view import MatrixView
+from app.teach.presentation import EMPHASIS, PresentationMode
+from app.view.framing import pixels_per_mm
+from app.view.highlight import TriangleHighlight
 from core import TriMesh
 
-from .framing import pixels_per_mm
-from .highlight import TriangleHighlight
-from .inspector_panel import InspectorPanel, ViewPicker
-from .matrix_view import MatrixView
-from .presentation import EMPHASIS, PresentationMode
-
 if TYPE_CHECKING:
-    from .window import MainWindow
+    from app.window import MainWindow
 
 log = logging.getLogger(__name__)
 

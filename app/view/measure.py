@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pyvista as pv
 
-from .readout import distance_text
+from app.view.readout import distance_text
 
 COLOR = "#00a0b0"  # teal: apart from every layer colour of the scene
 LINE_WIDTH = 3.0

@@ -32,13 +32,12 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.model import AppModel
+from app.teach.following_view import FollowingView
+from app.view.layers import LAYERS as SCENE_LAYERS
+from app.view.scene import MeshScene, add_text_labels, nice_span
 from core import MeshParams
 from core.construction import ConstructionStep, construction_steps
-
-from .following_view import FollowingView
-from .layers import LAYERS as SCENE_LAYERS
-from .model import AppModel
-from .scene import MeshScene, add_text_labels, nice_span
 
 log = logging.getLogger(__name__)
 

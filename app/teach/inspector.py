@@ -1,6 +1,6 @@
 """The RWG basis inspector: which edge a click means, and the overlay that draws it.
 
-Two halves, as in :mod:`app.scene`:
+Two halves, as in :mod:`app.view.scene`:
 
 * Plain functions on a :class:`core.TriMesh` (no Qt, no rendering): the edge a click on a
   triangle means (:func:`nearest_edge`), next/previous RWG unknown (:func:`step_edge`),
@@ -9,7 +9,7 @@ Two halves, as in :mod:`app.scene`:
 * :class:`InspectorOverlay` owns the overlay actors on one plotter: the edge, T+ and T−
   coloured by the divergence ±l/A±, the free vertices r±, the vectors ρ± and arrows of
   f_n at the quadrature points. They are created once and updated in place
-  (``copy_from``), like :class:`app.scene.MeshScene`; the caller renders.
+  (``copy_from``), like :class:`app.view.scene.MeshScene`; the caller renders.
 """
 
 from __future__ import annotations
@@ -23,10 +23,9 @@ from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkTextActor
 
+from app.view.scene import add_text_labels
 from core import TriMesh
 from core.rwg_basis import BasisSample, edge_status, sample_rwg
-
-from .scene import add_text_labels
 
 #: Overlay colours: the selected edge, the quadrature arrows of f_n, the vectors ρ±, the
 #: free vertices; T± take the divergence colour map (red +, blue −).

@@ -2,7 +2,7 @@
 
 A :class:`CurrentLayer` owns its own actors on the window's plotter (a copy of the
 mesh's triangles coloured by |J|, a scalar bar, and arrows at the centroids) and never
-touches :class:`app.scene.MeshScene`. Every change asks for one repaint through the
+touches :class:`app.view.scene.MeshScene`. Every change asks for one repaint through the
 ``request_render`` callable it is given (the window's render path).
 
 The arrows show the instantaneous real current at phase ωt = φ of the e^{jωt} time

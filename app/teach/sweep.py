@@ -14,11 +14,10 @@ from pathlib import Path
 import numpy as np
 import pyvista as pv
 
+from app.view.scene import MeshScene, _prepare_headless, scene_data
 from core import MeshParams, build_mesh
 from core.io import atomic_write
 from core.sweep import check_sweep_size, sweep_params
-
-from .scene import MeshScene, _prepare_headless, scene_data
 
 #: Encodings by extension.
 ANIMATION_EXTENSIONS = (".gif", ".mp4")

@@ -3,7 +3,7 @@
 The dialog collects the parameter (one of :data:`core.sweep.SWEEPABLE`), from, to,
 frames, frames per second, frame size and output file, checks them with
 :func:`core.sweep.sweep_params` before anything runs, and then calls
-:func:`app.sweep.render_sweep` (the function behind ``barymesh sweep``) in a worker
+:func:`app.teach.sweep.render_sweep` (the function behind ``barymesh sweep``) in a worker
 thread. Its progress drives the dialog's progress bar; Cancel sets a flag that
 ``render_sweep`` polls between frames, and the atomic write leaves no file behind.
 Errors are shown in the dialog, never as a traceback.
@@ -33,10 +33,9 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
 from core import MeshParams
 from core.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
-
-from .sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
 
 log = logging.getLogger(__name__)
 

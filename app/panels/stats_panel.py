@@ -9,8 +9,8 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFormLayout, QLabel, QWidget
 
-from .edit.cell_stats import CellStats
-from .model import STAT_LABELS, AppModel, MeshResult, stats_texts
+from app.edit.cell_stats import CellStats
+from app.model import STAT_LABELS, AppModel, MeshResult, stats_texts
 
 TOOLTIPS = {
     "interior_edges": "Edges shared by exactly two triangles: one RWG basis function each",

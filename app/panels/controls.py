@@ -31,7 +31,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from .model import (
+from app.model import (
     ADVANCED_SPECS,
     CHOICES,
     PARAM_SPECS,

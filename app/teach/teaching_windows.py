@@ -14,10 +14,10 @@ from PySide6.QtCore import QEvent, QObject
 from PySide6.QtWidgets import QMenu
 
 if TYPE_CHECKING:
-    from .compare_view import CompareView
-    from .construction_view import ConstructionView
-    from .sweep_dialog import SweepDialog
-    from .window import MainWindow
+    from app.teach.compare_view import CompareView
+    from app.teach.construction_view import ConstructionView
+    from app.teach.sweep_dialog import SweepDialog
+    from app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -52,7 +52,7 @@ class TeachingWindows(QObject):
     # -- windows -------------------------------------------------------------------------
 
     def show_construction(self) -> ConstructionView | None:
-        from .construction_view import ConstructionView
+        from app.teach.construction_view import ConstructionView
 
         if self.construction is None or self.construction._closed:
             try:
@@ -63,7 +63,7 @@ class TeachingWindows(QObject):
         return self.construction
 
     def show_compare(self) -> CompareView | None:
-        from .compare_view import CompareView
+        from app.teach.compare_view import CompareView
 
         if self.compare is None or self.compare._closed:
             try:
@@ -74,7 +74,7 @@ class TeachingWindows(QObject):
         return self.compare
 
     def show_sweep(self) -> SweepDialog | None:
-        from .sweep_dialog import SweepDialog
+        from app.teach.sweep_dialog import SweepDialog
 
         if self.sweep is not None and self.sweep.running:
             self._raise(self.sweep)

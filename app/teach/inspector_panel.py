@@ -3,7 +3,7 @@
 :class:`ViewPicker` turns a click (press and release within a few pixels, so a drag still
 rotates the view) on the 3D view into the triangle under the mouse, with VTK's
 ``vtkCellPicker`` restricted to the faces actor. :class:`InspectorPanel` keeps the
-selected edge, drives :class:`app.inspector.InspectorOverlay` and shows the info box.
+selected edge, drives :class:`app.teach.inspector.InspectorOverlay` and shows the info box.
 """
 
 from __future__ import annotations
@@ -24,9 +24,7 @@ from PySide6.QtWidgets import (
 )
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
-from core import TriMesh
-
-from .inspector import (
+from app.teach.inspector import (
     DEFAULT_QUADRATURE,
     EdgeInfo,
     InspectorOverlay,
@@ -37,6 +35,7 @@ from .inspector import (
     overlay_data,
     step_edge,
 )
+from core import TriMesh
 
 log = logging.getLogger(__name__)
 
@@ -94,7 +93,7 @@ class ViewPicker(QObject):
         if cell < 0:
             return None
         # the faces of a dense mesh's detail are a part of it: the "triangle" cell array
-        # holds each cell's triangle in the mesh (app.scene.detail_data)
+        # holds each cell's triangle in the mesh (app.view.scene.detail_data)
         data = self.picker.GetDataSet()
         ids = data.GetCellData().GetArray("triangle") if data is not None else None
         if ids is not None and cell < ids.GetNumberOfTuples():

@@ -3,7 +3,7 @@
 Three histograms (smallest angle, aspect ratio, longest edge over the wavelength when the
 parameters give a frequency) with their thresholds marked, a few lines of figures, and the
 worst triangles by smallest angle: a click on one zooms the view to it and outlines it,
-over the worst triangles drawn in red (:class:`app.quality_layer.WorstTrianglesLayer`,
+over the worst triangles drawn in red (:class:`app.view.quality_layer.WorstTrianglesLayer`,
 toggled by the check box here or View → Worst triangles).
 
 The report is :func:`core.quality.quality_report`, measured when the panel is seen (its
@@ -32,11 +32,10 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.view.quality_layer import WorstTrianglesLayer
+from app.worker import SYNC_TRIANGLES, run_in_thread
 from core import TriMesh
 from core.quality import params_wavelength, quality_report
-
-from .quality_layer import WorstTrianglesLayer
-from .worker import SYNC_TRIANGLES, run_in_thread
 
 log = logging.getLogger(__name__)
 

@@ -1,0 +1,3 @@
+"""Teach menu: RWG inspector, connectivity matrix, construction step by step, paper vs
+conforming, presentation mode, sweep animations.
+"""
