@@ -701,3 +701,67 @@ def test_drag_snaps_a_side_onto_another_elements_side(window, qtbot):
     assert x == right
     assert abs(y - 0.25) < 60.0 / window.plotter.width()
     assert_shows(window, replaced(cell, 1, position=(x, y)))
+
+
+@pytest.mark.parametrize("name", ["hexagonal-rings", "coding-16x16"])
+def test_teaching_tools_work_on_a_cell(window, qtbot, name):
+    """Issue 13: the RWG inspector and the connectivity matrix act on the cell on screen,
+    as on a structure's mesh: a click on an interior edge of the cell's welded mesh shows
+    its T+ and T-, and the matrix holds 2 ones per interior edge of build_cell's mesh."""
+    from tests.test_app_inspector import click_world
+
+    open_preset(window, qtbot, name)
+    cell = load_cell_preset(name)
+    assert_shows(window, cell)
+    mesh = window.model.result.mesh
+    expected = build_cell(cell).mesh
+    with qtbot.waitActive(window):
+        window.activateWindow()
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # Teach → RWG basis inspector
+    assert window.teaching.inspector_active
+    qtbot.wait(50)
+    window.plotter.render()
+    rwg = mesh.rwg
+    row = len(rwg.edge) // 3
+    edge = int(rwg.edge[row])
+    tri = mesh.triangles[rwg.t_plus[row]]
+    assert np.array_equal(tri, expected.triangles[expected.rwg.t_plus[row]])
+    # zoom onto the edge so that a click lands on it whatever the cell's size
+    a, b = mesh.points[mesh.edges[edge]]
+    window.plotter.camera.focal_point = (*(0.5 * (a + b))[:2], 0.0)
+    window.plotter.camera.position = (*(0.5 * (a + b))[:2], 10.0)
+    window.plotter.camera.parallel_scale = 3 * float(np.linalg.norm(b - a))
+    window.plotter.render()
+    target = 0.5 * (a + b) + 0.02 * (mesh.centroids[rwg.t_plus[row]] - 0.5 * (a + b))
+    click_world(window, qtbot, target)
+    panel = window.teaching.inspector
+    assert panel.edge == edge
+    s = panel.info.sample
+    assert (s.t_plus, s.t_minus) == (rwg.t_plus[row], rwg.t_minus[row])
+    assert panel.overlay.datasets["triangles"].n_cells == 2
+
+    qtbot.keyClick(window.plotter, Qt.Key.Key_M)  # Teach → Connectivity matrix
+    view = window.teaching.matrix
+    qtbot.waitUntil(lambda: not view.stale and view.matrix is not None, timeout=20_000)
+    assert view.matrix.shape == (expected.n_triangles,) * 2
+    assert view.nonzeros() == 2 * len(expected.interior_edges)
+
+
+def test_construction_window_follows_the_selected_element(window, qtbot):
+    """In a cell the Parameters panel edits the selected element, and the construction
+    window (F7) shows that element's construction; selecting another element follows."""
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    with qtbot.waitActive(window):
+        window.activateWindow()
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_F7)  # Teach → Construction step by step
+    view = window.teaching_windows.construction
+    assert view is not None and view.isVisible()
+    for row, element in enumerate(cell.elements):
+        list_click(window, row)
+        settle(window, qtbot)
+        assert window.model.cell_state.selected == row
+        assert view.params.structure == element.params.structure
+        assert view.params.subdivisions == element.params.subdivisions

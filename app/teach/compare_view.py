@@ -254,6 +254,7 @@ class CompareView(FollowingView):
         self._add_presentation_key()
         self.resize(1400, 800)
         model.params_changed.connect(self._params_changed)
+        self._follow_cells()
         self.request(model.params)
 
     # -- meshing -------------------------------------------------------------------------

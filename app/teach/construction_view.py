@@ -327,6 +327,7 @@ class ConstructionView(FollowingView):
         self._add_presentation_key()
         self.resize(1200, 800)
         model.params_changed.connect(self._params_changed)
+        self._follow_cells()
         self._syncing = False
         self.set_params(model.params)
 

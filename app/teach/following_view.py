@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtGui import QCloseEvent, QKeySequence, QShortcut
@@ -59,15 +61,35 @@ class FollowingView(QWidget):
         self.shutdown()
         super().closeEvent(event)
 
+    def _follow_cells(self) -> None:
+        """Also follow the selected element of a unit cell: selecting another element
+        changes ``model.params`` (the Parameters panel edits it) without a new mesh, so
+        without ``params_changed``; ``cell_changed`` says so."""
+        self._followed = self.model.params
+        self.model.params_changed.connect(self._note_params)
+        self.model.cell_changed.connect(self._cell_changed)
+
+    def _note_params(self, params: Any) -> None:
+        self._followed = params
+
+    def _cell_changed(self, _state: Any) -> None:
+        params = self.model.params
+        if not self._closed and params != getattr(self, "_followed", None):
+            self._followed = params
+            self._params_changed(params)
+
     def shutdown(self) -> None:
         """Stop following the model and release the GL context (idempotent)."""
         if self._closed:
             return
         self._closed = True
-        try:
-            self.model.params_changed.disconnect(self._params_changed)
-        except ValueError:
-            pass
+        for event, slot in ((self.model.params_changed, self._params_changed),
+                            (self.model.params_changed, self._note_params),
+                            (self.model.cell_changed, self._cell_changed)):
+            try:
+                event.disconnect(slot)
+            except ValueError:
+                pass
         self._stop()
         self.plotter.close()
 
