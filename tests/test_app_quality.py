@@ -201,3 +201,25 @@ def test_edge_over_wavelength_histogram_with_a_frequency(small, qtbot):
     assert not view.isHidden() and view.counts.sum() == 32 and view.threshold == 0.1
     assert "above λ/10: " in panel.figures.text() and "32 (100%)" in panel.figures.text()
     assert panel.worst_list.item(0).text().endswith("0.118 λ")
+
+
+def test_a_hidden_panel_lets_go_of_the_old_mesh(small, qtbot):
+    """Measured, then hidden behind Statistics: a new mesh on screen makes the panel drop
+    the old report and every reference to the old mesh (issue 9: no cache keeps a dead
+    mesh alive), and it measures the new one when shown again."""
+    window = small
+    panel = window.quality_panel
+    open_quality_tab(window, qtbot)
+    first = wait_report(window, qtbot)
+    old = window.model.result.mesh
+    assert panel.mesh is old and panel.layer._mesh is old
+    window.statistics_dock.raise_()
+    qtbot.waitUntil(lambda: not panel._wanted(), timeout=5_000)
+    assert window.load_preset("srr-openmodes")  # Presets menu
+    settle(window, qtbot)
+    assert window.model.result.mesh is not old
+    assert panel.report is None and panel.mesh is None
+    assert panel.layer._mesh is None and panel.layer._lift_mesh is None
+    open_quality_tab(window, qtbot)
+    report = wait_report(window, qtbot)
+    assert report["triangles"] == window.model.result.mesh.n_triangles != first["triangles"]

@@ -257,6 +257,22 @@ class QualityPanel(QWidget):
         self._stale = True
         if self._wanted():
             QTimer.singleShot(0, self._refresh_if_wanted)
+        elif self.mesh is not None or self.report is not None:
+            self._forget()
+
+    def _forget(self) -> None:
+        """Unseen, with a new mesh on screen: drop the old report and mesh now (keeping
+        them would keep a dead mesh alive, a million triangles after a large one); the
+        new mesh is measured when the panel is shown. Nothing is rendered for it."""
+        self._token = None
+        self.measuring = False
+        self.report, self.mesh = None, None
+        self.worst_list.clear()
+        self.figures.setText("Measured when this panel is shown.")
+        for view in self.histograms.values():
+            view.set_data(None)
+        self.layer.show(None, [])
+        self.report_changed.emit(None)
 
     def refresh(self) -> None:
         """Measure the mesh on screen (on this thread when small, else in a worker)."""

@@ -72,6 +72,7 @@ class WorstTrianglesLayer:
         tris = np.asarray(triangles, dtype=np.int64).reshape(-1)
         if mesh is None:
             tris = tris[:0]
+            self._lift_mesh = None  # no reference to a mesh no longer shown
         else:
             tris = tris[(tris >= 0) & (tris < mesh.n_triangles)]
         self._mesh, self.triangles, self.chosen = mesh, tris, None
