@@ -21,7 +21,7 @@ target and n − 1, built and measured too, does not (or n is the scheme's small
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -77,6 +77,19 @@ def _columns(points: np.ndarray) -> list[np.ndarray]:
     return columns
 
 
+def _corner_blocks(
+    points: np.ndarray, triangles: np.ndarray, columns: list[np.ndarray] | None
+) -> Iterator[list[list[np.ndarray]]]:
+    """The triangles' corners block by block (cache-sized): ``c[i][k]`` is coordinate k
+    of corner i of each triangle in the block."""
+    triangles = np.asarray(triangles)
+    if columns is None:
+        columns = _columns(np.asarray(points, dtype=np.float64))
+    for lo in range(0, len(triangles), BLOCK):
+        tri = triangles[lo : lo + BLOCK]
+        yield [[col.take(tri[:, i]) for col in columns] for i in range(3)]
+
+
 def longest_edge(
     points: np.ndarray, triangles: np.ndarray, columns: list[np.ndarray] | None = None
 ) -> float:
@@ -97,15 +110,8 @@ def longest_edge(
     >>> longest_edge(np.array([[0.0, 0, 0], [3, 0, 0], [0, 4, 0]]), np.array([[0, 1, 2]]))
     5.0
     """
-    triangles = np.asarray(triangles)
-    if len(triangles) == 0:
-        return 0.0
-    if columns is None:
-        columns = _columns(np.asarray(points, dtype=np.float64))
-    best = []
-    for lo in range(0, len(triangles), BLOCK):
-        tri = triangles[lo : lo + BLOCK]
-        corners = [[col.take(tri[:, i]) for col in columns] for i in range(3)]
+    best = [0.0]
+    for corners in _corner_blocks(points, triangles, columns):
         for a, b in ((0, 1), (1, 2), (2, 0)):
             square = sum((p - q) * (p - q) for p, q in zip(corners[b], corners[a], strict=True))
             best.append(square.max())
@@ -120,18 +126,11 @@ def largest_area(
     >>> largest_area(np.array([[0.0, 0, 0], [3, 0, 0], [0, 4, 0]]), np.array([[0, 1, 2]]))
     6.0
     """
-    triangles = np.asarray(triangles)
-    if len(triangles) == 0:
-        return 0.0
-    if columns is None:
-        columns = _columns(np.asarray(points, dtype=np.float64))
-    best = []
-    for lo in range(0, len(triangles), BLOCK):
-        tri = triangles[lo : lo + BLOCK]
-        c = [[col.take(tri[:, i]) for col in columns] for i in range(3)]
-        u = [c[1][k] - c[0][k] for k in range(len(columns))]
-        v = [c[2][k] - c[0][k] for k in range(len(columns))]
-        if len(columns) == 2:
+    best = [0.0]
+    for c in _corner_blocks(points, triangles, columns):
+        u = [c[1][k] - c[0][k] for k in range(len(c[0]))]
+        v = [c[2][k] - c[0][k] for k in range(len(c[0]))]
+        if len(c[0]) == 2:
             cross2 = (u[0] * v[1] - u[1] * v[0]) ** 2
         else:
             cross2 = (

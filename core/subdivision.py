@@ -213,22 +213,10 @@ def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTempla
     rank[order] = np.arange(len(order))
     uv, triangles = uv[order], rank[triangles].astype(INDEX)
     triangles = _counter_clockwise(uv, triangles)
-    topo = edge_topology(triangles, len(uv))
     sides = np.stack([_side(uv, s) for s in range(4)])
     if sides.shape[1] != segments + 1:
         raise AssertionError("template sides do not hold segments + 1 vertices")
-    lattice = scheme == "uniform"
-    return PatchTemplate(
-        uv=uv,
-        triangles=triangles,
-        edges=topo.edges,
-        triangle_edges=topo.triangle_edges,
-        edge_triangles=topo.edge_triangles,
-        valence=topo.valence,
-        sides=sides,
-        segments=segments,
-        lattice=lattice,
-    )
+    return _template(uv, triangles, sides, segments, lattice=scheme == "uniform")
 
 
 def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
@@ -330,10 +318,21 @@ def tensor_template(
     else:
         pairs = [np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)]
     triangles = np.stack(pairs, axis=1).reshape(-1, 3).astype(INDEX)  # cell by cell
-    topo = edge_topology(triangles, len(uv))
     first = np.arange(nu + 1, dtype=INDEX)
     rows = np.arange(nv + 1, dtype=INDEX) * INDEX(nu + 1)
     sides = (first, rows + INDEX(nu), first + INDEX(nv * (nu + 1)), rows)
+    return _template(uv, triangles, sides, nu, lattice=False)
+
+
+def _template(
+    uv: np.ndarray,
+    triangles: np.ndarray,
+    sides: np.ndarray | tuple[np.ndarray, ...],
+    segments: int,
+    lattice: bool,
+) -> PatchTemplate:
+    """A :class:`PatchTemplate` of local points and triangles, with their edge topology."""
+    topo = edge_topology(triangles, len(uv))
     return PatchTemplate(
         uv=uv,
         triangles=triangles,
@@ -342,8 +341,8 @@ def tensor_template(
         edge_triangles=topo.edge_triangles,
         valence=topo.valence,
         sides=sides,
-        segments=nu,
-        lattice=False,
+        segments=segments,
+        lattice=lattice,
     )
 
 
