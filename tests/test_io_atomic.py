@@ -189,15 +189,21 @@ def test_stale_temp_files_of_dead_exports_are_removed(tmp_path):
     assert leftovers(tmp_path) == sorted(p.name for p in (busy, other_target, not_ours))
 
 
+# The child takes SIGINT as an interactive Python does even when the test run itself was
+# started with SIGINT ignored (a shell's background job inherits SIG_IGN, and Python then
+# installs no handler), and it "writes" until a signal ends it: the test waits for the
+# signal's effect, never for a sleep to run out.
 CHILD = """
-import sys, time
+import signal, sys, time
+signal.signal(signal.SIGINT, signal.default_int_handler)
 from core import MeshParams, build_mesh
 from core.io import export, write_mesh
 
 def slow(mesh, path, ext, factor, wavelength=None):
     path.write_bytes(b"half a mesh")
     print("writing", flush=True)
-    time.sleep(60)
+    while True:
+        time.sleep(1)
 
 export.write_meshio = slow
 write_mesh(build_mesh(MeshParams(structure="patch")), sys.argv[1])
@@ -221,7 +227,7 @@ def test_killed_mid_write(tmp_path, how):
     assert child.stdout.readline() == "writing\n"
     assert len(leftovers(tmp_path)) == 1
     child.send_signal(getattr(signal, how))
-    code = child.wait(timeout=60)
+    code = child.wait(timeout=600)  # a bound for a hung child, not a speed test
     child.stdout.close()
     child.stderr.close()
     assert target.read_bytes() == b"the old file"

@@ -45,6 +45,7 @@ from PySide6.QtWidgets import (
 
 from app.edit import pixels
 from app.view.framing import frame_from_above
+from app.view.polydata import Layer
 from app.worker import Job
 from core.cell import (
     SYMMETRIES,
@@ -99,14 +100,15 @@ class PainterState:
 
 @dataclasses.dataclass
 class Built:
-    """A mesh built in the worker for one mask, with the datasets to draw it."""
+    """A mesh built in the worker for one mask, with the layers to draw it (plain
+    arrays: the GUI thread wraps them for VTK)."""
 
     generation: int
     mask: np.ndarray
     cell_mesh: CellMesh | None = None
     error: str | None = None
-    faces: pv.PolyData | None = None
-    edges: pv.PolyData | None = None
+    faces: Layer | None = None
+    edges: Layer | None = None
     stats: dict[str, Any] | None = None
     seconds: float = 0.0
     lifted: np.ndarray | None = None  # (V, 3) points raised over the faces
@@ -116,10 +118,11 @@ class Built:
 
 def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
                   generation: int) -> Built:
-    """Mesh ``cell`` and make its face and edge datasets (thread-safe, never raises)."""
+    """Mesh ``cell`` and make its face and edge layers (thread-safe: no VTK object is
+    made; never raises)."""
     start = time.perf_counter()
     if cell is None:
-        return Built(generation, mask, faces=pv.PolyData(), edges=pv.PolyData(), stats=None)
+        return Built(generation, mask, faces=Layer(), edges=Layer(), stats=None)
     grid = cell.pixels
     per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
     triangles = per_pixel * int(mask.sum())
@@ -139,11 +142,13 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
     if mesh.n_triangles > FACES_AS_TRIANGLES:  # pixels as one square each, elements as they are
         pixel_region = len(cell.elements) + 1
         own = triangles[np.asarray(mesh.regions) != pixel_region]
-        faces = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
+        quads = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
+        faces = quads
         if len(own):
-            faces = faces.merge(pv.PolyData.from_regular_faces(points, own))
+            faces = Layer(np.vstack([quads.points, points]),
+                          faces=(*quads.face_blocks, own + len(quads.points)))
     else:
-        faces = pv.PolyData.from_regular_faces(points, triangles)
+        faces = Layer(points, faces=np.asarray(triangles, dtype=np.int64))
     lifted = points.copy()
     lifted[:, 2] += dz
     e = np.asarray(mesh.edges)
@@ -153,30 +158,28 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
                  time.perf_counter() - start, lifted, e, midpoints)
 
 
-def _lines(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
-    """A PolyData of the line cells ``pairs`` (k, 2) over all of ``points`` (V, 3)."""
+def _lines(points: np.ndarray, pairs: np.ndarray) -> Layer:
+    """The line cells ``pairs`` (k, 2) over all of ``points`` (V, 3)."""
     if len(pairs) == 0:
-        return pv.PolyData()
-    lines = np.column_stack([np.full(len(pairs), 2, dtype=pairs.dtype), pairs]).ravel()
-    return pv.PolyData(points, lines=lines)
+        return Layer()
+    return Layer(points, lines=np.asarray(pairs, dtype=np.int64))
 
 
-def _quads(origin: np.ndarray, size: float, cells: np.ndarray, z: float) -> pv.PolyData:
+def _quads(origin: np.ndarray, size: float, cells: np.ndarray, z: float) -> Layer:
     """Squares of side ``size`` for the (row, column) pairs ``cells`` (K, 2), at height z."""
     if len(cells) == 0:
-        return pv.PolyData()
+        return Layer()
     lower = origin + size * cells[:, ::-1].astype(np.float64)  # (K, 2) x, y
     offsets = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float64) * size
     xy = (lower[:, None, :] + offsets[None]).reshape(-1, 2)
     pts = np.column_stack([xy, np.full(len(xy), z)])
-    return pv.PolyData.from_regular_faces(pts, np.arange(len(xy)).reshape(-1, 4))
+    return Layer(pts, faces=np.arange(len(xy), dtype=np.int64).reshape(-1, 4))
 
 
-def _segments(a: np.ndarray, b: np.ndarray, z: float) -> pv.PolyData:
+def _segments(a: np.ndarray, b: np.ndarray, z: float) -> Layer:
     """Line segments from ``a`` (k, 2) to ``b`` (k, 2) at height z."""
     pts = np.column_stack([np.stack([a, b], axis=1).reshape(-1, 2), np.full(2 * len(a), z)])
-    k = np.arange(len(a))
-    return pv.PolyData(pts, lines=np.column_stack([np.full(len(a), 2), 2 * k, 2 * k + 1]).ravel())
+    return Layer(pts, lines=np.arange(2 * len(a), dtype=np.int64).reshape(-1, 2))
 
 
 class _Relay(QObject):
@@ -669,7 +672,9 @@ class PixelPainterWindow(QMainWindow):
                       "MouseWheelBackwardEvent"):
             p.iren.add_observer(event, lambda *_: self._camera_timer.start())
 
-    def _set(self, name: str, data: pv.PolyData, deep: bool = True) -> None:
+    def _set(self, name: str, data: Layer | pv.PolyData, deep: bool = True) -> None:
+        if isinstance(data, Layer):  # wrapped here, on the GUI thread
+            data = data.polydata()
         self.datasets[name].copy_from(data, deep=deep)
 
     def _draw_grid(self) -> None:

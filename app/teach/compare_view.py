@@ -26,6 +26,7 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 from app.model import AppModel, MeshResult, compute
 from app.teach.following_view import FollowingView
 from app.view.framing import frame_from_above
+from app.view.polydata import Layer
 from app.view.scene import MeshScene, add_text_labels, nice_span, scene_data
 from app.worker import Job
 from core import MeshParams, TriMesh
@@ -71,18 +72,20 @@ def patch_coverage(mesh: TriMesh) -> np.ndarray | None:
     return out
 
 
-def coverage_faces(mesh: TriMesh, coverage: np.ndarray | None, dz: float) -> pv.PolyData:
-    """Faces covered by two or more patches, with a cell array ``coverage`` (2 or 3 = 3+)."""
+def coverage_faces(mesh: TriMesh, coverage: np.ndarray | None, dz: float) -> Layer:
+    """Faces covered by two or more patches, with a cell array ``coverage`` (2 or 3 = 3+)
+    (plain arrays, made in the worker; only the points those faces use)."""
     if coverage is None:
-        return pv.PolyData()
+        return Layer()
     keep = coverage >= 2
     if not keep.any():
-        return pv.PolyData()
-    pts = np.array(mesh.points, dtype=np.float64)
+        return Layer()
+    tri = np.asarray(mesh.triangles)[keep]
+    used, local = np.unique(tri, return_inverse=True)
+    pts = np.array(np.asarray(mesh.points)[used], dtype=np.float64)
     pts[:, 2] += dz
-    faces = pv.PolyData.from_regular_faces(pts, np.asarray(mesh.triangles)[keep])
-    faces.cell_data["coverage"] = np.minimum(coverage[keep], 3).astype(np.float64)
-    return faces.clean(point_merging=False) if faces.n_points > 3 * faces.n_cells else faces
+    return Layer(pts, faces=local.reshape(tri.shape).astype(np.int64),
+                 cell_data={"coverage": np.minimum(coverage[keep], 3).astype(np.float64)})
 
 
 @dataclasses.dataclass
@@ -92,7 +95,7 @@ class Half:
     mode: str
     result: MeshResult | None = None
     error: str | None = None
-    overlap: pv.PolyData | None = None
+    overlap: Layer | None = None
     covered: float | None = None  # fraction of the triangles covered twice or more
 
 
@@ -318,7 +321,9 @@ class CompareView(FollowingView):
                 scene.update(half.result.scene)  # each half with its rulers in mm
                 bounds.append(half.result.scene.bounds)
                 if half.mode in self.overlays:
-                    self.overlays[half.mode].copy_from(half.overlap or pv.PolyData(), deep=True)
+                    overlap = half.overlap.polydata() if half.overlap is not None \
+                        else pv.PolyData()
+                    self.overlays[half.mode].copy_from(overlap, deep=True)
             self.stats[half.mode].setText(
                 f"<b style='font-size:13pt'>{TITLES[half.mode]}</b><br>{stats_html(half)}")
         if bounds:

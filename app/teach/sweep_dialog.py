@@ -2,16 +2,20 @@
 
 The dialog collects the parameter (one of :data:`core.sweep.SWEEPABLE`), from, to,
 frames, frames per second, frame size and output file, checks them with
-:func:`core.sweep.sweep_params` before anything runs, and then calls
-:func:`app.teach.sweep.render_sweep` (the function behind ``barymesh sweep``) in a worker
-thread. Its progress drives the dialog's progress bar; Cancel sets a flag that
-``render_sweep`` polls between frames, and the atomic write leaves no file behind.
-Errors are shown in the dialog, never as a traceback.
+:func:`core.sweep.sweep_params` before anything runs, and then runs
+:func:`app.teach.sweep.render_sweep` (the function behind ``barymesh sweep``) in a child
+process: it renders off-screen with VTK, and VTK objects are not thread-safe, so no
+render may run in a thread of the window's process beside the window's own. A worker
+thread only relays the child's progress, which drives the dialog's progress bar; Cancel
+sets an event that ``render_sweep`` polls between frames, and the atomic write leaves
+no file behind. Errors are shown in the dialog, never as a traceback.
 """
 
 from __future__ import annotations
 
 import logging
+import multiprocessing
+import queue
 import threading
 from pathlib import Path
 
@@ -63,25 +67,62 @@ class _Signals(QObject):
     finished = Signal(object)  # None on success, else the message (or "cancelled")
 
 
+def _render_in_child(kwargs: dict, events: multiprocessing.Queue,
+                     stop: threading.Event) -> None:
+    """The child process: render the sweep, reporting through ``events``."""
+    try:
+        frames = render_sweep(**kwargs, progress=lambda d, t: events.put(("progress", d, t)),
+                              should_stop=stop.is_set)
+    except SweepCancelled:
+        events.put(("finished", "cancelled"))
+    except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
+        log.exception("sweep export failed")
+        events.put(("finished", f"{exc}" or "the sweep export failed"))
+    else:
+        events.put(("finished", frames))
+
+
 class _SweepJob(QRunnable):
+    """Runs the sweep in a child process and relays its progress (no VTK in this thread)."""
+
     def __init__(self, kwargs: dict, stop: threading.Event, signals: _Signals) -> None:
         super().__init__()
         self.kwargs, self.stop, self.signals = kwargs, stop, signals
         self.setAutoDelete(True)
 
     def run(self) -> None:  # worker thread
+        context = multiprocessing.get_context("spawn")  # a fresh VTK, not a fork of ours
+        events = context.Queue()
+        stop = context.Event()
+        child = context.Process(target=_render_in_child, args=(self.kwargs, events, stop),
+                                daemon=True, name="barymesh-sweep")
+        outcome: object = None
         try:
-            frames = render_sweep(**self.kwargs,
-                                  progress=lambda d, t: self.signals.progress.emit(d, t),
-                                  should_stop=self.stop.is_set)
-        except SweepCancelled:
-            self.signals.finished.emit("cancelled")
-            return
+            child.start()
+            while outcome is None:
+                if self.stop.is_set():
+                    stop.set()
+                try:
+                    event = events.get(timeout=0.1)
+                except queue.Empty:
+                    if not child.is_alive():
+                        code = child.exitcode
+                        outcome = f"the sweep renderer stopped unexpectedly (exit code {code})"
+                    continue
+                if event[0] == "progress":
+                    self.signals.progress.emit(event[1], event[2])
+                else:
+                    outcome = event[1]
         except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
             log.exception("sweep export failed")
-            self.signals.finished.emit(f"{exc}" or type(exc).__name__)
-            return
-        self.signals.finished.emit(frames)
+            outcome = f"{exc}" or "the sweep export failed"
+        finally:
+            child.join(30)
+            if child.is_alive():
+                child.kill()
+                child.join()
+            events.close()
+        self.signals.finished.emit(outcome)
 
 
 class SweepDialog(QDialog):

@@ -2,12 +2,16 @@
 
 Two halves, so that the expensive part can run in a worker thread:
 
-* :func:`scene_data` turns a mesh into plain pyvista datasets (faces with per-cell
-  quality arrays, line sets for edges, points for centroids). No rendering, no plotter:
-  safe to call from any thread.
+* :func:`scene_data` turns a mesh into plain numpy arrays, one :class:`Layer` per layer
+  (faces with per-cell quality arrays, line sets for edges, points for centroids). It
+  creates no VTK or pyvista object, so it is safe to call from any thread: VTK objects
+  are not thread-safe, and one made or freed in a worker while the GUI thread renders
+  corrupts the heap.
 * :class:`MeshScene` owns the actors of one plotter (a ``pyvistaqt.QtInteractor`` or an
-  off-screen ``pyvista.Plotter``). They are created once; :meth:`MeshScene.update` copies
-  new data into the existing datasets (``copy_from``) and the caller renders once.
+  off-screen ``pyvista.Plotter``). They are created once; :meth:`MeshScene.update` wraps
+  the layers' arrays as pyvista datasets (:meth:`Layer.polydata`, on the thread that
+  renders), copies them into the existing datasets (``copy_from``) and the caller renders
+  once.
 
 :func:`render_screenshot` is the headless entry point the command line uses.
 """
@@ -41,6 +45,7 @@ from app.view.overview import (
     raster_side,
     triangles_in_rect,
 )
+from app.view.polydata import Layer
 from core import TriMesh
 
 log = logging.getLogger(__name__)
@@ -102,17 +107,18 @@ class Overview:
     values: dict[str, np.ndarray]
     centroid_counts: np.ndarray | None = None
     #: (rows, cols, 4) uint8 colours, made in the worker for the colouring ``image_key``
-    #: (plain numpy there; the GUI thread wraps them as the texture's ``image``)
+    #: (plain numpy there; the GUI thread wraps them for the texture, see
+    #: :meth:`MeshScene._recolor_overview`)
     rgba: np.ndarray | None = None
     image_key: str | None = None
-    image: pv.ImageData | None = None
 
 
 @dataclass
 class SceneData:
-    """Pyvista datasets of one mesh, ready to be copied into a :class:`MeshScene`."""
+    """The layers of one mesh as plain arrays, ready to be shown by a :class:`MeshScene`
+    (made in any thread: it holds no VTK object)."""
 
-    datasets: dict[str, pv.PolyData]
+    layers: dict[str, Layer]
     bounds: tuple[float, float, float, float]  # x0, x1, y0, y1 (mm)
     ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
     n_triangles: int = 0
@@ -124,17 +130,14 @@ class SceneData:
     patch_rects: np.ndarray | None = None  # paper mode: (P, 4) x0, y0, x1, y1 (mm)
 
 
-def _line_set(points: np.ndarray, pairs: np.ndarray) -> pv.PolyData:
-    """(V, 3) points and (k, 2) vertex pairs as a PolyData of k line cells."""
-    pairs = np.asarray(pairs).reshape(-1, 2)
+def _line_set(points: np.ndarray, pairs: np.ndarray) -> Layer:
+    """(V, 3) points and (k, 2) vertex pairs as a layer of k line cells."""
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
     if len(pairs) == 0:
-        return pv.PolyData()
-    cells = np.empty((len(pairs), 3), dtype=np.int64)
-    cells[:, 0] = 2
-    cells[:, 1:] = pairs
+        return Layer()
     # all points are kept (unused ones cost a few bytes, a np.unique to drop them cost
     # a third of the dataset update on every slider move)
-    return pv.PolyData(np.ascontiguousarray(points), lines=cells.ravel())
+    return Layer(np.ascontiguousarray(points, dtype=np.float64), lines=pairs)
 
 
 def _lifted(points: np.ndarray, dz: float) -> np.ndarray:
@@ -270,7 +273,7 @@ def colour_table(cmap: object, n_values: int) -> np.ndarray:
 
 
 def overview_image(rgba: np.ndarray) -> pv.ImageData:
-    """The texture input of an overview's (rows, cols, 4) colours."""
+    """The texture input of an overview's (rows, cols, 4) colours (GUI thread only)."""
     rows, cols = rgba.shape[:2]
     image = pv.ImageData(dimensions=(cols, rows, 1))
     image.point_data["rgba"] = rgba.reshape(-1, 4)
@@ -349,7 +352,7 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
     side = raster_side(pixels)
     shape = raster_shape(bounds, side)
     raster = overview_raster(pts, mesh.triangles, bounds, side)
-    sets = {name: pv.PolyData() for name in LAYERS}
+    sets = {name: Layer() for name in LAYERS}
     edges = np.asarray(mesh.edges)
     for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
                              (5, "junction_edges", mesh.junction_edges)):
@@ -408,11 +411,11 @@ def _image_values(raster: np.ndarray, shape: tuple[int, int], arrays: dict[str, 
 
 def _screen_lines(points: np.ndarray, pairs: np.ndarray,
                   bounds: tuple[float, float, float, float], shape: tuple[int, int],
-                  dz: float) -> pv.PolyData:
+                  dz: float) -> Layer:
     """Line cells of ``pairs`` snapped to a raster's texels (as many as it can show)."""
     xy, snapped = decimated_lines(points, pairs, bounds, shape)
     if len(snapped) == 0:
-        return pv.PolyData()
+        return Layer()
     return _line_set(np.column_stack([xy, np.full(len(xy), dz)]), snapped)
 
 
@@ -445,7 +448,7 @@ def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
     sets = _detail_sets(mesh, sel, bounds, _face_arrays(mesh, sel))
     for name in LAYERS:
         if name not in DETAIL_LAYERS:
-            sets[name] = pv.PolyData()
+            sets[name] = Layer()
     return SceneData(sets, bounds, {}, len(sel), 0.0, rect=big)
 
 
@@ -473,13 +476,13 @@ def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
                       mesh.overlap_ratio if rects is not None else None)
     zoom.rgba = overview_rgba(zoom, key, ranges)
     zoom.image_key = key
-    sets = {name: pv.PolyData() for name in LAYERS}
+    sets = {name: Layer() for name in LAYERS}
     return SceneData(sets, bounds, ranges, len(sel), 0.0, zoom, rect=zone)
 
 
 def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
                  bounds: tuple[float, float, float, float],
-                 arrays: dict[str, np.ndarray]) -> dict[str, pv.PolyData]:
+                 arrays: dict[str, np.ndarray]) -> dict[str, Layer]:
     """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None), the
     faces carrying the colouring ``arrays`` of those triangles."""
     pts = np.asarray(mesh.points, dtype=np.float64)
@@ -487,7 +490,7 @@ def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
     x0, x1, y0, y1 = bounds
     dz = 1e-4 * float(max(x1 - x0, y1 - y0, 1e-9))
     if len(tri) == 0 or (sel is not None and len(sel) == 0):
-        return {name: pv.PolyData() for name in LAYERS}
+        return {name: Layer() for name in LAYERS}
     edges = np.asarray(mesh.edges)
     kind = np.zeros(len(edges), dtype=np.int8)  # 3 shared, 4 boundary, 5 junction
     kind[np.asarray(mesh.interior_edges, dtype=np.int64)] = 3
@@ -513,24 +516,23 @@ def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
         local_edges = remap[edges_kept[ok]]
         kind = kind[keep][ok]
         centroids = np.asarray(mesh.centroids)[ids]
-    faces = pv.PolyData.from_regular_faces(local_pts, local_tri)
-    for name, values in arrays.items():
-        faces.cell_data[name] = values
-    faces.cell_data["triangle"] = ids.astype(np.int64)
-    sets = {"faces": faces}
+    cell_data = dict(arrays)
+    cell_data["triangle"] = ids.astype(np.int64)
+    sets = {"faces": Layer(np.ascontiguousarray(local_pts, dtype=np.float64),
+                           faces=np.asarray(local_tri, dtype=np.int64), cell_data=cell_data)}
     lifted = _lifted(local_pts, dz)
     sets["triangle_edges"] = _line_set(lifted, local_edges)
     if sel is None:
         out_pts, out_pairs = patch_outline_pairs(mesh)
         sets["patch_outlines"] = _line_set(_lifted(out_pts, 2 * dz), out_pairs)
     else:
-        sets["patch_outlines"] = pv.PolyData()
+        sets["patch_outlines"] = Layer()
     for level, name in ((3, "shared_edges"), (4, "boundary_edges"), (5, "junction_edges")):
         sets[name] = _line_set(_lifted(local_pts, level * dz), local_edges[kind == level])
     cents = _lifted(centroids, 6 * dz)
-    sets["centroids"] = pv.PolyData(cents)
+    sets["centroids"] = Layer(cents)
     small = len(ids) <= LABEL_LIMIT and sel is None
-    sets["labels"] = pv.PolyData(cents) if small else pv.PolyData()
+    sets["labels"] = Layer(cents) if small else Layer()
     return sets
 
 
@@ -600,6 +602,8 @@ class MeshScene:
         self._lut_key: tuple | None = None  # the face colours' table as last set
         self.outline_stride = 0  # overlap look: every k-th patch outlined (0: look off)
         self._outlines = pv.PolyData()  # the mesh's own patch outlines
+        #: id(texture) -> (the rgba array shown, its vtkImageData), made on this thread
+        self._texture_inputs: dict[int, tuple[np.ndarray, pv.ImageData]] = {}
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
@@ -733,7 +737,7 @@ class MeshScene:
     def update(self, data: SceneData) -> None:
         """Copy new datasets into the existing ones (no new actors); the caller renders."""
         for name in LAYERS:
-            self.datasets[name].copy_from(data.datasets[name], deep=False)
+            self.datasets[name].copy_from(data.layers[name].polydata(), deep=False)
         self.bounds = data.bounds
         self.ranges = data.ranges
         self.n_triangles = data.n_triangles
@@ -744,7 +748,7 @@ class MeshScene:
         self.overlap_ratio = data.overlap_ratio
         self.patch_rects = data.patch_rects
         self.outline_stride = 0
-        self._outlines = data.datasets["patch_outlines"]
+        self._outlines = data.layers["patch_outlines"].polydata()
         self.detail_rect = None
         self.detail_triangles = 0 if data.overview is not None else data.n_triangles
         self._set_overview_quad()
@@ -779,7 +783,7 @@ class MeshScene:
             self._apply_visibility()
             return
         for name in DETAIL_LAYERS:
-            self.datasets[name].copy_from(data.datasets[name], deep=False)
+            self.datasets[name].copy_from(data.layers[name].polydata(), deep=False)
         self.detail_rect = data.rect
         self.detail_triangles = data.n_triangles
         self._apply_color_by()
@@ -868,6 +872,7 @@ class MeshScene:
             blank = pv.ImageData(dimensions=(2, 2, 1))
             blank.point_data["rgba"] = np.zeros((4, 4), dtype=np.uint8)
             self.overview_texture.SetInputDataObject(blank)
+            self._texture_inputs.clear()
             bounds, dz = (0.0, 0.0, 0.0, 0.0), 0.0
         else:
             bounds = ov.bounds
@@ -891,10 +896,14 @@ class MeshScene:
                 continue
             if image.rgba is None or image.image_key != key:  # colouring changed since
                 image.rgba = overview_rgba(image, key, self.ranges)
-                image.image_key, image.image = key, None
-            if image.image is None:
-                image.image = overview_image(image.rgba)
-            texture.SetInputDataObject(image.image)
+                image.image_key = key
+            # the VTK image is made here, on the GUI thread, and kept by the scene (not by
+            # the Overview, which a worker made and may be the last to let go of)
+            cached = self._texture_inputs.get(id(texture))
+            if cached is None or cached[0] is not image.rgba:
+                cached = (image.rgba, overview_image(image.rgba))
+                self._texture_inputs[id(texture)] = cached
+            texture.SetInputDataObject(cached[1])
 
     def set_visible(self, layer: str, on: bool) -> None:
         if layer not in self.visible:
@@ -1127,7 +1136,8 @@ class MeshScene:
             x0, x1, y0, y1 = self.bounds
             z = 2e-4 * max(x1 - x0, y1 - y0, 1e-9)
             pts, pairs = rect_outlines(self.patch_rects[::stride], z)
-            self.datasets["patch_outlines"].copy_from(_line_set(pts, pairs), deep=False)
+            self.datasets["patch_outlines"].copy_from(_line_set(pts, pairs).polydata(),
+                                                      deep=False)
         return True
 
     def set_emphasis(self, scale: float) -> None:
