@@ -209,6 +209,87 @@ def test_conforming_meshes_carry_no_warning(small_plate):
     assert s.residual < 1e-12
 
 
+def t_junction(n=10, size=100.0, fin=50.0):
+    """A square plate in z = 0 (mm) with a fin standing on its line y = 0: n junction edges."""
+    plate = strip(length=size, width=size, nx=n, ny=2)
+    x = np.linspace(-size / 2, size / 2, n + 1)
+    z = np.array([fin / 2, fin])
+    xx, zz = np.meshgrid(x, z, indexing="ij")
+    extra = np.column_stack([xx.ravel(), np.zeros(xx.size), zz.ravel()])
+    points = np.concatenate([plate.points, extra])
+    on_line = np.arange(n + 1) * 3 + 1  # plate vertices with y = 0, in order of x
+    column = np.column_stack([on_line, len(plate.points) + 2 * np.arange(n + 1),
+                              len(plate.points) + 2 * np.arange(n + 1) + 1])  # fmt: skip
+    quads = [(column[i, j], column[i + 1, j], column[i + 1, j + 1], column[i, j + 1])
+             for i in range(n) for j in range(2)]  # fmt: skip
+    fin_tri = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    tri = np.concatenate([plate.triangles, np.array(fin_tri)])
+    zeros = np.zeros(len(tri), dtype=int)
+    return TriMesh(points, tri, zeros, zeros + 1, 1, mode="imported")
+
+
+def test_junction_edges_get_a_warning():
+    mesh = t_junction()
+    assert len(mesh.junction_edges) == 10
+    s = solve(mesh, 1e9)
+    assert len(s.warnings) == 1
+    assert s.warnings[0].startswith("10 junction edges (shared by three or more triangles)")
+    assert "carry no RWG unknown" in s.warnings[0]
+    # the edges really carry no unknown: none of the RWG edges is a junction edge
+    assert not np.isin(mesh.rwg.edge, mesh.junction_edges).any()
+    r = sweep(mesh, [1e9, 2e9])
+    assert r.warnings == s.warnings  # once, not once per frequency
+
+
+def test_a_unit_cell_is_said_to_be_solved_as_one_scatterer():
+    from core.cell import Lattice, PixelGrid, UnitCell, build_cell
+
+    cell = UnitCell(Lattice.rectangular(10.0), pixels=PixelGrid(np.ones((2, 2)), origin=(-4, -4)))
+    mesh = build_cell(cell).mesh
+    assert mesh.lattice is not None
+    s = solve(mesh, 10e9)
+    assert len(s.warnings) == 1
+    assert "a1 = (10, 0) mm, a2 = (0, 10) mm" in s.warnings[0]
+    assert "one finite scatterer in free space" in s.warnings[0]
+    assert "not for an infinite periodic array" in s.warnings[0]
+
+
+@pytest.fixture(scope="module")
+def platefine():
+    return build_mesh(load_preset("makarov-platefine")[0])
+
+
+def test_low_frequency_breakdown_is_reported(platefine):
+    wave = PlaneWave(direction=(0, 0, -1), polarization=(1, 0, 0))
+    # 3 kHz: k·D = 8.9e-5 on the 1 m plate (D = √2 m); the EFIE has broken down
+    low = solve(platefine, 3e3, wave)
+    kd = 2 * np.pi * 3e3 / SPEED_OF_LIGHT * np.sqrt(2.0)
+    assert len(low.warnings) == 1
+    assert low.warnings[0].startswith(f"low-frequency breakdown of the EFIE: k·D = {kd:.3g}")
+    assert f"condition number {low.condition_number:.3g}" in low.warnings[0]
+    assert low.condition_number > 1e10
+    # what the warning is about: energy is not conserved there (ext = sca for a PEC)
+    balance = low.extinction_cross_section / low.scattering_cross_section - 1
+    assert abs(balance) > 0.01
+    # 300 MHz (k·D = 8.9): no warning, and energy is conserved
+    ok = solve(platefine, 300e6, wave)
+    assert ok.warnings == ()
+    assert ok.extinction_cross_section == pytest.approx(ok.scattering_cross_section, rel=1e-4)
+    # a sweep through both keeps the warning of its lowest frequency, once
+    r = sweep(platefine, [3e3, 3e4, 300e6], wave, scattering=False)
+    assert r.warnings == low.warnings
+
+
+def test_a_large_condition_number_alone_is_reported():
+    from core.mom.caveats import low_frequency_warning
+
+    assert low_frequency_warning(8.9, 450.0) == ()
+    text = low_frequency_warning(8.9, 3e11)[0]
+    assert text.startswith("ill-conditioned EFIE: condition number 3e+11")
+    assert low_frequency_warning(8.9, float("inf"))  # a singular matrix too
+    assert low_frequency_warning(8.9, 3e11, use_condition=False) == ()
+
+
 # -- sweeps --------------------------------------------------------------------------
 
 

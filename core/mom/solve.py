@@ -12,6 +12,7 @@ import scipy.linalg as sla
 
 from ..mesh import TriMesh
 from . import geometry
+from .caveats import solve_warnings
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import FAR_ORDER, NEAR_FACTOR, NEAR_ORDER, MomGeometry, mom_geometry
 from .operator import impedance_matrix, wavenumber
@@ -152,17 +153,6 @@ def _default_excitation(excitation: PlaneWave | VoltageSource | None) -> PlaneWa
     return excitation
 
 
-def _overlap_warning(mesh: TriMesh, cond: float) -> tuple[str, ...]:
-    ratio = mesh.overlap_ratio if mesh.mode == "paper" else None
-    if not ratio or ratio <= 1e-12:
-        return ()
-    return (
-        f"paper-mode mesh with overlapping patches (overlap ratio {ratio:.3g}): the "
-        f"overlaps carry doubled, non-conforming currents and the matrix condition number "
-        f"is {cond:.3g}; a conforming mesh gives the physical solution",
-    )
-
-
 #: Most refinement steps of the single-precision LU before falling back to double precision.
 REFINEMENT_STEPS = 10
 
@@ -241,7 +231,7 @@ def _solve_at(
     v = excitation_vector(geom, k, excitation)
     i, cond, residual = dense_solve(z, v)
     del z
-    warnings = _overlap_warning(mesh, cond)
+    warnings = solve_warnings(mesh, k, cond)
     for text in warnings:
         log.warning(text)
     return Solution(geom, frequency, excitation, i, v, cond, residual, warnings)
@@ -318,6 +308,8 @@ class SweepResult:
     coefficients : (F, N) complex128
     condition_numbers, residuals : (F,) float64
     warnings : tuple of str
+        Each kind of caveat once, as the first frequency that raised it said it
+        (for the low-frequency breakdown: the lowest, worst frequency).
     """
 
     frequencies: np.ndarray
@@ -483,7 +475,8 @@ def sweep(
         coefs[j] = s.coefficients
         conds[j] = s.condition_number
         residuals[j] = s.residual
-        warnings = warnings or s.warnings
+        kinds = {w.split(":")[0] for w in warnings}
+        warnings += tuple(w for w in s.warnings if w.split(":")[0] not in kinds)
         if plane:
             ext[j] = s.extinction_cross_section
             if scattering:
