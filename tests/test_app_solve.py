@@ -371,3 +371,20 @@ def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monke
     assert "warning: 10 junction edges (shared by three or more triangles)" in (
         panel.summary.text())
     assert panel.solution.warnings == solve(opened, 3e9).warnings
+
+
+def test_a_sweep_shows_its_warnings_under_the_resonances(window, qtbot):
+    panel = open_solve(window, qtbot)
+    panel.tabs.setCurrentIndex(1)
+    type_into(panel.sweep_from, "0.000001")  # GHz: 1 kHz to 3 kHz, k·D < 1e-4
+    type_into(panel.sweep_to, "0.000003")
+    panel.sweep_count.lineEdit().selectAll()
+    QTest.keyClicks(panel.sweep_count.lineEdit(), "3")
+    click(qtbot, panel.sweep_button)
+    qtbot.waitUntil(lambda: panel.sweep_result is not None, timeout=120_000)
+    direct = sweep(window.model.result.mesh, [1e3, 2e3, 3e3], PlaneWave(), scattering=False)
+    assert panel.sweep_result.warnings == direct.warnings
+    assert len(direct.warnings) == 1
+    text = panel.resonance_label.text()
+    assert f"warning: {direct.warnings[0]}" in text
+    assert text.count("low-frequency breakdown") == 1
