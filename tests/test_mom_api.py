@@ -241,6 +241,13 @@ def test_junction_edges_get_a_warning():
     assert r.warnings == s.warnings  # once, not once per frequency
 
 
+def test_a_sweep_logs_each_warning_once(caplog):
+    with caplog.at_level("WARNING", logger="core.mom.solve"):
+        r = sweep(t_junction(), [1e9, 2e9, 3e9])
+    logged = [rec.getMessage() for rec in caplog.records if rec.name == "core.mom.solve"]
+    assert logged == list(r.warnings) and len(logged) == 1
+
+
 def test_a_unit_cell_is_said_to_be_solved_as_one_scatterer():
     from core.cell import Lattice, PixelGrid, UnitCell, build_cell
 

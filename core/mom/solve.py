@@ -232,8 +232,6 @@ def _solve_at(
     i, cond, residual = dense_solve(z, v)
     del z
     warnings = solve_warnings(mesh, k, cond)
-    for text in warnings:
-        log.warning(text)
     return Solution(geom, frequency, excitation, i, v, cond, residual, warnings)
 
 
@@ -290,7 +288,10 @@ def solve(
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
-    return _solve_at(mesh, geom, frequency, excitation)
+    solution = _solve_at(mesh, geom, frequency, excitation)
+    for text in solution.warnings:
+        log.warning(text)
+    return solution
 
 
 @dataclass(frozen=True, eq=False)
@@ -476,7 +477,10 @@ def sweep(
         conds[j] = s.condition_number
         residuals[j] = s.residual
         kinds = {w.split(":")[0] for w in warnings}
-        warnings += tuple(w for w in s.warnings if w.split(":")[0] not in kinds)
+        new = tuple(w for w in s.warnings if w.split(":")[0] not in kinds)
+        for text in new:  # logged once per kind, not once per frequency
+            log.warning(text)
+        warnings += new
         if plane:
             ext[j] = s.extinction_cross_section
             if scattering:
