@@ -338,3 +338,53 @@ def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(window, qtb
     # back to a plane wave: its rows return
     choose(panel.excitation, "plane")
     assert panel.direction.isVisible() and not panel.feed_start.isVisible()
+
+
+def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monkeypatch):
+    from core.io import write_mesh
+    from tests.app_user import answer_file_dialogs
+    from tests.test_mom_api import t_junction
+
+    panel = open_solve(window, qtbot)
+    mesh = window.model.result.mesh  # the 100 mm patch, 40 unknowns: solved as typed
+    type_into(panel.frequency, "3")
+    choose(panel.unit, "kHz")
+    assert panel.solution is not None and panel.solution.frequency == 3e3
+    direct = solve(mesh, 3e3)
+    assert len(direct.warnings) == 1 and "low-frequency breakdown" in direct.warnings[0]
+    assert panel.solution.warnings == direct.warnings
+    assert "warning: low-frequency breakdown of the EFIE: k·D = " in panel.summary.text()
+    choose(panel.unit, "GHz")  # 3 GHz: k·D = 8.9, no warning left on screen
+    assert panel.solution.frequency == 3e9 and panel.solution.warnings == ()
+    assert "warning" not in panel.summary.text()
+
+    # File > Open a plate with a fin: its 10 junction edges carry no unknown, and it says so
+    answer = answer_file_dialogs(monkeypatch)
+    answer(write_mesh(t_junction(), tmp_path / "fin.vtu"))
+    window.act_open.trigger()
+    settle(window, qtbot)
+    opened = window.model.result.mesh
+    assert len(opened.junction_edges) == 10
+    if panel.solution is None or panel.solution_mesh is not opened:
+        click(qtbot, panel.solve_button)
+        qtbot.waitUntil(lambda: panel.solution_mesh is opened, timeout=120_000)
+    assert "warning: 10 junction edges (shared by three or more triangles)" in (
+        panel.summary.text())
+    assert panel.solution.warnings == solve(opened, 3e9).warnings
+
+
+def test_a_sweep_shows_its_warnings_under_the_resonances(window, qtbot):
+    panel = open_solve(window, qtbot)
+    panel.tabs.setCurrentIndex(1)
+    type_into(panel.sweep_from, "0.000001")  # GHz: 1 kHz to 3 kHz, k·D < 1e-4
+    type_into(panel.sweep_to, "0.000003")
+    panel.sweep_count.lineEdit().selectAll()
+    QTest.keyClicks(panel.sweep_count.lineEdit(), "3")
+    click(qtbot, panel.sweep_button)
+    qtbot.waitUntil(lambda: panel.sweep_result is not None, timeout=120_000)
+    direct = sweep(window.model.result.mesh, [1e3, 2e3, 3e3], PlaneWave(), scattering=False)
+    assert panel.sweep_result.warnings == direct.warnings
+    assert len(direct.warnings) == 1
+    text = panel.resonance_label.text()
+    assert f"warning: {direct.warnings[0]}" in text
+    assert text.count("low-frequency breakdown") == 1

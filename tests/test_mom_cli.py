@@ -169,3 +169,24 @@ def test_too_large_a_problem_is_refused_naming_n_and_memory(capsys):
 def test_feed_off_the_mesh_edges_is_bad_input(capsys):
     in_process(capsys, 1, *SMALL, "--freq", "6GHz", "--feed", "100,100:100,101",
                fragments=("no interior edge lies on the feed segment",))  # fmt: skip
+
+
+def test_solution_warnings_are_printed(tmp_path, monkeypatch, capsys):
+    from app import cli
+
+    monkeypatch.chdir(tmp_path)
+    # the 3 kHz plate of the issue: k·D = 8.9e-5, negative extinction, cond 3e12
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "3kHz"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "  warning: low-frequency breakdown of the EFIE: k·D = 8.89e-05" in out.out
+    # a sweep prints the warning once, from its lowest frequency
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "3kHz:300MHz:3"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert out.out.count("warning: low-frequency breakdown of the EFIE: k·D = 8.89e-05") == 1
+    # and a well-posed solve prints none
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "300MHz"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "warning" not in out.out

@@ -19,6 +19,7 @@ view and the panel says so.
 
 from __future__ import annotations
 
+import html
 import logging
 import math
 import threading
@@ -710,7 +711,8 @@ class SolvePanel(QWidget):
                  f"largest |J| {jmax:.5g} A/m",
                  driven,
                  f"condition number {s.condition_number:.3g}, residual {s.residual:.1e}"]
-        lines += [f"<span style='color:#b35900'>{w}</span>" for w in s.warnings]
+        lines += [f"<span style='color:#b35900'>warning: {html.escape(w)}</span>"
+                  for w in s.warnings]
         self.summary.setText("<br>".join(lines))
         self.plot.mark(s.frequency if self.sweep_mesh is outcome.mesh else None)
         self._show_coefficient()
@@ -763,9 +765,9 @@ class SolvePanel(QWidget):
         self.sweep_result, self.sweep_mesh = r, outcome.mesh
         self.plot.show_result(r)
         res = ", ".join(f"{f / 1e9:.4g} GHz" for f in r.resonances)
-        self.resonance_label.setText(
-            f"Resonance{'s' if len(r.resonances) != 1 else ''}: {res}" if res
-            else "No resonance in this range.")
+        text = (f"Resonance{'s' if len(r.resonances) != 1 else ''}: {res}" if res
+                else "No resonance in this range.")
+        self.resonance_label.setText("\n".join([text] + [f"warning: {w}" for w in r.warnings]))
         self.tabs.setCurrentIndex(1)
 
     # -- invalidation ----------------------------------------------------------------

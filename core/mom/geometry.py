@@ -48,6 +48,8 @@ FAR_ORDER = 2
 NEAR_FACTOR = 1.5
 #: Largest cached table of far-pair point distances (bytes); above it, recomputed per fill.
 DISTANCE_CACHE_BYTES = 160 * 2**20
+#: Entries of the scratch slab in which point distances are computed.
+DISTANCE_SLAB = 1 << 18
 
 
 @dataclass(frozen=True, eq=False)
@@ -310,14 +312,24 @@ def far_point_distances(
     """
     obs = far.points[lo:hi].reshape(-1, 3)
     src = far.points[src_lo:src_hi].reshape(-1, 3)
-    d2 = np.zeros((len(obs), len(src)))
-    for c in range(3):
-        if not (obs[:, c].any() or src[:, c].any()):
-            continue  # a flat mesh in z = 0
-        diff = obs[:, c, None] - src[None, :, c]
-        d2 += diff * diff
-    dist = np.sqrt(d2, out=d2)
-    dist[dist == 0.0] = 1.0
+    axes = [c for c in range(3) if obs[:, c].any() or src[:, c].any()]  # z = 0: no z
+    dist = np.zeros((len(obs), len(src)))
+    if not axes or not dist.size:
+        dist[...] = 1.0
+        return dist
+    # rows in slabs of about DISTANCE_SLAB entries, so that the only large array
+    # written is the table itself (fresh memory is slow to touch on a shared VM)
+    rows = max(1, DISTANCE_SLAB // len(src))
+    scratch = np.empty((min(rows, len(obs)), len(src)))
+    for start in range(0, len(obs), rows):
+        stop = min(len(obs), start + rows)
+        out, tmp = dist[start:stop], scratch[: stop - start]
+        for c in axes:
+            np.subtract(obs[start:stop, c, None], src[None, :, c], out=tmp)
+            np.multiply(tmp, tmp, out=tmp)
+            out += tmp
+        np.sqrt(out, out=out)
+        out[out == 0.0] = 1.0
     return dist
 
 

@@ -11,16 +11,15 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..mesh import TriMesh
+from . import geometry
+from .caveats import solve_warnings
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import FAR_ORDER, NEAR_FACTOR, NEAR_ORDER, MomGeometry, mom_geometry
 from .operator import impedance_matrix, wavenumber
+from .quadrature import triangle_rule
 from .solution import Solution
 
 log = logging.getLogger(__name__)
-
-#: Bytes per complex matrix entry; the matrix and its LU factors are both held.
-_ENTRY = 16
-_COPIES = 2
 
 
 class SolveCancelled(Exception):
@@ -46,8 +45,45 @@ def available_memory() -> int:
         return 1 << 62
 
 
-def check_memory(n: int, memory_limit: float | None = None) -> int:
-    """Refuse N unknowns whose dense matrix and LU factors exceed the memory allowed.
+#: Peak bytes per N² of a solve, measured (tracemalloc) at N = 3,145 and 4,754 (34.4 and
+#: 33.9; the issue's runs 34.0–34.2 up to N = 22,533) plus a margin of about 5 %: Z
+#: (16 N²), its complex64 copy and the Fortran-ordered copy LAPACK factorises (8 + 8),
+#: or Z and a complex128 LU (16 + 16), and the geometry.
+PEAK_BYTES_PER_N2 = 36.0
+#: Bytes a solve needs beyond the N² term whatever its size (BLAS buffers, fill slabs).
+FIXED_BYTES = 32 * 2**20
+
+
+def memory_needed(n: int, far_points: int = 0) -> int:
+    """Peak bytes of a solve with N unknowns (the measured model, with a margin).
+
+    Parameters
+    ----------
+    n : int
+        Number of unknowns.
+    far_points : int
+        Far-rule points of the mesh (triangles × points per triangle). When
+        their distance table is cached (it fits
+        :data:`~core.mom.geometry.DISTANCE_CACHE_BYTES`), it counts twice:
+        the table and the fill's kernel and moment blocks it feeds.
+
+    Returns
+    -------
+    int
+        ``PEAK_BYTES_PER_N2 * N² + FIXED_BYTES`` (+ 2 × the cached table).
+
+    Examples
+    --------
+    >>> memory_needed(1000) == 36 * 1000**2 + 32 * 2**20
+    True
+    """
+    table = 8 * int(far_points) ** 2
+    cached = table if table <= geometry.DISTANCE_CACHE_BYTES else 0
+    return int(PEAK_BYTES_PER_N2 * n * n) + FIXED_BYTES + 2 * cached
+
+
+def check_memory(n: int, memory_limit: float | None = None, far_points: int = 0) -> int:
+    """Refuse N unknowns whose solve would need more memory than allowed.
 
     Parameters
     ----------
@@ -55,18 +91,20 @@ def check_memory(n: int, memory_limit: float | None = None) -> int:
         Number of unknowns.
     memory_limit : float, optional
         A cap in bytes (in addition to the memory available now).
+    far_points : int
+        Far-rule points of the mesh (see :func:`memory_needed`).
 
     Returns
     -------
     int
-        The bytes needed, 2 × 16 N².
+        The bytes needed, :func:`memory_needed`.
 
     Raises
     ------
     ProblemTooLarge
         Naming N, the memory needed and the memory allowed.
     """
-    need = _COPIES * _ENTRY * n * n
+    need = memory_needed(n, far_points)
     avail = available_memory()
     allowed = avail if memory_limit is None else min(avail, float(memory_limit))
     if need > allowed:
@@ -76,10 +114,19 @@ def check_memory(n: int, memory_limit: float | None = None) -> int:
             else f"the {_gb(avail)} of memory available"
         )
         raise ProblemTooLarge(
-            f"N = {n:,} unknowns need {_gb(need)} for the dense impedance matrix and its LU "
-            f"factors (2 × 16 N² bytes), more than {source}; use a coarser mesh"
+            f"N = {n:,} unknowns need {_gb(need)} at the peak of a solve (the dense "
+            f"impedance matrix, its single-precision copies or LU factors: about "
+            f"{PEAK_BYTES_PER_N2:g} N² bytes), more than {source}; use a coarser mesh"
         )
     return need
+
+
+def _far_points(mesh: TriMesh, far_order: int) -> int:
+    """Far-rule points of ``mesh`` (0 for an order without a rule: mom_geometry says so)."""
+    try:
+        return mesh.n_triangles * len(triangle_rule(far_order)[1])
+    except (TypeError, ValueError, KeyError):
+        return 0
 
 
 def _gb(b: float) -> str:
@@ -104,17 +151,6 @@ def _default_excitation(excitation: PlaneWave | VoltageSource | None) -> PlaneWa
             f"excitation must be a PlaneWave or a VoltageSource, got {type(excitation).__name__}"
         )
     return excitation
-
-
-def _overlap_warning(mesh: TriMesh, cond: float) -> tuple[str, ...]:
-    ratio = mesh.overlap_ratio if mesh.mode == "paper" else None
-    if not ratio or ratio <= 1e-12:
-        return ()
-    return (
-        f"paper-mode mesh with overlapping patches (overlap ratio {ratio:.3g}): the "
-        f"overlaps carry doubled, non-conforming currents and the matrix condition number "
-        f"is {cond:.3g}; a conforming mesh gives the physical solution",
-    )
 
 
 #: Most refinement steps of the single-precision LU before falling back to double precision.
@@ -195,9 +231,7 @@ def _solve_at(
     v = excitation_vector(geom, k, excitation)
     i, cond, residual = dense_solve(z, v)
     del z
-    warnings = _overlap_warning(mesh, cond)
-    for text in warnings:
-        log.warning(text)
+    warnings = solve_warnings(mesh, k, cond)
     return Solution(geom, frequency, excitation, i, v, cond, residual, warnings)
 
 
@@ -237,7 +271,8 @@ def solve(
     Raises
     ------
     ProblemTooLarge
-        Before allocating, when 2 × 16 N² bytes exceed the memory allowed.
+        Before allocating, when the solve's peak (:func:`memory_needed`) exceeds
+        the memory allowed.
 
     Examples
     --------
@@ -251,9 +286,12 @@ def solve(
     excitation = _default_excitation(excitation)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
-    check_memory(len(mesh.rwg), memory_limit)
+    check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
-    return _solve_at(mesh, geom, frequency, excitation)
+    solution = _solve_at(mesh, geom, frequency, excitation)
+    for text in solution.warnings:
+        log.warning(text)
+    return solution
 
 
 @dataclass(frozen=True, eq=False)
@@ -271,6 +309,8 @@ class SweepResult:
     coefficients : (F, N) complex128
     condition_numbers, residuals : (F,) float64
     warnings : tuple of str
+        Each kind of caveat once, as the first frequency that raised it said it
+        (for the low-frequency breakdown: the lowest, worst frequency).
     """
 
     frequencies: np.ndarray
@@ -418,7 +458,7 @@ def sweep(
     excitation = _default_excitation(excitation)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
-    check_memory(len(mesh.rwg), memory_limit)
+    check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
     plane = isinstance(excitation, PlaneWave)
     nf = len(freqs)
@@ -436,7 +476,11 @@ def sweep(
         coefs[j] = s.coefficients
         conds[j] = s.condition_number
         residuals[j] = s.residual
-        warnings = warnings or s.warnings
+        kinds = {w.split(":")[0] for w in warnings}
+        new = tuple(w for w in s.warnings if w.split(":")[0] not in kinds)
+        for text in new:  # logged once per kind, not once per frequency
+            log.warning(text)
+        warnings += new
         if plane:
             ext[j] = s.extinction_cross_section
             if scattering:
