@@ -855,12 +855,20 @@ class MainWindow(QMainWindow):
                 self.request_render()
 
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
-        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array, lines scaled along."""
-        if not 1 <= int(scale) <= 4:
-            raise ValueError(f"scale={scale!r} is outside 1..4")
-        with self.scene.scaled_lines(int(scale)):
-            image = self.plotter.screenshot(None, transparent_background=transparent,
-                                            return_img=True, scale=int(scale))
+        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
+
+        At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
+        lines and dots scaled along (:mod:`app.view.scaled_shot`); VTK's tiled
+        magnification cut and misplaced the rulers and titles."""
+        from app.view.scaled_shot import MAX_SCALE, scaled_view_image
+
+        if not 1 <= int(scale) <= MAX_SCALE:
+            raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
+        if int(scale) > 1:
+            return scaled_view_image(self.scene, int(scale), transparent)
+        self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
+        image = self.plotter.screenshot(None, transparent_background=transparent,
+                                        return_img=True)
         self.plotter.render()
         return np.ascontiguousarray(image)
 
