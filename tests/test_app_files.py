@@ -61,9 +61,11 @@ def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix, file_dial
 
 
 def test_export_without_a_suffix_takes_the_chosen_format(window, tmp_path, file_dialog):
-    file_dialog(tmp_path / "plain", "VTK XML polydata (*.vtp)")
+    folder = tmp_path / "out"  # (tmp_path also holds the test's settings folder)
+    folder.mkdir()
+    file_dialog(folder / "plain", "VTK XML polydata (*.vtp)")
     export_through_dialog(window)
-    written = list(tmp_path.iterdir())
+    written = list(folder.iterdir())
     assert [p.name for p in written] == ["plain.vtp"]
     assert read_mesh(written[0]).n_triangles == 384
 
@@ -250,3 +252,72 @@ def _grow(mask, px=2):
         for dx in range(-px, px + 1):
             grown |= np.roll(np.roll(mask, dy, 0), dx, 1)
     return grown
+
+
+# -- exports in a worker thread, with progress and Cancel (issue 3, item 10) ---------------
+
+#: 48 patches x 2 x 32² = 98,304 triangles: an STL ASCII write of a few seconds.
+BIG = MeshParams(angle_step=15.0, subdivisions=32)
+
+
+@pytest.mark.parametrize("window_params", [BIG])
+def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dialog):
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QPushButton
+
+    from tests.app_user import settle, wait_for_export
+
+    settle(window, qtbot)
+    assert window.model.result.mesh.n_triangles == 98_304
+    path = tmp_path / "big.stl"
+    ticks = []
+    heartbeat = QTimer()
+    heartbeat.setInterval(10)
+    heartbeat.timeout.connect(lambda: ticks.append(window.export_job is not None))
+    window.act_export.trigger()
+    dialog = window.export_dialog
+    file_dialog(path)
+    browse = next(b for b in dialog.findChildren(QPushButton) if b.text().startswith("Browse"))
+    QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
+    heartbeat.start()
+    QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+    assert window.export_job is not None  # the click returned with the write under way
+    assert not dialog.export_button.isEnabled()  # one export at a time
+    wait_for_export(window)
+    heartbeat.stop()
+    # the event loop ran while the file was written (a write on the GUI thread blocks it
+    # from the click until the end: no tick would see the export running)
+    assert sum(ticks) >= 3
+    assert not dialog.isVisible()  # written: the dialog closed
+    assert read_mesh(path).n_triangles == 98_304
+    assert "Wrote" in window.statusBar().currentMessage()
+
+
+@pytest.mark.parametrize("window_params", [BIG])
+def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog):
+    from PySide6.QtWidgets import QPushButton
+
+    from tests.app_user import settle, wait_for_export
+
+    settle(window, qtbot)
+    folder = tmp_path / "out"
+    folder.mkdir()
+    path = folder / "big.stl"
+    window.act_export.trigger()
+    dialog = window.export_dialog
+    file_dialog(path)
+    browse = next(b for b in dialog.findChildren(QPushButton) if b.text().startswith("Browse"))
+    QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
+    QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+    job = window.export_job
+    qtbot.waitUntil(lambda: job.progress is not None and job.progress.isVisible(),
+                    timeout=10_000)  # the progress dialog, once the write takes a moment
+    assert "98,304 triangles" in job.progress.labelText()
+    cancel = next(b for b in job.progress.findChildren(QPushButton) if b.text() == "Cancel")
+    QTest.mouseClick(cancel, Qt.MouseButton.LeftButton)
+    wait_for_export(window)
+    assert job.cancelled
+    assert list(folder.iterdir()) == []  # neither the file nor a temporary one
+    assert "cancelled" in window.statusBar().currentMessage()
+    assert dialog.isVisible() and dialog.export_button.isEnabled()  # try again, or close
+    assert "cancelled" in dialog.error.text()

@@ -12,6 +12,7 @@ Pure Python over numpy, scipy.io and meshio; no Qt, VTK or pyvista.
 """
 
 from .atomic import (
+    ExportCancelled,
     ExportError,
     atomic_path,
     atomic_paths,
@@ -39,6 +40,7 @@ __all__ = [
     "IMPORT_FORMATS",
     "PER_MM",
     "UNITS",
+    "ExportCancelled",
     "ExportError",
     "ExportFormat",
     "MeshFileError",
