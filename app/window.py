@@ -276,13 +276,13 @@ class ExportDialog(QDialog):
             self.export_button.setEnabled(False)
 
     def _browse(self) -> None:
-        filters = [f"{fmt.name} (*{ext})" for ext, fmt in self.formats.items()]
+        from core.io import export_filters, filter_extension
+
         path, chosen = QFileDialog.getSaveFileName(self, "Export mesh", self.path.text(),
-                                                   ";;".join(filters))
+                                                   ";;".join(export_filters()))
         if path:
             if not Path(path).suffix:
-                path += next((e for e, f in self.formats.items() if chosen.startswith(f.name)),
-                             ".msh")
+                path += filter_extension(chosen) or ".msh"
             self.path.setText(path)
 
     def _export(self) -> None:

@@ -193,10 +193,14 @@ class CellTools:
             return
         n1, n2 = self.lattice.copies
         start = self.window._path_setting("array", f"{self.model.cell.name}-{n1}x{n2}.msh")
-        path, _ = QFileDialog.getSaveFileName(self.window, f"Export {n1} x {n2} array mesh",
-                                              start, "Mesh files (*.msh *.vtk *.stl *.obj *.mat"
-                                              " *.nas *.ply);;All files (*)")
+        from core.io import export_filters, filter_extension
+
+        # only what write_mesh writes (it offered .nas and .ply, then "cannot write .nas")
+        path, chosen = QFileDialog.getSaveFileName(
+            self.window, f"Export {n1} x {n2} array mesh", start, ";;".join(export_filters()))
         if path:
+            if not Path(path).suffix:
+                path += filter_extension(chosen) or ".msh"
             self.window.settings.setValue("paths/array", path)
             self.export_array(path)
 

@@ -26,8 +26,10 @@ from .export import (
     EXPORT_FORMATS,
     ExportFormat,
     describe_export,
+    export_filters,
     export_format,
     export_unit,
+    filter_extension,
     write_mesh,
 )
 from .import_ import IMPORT_EXTENSIONS, IMPORT_FORMATS, MeshFileError, read_mesh
@@ -50,8 +52,10 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "describe_export",
+    "export_filters",
     "export_format",
     "export_unit",
+    "filter_extension",
     "per_mm",
     "read_mesh",
     "remove_stale_temp_files",

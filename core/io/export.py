@@ -44,6 +44,30 @@ EXPORT_FORMATS = {
 EXPORT_EXTENSIONS = tuple(EXPORT_FORMATS)
 
 
+def export_filters() -> list[str]:
+    """File-dialog filters for the formats :func:`write_mesh` writes, one per format.
+
+    The one list every export dialog offers (the mesh's and the array's), so a dialog
+    never offers an extension that then fails with "cannot write".
+
+    >>> export_filters()[0]
+    'Gmsh MSH 2.2 ASCII (*.msh)'
+    """
+    return [f"{fmt.name} (*{ext})" for ext, fmt in EXPORT_FORMATS.items()]
+
+
+def filter_extension(chosen: str) -> str | None:
+    """The extension of a filter of :func:`export_filters` (None for another filter).
+
+    >>> filter_extension("STL ASCII (*.stl)")
+    '.stl'
+    """
+    for ext, fmt in EXPORT_FORMATS.items():
+        if chosen == f"{fmt.name} (*{ext})":
+            return ext
+    return None
+
+
 def export_format(path: str | Path) -> ExportFormat:
     """The format of ``path`` from its extension; ``ValueError`` if we cannot write it."""
     ext = Path(path).suffix.lower()
