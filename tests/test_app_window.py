@@ -249,3 +249,28 @@ def test_readme_does_not_say_the_feed_is_missing_from_the_window(window):
     assert "voltage feed" in text
     combo = window.solve_panel.excitation
     assert "feed" in [combo.itemData(i) for i in range(combo.count())]
+
+
+def _centre(mesh):
+    """The area-weighted centroid (x, y) of a mesh."""
+    centroids = mesh.points[mesh.triangles].mean(axis=1)
+    return (mesh.areas[:, None] * centroids).sum(axis=0)[:2] / mesh.areas.sum()
+
+
+def test_origin_tooltip_says_where_the_rings_are(window, qtbot):
+    """Paper-mode rings sit at origin + (s/2, s/2) (the paper puts each patch's corner at
+    (r cos θ, r sin θ)); the tooltip called the origin "the centre of the rings". The
+    placement stays the paper's, and the tooltip says what the origin is."""
+    row = window.controls.rows["origin"]
+    tip = row.field.toolTip()
+    assert "centre of the rings" not in tip
+    assert "origin + (s/2, s/2)" in tip and "conforming rings" in tip
+    s = window.model.params.patch_size
+    type_into(row.field, "3, -2")
+    window.controller.flush()
+    assert window.model.params.origin == (3.0, -2.0)
+    # the double ring of the window, in paper mode: centred at origin + (s/2, s/2)
+    assert np.allclose(_centre(window.model.result.mesh), (3.0 + s / 2, -2.0 + s / 2))
+    choose(window.controls.combos["mode"], "conforming")
+    window.controller.flush()
+    assert np.allclose(_centre(window.model.result.mesh), (3.0, -2.0), atol=1e-9)
