@@ -317,6 +317,8 @@ class ExportJob:
     done: Callable[[bool], None] | None = None
     cancelled: bool = False
     progress: QProgressDialog | None = None
+    wrote: Callable[[TriMesh, str], str] | None = None  # the status line once written
+    mesh: TriMesh | None = None  # what was (or is being) written
 
 
 class MainWindow(QMainWindow):
@@ -1049,28 +1051,40 @@ class MainWindow(QMainWindow):
         the GUI thread. Returns whether the export started (False: nothing to export, an
         export still running or an unknown extension or unit, said in the status bar).
         """
-        from core.io import describe_export, write_mesh
         from core.quality import params_wavelength
 
         result = self.model.result
         if result is None or result.mesh is None:
             self.statusBar().showMessage("No mesh to export yet")
             return False
+        mesh = result.mesh
+        params = result.params if result.source == "parameters" else None
+        return self.run_export(path, unit, lambda: mesh, f"{mesh.n_triangles:,} triangles",
+                               done, wavelength=params_wavelength(params))
+
+    def run_export(self, path: str | os.PathLike[str], unit: str | None,
+                   make_mesh: Callable[[], TriMesh], what: str,
+                   done: Callable[[bool], None] | None = None, *,
+                   wavelength: float | None = None,
+                   wrote: Callable[[TriMesh, str], str] | None = None) -> bool:
+        """Make a mesh and write it to ``path`` in a worker thread (see :meth:`start_export`).
+
+        ``make_mesh()`` runs in the thread too (numpy only, no VTK); ``what`` says what is
+        written in the progress dialog; ``wrote(mesh, described_path)`` the status line.
+        """
+        from core.io import describe_export, write_mesh
+
         if self.export_job is not None:
             self.statusBar().showMessage(
                 f"Still writing {Path(self.export_job.path).name}; wait or cancel it first")
             return False
         try:
-            what = describe_export(path, unit)
+            described = describe_export(path, unit)
         except ValueError as exc:
             self._file_error(f"Could not export {Path(path).name}", exc, path)
             return False
-        mesh = result.mesh
-        params = result.params if result.source == "parameters" else None
-        wavelength = params_wavelength(params)
-        job = ExportJob(str(path), what, done)
-        progress = QProgressDialog(
-            f"Writing {Path(path).name}: {mesh.n_triangles:,} triangles…", "Cancel", 0, 0, self)
+        job = ExportJob(str(path), described, done, wrote=wrote)
+        progress = QProgressDialog(f"Writing {Path(path).name}: {what}…", "Cancel", 0, 0, self)
         progress.setWindowTitle("Export mesh")
         progress.setWindowModality(Qt.WindowModality.WindowModal)
         progress.setAutoClose(False)
@@ -1085,7 +1099,8 @@ class MainWindow(QMainWindow):
 
         def work() -> BaseException | None:  # worker thread: numpy and files only
             try:
-                write_mesh(mesh, path, unit=unit, wavelength=wavelength,
+                job.mesh = make_mesh()
+                write_mesh(job.mesh, path, unit=unit, wavelength=wavelength,
                            cancelled=lambda: job.cancelled)
             except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
                 return exc
@@ -1117,10 +1132,12 @@ class MainWindow(QMainWindow):
             if not isinstance(error, ValueError | OSError):
                 log.error("export failed", exc_info=error)
             self._file_error(f"Could not export {Path(job.path).name}", error, job.path)
-        elif job.cancelled:  # Cancel came after the file was complete and in place
-            self.statusBar().showMessage(f"Wrote {job.what} (complete before Cancel)", 5000)
         else:
-            self.statusBar().showMessage(f"Wrote {job.what}", 5000)
+            wrote = (job.wrote(job.mesh, job.what) if job.wrote is not None
+                     else f"Wrote {job.what}")
+            if job.cancelled:  # Cancel came after the file was complete and in place
+                wrote += " (complete before Cancel)"
+            self.statusBar().showMessage(wrote, 8000)
         if job.done is not None:
             job.done(ok)
 

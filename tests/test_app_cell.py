@@ -33,6 +33,7 @@ from tests.app_user import (  # noqa: E402
     settle,
     shown_counts,
     type_into,
+    wait_for_export,
 )
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
@@ -431,6 +432,7 @@ def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path
     answer = answer_file_dialogs(monkeypatch)
     answer(tmp_path / "array.msh")
     window.cell_tools.act_export_array.trigger()
+    wait_for_export(window)  # written in a worker thread
     written = read_mesh(tmp_path / "array.msh")
     array = tile(cell, 3, 2).mesh
     assert (written.n_triangles, written.n_vertices) == (array.n_triangles, array.n_vertices)
@@ -795,6 +797,7 @@ def test_export_array_offers_only_what_it_can_write(window, qtbot, tmp_path, mon
         # typed without an extension: the chosen filter's is added
         offered["answer"] = (str(tmp_path / f"array-{ext[1:]}"), chosen)
         window.cell_tools.act_export_array.trigger()
+        wait_for_export(window)
         path = tmp_path / f"array-{ext[1:]}{ext}"
         assert path.exists(), window.statusBar().currentMessage()
         assert "Wrote the 2 x 1 array" in window.statusBar().currentMessage()
