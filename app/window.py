@@ -1119,6 +1119,7 @@ class MainWindow(QMainWindow):
 
         job, error = payload
         if job.progress is not None:
+            job.progress.canceled.disconnect()  # closing a progress dialog emits canceled
             job.progress.close()
             job.progress.deleteLater()
             job.progress = None

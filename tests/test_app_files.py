@@ -290,7 +290,7 @@ def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dial
     assert sum(ticks) >= 3
     assert not dialog.isVisible()  # written: the dialog closed
     assert read_mesh(path).n_triangles == 98_304
-    assert "Wrote" in window.statusBar().currentMessage()
+    assert window.statusBar().currentMessage() == f"Wrote {path} (STL ASCII, mm)"
 
 
 @pytest.mark.parametrize("window_params", [BIG])
