@@ -196,8 +196,10 @@ def _export_screenshot(window, qtbot, file_dialog, path, scale):
     return iio.imread(path)
 
 
+@pytest.mark.parametrize("wide", [False, True])
 @pytest.mark.parametrize("scale", [2, 3])
-def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dialog, scale):
+def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dialog, scale,
+                                               wide):
     """At 2x and 3x the rulers, their labels, the axis titles and the colour-bar title sit
     where 1x has them, k times larger (VTK's tiled magnification put the labels inside
     the drawing, cut them, lost the axis titles and left the legend title at 1x size)."""
@@ -206,11 +208,10 @@ def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dia
     window.controller.flush()
     qtbot.waitUntil(lambda: not window.controller.busy, timeout=60_000)
     window.model.set_color_by("min_angle")  # a colour bar with its title
-    # a view wider than tall: the rulers framed with room on the left (in a view so
-    # narrow that VTK pins the y title to the window's edge at 1x, the kx title lands
-    # up to 50(k - 1) px further left: not asserted here)
-    window.resize(1900, 640)
-    qtbot.waitUntil(lambda: window.plotter.width() > window.plotter.height() * 1.2)
+    if wide:  # the rulers framed with room on their left
+        window.resize(1900, 640)
+        qtbot.waitUntil(lambda: window.plotter.width() > window.plotter.height() * 1.2)
+    # (else a view taller than wide, where VTK pins the y title to the window's edge)
     one = _export_screenshot(window, qtbot, file_dialog, tmp_path / "one.png", 1)
     big = _export_screenshot(window, qtbot, file_dialog, tmp_path / "big.png", scale)
     h, w = one.shape[:2]
@@ -233,9 +234,21 @@ def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dia
         assert a.sum() > 50, f"no ink {name} the drawing at 1x"
         # ink at 2x/3x where 1x has it, within 2 px (text is hinted for each size)
         stray = (b & ~_grow(a)).sum() / max(b.sum(), 1)
-        assert stray < 0.15, f"{name}: {stray:.0%} of the {scale}x ink is not where 1x has it"
+        # (up to about a sixth is not: glyphs are hinted for each size, a 24 px minus sign
+        # is longer than twice a 12 px one; VTK's magnification scattered 70 % or more)
+        assert stray < 0.25, f"{name}: {stray:.0%} of the {scale}x ink is not where 1x has it"
         missing = (a & ~_grow(b)).sum() / a.sum()
         assert missing < 0.15, f"{name}: {missing:.0%} of the 1x ink is missing at {scale}x"
+    # the axis titles: the lowest ink below the rulers and the leftmost beside them, at
+    # k times their 1x place, within 3 px (a 24 px "(" reaches further down than twice a
+    # 12 px one); the titles were missing, or crept onto the labels, or were cut
+    rows, cols = regions["below"]
+    lowest = _rows_with_ink(ink_one[rows, cols])[1], _rows_with_ink(ink_big[rows, cols])[1]
+    assert abs(lowest[0] - lowest[1]) <= 3
+    rows, cols = regions["left"]
+    first = [int(np.nonzero(m[rows, cols].any(axis=0))[0][0]) for m in (ink_one, ink_big)]
+    assert abs(first[0] - first[1]) <= 3
+    assert first[1] > 0  # not cut by the image's edge
     # the colour bar's title is as tall, in its own pixels, k times the 1x one
     rows, cols = regions["legend title"]
     one_rows = _rows_with_ink(_ink(one)[rows, cols])
