@@ -115,11 +115,6 @@ class Built:
     midpoints: np.ndarray | None = None  # (E, 2) their midpoints, to clip to the view
 
 
-#: Shown while a 4- or 8-fold symmetry waits for the grid to be square again.
-NOT_SQUARE = ("The grid is not square: symmetry none until it is square again (4- and "
-              "8-fold need a square grid)")
-
-
 def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
                   generation: int) -> Built:
     """Mesh ``cell`` and make its face and edge datasets (thread-safe, never raises)."""
@@ -204,6 +199,9 @@ class PixelPainterWindow(QMainWindow):
 
     #: A mesh was drawn for the latest edit.
     built = Signal()
+    #: Shown while a 4- or 8-fold symmetry waits for the grid to be square again.
+    NOT_SQUARE = ("The grid is not square: symmetry none until it is square again (4- and "
+                  "8-fold need a square grid)")
 
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
@@ -341,9 +339,9 @@ class PixelPainterWindow(QMainWindow):
         if grid.shape[0] != grid.shape[1] and self.symmetry in ("4-fold", "8-fold"):
             self._square_symmetry = self.symmetry  # back when the grid is square again
             self._set_symmetry_box("none")
-            self.statusBar().showMessage(NOT_SQUARE, 8000)
+            self.statusBar().showMessage(self.NOT_SQUARE, 8000)
         elif grid.shape[0] == grid.shape[1]:
-            if self.statusBar().currentMessage() == NOT_SQUARE:
+            if self.statusBar().currentMessage() == self.NOT_SQUARE:
                 self.statusBar().clearMessage()  # it no longer holds
             if self._square_symmetry:
                 if self.symmetry == "none":
