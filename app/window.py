@@ -898,8 +898,12 @@ class MainWindow(QMainWindow):
 
         if not 1 <= int(scale) <= MAX_SCALE:
             raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
-        if int(scale) > 1:
-            return scaled_view_image(self.scene, int(scale), transparent)
+        if int(scale) > 1:  # about 1.5 s at 2x, 3 s at 4x (three off-screen renders)
+            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+            try:
+                return scaled_view_image(self.scene, int(scale), transparent)
+            finally:
+                QApplication.restoreOverrideCursor()
         self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
         image = self.plotter.screenshot(None, transparent_background=transparent,
                                         return_img=True)
