@@ -17,11 +17,13 @@ import sys
 import threading
 import time
 import traceback
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer
+from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QGuiApplication, QImage, QKeySequence
 from PySide6.QtWidgets import (
     QApplication,
@@ -39,6 +41,7 @@ from PySide6.QtWidgets import (
     QMenu,
     QMessageBox,
     QProgressBar,
+    QProgressDialog,
     QPushButton,
     QScrollArea,
     QSpinBox,
@@ -65,7 +68,7 @@ from app.view.framing import frame_from_above, look_from_above, pixels_per_mm
 from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from app.view.scene import MeshScene, scene_data
 from app.view.view_tools import ViewTools
-from app.worker import BuildJob, MeshController, release_memory
+from app.worker import BuildJob, MeshController, release_memory, run_in_thread
 from core import MeshParams, TriMesh
 
 log = logging.getLogger(__name__)
@@ -273,13 +276,13 @@ class ExportDialog(QDialog):
             self.export_button.setEnabled(False)
 
     def _browse(self) -> None:
-        filters = [f"{fmt.name} (*{ext})" for ext, fmt in self.formats.items()]
+        from core.io import export_filters, filter_extension
+
         path, chosen = QFileDialog.getSaveFileName(self, "Export mesh", self.path.text(),
-                                                   ";;".join(filters))
+                                                   ";;".join(export_filters()))
         if path:
             if not Path(path).suffix:
-                path += next((e for e, f in self.formats.items() if chosen.startswith(f.name)),
-                             ".msh")
+                path += filter_extension(chosen) or ".msh"
             self.path.setText(path)
 
     def _export(self) -> None:
@@ -287,10 +290,35 @@ class ExportDialog(QDialog):
         unit = self.unit.currentData()
         self.window_.settings.setValue("export/unit", unit or "")
         self.window_.settings.setValue("paths/export", path)
-        if self.window_.export_mesh(path, unit):
-            self.accept()
+        self.error.setText("")
+        if self.window_.start_export(path, unit, done=self._finished):
+            self.export_button.setEnabled(False)  # until this one is written or cancelled
         else:
-            self.error.setText(self.window_.statusBar().currentMessage())
+            self._finished(False)
+
+    def _finished(self, ok: bool) -> None:
+        if ok:
+            self.accept()
+            return
+        self.error.setText(self.window_.statusBar().currentMessage())
+        self._describe()
+
+
+#: An export still writing after this many ms shows its progress dialog (with Cancel).
+EXPORT_PROGRESS_MS = 300
+
+
+@dataclass(eq=False)
+class ExportJob:
+    """One mesh export in a worker thread (:meth:`MainWindow.start_export`)."""
+
+    path: str
+    what: str  # "out.msh (Gmsh MSH 2.2 ASCII, mm)"
+    done: Callable[[bool], None] | None = None
+    cancelled: bool = False
+    progress: QProgressDialog | None = None
+    wrote: Callable[[TriMesh, str], str] | None = None  # the status line once written
+    mesh: TriMesh | None = None  # what was (or is being) written
 
 
 class MainWindow(QMainWindow):
@@ -307,10 +335,16 @@ class MainWindow(QMainWindow):
         Open this unit cell (its first element's parameters in the Parameters panel).
     """
 
+    #: (ExportJob, exception or None) from an export's worker thread.
+    _export_done = Signal(object)
+
     def __init__(self, params: MeshParams | None = None, settings: QSettings | None = None,
                  scripted: bool = False, cell: Any = None) -> None:
         super().__init__()
         from pyvistaqt import QtInteractor
+
+        self.export_job: ExportJob | None = None  # the export being written, if any
+        self._export_done.connect(self._export_finished)
 
         self.settings = settings if settings is not None else app_settings()
         self.scripted = scripted
@@ -855,12 +889,24 @@ class MainWindow(QMainWindow):
                 self.request_render()
 
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
-        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array, lines scaled along."""
-        if not 1 <= int(scale) <= 4:
-            raise ValueError(f"scale={scale!r} is outside 1..4")
-        with self.scene.scaled_lines(int(scale)):
-            image = self.plotter.screenshot(None, transparent_background=transparent,
-                                            return_img=True, scale=int(scale))
+        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
+
+        At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
+        lines and dots scaled along (:mod:`app.view.scaled_shot`); VTK's tiled
+        magnification cut and misplaced the rulers and titles."""
+        from app.view.scaled_shot import MAX_SCALE, scaled_view_image
+
+        if not 1 <= int(scale) <= MAX_SCALE:
+            raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
+        if int(scale) > 1:  # about 1.5 s at 2x, 3 s at 4x (three off-screen renders)
+            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+            try:
+                return scaled_view_image(self.scene, int(scale), transparent)
+            finally:
+                QApplication.restoreOverrideCursor()
+        self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
+        image = self.plotter.screenshot(None, transparent_background=transparent,
+                                        return_img=True)
         self.plotter.render()
         return np.ascontiguousarray(image)
 
@@ -999,6 +1045,106 @@ class MainWindow(QMainWindow):
             return False
         self.statusBar().showMessage(f"Wrote {what}", 5000)
         return True
+
+    def start_export(self, path: str | os.PathLike[str], unit: str | None = None,
+                     done: Callable[[bool], None] | None = None) -> bool:
+        """Write the mesh on screen to ``path`` in a worker thread; the window answers.
+
+        A progress dialog (after a moment) shows what is written and has Cancel: a
+        cancelled export leaves no file and no temporary file. ``done(ok)`` follows on
+        the GUI thread. Returns whether the export started (False: nothing to export, an
+        export still running or an unknown extension or unit, said in the status bar).
+        """
+        from core.quality import params_wavelength
+
+        result = self.model.result
+        if result is None or result.mesh is None:
+            self.statusBar().showMessage("No mesh to export yet")
+            return False
+        mesh = result.mesh
+        params = result.params if result.source == "parameters" else None
+        return self.run_export(path, unit, lambda: mesh, f"{mesh.n_triangles:,} triangles",
+                               done, wavelength=params_wavelength(params))
+
+    def run_export(self, path: str | os.PathLike[str], unit: str | None,
+                   make_mesh: Callable[[], TriMesh], what: str,
+                   done: Callable[[bool], None] | None = None, *,
+                   wavelength: float | None = None,
+                   wrote: Callable[[TriMesh, str], str] | None = None) -> bool:
+        """Make a mesh and write it to ``path`` in a worker thread (see :meth:`start_export`).
+
+        ``make_mesh()`` runs in the thread too (numpy only, no VTK); ``what`` says what is
+        written in the progress dialog; ``wrote(mesh, described_path)`` the status line.
+        """
+        from core.io import describe_export, write_mesh
+
+        if self.export_job is not None:
+            self.statusBar().showMessage(
+                f"Still writing {Path(self.export_job.path).name}; wait or cancel it first")
+            return False
+        try:
+            described = describe_export(path, unit)
+        except ValueError as exc:
+            self._file_error(f"Could not export {Path(path).name}", exc, path)
+            return False
+        job = ExportJob(str(path), described, done, wrote=wrote)
+        progress = QProgressDialog(f"Writing {Path(path).name}: {what}…", "Cancel", 0, 0, self)
+        progress.setWindowTitle("Export mesh")
+        progress.setWindowModality(Qt.WindowModality.WindowModal)
+        progress.setAutoClose(False)
+        progress.setAutoReset(False)
+        progress.canceled.connect(lambda: self._cancel_export(job))
+        progress.hide()
+        job.progress = progress
+        self.export_job = job
+        # a quick write shows no dialog at all; a longer one shows it after a moment
+        QTimer.singleShot(EXPORT_PROGRESS_MS,
+                          lambda: job.progress is not None and job.progress.show())
+
+        def work() -> BaseException | None:  # worker thread: numpy and files only
+            try:
+                job.mesh = make_mesh()
+                write_mesh(job.mesh, path, unit=unit, wavelength=wavelength,
+                           cancelled=lambda: job.cancelled)
+            except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
+                return exc
+            return None
+
+        run_in_thread(work, self._export_done, job)
+        return True
+
+    def _cancel_export(self, job: ExportJob) -> None:
+        job.cancelled = True
+        if job.progress is not None:
+            job.progress.setLabelText(f"Cancelling {Path(job.path).name}…")
+
+    def _export_finished(self, payload: tuple) -> None:
+        from core.io import ExportCancelled
+
+        job, error = payload
+        if job.progress is not None:
+            job.progress.canceled.disconnect()  # closing a progress dialog emits canceled
+            job.progress.close()
+            job.progress.deleteLater()
+            job.progress = None
+        if self.export_job is job:
+            self.export_job = None
+        ok = error is None
+        if isinstance(error, ExportCancelled):
+            self.statusBar().showMessage(
+                f"Export of {Path(job.path).name} cancelled: no file written", 5000)
+        elif error is not None:
+            if not isinstance(error, ValueError | OSError):
+                log.error("export failed", exc_info=error)
+            self._file_error(f"Could not export {Path(job.path).name}", error, job.path)
+        else:
+            wrote = (job.wrote(job.mesh, job.what) if job.wrote is not None
+                     else f"Wrote {job.what}")
+            if job.cancelled:  # Cancel came after the file was complete and in place
+                wrote += " (complete before Cancel)"
+            self.statusBar().showMessage(wrote, 8000)
+        if job.done is not None:
+            job.done(ok)
 
     def load_preset(self, name: str) -> bool:
         from core.presets import load_preset

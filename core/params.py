@@ -137,8 +137,12 @@ class MeshParams:
     gap_width, gap_angle : float
         Slot width (mm) and direction of its centre line (degrees from +x).
     origin : tuple of float
-        Lower-left corner A of a patch, first vertex of a triangle, centre of
-        the rings (mm).
+        Lower-left corner A of a patch, first vertex of a triangle (mm). For
+        rings, the point their patches turn about: in paper mode each patch's
+        lower-left corner is at ``origin + r (cos θ, sin θ)`` (the paper's
+        placement), so the ring's centre is at ``origin + (s/2, s/2)`` with ``s``
+        = ``patch_size``; conforming rings and square rings are centred on
+        ``origin``.
     tolerance : float or None
         Welding distance ε (mm); ``None`` is 1e-9 of the structure's size.
     patch_width : float or None

@@ -109,9 +109,23 @@ def export_through_dialog(window) -> bool:
     browse = next(b for b in dialog.findChildren(QPushButton) if b.text().startswith("Browse"))
     QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
     QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+    wait_for_export(window)
     closed = not dialog.isVisible()
     dialog.close()
     return closed
+
+
+def wait_for_export(window, timeout: float = 120.0) -> None:
+    """Let the event loop run until the window's export (a worker thread) has finished."""
+    import time
+
+    from PySide6.QtCore import QCoreApplication
+
+    deadline = time.monotonic() + timeout
+    while window.export_job is not None:
+        assert time.monotonic() < deadline, "the export did not finish"
+        QCoreApplication.processEvents()
+        time.sleep(0.005)
 
 
 def settle(window, qtbot) -> None:

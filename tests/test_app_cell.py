@@ -33,6 +33,7 @@ from tests.app_user import (  # noqa: E402
     settle,
     shown_counts,
     type_into,
+    wait_for_export,
 )
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
@@ -431,6 +432,7 @@ def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path
     answer = answer_file_dialogs(monkeypatch)
     answer(tmp_path / "array.msh")
     window.cell_tools.act_export_array.trigger()
+    wait_for_export(window)  # written in a worker thread
     written = read_mesh(tmp_path / "array.msh")
     array = tile(cell, 3, 2).mesh
     assert (written.n_triangles, written.n_vertices) == (array.n_triangles, array.n_vertices)
@@ -765,3 +767,48 @@ def test_construction_window_follows_the_selected_element(window, qtbot):
         assert window.model.cell_state.selected == row
         assert view.params.structure == element.params.structure
         assert view.params.subdivisions == element.params.subdivisions
+
+
+def test_export_array_offers_only_what_it_can_write(window, qtbot, tmp_path, monkeypatch):
+    """Cell ▸ Export array mesh offered .nas and .ply, then said "cannot write .nas": every
+    extension it offers now writes a file that reads back as the welded array."""
+    import re
+
+    from PySide6.QtWidgets import QFileDialog
+
+    from core.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, read_mesh
+
+    open_preset(window, qtbot, "double-ring-patch")
+    cell = load_cell_preset("double-ring-patch")
+    spin_to(window.cell_tools.lattice.n1, 2)
+    array = tile(cell, 2, 1).mesh
+    offered = {}
+
+    def save_dialog(_parent, _title, start, filters):
+        offered["filters"] = filters.split(";;")
+        return offered.pop("answer", ("", ""))
+
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", save_dialog)
+    window.cell_tools.act_export_array.trigger()  # Cancel: look at what it offers
+    extensions = [ext for f in offered["filters"] for ext in re.findall(r"\*(\.\w+)", f)]
+    assert sorted(extensions) == sorted(EXPORT_EXTENSIONS)
+    assert ".nas" not in extensions and ".ply" not in extensions
+    for chosen, ext in zip(offered["filters"], extensions, strict=True):
+        # typed without an extension: the chosen filter's is added
+        offered["answer"] = (str(tmp_path / f"array-{ext[1:]}"), chosen)
+        window.cell_tools.act_export_array.trigger()
+        wait_for_export(window)
+        path = tmp_path / f"array-{ext[1:]}{ext}"
+        assert path.exists(), window.statusBar().currentMessage()
+        assert "Wrote the 2 x 1 array" in window.statusBar().currentMessage()
+        if ext in IMPORT_EXTENSIONS:
+            back = read_mesh(path)
+            assert (back.n_triangles, back.n_vertices) == (array.n_triangles, array.n_vertices)
+        elif ext == ".npz":
+            with np.load(path) as table:
+                assert table["triangles"].shape == (array.n_triangles, 3)
+                assert len(table["edge"]) == len(array.interior_edges)
+        else:  # .csv: the RWG table, one row per interior edge under a header
+            lines = path.read_text(encoding="utf-8").splitlines()
+            rows = [line for line in lines if line and not line.startswith("#")]
+            assert len(rows) == len(array.interior_edges) + 1

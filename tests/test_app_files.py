@@ -2,6 +2,8 @@
 
 import json
 
+import imageio.v3 as iio
+import numpy as np
 import pytest
 
 pytest.importorskip("pyvistaqt")
@@ -15,7 +17,9 @@ from tests.app_user import (  # noqa: E402
     answer_file_dialogs,
     export_through_dialog,
     patch_counts,
+    type_into,
 )
+from tests.gui_helpers import display_point  # noqa: E402
 from tests.test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 
@@ -57,9 +61,11 @@ def test_export_mesh_writes_the_current_mesh(window, tmp_path, suffix, file_dial
 
 
 def test_export_without_a_suffix_takes_the_chosen_format(window, tmp_path, file_dialog):
-    file_dialog(tmp_path / "plain", "VTK XML polydata (*.vtp)")
+    folder = tmp_path / "out"  # (tmp_path also holds the test's settings folder)
+    folder.mkdir()
+    file_dialog(folder / "plain", "VTK XML polydata (*.vtp)")
     export_through_dialog(window)
-    written = list(tmp_path.iterdir())
+    written = list(folder.iterdir())
     assert [p.name for p in written] == ["plain.vtp"]
     assert read_mesh(written[0]).n_triangles == 384
 
@@ -141,3 +147,190 @@ def test_tab_order_reaches_every_control_top_to_bottom(window):
     for r in rows:
         for w in (r.slider, r.field):
             assert w is None or (w in tabbable) == w.isEnabled()
+
+
+# -- screenshots at 2x and 3x (issue 3, item 2) ---------------------------------------------
+
+
+def _ink(image):
+    """Where ``image`` has dark ink: ruler lines, their labels and titles, legend text."""
+    return image[..., :3].astype(int).sum(axis=-1) < 300
+
+
+def _shrunk(mask, k):
+    """A k-times larger ink mask back at 1x: a pixel is ink if any of its k x k block is."""
+    h, w = mask.shape[0] // k, mask.shape[1] // k
+    return mask[:h * k, :w * k].reshape(h, k, w, k).any(axis=(1, 3))
+
+
+def _rows_with_ink(mask):
+    rows = np.nonzero(mask.any(axis=1))[0]
+    return (int(rows.min()), int(rows.max())) if len(rows) else None
+
+
+def _export_screenshot(window, qtbot, file_dialog, path, scale):
+    """File → Export screenshot as a user does it: type the scale, Save PNG…, a file."""
+    from PySide6.QtWidgets import QPushButton
+
+    from app.window import ScreenshotDialog
+
+    shown = []
+    original = ScreenshotDialog.exec
+
+    def exec_(dialog):
+        shown.append(dialog)
+        dialog.show()
+        type_into(dialog.scale.lineEdit(), str(scale))
+        assert dialog.scale.value() == scale
+        file_dialog(path)
+        save = next(b for b in dialog.findChildren(QPushButton) if b.text() == "Save PNG…")
+        QTest.mouseClick(save, Qt.MouseButton.LeftButton)
+        return 1
+
+    ScreenshotDialog.exec = exec_
+    try:
+        window.act_shot.trigger()
+    finally:
+        ScreenshotDialog.exec = original
+    assert shown and not shown[0].isVisible()  # saved, so the dialog closed
+    return iio.imread(path)
+
+
+@pytest.mark.parametrize("wide", [False, True])
+@pytest.mark.parametrize("scale", [2, 3])
+def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dialog, scale,
+                                               wide):
+    """At 2x and 3x the rulers, their labels, the axis titles and the colour-bar title sit
+    where 1x has them, k times larger (VTK's tiled magnification put the labels inside
+    the drawing, cut them, lost the axis titles and left the legend title at 1x size)."""
+    next(a for a in window.menuBar().findChildren(type(window.act_shot))
+         if a.text() == "srr-openmodes").trigger()
+    window.controller.flush()
+    qtbot.waitUntil(lambda: not window.controller.busy, timeout=60_000)
+    window.model.set_color_by("min_angle")  # a colour bar with its title
+    if wide:  # the rulers framed with room on their left
+        window.resize(1900, 640)
+        qtbot.waitUntil(lambda: window.plotter.width() > window.plotter.height() * 1.2)
+    # (else a view taller than wide, where VTK pins the y title to the window's edge)
+    one = _export_screenshot(window, qtbot, file_dialog, tmp_path / "one.png", 1)
+    big = _export_screenshot(window, qtbot, file_dialog, tmp_path / "big.png", scale)
+    h, w = one.shape[:2]
+    assert big.shape[:2] == (scale * h, scale * w)
+    ink_one, ink_big = _ink(one), _shrunk(_ink(big), scale)
+    # the annotation lies outside the rulers' frame: below it (x labels and title), left
+    # of it (y labels and title) and above the colour bar (its title)
+    x0, x1, y0, y1 = window.scene.axes.bounds[:4]
+    left, bottom = display_point(window.plotter, (x0, y0, 0.0))
+    right, top = display_point(window.plotter, (x1, y1, 0.0))
+    bottom, top = h - 1 - int(bottom), h - 1 - int(top)  # as image rows
+    left, right = int(left), int(right)
+    regions = {
+        "below": (slice(bottom + 3, h), slice(max(left - 30, 0), right + 30)),
+        "left": (slice(max(top - 15, 0), bottom + 15), slice(0, left - 3)),
+        "legend title": (slice(0, int(0.13 * h)), slice(int(0.8 * w), w)),
+    }
+    for name, (rows, cols) in regions.items():
+        a, b = ink_one[rows, cols], ink_big[rows, cols]
+        assert a.sum() > 50, f"no ink {name} the drawing at 1x"
+        # ink at 2x/3x where 1x has it, within 2 px (text is hinted for each size)
+        stray = (b & ~_grow(a)).sum() / max(b.sum(), 1)
+        # (up to about a sixth is not: glyphs are hinted for each size, a 24 px minus sign
+        # is longer than twice a 12 px one; VTK's magnification scattered 70 % or more)
+        assert stray < 0.25, f"{name}: {stray:.0%} of the {scale}x ink is not where 1x has it"
+        missing = (a & ~_grow(b)).sum() / a.sum()
+        assert missing < 0.15, f"{name}: {missing:.0%} of the 1x ink is missing at {scale}x"
+    # the axis titles: the lowest ink below the rulers and the leftmost beside them, at
+    # k times their 1x place, within 3 px (a 24 px "(" reaches further down than twice a
+    # 12 px one); the titles were missing, or crept onto the labels, or were cut
+    rows, cols = regions["below"]
+    lowest = _rows_with_ink(ink_one[rows, cols])[1], _rows_with_ink(ink_big[rows, cols])[1]
+    assert abs(lowest[0] - lowest[1]) <= 3
+    rows, cols = regions["left"]
+    first = [int(np.nonzero(m[rows, cols].any(axis=0))[0][0]) for m in (ink_one, ink_big)]
+    assert abs(first[0] - first[1]) <= 3
+    assert first[1] > 0  # not cut by the image's edge
+    # the colour bar's title is as tall, in its own pixels, k times the 1x one
+    rows, cols = regions["legend title"]
+    one_rows = _rows_with_ink(_ink(one)[rows, cols])
+    big_rows = _rows_with_ink(_ink(big)[scale * rows.start:scale * rows.stop,
+                                        scale * cols.start:])
+    ratio = (big_rows[1] - big_rows[0] + 1) / (one_rows[1] - one_rows[0] + 1)
+    assert scale - 0.35 < ratio < scale + 0.35
+
+
+def _grow(mask, px=2):
+    """``mask`` widened by ``px`` pixels each way (glyphs are hinted for each size)."""
+    grown = mask.copy()
+    for dy in range(-px, px + 1):
+        for dx in range(-px, px + 1):
+            grown |= np.roll(np.roll(mask, dy, 0), dx, 1)
+    return grown
+
+
+# -- exports in a worker thread, with progress and Cancel (issue 3, item 10) ---------------
+
+#: 48 patches x 2 x 32² = 98,304 triangles: an STL ASCII write of a few seconds.
+BIG = MeshParams(angle_step=15.0, subdivisions=32)
+
+
+@pytest.mark.parametrize("window_params", [BIG])
+def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dialog):
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QPushButton
+
+    from tests.app_user import settle, wait_for_export
+
+    settle(window, qtbot)
+    assert window.model.result.mesh.n_triangles == 98_304
+    path = tmp_path / "big.stl"
+    ticks = []
+    heartbeat = QTimer()
+    heartbeat.setInterval(10)
+    heartbeat.timeout.connect(lambda: ticks.append(window.export_job is not None))
+    window.act_export.trigger()
+    dialog = window.export_dialog
+    file_dialog(path)
+    browse = next(b for b in dialog.findChildren(QPushButton) if b.text().startswith("Browse"))
+    QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
+    heartbeat.start()
+    QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+    assert window.export_job is not None  # the click returned with the write under way
+    assert not dialog.export_button.isEnabled()  # one export at a time
+    wait_for_export(window)
+    heartbeat.stop()
+    # the event loop ran while the file was written (a write on the GUI thread blocks it
+    # from the click until the end: no tick would see the export running)
+    assert sum(ticks) >= 3
+    assert not dialog.isVisible()  # written: the dialog closed
+    assert read_mesh(path).n_triangles == 98_304
+    assert window.statusBar().currentMessage() == f"Wrote {path} (STL ASCII, mm)"
+
+
+@pytest.mark.parametrize("window_params", [BIG])
+def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog):
+    from PySide6.QtWidgets import QPushButton
+
+    from tests.app_user import settle, wait_for_export
+
+    settle(window, qtbot)
+    folder = tmp_path / "out"
+    folder.mkdir()
+    path = folder / "big.stl"
+    window.act_export.trigger()
+    dialog = window.export_dialog
+    file_dialog(path)
+    browse = next(b for b in dialog.findChildren(QPushButton) if b.text().startswith("Browse"))
+    QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
+    QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+    job = window.export_job
+    qtbot.waitUntil(lambda: job.progress is not None and job.progress.isVisible(),
+                    timeout=10_000)  # the progress dialog, once the write takes a moment
+    assert "98,304 triangles" in job.progress.labelText()
+    cancel = next(b for b in job.progress.findChildren(QPushButton) if b.text() == "Cancel")
+    QTest.mouseClick(cancel, Qt.MouseButton.LeftButton)
+    wait_for_export(window)
+    assert job.cancelled
+    assert list(folder.iterdir()) == []  # neither the file nor a temporary one
+    assert "cancelled" in window.statusBar().currentMessage()
+    assert dialog.isVisible() and dialog.export_button.isEnabled()  # try again, or close
+    assert "cancelled" in dialog.error.text()

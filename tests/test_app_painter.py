@@ -496,3 +496,30 @@ def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
     qtbot.addWidget(other)
     new = cell_menu(other)
     assert new.title() == "&Cell" and cell_menu(other) is new
+
+
+def test_status_messages_have_their_own_line_and_go_when_untrue(painter, qtbot):
+    """A status message ran into the statistics (both in the status bar, the message cut
+    under them), and "The grid is not square" stayed after the grid was square again."""
+    choose(painter.symmetry_box, "4-fold")
+    assert painter.symmetry == "4-fold"
+    type_into(qtbot, painter.rows_box, "12")
+    assert painter.grid.shape == (12, 16) and painter.symmetry == "none"
+    bar = painter.statusBar()
+    message = bar.currentMessage()
+    assert message.startswith("The grid is not square")
+    # the statistics are outside the status bar, so the message has its whole width
+    stats = painter.stats_label
+    assert not bar.isAncestorOf(stats) and stats.isVisible()
+    top_left = stats.mapTo(painter, stats.rect().topLeft())
+    assert top_left.y() + stats.height() <= bar.mapTo(painter, bar.rect().topLeft()).y()
+    assert bar.fontMetrics().horizontalAdvance(message) < bar.width()
+    assert "Pixels" in stats.text()
+    type_into(qtbot, painter.rows_box, "16")  # square again: the symmetry comes back
+    assert painter.grid.shape == (16, 16) and painter.symmetry == "4-fold"
+    assert "not square" not in bar.currentMessage()
+    assert "square again" in bar.currentMessage()
+    click_action(painter, painter.act_undo)  # not square again, then square by redo
+    assert "not square" in bar.currentMessage()
+    click_action(painter, painter.act_redo)
+    assert "not square" not in bar.currentMessage()

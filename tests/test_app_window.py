@@ -195,3 +195,82 @@ def test_bad_command_line_values_exit_1(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "app", "--set", "subdivisions=0", "--quit"],
                           env=env, capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1 and "subdivisions" in proc.stderr
+
+
+# -- the README says what the window does (issue 3, item 19) -------------------------------
+
+README = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "README.md")
+
+
+def _readme() -> str:
+    with open(README, encoding="utf-8") as f:
+        return f.read()
+
+
+def test_readme_compare_counts_are_what_the_window_shows(qtbot):
+    """The compare.png caption gave 3,168 conforming unknowns where the window showed
+    2,046: they were different parameters (1 mm patches against paper-fig12c's 2 mm). Each
+    pair of counts the README gives is the pair Teach → Paper vs conforming shows."""
+    import re
+
+    text = _readme()
+    caption = re.search(r"!\[Paper vs conforming[^\]]*\]\(assets/compare\.png\)", text).group(0)
+    after = text[text.index(caption) + len(caption):].split("\n\n", 2)[1]
+    pairs = {
+        "image": re.search(r"([\d,]+) against ([\d,]+) RWG unknowns", caption).groups(),
+        "paper-fig12c": re.search(r"`paper-fig12c`.*?([\d,]+) against\s+([\d,]+)", after,
+                                  re.S).groups(),
+    }
+    assert "1 mm patches at 10° steps" in caption
+    win = MainWindow(MeshParams(angle_step=10.0), scripted=True)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    for source, (paper, conforming) in pairs.items():
+        if source != "image":
+            next(a for a in win.menuBar().findChildren(type(win.act_shot))
+                 if a.text() == source).trigger()
+            win.controller.flush()
+        view = win.teaching_windows.show_compare()
+        qtbot.waitUntil(lambda v=view: not v.busy and v.shown_generation == v.generation,
+                        timeout=30_000)
+        shown = {mode: view.stats_of(mode)["interior_edges"] for mode in ("paper", "conforming")}
+        assert shown == {"paper": int(paper.replace(",", "")),
+                         "conforming": int(conforming.replace(",", ""))}, source
+    win.close()
+
+
+def test_readme_does_not_say_the_feed_is_missing_from_the_window(window):
+    """The README said the voltage feed was "Not in the window yet"; the Solve tab has it
+    (tests/test_app_solve.py solves with it)."""
+    text = _readme()
+    assert "Not in the window yet: the delta-gap feed" not in text
+    assert "voltage feed" in text
+    combo = window.solve_panel.excitation
+    assert "feed" in [combo.itemData(i) for i in range(combo.count())]
+
+
+def _centre(mesh):
+    """The area-weighted centroid (x, y) of a mesh."""
+    centroids = mesh.points[mesh.triangles].mean(axis=1)
+    return (mesh.areas[:, None] * centroids).sum(axis=0)[:2] / mesh.areas.sum()
+
+
+def test_origin_tooltip_says_where_the_rings_are(window, qtbot):
+    """Paper-mode rings sit at origin + (s/2, s/2) (the paper puts each patch's corner at
+    (r cos θ, r sin θ)); the tooltip called the origin "the centre of the rings". The
+    placement stays the paper's, and the tooltip says what the origin is."""
+    row = window.controls.rows["origin"]
+    tip = row.field.toolTip()
+    assert "centre of the rings" not in tip
+    assert "origin + (s/2, s/2)" in tip and "conforming rings" in tip
+    s = window.model.params.patch_size
+    type_into(row.field, "3, -2")
+    window.controller.flush()
+    assert window.model.params.origin == (3.0, -2.0)
+    # the double ring of the window, in paper mode: centred at origin + (s/2, s/2)
+    assert np.allclose(_centre(window.model.result.mesh), (3.0 + s / 2, -2.0 + s / 2))
+    choose(window.controls.combos["mode"], "conforming")
+    window.controller.flush()
+    assert np.allclose(_centre(window.model.result.mesh), (3.0, -2.0), atol=1e-9)

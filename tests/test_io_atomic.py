@@ -238,3 +238,29 @@ def test_killed_mid_write(tmp_path, how):
     else:  # the temp file was removed as the process ended (SIGTERM: exit 143 like the default)
         assert code == (143 if how == "SIGTERM" else -signal.SIGINT)
     assert leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("suffix", [".msh", ".stl", ".vtp", ".mat", ".npz", ".csv"])
+@pytest.mark.parametrize("when", [1, 2])
+def test_cancelled_write_leaves_no_file(tmp_path, suffix, when):
+    """Cancel asked before the write (when = 1) or once it is written (when = 2): no
+    target and no temporary file; an existing file stays as it was."""
+    from core.io import ExportCancelled
+
+    mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0))
+    asked = []
+
+    def cancelled():
+        asked.append(True)
+        return len(asked) >= when
+
+    with pytest.raises(ExportCancelled, match="cancelled"):
+        write_mesh(mesh, tmp_path / f"a{suffix}", cancelled=cancelled)
+    assert len(asked) == when
+    assert list(tmp_path.iterdir()) == []
+    kept = tmp_path / f"b{suffix}"
+    kept.write_text("old")
+    with pytest.raises(ExportCancelled):
+        write_mesh(mesh, kept, cancelled=lambda: True)
+    assert kept.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == [kept.name]

@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import logging
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction
-from PySide6.QtWidgets import QApplication, QFileDialog, QMenu, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QFileDialog, QMenu, QVBoxLayout, QWidget
 
 from app.edit.array_preview import ArrayPreview
 from app.edit.cell_document import CellState
@@ -23,6 +24,7 @@ from app.edit.elements_panel import ElementsPanel
 from app.edit.lattice_panel import LatticePanel
 from app.model import MeshResult
 from app.view.framing import frame_from_above
+from core import TriMesh
 from core.cell import Element, Lattice, UnitCell
 
 if TYPE_CHECKING:
@@ -193,18 +195,23 @@ class CellTools:
             return
         n1, n2 = self.lattice.copies
         start = self.window._path_setting("array", f"{self.model.cell.name}-{n1}x{n2}.msh")
-        path, _ = QFileDialog.getSaveFileName(self.window, f"Export {n1} x {n2} array mesh",
-                                              start, "Mesh files (*.msh *.vtk *.stl *.obj *.mat"
-                                              " *.nas *.ply);;All files (*)")
+        from core.io import export_filters, filter_extension
+
+        # only what write_mesh writes (it offered .nas and .ply, then "cannot write .nas")
+        path, chosen = QFileDialog.getSaveFileName(
+            self.window, f"Export {n1} x {n2} array mesh", start, ";;".join(export_filters()))
         if path:
+            if not Path(path).suffix:
+                path += filter_extension(chosen) or ".msh"
             self.window.settings.setValue("paths/array", path)
             self.export_array(path)
 
-    def export_array(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
+    def export_array(self, path: str | os.PathLike[str], unit: str | None = None,
+                     done: Callable[[bool], None] | None = None) -> bool:
         """Weld the preview's n1 x n2 copies of the cell (:func:`core.cell.tile`) and write
-        them (the format from the extension)."""
+        them (the format from the extension), both in a worker thread with progress and
+        Cancel (:meth:`MainWindow.run_export`). Returns whether the export started."""
         from core.cell import tile
-        from core.io import describe_export, write_mesh
 
         state = self.model.cell_state
         if state is None:
@@ -214,20 +221,19 @@ class CellTools:
         result = self.model.result
         base = (result.cell_mesh if result is not None and result.cell == state.visible
                 else state.visible)
-        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
-        try:
-            array = tile(base, n1, n2)
-            write_mesh(array.mesh, path, unit=unit)
-            what = describe_export(path, unit)
-        except (ValueError, OSError) as exc:
-            self.window._file_error(f"Could not export {Path(path).name}", exc, path)
-            return False
-        finally:
-            QApplication.restoreOverrideCursor()
-        self.last_array = array
-        self.window.statusBar().showMessage(
-            f"Wrote the {n1} x {n2} array ({array.mesh.n_triangles:,} triangles): {what}", 8000)
-        return True
+
+        made = {}
+
+        def make() -> TriMesh:  # worker thread: numpy only
+            made["array"] = tile(base, n1, n2)
+            return made["array"].mesh
+
+        def wrote(mesh: TriMesh, described: str) -> str:  # GUI thread, once written
+            self.last_array = made["array"]
+            return f"Wrote the {n1} x {n2} array ({mesh.n_triangles:,} triangles): {described}"
+
+        return self.window.run_export(path, unit, make, f"the {n1} x {n2} array", done,
+                                      wrote=wrote)
 
     # -- model -> window ---------------------------------------------------------------------
 

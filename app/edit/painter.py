@@ -40,6 +40,7 @@ from PySide6.QtWidgets import (
     QMenu,
     QSpinBox,
     QToolBar,
+    QVBoxLayout,
     QWidget,
 )
 
@@ -201,6 +202,9 @@ class PixelPainterWindow(QMainWindow):
 
     #: A mesh was drawn for the latest edit.
     built = Signal()
+    #: Shown while a 4- or 8-fold symmetry waits for the grid to be square again.
+    NOT_SQUARE = ("The grid is not square: symmetry none until it is square again (4- and "
+                  "8-fold need a square grid)")
 
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
@@ -224,12 +228,21 @@ class PixelPainterWindow(QMainWindow):
         self.plotter.setMinimumSize(480, 420)
         self.plotter.installEventFilter(self)
         self.plotter.setMouseTracking(True)
-        self.setCentralWidget(self.plotter)
         self._make_actors()
         self._make_toolbars()
+        # the statistics on a line of their own under the view: in the status bar beside
+        # the messages, a long message ran into them (and was cut off under them)
         self.stats_label = QLabel(self)
+        self.stats_label.setObjectName("painter_stats")
         self.stats_label.setTextFormat(Qt.TextFormat.RichText)
-        self.statusBar().addPermanentWidget(self.stats_label)
+        self.stats_label.setContentsMargins(6, 3, 6, 3)
+        central = QWidget(self)
+        column = QVBoxLayout(central)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(0)
+        column.addWidget(self.plotter, 1)
+        column.addWidget(self.stats_label)
+        self.setCentralWidget(central)
 
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
@@ -329,13 +342,17 @@ class PixelPainterWindow(QMainWindow):
         if grid.shape[0] != grid.shape[1] and self.symmetry in ("4-fold", "8-fold"):
             self._square_symmetry = self.symmetry  # back when the grid is square again
             self._set_symmetry_box("none")
-            self.statusBar().showMessage(
-                "The grid is not square: symmetry none until it is square again (4- and "
-                "8-fold need a square grid)", 8000)
-        elif grid.shape[0] == grid.shape[1] and self._square_symmetry:
-            if self.symmetry == "none":
-                self._set_symmetry_box(self._square_symmetry)
-            self._square_symmetry = None
+            self.statusBar().showMessage(self.NOT_SQUARE, 8000)
+        elif grid.shape[0] == grid.shape[1]:
+            if self.statusBar().currentMessage() == self.NOT_SQUARE:
+                self.statusBar().clearMessage()  # it no longer holds
+            if self._square_symmetry:
+                if self.symmetry == "none":
+                    self._set_symmetry_box(self._square_symmetry)
+                    self.statusBar().showMessage(
+                        "The grid is square again: symmetry "
+                        f"{pixels.SYMMETRY_TITLES[self._square_symmetry]} is back", 5000)
+                self._square_symmetry = None
         self.act_undo.setEnabled(self.position > 0)
         self.act_redo.setEnabled(self.position < len(self.history) - 1)
         self._draw_grid()

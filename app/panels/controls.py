@@ -272,8 +272,12 @@ class ControlsPanel(QWidget):
                            spec.empty_text if spec.optional else "")
             self._wire(row)
             i += 1
-        tips = {"origin": "Lower-left corner A of a patch, first vertex of a triangle, centre "
-                          "of the rings: x, y",
+        tips = {"origin": "x, y: the lower-left corner A of a patch, the first vertex of a "
+                          "triangle; for rings the point their patches turn about. Paper "
+                          "mode puts each patch's lower-left corner at origin + r (cos θ, "
+                          "sin θ), as the paper does, so a paper ring's centre is at origin "
+                          "+ (s/2, s/2), s the patch size; conforming rings and square "
+                          "rings are centred on the origin",
                 "triangle_vertices": "Three vertices x, y; x, y; x, y of the triangle "
                                      "structure; empty = equilateral of side patch size"}
         for name, (label, _structures) in points.items():

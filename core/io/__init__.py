@@ -12,6 +12,7 @@ Pure Python over numpy, scipy.io and meshio; no Qt, VTK or pyvista.
 """
 
 from .atomic import (
+    ExportCancelled,
     ExportError,
     atomic_path,
     atomic_paths,
@@ -25,8 +26,10 @@ from .export import (
     EXPORT_FORMATS,
     ExportFormat,
     describe_export,
+    export_filters,
     export_format,
     export_unit,
+    filter_extension,
     write_mesh,
 )
 from .import_ import IMPORT_EXTENSIONS, IMPORT_FORMATS, MeshFileError, read_mesh
@@ -39,6 +42,7 @@ __all__ = [
     "IMPORT_FORMATS",
     "PER_MM",
     "UNITS",
+    "ExportCancelled",
     "ExportError",
     "ExportFormat",
     "MeshFileError",
@@ -48,8 +52,10 @@ __all__ = [
     "atomic_write_bytes",
     "atomic_write_text",
     "describe_export",
+    "export_filters",
     "export_format",
     "export_unit",
+    "filter_extension",
     "per_mm",
     "read_mesh",
     "remove_stale_temp_files",

@@ -27,6 +27,10 @@ class ExportError(OSError):
     """A mesh file could not be written; the message names the path and the reason."""
 
 
+class ExportCancelled(ExportError):
+    """The export was cancelled: its temporary files were removed, no target touched."""
+
+
 #: Temporary files of ours are named ``.NAME.barymesh-PID-RANDOM.tmpSUFFIX``.
 TEMP_MARK = ".barymesh-"
 _STARTED = time.time()

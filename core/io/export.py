@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..mesh import TriMesh
-from .atomic import ExportError, atomic_path
+from .atomic import ExportCancelled, ExportError, atomic_path
 from .makarov import write_makarov
 from .meshio_formats import write_meshio
 from .rwg import write_rwg_csv, write_rwg_npz
@@ -43,6 +44,30 @@ EXPORT_FORMATS = {
 EXPORT_EXTENSIONS = tuple(EXPORT_FORMATS)
 
 
+def export_filters() -> list[str]:
+    """File-dialog filters for the formats :func:`write_mesh` writes, one per format.
+
+    The one list every export dialog offers (the mesh's and the array's), so a dialog
+    never offers an extension that then fails with "cannot write".
+
+    >>> export_filters()[0]
+    'Gmsh MSH 2.2 ASCII (*.msh)'
+    """
+    return [f"{fmt.name} (*{ext})" for ext, fmt in EXPORT_FORMATS.items()]
+
+
+def filter_extension(chosen: str) -> str | None:
+    """The extension of a filter of :func:`export_filters` (None for another filter).
+
+    >>> filter_extension("STL ASCII (*.stl)")
+    '.stl'
+    """
+    for ext, fmt in EXPORT_FORMATS.items():
+        if chosen == f"{fmt.name} (*{ext})":
+            return ext
+    return None
+
+
 def export_format(path: str | Path) -> ExportFormat:
     """The format of ``path`` from its extension; ``ValueError`` if we cannot write it."""
     ext = Path(path).suffix.lower()
@@ -70,7 +95,8 @@ def describe_export(path: str | Path, unit: str | None = None) -> str:
 
 
 def write_mesh(
-    mesh: TriMesh, path: str | Path, unit: str | None = None, wavelength: float | None = None
+    mesh: TriMesh, path: str | Path, unit: str | None = None, wavelength: float | None = None,
+    *, cancelled: Callable[[], bool] | None = None,
 ) -> Path:
     """Write ``mesh`` to ``path``; the extension picks the format (see ``EXPORT_FORMATS``).
 
@@ -84,6 +110,10 @@ def write_mesh(
     wavelength : float, optional
         λ in mm: VTK files (``.vtu``, ``.vtp``, ``.vtk``) then also carry the cell
         array ``edge_wavelength`` (longest side of each triangle over λ).
+    cancelled : callable, optional
+        Asked before the write starts and once the file is written, before it replaces
+        ``path``: True raises :class:`ExportCancelled`, and no file (not even a
+        temporary one) is left. For an export in a worker thread with a Cancel button.
 
     Returns
     -------
@@ -96,6 +126,8 @@ def write_mesh(
         For an extension or a unit we do not know.
     ExportError
         When the file cannot be written (the message names the path and why).
+    ExportCancelled
+        When ``cancelled()`` said so (a subclass of ``ExportError``).
         The write is atomic: the target is either the complete new file or
         untouched.
     """
@@ -103,8 +135,14 @@ def write_mesh(
     ext = path.suffix.lower()
     u = export_unit(path, unit)
     factor = per_mm(u)
+
+    def check() -> None:
+        if cancelled is not None and cancelled():
+            raise ExportCancelled(f"export of {path} cancelled")
+
+    check()
     if ext == ".csv":
-        write_rwg_csv(mesh, path, factor, u)
+        write_rwg_csv(mesh, path, factor, u, before_rename=check)
         return path
     with atomic_path(path) as tmp:
         if ext == ".mat":
@@ -117,4 +155,5 @@ def write_mesh(
             write_meshio(mesh, tmp, ext, factor, wavelength)
         if not tmp.exists():
             raise ExportError(f"cannot write {path}: the writer produced no file")
+        check()
     return path

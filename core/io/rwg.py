@@ -19,6 +19,7 @@ CSV
 from __future__ import annotations
 
 import io
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -118,11 +119,18 @@ def csv_paths(path: Path) -> dict[str, Path]:
     }
 
 
-def write_rwg_csv(mesh: TriMesh, path: Path, per_mm: float, unit: str) -> None:
-    """Write the three CSV files as one set: all to temporary files, then all renamed."""
+def write_rwg_csv(mesh: TriMesh, path: Path, per_mm: float, unit: str,
+                  before_rename: Callable[[], None] | None = None) -> None:
+    """Write the three CSV files as one set: all to temporary files, then all renamed.
+
+    ``before_rename()``, if given, runs once all are written; an exception from it
+    (a cancelled export) removes the temporary files and leaves the targets alone.
+    """
     paths = csv_paths(path)
     keys = ("", "_connectivity", "_centroids")
     with atomic_paths([paths[key] for key in keys]) as tmps:
         tables = csv_tables(mesh, per_mm, unit)
         for key, tmp in zip(keys, tmps, strict=True):
             tmp.write_text(tables[key], encoding="utf-8")
+        if before_rename is not None:
+            before_rename()
