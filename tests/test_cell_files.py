@@ -142,5 +142,5 @@ def test_unreadable_files(tmp_path):
     with pytest.raises(CellFileError, match="invalid JSON at line 2"):
         load_cell(bad)
     bad.write_text("[1, 2]")
-    with pytest.raises(CellFileError, match="document: expected a JSON object, got list"):
+    with pytest.raises(CellFileError, match="document: expected a JSON object, got an array$"):
         load_cell(bad)
