@@ -284,13 +284,8 @@ class MeshParams:
         """Check the sizing fields: max_edge, frequency, cells per wavelength, εr."""
         put = object.__setattr__
 
-        def _not_bool(name: str, value: Any) -> Any:
-            if isinstance(value, bool):
-                raise ValueError(f"{name}={value!r} is not a number")
-            return value
-
         if self.max_edge is not None:
-            put(self, "max_edge", _positive("max_edge", _not_bool("max_edge", self.max_edge)))
+            put(self, "max_edge", _positive("max_edge", self.max_edge))
             floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * self.extent)
             if not self.max_edge >= floor:
                 raise ValueError(
@@ -299,8 +294,7 @@ class MeshParams:
                     f"expected max_edge >= {floor:.3g} mm"
                 )
         if self.frequency is not None:
-            f = _float("frequency", _not_bool("frequency", self.frequency),
-                       "a frequency in Hz")
+            f = _float("frequency", self.frequency, "a frequency in Hz")
             if not math.isfinite(f) or f <= 0:
                 ghz = f" (= {f / 1e9:g} GHz)" if math.isfinite(f) and f else ""
                 raise ValueError(
@@ -311,7 +305,7 @@ class MeshParams:
         for name, what in (("cells_per_wavelength", "edges per wavelength"),
                            ("relative_permittivity", "a relative permittivity")):
             value = getattr(self, name)
-            x = _float(name, _not_bool(name, value), f"{what} >= 1")
+            x = _float(name, value, f"{what} >= 1")
             if not (math.isfinite(x) and x >= 1):
                 raise ValueError(f"{name}={_short(value)} is invalid; expected {what}: a "
                                  "finite number >= 1")
