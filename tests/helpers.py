@@ -127,7 +127,7 @@ def junction_meshes(draw, max_extra=6):
 
 #: Python's words for kinds of values, which a user's message must not show.
 PYTHON_TYPE_NAMES = re.compile(
-    r"<class|NoneType|\b(?:got|not|a|an) (?:dict|list|str|int|float|bool|tuple|ndarray)\b"
+    r"<class|NoneType|\b(?:got|not) (?:dict|list|str|int|float|bool|tuple|ndarray)\b"
     r"|'(?:dict|list|str|int|float|bool|tuple)'|\b(?:dict|list|str|int|float|tuple) object"
     r"|unpack|could not convert|invalid literal|object is not"
 )

@@ -164,7 +164,7 @@ def _cell_from_dict(data: Any) -> UnitCell:
         )
     except (ValueError, TypeError) as exc:
         text = str(exc)
-        match = re.match(r"(elements\[\d+\](?:\.\w+)?)", text)
+        match = re.match(r"(elements\[\d+\](?:\.\w+)?|pixels\.\w+)", text)
         if match:
             raise _fail(match.group(1), text) from None
         match = re.match(r"(\w+)=", text)
