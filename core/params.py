@@ -286,7 +286,8 @@ class MeshParams:
 
         if self.max_edge is not None:
             put(self, "max_edge", _positive("max_edge", self.max_edge))
-            floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * self.extent)
+            extent = self.extent  # beyond MAX_COORDINATE the length is refused by name later
+            floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * extent if extent <= MAX_COORDINATE else 0)
             if not self.max_edge >= floor:
                 raise ValueError(
                     f"max_edge={_short(self.max_edge)} mm is too short: float64 cannot mesh "
