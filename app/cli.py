@@ -594,12 +594,14 @@ def _build(args: argparse.Namespace) -> _Built:
     copies = array or (1, 1)
     total = _check_cell_budget(cell, copies, label, budget)
     from core.cell import build_cell, tile
+    from core.params import DEFAULT_MAX_TRIANGLES
 
+    limit = DEFAULT_MAX_TRIANGLES if budget is None else budget
     with progress(f"building {total:,} triangles"):
         try:
-            cell_mesh = build_cell(cell)
+            cell_mesh = build_cell(cell, max_triangles=limit)
             if copies != (1, 1):
-                cell_mesh = tile(cell_mesh, *copies)
+                cell_mesh = tile(cell_mesh, *copies, max_triangles=limit)
         except ValueError as exc:
             raise InputError(f"{label}: {exc}") from None
         stats = cell_mesh.stats()
@@ -662,9 +664,7 @@ def _check_cell_budget(cell: Any, copies: tuple[int, int], label: str, budget: i
     from core.params import DEFAULT_MAX_TRIANGLES
 
     budget = DEFAULT_MAX_TRIANGLES if budget is None else budget
-    per = sum(el.params.predicted_triangles() for el in cell.elements)
-    if cell.pixels is not None:
-        per += int(cell.pixels.mask.sum()) * cell.pixels.patch_params().predicted_triangles()
+    per = cell.predicted_triangles()
     total = per * copies[0] * copies[1]
     if total > budget:
         raise InputError(

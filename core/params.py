@@ -14,6 +14,11 @@ from typing import Any
 
 import numpy as np
 
+from .values import echo as _short
+from .values import finite as _finite
+from .values import number as _float
+from .values import positive as _positive
+
 STRUCTURES = (
     "patch",
     "triangle",
@@ -56,35 +61,6 @@ MIN_RELATIVE_TOLERANCE = 1e-12
 MAX_GAP_ANGLE = 1e6
 #: More patches than this is beyond any budget; counted without rounding to an integer.
 MAX_PATCH_COUNT = 1e15
-
-
-def _short(value: Any) -> str:
-    """repr of a value, cut to a readable length (a 5000-digit integer is still named)."""
-    text = repr(value)
-    return text if len(text) <= 60 else f"{text[:28]}...{text[-28:]} ({len(text)} characters)"
-
-
-def _float(name: str, value: Any, expected: str) -> float:
-    try:
-        return float(value)
-    except OverflowError:
-        raise ValueError(f"{name}={_short(value)} is too large; expected {expected}") from None
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={_short(value)} is not a number; expected {expected}") from None
-
-
-def _positive(name: str, value: Any) -> float:
-    x = _float(name, value, "a positive length in mm")
-    if not math.isfinite(x) or x <= 0:
-        raise ValueError(f"{name}={_short(value)} is invalid; expected a finite length > 0 mm")
-    return x
-
-
-def _finite(name: str, value: Any) -> float:
-    x = _float(name, value, "a finite number")
-    if not math.isfinite(x):
-        raise ValueError(f"{name}={_short(value)} is invalid; expected a finite number")
-    return x
 
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
@@ -274,6 +250,7 @@ class MeshParams:
                     f"coordinates of {self.extent:.6g} mm by more, so shared points would stay "
                     f"apart; expected tolerance >= {floor:.6g} mm"
                 )
+        self._check_slot_width()
         self._check_paper_chain()
         budget = self.max_triangles
         predicted = self.predicted_triangles()
@@ -311,16 +288,18 @@ class MeshParams:
         """Check the sizing fields: max_edge, frequency, cells per wavelength, εr."""
         put = object.__setattr__
 
-        def _not_bool(name: str, value: Any) -> Any:
-            if isinstance(value, bool):
-                raise ValueError(f"{name}={value!r} is not a number")
-            return value
-
         if self.max_edge is not None:
-            put(self, "max_edge", _positive("max_edge", _not_bool("max_edge", self.max_edge)))
+            put(self, "max_edge", _positive("max_edge", self.max_edge))
+            extent = self.extent  # beyond MAX_COORDINATE the length is refused by name later
+            floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * extent if extent <= MAX_COORDINATE else 0)
+            if not self.max_edge >= floor:
+                raise ValueError(
+                    f"max_edge={_short(self.max_edge)} mm is too short: float64 cannot mesh "
+                    f"edges below {floor:.3g} mm at coordinates up to {self.extent:.3g} mm; "
+                    f"expected max_edge >= {floor:.3g} mm"
+                )
         if self.frequency is not None:
-            f = _float("frequency", _not_bool("frequency", self.frequency),
-                       "a frequency in Hz")
+            f = _float("frequency", self.frequency, "a frequency in Hz")
             if not math.isfinite(f) or f <= 0:
                 ghz = f" (= {f / 1e9:g} GHz)" if math.isfinite(f) and f else ""
                 raise ValueError(
@@ -331,7 +310,7 @@ class MeshParams:
         for name, what in (("cells_per_wavelength", "edges per wavelength"),
                            ("relative_permittivity", "a relative permittivity")):
             value = getattr(self, name)
-            x = _float(name, _not_bool(name, value), f"{what} >= 1")
+            x = _float(name, value, f"{what} >= 1")
             if not (math.isfinite(x) and x >= 1):
                 raise ValueError(f"{name}={_short(value)} is invalid; expected {what}: a "
                                  "finite number >= 1")
@@ -603,6 +582,24 @@ class MeshParams:
                 f"largest coordinate){limit}"
             )
 
+    def _check_slot_width(self) -> None:
+        """Refuse a conforming slot narrower than the welding tolerance allows.
+
+        The two faces of a slot are ``gap_width`` apart; closer than the tolerance
+        they would be points the metric constraint calls one vertex, yet a
+        conforming slot keeps them apart (an open slot must stay open).
+        """
+        if self.mode != "conforming" or self.structure not in SPLIT_STRUCTURES:
+            return
+        tol = self.weld_tolerance
+        if not self.gap_width > 2 * tol:
+            source = "tolerance" if self.tolerance is not None else "the default tolerance"
+            raise ValueError(
+                f"gap_width={_short(self.gap_width)} mm is too narrow: the faces of the slot "
+                f"would be within the welding tolerance ({source} {tol:.3g} mm) of each other; "
+                f"expected gap_width > {2 * tol:.3g} mm (twice the tolerance)"
+            )
+
     def _check_paper_chain(self) -> None:
         """Refuse a paper ring whose neighbouring patches are within the welding tolerance.
 
@@ -682,7 +679,7 @@ class MeshParams:
     def from_dict(cls, data: dict[str, Any]) -> MeshParams:
         """Build from a dict such as ``to_dict`` returns; unknown keys are an error."""
         if not isinstance(data, dict):
-            raise ValueError(f"parameters must be a mapping of names to values, got {data!r}")
+            raise ValueError(f"parameters must be a mapping of names to values, got {_short(data)}")
         known = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted((k for k in data if k not in known), key=repr)
         if unknown:

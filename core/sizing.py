@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .params import MAX_BARYCENTRIC_LEVELS, MAX_UNIFORM_SUBDIVISIONS, MeshParams
+from .params import MAX_BARYCENTRIC_LEVELS, MAX_PATCH_COUNT, MAX_UNIFORM_SUBDIVISIONS, MeshParams
 from .topology import BLOCK
 
 if TYPE_CHECKING:
@@ -315,10 +315,14 @@ def _refuse(
         about = ""
     else:
         base = params.replace(subdivisions=top).predicted_triangles()
-        growth = (need / top) ** 2 if scheme == "uniform" else 6.0 ** (need - top)
-        count = int(round(base * growth))
+        # in logarithms: (need / top)**2 or 6**(need - top) overflows float64 for far targets
+        growth = 2 * math.log(need / top) if scheme == "uniform" else (need - top) * math.log(6)
         about = "about "
-    needed = f"it would take {about}{unit} = {need}, {about}{count:,} triangles"
+        count = None if math.log(base) + growth > math.log(MAX_PATCH_COUNT) else (
+            round(base * math.exp(growth)))  # fmt: skip
+    shown = f"{about}{count:,}" if count is not None else f"more than {MAX_PATCH_COUNT:.0e}"
+    level = f"{need}" if need < 10**6 else f"{need:.3g}"
+    needed = f"it would take {about}{unit} = {level}, {shown} triangles"
     if budget:
         raise ValueError(
             f"{what}; {needed}, above the budget max_triangles={params.max_triangles:,} "

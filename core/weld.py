@@ -157,7 +157,9 @@ def weld_points(coords: np.ndarray, tolerance: float) -> tuple[np.ndarray, np.nd
     The ``(vertex_of_point, representative)`` pair of :func:`merge_pairs`.
     """
     coords = np.asarray(coords, dtype=np.float64)
-    pairs = cKDTree(coords).query_pairs(tolerance, output_type="ndarray")
+    # an unbalanced tree builds about twice as fast and finds the same pairs
+    tree = cKDTree(coords, balanced_tree=False, compact_nodes=False)
+    pairs = tree.query_pairs(tolerance, output_type="ndarray")
     return merge_pairs(len(coords), pairs, coords, tolerance)
 
 

@@ -1,6 +1,7 @@
 """Small shared checks for the core tests."""
 
 import functools
+import re
 
 import numpy as np
 from hypothesis import strategies as st
@@ -122,3 +123,19 @@ def junction_meshes(draw, max_extra=6):
     seed = draw(st.integers(0, 2**32 - 1))
     points = np.random.default_rng(seed).random((n_vertices, 3))
     return points, tris
+
+
+#: Python's words for kinds of values, which a user's message must not show.
+PYTHON_TYPE_NAMES = re.compile(
+    r"<class|NoneType|\b(?:got|not) (?:dict|list|str|int|float|bool|tuple|ndarray)\b"
+    r"|'(?:dict|list|str|int|float|bool|tuple)'|\b(?:dict|list|str|int|float|tuple) object"
+    r"|unpack|could not convert|invalid literal|object is not"
+)
+#: Longest message an error may show (a deeply nested value's echo is cut).
+MESSAGE_LIMIT = 1000
+
+
+def assert_clear_message(message):
+    """A user's error message: short, and in the user's words, not Python's."""
+    assert len(message) < MESSAGE_LIMIT, f"{len(message)} characters: {message[:200]}..."
+    assert not PYTHON_TYPE_NAMES.search(message), message

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from core import MeshParams
-from core.cell import Element, Lattice, PixelGrid, UnitCell, build_cell
+from core.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
 from core.cell.files import (
     CellFileError,
     cell_from_dict,
@@ -16,6 +16,7 @@ from core.cell.files import (
     load_cell_preset,
     save_cell,
 )
+from tests.helpers import assert_clear_message
 
 
 def test_presets_are_the_four_classic_cells():
@@ -78,8 +79,8 @@ def test_lattice_shorthands():
     assert cell_from_dict(base).lattice == Lattice((7.0, 0.0), (0.0, 3.0))
 
 
-def _preset_doc():
-    return cell_to_dict(load_cell_preset("split-ring-pair"))
+def _preset_doc(name="split-ring-pair"):
+    return cell_to_dict(load_cell_preset(name))
 
 
 def _error(doc, tmp_path):
@@ -142,5 +143,159 @@ def test_unreadable_files(tmp_path):
     with pytest.raises(CellFileError, match="invalid JSON at line 2"):
         load_cell(bad)
     bad.write_text("[1, 2]")
-    with pytest.raises(CellFileError, match="document: expected a JSON object, got list"):
+    with pytest.raises(CellFileError, match="document: expected a JSON object, got an array$"):
         load_cell(bad)
+
+
+# -- issue 4: mutated copies of the preset cells (outside fuzz) -----------------------
+
+NESTED = 1.0
+for _ in range(900):
+    NESTED = [NESTED]
+
+
+def _refusal(doc):
+    with pytest.raises(CellFileError) as err:
+        cell_from_dict(doc)
+    message = str(err.value)
+    assert_clear_message(message)
+    return message
+
+
+def test_a_patch_far_from_the_cell_is_refused_naming_its_position():
+    # the double-ring-patch cell with its patch at [1e16, 0] gave 16 triangles that repeat a
+    # vertex (float64 spaces numbers near 1e16 by 2 mm; the patch's edges are 0.75 mm)
+    doc = _preset_doc("double-ring-patch")
+    doc["elements"][1]["position"] = [1e16, 0]
+    message = _refusal(doc)
+    assert message.startswith("cell: elements[1].position: elements[1].position=(1e+16, 0.0) "
+                              "places metal up to 1e+16 mm from the cell's centre, where float64 "
+                              "cannot resolve its sub-triangle edges of 0.75 mm")  # fmt: skip
+    assert "expected the part within about 7.5e+07 mm of the centre" in message
+
+
+def test_a_part_too_far_for_the_weld_tolerance_is_refused():
+    # at 1e6 mm float64 rounds by ~1e-10 mm per operation: the default tolerance 2e-8 mm
+    # (1e-9 of the 20 mm lattice) is below 1e-12 of the coordinates
+    doc = _preset_doc("double-ring-patch")
+    doc["elements"][1]["position"] = [1e6, 0]
+    assert "is rounded by float64 by more than the welding tolerance 2e-08 mm" in _refusal(doc)
+    doc["tolerance"] = 1e-5  # a tolerance float64 resolves there: the patch is only far away
+    cm = build_cell(cell_from_dict(doc))
+    assert cm.mesh.n_triangles == 2 * 180 * 32 + 32
+    assert any("reaches beyond the cell boundary" in note for note in cm.notes)
+
+
+@pytest.mark.parametrize("far", [[1e16, 0], [0, -1e12], [1e5, 1e16]])
+def test_far_pixels_are_refused_naming_their_origin(far):
+    doc = _preset_doc("coding-16x16")
+    doc["pixels"]["origin"] = far
+    assert _refusal(doc).startswith("cell: pixels.origin: pixels.origin=")
+
+
+@pytest.mark.parametrize(
+    ("edit", "where"),
+    [
+        (lambda d: d["elements"][0].update(inner_radius=NESTED), "elements[0].inner_radius"),
+        (lambda d: d["elements"][0].update(position=NESTED), "elements[0].position"),
+        (lambda d: d["elements"][0].update(rotation=NESTED), "elements[0].rotation"),
+        (lambda d: d["elements"][0].update(name=NESTED), "elements[0].name"),
+        (lambda d: d["elements"][0].update(origin=NESTED), "elements[0].origin"),
+        (lambda d: d.update(lattice={"rectangular": NESTED}), "lattice.rectangular"),
+        (lambda d: d.update(lattice={"hexagonal": NESTED}), "lattice.hexagonal"),
+        (lambda d: d.update(lattice={"a1": NESTED, "a2": [0, 1]}), "lattice.a1"),
+        (lambda d: d.update(lattice=NESTED), "lattice"),
+        (lambda d: d.update(version=NESTED), "version"),
+        (lambda d: d.update(mode=NESTED), "mode"),
+        (lambda d: d.update(format=NESTED), "format"),
+        (lambda d: d.update(tolerance=NESTED), "tolerance"),
+        (lambda d: d.update(name=NESTED), "name"),
+        (lambda d: d.update(pixels={"rows": ["1"], "pixel_size": NESTED}), "pixels.pixel_size"),
+        (lambda d: d.update(pixels={"rows": ["1"], "origin": NESTED}), "pixels.origin"),
+        (lambda d: d.update(pixels={"rows": ["1", "1" * 3000]}), "pixels.rows[1]"),
+        (lambda d: d["elements"][0].update(structure="s" * 3000), "elements[0].structure"),
+    ],
+)
+def test_a_900_deep_or_huge_value_gives_a_short_message_naming_its_place(edit, where):
+    doc = _preset_doc()
+    edit(doc)
+    message = _refusal(doc)
+    assert message.startswith(f"cell: {where}: "), message[:200]
+    assert len(message) < 400
+
+
+WRONG_KINDS = [None, True, "x", {}, [], [1, 2, 3], {"a": 1}, 1e-320, [None, None]]
+
+
+@pytest.mark.parametrize("value", WRONG_KINDS, ids=repr)
+@pytest.mark.parametrize("path", ["document", "lattice", "lattice.rectangular",
+                                  "lattice.hexagonal", "elements", "elements[0]",
+                                  "elements[0].position", "elements[0].rotation",
+                                  "elements[0].inner_radius", "elements[0].subdivisions",
+                                  "elements[0].name", "pixels", "pixels.rows", "pixels.origin",
+                                  "pixels.pixel_size", "mode", "version", "tolerance"])  # fmt: skip
+def test_messages_never_show_python_type_names(path, value):
+    doc = _preset_doc()
+    doc["pixels"] = {"rows": ["1"], "origin": [-9, -9]}
+    if path == "document":
+        doc = value
+    else:
+        target = doc
+        keys = path.replace("[0]", ".0").split(".")
+        for key in keys[:-1]:
+            target = target[int(key)] if key.isdigit() else target[key]
+        last = keys[-1]
+        target[int(last) if last.isdigit() else last] = value
+    try:
+        cell = cell_from_dict(doc)
+    except CellFileError as exc:
+        assert_clear_message(str(exc))
+        return
+    build_cell(cell)  # a value that happens to be valid (a tiny tolerance) must build
+
+
+def test_a_malformed_lattice_says_what_it_expected():
+    # was "lattice: too many values to unpack (expected 2)"
+    doc = _preset_doc()
+    doc["lattice"] = {"rectangular": [1, 2, 3]}
+    assert _refusal(doc) == ("cell: lattice.rectangular: [1, 2, 3] is invalid; expected a "
+                             "period in mm or two periods [px, py]")  # fmt: skip
+    doc["lattice"] = {"rectangular": [20]}  # one period: a square lattice
+    assert cell_from_dict(doc).lattice == Lattice.rectangular(20.0)
+    doc["lattice"] = {"a1": [1e300, 0], "a2": [0, 1e300]}
+    assert "lattice.a1: a1=(1e+300, 0.0) is 1e+300 mm long; expected a lattice vector" in (
+        _refusal(doc))  # fmt: skip
+
+
+def _many(doc, count):
+    base = doc["elements"][0]
+    doc["elements"] = [dict(base, name=f"e{k}", position=[0.05 * k, 0]) for k in range(count)]
+    return doc
+
+
+def test_a_cell_over_the_budget_is_refused_before_any_part_is_built():
+    # 400 double rings of 2 x 180 x 32 = 11,520 triangles: 4,608,000, within the default
+    # budget of 5,000,000; 500 are 5,760,000, refused (was a MemoryError or minutes)
+    cell = cell_from_dict(_many(_preset_doc("double-ring-patch"), 500))
+    assert cell.predicted_triangles() == 500 * 11_520
+    with pytest.raises(ValueError, match=r"^the cell's parts would make 5,760,000 triangles, "
+                       r"above the budget max_triangles=5,000,000"):  # fmt: skip
+        build_cell(cell)
+    small = cell_from_dict(_many(_preset_doc("double-ring-patch"), 3))
+    with pytest.raises(ValueError, match="would make 34,560 triangles, above the budget "
+                       "max_triangles=30,000"):  # fmt: skip
+        build_cell(small, max_triangles=30_000)
+    assert build_cell(small, max_triangles=34_560).mesh.n_triangles == 34_560
+    with pytest.raises(ValueError, match=r"^3 x 2 copies of 34,560 triangles would make "
+                       "207,360 triangles, above the budget max_triangles=200,000"):  # fmt: skip
+        tile(small, 3, 2, max_triangles=200_000)
+
+
+def test_an_element_with_its_own_huge_budget_is_held_to_the_cell_budget():
+    doc = _preset_doc("double-ring-patch")
+    doc["elements"][0].update(inner_radius=1e3, outer_radius=2e3, angle_step=0.01,
+                              max_triangles=10**12)  # fmt: skip
+    cell = cell_from_dict(doc)
+    assert cell.predicted_triangles() == 2 * 36_000 * 32 + 32
+    with pytest.raises(ValueError, match="would make 2,304,032 triangles"):
+        build_cell(cell, max_triangles=1_000_000)

@@ -1,12 +1,25 @@
-"""Invariants of pixel cells on random masks: mesh topology, outline and tiling agree."""
+"""Invariants of pixel cells on random masks: mesh topology, outline and tiling agree.
+
+And the hostile fuzz of unit-cell documents: mutated copies of the preset cells give
+a short, clear error naming the place in the document, or a sound mesh
+(``BARYMESH_FUZZ_EXAMPLES`` / 10 examples, 200 in the normal run).
+"""
+
+import copy
+import functools
+import json
+import os
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
+from scipy.spatial import cKDTree
 
 from core.cell import Lattice, PixelGrid, UnitCell, build_cell, tile
+from core.cell.files import CELL_PRESET_DIR, CellFileError, cell_from_dict
 from core.cell.outline import outline_polygons
+from tests.helpers import assert_clear_message
 
 SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -59,3 +72,103 @@ def test_tiling_glues_exactly_the_periodic_edge_pairs(mask, n1, n2):
     assert a["triangles"] == n1 * n2 * s["triangles"]
     assert a["interior_edges"] == n1 * n2 * s["interior_edges"] + seams
     assert a["junction_edges"] == 0
+
+
+# -- hostile unit-cell documents (issue 4) ------------------------------------------------
+
+#: Examples of the cell-document fuzz: a tenth of the parameter fuzz's.
+CELL_FUZZ_EXAMPLES = max(20, int(os.environ.get("BARYMESH_FUZZ_EXAMPLES", "2000")) // 10)
+#: Triangle budget of a fuzzed cell: larger cells are refused before they are built.
+CELL_FUZZ_BUDGET = 60_000
+PRESETS = {p.name: json.loads(p.read_text()) for p in sorted(CELL_PRESET_DIR.glob("*.cell.json"))}
+DEEP = functools.reduce(lambda v, _: [v], range(900), 1.0)
+
+#: Values a hostile document may hold anywhere: wrong kinds, extremes, huge and deep values.
+VALUES = st.one_of(
+    st.builds(lambda m, e: m * 10.0**e, st.floats(1.0, 9.99), st.integers(-320, 307)),
+    st.sampled_from([0, -1, True, False, None, "x", "4,5", [], {}, {"a": 1}, [1, 2, 3],
+                     [None, None], 1e-320, 5e-324, 1e16, 1e300, 10**400, "s" * 3000, DEEP,
+                     [1e16, 0], [0, -1e16], ["1" * 3000] * 2]),
+)  # fmt: skip
+FAR = st.sampled_from([1e16, -1e16, 1e12, 1e8, 1e6, 1e5, 50.0, 11.0])
+LATTICES = st.one_of(
+    st.sampled_from([{"rectangular": [1, 2, 3]}, {"rectangular": "ab"}, {"rectangular": DEEP},
+                     {"hexagonal": [1, 2]}, {"a1": [1e-300, 0], "a2": [0, 1e-300]},
+                     {"rectangular": [1e300, 1e300]}, {"square": 3}, [], "x", None]),
+    st.builds(lambda v: {"rectangular": [v, 20]}, VALUES),
+    st.builds(lambda v: {"hexagonal": v}, VALUES),
+    st.builds(lambda v: {"a1": [20, 0], "a2": v}, VALUES),
+)  # fmt: skip
+TOP_KEYS = ["tolerance", "mode", "name", "version", "format", "elements", "pixels",
+            "description"]  # fmt: skip
+PIXEL_KEYS = ["rows", "pixel_size", "origin", "subdivisions", "scheme", "diagonal"]
+
+
+@st.composite
+def mutated_cell(draw):
+    """A preset cell document with one to three hostile changes."""
+    doc = copy.deepcopy(PRESETS[draw(st.sampled_from(sorted(PRESETS)))])
+    for _ in range(draw(st.integers(1, 3))):
+        what = draw(st.sampled_from(["field", "far", "many", "lattice", "top", "pixels"]))
+        elements = doc.get("elements") if isinstance(doc.get("elements"), list) else []
+        elements = [e for e in elements if isinstance(e, dict)]
+        if what == "field" and elements:
+            el = draw(st.sampled_from(elements))
+            key = draw(st.sampled_from(sorted(el) + ["tolerance", "max_triangles", "origin",
+                                                     "gap_width", "max_edge"]))  # fmt: skip
+            el[key] = draw(VALUES)
+        elif what == "far" and elements:
+            draw(st.sampled_from(elements))["position"] = [draw(FAR), draw(FAR) * 0]
+        elif what == "many" and elements:
+            count = draw(st.sampled_from([2, 50, 400]))
+            spread = draw(st.floats(0.0, 10.0))
+            doc["elements"] = [dict(elements[0], name=f"e{k}", position=[spread * k / count, 0])
+                               for k in range(count)]  # fmt: skip
+        elif what == "lattice":
+            doc["lattice"] = draw(LATTICES)
+        elif what == "top":
+            doc[draw(st.sampled_from(TOP_KEYS))] = draw(VALUES)
+        elif what == "pixels" and isinstance(doc.get("pixels"), dict):
+            doc["pixels"][draw(st.sampled_from(PIXEL_KEYS))] = draw(VALUES)
+        else:  # far pixels of any size, or the other mode
+            doc["pixels"] = {"pixel_size": draw(st.sampled_from([0.5, 1e-9, 1e6])),
+                             "origin": [draw(FAR), -4],
+                             "rows": ["1" * 4] * draw(st.sampled_from([1, 4]))}  # fmt: skip
+            if draw(st.booleans()):
+                doc["mode"] = "conforming" if doc.get("mode") == "paper" else "paper"
+    return doc
+
+
+def assert_sound_cell(mesh, tol):
+    """Finite, no triangle repeating a vertex, counter-clockwise and not flat, welded."""
+    pts, tri = mesh.points[:, :2], mesh.triangles
+    assert np.isfinite(pts).all()
+    assert len(tri) > 0
+    assert ((tri[:, 0] != tri[:, 1]) & (tri[:, 1] != tri[:, 2]) & (tri[:, 0] != tri[:, 2])).all()
+    corners = pts[tri]
+    sides = corners[:, [1, 2, 0]] - corners
+    area = 0.5 * (sides[:, 0, 0] * sides[:, 1, 1] - sides[:, 0, 1] * sides[:, 1, 0])
+    assert (area >= 1e-12 * (sides**2).sum(axis=2).max(axis=1)).all(), "clockwise or flat"
+    assert not cKDTree(pts).query_pairs(tol), "vertices within the tolerance left apart"
+
+
+@settings(max_examples=CELL_FUZZ_EXAMPLES, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])  # fmt: skip
+@given(mutated_cell())
+def test_hostile_cell_documents_give_a_clear_error_or_a_sound_mesh(doc):
+    try:
+        cell = cell_from_dict(doc)
+    except CellFileError as err:
+        assert str(err).startswith("cell: "), str(err)
+        assert_clear_message(str(err))
+        event(f"refused: {str(err).split(':')[1][:24]}")
+        return
+    try:
+        cm = build_cell(cell, max_triangles=CELL_FUZZ_BUDGET)
+    except ValueError as err:
+        assert_clear_message(str(err))
+        event("refused by the build")
+        return
+    event(f"built: {cell.mode}")
+    assert cm.mesh.n_triangles == cell.predicted_triangles()
+    assert_sound_cell(cm.mesh, cell.weld_tolerance)

@@ -21,6 +21,7 @@ from core import MeshParams, build_mesh
 from core.cell import cell_preset_names
 from core.cell.files import CELL_PRESET_DIR
 from core.io import read_mesh
+from tests.helpers import assert_clear_message
 
 try:  # the optional "cell" extra: only the outline writers need it
     import ezdxf
@@ -477,3 +478,50 @@ def test_real_process_error_line(in_tmp):
         "invalid; expected a finite length > 0 mm\n"
     )
     assert not (in_tmp / "x.msh").exists()
+
+
+# -- issue 4: mutated preset cells on the command line ---------------------------------
+
+
+def _mutated(folder, name, edit):
+    doc = preset_document(name)
+    edit(doc)
+    path = Path(folder) / "mutated.cell.json"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+DEEP = 1.0
+for _ in range(900):
+    DEEP = [DEEP]
+
+
+@pytest.mark.parametrize(
+    ("name", "edit", "fragments"),
+    [
+        # the patch at [1e16, 0]: 16 triangles that repeat a vertex were written to the file
+        ("double-ring-patch", lambda d: d["elements"][1].update(position=[1e16, 0]),
+         ["elements[1].position: elements[1].position=(1e+16, 0.0) places metal up to 1e+16 mm",
+          "float64 cannot resolve its sub-triangle edges of 0.75 mm"]),
+        # pixels of 1e-9 mm at x = 1e16 mm collapsed onto one point: std::bad_alloc in the weld
+        ("coding-16x16", lambda d: d["pixels"].update(pixel_size=1e-9, origin=[1e16, -4]),
+         ["pixels.origin: pixels.origin=(1e+16, -4.0) places metal"]),
+        ("double-ring-patch", lambda d: d["elements"][0].update(inner_radius=DEEP),
+         ["elements[0].inner_radius: inner_radius=[[[[...]]]] is not a number"]),
+        ("double-ring-patch", lambda d: d.update(lattice={"rectangular": [1, 2, 3]}),
+         ["lattice.rectangular: [1, 2, 3] is invalid; expected a period in mm or two periods"]),
+        ("split-ring-pair", lambda d: d["elements"][0].update(inner_radius=True),
+         ["elements[0].inner_radius: inner_radius=True is a true/false switch, not a number"]),
+    ],
+)  # fmt: skip
+def test_mutated_cells_exit_1_with_a_short_clear_line_and_write_nothing(
+    capsys, in_tmp, name, edit, fragments
+):
+    path = _mutated(in_tmp, name, edit)
+    before = files(in_tmp)
+    line = one_line_error(capsys, 1, "mesh", "--cell", path, "-o", "out.msh")
+    for fragment in fragments:
+        assert fragment in line
+    assert_clear_message(line)
+    assert "unexpected" not in line
+    assert files(in_tmp) == before

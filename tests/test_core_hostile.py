@@ -5,17 +5,20 @@ misleading message, an exception of another type or a memory blow-up. The
 fuzz in ``test_core_properties.py`` draws cases like these at random.
 """
 
+import functools
+import re
 import tracemalloc
 
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from core import MeshParams, build_mesh
 from core.invariants import MeshInvariantError, check_mesh, inverted_or_flat
 from core.mesh import TriMesh
 from core.topology import edge_topology
 from core.weld import merge_pairs, weld_points
-from tests.helpers import signed_areas
+from tests.helpers import assert_clear_message, signed_areas
 
 #: The issue's budget: no structure may need more memory than this per triangle.
 BYTES_PER_TRIANGLE = 600
@@ -360,3 +363,132 @@ def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
     interior = np.setdiff1d(np.arange(vmap.shape[1]), ends)
     third[interior] = n_vertices + 100 + interior
     assert glued_edge_valence(lay.template, np.vstack([vmap, third]), n_vertices + 200) == 3
+
+
+# -- 12. the outside fuzz of issue 4 (20,000 parameter sets) -------------------------------
+
+NUMBER_FIELDS = (
+    "inner_radius", "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
+    "tolerance", "patch_width", "max_edge", "frequency", "cells_per_wavelength",
+    "relative_permittivity", "growth_ratio", "min_edge",
+)  # fmt: skip
+
+
+@pytest.mark.parametrize("switch", [True, False, np.True_])
+@pytest.mark.parametrize("name", NUMBER_FIELDS)
+def test_booleans_are_refused_as_numbers(name, switch):
+    # inner_radius=True was taken as 1 mm (and gave an OverflowError further on)
+    with pytest.raises(ValueError, match=rf"^{name}={switch!r} is a true/false switch, not a "
+                       "number"):  # fmt: skip
+        MeshParams(**{name: switch})
+    assert_clear_message(f"{name}={switch!r} is a true/false switch")
+
+
+def test_a_boolean_in_the_origin_is_refused():
+    with pytest.raises(ValueError, match=r"^origin=True is a true/false switch"):
+        MeshParams(origin=(True, 0.0))
+
+
+@pytest.mark.parametrize("max_edge", [1e-200, 5e-324, 1e-71, 9.9e-9])
+def test_a_max_edge_float64_cannot_mesh_is_refused_by_name(max_edge):
+    # max_edge=1e-200 was an OverflowError in the sizing message ("cannot convert float
+    # infinity to integer" for 5e-324); the shortest edge float64 meshes at coordinates up
+    # to 10 mm (the default double ring's extent) is 1e-8 x 10 mm
+    p = MeshParams()
+    assert p.extent == 10.0
+    with pytest.raises(ValueError, match=rf"^max_edge={max_edge!r} mm is too short: float64 "
+                       r"cannot mesh edges below 1e-07 mm at coordinates up to 10 mm"):  # fmt: skip
+        MeshParams(max_edge=max_edge)
+
+
+@pytest.mark.parametrize(
+    ("scheme", "subdivisions", "needed"),
+    [("uniform", 4, "n = 1.29e+08"), ("barycentric", 1, "levels = 29")],
+)
+def test_a_far_sizing_target_is_a_value_error_not_an_overflow(scheme, subdivisions, needed):
+    # the patch's edges at the finest level are ~0.02 mm; 1.1e-8 mm asks 1e6 times finer
+    p = MeshParams(structure="patch", scheme=scheme, subdivisions=subdivisions, max_edge=1.1e-8)
+    with pytest.raises(ValueError, match=re.escape(f"it would take about {needed}, more than "
+                                                   "1e+15 triangles")):  # fmt: skip
+        build_mesh(p)
+
+
+TINY_SLOTS = [
+    dict(structure="split_ring", inner_radius=17.784145362694343, patch_size=2.340888811656802,
+         angle_step=120, subdivisions=8, diagonal="AD"),
+    dict(structure="split_double_ring", inner_radius=0.27249837260654886,
+         patch_size=0.0363806385794857, outer_radius=0.3622957182118971, angle_step=360,
+         subdivisions=6, diagonal="AD", gap_angle=90),
+    dict(structure="square_split_double_ring", inner_radius=3.0, outer_radius=5.0),
+]  # fmt: skip
+
+
+def assert_sound_paper(mesh, tol):
+    assert (signed_areas(mesh) > 0).all()
+    assert len(cKDTree(mesh.points[:, :2]).query_pairs(tol)) == 0
+
+
+@pytest.mark.parametrize("kw", TINY_SLOTS)
+def test_a_conforming_slot_within_the_weld_tolerance_is_refused(kw):
+    # gap widths of 1e-10 mm left 8 to 28 vertex pairs closer than the tolerance unwelded
+    wide = 0.1 * kw["inner_radius"]
+    tol = MeshParams(**kw, mode="conforming", gap_width=wide).weld_tolerance  # 1e-9 of the size
+    refused = (r"^gap_width=1e-10 mm is too narrow: the faces of the slot would be within the "
+               r"welding tolerance \(the default tolerance")  # fmt: skip
+    with pytest.raises(ValueError, match=refused) as err:
+        MeshParams(**kw, mode="conforming", gap_width=1e-10)
+    assert f"expected gap_width > {2 * tol:.3g} mm (twice the tolerance)" in str(err.value)
+    with pytest.raises(ValueError, match=r"^gap_width=.* mm is too narrow.*\(tolerance 1e-06 mm\)"):
+        MeshParams(**kw, mode="conforming", gap_width=1.5e-6, tolerance=1e-6)
+    # paper mode drops the patches the slot touches: the same gap is a sound mesh there
+    paper = MeshParams(**kw, mode="paper", gap_width=1e-10)
+    assert_sound_paper(build_mesh(paper), paper.weld_tolerance)
+
+
+@pytest.mark.parametrize("kw", TINY_SLOTS[:2])
+def test_a_conforming_slot_just_wider_than_twice_the_tolerance_is_welded_correctly(kw):
+    base = MeshParams(**kw, mode="conforming", gap_width=0.1 * kw["inner_radius"])
+    gap = 3 * base.weld_tolerance
+    p = MeshParams(**kw, mode="conforming", gap_width=gap)
+    mesh = build_mesh(p)
+    xy = mesh.points[:, :2]
+    assert len(cKDTree(xy).query_pairs(p.weld_tolerance)) == 0  # no near pair left apart
+    assert_manifold_and_counter_clockwise(mesh)
+    assert mesh.n_triangles == p.predicted_triangles()
+    # the slots stay open: every piece is a strip (a disk, Euler 1); a split ring is one
+    # piece, a split double ring's two rings are cut into two halves each
+    pieces = {"split_ring": 1, "split_double_ring": 4}[kw["structure"]]
+    assert mesh.stats()["euler_characteristic"] == pieces
+
+
+@pytest.mark.parametrize("inner_radius", [6.01, 6.5, 12.0, 30.0])
+@pytest.mark.parametrize("gap_width", [11.9, 12.0])
+def test_the_wide_slot_of_a_coarse_conforming_split_ring_is_built_to_its_prediction(
+    inner_radius, gap_width
+):
+    # a conforming split ring with angle_step=360, patch_size=1 and gap_width about 12 mm
+    # ran past 20 s: its size is predicted and the mesh is small and sound
+    p = MeshParams(structure="split_ring", mode="conforming", angle_step=360, patch_size=1,
+                   gap_width=gap_width, inner_radius=inner_radius)  # fmt: skip
+    predicted = p.predicted_triangles()
+    assert predicted <= 20 * 2 * 16  # a few sectors of 2 x 4² triangles
+    mesh = build_mesh(p)
+    assert mesh.n_triangles == predicted
+    assert_manifold_and_counter_clockwise(mesh)
+    assert mesh.stats()["euler_characteristic"] == 1  # an open strip
+    assert len(cKDTree(mesh.points[:, :2]).query_pairs(p.weld_tolerance)) == 0
+
+
+NESTED = functools.reduce(lambda v, _: [v], range(900), 1.0)
+
+
+@pytest.mark.parametrize("name", ["inner_radius", "origin", "structure", "triangle_vertices",
+                                  "subdivisions", "max_triangles", "grading", "tolerance"])
+def test_a_900_deep_nested_value_gives_a_short_message_naming_the_parameter(name):
+    kw = {name: NESTED}
+    if name == "triangle_vertices":
+        kw["structure"] = "triangle"
+    with pytest.raises(ValueError, match=rf"^{name}=\[\[\[") as err:
+        MeshParams(**kw)
+    assert_clear_message(str(err.value))
+    assert len(str(err.value)) < 200

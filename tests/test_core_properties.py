@@ -4,6 +4,7 @@
 """
 
 import dataclasses
+import functools
 import os
 import tempfile
 from pathlib import Path
@@ -18,7 +19,7 @@ from core import STRUCTURES, MeshParams, build_mesh
 from core.io import read_mesh, write_mesh
 from core.structures import layout
 from core.topology import edge_topology
-from tests.helpers import assert_topology_matches_generic, signed_areas
+from tests.helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
 
 RINGS = ["ring", "double_ring", "split_ring", "split_double_ring", "square_split_double_ring"]
 
@@ -139,7 +140,9 @@ ROUND_TRIP_LIMIT = 1_000
 WRITERS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
 
 NASTY = [0.0, -1.0, float("inf"), float("-inf"), float("nan"), 5e-324, 1e-320, 1e-200, 1e-15,
-         1e17, 1e300, 10**400, -(10**400), "4,5", [1, 2], True, np.array([1.0, 2.0])]  # fmt: skip
+         1e17, 1e300, 10**400, -(10**400), "4,5", [1, 2], True, False, np.True_,
+         np.array([1.0, 2.0]), None, {}, {"a": 1}, "x" * 3000,
+         functools.reduce(lambda v, _: [v], range(900), 1.0)]  # fmt: skip (issue 4's classes)
 
 
 def magnitude(lo=-320, hi=320):
@@ -156,7 +159,6 @@ EXTREMES = {
     "outer_radius": WILD,
     "patch_size": WILD,
     "patch_width": WILD,
-    "gap_width": WILD,
     "tolerance": st.one_of(WILD, st.sampled_from([0.05, 0.1, 0.0562, 1e-14])),
     "angle_step": st.one_of(magnitude(-325, 3), st.sampled_from([1e-320, 5e-324, 0.0988, 361.0])),
     "subdivisions": st.sampled_from([0, 65, 7, 2.0, 2.5, 10**400, "3", None]),
@@ -171,6 +173,12 @@ EXTREMES = {
     "grading": st.sampled_from([True, 1, "yes", None, np.True_]),
     "growth_ratio": st.one_of(WILD, st.sampled_from([1.0, 1.0 + 1e-12, 2.0, 2.0 + 1e-12])),
     "min_edge": WILD,
+    # issue 4: sizing targets float64 cannot mesh, booleans, slots within the weld tolerance
+    "max_edge": st.one_of(WILD, st.sampled_from([1e-200, 5e-324, 1e-71, 1e-8, 0.05])),
+    "frequency": st.one_of(WILD, st.sampled_from([1e9, 1e11, 1e30])),
+    "cells_per_wavelength": WILD,
+    "relative_permittivity": WILD,
+    "gap_width": st.one_of(WILD, magnitude(-14, -6), st.sampled_from([1e-10, 11.9, 12.0])),
 }  # fmt: skip
 
 
@@ -178,7 +186,8 @@ EXTREMES = {
 SCALE = st.one_of(st.just(1.0), st.just(1.0), magnitude(-120, 120))
 RATIO = st.one_of(st.floats(0.05, 2.0), magnitude(-12, 1))
 RING_GAP = st.one_of(st.floats(0.0, 1.0), st.floats(0.0, 1e-6))
-OPENING = st.one_of(st.floats(0.01, 1.05), st.sampled_from([1 - 1e-9, 1 - 1e-8]))
+OPENING = st.one_of(st.floats(0.01, 1.05), st.sampled_from([1 - 1e-9, 1 - 1e-8]),
+                    st.sampled_from([1e-11, 1e-9, 3e-9, 1e-8]))  # slots near the weld tolerance
 ANGLE_STEP = st.one_of(st.floats(2.0, 120.0), st.floats(0.05, 360.0),
                        st.sampled_from([360.0, 120.0, 90.0, 60.0, 0.5, 0.2, 0.0988]))
 SUBDIVISIONS = st.one_of(st.integers(1, 4), st.integers(1, 64))
@@ -246,6 +255,9 @@ def assert_sound(mesh, p):
     area = signed_areas(mesh)
     assert (area >= 1e-12 * longest).all(), "a triangle is clockwise or flat"
     slow = edge_topology(tri, mesh.n_vertices)
+    # the metric constraint: no two vertices within the welding tolerance stay apart
+    near = cKDTree(pts[:, :2]).query_pairs(p.weld_tolerance)
+    assert not near, f"{len(near)} vertex pairs within the tolerance {p.weld_tolerance:g} mm"
     if p.mode == "conforming":
         assert slow.valence.max() <= 2, "an edge on three or more triangles"
         assert len(np.unique(pts[:, :2], axis=0)) == mesh.n_vertices, "a duplicate vertex"
@@ -293,6 +305,7 @@ def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
         mesh = build_mesh(p)
     except ValueError as err:
         assert names_a_parameter(str(err)), str(err)
+        assert_clear_message(str(err))
         event(f"refused: {str(err).split('=')[0][-20:]}")
         return
     event(f"built: {p.mode} {'small' if mesh.n_triangles <= ROUND_TRIP_LIMIT else 'large'}")

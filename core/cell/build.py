@@ -21,8 +21,10 @@ from scipy.spatial import cKDTree
 
 from ..build import build_mesh
 from ..mesh import TriMesh
+from ..params import DEFAULT_MAX_TRIANGLES, MeshParams
 from ..subdivision import PatchTemplate, patch_template
 from ..topology import INDEX
+from ..values import echo
 from ..weld import merge_pairs, weld_points
 from .contacts import hanging_vertices, overlapping_triangles, pinch_vertices
 from .model import Lattice, UnitCell
@@ -120,8 +122,8 @@ class _Part:
     min_spacing: float
 
 
-def _element_part(element) -> _Part:
-    mesh = build_mesh(element.params)
+def _element_part(element, mesh: TriMesh) -> _Part:
+    """The placed part of ``element``, whose own mesh (in its frame) is ``mesh``."""
     xy = element.place(mesh.points[:, :2])
     rects = None
     if mesh.patch_rects is not None and element.rotation % 90.0 == 0.0:
@@ -231,7 +233,12 @@ def _check_tolerance(cell: UnitCell, parts: list[_Part]) -> None:
         )
 
 
-def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellMesh:
+def build_cell(
+    cell: UnitCell,
+    *,
+    refuse_corner_contacts: bool = False,
+    max_triangles: int = DEFAULT_MAX_TRIANGLES,
+) -> CellMesh:
     """Mesh a unit cell: all parts welded into one mesh, contacts checked.
 
     Parameters
@@ -240,6 +247,10 @@ def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellM
     refuse_corner_contacts : bool
         Raise ``ValueError`` instead of noting pixels (or, in conforming mode,
         any parts) that meet at a single corner.
+    max_triangles : int
+        Triangle budget of the whole cell: a cell whose parts together would
+        have more (:meth:`UnitCell.predicted_triangles`) is refused before any
+        part is built.
 
     Returns
     -------
@@ -249,7 +260,8 @@ def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellM
     ------
     ValueError
         In conforming mode, when two parts overlap (the message names both);
-        corner contacts with ``refuse_corner_contacts``; a tolerance too large.
+        corner contacts with ``refuse_corner_contacts``; a tolerance too large;
+        more triangles than ``max_triangles``.
 
     Examples
     --------
@@ -259,8 +271,13 @@ def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellM
     (64, 45)
     """
     if not isinstance(cell, UnitCell):
-        raise TypeError(f"cell must be a UnitCell, got {type(cell).__name__}")
-    parts = [_element_part(el) for el in cell.elements]
+        raise TypeError(f"cell must be a UnitCell, got {echo(cell)}")
+    _check_budget(cell.predicted_triangles(), max_triangles, "the cell's parts")
+    built: dict[MeshParams, TriMesh] = {}  # elements alike in all but place are built once
+    for el in cell.elements:
+        if el.params not in built:
+            built[el.params] = build_mesh(el.params)
+    parts = [_element_part(el, built[el.params]) for el in cell.elements]
     if cell.pixels is not None and cell.pixels.mask.any():
         parts.append(_pixel_part(cell))
     elif cell.pixels is not None:
@@ -291,6 +308,21 @@ def build_cell(cell: UnitCell, *, refuse_corner_contacts: bool = False) -> CellM
     for note in result.notes:  # checks the periodic match too
         log.info("cell %r: %s", cell.name, note)
     return result
+
+
+def _check_budget(predicted: int, max_triangles: int, what: str) -> None:
+    """Refuse ``predicted`` triangles above the budget, before anything is allocated."""
+    if isinstance(max_triangles, bool) or not isinstance(max_triangles, int | np.integer) or (
+            max_triangles < 1):  # fmt: skip
+        raise ValueError(
+            f"max_triangles={echo(max_triangles)} is invalid; expected an integer >= 1"
+        )
+    if predicted > max_triangles:
+        raise ValueError(
+            f"{what} would make {predicted:,} triangles, above the budget max_triangles="
+            f"{max_triangles:,}; use fewer or coarser elements (a larger angle_step or "
+            "patch_size, fewer subdivisions), fewer copies, or raise max_triangles"
+        )
 
 
 def _empty_mesh(cell: UnitCell) -> TriMesh:
@@ -405,7 +437,9 @@ def _outside_notes(cell: UnitCell, parts: list[_Part | None]) -> list[str]:
     return notes
 
 
-def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
+def tile(
+    cell: UnitCell | CellMesh, n1: int, n2: int, *, max_triangles: int = DEFAULT_MAX_TRIANGLES
+) -> CellMesh:
     """An n1 x n2 array of the cell as one welded mesh, centred on the origin.
 
     Copy (i, j) is the cell moved by (i − (n1 − 1)/2) a1 + (j − (n2 − 1)/2) a2;
@@ -419,6 +453,8 @@ def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
         A built cell is not built again.
     n1, n2 : int
         Copies along a1 and a2, >= 1.
+    max_triangles : int
+        Triangle budget of the array (and of the cell when it is built here).
 
     Returns
     -------
@@ -435,7 +471,13 @@ def tile(cell: UnitCell | CellMesh, n1: int, n2: int) -> CellMesh:
     for name, n in (("n1", n1), ("n2", n2)):
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             raise ValueError(f"{name}={n!r} is invalid; expected an integer >= 1")
-    base = cell if isinstance(cell, CellMesh) else build_cell(cell)
+    per = cell.mesh.n_triangles if isinstance(cell, CellMesh) else None
+    if per is None:
+        if not isinstance(cell, UnitCell):
+            raise TypeError(f"cell must be a UnitCell or a CellMesh, got {echo(cell)}")
+        per = cell.predicted_triangles()
+    _check_budget(per * n1 * n2, max_triangles, f"{n1} x {n2} copies of {per:,} triangles")
+    base = cell if isinstance(cell, CellMesh) else build_cell(cell, max_triangles=max_triangles)
     unit = base.cell
     lat = base.lattice
     a1, a2 = np.asarray(lat.a1), np.asarray(lat.a2)

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..params import MODES, MeshParams
 from ..presets import read_json_file
+from ..values import echo, kind
 from .model import Element, Lattice, PixelGrid, UnitCell
 
 FORMAT = "barymesh-cell"
@@ -66,7 +67,8 @@ def _unknown(data: dict[str, Any], known: tuple[str, ...] | set[str], where: str
     if extra:
         prefix = f"{where}." if where else ""
         raise _fail(
-            f"{prefix}{extra[0]}", f"unknown key; expected one of {', '.join(sorted(known))}"
+            f"{prefix}{extra[0] if len(extra[0]) <= 40 else echo(extra[0])}",
+            f"unknown key; expected one of {', '.join(sorted(known))}",
         )
 
 
@@ -131,25 +133,25 @@ def cell_from_dict(data: Any, source: str = "cell") -> UnitCell:
 
 def _cell_from_dict(data: Any) -> UnitCell:
     if not isinstance(data, dict):
-        raise _fail("document", f"expected a JSON object, got {type(data).__name__}")
+        raise _fail("document", f"expected a JSON object, got {kind(data)}")
     _unknown(data, _TOP_KEYS, "")
     if data.get("format", FORMAT) != FORMAT:
-        raise _fail("format", f"{data['format']!r} is not a cell file; expected {FORMAT!r}")
+        raise _fail("format", f"{echo(data['format'])} is not a cell file; expected {FORMAT!r}")
     version = data.get("version")
     if version != VERSION:
-        raise _fail("version", f"{version!r} is not supported; expected {VERSION}")
+        raise _fail("version", f"{echo(version)} is not supported; expected {VERSION}")
     mode = data.get("mode", "paper")
-    if mode not in MODES:
-        raise _fail("mode", f"{mode!r} is unknown; expected one of {', '.join(MODES)}")
+    if not isinstance(mode, str) or mode not in MODES:
+        raise _fail("mode", f"{echo(mode)} is unknown; expected one of {', '.join(MODES)}")
     lattice = _lattice(data.get("lattice"))
     raw_elements = data.get("elements", [])
     if not isinstance(raw_elements, list):
-        raise _fail("elements", f"expected a list of elements, got {type(raw_elements).__name__}")
+        raise _fail("elements", f"expected a list of elements, got {kind(raw_elements)}")
     elements = tuple(_element(e, f"elements[{k}]", mode) for k, e in enumerate(raw_elements))
     pixels = None if data.get("pixels") is None else _pixels(data["pixels"])
     for key in ("name", "description"):
         if not isinstance(data.get(key, ""), str):
-            raise _fail(key, f"{data[key]!r} is not a string")
+            raise _fail(key, f"{echo(data[key])} is not a string")
     try:
         return UnitCell(
             lattice=lattice,
@@ -162,7 +164,7 @@ def _cell_from_dict(data: Any) -> UnitCell:
         )
     except (ValueError, TypeError) as exc:
         text = str(exc)
-        match = re.match(r"(elements\[\d+\](?:\.\w+)?)", text)
+        match = re.match(r"(elements\[\d+\](?:\.\w+)?|pixels\.\w+)", text)
         if match:
             raise _fail(match.group(1), text) from None
         match = re.match(r"(\w+)=", text)
@@ -172,19 +174,27 @@ def _cell_from_dict(data: Any) -> UnitCell:
 def _lattice(raw: Any) -> Lattice:
     if not isinstance(raw, dict):
         raise _fail(
-            "lattice", f"expected an object such as {{'rectangular': [px, py]}}, got {raw!r}"
+            "lattice",
+            f"expected an object such as {{'rectangular': [px, py]}}, got {kind(raw)} "
+            f"{echo(raw)}",
         )
     try:
         if set(raw) == {"rectangular"}:
             value = raw["rectangular"]
-            if isinstance(value, int | float):
-                return Lattice.rectangular(value)
-            px, py = value
-            return Lattice.rectangular(px, py)
+            if isinstance(value, list) and len(value) in (1, 2):
+                return Lattice.rectangular(*value)
+            if isinstance(value, list | dict | str) or value is None:
+                raise _fail(
+                    "lattice.rectangular",
+                    f"{echo(value)} is invalid; expected a period in mm or two periods [px, py]",
+                )
+            return Lattice.rectangular(value)
         if set(raw) == {"hexagonal"}:
             return Lattice.hexagonal(raw["hexagonal"])
         if set(raw) == {"a1", "a2"}:
             return Lattice(raw["a1"], raw["a2"])
+    except CellFileError:
+        raise
     except (ValueError, TypeError) as exc:
         match = re.match(r"(\w+)=", str(exc))
         key = {"px": "rectangular", "py": "rectangular", "a": "hexagonal"}.get(
@@ -193,20 +203,21 @@ def _lattice(raw: Any) -> Lattice:
         raise _fail(f"lattice.{key}" if key else "lattice", str(exc)) from None
     raise _fail(
         "lattice",
-        f"keys {sorted(raw)} are invalid; expected 'rectangular', 'hexagonal', or 'a1' and 'a2'",
+        f"keys {echo(sorted(raw))} are invalid; expected 'rectangular', 'hexagonal', or 'a1' "
+        "and 'a2'",
     )
 
 
 def _element(raw: Any, where: str, mode: str) -> Element:
     if not isinstance(raw, dict):
-        raise _fail(where, f"expected an object of element fields, got {type(raw).__name__}")
+        raise _fail(where, f"expected an object of element fields, got {kind(raw)}")
     fields = set(MeshParams.__dataclass_fields__)
     _unknown(raw, fields | set(_ELEMENT_KEYS), where)
     params = {k: v for k, v in raw.items() if k not in _ELEMENT_KEYS}
     if "mode" in params and params["mode"] != mode:
         raise _fail(
             f"{where}.mode",
-            f"mode={params['mode']!r} differs from the cell's mode={mode!r}; "
+            f"mode={echo(params['mode'])} differs from the cell's mode={mode!r}; "
             "an element takes the cell's mode (leave it out)",
         )
     params["mode"] = mode
@@ -228,7 +239,7 @@ def _element(raw: Any, where: str, mode: str) -> Element:
 def _pixels(raw: Any) -> PixelGrid:
     where = "pixels"
     if not isinstance(raw, dict):
-        raise _fail(where, f"expected an object with 'rows', got {type(raw).__name__}")
+        raise _fail(where, f"expected an object with 'rows', got {kind(raw)}")
     _unknown(raw, _PIXEL_KEYS, where)
     rows = raw.get("rows")
     if not isinstance(rows, list) or not rows or not all(isinstance(r, str) for r in rows):
@@ -238,7 +249,7 @@ def _pixels(raw: Any) -> PixelGrid:
         if len(row) != width or set(row) - {"0", "1"}:
             raise _fail(
                 f"{where}.rows[{k}]",
-                f"{row!r} is invalid; expected {width} characters, each 0 or 1",
+                f"{echo(row)} is invalid; expected {width} characters, each 0 or 1",
             )
     mask = np.array([[c == "1" for c in row] for row in rows[::-1]], dtype=bool)
     kwargs = {k: raw[k] for k in _PIXEL_KEYS[1:] if k in raw}

@@ -24,32 +24,29 @@ from typing import Any
 
 import numpy as np
 
-from ..params import MODES, RELATIVE_TOLERANCE, MeshParams
+from ..params import (
+    MAX_COORDINATE,
+    MIN_EDGE,
+    MIN_RELATIVE_EDGE,
+    MIN_RELATIVE_TOLERANCE,
+    MODES,
+    RELATIVE_TOLERANCE,
+    MeshParams,
+)
+from ..values import echo, number, pair, positive
 
+#: Largest |rotation| (degrees) of an element; beyond it float64 cannot place the turn.
+MAX_ROTATION = 1e6
 #: Symmetries the pixel helpers know (a painter's modes).
 SYMMETRIES = ("none", "mirror_x", "mirror_y", "4-fold", "8-fold")
 
 
 def _vector(name: str, value: Any) -> tuple[float, float]:
-    try:
-        x, y = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"{name}={value!r} is invalid; expected two numbers (x, y) in mm"
-        ) from None
-    if not (math.isfinite(x) and math.isfinite(y)):
-        raise ValueError(f"{name}={value!r} is invalid; expected finite numbers")
-    return (x, y)
+    return pair(name, value)
 
 
 def _positive(name: str, value: Any) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number; expected a length > 0 mm") from None
-    if not math.isfinite(x) or x <= 0:
-        raise ValueError(f"{name}={value!r} is invalid; expected a finite length > 0 mm")
-    return x
+    return positive(name, value)
 
 
 @dataclass(frozen=True)
@@ -71,6 +68,13 @@ class Lattice:
         a1, a2 = _vector("a1", self.a1), _vector("a2", self.a2)
         object.__setattr__(self, "a1", a1)
         object.__setattr__(self, "a2", a2)
+        for vname, vec in (("a1", a1), ("a2", a2)):
+            length = math.hypot(*vec)
+            if not MIN_EDGE <= length <= MAX_COORDINATE:
+                raise ValueError(
+                    f"{vname}={vec!r} is {length:.3g} mm long; expected a lattice vector "
+                    f"between {MIN_EDGE:.0e} and {MAX_COORDINATE:.0e} mm"
+                )
         cross = a1[0] * a2[1] - a1[1] * a2[0]
         if abs(cross) <= 1e-12 * math.hypot(*a1) * math.hypot(*a2) or cross == 0:
             raise ValueError(
@@ -151,17 +155,17 @@ class Element:
 
     def __post_init__(self) -> None:
         if not isinstance(self.params, MeshParams):
-            raise TypeError(f"params must be a MeshParams, got {type(self.params).__name__}")
+            raise TypeError(f"params must be a MeshParams, got {echo(self.params)}")
         object.__setattr__(self, "position", _vector("position", self.position))
-        try:
-            rot = float(self.rotation)
-        except (TypeError, ValueError):
-            raise ValueError(f"rotation={self.rotation!r} is not a number of degrees") from None
-        if not math.isfinite(rot):
-            raise ValueError(f"rotation={self.rotation!r} is invalid; expected a finite angle")
+        rot = number("rotation", self.rotation, "an angle in degrees")
+        if not (math.isfinite(rot) and abs(rot) <= MAX_ROTATION):
+            raise ValueError(
+                f"rotation={echo(self.rotation)} is invalid; expected a finite angle within "
+                f"+-{MAX_ROTATION:.0e} degrees"
+            )
         object.__setattr__(self, "rotation", rot)
         if not isinstance(self.name, str) or not self.name.strip():
-            raise ValueError(f"name={self.name!r} is invalid; expected a non-empty string")
+            raise ValueError(f"name={echo(self.name)} is invalid; expected a non-empty string")
 
     def place(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) points ``xy`` (N, 2) of the local frame, rotated then translated."""
@@ -343,18 +347,20 @@ class UnitCell:
 
     def __post_init__(self) -> None:
         if not isinstance(self.lattice, Lattice):
-            raise TypeError(f"lattice must be a Lattice, got {type(self.lattice).__name__}")
-        if self.mode not in MODES:
-            raise ValueError(f"mode={self.mode!r} is unknown; expected one of {', '.join(MODES)}")
+            raise TypeError(f"lattice must be a Lattice, got {echo(self.lattice)}")
+        if not isinstance(self.mode, str) or self.mode not in MODES:
+            raise ValueError(
+                f"mode={echo(self.mode)} is unknown; expected one of {', '.join(MODES)}"
+            )
         elements = tuple(self.elements)
         seen: dict[str, int] = {}
         fixed = []
         for k, el in enumerate(elements):
             if not isinstance(el, Element):
-                raise TypeError(f"elements[{k}] must be an Element, got {type(el).__name__}")
+                raise TypeError(f"elements[{k}] must be an Element, got {echo(el)}")
             if el.name in seen:
                 raise ValueError(
-                    f"elements[{k}].name={el.name!r} is already the name of "
+                    f"elements[{k}].name={echo(el.name)} is already the name of "
                     f"elements[{seen[el.name]}]; element names must be unique"
                 )
             seen[el.name] = k
@@ -363,19 +369,80 @@ class UnitCell:
                     params = el.params.replace(mode=self.mode)
                 except ValueError as exc:
                     raise ValueError(
-                        f"elements[{k}] ({el.name!r}) in {self.mode} mode: {exc}"
+                        f"elements[{k}] ({echo(el.name)}) in {self.mode} mode: {exc}"
                     ) from None
                 el = Element(params, el.position, el.rotation, el.name)
             fixed.append(el)
         object.__setattr__(self, "elements", tuple(fixed))
         if self.pixels is not None and not isinstance(self.pixels, PixelGrid):
-            raise TypeError(f"pixels must be a PixelGrid, got {type(self.pixels).__name__}")
+            raise TypeError(f"pixels must be a PixelGrid, got {echo(self.pixels)}")
         if not fixed and (self.pixels is None or not self.pixels.mask.any()):
             raise ValueError("the cell has no metal: add an element or set a pixel")
         if self.tolerance is not None:
             object.__setattr__(self, "tolerance", _positive("tolerance", self.tolerance))
         if not isinstance(self.name, str) or not isinstance(self.description, str):
             raise ValueError("name and description must be strings")
+        self._check_float64()
+
+    def _check_float64(self) -> None:
+        """Refuse parts placed where float64 cannot resolve their edges or the weld.
+
+        A part's coordinates reach ``|position| + sqrt(2) x`` its own extent (any
+        rotation); its shortest sub-triangle edge must be at least
+        ``MIN_RELATIVE_EDGE`` of that, or corners round onto each other (a patch
+        at x = 1e16 mm has triangles that repeat a vertex), and the welding
+        tolerance at least ``MIN_RELATIVE_TOLERANCE`` of it, or shared points stay apart.
+        """
+        tol = self.weld_tolerance
+        for where, shift, reach, edge in self._part_reaches():
+            if not edge >= MIN_RELATIVE_EDGE * reach:
+                far = edge / MIN_RELATIVE_EDGE
+                raise ValueError(
+                    f"{where}={echo(shift)} places metal up to {reach:.3g} mm from the cell's "
+                    f"centre, where float64 cannot resolve its sub-triangle edges of {edge:.3g} "
+                    f"mm (at least {MIN_RELATIVE_EDGE:g} of the largest coordinate); expected "
+                    f"the part within about {far:.3g} mm of the centre"
+                )
+            if not tol >= MIN_RELATIVE_TOLERANCE * reach:
+                name = "tolerance" if self.tolerance is not None else where
+                value = self.tolerance if self.tolerance is not None else shift
+                raise ValueError(
+                    f"{name}={echo(value)}: metal up to {reach:.3g} mm from the cell's centre "
+                    f"is rounded by float64 by more than the welding tolerance {tol:.3g} mm, so "
+                    f"shared points would stay apart; expected the part within "
+                    f"{tol / MIN_RELATIVE_TOLERANCE:.3g} mm of the centre, or a tolerance of at "
+                    f"least {MIN_RELATIVE_TOLERANCE * reach:.3g} mm"
+                )
+
+    def _part_reaches(self) -> list[tuple[str, tuple[float, float], float, float]]:
+        """(field, its value, largest coordinate in mm, shortest edge in mm) of every part."""
+        out = []
+        for k, el in enumerate(self.elements):
+            shift = max(abs(el.position[0]), abs(el.position[1]))
+            reach = shift + math.sqrt(2) * el.params.extent
+            out.append((f"elements[{k}].position", el.position, reach, el.params.min_spacing))
+        if self.pixels is not None:
+            g = self.pixels
+            shift = max(abs(g.origin[0]), abs(g.origin[1]))
+            reach = shift + g.pixel_size * max(g.shape)
+            out.append(("pixels.origin", g.origin, reach, g.patch_params().min_spacing))
+        return out
+
+    def predicted_triangles(self) -> int:
+        """Triangles of the cell's mesh, computed without building it (the parts' sum).
+
+        An element that chooses its own subdivisions (``max_edge`` or ``frequency``)
+        counts with n = 1, a lower bound (its own ``max_triangles`` bounds the rest).
+        """
+        total = sum(
+            (el.params.replace(subdivisions=1) if el.params.sized else el.params)
+            .predicted_triangles()
+            for el in self.elements
+        )
+        if self.pixels is not None:
+            per = self.pixels.patch_params().predicted_triangles()
+            total += int(self.pixels.mask.sum()) * per
+        return total
 
     @property
     def weld_tolerance(self) -> float:
