@@ -385,6 +385,7 @@ class MainWindow(QMainWindow):
         bar_height = max(self.busy.sizeHint().height(), self.cancel_button.sizeHint().height())
         self.statusBar().setMinimumHeight(bar_height + 6)
         self._escape = EscapeCancels(self)
+        self._progress_text: str | None = None  # the progress message on the status bar
         self._progress_timer = QTimer(self)
         self._progress_timer.setInterval(100)
         self._progress_timer.timeout.connect(self._show_progress)
@@ -700,8 +701,18 @@ class MainWindow(QMainWindow):
         else:
             self._progress_timer.stop()
             QApplication.instance().removeEventFilter(self._escape)
-            if self.model.error is None:
-                self.statusBar().clearMessage()
+            self._end_progress()
+
+    def _end_progress(self) -> None:
+        """No build runs: its progress message goes. A value still refused (an inner radius
+        dragged too far while another slider drives the builds) says so again; the status
+        bar never keeps "Meshing … · Esc cancels" for a mesh already on screen."""
+        shown = self.statusBar().currentMessage()
+        if self.model.error is None:
+            self.statusBar().clearMessage()
+        elif shown == self._progress_text or not shown:
+            self._show_error(self.model.error)
+        self._progress_text = None
 
     def _job_changed(self, job: BuildJob | None) -> None:
         if job is not None:
@@ -722,7 +733,8 @@ class MainWindow(QMainWindow):
         else:
             text += " (no estimate yet: the first large build measures this machine)"
             self.busy.setRange(0, 0)
-        self.statusBar().showMessage(text + " · Esc cancels")
+        self._progress_text = text + " · Esc cancels"
+        self.statusBar().showMessage(self._progress_text)
 
     def cancel_build(self) -> None:
         """Abandon the running build; the parameters go back to the mesh on screen."""

@@ -15,7 +15,15 @@ from PySide6.QtCore import Qt  # noqa: E402
 from app.model import SPECS, applies, format_value  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
-from tests.app_user import choose, click_check_box, patch_counts, shown_counts, type_into  # noqa: E402
+from tests.app_user import (  # noqa: E402
+    choose,
+    click_check_box,
+    drag_slider,
+    patch_counts,
+    settle,
+    shown_counts,
+    type_into,
+)
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -195,3 +203,29 @@ def test_bad_command_line_values_exit_1(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "app", "--set", "subdivisions=0", "--quit"],
                           env=env, capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1 and "subdivisions" in proc.stderr
+
+
+#: The paper's Fig. 12(d): 1 mm patches every 20 degrees on both rings, n = 4.
+FIG12D = MeshParams(angle_step=20.0)
+
+
+@pytest.mark.parametrize("window_params", [FIG12D])
+def test_no_progress_message_stays_once_the_mesh_is_shown(window, qtbot):
+    """Issue section 3 item 3: drag Inner radius until refused, then drag Angle step."""
+    window.controller.sync_triangles = 0  # every build in the worker, with its progress
+    settle(window, qtbot)
+    inner = window.controls.rows["inner_radius"].slider
+    drag_slider(inner, inner.maximum())
+    settle(window, qtbot)
+    assert "inner_radius" in window.model.errors  # refused: larger than the outer radius
+    refused = window.model.errors["inner_radius"].message
+    step = window.controls.rows["angle_step"].slider
+    shown = window.model.result
+    drag_slider(step, step.value() - 12)
+    window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result is not shown and not window.controller.busy,
+                    timeout=60_000)
+    assert window.model.params.angle_step < 20.0
+    message = window.statusBar().currentMessage()
+    assert "Meshing" not in message and "Esc cancels" not in message
+    assert refused in message  # the refusal still standing is said again
