@@ -92,16 +92,22 @@ class ViewPicker(QObject):
         in its arrays (:attr:`locate`), so a dense mesh drawn reduced is picked as
         exactly as a small one. Otherwise the triangles are picked by VTK, even while
         the Triangles layer is hidden (VTK skips invisible actors, so the faces are made
-        visible for the pick, which draws nothing).
+        visible for the pick, which draws nothing); a flat mesh's click that neither
+        finds (its locator still being built) is answered when the locator is ready.
         """
-        located = self.locate(float(x), float(y), emit) if self.locate is not None else None
-        if located is not None:
-            triangle, point = located
-            if triangle is None or point is None:
-                return None
+        located = self.locate(float(x), float(y), False) if self.locate is not None else None
+        if located is not None and located[0] is not None:
+            triangle, point = int(located[0]), located[1]
             if emit:
-                self.triangle_picked.emit(int(triangle), point)
-            return int(triangle), point
+                self.triangle_picked.emit(triangle, point)
+            return triangle, point
+        hit = self._vtk_pick(x, y, emit)
+        if hit is None and located is not None and emit:
+            self.locate(float(x), float(y), True)  # a big mesh's locator not ready: later
+        return hit
+
+    def _vtk_pick(self, x: float, y: float, emit: bool) -> tuple[int, np.ndarray] | None:
+        """VTK's pick of what is drawn (a curved mesh; a flat one before its locator)."""
         renderer = self.plotter.renderer
         actor = self.faces_actor
         hidden = not actor.GetVisibility()
