@@ -726,10 +726,15 @@ class MainWindow(QMainWindow):
         elapsed = time.perf_counter() - job.started
         expected = self.controller.estimate(job.triangles)
         text = f"Meshing {job.triangles:,} triangles: {elapsed:.1f} s"
-        if expected is not None:
+        if expected is not None and elapsed <= expected:
             text += f" of about {expected:.1f} s"
             self.busy.setRange(0, 100)
             self.busy.setValue(int(min(99, 100 * elapsed / max(expected, 1e-3))))
+        elif expected is not None:  # never "4.3 s of about 0.2 s": say why it is longer
+            why = ("; a cancelled build is still stopping beside it"
+                   if self.controller.stopping else "")
+            text += f" (longer than the {expected:.1f} s estimated{why})"
+            self.busy.setRange(0, 0)
         else:
             text += " (no estimate yet: the first large build measures this machine)"
             self.busy.setRange(0, 0)
