@@ -43,6 +43,7 @@ from PySide6.QtWidgets import (
     QScrollArea,
     QSpinBox,
     QStyle,
+    QTabBar,
     QTextBrowser,
     QToolBar,
     QToolButton,
@@ -61,7 +62,13 @@ from app.panels.solve_panel import SolvePanel
 from app.panels.stats_panel import StatsPanel
 from app.teach.teaching_tools import TeachingTools
 from app.teach.teaching_windows import TeachingWindows
-from app.view.framing import frame_from_above, look_from_above, pixels_per_mm
+from app.view.framing import (
+    frame_from_above,
+    look_from_above,
+    pixels_per_mm,
+    rect_inside,
+    visible_rect,
+)
 from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from app.view.scene import MeshScene, scene_data
 from app.view.view_tools import ViewTools
@@ -351,7 +358,10 @@ class MainWindow(QMainWindow):
         self.layers = LayersPanel(self.model, self)
         self._add_dock("Parameters", self.controls, Qt.DockWidgetArea.LeftDockWidgetArea,
                        scroll=True)
-        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea)
+        # in a scroll area, like the other tall docks: the statistics' full height (426 px)
+        # must not set the window's minimum height (it did: 733 px, 823 with a cell)
+        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea,
+                       scroll=True)
         self._add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
         self.solve_panel = SolvePanel(self)
@@ -422,6 +432,8 @@ class MainWindow(QMainWindow):
         else:
             self.resize(1400, 860)
             self._restore_layout()
+            if self.model.cell_state is None:  # a saved layout had a cell open: not now
+                self.cell_tools.dock.hide()
             self.teaching.sync_with_docks()
         self.controller.request()
 
@@ -643,7 +655,7 @@ class MainWindow(QMainWindow):
         key = (result.source, p.structure if p else None,
                result.cell.name if result.cell is not None else None)
         bounds = np.asarray(result.scene.bounds)
-        if key != self._camera_key or self._bounds_jumped(bounds):
+        if key != self._camera_key or self._bounds_jumped(bounds) or self._left_view(bounds):
             self.frame_mesh()
         self._camera_key, self._camera_bounds = key, bounds
         if not same:
@@ -681,6 +693,15 @@ class MainWindow(QMainWindow):
         size_old = max(old[1] - old[0], old[3] - old[2], 1e-12)
         size_new = max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-12)
         return not 0.8 <= size_new / size_old <= 1.25
+
+    def _left_view(self, bounds: np.ndarray) -> bool:
+        """Whether the new mesh leaves the view the old one was wholly inside (a patch
+        grown past the view's edge): then the view frames it again."""
+        old = getattr(self, "_camera_bounds", None)
+        if old is None:
+            return False
+        view = visible_rect(self.plotter)
+        return rect_inside(old, view) and not rect_inside(bounds, view)
 
     def _show_error(self, error: ParamError | None) -> None:
         if error is None:
@@ -1114,8 +1135,18 @@ class MainWindow(QMainWindow):
 
     # -- dock layout -----------------------------------------------------------------------
 
+    def tidy_dock_tabs(self) -> None:
+        """Tabbed docks keep their whole titles ("Statistics", not "S…"): a tab bar too
+        narrow for them scrolls instead of eliding them."""
+        for bar in self.findChildren(QTabBar):
+            if isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars
+                bar.setElideMode(Qt.TextElideMode.ElideNone)
+                bar.setUsesScrollButtons(True)
+                bar.setExpanding(False)
+
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().showEvent(event)
+        QTimer.singleShot(0, self.tidy_dock_tabs)
         if not getattr(self, "_shown_once", False):
             self._shown_once = True
             # dock tabs exist once shown: Statistics on top of the docks tabbed with it,
@@ -1159,6 +1190,7 @@ class MainWindow(QMainWindow):
         finally:
             self._arranging = False
         self._narrow = narrow
+        self.tidy_dock_tabs()
 
     def _dock_moved(self, *_args: Any) -> None:
         if not self._arranging:
