@@ -182,6 +182,41 @@ def test_resting_zoomed_in_brings_back_full_detail_of_the_part_in_view(window, q
     assert u >= -1e-6 and v >= -1e-6 and u + v <= 1 + 1e-6
 
 
+def test_inspector_clicks_pick_on_the_dense_mesh(window, qtbot):
+    """Issue section 3 item 1 at 1,474,560 triangles: a click on metal selects the edge
+    under it (within 0.1 mm), from the mesh's arrays, though the view draws an image."""
+    from tests.gui_helpers import widget_pos
+    from tests.test_app_inspector import _clicked_point, _triangles_holding
+
+    with qtbot.waitActive(window):  # the I shortcut needs the active window
+        window.activateWindow()
+    type_value(qtbot, window, "subdivisions", str(DENSE_N))
+    qtbot.waitUntil(lambda: shown_triangles(window) == 720 * 2 * DENSE_N**2, timeout=120_000)
+    assert window.scene.reduced
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # Teach -> RWG basis inspector
+    panel = window.teaching.inspector
+    assert not window.teaching.inspector_dock.isHidden()
+    # its dock narrows the view, which frames the mesh anew: click where it is then
+    qtbot.waitUntil(lambda: window.plotter.width() == window.plotter.renderer.GetSize()[0]
+                    / window.plotter.devicePixelRatioF(), timeout=10_000)
+    qtbot.wait(100)
+    window.plotter.render()
+    mesh = window.model.result.mesh
+    edge = int(mesh.rwg.edge[len(mesh.rwg.edge) // 2])
+    target = mesh.points[mesh.edges[edge]].mean(axis=0)
+    before = panel.edge
+    pos = widget_pos(window.plotter, target)
+    clicked = _clicked_point(window, pos)  # where the click lands, with this camera
+    assert np.linalg.norm(clicked - target) < 0.1
+    qtbot.mouseClick(window.plotter, Qt.MouseButton.LeftButton, pos=pos)
+    qtbot.waitUntil(lambda: panel.edge is not None and panel.edge != before, timeout=60_000)
+    p, q = mesh.points[mesh.edges[panel.edge]]
+    s = np.clip(np.dot(clicked - p, q - p) / np.dot(q - p, q - p), 0.0, 1.0)
+    assert np.linalg.norm(p + s * (q - p) - clicked) < 0.1
+    assert panel.edge in set(mesh.triangle_edges[_triangles_holding(mesh, clicked)].ravel())
+
+
 def test_esc_cancels_a_long_build_and_keeps_the_mesh_on_screen(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     type_value(qtbot, window, "subdivisions", str(HEAVY_N))
