@@ -459,3 +459,23 @@ def test_the_view_frames_a_mesh_that_left_it(window, qtbot):
     x0, x1, y0, y1 = window.scene.bounds
     assert (x0, y0) == (60.0, 40.0)
     assert rect_inside(window.scene.bounds, visible_rect(window.plotter))
+
+
+def test_ctrl_z_in_a_field_undoes_the_parameter_change(window, qtbot):
+    """After typing 3 and Enter, Ctrl+Z in the field is the window's Undo (the line edit's
+    own undo used to put "2" back as text only, the mesh staying at n = 3)."""
+    with qtbot.waitActive(window):  # Ctrl+Z is a window shortcut
+        window.activateWindow()
+    row = window.controls.rows["subdivisions"]
+    type_into(row.field, "3")
+    settle(window, qtbot)
+    assert_counts(window, patch_counts(COARSE_PATCHES, 3))
+    QTest.keyClick(row.field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    settle(window, qtbot)
+    assert window.model.params.subdivisions == 2 and row.field.text() == "2"
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))
+    # while an edit is under way Ctrl+Z undoes the typing, the parameters stay
+    QTest.keyClicks(row.field, "5")
+    QTest.keyClick(row.field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    settle(window, qtbot)
+    assert window.model.params.subdivisions == 2 and row.field.text() == "2"

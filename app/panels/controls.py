@@ -60,6 +60,16 @@ def decimal_point() -> str:
     return QLocale().decimalPoint()
 
 
+def _is_undo_key(event: QKeyEvent) -> bool:
+    """Ctrl+Z, Ctrl+Shift+Z or Ctrl+Y (the window's Undo and Redo)."""
+    mods = event.modifiers() & ~Qt.KeyboardModifier.KeypadModifier
+    ctrl = Qt.KeyboardModifier.ControlModifier
+    shift = Qt.KeyboardModifier.ShiftModifier
+    if event.key() == Qt.Key.Key_Z:
+        return mods in (ctrl, ctrl | shift)
+    return event.key() == Qt.Key.Key_Y and mods == ctrl
+
+
 class ValueField(QLineEdit):
     """A line edit for one typed value.
 
@@ -95,6 +105,14 @@ class ValueField(QLineEdit):
                 and event.key() == Qt.Key.Key_Escape
                 and (self.property("refused") or self.text() != self._shown)):
             event.accept()
+            return True
+        # Ctrl+Z / redo in a field showing the accepted value is the window's Undo of the
+        # parameter change (the line edit's own text undo put back a text that was not
+        # the value, and submitted nothing); with an edit under way it undoes typing
+        if (event.type() == QEvent.Type.ShortcutOverride
+                and _is_undo_key(event)
+                and self.text() == self._shown and not self.property("refused")):
+            event.ignore()
             return True
         return super().event(event)
 
