@@ -24,7 +24,7 @@ import math
 import re
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from app.edit.cell_document import CellState, CellTarget
@@ -77,6 +77,11 @@ RING_STRUCTURES = tuple(s for s in STRUCTURES if s not in ("patch", "triangle"))
 NOT_TRIANGLE = tuple(s for s in STRUCTURES if s != "triangle")
 
 
+#: A logarithmic slider spans this many decades each side of the value it is centred on
+#: (:meth:`ParamSpec.around`); the typed field takes anything beyond.
+SLIDER_DECADES = 1
+
+
 @dataclass(frozen=True)
 class ParamSpec:
     """How one parameter is shown: a field that takes typed values, and maybe a slider.
@@ -104,6 +109,9 @@ class ParamSpec:
     tooltip: str = ""
     #: The field shows value / scale in ``unit`` (frequency: Hz shown in GHz, scale 1e9).
     scale: float = 1.0
+    #: The slider spans :data:`SLIDER_DECADES` each side of the value, not the whole
+    #: range (lengths, the angle step: :meth:`around`).
+    follows_value: bool = False
 
     @property
     def log_scale(self) -> bool:
@@ -153,13 +161,58 @@ class ParamSpec:
             value = round(self.minimum + (pos - self._offset) * self.step, 10)
         return int(round(value)) if self.integer else float(value)
 
+    @property
+    def windowed(self) -> bool:
+        """Whether the slider shows a window around the value rather than the whole range
+        (a logarithmic scale over more than ``2 * SLIDER_DECADES`` decades)."""
+        return (self.follows_value and self.slider and self.log_scale
+                and self.maximum > self.minimum * 10 ** (2 * SLIDER_DECADES) * (1 + 1e-9))
+
+    def around(self, value: Any) -> ParamSpec:
+        """The slider's spec centred on ``value``: :data:`SLIDER_DECADES` each side.
+
+        Within ``minimum`` … ``maximum`` (at an end the window keeps its width, shifted
+        inwards). Itself when not :attr:`windowed` or ``value`` is not a positive number.
+
+        >>> spec = SPECS["patch_size"]
+        >>> w = spec.around(10.0)
+        >>> w.minimum, w.maximum, w.from_slider(w.to_slider(10.0)), w.slider_max
+        (1.0, 100.0, 10.0, 96)
+        >>> spec.around(0.02).minimum, spec.around(0.02).maximum
+        (0.01, 1.0)
+        """
+        if not self.windowed or isinstance(value, (str, bool)) or value is None:
+            return self
+        try:
+            centre = float(value)
+        except (TypeError, ValueError, OverflowError):
+            return self
+        if not math.isfinite(centre) or centre <= 0:
+            return self
+        factor = 10.0**SLIDER_DECADES
+        lo, hi = centre / factor, centre * factor
+        if lo < self.minimum:
+            lo, hi = self.minimum, self.minimum * factor**2
+        elif hi > self.maximum:
+            lo, hi = self.maximum / factor**2, self.maximum
+        return replace(self, minimum=lo, maximum=hi)
+
+    def holds(self, value: Any) -> bool:
+        """Whether ``value`` is a number on this spec's slider (``minimum`` … ``maximum``)."""
+        try:
+            v = float(value)
+        except (TypeError, ValueError, OverflowError):
+            return False
+        return self.minimum * (1 - 1e-9) <= v <= self.maximum * (1 + 1e-9)
+
     def applies(self, structure: str) -> bool:
         return structure in self.structures
 
 
 #: Lengths span what the presets use (0.5 mm split-ring tracks to Makarov's 1000 mm plate)
 #: with room on both sides, so their sliders are logarithmic.
-_LENGTH = {"unit": "mm", "minimum": 0.01, "maximum": 10_000.0, "per_decade": 48}
+_LENGTH = {"unit": "mm", "minimum": 0.01, "maximum": 10_000.0, "per_decade": 48,
+           "follows_value": True}
 
 PARAM_SPECS = (
     ParamSpec("inner_radius", "Inner radius", structures=RING_STRUCTURES, **_LENGTH,
@@ -169,7 +222,7 @@ PARAM_SPECS = (
     ParamSpec("patch_size", "Patch size", **_LENGTH,
               tooltip="Side of a square patch, and width of a ring's track"),
     ParamSpec("angle_step", "Angle step", "°", 0.001, 360.0, per_decade=48,
-              structures=ANGULAR_STRUCTURES,
+              structures=ANGULAR_STRUCTURES, follows_value=True,
               tooltip="Angle between neighbouring patches (paper) or the widest sector "
                       "(conforming), in (0, 360]"),
     ParamSpec("subdivisions", "Subdivisions n", "", 1, MAX_UNIFORM_SUBDIVISIONS, 1,

@@ -46,6 +46,7 @@ from PySide6.QtWidgets import (
     QScrollArea,
     QSpinBox,
     QStyle,
+    QTabBar,
     QTextBrowser,
     QToolBar,
     QToolButton,
@@ -64,7 +65,13 @@ from app.panels.solve_panel import SolvePanel
 from app.panels.stats_panel import StatsPanel
 from app.teach.teaching_tools import TeachingTools
 from app.teach.teaching_windows import TeachingWindows
-from app.view.framing import frame_from_above, look_from_above, pixels_per_mm
+from app.view.framing import (
+    frame_from_above,
+    look_from_above,
+    pixels_per_mm,
+    rect_inside,
+    visible_rect,
+)
 from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from app.view.scene import MeshScene, scene_data
 from app.view.view_tools import ViewTools
@@ -385,7 +392,10 @@ class MainWindow(QMainWindow):
         self.layers = LayersPanel(self.model, self)
         self._add_dock("Parameters", self.controls, Qt.DockWidgetArea.LeftDockWidgetArea,
                        scroll=True)
-        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea)
+        # in a scroll area, like the other tall docks: the statistics' full height (426 px)
+        # must not set the window's minimum height (it did: 733 px, 823 with a cell)
+        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea,
+                       scroll=True)
         self._add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
         self.solve_panel = SolvePanel(self)
@@ -419,6 +429,7 @@ class MainWindow(QMainWindow):
         bar_height = max(self.busy.sizeHint().height(), self.cancel_button.sizeHint().height())
         self.statusBar().setMinimumHeight(bar_height + 6)
         self._escape = EscapeCancels(self)
+        self._progress_text: str | None = None  # the progress message on the status bar
         self._progress_timer = QTimer(self)
         self._progress_timer.setInterval(100)
         self._progress_timer.timeout.connect(self._show_progress)
@@ -455,6 +466,8 @@ class MainWindow(QMainWindow):
         else:
             self.resize(1400, 860)
             self._restore_layout()
+            if self.model.cell_state is None:  # a saved layout had a cell open: not now
+                self.cell_tools.dock.hide()
             self.teaching.sync_with_docks()
         self.controller.request()
 
@@ -676,7 +689,7 @@ class MainWindow(QMainWindow):
         key = (result.source, p.structure if p else None,
                result.cell.name if result.cell is not None else None)
         bounds = np.asarray(result.scene.bounds)
-        if key != self._camera_key or self._bounds_jumped(bounds):
+        if key != self._camera_key or self._bounds_jumped(bounds) or self._left_view(bounds):
             self.frame_mesh()
         self._camera_key, self._camera_bounds = key, bounds
         if not same:
@@ -715,6 +728,15 @@ class MainWindow(QMainWindow):
         size_new = max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-12)
         return not 0.8 <= size_new / size_old <= 1.25
 
+    def _left_view(self, bounds: np.ndarray) -> bool:
+        """Whether the new mesh leaves the view the old one was wholly inside (a patch
+        grown past the view's edge): then the view frames it again."""
+        old = getattr(self, "_camera_bounds", None)
+        if old is None:
+            return False
+        view = visible_rect(self.plotter)
+        return rect_inside(old, view) and not rect_inside(bounds, view)
+
     def _show_error(self, error: ParamError | None) -> None:
         if error is None:
             self.statusBar().clearMessage()
@@ -734,8 +756,18 @@ class MainWindow(QMainWindow):
         else:
             self._progress_timer.stop()
             QApplication.instance().removeEventFilter(self._escape)
-            if self.model.error is None:
-                self.statusBar().clearMessage()
+            self._end_progress()
+
+    def _end_progress(self) -> None:
+        """No build runs: its progress message goes. A value still refused (an inner radius
+        dragged too far while another slider drives the builds) says so again; the status
+        bar never keeps "Meshing … · Esc cancels" for a mesh already on screen."""
+        shown = self.statusBar().currentMessage()
+        if self.model.error is None:
+            self.statusBar().clearMessage()
+        elif shown == self._progress_text or not shown:
+            self._show_error(self.model.error)
+        self._progress_text = None
 
     def _job_changed(self, job: BuildJob | None) -> None:
         if job is not None:
@@ -749,14 +781,20 @@ class MainWindow(QMainWindow):
         elapsed = time.perf_counter() - job.started
         expected = self.controller.estimate(job.triangles)
         text = f"Meshing {job.triangles:,} triangles: {elapsed:.1f} s"
-        if expected is not None:
+        if expected is not None and elapsed <= expected:
             text += f" of about {expected:.1f} s"
             self.busy.setRange(0, 100)
             self.busy.setValue(int(min(99, 100 * elapsed / max(expected, 1e-3))))
+        elif expected is not None:  # never "4.3 s of about 0.2 s": say why it is longer
+            why = ("; a cancelled build is still stopping beside it"
+                   if self.controller.stopping else "")
+            text += f" (longer than the {expected:.1f} s estimated{why})"
+            self.busy.setRange(0, 0)
         else:
             text += " (no estimate yet: the first large build measures this machine)"
             self.busy.setRange(0, 0)
-        self.statusBar().showMessage(text + " · Esc cancels")
+        self._progress_text = text + " · Esc cancels"
+        self.statusBar().showMessage(self._progress_text)
 
     def cancel_build(self) -> None:
         """Abandon the running build; the parameters go back to the mesh on screen."""
@@ -1243,8 +1281,18 @@ class MainWindow(QMainWindow):
 
     # -- dock layout -----------------------------------------------------------------------
 
+    def tidy_dock_tabs(self) -> None:
+        """Tabbed docks keep their whole titles ("Statistics", not "S…"): a tab bar too
+        narrow for them scrolls instead of eliding them."""
+        for bar in self.findChildren(QTabBar):
+            if isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars
+                bar.setElideMode(Qt.TextElideMode.ElideNone)
+                bar.setUsesScrollButtons(True)
+                bar.setExpanding(False)
+
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().showEvent(event)
+        QTimer.singleShot(0, self.tidy_dock_tabs)
         if not getattr(self, "_shown_once", False):
             self._shown_once = True
             # dock tabs exist once shown: Statistics on top of the docks tabbed with it,
@@ -1288,6 +1336,7 @@ class MainWindow(QMainWindow):
         finally:
             self._arranging = False
         self._narrow = narrow
+        self.tidy_dock_tabs()
 
     def _dock_moved(self, *_args: Any) -> None:
         if not self._arranging:

@@ -12,8 +12,9 @@ build cooperatively: its ``cancel`` callable (checked by ``core.build_mesh`` bet
 stages and by :func:`app.model.compute` between build, statistics and scene) returns
 True, and the new build starts at once beside it; at most one abandoned build winds
 down at a time. Parameters equal to those of the mesh on screen (Undo of a change still
-being built) need no build at all. Results that are no longer the model's latest
-generation are dropped by ``AppModel.set_result``.
+being built) need no build at all; those of one of the last few small meshes
+(:data:`RECENT_COUNT`, Undo after a cancel) only the mesh, with the scene kept. Results
+that are no longer the model's latest generation are dropped by ``AppModel.set_result``.
 
 :meth:`MeshController.estimate` predicts a build's time from the speed of the recent
 large builds on this machine (triangles per second).
@@ -46,6 +47,12 @@ SYNC_TRIANGLES = 5_000
 CANCEL_TRIANGLES = 200_000
 #: Builds of at least this many triangles feed the speed estimate.
 _RATE_MIN_TRIANGLES = 100_000
+#: The scene arrays of the last few meshes of up to this many triangles are kept (not
+#: the meshes): Undo back to one of them (also right after cancelling a long build, whose
+#: scene stage runs on for seconds beside whatever starts next) rebuilds only the mesh,
+#: a few hundredths of a second, and reuses them.
+RECENT_TRIANGLES = 100_000
+RECENT_COUNT = 4
 
 
 @dataclasses.dataclass(eq=False)
@@ -107,6 +114,11 @@ def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) ->
     threading.Thread(target=run, daemon=True, name="barymesh-worker").start()
 
 
+def _kept_scene(scene: object, _mesh: object) -> object:
+    """``prepare`` of a rebuild whose scene arrays were kept (the build is deterministic)."""
+    return scene
+
+
 class _Gate:
     """``emit`` of a controller's signal from a build thread, dropped once it is stopped."""
 
@@ -143,6 +155,8 @@ class MeshController(QObject):
         self.current: BuildJob | None = None
         self._stale: list[BuildJob] = []
         self.rate: float | None = None  # triangles per second of recent large builds
+        #: (key, scene) of the last small meshes delivered, newest last (see _recent_key)
+        self._recent: list[tuple[tuple[object, ...], object]] = []
         self.last_request_time = 0.0
         self.builds = 0  # results handed to the model
         #: the 3D view's size in pixels (set by the window): the scene arrays made in the
@@ -158,6 +172,11 @@ class MeshController(QObject):
     @property
     def busy(self) -> bool:
         return self.current is not None
+
+    @property
+    def stopping(self) -> bool:
+        """Whether a cancelled build is still running to its next checkpoint."""
+        return bool(self._stale)
 
     def request(self) -> None:
         """Mesh the model's current parameters (coalesced with other requests)."""
@@ -202,6 +221,9 @@ class MeshController(QObject):
         triangles = params.predicted_triangles()
         prepare = partial(scene_data, color_by=self.model.color_by,
                           pixels=self.view_size() if self.view_size else None)
+        kept = self._recent_scene(params)
+        if kept is not None:  # a small mesh shown a moment ago (Undo): its scene as it was
+            prepare = partial(_kept_scene, kept)
         # an explicit tolerance can make the weld slow or fail: never on the GUI thread;
         # nor a sized mesh, whose triangles depend on the subdivisions the mesher picks
         if triangles <= self.sync_triangles and params.tolerance is None and not params.sized:
@@ -253,6 +275,25 @@ class MeshController(QObject):
                 self.rate = rate if self.rate is None else 0.5 * (self.rate + rate)
         if self.model.set_result(result):  # dropped there if stale
             self.builds += 1
+            self._remember(result)
+
+    def _recent_key(self, target: object) -> tuple[object, ...]:
+        """What a kept result must match: the target, the colouring and the view size its
+        scene arrays were made for."""
+        return (target, self.model.color_by, self.view_size() if self.view_size else None)
+
+    def _remember(self, result: MeshResult) -> None:
+        if (result.error is not None or result.mesh is None or result.scene is None
+                or result.source != "parameters"
+                or result.mesh.n_triangles > RECENT_TRIANGLES):
+            return
+        key = self._recent_key(result.target)
+        self._recent = [(k, s) for k, s in self._recent if k != key][-(RECENT_COUNT - 1):]
+        self._recent.append((key, result.scene))
+
+    def _recent_scene(self, target: object) -> object | None:
+        key = self._recent_key(target)
+        return next((s for k, s in reversed(self._recent) if k == key), None)
 
     def _finished(self, payload: tuple[BuildJob, MeshResult]) -> None:
         job, result = payload
@@ -293,6 +334,7 @@ class MeshController(QObject):
             self._stopped = True
         self._timer.stop()
         self._pending = None
+        self._recent.clear()
         if self.current is not None:
             self.current.cancelled = True
             self._stale.append(self.current)

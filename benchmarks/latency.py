@@ -355,7 +355,7 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
                 "renderer": renderer, "big": big_doc}
 
     row = window.controls.rows[name]
-    positions = [row.spec.to_slider(v) for v in values]
+    positions = [row.slider_spec.to_slider(v) for v in values]  # its window around the value
     if positions[0] == positions[1]:
         raise ValueError(f"{name}={values}: both values fall on slider position {positions[0]}")
     shown.clear()

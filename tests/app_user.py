@@ -163,3 +163,17 @@ def click_check_box(box) -> None:
     box.initStyleOption(opt)
     rect = box.style().subElementRect(QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
     QTest.mouseClick(box, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, rect.center())
+
+
+def drag_slider_by(slider: QSlider, dx: int, steps: int = 8) -> None:
+    """Press the handle, move it ``dx`` pixels (in ``steps`` moves) and release, as a mouse
+    does."""
+    handle, _groove = _handle_rect(slider)
+    start = handle.center()
+    left = Qt.MouseButton.LeftButton
+    _mouse(slider, QEvent.Type.MouseButtonPress, start, left)
+    for i in range(1, steps + 1):
+        _mouse(slider, QEvent.Type.MouseMove, QPoint(start.x() + dx * i // steps, start.y()),
+               left)
+    _mouse(slider, QEvent.Type.MouseButtonRelease, QPoint(start.x() + dx, start.y()),
+           Qt.MouseButton.NoButton)

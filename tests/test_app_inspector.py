@@ -16,7 +16,8 @@ from app.teach.inspector import (  # noqa: E402
     step_edge,
 )
 from core import MeshParams, build_mesh  # noqa: E402
-from tests.gui_helpers import near, type_into  # noqa: E402
+from tests.app_user import settle  # noqa: E402
+from tests.gui_helpers import near, type_into, widget_pos  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
 
@@ -289,3 +290,63 @@ def test_zoom_to_edge_frames_its_triangles(window, qtbot):
     assert 0.25 * min(w, h) < (hi - lo).max() <= 0.4 * min(w, h) + 1
     assert (lo >= 0).all() and hi[0] <= w and hi[1] <= h
     assert np.allclose((lo + hi) / 2, (w / 2, h / 2), atol=2)
+
+
+# -- picking at every mesh size (issue section 3, item 1) ------------------------------
+
+#: The paper's Fig. 12(a) at n = 6: 720 patches × 2 × 6² = 51,840 triangles, drawn reduced.
+FIG12A_N6 = MeshParams(subdivisions=6)
+
+
+def _clicked_point(win, pos):
+    """The point of the plane z = 0 a click at widget ``pos`` means (VTK's own inversion)."""
+    renderer = win.plotter.renderer
+    ratio = win.plotter.devicePixelRatioF()
+    renderer.SetDisplayPoint(pos.x() * ratio, (win.plotter.height() - 1 - pos.y()) * ratio, 0.0)
+    renderer.DisplayToWorld()
+    near_point = np.array(renderer.GetWorldPoint()[:3]) / renderer.GetWorldPoint()[3]
+    direction = np.array(win.plotter.camera.GetDirectionOfProjection())
+    return near_point - near_point[2] / direction[2] * direction
+
+
+def _triangles_holding(mesh, point):
+    """Every triangle whose xy projection holds ``point`` (brute force over the mesh)."""
+    c = mesh.points[mesh.triangles][:, :, :2]
+    p = np.asarray(point)[:2]
+
+    def cross(a, b):
+        return (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
+
+    s = np.stack([cross(c[:, 0], c[:, 1]), cross(c[:, 1], c[:, 2]), cross(c[:, 2], c[:, 0])], 1)
+    return np.flatnonzero((s >= -1e-12).all(axis=1) | (s <= 1e-12).all(axis=1))
+
+
+@pytest.mark.parametrize("window_params", [FIG12A_N6])
+def test_clicks_on_a_dense_mesh_select_the_edge_under_them(window, qtbot):
+    settle(window, qtbot)
+    mesh = window.model.result.mesh
+    assert mesh.n_triangles == 720 * 2 * 6 * 6
+    assert window.scene.reduced  # not drawn triangle by triangle: VTK has no cell to pick
+    panel = window.teaching.inspector
+    rwg = mesh.rwg
+    for row in (len(rwg.edge) // 3, 2 * len(rwg.edge) // 3, len(rwg.edge) - 5):
+        edge = int(rwg.edge[row])
+        a, b = mesh.points[mesh.edges[edge]]
+        target = 0.5 * (a + b)
+        pos = widget_pos(window.plotter, target)
+        before = panel.edge
+        qtbot.mouseClick(window.plotter, Qt.MouseButton.LeftButton, pos=pos)
+        # a big mesh's search structure may still be built in a worker: the click waits
+        qtbot.waitUntil(lambda b=before: panel.edge != b, timeout=30_000)
+        clicked = _clicked_point(window, pos)
+        # the click lands within 0.1 mm of the edge picked, the nearest edge of a triangle
+        # the click is in (found here by brute force over the whole mesh; Fig. 12(a)'s
+        # patches overlap, so a point may be in several)
+        assert np.linalg.norm(clicked - target) < 0.1
+        p, q = mesh.points[mesh.edges[panel.edge]]
+        s = np.clip(np.dot(clicked - p, q - p) / np.dot(q - p, q - p), 0.0, 1.0)
+        assert np.linalg.norm(p + s * (q - p) - clicked) < 0.1
+        holding = _triangles_holding(mesh, clicked)
+        assert len(holding) >= 1
+        assert panel.edge in {nearest_edge(mesh, int(h), clicked) for h in holding}
+        assert panel.info.sample is not None  # an interior edge: T+ and T- shown

@@ -182,6 +182,41 @@ def test_resting_zoomed_in_brings_back_full_detail_of_the_part_in_view(window, q
     assert u >= -1e-6 and v >= -1e-6 and u + v <= 1 + 1e-6
 
 
+def test_inspector_clicks_pick_on_the_dense_mesh(window, qtbot):
+    """Issue section 3 item 1 at 1,474,560 triangles: a click on metal selects the edge
+    under it (within 0.1 mm), from the mesh's arrays, though the view draws an image."""
+    from tests.gui_helpers import widget_pos
+    from tests.test_app_inspector import _clicked_point, _triangles_holding
+
+    with qtbot.waitActive(window):  # the I shortcut needs the active window
+        window.activateWindow()
+    type_value(qtbot, window, "subdivisions", str(DENSE_N))
+    qtbot.waitUntil(lambda: shown_triangles(window) == 720 * 2 * DENSE_N**2, timeout=120_000)
+    assert window.scene.reduced
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # Teach -> RWG basis inspector
+    panel = window.teaching.inspector
+    assert not window.teaching.inspector_dock.isHidden()
+    # its dock narrows the view, which frames the mesh anew: click where it is then
+    qtbot.waitUntil(lambda: window.plotter.width() == window.plotter.renderer.GetSize()[0]
+                    / window.plotter.devicePixelRatioF(), timeout=10_000)
+    qtbot.wait(100)
+    window.plotter.render()
+    mesh = window.model.result.mesh
+    edge = int(mesh.rwg.edge[len(mesh.rwg.edge) // 2])
+    target = mesh.points[mesh.edges[edge]].mean(axis=0)
+    before = panel.edge
+    pos = widget_pos(window.plotter, target)
+    clicked = _clicked_point(window, pos)  # where the click lands, with this camera
+    assert np.linalg.norm(clicked - target) < 0.1
+    qtbot.mouseClick(window.plotter, Qt.MouseButton.LeftButton, pos=pos)
+    qtbot.waitUntil(lambda: panel.edge is not None and panel.edge != before, timeout=60_000)
+    p, q = mesh.points[mesh.edges[panel.edge]]
+    s = np.clip(np.dot(clicked - p, q - p) / np.dot(q - p, q - p), 0.0, 1.0)
+    assert np.linalg.norm(p + s * (q - p) - clicked) < 0.1
+    assert panel.edge in set(mesh.triangle_edges[_triangles_holding(mesh, clicked)].ravel())
+
+
 def test_esc_cancels_a_long_build_and_keeps_the_mesh_on_screen(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     type_value(qtbot, window, "subdivisions", str(HEAVY_N))
@@ -212,6 +247,62 @@ def test_undo_during_a_build_returns_at_once_without_building(window, qtbot):
     assert job.cancelled
     assert window.model.params == FIG12A
     assert window.model.result.mesh is shown.mesh  # the same mesh, not a rebuild
+
+
+def test_esc_then_undo_shows_the_old_mesh_without_building_its_scene_again(
+        window, qtbot, monkeypatch):
+    """Issue section 3 item 4: Fig. 12(a) at n = 32, type 40, Esc, Ctrl+Z.
+
+    The cancelled build's last stage (the scene arrays, seconds at 2,304,000 triangles)
+    runs on to its end beside whatever starts next; Undo back to n = 4 must not wait for
+    a scene rebuilt beside it: the 23,040-triangle mesh's scene comes back as it was and
+    only the mesh is built (hundredths of a second), nothing else.
+    """
+    prepared = []
+    real_scene_data = app.worker.scene_data
+
+    def scene_data(*args, **kwargs):
+        prepared.append(args[0].n_triangles)
+        return real_scene_data(*args, **kwargs)
+
+    monkeypatch.setattr(app.worker, "scene_data", scene_data)
+    with qtbot.waitActive(window):  # Ctrl+Z is a window shortcut
+        window.activateWindow()
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    first = window.model.result.scene
+    type_value(qtbot, window, "subdivisions", str(DENSE_N))
+    qtbot.waitUntil(lambda: shown_triangles(window) == 720 * 2 * DENSE_N**2, timeout=120_000)
+    type_value(qtbot, window, "subdivisions", "40")
+    qtbot.waitUntil(lambda: window.controller.busy, timeout=5_000)
+    job = window.controller.current
+    assert job.triangles == 720 * 2 * 40**2
+    qtbot.keyClick(window.controls.rows["subdivisions"].field, Qt.Key.Key_Escape)
+    assert job.cancelled and not window.controller.busy
+    assert window.model.params.subdivisions == DENSE_N
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert window.model.params == FIG12A
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040 and not window.controller.busy,
+                    timeout=60_000)
+    # the scene shown before, not made again; the counts of n = 4 on the panel
+    assert window.model.result.scene is first
+    assert prepared[0] == 720 * 2 * DENSE_N**2 and 23_040 not in prepared  # none for Undo
+    assert window.stats.text("triangles") == "23,040"
+    assert "Meshing" not in window.statusBar().currentMessage()
+    qtbot.waitUntil(lambda: not window.controller.stopping, timeout=60_000)
+    assert window.model.result.scene is first  # the cancelled build's end changed nothing
+
+
+def test_a_build_slower_than_its_estimate_never_reads_of_about(window, qtbot):
+    """The status never says "4.3 s of about 0.2 s": past the estimate it says so."""
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    window.controller.rate = 1e12  # a machine this fast would take no time at all
+    type_value(qtbot, window, "subdivisions", "16")
+    qtbot.waitUntil(lambda: window.controller.busy, timeout=5_000)
+    qtbot.waitUntil(lambda: "longer than the" in window.statusBar().currentMessage(),
+                    timeout=30_000)
+    message = window.statusBar().currentMessage()
+    assert "Meshing 368,640 triangles" in message and "of about" not in message
 
 
 def test_closing_during_a_build_returns_at_once(window, qtbot):

@@ -212,6 +212,34 @@ def test_slider_positions_round_trip(spec):
     assert spec.from_slider(spec.slider_max) == spec.maximum
 
 
+@pytest.mark.parametrize("spec", [s for s in PARAM_SPECS + ADVANCED_SPECS if s.windowed],
+                         ids=lambda s: s.name)
+@pytest.mark.parametrize("value", [0.01, 0.037, 1.0, 4.0, 10.0, 360.0, 1000.0, 10_000.0])
+def test_a_windowed_slider_spans_a_decade_each_side_of_its_value(spec, value):
+    """Issue section 3 item 5: not 0.01 mm to 10 m on a few dozen pixels."""
+    if not spec.holds(value):
+        return
+    w = spec.around(value)
+    # two decades at 48 positions each, within the whole range, the value on it
+    assert w.slider_max == w._offset + 2 * spec.per_decade
+    assert math.isclose(w.maximum / w.minimum, 100.0)
+    assert spec.minimum * (1 - 1e-12) <= w.minimum and w.maximum <= spec.maximum * (1 + 1e-12)
+    assert w.holds(value)
+    if spec.minimum * 10 <= value <= spec.maximum / 10:  # away from the ends: centred
+        assert math.isclose(w.minimum, value / 10) and math.isclose(w.maximum, value * 10)
+        assert w.to_slider(value) == w._offset + spec.per_decade
+        assert w.from_slider(w.to_slider(value)) == float(f"{value:.3g}")
+    for pos in range(w.slider_max + 1):  # every position a value of the window, in order
+        assert w.to_slider(w.from_slider(pos)) == pos
+
+
+def test_around_leaves_other_sliders_alone():
+    for name in ("subdivisions", "tolerance", "gap_angle"):
+        assert SPECS[name].around(1.0) is SPECS[name]
+    assert SPECS["patch_size"].around(None) is SPECS["patch_size"]
+    assert SPECS["patch_size"].around(-1.0) is SPECS["patch_size"]
+
+
 @pytest.mark.parametrize("name", preset_names())
 def test_every_preset_value_fits_its_control(name):
     """Issue 9 item 6: slider ranges hold every preset's values."""

@@ -29,6 +29,7 @@ from tests.app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
     drag_slider,
+    drag_slider_by,
     export_through_dialog,
     patch_counts,
     settle,
@@ -124,7 +125,10 @@ def test_accepted_values_are_taken_exactly(window, qtbot, name, text, value):
     n = window.model.params.subdivisions
     patches = 2 if name == "angle_step" else COARSE_PATCHES
     assert shown_counts(window)["triangles"] == patches * 2 * n * n
-    assert row.slider.value() == SPECS[name].to_slider(value)
+    # the slider's window (a decade each side of a length) holds the value, centred on it
+    # if it was outside; a value beyond the whole range leaves the handle at that end
+    assert row.slider_spec.holds(value) or not SPECS[name].holds(value)
+    assert row.slider.value() == row.slider_spec.to_slider(value)
 
 
 def test_gap_angle_beyond_180_is_taken_exactly(window):
@@ -309,8 +313,10 @@ def test_presets_show_their_exact_values(window, name):
         if key in SPECS:
             assert read == value, (key, row.field.text(), value)
         if row.slider is not None and value is not None:
-            spec = SPECS[key]
-            assert spec.minimum <= value <= spec.maximum
+            full = SPECS[key]
+            assert full.minimum <= value <= full.maximum
+            spec = row.slider_spec  # the window of a length's slider: around the value
+            assert spec.holds(value)
             assert row.slider.value() == spec.to_slider(value)
             assert 0 < row.slider.value() < row.slider.maximum() or value in (
                 spec.minimum, spec.maximum)
@@ -387,3 +393,89 @@ def test_an_opened_file_is_shown_as_such_until_going_back(window, qtbot, tmp_pat
     assert not controls.file_box.isVisible() and controls.numbers_box.isEnabled()
     assert window.act_save.isEnabled()
     assert_counts(window, patch_counts(COARSE_PATCHES, 2))
+
+
+# -- issue section 3 item 5: a slider's range follows the structure -----------------------
+
+#: The paper's Fig. 10: one 10 mm patch.
+FIG10 = MeshParams(structure="patch", patch_size=10.0)
+
+
+@pytest.mark.parametrize("window_params", [FIG10])
+def test_a_40_px_drag_changes_patch_size_by_at_most_a_decade(window, qtbot):
+    window.resize(1000, 760)  # the issue's window: a slider of a few dozen pixels
+    settle(window, qtbot)
+    row = window.controls.rows["patch_size"]
+    assert row.slider_spec.minimum == 1.0 and row.slider_spec.maximum == 100.0
+    for dx in (40, -40, -40):
+        before = window.model.params.patch_size
+        drag_slider_by(row.slider, dx)
+        settle(window, qtbot)
+        after = window.model.params.patch_size
+        ratio = after / before if dx > 0 else before / after
+        assert 1.0 < ratio <= 10.0 * 1.0001, (before, after)  # was 10 -> 10,000 mm
+        assert shown_counts(window) == patch_counts(1, 4)
+        # released: centred again on the value, a decade each side, the handle in the middle
+        assert row.slider_spec.minimum == pytest.approx(after / 10)
+        assert row.slider_spec.maximum == pytest.approx(after * 10)
+        assert row.slider.value() == row.slider_spec.to_slider(after) == row.slider.maximum() // 2
+        np.testing.assert_allclose(np.ptp(window.model.result.mesh.points[:, 0]), after)
+
+
+def test_a_30_px_drag_on_inner_radius_stays_near_it(window, qtbot):
+    window.resize(1000, 760)
+    settle(window, qtbot)
+    row = window.controls.rows["inner_radius"]
+    drag_slider_by(row.slider, 30)
+    settle(window, qtbot)
+    # 4 mm at most a decade up (the issue saw 1,540 mm); refused only past the outer 9 mm
+    value = window.model.draft["inner_radius"]
+    assert 4.0 < value <= 40.0
+
+
+@pytest.mark.parametrize("window_params", [FIG10])
+def test_a_typed_value_outside_the_slider_centres_it_there(window, qtbot):
+    row = window.controls.rows["patch_size"]
+    type_into(row.field, "5000")
+    settle(window, qtbot)
+    assert window.model.params.patch_size == 5000.0
+    # a decade below, the 10 m end above (the window keeps its two decades)
+    assert (row.slider_spec.minimum, row.slider_spec.maximum) == (100.0, 10_000.0)
+    assert row.slider.value() == row.slider_spec.to_slider(5000.0)  # nearest position
+    assert abs(np.log10(row.slider_spec.from_slider(row.slider.value()) / 5000.0)) < 1 / 48
+    drag_slider_by(row.slider, 40)
+    settle(window, qtbot)
+    assert 5000.0 < window.model.params.patch_size <= 10_000.0
+
+
+@pytest.mark.parametrize("window_params", [FIG10])
+def test_the_view_frames_a_mesh_that_left_it(window, qtbot):
+    from app.view.framing import rect_inside, visible_rect
+
+    settle(window, qtbot)
+    assert rect_inside(window.scene.bounds, visible_rect(window.plotter))
+    type_into(window.controls.rows["origin"].field, "60, 40")  # the same patch, moved off
+    settle(window, qtbot)
+    x0, x1, y0, y1 = window.scene.bounds
+    assert (x0, y0) == (60.0, 40.0)
+    assert rect_inside(window.scene.bounds, visible_rect(window.plotter))
+
+
+def test_ctrl_z_in_a_field_undoes_the_parameter_change(window, qtbot):
+    """After typing 3 and Enter, Ctrl+Z in the field is the window's Undo (the line edit's
+    own undo used to put "2" back as text only, the mesh staying at n = 3)."""
+    with qtbot.waitActive(window):  # Ctrl+Z is a window shortcut
+        window.activateWindow()
+    row = window.controls.rows["subdivisions"]
+    type_into(row.field, "3")
+    settle(window, qtbot)
+    assert_counts(window, patch_counts(COARSE_PATCHES, 3))
+    QTest.keyClick(row.field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    settle(window, qtbot)
+    assert window.model.params.subdivisions == 2 and row.field.text() == "2"
+    assert_counts(window, patch_counts(COARSE_PATCHES, 2))
+    # while an edit is under way Ctrl+Z undoes the typing, the parameters stay
+    QTest.keyClicks(row.field, "5")
+    QTest.keyClick(row.field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    settle(window, qtbot)
+    assert window.model.params.subdivisions == 2 and row.field.text() == "2"

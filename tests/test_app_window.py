@@ -11,11 +11,20 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtWidgets import QApplication, QMainWindow, QTabBar  # noqa: E402
 
 from app.model import SPECS, applies, format_value  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
-from tests.app_user import choose, click_check_box, patch_counts, shown_counts, type_into  # noqa: E402
+from tests.app_user import (  # noqa: E402
+    choose,
+    click_check_box,
+    drag_slider,
+    patch_counts,
+    settle,
+    shown_counts,
+    type_into,
+)
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -47,7 +56,8 @@ def test_each_slider_updates_the_statistics(window, qtbot, structure):
         qtbot.keyClick(row.slider, Qt.Key.Key_Right)
         window.controller.flush()
         after = window.model.params
-        assert getattr(after, name) == SPECS[name].from_slider(row.slider.value()), name
+        # a length's slider spans a decade each side of the value it was centred on
+        assert getattr(after, name) == row.slider_spec.from_slider(row.slider.value()), name
         assert after != before or window.model.error is not None, name
         if window.model.error is None:
             assert row.field.text() == format_value(getattr(after, name))
@@ -274,3 +284,83 @@ def test_origin_tooltip_says_where_the_rings_are(window, qtbot):
     choose(window.controls.combos["mode"], "conforming")
     window.controller.flush()
     assert np.allclose(_centre(window.model.result.mesh), (3.0, -2.0), atol=1e-9)
+
+
+#: The paper's Fig. 12(d): 1 mm patches every 20 degrees on both rings, n = 4.
+FIG12D = MeshParams(angle_step=20.0)
+
+
+@pytest.mark.parametrize("window_params", [FIG12D])
+def test_no_progress_message_stays_once_the_mesh_is_shown(window, qtbot):
+    """Issue section 3 item 3: drag Inner radius until refused, then drag Angle step."""
+    window.controller.sync_triangles = 0  # every build in the worker, with its progress
+    settle(window, qtbot)
+    inner = window.controls.rows["inner_radius"].slider
+    drag_slider(inner, inner.maximum())
+    settle(window, qtbot)
+    assert "inner_radius" in window.model.errors  # refused: larger than the outer radius
+    refused = window.model.errors["inner_radius"].message
+    step = window.controls.rows["angle_step"].slider
+    shown = window.model.result
+    drag_slider(step, step.value() - 12)
+    window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result is not shown and not window.controller.busy,
+                    timeout=60_000)
+    assert window.model.params.angle_step < 20.0
+    message = window.statusBar().currentMessage()
+    assert "Meshing" not in message and "Esc cancels" not in message
+    assert refused in message  # the refusal still standing is said again
+
+
+# -- issue section 3 item 12: window size and docks ---------------------------------------
+
+
+def _pump(qtbot, win):
+    qtbot.wait(50)
+    QApplication.processEvents()
+
+
+def test_a_later_session_without_a_cell_has_no_elements_dock(qtbot):
+    win = MainWindow(COARSE)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    win.cell_tools.preset_actions["double-ring-patch"].trigger()  # Cell → Cell presets
+    assert win.model.cell_state is not None and not win.cell_tools.dock.isHidden()
+    win.close()  # the layout is saved with the Elements dock shown
+    again = MainWindow()
+    qtbot.addWidget(again)
+    again.show()
+    qtbot.waitExposed(again)
+    assert again.model.cell_state is None
+    assert again.cell_tools.dock.isHidden()  # no empty dock for a cell that is not open
+    again.close()
+
+
+@pytest.mark.parametrize("with_cell", [False, True])
+def test_the_window_fits_a_768_px_screen(window, qtbot, with_cell):
+    if with_cell:
+        window.cell_tools.preset_actions["double-ring-patch"].trigger()
+        assert not window.cell_tools.dock.isHidden()
+    for size in ((1000, 700), (1300, 700), (1000, 600)):
+        window.resize(*size)
+        _pump(qtbot, window)
+        assert (window.width(), window.height()) == size  # not clamped to 733 or 823 px
+        assert window.minimumSizeHint().height() <= 600
+
+
+@pytest.mark.parametrize("width", [1000, 1300])
+def test_tabbed_docks_keep_their_whole_titles(window, qtbot, width):
+    window.resize(width, 700)
+    _pump(qtbot, window)
+    window.teaching.set_matrix_active(True)  # one more dock tabbed with Statistics
+    _pump(qtbot, window)
+    bars = [b for b in window.findChildren(QTabBar)
+            if isinstance(b.parent(), QMainWindow) and b.isVisible() and b.count() > 1]
+    assert bars
+    for bar in bars:
+        metrics = bar.fontMetrics()
+        for i in range(bar.count()):
+            text = bar.tabText(i).replace("&", "")
+            assert bar.tabRect(i).width() >= metrics.horizontalAdvance(text), text
+            assert bar.elideMode() == Qt.TextElideMode.ElideNone

@@ -9,6 +9,11 @@ A field takes what is typed exactly: the core accepts it, or refuses it and the 
 keeps the text, framed red, with the core's message under it, until it is corrected or
 Esc puts the accepted value back. Nothing is clamped, rounded or read through a locale
 without saying so.
+
+A length's or an angle step's slider spans a decade each side of the value
+(:meth:`app.model.ParamSpec.around`), not 0.01 mm to 10 m: a drag of a few pixels is a
+small change. It is centred again when the drag ends, when a key steps it to an end, or
+when a typed value (or Undo, a preset) lies outside it.
 """
 
 from __future__ import annotations
@@ -55,6 +60,16 @@ def decimal_point() -> str:
     return QLocale().decimalPoint()
 
 
+def _is_undo_key(event: QKeyEvent) -> bool:
+    """Ctrl+Z, Ctrl+Shift+Z or Ctrl+Y (the window's Undo and Redo)."""
+    mods = event.modifiers() & ~Qt.KeyboardModifier.KeypadModifier
+    ctrl = Qt.KeyboardModifier.ControlModifier
+    shift = Qt.KeyboardModifier.ShiftModifier
+    if event.key() == Qt.Key.Key_Z:
+        return mods in (ctrl, ctrl | shift)
+    return event.key() == Qt.Key.Key_Y and mods == ctrl
+
+
 class ValueField(QLineEdit):
     """A line edit for one typed value.
 
@@ -90,6 +105,14 @@ class ValueField(QLineEdit):
                 and event.key() == Qt.Key.Key_Escape
                 and (self.property("refused") or self.text() != self._shown)):
             event.accept()
+            return True
+        # Ctrl+Z / redo in a field showing the accepted value is the window's Undo of the
+        # parameter change (the line edit's own text undo put back a text that was not
+        # the value, and submitted nothing); with an edit under way it undoes typing
+        if (event.type() == QEvent.Type.ShortcutOverride
+                and _is_undo_key(event)
+                and self.text() == self._shown and not self.property("refused")):
+            event.ignore()
             return True
         return super().event(event)
 
@@ -135,6 +158,8 @@ class FieldRow:
         self.typed: str | None = None  # the text last typed, kept while it is refused
         self.label = QLabel(label, parent)
         self.slider: QSlider | None = None
+        #: the slider's own spec: ``spec`` around the value for a windowed one
+        self.slider_spec: ParamSpec | None = spec
         if spec is not None and spec.slider:
             self.slider = QSlider(Qt.Orientation.Horizontal, parent)
             self.slider.setObjectName(f"slider_{name}")
@@ -174,8 +199,24 @@ class FieldRow:
     def widgets(self) -> tuple[QWidget, ...]:
         return tuple(w for w in (self.label, self.slider, self.field, self.unit) if w is not None)
 
-    def show_value(self, value: Any, refused: bool, fallback: Any) -> None:
-        """Show ``value``; a refused one keeps the text as typed."""
+    def recentre(self, value: Any) -> None:
+        """Centre a windowed slider on ``value`` (its range and the handle follow)."""
+        if self.slider is None or not self.spec.windowed:
+            return
+        spec = self.spec.around(value)
+        if spec == self.slider_spec:
+            return
+        self.slider_spec = spec
+        self.slider.blockSignals(True)
+        self.slider.setRange(0, spec.slider_max)
+        self.slider.setPageStep(max(1, spec.slider_max // 20))
+        self.slider.setValue(spec.to_slider(value))
+        self.slider.blockSignals(False)
+
+    def show_value(self, value: Any, refused: bool, fallback: Any,
+                   centre: Any = None) -> None:
+        """Show ``value``; a refused one keeps the text as typed. A windowed slider is
+        centred again if the value lies outside it (on ``centre`` while it is None)."""
         if not refused:
             self.typed = None
         typed = refused and self.typed is not None
@@ -185,8 +226,13 @@ class FieldRow:
         self.field.show_text(self.typed if typed else format_value(shown))
         if self.slider is not None:  # a refused typed value leaves the slider where it was
             on_slider = fallback if typed else value
+            if self.spec.windowed and not self.slider.isSliderDown():
+                target = on_slider if on_slider is not None else centre
+                if self.slider_spec is self.spec or (target is not None
+                                                     and not self.slider_spec.holds(target)):
+                    self.recentre(target)
             self.slider.blockSignals(True)
-            self.slider.setValue(self.spec.to_slider(on_slider))
+            self.slider.setValue(self.slider_spec.to_slider(on_slider))
             self.slider.blockSignals(False)
 
     def set_enabled(self, on: bool) -> None:
@@ -292,7 +338,7 @@ class ControlsPanel(QWidget):
         row.field.reverted.connect(lambda n=row.name: self.model.revert(n))
         if row.slider is not None:
             row.slider.valueChanged.connect(lambda pos, r=row: self._slider_moved(r, pos))
-            row.slider.sliderReleased.connect(self.model.end_merge)
+            row.slider.sliderReleased.connect(lambda r=row: self._slider_released(r))
             row.field.stepped.connect(
                 lambda k, s=row.slider: s.setValue(s.value() + k))  # ↑/↓ in the field
         self.rows[row.name] = row
@@ -301,7 +347,16 @@ class ControlsPanel(QWidget):
 
     def _slider_moved(self, row: FieldRow, pos: int) -> None:
         row.typed = None
-        self.model.set_value(row.name, row.spec.from_slider(pos), merge=row.slider.isSliderDown())
+        down = row.slider.isSliderDown()
+        self.model.set_value(row.name, row.slider_spec.from_slider(pos), merge=down)
+        if not down and pos in (row.slider.minimum(), row.slider.maximum()):
+            row.recentre(self.model.draft.get(row.name))  # a key at an end: room again
+
+    def _slider_released(self, row: FieldRow) -> None:
+        """The drag ended: the slider is centred on the value it reached."""
+        self.model.end_merge()
+        if row.name not in self.model.refused:
+            row.recentre(self.model.draft.get(row.name))
 
     def _typed(self, row: FieldRow, text: str) -> None:
         row.typed = text
@@ -328,7 +383,8 @@ class ControlsPanel(QWidget):
         committed = self.model.params.to_dict()
         sized = self.model.params.sized
         for name, row in self.rows.items():
-            row.show_value(draft.get(name), name in self.model.refused, committed.get(name))
+            row.show_value(draft.get(name), name in self.model.refused, committed.get(name),
+                           centre=draft.get("patch_size"))
             row.set_enabled(applies(name, structure) and not (sized and name == "subdivisions"))
             row.set_note(self.model.notes.get(name))
         self._show_chosen()

@@ -1,14 +1,18 @@
 """The RWG inspector's panel and the click picking of the 3D view.
 
 :class:`ViewPicker` turns a click (press and release within a few pixels, so a drag still
-rotates the view) on the 3D view into the triangle under the mouse, with VTK's
-``vtkCellPicker`` restricted to the faces actor. :class:`InspectorPanel` keeps the
-selected edge, drives :class:`app.teach.inspector.InspectorOverlay` and shows the info box.
+rotates the view) on the 3D view into the triangle under the mouse. A flat mesh is picked
+from the core's arrays (its ``locate`` hook: the camera ray meets the mesh's plane and a
+point-in-triangle search finds the triangle, at any mesh size, whatever is drawn); a
+curved imported mesh with VTK's ``vtkCellPicker`` restricted to the faces actor.
+:class:`InspectorPanel` keeps the selected edge, drives
+:class:`app.teach.inspector.InspectorOverlay` and shows the info box.
 """
 
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -51,6 +55,15 @@ class ViewPicker(QObject):
     plotter : pyvistaqt.QtInteractor
     faces_actor : vtkActor
         The actor whose cells are the mesh's triangles, in order.
+
+    Attributes
+    ----------
+    locate : callable or None
+        ``locate(x, y, defer) -> (triangle or None, point) or None``: the triangle of the
+        mesh's own arrays under display point (x, y) and the point on the mesh, or None
+        when it cannot tell (no mesh, a curved mesh): then VTK picks what is drawn. With
+        ``defer`` a click that comes before the mesh's search structure is ready is
+        answered (``triangle_picked``) once it is.
     """
 
     triangle_picked = Signal(int, object)
@@ -61,6 +74,8 @@ class ViewPicker(QObject):
         self.enabled = False
         self.suspended = False  # the measure tool takes the clicks
         self.faces_actor = faces_actor
+        self.locate: Callable[[float, float, bool],
+                              tuple[int | None, np.ndarray | None] | None] | None = None
         self.picker = vtkCellPicker()
         self.picker.SetTolerance(1e-4)
         self.picker.PickFromListOn()
@@ -73,10 +88,26 @@ class ViewPicker(QObject):
         """Pick at VTK display coordinates (pixels, origin bottom left).
 
         Returns the triangle and the picked world point, or None off the mesh. Emits
-        ``triangle_picked`` on a hit (unless ``emit`` is false). The triangles are
-        picked even while the Triangles layer is hidden (VTK skips invisible actors, so
-        the faces are made visible for the pick, which draws nothing).
+        ``triangle_picked`` on a hit (unless ``emit`` is false). A flat mesh is searched
+        in its arrays (:attr:`locate`), so a dense mesh drawn reduced is picked as
+        exactly as a small one. Otherwise the triangles are picked by VTK, even while
+        the Triangles layer is hidden (VTK skips invisible actors, so the faces are made
+        visible for the pick, which draws nothing); a flat mesh's click that neither
+        finds (its locator still being built) is answered when the locator is ready.
         """
+        located = self.locate(float(x), float(y), False) if self.locate is not None else None
+        if located is not None and located[0] is not None:
+            triangle, point = int(located[0]), located[1]
+            if emit:
+                self.triangle_picked.emit(triangle, point)
+            return triangle, point
+        hit = self._vtk_pick(x, y, emit)
+        if hit is None and located is not None and emit:
+            self.locate(float(x), float(y), True)  # a big mesh's locator not ready: later
+        return hit
+
+    def _vtk_pick(self, x: float, y: float, emit: bool) -> tuple[int, np.ndarray] | None:
+        """VTK's pick of what is drawn (a curved mesh; a flat one before its locator)."""
         renderer = self.plotter.renderer
         actor = self.faces_actor
         hidden = not actor.GetVisibility()

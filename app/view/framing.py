@@ -112,6 +112,22 @@ def pixels_per_mm(plotter: Any) -> float:
     return h / max(2.0 * float(plotter.camera.parallel_scale), 1e-12)
 
 
+def visible_rect(plotter: Any) -> tuple[float, float, float, float]:
+    """(x0, x1, y0, y1) in mm of the plane z = 0 the view shows from above."""
+    camera = plotter.camera
+    w, h = view_size(plotter)
+    half_h = float(camera.parallel_scale)
+    half_w = half_h * w / h
+    cx, cy = camera.focal_point[:2]
+    return (cx - half_w, cx + half_w, cy - half_h, cy + half_h)
+
+
+def rect_inside(inner: Any, outer: Any) -> bool:
+    """Whether rectangle ``inner`` = (x0, x1, y0, y1) lies within ``outer``."""
+    return (inner[0] >= outer[0] and inner[1] <= outer[1]
+            and inner[2] >= outer[2] and inner[3] <= outer[3])
+
+
 def world_rect_on_screen(plotter: Any, bounds: tuple[float, float, float, float]
                          ) -> tuple[float, float]:
     """(width, height) in pixels that the rectangle ``bounds`` covers at the current zoom."""

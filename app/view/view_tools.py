@@ -80,6 +80,7 @@ class ViewTools(QObject):
         self.cursor: np.ndarray | None = None
         self._pos: QPointF | None = None
         self._press: QPointF | None = None
+        self._pending_pick: np.ndarray | None = None  # a click waiting for the locator
 
         # two lines of a fixed height (a new text never resizes, so never repaints, the
         # 3D view): the note, then the readout; text too long is elided, whole in the tip
@@ -116,6 +117,8 @@ class ViewTools(QObject):
                           "Frame the selected edge, triangles or measured segment")
         self.plotter.setMouseTracking(True)
         self.plotter.installEventFilter(self)
+        # the inspector's and the matrix's clicks are searched in the mesh's arrays too
+        window.teaching.picker.locate = self.locate_display
 
     def container(self) -> QWidget:
         """The 3D view with the strip under it (the window's central widget)."""
@@ -133,6 +136,7 @@ class ViewTools(QObject):
         """A new mesh on screen: a new locator (the old selection and measurement go)."""
         self.mesh = mesh
         self.locator = None
+        self._pending_pick = None
         self.hit = self.selected = None
         self.measure.set_active(self.measure.active)  # forget the points
         if mesh is not None and mesh.n_triangles:
@@ -166,6 +170,11 @@ class ViewTools(QObject):
         if locator is not None and locator.mesh is self.mesh:
             self.locator = locator
             self._update_hover()  # the pointer may be resting there already
+            pending, self._pending_pick = self._pending_pick, None
+            if pending is not None and locator.planar:
+                triangle = locator.triangle_at(pending)
+                if triangle is not None:
+                    self.window.teaching.picker.triangle_picked.emit(triangle, pending)
             return
         if locator is not None and locator.mesh.n_triangles > 200_000:
             # the locator of a mesh no longer on screen (built while the user moved on)
@@ -217,16 +226,57 @@ class ViewTools(QObject):
         locator = self.locator
         if locator is not None and not locator.planar:
             return self._picked(x, y)
+        z0 = locator.z0 if locator is not None else 0.0
+        return self._plane_point(x, y, z0), None
+
+    def _plane_point(self, x: float, y: float, z0: float) -> np.ndarray | None:
+        """Where the camera ray through display pixel (x, y) meets the plane ``z = z0``."""
         renderer = self.plotter.renderer
         renderer.SetDisplayPoint(float(x), float(y), 0.0)
         renderer.DisplayToWorld()
         wx, wy, wz, w = renderer.GetWorldPoint()
         if abs(w) < 1e-300:
-            return None, None
+            return None
         origin = np.array([wx, wy, wz]) / w
         direction = np.asarray(self.plotter.camera.GetDirectionOfProjection())
-        z0 = locator.z0 if locator is not None else 0.0
-        return ray_plane_point(origin, direction, z0), None
+        return ray_plane_point(origin, direction, z0)
+
+    def locate_display(self, x: float, y: float, defer: bool = True
+                       ) -> tuple[int | None, np.ndarray | None] | None:
+        """The triangle of the mesh's arrays under display pixel (x, y), and the point.
+
+        The :class:`app.teach.inspector_panel.ViewPicker`'s ``locate`` hook: for a flat
+        mesh the camera ray meets its plane and the locator's point-in-triangle search
+        finds the triangle, at any size and whatever the scene draws (a dense mesh is
+        drawn reduced). None for a curved mesh (VTK picks it). While a big mesh's locator
+        is still being built, ``(None, point)``; with ``defer`` the click is answered
+        (``triangle_picked``) when the locator is ready.
+        """
+        mesh = self.mesh
+        if mesh is None or not mesh.n_triangles:
+            return None
+        locator = self.locator
+        if locator is not None:
+            if not locator.planar:
+                return None
+            z0 = locator.z0
+        else:
+            z = np.asarray(mesh.points)[:, 2]
+            lo, hi = float(z.min()), float(z.max())
+            b = getattr(self.window.scene, "bounds", None)
+            size = float(max(b[1] - b[0], b[3] - b[2])) if b is not None else 1.0
+            if hi - lo > 1e-9 * max(size, 1e-12):
+                return None
+            z0 = lo
+        point = self._plane_point(x, y, z0)
+        if point is None:
+            return None, None
+        if locator is None:
+            if defer:
+                self._pending_pick = point
+                self._ensure_locator()
+            return None, point
+        return locator.triangle_at(point), point
 
     def _picked(self, x: float, y: float) -> tuple[np.ndarray | None, int | None]:
         picker = self.window.teaching.picker
