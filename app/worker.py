@@ -237,6 +237,8 @@ class MeshController(QObject):
         def cancelled(job: BuildJob = job) -> bool:
             return job.cancelled  # set by a newer request (long builds), Cancel or Undo
 
+        if kept is None:  # the scene's stages stop an abandoned build too
+            prepare = partial(prepare, cancel=cancelled)
         self.current = job
         if not was_busy:
             self.busy_changed.emit(True)

@@ -139,3 +139,31 @@ def test_the_window_makes_datasets_on_the_gui_thread_only(
     assert compare.scenes["paper"].datasets["faces"].n_cells > 0 \
         or compare.scenes["paper"].overview is not None
     assert made_off_the_gui_thread == []
+
+
+def test_an_abandoned_build_stops_inside_the_scene_stage():
+    """Esc on a dense build: the overview's stages poll the cancel flag, so the worker stops
+    there (it ran its 3 s on before) and the result says cancelled, not a mesh."""
+    from functools import partial
+
+    from core import BuildCancelled
+
+    mesh = build_mesh(DENSE)
+    polls = []
+
+    def cancel_after_the_first_poll():
+        polls.append(1)
+        return len(polls) > 1
+
+    with pytest.raises(BuildCancelled):
+        scene_data(mesh, cancel=cancel_after_the_first_poll)
+    assert len(polls) == 2  # stopped at the second checkpoint, before the line layers
+    assert scene_data(mesh, cancel=lambda: False).overview is not None
+    flag = {"on": False}
+
+    def prepare(m, **kw):
+        flag["on"] = True  # Esc arrives while the scene is being made
+        return scene_data(m, cancel=lambda: flag["on"])
+
+    result = compute(DENSE, prepare=partial(prepare))
+    assert result.cancelled and result.mesh is None

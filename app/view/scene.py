@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,7 +46,7 @@ from app.view.overview import (
     triangles_in_rect,
 )
 from app.view.polydata import Layer
-from core import TriMesh
+from core import BuildCancelled, TriMesh
 
 log = logging.getLogger(__name__)
 
@@ -303,7 +303,8 @@ def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[flo
 
 
 def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
-               color_by: str = "none", pixels: tuple[int, int] | None = None) -> SceneData:
+               color_by: str = "none", pixels: tuple[int, int] | None = None,
+               cancel: Callable[[], bool] | None = None) -> SceneData:
     """Build the datasets of every layer for ``mesh`` (thread-safe, no rendering).
 
     A mesh of more than ``detail_limit`` triangles gets an :class:`Overview` (its faces
@@ -322,6 +323,9 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         The view's size: the overview has about one texel per pixel of its longer side
         (:func:`app.view.overview.raster_side`), and its line layers are cut down to what
         those texels can show (:func:`app.view.overview.decimated_lines`).
+    cancel : callable, optional
+        Polled between the stages of a dense mesh's overview; when it returns True,
+        :class:`core.BuildCancelled` is raised (an abandoned build stops here too).
 
     Returns
     -------
@@ -351,7 +355,14 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
     dz = 1e-4 * size
     side = raster_side(pixels)
     shape = raster_shape(bounds, side)
+
+    def check() -> None:
+        if cancel is not None and cancel():
+            raise BuildCancelled("the build was cancelled")
+
+    check()
     raster = overview_raster(pts, mesh.triangles, bounds, side)
+    check()
     sets = {name: Layer() for name in LAYERS}
     edges = np.asarray(mesh.edges)
     for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
@@ -361,8 +372,10 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
     if rects is None:  # (paper mode: the window outlines a part of the patches)
         out_pts, out_pairs = patch_outline_pairs(mesh)
         sets["patch_outlines"] = _screen_lines(out_pts, out_pairs, bounds, shape, 2 * dz)
+    check()
     covered, values = _image_values(raster, shape, arrays, rects, bounds)
     del raster, arrays
+    check()
     if rects is not None:
         top = float(np.nanmax(values["overlap"])) if covered.any() else 1.0
         ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
