@@ -195,3 +195,126 @@ def test_bad_command_line_values_exit_1(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "app", "--set", "subdivisions=0", "--quit"],
                           env=env, capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1 and "subdivisions" in proc.stderr
+
+
+PAPER_PRESETS = ["paper-fig10", "paper-fig11-12mm", "paper-fig11-4mm", "paper-fig11-8mm",
+                 "paper-fig12a", "paper-fig12b", "paper-fig12c", "paper-fig12d",
+                 "paper-fig8-dsdr", "paper-fig9-square-dsdr"]
+
+
+def _wait_for(window, qtbot, params) -> None:
+    window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result is not None
+                    and window.model.result.params == params, timeout=60_000)
+
+
+@pytest.mark.parametrize("name", PAPER_PRESETS)
+def test_every_paper_preset_is_drawn_as_the_paper_draws_it(window, qtbot, name):
+    from core.presets import load_preset, preset_descriptions
+
+    assert name in preset_descriptions()
+    params, _ = load_preset(name)
+    window.load_preset(name)  # what Presets > name does
+    _wait_for(window, qtbot, params)
+    window.reset_camera()
+    scene, mesh = window.scene, window.model.result.mesh
+    assert mesh.mode == params.mode  # (Fig. 8 and 9 presets are conforming rings)
+    assert not scene.reduced  # every paper preset fits the full drawing
+    assert scene.edge_px >= 4.0  # each triangle is at least 4 px on screen
+    for layer in ("faces", "triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        assert scene.actors[layer].GetVisibility(), (name, layer)
+    assert scene.shown_color_by == "none" and not scene.overlap_look
+    sets = scene.datasets
+    assert sets["faces"].n_cells == mesh.n_triangles == window.model.result.stats["triangles"]
+    assert sets["triangle_edges"].n_cells == len(mesh.edges)
+    assert sets["shared_edges"].n_cells == window.model.result.stats["interior_edges"] > 0
+    assert sets["boundary_edges"].n_cells == len(mesh.boundary_edges) > 0
+    assert sets["centroids"].n_points == mesh.n_triangles
+
+
+def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, qtbot,
+                                                                        monkeypatch):
+    import app.view.scene as scene_module
+
+    scene = window.scene
+    window.reset_camera()
+    window.plotter.camera.parallel_scale *= 100  # zoomed far out: triangles < 1 px
+    window._camera_moved()
+    assert scene.edge_px < 1.0 and scene.light
+    assert not scene.actors["triangle_edges"].GetVisibility()
+    combo = window.layers.detail
+    combo.setFocus()
+    qtbot.keyClick(combo, Qt.Key.Key_End)  # "Always full"
+    assert combo.currentText() == "Always full" and window.model.detail == "full"
+    assert not scene.light
+    for layer in ("triangle_edges", "shared_edges", "centroids"):
+        assert scene.actors[layer].GetVisibility(), layer
+    assert "hidden" not in scene.note.GetInput()
+    # 384 triangles: no warning; above the limit (lowered to 383 here) the panel and the
+    # view's note say what it costs
+    assert window.layers.warning.isHidden() and "Full detail" not in scene.note.GetInput()
+    monkeypatch.setattr(scene_module, "FULL_DETAIL_WARN", 383)
+    qtbot.keyClick(combo, Qt.Key.Key_Home)
+    assert window.model.detail == "auto" and scene.light
+    qtbot.keyClick(combo, Qt.Key.Key_End)
+    assert not window.layers.warning.isHidden()
+    assert "384 triangles" in window.layers.warning.text()
+    assert "Full detail of 384 triangles" in scene.note.GetInput()
+
+
+def test_full_detail_warning_starts_above_a_million_triangles():
+    from app.view.scene import full_detail_warning
+
+    assert full_detail_warning(1_000_000, "full") == ""
+    assert "1,000,001 triangles" in full_detail_warning(1_000_001, "full")
+    assert full_detail_warning(5_000_000, "auto") == ""
+
+
+def test_detail_always_full_draws_a_dense_mesh_in_full(window, qtbot):
+    from app.view.overview import DETAIL_TRIANGLES
+
+    params = MeshParams(subdivisions=6)  # Fig. 12(a) at n = 6: 51,840 triangles
+    window.model.set_params(params)
+    _wait_for(window, qtbot, params)
+    scene, mesh = window.scene, window.model.result.mesh
+    assert mesh.n_triangles == 720 * 2 * 36 > DETAIL_TRIANGLES
+    assert scene.reduced and scene.datasets["faces"].n_cells == 0
+    combo = window.layers.detail
+    combo.setFocus()
+    qtbot.keyClick(combo, Qt.Key.Key_End)
+    assert not scene.reduced
+    assert scene.datasets["faces"].n_cells == mesh.n_triangles
+    assert scene.datasets["shared_edges"].n_cells == len(mesh.interior_edges)
+    assert scene.actors["triangle_edges"].GetVisibility()
+    qtbot.keyClick(combo, Qt.Key.Key_Home)  # back to automatic: the image again
+    assert scene.reduced
+
+
+def test_layer_check_boxes_show_a_tick(window, qtbot):
+    from PySide6.QtWidgets import QCheckBox, QStyle, QStyleOptionButton
+
+    def indicator(box):
+        opt = QStyleOptionButton()
+        box.initStyleOption(opt)
+        rect = box.style().subElementRect(QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
+        return box.grab(rect).toImage()
+
+    plain = QCheckBox("plain", window.layers)  # the style's own box, for reference
+    plain.show()
+    plain.setChecked(True)
+    ticked = indicator(plain)
+    plain.setChecked(False)
+    empty = indicator(plain)
+    assert ticked != empty
+    for name, box in window.layers.boxes.items():
+        assert box.isChecked() == window.model.layers[name]
+        if not box.isEnabled():
+            continue
+        if not box.isChecked():
+            click_check_box(box)
+        assert box.isChecked()
+        assert indicator(box) == ticked, name  # the tick, not a colour swatch
+        click_check_box(box)
+        assert not box.isChecked() and not window.model.layers[name]
+        assert indicator(box) == empty, name
+        assert not box.icon().isNull()  # the layer's colour beside its title

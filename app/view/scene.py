@@ -28,7 +28,7 @@ from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
 from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
-from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
+from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
 from app.view.overview import (
     DETAIL_TRIANGLES,
     count_grid,
@@ -69,15 +69,21 @@ _CATEGORIES = 10  # patches are coloured cyclically with a 10-colour qualitative
 REGION_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b"]
 REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
-#: centroids are not drawn (they would only paint a texture over the faces).
-LIGHT_PX = 12.0
+#: centroids are not drawn (they would only paint a texture over the faces); from it up
+#: the mesh is drawn the way the paper draws it. Detail "always full" (:data:`DETAIL_MODES`)
+#: draws them at any size.
+LIGHT_PX = 4.0
+#: Detail "always full" of more triangles than this gets a warning: every frame draws them
+#: all (seconds per frame on a software renderer).
+FULL_DETAIL_WARN = 1_000_000
 #: Layers that exist per triangle or per edge: drawn in full detail only.
 DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels")
 _ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio", "overlap")
 #: Paper-mode meshes whose patches overlap at least this much (``TriMesh.overlap_ratio``)
-#: get the *overlap look* by default (colouring "none"): faces coloured by how many
-#: patches cover each point, 1 in k patch outlines drawn for the zoom, every patch's
-#: triangle edges, centroids and borders hidden (overlapping, they tangle into a moire).
+#: get the *overlap look* when the user colours faces by "Patches over each point"
+#: (colouring "overlap"; never by default): faces coloured by how many patches cover each
+#: point, 1 in k patch outlines drawn for the zoom, every patch's triangle edges,
+#: centroids and borders hidden (overlapping, they tangle into a moire).
 OVERLAP_LOOK = 0.2
 #: In the overlap look, outlines are drawn at least this far apart on screen (px) on
 #: average: every k-th patch is outlined, k chosen from the zoom.
@@ -278,10 +284,24 @@ def overview_image(rgba: np.ndarray) -> pv.ImageData:
 
 
 def shown_color(color_by: str, overlap_ratio: float | None) -> str:
-    """The colouring drawn for the chosen one: the overlap look replaces "none"."""
-    if color_by == "none" and overlap_ratio is not None and overlap_ratio >= OVERLAP_LOOK:
-        return "overlap"
+    """The colouring drawn for the chosen one ``color_by``: itself. (The overlap count
+    replaced "none" on overlapping paper meshes once; it is now a colouring to pick.)"""
+    del overlap_ratio  # kept in the signature: callers pass the mesh's ratio
     return color_by
+
+
+def full_detail_warning(n_triangles: int, detail: str) -> str:
+    """The cost warning of Detail ``detail`` for a mesh of ``n_triangles`` ("" if none).
+
+    >>> full_detail_warning(999_999, "full")
+    ''
+    >>> full_detail_warning(2_000_000, "auto")
+    ''
+    """
+    if detail != "full" or n_triangles <= FULL_DETAIL_WARN:
+        return ""
+    return (f"Full detail of {n_triangles:,} triangles: every frame draws each triangle, "
+            "edge and centroid (slow above about 1M; Detail: automatic draws an image)")
 
 
 def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[float, float]]:
@@ -581,7 +601,12 @@ class MeshScene:
         plotter: pv.Plotter,
         visible: dict[str, bool] | None = None,
         color_by: str = "none",
+        detail: str = "auto",
     ) -> None:
+        if detail not in DETAIL_MODES:
+            raise ValueError(f"detail={detail!r} is unknown; expected one of "
+                             f"{', '.join(DETAIL_MODES)}")
+        self.detail = detail
         self.plotter = plotter
         self.visible = dict(DEFAULT_VISIBLE)
         self.visible.update(visible or {})
@@ -755,8 +780,10 @@ class MeshScene:
 
     @property
     def overlap_look(self) -> bool:
-        """Whether the overlap look is on (overlapping paper patches, colouring "none")."""
-        return self.shown_color_by == "overlap" and self.color_by == "none"
+        """Whether the overlap look is on: colouring "overlap" (Patches over each point)
+        chosen on a paper mesh whose patches overlap at least :data:`OVERLAP_LOOK`."""
+        return (self.color_by == "overlap" and self.overlap_ratio is not None
+                and self.overlap_ratio >= OVERLAP_LOOK)
 
     @property
     def shown_color_by(self) -> str:
@@ -902,6 +929,15 @@ class MeshScene:
         self.visible[layer] = bool(on)
         self._apply_visibility()
 
+    def set_detail(self, detail: str) -> None:
+        """Detail "auto" (light look below :data:`LIGHT_PX`) or "full" (always drawn)."""
+        if detail not in DETAIL_MODES:
+            raise ValueError(f"detail={detail!r} is unknown; expected one of "
+                             f"{', '.join(DETAIL_MODES)}")
+        self.detail = detail
+        self.fit_marker_sizes()
+        self._apply_visibility()
+
     def set_color_by(self, key: str) -> None:
         if key not in COLOR_BY:
             raise ValueError(f"color_by={key!r} is unknown; expected one of {', '.join(COLOR_BY)}")
@@ -958,7 +994,7 @@ class MeshScene:
             parts.append(f"Overlapping patches (ratio {self.overlap_ratio:.2f}): colour = "
                          f"patches over each point, {which}")
             parts.append("Triangle edges hidden: they cross between overlapping patches "
-                         "(a colouring under Layers shows them)")
+                         "(colour faces by Solid to see them)")
         if self.overview is not None:
             if self.detail_rect is None:
                 rest = "" if self.overlap_look else (
@@ -975,7 +1011,10 @@ class MeshScene:
             borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
             parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
                          f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
-                         "zoom in)")
+                         "zoom in or set Detail: always full)")
+        warning = full_detail_warning(self.n_triangles, self.detail)
+        if warning:
+            parts.append(warning)
         return "\n".join(parts)
 
     def _apply_color_by(self) -> None:
@@ -1086,7 +1125,8 @@ class MeshScene:
 
         Fixed sizes would bury a dense mesh (the paper's Fig. 12(a) zoomed out): lines
         keep their full width from 12 px per typical edge up and thin to 1 px below, and a
-        dot is at most a quarter of a typical edge.
+        dot is at most a quarter of a typical edge. Below :data:`LIGHT_PX` (Detail "auto")
+        triangle edges, shared edges and centroids are left out (the light look).
         """
         camera = self.plotter.camera
         height = self.plotter.window_size[1] if self.plotter.window_size else 0
@@ -1094,7 +1134,8 @@ class MeshScene:
         if self.typical_edge > 0 and camera.parallel_projection and height > 0:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
-        light = bool(edge_px < LIGHT_PX)
+        # at a screenshot's scale its triangles are that many times larger in pixels
+        light = bool(self.detail == "auto" and edge_px * self._line_scale < LIGHT_PX)
         stride_changed = self._fit_outlines(height, camera)
         if light != self.light or stride_changed:
             self.light = light
