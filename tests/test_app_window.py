@@ -318,3 +318,36 @@ def test_layer_check_boxes_show_a_tick(window, qtbot):
         assert not box.isChecked() and not window.model.layers[name]
         assert indicator(box) == empty, name
         assert not box.icon().isNull()  # the layer's colour beside its title
+
+
+def _colour_pixels(image: np.ndarray, colour: str, tol: int = 40) -> int:
+    """Pixels of ``image`` within ``tol`` (per channel) of the hex ``colour``."""
+    rgb = np.array([int(colour[i:i + 2], 16) for i in (1, 3, 5)])
+    return int((np.abs(image[..., :3].astype(int) - rgb).max(axis=-1) <= tol).sum())
+
+
+@pytest.mark.parametrize("size, drawn", [((1024, 768), True), ((200, 150), False)])
+def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_path, size,
+                                                                           drawn):
+    # paper-fig12c, 2,304 triangles: about 10 px a triangle at 1024 x 768 (drawn as the
+    # paper draws them: shared edges orange, centroids magenta), about 2 px at 200 x 150
+    # (the light look, as in the window)
+    from app.view.scene import COLORS
+
+    out = tmp_path / "fig12c.png"
+    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
+    env.pop("DISPLAY", None)
+    proc = subprocess.run(
+        [sys.executable, "-m", "app.cli", "mesh", "--preset", "paper-fig12c",
+         "--screenshot", str(out), "--window-size", *map(str, size)],
+        env=env, capture_output=True, text=True, timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr
+    image = iio.imread(out)
+    assert image.shape[:2] == (size[1], size[0])
+    shared = _colour_pixels(image, COLORS["shared_edges"])
+    centroids = _colour_pixels(image, COLORS["centroids"])
+    if drawn:
+        assert shared > 5_000 and centroids > 1_000, (shared, centroids)
+    else:
+        assert shared == 0 and centroids == 0, (shared, centroids)
