@@ -144,3 +144,31 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     assert_half(view, COARSE.replace(subdivisions=3), "conforming")
     win.close()
     assert view._closed
+
+
+@pytest.mark.parametrize("preset", ["paper-fig12c", "srr-openmodes"])
+def test_both_halves_show_triangle_edges_at_the_default_size(qtbot, preset):
+    from core.presets import load_preset
+
+    params, _ = load_preset(preset)
+    win = CompareView(AppModel(params))  # its own default size (no resize)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    wait_shown(qtbot, win)
+    try:
+        for mode in ("paper", "conforming"):
+            scene = win.scenes[mode]
+            if win.stats_of(mode) is None:  # a mode the core refuses for this preset
+                continue
+            mesh = build_mesh(params.replace(mode=mode))
+            assert scene.edge_px >= 4.0, (mode, scene.edge_px)
+            assert not scene.light, mode
+            for layer in ("triangle_edges", "shared_edges"):
+                assert scene.actors[layer].GetVisibility(), (mode, layer)
+            assert scene.datasets["triangle_edges"].n_cells == len(mesh.edges)
+            assert scene.datasets["shared_edges"].n_cells == len(mesh.interior_edges)
+            assert "hidden" not in scene.note.GetInput(), mode
+        assert win.stats_of("paper") is not None or win.stats_of("conforming") is not None
+    finally:
+        win.close()
