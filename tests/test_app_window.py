@@ -16,6 +16,7 @@ from app.model import SPECS, applies, format_value  # noqa: E402
 from app.window import MainWindow  # noqa: E402
 from core import MeshParams  # noqa: E402
 from tests.app_user import choose, click_check_box, patch_counts, shown_counts, type_into  # noqa: E402
+from tests.gui_helpers import colour_pixels  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -320,12 +321,6 @@ def test_layer_check_boxes_show_a_tick(window, qtbot):
         assert not box.icon().isNull()  # the layer's colour beside its title
 
 
-def _colour_pixels(image: np.ndarray, colour: str, tol: int = 40) -> int:
-    """Pixels of ``image`` within ``tol`` (per channel) of the hex ``colour``."""
-    rgb = np.array([int(colour[i:i + 2], 16) for i in (1, 3, 5)])
-    return int((np.abs(image[..., :3].astype(int) - rgb).max(axis=-1) <= tol).sum())
-
-
 @pytest.mark.parametrize("size, drawn", [((1024, 768), True), ((200, 150), False)])
 def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_path, size,
                                                                            drawn):
@@ -345,8 +340,8 @@ def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_p
     assert proc.returncode == 0, proc.stderr
     image = iio.imread(out)
     assert image.shape[:2] == (size[1], size[0])
-    shared = _colour_pixels(image, COLORS["shared_edges"])
-    centroids = _colour_pixels(image, COLORS["centroids"])
+    shared = colour_pixels(image, COLORS["shared_edges"])
+    centroids = colour_pixels(image, COLORS["centroids"])
     if drawn:
         assert shared > 5_000 and centroids > 1_000, (shared, centroids)
     else:
