@@ -760,6 +760,7 @@ class MainWindow(QMainWindow):
             return
         self.scene.set_color_by(key)
         self.color_actions[key].setChecked(True)
+        self.refit_if_framed(render=False)  # a legend came or went: room for it
         self.request_render()
 
     def _scene_for_detail(self, result: MeshResult) -> Any:
@@ -864,7 +865,7 @@ class MainWindow(QMainWindow):
         if self.scene.bounds is None:
             self.scene.top_view()
         else:
-            frame_from_above(self.plotter, self.scene.bounds)
+            frame_from_above(self.plotter, self.scene.bounds, right_px=self.scene.legend_px())
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
         self._framed = self._camera_state()

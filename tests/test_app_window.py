@@ -346,3 +346,75 @@ def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_p
         assert shared > 5_000 and centroids > 1_000, (shared, centroids)
     else:
         assert shared == 0 and centroids == 0, (shared, centroids)
+
+
+def _mesh_right_px(window) -> float:
+    """The display x (px) of the mesh's rightmost point."""
+    from tests.gui_helpers import display_point
+
+    pts = np.asarray(window.model.result.mesh.points)
+    right = pts[np.argmax(pts[:, 0])]
+    return display_point(window.plotter, right)[0]
+
+
+@pytest.mark.parametrize("params", [MeshParams(), MeshParams(structure="patch",
+                                                              subdivisions=4)])
+def test_the_colour_bar_is_beside_the_mesh_not_over_it(qtbot, params):
+    win = MainWindow(params, scripted=True)
+    qtbot.addWidget(win)
+    win.resize(1300, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
+    try:
+        combo = win.layers.color_by
+        combo.setFocus()
+        qtbot.keyClicks(combo, "Area")
+        assert win.model.color_by == "area"
+        win.plotter.render()
+        bar = win.scene.scalar_bar
+        assert bar.GetVisibility()
+        bar_left = bar.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)[0]
+        title = win.scene.legend_title
+        box = [0.0] * 4  # relative to its (right-justified) anchor
+        title.GetBoundingBox(win.plotter.renderer, box)
+        anchor = title.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)
+        title_left = anchor[0] + box[0]
+        assert _mesh_right_px(win) < min(bar_left, title_left), (bar_left, title_left)
+        # and back to Solid: no legend, the mesh framed in the whole width again
+        qtbot.keyClick(combo, Qt.Key.Key_Home)
+        assert not bar.GetVisibility() and win.scene.legend_px() == 0.0
+    finally:
+        win.close()
+
+
+@pytest.mark.parametrize("n", [4, 32])
+def test_area_of_equal_triangles_has_a_scale_around_its_value(qtbot, n):
+    params = MeshParams(structure="patch", subdivisions=n)  # 2 n² equal triangles
+    win = MainWindow(params, scripted=True)
+    qtbot.addWidget(win)
+    win.resize(1300, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
+    try:
+        area = 1.0 / (2 * n * n)  # a 1 mm patch: 0.0005 mm² at n = 32
+        np.testing.assert_allclose(win.model.result.mesh.areas, area)
+        combo = win.layers.color_by
+        combo.setFocus()
+        qtbot.keyClicks(combo, "Area")
+        lo, hi = win.scene.ranges["area"]
+        assert 0 < lo < area < hi and hi - lo < area  # no negative area on the scale
+        bar = win.scene.scalar_bar
+        labels = bar.GetCustomLabels()
+        values = np.array([labels.GetValue(i) for i in range(labels.GetNumberOfTuples())])
+        texts = [bar.GetLabelFormat() % v for v in values]
+        assert len(values) >= 2 and (values > 0).all()
+        assert len(set(texts)) == len(texts)
+        # each label reads as its value (0.0005 is not "0.0")
+        for v, text in zip(values, texts, strict=True):
+            assert abs(float(text) - v) <= 0.05 * area, (v, text)
+    finally:
+        win.close()

@@ -310,7 +310,10 @@ def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[flo
         finite = values[np.isfinite(values)]
         a, b = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
         if b - a < 1e-12 * max(1.0, abs(a)):
-            a, b = a - 0.5, b + 0.5
+            # one value (equal triangles): a scale of +-10 % around it, so its ticks are
+            # near it and of its sign and digits (not -0.5..0.5 around 0.0005 mm²)
+            half = 0.1 * abs(a) if a != 0 else 0.5
+            a, b = a - half, b + half
         ranges[name] = (a, b)
     if "overlap" in ranges:
         ranges["overlap"] = (0.5, max(ranges["overlap"][1], 1.0) + 0.5)
@@ -1071,6 +1074,23 @@ class MeshScene:
         bar.SetUseCustomLabels(True)
         bar.SetCustomLabels(labels)
 
+    #: Left edge of the colour bar's column (normalised viewport x), and of its numbers.
+    LEGEND_LEFT = 0.885
+
+    def legend_px(self) -> float:
+        """Pixels at the right of the view the colour legend takes (0 when none is shown):
+        the bar's column, or its title if that is wider. The mesh is framed left of it."""
+        if not self.scalar_bar.GetVisibility():
+            return 0.0
+        width = float(self.plotter.window_size[0]) if self.plotter.window_size else 0.0
+        px = (1.0 - self.LEGEND_LEFT) * width
+        box = [0.0] * 4
+        try:
+            self.legend_title.GetBoundingBox(self.plotter.renderer, box)
+        except (TypeError, AttributeError):  # no renderer size yet
+            return px
+        return float(max(px, 0.015 * width + (box[1] - box[0]) + 6.0))
+
     def show_rulers(self, bounds: tuple[float, float, float, float]) -> None:
         """Rulers in mm around ``bounds`` = (x0, x1, y0, y1) without a mesh (teaching views)."""
         self.bounds = tuple(float(v) for v in bounds)
@@ -1102,8 +1122,11 @@ class MeshScene:
         # frame the rulers (rounded out to nice ticks), not only the mesh, so no label is cut
         (x0, x1, _), (y0, y1, _) = nice_span(*self.bounds[:2]), nice_span(*self.bounds[2:])
         pad = 0.12 * max(x1 - x0, y1 - y0, 1e-9)
-        p.reset_camera(render=False, bounds=(x0 - pad, x1 + pad / 3, y0 - pad, y1 + pad / 3,
-                                             0.0, 0.0))
+        x0, x1, y0, y1 = x0 - pad, x1 + pad / 3, y0 - pad, y1 + pad / 3
+        width = float(p.window_size[0]) if p.window_size else 0.0
+        share = min(self.legend_px() / width, 0.5) if width > 0 else 0.0
+        x1 += (x1 - x0) * share / (1.0 - share)  # the legend's column right of the mesh
+        p.reset_camera(render=False, bounds=(x0, x1, y0, y1, 0.0, 0.0))
         self.fit_marker_sizes()
 
     @contextmanager
