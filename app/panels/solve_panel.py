@@ -47,6 +47,7 @@ from PySide6.QtWidgets import (
     QLineEdit,
     QProgressBar,
     QPushButton,
+    QSizePolicy,
     QSlider,
     QSpinBox,
     QTabWidget,
@@ -262,7 +263,9 @@ class SolvePanel(QWidget):
         super().__init__(window)
         self.window_ = window
         self.model = window.model
-        self.layer = CurrentLayer(window.plotter, window.request_render)
+        scene = getattr(window, "scene", None)
+        self.layer = CurrentLayer(window.plotter, window.request_render,
+                                  scene.set_covered if scene is not None else None)
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
@@ -377,6 +380,8 @@ class SolvePanel(QWidget):
         self.stale = QLabel(page)
         self.stale.setStyleSheet("color: #b35900;")
         self.stale.setWordWrap(True)
+        # never squeezed below its wrapped text's height (it was cut top and bottom)
+        self.stale.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
         self.stale.hide()
         form.addRow(self.stale)
         self.summary = QLabel("No result yet.", page)
@@ -390,7 +395,7 @@ class SolvePanel(QWidget):
         form.addRow(self.show_current)
         self.quantity = QComboBox(page)
         self.quantity.addItem("current |J|", "current")
-        self.quantity.addItem("charge Re(ρ e^{jωt})", "charge")
+        self.quantity.addItem("charge Re(ρ·exp(jωt))", "charge")
         self.quantity.setToolTip("What the colours show; the charge follows the phase")
         self.quantity.currentIndexChanged.connect(self._quantity_changed)
         form.addRow("C&olour by", self.quantity)
@@ -404,7 +409,7 @@ class SolvePanel(QWidget):
         self.phase.setRange(0, 360)
         self.phase.setSingleStep(5)
         self.phase.setPageStep(45)
-        self.phase.setToolTip("Arrows: Re(J e^{jωt}) at ωt = this phase")
+        self.phase.setToolTip("Arrows: Re(J·exp(jωt)) at ωt = this phase")
         self.phase.valueChanged.connect(self._phase_changed)
         self.phase_label = QLabel("0°", page)
         self.phase_label.setMinimumWidth(36)

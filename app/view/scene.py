@@ -76,6 +76,9 @@ LIGHT_PX = 4.0
 #: Detail "always full" of more triangles than this gets a warning: every frame draws them
 #: all (seconds per frame on a software renderer).
 FULL_DETAIL_WARN = 1_000_000
+#: Layers left out while a layer covers the faces (the surface current's arrows sit at
+#: the centroids, dark on dark red: orange lines and magenta dots would hide them).
+COVERED_HIDES = ("shared_edges", "centroids", "labels")
 #: Layers that exist per triangle or per edge: drawn in full detail only.
 DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels")
 _ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio", "overlap")
@@ -631,6 +634,7 @@ class MeshScene:
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
+        self.covered = False  # a layer over the faces (surface current): see set_covered
         self.edge_px = np.inf
         self._line_scale = 1.0
         self.emphasis = 1.0  # presentation mode: thicker lines, larger fonts
@@ -941,6 +945,13 @@ class MeshScene:
         self.fit_marker_sizes()
         self._apply_visibility()
 
+    def set_covered(self, covered: bool) -> None:
+        """A layer drawn over the faces (the surface current's colours and arrows) is on:
+        shared edges, centroids, labels and the faces' legend step aside so that its
+        arrows read; triangle, boundary and junction edges stay."""
+        self.covered = bool(covered)
+        self._apply_visibility()
+
     def set_color_by(self, key: str) -> None:
         if key not in COLOR_BY:
             raise ValueError(f"color_by={key!r} is unknown; expected one of {', '.join(COLOR_BY)}")
@@ -957,6 +968,8 @@ class MeshScene:
     def drawn(self, name: str) -> bool:
         """Whether layer ``name`` is drawn now (asked for, and not left out for density)."""
         on = self.visible[name]
+        if self.covered and name in COVERED_HIDES:
+            return False
         if name == "labels":
             return on and self.labels_shown
         if name in ("triangle_edges", "shared_edges", "centroids") and self.light:
@@ -979,7 +992,7 @@ class MeshScene:
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
         self.actors_zoom.SetVisibility(bool(self.visible["faces"] and self.zoom is not None))
         legend = bool(self.visible["faces"] and self.shown_color_by != "none"
-                      and self.n_triangles)
+                      and self.n_triangles and not self.covered)
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
@@ -1015,6 +1028,10 @@ class MeshScene:
             parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
                          f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
                          "zoom in or set Detail: always full)")
+        shown = [n for n in COVERED_HIDES if self.visible[n] and n != "labels"]
+        if self.covered and shown:
+            parts.append("Surface current shown: shared edges and centroids hidden "
+                         "(untick Surface current in the Solve panel to see them)")
         warning = full_detail_warning(self.n_triangles, self.detail)
         if warning:
             parts.append(warning)
