@@ -865,7 +865,8 @@ class MainWindow(QMainWindow):
         if self.scene.bounds is None:
             self.scene.top_view()
         else:
-            frame_from_above(self.plotter, self.scene.bounds, right_px=self.scene.legend_px())
+            frame_from_above(self.plotter, self.scene.bounds, right_px=self.scene.legend_px(),
+                             bottom_px=self.scene.note_px())
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
         self._framed = self._camera_state()

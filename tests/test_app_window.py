@@ -418,3 +418,59 @@ def test_area_of_equal_triangles_has_a_scale_around_its_value(qtbot, n):
             assert abs(float(text) - v) <= 0.05 * area, (v, text)
     finally:
         win.close()
+
+
+def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
+    from app.view.framing import RULER_PAD
+    from tests.gui_helpers import display_point
+
+    win = MainWindow(MeshParams(subdivisions=8), scripted=True)  # 92,160 triangles
+    qtbot.addWidget(win)
+    win.resize(1000, 700)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    qtbot.waitUntil(lambda: win.model.result is not None
+                    and win.model.result.mesh.n_triangles == 92_160, timeout=60_000)
+    try:
+        win.reset_camera()
+        scene = win.scene
+        assert scene.reduced and "Detail reduced" in scene.note.GetInput()
+        win.plotter.render()
+        box = [0.0] * 4
+        scene.note.GetBoundingBox(win.plotter.renderer, box)
+        note_top = box[3]  # display pixels from the bottom
+        x0, x1, y0, y1 = scene.axes.bounds[:4]
+        size = max(x1 - x0, y1 - y0)
+        # the x labels and title live in the ruler pad under the bottom ruler: all of it
+        # above the note
+        _, axis_y = display_point(win.plotter, (x0, y0, 0.0))
+        _, pad_y = display_point(win.plotter, (x0, y0 - RULER_PAD[0] * size, 0.0))
+        assert axis_y > pad_y >= note_top, (axis_y, pad_y, note_top)
+    finally:
+        win.close()
+
+
+def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
+    from app.view.scene import _vtk_step
+
+    scene = window.scene
+    window.reset_camera()
+    camera = window.plotter.camera
+    camera.parallel_scale /= 8  # zoomed in on the right part of the outer ring
+    fx, fy, fz = camera.focal_point
+    camera.focal_point = (8.0, 0.0, fz)
+    camera.position = (8.0, 0.0, camera.position[2])
+    window._camera_moved()
+    rect = scene.view_rect()
+    ax0, ax1, ay0, ay1 = scene.axes.bounds[:4]
+    assert rect[0] < ax0 < ax1 < rect[1] and rect[2] < ay0 < ay1 < rect[3]
+    for axis, (lo, hi) in enumerate(((ax0, ax1), (ay0, ay1))):
+        labels = scene.axes.GetAxisLabels(axis)
+        texts = [labels.GetValue(i) for i in range(labels.GetNumberOfValues())]
+        step = _vtk_step(hi - lo)
+        ticks = lo + step * np.arange(round((hi - lo) / step) + 1)
+        assert len(texts) >= 2 and texts == [f"{v:.4g}" for v in ticks], axis
+    # framed again: the rulers go back to the whole mesh, rounded out
+    window.reset_camera()
+    assert tuple(scene.axes.bounds[:4]) == (-10.0, 10.0, -10.0, 10.0)

@@ -1114,13 +1114,65 @@ class MeshScene:
         self._place_rulers()
         self.axes.SetVisibility(True)
 
+    #: Room (px) the rulers keep inside the view's edges when zoomed in: left of the y
+    #: axis for its labels, right, under the x axis for its labels and title, top.
+    RULER_INSET_PX = (64.0, 10.0, 52.0, 10.0)
+
+    def note_px(self) -> float:
+        """Pixels the note at the bottom of the view takes (0 without one)."""
+        if not self.note.GetInput():
+            return 0.0
+        box = [0.0] * 4
+        try:
+            self.note.GetBoundingBox(self.plotter.renderer, box)
+        except (TypeError, AttributeError):
+            return 0.0
+        size = self.plotter.window_size
+        height = float(size[1]) if size else 0.0
+        return float(box[3] - box[2]) + 0.012 * height + 6.0
+
     def _place_rulers(self) -> None:
+        """Rulers on the mesh's extent rounded out to nice ticks; zoomed in so far that
+        they would leave the view, along the part in view instead (inside its edges,
+        above the note), so their tick labels stay on screen."""
         if self.bounds is None:
             return
         x0, x1, y0, y1 = self.bounds
         (x0, x1, nx), (y0, y1, ny) = nice_span(x0, x1), nice_span(y0, y1)
-        self.axes.n_xlabels, self.axes.n_ylabels = nx, ny
-        self.axes.bounds = (x0, x1, y0, y1, 0.0, 0.0)
+        inner = self._rulers_in_view((x0, x1, y0, y1))
+        if inner is not None:
+            (x0, x1, nx), (y0, y1, ny) = inner
+        if self.axes.x_label_format != "{:.4g}":  # 7.5 on a zoomed-in ruler, not "8"
+            self.axes.x_label_format = self.axes.y_label_format = "{:.4g}"
+        if (self.axes.n_xlabels, self.axes.n_ylabels) != (nx, ny):
+            self.axes.n_xlabels, self.axes.n_ylabels = nx, ny
+        bounds = (x0, x1, y0, y1, 0.0, 0.0)
+        if tuple(self.axes.bounds) != bounds:
+            self.axes.bounds = bounds
+
+    def _rulers_in_view(self, box: tuple[float, float, float, float]
+                        ) -> tuple[tuple[float, float, int], tuple[float, float, int]] | None:
+        """The rulers' spans inside the view when ``box`` (the rounded-out extent) is not
+        all in view; None when it is (or the view is not known)."""
+        if not self.plotter.camera.parallel_projection:
+            return None
+        width, height = self.plotter.renderer.GetSize()
+        rect = self.view_rect()
+        if rect is None or width <= 0 or height <= 0:
+            return None
+        tol = 1e-9 * max(box[1] - box[0], box[3] - box[2], 1e-12)
+        if (rect[0] <= box[0] + tol and box[1] <= rect[1] + tol and rect[2] <= box[2] + tol
+                and box[3] <= rect[3] + tol):
+            return None
+        per_px = (rect[1] - rect[0]) / width
+        left, right, bottom, top = self.RULER_INSET_PX
+        right += self.legend_px()
+        bottom += self.note_px()
+        lo_x, hi_x = max(box[0], rect[0] + left * per_px), min(box[1], rect[1] - right * per_px)
+        lo_y, hi_y = max(box[2], rect[2] + bottom * per_px), min(box[3], rect[3] - top * per_px)
+        if hi_x <= lo_x or hi_y <= lo_y:
+            return None
+        return nice_inside(lo_x, hi_x), nice_inside(lo_y, hi_y)
 
     # -- camera and output ---------------------------------------------------------------
 
@@ -1174,6 +1226,7 @@ class MeshScene:
         if self.typical_edge > 0 and camera.parallel_projection and height > 0:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
+        self._place_rulers()  # zoomed in: along the part in view
         # at a screenshot's scale its triangles are that many times larger in pixels
         light = bool(self.detail == "auto" and edge_px * self._line_scale < LIGHT_PX)
         stride_changed = self._fit_outlines(height, camera)
@@ -1290,6 +1343,30 @@ def nice_span(lo: float, hi: float, ticks: int = 5) -> tuple[float, float, int]:
             break
         a, b = a2, b2
     step = _vtk_step(max(b - a, 1e-12))
+    return a, b, int(round((b - a) / step)) + 1
+
+
+def nice_inside(lo: float, hi: float) -> tuple[float, float, int]:
+    """The widest span on the rulers' tick step inside [lo, hi] (a part of a zoomed-in
+    mesh): its ends and the count of ticks, every label on its tick line.
+
+    >>> nice_inside(0.13, 0.91)
+    (0.2, 0.9, 8)
+    """
+    step = _vtk_step(max(hi - lo, 1e-12))
+    a = b = float(lo)
+    for _ in range(6):
+        a = float(np.ceil(lo / step - 1e-9) * step)
+        b = float(np.floor(hi / step + 1e-9) * step)
+        if b - a < step * (1 - 1e-9):  # one tick at most: a finer step
+            step /= 2.0
+            continue
+        following = _vtk_step(b - a)
+        if np.isclose(following, step, rtol=1e-9):
+            break
+        step = following
+    if b <= a:
+        return float(lo), float(hi), 2
     return a, b, int(round((b - a) / step)) + 1
 
 
