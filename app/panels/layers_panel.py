@@ -3,11 +3,13 @@ level of detail."""
 
 from __future__ import annotations
 
+from PySide6.QtCore import QSize
 from PySide6.QtGui import QColor, QIcon, QPainter, QPixmap
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
     QFormLayout,
+    QGridLayout,
     QLabel,
     QVBoxLayout,
     QWidget,
@@ -18,7 +20,7 @@ from app.view.layers import COLOR_BY_TITLES, DETAIL_MODES, LABEL_LIMIT, LAYER_TI
 from app.view.scene import COLORS, full_detail_warning
 
 
-def swatch(color: str, size: int = 14) -> QIcon:
+def swatch(color: str, size: int = 12) -> QIcon:
     """A square of ``color`` with a grey border: the layer's colour beside its check box
     (the box itself keeps the style's tick, so a checked layer reads as checked)."""
     pixmap = QPixmap(size, size)
@@ -41,15 +43,23 @@ class LayersPanel(QWidget):
         layout.setContentsMargins(8, 6, 8, 6)
         layout.setSpacing(2)
         self.boxes: dict[str, QCheckBox] = {}
+        # two columns: the style's own check boxes (with their tick) are taller than the
+        # swatches they replaced, and the panel keeps its height
+        grid = QGridLayout()
+        grid.setContentsMargins(0, 0, 0, 0)
+        grid.setHorizontalSpacing(10)
+        grid.setVerticalSpacing(1)
         for i, name in enumerate(LAYERS):
             box = QCheckBox(LAYER_TITLES[name], self)
             box.setObjectName(f"layer_{name}")
             box.setChecked(model.layers[name])
             box.setIcon(swatch(COLORS[name]))  # the layer's colour, after the tick
+            box.setIconSize(QSize(12, 12))
             box.setToolTip(f"Show or hide {LAYER_TITLES[name].lower()} (Ctrl+{i + 1})")
             box.toggled.connect(lambda on, n=name: self.model.set_layer_visible(n, on))
-            layout.addWidget(box)
+            grid.addWidget(box, i // 2, i % 2)
             self.boxes[name] = box
+        layout.addLayout(grid)
         form = QFormLayout()
         self.color_by = QComboBox(self)
         self.color_by.setObjectName("combo_color_by")

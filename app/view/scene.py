@@ -996,7 +996,20 @@ class MeshScene:
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
-        self.note.SetInput(self.note_text())
+        self._show_note()
+
+    def _show_note(self) -> None:
+        """The note, each line wrapped to the view's width (a long one ran off its edge)."""
+        import textwrap
+
+        size = self.plotter.window_size
+        width = float(size[0]) if size else 0.0
+        font = self.note.GetTextProperty().GetFontSize() or 12
+        chars = max(30, int(0.97 * width / (0.56 * font))) if width > 0 else 10_000
+        lines = [textwrap.fill(line, chars) for line in self.note_text().split("\n")]
+        text = "\n".join(lines)
+        if text != self.note.GetInput():
+            self.note.SetInput(text)
 
     def note_text(self) -> str:
         """What the view leaves out and why (empty when it draws everything asked for)."""
@@ -1234,7 +1247,7 @@ class MeshScene:
             self.light = light
             self._apply_visibility()
         else:
-            self.note.SetInput(self.note_text())
+            self._show_note()
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
             if name == "centroids":
