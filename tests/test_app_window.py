@@ -301,6 +301,7 @@ def test_layer_check_boxes_show_a_tick(window, qtbot):
         return box.grab(rect).toImage()
 
     plain = QCheckBox("plain", window.layers)  # the style's own box, for reference
+    plain.setStyleSheet(window.layers.boxes["faces"].styleSheet())  # (at the same size)
     plain.show()
     plain.setChecked(True)
     ticked = indicator(plain)

@@ -9,7 +9,6 @@ from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
     QFormLayout,
-    QGridLayout,
     QLabel,
     QVBoxLayout,
     QWidget,
@@ -20,7 +19,7 @@ from app.view.layers import COLOR_BY_TITLES, DETAIL_MODES, LABEL_LIMIT, LAYER_TI
 from app.view.scene import COLORS, full_detail_warning
 
 
-def swatch(color: str, size: int = 12) -> QIcon:
+def swatch(color: str, size: int = 11) -> QIcon:
     """A square of ``color`` with a grey border: the layer's colour beside its check box
     (the box itself keeps the style's tick, so a checked layer reads as checked)."""
     pixmap = QPixmap(size, size)
@@ -40,27 +39,25 @@ class LayersPanel(QWidget):
         super().__init__(parent)
         self.model = model
         layout = QVBoxLayout(self)
-        layout.setContentsMargins(8, 6, 8, 6)
-        layout.setSpacing(2)
+        layout.setContentsMargins(8, 2, 8, 2)
+        layout.setSpacing(0)
         self.boxes: dict[str, QCheckBox] = {}
-        # two columns: the style's own check boxes (with their tick) are taller than the
-        # swatches they replaced, and the panel keeps its height
-        grid = QGridLayout()
-        grid.setContentsMargins(0, 0, 0, 0)
-        grid.setHorizontalSpacing(10)
-        grid.setVerticalSpacing(1)
         for i, name in enumerate(LAYERS):
             box = QCheckBox(LAYER_TITLES[name], self)
             box.setObjectName(f"layer_{name}")
             box.setChecked(model.layers[name])
             box.setIcon(swatch(COLORS[name]))  # the layer's colour, after the tick
-            box.setIconSize(QSize(12, 12))
+            box.setIconSize(QSize(11, 11))
+            # the style's own box and tick, only as small as the swatches it replaced
+            # (the panel, and the window, keep their height)
+            box.setStyleSheet("QCheckBox::indicator { width: 11px; height: 11px; }")
             box.setToolTip(f"Show or hide {LAYER_TITLES[name].lower()} (Ctrl+{i + 1})")
             box.toggled.connect(lambda on, n=name: self.model.set_layer_visible(n, on))
-            grid.addWidget(box, i // 2, i % 2)
+            layout.addWidget(box)
             self.boxes[name] = box
-        layout.addLayout(grid)
         form = QFormLayout()
+        form.setContentsMargins(0, 3, 0, 0)
+        form.setVerticalSpacing(2)
         self.color_by = QComboBox(self)
         self.color_by.setObjectName("combo_color_by")
         for key, title in COLOR_BY_TITLES.items():

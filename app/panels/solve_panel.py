@@ -380,8 +380,10 @@ class SolvePanel(QWidget):
         self.stale = QLabel(page)
         self.stale.setStyleSheet("color: #b35900;")
         self.stale.setWordWrap(True)
-        # never squeezed below its wrapped text's height (it was cut top and bottom)
+        # never squeezed below its wrapped text's height (the tab page asks its rows for
+        # their height at one line: the two-line warning was cut top and bottom)
         self.stale.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
+        self.stale.installEventFilter(self)
         self.stale.hide()
         form.addRow(self.stale)
         self.summary = QLabel("No result yet.", page)
@@ -780,9 +782,18 @@ class SolvePanel(QWidget):
         self.layer.clear()
         self.stale.setText(message)
         self.stale.show()
+        self._fit_stale()
         self.summary.setText("No result for what is on screen.")
         self.plot.mark(None)
         self._show_coefficient()
+
+    def _fit_stale(self) -> None:
+        """The warning as tall as its wrapped text at its width."""
+        label = self.stale
+        if label.isVisible() and label.width() > 0:
+            need = label.heightForWidth(label.width())
+            if need > 0 and need != label.minimumHeight():
+                label.setMinimumHeight(need)
 
     def _mesh_changed(self, result: Any) -> None:
         mesh = result.mesh
@@ -828,6 +839,8 @@ class SolvePanel(QWidget):
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         if watched is self.window_ and event.type() == QEvent.Type.Close:
             self.stop()
+        if watched is self.stale and event.type() in (QEvent.Type.Resize, QEvent.Type.Show):
+            self._fit_stale()  # (the stale-result warning, see _fit_stale)
         return False
 
     def stop(self, msecs: int = 30_000) -> bool:

@@ -999,17 +999,27 @@ class MeshScene:
         self._show_note()
 
     def _show_note(self) -> None:
-        """The note, each line wrapped to the view's width (a long one ran off its edge)."""
+        """The note, wrapped when it is wider than the view (a long one ran off its edge)."""
         import textwrap
 
-        size = self.plotter.window_size
-        width = float(size[0]) if size else 0.0
-        font = self.note.GetTextProperty().GetFontSize() or 12
-        chars = max(30, int(0.97 * width / (0.56 * font))) if width > 0 else 10_000
-        lines = [textwrap.fill(line, chars) for line in self.note_text().split("\n")]
-        text = "\n".join(lines)
+        text = self.note_text()
         if text != self.note.GetInput():
             self.note.SetInput(text)
+        size = self.plotter.window_size
+        width = 0.97 * float(size[0]) if size else 0.0
+        if not text or width <= 0:
+            return
+        box = [0.0] * 4
+        try:
+            self.note.GetBoundingBox(self.plotter.renderer, box)
+        except (TypeError, AttributeError):
+            return
+        drawn = box[1] - box[0]
+        if drawn <= width:
+            return
+        longest = max(len(line) for line in text.split("\n"))
+        chars = max(30, int(longest * width / drawn))
+        self.note.SetInput("\n".join(textwrap.fill(line, chars) for line in text.split("\n")))
 
     def note_text(self) -> str:
         """What the view leaves out and why (empty when it draws everything asked for)."""
