@@ -39,7 +39,7 @@ class LayersPanel(QWidget):
         super().__init__(parent)
         self.model = model
         layout = QVBoxLayout(self)
-        layout.setContentsMargins(8, 2, 8, 2)
+        layout.setContentsMargins(8, 3, 8, 3)
         layout.setSpacing(0)
         self.boxes: dict[str, QCheckBox] = {}
         for i, name in enumerate(LAYERS):
