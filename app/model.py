@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from app.edit.cell_document import CellState, CellTarget
-from app.view.layers import COLOR_BY, DEFAULT_VISIBLE
+from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES
 from core import BuildCancelled, MeshParams, TriMesh, build_mesh
 from core.cell import UnitCell, build_cell
 from core.params import (
@@ -649,7 +649,7 @@ class AppModel:
     Events (callbacks): ``params_changed(params)``, ``draft_changed(draft)``,
     ``error_changed(error or None)``, ``history_changed()``, ``result_changed(result)``,
     ``layer_changed(name, visible)``, ``color_by_changed(key)``,
-    ``build_failed(message)``.
+    ``detail_changed(mode)``, ``build_failed(message)``.
 
     A unit cell (:attr:`cell_state`, see :mod:`app.edit.cell_document`) replaces the one
     structure when one is open: ``params`` are then the selected element's, every edit of
@@ -679,6 +679,7 @@ class AppModel:
         self.generation = 0
         self.layers: dict[str, bool] = dict(DEFAULT_VISIBLE)
         self.color_by = "none"
+        self.detail = "auto"  # level of detail, a key of DETAIL_MODES
         self.params_changed = Event()
         self.draft_changed = Event()
         self.error_changed = Event()
@@ -686,6 +687,7 @@ class AppModel:
         self.result_changed = Event()
         self.layer_changed = Event()
         self.color_by_changed = Event()
+        self.detail_changed = Event()
         self.build_failed = Event()
         self.cell_changed = Event()
         self.cell_error_changed = Event()
@@ -1052,6 +1054,16 @@ class AppModel:
         if key != self.color_by:
             self.color_by = key
             self.color_by_changed.emit(key)
+
+    def set_detail(self, mode: str) -> None:
+        """Level of detail: "auto" or "full" (see :data:`app.view.layers.DETAIL_MODES`)."""
+        if mode not in DETAIL_MODES:
+            raise ValueError(
+                f"detail={mode!r} is unknown; expected one of {', '.join(DETAIL_MODES)}"
+            )
+        if mode != self.detail:
+            self.detail = mode
+            self.detail_changed.emit(mode)
 
     # -- persistence ----------------------------------------------------------------
 

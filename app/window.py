@@ -73,6 +73,7 @@ from app.view.framing import (
     visible_rect,
 )
 from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
+from app.view.overview import DETAIL_TRIANGLES
 from app.view.scene import MeshScene, scene_data
 from app.view.view_tools import ViewTools
 from app.worker import BuildJob, MeshController, release_memory, run_in_thread
@@ -444,6 +445,7 @@ class MainWindow(QMainWindow):
         self.model.build_failed.connect(self._build_failed)
         self.model.layer_changed.connect(self._layer_changed)
         self.model.color_by_changed.connect(self._color_by_changed)
+        self.model.detail_changed.connect(self._detail_changed)
         self.model.history_changed.connect(self._history_changed)
         self._make_actions()
         self._make_menus()
@@ -678,6 +680,7 @@ class MainWindow(QMainWindow):
         start = time.perf_counter()
         if result.scene is None:
             result.scene = scene_data(result.mesh)
+        result.scene = self._scene_for_detail(result)
         same = result.scene is self._shown_scene  # Undo back to the mesh on screen
         self._shown_scene = result.scene
         self._detail_token = None
@@ -829,6 +832,35 @@ class MainWindow(QMainWindow):
             return
         self.scene.set_color_by(key)
         self.color_actions[key].setChecked(True)
+        self.refit_if_framed(render=False)  # a legend came or went: room for it
+        self.request_render()
+
+    def _scene_for_detail(self, result: MeshResult) -> Any:
+        """The scene data of ``result`` for the Detail choice: "full" draws a dense mesh's
+        every triangle (built here, on the GUI thread: the choice warns of its cost);
+        "auto" goes back to the image of a mesh built so."""
+        scene, mesh = result.scene, result.mesh
+        if self.model.detail == "full" and scene.overview is not None:
+            return scene_data(mesh, detail_limit=max(mesh.n_triangles, 1),
+                              color_by=self.model.color_by)
+        if (self.model.detail == "auto" and scene.overview is None
+                and mesh.n_triangles > DETAIL_TRIANGLES):
+            return scene_data(mesh, color_by=self.model.color_by,
+                              pixels=tuple(self.plotter.window_size))
+        return scene
+
+    def _detail_changed(self, mode: str) -> None:
+        if self._closed:
+            return
+        self.scene.set_detail(mode)
+        result = self.model.result
+        if result is not None and result.mesh is not None and result.scene is not None:
+            scene = self._scene_for_detail(result)
+            if scene is not result.scene:
+                result.scene = scene
+                self._shown_scene = scene
+                self._detail_token = None
+                self.scene.update(scene)
         self.request_render()
 
     def _status_message_changed(self, message: str) -> None:
@@ -905,7 +937,8 @@ class MainWindow(QMainWindow):
         if self.scene.bounds is None:
             self.scene.top_view()
         else:
-            frame_from_above(self.plotter, self.scene.bounds)
+            frame_from_above(self.plotter, self.scene.bounds, right_px=self.scene.legend_px(),
+                             bottom_px=self.scene.note_px())
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
         self._framed = self._camera_state()

@@ -99,3 +99,10 @@ def drawn_near(image, plotter, world, colour, tol=40, radius=2, renderer=None):
     row, col = h - 1 - int(round(y)), int(round(x))
     patch = image[max(row - radius, 0):row + radius + 1, max(col - radius, 0):col + radius + 1]
     return any(near(p, colour, tol) for p in patch.reshape(-1, patch.shape[-1]))
+
+
+def colour_pixels(image, colour, tol=40):
+    """How many pixels of ``image`` (h, w, 3 or 4) are within ``tol`` of the hex
+    ``colour`` in every channel."""
+    ref = np.array(hex_rgb(colour))
+    return int((np.abs(np.asarray(image)[..., :3].astype(int) - ref).max(axis=-1) <= tol).sum())

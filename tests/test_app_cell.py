@@ -812,3 +812,62 @@ def test_export_array_offers_only_what_it_can_write(window, qtbot, tmp_path, mon
             lines = path.read_text(encoding="utf-8").splitlines()
             rows = [line for line in lines if line and not line.startswith("#")]
             assert len(rows) == len(array.interior_edges) + 1
+
+
+def test_the_cell_looks_the_same_whichever_element_is_selected(window, qtbot):
+    open_preset(window, qtbot, "double-ring-patch")
+    scene = window.scene
+
+    def look():
+        return ({n: bool(a.GetVisibility()) for n, a in scene.actors.items()},
+                scene.shown_color_by, scene.light, scene.note.GetInput(),
+                bool(scene.scalar_bar.GetVisibility()),
+                round(float(window.plotter.camera.parallel_scale), 9))
+
+    tree = window.cell_tools.elements.list
+    looks = []
+    for row in range(tree.topLevelItemCount()):
+        list_click(window, row)
+        assert window.model.cell_state.selected == row
+        settle(window, qtbot)
+        looks.append(look())
+    assert len(looks) >= 2 and all(v == looks[0] for v in looks)
+    shown, *_ = looks[0]
+    # and it is the paper's drawing of the whole cell (its triangles are > 4 px)
+    for layer in ("triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        assert shown[layer], layer
+    assert scene.datasets["shared_edges"].n_cells == len(window.model.result.mesh.interior_edges)
+
+
+def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window, qtbot):
+    from app.edit.array_preview import ghost_shade
+    from app.view.overview import overlap_counts_at
+    from app.view.scene import COLORS
+    from tests.gui_helpers import hex_rgb, near, pixel, rendered
+
+    open_preset(window, qtbot, "double-ring-patch")
+    mesh = window.model.result.mesh
+    assert mesh.mode == "paper" and mesh.overlap_ratio > 0.2  # its patches overlap
+    lattice = window.cell_tools.lattice
+    spin_to(lattice.n1, 3)
+    spin_to(lattice.n2, 1)
+    ghosts = window.plotter.actors["cell_ghosts"]
+    assert ghosts.GetProperty().GetOpacity() == 1.0
+    for name in ("triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        window.model.set_layer_visible(name, False)  # faces only (the copies have no lines)
+    image = rendered(window.plotter)
+    v = mesh.n_vertices
+    points = ghosts.mapper.dataset.points
+    shifts = points[::v][:, :2] - mesh.points[0, :2]  # one per copy
+    assert len(shifts) == 2
+    counts = overlap_counts_at(np.asarray(mesh.patch_rects), mesh.centroids)
+    cents = np.asarray(mesh.centroids)
+    single, stacked = cents[counts == 1], cents[counts >= 3]
+    assert len(single) and len(stacked)
+    shade = ghost_shade()
+    for shift in shifts:  # the same shade over one patch and over three or more
+        for c in (single[len(single) // 2], stacked[len(stacked) // 2]):
+            got = pixel(image, window.plotter, (c[0] + shift[0], c[1] + shift[1], 0.0))
+            assert near(got, shade, tol=4), (c, got, shade)
+    # and no darker than the cell's own faces
+    assert sum(hex_rgb(shade)) >= sum(hex_rgb(COLORS["faces"]))

@@ -108,6 +108,12 @@ def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
     from app.teach.compare_view import COVERAGE_COLORS
     from app.view.scene import COLORS
 
+    # triangles of about 8 px get their edges drawn (from 4 px; in paper mode the patch
+    # borders too): this test is about the faces, so those lines are switched off
+    for scene in view.scenes.values():
+        for layer in ("triangle_edges", "shared_edges", "boundary_edges"):
+            scene.set_visible(layer, False)
+    view.plotter.ren_win.Render()  # (the widget's render() only schedules a paint)
     image = view.view_image()
     iio.imwrite(tmp_path / "compare.png", image)
     for col, mode in enumerate(("paper", "conforming")):
@@ -144,3 +150,85 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     assert_half(view, COARSE.replace(subdivisions=3), "conforming")
     win.close()
     assert view._closed
+
+
+@pytest.mark.parametrize("preset", ["paper-fig12c", "srr-openmodes"])
+def test_both_halves_show_triangle_edges_at_the_default_size(qtbot, preset):
+    from core.presets import load_preset
+
+    params, _ = load_preset(preset)
+    win = CompareView(AppModel(params))  # its own default size (no resize)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    wait_shown(qtbot, win)
+    try:
+        for mode in ("paper", "conforming"):
+            scene = win.scenes[mode]
+            if win.stats_of(mode) is None:  # a mode the core refuses for this preset
+                continue
+            mesh = build_mesh(params.replace(mode=mode))
+            assert scene.edge_px >= 4.0, (mode, scene.edge_px)
+            assert not scene.light, mode
+            for layer in ("triangle_edges", "shared_edges"):
+                assert scene.actors[layer].GetVisibility(), (mode, layer)
+            assert scene.datasets["triangle_edges"].n_cells == len(mesh.edges)
+            assert scene.datasets["shared_edges"].n_cells == len(mesh.interior_edges)
+            assert "hidden" not in scene.note.GetInput(), mode
+        assert win.stats_of("paper") is not None or win.stats_of("conforming") is not None
+    finally:
+        win.close()
+
+
+def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
+    from app.teach.compare_view import COVERAGE_COLORS
+    from app.view.scene import COLORS
+    from core.presets import load_preset
+    from tests.gui_helpers import colour_pixels
+
+    params, _ = load_preset("srr-openmodes")
+    win = CompareView(AppModel(params))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    wait_shown(qtbot, win)
+    try:
+        mesh = build_mesh(params.replace(mode="paper"))
+        coverage = patch_coverage(mesh)
+        two, more = np.mean(coverage == 2), np.mean(coverage >= 3)
+        text = win.stats["paper"].text()
+        # one swatch per shade, each with the share of triangles it marks
+        assert f"{COVERAGE_COLORS[0]}'>■</span> under 2 patches" in text
+        assert f"{COVERAGE_COLORS[1]}'>■</span> under 3 or more" in text
+        assert f"under 2 patches</td><td align='right'>&nbsp;&nbsp;{100 * two:.1f} %" in text
+        assert f"under 3 or more</td><td align='right'>&nbsp;&nbsp;{100 * more:.1f} %" in text
+        # the shading lies under the edge layers: the paper half shows its shared edges
+        overlay = win.overlays["paper"]
+        edges = win.scenes["paper"].datasets["triangle_edges"]
+        assert overlay.n_cells == int((coverage >= 2).sum()) > 0
+        assert overlay.points[:, 2].max() < edges.points[:, 2].min()
+        image = win.view_image()
+        left = image[:, : image.shape[1] // 2]
+        assert colour_pixels(left, COLORS["shared_edges"]) > 2_000
+        assert colour_pixels(left, COVERAGE_COLORS[0]) > 2_000
+    finally:
+        win.close()
+
+
+def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
+    from app.view.scene import nice_span
+
+    x0, x1, y0, y1 = view.scenes["conforming"].bounds
+    (a, b, nx), (c, _d, ny) = nice_span(x0, x1), nice_span(y0, y1)
+    axes = view.scenes["conforming"].axes
+    assert axes.bounds[0] == a and axes.bounds[2] == c  # where the ruler lines are
+    height = view.plotter.window_size[1]
+    per_px = 2.0 * view.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
+    pts = np.asarray(view.tick_points.points)
+    labels = list(view.tick_points.point_data["label"])
+    xs, ys = pts[:nx], pts[nx:nx + ny]
+    # x values just under the bottom ruler (within 20 px), y values just left of the left one
+    assert ((xs[:, 1] < c) & (xs[:, 1] > c - 20 * per_px)).all()
+    assert ((ys[:, 0] < a) & (ys[:, 0] > a - 30 * per_px)).all()
+    np.testing.assert_allclose(xs[:, 0], np.linspace(a, b, nx))
+    assert labels[-2:] == ["x (mm)", "y (mm)"]

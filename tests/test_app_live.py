@@ -472,14 +472,64 @@ def test_count_in_rect_never_undercounts():
         assert exact <= count_in_rect(grid, (-5, 5, -5, 5), rect) <= exact + 4 * 50_000 / 64
 
 
-def test_overlapping_paper_patches_get_the_overlap_look(window, qtbot):
+def _assert_paper_drawing(scene, mesh) -> None:
+    """The paper's drawing: triangle edges, centroids, shared edges told apart from the
+    boundary edges, each layer drawn and holding the mesh's own count of cells."""
+    for layer in ("faces", "triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        assert scene.actors[layer].GetVisibility(), layer
+    assert not scene.light and not scene.overlap_look
+    sets = scene.datasets
+    assert sets["faces"].n_cells == mesh.n_triangles
+    assert sets["triangle_edges"].n_cells == len(mesh.edges)
+    assert sets["shared_edges"].n_cells == len(mesh.interior_edges)
+    assert sets["shared_edges"].n_cells == mesh.stats()["interior_edges"]
+    assert sets["boundary_edges"].n_cells == len(mesh.boundary_edges)
+    assert sets["centroids"].n_points == mesh.n_triangles
+    assert scene.actors["shared_edges"].GetProperty().GetColor() != \
+        scene.actors["boundary_edges"].GetProperty().GetColor()
+
+
+def test_fig12a_start_screen_shows_triangles_centroids_and_shared_edges(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     scene, result = window.scene, window.model.result
     window.reset_camera()
-    # Fig. 12(a): 720 squares at 1 degree steps overlap (ratio 0.86): faces coloured by
-    # the patches covering each triangle, 1 in k patches outlined for the zoom, no
-    # triangle edges or patch borders (they tangle into a moire), and the note says so
+    # Fig. 12(a): 720 overlapping squares (ratio 0.86), triangles of a few pixels: drawn
+    # the way the paper draws them, not coloured by a count
     assert result.stats["overlap_ratio"] > 0.8
+    assert scene.edge_px >= app.view.scene.LIGHT_PX
+    assert scene.shown_color_by == "none" and not scene.scalar_bar.GetVisibility()
+    _assert_paper_drawing(scene, result.mesh)
+    assert result.stats["interior_edges"] == len(result.mesh.interior_edges) > 0
+    assert scene.note.GetInput() == ""
+
+
+def test_the_light_look_follows_the_size_on_screen(window, qtbot):
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    scene = window.scene
+    window.reset_camera()
+    camera = window.plotter.camera
+    height = window.plotter.window_size[1]
+    # the scale that puts a typical edge at exactly 5 px, then 3 px, on screen
+    for px, light in ((5.0, False), (3.0, True)):
+        camera.parallel_scale = scene.typical_edge * height / (2 * px)
+        window._camera_moved()
+        assert scene.edge_px == pytest.approx(px)
+        assert scene.light is light
+        assert bool(scene.actors["triangle_edges"].GetVisibility()) is not light
+        assert bool(scene.actors["centroids"].GetVisibility()) is not light
+
+
+def test_overlap_colouring_is_picked_from_the_menu(window, qtbot):
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    scene, result = window.scene, window.model.result
+    window.reset_camera()
+    assert not scene.overlap_look
+    # View > Colour faces by > Patches over each point
+    act = window.color_actions["overlap"]
+    assert act.text() == "Patches over each point"
+    act.trigger()
+    # faces coloured by the patches covering each triangle, 1 in k patches outlined for
+    # the zoom, no triangle edges or patch borders (they tangle into a moire), a note
     assert scene.overlap_look and scene.shown_color_by == "overlap"
     faces = scene.datasets["faces"]
     rects = np.asarray(result.mesh.patch_rects)
@@ -506,11 +556,13 @@ def test_overlapping_paper_patches_get_the_overlap_look(window, qtbot):
     assert scene.datasets["patch_outlines"].n_cells == 4 * 720
     assert not scene.actors["triangle_edges"].GetVisibility()
     assert "all outlined" in scene.note.GetInput()
-    # a colouring chosen in the Layers panel ends the look: its own legend, the mesh's
-    # triangle edges, no outlines (that layer is off by default)
+    # another colouring in the Layers panel (keys in its combo) ends the look: its own
+    # legend, the mesh's triangle edges, no outlines (that layer is off by default)
     combo = window.layers.color_by
-    combo.setCurrentIndex(combo.findData("area"))
-    assert not scene.overlap_look and scene.shown_color_by == "area"
+    combo.setFocus()
+    qtbot.keyClick(combo, Qt.Key.Key_Home)  # "Solid"
+    assert window.model.color_by == "none"
+    assert not scene.overlap_look and scene.shown_color_by == "none"
     assert not scene.actors["patch_outlines"].GetVisibility()
     assert scene.actors["triangle_edges"].GetVisibility()
     assert "Overlapping patches" not in scene.note.GetInput()
@@ -547,8 +599,8 @@ def test_resting_zoomed_in_on_too_many_triangles_gives_a_sharper_image(window, q
     assert scene.actors_zoom.GetVisibility()
     x0, x1, y0, y1 = scene.zoom.bounds
     assert x0 <= rect[0] and rect[1] <= x1 and y0 <= rect[2] and rect[3] <= y1
-    # coloured like the overview (the overlap look), off the GUI thread
-    assert scene.zoom.image_key == "overlap"
+    # coloured like the overview (solid: the default colouring), off the GUI thread
+    assert scene.zoom.image_key == base.image_key == "none"
     assert scene.zoom_texture.GetInput().GetDimensions() == (cols, rows, 1)
 
 

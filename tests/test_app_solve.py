@@ -20,7 +20,7 @@ from app.panels.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
 from app.view.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
 from core import MeshParams  # noqa: E402
 from core.mom import PlaneWave, solve, sweep  # noqa: E402
-from tests.app_user import choose, drag_slider, settle, type_into  # noqa: E402
+from tests.app_user import choose, click_check_box, drag_slider, settle, type_into  # noqa: E402
 
 #: Makarov's chapter-2 code on platefine, plane wave along −z, E along x, 1 V/m, 300 MHz.
 MAKAROV_PLATEFINE_JMAX = 0.01853
@@ -388,3 +388,58 @@ def test_a_sweep_shows_its_warnings_under_the_resonances(window, qtbot):
     text = panel.resonance_label.text()
     assert f"warning: {direct.warnings[0]}" in text
     assert text.count("low-frequency breakdown") == 1
+
+
+def test_surface_current_hides_shared_edges_and_centroids_for_its_arrows(window, qtbot):
+    panel = open_solve(window, qtbot)
+    scene = window.scene
+    window.model.set_color_by("area")
+    assert scene.actors["shared_edges"].GetVisibility() and scene.scalar_bar.GetVisibility()
+    type_into(panel.frequency, "1")  # 40 unknowns: solved at once
+    assert panel.layer.shown
+    # the arrows (dark, at the centroids) on |J|: no orange edges, no magenta dots, and
+    # the faces' legend (under the current's) steps aside; outlines and triangles stay
+    for layer in ("shared_edges", "centroids"):
+        assert window.model.layers[layer] and not scene.actors[layer].GetVisibility(), layer
+    assert not scene.scalar_bar.GetVisibility()
+    assert BAR_TITLE in window.plotter.scalar_bars
+    assert scene.actors["triangle_edges"].GetVisibility()
+    assert scene.actors["boundary_edges"].GetVisibility()
+    assert "Surface current shown" in scene.note.GetInput()
+    click_check_box(panel.show_current)  # unticked: the mesh's own drawing is back
+    assert not panel.layer.shown
+    for layer in ("shared_edges", "centroids"):
+        assert scene.actors[layer].GetVisibility(), layer
+    assert scene.scalar_bar.GetVisibility()
+    click_check_box(panel.show_current)
+    assert panel.layer.shown and not scene.actors["centroids"].GetVisibility()
+    # a new mesh without a result (auto-solve off): the layer is gone, the edges are back
+    panel.auto.click()
+    type_into(window.controls.rows["patch_size"].field, "80")
+    window.controller.flush()
+    assert panel.layer.current is None
+    assert scene.actors["shared_edges"].GetVisibility()
+    assert scene.actors["centroids"].GetVisibility()
+
+
+def test_charge_option_reads_without_braces(window, qtbot):
+    panel = open_solve(window, qtbot)
+    texts = [panel.quantity.itemText(i) for i in range(panel.quantity.count())]
+    assert texts == ["current |J|", "charge Re(ρ·exp(jωt))"]
+    assert "{" not in panel.phase.toolTip()
+
+
+@pytest.mark.parametrize("size", [(1300, 800), (1000, 700)])
+def test_previous_mesh_warning_is_shown_whole(window, qtbot, size):
+    window.resize(*size)
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1")
+    panel.auto.click()
+    type_into(window.controls.rows["patch_size"].field, "80")
+    window.controller.flush()
+    settle(window, qtbot)
+    label = panel.stale
+    assert label.isVisible() and "previous mesh" in label.text()
+    # as tall as its wrapped text needs at its width (not cut at the top and bottom)
+    assert label.height() >= label.heightForWidth(label.width()) > 0
+    assert label.height() >= label.fontMetrics().lineSpacing()

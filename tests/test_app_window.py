@@ -25,6 +25,7 @@ from tests.app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
+from tests.gui_helpers import colour_pixels  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -364,3 +365,282 @@ def test_tabbed_docks_keep_their_whole_titles(window, qtbot, width):
             text = bar.tabText(i).replace("&", "")
             assert bar.tabRect(i).width() >= metrics.horizontalAdvance(text), text
             assert bar.elideMode() == Qt.TextElideMode.ElideNone
+
+
+PAPER_PRESETS = ["paper-fig10", "paper-fig11-12mm", "paper-fig11-4mm", "paper-fig11-8mm",
+                 "paper-fig12a", "paper-fig12b", "paper-fig12c", "paper-fig12d",
+                 "paper-fig8-dsdr", "paper-fig9-square-dsdr"]
+
+
+def _wait_for(window, qtbot, params) -> None:
+    window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result is not None
+                    and window.model.result.params == params, timeout=60_000)
+
+
+@pytest.mark.parametrize("name", PAPER_PRESETS)
+def test_every_paper_preset_is_drawn_as_the_paper_draws_it(window, qtbot, name):
+    from core.presets import load_preset, preset_descriptions
+
+    assert name in preset_descriptions()
+    params, _ = load_preset(name)
+    window.load_preset(name)  # what Presets > name does
+    _wait_for(window, qtbot, params)
+    window.reset_camera()
+    scene, mesh = window.scene, window.model.result.mesh
+    assert mesh.mode == params.mode  # (Fig. 8 and 9 presets are conforming rings)
+    assert not scene.reduced  # every paper preset fits the full drawing
+    assert scene.edge_px >= 4.0  # each triangle is at least 4 px on screen
+    for layer in ("faces", "triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        assert scene.actors[layer].GetVisibility(), (name, layer)
+    assert scene.shown_color_by == "none" and not scene.overlap_look
+    sets = scene.datasets
+    assert sets["faces"].n_cells == mesh.n_triangles == window.model.result.stats["triangles"]
+    assert sets["triangle_edges"].n_cells == len(mesh.edges)
+    assert sets["shared_edges"].n_cells == window.model.result.stats["interior_edges"] > 0
+    assert sets["boundary_edges"].n_cells == len(mesh.boundary_edges) > 0
+    assert sets["centroids"].n_points == mesh.n_triangles
+
+
+def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, qtbot,
+                                                                        monkeypatch):
+    import app.view.scene as scene_module
+
+    scene = window.scene
+    window.reset_camera()
+    window.plotter.camera.parallel_scale *= 100  # zoomed far out: triangles < 1 px
+    window._camera_moved()
+    assert scene.edge_px < 1.0 and scene.light
+    assert not scene.actors["triangle_edges"].GetVisibility()
+    combo = window.layers.detail
+    combo.setFocus()
+    qtbot.keyClick(combo, Qt.Key.Key_End)  # "Always full"
+    assert combo.currentText() == "Always full" and window.model.detail == "full"
+    assert not scene.light
+    for layer in ("triangle_edges", "shared_edges", "centroids"):
+        assert scene.actors[layer].GetVisibility(), layer
+    assert "hidden" not in scene.note.GetInput()
+    # 384 triangles: no warning; above the limit (lowered to 383 here) the panel and the
+    # view's note say what it costs
+    assert window.layers.warning.isHidden() and "Full detail" not in scene.note.GetInput()
+    monkeypatch.setattr(scene_module, "FULL_DETAIL_WARN", 383)
+    qtbot.keyClick(combo, Qt.Key.Key_Home)
+    assert window.model.detail == "auto" and scene.light
+    qtbot.keyClick(combo, Qt.Key.Key_End)
+    assert not window.layers.warning.isHidden()
+    assert "384 triangles" in window.layers.warning.text()
+    assert "Full detail of 384 triangles" in scene.note.GetInput()
+
+
+def test_full_detail_warning_starts_above_a_million_triangles():
+    from app.view.scene import full_detail_warning
+
+    assert full_detail_warning(1_000_000, "full") == ""
+    assert "1,000,001 triangles" in full_detail_warning(1_000_001, "full")
+    assert full_detail_warning(5_000_000, "auto") == ""
+
+
+def test_detail_always_full_draws_a_dense_mesh_in_full(window, qtbot):
+    from app.view.overview import DETAIL_TRIANGLES
+
+    params = MeshParams(subdivisions=6)  # Fig. 12(a) at n = 6: 51,840 triangles
+    window.model.set_params(params)
+    _wait_for(window, qtbot, params)
+    scene, mesh = window.scene, window.model.result.mesh
+    assert mesh.n_triangles == 720 * 2 * 36 > DETAIL_TRIANGLES
+    assert scene.reduced and scene.datasets["faces"].n_cells == 0
+    combo = window.layers.detail
+    combo.setFocus()
+    qtbot.keyClick(combo, Qt.Key.Key_End)
+    assert not scene.reduced
+    assert scene.datasets["faces"].n_cells == mesh.n_triangles
+    assert scene.datasets["shared_edges"].n_cells == len(mesh.interior_edges)
+    assert scene.actors["triangle_edges"].GetVisibility()
+    qtbot.keyClick(combo, Qt.Key.Key_Home)  # back to automatic: the image again
+    assert scene.reduced
+
+
+def test_layer_check_boxes_show_a_tick(window, qtbot):
+    from PySide6.QtWidgets import QCheckBox, QStyle, QStyleOptionButton
+
+    def indicator(box):
+        opt = QStyleOptionButton()
+        box.initStyleOption(opt)
+        rect = box.style().subElementRect(QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
+        return box.grab(rect).toImage()
+
+    plain = QCheckBox("plain", window.layers)  # the style's own box, for reference
+    plain.setStyleSheet(window.layers.boxes["faces"].styleSheet())  # (at the same size)
+    plain.show()
+    plain.setChecked(True)
+    ticked = indicator(plain)
+    plain.setChecked(False)
+    empty = indicator(plain)
+    assert ticked != empty
+    for name, box in window.layers.boxes.items():
+        assert box.isChecked() == window.model.layers[name]
+        if not box.isEnabled():
+            continue
+        if not box.isChecked():
+            click_check_box(box)
+        assert box.isChecked()
+        assert indicator(box) == ticked, name  # the tick, not a colour swatch
+        click_check_box(box)
+        assert not box.isChecked() and not window.model.layers[name]
+        assert indicator(box) == empty, name
+        assert not box.icon().isNull()  # the layer's colour beside its title
+
+
+@pytest.mark.parametrize("size, drawn", [((1024, 768), True), ((200, 150), False)])
+def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_path, size,
+                                                                           drawn):
+    # paper-fig12c, 2,304 triangles: about 10 px a triangle at 1024 x 768 (drawn as the
+    # paper draws them: shared edges orange, centroids magenta), about 2 px at 200 x 150
+    # (the light look, as in the window)
+    from app.view.scene import COLORS
+
+    out = tmp_path / "fig12c.png"
+    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
+    env.pop("DISPLAY", None)
+    proc = subprocess.run(
+        [sys.executable, "-m", "app.cli", "mesh", "--preset", "paper-fig12c",
+         "--screenshot", str(out), "--window-size", *map(str, size)],
+        env=env, capture_output=True, text=True, timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr
+    image = iio.imread(out)
+    assert image.shape[:2] == (size[1], size[0])
+    shared = colour_pixels(image, COLORS["shared_edges"])
+    centroids = colour_pixels(image, COLORS["centroids"])
+    if drawn:
+        assert shared > 5_000 and centroids > 1_000, (shared, centroids)
+    else:
+        assert shared == 0 and centroids == 0, (shared, centroids)
+
+
+def _mesh_right_px(window) -> float:
+    """The display x (px) of the mesh's rightmost point."""
+    from tests.gui_helpers import display_point
+
+    pts = np.asarray(window.model.result.mesh.points)
+    right = pts[np.argmax(pts[:, 0])]
+    return display_point(window.plotter, right)[0]
+
+
+@pytest.mark.parametrize("params", [MeshParams(), MeshParams(structure="patch",
+                                                              subdivisions=4)])
+def test_the_colour_bar_is_beside_the_mesh_not_over_it(qtbot, params):
+    win = MainWindow(params, scripted=True)
+    qtbot.addWidget(win)
+    win.resize(1300, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
+    try:
+        combo = win.layers.color_by
+        combo.setFocus()
+        qtbot.keyClicks(combo, "Area")
+        assert win.model.color_by == "area"
+        win.plotter.render()
+        bar = win.scene.scalar_bar
+        assert bar.GetVisibility()
+        bar_left = bar.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)[0]
+        title = win.scene.legend_title
+        box = [0.0] * 4  # relative to its (right-justified) anchor
+        title.GetBoundingBox(win.plotter.renderer, box)
+        anchor = title.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)
+        title_left = anchor[0] + box[0]
+        assert _mesh_right_px(win) < min(bar_left, title_left), (bar_left, title_left)
+        # and back to Solid: no legend, the mesh framed in the whole width again
+        qtbot.keyClick(combo, Qt.Key.Key_Home)
+        assert not bar.GetVisibility() and win.scene.legend_px() == 0.0
+    finally:
+        win.close()
+
+
+@pytest.mark.parametrize("n", [4, 32])
+def test_area_of_equal_triangles_has_a_scale_around_its_value(qtbot, n):
+    params = MeshParams(structure="patch", subdivisions=n)  # 2 n² equal triangles
+    win = MainWindow(params, scripted=True)
+    qtbot.addWidget(win)
+    win.resize(1300, 800)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
+    try:
+        area = 1.0 / (2 * n * n)  # a 1 mm patch: 0.0005 mm² at n = 32
+        np.testing.assert_allclose(win.model.result.mesh.areas, area)
+        combo = win.layers.color_by
+        combo.setFocus()
+        qtbot.keyClicks(combo, "Area")
+        lo, hi = win.scene.ranges["area"]
+        assert 0 < lo < area < hi and hi - lo < area  # no negative area on the scale
+        bar = win.scene.scalar_bar
+        labels = bar.GetCustomLabels()
+        values = np.array([labels.GetValue(i) for i in range(labels.GetNumberOfTuples())])
+        texts = [bar.GetLabelFormat() % v for v in values]
+        assert len(values) >= 2 and (values > 0).all()
+        assert len(set(texts)) == len(texts)
+        # each label reads as its value (0.0005 is not "0.0")
+        for v, text in zip(values, texts, strict=True):
+            assert abs(float(text) - v) <= 0.05 * area, (v, text)
+    finally:
+        win.close()
+
+
+def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
+    from app.view.framing import RULER_PAD
+    from tests.gui_helpers import display_point
+
+    win = MainWindow(MeshParams(subdivisions=8), scripted=True)  # 92,160 triangles
+    qtbot.addWidget(win)
+    win.resize(1000, 700)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    qtbot.waitUntil(lambda: win.model.result is not None
+                    and win.model.result.mesh.n_triangles == 92_160, timeout=60_000)
+    try:
+        win.reset_camera()
+        scene = win.scene
+        assert scene.reduced and "Detail reduced" in scene.note.GetInput()
+        win.plotter.render()
+        box = [0.0] * 4
+        scene.note.GetBoundingBox(win.plotter.renderer, box)
+        note_top = box[3]  # display pixels from the bottom
+        x0, x1, y0, y1 = scene.axes.bounds[:4]
+        size = max(x1 - x0, y1 - y0)
+        # the x labels and title live in the ruler pad under the bottom ruler: all of it
+        # above the note
+        _, axis_y = display_point(win.plotter, (x0, y0, 0.0))
+        _, pad_y = display_point(win.plotter, (x0, y0 - RULER_PAD[0] * size, 0.0))
+        assert axis_y > pad_y >= note_top, (axis_y, pad_y, note_top)
+    finally:
+        win.close()
+
+
+def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
+    from app.view.scene import _vtk_step
+
+    scene = window.scene
+    window.reset_camera()
+    camera = window.plotter.camera
+    camera.parallel_scale /= 8  # zoomed in on the right part of the outer ring
+    fx, fy, fz = camera.focal_point
+    camera.focal_point = (8.0, 0.0, fz)
+    camera.position = (8.0, 0.0, camera.position[2])
+    window._camera_moved()
+    rect = scene.view_rect()
+    ax0, ax1, ay0, ay1 = scene.axes.bounds[:4]
+    assert rect[0] < ax0 < ax1 < rect[1] and rect[2] < ay0 < ay1 < rect[3]
+    for axis, (lo, hi) in enumerate(((ax0, ax1), (ay0, ay1))):
+        labels = scene.axes.GetAxisLabels(axis)
+        texts = [labels.GetValue(i) for i in range(labels.GetNumberOfValues())]
+        step = _vtk_step(hi - lo)
+        ticks = lo + step * np.arange(round((hi - lo) / step) + 1)
+        assert len(texts) >= 2 and texts == [f"{v:.4g}" for v in ticks], axis
+    # framed again: the rulers go back to the whole mesh, rounded out
+    window.reset_camera()
+    assert tuple(scene.axes.bounds[:4]) == (-10.0, 10.0, -10.0, 10.0)

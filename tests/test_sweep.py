@@ -126,3 +126,20 @@ def test_render_sweep_refuses_before_rendering(tmp_path):
     with pytest.raises(ValueError, match="is not a finite number"):
         render_sweep(MeshParams(), "patch_size", float("inf"), 2, 3, tmp_path / "a.gif")
     assert not any(tmp_path.iterdir())
+
+
+def test_sweep_frames_draw_triangle_edges_and_centroids(tmp_path):
+    # paper-fig12c from n = 2 to 4 at 800 x 600: triangles of 8 px and more on every
+    # frame, drawn the way the window draws them (shared edges orange, centroids magenta)
+    pytest.importorskip("pyvista")
+    from app.view.scene import COLORS
+    from core.presets import load_preset
+    from tests.gui_helpers import colour_pixels
+
+    base, _ = load_preset("paper-fig12c")
+    out = tmp_path / "sweep.gif"
+    assert render_sweep(base, "subdivisions", 2, 4, 3, out, window_size=(800, 600)) == 3
+    for i, frame in enumerate(imageio.mimread(out)):
+        shared = colour_pixels(frame, COLORS["shared_edges"])
+        centroids = colour_pixels(frame, COLORS["centroids"])
+        assert shared > 2_000 and centroids > 300, (i, shared, centroids)

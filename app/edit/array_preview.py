@@ -1,4 +1,4 @@
-"""The array preview: translucent ghost copies of the cell's mesh and the cell outlines.
+"""The array preview: pale ghost copies of the cell's mesh and the cell outlines.
 
 The copies are drawn, not meshed: the cell's triangles moved by ``i a1 + j a2`` with
 ``i`` in ``-(n1 - 1) // 2 … n1 // 2`` (and ``j`` alike), so the cell itself stays where
@@ -18,9 +18,22 @@ from core.cell import Lattice
 
 #: Ghost copies are drawn up to this many triangles in all (beyond: outlines only).
 GHOST_TRIANGLES = 2_000_000
-GHOST_OPACITY = 0.4
+GHOST_OPACITY = 0.3
 #: A grey blue: copies read as copies beside the cell's own (light blue) faces.
 GHOST_COLOR = "#b4bdc8"
+
+
+def ghost_shade(color: str = GHOST_COLOR, opacity: float = GHOST_OPACITY) -> str:
+    """``color`` at ``opacity`` over the white background, as one opaque colour: the copies
+    are drawn opaque in it, so that overlapping paper patches do not stack their
+    translucency into darker copies than the cell.
+
+    >>> ghost_shade()
+    '#e8ebee'
+    """
+    rgb = np.array([int(color[i:i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    mixed = np.round(opacity * rgb + (1.0 - opacity) * 255.0).astype(int)
+    return "#" + "".join(f"{v:02x}" for v in mixed)
 OUTLINE_COLOR = "#2b2b2b"
 COPY_OUTLINE_COLOR = "#8c8c8c"
 _NAMES = ("cell_ghosts", "cell_outline", "cell_copy_outlines")
@@ -94,6 +107,5 @@ class ArrayPreview:
         tri = (mesh.triangles[None] + (v * np.arange(len(ghosts)))[:, None, None]).reshape(-1, 3)
         faces = np.hstack([np.full((len(tri), 1), 3), tri]).astype(np.int64).ravel()
         poly = pv.PolyData(np.column_stack([pts, np.zeros(len(pts))]), faces=faces)
-        self.plotter.add_mesh(poly, color=GHOST_COLOR, opacity=GHOST_OPACITY,
-                              name="cell_ghosts", **common)
+        self.plotter.add_mesh(poly, color=ghost_shade(), name="cell_ghosts", **common)
         self.ghost_triangles = len(tri)

@@ -48,6 +48,7 @@ from PySide6.QtWidgets import (
     QLineEdit,
     QProgressBar,
     QPushButton,
+    QSizePolicy,
     QSlider,
     QSpinBox,
     QTabWidget,
@@ -263,7 +264,9 @@ class SolvePanel(QWidget):
         super().__init__(window)
         self.window_ = window
         self.model = window.model
-        self.layer = CurrentLayer(window.plotter, window.request_render)
+        scene = getattr(window, "scene", None)
+        self.layer = CurrentLayer(window.plotter, window.request_render,
+                                  scene.set_covered if scene is not None else None)
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
@@ -378,6 +381,10 @@ class SolvePanel(QWidget):
         self.stale = QLabel(page)
         self.stale.setStyleSheet("color: #b35900;")
         self.stale.setWordWrap(True)
+        # never squeezed below its wrapped text's height (the tab page asks its rows for
+        # their height at one line: the two-line warning was cut top and bottom)
+        self.stale.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
+        self.stale.installEventFilter(self)
         self.stale.hide()
         form.addRow(self.stale)
         self.summary = QLabel("No result yet.", page)
@@ -391,7 +398,7 @@ class SolvePanel(QWidget):
         form.addRow(self.show_current)
         self.quantity = QComboBox(page)
         self.quantity.addItem("current |J|", "current")
-        self.quantity.addItem("charge Re(ρ e^{jωt})", "charge")
+        self.quantity.addItem("charge Re(ρ·exp(jωt))", "charge")
         self.quantity.setToolTip("What the colours show; the charge follows the phase")
         self.quantity.currentIndexChanged.connect(self._quantity_changed)
         form.addRow("C&olour by", self.quantity)
@@ -405,7 +412,7 @@ class SolvePanel(QWidget):
         self.phase.setRange(0, 360)
         self.phase.setSingleStep(5)
         self.phase.setPageStep(45)
-        self.phase.setToolTip("Arrows: Re(J e^{jωt}) at ωt = this phase")
+        self.phase.setToolTip("Arrows: Re(J·exp(jωt)) at ωt = this phase")
         self.phase.valueChanged.connect(self._phase_changed)
         self.phase_label = QLabel("0°", page)
         self.phase_label.setMinimumWidth(36)
@@ -777,9 +784,18 @@ class SolvePanel(QWidget):
         self.layer.clear()
         self.stale.setText(message)
         self.stale.show()
+        self._fit_stale()
         self.summary.setText("No result for what is on screen.")
         self.plot.mark(None)
         self._show_coefficient()
+
+    def _fit_stale(self) -> None:
+        """The warning as tall as its wrapped text at its width."""
+        label = self.stale
+        if label.isVisible() and label.width() > 0:
+            need = label.heightForWidth(label.width())
+            if need > 0 and need != label.minimumHeight():
+                label.setMinimumHeight(need)
 
     def _mesh_changed(self, result: Any) -> None:
         mesh = result.mesh
@@ -825,6 +841,8 @@ class SolvePanel(QWidget):
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         if watched is self.window_ and event.type() == QEvent.Type.Close:
             self.stop()
+        if watched is self.stale and event.type() in (QEvent.Type.Resize, QEvent.Type.Show):
+            self._fit_stale()  # (the stale-result warning, see _fit_stale)
         return False
 
     def stop(self, msecs: int = 30_000) -> bool:

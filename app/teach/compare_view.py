@@ -36,8 +36,9 @@ log = logging.getLogger(__name__)
 MODES = ("paper", "conforming")
 TITLES = {"paper": "Paper mode: overlapping patches",
           "conforming": "Conforming mode: one watertight mesh"}
-#: Faces covered by 2 and by 3 or more patches (drawn over the triangle and shared edges,
-#: under the boundary edges, so the patch outlines stay visible).
+#: Faces covered by 2 and by 3 or more patches (drawn just over the faces, under every
+#: edge layer: the triangle and shared edges of overlapping patches stay visible on the
+#: shading, where they tangle).
 COVERAGE_COLORS = ("#c6b9e4", "#7a5fb5")
 #: Coverage is computed when triangles × patches stays below this (a few hundred ms).
 COVERAGE_LIMIT = 100_000_000
@@ -97,6 +98,7 @@ class Half:
     error: str | None = None
     overlap: Layer | None = None
     covered: float | None = None  # fraction of the triangles covered twice or more
+    covered3: float | None = None  # fraction covered three times or more
 
 
 def compute_half(params: MeshParams, mode: str) -> Half:
@@ -113,9 +115,11 @@ def compute_half(params: MeshParams, mode: str) -> Half:
         coverage = patch_coverage(result.mesh)
         size = max(result.scene.bounds[1] - result.scene.bounds[0],
                    result.scene.bounds[3] - result.scene.bounds[2], 1e-9)
-        half.overlap = coverage_faces(result.mesh, coverage, 3.5e-4 * size)
+        # just above the faces (z = 0), under every edge layer (from 1e-4 of the size up)
+        half.overlap = coverage_faces(result.mesh, coverage, 0.8e-4 * size)
         if coverage is not None:
             half.covered = float(np.mean(coverage >= 2))
+            half.covered3 = float(np.mean(coverage >= 3))
     return half
 
 
@@ -147,10 +151,13 @@ def stats_html(half: Half) -> str:
     ratio = s.get("overlap_ratio")
     rows.append(("Overlap ratio", "–" if ratio is None else f"{100 * ratio:.1f} %"))
     if half.covered is not None:
-        rows.append(("Triangles under 2+ patches",
-                     f"{100 * half.covered:.1f} % "
-                     f"<span style='color:{COVERAGE_COLORS[0]}'>■</span>"
-                     f"<span style='color:{COVERAGE_COLORS[1]}'>■</span>"))
+        # the legend of the shading: one swatch, one count each
+        three = half.covered3 or 0.0
+        rows.append(("Triangles under 2+ patches", f"{100 * half.covered:.1f} %"))
+        rows.append((f"<span style='color:{COVERAGE_COLORS[0]}'>■</span> under 2 patches",
+                     f"{100 * (half.covered - three):.1f} %"))
+        rows.append((f"<span style='color:{COVERAGE_COLORS[1]}'>■</span> under 3 or more",
+                     f"{100 * three:.1f} %"))
     body = "".join(f"<tr><td>{k}</td><td align='right'>&nbsp;&nbsp;{v}</td></tr>"
                    for k, v in rows)
     return f"<table cellspacing='1'>{body}</table>"
@@ -348,7 +355,8 @@ class CompareView(FollowingView):
             self._camera_moved()
 
     def place_tick_labels(self) -> None:
-        """The conforming half's tick values, just outside its bottom and left rulers."""
+        """The conforming half's tick values, just outside its bottom and left rulers (at
+        the rulers' rounded-out span, where their lines are), and its axis titles."""
         half = self.halves.get("conforming")
         if half is None or half.error is not None:
             self.tick_points.copy_from(pv.PolyData(), deep=True)
@@ -359,10 +367,13 @@ class CompareView(FollowingView):
         height = max(self.plotter.window_size[1], 1)
         per_px = 2.0 * self.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
         xs, ys = np.linspace(a, b, nx), np.linspace(c, d, ny)
-        pts = np.vstack([np.column_stack([xs, np.full(nx, y0 - 14 * per_px), np.zeros(nx)]),
-                         np.column_stack([np.full(ny, x0 - 22 * per_px), ys, np.zeros(ny)])])
+        pts = np.vstack([np.column_stack([xs, np.full(nx, c - 14 * per_px), np.zeros(nx)]),
+                         np.column_stack([np.full(ny, a - 22 * per_px), ys, np.zeros(ny)]),
+                         [[0.5 * (a + b), c - 40 * per_px, 0.0],
+                          [a - 30 * per_px, d + 22 * per_px, 0.0]]])
         labels = pv.PolyData(pts)
-        labels.point_data["label"] = np.array([f"{v:.4g}" for v in (*xs, *ys)])
+        labels.point_data["label"] = np.array([*(f"{v:.4g}" for v in (*xs, *ys)),
+                                               "x (mm)", "y (mm)"])
         self.tick_points.copy_from(labels, deep=True)
         self.tick_mapper.Modified()
 

@@ -69,11 +69,17 @@ class CurrentLayer:
         The window's plotter; the layer adds and removes only its own actors.
     request_render : callable
         Schedules one repaint (``MainWindow.request_render``).
+    shown_changed : callable, optional
+        Called with :attr:`shown` whenever a current comes, goes, is hidden or shown
+        (the window's scene then lets the arrows stand out: see
+        :meth:`app.view.scene.MeshScene.set_covered`).
     """
 
-    def __init__(self, plotter: Any, request_render: Callable[[], None]) -> None:
+    def __init__(self, plotter: Any, request_render: Callable[[], None],
+                 shown_changed: Callable[[bool], None] | None = None) -> None:
         self.plotter = plotter
         self.request_render = request_render
+        self.shown_changed = shown_changed
         self.mesh: TriMesh | None = None
         self.current: np.ndarray | None = None  # (T, 3) complex
         self.magnitude: np.ndarray | None = None  # (T,) float
@@ -133,6 +139,7 @@ class CurrentLayer:
         self.mesh = self.current = self.magnitude = self.surface = self.arrows = None
         self.vectors = self.charge = None
         self._remove_actors()
+        self._announce()
         self.request_render()
 
     def set_scale(self, scale: str) -> None:
@@ -206,7 +213,12 @@ class CurrentLayer:
                 actor.SetVisibility(self.visible)
         if self._bar_title is not None and self._bar_title in self.plotter.scalar_bars:
             self.plotter.scalar_bars[self._bar_title].SetVisibility(self.visible)
+        self._announce()
         self.request_render()
+
+    def _announce(self) -> None:
+        if self.shown_changed is not None:
+            self.shown_changed(self.shown)
 
     # -- drawing ---------------------------------------------------------------------
 

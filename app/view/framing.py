@@ -53,7 +53,8 @@ def look_from_above(plotter: Any) -> None:
 
 
 def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
-                     rulers: bool = True, margin: float = 0.04, top: float = 0.0) -> None:
+                     rulers: bool = True, margin: float = 0.04, top: float = 0.0,
+                     right_px: float = 0.0, bottom_px: float = 0.0) -> None:
     """Look down the z axis at the rectangle ``bounds`` = (x0, x1, y0, y1) in mm, all of it
     in view whatever the view's aspect ratio.
 
@@ -68,6 +69,12 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
         Extra room on every side, as a fraction of the larger side.
     top : float
         More room on top (for a title drawn in the view), a fraction of the larger side.
+    right_px : float
+        Pixels at the right of the view kept free (for a legend drawn there, see
+        :meth:`app.view.scene.MeshScene.legend_px`): the rectangle is fitted to the rest.
+    bottom_px : float
+        Pixels at the bottom kept free (for the view's note,
+        :meth:`app.view.scene.MeshScene.note_px`), likewise.
     """
     x0, x1, y0, y1 = (float(v) for v in bounds)
     if rulers:
@@ -84,7 +91,15 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
     camera.position = (cx, cy, 10.0 * size)
     camera.up = (0.0, 1.0, 0.0)
     w, h = view_size(plotter)
-    camera.parallel_scale = max(0.5 * (y1 - y0), 0.5 * (x1 - x0) * h / w)
+    free = max(float(w) - max(float(right_px), 0.0), 0.25 * w)
+    free_h = max(float(h) - max(float(bottom_px), 0.0), 0.25 * h)
+    scale = max(0.5 * (y1 - y0) * h / free_h, 0.5 * (x1 - x0) * h / free)
+    camera.parallel_scale = scale
+    if free < w or free_h < h:  # centred in the free part (left of a legend, over a note)
+        cx += 0.5 * (w - free) * (2.0 * scale / h)
+        cy -= 0.5 * (h - free_h) * (2.0 * scale / h)
+        camera.focal_point = (cx, cy, 0.0)
+        camera.position = (cx, cy, 10.0 * size)
     plotter.renderer.ResetCameraClippingRange()
 
 

@@ -43,7 +43,7 @@ COLOR_BY = {
     "area": ("area", "area (mm²)"),
     "min_angle": ("min_angle", "min angle (°)"),
     "aspect_ratio": ("aspect_ratio", "aspect ratio"),
-    "overlap": ("overlap", "patches covering\neach point"),
+    "overlap": ("overlap", "patches over\neach point"),
 }
 COLOR_BY_TITLES = {
     "none": "Solid",
@@ -52,7 +52,11 @@ COLOR_BY_TITLES = {
     "area": "Area",
     "min_angle": "Minimum angle",
     "aspect_ratio": "Aspect ratio",
-    "overlap": "Overlap (patches per point)",
+    "overlap": "Patches over each point",
 }
+#: Level of detail: "auto" leaves out triangle edges, shared edges and centroids when
+#: triangles are a few pixels on screen and draws dense meshes as an image; "full" draws
+#: every triangle, edge and centroid at any zoom (the scene warns above 1M triangles).
+DETAIL_MODES = {"auto": "Automatic", "full": "Always full"}
 #: Triangle index labels are drawn for meshes up to this many triangles (paper's Fig. 10).
 LABEL_LIMIT = 300

@@ -32,7 +32,7 @@ from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
 from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
-from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, LABEL_LIMIT, LAYERS
+from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
 from app.view.overview import (
     DETAIL_TRIANGLES,
     count_grid,
@@ -74,15 +74,24 @@ _CATEGORIES = 10  # patches are coloured cyclically with a 10-colour qualitative
 REGION_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b"]
 REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
-#: centroids are not drawn (they would only paint a texture over the faces).
-LIGHT_PX = 12.0
+#: centroids are not drawn (they would only paint a texture over the faces); from it up
+#: the mesh is drawn the way the paper draws it. Detail "always full" (:data:`DETAIL_MODES`)
+#: draws them at any size.
+LIGHT_PX = 4.0
+#: Detail "always full" of more triangles than this gets a warning: every frame draws them
+#: all (seconds per frame on a software renderer).
+FULL_DETAIL_WARN = 1_000_000
+#: Layers left out while a layer covers the faces (the surface current's arrows sit at
+#: the centroids, dark on dark red: orange lines and magenta dots would hide them).
+COVERED_HIDES = ("shared_edges", "centroids", "labels")
 #: Layers that exist per triangle or per edge: drawn in full detail only.
 DETAIL_LAYERS = ("faces", "triangle_edges", "shared_edges", "centroids", "labels")
 _ARRAYS = ("patch", "region", "area", "min_angle", "aspect_ratio", "overlap")
 #: Paper-mode meshes whose patches overlap at least this much (``TriMesh.overlap_ratio``)
-#: get the *overlap look* by default (colouring "none"): faces coloured by how many
-#: patches cover each point, 1 in k patch outlines drawn for the zoom, every patch's
-#: triangle edges, centroids and borders hidden (overlapping, they tangle into a moire).
+#: get the *overlap look* when the user colours faces by "Patches over each point"
+#: (colouring "overlap"; never by default): faces coloured by how many patches cover each
+#: point, 1 in k patch outlines drawn for the zoom, every patch's triangle edges,
+#: centroids and borders hidden (overlapping, they tangle into a moire).
 OVERLAP_LOOK = 0.2
 #: In the overlap look, outlines are drawn at least this far apart on screen (px) on
 #: average: every k-th patch is outlined, k chosen from the zoom.
@@ -281,10 +290,24 @@ def overview_image(rgba: np.ndarray) -> pv.ImageData:
 
 
 def shown_color(color_by: str, overlap_ratio: float | None) -> str:
-    """The colouring drawn for the chosen one: the overlap look replaces "none"."""
-    if color_by == "none" and overlap_ratio is not None and overlap_ratio >= OVERLAP_LOOK:
-        return "overlap"
+    """The colouring drawn for the chosen one ``color_by``: itself. (The overlap count
+    replaced "none" on overlapping paper meshes once; it is now a colouring to pick.)"""
+    del overlap_ratio  # kept in the signature: callers pass the mesh's ratio
     return color_by
+
+
+def full_detail_warning(n_triangles: int, detail: str) -> str:
+    """The cost warning of Detail ``detail`` for a mesh of ``n_triangles`` ("" if none).
+
+    >>> full_detail_warning(999_999, "full")
+    ''
+    >>> full_detail_warning(2_000_000, "auto")
+    ''
+    """
+    if detail != "full" or n_triangles <= FULL_DETAIL_WARN:
+        return ""
+    return (f"Full detail of {n_triangles:,} triangles: every frame draws each triangle, "
+            "edge and centroid (slow above about 1M; Detail: automatic draws an image)")
 
 
 def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[float, float]]:
@@ -293,7 +316,10 @@ def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[flo
         finite = values[np.isfinite(values)]
         a, b = (float(finite.min()), float(finite.max())) if len(finite) else (0.0, 1.0)
         if b - a < 1e-12 * max(1.0, abs(a)):
-            a, b = a - 0.5, b + 0.5
+            # one value (equal triangles): a scale of +-10 % around it, so its ticks are
+            # near it and of its sign and digits (not -0.5..0.5 around 0.0005 mm²)
+            half = 0.1 * abs(a) if a != 0 else 0.5
+            a, b = a - half, b + half
         ranges[name] = (a, b)
     if "overlap" in ranges:
         ranges["overlap"] = (0.5, max(ranges["overlap"][1], 1.0) + 0.5)
@@ -596,7 +622,12 @@ class MeshScene:
         plotter: pv.Plotter,
         visible: dict[str, bool] | None = None,
         color_by: str = "none",
+        detail: str = "auto",
     ) -> None:
+        if detail not in DETAIL_MODES:
+            raise ValueError(f"detail={detail!r} is unknown; expected one of "
+                             f"{', '.join(DETAIL_MODES)}")
+        self.detail = detail
         self.plotter = plotter
         self.visible = dict(DEFAULT_VISIBLE)
         self.visible.update(visible or {})
@@ -620,6 +651,7 @@ class MeshScene:
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
+        self.covered = False  # a layer over the faces (surface current): see set_covered
         self.edge_px = np.inf
         self._line_scale = 1.0
         self.emphasis = 1.0  # presentation mode: thicker lines, larger fonts
@@ -772,8 +804,10 @@ class MeshScene:
 
     @property
     def overlap_look(self) -> bool:
-        """Whether the overlap look is on (overlapping paper patches, colouring "none")."""
-        return self.shown_color_by == "overlap" and self.color_by == "none"
+        """Whether the overlap look is on: colouring "overlap" (Patches over each point)
+        chosen on a paper mesh whose patches overlap at least :data:`OVERLAP_LOOK`."""
+        return (self.color_by == "overlap" and self.overlap_ratio is not None
+                and self.overlap_ratio >= OVERLAP_LOOK)
 
     @property
     def shown_color_by(self) -> str:
@@ -924,6 +958,22 @@ class MeshScene:
         self.visible[layer] = bool(on)
         self._apply_visibility()
 
+    def set_detail(self, detail: str) -> None:
+        """Detail "auto" (light look below :data:`LIGHT_PX`) or "full" (always drawn)."""
+        if detail not in DETAIL_MODES:
+            raise ValueError(f"detail={detail!r} is unknown; expected one of "
+                             f"{', '.join(DETAIL_MODES)}")
+        self.detail = detail
+        self.fit_marker_sizes()
+        self._apply_visibility()
+
+    def set_covered(self, covered: bool) -> None:
+        """A layer drawn over the faces (the surface current's colours and arrows) is on:
+        shared edges, centroids, labels and the faces' legend step aside so that its
+        arrows read; triangle, boundary and junction edges stay."""
+        self.covered = bool(covered)
+        self._apply_visibility()
+
     def set_color_by(self, key: str) -> None:
         if key not in COLOR_BY:
             raise ValueError(f"color_by={key!r} is unknown; expected one of {', '.join(COLOR_BY)}")
@@ -940,6 +990,8 @@ class MeshScene:
     def drawn(self, name: str) -> bool:
         """Whether layer ``name`` is drawn now (asked for, and not left out for density)."""
         on = self.visible[name]
+        if self.covered and name in COVERED_HIDES:
+            return False
         if name == "labels":
             return on and self.labels_shown
         if name in ("triangle_edges", "shared_edges", "centroids") and self.light:
@@ -962,11 +1014,34 @@ class MeshScene:
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
         self.actors_zoom.SetVisibility(bool(self.visible["faces"] and self.zoom is not None))
         legend = bool(self.visible["faces"] and self.shown_color_by != "none"
-                      and self.n_triangles)
+                      and self.n_triangles and not self.covered)
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
-        self.note.SetInput(self.note_text())
+        self._show_note()
+
+    def _show_note(self) -> None:
+        """The note, wrapped when it is wider than the view (a long one ran off its edge)."""
+        import textwrap
+
+        text = self.note_text()
+        if text != self.note.GetInput():
+            self.note.SetInput(text)
+        size = self.plotter.window_size
+        width = 0.97 * float(size[0]) if size else 0.0
+        if not text or width <= 0:
+            return
+        box = [0.0] * 4
+        try:
+            self.note.GetBoundingBox(self.plotter.renderer, box)
+        except (TypeError, AttributeError):
+            return
+        drawn = box[1] - box[0]
+        if drawn <= width:
+            return
+        longest = max(len(line) for line in text.split("\n"))
+        chars = max(30, int(longest * width / drawn))
+        self.note.SetInput("\n".join(textwrap.fill(line, chars) for line in text.split("\n")))
 
     def note_text(self) -> str:
         """What the view leaves out and why (empty when it draws everything asked for)."""
@@ -980,7 +1055,7 @@ class MeshScene:
             parts.append(f"Overlapping patches (ratio {self.overlap_ratio:.2f}): colour = "
                          f"patches over each point, {which}")
             parts.append("Triangle edges hidden: they cross between overlapping patches "
-                         "(a colouring under Layers shows them)")
+                         "(colour faces by Solid to see them)")
         if self.overview is not None:
             if self.detail_rect is None:
                 rest = "" if self.overlap_look else (
@@ -997,7 +1072,14 @@ class MeshScene:
             borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
             parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
                          f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
-                         "zoom in)")
+                         "zoom in or set Detail: always full)")
+        shown = [n for n in COVERED_HIDES if self.visible[n] and n != "labels"]
+        if self.covered and shown:
+            parts.append("Surface current shown: shared edges and centroids hidden "
+                         "(untick Surface current in the Solve panel to see them)")
+        warning = full_detail_warning(self.n_triangles, self.detail)
+        if warning:
+            parts.append(warning)
         return "\n".join(parts)
 
     def _apply_color_by(self) -> None:
@@ -1054,19 +1136,88 @@ class MeshScene:
         bar.SetUseCustomLabels(True)
         bar.SetCustomLabels(labels)
 
+    #: Left edge of the colour bar's column (normalised viewport x), and of its numbers.
+    LEGEND_LEFT = 0.885
+
+    def legend_px(self) -> float:
+        """Pixels at the right of the view the colour legend takes (0 when none is shown):
+        the bar's column, or its title if that is wider. The mesh is framed left of it."""
+        if not self.scalar_bar.GetVisibility():
+            return 0.0
+        width = float(self.plotter.window_size[0]) if self.plotter.window_size else 0.0
+        px = (1.0 - self.LEGEND_LEFT) * width
+        box = [0.0] * 4
+        try:
+            self.legend_title.GetBoundingBox(self.plotter.renderer, box)
+        except (TypeError, AttributeError):  # no renderer size yet
+            return px
+        return float(max(px, 0.015 * width + (box[1] - box[0]) + 6.0))
+
     def show_rulers(self, bounds: tuple[float, float, float, float]) -> None:
         """Rulers in mm around ``bounds`` = (x0, x1, y0, y1) without a mesh (teaching views)."""
         self.bounds = tuple(float(v) for v in bounds)
         self._place_rulers()
         self.axes.SetVisibility(True)
 
+    #: Room (px) the rulers keep inside the view's edges when zoomed in: left of the y
+    #: axis for its labels, right, under the x axis for its labels and title, top.
+    RULER_INSET_PX = (64.0, 10.0, 52.0, 10.0)
+
+    def note_px(self) -> float:
+        """Pixels the note at the bottom of the view takes (0 without one)."""
+        if not self.note.GetInput():
+            return 0.0
+        box = [0.0] * 4
+        try:
+            self.note.GetBoundingBox(self.plotter.renderer, box)
+        except (TypeError, AttributeError):
+            return 0.0
+        size = self.plotter.window_size
+        height = float(size[1]) if size else 0.0
+        return float(box[3] - box[2]) + 0.012 * height + 6.0
+
     def _place_rulers(self) -> None:
+        """Rulers on the mesh's extent rounded out to nice ticks; zoomed in so far that
+        they would leave the view, along the part in view instead (inside its edges,
+        above the note), so their tick labels stay on screen."""
         if self.bounds is None:
             return
         x0, x1, y0, y1 = self.bounds
         (x0, x1, nx), (y0, y1, ny) = nice_span(x0, x1), nice_span(y0, y1)
-        self.axes.n_xlabels, self.axes.n_ylabels = nx, ny
-        self.axes.bounds = (x0, x1, y0, y1, 0.0, 0.0)
+        inner = self._rulers_in_view((x0, x1, y0, y1))
+        if inner is not None:
+            (x0, x1, nx), (y0, y1, ny) = inner
+        if self.axes.x_label_format != "{:.4g}":  # 7.5 on a zoomed-in ruler, not "8"
+            self.axes.x_label_format = self.axes.y_label_format = "{:.4g}"
+        if (self.axes.n_xlabels, self.axes.n_ylabels) != (nx, ny):
+            self.axes.n_xlabels, self.axes.n_ylabels = nx, ny
+        bounds = (x0, x1, y0, y1, 0.0, 0.0)
+        if tuple(self.axes.bounds) != bounds:
+            self.axes.bounds = bounds
+
+    def _rulers_in_view(self, box: tuple[float, float, float, float]
+                        ) -> tuple[tuple[float, float, int], tuple[float, float, int]] | None:
+        """The rulers' spans inside the view when ``box`` (the rounded-out extent) is not
+        all in view; None when it is (or the view is not known)."""
+        if not self.plotter.camera.parallel_projection:
+            return None
+        width, height = self.plotter.renderer.GetSize()
+        rect = self.view_rect()
+        if rect is None or width <= 0 or height <= 0:
+            return None
+        tol = 1e-9 * max(box[1] - box[0], box[3] - box[2], 1e-12)
+        if (rect[0] <= box[0] + tol and box[1] <= rect[1] + tol and rect[2] <= box[2] + tol
+                and box[3] <= rect[3] + tol):
+            return None
+        per_px = (rect[1] - rect[0]) / width
+        left, right, bottom, top = self.RULER_INSET_PX
+        right += self.legend_px()
+        bottom += self.note_px()
+        lo_x, hi_x = max(box[0], rect[0] + left * per_px), min(box[1], rect[1] - right * per_px)
+        lo_y, hi_y = max(box[2], rect[2] + bottom * per_px), min(box[3], rect[3] - top * per_px)
+        if hi_x <= lo_x or hi_y <= lo_y:
+            return None
+        return nice_inside(lo_x, hi_x), nice_inside(lo_y, hi_y)
 
     # -- camera and output ---------------------------------------------------------------
 
@@ -1085,8 +1236,11 @@ class MeshScene:
         # frame the rulers (rounded out to nice ticks), not only the mesh, so no label is cut
         (x0, x1, _), (y0, y1, _) = nice_span(*self.bounds[:2]), nice_span(*self.bounds[2:])
         pad = 0.12 * max(x1 - x0, y1 - y0, 1e-9)
-        p.reset_camera(render=False, bounds=(x0 - pad, x1 + pad / 3, y0 - pad, y1 + pad / 3,
-                                             0.0, 0.0))
+        x0, x1, y0, y1 = x0 - pad, x1 + pad / 3, y0 - pad, y1 + pad / 3
+        width = float(p.window_size[0]) if p.window_size else 0.0
+        share = min(self.legend_px() / width, 0.5) if width > 0 else 0.0
+        x1 += (x1 - x0) * share / (1.0 - share)  # the legend's column right of the mesh
+        p.reset_camera(render=False, bounds=(x0, x1, y0, y1, 0.0, 0.0))
         self.fit_marker_sizes()
 
     @contextmanager
@@ -1108,7 +1262,8 @@ class MeshScene:
 
         Fixed sizes would bury a dense mesh (the paper's Fig. 12(a) zoomed out): lines
         keep their full width from 12 px per typical edge up and thin to 1 px below, and a
-        dot is at most a quarter of a typical edge.
+        dot is at most a quarter of a typical edge. Below :data:`LIGHT_PX` (Detail "auto")
+        triangle edges, shared edges and centroids are left out (the light look).
         """
         camera = self.plotter.camera
         height = self.plotter.window_size[1] if self.plotter.window_size else 0
@@ -1116,13 +1271,15 @@ class MeshScene:
         if self.typical_edge > 0 and camera.parallel_projection and height > 0:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
-        light = bool(edge_px < LIGHT_PX)
+        self._place_rulers()  # zoomed in: along the part in view
+        # at a screenshot's scale its triangles are that many times larger in pixels
+        light = bool(self.detail == "auto" and edge_px * self._line_scale < LIGHT_PX)
         stride_changed = self._fit_outlines(height, camera)
         if light != self.light or stride_changed:
             self.light = light
             self._apply_visibility()
         else:
-            self.note.SetInput(self.note_text())
+            self._show_note()
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
             if name == "centroids":
@@ -1232,6 +1389,30 @@ def nice_span(lo: float, hi: float, ticks: int = 5) -> tuple[float, float, int]:
             break
         a, b = a2, b2
     step = _vtk_step(max(b - a, 1e-12))
+    return a, b, int(round((b - a) / step)) + 1
+
+
+def nice_inside(lo: float, hi: float) -> tuple[float, float, int]:
+    """The widest span on the rulers' tick step inside [lo, hi] (a part of a zoomed-in
+    mesh): its ends and the count of ticks, every label on its tick line.
+
+    >>> nice_inside(0.13, 0.91)
+    (0.2, 0.9, 8)
+    """
+    step = _vtk_step(max(hi - lo, 1e-12))
+    a = b = float(lo)
+    for _ in range(6):
+        a = float(np.ceil(lo / step - 1e-9) * step)
+        b = float(np.floor(hi / step + 1e-9) * step)
+        if b - a < step * (1 - 1e-9):  # one tick at most: a finer step
+            step /= 2.0
+            continue
+        following = _vtk_step(b - a)
+        if np.isclose(following, step, rtol=1e-9):
+            break
+        step = following
+    if b <= a:
+        return float(lo), float(hi), 2
     return a, b, int(round((b - a) / step)) + 1
 
 
