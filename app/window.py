@@ -74,7 +74,7 @@ from app.view.framing import (
 )
 from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from app.view.overview import DETAIL_TRIANGLES
-from app.view.scene import MeshScene, scene_data
+from app.view.scene import MeshScene, needs_triangles, scene_data
 from app.view.view_tools import ViewTools
 from app.worker import BuildJob, MeshController, release_memory, run_in_thread
 from core import MeshParams, TriMesh
@@ -440,6 +440,8 @@ class MainWindow(QMainWindow):
         self.controller.busy_changed.connect(self._busy_changed)
         self.controller.job_changed.connect(self._job_changed)
         self.controller.detail_ready.connect(self._detail_ready)
+        self.controller.scene_ready.connect(self._scene_ready)
+        self._scene_token: tuple[int, str] | None = None
         self.model.result_changed.connect(self._show_result)
         self.model.error_changed.connect(self._show_error)
         self.model.build_failed.connect(self._build_failed)
@@ -686,6 +688,7 @@ class MainWindow(QMainWindow):
         self._detail_token = None
         if not same:
             self.scene.update(result.scene)
+            self._complete_scene(result)
             self.teaching.mesh_changed(result.mesh)
             self.view_tools.mesh_changed(result.mesh)
         p = result.params
@@ -831,6 +834,8 @@ class MainWindow(QMainWindow):
         if self._closed:
             return
         self.scene.set_color_by(key)
+        if self.model.result is not None:
+            self._complete_scene(self.model.result)
         self.color_actions[key].setChecked(True)
         self.refit_if_framed(render=False)  # a legend came or went: room for it
         self.request_render()
@@ -902,6 +907,35 @@ class MainWindow(QMainWindow):
         token = (result.generation, rect)
         self._detail_token = token
         self.controller.request_detail(result.mesh, rect, token)
+
+    def _complete_scene(self, result: MeshResult) -> None:
+        """A dense paper mesh's image is made without per-triangle values while it is
+        shown solid or by patch count (:func:`app.view.scene.scene_data`): a colouring
+        that needs them has the worker make the scene again (plain until it comes)."""
+        key = self.model.color_by
+        if result.mesh is None or not needs_triangles(self.scene.overview, key):
+            return
+        token = (result.generation, key)
+        if token != self._scene_token:
+            self._scene_token = token
+            self.controller.request_scene(result.mesh, token)
+
+    def _scene_ready(self, payload: tuple[Any, Any]) -> None:
+        token, data = payload
+        if token != self._scene_token:
+            return  # a newer request is out
+        self._scene_token = None
+        result = self.model.result
+        if (self._closed or data is None or result is None
+                or (result.generation, self.model.color_by) != token):
+            return
+        result.scene = data
+        self._shown_scene = data
+        self._detail_token = None
+        self.scene.update(data)
+        if self.scene.reduced:
+            self._rest_timer.start()  # the detail of the part in view, coloured so
+        self.request_render()
 
     def _detail_ready(self, payload: tuple[Any, Any]) -> None:
         token, data = payload

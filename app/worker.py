@@ -119,6 +119,15 @@ def _kept_scene(scene: object, _mesh: object) -> object:
     return scene
 
 
+def _scene_or_none(mesh: object, **kwargs: object) -> object:
+    """:func:`app.view.scene.scene_data`, or None if it fails (logged; never raises)."""
+    try:
+        return scene_data(mesh, **kwargs)
+    except Exception:  # noqa: BLE001 - the colouring stays plain, the window lives on
+        log.exception("making the scene again failed")
+        return None
+
+
 class _Gate:
     """``emit`` of a controller's signal from a build thread, dropped once it is stopped."""
 
@@ -139,6 +148,8 @@ class MeshController(QObject):
     job_changed = Signal(object)
     #: (token, SceneData or None) from :meth:`request_detail`.
     detail_ready = Signal(object)
+    #: (token, SceneData or None) from :meth:`request_scene`.
+    scene_ready = Signal(object)
     _job_done = Signal(object)
 
     def __init__(self, model: AppModel, parent: QObject | None = None,
@@ -325,6 +336,14 @@ class MeshController(QObject):
             "pixels": self.view_size() if self.view_size else None}
         run_in_thread(partial(detail_data, mesh, rect, **extra),
                       _Gate(self, self.detail_ready), token)
+
+    def request_scene(self, mesh: object, token: object) -> None:
+        """Make the scene of ``mesh`` again in a thread, for the model's colouring (a dense
+        paper mesh's image gets the per-triangle values it was made without); emits
+        ``scene_ready`` with (token, SceneData or None if it failed)."""
+        run_in_thread(partial(_scene_or_none, mesh, color_by=self.model.color_by,
+                              pixels=self.view_size() if self.view_size else None),
+                      _Gate(self, self.scene_ready), token)
 
     def stop(self) -> None:
         """Forget pending requests and abandon running builds (the window is closing).

@@ -628,3 +628,38 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     expected = expected.reshape(40, 30, -1)
     np.testing.assert_array_equal(rgba[covered][:, :3], expected[covered][:, :3])
     assert np.all(rgba[~covered] == 0)  # transparent where no triangle is
+
+
+def test_a_dense_paper_mesh_finds_its_triangles_only_for_a_colouring_that_needs_them(
+        window, qtbot):
+    """Issue 17 item 18: shown solid (or by patch count), a dense paper mesh's image is the
+    patches' exact coverage and no triangle is looked up under each texel; a colouring per
+    triangle picked in the Layers panel has the worker make the image again with it."""
+    mesh = build_mesh(FIG12A.replace(subdivisions=8))  # 92,160 triangles: an overview
+    solid = app.view.scene.scene_data(mesh, pixels=(900, 700))
+    by_area = app.view.scene.scene_data(mesh, pixels=(900, 700), color_by="area")
+    assert set(solid.overview.values) == {"overlap"}
+    assert {"area", "overlap", "patch"} <= set(by_area.overview.values)
+    np.testing.assert_array_equal(solid.overview.covered, by_area.overview.covered)
+    covered = by_area.overview.covered
+    assert np.isfinite(by_area.overview.values["area"][covered]).mean() > 0.99
+    # in the window: Fig. 12(a) at n = 8 typed in, then "Area" chosen in the Layers combo
+    type_value(qtbot, window, "subdivisions", "8")
+    qtbot.waitUntil(lambda: shown_triangles(window) == 92_160, timeout=60_000)
+    scene = window.scene
+    assert scene.reduced and "area" not in scene.overview.values
+    combo = window.layers.color_by
+    combo.setFocus()
+    qtbot.keyClick(combo, Qt.Key.Key_Home)
+    for _ in range(combo.count()):
+        if combo.currentData() == "area":
+            break
+        qtbot.keyClick(combo, Qt.Key.Key_Down)
+    assert window.model.color_by == "area"
+    qtbot.waitUntil(lambda: "area" in scene.overview.values, timeout=60_000)
+    areas = scene.overview.values["area"]
+    shown = areas[scene.overview.covered]
+    assert np.nanmin(shown) >= mesh.areas.min() - 1e-9
+    assert np.nanmax(shown) <= mesh.areas.max() + 1e-9
+    assert scene.scalar_bar.GetVisibility()
+    assert window._shown_scene is window.model.result.scene

@@ -18,6 +18,7 @@ from app.teach.inspector import COLORS as INSPECTOR_COLORS  # noqa: E402
 from app.view.highlight import COL_COLOR, ROW_COLOR, SMALL_PIXELS  # noqa: E402
 from app.window import MainWindow, file_error_sentence  # noqa: E402
 from core import MeshParams  # noqa: E402
+from tests.app_user import wait_for_export  # noqa: E402
 from tests.gui_helpers import (  # noqa: E402
     click_world,
     display_point,
@@ -429,6 +430,7 @@ def test_export_dialog_writes_in_the_chosen_unit(active, qtbot, tmp_path):
         assert dialog.unit.currentData() == name
         assert name in dialog.format_label.text()
         qtbot.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
+        wait_for_export(active)  # written in a worker thread while the window answers
         written[name] = meshio.read(path).points
         if name == "mm":
             key(qtbot, active, Qt.Key.Key_E, Qt.KeyboardModifier.ControlModifier)

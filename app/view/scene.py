@@ -296,6 +296,15 @@ def shown_color(color_by: str, overlap_ratio: float | None) -> str:
     return color_by
 
 
+def needs_triangles(overview: Overview | None, color_by: str) -> bool:
+    """Whether the overview ``overview`` lacks the per-triangle values of the colouring
+    ``color_by`` (made by :func:`scene_data` only when shown: a new scene is needed)."""
+    if overview is None or color_by not in COLOR_BY:
+        return False
+    array = COLOR_BY[color_by][0]
+    return array is not None and array not in overview.values
+
+
 def full_detail_warning(n_triangles: int, detail: str) -> str:
     """The cost warning of Detail ``detail`` for a mesh of ``n_triangles`` ("" if none).
 
@@ -386,8 +395,14 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         if cancel is not None and cancel():
             raise BuildCancelled("the build was cancelled")
 
+    key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
+    # paper patches shown solid or by their count: the image is the patches' coverage,
+    # exact from their rectangles, and no triangle need be found under each texel (the
+    # raster's point-in-triangle tests were most of a heavy overlap's scene time); a
+    # colouring per triangle chosen later has the worker make it (needs_triangles)
+    by_triangle = rects is None or COLOR_BY[key][0] not in (None, "overlap")
     check()
-    raster = overview_raster(pts, mesh.triangles, bounds, side)
+    raster = overview_raster(pts, mesh.triangles, bounds, side) if by_triangle else None
     check()
     sets = {name: Layer() for name in LAYERS}
     edges = np.asarray(mesh.edges)
@@ -399,20 +414,21 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         out_pts, out_pairs = patch_outline_pairs(mesh)
         sets["patch_outlines"] = _screen_lines(out_pts, out_pairs, bounds, shape, 2 * dz)
     check()
-    covered, values = _image_values(raster, shape, arrays, rects, bounds)
+    covered, values = _image_values(raster, shape, arrays if by_triangle else {}, rects,
+                                    bounds)
     del raster, arrays
     check()
     if rects is not None:
         top = float(np.nanmax(values["overlap"])) if covered.any() else 1.0
         ranges["overlap"] = (0.5, max(top, 1.0) + 0.5)
     overview = Overview(bounds, covered, values, count_grid(mesh.centroids, bounds))
-    key = shown_color(color_by if color_by in COLOR_BY else "none", ratio)
     overview.rgba = overview_rgba(overview, key, ranges)
     overview.image_key = key
     return SceneData(sets, bounds, ranges, n, typical, overview, **paper)
 
 
-def _image_values(raster: np.ndarray, shape: tuple[int, int], arrays: dict[str, np.ndarray],
+def _image_values(raster: np.ndarray | None, shape: tuple[int, int],
+                  arrays: dict[str, np.ndarray],
                   rects: np.ndarray | None, bounds: tuple[float, float, float, float]
                   ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Texel coverage and colouring values of an image of ``shape`` texels.
@@ -429,6 +445,10 @@ def _image_values(raster: np.ndarray, shape: tuple[int, int], arrays: dict[str, 
         NaN where no triangle is.
     """
     rows, cols = shape
+    if raster is None:  # paper patches by their count only (see scene_data)
+        count = overlap_count_raster(rects, bounds, shape)
+        covered = count > 0
+        return covered, {"overlap": np.where(covered, count, np.nan).astype(np.float32)}
     if raster.shape != (rows, cols):  # nearest texel of the coarser raster
         jj = np.minimum(np.arange(rows) * raster.shape[0] // rows, raster.shape[0] - 1)
         ii = np.minimum(np.arange(cols) * raster.shape[1] // cols, raster.shape[1] - 1)
