@@ -527,67 +527,51 @@ def _mesh_right_px(window) -> float:
     return display_point(window.plotter, right)[0]
 
 
-@pytest.mark.parametrize("params", [MeshParams(), MeshParams(structure="patch",
-                                                              subdivisions=4)])
-def test_the_colour_bar_is_beside_the_mesh_not_over_it(qtbot, params):
-    win = MainWindow(params, scripted=True)
-    qtbot.addWidget(win)
-    win.resize(1300, 800)
-    win.show()
-    qtbot.waitExposed(win)
-    win.controller.flush()
+@pytest.mark.parametrize("window_params", [MeshParams(), MeshParams(structure="patch",
+                                                                     subdivisions=4)])
+def test_the_colour_bar_is_beside_the_mesh_not_over_it(window, qtbot):
+    win = window  # the conftest window (1300 x 800) on these parameters
     qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
-    try:
-        combo = win.layers.color_by
-        combo.setFocus()
-        qtbot.keyClicks(combo, "Area")
-        assert win.model.color_by == "area"
-        win.plotter.render()
-        bar = win.scene.scalar_bar
-        assert bar.GetVisibility()
-        bar_left = bar.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)[0]
-        title = win.scene.legend_title
-        box = [0.0] * 4  # relative to its (right-justified) anchor
-        title.GetBoundingBox(win.plotter.renderer, box)
-        anchor = title.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)
-        title_left = anchor[0] + box[0]
-        assert _mesh_right_px(win) < min(bar_left, title_left), (bar_left, title_left)
-        # and back to Solid: no legend, the mesh framed in the whole width again
-        qtbot.keyClick(combo, Qt.Key.Key_Home)
-        assert not bar.GetVisibility() and win.scene.legend_px() == 0.0
-    finally:
-        win.close()
+    combo = win.layers.color_by
+    combo.setFocus()
+    qtbot.keyClicks(combo, "Area")
+    assert win.model.color_by == "area"
+    win.plotter.render()
+    bar = win.scene.scalar_bar
+    assert bar.GetVisibility()
+    bar_left = bar.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)[0]
+    title = win.scene.legend_title
+    box = [0.0] * 4  # relative to its (right-justified) anchor
+    title.GetBoundingBox(win.plotter.renderer, box)
+    anchor = title.GetPositionCoordinate().GetComputedDisplayValue(win.plotter.renderer)
+    title_left = anchor[0] + box[0]
+    assert _mesh_right_px(win) < min(bar_left, title_left), (bar_left, title_left)
+    # and back to Solid: no legend, the mesh framed in the whole width again
+    qtbot.keyClick(combo, Qt.Key.Key_Home)
+    assert not bar.GetVisibility() and win.scene.legend_px() == 0.0
 
 
-@pytest.mark.parametrize("n", [4, 32])
-def test_area_of_equal_triangles_has_a_scale_around_its_value(qtbot, n):
-    params = MeshParams(structure="patch", subdivisions=n)  # 2 n² equal triangles
-    win = MainWindow(params, scripted=True)
-    qtbot.addWidget(win)
-    win.resize(1300, 800)
-    win.show()
-    qtbot.waitExposed(win)
-    win.controller.flush()
+@pytest.mark.parametrize("window_params, n", [
+    (MeshParams(structure="patch", subdivisions=n), n) for n in (4, 32)])  # 2 n² equal
+def test_area_of_equal_triangles_has_a_scale_around_its_value(window, qtbot, n):
+    win = window
     qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
-    try:
-        area = 1.0 / (2 * n * n)  # a 1 mm patch: 0.0005 mm² at n = 32
-        np.testing.assert_allclose(win.model.result.mesh.areas, area)
-        combo = win.layers.color_by
-        combo.setFocus()
-        qtbot.keyClicks(combo, "Area")
-        lo, hi = win.scene.ranges["area"]
-        assert 0 < lo < area < hi and hi - lo < area  # no negative area on the scale
-        bar = win.scene.scalar_bar
-        labels = bar.GetCustomLabels()
-        values = np.array([labels.GetValue(i) for i in range(labels.GetNumberOfTuples())])
-        texts = [bar.GetLabelFormat() % v for v in values]
-        assert len(values) >= 2 and (values > 0).all()
-        assert len(set(texts)) == len(texts)
-        # each label reads as its value (0.0005 is not "0.0")
-        for v, text in zip(values, texts, strict=True):
-            assert abs(float(text) - v) <= 0.05 * area, (v, text)
-    finally:
-        win.close()
+    area = 1.0 / (2 * n * n)  # a 1 mm patch: 0.0005 mm² at n = 32
+    np.testing.assert_allclose(win.model.result.mesh.areas, area)
+    combo = win.layers.color_by
+    combo.setFocus()
+    qtbot.keyClicks(combo, "Area")
+    lo, hi = win.scene.ranges["area"]
+    assert 0 < lo < area < hi and hi - lo < area  # no negative area on the scale
+    bar = win.scene.scalar_bar
+    labels = bar.GetCustomLabels()
+    values = np.array([labels.GetValue(i) for i in range(labels.GetNumberOfTuples())])
+    texts = [bar.GetLabelFormat() % v for v in values]
+    assert len(values) >= 2 and (values > 0).all()
+    assert len(set(texts)) == len(texts)
+    # each label reads as its value (0.0005 is not "0.0")
+    for v, text in zip(values, texts, strict=True):
+        assert abs(float(text) - v) <= 0.05 * area, (v, text)
 
 
 def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
