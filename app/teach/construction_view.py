@@ -462,7 +462,7 @@ class ConstructionView(FollowingView):
             self.rulers.show_rulers((lo[0], hi[0], lo[1], hi[1]))
             self.frame(lo, hi)
         self.place_labels()
-        self.plotter.render()
+        self.plotter.update()  # one paint, by the widget (a render here drew it twice)
 
     def place_labels(self, *_args: Any) -> None:
         """Put every label just outside its point, at the current zoom."""
@@ -511,11 +511,11 @@ class ConstructionView(FollowingView):
             return
         self.frame(*self._frame_bounds)
         self.place_labels()
-        self.plotter.render()
+        self.plotter.update()
 
     def _camera_moved(self, *_args: Any) -> None:
         self.place_labels()
-        self.plotter.render()
+        self.plotter.update()
 
     def frame(self, lo: np.ndarray, hi: np.ndarray) -> None:
         """Fit the whole patch, its rulers and room for its labels, from above (kept for

@@ -52,7 +52,9 @@ class FollowingView(QWidget):
         """Frame the view again (after a resize); the subclass knows what to frame."""
 
     def view_image(self) -> np.ndarray:
-        """The 3D view as an (h, w, 3) uint8 array."""
+        """The 3D view as an (h, w, 3) uint8 array (as it is now: a change waiting for its
+        paint is rendered first)."""
+        self.plotter.render()
         image = self.plotter.screenshot(None, return_img=True)
         self.plotter.render()
         return np.ascontiguousarray(image)
