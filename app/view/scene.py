@@ -20,8 +20,7 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -673,7 +672,6 @@ class MeshScene:
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
         self.covered = False  # a layer over the faces (surface current): see set_covered
         self.edge_px = np.inf
-        self._line_scale = 1.0
         self.emphasis = 1.0  # presentation mode: thicker lines, larger fonts
         plotter.set_background(BACKGROUND)
         plotter.theme.allow_empty_mesh = True  # datasets start empty and are filled later
@@ -1263,20 +1261,6 @@ class MeshScene:
         p.reset_camera(render=False, bounds=(x0, x1, y0, y1, 0.0, 0.0))
         self.fit_marker_sizes()
 
-    @contextmanager
-    def scaled_lines(self, scale: float) -> Iterator[None]:
-        """Temporarily multiply line widths, point sizes and fonts (for scaled screenshots)."""
-        previous = self._line_scale
-        self._set_line_scale(scale)
-        try:
-            yield
-        finally:
-            self._set_line_scale(previous)
-
-    def _set_line_scale(self, scale: float) -> None:
-        self._line_scale = scale
-        self.fit_marker_sizes()
-
     def fit_marker_sizes(self) -> None:
         """Thin the lines and shrink the dots when triangles are a few pixels wide on screen.
 
@@ -1292,8 +1276,7 @@ class MeshScene:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
         self._place_rulers()  # zoomed in: along the part in view
-        # at a screenshot's scale its triangles are that many times larger in pixels
-        light = bool(self.detail == "auto" and edge_px * self._line_scale < LIGHT_PX)
+        light = bool(self.detail == "auto" and edge_px < LIGHT_PX)
         stride_changed = self._fit_outlines(height, camera)
         if light != self.light or stride_changed:
             self.light = light
@@ -1304,10 +1287,10 @@ class MeshScene:
             prop = self.actors[name].prop
             if name == "centroids":
                 prop.point_size = (float(np.clip(0.25 * edge_px, 1.5, width))
-                                   * self._line_scale * self.emphasis)
+                                   * self.emphasis)
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
-                prop.line_width = thin * self._line_scale * self.emphasis
+                prop.line_width = thin * self.emphasis
 
     def _fit_outlines(self, height: int, camera: object) -> bool:
         """In the overlap look, outline every k-th patch for the zoom (see
