@@ -1,1 +1,1 @@
-"""barymesh application layer: the command line (``app.cli``) and the desktop window."""
+"""barymesh application layer: the command line (``barymesh.app.cli``) and the desktop window."""

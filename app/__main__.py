@@ -1,7 +1,7 @@
-"""``python -m app``: the desktop window, same options as ``barymesh`` without a verb."""
+"""``python -m barymesh.app``: the desktop window, same options as ``barymesh`` without a verb."""
 
 import sys
 
-from app.window import main
+from barymesh.app.window import main
 
 sys.exit(main())

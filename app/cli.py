@@ -9,7 +9,7 @@
 
 A unit cell (``--cell FILE.cell.json`` or ``--cell-preset NAME``) or an array
 (``--array N1xN2``, of a cell or of one structure) is meshed by
-:mod:`core.cell`; ``-o`` then also takes ``.dxf`` and ``.gds`` (the metal
+:mod:`barymesh.cell`; ``-o`` then also takes ``.dxf`` and ``.gds`` (the metal
 outline) and a ``.msh`` carries ``$Periodic`` when the mesh is periodic.
 
 Exit codes: 0 success, 1 bad input (parameter values, files), 2 bad usage.
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
-from app import cli_solve
+from barymesh.app import cli_solve
 
 PROG = "barymesh"
 #: Options that belong to the desktop window when given without a verb.
@@ -170,8 +170,8 @@ def _add_quality_option(p: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the subcommands (``mesh``, ``info``, ``sweep``, ``presets``)."""
-    from core.cell.outline import DEFAULT_CHORD_ERROR
-    from core.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, UNITS
+    from barymesh.cell.outline import DEFAULT_CHORD_ERROR
+    from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, UNITS
 
     parser = _Parser(
         prog=PROG,
@@ -179,7 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
         "Without a command, opens the desktop window "
         "(options: --preset, --params, --set, --screenshot, --quit).",
     )
-    from core import __version__
+    from barymesh import __version__
 
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     verbs = parser.add_subparsers(dest="verb", metavar="COMMAND", parser_class=_Parser)
@@ -256,7 +256,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_stats_option(info)
     _add_quality_option(info)
 
-    from core.sweep import MAX_FRAMES, SWEEPABLE
+    from barymesh.sweep import MAX_FRAMES, SWEEPABLE
 
     sweep = verbs.add_parser(
         "sweep",
@@ -367,21 +367,21 @@ def _summary(stats: dict[str, Any], title: str) -> str:
         cells = ", ".join(f"{n:,} {kind}" for kind, n in sorted(stats["ignored_cells"].items()))
         lines.append(f"  ignored non-triangle cells: {cells}")
     if "subdivisions_chosen" in stats:
-        from core.sizing import sizing_summary
+        from barymesh.sizing import sizing_summary
 
         lines.append(sizing_summary(stats))
     return "\n".join(lines)
 
 
 def _quality(mesh: Any, wavelength: float | None) -> dict[str, Any]:
-    from core.quality import quality_report
+    from barymesh.quality import quality_report
 
     with progress("measuring the quality"):
         return quality_report(mesh, wavelength=wavelength)
 
 
 def _quality_text(report: dict[str, Any]) -> str:
-    from core.quality import quality_lines
+    from barymesh.quality import quality_lines
 
     return "\n".join(["  quality:", *("  " + line for line in quality_lines(report))])
 
@@ -417,7 +417,7 @@ def _emit_stats(stats: dict[str, Any], target: str | None) -> None:
     if target == "-":
         sys.stdout.write(text)
         return
-    from core.io import atomic_write_text
+    from barymesh.io import atomic_write_text
 
     atomic_write_text(Path(target), text)
 
@@ -432,13 +432,13 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
     built = _build(args)
     polygons = _outline_polygons(built, args, outlines[0]) if outlines else []
     print(built.summary, file=say)
-    from core.quality import params_wavelength
+    from barymesh.quality import params_wavelength
 
     wavelength = params_wavelength(built.params)
     report = _quality(built.mesh, wavelength)
     print(_quality_text(report), file=say)
 
-    from core.io import describe_export
+    from barymesh.io import describe_export
 
     for out in args.outputs:
         with progress(f"writing {out}"):
@@ -458,7 +458,7 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
 
 def _check_mesh_usage(args: argparse.Namespace) -> None:
     """Checks of ``mesh`` before any work: usage (exit code 2), then folders and writers (1)."""
-    from core.io import export_format
+    from barymesh.io import export_format
 
     _check_preset(args, "mesh")
     _check_cell_usage(args, "mesh")
@@ -496,8 +496,8 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
 
 
 def _check_preset(args: argparse.Namespace, verb: str) -> None:
-    from core.cell import cell_preset_names
-    from core.presets import preset_names
+    from barymesh.cell import cell_preset_names
+    from barymesh.presets import preset_names
 
     if args.preset is not None and args.preset not in preset_names():
         if args.preset in cell_preset_names():
@@ -532,8 +532,8 @@ class _Built:
 
 def _check_cell_usage(args: argparse.Namespace, verb: str) -> None:
     """A cell replaces the structure options; its preset must exist (exit code 2)."""
-    from core.cell import cell_preset_names
-    from core.presets import preset_names
+    from barymesh.cell import cell_preset_names
+    from barymesh.presets import preset_names
 
     cell_option = "--cell" if args.cell is not None else "--cell-preset"
     if args.cell is not None and args.cell_preset is not None:
@@ -571,7 +571,7 @@ def _check_cell_usage(args: argparse.Namespace, verb: str) -> None:
 
 def _build(args: argparse.Namespace) -> _Built:
     """Mesh what the options name: a structure, or a cell or array (with progress)."""
-    from core import build_mesh
+    from barymesh import build_mesh
 
     array, period = args.array, getattr(args, "period", None)
     if args.cell is not None or args.cell_preset is not None:
@@ -593,8 +593,8 @@ def _build(args: argparse.Namespace) -> _Built:
         budget = params.max_triangles
     copies = array or (1, 1)
     total = _check_cell_budget(cell, copies, label, budget)
-    from core.cell import build_cell, tile
-    from core.params import DEFAULT_MAX_TRIANGLES
+    from barymesh.cell import build_cell, tile
+    from barymesh.params import DEFAULT_MAX_TRIANGLES
 
     limit = DEFAULT_MAX_TRIANGLES if budget is None else budget
     with progress(f"building {total:,} triangles"):
@@ -625,11 +625,11 @@ def _structure_label(args: argparse.Namespace) -> str:
 
 def _load_cell_source(args: argparse.Namespace) -> tuple[Any, str]:
     """The cell of ``--cell`` or ``--cell-preset`` and its label; errors name the file."""
-    from core.cell import load_cell, load_cell_preset
+    from barymesh.cell import load_cell, load_cell_preset
 
     if args.cell_preset is not None:
         return load_cell_preset(args.cell_preset), f"cell preset {args.cell_preset!r}"
-    from core.io.import_ import file_problem
+    from barymesh.io.import_ import file_problem
 
     path = Path(args.cell)
     problem = file_problem(path)  # a pipe or a device is never opened
@@ -644,7 +644,7 @@ def _structure_cell(params: Any, mesh: Any, name: str, period: tuple[float, floa
     Without ``period`` the lattice is rectangular with the bounding box's width and
     height as periods, so neighbouring copies touch.
     """
-    from core.cell import Element, Lattice, UnitCell
+    from barymesh.cell import Element, Lattice, UnitCell
 
     lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
     px, py = period if period is not None else (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
@@ -661,7 +661,7 @@ def _structure_cell(params: Any, mesh: Any, name: str, period: tuple[float, floa
 
 def _check_cell_budget(cell: Any, copies: tuple[int, int], label: str, budget: int | None) -> int:
     """The predicted triangles of ``copies`` of ``cell``; refused above the budget."""
-    from core.params import DEFAULT_MAX_TRIANGLES
+    from barymesh.params import DEFAULT_MAX_TRIANGLES
 
     budget = DEFAULT_MAX_TRIANGLES if budget is None else budget
     per = cell.predicted_triangles()
@@ -709,7 +709,7 @@ def _write_mesh_file(
     """Write a mesh file; a cell's .msh gets ``$Periodic`` when periodic. Returns a remark.
 
     With ``wavelength`` (mm) VTK files also carry each triangle's edge/wavelength."""
-    from core.io import export_unit, per_mm, write_mesh
+    from barymesh.io import export_unit, per_mm, write_mesh
 
     cell_mesh = built.cell_mesh
     if cell_mesh is None or Path(out).suffix.lower() != ".msh":
@@ -717,7 +717,7 @@ def _write_mesh_file(
         return ""
     pairs = cell_mesh.periodic_pairs
     if pairs.matched and len(pairs.edges):
-        from core.io.periodic_msh import write_periodic_msh
+        from barymesh.io.periodic_msh import write_periodic_msh
 
         write_periodic_msh(cell_mesh, out, per_mm(export_unit(out, unit)))
         return f" with $Periodic: {len(pairs.edges):,} edge pairs"
@@ -740,8 +740,8 @@ def _check_outline_writer(out: str) -> None:
 
 def _outline_polygons(built: _Built, args: argparse.Namespace, first: str) -> list[Any]:
     """The metal outline of what was built (a structure alone keeps its coordinates)."""
-    from core.cell import Element, Lattice, UnitCell, outline_polygons
-    from core.cell.outline import DEFAULT_CHORD_ERROR
+    from barymesh.cell import Element, Lattice, UnitCell, outline_polygons
+    from barymesh.cell.outline import DEFAULT_CHORD_ERROR
 
     cell = built.cell
     if cell is None:
@@ -763,7 +763,7 @@ def _outline_polygons(built: _Built, args: argparse.Namespace, first: str) -> li
 
 
 def _write_outline(polygons: list[Any], out: str, name: str) -> None:
-    from core.cell import write_outline_dxf, write_outline_gds
+    from barymesh.cell import write_outline_dxf, write_outline_gds
 
     if Path(out).suffix.lower() == ".dxf":
         write_outline_dxf(polygons, out)
@@ -773,7 +773,7 @@ def _write_outline(polygons: list[Any], out: str, name: str) -> None:
 
 
 def _describe_outline(out: str, polygons: list[Any], chord_error: float | None) -> str:
-    from core.cell.outline import DEFAULT_CHORD_ERROR
+    from barymesh.cell.outline import DEFAULT_CHORD_ERROR
 
     kind = OUTLINE_EXTENSIONS[Path(out).suffix.lower()][0]
     holes = sum(len(p.holes) for p in polygons)
@@ -804,7 +804,7 @@ def _check_render_size(verb: str, width: int, height: int) -> None:
 
 def _resolve(args: argparse.Namespace) -> Any:
     """The parameters of ``args``; every error names its source (preset, file, --set)."""
-    from core.presets import resolve_params
+    from barymesh.presets import resolve_params
 
     try:
         return resolve_params(args.preset, args.params, args.sets)
@@ -825,12 +825,12 @@ def _check_folder(target: str) -> None:
 
 def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) -> None:
     try:
-        from app.view.scene import render_screenshot
+        from barymesh.app.view.scene import render_screenshot
     except ImportError as exc:
         raise InputError(
             f"screenshots need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
         ) from None
-    from core.io import atomic_path
+    from barymesh.io import atomic_path
 
     with progress(f"rendering {path}"), atomic_path(path) as tmp:
         render_screenshot(mesh, str(tmp), window_size=size, transparent=transparent)
@@ -839,7 +839,7 @@ def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) 
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    from core.io import read_mesh
+    from barymesh.io import read_mesh
 
     cell_given = args.cell is not None or args.cell_preset is not None
     if args.file is not None and args.file.lower().endswith(".cell.json") and not cell_given:
@@ -857,7 +857,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
         raise UsageError("info: --unit is for mesh files; a cell is in mm")
     _check_cell_usage(args, "info")
     _check_json_targets(args, "info")
-    from core.quality import wavelength_mm
+    from barymesh.quality import wavelength_mm
 
     try:
         wavelength = wavelength_mm(args.frequency)
@@ -886,8 +886,8 @@ def _cmd_info(args: argparse.Namespace) -> int:
 
 
 def _cmd_presets(args: argparse.Namespace) -> int:
-    from core.cell import cell_preset_names, load_cell_preset
-    from core.presets import preset_descriptions
+    from barymesh.cell import cell_preset_names, load_cell_preset
+    from barymesh.presets import preset_descriptions
 
     described = preset_descriptions()
     for name in cell_preset_names():
@@ -907,7 +907,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 "sweep the structure (--preset, --params, --set)"
             )
     _check_preset(args, "sweep")
-    from core.sweep import check_sweep_size
+    from barymesh.sweep import check_sweep_size
 
     if args.frames < 2:
         raise UsageError(f"sweep: --frames {args.frames} is invalid; expected 2 or more")
@@ -923,7 +923,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     _check_folder(args.output)
     base = _resolve(args)
     try:
-        from app.teach.sweep import render_sweep
+        from barymesh.app.teach.sweep import render_sweep
     except ImportError as exc:
         raise InputError(
             f"sweeps need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
@@ -948,9 +948,9 @@ VERBS["solve"] = cli_solve.run
 
 def _open_window(argv: list[str]) -> int:
     try:
-        from app.window import main as window_main
+        from barymesh.app.window import main as window_main
     except ModuleNotFoundError as exc:
-        if exc.name not in ("app.window", "app"):
+        if exc.name not in ("barymesh.app.window", "barymesh.app"):
             raise InputError(
                 f"the desktop window needs the app extras: pip install 'barymesh[app]' "
                 f"(missing module {exc.name})"
@@ -958,7 +958,7 @@ def _open_window(argv: list[str]) -> int:
         print(build_parser().format_help())
         print("The desktop window is not available yet; use the commands above.")
         return 0
-    from app import window
+    from barymesh.app import window
 
     window_parser = getattr(window, "build_parser", None)
     if window_parser is not None:  # bad options: one line and exit 2, before any window

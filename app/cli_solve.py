@@ -1,4 +1,4 @@
-"""``barymesh solve``: the MoM solver (core.mom) from the command line.
+"""``barymesh solve``: the MoM solver (barymesh.mom) from the command line.
 
 ::
 
@@ -8,8 +8,8 @@
     barymesh solve --mesh strip.msh --freq 150MHz --feed 0,-10:0,10
     barymesh solve --preset makarov-platefine --freq 300MHz --screenshot current.png
 
-Registered in :mod:`app.cli` (``add_parser`` builds the subcommand, ``run``
-executes it). Errors are raised as ``app.cli`` exceptions (one line, exit 1
+Registered in :mod:`barymesh.app.cli` (``add_parser`` builds the subcommand, ``run``
+executes it). Errors are raised as ``barymesh.app.cli`` exceptions (one line, exit 1
 or 2, never a traceback).
 """
 
@@ -50,8 +50,8 @@ class SolveUsageError(ValueError):
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    """Add the ``solve`` subcommand to ``subparsers`` (of :func:`app.cli.build_parser`)."""
-    from app.cli import _add_params_options
+    """Add the ``solve`` subcommand to ``subparsers`` (of :func:`barymesh.app.cli.build_parser`)."""
+    from barymesh.app.cli import _add_params_options
 
     p = subparsers.add_parser(
         "solve",
@@ -63,7 +63,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     _add_params_options(p)
     p.add_argument("--mesh", metavar="FILE", help="solve a mesh file instead of building one")
-    from core.io import UNITS
+    from barymesh.io import UNITS
 
     p.add_argument(
         "--unit", choices=UNITS, help="length unit of --mesh's coordinates (default mm; .mat: m)"
@@ -112,7 +112,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "frequency: J_abs, J_real, J_imag per triangle for ParaView) (repeatable)",
     )
     out.add_argument("--plot", metavar="PNG", help="plot the sweep's cross-sections to PNG")
-    from app.cli import _window_size
+    from barymesh.app.cli import _window_size
 
     out.add_argument(
         "--screenshot",
@@ -259,7 +259,7 @@ def _check_folder(target: str) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from app.cli import progress
+    from barymesh.app.cli import progress
 
     freqs = parse_frequencies(args.freq)
     is_sweep = len(freqs) > 1
@@ -280,7 +280,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.screenshot and Path(args.screenshot).suffix.lower() != ".png":
         raise SolveUsageError(f"--screenshot {args.screenshot}: expected a .png file")
     if args.screenshot:
-        from app.cli import _check_render_size
+        from barymesh.app.cli import _check_render_size
 
         _check_render_size("solve", *args.window_size)
     if args.mesh and (args.preset or args.params or args.sets):
@@ -291,7 +291,7 @@ def _run(args: argparse.Namespace) -> int:
     memory = parse_memory(args.max_memory)
     excitation = _excitation(args)
 
-    from core.mom import solve, sweep
+    from barymesh.mom import solve, sweep
 
     mesh, title = _mesh(args, progress)
     n = len(mesh.rwg)
@@ -328,7 +328,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _excitation(args: argparse.Namespace) -> Any:
-    from core.mom import PlaneWave, VoltageSource
+    from barymesh.mom import PlaneWave, VoltageSource
 
     if args.feed:
         if args.dir is not None or args.pol is not None:
@@ -347,11 +347,11 @@ def _excitation(args: argparse.Namespace) -> Any:
 
 
 def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
-    from core import build_mesh
-    from core.presets import preset_names, resolve_params
+    from barymesh import build_mesh
+    from barymesh.presets import preset_names, resolve_params
 
     if args.mesh:
-        from core.io import read_mesh
+        from barymesh.io import read_mesh
 
         with progress(f"reading {args.mesh}"):
             return read_mesh(args.mesh, unit=args.unit), args.mesh
@@ -368,7 +368,7 @@ def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
 
 
 def _report_single(s: Any) -> None:
-    from core.mom import PlaneWave
+    from barymesh.mom import PlaneWave
 
     print(f"  f = {s.frequency / 1e9:.6g} GHz")
     if isinstance(s.excitation, PlaneWave):
@@ -387,7 +387,7 @@ def _report_single(s: Any) -> None:
 
 
 def _report_sweep(r: Any, excitation: Any) -> None:
-    from core.mom import PlaneWave
+    from barymesh.mom import PlaneWave
 
     f = r.frequencies
     print(f"  {len(f)} frequencies, {f[0] / 1e9:.6g} to {f[-1] / 1e9:.6g} GHz")
@@ -417,8 +417,7 @@ def _csv_text(rows: list[list[float]]) -> str:
 
 def _write_sweep(r: Any, out: str) -> None:
     import numpy as np
-
-    from core.io import atomic_path, atomic_write_text
+    from barymesh.io import atomic_path, atomic_write_text
 
     if out.lower().endswith(".csv"):
         rows = zip(
@@ -450,9 +449,8 @@ def _write_sweep(r: Any, out: str) -> None:
 
 def _write_single(s: Any, mesh: Any, out: str) -> None:
     import numpy as np
-
-    from core.io import atomic_path, atomic_write_text
-    from core.mom import PlaneWave
+    from barymesh.io import atomic_path, atomic_write_text
+    from barymesh.mom import PlaneWave
 
     plane = isinstance(s.excitation, PlaneWave)
     nan = float("nan")
@@ -503,7 +501,7 @@ def _plot_sweep(r: Any, path: str) -> None:
         import matplotlib.pyplot as plt
     except ImportError as exc:
         raise ValueError(f"--plot needs matplotlib: pip install 'barymesh[app]' ({exc})") from None
-    from core.io import atomic_path
+    from barymesh.io import atomic_path
 
     fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
     f = r.frequencies / 1e9
@@ -541,22 +539,21 @@ SCREENSHOT_LAYERS = {"faces": True, "triangle_edges": True, "patch_outlines": Fa
 
 def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, int]) -> None:
     """Render |J| of ``current`` ((T, 3) complex, A/m) on ``mesh`` off-screen to a PNG of
-    exactly ``window_size`` pixels: the mesh as :func:`app.view.scene.render_screenshot` draws
-    it, under the window's Surface current layer (:class:`app.view.current_layer.CurrentLayer`:
+    exactly ``window_size`` pixels: the mesh as :func:`barymesh.app.view.scene.render_screenshot` draws
+    it, under the window's Surface current layer (:class:`barymesh.app.view.current_layer.CurrentLayer`:
     colour map, scale bar, arrows of Re J). Works without an X display."""
     try:
         import imageio.v3 as iio
         import numpy as np
         import pyvista as pv
-
-        from app.view.current_layer import CurrentLayer
-        from app.view.scene import MeshScene, _prepare_headless, _resized, scene_data
+        from barymesh.app.view.current_layer import CurrentLayer
+        from barymesh.app.view.scene import MeshScene, _prepare_headless, _resized, scene_data
     except ImportError as exc:
         raise ValueError(
             f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' "
             f"({exc})"
         ) from None
-    from core.io import atomic_path
+    from barymesh.io import atomic_path
 
     width, height = (int(v) for v in window_size)
     _prepare_headless()

@@ -27,11 +27,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from app.edit.cell_document import CellState, CellTarget
-from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES
-from core import BuildCancelled, MeshParams, TriMesh, build_mesh
-from core.cell import UnitCell, build_cell
-from core.params import (
+from barymesh import BuildCancelled, MeshParams, TriMesh, build_mesh
+from barymesh.app.edit.cell_document import CellState, CellTarget
+from barymesh.app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES
+from barymesh.cell import UnitCell, build_cell
+from barymesh.params import (
     ANGULAR_STRUCTURES,
     DOUBLE_STRUCTURES,
     MAX_BARYCENTRIC_LEVELS,
@@ -458,13 +458,13 @@ class MeshResult:
     mesh: TriMesh | None = None
     stats: dict[str, Any] = field(default_factory=dict)
     seconds: float = 0.0
-    scene: Any = None  # app.view.scene.SceneData, prepared off the GUI thread
+    scene: Any = None  # barymesh.app.view.scene.SceneData, prepared off the GUI thread
     error: str | None = None
     source: str = "parameters"  # or the path of an imported mesh file
     cancelled: bool = False  # abandoned because a newer request or Cancel came
     timings: dict[str, float] = field(default_factory=dict)  # stage -> seconds
     cell: UnitCell | None = None  # the (visible) unit cell meshed instead of ``params``
-    cell_mesh: Any = None  # its core.cell.CellMesh: parts, periodic pairs, notes
+    cell_mesh: Any = None  # its barymesh.cell.CellMesh: parts, periodic pairs, notes
     cell_stats: dict[str, Any] = field(default_factory=dict)  # CellMesh.stats()
 
     @property
@@ -485,7 +485,7 @@ def compute(
     ``cancel()`` returned True (checked by the core between its stages and here between
     build, statistics and ``prepare``) as ``MeshResult.cancelled``. ``seconds`` is the
     time of ``build_mesh`` plus the statistics (topology), what a user waits for;
-    ``timings`` has each stage. A unit cell (a :class:`app.edit.cell_document.CellTarget`
+    ``timings`` has each stage. A unit cell (a :class:`barymesh.app.edit.cell_document.CellTarget`
     in place of ``params``) is built by :func:`compute_cell`.
     """
     if isinstance(params, CellTarget):
@@ -526,7 +526,7 @@ def compute_cell(
     prepare: Callable[[TriMesh], Any] | None = None,
     cancel: Callable[[], bool] | None = None,
 ) -> MeshResult:
-    """:func:`compute` of a unit cell: :func:`core.cell.build_cell`, the whole cell's
+    """:func:`compute` of a unit cell: :func:`barymesh.cell.build_cell`, the whole cell's
     statistics, every part's and the periodic match (``cell_stats``). A refusal of the
     core (overlapping elements in conforming mode) comes back as ``error``."""
     timings: dict[str, float] = {}
@@ -651,7 +651,7 @@ class AppModel:
     ``layer_changed(name, visible)``, ``color_by_changed(key)``,
     ``detail_changed(mode)``, ``build_failed(message)``.
 
-    A unit cell (:attr:`cell_state`, see :mod:`app.edit.cell_document`) replaces the one
+    A unit cell (:attr:`cell_state`, see :mod:`barymesh.app.edit.cell_document`) replaces the one
     structure when one is open: ``params`` are then the selected element's, every edit of
     the cell or of those parameters is one undo step (the undo stack holds parameters and
     cell states alike), and the cell is what is built. Cell events:
@@ -1056,7 +1056,7 @@ class AppModel:
             self.color_by_changed.emit(key)
 
     def set_detail(self, mode: str) -> None:
-        """Level of detail: "auto" or "full" (see :data:`app.view.layers.DETAIL_MODES`)."""
+        """Level of detail: "auto" or "full" (see :data:`barymesh.app.view.layers.DETAIL_MODES`)."""
         if mode not in DETAIL_MODES:
             raise ValueError(
                 f"detail={mode!r} is unknown; expected one of {', '.join(DETAIL_MODES)}"

@@ -1,8 +1,8 @@
 """The desktop window: controls, a live 3D view of the mesh, statistics and layers.
 
-The state lives in :class:`app.model.AppModel` (no Qt); this module wires the panels,
-the pyvistaqt view (:class:`app.view.scene.MeshScene`), the meshing controller
-(:class:`app.worker.MeshController`), menus and settings around it.
+The state lives in :class:`barymesh.app.model.AppModel` (no Qt); this module wires the panels,
+the pyvistaqt view (:class:`barymesh.app.view.scene.MeshScene`), the meshing controller
+(:class:`barymesh.app.worker.MeshController`), menus and settings around it.
 
 Run ``barymesh`` or ``python -m app``; see :func:`main` for the options.
 """
@@ -22,9 +22,41 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import barymesh
 import numpy as np
+from barymesh import MeshParams, TriMesh
+from barymesh.app.edit.cell_tools import CellTools
+from barymesh.app.edit.lattice_panel import parse_copies
+from barymesh.app.model import AppModel, MeshResult, ParamError
+from barymesh.app.panels.controls import ControlsPanel
+from barymesh.app.panels.layers_panel import LayersPanel
+from barymesh.app.panels.quality_panel import QualityPanel
+from barymesh.app.panels.solve_panel import SolvePanel
+from barymesh.app.panels.stats_panel import StatsPanel
+from barymesh.app.teach.teaching_tools import TeachingTools
+from barymesh.app.teach.teaching_windows import TeachingWindows
+from barymesh.app.view.framing import (
+    frame_from_above,
+    look_from_above,
+    pixels_per_mm,
+    rect_inside,
+    visible_rect,
+)
+from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
+from barymesh.app.view.overview import DETAIL_TRIANGLES
+from barymesh.app.view.scene import MeshScene, needs_triangles, scene_data
+from barymesh.app.view.view_tools import ViewTools
+from barymesh.app.worker import BuildJob, MeshController, release_memory, run_in_thread
 from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QGuiApplication, QImage, QKeySequence
+from PySide6.QtGui import (
+    QAction,
+    QActionGroup,
+    QCloseEvent,
+    QGuiApplication,
+    QIcon,
+    QImage,
+    QKeySequence,
+)
 from PySide6.QtWidgets import (
     QApplication,
     QCheckBox,
@@ -54,33 +86,10 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-import core
-from app.edit.cell_tools import CellTools
-from app.edit.lattice_panel import parse_copies
-from app.model import AppModel, MeshResult, ParamError
-from app.panels.controls import ControlsPanel
-from app.panels.layers_panel import LayersPanel
-from app.panels.quality_panel import QualityPanel
-from app.panels.solve_panel import SolvePanel
-from app.panels.stats_panel import StatsPanel
-from app.teach.teaching_tools import TeachingTools
-from app.teach.teaching_windows import TeachingWindows
-from app.view.framing import (
-    frame_from_above,
-    look_from_above,
-    pixels_per_mm,
-    rect_inside,
-    visible_rect,
-)
-from app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
-from app.view.overview import DETAIL_TRIANGLES
-from app.view.scene import MeshScene, needs_triangles, scene_data
-from app.view.view_tools import ViewTools
-from app.worker import BuildJob, MeshController, release_memory, run_in_thread
-from core import MeshParams, TriMesh
-
 log = logging.getLogger(__name__)
 
+#: The window icon (shipped in the wheel as package data).
+ICON = Path(__file__).resolve().parent / "icons" / "barymesh.svg"
 ORGANIZATION = APPLICATION = "barymesh"
 SCRIPTED_SIZE = (1400, 860)
 #: Below this window width the Statistics and Layers docks share the Parameters column
@@ -231,7 +240,7 @@ class ExportDialog(QDialog):
 
     def __init__(self, window: MainWindow) -> None:
         super().__init__(window)
-        from core.io import EXPORT_FORMATS, UNITS
+        from barymesh.io import EXPORT_FORMATS, UNITS
 
         self.window_ = window
         self.formats = EXPORT_FORMATS
@@ -273,7 +282,7 @@ class ExportDialog(QDialog):
         self._describe()
 
     def _describe(self) -> None:
-        from core.io import describe_export
+        from barymesh.io import describe_export
 
         try:
             text = describe_export(Path(self.path.text()).name, self.unit.currentData())
@@ -284,7 +293,7 @@ class ExportDialog(QDialog):
             self.export_button.setEnabled(False)
 
     def _browse(self) -> None:
-        from core.io import export_filters, filter_extension
+        from barymesh.io import export_filters, filter_extension
 
         path, chosen = QFileDialog.getSaveFileName(self, "Export mesh", self.path.text(),
                                                    ";;".join(export_filters()))
@@ -339,7 +348,7 @@ class MainWindow(QMainWindow):
     settings : QSettings, optional
     scripted : bool
         A ``--screenshot``/``--quit`` run: fixed size and layout, settings not saved.
-    cell : core.cell.UnitCell, optional
+    cell : barymesh.cell.UnitCell, optional
         Open this unit cell (its first element's parameters in the Parameters panel).
     """
 
@@ -514,10 +523,10 @@ class MainWindow(QMainWindow):
 
     def _make_actions(self) -> None:
         try:
-            from core.io import EXPORT_FORMATS, IMPORT_FORMATS  # noqa: F401
+            from barymesh.io import EXPORT_FORMATS, IMPORT_FORMATS  # noqa: F401
             self._io_error = None
-        except ImportError as exc:  # pragma: no cover - core.io ships with core
-            self._io_error = f"mesh files need core.io ({exc})"
+        except ImportError as exc:  # pragma: no cover - barymesh.io ships with core
+            self._io_error = f"mesh files need barymesh.io ({exc})"
         a = self._action
         self.act_open = a("&Open mesh file…", self.open_mesh_dialog, QKeySequence.StandardKey.Open,
                           "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it")
@@ -598,7 +607,7 @@ class MainWindow(QMainWindow):
 
         presets = bar.addMenu("&Presets")
         try:
-            from core.presets import preset_descriptions
+            from barymesh.presets import preset_descriptions
 
             descriptions = preset_descriptions()
         except Exception as exc:  # noqa: BLE001 - a broken preset file must not stop the window
@@ -638,7 +647,10 @@ class MainWindow(QMainWindow):
         self.teaching.add_to_menu(self.teach_menu)
         self.teaching_windows.add_to_menu(self.teach_menu)
 
-        from app.edit.painter import PainterOpener, cell_menu  # Cell → Paint pixels… (issue 13)
+        from barymesh.app.edit.painter import (  # Cell → Paint pixels… (issue 13)
+            PainterOpener,
+            cell_menu,
+        )
         self.painter_opener = PainterOpener(self, cell_menu(self))
 
         help_ = bar.addMenu("&Help")
@@ -910,7 +922,7 @@ class MainWindow(QMainWindow):
 
     def _complete_scene(self, result: MeshResult) -> None:
         """A dense paper mesh's image is made without per-triangle values while it is
-        shown solid or by patch count (:func:`app.view.scene.scene_data`): a colouring
+        shown solid or by patch count (:func:`barymesh.app.view.scene.scene_data`): a colouring
         that needs them has the worker make the scene again (plain until it comes)."""
         key = self.model.color_by
         if result.mesh is None or not needs_triangles(self.scene.overview, key):
@@ -997,9 +1009,9 @@ class MainWindow(QMainWindow):
         """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
 
         At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
-        lines and dots scaled along (:mod:`app.view.scaled_shot`); VTK's tiled
+        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`); VTK's tiled
         magnification cut and misplaced the rulers and titles."""
-        from app.view.scaled_shot import MAX_SCALE, scaled_view_image
+        from barymesh.app.view.scaled_shot import MAX_SCALE, scaled_view_image
 
         if not 1 <= int(scale) <= MAX_SCALE:
             raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
@@ -1047,7 +1059,7 @@ class MainWindow(QMainWindow):
         ScreenshotDialog(self).exec()
 
     def open_mesh_dialog(self) -> None:
-        from core.io import IMPORT_EXTENSIONS
+        from barymesh.io import IMPORT_EXTENSIONS
 
         patterns = " ".join(f"*{e}" for e in IMPORT_EXTENSIONS)
         path, _ = QFileDialog.getOpenFileName(
@@ -1060,7 +1072,7 @@ class MainWindow(QMainWindow):
 
     def open_mesh_file(self, path: str | os.PathLike[str]) -> bool:
         """Show a mesh read from ``path`` until the next parameter change."""
-        from core.io import read_mesh
+        from barymesh.io import read_mesh
 
         try:
             mesh: TriMesh = read_mesh(path)
@@ -1085,7 +1097,7 @@ class MainWindow(QMainWindow):
             self.load_params_file(path)
 
     def load_params_file(self, path: str | os.PathLike[str]) -> bool:
-        from core.presets import load_params_file
+        from barymesh.presets import load_params_file
 
         try:
             params = load_params_file(path)
@@ -1107,7 +1119,7 @@ class MainWindow(QMainWindow):
             self.save_params_file(path)
 
     def save_params_file(self, path: str | os.PathLike[str]) -> bool:
-        from core.presets import save_params_file
+        from barymesh.presets import save_params_file
 
         if self.model.file_source is not None:
             self.statusBar().showMessage(
@@ -1134,8 +1146,8 @@ class MainWindow(QMainWindow):
         return dialog
 
     def export_mesh(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
-        from core.io import describe_export, write_mesh
-        from core.quality import params_wavelength
+        from barymesh.io import describe_export, write_mesh
+        from barymesh.quality import params_wavelength
 
         result = self.model.result
         if result is None or result.mesh is None:
@@ -1160,7 +1172,7 @@ class MainWindow(QMainWindow):
         the GUI thread. Returns whether the export started (False: nothing to export, an
         export still running or an unknown extension or unit, said in the status bar).
         """
-        from core.quality import params_wavelength
+        from barymesh.quality import params_wavelength
 
         result = self.model.result
         if result is None or result.mesh is None:
@@ -1181,7 +1193,7 @@ class MainWindow(QMainWindow):
         ``make_mesh()`` runs in the thread too (numpy only, no VTK); ``what`` says what is
         written in the progress dialog; ``wrote(mesh, described_path)`` the status line.
         """
-        from core.io import describe_export, write_mesh
+        from barymesh.io import describe_export, write_mesh
 
         if self.export_job is not None:
             self.statusBar().showMessage(
@@ -1224,7 +1236,7 @@ class MainWindow(QMainWindow):
             job.progress.setLabelText(f"Cancelling {Path(job.path).name}…")
 
     def _export_finished(self, payload: tuple) -> None:
-        from core.io import ExportCancelled
+        from barymesh.io import ExportCancelled
 
         job, error = payload
         if job.progress is not None:
@@ -1252,7 +1264,7 @@ class MainWindow(QMainWindow):
             job.done(ok)
 
     def load_preset(self, name: str) -> bool:
-        from core.presets import load_preset
+        from barymesh.presets import load_preset
 
         try:
             params, description = load_preset(name)
@@ -1305,7 +1317,7 @@ class MainWindow(QMainWindow):
         dialog = getattr(self, "help_dialog", None)
         if dialog is None:
             dialog = self.help_dialog = HelpDialog(
-                ABOUT.format(version=core.__version__, shortcuts=self.shortcuts_html()), self)
+                ABOUT.format(version=barymesh.__version__, shortcuts=self.shortcuts_html()), self)
         dialog.show()
         dialog.raise_()
         dialog.activateWindow()
@@ -1549,7 +1561,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"barymesh: error: {given[0]} cannot go with {option}: a cell holds its own "
                   "elements and their parameters (see barymesh --help)", file=sys.stderr)
             return 2
-        from core.cell import load_cell, load_cell_preset
+        from barymesh.cell import load_cell, load_cell_preset
 
         try:
             cell = load_cell(args.cell) if args.cell is not None else load_cell_preset(
@@ -1562,7 +1574,7 @@ def main(argv: list[str] | None = None) -> int:
               "--cell-preset too (see barymesh --help)", file=sys.stderr)
         return 2
     elif args.preset or args.params or args.sets:
-        from core.presets import resolve_params
+        from barymesh.presets import resolve_params
 
         try:
             params = resolve_params(args.preset, args.params, args.sets)
@@ -1580,6 +1592,7 @@ def main(argv: list[str] | None = None) -> int:
     app = QApplication.instance() or QApplication([sys.argv[0] if sys.argv else "barymesh"])
     app.setOrganizationName(ORGANIZATION)
     app.setApplicationName(APPLICATION)
+    app.setWindowIcon(QIcon(str(ICON)))
     _install_excepthook()
     scripted = bool(args.quit or args.screenshot)
     window = MainWindow(params, scripted=scripted, cell=cell)

@@ -4,12 +4,12 @@
 burst (a slider drag) are coalesced by a zero-delay timer: the latest parameters win.
 Small meshes (up to :data:`SYNC_TRIANGLES`) are built on the GUI thread, faster than a
 thread hop; larger ones in a worker thread that also computes the statistics and the
-scene arrays (:func:`app.view.scene.scene_data`), while the window keeps answering.
+scene arrays (:func:`barymesh.app.view.scene.scene_data`), while the window keeps answering.
 
 A newer request (for a build of :data:`CANCEL_TRIANGLES` or more; a shorter one
 finishes and is shown first), Undo or :meth:`MeshController.cancel` abandons the running
-build cooperatively: its ``cancel`` callable (checked by ``core.build_mesh`` between its
-stages and by :func:`app.model.compute` between build, statistics and scene) returns
+build cooperatively: its ``cancel`` callable (checked by ``barymesh.build_mesh`` between its
+stages and by :func:`barymesh.app.model.compute` between build, statistics and scene) returns
 True, and the new build starts at once beside it; at most one abandoned build winds
 down at a time. Parameters equal to those of the mesh on screen (Undo of a change still
 being built) need no build at all; those of one of the last few small meshes
@@ -31,11 +31,10 @@ import time
 from collections.abc import Callable
 from functools import partial
 
+from barymesh import MeshParams
+from barymesh.app.model import AppModel, MeshResult, compute
+from barymesh.app.view.scene import detail_data, scene_data
 from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
-
-from app.model import AppModel, MeshResult, compute
-from app.view.scene import detail_data, scene_data
-from core import MeshParams
 
 log = logging.getLogger(__name__)
 
@@ -120,7 +119,7 @@ def _kept_scene(scene: object, _mesh: object) -> object:
 
 
 def _scene_or_none(mesh: object, **kwargs: object) -> object:
-    """:func:`app.view.scene.scene_data`, or None if it fails (logged; never raises)."""
+    """:func:`barymesh.app.view.scene.scene_data`, or None if it fails (logged; never raises)."""
     try:
         return scene_data(mesh, **kwargs)
     except Exception:  # noqa: BLE001 - the colouring stays plain, the window lives on
@@ -328,7 +327,7 @@ class MeshController(QObject):
 
     def request_detail(self, mesh: object, rect: tuple[float, float, float, float],
                        token: object) -> None:
-        """Build :func:`app.view.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
+        """Build :func:`barymesh.app.view.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
         shown = self.model.result
         scene = shown.scene if shown is not None and shown.mesh is mesh else None
         extra = {} if scene is None else {

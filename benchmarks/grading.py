@@ -38,7 +38,7 @@ fitted order. Errors are |Q − Q∞| / |Q∞|.
 
 Series: uniform refinement (``subdivisions`` n = 1, 2, ... while N stays
 under ``--max-unknowns``); graded meshes (``grading=True`` with a few
-``growth_ratio`` / ``min_edge`` pairs) when :class:`core.MeshParams` has those
+``growth_ratio`` / ``min_edge`` pairs) when :class:`barymesh.MeshParams` has those
 fields, else skipped with a message.
 
 Usage::
@@ -63,11 +63,11 @@ from scipy.optimize import brentq
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from core import MeshParams, build_mesh  # noqa: E402
-from core.mesh import TriMesh  # noqa: E402
-from core.mom import PlaneWave, Solution, check_memory, solve  # noqa: E402
-from core.params import MAX_UNIFORM_SUBDIVISIONS  # noqa: E402
-from core.presets import load_preset  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.mesh import TriMesh  # noqa: E402
+from barymesh.mom import PlaneWave, Solution, check_memory, solve  # noqa: E402
+from barymesh.params import MAX_UNIFORM_SUBDIVISIONS  # noqa: E402
+from barymesh.presets import load_preset  # noqa: E402
 
 PRESET = "srr-openmodes"
 FREQUENCY = 5e9
@@ -496,7 +496,7 @@ def main(argv: list[str] | None = None) -> int:
                            grading=True, growth_ratio=ratio, min_edge=min_edge)  # fmt: skip
     else:
         graded_note = (
-            "graded series skipped: core.MeshParams has no grading fields "
+            "graded series skipped: barymesh.MeshParams has no grading fields "
             f"({', '.join(GRADING_FIELDS)}); uniform refinement only"
         )
         print(graded_note, flush=True)

@@ -258,7 +258,7 @@ def row_step(window, name: str) -> float:
 
 def measure_big(app_, window, repeats: int) -> dict:
     """Dense meshes: shown time, paints, blocks, rotation, memory per triangle."""
-    from core import MeshParams
+    from barymesh import MeshParams
 
     beat = _Heartbeat()
     fig12a = MeshParams()
@@ -309,12 +309,11 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     """Open the window (1400 x 860) and time ``frames`` slider moves, a ``drag``-second
     mouse drag and ``big`` rounds of the dense meshes; returns the JSON document."""
     os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
+    import barymesh.app.worker
+    from barymesh import MeshParams
+    from barymesh.app.window import MainWindow
     from PySide6.QtCore import QSettings
     from PySide6.QtWidgets import QApplication
-
-    import app.worker
-    from app.window import MainWindow
-    from core import MeshParams
 
     app_ = QApplication.instance() or QApplication([sys.argv[0]])
     settings_dir = tempfile.mkdtemp(prefix="barymesh-latency-")
@@ -329,7 +328,7 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
     _wait_until(app_, lambda: False, 1.0)
 
     record: dict[str, float] = {}
-    app.worker.scene_data = _timed(record, "scene_data", app.worker.scene_data)
+    barymesh.app.worker.scene_data = _timed(record, "scene_data", barymesh.app.worker.scene_data)
     window.scene.update = _timed(record, "scene_update", window.scene.update)
     window.plotter.render = _timed(record, "render", window.plotter.render)
     painted: list = []
@@ -528,7 +527,7 @@ def main(argv: list[str] | None = None) -> int:
             cmd += [str(Path(__file__).resolve()), *(sys.argv[1:] if argv is None else argv)]
             return subprocess.call(cmd, env=env)
         ap.error("no display: run under Xvfb (xvfb-run -a python benchmarks/latency.py)")
-    from app.model import SPECS
+    from barymesh.app.model import SPECS
 
     if args.slider not in SPECS:
         ap.error(f"--slider={args.slider!r}: expected one of {', '.join(SPECS)}")

@@ -66,11 +66,10 @@ import scipy.sparse as sp
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.quality import triangle_quality  # noqa: E402
+from barymesh.structures import layout  # noqa: E402
 from gmsh_peer import Gmsh, split_ring_fields  # noqa: E402
-
-from core import MeshParams, build_mesh  # noqa: E402
-from core.quality import triangle_quality  # noqa: E402
-from core.structures import layout  # noqa: E402
 
 SIZES = ("10k", "100k", "1M", "4M")
 

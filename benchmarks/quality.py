@@ -5,7 +5,7 @@ split ring at about 10k, 100k and 1M triangles (``gmsh_peer.SPLIT``), with
 barymesh's own figures (``TriMesh.stats()``):
 
 - smallest angle (degrees) over all triangles;
-- largest aspect ratio, ``core.quality``'s l_max (l_0 + l_1 + l_2) / (4 √3 A),
+- largest aspect ratio, ``barymesh.quality``'s l_max (l_0 + l_1 + l_2) / (4 √3 A),
   which is l_max / (2 √3 r_in) with r_in the inradius: 1 for an equilateral
   triangle, unbounded as a triangle flattens;
 - triangles, and RWG unknowns: the interior edges (edges on exactly two
@@ -53,20 +53,21 @@ ASPECT_RATIO = "l_max (l0 + l1 + l2) / (4 sqrt(3) A) = l_max / (2 sqrt(3) r_in)"
 
 
 def use_core(root: Path) -> Path:
-    """Put the checkout ``root`` first on the path and import its ``core``; its folder."""
-    sys.path.insert(0, str(root))
-    import core
-
-    where = Path(core.__file__).resolve().parent
-    if where.parent != root.resolve():
-        raise RuntimeError(f"imported core from {where}, expected the one in {root}")
-    return where
+    """Import the ``core/`` folder of the checkout ``root`` as ``barymesh`` (what its wheel
+    installs under that name); its folder."""
+    init = root.resolve() / "core" / "__init__.py"
+    spec = importlib.util.spec_from_file_location(
+        "barymesh", init, submodule_search_locations=[str(init.parent)])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["barymesh"] = module
+    spec.loader.exec_module(module)
+    return init.parent
 
 
 def measure(sizes: list[str], presets: bool = True) -> list[dict[str, Any]]:
     """Figures of the split ring at ``sizes`` and of every preset, with the imported ``core``."""
-    from core import MeshParams, build_mesh
-    from core.presets import load_preset, preset_names
+    from barymesh import MeshParams, build_mesh
+    from barymesh.presets import load_preset, preset_names
 
     cases = [(f"split ring {s}", "split ring", MeshParams(**split_ring_fields(s))) for s in sizes]
     if presets:
@@ -100,8 +101,7 @@ def measure(sizes: list[str], presets: bool = True) -> list[dict[str, Any]]:
 def measure_gmsh(params: dict[str, Any], target: int, algorithm: int) -> dict[str, Any]:
     """gmsh's mesh of the geometry of ``params`` at about ``target`` triangles, measured by core."""
     import numpy as np
-
-    from core import MeshParams, TriMesh
+    from barymesh import MeshParams, TriMesh
 
     t0 = time.perf_counter()
     g = Gmsh(MeshParams.from_dict(params), target, algorithm)

@@ -16,8 +16,8 @@ import argparse
 import statistics
 import time
 
-from core import MeshParams, build_mesh
-from core.sizing import wavelength
+from barymesh import MeshParams, build_mesh
+from barymesh.sizing import wavelength
 
 WORKLOADS = {
     "paper double ring, n = 27 (1M)": MeshParams(subdivisions=27),

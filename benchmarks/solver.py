@@ -1,4 +1,4 @@
-"""Speed and accuracy of the MoM solver (core.mom) against a Makarov-style fill.
+"""Speed and accuracy of the MoM solver (barymesh.mom) against a Makarov-style fill.
 
 The reference point is a straightforward vectorised numpy version of the
 scheme of S. N. Makarov's MATLAB codes (``rwg1``–``rwg5``, *Antenna and EM
@@ -7,7 +7,7 @@ triangle cut into 9 sub-triangles; the potential from the centroid of one
 triangle to the 9 sub-centroids of another; the k-th ρ of one triangle
 paired with the k-th ρ of the other; no singularity treatment; the
 excitation sampled at the centroids. Accuracy is measured against a
-converged solve of the same mesh (core.mom with its highest rules).
+converged solve of the same mesh (barymesh.mom with its highest rules).
 
 Workloads (each solver on the same machine in the same run, the two alternating):
 
@@ -47,9 +47,9 @@ import scipy.linalg as sla
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from core import build_mesh  # noqa: E402
-from core.mesh import TriMesh  # noqa: E402
-from core.mom import (  # noqa: E402
+from barymesh import build_mesh  # noqa: E402
+from barymesh.mesh import TriMesh  # noqa: E402
+from barymesh.mom import (  # noqa: E402
     PlaneWave,
     excitation_vector,
     find_peaks,
@@ -59,9 +59,9 @@ from core.mom import (  # noqa: E402
     sweep,
     wavenumber,
 )
-from core.mom.operator import ETA0, MU0, SPEED_OF_LIGHT  # noqa: E402
-from core.mom.solve import dense_solve  # noqa: E402
-from core.presets import load_preset, resolve_params  # noqa: E402
+from barymesh.mom.operator import ETA0, MU0, SPEED_OF_LIGHT  # noqa: E402
+from barymesh.mom.solve import dense_solve  # noqa: E402
+from barymesh.presets import load_preset, resolve_params  # noqa: E402
 
 REFERENCE = {"order": 8, "far_order": 6, "near_factor": 3.0}
 

@@ -2,7 +2,7 @@
 
 Pure numpy/scipy; no Qt, VTK or pyvista.
 
->>> from core import MeshParams, build_mesh
+>>> from barymesh import MeshParams, build_mesh
 >>> build_mesh(MeshParams(structure="patch")).stats()["triangles"]
 32
 """
@@ -25,4 +25,4 @@ __all__ = [
     "TriMesh",
     "build_mesh",
 ]
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -5,7 +5,7 @@ can coincide with an edge of another patch only if both its vertices are
 shared with other patches (vertex multiplicity > 1); only those edges, a few
 per patch on its glued sides, are matched globally by sorting. All others
 keep their template incidence (and free vertices). The result equals
-:func:`core.topology.edge_topology` on the same triangles, up to edge order.
+:func:`barymesh.topology.edge_topology` on the same triangles, up to edge order.
 """
 
 from __future__ import annotations

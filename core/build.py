@@ -38,12 +38,12 @@ def build_mesh(
     -------
     TriMesh
         Finite, counter-clockwise, without flat triangles and, in conforming mode,
-        manifold without duplicate vertices (:func:`core.invariants.check_mesh`).
+        manifold without duplicate vertices (:func:`barymesh.invariants.check_mesh`).
 
     Raises
     ------
     ValueError
-        :class:`core.invariants.MeshInvariantError` when the mesh breaks one of
+        :class:`barymesh.invariants.MeshInvariantError` when the mesh breaks one of
         those invariants (a geometry the core cannot mesh, or a bug); with
         ``frequency`` or ``max_edge`` set, naming that parameter when no
         subdivision within the scheme's range and ``max_triangles`` meets it.
@@ -52,7 +52,7 @@ def build_mesh(
     -----
     With ``params.frequency`` or ``params.max_edge`` set, ``params.subdivisions``
     is not used: the smallest n whose mesh has every edge at most the target is
-    chosen (:func:`core.sizing.sized_mesh`); ``mesh.params`` holds the parameters
+    chosen (:func:`barymesh.sizing.sized_mesh`); ``mesh.params`` holds the parameters
     with that n, and ``mesh.stats()["subdivisions_chosen"]`` reports it.
 
     Examples

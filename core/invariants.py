@@ -345,7 +345,7 @@ def _chain_valence(mesh: Any) -> int | None:
     When the vertex map is, entry for entry, that of chains of m sectors
     (``TriMesh._sector_chains``), every edge of a chain is a shifted copy of an
     edge of the short chain its topology repeats, on as many triangles
-    (:func:`core.topology.chain_topology`): the short chains' largest valence
+    (:func:`barymesh.topology.chain_topology`): the short chains' largest valence
     is the mesh's. Anything else (a sector glued twice, renumbered vertices)
     is counted by :func:`glued_edge_valence`.
     """

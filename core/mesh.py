@@ -69,7 +69,7 @@ _SHORT_CHAINS: dict[tuple[int, bool], tuple[PatchTemplate, EdgeTopology]] = {}
 
 
 def _short_chain_topology(template: PatchTemplate, closed: bool) -> EdgeTopology:
-    """``patch_topology`` of a chain of :data:`core.topology.CHAIN` sectors numbered by formula."""
+    """``patch_topology`` of a chain of :data:`barymesh.topology.CHAIN` sectors numbered by formula."""
     key = (id(template), closed)
     hit = _SHORT_CHAINS.get(key)
     if hit is not None and hit[0] is template:  # the template itself is kept: ids stay unique
@@ -124,15 +124,15 @@ class TriMesh:
     ignored_cells : dict
         For imported meshes: cell type -> number of non-triangle cells skipped.
     params : MeshParams or None
-        The parameters :func:`core.build.build_mesh` built it from, with the
+        The parameters :func:`barymesh.build.build_mesh` built it from, with the
         ``subdivisions`` the sizing chose when ``frequency`` or ``max_edge`` is set;
         None for imported, cell and scaled meshes.
     min_angle_floor : float or None
         Conforming circular rings: the best smallest angle (degrees) their
-        geometry allows (see :class:`core.structures.SectorPlan`).
-    lattice : core.cell.Lattice or None
+        geometry allows (see :class:`barymesh.structures.SectorPlan`).
+    lattice : barymesh.cell.Lattice or None
         The lattice of the unit cell (or array) the mesh is, set by
-        :func:`core.cell.build_cell` and :func:`core.cell.tile`; None otherwise.
+        :func:`barymesh.cell.build_cell` and :func:`barymesh.cell.tile`; None otherwise.
         It gives :attr:`periodic_pairs`.
 
     Everything else (centroids, edges, RWG table, connectivity, quality) is
@@ -250,7 +250,7 @@ class TriMesh:
 
     @cached_property
     def topology(self) -> EdgeTopology:
-        """Edges and their incidence (see :class:`core.topology.EdgeTopology`)."""
+        """Edges and their incidence (see :class:`barymesh.topology.EdgeTopology`)."""
         t = self._template
         if t is None:
             return edge_topology(self.triangles, self.n_vertices)
@@ -281,7 +281,7 @@ class TriMesh:
 
         True for paper meshes whose patches share no vertex (nothing welded):
         their topology is the template's, copy after copy
-        (:func:`core.topology.copies_topology`). Checked on the vertex map,
+        (:func:`barymesh.topology.copies_topology`). Checked on the vertex map,
         block by block.
         """
         t = self._template
@@ -307,14 +307,14 @@ class TriMesh:
         """(m_i, closed_i) per chain when the mesh is chains of sectors numbered by formula.
 
         A conforming ring's arc (closed, or ended by a slot) is a chain of m_i ≥
-        :data:`core.topology.CHAIN` sectors glued side 2 to side 0; rings and
+        :data:`barymesh.topology.CHAIN` sectors glued side 2 to side 0; rings and
         arcs may hold different numbers of sectors. The chains are read off the
         vertex map (where a sector's side 2 is not the next one's side 0, a chain
         ends; it is closed when its last side 2 is its first side 0), then the
         whole map is checked, every entry, against
-        :func:`core.structures._sector_chain_vertices` for those chains: only
+        :func:`barymesh.structures._sector_chain_vertices` for those chains: only
         then does the topology repeat that of short chains
-        (:func:`core.topology.chain_topology`). None for anything else
+        (:func:`barymesh.topology.chain_topology`). None for anything else
         (touching rings, a chain shorter than ``CHAIN``, renumbered vertices,
         paper mode, imported meshes).
         """
@@ -389,7 +389,7 @@ class TriMesh:
 
     @cached_property
     def rwg(self) -> RWGTable:
-        """The RWG table: one row per interior edge (see :class:`core.topology.RWGTable`)."""
+        """The RWG table: one row per interior edge (see :class:`barymesh.topology.RWGTable`)."""
         t = self._template
         if t is not None:  # repeated structures: rows of the topology, repeated as it is
             nv, nt = len(t.uv), len(t.triangles)
@@ -499,14 +499,14 @@ class TriMesh:
         A conforming ring without a slot (and not touching the other ring) is a
         closed chain of sectors (m_i in ring i); when the vertex map is exactly those
         chains', ring after ring (checked against
-        :func:`core.structures._sector_chain_vertices`, every m_i ≥ 3), every sector
+        :func:`barymesh.structures._sector_chain_vertices`, every m_i ≥ 3), every sector
         adds the same edges, so the counts are Σ m_i / 3 times those of a closed
         chain of three sectors: the counts of
-        :func:`core.topology.patch_edge_counts` without sorting the glued edges.
-        Rings of at least :data:`core.topology.CHAIN` sectors, closed or split, whose
+        :func:`barymesh.topology.patch_edge_counts` without sorting the glued edges.
+        Rings of at least :data:`barymesh.topology.CHAIN` sectors, closed or split, whose
         numbering the build has already checked (``_sector_chains``, cached) add up
         the counts of their short chains' sectors instead, as
-        :func:`core.topology.chain_topology` repeats them.
+        :func:`barymesh.topology.chain_topology` repeats them.
         Returns None otherwise (touching, paper or imported rings).
         """
         chains = self._chain_arguments() if "_sector_chains" in self.__dict__ else None
@@ -549,8 +549,8 @@ class TriMesh:
         """Topology counts and quality aggregates from every edge and triangle.
 
         A mesh of patch copies whose edges and quality are not known yet counts its
-        edges without making them (:func:`core.topology.patch_edge_counts`) and
-        reduces the quality block by block (:func:`core.quality.quality_summary`,
+        edges without making them (:func:`barymesh.topology.patch_edge_counts`) and
+        reduces the quality block by block (:func:`barymesh.quality.quality_summary`,
         whose side range is the edge range); the per-triangle arrays stay lazy.
         Other meshes find their edges and use the cached per-triangle quality.
         """
@@ -594,7 +594,7 @@ class TriMesh:
     def periodic_pairs(self) -> Any:
         """The cell-boundary edges and their partners on the opposite side.
 
-        A :class:`core.cell.PeriodicPairs` for the mesh of a unit cell
+        A :class:`barymesh.cell.PeriodicPairs` for the mesh of a unit cell
         (:attr:`lattice` set): ``edges`` (K, 2) vertex pairs on the boundary,
         ``partners``, ``matched`` and the ``unmatched_edges`` (what scuff-em
         and the ``$Periodic`` section of an msh file need); None for a mesh
@@ -618,7 +618,7 @@ class TriMesh:
         track width, sector bound and slot allow the construction: below 30°,
         the geometry is to blame), in paper mode ``overlap_ratio``; for
         imported meshes ``ignored_cells``; for meshes sized by ``frequency`` or
-        ``max_edge`` the keys of :func:`core.sizing.sizing_stats`.
+        ``max_edge`` the keys of :func:`barymesh.sizing.sizing_stats`.
         """
         known = "topology" in self.__dict__ and "quality" in self.__dict__
         measured = None if known else self._copy_stats()

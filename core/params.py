@@ -144,7 +144,7 @@ class MeshParams:
 
     Notes
     -----
-    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`core.build.build_mesh`
+    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`barymesh.build.build_mesh`
     picks the smallest ``subdivisions`` (within the scheme's range and ``max_triangles``)
     whose mesh has every edge at most the target, λ / ``cells_per_wavelength`` or
     ``max_edge``; with both, the smaller (stricter) of the two. The ``subdivisions``

@@ -1,6 +1,6 @@
 """Named parameter sets (presets) and user parameter files.
 
-A preset is a JSON file in ``assets/presets/``: a :class:`MeshParams` dict
+A preset is a JSON file in ``assets/presets/`` (installed as ``barymesh/assets/presets/``): a :class:`MeshParams` dict
 plus a one-line ``"description"``. A user's parameter file has the same
 layout (the description is optional) and may live anywhere.
 
@@ -18,8 +18,19 @@ from typing import Any
 
 from .params import MeshParams
 
-#: Folder of the shipped presets (the package is installed editable, so the repo's assets/).
-PRESET_DIR = Path(__file__).resolve().parents[1] / "assets" / "presets"
+
+def _asset_dir() -> Path:
+    """The shipped data: ``barymesh/assets/`` in a wheel, the repository's ``assets/`` in a
+    checkout (an editable install maps ``barymesh`` to ``core/``, beside ``assets/``)."""
+    here = Path(__file__).resolve().parent
+    installed = here / "assets"
+    return installed if installed.is_dir() else here.parent / "assets"
+
+
+#: Folder of the shipped data (presets and cells).
+ASSET_DIR = _asset_dir()
+#: Folder of the shipped presets.
+PRESET_DIR = ASSET_DIR / "presets"
 
 
 def preset_names() -> list[str]:

@@ -348,7 +348,7 @@ def quality_report(
 
     Examples
     --------
-    >>> from core import MeshParams, build_mesh
+    >>> from barymesh import MeshParams, build_mesh
     >>> r = quality_report(build_mesh(MeshParams(structure="patch")), worst=1)
     >>> round(r["min_angle_deg"]["min"], 9), r["min_angle_deg"]["below"], r["worst"][0]["triangle"]
     (45.0, 0, 0)
@@ -465,7 +465,7 @@ def lattice_diagonal(
     """``"BC"`` or ``"AD"`` when the triangles cut the grid's cells along it.
 
     The grid is (n + 1)² points, or (n_u + 1) x (n_v + 1) with ``cells`` =
-    (n_u, n_v) (a conforming sector's :func:`core.subdivision.tensor_template`);
+    (n_u, n_v) (a conforming sector's :func:`barymesh.subdivision.tensor_template`);
     the grid point (a, b) is local vertex b (n_u + 1) + a, as in a uniform patch
     template; each cell is two counter-clockwise triangles. None otherwise.
     """

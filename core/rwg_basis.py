@@ -126,7 +126,7 @@ def sample_rwg(mesh: TriMesh, edge: int, quadrature: int = 4) -> BasisSample:
 
     Examples
     --------
-    >>> from core import MeshParams, build_mesh
+    >>> from barymesh import MeshParams, build_mesh
     >>> mesh = build_mesh(MeshParams(structure="patch", subdivisions=1))
     >>> b = sample_rwg(mesh, int(mesh.interior_edges[0]), quadrature=2)
     >>> b.points_plus.shape, round(b.divergence_plus + b.divergence_minus, 12)

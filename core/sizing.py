@@ -3,7 +3,7 @@
 Solvers want edges short against the wavelength (the common guidance is λ/10; Feko's
 standard is λ/12) and triangles small against λ² (λ²/30). With ``frequency`` (Hz, and
 optionally the substrate's ``relative_permittivity``) or ``max_edge`` (mm) set in
-:class:`core.params.MeshParams`, :func:`core.build.build_mesh` asks :func:`sized_mesh`
+:class:`barymesh.params.MeshParams`, :func:`barymesh.build.build_mesh` asks :func:`sized_mesh`
 for the smallest ``subdivisions`` whose mesh has every edge within the target.
 
 The search does not rely on a closed form of the construction (conforming sectors, for
@@ -143,7 +143,7 @@ def largest_area(
 
 
 def sizing_stats(mesh: TriMesh, longest: float) -> dict[str, Any]:
-    """The statistics of sizing, for :meth:`core.mesh.TriMesh.stats`.
+    """The statistics of sizing, for :meth:`barymesh.mesh.TriMesh.stats`.
 
     Empty unless the mesh was built from parameters with a ``frequency`` or ``max_edge``.
     With either: ``subdivisions_chosen`` (the n the mesher picked) and ``target_edge``

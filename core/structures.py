@@ -283,7 +283,7 @@ def graded_track_nodes(params) -> tuple[float, ...]:
 
     n uniform cells, or with ``grading`` cells from ``min_edge`` (default
     h / n / growth_ratio²) at both circles growing by ``growth_ratio`` to h / n
-    (:func:`core.subdivision.graded_nodes`).
+    (:func:`barymesh.subdivision.graded_nodes`).
     """
     n, h = params.subdivisions, params.patch_size
     if not params.grading:
@@ -603,7 +603,7 @@ def _sector_chain_vertices(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Vertex ids of chains of sectors glued side 2 to side 0, by formula.
 
-    The same ``(vertex_of_point, representative)`` as :func:`core.weld.merge_pairs`
+    The same ``(vertex_of_point, representative)`` as :func:`barymesh.weld.merge_pairs`
     on the glue pairs (vertices numbered by first appearance), without sorting:
     with the template's side 0 first and side 2 last, local vertex l of
     sector k is vertex k S + l, S = Nv − (side length), and a closed chain's

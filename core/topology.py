@@ -76,7 +76,7 @@ def edge_topology(triangles: np.ndarray, n_vertices: int) -> EdgeTopology:
 
     This is the general path (imported meshes, single triangles, templates);
     structures built from patches use the faster template path in
-    :mod:`core.assembly`, which gives the same result.
+    :mod:`barymesh.assembly`, which gives the same result.
 
     Parameters
     ----------
@@ -138,7 +138,7 @@ def patch_edge_counts(
     """How many edges lie on 1, 2, 3, ... triangles in a structure of patch copies.
 
     The counts of :func:`edge_topology` (and of the template path in
-    :mod:`core.assembly`) without making any per-edge array: an edge with an end
+    :mod:`barymesh.assembly`) without making any per-edge array: an edge with an end
     that belongs to one patch only is that patch's template edge; only edges with
     both ends shared can be listed by several patches, and those are matched by
     one sort of their packed vertex pairs (the template valence in the two low
@@ -415,7 +415,7 @@ def chain_topology(
     """Topology of chains of m_i sectors, each repeated from a chain of :data:`CHAIN` sectors.
 
     In a chain of sectors glued side 2 to side 0 and numbered by formula
-    (:func:`core.structures._sector_chain_vertices`: sector k's vertices start
+    (:func:`barymesh.structures._sector_chain_vertices`: sector k's vertices start
     at k ``stride``), every sector between the first and the last lists the
     same edges, in the same order, with the same incidence, shifted by one
     sector's worth of vertices, triangles and edges. The short chain's first
@@ -425,7 +425,7 @@ def chain_topology(
     of the last two that refers to the middle sector or later move to the end
     of the long chain, a reference of the last two back to sector 0 (a closed
     chain) stays. Chains follow one another (vertices, triangles and edges
-    numbered on). The same arrays as :func:`core.assembly.patch_topology` on
+    numbered on). The same arrays as :func:`barymesh.assembly.patch_topology` on
     the whole structure, bit for bit (the tests compare them on many chains),
     without sorting or gathering anything of the size of the mesh.
 
@@ -534,7 +534,7 @@ def copies_topology(
 
     Every edge is a template edge of one copy: the template's arrays shifted by
     p times the vertices, triangles and edges of a patch, written once each
-    (no gathers). The same arrays as :func:`core.assembly.patch_topology` on an
+    (no gathers). The same arrays as :func:`barymesh.assembly.patch_topology` on an
     identity vertex map, bit for bit.
 
     Parameters

@@ -19,6 +19,26 @@ os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
 import pytest  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
+# -- one package: the suite imports `barymesh` only -------------------------------------------
+#
+# `python -m pytest` puts the checkout on sys.path, where core/ and app/ are importable under
+# their folders' names; a test that did so would load a second copy of every module under
+# another name. pytest_sessionfinish fails the run if any test imported them.
+FOLDER_NAMES = ("core", "app")
+
+if os.environ.get("MUTANT_UNDER_TEST") is not None:  # pragma: no cover - only under mutmut
+    # `make mutate` runs the tests inside mutmut's copy of the checkout (mutants/), whose
+    # core/ holds the mutated code; import that copy as barymesh, not the editable install.
+    import importlib.util
+    from pathlib import Path
+
+    _init = Path.cwd() / "core" / "__init__.py"
+    _spec = importlib.util.spec_from_file_location(
+        "barymesh", _init, submodule_search_locations=[str(_init.parent)])
+    _module = importlib.util.module_from_spec(_spec)
+    sys.modules["barymesh"] = _module
+    _spec.loader.exec_module(_module)
+
 # -- hypothesis: the same examples on every run, nothing written into the checkout ---------
 #
 # "repeatable" (the default) derives its examples from each test's name, so a run in CI and
@@ -72,7 +92,7 @@ def window_params():
 
     By default a Fig. 12-like double ring of a few hundred triangles: fast to mesh and render.
     """
-    from core import MeshParams
+    from barymesh import MeshParams
 
     return MeshParams(angle_step=15.0, subdivisions=2)
 
@@ -81,7 +101,7 @@ def window_params():
 def window(qtbot, window_params):
     """The main window on ``window_params``, shown in the real (Xvfb) X display."""
     pytest.importorskip("pyvistaqt")
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
     win = MainWindow(window_params, scripted=True)
     qtbot.addWidget(win)
@@ -147,6 +167,14 @@ def release_gui():
 
         pyvista.close_all()  # off-screen plotters a test left open
     gc.collect()
+
+
+def pytest_sessionfinish(session, exitstatus):
+    loaded = sorted(name for name in sys.modules if name.split(".")[0] in FOLDER_NAMES)
+    if loaded:
+        print(f"\nerror: the run imported {', '.join(loaded[:5])}: import barymesh, never the "
+              f"folders core/ or app/ (a module would be loaded twice)", file=sys.stderr)
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def pytest_unconfigure(config):

@@ -4,10 +4,9 @@ import functools
 import re
 
 import numpy as np
+from barymesh import MeshParams, build_mesh
+from barymesh.topology import edge_topology
 from hypothesis import strategies as st
-
-from core import MeshParams, build_mesh
-from core.topology import edge_topology
 
 
 def signed_areas(mesh):
@@ -75,7 +74,7 @@ def canonical_meshes():
 def reference_edge_triangles(triangles):
     """{(v0, v1): [triangle, ...]} by plain Python: side k joins vertices k and k + 1.
 
-    An outside reference for :func:`core.topology.edge_topology`, independent of its sorting;
+    An outside reference for :func:`barymesh.topology.edge_topology`, independent of its sorting;
     triangles on each edge are listed in ascending order.
     """
     table = {}

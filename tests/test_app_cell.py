@@ -1,6 +1,6 @@
 """Unit cells in the real window (Xvfb): cell files and presets, the Elements panel, the
 lattice and the array preview, driven as a user does; every mesh is compared with
-core.cell.build_cell of the cell the user should have made."""
+barymesh.cell.build_cell of the cell the user should have made."""
 
 import json
 import os
@@ -13,12 +13,9 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import Qt  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
-
-from app.window import file_error_sentence  # noqa: E402
-from core import MeshParams  # noqa: E402
-from core.cell import (  # noqa: E402
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.window import file_error_sentence  # noqa: E402
+from barymesh.cell import (  # noqa: E402
     Element,
     Lattice,
     build_cell,
@@ -27,7 +24,10 @@ from core.cell import (  # noqa: E402
     load_cell_preset,
     tile,
 )
-from tests.app_user import (  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
+
+from app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
     settle,
@@ -174,30 +174,30 @@ def test_command_line_opens_the_window_on_a_cell(tmp_path):
     out = tmp_path / "cell.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
-        [sys.executable, "-m", "app", "--cell-preset", "hexagonal-rings", "--screenshot",
+        [sys.executable, "-m", "barymesh.app", "--cell-preset", "hexagonal-rings", "--screenshot",
          str(out), "--quit"], env=env, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     image = iio.imread(out)
     assert image.shape[0] > 300 and len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
     bad = subprocess.run(
-        [sys.executable, "-m", "app", "--cell-preset", "hexagonal-rings", "--preset",
+        [sys.executable, "-m", "barymesh.app", "--cell-preset", "hexagonal-rings", "--preset",
          "paper-fig10", "--quit"], env=env, capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2
     assert bad.stderr.strip().splitlines() == [
         "barymesh: error: --preset cannot go with --cell-preset: a cell holds its own "
         "elements and their parameters (see barymesh --help)"]
-    nofile = subprocess.run([sys.executable, "-m", "app", "--cell", str(tmp_path / "no.cell.json"),
+    nofile = subprocess.run([sys.executable, "-m", "barymesh.app", "--cell", str(tmp_path / "no.cell.json"),
                              "--quit"], env=env, capture_output=True, text=True, timeout=60)
     assert nofile.returncode == 1 and "no.cell.json" in nofile.stderr
     assert "Traceback" not in nofile.stderr
 
 
 def test_main_cli_passes_cell_options_to_the_window(monkeypatch):
-    import app.window
-    from app import cli
+    import barymesh.app.window
+    from barymesh.app import cli
 
     seen = []
-    monkeypatch.setattr(app.window, "main", lambda argv: seen.append(argv) or 0)
+    monkeypatch.setattr(barymesh.app.window, "main", lambda argv: seen.append(argv) or 0)
     assert cli.main(["--cell-preset", "coding-16x16"]) == 0
     assert seen == [["--cell-preset", "coding-16x16"]]
 
@@ -400,8 +400,9 @@ def spin_to(box, value):
 
 
 def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path, monkeypatch):
-    from core.io import read_mesh
-    from tests.gui_helpers import near, pixel, rendered
+    from barymesh.io import read_mesh
+
+    from gui_helpers import near, pixel, rendered
 
     open_preset(window, qtbot, "double-ring-patch")
     cell = load_cell_preset("double-ring-patch")
@@ -450,12 +451,12 @@ def test_window_command_line_previews_an_array(tmp_path):
     out = tmp_path / "array.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
-        [sys.executable, "-m", "app", "--cell-preset", "coding-16x16", "--array", "3x3",
+        [sys.executable, "-m", "barymesh.app", "--cell-preset", "coding-16x16", "--array", "3x3",
          "--screenshot", str(out), "--quit"], env=env, capture_output=True, text=True,
         timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert iio.imread(out).shape[0] > 300
-    alone = subprocess.run([sys.executable, "-m", "app", "--array", "3x3", "--quit"], env=env,
+    alone = subprocess.run([sys.executable, "-m", "barymesh.app", "--array", "3x3", "--quit"], env=env,
                            capture_output=True, text=True, timeout=60)
     assert alone.returncode == 2 and "--array previews copies of a unit cell" in alone.stderr
 
@@ -497,7 +498,7 @@ def mouse(window, kind, world, buttons):
     from PySide6.QtGui import QMouseEvent
     from PySide6.QtWidgets import QApplication
 
-    from tests.gui_helpers import widget_pos
+    from gui_helpers import widget_pos
 
     plotter = window.plotter
     pos = widget_pos(plotter, (*world, 0.0))
@@ -581,7 +582,7 @@ def test_drag_an_element_in_the_view_snaps_to_the_grid(window, qtbot):
 
 def overlapping_cell():
     """A conforming cell whose two elements overlap (build_cell refuses it)."""
-    from core.cell import UnitCell
+    from barymesh.cell import UnitCell
 
     ring = Element(MeshParams(structure="ring", mode="conforming", inner_radius=3.0,
                               angle_step=10.0), name="ring")
@@ -591,7 +592,7 @@ def overlapping_cell():
 
 def test_opening_a_cell_the_core_refuses_keeps_the_structure(window, qtbot, tmp_path,
                                                               monkeypatch):
-    from core.cell import save_cell
+    from barymesh.cell import save_cell
 
     path = tmp_path / "clash.cell.json"
     save_cell(overlapping_cell(), path)
@@ -627,8 +628,8 @@ def test_cancel_returns_to_the_cell_on_screen(window, qtbot):
 
 
 def test_model_cell_undo_and_refusals_without_qt():
-    from app.edit.cell_document import CellState, CellTarget, predicted_triangles
-    from app.model import AppModel, compute
+    from barymesh.app.edit.cell_document import CellState, CellTarget, predicted_triangles
+    from barymesh.app.model import AppModel, compute
 
     cell = load_cell_preset("split-ring-pair")
     model = AppModel(COARSE)
@@ -672,8 +673,8 @@ def test_model_cell_undo_and_refusals_without_qt():
     assert model.cell_error == "cell 'x': refused"
 
 
-@pytest.mark.parametrize("module", ["app.edit.cell_document", "app.edit.array_preview",
-                                    "app.edit.drag_tool", "app.edit.lattice_panel"])
+@pytest.mark.parametrize("module", ["barymesh.app.edit.cell_document", "barymesh.app.edit.array_preview",
+                                    "barymesh.app.edit.drag_tool", "barymesh.app.edit.lattice_panel"])
 def test_docstring_examples(module):
     """The examples in the cell editor's docstrings (app/ is not in the doctest paths)."""
     import doctest
@@ -684,8 +685,8 @@ def test_docstring_examples(module):
 
 
 def test_drag_snaps_a_side_onto_another_elements_side(window, qtbot):
-    from app.edit.drag_tool import EDGE_SNAP_PX
-    from app.view.framing import pixels_per_mm
+    from barymesh.app.edit.drag_tool import EDGE_SNAP_PX
+    from barymesh.app.view.framing import pixels_per_mm
 
     open_preset(window, qtbot, "double-ring-patch")
     cell = load_cell_preset("double-ring-patch")
@@ -710,7 +711,7 @@ def test_teaching_tools_work_on_a_cell(window, qtbot, name):
     """Issue 13: the RWG inspector and the connectivity matrix act on the cell on screen,
     as on a structure's mesh: a click on an interior edge of the cell's welded mesh shows
     its T+ and T-, and the matrix holds 2 ones per interior edge of build_cell's mesh."""
-    from tests.test_app_inspector import click_world
+    from test_app_inspector import click_world
 
     open_preset(window, qtbot, name)
     cell = load_cell_preset(name)
@@ -774,9 +775,8 @@ def test_export_array_offers_only_what_it_can_write(window, qtbot, tmp_path, mon
     extension it offers now writes a file that reads back as the welded array."""
     import re
 
+    from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, read_mesh
     from PySide6.QtWidgets import QFileDialog
-
-    from core.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, read_mesh
 
     open_preset(window, qtbot, "double-ring-patch")
     cell = load_cell_preset("double-ring-patch")
@@ -840,10 +840,11 @@ def test_the_cell_looks_the_same_whichever_element_is_selected(window, qtbot):
 
 
 def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window, qtbot):
-    from app.edit.array_preview import ghost_shade
-    from app.view.overview import overlap_counts_at
-    from app.view.scene import COLORS
-    from tests.gui_helpers import hex_rgb, near, pixel, rendered
+    from barymesh.app.edit.array_preview import ghost_shade
+    from barymesh.app.view.overview import overlap_counts_at
+    from barymesh.app.view.scene import COLORS
+
+    from gui_helpers import hex_rgb, near, pixel, rendered
 
     open_preset(window, qtbot, "double-ring-patch")
     mesh = window.model.result.mesh

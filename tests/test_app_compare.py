@@ -5,13 +5,13 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.model import AppModel  # noqa: E402
+from barymesh.app.teach.compare_view import CompareView, patch_coverage  # noqa: E402
+from barymesh.app.window import MainWindow  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 
-from app.model import AppModel  # noqa: E402
-from app.teach.compare_view import CompareView, patch_coverage  # noqa: E402
-from app.window import MainWindow  # noqa: E402
-from core import MeshParams, build_mesh  # noqa: E402
-from tests.gui_helpers import near, pixel, share, type_into  # noqa: E402
+from gui_helpers import near, pixel, share, type_into  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)
 COUNTS = ("triangles", "vertices", "interior_edges", "boundary_edges")
@@ -104,9 +104,8 @@ def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
     paper mode, the shade of a face under two patches), at the rings' centre the white
     background."""
     import imageio.v3 as iio
-
-    from app.teach.compare_view import COVERAGE_COLORS
-    from app.view.scene import COLORS
+    from barymesh.app.teach.compare_view import COVERAGE_COLORS
+    from barymesh.app.view.scene import COLORS
 
     # triangles of about 8 px get their edges drawn (from 4 px; in paper mode the patch
     # borders too): this test is about the faces, so those lines are switched off
@@ -154,7 +153,7 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
 
 @pytest.mark.parametrize("preset", ["paper-fig12c", "srr-openmodes"])
 def test_both_halves_show_triangle_edges_at_the_default_size(qtbot, preset):
-    from core.presets import load_preset
+    from barymesh.presets import load_preset
 
     params, _ = load_preset(preset)
     win = CompareView(AppModel(params))  # its own default size (no resize)
@@ -181,10 +180,11 @@ def test_both_halves_show_triangle_edges_at_the_default_size(qtbot, preset):
 
 
 def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
-    from app.teach.compare_view import COVERAGE_COLORS
-    from app.view.scene import COLORS
-    from core.presets import load_preset
-    from tests.gui_helpers import colour_pixels
+    from barymesh.app.teach.compare_view import COVERAGE_COLORS
+    from barymesh.app.view.scene import COLORS
+    from barymesh.presets import load_preset
+
+    from gui_helpers import colour_pixels
 
     params, _ = load_preset("srr-openmodes")
     win = CompareView(AppModel(params))
@@ -216,7 +216,7 @@ def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
 
 
 def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
-    from app.view.scene import nice_span
+    from barymesh.app.view.scene import nice_span
 
     x0, x1, y0, y1 = view.scenes["conforming"].bounds
     (a, b, nx), (c, _d, ny) = nice_span(x0, x1), nice_span(y0, y1)

@@ -6,19 +6,19 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import Qt  # noqa: E402
-
-from app.model import AppModel  # noqa: E402
-from app.teach.construction_view import (  # noqa: E402
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.model import AppModel  # noqa: E402
+from barymesh.app.teach.construction_view import (  # noqa: E402
     RULER_CLEARANCE,
     ConstructionView,
     label_offsets,
     shown_labels,
 )
-from app.window import MainWindow  # noqa: E402
-from core import MeshParams  # noqa: E402
-from core.construction import construction_steps  # noqa: E402
-from tests.gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
+from barymesh.app.window import MainWindow  # noqa: E402
+from barymesh.construction import construction_steps  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+
+from gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
 
 PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.
@@ -185,7 +185,7 @@ def test_label_helpers():
 
 def test_screenshot_shows_each_layer_where_it_is(view, qtbot, tmp_path):
     """Pixels, not colour counts: step 4 (quarter points) of the 10 mm patch."""
-    from app.teach.construction_view import COLORS
+    from barymesh.app.teach.construction_view import COLORS
 
     with qtbot.waitActive(view):  # the step keys are window shortcuts
         view.activateWindow()

@@ -8,19 +8,19 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.io import read_mesh, write_mesh  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
-from core import MeshParams, build_mesh  # noqa: E402
-from core.io import read_mesh, write_mesh  # noqa: E402
-from tests.app_user import (  # noqa: E402
+from app_user import (  # noqa: E402
     answer_file_dialogs,
     export_through_dialog,
     patch_counts,
     type_into,
 )
-from tests.gui_helpers import display_point  # noqa: E402
-from tests.test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
+from gui_helpers import display_point  # noqa: E402
+from test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 
 @pytest.fixture
@@ -170,9 +170,8 @@ def _rows_with_ink(mask):
 
 def _export_screenshot(window, qtbot, file_dialog, path, scale):
     """File → Export screenshot as a user does it: type the scale, Save PNG…, a file."""
+    from barymesh.app.window import ScreenshotDialog
     from PySide6.QtWidgets import QPushButton
-
-    from app.window import ScreenshotDialog
 
     shown = []
     original = ScreenshotDialog.exec
@@ -278,7 +277,7 @@ def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dial
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QPushButton
 
-    from tests.app_user import settle, wait_for_export
+    from app_user import settle, wait_for_export
 
     settle(window, qtbot)
     assert window.model.result.mesh.n_triangles == 98_304
@@ -310,7 +309,7 @@ def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dial
 def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog):
     from PySide6.QtWidgets import QPushButton
 
-    from tests.app_user import settle, wait_for_export
+    from app_user import settle, wait_for_export
 
     settle(window, qtbot)
     folder = tmp_path / "out"

@@ -6,18 +6,18 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import QPoint, Qt  # noqa: E402
-
-from app.teach.inspector import (  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.teach.inspector import (  # noqa: E402
     COLORS,  # noqa: E402
     arrow_polygons,
     edge_info,
     nearest_edge,
     step_edge,
 )
-from core import MeshParams, build_mesh  # noqa: E402
-from tests.app_user import settle  # noqa: E402
-from tests.gui_helpers import near, type_into, widget_pos  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
+
+from app_user import settle  # noqa: E402
+from gui_helpers import near, type_into, widget_pos  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
 
@@ -196,8 +196,8 @@ def test_boundary_edge_says_why_it_has_no_rwg_function(window, qtbot):
 
 
 def test_junction_edge_message():
-    from core.mesh import TriMesh
-    from core.rwg_basis import edge_status
+    from barymesh.mesh import TriMesh
+    from barymesh.rwg_basis import edge_status
 
     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.0]])
     tris = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])

@@ -17,12 +17,10 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from PySide6.QtCore import Qt, QTimer  # noqa: E402
-from PySide6.QtWidgets import QToolBar  # noqa: E402
-
-import app.view.scene  # noqa: E402
-import app.worker  # noqa: E402
-from app.view.overview import (  # noqa: E402
+import barymesh.app.view.scene  # noqa: E402
+import barymesh.app.worker  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.view.overview import (  # noqa: E402
     DETAIL_TRIANGLES,
     MAX_TEXELS,
     MIN_SIDE,
@@ -32,8 +30,9 @@ from app.view.overview import (  # noqa: E402
     overlap_count_raster,
     triangle_raster,
 )
-from app.view.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
-from core import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.view.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
+from PySide6.QtCore import Qt, QTimer  # noqa: E402
+from PySide6.QtWidgets import QToolBar  # noqa: E402
 
 FIG12A = MeshParams()  # the paper's Fig. 12(a): 720 patches, 23,040 triangles at n = 4
 DENSE_N = 32  # Fig. 12(a) at n = 32: 720 * 2 * 32**2 = 1,474,560 triangles
@@ -82,22 +81,22 @@ def shown_triangles(window) -> int:
 def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced(
         window, qtbot, monkeypatch):
     threads = []
-    real_compute = app.worker.compute
+    real_compute = barymesh.app.worker.compute
 
     def compute(*args, **kwargs):
         threads.append(threading.current_thread())
         return real_compute(*args, **kwargs)
 
     colouring = []  # the overview image's colours are made off the GUI thread
-    real_rgba = app.view.scene.overview_rgba
+    real_rgba = barymesh.app.view.scene.overview_rgba
 
     def overview_rgba(*args, **kwargs):
         colouring.append(threading.current_thread())
         return real_rgba(*args, **kwargs)
 
-    monkeypatch.setattr(app.view.scene, "overview_rgba", overview_rgba)
+    monkeypatch.setattr(barymesh.app.view.scene, "overview_rgba", overview_rgba)
 
-    monkeypatch.setattr(app.worker, "compute", compute)
+    monkeypatch.setattr(barymesh.app.worker, "compute", compute)
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     old = weakref.ref(window.model.result.mesh)
     beat = Heartbeat()
@@ -185,8 +184,8 @@ def test_resting_zoomed_in_brings_back_full_detail_of_the_part_in_view(window, q
 def test_inspector_clicks_pick_on_the_dense_mesh(window, qtbot):
     """Issue section 3 item 1 at 1,474,560 triangles: a click on metal selects the edge
     under it (within 0.1 mm), from the mesh's arrays, though the view draws an image."""
-    from tests.gui_helpers import widget_pos
-    from tests.test_app_inspector import _clicked_point, _triangles_holding
+    from gui_helpers import widget_pos
+    from test_app_inspector import _clicked_point, _triangles_holding
 
     with qtbot.waitActive(window):  # the I shortcut needs the active window
         window.activateWindow()
@@ -259,13 +258,13 @@ def test_esc_then_undo_shows_the_old_mesh_without_building_its_scene_again(
     only the mesh is built (hundredths of a second), nothing else.
     """
     prepared = []
-    real_scene_data = app.worker.scene_data
+    real_scene_data = barymesh.app.worker.scene_data
 
     def scene_data(*args, **kwargs):
         prepared.append(args[0].n_triangles)
         return real_scene_data(*args, **kwargs)
 
-    monkeypatch.setattr(app.worker, "scene_data", scene_data)
+    monkeypatch.setattr(barymesh.app.worker, "scene_data", scene_data)
     with qtbot.waitActive(window):  # Ctrl+Z is a window shortcut
         window.activateWindow()
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
@@ -496,7 +495,7 @@ def test_fig12a_start_screen_shows_triangles_centroids_and_shared_edges(window, 
     # Fig. 12(a): 720 overlapping squares (ratio 0.86), triangles of a few pixels: drawn
     # the way the paper draws them, not coloured by a count
     assert result.stats["overlap_ratio"] > 0.8
-    assert scene.edge_px >= app.view.scene.LIGHT_PX
+    assert scene.edge_px >= barymesh.app.view.scene.LIGHT_PX
     assert scene.shown_color_by == "none" and not scene.scalar_bar.GetVisibility()
     _assert_paper_drawing(scene, result.mesh)
     assert result.stats["interior_edges"] == len(result.mesh.interior_edges) > 0
@@ -610,10 +609,9 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     # the worker colours an overview without VTK; the result is what the faces' VTK
     # lookup table gives the same values
     import pyvista as pv
+    from barymesh.app.view.layers import COLOR_BY
+    from barymesh.app.view.scene import Overview, lut_settings, overview_rgba
     from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-
-    from app.view.layers import COLOR_BY
-    from app.view.scene import Overview, lut_settings, overview_rgba
 
     array = COLOR_BY[key][0]
     lo, hi = span
@@ -636,8 +634,8 @@ def test_a_dense_paper_mesh_finds_its_triangles_only_for_a_colouring_that_needs_
     patches' exact coverage and no triangle is looked up under each texel; a colouring per
     triangle picked in the Layers panel has the worker make the image again with it."""
     mesh = build_mesh(FIG12A.replace(subdivisions=8))  # 92,160 triangles: an overview
-    solid = app.view.scene.scene_data(mesh, pixels=(900, 700))
-    by_area = app.view.scene.scene_data(mesh, pixels=(900, 700), color_by="area")
+    solid = barymesh.app.view.scene.scene_data(mesh, pixels=(900, 700))
+    by_area = barymesh.app.view.scene.scene_data(mesh, pixels=(900, 700), color_by="area")
     assert set(solid.overview.values) == {"overlap"}
     assert {"area", "overlap", "patch"} <= set(by_area.overview.values)
     np.testing.assert_array_equal(solid.overview.covered, by_area.overview.covered)

@@ -10,13 +10,13 @@ pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
 import scipy.sparse as sp  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.teach.matrix_view import MatrixView, occupancy_image  # noqa: E402
+from barymesh.app.teach.teaching_tools import shared_edge  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from app.teach.matrix_view import MatrixView, occupancy_image  # noqa: E402
-from app.teach.teaching_tools import shared_edge  # noqa: E402
-from core import MeshParams, build_mesh  # noqa: E402
-from tests.gui_helpers import blend, click_world, near, type_into  # noqa: E402
+from gui_helpers import blend, click_world, near, type_into  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 
@@ -155,7 +155,7 @@ def test_shared_edge_of_two_triangles():
 
 def test_matrix_screenshot_shows_ones_zeros_and_the_picked_row(window, qtbot, tmp_path):
     """Pixels, not colour counts: a one is blue, a zero white, the picked row orange."""
-    from app.teach.matrix_view import ONE_COLOR, ROW_COLOR
+    from barymesh.app.teach.matrix_view import ONE_COLOR, ROW_COLOR
 
     mesh = window.model.result.mesh
     view = window.teaching.matrix

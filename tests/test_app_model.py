@@ -3,8 +3,8 @@
 import math
 
 import pytest
-
-from app.model import (
+from barymesh import MeshParams
+from barymesh.app.model import (
     ADVANCED_SPECS,
     PARAM_SPECS,
     SPECS,
@@ -19,8 +19,7 @@ from app.model import (
     read_points,
     stats_texts,
 )
-from core import MeshParams
-from core.presets import load_preset, preset_names
+from barymesh.presets import load_preset, preset_names
 
 
 def core_message(**kwargs) -> str:

@@ -6,15 +6,15 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from barymesh.app.edit import pixels  # noqa: E402
+from barymesh.app.edit.painter import PixelPainterWindow  # noqa: E402
+from barymesh.cell import SYMMETRIES, load_cell, load_cell_preset  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
-from app.edit import pixels  # noqa: E402
-from app.edit.painter import PixelPainterWindow  # noqa: E402
-from core.cell import SYMMETRIES, load_cell, load_cell_preset  # noqa: E402
-from tests.app_user import answer_file_dialogs, choose  # noqa: E402
-from tests.gui_helpers import near, pixel, rendered, type_into, widget_pos  # noqa: E402
-from tests.test_edit_pixels import transforms  # noqa: E402
+from app_user import answer_file_dialogs, choose  # noqa: E402
+from gui_helpers import near, pixel, rendered, type_into, widget_pos  # noqa: E402
+from test_edit_pixels import transforms  # noqa: E402
 
 N = 4  # subdivisions of a pixel patch: 2 n² = 32 triangles (the paper's count)
 LEFT, RIGHT = Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton
@@ -52,7 +52,7 @@ def drag(painter, path, button=LEFT):
 
 def expected_mask(shape, strokes, mode):
     """Pixels set by ``strokes`` [(value, [(r, c), ...]), ...] under the geometric maps of
-    ``mode`` (written out in tests/test_edit_pixels.py, independent of app.edit.pixels)."""
+    ``mode`` (written out in tests/test_edit_pixels.py, independent of barymesh.app.edit.pixels)."""
     mask = np.zeros(shape, bool)
     for value, path in strokes:
         for r, c in path:
@@ -333,8 +333,7 @@ def wheel(widget, pos, delta):
 
 def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):
     import imageio.v3 as iio
-
-    from app.edit.painter import COLORS
+    from barymesh.app.edit.painter import COLORS
 
     image = rendered(painter.plotter)
     iio.imwrite(tmp_path / "painter.png", image)
@@ -411,8 +410,8 @@ def test_keys_of_the_painter(painter, qtbot):
 def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
     """Conforming mode refuses a pixel over an element: the message is shown, the last
     good mesh stays, and undo goes back to a cell that meshes."""
-    from core import MeshParams
-    from core.cell import Element, Lattice, PixelGrid, UnitCell
+    from barymesh import MeshParams
+    from barymesh.cell import Element, Lattice, PixelGrid, UnitCell
 
     patch = Element(MeshParams(structure="patch", patch_size=1.0), position=(2.0, 2.0),
                     name="patch")
@@ -444,9 +443,9 @@ def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
 def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
     import doctest
 
-    from app.edit import painter as module
-    from core import MeshParams
-    from core.cell import Element, Lattice, UnitCell
+    from barymesh import MeshParams
+    from barymesh.app.edit import painter as module
+    from barymesh.cell import Element, Lattice, UnitCell
 
     finder = doctest.DocTestFinder()
     runner = doctest.DocTestRunner()
@@ -467,7 +466,7 @@ def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
 
 
 def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
-    from core.cell import Lattice, PixelGrid, UnitCell
+    from barymesh.cell import Lattice, PixelGrid, UnitCell
 
     grid = PixelGrid(np.eye(4, dtype=bool), 0.123456, (-0.246912, -0.246912))
     win = PixelPainterWindow(UnitCell(Lattice.rectangular(4 * 0.123456), pixels=grid))
@@ -484,9 +483,8 @@ def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
 
 
 def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
+    from barymesh.app.edit.painter import cell_menu
     from PySide6.QtWidgets import QMainWindow
-
-    from app.edit.painter import cell_menu
 
     win = QMainWindow()
     qtbot.addWidget(win)

@@ -13,13 +13,13 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from barymesh import MeshParams, build_mesh  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from core import MeshParams, build_mesh  # noqa: E402
-from tests.app_user import patch_counts, settle, shown_counts, type_into  # noqa: E402
-from tests.test_app_window import COARSE, COARSE_PATCHES  # noqa: E402
+from app_user import patch_counts, settle, shown_counts, type_into  # noqa: E402
+from test_app_window import COARSE, COARSE_PATCHES  # noqa: E402
 
 #: λ (mm) at 100 GHz in vacuum, c0 = 299,792,458 m/s.
 LAMBDA_100GHZ = 2.99792458
@@ -121,7 +121,7 @@ def test_a_frequency_beyond_the_budget_is_refused_with_the_triangles_needed(wind
 
 
 def test_the_frequency_is_remembered_with_the_parameters(qtbot):
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
     win = MainWindow(COARSE.replace(frequency=24e9, cells_per_wavelength=12.0))
     qtbot.addWidget(win)

@@ -7,9 +7,9 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 
-from app.teach.sweep_dialog import SweepDialog  # noqa: E402
-from app.window import MainWindow  # noqa: E402
-from core import MeshParams  # noqa: E402
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.teach.sweep_dialog import SweepDialog  # noqa: E402
+from barymesh.app.window import MainWindow  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)
 

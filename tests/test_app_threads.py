@@ -19,15 +19,14 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 import pyvista as pv  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.edit.painter import build_preview  # noqa: E402
+from barymesh.app.model import compute  # noqa: E402
+from barymesh.app.teach.compare_view import compute_halves  # noqa: E402
+from barymesh.app.view.polydata import Layer  # noqa: E402
+from barymesh.app.view.scene import detail_data, scene_data  # noqa: E402
+from barymesh.cell import load_cell_preset  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkObjectBase  # noqa: E402
-
-from app.edit.painter import build_preview  # noqa: E402
-from app.model import compute  # noqa: E402
-from app.teach.compare_view import compute_halves  # noqa: E402
-from app.view.polydata import Layer  # noqa: E402
-from app.view.scene import detail_data, scene_data  # noqa: E402
-from core import MeshParams, build_mesh  # noqa: E402
-from core.cell import load_cell_preset  # noqa: E402
 
 DENSE = MeshParams(subdivisions=6)  # Fig. 12(a) at n = 6: 51,840 triangles, an overview
 
@@ -146,7 +145,7 @@ def test_an_abandoned_build_stops_inside_the_scene_stage():
     there (it ran its 3 s on before) and the result says cancelled, not a mesh."""
     from functools import partial
 
-    from core import BuildCancelled
+    from barymesh import BuildCancelled
 
     mesh = build_mesh(DENSE)
     polls = []

@@ -15,17 +15,17 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+import barymesh.app.model  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.model import SPECS, format_value, read_number  # noqa: E402
+from barymesh.io import read_mesh, write_mesh  # noqa: E402
+from barymesh.presets import load_preset, preset_names  # noqa: E402
 from PySide6.QtCore import QLocale, QPoint, Qt  # noqa: E402
 from PySide6.QtGui import QImage  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-import app.model  # noqa: E402
-from app.model import SPECS, format_value, read_number  # noqa: E402
-from core import MeshParams, build_mesh  # noqa: E402
-from core.io import read_mesh, write_mesh  # noqa: E402
-from core.presets import load_preset, preset_names  # noqa: E402
-from tests.app_user import (  # noqa: E402
+from app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
     drag_slider,
@@ -36,7 +36,7 @@ from tests.app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
-from tests.test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
+from test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 #: The paper's Fig. 12(a) at n = 2: 720 separate 1 mm patches, 5,760 triangles.
 FIG12A_N2 = MeshParams(subdivisions=2)
@@ -182,13 +182,13 @@ def test_arrow_keys_in_a_field_step_its_slider(window):
 
 def _builds_on_threads(monkeypatch):
     threads = []
-    real = app.model.build_mesh
+    real = barymesh.app.model.build_mesh
 
     def recording(*args, **kwargs):
         threads.append(threading.current_thread() is threading.main_thread())
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(app.model, "build_mesh", recording)
+    monkeypatch.setattr(barymesh.app.model, "build_mesh", recording)
     return threads
 
 
@@ -450,7 +450,7 @@ def test_a_typed_value_outside_the_slider_centres_it_there(window, qtbot):
 
 @pytest.mark.parametrize("window_params", [FIG10])
 def test_the_view_frames_a_mesh_that_left_it(window, qtbot):
-    from app.view.framing import rect_inside, visible_rect
+    from barymesh.app.view.framing import rect_inside, visible_rect
 
     settle(window, qtbot)
     assert rect_inside(window.scene.bounds, visible_rect(window.plotter))

@@ -10,16 +10,16 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.teach.inspector import COLORS as INSPECTOR_COLORS  # noqa: E402
+from barymesh.app.view.highlight import COL_COLOR, ROW_COLOR, SMALL_PIXELS  # noqa: E402
+from barymesh.app.window import MainWindow, file_error_sentence  # noqa: E402
 from PySide6.QtCore import QPoint, QPointF, Qt  # noqa: E402
 from PySide6.QtGui import QWheelEvent  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
-from app.teach.inspector import COLORS as INSPECTOR_COLORS  # noqa: E402
-from app.view.highlight import COL_COLOR, ROW_COLOR, SMALL_PIXELS  # noqa: E402
-from app.window import MainWindow, file_error_sentence  # noqa: E402
-from core import MeshParams  # noqa: E402
-from tests.app_user import wait_for_export  # noqa: E402
-from tests.gui_helpers import (  # noqa: E402
+from app_user import wait_for_export  # noqa: E402
+from gui_helpers import (  # noqa: E402
     click_world,
     display_point,
     hover_world,
@@ -283,7 +283,7 @@ def test_a_long_status_message_is_not_cut_by_the_triangle_count(active):
 
 
 def test_a_preset_description_stays_until_the_parameters_change(active, qtbot):
-    from core.presets import preset_descriptions
+    from barymesh.presets import preset_descriptions
 
     name, description = next(iter(preset_descriptions().items()))
     menu = next(a.menu() for a in active.menuBar().actions() if a.text() == "&Presets")
@@ -388,7 +388,7 @@ def test_measure_distance_with_two_clicks_snaps_to_vertices(active, qtbot):
     assert tool.distance == pytest.approx(10.0, abs=1e-12)
     assert "|AB| = 10.0" in active.view_tools.readout.text()
     image = rendered(active.plotter)
-    from app.view.measure import COLOR
+    from barymesh.app.view.measure import COLOR
 
     assert near(pixel(image, active.plotter, (5.0, 0.0, 0.0)), COLOR, 50)
     key(qtbot, active.plotter, Qt.Key.Key_D)
@@ -521,7 +521,7 @@ def test_inspector_overlay_colours_on_screen(active, qtbot):
 
 def test_a_big_mesh_gets_its_readout_from_a_locator_built_in_the_worker(active, qtbot,
                                                                         monkeypatch):
-    import app.view.view_tools as view_tools
+    import barymesh.app.view.view_tools as view_tools
 
     monkeypatch.setattr(view_tools, "SYNC_LOCATOR", 10)  # 32 triangles count as big here
     tools = active.view_tools

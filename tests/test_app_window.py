@@ -10,13 +10,13 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.model import SPECS, applies, format_value  # noqa: E402
+from barymesh.app.window import MainWindow  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication, QMainWindow, QTabBar  # noqa: E402
 
-from app.model import SPECS, applies, format_value  # noqa: E402
-from app.window import MainWindow  # noqa: E402
-from core import MeshParams  # noqa: E402
-from tests.app_user import (  # noqa: E402
+from app_user import (  # noqa: E402
     choose,
     click_check_box,
     drag_slider,
@@ -25,7 +25,7 @@ from tests.app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
-from tests.gui_helpers import colour_pixels  # noqa: E402
+from gui_helpers import colour_pixels  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -190,7 +190,7 @@ def test_screenshot_and_quit_from_the_command_line(tmp_path):
     out = tmp_path / "window.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
-        [sys.executable, "-m", "app", "--preset", "paper-fig10", "--set", "subdivisions=2",
+        [sys.executable, "-m", "barymesh.app", "--preset", "paper-fig10", "--set", "subdivisions=2",
          "--screenshot", str(out), "--quit"],
         env=env, capture_output=True, text=True, timeout=120,
     )
@@ -203,7 +203,7 @@ def test_screenshot_and_quit_from_the_command_line(tmp_path):
 
 def test_bad_command_line_values_exit_1(tmp_path):
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
-    proc = subprocess.run([sys.executable, "-m", "app", "--set", "subdivisions=0", "--quit"],
+    proc = subprocess.run([sys.executable, "-m", "barymesh.app", "--set", "subdivisions=0", "--quit"],
                           env=env, capture_output=True, text=True, timeout=60)
     assert proc.returncode == 1 and "subdivisions" in proc.stderr
 
@@ -380,7 +380,7 @@ def _wait_for(window, qtbot, params) -> None:
 
 @pytest.mark.parametrize("name", PAPER_PRESETS)
 def test_every_paper_preset_is_drawn_as_the_paper_draws_it(window, qtbot, name):
-    from core.presets import load_preset, preset_descriptions
+    from barymesh.presets import load_preset, preset_descriptions
 
     assert name in preset_descriptions()
     params, _ = load_preset(name)
@@ -404,7 +404,7 @@ def test_every_paper_preset_is_drawn_as_the_paper_draws_it(window, qtbot, name):
 
 def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, qtbot,
                                                                         monkeypatch):
-    import app.view.scene as scene_module
+    import barymesh.app.view.scene as scene_module
 
     scene = window.scene
     window.reset_camera()
@@ -433,7 +433,7 @@ def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, 
 
 
 def test_full_detail_warning_starts_above_a_million_triangles():
-    from app.view.scene import full_detail_warning
+    from barymesh.app.view.scene import full_detail_warning
 
     assert full_detail_warning(1_000_000, "full") == ""
     assert "1,000,001 triangles" in full_detail_warning(1_000_001, "full")
@@ -441,7 +441,7 @@ def test_full_detail_warning_starts_above_a_million_triangles():
 
 
 def test_detail_always_full_draws_a_dense_mesh_in_full(window, qtbot):
-    from app.view.overview import DETAIL_TRIANGLES
+    from barymesh.app.view.overview import DETAIL_TRIANGLES
 
     params = MeshParams(subdivisions=6)  # Fig. 12(a) at n = 6: 51,840 triangles
     window.model.set_params(params)
@@ -497,13 +497,13 @@ def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_p
     # paper-fig12c, 2,304 triangles: about 10 px a triangle at 1024 x 768 (drawn as the
     # paper draws them: shared edges orange, centroids magenta), about 2 px at 200 x 150
     # (the light look, as in the window)
-    from app.view.scene import COLORS
+    from barymesh.app.view.scene import COLORS
 
     out = tmp_path / "fig12c.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     env.pop("DISPLAY", None)
     proc = subprocess.run(
-        [sys.executable, "-m", "app.cli", "mesh", "--preset", "paper-fig12c",
+        [sys.executable, "-m", "barymesh.app.cli", "mesh", "--preset", "paper-fig12c",
          "--screenshot", str(out), "--window-size", *map(str, size)],
         env=env, capture_output=True, text=True, timeout=300,
     )
@@ -520,7 +520,7 @@ def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_p
 
 def _mesh_right_px(window) -> float:
     """The display x (px) of the mesh's rightmost point."""
-    from tests.gui_helpers import display_point
+    from gui_helpers import display_point
 
     pts = np.asarray(window.model.result.mesh.points)
     right = pts[np.argmax(pts[:, 0])]
@@ -575,8 +575,9 @@ def test_area_of_equal_triangles_has_a_scale_around_its_value(window, qtbot, n):
 
 
 def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
-    from app.view.framing import RULER_PAD
-    from tests.gui_helpers import display_point
+    from barymesh.app.view.framing import RULER_PAD
+
+    from gui_helpers import display_point
 
     win = MainWindow(MeshParams(subdivisions=8), scripted=True)  # 92,160 triangles
     qtbot.addWidget(win)
@@ -606,7 +607,7 @@ def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
 
 
 def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
-    from app.view.scene import _vtk_step
+    from barymesh.app.view.scene import _vtk_step
 
     scene = window.scene
     window.reset_camera()

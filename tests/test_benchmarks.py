@@ -68,7 +68,7 @@ def test_mesher_benchmark_has_paper_n4_rows_at_1m_and_4m(monkeypatch) -> None:
 
 
 def test_mesher_benchmark_conforming_rows_reach_their_nominal_sizes(monkeypatch) -> None:
-    from core.structures import sector_plan
+    from barymesh.structures import sector_plan
 
     spec = importlib.util.spec_from_file_location("mesher", ROOT / "benchmarks" / "mesher.py")
     mesher = importlib.util.module_from_spec(spec)
@@ -150,8 +150,8 @@ def _angles_and_aspects(points, triangles):
 
 
 def test_quality_benchmark_measures_presets_and_the_split_ring(tmp_path: Path) -> None:
-    from core import MeshParams, build_mesh
-    from core.presets import load_preset, preset_names
+    from barymesh import MeshParams, build_mesh
+    from barymesh.presets import load_preset, preset_names
 
     spec = importlib.util.spec_from_file_location("gmsh_peer", ROOT / "benchmarks" / "gmsh_peer.py")
     gmsh_peer = importlib.util.module_from_spec(spec)

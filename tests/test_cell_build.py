@@ -2,9 +2,8 @@
 
 import numpy as np
 import pytest
-
-from core import MeshParams
-from core.cell import (
+from barymesh import MeshParams
+from barymesh.cell import (
     Element,
     Lattice,
     PixelGrid,
@@ -13,8 +12,9 @@ from core.cell import (
     symmetrized,
     tile,
 )
-from core.cell.files import load_cell_preset
-from tests.helpers import assert_topology_matches_generic, signed_areas
+from barymesh.cell.files import load_cell_preset
+
+from helpers import assert_topology_matches_generic, signed_areas
 
 
 def patch(size=1.0, n=4, **kw):
@@ -345,7 +345,7 @@ def test_edges_on_a_side_line_beyond_the_corner_are_on_no_side():
 def test_the_cell_mesh_carries_its_periodic_pairs():
     """Issue 13's name: ``TriMesh.periodic_pairs`` of a cell's (or an array's) mesh, on its
     lattice; None for a structure's mesh, which has no lattice."""
-    from core import build_mesh
+    from barymesh import build_mesh
 
     cell = UnitCell(
         Lattice.rectangular(3.0, 2.0), pixels=pixels(np.ones((2, 3)), origin=(-1.5, -1))

@@ -7,17 +7,16 @@ import sys
 import meshio
 import numpy as np
 import pytest
-
-from core import MeshParams
-from core.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
-from core.cell.files import load_cell_preset
-from core.cell.outline import (
+from barymesh import MeshParams
+from barymesh.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
+from barymesh.cell.files import load_cell_preset
+from barymesh.cell.outline import (
     arc_angle_step,
     export_outline,
     outline_polygons,
     signed_area,
 )
-from core.io.periodic_msh import write_periodic_msh
+from barymesh.io.periodic_msh import write_periodic_msh
 
 try:  # the optional "cell" extra; everything but the two writers works without it
     import ezdxf
@@ -196,7 +195,7 @@ def test_unknown_outline_format(tmp_path):
 
 def test_core_does_not_import_the_export_libraries():
     code = (
-        "import sys, core, core.cell, core.cell.outline, core.io.periodic_msh; "
+        "import sys, core, barymesh.cell, barymesh.cell.outline, barymesh.io.periodic_msh; "
         "print('ezdxf' in sys.modules, 'gdstk' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -4,10 +4,9 @@ import json
 
 import numpy as np
 import pytest
-
-from core import MeshParams
-from core.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
-from core.cell.files import (
+from barymesh import MeshParams
+from barymesh.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
+from barymesh.cell.files import (
     CellFileError,
     cell_from_dict,
     cell_preset_names,
@@ -16,7 +15,8 @@ from core.cell.files import (
     load_cell_preset,
     save_cell,
 )
-from tests.helpers import assert_clear_message
+
+from helpers import assert_clear_message
 
 
 def test_presets_are_the_four_classic_cells():

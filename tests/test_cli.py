@@ -9,11 +9,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from app import cli
-from core.cell import cell_preset_names
-from core.io import read_mesh
-from core.presets import preset_names
+from barymesh.app import cli
+from barymesh.cell import cell_preset_names
+from barymesh.io import read_mesh
+from barymesh.presets import preset_names
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -22,7 +21,7 @@ def run(*args, cwd, stdin=None):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     env.pop("DISPLAY", None)  # everything here must work without a display
     return subprocess.run(
-        [sys.executable, "-m", "app.cli", *map(str, args)],
+        [sys.executable, "-m", "barymesh.app.cli", *map(str, args)],
         cwd=cwd,
         env=env,
         capture_output=True,
@@ -240,16 +239,16 @@ def test_no_verb_opens_window(monkeypatch):
     import types
 
     calls = []
-    fake = types.ModuleType("app.window")
+    fake = types.ModuleType("barymesh.app.window")
     fake.main = lambda argv: calls.append(argv) or 0
-    monkeypatch.setitem(sys.modules, "app.window", fake)
+    monkeypatch.setitem(sys.modules, "barymesh.app.window", fake)
     assert cli.main([]) == 0
     assert cli.main(["--preset", "paper-fig10", "--set", "subdivisions=2", "--quit"]) == 0
     assert calls == [[], ["--preset", "paper-fig10", "--set", "subdivisions=2", "--quit"]]
 
 
 def test_no_verb_without_window_prints_usage(monkeypatch, capsys):
-    monkeypatch.setitem(sys.modules, "app.window", None)  # import fails as if absent
+    monkeypatch.setitem(sys.modules, "barymesh.app.window", None)  # import fails as if absent
     assert cli.main([]) == 0
     out = capsys.readouterr().out
     assert "mesh" in out and "info" in out and "presets" in out
@@ -258,13 +257,13 @@ def test_no_verb_without_window_prints_usage(monkeypatch, capsys):
 def test_window_failure_is_one_line(monkeypatch, capsys):
     import types
 
-    fake = types.ModuleType("app.window")
+    fake = types.ModuleType("barymesh.app.window")
 
     def boom(argv):
         raise RuntimeError("no OpenGL")
 
     fake.main = boom
-    monkeypatch.setitem(sys.modules, "app.window", fake)
+    monkeypatch.setitem(sys.modules, "barymesh.app.window", fake)
     assert cli.main(["--quit"]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no OpenGL" in err
@@ -307,9 +306,9 @@ def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
 @pytest.mark.parametrize("transparent", [False, True])
 def test_screenshot_without_display(tmp_path, transparent):
     pytest.importorskip("pyvista")
-    scene = pytest.importorskip("app.view.scene")
+    scene = pytest.importorskip("barymesh.app.view.scene")
     if not hasattr(scene, "render_screenshot"):
-        pytest.skip("app.view.scene.render_screenshot is not there yet")
+        pytest.skip("barymesh.app.view.scene.render_screenshot is not there yet")
     iio = pytest.importorskip("imageio.v3")
     args = [
         "mesh",
@@ -392,7 +391,7 @@ def test_messages_shorten_huge_numbers(capsys):
 
 def test_screenshot_removes_what_a_killed_render_left(tmp_path):
     """A killed render (VTK aborting, SIGKILL) leaves its temp file; the next write removes it."""
-    from core.io.atomic import TEMP_MARK
+    from barymesh.io.atomic import TEMP_MARK
 
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()

@@ -15,13 +15,13 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
+from barymesh import MeshParams, build_mesh
+from barymesh.app import cli
+from barymesh.cell import cell_preset_names
+from barymesh.cell.files import CELL_PRESET_DIR
+from barymesh.io import read_mesh
 
-from app import cli
-from core import MeshParams, build_mesh
-from core.cell import cell_preset_names
-from core.cell.files import CELL_PRESET_DIR
-from core.io import read_mesh
-from tests.helpers import assert_clear_message
+from helpers import assert_clear_message
 
 try:  # the optional "cell" extra: only the outline writers need it
     import ezdxf
@@ -68,7 +68,7 @@ def files(folder):
 
 
 def preset_document(name):
-    """The preset's JSON, read here with json alone (independent of core.cell's loader)."""
+    """The preset's JSON, read here with json alone (independent of barymesh.cell's loader)."""
     return json.loads((CELL_PRESET_DIR / f"{name}.cell.json").read_text())
 
 
@@ -126,7 +126,7 @@ def test_period_smaller_than_the_structure_is_noted(capsys):
 
 
 def test_array_of_a_ring_uses_its_bounding_box(capsys):
-    from core.presets import load_preset
+    from barymesh.presets import load_preset
 
     xy = build_mesh(load_preset("paper-fig12d")[0]).points[:, :2]
     width, height = xy.max(axis=0) - xy.min(axis=0)
@@ -469,7 +469,7 @@ def test_real_process_error_line(in_tmp):
     (in_tmp / "radius.cell.json").write_text(json.dumps(BAD_RADIUS))
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     r = subprocess.run(
-        [sys.executable, "-m", "app.cli", "mesh", "--cell", "radius.cell.json", "-o", "x.msh"],
+        [sys.executable, "-m", "barymesh.app.cli", "mesh", "--cell", "radius.cell.json", "-o", "x.msh"],
         capture_output=True, text=True, env=env, timeout=120,
     )  # fmt: skip
     assert r.returncode == 1 and r.stdout == ""

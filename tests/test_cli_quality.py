@@ -1,17 +1,17 @@
 """The quality report on the command line: `mesh` and `info` print it and write it as JSON
-(strict: no NaN or Infinity), equal to core.quality.quality_report."""
+(strict: no NaN or Infinity), equal to barymesh.quality.quality_report."""
 
 import json
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, build_mesh
+from barymesh.cell import cell_preset_names
+from barymesh.io import read_mesh
+from barymesh.presets import load_preset
+from barymesh.quality import quality_report
 
-from core import MeshParams, build_mesh
-from core.cell import cell_preset_names
-from core.io import read_mesh
-from core.presets import load_preset
-from core.quality import quality_report
-from tests.test_cli import assert_one_line_error, run
+from test_cli import assert_one_line_error, run
 
 
 def strict_json(text):

@@ -3,7 +3,7 @@
 import json
 import math
 
-from tests.test_cli import assert_one_line_error, run
+from test_cli import assert_one_line_error, run
 
 #: λ at 10 GHz (mm), c0 = 299,792,458 m/s.
 LAMBDA_10GHZ = 29.9792458

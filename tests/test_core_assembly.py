@@ -6,12 +6,11 @@ triangles (a junction), which no built structure produces on purpose.
 """
 
 import numpy as np
+from barymesh.assembly import patch_topology, patch_triangles
+from barymesh.subdivision import patch_template
+from barymesh.topology import INDEX, edge_topology
 from hypothesis import given
 from hypothesis import strategies as st
-
-from core.assembly import patch_topology, patch_triangles
-from core.subdivision import patch_template
-from core.topology import INDEX, edge_topology
 
 
 @st.composite

@@ -1,36 +1,35 @@
 """Shortcuts taken for rings of sectors and grid patches give what the general paths give.
 
 A conforming ring whose vertices are numbered by formula repeats the topology
-of a short chain of sectors (``core.topology.chain_topology``) and takes its
+of a short chain of sectors (``barymesh.topology.chain_topology``) and takes its
 largest edge valence from that chain in the invariant check; grid patches
-reduce their quality edge by edge (``core.quality.lattice_quality_summary``).
+reduce their quality edge by edge (``barymesh.quality.lattice_quality_summary``).
 Each shortcut is compared with the general path, and defects planted in a mesh
 that takes the shortcut must still be refused.
 """
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
-from hypothesis import strategies as st
-
-from core import MeshParams, TriMesh, build_mesh
-from core.assembly import patch_topology
-from core.invariants import (
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.assembly import patch_topology
+from barymesh.invariants import (
     MeshInvariantError,
     _chain_valence,
     _point_keys,
     check_mesh,
     duplicate_vertices,
 )
-from core.mesh import _count_distinct
-from core.quality import (
+from barymesh.mesh import _count_distinct
+from barymesh.quality import (
     lattice_diagonal,
     lattice_quality_summary,
     quality_summary,
     triangle_quality,
 )
-from core.subdivision import tensor_template
-from core.topology import CHAIN, edge_topology, rwg_table, triangle_adjacency
+from barymesh.subdivision import tensor_template
+from barymesh.topology import CHAIN, edge_topology, rwg_table, triangle_adjacency
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 
 TOPOLOGY_FIELDS = (
     "edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",

@@ -2,16 +2,16 @@
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.quality import quality_summary, triangle_quality
+from barymesh.structures import _paper_origins
+from barymesh.topology import edge_topology, segment_lengths
+from barymesh.weld import _lattice_candidates, _window_candidates, merge_pairs
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from core import MeshParams, TriMesh, build_mesh
-from core.quality import quality_summary, triangle_quality
-from core.structures import _paper_origins
-from core.topology import edge_topology, segment_lengths
-from core.weld import _lattice_candidates, _window_candidates, merge_pairs
-from tests.test_core_properties import params
+from test_core_properties import params
 
 
 def kd_tree_candidates(origins, frac, reach, radius):

@@ -11,14 +11,14 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, build_mesh
+from barymesh.invariants import MeshInvariantError, check_mesh, inverted_or_flat
+from barymesh.mesh import TriMesh
+from barymesh.topology import edge_topology
+from barymesh.weld import merge_pairs, weld_points
 from scipy.spatial import cKDTree
 
-from core import MeshParams, build_mesh
-from core.invariants import MeshInvariantError, check_mesh, inverted_or_flat
-from core.mesh import TriMesh
-from core.topology import edge_topology
-from core.weld import merge_pairs, weld_points
-from tests.helpers import assert_clear_message, signed_areas
+from helpers import assert_clear_message, signed_areas
 
 #: The issue's budget: no structure may need more memory than this per triangle.
 BYTES_PER_TRIANGLE = 600
@@ -287,7 +287,7 @@ def test_numpy_scalars_are_taken_as_numbers():
 
 
 def test_a_chain_at_the_default_tolerance_does_not_blame_a_tolerance_nobody_set():
-    from core.structures import _welded
+    from barymesh.structures import _welded
 
     coords = np.column_stack([np.arange(100) * 0.01, np.zeros(100)])
     with pytest.raises(ValueError, match=r"with the default tolerance \(1e-09 of the") as err:
@@ -300,8 +300,8 @@ def test_a_chain_at_the_default_tolerance_does_not_blame_a_tolerance_nobody_set(
 @pytest.mark.parametrize("diagonal", ["BC", "AD"])
 @pytest.mark.parametrize("scheme", ["uniform", "barycentric"])
 def test_the_per_patch_check_finds_what_the_per_triangle_check_finds(diagonal, scheme):
-    from core.invariants import inverted_or_flat_patches
-    from core.structures import layout
+    from barymesh.invariants import inverted_or_flat_patches
+    from barymesh.structures import layout
 
     p = MeshParams(structure="ring", angle_step=30, subdivisions=2, diagonal=diagonal,
                    scheme=scheme)  # fmt: skip
@@ -345,8 +345,8 @@ def test_every_structure_builds_within_the_memory_budget(kw, mode):
 
 
 def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
-    from core.invariants import glued_edge_valence
-    from core.structures import layout
+    from barymesh.invariants import glued_edge_valence
+    from barymesh.structures import layout
 
     p = MeshParams(structure="ring", mode="conforming", angle_step=30, subdivisions=3)
     lay = layout(p)

@@ -8,14 +8,13 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-
-from core import MeshParams, build_mesh
-from core.overlap import union_area, union_area_slabs
-from core.presets import load_preset, preset_names
+from barymesh import MeshParams, build_mesh
+from barymesh.overlap import union_area, union_area_slabs
+from barymesh.presets import load_preset, preset_names
 
 
 def reference_union_area(rects: np.ndarray) -> float:
-    """The slab sweep ``core.overlap.union_area`` used before the quadrant sweep (verbatim)."""
+    """The slab sweep ``barymesh.overlap.union_area`` used before the quadrant sweep (verbatim)."""
     chunk = 4_000_000
     rects = np.asarray(rects, dtype=np.float64).reshape(-1, 4)
     if len(rects) == 0:

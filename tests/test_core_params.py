@@ -4,9 +4,8 @@ import json
 import math
 
 import pytest
-
-from core import MeshParams
-from core.params import STRUCTURES
+from barymesh import MeshParams
+from barymesh.params import STRUCTURES
 
 
 def test_defaults_draw_fig12a():

@@ -11,15 +11,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from barymesh import STRUCTURES, MeshParams, build_mesh
+from barymesh.io import read_mesh, write_mesh
+from barymesh.structures import layout
+from barymesh.topology import edge_topology
 from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from core import STRUCTURES, MeshParams, build_mesh
-from core.io import read_mesh, write_mesh
-from core.structures import layout
-from core.topology import edge_topology
-from tests.helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
+from helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
 
 RINGS = ["ring", "double_ring", "split_ring", "split_double_ring", "square_split_double_ring"]
 

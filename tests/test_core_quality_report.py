@@ -1,4 +1,4 @@
-"""core.quality.quality_report: closed forms on hand-made triangles, the issue's measured
+"""barymesh.quality.quality_report: closed forms on hand-made triangles, the issue's measured
 presets, the λ/10 rule, the worst list and JSON without NaN."""
 
 import json
@@ -6,10 +6,9 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-
-from core import MeshParams, TriMesh, build_mesh
-from core.presets import load_preset
-from core.quality import (
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.presets import load_preset
+from barymesh.quality import (
     ASPECT_RATIO_THRESHOLD,
     HISTOGRAM_BINS,
     longest_sides,

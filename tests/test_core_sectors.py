@@ -5,14 +5,14 @@ import math
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, build_mesh
+from barymesh.presets import load_preset
+from barymesh.structures import sector_plan
+from barymesh.subdivision import tensor_template
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
-from core import MeshParams, build_mesh
-from core.presets import load_preset
-from core.structures import sector_plan
-from core.subdivision import tensor_template
-from tests.helpers import assert_topology_matches_generic
+from helpers import assert_topology_matches_generic
 
 CIRCULAR = ["ring", "double_ring", "split_ring", "split_double_ring"]
 #: Degrees above 30° the closed form below asks of its estimate (cells are not exactly

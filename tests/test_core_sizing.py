@@ -6,12 +6,11 @@ import re
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, build_mesh
+from barymesh.presets import load_params_file, resolve_params, save_params_file
+from barymesh.sizing import largest_area, longest_edge, target_edge, wavelength
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-
-from core import MeshParams, build_mesh
-from core.presets import load_params_file, resolve_params, save_params_file
-from core.sizing import largest_area, longest_edge, target_edge, wavelength
 
 #: c0 = 299,792,458 m/s (exact): λ at 10 GHz in mm.
 LAMBDA_10GHZ = 29.9792458

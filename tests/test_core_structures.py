@@ -4,9 +4,9 @@ import math
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, build_mesh
 
-from core import MeshParams, build_mesh
-from tests.helpers import assert_topology_matches_generic, components, signed_areas
+from helpers import assert_topology_matches_generic, components, signed_areas
 
 
 def counts(mesh):
@@ -298,7 +298,7 @@ def test_barycentric_conforming_ring_is_manifold():
 
 
 def test_build_mesh_stops_when_cancel_says_so():
-    from core import BuildCancelled
+    from barymesh import BuildCancelled
 
     calls = []
 

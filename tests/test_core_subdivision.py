@@ -2,8 +2,7 @@
 
 import numpy as np
 import pytest
-
-from core.subdivision import barycentric_subdivision, patch_template, uniform_subdivision
+from barymesh.subdivision import barycentric_subdivision, patch_template, uniform_subdivision
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 7, 16, 64])

@@ -2,10 +2,9 @@
 
 import numpy as np
 import pytest
-
-from core import MeshParams, build_mesh
-from core.construction import construction_steps
-from core.rwg_basis import edge_status, quadrature_points, sample_rwg
+from barymesh import MeshParams, build_mesh
+from barymesh.construction import construction_steps
+from barymesh.rwg_basis import edge_status, quadrature_points, sample_rwg
 
 
 @pytest.fixture(scope="module")
@@ -102,7 +101,7 @@ def test_construction_of_one_triangle():
 
 
 def test_sweep_of_angle_step_and_subdivisions():
-    from core.sweep import sweep_params
+    from barymesh.sweep import sweep_params
 
     angles = [p.angle_step for p in sweep_params(MeshParams(), "angle_step", 20, 1, 20)]
     assert angles[0] == 20 and angles[-1] == 1 and len(angles) == 20
@@ -111,7 +110,7 @@ def test_sweep_of_angle_step_and_subdivisions():
 
 
 def test_sweep_errors_name_the_frame():
-    from core.sweep import sweep_params
+    from barymesh.sweep import sweep_params
 
     with pytest.raises(ValueError, match=r"sweep frame 2 of 3 \(patch_size=0.0\): patch_size=0"):
         sweep_params(MeshParams(), "patch_size", 1, -1, 3)

@@ -3,9 +3,8 @@
 import numpy as np
 import pytest
 import trimesh
-
-from core import MeshParams, TriMesh, build_mesh
-from core.topology import edge_topology, triangle_adjacency
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.topology import edge_topology, triangle_adjacency
 
 STRUCTURES = [
     {"structure": "patch"},

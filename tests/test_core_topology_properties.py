@@ -1,8 +1,8 @@
 """The general topology path on meshes with junctions, against plain-Python references.
 
 Imported meshes can have an edge on three or more triangles (a junction). Such a mesh goes
-through :func:`core.topology.edge_topology` and the general branch of
-:func:`core.topology.triangle_adjacency`; here every one of them also has an interior edge,
+through :func:`barymesh.topology.edge_topology` and the general branch of
+:func:`barymesh.topology.triangle_adjacency`; here every one of them also has an interior edge,
 so both the junction pairs and the interior pairs of the connectivity matrix are exercised.
 References: an edge -> triangles dict built by plain Python (``tests.helpers``) and trimesh's
 ``face_adjacency`` (edges on exactly two faces).
@@ -13,12 +13,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 import trimesh
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.topology import BLOCK, INDEX, edge_topology, rwg_table, triangle_adjacency
 from hypothesis import given
 from hypothesis import strategies as st
 
-from core import MeshParams, TriMesh, build_mesh
-from core.topology import BLOCK, INDEX, edge_topology, rwg_table, triangle_adjacency
-from tests.helpers import junction_meshes, reference_connectivity, reference_edge_triangles
+from helpers import junction_meshes, reference_connectivity, reference_edge_triangles
 
 
 def assert_index_dtypes(topo):

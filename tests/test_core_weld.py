@@ -2,9 +2,8 @@
 
 import numpy as np
 import pytest
-
-from core import MeshParams, build_mesh
-from core.weld import merge_pairs, weld_lattice_patches, weld_points
+from barymesh import MeshParams, build_mesh
+from barymesh.weld import merge_pairs, weld_lattice_patches, weld_points
 
 EPS = 1e-6
 

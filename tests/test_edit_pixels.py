@@ -1,14 +1,13 @@
-"""The pixel painter's pure edits (app.edit.pixels): symmetry groups, paint/erase, flood
+"""The pixel painter's pure edits (barymesh.app.edit.pixels): symmetry groups, paint/erase, flood
 fill, invert, random fill and resize, with property tests over random masks."""
 
 import numpy as np
 import pytest
+from barymesh.app.edit import pixels
+from barymesh.cell import SYMMETRIES, symmetrized
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
-
-from app.edit import pixels
-from core.cell import SYMMETRIES, symmetrized
 
 GROUP_ORDER = {"none": 1, "mirror_x": 2, "mirror_y": 2, "4-fold": 4, "8-fold": 8}
 
@@ -82,7 +81,7 @@ def test_4_fold_is_rotation_only_and_8_fold_adds_the_mirrors():
 
 
 def test_the_shipped_coding_cell_is_4_fold():
-    from core.cell import load_cell_preset
+    from barymesh.cell import load_cell_preset
 
     mask = load_cell_preset("coding-16x16").pixels.mask
     assert pixels.is_invariant(mask, "4-fold")

@@ -5,9 +5,8 @@ import os
 
 import numpy as np
 import pytest
-
-from core import MeshParams, build_mesh
-from core.io import ExportError, atomic_write_text, export, meshio_formats, write_mesh
+from barymesh import MeshParams, build_mesh
+from barymesh.io import ExportError, atomic_write_text, export, meshio_formats, write_mesh
 
 
 @functools.cache
@@ -121,7 +120,7 @@ def test_text_helper(tmp_path):
 
 
 def test_csv_companions_are_atomic(tmp_path, monkeypatch):
-    from core.io import rwg
+    from barymesh.io import rwg
 
     target = tmp_path / "rwg.csv"
     write_mesh(patch_mesh(), target)
@@ -139,7 +138,7 @@ def test_csv_companions_are_atomic(tmp_path, monkeypatch):
 
 def test_csv_set_is_replaced_only_when_every_file_is_written(tmp_path, monkeypatch):
     """Issue 10 #13: the centroids file failing keeps all three old files."""
-    from core.io import rwg
+    from barymesh.io import rwg
 
     target = tmp_path / "rwg.csv"
     write_mesh(patch_mesh(), target)
@@ -173,7 +172,7 @@ def test_stale_temp_files_of_dead_exports_are_removed(tmp_path):
     import subprocess
     import sys
 
-    from core.io.atomic import TEMP_MARK
+    from barymesh.io.atomic import TEMP_MARK
 
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()
@@ -196,8 +195,8 @@ def test_stale_temp_files_of_dead_exports_are_removed(tmp_path):
 CHILD = """
 import signal, sys, time
 signal.signal(signal.SIGINT, signal.default_int_handler)
-from core import MeshParams, build_mesh
-from core.io import export, write_mesh
+from barymesh import MeshParams, build_mesh
+from barymesh.io import export, write_mesh
 
 def slow(mesh, path, ext, factor, wavelength=None):
     path.write_bytes(b"half a mesh")
@@ -245,7 +244,7 @@ def test_killed_mid_write(tmp_path, how):
 def test_cancelled_write_leaves_no_file(tmp_path, suffix, when):
     """Cancel asked before the write (when = 1) or once it is written (when = 2): no
     target and no temporary file; an existing file stays as it was."""
-    from core.io import ExportCancelled
+    from barymesh.io import ExportCancelled
 
     mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0))
     asked = []

@@ -21,9 +21,8 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
-
-from core import MeshParams, build_mesh
-from core.io import MeshFileError, read_mesh, write_mesh
+from barymesh import MeshParams, build_mesh
+from barymesh.io import MeshFileError, read_mesh, write_mesh
 
 MESH = build_mesh(MeshParams(structure="patch", patch_size=10.0, subdivisions=2))
 N_POINTS, N_TRIANGLES = MESH.n_vertices, MESH.n_triangles  # 9 and 8
@@ -596,7 +595,7 @@ def test_obj_with_texture_normals_and_relative_indices_is_read(tmp_path):
 
 BOMB_CHILD = """
 import resource, sys
-from core.io import MeshFileError, read_mesh
+from barymesh.io import MeshFileError, read_mesh
 before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 for path in sys.argv[1:]:
     try:
@@ -629,7 +628,7 @@ def test_bombs_are_refused_without_the_memory_they_declare(damaged):
 
 def test_unreadable_file_is_named_as_such(tmp_path, monkeypatch):
     """Issue 10 #10: permission denied is said as such (root reads everything, so simulate)."""
-    from core.io import import_
+    from barymesh.io import import_
 
     path = write_mesh(MESH, tmp_path / "locked.msh")
 

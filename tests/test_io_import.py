@@ -4,8 +4,7 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
-
-from core.io import IMPORT_EXTENSIONS, MeshFileError, read_mesh
+from barymesh.io import IMPORT_EXTENSIONS, MeshFileError, read_mesh
 
 # two triangles of a unit square (mm) plus a boundary line and a point
 POINTS = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 5, 0]])
@@ -228,8 +227,9 @@ def test_bad_unit(tmp_path):
 @pytest.mark.parametrize("binary", [False, True], ids=["ascii", "binary"])
 def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
     """MSH 4.1 is read by our own reader: the same triangles, regions and patches as written."""
-    from core.io.meshio_formats import to_meshio
-    from tests.helpers import canonical_meshes
+    from barymesh.io.meshio_formats import to_meshio
+
+    from helpers import canonical_meshes
 
     mesh = canonical_meshes()["double-ring"]
     path = tmp_path / "rings.msh"

@@ -5,10 +5,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.io
-
-from core import build_mesh
-from core.io import read_mesh, write_mesh
-from core.presets import load_preset
+from barymesh import build_mesh
+from barymesh.io import read_mesh, write_mesh
+from barymesh.presets import load_preset
 
 REFERENCE = Path(__file__).resolve().parent / "data" / "makarov"
 

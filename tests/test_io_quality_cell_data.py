@@ -4,11 +4,10 @@ meshio (and pyvista for our own .vtp writer)."""
 import meshio
 import numpy as np
 import pytest
-
-from core import MeshParams, build_mesh
-from core.io import write_mesh
-from core.presets import load_preset
-from core.quality import longest_sides, quality_report
+from barymesh import MeshParams, build_mesh
+from barymesh.io import write_mesh
+from barymesh.presets import load_preset
+from barymesh.quality import longest_sides, quality_report
 
 
 def cell_data_back(path):

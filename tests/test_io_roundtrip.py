@@ -4,9 +4,9 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
+from barymesh.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
 
-from core.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
-from tests.helpers import canonical_meshes
+from helpers import canonical_meshes
 
 pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # meshio STL
 
@@ -158,7 +158,7 @@ def test_mat_layout(tmp_path):
 def _cell_data_back(path):
     """Per-triangle data of a written VTK file, read by a library other than the writer."""
     if path.suffix == ".vtp":
-        from core.io.vtk_xml import read_vtp  # the writer is ours; read it with pyvista too
+        from barymesh.io.vtk_xml import read_vtp  # the writer is ours; read it with pyvista too
 
         pv = pytest.importorskip("pyvista")
         poly = pv.read(path)

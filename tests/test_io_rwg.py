@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from barymesh.io import write_mesh
 
-from core.io import write_mesh
-from tests.helpers import canonical_meshes
+from helpers import canonical_meshes
 
 
 @pytest.fixture(scope="module")

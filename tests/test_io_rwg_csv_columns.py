@@ -2,9 +2,8 @@
 
 import numpy as np
 import pytest
-
-from core import MeshParams, build_mesh
-from core.io import write_mesh
+from barymesh import MeshParams, build_mesh
+from barymesh.io import write_mesh
 
 COLUMNS = ("edge", "vertex_1", "vertex_2", "t_plus", "t_minus", "free_vertex_plus",
            "free_vertex_minus")

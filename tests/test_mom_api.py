@@ -5,9 +5,8 @@ import tracemalloc
 
 import numpy as np
 import pytest
-
-from core import MeshParams, TriMesh, build_mesh
-from core.mom import (
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.mom import (
     PlaneWave,
     ProblemTooLarge,
     SolveCancelled,
@@ -18,8 +17,8 @@ from core.mom import (
     solve,
     sweep,
 )
-from core.mom.operator import SPEED_OF_LIGHT
-from core.presets import load_preset, resolve_params
+from barymesh.mom.operator import SPEED_OF_LIGHT
+from barymesh.presets import load_preset, resolve_params
 
 
 @pytest.fixture(scope="module")
@@ -102,7 +101,7 @@ def test_memory_estimate_covers_the_measured_peak_of_a_solve(monkeypatch, cached
     # (72 T² bytes here) and without it: the peak that tracemalloc sees over a whole
     # solve, geometry and fill included, stays under the estimate check_memory refuses by
     if not cached_table:
-        monkeypatch.setattr("core.mom.geometry.DISTANCE_CACHE_BYTES", 0)
+        monkeypatch.setattr("barymesh.mom.geometry.DISTANCE_CACHE_BYTES", 0)
     mesh = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=3"]))
     n = len(mesh.rwg)
     _ = mesh.rwg, mesh.centroids, mesh.areas
@@ -242,14 +241,14 @@ def test_junction_edges_get_a_warning():
 
 
 def test_a_sweep_logs_each_warning_once(caplog):
-    with caplog.at_level("WARNING", logger="core.mom.solve"):
+    with caplog.at_level("WARNING", logger="barymesh.mom.solve"):
         r = sweep(t_junction(), [1e9, 2e9, 3e9])
-    logged = [rec.getMessage() for rec in caplog.records if rec.name == "core.mom.solve"]
+    logged = [rec.getMessage() for rec in caplog.records if rec.name == "barymesh.mom.solve"]
     assert logged == list(r.warnings) and len(logged) == 1
 
 
 def test_a_unit_cell_is_said_to_be_solved_as_one_scatterer():
-    from core.cell import Lattice, PixelGrid, UnitCell, build_cell
+    from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 
     cell = UnitCell(Lattice.rectangular(10.0), pixels=PixelGrid(np.ones((2, 2)), origin=(-4, -4)))
     mesh = build_cell(cell).mesh
@@ -288,7 +287,7 @@ def test_low_frequency_breakdown_is_reported(platefine):
 
 
 def test_a_large_condition_number_alone_is_reported():
-    from core.mom.caveats import low_frequency_warning
+    from barymesh.mom.caveats import low_frequency_warning
 
     assert low_frequency_warning(8.9, 450.0) == ()
     text = low_frequency_warning(8.9, 3e11)[0]
@@ -361,7 +360,7 @@ def test_sweep_quality_factor_of_the_split_ring():
 
 @pytest.mark.parametrize("k", [2.0, 300.0])  # phases up to 6 and up to 900 rad
 def test_far_kernel_is_accurate_at_any_electrical_size(k):
-    from core.mom.operator import far_kernel
+    from barymesh.mom.operator import far_kernel
 
     dist = np.random.default_rng(3).uniform(0.01, 3.0, (50, 40))
     exact = np.exp(-1j * k * dist) / dist
@@ -383,7 +382,7 @@ def test_dense_solve_matches_a_double_precision_lu(cond):
 
     import scipy.linalg as sla
 
-    dense_solve = importlib.import_module("core.mom.solve").dense_solve
+    dense_solve = importlib.import_module("barymesh.mom.solve").dense_solve
     z = _matrix_with_condition(300, cond, seed=int(np.log10(cond)))
     v = np.random.default_rng(0).standard_normal(300) + 0j
     current, estimate, residual = dense_solve(z, v)

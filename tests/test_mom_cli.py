@@ -9,10 +9,9 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
-
-from core import build_mesh
-from core.mom import PlaneWave, solve
-from core.presets import resolve_params
+from barymesh import build_mesh
+from barymesh.mom import PlaneWave, solve
+from barymesh.presets import resolve_params
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -21,7 +20,7 @@ def run(*args, cwd):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     env.pop("DISPLAY", None)
     return subprocess.run(
-        [sys.executable, "-m", "app.cli", "solve", *map(str, args)],
+        [sys.executable, "-m", "barymesh.app.cli", "solve", *map(str, args)],
         cwd=cwd,
         env=env,
         capture_output=True,
@@ -43,7 +42,7 @@ SMALL = ("--preset", "srr-openmodes", "--set", "subdivisions=1")
 
 
 def test_single_frequency_writes_the_currents_for_paraview(tmp_path, monkeypatch, capsys):
-    from app import cli
+    from barymesh.app import cli
 
     monkeypatch.chdir(tmp_path)  # in-process (fast); the sweep below runs as a subprocess
     code = cli.main(["solve", *SMALL, "--freq", "6.19GHz", "--dir", "-z", "--pol", "y",
@@ -92,7 +91,7 @@ def test_sweep_writes_csv_and_plot_and_finds_the_resonance(tmp_path):
 
 
 def test_feed_prints_the_input_impedance(capsys):
-    from app import cli
+    from barymesh.app import cli
 
     # Makarov's plate fed across its middle line x = 0 (a vertical mesh line)
     code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "100MHz",
@@ -152,7 +151,7 @@ def test_usage_errors_are_one_line_exit_2(tmp_path, monkeypatch, capsys, args, f
 
 def in_process(capsys, code, *args, fragments=()):
     """Run ``barymesh solve ARGS`` in this process (fast); check the one-line error."""
-    from app import cli
+    from barymesh.app import cli
 
     assert cli.main(["solve", *map(str, args)]) == code
     err = capsys.readouterr().err
@@ -172,7 +171,7 @@ def test_feed_off_the_mesh_edges_is_bad_input(capsys):
 
 
 def test_solution_warnings_are_printed(tmp_path, monkeypatch, capsys):
-    from app import cli
+    from barymesh.app import cli
 
     monkeypatch.chdir(tmp_path)
     # the 3 kHz plate of the issue: k·D = 8.9e-5, negative extinction, cond 3e12

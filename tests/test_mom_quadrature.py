@@ -4,9 +4,8 @@ from math import factorial
 
 import numpy as np
 import pytest
-
-from core.mom.quadrature import ORDERS, triangle_rule
-from core.mom.singular import potential_integrals
+from barymesh.mom.quadrature import ORDERS, triangle_rule
+from barymesh.mom.singular import potential_integrals
 
 
 @pytest.mark.parametrize("order", ORDERS)

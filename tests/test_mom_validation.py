@@ -7,11 +7,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.mom import PlaneWave, mom_geometry, solve, sweep
+from barymesh.presets import load_preset, resolve_params
 from scipy.spatial import cKDTree
-
-from core import MeshParams, TriMesh, build_mesh
-from core.mom import PlaneWave, mom_geometry, solve, sweep
-from core.presets import load_preset, resolve_params
 
 REFERENCE = Path(__file__).resolve().parent / "data" / "makarov"
 MAKAROV_MAX_J = 0.01853  # A/m, Makarov's chapter-2 plate at 300 MHz
@@ -208,7 +207,7 @@ def _mie_pec_efficiency(ka, n_max=40):
 def test_pec_sphere_converges_to_mie():
     # a closed, curved surface: every coordinate active, points off the source planes
     trimesh = pytest.importorskip("trimesh")
-    from core.mom.operator import SPEED_OF_LIGHT
+    from barymesh.mom.operator import SPEED_OF_LIGHT
 
     ka, radius_mm = 1.0, 1.0
     freq = ka / (radius_mm * 1e-3) * SPEED_OF_LIGHT / (2 * np.pi)

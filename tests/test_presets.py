@@ -3,9 +3,8 @@
 import json
 
 import pytest
-
-from core import MeshParams, build_mesh
-from core.presets import (
+from barymesh import MeshParams, build_mesh
+from barymesh.presets import (
     PRESET_DIR,
     load_params_file,
     load_preset,

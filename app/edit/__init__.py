@@ -1,3 +1,3 @@
 """Editing unit cells in the window: the cell document with undo, the Elements and
 Lattice panels, the array preview and the Cell menu's actions, and the pixel painter
-(:mod:`app.edit.painter`) with its pure edits (:mod:`app.edit.pixels`)."""
+(:mod:`barymesh.app.edit.painter`) with its pure edits (:mod:`barymesh.app.edit.pixels`)."""

@@ -3,7 +3,7 @@
 The copies are drawn, not meshed: the cell's triangles moved by ``i a1 + j a2`` with
 ``i`` in ``-(n1 - 1) // 2 … n1 // 2`` (and ``j`` alike), so the cell itself stays where
 it is, at copy (0, 0). Only an export of the array (Cell ▸ Export array mesh…) welds the
-copies into one mesh, with :func:`core.cell.tile`.
+copies into one mesh, with :func:`barymesh.cell.tile`.
 """
 
 from __future__ import annotations
@@ -12,9 +12,8 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
-
-from core import TriMesh
-from core.cell import Lattice
+from barymesh import TriMesh
+from barymesh.cell import Lattice
 
 #: Ghost copies are drawn up to this many triangles in all (beyond: outlines only).
 GHOST_TRIANGLES = 2_000_000

@@ -2,11 +2,11 @@
 selected, and the edits of the Elements and Lattice panels as pure functions.
 
 Every edit returns a new :class:`CellState` (validated: a state that exists is one the
-core accepts), so :class:`app.model.AppModel` keeps them on its undo stack as it keeps
+core accepts), so :class:`barymesh.app.model.AppModel` keeps them on its undo stack as it keeps
 parameters.
 
->>> from core.cell import Lattice, UnitCell, Element
->>> from core import MeshParams
+>>> from barymesh.cell import Lattice, UnitCell, Element
+>>> from barymesh import MeshParams
 >>> s = CellState.of(UnitCell(Lattice.rectangular(20), (Element(MeshParams(structure="patch"), name="a"),)))
 >>> s = s.added(MeshParams(structure="ring"))
 >>> [el.name for el in s.cell.elements], s.selected
@@ -22,8 +22,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from core import MeshParams
-from core.cell import Element, Lattice, UnitCell
+from barymesh import MeshParams
+from barymesh.cell import Element, Lattice, UnitCell
 
 #: Lattice kinds the Lattice panel offers (an oblique lattice comes from a file only).
 LATTICE_KINDS = ("rectangular", "hexagonal")

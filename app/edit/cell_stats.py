@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from barymesh.app.model import MeshResult
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QHeaderView,
@@ -11,8 +12,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-
-from app.model import MeshResult
 
 RIGHT = Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter
 #: Columns: title -> key of TriMesh.stats().

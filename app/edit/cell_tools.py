@@ -1,7 +1,7 @@
 """The window's unit-cell tools: cell files and presets, the Elements dock (elements,
 lattice, array preview) and the export of an array, wired to the model.
 
-:class:`CellTools` is made by :class:`app.window.MainWindow` with its actions; the
+:class:`CellTools` is made by :class:`barymesh.app.window.MainWindow` with its actions; the
 window adds :meth:`CellTools.add_to_menus` to its File and Cell menus.
 """
 
@@ -13,22 +13,21 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from barymesh import TriMesh
+from barymesh.app.edit.array_preview import ArrayPreview
+from barymesh.app.edit.cell_document import CellState
+from barymesh.app.edit.drag_tool import ElementDragger
+from barymesh.app.edit.elements_panel import ElementsPanel
+from barymesh.app.edit.lattice_panel import LatticePanel
+from barymesh.app.model import MeshResult
+from barymesh.app.view.framing import frame_from_above
+from barymesh.cell import Element, Lattice, UnitCell
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QFileDialog, QMenu, QVBoxLayout, QWidget
 
-from app.edit.array_preview import ArrayPreview
-from app.edit.cell_document import CellState
-from app.edit.drag_tool import ElementDragger
-from app.edit.elements_panel import ElementsPanel
-from app.edit.lattice_panel import LatticePanel
-from app.model import MeshResult
-from app.view.framing import frame_from_above
-from core import TriMesh
-from core.cell import Element, Lattice, UnitCell
-
 if TYPE_CHECKING:
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 CELL_FILTER = "Unit cells (*.cell.json);;All files (*)"
@@ -78,7 +77,7 @@ class CellTools:
         file.insertActions(after, [self.act_open, self.act_save])
         presets = cell.addMenu("Cell &presets")
         try:
-            from core.cell import cell_preset_names
+            from barymesh.cell import cell_preset_names
 
             names = cell_preset_names()
         except Exception as exc:  # noqa: BLE001 - a broken preset folder must not stop the window
@@ -111,7 +110,7 @@ class CellTools:
     def open_cell_file(self, path: str | os.PathLike[str]) -> bool:
         """Open a cell file; an invalid one is one sentence naming the file and the place
         in it (``elements[1].inner_radius``), and the window keeps what it shows."""
-        from core.cell import load_cell
+        from barymesh.cell import load_cell
 
         try:
             cell = load_cell(path)
@@ -122,7 +121,7 @@ class CellTools:
         return True
 
     def load_cell_preset(self, name: str) -> bool:
-        from core.cell import load_cell_preset
+        from barymesh.cell import load_cell_preset
 
         try:
             cell = load_cell_preset(name)
@@ -151,7 +150,7 @@ class CellTools:
             self.save_cell_file(path)
 
     def save_cell_file(self, path: str | os.PathLike[str]) -> bool:
-        from core.cell import save_cell
+        from barymesh.cell import save_cell
 
         cell = self.model.cell
         if cell is None:
@@ -172,7 +171,7 @@ class CellTools:
         params = self.model.params
         mesh = result.mesh if result is not None and result.params == params else None
         if mesh is None or not mesh.n_vertices:
-            from core import build_mesh
+            from barymesh import build_mesh
 
             try:
                 mesh = build_mesh(params)
@@ -195,7 +194,7 @@ class CellTools:
             return
         n1, n2 = self.lattice.copies
         start = self.window._path_setting("array", f"{self.model.cell.name}-{n1}x{n2}.msh")
-        from core.io import export_filters, filter_extension
+        from barymesh.io import export_filters, filter_extension
 
         # only what write_mesh writes (it offered .nas and .ply, then "cannot write .nas")
         path, chosen = QFileDialog.getSaveFileName(
@@ -208,10 +207,10 @@ class CellTools:
 
     def export_array(self, path: str | os.PathLike[str], unit: str | None = None,
                      done: Callable[[bool], None] | None = None) -> bool:
-        """Weld the preview's n1 x n2 copies of the cell (:func:`core.cell.tile`) and write
+        """Weld the preview's n1 x n2 copies of the cell (:func:`barymesh.cell.tile`) and write
         them (the format from the extension), both in a worker thread with progress and
         Cancel (:meth:`MainWindow.run_export`). Returns whether the export started."""
-        from core.cell import tile
+        from barymesh.cell import tile
 
         state = self.model.cell_state
         if state is None:

@@ -6,7 +6,7 @@ side of another element's box, onto that side (so that elements line up and touc
 While the tool is on and a cell is on screen, a press on an element's metal belongs to
 the tool (the view does not rotate); a press elsewhere still turns or pans the camera.
 During the drag the element's own mesh is drawn where it would go (an outline colour
-over the scene); the release is one :meth:`app.model.AppModel.edit_cell` call, one undo
+over the scene); the release is one :meth:`barymesh.app.model.AppModel.edit_cell` call, one undo
 step, and the cell is meshed again as after a typed position.
 """
 
@@ -18,12 +18,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pyvista as pv
+from barymesh.app.view.framing import pixels_per_mm
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
 
-from app.view.framing import pixels_per_mm
-
 if TYPE_CHECKING:
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 DRAG_COLOR = "#00a0b0"

@@ -1,7 +1,7 @@
 """The Elements panel: the cell's elements in a list, and the buttons that edit it.
 
-Every widget translates one user action into one :meth:`app.model.AppModel.edit_cell`
-(an undo step) or :meth:`~app.model.AppModel.select_element` call, and the list is
+Every widget translates one user action into one :meth:`barymesh.app.model.AppModel.edit_cell`
+(an undo step) or :meth:`~barymesh.app.model.AppModel.select_element` call, and the list is
 copied back from the model's ``cell_changed`` event. A refusal of the core (a name
 already taken, every element hidden, overlapping elements in conforming mode) is shown
 under the list; the cell and its mesh stay as they were.
@@ -12,6 +12,10 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from barymesh import MeshParams
+from barymesh.app.edit.cell_document import CellState
+from barymesh.app.model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
+from barymesh.app.panels.controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (
@@ -27,11 +31,6 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from app.edit.cell_document import CellState
-from app.model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
-from app.panels.controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
-from core import MeshParams
-
 #: The grid (mm) a dragged element's position snaps to, until the user types another.
 DEFAULT_SNAP = 0.5
 
@@ -39,7 +38,7 @@ DEFAULT_SNAP = 0.5
 def structure_presets() -> dict[str, str]:
     """Structure presets (name -> description) the Add menu offers; none if unreadable."""
     try:
-        from core.presets import preset_descriptions
+        from barymesh.presets import preset_descriptions
 
         return preset_descriptions()
     except Exception:  # noqa: BLE001 - a broken preset file must not stop the panel
@@ -185,7 +184,7 @@ class ElementsPanel(QWidget):
 
     def add_preset(self, name: str) -> bool:
         """Add the structure of preset ``name`` at the cell's centre."""
-        from core.presets import load_preset
+        from barymesh.presets import load_preset
 
         def edit(s: CellState) -> CellState:
             params, _description = load_preset(name)

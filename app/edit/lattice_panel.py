@@ -6,12 +6,11 @@ from __future__ import annotations
 import argparse
 import re
 
+from barymesh.app.edit.cell_document import LATTICE_KINDS, CellState, lattice_periods
+from barymesh.app.model import AppModel, format_value, read_number
+from barymesh.app.panels.controls import ValueField, decimal_point
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
-
-from app.edit.cell_document import LATTICE_KINDS, CellState, lattice_periods
-from app.model import AppModel, format_value, read_number
-from app.panels.controls import ValueField, decimal_point
 
 KIND_TITLES = {"rectangular": "Rectangular", "hexagonal": "Hexagonal",
                "oblique": "Oblique (from the file)"}

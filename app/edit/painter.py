@@ -1,17 +1,17 @@
 """Cell → Paint pixels: paint a coding cell's pixel grid with the mouse, in top view.
 
 A top-level window with its own ``QtInteractor`` looking straight down the z axis
-(parallel projection). It shows the mesh that :func:`core.cell.build_cell` makes of the
+(parallel projection). It shows the mesh that :func:`barymesh.cell.build_cell` makes of the
 cell (each set pixel a square patch of 32 triangles, edge-sharing pixels welded), the
 pixel grid, the cell outline and, as red dots, the corners where two pixels touch at a
-point only (reported by :meth:`core.cell.PixelGrid.corner_contacts`).
+point only (reported by :meth:`barymesh.cell.PixelGrid.corner_contacts`).
 
 Mouse: the left button paints (erases with Erase on), the right button erases; a press,
 the drag and the release are one stroke and one undo step. The middle button pans, the
 wheel zooms; nothing rotates. A mouse position is turned into a pixel by casting its
 ray through the camera onto the plane z = 0 (exact for the parallel projection).
 
-The edits themselves are :mod:`app.edit.pixels` (no Qt); this window keeps the undo
+The edits themselves are :mod:`barymesh.app.edit.pixels` (no Qt); this window keeps the undo
 history of (pixel grid, lattice) states, draws, and rebuilds the mesh in a worker thread
 after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
 131,072 triangles). While the build runs, pixels painted or erased since the mesh on
@@ -29,6 +29,23 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pyvista as pv
+from barymesh.app.edit import pixels
+from barymesh.app.view.framing import frame_from_above
+from barymesh.app.view.polydata import Layer
+from barymesh.app.worker import Job
+from barymesh.cell import (
+    SYMMETRIES,
+    CellMesh,
+    Lattice,
+    PixelGrid,
+    UnitCell,
+    build_cell,
+    load_cell,
+    load_cell_preset,
+    save_cell,
+)
+from barymesh.params import DEFAULT_MAX_TRIANGLES
+from barymesh.subdivision import patch_template
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
@@ -44,26 +61,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from app.edit import pixels
-from app.view.framing import frame_from_above
-from app.view.polydata import Layer
-from app.worker import Job
-from core.cell import (
-    SYMMETRIES,
-    CellMesh,
-    Lattice,
-    PixelGrid,
-    UnitCell,
-    build_cell,
-    load_cell,
-    load_cell_preset,
-    save_cell,
-)
-from core.params import DEFAULT_MAX_TRIANGLES
-from core.subdivision import patch_template
-
 if TYPE_CHECKING:
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -780,7 +779,7 @@ class PixelPainterWindow(QMainWindow):
         """Hide the triangle edges when a pixel is too small on screen to read them."""
         if self._closed:
             return
-        from app.view.framing import pixels_per_mm
+        from barymesh.app.view.framing import pixels_per_mm
 
         on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
         shown = on_screen >= EDGES_MIN_PIXELS
@@ -820,7 +819,7 @@ class PixelPainterWindow(QMainWindow):
 
     def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
         """(x0, x1, y0, y1) mm the view shows from above, widened by ``margin``."""
-        from app.view.framing import view_size
+        from barymesh.app.view.framing import view_size
 
         camera = self.plotter.camera
         w, h = view_size(self.plotter)

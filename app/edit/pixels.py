@@ -3,7 +3,7 @@
 Pure numpy, no Qt: every function takes a boolean ``(R, C)`` mask and returns a new one
 (the input is never changed), so the painter's undo history is a list of masks.
 
-Symmetry modes act on the grid about its centre, as in :func:`core.cell.symmetrized`
+Symmetry modes act on the grid about its centre, as in :func:`barymesh.cell.symmetrized`
 (``mask[i, j]`` is row i from the bottom, column j from the left)::
 
     none      the identity only
@@ -20,7 +20,7 @@ symmetric). "8-fold" adds the mirrors.
 
 An edit under a mode returns a mask invariant under the mode's group: the mask is
 first closed under the group (the images of its metal are added,
-:func:`core.cell.symmetrized`), then the edit is applied to whole orbits (a pixel
+:func:`barymesh.cell.symmetrized`), then the edit is applied to whole orbits (a pixel
 and all its images). On a mask that is already invariant the closure changes
 nothing, so painting and then erasing a pixel restores the mask.
 """
@@ -28,9 +28,8 @@ nothing, so painting and then erasing a pixel restores the mask.
 from __future__ import annotations
 
 import numpy as np
+from barymesh.cell import SYMMETRIES, symmetrized
 from scipy import ndimage
-
-from core.cell import SYMMETRIES, symmetrized
 
 #: What the painter shows for each symmetry mode.
 SYMMETRY_TITLES = {
@@ -74,7 +73,7 @@ def group_images(array: np.ndarray, symmetry: str) -> list[np.ndarray]:
     ----------
     array : (R, C)
     symmetry : str
-        One of :data:`core.cell.SYMMETRIES`.
+        One of :data:`barymesh.cell.SYMMETRIES`.
 
     Returns
     -------

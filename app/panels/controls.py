@@ -11,7 +11,7 @@ Esc puts the accepted value back. Nothing is clamped, rounded or read through a 
 without saying so.
 
 A length's or an angle step's slider spans a decade each side of the value
-(:meth:`app.model.ParamSpec.around`), not 0.01 mm to 10 m: a drag of a few pixels is a
+(:meth:`barymesh.app.model.ParamSpec.around`), not 0.01 mm to 10 m: a drag of a few pixels is a
 small change. It is centred again when the drag ends, when a key steps it to an end, or
 when a typed value (or Undo, a preset) lies outside it.
 """
@@ -21,6 +21,20 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from barymesh.app.model import (
+    ADVANCED_SPECS,
+    CHOICES,
+    PARAM_SPECS,
+    POINT_PARAMS,
+    AppModel,
+    MeshResult,
+    ParamError,
+    ParamSpec,
+    applies,
+    format_value,
+    read_number,
+    subdivisions_limit,
+)
 from PySide6.QtCore import QEvent, QLocale, Qt, Signal
 from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (
@@ -34,21 +48,6 @@ from PySide6.QtWidgets import (
     QSlider,
     QVBoxLayout,
     QWidget,
-)
-
-from app.model import (
-    ADVANCED_SPECS,
-    CHOICES,
-    PARAM_SPECS,
-    POINT_PARAMS,
-    AppModel,
-    MeshResult,
-    ParamError,
-    ParamSpec,
-    applies,
-    format_value,
-    read_number,
-    subdivisions_limit,
 )
 
 ERROR_COLOUR = "#d0021b"

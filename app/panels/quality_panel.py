@@ -3,13 +3,13 @@
 Three histograms (smallest angle, aspect ratio, longest edge over the wavelength when the
 parameters give a frequency) with their thresholds marked, a few lines of figures, and the
 worst triangles by smallest angle: a click on one zooms the view to it and outlines it,
-over the worst triangles drawn in red (:class:`app.view.quality_layer.WorstTrianglesLayer`,
+over the worst triangles drawn in red (:class:`barymesh.app.view.quality_layer.WorstTrianglesLayer`,
 toggled by the check box here or View → Worst triangles).
 
-The report is :func:`core.quality.quality_report`, measured when the panel is seen (its
+The report is :func:`barymesh.quality.quality_report`, measured when the panel is seen (its
 dock's ``visibilityChanged`` calls :meth:`QualityPanel.set_seen`) or the red layer is on:
 on the GUI thread up to :data:`SYNC_TRIANGLES` triangles (about a millisecond), else in a
-worker thread (:func:`app.worker.run_in_thread`) while the window keeps answering; only
+worker thread (:func:`barymesh.app.worker.run_in_thread`) while the window keeps answering; only
 the small report comes back.
 """
 
@@ -20,6 +20,10 @@ from functools import partial
 from typing import Any
 
 import numpy as np
+from barymesh import TriMesh
+from barymesh.app.view.quality_layer import WorstTrianglesLayer
+from barymesh.app.worker import SYNC_TRIANGLES, run_in_thread
+from barymesh.quality import params_wavelength, quality_report
 from PySide6.QtCore import QPointF, QRectF, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QColor, QFont, QPainter, QPen
 from PySide6.QtWidgets import (
@@ -31,11 +35,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-
-from app.view.quality_layer import WorstTrianglesLayer
-from app.worker import SYNC_TRIANGLES, run_in_thread
-from core import TriMesh
-from core.quality import params_wavelength, quality_report
 
 log = logging.getLogger(__name__)
 
@@ -162,7 +161,7 @@ class QualityPanel(QWidget):
 
     Parameters
     ----------
-    window : app.window.MainWindow
+    window : barymesh.app.window.MainWindow
         Its model (results), plotter (the red layer) and view tools (zoom to a triangle).
     """
 

@@ -1,11 +1,11 @@
-"""The Solve dock: an RWG Method-of-Moments solve (:mod:`core.mom`) of the mesh on screen.
+"""The Solve dock: an RWG Method-of-Moments solve (:mod:`barymesh.mom`) of the mesh on screen.
 
 Two tabs. **Solve**: a frequency with its unit, the excitation: a plane wave (its
 direction of travel and polarisation: an axis such as ``-z`` or ``x``, or a vector
 ``0, 0, -1``) or a delta-gap voltage feed (1 V across the mesh edges on a line between
 two points typed in mm; the input impedance is shown after the solve), a Solve button,
 and the "Surface current" layer's controls (show, linear/log colour map, phase slider and
-animation; :class:`app.view.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
+animation; :class:`barymesh.app.view.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
 cross-section against frequency (matplotlib), the resonances marked; a click on the
 plot sets the frequency and solves there.
 
@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from barymesh import TriMesh
+from barymesh.app.view.current_layer import SCALES, CurrentLayer
 from PySide6.QtCore import (
     QEvent,
     QObject,
@@ -56,14 +58,11 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from app.view.current_layer import SCALES, CurrentLayer
-from core import TriMesh
-
 log = logging.getLogger(__name__)
 
 #: Meshes with at most this many RWG unknowns are solved on the GUI thread, and solved
 #: again at once when the mesh or an input changes. Measured on the 2-core test machine
-#: (``core.mom.solve``, geometry + fill + LU, square patches): 40 unknowns 20 ms, 65
+#: (``barymesh.mom.solve``, geometry + fill + LU, square patches): 40 unknowns 20 ms, 65
 #: unknowns 36 ms, 96 unknowns 85–127 ms while other jobs loaded the cores.
 AUTO_SOLVE_UNKNOWNS = 80
 #: The widest the panel asks to be (px).
@@ -155,7 +154,7 @@ class Outcome:
     token: int
     mesh: TriMesh
     kind: str  # "solve" or "sweep"
-    result: Any = None  # core.mom.Solution or SweepResult
+    result: Any = None  # barymesh.mom.Solution or SweepResult
     error: str | None = None
     cancelled: bool = False
     seconds: float = 0.0
@@ -164,7 +163,7 @@ class Outcome:
 
 def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Outcome:
     """Call ``work()`` and wrap what it returns or raises (never raises)."""
-    from core.mom import SolveCancelled
+    from barymesh.mom import SolveCancelled
 
     start = time.perf_counter()
     try:
@@ -210,7 +209,7 @@ class SweepPlot(QWidget):
         self.show_result(None)
 
     def show_result(self, result: Any, note: str = "") -> None:
-        """Plot a ``core.mom.SweepResult`` (None: an empty plot with a hint)."""
+        """Plot a ``barymesh.mom.SweepResult`` (None: an empty plot with a hint)."""
         self.result = result
         ax = self.axes
         ax.clear()
@@ -499,9 +498,9 @@ class SolvePanel(QWidget):
         return None if result is None else result.mesh
 
     def inputs(self) -> tuple[float, Any]:
-        """(frequency in Hz, core.mom.PlaneWave or VoltageSource) from the fields;
+        """(frequency in Hz, barymesh.mom.PlaneWave or VoltageSource) from the fields;
         ValueError naming the field if invalid."""
-        from core.mom import PlaneWave, VoltageSource
+        from barymesh.mom import PlaneWave, VoltageSource
 
         hz = read_frequency(self.frequency.text(), self.unit.currentText())
         if self.excitation.currentData() == "feed":
@@ -519,7 +518,7 @@ class SolvePanel(QWidget):
         return hz, PlaneWave(direction=d, polarization=p)
 
     def _inputs_key(self) -> tuple[Any, ...] | None:
-        from core.mom import VoltageSource
+        from barymesh.mom import VoltageSource
 
         try:
             hz, wave = self.inputs()
@@ -580,7 +579,7 @@ class SolvePanel(QWidget):
             n = len(mesh.rwg)
             if n == 0:
                 raise ValueError("The mesh has no interior edges: no RWG unknowns to solve for.")
-            from core.mom import VoltageSource, check_memory, mom_geometry
+            from barymesh.mom import VoltageSource, check_memory, mom_geometry
 
             check_memory(n)
             if isinstance(wave, VoltageSource):  # a line off the mesh edges: say so now
@@ -590,7 +589,7 @@ class SolvePanel(QWidget):
             return False
         self.error.clear()
         key = self._inputs_key()
-        from core.mom import solve
+        from barymesh.mom import solve
 
         work = lambda: solve(mesh, frequency, wave)  # noqa: E731
         self._tokens["solve"] += 1
@@ -624,7 +623,7 @@ class SolvePanel(QWidget):
             self.error.setText(str(exc))
             self.resonance_label.setText(str(exc))
             return False
-        from core.mom import sweep
+        from barymesh.mom import sweep
 
         freqs = np.linspace(a, b, self.sweep_count.value())
         self._tokens["sweep"] += 1
@@ -708,7 +707,7 @@ class SolvePanel(QWidget):
         self.layer.set_current(outcome.mesh, s.current_density, s.charge_density)
         number, unit = format_frequency(s.frequency)
         jmax = float(self.layer.magnitude.max())
-        from core.mom import VoltageSource
+        from barymesh.mom import VoltageSource
 
         driven = (f"input impedance {format_impedance(s.input_impedance)}"
                   if isinstance(s.excitation, VoltageSource) else

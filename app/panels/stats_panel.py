@@ -6,11 +6,10 @@ wavelengths, the largest area in λ² and whether every edge is within λ/10.
 
 from __future__ import annotations
 
+from barymesh.app.edit.cell_stats import CellStats
+from barymesh.app.model import STAT_LABELS, AppModel, MeshResult, stats_texts
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFormLayout, QLabel, QWidget
-
-from app.edit.cell_stats import CellStats
-from app.model import STAT_LABELS, AppModel, MeshResult, stats_texts
 
 TOOLTIPS = {
     "interior_edges": "Edges shared by exactly two triangles: one RWG basis function each",
@@ -51,7 +50,7 @@ def sizing_texts(result: MeshResult | None) -> dict[str, str]:
 
 
 class StatsPanel(QWidget):
-    """One ``label: value`` row per key of :data:`app.model.STAT_LABELS`."""
+    """One ``label: value`` row per key of :data:`barymesh.app.model.STAT_LABELS`."""
 
     def __init__(self, model: AppModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)

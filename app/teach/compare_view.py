@@ -1,7 +1,7 @@
 """Teach → Paper vs conforming: the same parameters meshed both ways, side by side.
 
 One ``QtInteractor`` with two subplots (``shape=(1, 2)``) whose cameras are linked
-(``link_views``), each holding a :class:`app.view.scene.MeshScene`, and under each half its
+(``link_views``), each holding a :class:`barymesh.app.view.scene.MeshScene`, and under each half its
 statistics: triangles, vertices, interior edges (the RWG unknowns), boundary edges and
 the overlap ratio. In paper mode the faces covered by two or more patches are shaded, so
 a student sees where the overlapping patches fail to share edges.
@@ -20,16 +20,15 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+from barymesh import MeshParams, TriMesh
+from barymesh.app.model import AppModel, MeshResult, compute
+from barymesh.app.teach.following_view import FollowingView
+from barymesh.app.view.framing import frame_from_above
+from barymesh.app.view.polydata import Layer
+from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span, scene_data
+from barymesh.app.worker import Job
 from PySide6.QtCore import QObject, Qt, QThreadPool, Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
-
-from app.model import AppModel, MeshResult, compute
-from app.teach.following_view import FollowingView
-from app.view.framing import frame_from_above
-from app.view.polydata import Layer
-from app.view.scene import MeshScene, add_text_labels, nice_span, scene_data
-from app.worker import Job
-from core import MeshParams, TriMesh
 
 log = logging.getLogger(__name__)
 

@@ -2,7 +2,7 @@
 
 A window of its own (its own ``QtInteractor``) next to the main window, following the main
 window's parameters (patch size and width, subdivisions n, diagonal, origin; or the
-triangle structure). The steps come from :func:`core.construction.construction_steps`;
+triangle structure). The steps come from :func:`barymesh.construction.construction_steps`;
 this module only draws them: the actors of every layer are created once and each step
 copies its data into them (``copy_from``), then renders once.
 
@@ -18,6 +18,12 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+from barymesh import MeshParams
+from barymesh.app.model import AppModel
+from barymesh.app.teach.following_view import FollowingView
+from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
+from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span
+from barymesh.construction import ConstructionStep, construction_steps
 from PySide6.QtCore import QEvent, Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import (
@@ -31,13 +37,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-
-from app.model import AppModel
-from app.teach.following_view import FollowingView
-from app.view.layers import LAYERS as SCENE_LAYERS
-from app.view.scene import MeshScene, add_text_labels, nice_span
-from core import MeshParams
-from core.construction import ConstructionStep, construction_steps
 
 log = logging.getLogger(__name__)
 

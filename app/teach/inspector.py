@@ -1,15 +1,15 @@
 """The RWG basis inspector: which edge a click means, and the overlay that draws it.
 
-Two halves, as in :mod:`app.view.scene`:
+Two halves, as in :mod:`barymesh.app.view.scene`:
 
-* Plain functions on a :class:`core.TriMesh` (no Qt, no rendering): the edge a click on a
+* Plain functions on a :class:`barymesh.TriMesh` (no Qt, no rendering): the edge a click on a
   triangle means (:func:`nearest_edge`), next/previous RWG unknown (:func:`step_edge`),
   the same spot in a new mesh (:func:`nearest_edge_to_point`), the info text
   (:func:`edge_info`), flat arrows as polygons (:func:`arrow_polygons`).
 * :class:`InspectorOverlay` owns the overlay actors on one plotter: the edge, T+ and T−
   coloured by the divergence ±l/A±, the free vertices r±, the vectors ρ± and arrows of
   f_n at the quadrature points. They are created once and updated in place
-  (``copy_from``), like :class:`app.view.scene.MeshScene`; the caller renders.
+  (``copy_from``), like :class:`barymesh.app.view.scene.MeshScene`; the caller renders.
 """
 
 from __future__ import annotations
@@ -19,13 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import pyvista as pv
+from barymesh import TriMesh
+from barymesh.app.view.scene import add_text_labels
+from barymesh.rwg_basis import BasisSample, edge_status, sample_rwg
 from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkTextActor
-
-from app.view.scene import add_text_labels
-from core import TriMesh
-from core.rwg_basis import BasisSample, edge_status, sample_rwg
 
 #: Overlay colours: the selected edge, the quadrature arrows of f_n, the vectors ρ±, the
 #: free vertices; T± take the divergence colour map (red +, blue −).
@@ -72,7 +71,7 @@ def nearest_edge(mesh: TriMesh, triangle: int, point: np.ndarray | None = None) 
     The nearest of its three edges to ``point``; without a point, its first interior edge
     (or its first edge when it has none).
 
-    >>> from core import MeshParams, build_mesh
+    >>> from barymesh import MeshParams, build_mesh
     >>> mesh = build_mesh(MeshParams(structure="patch", subdivisions=1))
     >>> int(nearest_edge(mesh, 0)) in set(mesh.interior_edges.tolist())
     True
@@ -108,7 +107,7 @@ def step_edge(mesh: TriMesh, edge: int | None, step: int) -> int | None:
     Wraps around. From a boundary or junction edge, +1 goes to the first interior edge
     after it and −1 to the last one before it. ``None`` if the mesh has no interior edge.
 
-    >>> from core import MeshParams, build_mesh
+    >>> from barymesh import MeshParams, build_mesh
     >>> mesh = build_mesh(MeshParams(structure="patch", subdivisions=1))
     >>> e = int(mesh.rwg.edge[0])
     >>> step_edge(mesh, e, 1) == int(mesh.rwg.edge[0]), step_edge(mesh, e, -1) == e

@@ -6,7 +6,7 @@ from the core's arrays (its ``locate`` hook: the camera ray meets the mesh's pla
 point-in-triangle search finds the triangle, at any mesh size, whatever is drawn); a
 curved imported mesh with VTK's ``vtkCellPicker`` restricted to the faces actor.
 :class:`InspectorPanel` keeps the selected edge, drives
-:class:`app.teach.inspector.InspectorOverlay` and shows the info box.
+:class:`barymesh.app.teach.inspector.InspectorOverlay` and shows the info box.
 """
 
 from __future__ import annotations
@@ -16,6 +16,18 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from barymesh import TriMesh
+from barymesh.app.teach.inspector import (
+    DEFAULT_QUADRATURE,
+    EdgeInfo,
+    InspectorOverlay,
+    edge_info,
+    edge_midpoint,
+    nearest_edge,
+    nearest_edge_to_point,
+    overlay_data,
+    step_edge,
+)
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, Signal
 from PySide6.QtWidgets import (
     QFormLayout,
@@ -27,19 +39,6 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 from vtkmodules.vtkRenderingCore import vtkCellPicker
-
-from app.teach.inspector import (
-    DEFAULT_QUADRATURE,
-    EdgeInfo,
-    InspectorOverlay,
-    edge_info,
-    edge_midpoint,
-    nearest_edge,
-    nearest_edge_to_point,
-    overlay_data,
-    step_edge,
-)
-from core import TriMesh
 
 log = logging.getLogger(__name__)
 
@@ -124,7 +123,7 @@ class ViewPicker(QObject):
         if cell < 0:
             return None
         # the faces of a dense mesh's detail are a part of it: the "triangle" cell array
-        # holds each cell's triangle in the mesh (app.view.scene.detail_data)
+        # holds each cell's triangle in the mesh (barymesh.app.view.scene.detail_data)
         data = self.picker.GetDataSet()
         ids = data.GetCellData().GetArray("triangle") if data is not None else None
         if ids is not None and cell < ids.GetNumberOfTuples():

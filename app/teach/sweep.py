@@ -13,11 +13,10 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-
-from app.view.scene import MeshScene, _prepare_headless, scene_data
-from core import MeshParams, build_mesh
-from core.io import atomic_write
-from core.sweep import check_sweep_size, sweep_params
+from barymesh import MeshParams, build_mesh
+from barymesh.app.view.scene import MeshScene, _prepare_headless, scene_data
+from barymesh.io import atomic_write
+from barymesh.sweep import check_sweep_size, sweep_params
 
 #: Encodings by extension.
 ANIMATION_EXTENSIONS = (".gif", ".mp4")
@@ -68,7 +67,7 @@ def render_sweep(
     base : MeshParams
         The other parameters.
     name, start, stop, frames
-        See :func:`core.sweep.sweep_params`.
+        See :func:`barymesh.sweep.sweep_params`.
     path : path-like
         ``.gif`` or ``.mp4``; written atomically.
     window_size : (int, int)

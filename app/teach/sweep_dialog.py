@@ -1,9 +1,9 @@
 """File → Export sweep animation: a GIF or MP4 of one parameter varied over K frames.
 
-The dialog collects the parameter (one of :data:`core.sweep.SWEEPABLE`), from, to,
+The dialog collects the parameter (one of :data:`barymesh.sweep.SWEEPABLE`), from, to,
 frames, frames per second, frame size and output file, checks them with
-:func:`core.sweep.sweep_params` before anything runs, and then runs
-:func:`app.teach.sweep.render_sweep` (the function behind ``barymesh sweep``) in a child
+:func:`barymesh.sweep.sweep_params` before anything runs, and then runs
+:func:`barymesh.app.teach.sweep.render_sweep` (the function behind ``barymesh sweep``) in a child
 process: it renders off-screen with VTK, and VTK objects are not thread-safe, so no
 render may run in a thread of the window's process beside the window's own. A worker
 thread only relays the child's progress, which drives the dialog's progress bar; Cancel
@@ -19,6 +19,9 @@ import queue
 import threading
 from pathlib import Path
 
+from barymesh import MeshParams
+from barymesh.app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
+from barymesh.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 from PySide6.QtGui import QCloseEvent
 from PySide6.QtWidgets import (
@@ -36,10 +39,6 @@ from PySide6.QtWidgets import (
     QSpinBox,
     QWidget,
 )
-
-from app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
-from core import MeshParams
-from core.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 
 log = logging.getLogger(__name__)
 

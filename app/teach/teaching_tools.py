@@ -13,18 +13,17 @@ import logging
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from barymesh import TriMesh
+from barymesh.app.teach.inspector_panel import InspectorPanel, ViewPicker
+from barymesh.app.teach.matrix_view import MatrixView
+from barymesh.app.teach.presentation import EMPHASIS, PresentationMode
+from barymesh.app.view.framing import pixels_per_mm
+from barymesh.app.view.highlight import TriangleHighlight
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QDockWidget, QMenu
 
-from app.teach.inspector_panel import InspectorPanel, ViewPicker
-from app.teach.matrix_view import MatrixView
-from app.teach.presentation import EMPHASIS, PresentationMode
-from app.view.framing import pixels_per_mm
-from app.view.highlight import TriangleHighlight
-from core import TriMesh
-
 if TYPE_CHECKING:
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 

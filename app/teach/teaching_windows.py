@@ -14,10 +14,10 @@ from PySide6.QtCore import QEvent, QObject
 from PySide6.QtWidgets import QMenu
 
 if TYPE_CHECKING:
-    from app.teach.compare_view import CompareView
-    from app.teach.construction_view import ConstructionView
-    from app.teach.sweep_dialog import SweepDialog
-    from app.window import MainWindow
+    from barymesh.app.teach.compare_view import CompareView
+    from barymesh.app.teach.construction_view import ConstructionView
+    from barymesh.app.teach.sweep_dialog import SweepDialog
+    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -52,7 +52,7 @@ class TeachingWindows(QObject):
     # -- windows -------------------------------------------------------------------------
 
     def show_construction(self) -> ConstructionView | None:
-        from app.teach.construction_view import ConstructionView
+        from barymesh.app.teach.construction_view import ConstructionView
 
         if self.construction is None or self.construction._closed:
             try:
@@ -63,7 +63,7 @@ class TeachingWindows(QObject):
         return self.construction
 
     def show_compare(self) -> CompareView | None:
-        from app.teach.compare_view import CompareView
+        from barymesh.app.teach.compare_view import CompareView
 
         if self.compare is None or self.compare._closed:
             try:
@@ -74,7 +74,7 @@ class TeachingWindows(QObject):
         return self.compare
 
     def show_sweep(self) -> SweepDialog | None:
-        from app.teach.sweep_dialog import SweepDialog
+        from barymesh.app.teach.sweep_dialog import SweepDialog
 
         if self.sweep is not None and self.sweep.running:
             self._raise(self.sweep)

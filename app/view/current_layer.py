@@ -2,7 +2,7 @@
 
 A :class:`CurrentLayer` owns its own actors on the window's plotter (a copy of the
 mesh's triangles coloured by |J|, a scalar bar, and arrows at the centroids) and never
-touches :class:`app.view.scene.MeshScene`. Every change asks for one repaint through the
+touches :class:`barymesh.app.view.scene.MeshScene`. Every change asks for one repaint through the
 ``request_render`` callable it is given (the window's render path).
 
 The arrows show the instantaneous real current at phase ωt = φ of the e^{jωt} time
@@ -16,8 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-
-from core import TriMesh
+from barymesh import TriMesh
 
 log = logging.getLogger(__name__)
 
@@ -72,7 +71,7 @@ class CurrentLayer:
     shown_changed : callable, optional
         Called with :attr:`shown` whenever a current comes, goes, is hidden or shown
         (the window's scene then lets the arrows stand out: see
-        :meth:`app.view.scene.MeshScene.set_covered`).
+        :meth:`barymesh.app.view.scene.MeshScene.set_covered`).
     """
 
     def __init__(self, plotter: Any, request_render: Callable[[], None],

@@ -11,8 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-
-from app.view.scene import nice_span
+from barymesh.app.view.scene import nice_span
 
 #: Room around the mesh for the ruler labels (left and bottom) and a margin (right, top),
 #: as fractions of the mesh's larger side.
@@ -64,17 +63,17 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
     bounds : (4,) float
     rulers : bool
         Leave room for the rulers' tick labels (the span is first rounded out to the
-        rulers' nice ticks, see :func:`app.view.scene.nice_span`).
+        rulers' nice ticks, see :func:`barymesh.app.view.scene.nice_span`).
     margin : float
         Extra room on every side, as a fraction of the larger side.
     top : float
         More room on top (for a title drawn in the view), a fraction of the larger side.
     right_px : float
         Pixels at the right of the view kept free (for a legend drawn there, see
-        :meth:`app.view.scene.MeshScene.legend_px`): the rectangle is fitted to the rest.
+        :meth:`barymesh.app.view.scene.MeshScene.legend_px`): the rectangle is fitted to the rest.
     bottom_px : float
         Pixels at the bottom kept free (for the view's note,
-        :meth:`app.view.scene.MeshScene.note_px`), likewise.
+        :meth:`barymesh.app.view.scene.MeshScene.note_px`), likewise.
     """
     x0, x1, y0, y1 = (float(v) for v in bounds)
     if rulers:

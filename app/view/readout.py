@@ -15,9 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from barymesh import TriMesh
 from scipy.spatial import cKDTree
-
-from core import TriMesh
 
 #: Candidate triangles looked at per query (nearest centroids).
 CANDIDATES = 12

@@ -14,9 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
-
-from app.view.layers import LAYERS
-from app.view.scene import MeshScene
+from barymesh.app.view.layers import LAYERS
+from barymesh.app.view.scene import MeshScene
 
 #: The largest magnification offered (File → Export screenshot).
 MAX_SCALE = 4

@@ -1,4 +1,4 @@
-"""The 3D scene: pyvista datasets and actors for one :class:`core.TriMesh`.
+"""The 3D scene: pyvista datasets and actors for one :class:`barymesh.TriMesh`.
 
 Two halves, so that the expensive part can run in a worker thread:
 
@@ -26,13 +26,9 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-from vtkmodules.vtkCommonCore import vtkDoubleArray
-from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
-from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
-from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
-
-from app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
-from app.view.overview import (
+from barymesh import BuildCancelled, TriMesh
+from barymesh.app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
+from barymesh.app.view.overview import (
     DETAIL_TRIANGLES,
     count_grid,
     count_in_rect,
@@ -44,8 +40,11 @@ from app.view.overview import (
     raster_side,
     triangles_in_rect,
 )
-from app.view.polydata import Layer
-from core import BuildCancelled, TriMesh
+from barymesh.app.view.polydata import Layer
+from vtkmodules.vtkCommonCore import vtkDoubleArray
+from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
+from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
 log = logging.getLogger(__name__)
 
@@ -102,11 +101,11 @@ ZOOM_TEXEL_PX = 1.6
 
 @dataclass
 class Overview:
-    """The faces of a dense mesh (or of a part of it) as an image (see :mod:`app.view.overview`).
+    """The faces of a dense mesh (or of a part of it) as an image (see :mod:`barymesh.app.view.overview`).
 
     ``values`` holds, per colouring array, the value of the triangle under each texel
     (float32, NaN where no triangle is); ``centroid_counts`` (a 256 x 256 grid over
-    ``bounds``, :func:`app.view.overview.count_grid`) lets the view count the triangles in a
+    ``bounds``, :func:`barymesh.app.view.overview.count_grid`) lets the view count the triangles in a
     rectangle without touching the mesh.
     """
 
@@ -355,11 +354,11 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
         overview image is coloured for it here, not on the GUI thread.
     pixels : (int, int), optional
         The view's size: the overview has about one texel per pixel of its longer side
-        (:func:`app.view.overview.raster_side`), and its line layers are cut down to what
-        those texels can show (:func:`app.view.overview.decimated_lines`).
+        (:func:`barymesh.app.view.overview.raster_side`), and its line layers are cut down to what
+        those texels can show (:func:`barymesh.app.view.overview.decimated_lines`).
     cancel : callable, optional
         Polled between the stages of a dense mesh's overview; when it returns True,
-        :class:`core.BuildCancelled` is raised (an abandoned build stops here too).
+        :class:`barymesh.BuildCancelled` is raised (an abandoned build stops here too).
 
     Returns
     -------
@@ -432,10 +431,10 @@ def _image_values(raster: np.ndarray | None, shape: tuple[int, int],
                   ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Texel coverage and colouring values of an image of ``shape`` texels.
 
-    ``raster`` (triangle per texel, :func:`app.view.overview.overview_raster`) may be coarser
+    ``raster`` (triangle per texel, :func:`barymesh.app.view.overview.overview_raster`) may be coarser
     than ``shape`` (heavy overlaps cost more tests): it is stretched to it. Paper mode
     (``rects`` given): the count of patches over each texel centre is exact at the full
-    ``shape`` (:func:`app.view.overview.overlap_count_raster`), and so is the coverage.
+    ``shape`` (:func:`barymesh.app.view.overview.overlap_count_raster`), and so is the coverage.
 
     Returns
     -------
@@ -515,7 +514,7 @@ def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
                pixels: tuple[int, int], ranges: dict[str, tuple[float, float]]) -> SceneData:
     """An overview of the part ``big`` of ``mesh`` (the view grown 2 x 2 times) at about
     one texel a pixel: ``2 * max(pixels)`` texels on its longer side, within the bounds of
-    :mod:`app.view.overview`."""
+    :mod:`barymesh.app.view.overview`."""
     zone = (max(big[0], bounds[0]), min(big[1], bounds[1]),
             max(big[2], bounds[2]), min(big[3], bounds[3]))
     if zone[1] <= zone[0] or zone[3] <= zone[2]:
@@ -741,7 +740,7 @@ class MeshScene:
         self.note.GetTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
         self.note.GetTextProperty().SetBackgroundOpacity(0.85)  # readable over the mesh
 
-        # the faces of a dense mesh as one textured rectangle (app.view.overview)
+        # the faces of a dense mesh as one textured rectangle (barymesh.app.view.overview)
         self.overview_texture = pv.Texture(np.zeros((2, 2, 4), dtype=np.uint8))
         # the texture's colours are the overview's own (a 4-component uint8 image)
         self.overview_texture.SetColorModeToDirectScalars()

@@ -7,7 +7,7 @@ in mm), the View actions *Measure distance* (D) and *Zoom to selection* (Z), and
 selection when no teaching tool takes the clicks.
 
 Hovering is cheap at any mesh size: mouse moves are coalesced into one query per event-
-loop pass, a query asks a :class:`app.view.readout.MeshLocator` (a k-d tree built once per mesh,
+loop pass, a query asks a :class:`barymesh.app.view.readout.MeshLocator` (a k-d tree built once per mesh,
 in a worker thread for big meshes) about a dozen candidate triangles, and it only sets a
 label's text; the 3D view is not re-rendered for a hover.
 """
@@ -20,18 +20,17 @@ from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from barymesh import TriMesh
+from barymesh.app.view.framing import frame_points, pixels_per_mm
+from barymesh.app.view.measure import MeasureTool
+from barymesh.app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
+from barymesh.app.worker import Job, release_memory
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
 from PySide6.QtGui import QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
-from app.view.framing import frame_points, pixels_per_mm
-from app.view.measure import MeasureTool
-from app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
-from app.worker import Job, release_memory
-from core import TriMesh
-
 if TYPE_CHECKING:
-    from app.window import MainWindow
+    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -62,7 +61,7 @@ class _Relay(QObject):
 
 
 class ViewTools(QObject):
-    """Readout, measuring and zoom-to-selection of one :class:`app.window.MainWindow`.
+    """Readout, measuring and zoom-to-selection of one :class:`barymesh.app.window.MainWindow`.
 
     The window puts :attr:`strip` under its 3D view and calls :meth:`mesh_changed` with
     every new mesh.
@@ -245,7 +244,7 @@ class ViewTools(QObject):
                        ) -> tuple[int | None, np.ndarray | None] | None:
         """The triangle of the mesh's arrays under display pixel (x, y), and the point.
 
-        The :class:`app.teach.inspector_panel.ViewPicker`'s ``locate`` hook: for a flat
+        The :class:`barymesh.app.teach.inspector_panel.ViewPicker`'s ``locate`` hook: for a flat
         mesh the camera ray meets its plane and the locator's point-in-triangle search
         finds the triangle, at any size and whatever the scene draws (a dense mesh is
         drawn reduced). None for a curved mesh (VTK picks it). While a big mesh's locator

@@ -1,7 +1,7 @@
 """Unit cells: several elements and a pixel grid in one periodic cell.
 
 >>> import numpy as np
->>> from core.cell import Lattice, PixelGrid, UnitCell, build_cell
+>>> from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 >>> cell = UnitCell(Lattice.rectangular(2.0), pixels=PixelGrid(np.ones((2, 2)), origin=(-1, -1)))
 >>> cm = build_cell(cell)
 >>> cm.mesh.n_triangles, cm.periodic_pairs.matched, len(cm.periodic_pairs.edges)

@@ -1,9 +1,9 @@
 """Meshing a unit cell: every part built, placed, welded into one mesh; arrays of cells.
 
 Parts are the elements, in order, then the pixel grid. Each part is meshed
-on its own (:func:`core.build.build_mesh` for an element, one square patch
+on its own (:func:`barymesh.build.build_mesh` for an element, one square patch
 per set pixel for the grid), placed, and all parts are welded together by
-the metric constraint of :mod:`core.weld` (vertices closer than the cell's
+the metric constraint of :mod:`barymesh.weld` (vertices closer than the cell's
 tolerance are one vertex). In the merged mesh ``regions`` is the part
 number, 1-based (element k has region k + 1, the pixel grid the last one),
 as Gmsh physical groups are.
@@ -265,7 +265,7 @@ def build_cell(
 
     Examples
     --------
-    >>> from core.cell import PixelGrid
+    >>> from barymesh.cell import PixelGrid
     >>> cm = build_cell(UnitCell(pixels=PixelGrid(np.array([[True, True]]))))
     >>> cm.mesh.n_triangles, cm.mesh.n_vertices
     (64, 45)
@@ -462,7 +462,7 @@ def tile(
 
     Examples
     --------
-    >>> from core.cell import PixelGrid
+    >>> from barymesh.cell import PixelGrid
     >>> one = PixelGrid(np.ones((1, 1)), origin=(-0.5, -0.5))
     >>> full = UnitCell(Lattice.rectangular(1.0), pixels=one)
     >>> tile(full, 3, 2).mesh.n_vertices  # (3 n + 1)(2 n + 1), n = 4

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..params import MODES, MeshParams
-from ..presets import read_json_file
+from ..presets import ASSET_DIR, read_json_file
 from ..values import echo, kind
 from .model import Element, Lattice, PixelGrid, UnitCell
 
@@ -37,7 +37,7 @@ FORMAT = "barymesh-cell"
 VERSION = 1
 SUFFIX = ".cell.json"
 #: Folder of the shipped cell presets.
-CELL_PRESET_DIR = Path(__file__).resolve().parents[2] / "assets" / "cells"
+CELL_PRESET_DIR = ASSET_DIR / "cells"
 
 _ELEMENT_KEYS = ("name", "position", "rotation")
 _PIXEL_KEYS = ("rows", "pixel_size", "origin", "subdivisions", "scheme", "diagonal")

@@ -2,7 +2,7 @@
 
 A unit cell is the parallelogram ``{s a1 + t a2 : -1/2 <= s, t <= 1/2}``
 centred on the origin; it repeats by the lattice vectors ``a1`` and ``a2``.
-Every element is one structure of :class:`core.params.MeshParams`, built in
+Every element is one structure of :class:`barymesh.params.MeshParams`, built in
 its own frame, turned by ``rotation`` degrees about its local point (0, 0)
 and moved by ``position``. The pixel grid is a rows x columns mask of square
 metal pixels whose lower-left corner is ``origin``; row 0 is the bottom row
@@ -192,7 +192,7 @@ class PixelGrid:
     origin : (x, y)
         Lower-left corner of pixel (0, 0) (mm).
     subdivisions, scheme, diagonal
-        How each pixel patch is meshed, as in :class:`core.params.MeshParams`
+        How each pixel patch is meshed, as in :class:`barymesh.params.MeshParams`
         (n = 4: 32 triangles per pixel).
     """
 

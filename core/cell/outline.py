@@ -105,7 +105,7 @@ def outline_polygons(
 
     Examples
     --------
-    >>> from core.cell import PixelGrid
+    >>> from barymesh.cell import PixelGrid
     >>> ring = np.ones((3, 3), bool); ring[1, 1] = False
     >>> [poly] = outline_polygons(UnitCell(pixels=PixelGrid(ring)))
     >>> len(poly.outer), [len(h) for h in poly.holes], poly.area

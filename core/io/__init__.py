@@ -3,7 +3,7 @@
 Pure Python over numpy, scipy.io and meshio; no Qt, VTK or pyvista.
 
 >>> import tempfile, pathlib
->>> from core import MeshParams, build_mesh
+>>> from barymesh import MeshParams, build_mesh
 >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0))
 >>> with tempfile.TemporaryDirectory() as folder:
 ...     path = write_mesh(mesh, pathlib.Path(folder) / "patch.msh")

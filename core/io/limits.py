@@ -31,7 +31,7 @@ def check_count(count: int, what: str, limit: int) -> int:
     >>> check_count(10**12, "points", 10)
     Traceback (most recent call last):
     ...
-    core.io.limits.Damaged: it declares 1,000,000,000,000 points; barymesh reads at most 10
+    barymesh.io.limits.Damaged: it declares 1,000,000,000,000 points; barymesh reads at most 10
     """
     if count < 0:
         raise Damaged(f"it declares {count:,} {what}, a negative count")

@@ -39,8 +39,8 @@ def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(points (V, 3) in the file's unit, triangles (T, 3) 0-based, regions (T,))``.
 
     The variables' shapes and classes are checked (from the file's headers,
-    before their data is read) against :mod:`core.io.limits`; raises
-    :class:`~core.io.limits.Damaged` naming the problem when ``p`` or ``t`` is
+    before their data is read) against :mod:`barymesh.io.limits`; raises
+    :class:`~barymesh.io.limits.Damaged` naming the problem when ``p`` or ``t`` is
     missing or malformed.
     """
     _check_v4_headers(path)

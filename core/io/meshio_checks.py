@@ -2,7 +2,7 @@
 
 meshio trusts the counts in legacy VTK, STL and Gmsh (binary 2.2, 4.x)
 headers and allocates for them; these checks compare each declared count
-with :mod:`core.io.limits` and with the bytes the file really holds, so a
+with :mod:`barymesh.io.limits` and with the bytes the file really holds, so a
 count of 10^12 is refused at once instead of after gigabytes of allocation.
 """
 

@@ -44,7 +44,7 @@ def cell_quality(mesh: TriMesh, wavelength: float | None = None) -> dict[str, np
     ``patch_id``, ``region`` (int32), ``area`` (mm²), ``min_angle`` (degrees),
     ``aspect_ratio``, each (T,); with ``wavelength`` (mm) also ``edge_wavelength``,
     the longest side of each triangle over λ (the figures of
-    :func:`core.quality.quality_report`).
+    :func:`barymesh.quality.quality_report`).
     """
     data = {
         "patch_id": mesh.patch_ids.astype(np.int32),

@@ -2,7 +2,7 @@
 
 The triangles carry the part number as physical tag (named after the
 element, ``$PhysicalNames``) and the patch id + 1 as elementary tag, as in
-:mod:`core.io.meshio_formats`. The mesh edges lying on the cell's sides are
+:mod:`barymesh.io.meshio_formats`. The mesh edges lying on the cell's sides are
 written as line elements on four curves: 1 and 2 are the minus and plus
 sides of lattice vector a1, 3 and 4 those of a2 (physical groups of the same
 numbers + 1000, named ``a1_minus`` …). ``$Periodic`` then declares curve 2 a
@@ -28,7 +28,7 @@ SIDE_PHYSICAL_OFFSET = 1000
 
 
 def write_periodic_msh(cell_mesh, path: str | Path, per_mm: float = 1.0) -> None:
-    """Write a :class:`core.cell.CellMesh` as MSH 2.2 with ``$Periodic``.
+    """Write a :class:`barymesh.cell.CellMesh` as MSH 2.2 with ``$Periodic``.
 
     Parameters
     ----------

@@ -3,7 +3,7 @@
 Handles every encoding VTK writes: ASCII, inline base64 binary, appended
 base64 or raw data, uncompressed or compressed (zlib, LZMA), 32- or 64-bit
 headers, either byte order. Every count the file declares is checked against
-:mod:`core.io.limits` and against the bytes really present, and every
+:mod:`barymesh.io.limits` and against the bytes really present, and every
 compressed block's declared size against what zlib can reach from its
 compressed size, before anything is allocated; blocks are then inflated in
 bounded chunks and refused as soon as one inflates beyond what it declared.

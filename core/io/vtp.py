@@ -2,7 +2,7 @@
 
 An ASCII file with the triangles as ``Polys`` and the per-triangle quality
 as cell data (areas in the file's unit squared). The reader is in
-:mod:`core.io.vtk_xml`.
+:mod:`barymesh.io.vtk_xml`.
 """
 
 from __future__ import annotations

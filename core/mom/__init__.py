@@ -2,8 +2,8 @@
 
 Time convention e^(jωt); meshes in mm, everything else in SI units.
 
->>> from core import MeshParams, build_mesh
->>> from core.mom import PlaneWave, solve
+>>> from barymesh import MeshParams, build_mesh
+>>> from barymesh.mom import PlaneWave, solve
 >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=100.0, subdivisions=2))
 >>> s = solve(mesh, 1e9, PlaneWave(direction=(0, 0, -1), polarization=(1, 0, 0)))
 >>> bool(abs(s.extinction_cross_section / s.scattering_cross_section - 1) < 0.01)

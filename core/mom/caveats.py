@@ -1,7 +1,7 @@
 """What a solve cannot vouch for: the caveats that go into ``Solution.warnings``.
 
 Each function returns a tuple of sentences (empty when there is nothing to
-say), so that :func:`core.mom.solve` and :func:`core.mom.sweep` can collect
+say), so that :func:`barymesh.mom.solve` and :func:`barymesh.mom.sweep` can collect
 them and the command line and the window can show them as they are.
 
 * :func:`junction_warning`: edges shared by three or more triangles get no

@@ -1,6 +1,6 @@
 """The frequency-independent part of an RWG solve, computed once per mesh.
 
-:func:`mom_geometry` turns a :class:`~core.mesh.TriMesh` (mm) into a
+:func:`mom_geometry` turns a :class:`~barymesh.mesh.TriMesh` (mm) into a
 :class:`MomGeometry` (metres): triangle areas, normals and quadrature
 points, the RWG coefficients as sparse maps from triangles to unknowns,
 the near triangle pairs and the static (1/R and R) parts of their

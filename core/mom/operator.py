@@ -6,7 +6,7 @@ Perfectly conducting surfaces in free space, time convention e^(jωt)::
          = jη/4π [ k ∫∫ f_m·f_n G − (1/k) ∫∫ ∇·f_m ∇'·f_n G ],   G = e^(−jkR)/R
 
 so that Z I = V with V_m = ∫ f_m·E_inc dS. Triangle pairs are integrated
-as eight moments (see :mod:`core.mom.geometry`): far pairs with the far
+as eight moments (see :mod:`barymesh.mom.geometry`): far pairs with the far
 rule on both triangles (every point with every point), near pairs with
 the near rule on the smooth remainder
 
@@ -121,7 +121,7 @@ def far_moments(
     """(8, T − src_lo, hi − lo) complex far-rule moments of G, source triangle first.
 
     Source triangles src_lo..T against observation triangles lo..hi; entry
-    ``[i, s, o]`` is moment i (:data:`~core.mom.geometry.MOMENTS`) of the pair
+    ``[i, s, o]`` is moment i (:data:`~barymesh.mom.geometry.MOMENTS`) of the pair
     (observation lo + o, source src_lo + s). The kernel is laid out source
     point by observation point, so the contraction over the source points is
     one batched real matrix product per source triangle (its weights w and

@@ -5,7 +5,7 @@ Time convention e^(jωt). The current on triangle p is linear::
     J(r) = α_p (r − c_p) + β_p,   α = Aᵀ I,  β = Dᵀ I
 
 (A, D the sparse coefficient and offset matrices of
-:class:`~core.mom.geometry.MomGeometry`), so J at the centroid is β_p,
+:class:`~barymesh.mom.geometry.MomGeometry`), so J at the centroid is β_p,
 ∇·J = 2 α_p, and moments of J over a triangle are exact.
 """
 

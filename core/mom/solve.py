@@ -64,7 +64,7 @@ def memory_needed(n: int, far_points: int = 0) -> int:
     far_points : int
         Far-rule points of the mesh (triangles × points per triangle). When
         their distance table is cached (it fits
-        :data:`~core.mom.geometry.DISTANCE_CACHE_BYTES`), it counts twice:
+        :data:`~barymesh.mom.geometry.DISTANCE_CACHE_BYTES`), it counts twice:
         the table and the fill's kernel and moment blocks it feeds.
 
     Returns
@@ -276,7 +276,7 @@ def solve(
 
     Examples
     --------
-    >>> from core import MeshParams, build_mesh
+    >>> from barymesh import MeshParams, build_mesh
     >>> mesh = build_mesh(MeshParams(structure="patch", patch_size=100.0, subdivisions=2))
     >>> s = solve(mesh, 1e9)
     >>> s.coefficients.shape, s.current_density.shape
