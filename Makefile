@@ -49,8 +49,14 @@ mutate: $(STAMP)
 	for module in $(MUTATE_MODULES); do $(BIN)/mutmut run "$$module.*" || exit 1; done
 	$(BIN)/mutmut results
 
+# The code is formatted by `ruff format` (line length 100, pyproject.toml); `make format` applies it.
 lint: $(STAMP)
 	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+
+.PHONY: format
+format: $(STAMP)
+	$(BIN)/ruff format .
 
 clean:
 	rm -rf $(VENV) .pytest_cache .hypothesis build *.egg-info mutants

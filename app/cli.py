@@ -581,8 +581,11 @@ def _build(args: argparse.Namespace) -> _Built:
         params = _resolve(args)
         name = args.preset or params.structure
         label = _structure_label(args)
-        what = ("choosing the subdivisions" if params.sized
-                else f"building {params.predicted_triangles():,} triangles")
+        what = (
+            "choosing the subdivisions"
+            if params.sized
+            else f"building {params.predicted_triangles():,} triangles"
+        )
         with progress(what):
             mesh = build_mesh(params)
         if array is None and period is None:
@@ -930,9 +933,15 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         ) from None
     with progress(f"rendering {args.frames} frames of {args.param}"):
         written = render_sweep(
-            base, args.param, args.start, args.stop, args.frames, args.output,
-            window_size=tuple(args.window_size), fps=args.fps,
-        )  # fmt: skip
+            base,
+            args.param,
+            args.start,
+            args.stop,
+            args.frames,
+            args.output,
+            window_size=tuple(args.window_size),
+            fps=args.fps,
+        )
     print(f"wrote {args.output} ({written} frames, {args.window_size[0]}x{args.window_size[1]} px)")
     return 0
 

@@ -319,8 +319,9 @@ def _run(args: argparse.Namespace) -> int:
                 print(f"wrote {out}")
             if args.screenshot:
                 with progress(f"rendering {args.screenshot}"):
-                    render_current(mesh, solution.current_density, args.screenshot,
-                                   tuple(args.window_size))  # fmt: skip
+                    render_current(
+                        mesh, solution.current_density, args.screenshot, tuple(args.window_size)
+                    )
                 print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)")
     except MemoryError as exc:
         raise ValueError(f"not enough memory for N = {n:,} unknowns ({exc})") from None
@@ -394,13 +395,15 @@ def _report_sweep(r: Any, excitation: Any) -> None:
     if isinstance(excitation, PlaneWave):
         peaks = r.resonances
         if len(peaks):
-            print("  resonances (extinction peaks): "
-                  + ", ".join(f"{p / 1e9:.6g} GHz" for p in peaks))  # fmt: skip
+            print(
+                "  resonances (extinction peaks): " + ", ".join(f"{p / 1e9:.6g} GHz" for p in peaks)
+            )
         else:
             print("  no extinction peak inside the sweep")
         i = int(abs(r.extinction_cross_section).argmax())
-        print(f"  largest extinction {r.extinction_cross_section[i]:.6g} m^2 at "
-              f"{f[i] / 1e9:.6g} GHz")  # fmt: skip
+        print(
+            f"  largest extinction {r.extinction_cross_section[i]:.6g} m^2 at {f[i] / 1e9:.6g} GHz"
+        )
     print(f"  largest condition number ~{r.condition_numbers.max():.3g}")
     for text in r.warnings:
         print(f"  warning: {text}")
@@ -460,8 +463,7 @@ def _write_single(s: Any, mesh: Any, out: str) -> None:
     suffix = Path(out).suffix.lower()
     j = s.current_density
     if suffix == ".csv":
-        row = [s.frequency, ext, sca, ext - sca, zin.real, zin.imag, s.condition_number,
-               s.residual]  # fmt: skip
+        row = [s.frequency, ext, sca, ext - sca, zin.real, zin.imag, s.condition_number, s.residual]
         atomic_write_text(out, _csv_text([row]))
     elif suffix == ".npz":
         with atomic_path(out) as tmp, open(tmp, "wb") as fh:
@@ -489,8 +491,9 @@ def _write_single(s: Any, mesh: Any, out: str) -> None:
             "charge_abs": [np.abs(s.charge_density)],
         }
         with atomic_path(out) as tmp:
-            meshio.write(str(tmp), meshio.Mesh(mesh.points, cells, cell_data=data),
-                         file_format="vtu")  # fmt: skip
+            meshio.write(
+                str(tmp), meshio.Mesh(mesh.points, cells, cell_data=data), file_format="vtu"
+            )
 
 
 def _plot_sweep(r: Any, path: str) -> None:
@@ -512,8 +515,9 @@ def _plot_sweep(r: Any, path: str) -> None:
         ax.set_ylabel("cross-section (mm²)")
         for p in r.resonances:
             ax.axvline(p / 1e9, color="0.5", lw=0.8)
-            ax.annotate(f"{p / 1e9:.4g} GHz", (p / 1e9, ax.get_ylim()[1]), ha="left",
-                        va="top", fontsize=8)  # fmt: skip
+            ax.annotate(
+                f"{p / 1e9:.4g} GHz", (p / 1e9, ax.get_ylim()[1]), ha="left", va="top", fontsize=8
+            )
         plotted = True
     else:
         ax.plot(f, r.input_impedance.real, label="R_in")
@@ -532,15 +536,23 @@ def _plot_sweep(r: Any, path: str) -> None:
 
 #: Scene layers drawn under the current in a --screenshot (the orange shared edges and
 #: the centroids would be lost in the colour map).
-SCREENSHOT_LAYERS = {"faces": True, "triangle_edges": True, "patch_outlines": False,
-                     "shared_edges": False, "boundary_edges": True, "junction_edges": True,
-                     "centroids": False, "labels": False}  # fmt: skip
+SCREENSHOT_LAYERS = {
+    "faces": True,
+    "triangle_edges": True,
+    "patch_outlines": False,
+    "shared_edges": False,
+    "boundary_edges": True,
+    "junction_edges": True,
+    "centroids": False,
+    "labels": False,
+}
 
 
 def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, int]) -> None:
     """Render |J| of ``current`` ((T, 3) complex, A/m) on ``mesh`` off-screen to a PNG of
-    exactly ``window_size`` pixels: the mesh as :func:`barymesh.app.view.scene.render_screenshot` draws
-    it, under the window's Surface current layer (:class:`barymesh.app.view.current_layer.CurrentLayer`:
+    exactly ``window_size`` pixels: the mesh as
+    :func:`barymesh.app.view.scene.render_screenshot` draws it, under the window's Surface
+    current layer (:class:`barymesh.app.view.current_layer.CurrentLayer`:
     colour map, scale bar, arrows of Re J). Works without an X display."""
     try:
         import imageio.v3 as iio
@@ -550,8 +562,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
         from barymesh.app.view.scene import MeshScene, _prepare_headless, _resized, scene_data
     except ImportError as exc:
         raise ValueError(
-            f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' "
-            f"({exc})"
+            f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
         ) from None
     from barymesh.io import atomic_path
 

@@ -165,8 +165,12 @@ class ParamSpec:
     def windowed(self) -> bool:
         """Whether the slider shows a window around the value rather than the whole range
         (a logarithmic scale over more than ``2 * SLIDER_DECADES`` decades)."""
-        return (self.follows_value and self.slider and self.log_scale
-                and self.maximum > self.minimum * 10 ** (2 * SLIDER_DECADES) * (1 + 1e-9))
+        return (
+            self.follows_value
+            and self.slider
+            and self.log_scale
+            and self.maximum > self.minimum * 10 ** (2 * SLIDER_DECADES) * (1 + 1e-9)
+        )
 
     def around(self, value: Any) -> ParamSpec:
         """The slider's spec centred on ``value``: :data:`SLIDER_DECADES` each side.
@@ -211,55 +215,152 @@ class ParamSpec:
 
 #: Lengths span what the presets use (0.5 mm split-ring tracks to Makarov's 1000 mm plate)
 #: with room on both sides, so their sliders are logarithmic.
-_LENGTH = {"unit": "mm", "minimum": 0.01, "maximum": 10_000.0, "per_decade": 48,
-           "follows_value": True}
+_LENGTH = {
+    "unit": "mm",
+    "minimum": 0.01,
+    "maximum": 10_000.0,
+    "per_decade": 48,
+    "follows_value": True,
+}
 
 PARAM_SPECS = (
-    ParamSpec("inner_radius", "Inner radius", structures=RING_STRUCTURES, **_LENGTH,
-              tooltip="Radius of the (inner) ring; half side of the inner square ring"),
-    ParamSpec("outer_radius", "Outer radius", structures=DOUBLE_STRUCTURES, **_LENGTH,
-              tooltip="Radius of the outer ring of a double ring"),
-    ParamSpec("patch_size", "Patch size", **_LENGTH,
-              tooltip="Side of a square patch, and width of a ring's track"),
-    ParamSpec("angle_step", "Angle step", "°", 0.001, 360.0, per_decade=48,
-              structures=ANGULAR_STRUCTURES, follows_value=True,
-              tooltip="Angle between neighbouring patches (paper) or the widest sector "
-                      "(conforming), in (0, 360]"),
-    ParamSpec("subdivisions", "Subdivisions n", "", 1, MAX_UNIFORM_SUBDIVISIONS, 1,
-              integer=True,
-              tooltip="Segments per primary-triangle edge: n² sub-triangles each (uniform), "
-                      "or barycentric levels"),
-    ParamSpec("gap_width", "Gap width", structures=SPLIT_STRUCTURES, **_LENGTH,
-              tooltip="Width of the slots cut through split rings"),
-    ParamSpec("gap_angle", "Gap angle", "°", -180.0, 180.0, 1.0, structures=SPLIT_STRUCTURES,
-              tooltip="Direction of the slots' centre line, degrees from +x"),
-    ParamSpec("tolerance", "Tolerance ε", "mm", 1e-9, 1e-1, per_decade=4, optional=True,
-              tooltip="Welding distance: vertices closer than ε are one vertex (the paper's "
-                      "metric constraint). auto (empty) = 1e-9 of the structure's size"),
-    ParamSpec("frequency", "Frequency", "GHz", 0.0, math.inf, optional=True, empty_text="off",
-              slider=False, scale=1e9,
-              tooltip="Size the mesh for this frequency: the smallest subdivisions whose edges "
-                      "are all at most λ / cells per wavelength; off (empty) = subdivisions n"),
+    ParamSpec(
+        "inner_radius",
+        "Inner radius",
+        structures=RING_STRUCTURES,
+        **_LENGTH,
+        tooltip="Radius of the (inner) ring; half side of the inner square ring",
+    ),
+    ParamSpec(
+        "outer_radius",
+        "Outer radius",
+        structures=DOUBLE_STRUCTURES,
+        **_LENGTH,
+        tooltip="Radius of the outer ring of a double ring",
+    ),
+    ParamSpec(
+        "patch_size",
+        "Patch size",
+        **_LENGTH,
+        tooltip="Side of a square patch, and width of a ring's track",
+    ),
+    ParamSpec(
+        "angle_step",
+        "Angle step",
+        "°",
+        0.001,
+        360.0,
+        per_decade=48,
+        structures=ANGULAR_STRUCTURES,
+        follows_value=True,
+        tooltip="Angle between neighbouring patches (paper) or the widest sector "
+        "(conforming), in (0, 360]",
+    ),
+    ParamSpec(
+        "subdivisions",
+        "Subdivisions n",
+        "",
+        1,
+        MAX_UNIFORM_SUBDIVISIONS,
+        1,
+        integer=True,
+        tooltip="Segments per primary-triangle edge: n² sub-triangles each (uniform), "
+        "or barycentric levels",
+    ),
+    ParamSpec(
+        "gap_width",
+        "Gap width",
+        structures=SPLIT_STRUCTURES,
+        **_LENGTH,
+        tooltip="Width of the slots cut through split rings",
+    ),
+    ParamSpec(
+        "gap_angle",
+        "Gap angle",
+        "°",
+        -180.0,
+        180.0,
+        1.0,
+        structures=SPLIT_STRUCTURES,
+        tooltip="Direction of the slots' centre line, degrees from +x",
+    ),
+    ParamSpec(
+        "tolerance",
+        "Tolerance ε",
+        "mm",
+        1e-9,
+        1e-1,
+        per_decade=4,
+        optional=True,
+        tooltip="Welding distance: vertices closer than ε are one vertex (the paper's "
+        "metric constraint). auto (empty) = 1e-9 of the structure's size",
+    ),
+    ParamSpec(
+        "frequency",
+        "Frequency",
+        "GHz",
+        0.0,
+        math.inf,
+        optional=True,
+        empty_text="off",
+        slider=False,
+        scale=1e9,
+        tooltip="Size the mesh for this frequency: the smallest subdivisions whose edges "
+        "are all at most λ / cells per wavelength; off (empty) = subdivisions n",
+    ),
 )
 #: The Advanced group: rarely changed parameters.
 ADVANCED_SPECS = (
-    ParamSpec("patch_width", "Patch height w", optional=True, empty_text="square",
-              structures=NOT_TRIANGLE, **_LENGTH,
-              tooltip="Height of a rectangular patch; square (empty) = the patch size"),
-    ParamSpec("max_triangles", "Triangle budget", "", 1, 1e9, integer=True, slider=False,
-              tooltip="Meshes predicted above this many triangles are refused before they "
-                      "are built"),
-    ParamSpec("cells_per_wavelength", "Cells per λ", "", 1.0, math.inf, slider=False,
-              tooltip="With a frequency: edges at most λ / this (10 is the common rule, "
-                      "Feko's standard 12)"),
-    ParamSpec("relative_permittivity", "Permittivity εr", "", 1.0, math.inf,
-              slider=False,
-              tooltip="With a frequency: the wavelength in a medium of this εr, "
-                      "λ = c0 / (f √εr)"),
-    ParamSpec("max_edge", "Largest edge", "mm", 0.0, math.inf, optional=True, empty_text="off",
-              slider=False,
-              tooltip="The smallest subdivisions whose edges are all at most this; with a "
-                      "frequency too, the stricter of the two; off (empty) = no limit"),
+    ParamSpec(
+        "patch_width",
+        "Patch height w",
+        optional=True,
+        empty_text="square",
+        structures=NOT_TRIANGLE,
+        **_LENGTH,
+        tooltip="Height of a rectangular patch; square (empty) = the patch size",
+    ),
+    ParamSpec(
+        "max_triangles",
+        "Triangle budget",
+        "",
+        1,
+        1e9,
+        integer=True,
+        slider=False,
+        tooltip="Meshes predicted above this many triangles are refused before they are built",
+    ),
+    ParamSpec(
+        "cells_per_wavelength",
+        "Cells per λ",
+        "",
+        1.0,
+        math.inf,
+        slider=False,
+        tooltip="With a frequency: edges at most λ / this (10 is the common rule, "
+        "Feko's standard 12)",
+    ),
+    ParamSpec(
+        "relative_permittivity",
+        "Permittivity εr",
+        "",
+        1.0,
+        math.inf,
+        slider=False,
+        tooltip="With a frequency: the wavelength in a medium of this εr, λ = c0 / (f √εr)",
+    ),
+    ParamSpec(
+        "max_edge",
+        "Largest edge",
+        "mm",
+        0.0,
+        math.inf,
+        optional=True,
+        empty_text="off",
+        slider=False,
+        tooltip="The smallest subdivisions whose edges are all at most this; with a "
+        "frequency too, the stricter of the two; off (empty) = no limit",
+    ),
 )
 SPECS = {s.name: s for s in PARAM_SPECS + ADVANCED_SPECS}
 #: Choice parameters: name -> (label, {value: title}).
@@ -324,7 +425,7 @@ def _carry_note(n: int, m: int, old_scheme: str, new_scheme: str) -> str:
     def what(k: int, scheme: str) -> str:
         if scheme == "uniform":
             return f"n = {k} ({k * k} sub-triangles per primary triangle)"
-        return f"{k} barycentric level{'s' if k > 1 else ''} ({6 ** k} sub-triangles)"
+        return f"{k} barycentric level{'s' if k > 1 else ''} ({6**k} sub-triangles)"
 
     return f"{new_scheme} scheme: {what(n, old_scheme)} carried over as {what(m, new_scheme)}"
 
@@ -512,8 +613,7 @@ def compute(
             timings["scene"] = time.perf_counter() - begin
             check()
     except BuildCancelled:
-        return MeshResult(generation, params, error="cancelled", cancelled=True,
-                          timings=timings)
+        return MeshResult(generation, params, error="cancelled", cancelled=True, timings=timings)
     except Exception as exc:  # noqa: BLE001 - reported in the window, never a crash
         log.exception("meshing failed for %s", params)
         return MeshResult(generation, params, error=f"meshing failed: {exc}")
@@ -553,15 +653,26 @@ def compute_cell(
             timings["scene"] = time.perf_counter() - begin
             check()
     except BuildCancelled:
-        return MeshResult(generation, None, error="cancelled", cancelled=True, timings=timings,
-                          cell=cell)
+        return MeshResult(
+            generation, None, error="cancelled", cancelled=True, timings=timings, cell=cell
+        )
     except ValueError as exc:  # the core's refusal: overlapping elements, a tolerance
         return MeshResult(generation, None, error=f"cell {cell.name!r}: {exc}", cell=cell)
     except Exception as exc:  # noqa: BLE001 - reported in the window, never a crash
         log.exception("meshing failed for cell %r", cell.name)
         return MeshResult(generation, None, error=f"meshing failed: {exc}", cell=cell)
-    return MeshResult(generation, None, mesh, stats, seconds, scene, timings=timings,
-                      cell=cell, cell_mesh=cell_mesh, cell_stats=cell_stats)
+    return MeshResult(
+        generation,
+        None,
+        mesh,
+        stats,
+        seconds,
+        scene,
+        timings=timings,
+        cell=cell,
+        cell_mesh=cell_mesh,
+        cell_stats=cell_stats,
+    )
 
 
 def mom_matrix_bytes(unknowns: int) -> int:
@@ -608,8 +719,16 @@ def stats_texts(result: MeshResult | None) -> dict[str, str]:
         return dict.fromkeys(STAT_LABELS, "–")
     s = result.stats
     out = {}
-    for key in ("patches", "vertices", "triangles", "edges", "interior_edges",
-                "boundary_edges", "junction_edges", "euler_characteristic"):
+    for key in (
+        "patches",
+        "vertices",
+        "triangles",
+        "edges",
+        "interior_edges",
+        "boundary_edges",
+        "junction_edges",
+        "euler_characteristic",
+    ):
         out[key] = f"{s[key]:,}"
     out["min_edge"] = f"{s['min_edge']:.4g} mm"
     out["max_edge"] = f"{s['max_edge']:.4g} mm"
@@ -720,8 +839,9 @@ class AppModel:
                 reading = Reading(reading.value * spec.scale, reading.note)  # GHz -> Hz
         return self.set_value(name, reading.value, note=reading.note)
 
-    def set_value(self, name: str, value: Any, merge: bool = False,
-                  note: str | None = None) -> bool:
+    def set_value(
+        self, name: str, value: Any, merge: bool = False, note: str | None = None
+    ) -> bool:
         """Change one parameter as a user did; True if the core accepted it.
 
         The change is tried together with the values refused so far (fixing one side of a
@@ -833,8 +953,9 @@ class AppModel:
         self.notes.clear()
         self.errors.clear()
 
-    def _commit(self, state: MeshParams | CellState, merge_name: str | None,
-                force: bool = False) -> None:
+    def _commit(
+        self, state: MeshParams | CellState, merge_name: str | None, force: bool = False
+    ) -> None:
         changed = state != self._state()
         if changed:
             if not (merge_name is not None and merge_name == self._merging):
@@ -976,8 +1097,9 @@ class AppModel:
         if failed is None or good is None or failed == good:
             marks = [named or "structure"]  # nothing to go back to: mark what is shown
         else:
-            changed = [k for k in MeshParams.__dataclass_fields__
-                       if getattr(failed, k) != getattr(good, k)]
+            changed = [
+                k for k in MeshParams.__dataclass_fields__ if getattr(failed, k) != getattr(good, k)
+            ]
             marks = [named] if named in changed else changed
             for key in marks:
                 self.refused[key] = failed.to_dict()[key]

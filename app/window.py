@@ -136,13 +136,12 @@ class ScreenshotDialog(QDialog):
         self.scale.setSuffix(" ×")
         self.scale.setValue(int(window.settings.value("screenshot/scale", 2)))
         self.transparent = QCheckBox("Transparent background", self)
-        self.transparent.setChecked(window.settings.value("screenshot/transparent", "false")
-                                    in (True, "true"))
+        self.transparent.setChecked(
+            window.settings.value("screenshot/transparent", "false") in (True, "true")
+        )
         w, h = window.plotter.width(), window.plotter.height()
         self.size_label = QLabel(self)
-        self.scale.valueChanged.connect(
-            lambda s: self.size_label.setText(f"{w * s} × {h * s} px")
-        )
+        self.scale.valueChanged.connect(lambda s: self.size_label.setText(f"{w * s} × {h * s} px"))
         self.size_label.setText(f"{w * self.scale.value()} × {h * self.scale.value()} px")
         form.addRow("&Scale", self.scale)
         form.addRow("Size", self.size_label)
@@ -168,8 +167,7 @@ class ScreenshotDialog(QDialog):
             if not path.lower().endswith(".png"):
                 path += ".png"
             self.window_.settings.setValue("paths/screenshot", path)
-            if self.window_.save_view_png(path, self.scale.value(),
-                                          self.transparent.isChecked()):
+            if self.window_.save_view_png(path, self.scale.value(), self.transparent.isChecked()):
                 self.accept()
 
     def _copy(self) -> None:
@@ -178,8 +176,9 @@ class ScreenshotDialog(QDialog):
         self.accept()
 
 
-def file_error_sentence(title: str, exc: BaseException,
-                        path: str | os.PathLike[str] | None = None) -> str:
+def file_error_sentence(
+    title: str, exc: BaseException, path: str | os.PathLike[str] | None = None
+) -> str:
     """``"Could not open a.msh: the file ends after 12 of 423 nodes."``: one sentence.
 
     The path is said once (``title`` names the file; a message that starts with the path
@@ -192,7 +191,7 @@ def file_error_sentence(title: str, exc: BaseException,
     'Could not open a.msh: empty.'
     """
     if isinstance(exc, UnicodeDecodeError):
-        bad = exc.object[exc.start:exc.start + 1]
+        bad = exc.object[exc.start : exc.start + 1]
         code = f"0x{bad[0]:02x}" if bad else "?"
         reason = f"it is not UTF-8 text (byte {code} at offset {exc.start})"
     elif isinstance(exc, OSError) and exc.strerror:
@@ -210,7 +209,7 @@ def file_error_sentence(title: str, exc: BaseException,
         for prefix in prefixes:
             for sep in (": ", " "):
                 if prefix and reason.startswith(prefix + sep):
-                    reason = reason[len(prefix) + len(sep):].lstrip()
+                    reason = reason[len(prefix) + len(sep) :].lstrip()
                     changed = True
     reason = reason.rstrip(". ")
     return f"{title}: {reason}." if reason else f"{title}."
@@ -230,7 +229,7 @@ class HelpDialog(QDialog):
         col = QVBoxLayout(self)
         col.addWidget(self.browser, 1)
         col.addWidget(buttons)
-        screen = (parent.screen() if parent is not None else QGuiApplication.primaryScreen())
+        screen = parent.screen() if parent is not None else QGuiApplication.primaryScreen()
         room = screen.availableGeometry()
         self.resize(min(620, int(0.9 * room.width())), min(560, int(0.8 * room.height())))
 
@@ -260,8 +259,11 @@ class ExportDialog(QDialog):
         form.addRow("Format", self.format_label)
         self.unit = QComboBox(self)
         self.unit.addItem("the format's default", None)
-        names = {"m": "m (metres)", "mm": "mm (millimetres, the mesher's unit)",
-                 "um": "µm (micrometres)"}
+        names = {
+            "m": "m (metres)",
+            "mm": "mm (millimetres, the mesher's unit)",
+            "um": "µm (micrometres)",
+        }
         for unit in UNITS:
             self.unit.addItem(names.get(unit, unit), unit)
         saved = window.settings.value("export/unit", "")
@@ -295,8 +297,9 @@ class ExportDialog(QDialog):
     def _browse(self) -> None:
         from barymesh.io import export_filters, filter_extension
 
-        path, chosen = QFileDialog.getSaveFileName(self, "Export mesh", self.path.text(),
-                                                   ";;".join(export_filters()))
+        path, chosen = QFileDialog.getSaveFileName(
+            self, "Export mesh", self.path.text(), ";;".join(export_filters())
+        )
         if path:
             if not Path(path).suffix:
                 path += filter_extension(chosen) or ".msh"
@@ -355,8 +358,13 @@ class MainWindow(QMainWindow):
     #: (ExportJob, exception or None) from an export's worker thread.
     _export_done = Signal(object)
 
-    def __init__(self, params: MeshParams | None = None, settings: QSettings | None = None,
-                 scripted: bool = False, cell: Any = None) -> None:
+    def __init__(
+        self,
+        params: MeshParams | None = None,
+        settings: QSettings | None = None,
+        scripted: bool = False,
+        cell: Any = None,
+    ) -> None:
         super().__init__()
         from pyvistaqt import QtInteractor
 
@@ -377,8 +385,9 @@ class MainWindow(QMainWindow):
         self.plotter = QtInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
         self.plotter.setMinimumSize(320, 240)
         disable_view_keys(self.plotter)
-        self.scene = MeshScene(self.plotter, visible=self.model.layers,
-                               color_by=self.model.color_by)
+        self.scene = MeshScene(
+            self.plotter, visible=self.model.layers, color_by=self.model.color_by
+        )
         self.scene.top_view()
         self.plotter.iren.add_observer("EndInteractionEvent", self._camera_moved)
         self.plotter.iren.add_observer("MouseWheelForwardEvent", self._camera_moved)
@@ -400,22 +409,24 @@ class MainWindow(QMainWindow):
         self.controls = ControlsPanel(self.model, self)
         self.stats = StatsPanel(self.model, self)
         self.layers = LayersPanel(self.model, self)
-        self._add_dock("Parameters", self.controls, Qt.DockWidgetArea.LeftDockWidgetArea,
-                       scroll=True)
+        self._add_dock(
+            "Parameters", self.controls, Qt.DockWidgetArea.LeftDockWidgetArea, scroll=True
+        )
         # in a scroll area, like the other tall docks: the statistics' full height (426 px)
         # must not set the window's minimum height (it did: 733 px, 823 with a cell)
-        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea,
-                       scroll=True)
+        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self._add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
         self.solve_panel = SolvePanel(self)
-        self._add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea,
-                       scroll=True)
+        self._add_dock(
+            "Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True
+        )
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
         # Quality: the quality report, its histograms and worst triangles (red layer)
         self.quality_panel = QualityPanel(self)
-        self._add_dock("Quality", self.quality_panel, Qt.DockWidgetArea.RightDockWidgetArea,
-                       scroll=True)
+        self._add_dock(
+            "Quality", self.quality_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True
+        )
         self.tabifyDockWidget(self.statistics_dock, self.quality_dock)
         self.quality_dock.visibilityChanged.connect(self.quality_panel.set_seen)
         self.statistics_dock.raise_()
@@ -486,8 +497,9 @@ class MainWindow(QMainWindow):
 
     # -- construction ------------------------------------------------------------------
 
-    def _add_dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea,
-                  scroll: bool = False) -> QDockWidget:
+    def _add_dock(
+        self, title: str, widget: QWidget, area: Qt.DockWidgetArea, scroll: bool = False
+    ) -> QDockWidget:
         dock = QDockWidget(title, self)
         dock.setObjectName(f"dock_{title.lower()}")
         if scroll:
@@ -505,8 +517,9 @@ class MainWindow(QMainWindow):
         setattr(self, f"{title.lower()}_dock", dock)
         return dock
 
-    def _action(self, text: str, slot: Any, shortcut: Any = None, tip: str = "",
-                checkable: bool = False) -> QAction:
+    def _action(
+        self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
+    ) -> QAction:
         action = QAction(text, self)
         if shortcut is not None:
             keys = shortcut if isinstance(shortcut, list) else [shortcut]
@@ -524,44 +537,84 @@ class MainWindow(QMainWindow):
     def _make_actions(self) -> None:
         try:
             from barymesh.io import EXPORT_FORMATS, IMPORT_FORMATS  # noqa: F401
+
             self._io_error = None
         except ImportError as exc:  # pragma: no cover - barymesh.io ships with core
             self._io_error = f"mesh files need barymesh.io ({exc})"
         a = self._action
-        self.act_open = a("&Open mesh file…", self.open_mesh_dialog, QKeySequence.StandardKey.Open,
-                          "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it")
-        self.act_load = a("&Load parameters…", self.load_params_dialog, "Ctrl+L",
-                          "Load a JSON parameter file")
-        self.act_save = a("&Save parameters…", self.save_params_dialog,
-                          QKeySequence.StandardKey.Save, "Save the parameters as a JSON file")
-        self.act_export = a("&Export mesh…", self.export_mesh_dialog, "Ctrl+E",
-                            "Write the mesh in a solver's format")
-        self.act_shot = a("Export &screenshot…", self.screenshot_dialog, "Ctrl+Shift+E",
-                          "Save a PNG of the 3D view (1–4×, optionally transparent)")
-        self.act_copy = a("&Copy screenshot", lambda: self.copy_view_to_clipboard(), "Ctrl+Shift+C",
-                          "Copy the 3D view to the clipboard")
+        self.act_open = a(
+            "&Open mesh file…",
+            self.open_mesh_dialog,
+            QKeySequence.StandardKey.Open,
+            "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it",
+        )
+        self.act_load = a(
+            "&Load parameters…", self.load_params_dialog, "Ctrl+L", "Load a JSON parameter file"
+        )
+        self.act_save = a(
+            "&Save parameters…",
+            self.save_params_dialog,
+            QKeySequence.StandardKey.Save,
+            "Save the parameters as a JSON file",
+        )
+        self.act_export = a(
+            "&Export mesh…",
+            self.export_mesh_dialog,
+            "Ctrl+E",
+            "Write the mesh in a solver's format",
+        )
+        self.act_shot = a(
+            "Export &screenshot…",
+            self.screenshot_dialog,
+            "Ctrl+Shift+E",
+            "Save a PNG of the 3D view (1–4×, optionally transparent)",
+        )
+        self.act_copy = a(
+            "&Copy screenshot",
+            lambda: self.copy_view_to_clipboard(),
+            "Ctrl+Shift+C",
+            "Copy the 3D view to the clipboard",
+        )
         self.act_quit = a("&Quit", self.close, QKeySequence.StandardKey.Quit, "Close barymesh")
-        self.act_cancel = a("&Cancel meshing", self.cancel_build, "Esc",
-                            "Abandon the running build; the mesh on screen stays")
+        self.act_cancel = a(
+            "&Cancel meshing",
+            self.cancel_build,
+            "Esc",
+            "Abandon the running build; the mesh on screen stays",
+        )
         self.act_cancel.setEnabled(False)
         for act in (self.act_open, self.act_export):
             if self._io_error:
                 act.setEnabled(False)
                 act.setToolTip(self._io_error)
         self.act_undo = a("&Undo", self.model.undo, ["Ctrl+Z"], "Undo the last parameter change")
-        self.act_redo = a("&Redo", self.model.redo, ["Ctrl+Shift+Z", "Ctrl+Y"],
-                          "Redo the parameter change")
-        self.act_reset = a("Reset to &defaults", self.model.reset, "Ctrl+Shift+R",
-                           "The paper's Fig. 12(a) parameters (undoable)")
-        self.act_camera = a("&Reset camera", self.reset_camera, "R",
-                            "Frame the whole mesh from above (undoes tilt, pan and zoom)")
-        self.act_top = a("&Top view", self.top_view, "T",
-                         "Look straight down the z axis, keeping the zoom")
+        self.act_redo = a(
+            "&Redo", self.model.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "Redo the parameter change"
+        )
+        self.act_reset = a(
+            "Reset to &defaults",
+            self.model.reset,
+            "Ctrl+Shift+R",
+            "The paper's Fig. 12(a) parameters (undoable)",
+        )
+        self.act_camera = a(
+            "&Reset camera",
+            self.reset_camera,
+            "R",
+            "Frame the whole mesh from above (undoes tilt, pan and zoom)",
+        )
+        self.act_top = a(
+            "&Top view", self.top_view, "T", "Look straight down the z axis, keeping the zoom"
+        )
         self.layer_actions: dict[str, QAction] = {}
         for i, name in enumerate(LAYERS):
-            act = a(LAYER_TITLES[name], lambda on, n=name: self.model.set_layer_visible(n, on),
-                    f"Ctrl+{i + 1}", f"Show or hide {LAYER_TITLES[name].lower()}",
-                    checkable=True)
+            act = a(
+                LAYER_TITLES[name],
+                lambda on, n=name: self.model.set_layer_visible(n, on),
+                f"Ctrl+{i + 1}",
+                f"Show or hide {LAYER_TITLES[name].lower()}",
+                checkable=True,
+            )
             act.setChecked(self.model.layers[name])
             self.layer_actions[name] = act
         self.color_group = QActionGroup(self)
@@ -638,8 +691,13 @@ class MainWindow(QMainWindow):
         view.addActions([self.act_camera, self.act_top, self.view_tools.act_zoom])
         view.addAction(self.view_tools.act_measure)
         view.addSeparator()
-        for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock,
-                     self.solve_dock, self.quality_dock):
+        for dock in (
+            self.parameters_dock,
+            self.statistics_dock,
+            self.layers_dock,
+            self.solve_dock,
+            self.quality_dock,
+        ):
             view.addAction(dock.toggleViewAction())
         layers.addAction(self.quality_panel.act_layer)
 
@@ -651,6 +709,7 @@ class MainWindow(QMainWindow):
             PainterOpener,
             cell_menu,
         )
+
         self.painter_opener = PainterOpener(self, cell_menu(self))
 
         help_ = bar.addMenu("&Help")
@@ -704,8 +763,11 @@ class MainWindow(QMainWindow):
             self.teaching.mesh_changed(result.mesh)
             self.view_tools.mesh_changed(result.mesh)
         p = result.params
-        key = (result.source, p.structure if p else None,
-               result.cell.name if result.cell is not None else None)
+        key = (
+            result.source,
+            p.structure if p else None,
+            result.cell.name if result.cell is not None else None,
+        )
         bounds = np.asarray(result.scene.bounds)
         if key != self._camera_key or self._bounds_jumped(bounds) or self._left_view(bounds):
             self.frame_mesh()
@@ -723,18 +785,20 @@ class MainWindow(QMainWindow):
             big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
             self._last_triangles = result.mesh.n_triangles
             if big:
-                QTimer.singleShot(0, lambda: threading.Thread(target=release_memory,
-                                                              daemon=True).start())
+                QTimer.singleShot(
+                    0, lambda: threading.Thread(target=release_memory, daemon=True).start()
+                )
             if self.scene.reduced:
                 self._rest_timer.start()
         self.last_frame_seconds = time.perf_counter() - start
         s = result.stats
-        title = Path(result.source).name if result.source != "parameters" else (
-            f"cell {result.cell.name}" if result.cell is not None else p.structure)
-        self.setWindowTitle(f"barymesh – {title}")
-        self.summary.setText(
-            f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns"
+        title = (
+            Path(result.source).name
+            if result.source != "parameters"
+            else (f"cell {result.cell.name}" if result.cell is not None else p.structure)
         )
+        self.setWindowTitle(f"barymesh – {title}")
+        self.summary.setText(f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns")
         if self.model.error is None:
             self.statusBar().clearMessage()
 
@@ -804,8 +868,11 @@ class MainWindow(QMainWindow):
             self.busy.setRange(0, 100)
             self.busy.setValue(int(min(99, 100 * elapsed / max(expected, 1e-3))))
         elif expected is not None:  # never "4.3 s of about 0.2 s": say why it is longer
-            why = ("; a cancelled build is still stopping beside it"
-                   if self.controller.stopping else "")
+            why = (
+                "; a cancelled build is still stopping beside it"
+                if self.controller.stopping
+                else ""
+            )
             text += f" (longer than the {expected:.1f} s estimated{why})"
             self.busy.setRange(0, 0)
         else:
@@ -858,12 +925,17 @@ class MainWindow(QMainWindow):
         "auto" goes back to the image of a mesh built so."""
         scene, mesh = result.scene, result.mesh
         if self.model.detail == "full" and scene.overview is not None:
-            return scene_data(mesh, detail_limit=max(mesh.n_triangles, 1),
-                              color_by=self.model.color_by)
-        if (self.model.detail == "auto" and scene.overview is None
-                and mesh.n_triangles > DETAIL_TRIANGLES):
-            return scene_data(mesh, color_by=self.model.color_by,
-                              pixels=tuple(self.plotter.window_size))
+            return scene_data(
+                mesh, detail_limit=max(mesh.n_triangles, 1), color_by=self.model.color_by
+            )
+        if (
+            self.model.detail == "auto"
+            and scene.overview is None
+            and mesh.n_triangles > DETAIL_TRIANGLES
+        ):
+            return scene_data(
+                mesh, color_by=self.model.color_by, pixels=tuple(self.plotter.window_size)
+            )
         return scene
 
     def _detail_changed(self, mode: str) -> None:
@@ -898,9 +970,11 @@ class MainWindow(QMainWindow):
         """A mesh file on screen has no parameters to save: say so on the action."""
         in_file = self.model.file_source is not None
         self.act_save.setEnabled(not in_file)
-        self.act_save.setStatusTip("The view holds a mesh file: go back to the parametric "
-                                   "mesh to save parameters" if in_file
-                                   else "Save the parameters as a JSON file")
+        self.act_save.setStatusTip(
+            "The view holds a mesh file: go back to the parametric mesh to save parameters"
+            if in_file
+            else "Save the parameters as a JSON file"
+        )
 
     def _camera_moved(self, *_args: Any) -> None:
         self.scene.fit_marker_sizes()
@@ -938,8 +1012,12 @@ class MainWindow(QMainWindow):
             return  # a newer request is out
         self._scene_token = None
         result = self.model.result
-        if (self._closed or data is None or result is None
-                or (result.generation, self.model.color_by) != token):
+        if (
+            self._closed
+            or data is None
+            or result is None
+            or (result.generation, self.model.color_by) != token
+        ):
             return
         result.scene = data
         self._shown_scene = data
@@ -983,8 +1061,12 @@ class MainWindow(QMainWindow):
         if self.scene.bounds is None:
             self.scene.top_view()
         else:
-            frame_from_above(self.plotter, self.scene.bounds, right_px=self.scene.legend_px(),
-                             bottom_px=self.scene.note_px())
+            frame_from_above(
+                self.plotter,
+                self.scene.bounds,
+                right_px=self.scene.legend_px(),
+                bottom_px=self.scene.note_px(),
+            )
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
         self._framed = self._camera_state()
@@ -1022,13 +1104,13 @@ class MainWindow(QMainWindow):
             finally:
                 QApplication.restoreOverrideCursor()
         self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
-        image = self.plotter.screenshot(None, transparent_background=transparent,
-                                        return_img=True)
+        image = self.plotter.screenshot(None, transparent_background=transparent, return_img=True)
         self.plotter.render()
         return np.ascontiguousarray(image)
 
-    def save_view_png(self, path: str | os.PathLike[str], scale: int = 1,
-                      transparent: bool = False) -> bool:
+    def save_view_png(
+        self, path: str | os.PathLike[str], scale: int = 1, transparent: bool = False
+    ) -> bool:
         """Write the 3D view to a PNG; errors go to the status bar. Returns success."""
         try:
             import imageio.v3 as iio
@@ -1037,7 +1119,8 @@ class MainWindow(QMainWindow):
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
             self.statusBar().showMessage(
-                file_error_sentence(f"Could not save {Path(path).name}", exc, path))
+                file_error_sentence(f"Could not save {Path(path).name}", exc, path)
+            )
             return False
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
@@ -1063,7 +1146,9 @@ class MainWindow(QMainWindow):
 
         patterns = " ".join(f"*{e}" for e in IMPORT_EXTENSIONS)
         path, _ = QFileDialog.getOpenFileName(
-            self, "Open mesh file", self._path_setting("mesh", ""),
+            self,
+            "Open mesh file",
+            self._path_setting("mesh", ""),
             f"Mesh files ({patterns});;All files (*)",
         )
         if path:
@@ -1084,12 +1169,16 @@ class MainWindow(QMainWindow):
             return False
         self.statusBar().showMessage(
             f"Opened {Path(path).name}: {mesh.n_triangles:,} triangles. The parameters apply "
-            "again with Back to the parametric mesh (Parameters panel).", 8000)
+            "again with Back to the parametric mesh (Parameters panel).",
+            8000,
+        )
         return True
 
     def load_params_dialog(self) -> None:
         path, _ = QFileDialog.getOpenFileName(
-            self, "Load parameters", self._path_setting("params", ""),
+            self,
+            "Load parameters",
+            self._path_setting("params", ""),
             "Parameter files (*.json);;All files (*)",
         )
         if path:
@@ -1109,7 +1198,9 @@ class MainWindow(QMainWindow):
 
     def save_params_dialog(self) -> None:
         path, _ = QFileDialog.getSaveFileName(
-            self, "Save parameters", self._path_setting("params", "barymesh-params.json"),
+            self,
+            "Save parameters",
+            self._path_setting("params", "barymesh-params.json"),
             "Parameter files (*.json)",
         )
         if path:
@@ -1124,7 +1215,8 @@ class MainWindow(QMainWindow):
         if self.model.file_source is not None:
             self.statusBar().showMessage(
                 f"Not saved: the view holds {Path(self.model.file_source).name}, which has no "
-                "parameters; go back to the parametric mesh first")
+                "parameters; go back to the parametric mesh first"
+            )
             return False
         result = self.model.result  # the parameters of the mesh on screen, as exported
         params = result.params if result is not None and result.params else self.model.params
@@ -1134,8 +1226,9 @@ class MainWindow(QMainWindow):
             self._file_error(f"Could not save {Path(path).name}", exc, path)
             return False
         newer = " (those of the mesh on screen; newer ones are being meshed)"
-        self.statusBar().showMessage(f"Saved {path}{newer if params != self.model.params else ''}",
-                                     5000)
+        self.statusBar().showMessage(
+            f"Saved {path}{newer if params != self.model.params else ''}", 5000
+        )
         return True
 
     def export_mesh_dialog(self) -> ExportDialog:
@@ -1163,8 +1256,12 @@ class MainWindow(QMainWindow):
         self.statusBar().showMessage(f"Wrote {what}", 5000)
         return True
 
-    def start_export(self, path: str | os.PathLike[str], unit: str | None = None,
-                     done: Callable[[bool], None] | None = None) -> bool:
+    def start_export(
+        self,
+        path: str | os.PathLike[str],
+        unit: str | None = None,
+        done: Callable[[bool], None] | None = None,
+    ) -> bool:
         """Write the mesh on screen to ``path`` in a worker thread; the window answers.
 
         A progress dialog (after a moment) shows what is written and has Cancel: a
@@ -1180,14 +1277,26 @@ class MainWindow(QMainWindow):
             return False
         mesh = result.mesh
         params = result.params if result.source == "parameters" else None
-        return self.run_export(path, unit, lambda: mesh, f"{mesh.n_triangles:,} triangles",
-                               done, wavelength=params_wavelength(params))
+        return self.run_export(
+            path,
+            unit,
+            lambda: mesh,
+            f"{mesh.n_triangles:,} triangles",
+            done,
+            wavelength=params_wavelength(params),
+        )
 
-    def run_export(self, path: str | os.PathLike[str], unit: str | None,
-                   make_mesh: Callable[[], TriMesh], what: str,
-                   done: Callable[[bool], None] | None = None, *,
-                   wavelength: float | None = None,
-                   wrote: Callable[[TriMesh, str], str] | None = None) -> bool:
+    def run_export(
+        self,
+        path: str | os.PathLike[str],
+        unit: str | None,
+        make_mesh: Callable[[], TriMesh],
+        what: str,
+        done: Callable[[bool], None] | None = None,
+        *,
+        wavelength: float | None = None,
+        wrote: Callable[[TriMesh, str], str] | None = None,
+    ) -> bool:
         """Make a mesh and write it to ``path`` in a worker thread (see :meth:`start_export`).
 
         ``make_mesh()`` runs in the thread too (numpy only, no VTK); ``what`` says what is
@@ -1197,7 +1306,8 @@ class MainWindow(QMainWindow):
 
         if self.export_job is not None:
             self.statusBar().showMessage(
-                f"Still writing {Path(self.export_job.path).name}; wait or cancel it first")
+                f"Still writing {Path(self.export_job.path).name}; wait or cancel it first"
+            )
             return False
         try:
             described = describe_export(path, unit)
@@ -1215,14 +1325,20 @@ class MainWindow(QMainWindow):
         job.progress = progress
         self.export_job = job
         # a quick write shows no dialog at all; a longer one shows it after a moment
-        QTimer.singleShot(EXPORT_PROGRESS_MS,
-                          lambda: job.progress is not None and job.progress.show())
+        QTimer.singleShot(
+            EXPORT_PROGRESS_MS, lambda: job.progress is not None and job.progress.show()
+        )
 
         def work() -> BaseException | None:  # worker thread: numpy and files only
             try:
                 job.mesh = make_mesh()
-                write_mesh(job.mesh, path, unit=unit, wavelength=wavelength,
-                           cancelled=lambda: job.cancelled)
+                write_mesh(
+                    job.mesh,
+                    path,
+                    unit=unit,
+                    wavelength=wavelength,
+                    cancelled=lambda: job.cancelled,
+                )
             except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
                 return exc
             return None
@@ -1249,14 +1365,14 @@ class MainWindow(QMainWindow):
         ok = error is None
         if isinstance(error, ExportCancelled):
             self.statusBar().showMessage(
-                f"Export of {Path(job.path).name} cancelled: no file written", 5000)
+                f"Export of {Path(job.path).name} cancelled: no file written", 5000
+            )
         elif error is not None:
             if not isinstance(error, ValueError | OSError):
                 log.error("export failed", exc_info=error)
             self._file_error(f"Could not export {Path(job.path).name}", error, job.path)
         else:
-            wrote = (job.wrote(job.mesh, job.what) if job.wrote is not None
-                     else f"Wrote {job.what}")
+            wrote = job.wrote(job.mesh, job.what) if job.wrote is not None else f"Wrote {job.what}"
             if job.cancelled:  # Cancel came after the file was complete and in place
                 wrote += " (complete before Cancel)"
             self.statusBar().showMessage(wrote, 8000)
@@ -1279,16 +1395,18 @@ class MainWindow(QMainWindow):
         self.statusBar().showMessage(f"Preset {name}: {description}", 8000)
         return True
 
-    def _file_error(self, title: str, exc: BaseException,
-                    path: str | os.PathLike[str] | None = None) -> None:
+    def _file_error(
+        self, title: str, exc: BaseException, path: str | os.PathLike[str] | None = None
+    ) -> None:
         """One sentence in the status bar (and a warning box): the file once, the reason
         in the file's terms."""
         sentence = file_error_sentence(title, exc, path)
         log.info("%s", sentence, exc_info=exc)
         self.statusBar().showMessage(sentence)
         if not self.scripted:
-            box = QMessageBox(QMessageBox.Icon.Warning, "barymesh", sentence,
-                              QMessageBox.StandardButton.Ok, self)
+            box = QMessageBox(
+                QMessageBox.Icon.Warning, "barymesh", sentence, QMessageBox.StandardButton.Ok, self
+            )
             if path is not None:
                 box.setInformativeText(f"File: {path}")
             box.exec()
@@ -1298,18 +1416,24 @@ class MainWindow(QMainWindow):
     def shortcuts_html(self) -> str:
         rows = []
         for act in self.findChildren(QAction):
-            keys = ", ".join(k.toString(QKeySequence.SequenceFormat.NativeText)
-                             for k in act.shortcuts())
+            keys = ", ".join(
+                k.toString(QKeySequence.SequenceFormat.NativeText) for k in act.shortcuts()
+            )
             if keys:
-                rows.append(f"<tr><td>{act.text().replace('&', '')}</td>"
-                            f"<td><b>{keys}</b></td></tr>")
-        rows.append("<tr><td>Rotate / pan / zoom the view</td>"
-                    "<td><b>left / middle drag, wheel</b></td></tr>")
+                rows.append(
+                    f"<tr><td>{act.text().replace('&', '')}</td><td><b>{keys}</b></td></tr>"
+                )
+        rows.append(
+            "<tr><td>Rotate / pan / zoom the view</td>"
+            "<td><b>left / middle drag, wheel</b></td></tr>"
+        )
         rows.append("<tr><td>Move a slider</td><td><b>←/→, PgUp/PgDn, Home/End</b></td></tr>")
-        rows.append("<tr><td>What is under the cursor (strip under the view)</td>"
-                    "<td><b>hover</b></td></tr>")
-        rows.append("<tr><td>Select a triangle, edge or vertex (then Z)</td>"
-                    "<td><b>click</b></td></tr>")
+        rows.append(
+            "<tr><td>What is under the cursor (strip under the view)</td><td><b>hover</b></td></tr>"
+        )
+        rows.append(
+            "<tr><td>Select a triangle, edge or vertex (then Z)</td><td><b>click</b></td></tr>"
+        )
         return "<h4>Keyboard shortcuts</h4><table cellspacing='6'>" + "".join(rows) + "</table>"
 
     def show_about(self) -> HelpDialog:
@@ -1317,7 +1441,8 @@ class MainWindow(QMainWindow):
         dialog = getattr(self, "help_dialog", None)
         if dialog is None:
             dialog = self.help_dialog = HelpDialog(
-                ABOUT.format(version=barymesh.__version__, shortcuts=self.shortcuts_html()), self)
+                ABOUT.format(version=barymesh.__version__, shortcuts=self.shortcuts_html()), self
+            )
         dialog.show()
         dialog.raise_()
         dialog.activateWindow()
@@ -1355,8 +1480,9 @@ class MainWindow(QMainWindow):
             self._arranging = False
             auto = self.settings.value("window/auto_docks", "true")
             self._auto_docks = auto in (True, "true")
-            self._narrow = (self.dockWidgetArea(self.statistics_dock)
-                            == Qt.DockWidgetArea.LeftDockWidgetArea)
+            self._narrow = (
+                self.dockWidgetArea(self.statistics_dock) == Qt.DockWidgetArea.LeftDockWidgetArea
+            )
 
     # -- dock layout -----------------------------------------------------------------------
 
@@ -1391,10 +1517,16 @@ class MainWindow(QMainWindow):
         one column on the left, so the 3D view keeps most of the width. The teaching docks
         stay tabbed with Statistics; hidden docks stay hidden."""
         left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
-        extra = [self.teaching.inspector_dock, self.teaching.matrix_dock, self.solve_dock,
-                 self.quality_dock]
-        hidden = {d: d.isHidden() for d in
-                  (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)}
+        extra = [
+            self.teaching.inspector_dock,
+            self.teaching.matrix_dock,
+            self.solve_dock,
+            self.quality_dock,
+        ]
+        hidden = {
+            d: d.isHidden()
+            for d in (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)
+        }
         self._arranging = True
         try:
             if narrow:
@@ -1471,8 +1603,12 @@ class EscapeCancels(QObject):
         self.window_ = window
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if (event.type() == QEvent.Type.KeyPress and event.key() == Qt.Key.Key_Escape
-                and not event.modifiers() and self.window_.controller.busy):
+        if (
+            event.type() == QEvent.Type.KeyPress
+            and event.key() == Qt.Key.Key_Escape
+            and not event.modifiers()
+            and self.window_.controller.busy
+        ):
             self.window_.cancel_build()
             return True
         return False
@@ -1500,18 +1636,35 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--preset", metavar="NAME", help="start from a preset (see Presets menu)")
     parser.add_argument("--params", metavar="FILE", help="start from a JSON parameter file")
-    parser.add_argument("--set", metavar="NAME=VALUE", nargs="+", action="extend", default=[],
-                        dest="sets", help="override parameters, e.g. --set subdivisions=8")
-    parser.add_argument("--cell", metavar="FILE.cell.json",
-                        help="open a unit cell file (instead of --preset/--params/--set)")
-    parser.add_argument("--cell-preset", metavar="NAME",
-                        help="open a shipped unit cell (see the Cell menu)")
-    parser.add_argument("--array", metavar="N1xN2", type=parse_copies,
-                        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)")
-    parser.add_argument("--screenshot", metavar="PNG",
-                        help="save a grab of the whole window once the mesh is shown")
-    parser.add_argument("--quit", action="store_true",
-                        help="exit once the mesh is shown (and the screenshot saved)")
+    parser.add_argument(
+        "--set",
+        metavar="NAME=VALUE",
+        nargs="+",
+        action="extend",
+        default=[],
+        dest="sets",
+        help="override parameters, e.g. --set subdivisions=8",
+    )
+    parser.add_argument(
+        "--cell",
+        metavar="FILE.cell.json",
+        help="open a unit cell file (instead of --preset/--params/--set)",
+    )
+    parser.add_argument(
+        "--cell-preset", metavar="NAME", help="open a shipped unit cell (see the Cell menu)"
+    )
+    parser.add_argument(
+        "--array",
+        metavar="N1xN2",
+        type=parse_copies,
+        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)",
+    )
+    parser.add_argument(
+        "--screenshot", metavar="PNG", help="save a grab of the whole window once the mesh is shown"
+    )
+    parser.add_argument(
+        "--quit", action="store_true", help="exit once the mesh is shown (and the screenshot saved)"
+    )
     return parser
 
 
@@ -1552,26 +1705,43 @@ def main(argv: list[str] | None = None) -> int:
     params = None
     cell = None
     if args.cell is not None or args.cell_preset is not None:
-        given = [o for o, v in (("--cell-preset", args.cell_preset), ("--preset", args.preset),
-                                ("--params", args.params), ("--set", args.sets)) if v]
+        given = [
+            o
+            for o, v in (
+                ("--cell-preset", args.cell_preset),
+                ("--preset", args.preset),
+                ("--params", args.params),
+                ("--set", args.sets),
+            )
+            if v
+        ]
         if args.cell is None:
             given = given[1:]
         if given:
             option = "--cell" if args.cell is not None else "--cell-preset"
-            print(f"barymesh: error: {given[0]} cannot go with {option}: a cell holds its own "
-                  "elements and their parameters (see barymesh --help)", file=sys.stderr)
+            print(
+                f"barymesh: error: {given[0]} cannot go with {option}: a cell holds its own "
+                "elements and their parameters (see barymesh --help)",
+                file=sys.stderr,
+            )
             return 2
         from barymesh.cell import load_cell, load_cell_preset
 
         try:
-            cell = load_cell(args.cell) if args.cell is not None else load_cell_preset(
-                args.cell_preset)
+            cell = (
+                load_cell(args.cell)
+                if args.cell is not None
+                else load_cell_preset(args.cell_preset)
+            )
         except (ValueError, TypeError, OSError) as exc:
             print(f"barymesh: error: {exc}", file=sys.stderr)
             return 1
     elif args.array is not None:
-        print("barymesh: error: --array previews copies of a unit cell: give --cell or "
-              "--cell-preset too (see barymesh --help)", file=sys.stderr)
+        print(
+            "barymesh: error: --array previews copies of a unit cell: give --cell or "
+            "--cell-preset too (see barymesh --help)",
+            file=sys.stderr,
+        )
         return 2
     elif args.preset or args.params or args.sets:
         from barymesh.presets import resolve_params
@@ -1582,9 +1752,12 @@ def main(argv: list[str] | None = None) -> int:
             print(f"barymesh: error: {exc}", file=sys.stderr)
             return 1
     if not _has_display():
-        print("barymesh: error: no display (DISPLAY is not set). The window needs one; "
-              "use `xvfb-run -a barymesh ...`, or `barymesh mesh --screenshot out.png` "
-              "to render without a window.", file=sys.stderr)
+        print(
+            "barymesh: error: no display (DISPLAY is not set). The window needs one; "
+            "use `xvfb-run -a barymesh ...`, or `barymesh mesh --screenshot out.png` "
+            "to render without a window.",
+            file=sys.stderr,
+        )
         return 1
     if os.environ.get("DISPLAY") and sys.platform == "linux":
         os.environ.setdefault("QT_QPA_PLATFORM", "xcb")  # VTK's GL widget needs X, not Wayland

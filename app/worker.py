@@ -151,8 +151,9 @@ class MeshController(QObject):
     scene_ready = Signal(object)
     _job_done = Signal(object)
 
-    def __init__(self, model: AppModel, parent: QObject | None = None,
-                 sync_triangles: int = SYNC_TRIANGLES) -> None:
+    def __init__(
+        self, model: AppModel, parent: QObject | None = None, sync_triangles: int = SYNC_TRIANGLES
+    ) -> None:
         super().__init__(parent)
         # a build thread emits its result under this lock unless stop() came first: the
         # window deletes the controller after stop(), and a signal emitted into a QObject
@@ -215,8 +216,12 @@ class MeshController(QObject):
             return
         params, generation = self._pending
         shown = self.model.result
-        if (shown is not None and shown.mesh is not None and shown.target == params
-                and shown.source == "parameters"):
+        if (
+            shown is not None
+            and shown.mesh is not None
+            and shown.target == params
+            and shown.source == "parameters"
+        ):
             # back to what is on screen (Undo during a build): nothing to build
             self._pending = None
             self._abandon_current()
@@ -229,8 +234,11 @@ class MeshController(QObject):
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
-        prepare = partial(scene_data, color_by=self.model.color_by,
-                          pixels=self.view_size() if self.view_size else None)
+        prepare = partial(
+            scene_data,
+            color_by=self.model.color_by,
+            pixels=self.view_size() if self.view_size else None,
+        )
         kept = self._recent_scene(params)
         if kept is not None:  # a small mesh shown a moment ago (Undo): its scene as it was
             prepare = partial(_kept_scene, kept)
@@ -253,8 +261,11 @@ class MeshController(QObject):
         if not was_busy:
             self.busy_changed.emit(True)
         self.job_changed.emit(job)
-        run_in_thread(partial(compute, params, generation, prepare=prepare,
-                              cancel=cancelled), _Gate(self, self._job_done), job)
+        run_in_thread(
+            partial(compute, params, generation, prepare=prepare, cancel=cancelled),
+            _Gate(self, self._job_done),
+            job,
+        )
 
     def _abandon_current(self, announce: bool = True) -> None:
         job = self.current
@@ -279,8 +290,11 @@ class MeshController(QObject):
     def _deliver(self, result: MeshResult) -> None:
         if result.cancelled:
             return
-        if (result.error is None and result.params is not None
-                and result.params.predicted_triangles() >= _RATE_MIN_TRIANGLES):
+        if (
+            result.error is None
+            and result.params is not None
+            and result.params.predicted_triangles() >= _RATE_MIN_TRIANGLES
+        ):
             spent = sum(result.timings.values()) or result.seconds
             if spent > 0:
                 rate = result.mesh.n_triangles / spent
@@ -295,12 +309,16 @@ class MeshController(QObject):
         return (target, self.model.color_by, self.view_size() if self.view_size else None)
 
     def _remember(self, result: MeshResult) -> None:
-        if (result.error is not None or result.mesh is None or result.scene is None
-                or result.source != "parameters"
-                or result.mesh.n_triangles > RECENT_TRIANGLES):
+        if (
+            result.error is not None
+            or result.mesh is None
+            or result.scene is None
+            or result.source != "parameters"
+            or result.mesh.n_triangles > RECENT_TRIANGLES
+        ):
             return
         key = self._recent_key(result.target)
-        self._recent = [(k, s) for k, s in self._recent if k != key][-(RECENT_COUNT - 1):]
+        self._recent = [(k, s) for k, s in self._recent if k != key][-(RECENT_COUNT - 1) :]
         self._recent.append((key, result.scene))
 
     def _recent_scene(self, target: object) -> object | None:
@@ -312,8 +330,12 @@ class MeshController(QObject):
         was_current = job is self.current
         if was_current:
             self.current = None
-            if (self._pending is not None and not result.cancelled and result.error is None
-                    and result.generation != self.model.generation):
+            if (
+                self._pending is not None
+                and not result.cancelled
+                and result.error is None
+                and result.generation != self.model.generation
+            ):
                 # the value moved on (a drag) and its build follows: show this one meanwhile
                 result = dataclasses.replace(result, generation=self.model.generation)
             self._deliver(result)
@@ -325,24 +347,43 @@ class MeshController(QObject):
             self.busy_changed.emit(False)
             self.job_changed.emit(None)
 
-    def request_detail(self, mesh: object, rect: tuple[float, float, float, float],
-                       token: object) -> None:
-        """Build :func:`barymesh.app.view.scene.detail_data` of ``rect`` in a thread; ``detail_ready``."""
+    def request_detail(
+        self, mesh: object, rect: tuple[float, float, float, float], token: object
+    ) -> None:
+        """Build :func:`barymesh.app.view.scene.detail_data` of ``rect`` in a thread.
+
+        Emits ``detail_ready``.
+        """
         shown = self.model.result
         scene = shown.scene if shown is not None and shown.mesh is mesh else None
-        extra = {} if scene is None else {
-            "color_by": self.model.color_by, "ranges": scene.ranges, "bounds": scene.bounds,
-            "pixels": self.view_size() if self.view_size else None}
-        run_in_thread(partial(detail_data, mesh, rect, **extra),
-                      _Gate(self, self.detail_ready), token)
+        extra = (
+            {}
+            if scene is None
+            else {
+                "color_by": self.model.color_by,
+                "ranges": scene.ranges,
+                "bounds": scene.bounds,
+                "pixels": self.view_size() if self.view_size else None,
+            }
+        )
+        run_in_thread(
+            partial(detail_data, mesh, rect, **extra), _Gate(self, self.detail_ready), token
+        )
 
     def request_scene(self, mesh: object, token: object) -> None:
         """Make the scene of ``mesh`` again in a thread, for the model's colouring (a dense
         paper mesh's image gets the per-triangle values it was made without); emits
         ``scene_ready`` with (token, SceneData or None if it failed)."""
-        run_in_thread(partial(_scene_or_none, mesh, color_by=self.model.color_by,
-                              pixels=self.view_size() if self.view_size else None),
-                      _Gate(self, self.scene_ready), token)
+        run_in_thread(
+            partial(
+                _scene_or_none,
+                mesh,
+                color_by=self.model.color_by,
+                pixels=self.view_size() if self.view_size else None,
+            ),
+            _Gate(self, self.scene_ready),
+            token,
+        )
 
     def stop(self) -> None:
         """Forget pending requests and abandon running builds (the window is closing).

@@ -23,8 +23,13 @@ import numpy as np
 SPLIT = {"10k": (4.0, 14), "100k": (20.0, 20), "1M": (20.0, 63), "4M": (80.0, 63)}
 
 #: Structures whose geometry :class:`Gmsh` can build.
-GMSH_STRUCTURES = ("ring", "double_ring", "split_ring", "split_double_ring",
-                   "square_split_double_ring")
+GMSH_STRUCTURES = (
+    "ring",
+    "double_ring",
+    "split_ring",
+    "split_double_ring",
+    "square_split_double_ring",
+)
 
 #: gmsh's 2D algorithm numbers (``Mesh.Algorithm``) by name; 6 is gmsh's default.
 ALGORITHMS = {"meshadapt": 1, "delaunay": 5, "frontal-delaunay": 6}
@@ -111,9 +116,11 @@ class Gmsh:
                 inner = occ.addDisk(x0, y0, 0, r, r)
             frame, _ = occ.cut([(2, outer)], [(2, inner)])
             metal += frame
-        directions = {"split_ring": [p.gap_angle],
-                      "split_double_ring": [p.gap_angle, p.gap_angle + 180.0],
-                      "square_split_double_ring": [p.gap_angle, p.gap_angle + 180.0]}
+        directions = {
+            "split_ring": [p.gap_angle],
+            "split_double_ring": [p.gap_angle, p.gap_angle + 180.0],
+            "square_split_double_ring": [p.gap_angle, p.gap_angle + 180.0],
+        }
         reach = 2 * (max(radii) + h)
         for angle in directions.get(p.structure, []):
             slot = occ.addRectangle(x0, y0 - g / 2, 0, reach, g)

@@ -173,8 +173,9 @@ def _no_grading() -> dict:
     return {"grading": False} if has_grading() else {}
 
 
-def cut_current(sol: Solution, mesh: TriMesh, a: np.ndarray, b: np.ndarray,
-                normal: np.ndarray) -> complex:  # fmt: skip
+def cut_current(
+    sol: Solution, mesh: TriMesh, a: np.ndarray, b: np.ndarray, normal: np.ndarray
+) -> complex:
     """∫ J·normal dl (A) over the segment a→b (mm): the current crossing it.
 
     Exact for the RWG current, which is linear on each triangle.
@@ -187,8 +188,14 @@ def cut_current(sol: Solution, mesh: TriMesh, a: np.ndarray, b: np.ndarray,
     return complex(np.sum(length * (j[:, :2] @ normal)))
 
 
-def charge_before_cut(sol: Solution, mesh: TriMesh, params: MeshParams, a: np.ndarray,
-                      normal: np.ndarray, towards: np.ndarray) -> complex:  # fmt: skip
+def charge_before_cut(
+    sol: Solution,
+    mesh: TriMesh,
+    params: MeshParams,
+    a: np.ndarray,
+    normal: np.ndarray,
+    towards: np.ndarray,
+) -> complex:
     """Charge (C) on the metal between the slot side and the cut through ``a``.
 
     Triangles in the quarter of the ring between the slot's centre line and
@@ -272,8 +279,9 @@ def run_one(params: MeshParams, mesh: TriMesh, label: str, cut: tuple) -> dict:
     return row
 
 
-def series(base: MeshParams, label: str, cut: tuple, max_unknowns: int,
-           max_n: int, **grading) -> list[dict]:  # fmt: skip
+def series(
+    base: MeshParams, label: str, cut: tuple, max_unknowns: int, max_n: int, **grading
+) -> list[dict]:
     """Rows for n = 1, 2, ... until a mesh would exceed ``max_unknowns`` RWG unknowns."""
     rows = []
     for n in range(1, max_n + 1):
@@ -322,8 +330,11 @@ def _last(rows: list[dict], key: str, k: int) -> tuple[np.ndarray, np.ndarray]:
 def reference(uniform: list[dict], key: str) -> dict:
     """The Richardson reference of ``key`` from the uniform series (see the module doc)."""
     q = extrapolate(uniform, key, 1.0)
-    ref = {"value": [q.real, q.imag], "order": 1.0,
-           "from_unknowns": [r["unknowns"] for r in uniform[-2:]]}  # fmt: skip
+    ref = {
+        "value": [q.real, q.imag],
+        "order": 1.0,
+        "from_unknowns": [r["unknowns"] for r in uniform[-2:]],
+    }
     changes = []
     if len(uniform) >= 3:
         before = extrapolate(uniform[:-1], key, 1.0)
@@ -418,8 +429,14 @@ def figure(rows: list[dict], refs: dict, path: Path, dist: list[float]) -> None:
             ax.loglog(n, e, style, marker=markers[i % len(markers)], label=label)
         unc = refs[key].get("uncertainty")
         if unc:
-            ax.axhspan(1e-6, unc, color="grey", alpha=0.15, lw=0,
-                       label="within the reference's uncertainty")  # fmt: skip
+            ax.axhspan(
+                1e-6,
+                unc,
+                color="grey",
+                alpha=0.15,
+                lw=0,
+                label="within the reference's uncertainty",
+            )
         _unknowns_axis(ax)
         ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
         ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{100 * y:g} %"))
@@ -436,14 +453,20 @@ def figure(rows: list[dict], refs: dict, path: Path, dist: list[float]) -> None:
     for i, label in enumerate(labels):
         sel = [r for r in rows if r["series"] == label]
         style = "-" if label == "uniform" else "--"
-        ax.semilogx([r["unknowns"] for r in sel], [abs(value(r, "I_cut")) * 1e6 for r in sel],
-                    style, marker=markers[i % len(markers)], label=label)  # fmt: skip
+        ax.semilogx(
+            [r["unknowns"] for r in sel],
+            [abs(value(r, "I_cut")) * 1e6 for r in sel],
+            style,
+            marker=markers[i % len(markers)],
+            label=label,
+        )
     unc = refs["I_cut"].get("uncertainty") or 0.0
     ax.axhline(ref, color="black", lw=0.8, label="reference")
     ax.axhspan(ref * (1 - unc), ref * (1 + unc), color="grey", alpha=0.15, lw=0)
     _unknowns_axis(ax)
-    ax.set_title(f"|I| across the track {dist[0]:.2f}–{dist[1]:.2f} mm from the slot side",
-                 fontsize=10)  # fmt: skip
+    ax.set_title(
+        f"|I| across the track {dist[0]:.2f}–{dist[1]:.2f} mm from the slot side", fontsize=10
+    )
     ax.set_xlabel("RWG unknowns N")
     ax.set_ylabel("|I| (µA) for |E| = 1 V/m")
     ax.grid(True, which="both", alpha=0.3)
@@ -451,8 +474,9 @@ def figure(rows: list[dict], refs: dict, path: Path, dist: list[float]) -> None:
     fig.suptitle(
         f"{PRESET} at {FREQUENCY / 1e9:g} GHz, plane wave with E across the slot: "
         "errors against the Richardson reference of the uniform meshes (left, middle) and "
-        "the current itself (right)", fontsize=10,
-    )  # fmt: skip
+        "the current itself (right)",
+        fontsize=10,
+    )
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -468,16 +492,25 @@ def _unknowns_axis(ax) -> None:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="tiny sizes (n ≤ 4, one graded series)")
-    ap.add_argument("--max-unknowns", type=int, default=MAX_UNKNOWNS,
-                    help=f"largest mesh, in RWG unknowns (default {MAX_UNKNOWNS})")  # fmt: skip
+    ap.add_argument(
+        "--max-unknowns",
+        type=int,
+        default=MAX_UNKNOWNS,
+        help=f"largest mesh, in RWG unknowns (default {MAX_UNKNOWNS})",
+    )
     ap.add_argument("--json", metavar="PATH", help="write rows and reference as JSON")
     ap.add_argument("--markdown", metavar="PATH", help="write the table as Markdown")
-    ap.add_argument("--png", metavar="PATH", help="write the figure (default: "
-                    "assets/grading-convergence.png, none with --quick)")  # fmt: skip
+    ap.add_argument(
+        "--png",
+        metavar="PATH",
+        help="write the figure (default: assets/grading-convergence.png, none with --quick)",
+    )
     args = ap.parse_args(argv)
     if args.max_unknowns < 500:
-        ap.error(f"--max-unknowns={args.max_unknowns} is too small; expected at least 500 "
-                 "(three uniform meshes)")  # fmt: skip
+        ap.error(
+            f"--max-unknowns={args.max_unknowns} is too small; expected at least 500 "
+            "(three uniform meshes)"
+        )
     base = load_preset(PRESET)[0]
     cut = (cut_line(base, +1), cut_line(base, -1))
     dist = slot_distance(base, cut[0])
@@ -490,10 +523,19 @@ def main(argv: list[str] | None = None) -> int:
     if has_grading():
         plan = QUICK_GRADED if args.quick else GRADED
         for ratio, min_edge in plan:
-            label = f"graded r={ratio:g}, min_edge=" + ("default" if min_edge is None
-                                                        else f"{min_edge:g} mm")  # fmt: skip
-            rows += series(base, label, cut, args.max_unknowns, 2 if args.quick else max_n,
-                           grading=True, growth_ratio=ratio, min_edge=min_edge)  # fmt: skip
+            label = f"graded r={ratio:g}, min_edge=" + (
+                "default" if min_edge is None else f"{min_edge:g} mm"
+            )
+            rows += series(
+                base,
+                label,
+                cut,
+                args.max_unknowns,
+                2 if args.quick else max_n,
+                grading=True,
+                growth_ratio=ratio,
+                min_edge=min_edge,
+            )
     else:
         graded_note = (
             "graded series skipped: barymesh.MeshParams has no grading fields "
@@ -507,10 +549,14 @@ def main(argv: list[str] | None = None) -> int:
         doc = {
             "preset": PRESET,
             "frequency_hz": FREQUENCY,
-            "excitation": {"direction": WAVE.direction.tolist(),
-                           "polarization": WAVE.polarization.real.tolist()},  # fmt: skip
-            "cuts": [{"start_mm": a.tolist(), "end_mm": b.tolist(), "normal": n.tolist()}
-                     for a, b, n, _ in cut],
+            "excitation": {
+                "direction": WAVE.direction.tolist(),
+                "polarization": WAVE.polarization.real.tolist(),
+            },
+            "cuts": [
+                {"start_mm": a.tolist(), "end_mm": b.tolist(), "normal": n.tolist()}
+                for a, b, n, _ in cut
+            ],
             "slot_distance_mm": dist,
             "reference": refs,
             "graded": graded_note or "run",

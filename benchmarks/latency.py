@@ -140,8 +140,13 @@ class _Heartbeat:
 
 
 def _stats(values: list[float]) -> dict:
-    return {"median": statistics.median(values), "p95": _percentile(values, 0.95),
-            "min": min(values), "max": max(values), "samples": values}
+    return {
+        "median": statistics.median(values),
+        "p95": _percentile(values, 0.95),
+        "min": min(values),
+        "max": max(values),
+        "samples": values,
+    }
 
 
 def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dict:
@@ -153,19 +158,32 @@ def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dic
     window.model.set_params(params)
     # shown: a new result and a paint since (the paint may come inside the result's
     # handling, when a panel relayout resizes the view: it then is the only one)
-    ok = _wait_until(app_, lambda: window.model.result is not old()
-                     and window.model.result.params == params
-                     and window.paint_counter.paints > paints, timeout)
+    ok = _wait_until(
+        app_,
+        lambda: (
+            window.model.result is not old()
+            and window.model.result.params == params
+            and window.paint_counter.paints > paints
+        ),
+        timeout,
+    )
     if not ok:
         c = window.controller
-        raise RuntimeError(f"no mesh on screen {timeout:.0f} s after {params} (busy "
-                           f"{c.busy}, pending {c._pending is not None}, stale {len(c._stale)})")
+        raise RuntimeError(
+            f"no mesh on screen {timeout:.0f} s after {params} (busy "
+            f"{c.busy}, pending {c._pending is not None}, stale {len(c._stale)})"
+        )
     seconds = window.paint_counter.last - start
     _wait_until(app_, lambda: False, 0.8)  # a late second paint would show here
     result = window.model.result
-    return {"triangles": result.mesh.n_triangles, "shown": seconds,
-            "paints": window.paint_counter.paints - paints, "longest_block": beat.longest,
-            "timings": dict(result.timings), "reduced": bool(window.scene.reduced)}
+    return {
+        "triangles": result.mesh.n_triangles,
+        "shown": seconds,
+        "paints": window.paint_counter.paints - paints,
+        "longest_block": beat.longest,
+        "timings": dict(result.timings),
+        "reduced": bool(window.scene.reduced),
+    }
 
 
 def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
@@ -182,8 +200,11 @@ def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
         _wait_until(app_, lambda: False, 0.02)
     window.top_view()
     _wait_until(app_, lambda: False, 0.3)
-    return {"frame": _stats(times), "fps": 1.0 / statistics.median(times),
-            "longest_block": beat.longest}
+    return {
+        "frame": _stats(times),
+        "fps": 1.0 / statistics.median(times),
+        "longest_block": beat.longest,
+    }
 
 
 def _quality_panel(app_, window, beat: _Heartbeat, timeout: float = 60.0) -> dict:
@@ -195,8 +216,11 @@ def _quality_panel(app_, window, beat: _Heartbeat, timeout: float = 60.0) -> dic
     start = time.perf_counter()
     window.quality_dock.show()
     window.quality_dock.raise_()
-    ok = _wait_until(app_, lambda: panel.report is not None and panel.up_to_date
-                     and panel.report["triangles"] == n, timeout)
+    ok = _wait_until(
+        app_,
+        lambda: panel.report is not None and panel.up_to_date and panel.report["triangles"] == n,
+        timeout,
+    )
     seconds = time.perf_counter() - start
     _wait_until(app_, lambda: False, 0.3)
     longest = beat.longest
@@ -216,8 +240,9 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
     slider = window.controls.rows[name].slider
     option = QStyleOptionSlider()
     slider.initStyleOption(option)
-    handle = slider.style().subControlRect(QStyle.ComplexControl.CC_Slider, option,
-                                           QStyle.SubControl.SC_SliderHandle, slider)
+    handle = slider.style().subControlRect(
+        QStyle.ComplexControl.CC_Slider, option, QStyle.SubControl.SC_SliderHandle, slider
+    )
     start = handle.center()
     # stay among valid values: inner radius 4 mm up to about 7.5 mm (outer ring at 9 mm);
     # on the default slider one pixel is about 0.46 mm
@@ -240,15 +265,23 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
         dx = phase if phase <= span else 2 * span - phase
         QTest.mouseMove(slider, QPoint(start.x() + dx, start.y()))
         _wait_until(app_, lambda: False, 0.008)
-    QTest.mouseRelease(slider, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
-                       QPoint(start.x(), start.y()))
+    QTest.mouseRelease(
+        slider,
+        Qt.MouseButton.LeftButton,
+        Qt.KeyboardModifier.NoModifier,
+        QPoint(start.x(), start.y()),
+    )
     elapsed = time.perf_counter() - t0
     window.controller.flush()
     _wait_until(app_, lambda: not window.controller.busy, 30)
     window.model.result_changed.disconnect(note)
-    return {"seconds": elapsed, "meshes": len(meshes),
-            "meshes_per_second": len(meshes) / elapsed, "moves": step,
-            "longest_block": beat.longest}
+    return {
+        "seconds": elapsed,
+        "meshes": len(meshes),
+        "meshes_per_second": len(meshes) / elapsed,
+        "moves": step,
+        "longest_block": beat.longest,
+    }
 
 
 def row_step(window, name: str) -> float:
@@ -269,8 +302,13 @@ def measure_big(app_, window, repeats: int) -> dict:
         # the paper double ring at n = 4 with a 0.02304 degree step: 1,000,000 triangles
         # of 31,250 patches, overlap ratio 0.997 (hundreds of patches over each point)
         "1M-overlap": MeshParams(angle_step=0.02304),
-        "4.8M": MeshParams(structure="double_ring", mode="conforming", subdivisions=58,
-                           inner_radius=45.0, outer_radius=65.0),
+        "4.8M": MeshParams(
+            structure="double_ring",
+            mode="conforming",
+            subdivisions=58,
+            inner_radius=45.0,
+            outer_radius=65.0,
+        ),
     }
     for key, params in cases.items():
         runs, back = [], []
@@ -293,7 +331,8 @@ def measure_big(app_, window, repeats: int) -> dict:
             "reduced": runs[0]["reduced"],
             "timings": runs[-1]["timings"],
             "bytes_per_triangle": statistics.median(
-                r["rss_above_idle"] / r["triangles"] for r in runs),
+                r["rss_above_idle"] / r["triangles"] for r in runs
+            ),
             "return_to_fig12a": {
                 "rss_over_idle": statistics.median(b["rss_after_return"] / idle for b in back),
                 "longest_block": max(b["longest_block"] for b in back),
@@ -304,8 +343,9 @@ def measure_big(app_, window, repeats: int) -> dict:
     return out
 
 
-def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3.0,
-            big: int = 0) -> dict:
+def measure(
+    frames: int, name: str, values: tuple[float, float], drag: float = 3.0, big: int = 0
+) -> dict:
     """Open the window (1400 x 860) and time ``frames`` slider moves, a ``drag``-second
     mouse drag and ``big`` rounds of the dense meshes; returns the JSON document."""
     os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
@@ -353,8 +393,13 @@ def measure(frames: int, name: str, values: tuple[float, float], drag: float = 3
         window.close()
         _wait_until(app_, lambda: False, 0.2)
         shutil.rmtree(settings_dir, ignore_errors=True)
-        return {"frames": 0, "window_size": list(WINDOW_SIZE), "view_size": list(size),
-                "renderer": renderer, "big": big_doc}
+        return {
+            "frames": 0,
+            "window_size": list(WINDOW_SIZE),
+            "view_size": list(size),
+            "renderer": renderer,
+            "big": big_doc,
+        }
 
     row = window.controls.rows[name]
     positions = [row.slider_spec.to_slider(v) for v in values]  # its window around the value
@@ -424,8 +469,7 @@ def _renderer(window) -> str:
 
 def table(doc: dict) -> str:
     if doc["frames"] == 0:
-        lines = [f"view {doc['view_size'][0]}x{doc['view_size'][1]}, "
-                 f"renderer {doc['renderer']}"]
+        lines = [f"view {doc['view_size'][0]}x{doc['view_size'][1]}, renderer {doc['renderer']}"]
         return "\n".join(lines + _big_lines(doc.get("big")))
     s = doc["seconds"]
     lines = [
@@ -503,12 +547,23 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--values", type=float, nargs=2, default=(4.0, 4.5), help="the two slider values"
     )
-    ap.add_argument("--drag", type=float, default=3.0,
-                    help="seconds of a real mouse drag of the slider (default 3, 0: none)")
-    ap.add_argument("--big", type=int, default=3,
-                    help="rounds of the 1M, 1M-overlap and 4.8M meshes (default 3, 0: none)")
-    ap.add_argument("--big-only", action="store_true",
-                    help="no slider frames and no drag: only the --big rounds")
+    ap.add_argument(
+        "--drag",
+        type=float,
+        default=3.0,
+        help="seconds of a real mouse drag of the slider (default 3, 0: none)",
+    )
+    ap.add_argument(
+        "--big",
+        type=int,
+        default=3,
+        help="rounds of the 1M, 1M-overlap and 4.8M meshes (default 3, 0: none)",
+    )
+    ap.add_argument(
+        "--big-only",
+        action="store_true",
+        help="no slider frames and no drag: only the --big rounds",
+    )
     ap.add_argument("--json", type=Path, help="also write the results here")
     args = ap.parse_args(argv)
     frames = 6 if args.quick else args.frames

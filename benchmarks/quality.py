@@ -57,7 +57,8 @@ def use_core(root: Path) -> Path:
     installs under that name); its folder."""
     init = root.resolve() / "core" / "__init__.py"
     spec = importlib.util.spec_from_file_location(
-        "barymesh", init, submodule_search_locations=[str(init.parent)])
+        "barymesh", init, submodule_search_locations=[str(init.parent)]
+    )
     module = importlib.util.module_from_spec(spec)
     sys.modules["barymesh"] = module
     spec.loader.exec_module(module)
@@ -82,18 +83,20 @@ def measure(sizes: list[str], presets: bool = True) -> list[dict[str, Any]]:
                 f"{name}: stats() counts {s['interior_edges']} interior edges, "
                 f"the RWG table has {len(mesh.rwg)} rows"
             )
-        rows.append({
-            "name": name,
-            "kind": kind,
-            "mode": params.mode,
-            "structure": params.structure,
-            "params": params.to_dict(),
-            "triangles": s["triangles"],
-            "unknowns": s["interior_edges"],
-            "min_angle_deg": s["min_angle_deg"],
-            "max_aspect_ratio": s["max_aspect_ratio"],
-            "area_mm2": s["area"],
-        })
+        rows.append(
+            {
+                "name": name,
+                "kind": kind,
+                "mode": params.mode,
+                "structure": params.structure,
+                "params": params.to_dict(),
+                "triangles": s["triangles"],
+                "unknowns": s["interior_edges"],
+                "min_angle_deg": s["min_angle_deg"],
+                "max_aspect_ratio": s["max_aspect_ratio"],
+                "area_mm2": s["area"],
+            }
+        )
         del mesh
     return rows
 
@@ -108,8 +111,14 @@ def measure_gmsh(params: dict[str, Any], target: int, algorithm: int) -> dict[st
     nodes, triangles = g.run()
     seconds = time.perf_counter() - t0
     n = len(triangles)
-    mesh = TriMesh(nodes, triangles, np.zeros(n, dtype=np.int64), np.ones(n, dtype=np.int64),
-                   n_patches=1, mode="imported")
+    mesh = TriMesh(
+        nodes,
+        triangles,
+        np.zeros(n, dtype=np.int64),
+        np.ones(n, dtype=np.int64),
+        n_patches=1,
+        mode="imported",
+    )
     s = mesh.stats()
     return {
         "triangles": s["triangles"],
@@ -126,8 +135,14 @@ def measure_gmsh(params: dict[str, Any], target: int, algorithm: int) -> dict[st
 def _run_worker(args: list[str], timeout: float, core_root: Path) -> Any:
     """Run this script as a worker with ``core_root``'s core; its JSON answer."""
     cmd = [sys.executable, str(Path(__file__).resolve()), "--core", str(core_root), *args]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, check=False,
-                          env=_env_with_path(core_root))
+    proc = subprocess.run(
+        cmd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+        env=_env_with_path(core_root),
+    )
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed:\n{proc.stderr.strip()}")
     return json.loads(proc.stdout)
@@ -141,8 +156,12 @@ def _env_with_path(root: Path) -> dict[str, str]:
 
 
 def _commit(root: Path) -> str | None:
-    proc = subprocess.run(["git", "-C", str(root), "describe", "--always", "--dirty"],
-                          capture_output=True, text=True, check=False)
+    proc = subprocess.run(
+        ["git", "-C", str(root), "describe", "--always", "--dirty"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     return proc.stdout.strip() or None
 
 
@@ -152,8 +171,16 @@ def gmsh_rows(rows: list[dict[str, Any]], algorithm: int, timeout: float) -> Non
         if row["mode"] != "conforming" or row["structure"] not in GMSH_STRUCTURES:
             continue
         print(f"gmsh on {row['name']} ...", file=sys.stderr, flush=True)
-        args = ["--worker", "gmsh", "--case", json.dumps(row["params"]),
-                "--target", str(row["triangles"]), "--gmsh-algorithm", str(algorithm)]
+        args = [
+            "--worker",
+            "gmsh",
+            "--case",
+            json.dumps(row["params"]),
+            "--target",
+            str(row["triangles"]),
+            "--gmsh-algorithm",
+            str(algorithm),
+        ]
         try:
             row["gmsh"] = _run_worker(args, timeout, ROOT)
         except subprocess.TimeoutExpired:
@@ -173,9 +200,12 @@ def _cells(value: Any, kind: str) -> str:
     return f"{value:.2f}"
 
 
-FIGURES = (("triangles", "triangles", "int"), ("unknowns", "unknowns", "int"),
-           ("min_angle_deg", "min angle °", "angle"),
-           ("max_aspect_ratio", "max aspect", "ratio"))
+FIGURES = (
+    ("triangles", "triangles", "int"),
+    ("unknowns", "unknowns", "int"),
+    ("min_angle_deg", "min angle °", "angle"),
+    ("max_aspect_ratio", "max aspect", "ratio"),
+)
 
 
 def _ordered(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -187,8 +217,9 @@ def _ordered(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return sorted(rows, key=key)
 
 
-def table(rows: list[dict[str, Any]], baseline: dict[str, dict[str, Any]] | None,
-          markdown: bool) -> str:
+def table(
+    rows: list[dict[str, Any]], baseline: dict[str, dict[str, Any]] | None, markdown: bool
+) -> str:
     """The figures as a Markdown or a plain table; ``baseline`` maps names to rows."""
     head = ["mesh", "mode"]
     for _, label, _ in FIGURES:
@@ -212,26 +243,44 @@ def table(rows: list[dict[str, Any]], baseline: dict[str, dict[str, Any]] | None
         align = ["---", "---"] + ["---:"] * (len(head) - 2)
         return "\n".join("| " + " | ".join(r) + " |" for r in [head, align, *body])
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
-    lines = ["  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in
-                       enumerate(zip(r, widths, strict=True))) for r in [head, *body]]
+    lines = [
+        "  ".join(
+            c.ljust(w) if i < 2 else c.rjust(w)
+            for i, (c, w) in enumerate(zip(r, widths, strict=True))
+        )
+        for r in [head, *body]
+    ]
     lines.insert(1, "-" * len(lines[0]))
     return "\n".join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", default=",".join(DEFAULT_SIZES),
-                    help=f"split ring sizes, a comma list from {', '.join(SIZES)} "
-                         f"(default {','.join(DEFAULT_SIZES)}; empty for presets only)")
+    ap.add_argument(
+        "--sizes",
+        default=",".join(DEFAULT_SIZES),
+        help=f"split ring sizes, a comma list from {', '.join(SIZES)} "
+        f"(default {','.join(DEFAULT_SIZES)}; empty for presets only)",
+    )
     ap.add_argument("--no-presets", action="store_true", help="only the split ring")
-    ap.add_argument("--baseline", type=Path,
-                    help="another barymesh checkout: its figures go in the 'today' columns")
+    ap.add_argument(
+        "--baseline",
+        type=Path,
+        help="another barymesh checkout: its figures go in the 'today' columns",
+    )
     ap.add_argument("--no-gmsh", action="store_true", help="skip gmsh")
-    ap.add_argument("--gmsh-algorithm", default="frontal-delaunay",
-                    help=f"gmsh's 2D algorithm: {', '.join(ALGORITHMS)} or its number "
-                         "(default frontal-delaunay, gmsh's own default)")
-    ap.add_argument("--gmsh-timeout", type=float, default=150.0,
-                    help="seconds allowed to each gmsh run, calibration included (default 150)")
+    ap.add_argument(
+        "--gmsh-algorithm",
+        default="frontal-delaunay",
+        help=f"gmsh's 2D algorithm: {', '.join(ALGORITHMS)} or its number "
+        "(default frontal-delaunay, gmsh's own default)",
+    )
+    ap.add_argument(
+        "--gmsh-timeout",
+        type=float,
+        default=150.0,
+        help="seconds allowed to each gmsh run, calibration included (default 150)",
+    )
     ap.add_argument("--markdown", action="store_true", help="print a Markdown table")
     ap.add_argument("--json", type=Path, help="also write the figures here")
     ap.add_argument("--worker", choices=("measure", "gmsh"), help=argparse.SUPPRESS)
@@ -249,8 +298,10 @@ def main(argv: list[str] | None = None) -> int:
         try:
             algorithm = int(args.gmsh_algorithm)
         except ValueError:
-            ap.error(f"--gmsh-algorithm={args.gmsh_algorithm!r}: expected one of "
-                     f"{', '.join(ALGORITHMS)} or gmsh's number")
+            ap.error(
+                f"--gmsh-algorithm={args.gmsh_algorithm!r}: expected one of "
+                f"{', '.join(ALGORITHMS)} or gmsh's number"
+            )
     if args.gmsh_timeout <= 0:
         ap.error(f"--gmsh-timeout={args.gmsh_timeout}: expected a positive number of seconds")
     if args.baseline is not None and not (args.baseline / "core" / "__init__.py").is_file():
@@ -285,11 +336,14 @@ def main(argv: list[str] | None = None) -> int:
             "aspect_ratio": ASPECT_RATIO,
             "unknowns": "interior edges (on exactly two triangles) = rows of the RWG table",
             "new": {"checkout": str(ROOT), "commit": _commit(ROOT)},
-            "baseline": None if args.baseline is None else {
-                "checkout": str(args.baseline.resolve()), "commit": _commit(args.baseline)},
+            "baseline": None
+            if args.baseline is None
+            else {"checkout": str(args.baseline.resolve()), "commit": _commit(args.baseline)},
             "gmsh_algorithm": algorithm if with_gmsh else None,
-            "rows": [{**row, "baseline": None if baseline is None else baseline.get(row["name"])}
-                     for row in _ordered(rows)],
+            "rows": [
+                {**row, "baseline": None if baseline is None else baseline.get(row["name"])}
+                for row in _ordered(rows)
+            ],
         }
         args.json.write_text(json.dumps(doc, indent=2))
     return 0

@@ -21,8 +21,9 @@ from barymesh.sizing import wavelength
 
 WORKLOADS = {
     "paper double ring, n = 27 (1M)": MeshParams(subdivisions=27),
-    "conforming double ring, n = 20 (576k)": MeshParams(mode="conforming", angle_step=1.0,
-                                                        subdivisions=20),
+    "conforming double ring, n = 20 (576k)": MeshParams(
+        mode="conforming", angle_step=1.0, subdivisions=20
+    ),
 }
 
 
@@ -46,16 +47,19 @@ def main() -> None:
         sized = plain.replace(frequency=wavelength(1.0) / (10 * longest) * (1 - 1e-9))
         chosen = build_mesh(sized).params.subdivisions
         assert chosen == plain.subdivisions, (chosen, plain.subdivisions)
-        times: dict[str, list[float]] = {"build": [], "sized build": [], "stats": [],
-                                         "sized stats": []}
+        times: dict[str, list[float]] = {
+            "build": [],
+            "sized build": [],
+            "stats": [],
+            "sized stats": [],
+        }
         for _ in range(args.reps):
             times["build"].append(_timed(lambda p=plain: build_mesh(p))[0])
             times["sized build"].append(_timed(lambda p=sized: build_mesh(p))[0])
             times["stats"].append(_stats_time(plain))
             times["sized stats"].append(_stats_time(sized))
         cells = ", ".join(
-            f"{k} {statistics.median(v):.3f} ({min(v):.3f}–{max(v):.3f})"
-            for k, v in times.items()
+            f"{k} {statistics.median(v):.3f} ({min(v):.3f}–{max(v):.3f})" for k, v in times.items()
         )
         print(f"{name}: {build_mesh(plain).n_triangles:,} triangles, n = {chosen}: {cells}")
 

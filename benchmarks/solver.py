@@ -155,8 +155,9 @@ def fresh(mesh: TriMesh) -> TriMesh:
     Its RWG table and centroids are computed here, outside the timings: they are the
     mesher's output, which the Makarov-style solver reads from the cached mesh too.
     """
-    out = TriMesh(mesh.points, mesh.triangles, mesh.patch_ids, mesh.regions, mesh.n_patches,
-                  mode=mesh.mode)  # fmt: skip
+    out = TriMesh(
+        mesh.points, mesh.triangles, mesh.patch_ids, mesh.regions, mesh.n_patches, mode=mesh.mode
+    )
     _ = out.rwg, out.centroids, out.areas
     return out
 
@@ -203,8 +204,15 @@ def split_times(mesh: TriMesh, freq: float, wave: PlaneWave) -> dict:
     return {"ours_geometry_s": t_geom, "ours_fill_s": t_fill, "ours_lu_s": t_lu}
 
 
-def single(name: str, mesh: TriMesh, freq: float, wave: PlaneWave, reps: int, accuracy: bool,
-           split: bool = False):  # fmt: skip
+def single(
+    name: str,
+    mesh: TriMesh,
+    freq: float,
+    wave: PlaneWave,
+    reps: int,
+    accuracy: bool,
+    split: bool = False,
+):
     n = len(mesh.rwg)
     # the two solvers alternate, so that both see the same load on a shared machine
     t_ours = t_mak = float("inf")
@@ -295,8 +303,10 @@ def table(rows: list[dict]) -> str:
         else:
             acc = f"max |J| ours {r['ours_max_j']:.5g}, Makarov-style {r['makarov_max_j']:.5g} A/m"
         if "ours_geometry_s" in r:
-            acc += (f"; ours split: geometry {r['ours_geometry_s']:.3f} s, fill "
-                    f"{r['ours_fill_s']:.3f} s, LU {r['ours_lu_s']:.3f} s")  # fmt: skip
+            acc += (
+                f"; ours split: geometry {r['ours_geometry_s']:.3f} s, fill "
+                f"{r['ours_fill_s']:.3f} s, LU {r['ours_lu_s']:.3f} s"
+            )
         lines.append(
             f"{r['name']:<18} {r['unknowns']:>6} {r['ours_s']:>8.3f} {r['makarov_s']:>16.3f} "
             f"{r['speedup']:>8.1f}x  {acc}"
@@ -330,8 +340,9 @@ def main(argv: list[str] | None = None) -> int:
                     resolve_params("makarov-platefine", None, [f"subdivisions={sub}"])
                 )
                 reps = args.reps if sub < 40 else 1
-                rows.append(single(name, big_plate, 300e6, wave_x, reps, accuracy=False,
-                                   split=True))  # fmt: skip
+                rows.append(
+                    single(name, big_plate, 300e6, wave_x, reps, accuracy=False, split=True)
+                )
         if "ring" not in args.skip:
             big = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=4"]))
             rows.append(single(f"ring {len(big.rwg)}", big, 6.19e9, wave_y, 1, accuracy=False))

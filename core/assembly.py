@@ -124,9 +124,10 @@ def patch_topology(
     free_vertices[first_slot[two], 1] = inc_free[start[two] + 1]
 
     # number the kept slots
-    triangle_slots = template.triangle_edges[None] + (
-        np.arange(n_patch, dtype=INDEX) * INDEX(n_loc)
-    )[:, None, None]
+    triangle_slots = (
+        template.triangle_edges[None]
+        + (np.arange(n_patch, dtype=INDEX) * INDEX(n_loc))[:, None, None]
+    )
     triangle_slots = triangle_slots.reshape(-1, 3)
     if len(duplicate):
         keep = np.ones(n_slots, dtype=bool)

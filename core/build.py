@@ -66,6 +66,7 @@ def build_mesh(
         params = MeshParams()
     if not isinstance(params, MeshParams):
         raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
+
     def checkpoint() -> None:
         if cancel is not None and cancel():
             raise BuildCancelled("the build was cancelled")

@@ -85,9 +85,12 @@ def _flagged(x: np.ndarray, y: np.ndarray, i, j, k) -> np.ndarray:
     if flagged.any():
         f = np.flatnonzero(flagged)
         longest = np.maximum.reduce(
-            [ux[f] ** 2 + uy[f] ** 2, vx[f] ** 2 + vy[f] ** 2,
-             (ux[f] - vx[f]) ** 2 + (uy[f] - vy[f]) ** 2]
-        )  # fmt: skip
+            [
+                ux[f] ** 2 + uy[f] ** 2,
+                vx[f] ** 2 + vy[f] ** 2,
+                (ux[f] - vx[f]) ** 2 + (uy[f] - vy[f]) ** 2,
+            ]
+        )
         flagged[f] = ~(twice_area[f] >= 2 * FLAT * longest)
     return flagged
 

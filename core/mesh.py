@@ -69,7 +69,7 @@ _SHORT_CHAINS: dict[tuple[int, bool], tuple[PatchTemplate, EdgeTopology]] = {}
 
 
 def _short_chain_topology(template: PatchTemplate, closed: bool) -> EdgeTopology:
-    """``patch_topology`` of a chain of :data:`barymesh.topology.CHAIN` sectors numbered by formula."""
+    """``patch_topology`` of a chain of :data:`barymesh.topology.CHAIN` sectors, by formula."""
     key = (id(template), closed)
     hit = _SHORT_CHAINS.get(key)
     if hit is not None and hit[0] is template:  # the template itself is kept: ids stay unique
@@ -515,8 +515,11 @@ class TriMesh:
             counts = np.zeros(4, dtype=np.int64)
             for short, m in zip(shorts, ms, strict=True):
                 cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
-                for lo, hi, times in ((0, MIDDLE, 1), (MIDDLE, MIDDLE + 1, m - CHAIN + 1),
-                                      (MIDDLE + 1, CHAIN, 1)):  # fmt: skip
+                for lo, hi, times in (
+                    (0, MIDDLE, 1),
+                    (MIDDLE, MIDDLE + 1, m - CHAIN + 1),
+                    (MIDDLE + 1, CHAIN, 1),
+                ):
                     part = np.bincount(short.valence[cut[lo] : cut[hi]], minlength=4)
                     counts[: len(part)] += times * part[:4]
             return counts[: max(3, len(np.trim_zeros(counts, "b")))]  # as a bincount

@@ -65,9 +65,7 @@ MAX_PATCH_COUNT = 1e15
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
     if not isinstance(value, str) or value not in allowed:
-        raise ValueError(
-            f"{name}={_short(value)} is unknown; expected one of {', '.join(allowed)}"
-        )
+        raise ValueError(f"{name}={_short(value)} is unknown; expected one of {', '.join(allowed)}")
     return value
 
 
@@ -222,9 +220,7 @@ class MeshParams:
             budget = int(budget)
             put(self, "max_triangles", budget)
         if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-            raise ValueError(
-                f"max_triangles={_short(budget)} is invalid; expected an integer >= 1"
-            )
+            raise ValueError(f"max_triangles={_short(budget)} is invalid; expected an integer >= 1")
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
         if self.tolerance is not None:  # a number before the sector plan (keyed on it) is made
@@ -307,13 +303,16 @@ class MeshParams:
                     "finite frequency > 0 Hz (10e9 for 10 GHz), or none for no sizing"
                 )
             put(self, "frequency", f)
-        for name, what in (("cells_per_wavelength", "edges per wavelength"),
-                           ("relative_permittivity", "a relative permittivity")):
+        for name, what in (
+            ("cells_per_wavelength", "edges per wavelength"),
+            ("relative_permittivity", "a relative permittivity"),
+        ):
             value = getattr(self, name)
             x = _float(name, value, f"{what} >= 1")
             if not (math.isfinite(x) and x >= 1):
-                raise ValueError(f"{name}={_short(value)} is invalid; expected {what}: a "
-                                 "finite number >= 1")
+                raise ValueError(
+                    f"{name}={_short(value)} is invalid; expected {what}: a finite number >= 1"
+                )
             put(self, name, x)
         if self.frequency is not None:
             from .sizing import wavelength
@@ -330,6 +329,7 @@ class MeshParams:
     def sized(self) -> bool:
         """Whether the mesher chooses ``subdivisions`` (``max_edge`` or ``frequency`` set)."""
         return self.max_edge is not None or self.frequency is not None
+
     def _check_grading(self) -> None:
         if not isinstance(self.grading, (bool, np.bool_)):
             raise ValueError(f"grading={_short(self.grading)} is invalid; expected true or false")
@@ -493,8 +493,9 @@ class MeshParams:
             sides = [(h, w, "min_edge")]
         if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
             r = self.inner_radius
-            full = 360.0 if s in ("ring", "double_ring") else (
-                360.0 if s == "split_ring" else 180.0)  # fmt: skip
+            full = (
+                360.0 if s in ("ring", "double_ring") else (360.0 if s == "split_ring" else 180.0)
+            )
             span = full
             if s in SPLIT_STRUCTURES:
                 span -= 2 * float(_slot_half_angle(self, r))

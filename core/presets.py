@@ -1,6 +1,7 @@
 """Named parameter sets (presets) and user parameter files.
 
-A preset is a JSON file in ``assets/presets/`` (installed as ``barymesh/assets/presets/``): a :class:`MeshParams` dict
+A preset is a JSON file in ``assets/presets/`` (installed as
+``barymesh/assets/presets/``): a :class:`MeshParams` dict
 plus a one-line ``"description"``. A user's parameter file has the same
 layout (the description is optional) and may live anywhere.
 
@@ -38,8 +39,9 @@ def preset_names() -> list[str]:
     return sorted(p.stem for p in PRESET_DIR.glob("*.json"))
 
 
-def read_json_file(path: Path, kind: str = "parameter file",
-                   document: str = "JSON parameters", article: str = "") -> Any:
+def read_json_file(
+    path: Path, kind: str = "parameter file", document: str = "JSON parameters", article: str = ""
+) -> Any:
     """The JSON document in ``path``; a ``ValueError`` naming the file for anything wrong.
 
     ``kind`` names the file in "no such …" (``"parameter file"``, ``"cell file"``),

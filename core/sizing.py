@@ -177,13 +177,17 @@ def sizing_summary(stats: dict[str, Any]) -> str:
     >>> sizing_summary({"subdivisions_chosen": 5, "target_edge": 2.5, "max_edge": 2.4})
     '  sized: subdivisions 5 chosen for edges <= 2.5 mm; longest edge 2.4 mm'
     """
-    line = (f"  sized: subdivisions {stats['subdivisions_chosen']} chosen for edges <= "
-            f"{stats['target_edge']:.6g} mm; longest edge {stats['max_edge']:.6g} mm")
+    line = (
+        f"  sized: subdivisions {stats['subdivisions_chosen']} chosen for edges <= "
+        f"{stats['target_edge']:.6g} mm; longest edge {stats['max_edge']:.6g} mm"
+    )
     if "wavelength" in stats:
         rule = "met" if stats["lambda_10_rule"] else "NOT met"
-        line += (f" = {stats['max_edge_wavelengths']:.4g} lambda (lambda = "
-                 f"{stats['wavelength']:.6g} mm), largest area "
-                 f"{stats['max_area_wavelengths2']:.4g} lambda^2, lambda/10 rule {rule}")
+        line += (
+            f" = {stats['max_edge_wavelengths']:.4g} lambda (lambda = "
+            f"{stats['wavelength']:.6g} mm), largest area "
+            f"{stats['max_area_wavelengths2']:.4g} lambda^2, lambda/10 rule {rule}"
+        )
     return line
 
 
@@ -207,8 +211,11 @@ def _what(params: MeshParams, name: str, target: float) -> str:
     """``frequency=… Hz asks for edges ≤ … mm (λ/… of … mm)`` or the max_edge equivalent."""
     if name == "frequency":
         lam = params_wavelength(params)
-        medium = "" if params.relative_permittivity == 1 else (
-            f" in εr = {params.relative_permittivity:g}")
+        medium = (
+            ""
+            if params.relative_permittivity == 1
+            else (f" in εr = {params.relative_permittivity:g}")
+        )
         return (
             f"frequency={params.frequency!r} Hz asks for edges <= {target:.6g} mm "
             f"(λ/{params.cells_per_wavelength:g} of λ = {lam:.6g} mm{medium})"
@@ -258,8 +265,9 @@ def sized_mesh(
         try:
             return params.replace(subdivisions=n)
         except ValueError as exc:
-            raise ValueError(f"{_what(params, name, target)}, which needs subdivisions={n}; "
-                             f"there: {exc}") from None
+            raise ValueError(
+                f"{_what(params, name, target)}, which needs subdivisions={n}; there: {exc}"
+            ) from None
 
     bad, good = 0, None  # largest n known to miss the target, smallest known to meet it
     n = 1
@@ -318,8 +326,11 @@ def _refuse(
         # in logarithms: (need / top)**2 or 6**(need - top) overflows float64 for far targets
         growth = 2 * math.log(need / top) if scheme == "uniform" else (need - top) * math.log(6)
         about = "about "
-        count = None if math.log(base) + growth > math.log(MAX_PATCH_COUNT) else (
-            round(base * math.exp(growth)))  # fmt: skip
+        count = (
+            None
+            if math.log(base) + growth > math.log(MAX_PATCH_COUNT)
+            else (round(base * math.exp(growth)))
+        )
     shown = f"{about}{count:,}" if count is not None else f"more than {MAX_PATCH_COUNT:.0e}"
     level = f"{need}" if need < 10**6 else f"{need:.3g}"
     needed = f"it would take {about}{unit} = {level}, {shown} triangles"

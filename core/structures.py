@@ -147,9 +147,7 @@ def rects_touching_slots(
     half = width / 2
     hit = np.zeros(len(rects), dtype=bool)
     angles = [d % 360.0 for d in directions]
-    full = len(angles) == 2 and math.isclose(
-        (angles[1] - angles[0]) % 360.0, 180.0, abs_tol=1e-9
-    )
+    full = len(angles) == 2 and math.isclose((angles[1] - angles[0]) % 360.0, 180.0, abs_tol=1e-9)
     for phi in angles[:1] if full else angles:
         c, s = math.cos(math.radians(phi)), math.sin(math.radians(phi))
         d = -s * cx + c * cy  # across the slot
@@ -196,10 +194,23 @@ def _paper_origins(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: The parameters that decide a conforming ring's arcs, sector counts and template.
-_ARC_FIELDS = ("structure", "scheme", "subdivisions", "diagonal", "inner_radius",
-               "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
-               "max_triangles", "tolerance", "grading", "growth_ratio",
-               "min_edge")  # fmt: skip
+_ARC_FIELDS = (
+    "structure",
+    "scheme",
+    "subdivisions",
+    "diagonal",
+    "inner_radius",
+    "outer_radius",
+    "patch_size",
+    "angle_step",
+    "gap_width",
+    "gap_angle",
+    "max_triangles",
+    "tolerance",
+    "grading",
+    "growth_ratio",
+    "min_edge",
+)
 #: Smallest angle (degrees) the conforming sectors aim at: PSSFSS meshes with a 30° minimum.
 TARGET_MIN_ANGLE = 30.0
 #: A coarser arc division (fewer, longer sectors) is taken when its smallest angle is
@@ -338,9 +349,10 @@ def _cached_plan(key: tuple) -> SectorPlan:
 def _touching(params) -> bool:
     radii = _radii(params)
     return len(radii) == 2 and abs(radii[1] - (radii[0] + params.patch_size)) <= (
-        params.tolerance if params.tolerance is not None
+        params.tolerance
+        if params.tolerance is not None
         else RELATIVE_TOLERANCE * 2 * (radii[-1] + params.patch_size)
-    )  # fmt: skip
+    )
 
 
 def _plan_sectors(params, arcs: tuple, m: int) -> SectorPlan:
@@ -484,9 +496,12 @@ def _sectors_proper(params, arc: tuple[float, float, bool], plan: SectorPlan) ->
         ac = (x[:, c] - x[:, a], y[:, c] - y[:, a])
         cross = ab[0] * ac[1] - ab[1] * ac[0]
         longest = np.maximum.reduce(
-            [ab[0] ** 2 + ab[1] ** 2, ac[0] ** 2 + ac[1] ** 2,
-             (ac[0] - ab[0]) ** 2 + (ac[1] - ab[1]) ** 2]
-        )  # fmt: skip
+            [
+                ab[0] ** 2 + ab[1] ** 2,
+                ac[0] ** 2 + ac[1] ** 2,
+                (ac[0] - ab[0]) ** 2 + (ac[1] - ab[1]) ** 2,
+            ]
+        )
         if (cross <= 2e-9 * longest).any():  # folded or flat
             return False
         if not closed and (cross <= 1e-9 * (radius + params.patch_size) ** 2).any():
@@ -564,9 +579,7 @@ def _conforming_ring_layout(params: MeshParams) -> Layout:
         xy += np.asarray(params.origin)
     floor = plan.min_angle_floor
     if not touching and _sides_in_rows(template):
-        ids, rep = _sector_chain_vertices(
-            template, [c[0] for c in chains], [c[1] for c in chains]
-        )
+        ids, rep = _sector_chain_vertices(template, [c[0] for c in chains], [c[1] for c in chains])
         return Layout(template, xy, np.concatenate(regions), ids, rep, None, floor)
     if touching:
         # touching rings (as many sectors): the inner ring's outer circle is the

@@ -354,9 +354,9 @@ def _side(uv: np.ndarray, side: int) -> np.ndarray:
 
 def _counter_clockwise(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     p = xy[triangles]
-    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
-        p[:, 1, 1] - p[:, 0, 1]
-    ) * (p[:, 2, 0] - p[:, 0, 0])
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (
+        p[:, 2, 0] - p[:, 0, 0]
+    )
     out = triangles.copy()
     flip = cross < 0
     out[flip] = out[flip][:, [0, 2, 1]]

@@ -393,9 +393,7 @@ def vertex_adjacency(n_vertices: int, edges: np.ndarray) -> sp.csr_matrix:
     """V x V symmetric matrix with 1 where two vertices are joined by an edge."""
     r = np.concatenate([edges[:, 0], edges[:, 1]])
     c = np.concatenate([edges[:, 1], edges[:, 0]])
-    return sp.coo_matrix(
-        (np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_vertices,) * 2
-    ).tocsr()
+    return sp.coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_vertices,) * 2).tocsr()
 
 
 #: Sectors in the short chain whose topology a long chain repeats: two first, the middle
@@ -466,19 +464,35 @@ def chain_topology(
     valence = np.empty(total, dtype=INDEX)
     triangle_edges = np.empty((sum(ms) * n_tri, 3), dtype=INDEX)
     e0 = t0 = v0 = 0
-    for short, m, cut, n_e, n_v in zip(shorts, ms, edge_cuts, n_edges, chain_vertices,
-                                       strict=True):  # fmt: skip
+    for short, m, cut, n_e, n_v in zip(shorts, ms, edge_cuts, n_edges, chain_vertices, strict=True):
         extra = m - CHAIN  # sectors 2 … m − 3: extra + 1 copies of the short chain's sector 2
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])  # edges listed by a middle sector
         rows = slice(e0, e0 + n_e)
         _extend(short.edges, edges[rows], cut, extra, per_sector, stride, vertex_starts, v0)
-        _extend(short.edge_triangles, edge_triangles[rows], cut, extra, per_sector, n_tri,
-                tri_cut, t0)  # fmt: skip
-        _extend(short.free_vertices, free_vertices[rows], cut, extra, per_sector, stride,
-                vertex_starts, v0)  # fmt: skip
+        _extend(
+            short.edge_triangles, edge_triangles[rows], cut, extra, per_sector, n_tri, tri_cut, t0
+        )
+        _extend(
+            short.free_vertices,
+            free_vertices[rows],
+            cut,
+            extra,
+            per_sector,
+            stride,
+            vertex_starts,
+            v0,
+        )
         _extend(short.valence, valence[rows], cut, extra, per_sector, 0, cut, 0)
-        _extend(short.triangle_edges, triangle_edges[t0 : t0 + m * n_tri], tri_cut, extra,
-                n_tri, per_sector, cut, e0)  # fmt: skip
+        _extend(
+            short.triangle_edges,
+            triangle_edges[t0 : t0 + m * n_tri],
+            tri_cut,
+            extra,
+            n_tri,
+            per_sector,
+            cut,
+            e0,
+        )
         e0, t0, v0 = e0 + n_e, t0 + m * n_tri, v0 + n_v
     return EdgeTopology(
         edges=edges,
@@ -663,8 +677,7 @@ def chain_rwg(
         n_rows = int(row_cut[-1]) + extra * unit
         out = slice(r0, r0 + n_rows)
         _extend(rows.astype(INDEX), edge[out], row_cut, extra, unit, per_sector, cut, e0)
-        _extend(short.edges[rows], vertices[out], row_cut, extra, unit, stride,
-                vertex_starts, v0)  # fmt: skip
+        _extend(short.edges[rows], vertices[out], row_cut, extra, unit, stride, vertex_starts, v0)
         for k, (source, step, starts, base) in enumerate(
             [
                 (short.edge_triangles[rows, 0], n_tri, tri_cut, t0),
@@ -718,19 +731,30 @@ def chain_adjacency(shorts: list[sp.csr_matrix], ms: list[int], n_tri: int) -> s
     tri_cut = np.arange(CHAIN + 1) * n_tri
     n_rows = sum(ms) * n_tri
     counts = np.empty(n_rows, dtype=INDEX)
-    nnz = [int(s.indptr[-1]) + (m - CHAIN) * int(s.indptr[tri_cut[MIDDLE + 1]] -
-                                                 s.indptr[tri_cut[MIDDLE]])
-           for s, m in zip(shorts, ms, strict=True)]  # fmt: skip
+    nnz = [
+        int(s.indptr[-1])
+        + (m - CHAIN) * int(s.indptr[tri_cut[MIDDLE + 1]] - s.indptr[tri_cut[MIDDLE]])
+        for s, m in zip(shorts, ms, strict=True)
+    ]
     indices = np.empty(sum(nnz), dtype=INDEX)
     i0 = t0 = 0
     for short, m, n in zip(shorts, ms, nnz, strict=True):
         extra = m - CHAIN
         rows = slice(t0, t0 + m * n_tri)
-        _extend(np.diff(short.indptr).astype(INDEX), counts[rows], tri_cut, extra, n_tri, 0,
-                tri_cut, 0)  # fmt: skip
+        _extend(
+            np.diff(short.indptr).astype(INDEX), counts[rows], tri_cut, extra, n_tri, 0, tri_cut, 0
+        )
         cuts = short.indptr[tri_cut]
-        _extend(short.indices.astype(INDEX), indices[i0 : i0 + n], cuts, extra,
-                int(cuts[MIDDLE + 1] - cuts[MIDDLE]), n_tri, tri_cut, t0)  # fmt: skip
+        _extend(
+            short.indices.astype(INDEX),
+            indices[i0 : i0 + n],
+            cuts,
+            extra,
+            int(cuts[MIDDLE + 1] - cuts[MIDDLE]),
+            n_tri,
+            tri_cut,
+            t0,
+        )
         i0, t0 = i0 + n, t0 + m * n_tri
     indptr = np.zeros(n_rows + 1, dtype=INDEX)
     np.cumsum(counts, out=indptr[1:])

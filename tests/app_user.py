@@ -30,18 +30,26 @@ def _handle_rect(slider: QSlider):
     opt = QStyleOptionSlider()
     slider.initStyleOption(opt)
     style = slider.style()
-    handle = style.subControlRect(QStyle.ComplexControl.CC_Slider, opt,
-                                  QStyle.SubControl.SC_SliderHandle, slider)
-    groove = style.subControlRect(QStyle.ComplexControl.CC_Slider, opt,
-                                  QStyle.SubControl.SC_SliderGroove, slider)
+    handle = style.subControlRect(
+        QStyle.ComplexControl.CC_Slider, opt, QStyle.SubControl.SC_SliderHandle, slider
+    )
+    groove = style.subControlRect(
+        QStyle.ComplexControl.CC_Slider, opt, QStyle.SubControl.SC_SliderGroove, slider
+    )
     return handle, groove
 
 
 def _mouse(widget, kind, point: QPoint, buttons) -> None:
     local = QPointF(point)
     button = Qt.MouseButton.LeftButton if kind != QEvent.Type.MouseMove else Qt.MouseButton.NoButton
-    event = QMouseEvent(kind, local, QPointF(widget.mapToGlobal(point)), button, buttons,
-                        Qt.KeyboardModifier.NoModifier)
+    event = QMouseEvent(
+        kind,
+        local,
+        QPointF(widget.mapToGlobal(point)),
+        button,
+        buttons,
+        Qt.KeyboardModifier.NoModifier,
+    )
     QApplication.sendEvent(widget, event)
 
 
@@ -69,8 +77,9 @@ def drag_slider(slider: QSlider, position: int, steps: int = 6) -> None:
     for i in range(1, steps + 1):
         x = start.x() + (end_x - start.x()) * i // steps
         _mouse(slider, QEvent.Type.MouseMove, QPoint(x, start.y()), left)
-    _mouse(slider, QEvent.Type.MouseButtonRelease, QPoint(end_x, start.y()),
-           Qt.MouseButton.NoButton)
+    _mouse(
+        slider, QEvent.Type.MouseButtonRelease, QPoint(end_x, start.y()), Qt.MouseButton.NoButton
+    )
 
 
 def choose(combo: QComboBox, data) -> None:
@@ -152,8 +161,15 @@ def patch_counts(patches: int, n: int) -> dict:
 
 def shown_counts(window) -> dict:
     """The statistics panel's counts as integers."""
-    keys = ("patches", "vertices", "triangles", "edges", "interior_edges", "boundary_edges",
-            "junction_edges")
+    keys = (
+        "patches",
+        "vertices",
+        "triangles",
+        "edges",
+        "interior_edges",
+        "boundary_edges",
+        "junction_edges",
+    )
     return {k: int(window.stats.text(k).replace(",", "")) for k in keys}
 
 
@@ -173,7 +189,10 @@ def drag_slider_by(slider: QSlider, dx: int, steps: int = 8) -> None:
     left = Qt.MouseButton.LeftButton
     _mouse(slider, QEvent.Type.MouseButtonPress, start, left)
     for i in range(1, steps + 1):
-        _mouse(slider, QEvent.Type.MouseMove, QPoint(start.x() + dx * i // steps, start.y()),
-               left)
-    _mouse(slider, QEvent.Type.MouseButtonRelease, QPoint(start.x() + dx, start.y()),
-           Qt.MouseButton.NoButton)
+        _mouse(slider, QEvent.Type.MouseMove, QPoint(start.x() + dx * i // steps, start.y()), left)
+    _mouse(
+        slider,
+        QEvent.Type.MouseButtonRelease,
+        QPoint(start.x() + dx, start.y()),
+        Qt.MouseButton.NoButton,
+    )

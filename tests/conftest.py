@@ -34,7 +34,8 @@ if os.environ.get("MUTANT_UNDER_TEST") is not None:  # pragma: no cover - only u
 
     _init = Path.cwd() / "core" / "__init__.py"
     _spec = importlib.util.spec_from_file_location(
-        "barymesh", _init, submodule_search_locations=[str(_init.parent)])
+        "barymesh", _init, submodule_search_locations=[str(_init.parent)]
+    )
     _module = importlib.util.module_from_spec(_spec)
     sys.modules["barymesh"] = _module
     _spec.loader.exec_module(_module)
@@ -172,8 +173,11 @@ def release_gui():
 def pytest_sessionfinish(session, exitstatus):
     loaded = sorted(name for name in sys.modules if name.split(".")[0] in FOLDER_NAMES)
     if loaded:
-        print(f"\nerror: the run imported {', '.join(loaded[:5])}: import barymesh, never the "
-              f"folders core/ or app/ (a module would be loaded twice)", file=sys.stderr)
+        print(
+            f"\nerror: the run imported {', '.join(loaded[:5])}: import barymesh, never the "
+            f"folders core/ or app/ (a module would be loaded twice)",
+            file=sys.stderr,
+        )
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 

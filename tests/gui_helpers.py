@@ -9,9 +9,9 @@ from PySide6.QtCore import QPoint, Qt
 
 
 def hex_rgb(colour):
-    """"#rrggbb" -> (r, g, b) ints."""
+    """ "#rrggbb" -> (r, g, b) ints."""
     colour = colour.lstrip("#")
-    return tuple(int(colour[i:i + 2], 16) for i in (0, 2, 4))
+    return tuple(int(colour[i : i + 2], 16) for i in (0, 2, 4))
 
 
 def display_point(plotter, world, renderer=None):
@@ -97,7 +97,7 @@ def drawn_near(image, plotter, world, colour, tol=40, radius=2, renderer=None):
     x, y = display_point(plotter, world, renderer)
     h, w = image.shape[:2]
     row, col = h - 1 - int(round(y)), int(round(x))
-    patch = image[max(row - radius, 0):row + radius + 1, max(col - radius, 0):col + radius + 1]
+    patch = image[max(row - radius, 0) : row + radius + 1, max(col - radius, 0) : col + radius + 1]
     return any(near(p, colour, tol) for p in patch.reshape(-1, patch.shape[-1]))
 
 

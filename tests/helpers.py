@@ -110,9 +110,7 @@ def junction_meshes(draw, max_extra=6):
     n_vertices = fan + 3 + draw(st.integers(0, 3))
     # extras may not use the interior edge (1, 2), which must keep exactly two triangles
     triple = st.lists(st.integers(0, n_vertices - 1), min_size=3, max_size=3, unique=True)
-    extras = draw(
-        st.lists(triple.filter(lambda t: not {1, 2} <= set(t)), max_size=max_extra)
-    )
+    extras = draw(st.lists(triple.filter(lambda t: not {1, 2} <= set(t)), max_size=max_extra))
     tris = np.array(tris + extras, dtype=np.int64)
     relabel = np.array(draw(st.permutations(range(n_vertices))))
     tris = relabel[tris]

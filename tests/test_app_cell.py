@@ -13,6 +13,14 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from app_user import (  # noqa: E402
+    answer_file_dialogs,
+    choose,
+    settle,
+    shown_counts,
+    type_into,
+    wait_for_export,
+)
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.window import file_error_sentence  # noqa: E402
 from barymesh.cell import (  # noqa: E402
@@ -26,15 +34,6 @@ from barymesh.cell import (  # noqa: E402
 )
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
-
-from app_user import (  # noqa: E402
-    answer_file_dialogs,
-    choose,
-    settle,
-    shown_counts,
-    type_into,
-    wait_for_export,
-)
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 
@@ -65,7 +64,8 @@ def assert_shows(window, cell):
         assert table.cell_text(row, "RWG unknowns") == f"{part['interior_edges']:,}"
     pairs = len(expected.periodic_pairs.edges)
     assert table.periodic.text().startswith(
-        f"Periodic edge pairs across the cell's sides: {pairs:,}")
+        f"Periodic edge pairs across the cell's sides: {pairs:,}"
+    )
 
 
 def list_click(window, row, column=0, double=False):
@@ -105,15 +105,17 @@ def check_box_click(window, row):
     opt.rect = tree.visualRect(index)
     opt.features |= QStyleOptionViewItem.ViewItemFeature.HasCheckIndicator
     check = tree.style().subElementRect(QStyle.SubElement.SE_ItemViewItemCheckIndicator, opt, tree)
-    QTest.mouseClick(tree.viewport(), Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
-                     check.center())
+    QTest.mouseClick(
+        tree.viewport(), Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, check.center()
+    )
 
 
 # -- files, presets, command line ------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", ["double-ring-patch", "split-ring-pair", "hexagonal-rings",
-                                  "coding-16x16"])
+@pytest.mark.parametrize(
+    "name", ["double-ring-patch", "split-ring-pair", "hexagonal-rings", "coding-16x16"]
+)
 def test_each_cell_preset_shows_its_cell_and_undo_returns(window, qtbot, name):
     open_preset(window, qtbot, name)
     cell = load_cell_preset(name)
@@ -174,20 +176,52 @@ def test_command_line_opens_the_window_on_a_cell(tmp_path):
     out = tmp_path / "cell.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
-        [sys.executable, "-m", "barymesh.app", "--cell-preset", "hexagonal-rings", "--screenshot",
-         str(out), "--quit"], env=env, capture_output=True, text=True, timeout=120)
+        [
+            sys.executable,
+            "-m",
+            "barymesh.app",
+            "--cell-preset",
+            "hexagonal-rings",
+            "--screenshot",
+            str(out),
+            "--quit",
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     image = iio.imread(out)
     assert image.shape[0] > 300 and len(np.unique(image[..., :3].reshape(-1, 3), axis=0)) > 10
     bad = subprocess.run(
-        [sys.executable, "-m", "barymesh.app", "--cell-preset", "hexagonal-rings", "--preset",
-         "paper-fig10", "--quit"], env=env, capture_output=True, text=True, timeout=60)
+        [
+            sys.executable,
+            "-m",
+            "barymesh.app",
+            "--cell-preset",
+            "hexagonal-rings",
+            "--preset",
+            "paper-fig10",
+            "--quit",
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert bad.returncode == 2
     assert bad.stderr.strip().splitlines() == [
         "barymesh: error: --preset cannot go with --cell-preset: a cell holds its own "
-        "elements and their parameters (see barymesh --help)"]
-    nofile = subprocess.run([sys.executable, "-m", "barymesh.app", "--cell", str(tmp_path / "no.cell.json"),
-                             "--quit"], env=env, capture_output=True, text=True, timeout=60)
+        "elements and their parameters (see barymesh --help)"
+    ]
+    nofile = subprocess.run(
+        [sys.executable, "-m", "barymesh.app", "--cell", str(tmp_path / "no.cell.json"), "--quit"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert nofile.returncode == 1 and "no.cell.json" in nofile.stderr
     assert "Traceback" not in nofile.stderr
 
@@ -210,9 +244,13 @@ def replaced(cell, k, **changes):
     el = cell.elements[k]
     own = {key: changes.pop(key) for key in ("position", "rotation", "name") if key in changes}
     params = el.params.replace(**changes) if changes else el.params
-    new = Element(params, own.get("position", el.position), own.get("rotation", el.rotation),
-                  own.get("name", el.name))
-    return cell.replace(elements=cell.elements[:k] + (new,) + cell.elements[k + 1:])
+    new = Element(
+        params,
+        own.get("position", el.position),
+        own.get("rotation", el.rotation),
+        own.get("name", el.name),
+    )
+    return cell.replace(elements=cell.elements[:k] + (new,) + cell.elements[k + 1 :])
 
 
 def test_selected_element_is_edited_by_the_parameters_and_its_fields(window, qtbot):
@@ -274,8 +312,9 @@ def test_add_duplicate_delete_move_hide_rename(window, qtbot):
     assert_shows(window, expected)
     assert window.model.cell_state.selected == 2
 
-    QTest.mouseClick(panel.findChild(type(panel.add_button), "element_duplicate"),
-                     Qt.MouseButton.LeftButton)
+    QTest.mouseClick(
+        panel.findChild(type(panel.add_button), "element_duplicate"), Qt.MouseButton.LeftButton
+    )
     settle(window, qtbot)
     twin = Element(ring.params, name="ring 2")
     assert_shows(window, cell.replace(elements=cell.elements + (ring, twin)))
@@ -290,7 +329,10 @@ def test_add_duplicate_delete_move_hide_rename(window, qtbot):
     moved = cell.replace(elements=(cell.elements[0], ring, cell.elements[1]))
     assert_shows(window, moved)
     assert [panel.list.topLevelItem(k).text(0) for k in range(3)] == [
-        "rings", "ring", "centre patch"]
+        "rings",
+        "ring",
+        "centre patch",
+    ]
 
     check_box_click(window, 0)  # hide the rings: not meshed, still in the cell
     settle(window, qtbot)
@@ -307,8 +349,9 @@ def test_add_duplicate_delete_move_hide_rename(window, qtbot):
     rename(window, 2, "ring")
     settle(window, qtbot)
     assert window.model.cell == renamed and panel.list.topLevelItem(2).text(0) == "disc"
-    assert panel.error.text() == ("elements[2].name='ring' is already the name of elements[1]; "
-                                  "element names must be unique")
+    assert panel.error.text() == (
+        "elements[2].name='ring' is already the name of elements[1]; element names must be unique"
+    )
 
     assert len(window.model.undo_stack) == steps + 6  # add, duplicate, delete, move, hide, rename
     for _ in range(6):
@@ -324,7 +367,8 @@ def test_hiding_every_element_is_refused(window, qtbot):
     settle(window, qtbot)
     assert window.model.result is shown and window.model.cell_state.hidden == (False,)
     assert window.cell_tools.elements.error.text() == (
-        "every element is hidden: the cell would have no metal to mesh")
+        "every element is hidden: the cell would have no metal to mesh"
+    )
     tree = window.cell_tools.elements.list
     qtbot.waitUntil(lambda: tree.topLevelItem(0).checkState(0) == Qt.CheckState.Checked)
 
@@ -346,7 +390,8 @@ def test_conforming_overlap_is_refused_naming_both_and_the_mesh_stays(window, qt
     with pytest.raises(ValueError) as refusal:
         build_cell(replaced(with_patch, 1, position=(2.5, 0.0)))
     assert "element 'ring' (elements[0]) and element 'patch' (elements[1]) overlap" in str(
-        refusal.value)
+        refusal.value
+    )
     assert panel.error.text() == f"cell 'hexagonal-rings': {refusal.value}"
     assert not panel.error.isHidden()
     assert window.model.result is shown and window.model.cell == with_patch
@@ -387,7 +432,8 @@ def test_lattice_kind_and_periods(window, qtbot):
     settle(window, qtbot)
     assert window.model.result is shown
     assert window.cell_tools.elements.error.text() == (
-        "px=-1.0 is invalid; expected a finite length > 0 mm")
+        "px=-1.0 is invalid; expected a finite length > 0 mm"
+    )
     for _ in range(4):
         window.act_undo.trigger()
     settle(window, qtbot)
@@ -401,7 +447,6 @@ def spin_to(box, value):
 
 def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path, monkeypatch):
     from barymesh.io import read_mesh
-
     from gui_helpers import near, pixel, rendered
 
     open_preset(window, qtbot, "double-ring-patch")
@@ -451,13 +496,32 @@ def test_window_command_line_previews_an_array(tmp_path):
     out = tmp_path / "array.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
-        [sys.executable, "-m", "barymesh.app", "--cell-preset", "coding-16x16", "--array", "3x3",
-         "--screenshot", str(out), "--quit"], env=env, capture_output=True, text=True,
-        timeout=120)
+        [
+            sys.executable,
+            "-m",
+            "barymesh.app",
+            "--cell-preset",
+            "coding-16x16",
+            "--array",
+            "3x3",
+            "--screenshot",
+            str(out),
+            "--quit",
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     assert iio.imread(out).shape[0] > 300
-    alone = subprocess.run([sys.executable, "-m", "barymesh.app", "--array", "3x3", "--quit"], env=env,
-                           capture_output=True, text=True, timeout=60)
+    alone = subprocess.run(
+        [sys.executable, "-m", "barymesh.app", "--array", "3x3", "--quit"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert alone.returncode == 2 and "--array previews copies of a unit cell" in alone.stderr
 
 
@@ -494,17 +558,22 @@ def test_new_cell_from_the_structure_on_screen(window, qtbot):
 
 def mouse(window, kind, world, buttons):
     """A mouse event of ``kind`` on the 3D view where ``world`` (x, y mm) is drawn."""
+    from gui_helpers import widget_pos
     from PySide6.QtCore import QEvent, QPointF
     from PySide6.QtGui import QMouseEvent
     from PySide6.QtWidgets import QApplication
 
-    from gui_helpers import widget_pos
-
     plotter = window.plotter
     pos = widget_pos(plotter, (*world, 0.0))
     button = Qt.MouseButton.NoButton if kind == QEvent.Type.MouseMove else Qt.MouseButton.LeftButton
-    event = QMouseEvent(kind, QPointF(pos), QPointF(plotter.mapToGlobal(pos)), button, buttons,
-                        Qt.KeyboardModifier.NoModifier)
+    event = QMouseEvent(
+        kind,
+        QPointF(pos),
+        QPointF(plotter.mapToGlobal(pos)),
+        button,
+        buttons,
+        Qt.KeyboardModifier.NoModifier,
+    )
     QApplication.sendEvent(plotter, event)
 
 
@@ -551,7 +620,8 @@ def test_drag_an_element_in_the_view_snaps_to_the_grid(window, qtbot):
     type_into(window.cell_tools.elements.snap, "-1")
     assert window.cell_tools.elements.snap_grid == 0.5
     assert window.cell_tools.elements.error.text() == (
-        "snap grid='-1' is invalid; expected a length > 0 mm, or empty for no snapping")
+        "snap grid='-1' is invalid; expected a length > 0 mm, or empty for no snapping"
+    )
     type_into(window.cell_tools.elements.snap, "")
     assert window.cell_tools.elements.snap_grid is None
     drag(window, [(2.0 + 1.5, 0.5 + 1.5), (2.0 + 1.5 - 1.13, 0.5 + 1.5 + 0.61)])
@@ -584,14 +654,15 @@ def overlapping_cell():
     """A conforming cell whose two elements overlap (build_cell refuses it)."""
     from barymesh.cell import UnitCell
 
-    ring = Element(MeshParams(structure="ring", mode="conforming", inner_radius=3.0,
-                              angle_step=10.0), name="ring")
+    ring = Element(
+        MeshParams(structure="ring", mode="conforming", inner_radius=3.0, angle_step=10.0),
+        name="ring",
+    )
     patch = Element(MeshParams(structure="patch", mode="conforming"), (2.5, 0.0), name="bar")
     return UnitCell(Lattice.rectangular(12.0), (ring, patch), mode="conforming", name="clash")
 
 
-def test_opening_a_cell_the_core_refuses_keeps_the_structure(window, qtbot, tmp_path,
-                                                              monkeypatch):
+def test_opening_a_cell_the_core_refuses_keeps_the_structure(window, qtbot, tmp_path, monkeypatch):
     from barymesh.cell import save_cell
 
     path = tmp_path / "clash.cell.json"
@@ -604,12 +675,14 @@ def test_opening_a_cell_the_core_refuses_keeps_the_structure(window, qtbot, tmp_
     with pytest.raises(ValueError) as refusal:
         build_cell(overlapping_cell())
     assert "element 'ring' (elements[0]) and element 'bar' (elements[1]) overlap" in str(
-        refusal.value)
+        refusal.value
+    )
     assert window.model.result is shown and window.model.cell is None
     assert window.model.params == COARSE and not window.model.undo_stack
     assert window.cell_tools.elements.error.text() == f"cell 'clash': {refusal.value}"
     assert window.statusBar().currentMessage() == (
-        f"cell 'clash': {refusal.value} (the last good mesh stays on screen)")
+        f"cell 'clash': {refusal.value} (the last good mesh stays on screen)"
+    )
 
 
 def test_cancel_returns_to_the_cell_on_screen(window, qtbot):
@@ -673,8 +746,15 @@ def test_model_cell_undo_and_refusals_without_qt():
     assert model.cell_error == "cell 'x': refused"
 
 
-@pytest.mark.parametrize("module", ["barymesh.app.edit.cell_document", "barymesh.app.edit.array_preview",
-                                    "barymesh.app.edit.drag_tool", "barymesh.app.edit.lattice_panel"])
+@pytest.mark.parametrize(
+    "module",
+    [
+        "barymesh.app.edit.cell_document",
+        "barymesh.app.edit.array_preview",
+        "barymesh.app.edit.drag_tool",
+        "barymesh.app.edit.lattice_panel",
+    ],
+)
 def test_docstring_examples(module):
     """The examples in the cell editor's docstrings (app/ is not in the doctest paths)."""
     import doctest
@@ -819,10 +899,14 @@ def test_the_cell_looks_the_same_whichever_element_is_selected(window, qtbot):
     scene = window.scene
 
     def look():
-        return ({n: bool(a.GetVisibility()) for n, a in scene.actors.items()},
-                scene.shown_color_by, scene.light, scene.note.GetInput(),
-                bool(scene.scalar_bar.GetVisibility()),
-                round(float(window.plotter.camera.parallel_scale), 9))
+        return (
+            {n: bool(a.GetVisibility()) for n, a in scene.actors.items()},
+            scene.shown_color_by,
+            scene.light,
+            scene.note.GetInput(),
+            bool(scene.scalar_bar.GetVisibility()),
+            round(float(window.plotter.camera.parallel_scale), 9),
+        )
 
     tree = window.cell_tools.elements.list
     looks = []
@@ -843,7 +927,6 @@ def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window
     from barymesh.app.edit.array_preview import ghost_shade
     from barymesh.app.view.overview import overlap_counts_at
     from barymesh.app.view.scene import COLORS
-
     from gui_helpers import hex_rgb, near, pixel, rendered
 
     open_preset(window, qtbot, "double-ring-patch")

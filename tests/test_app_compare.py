@@ -9,17 +9,17 @@ from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.app.model import AppModel  # noqa: E402
 from barymesh.app.teach.compare_view import CompareView, patch_coverage  # noqa: E402
 from barymesh.app.window import MainWindow  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
-
 from gui_helpers import near, pixel, share, type_into  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)
 COUNTS = ("triangles", "vertices", "interior_edges", "boundary_edges")
 
 
 def wait_shown(qtbot, view):
-    qtbot.waitUntil(lambda: not view.busy and view.shown_generation == view.generation,
-                    timeout=30_000)
+    qtbot.waitUntil(
+        lambda: not view.busy and view.shown_generation == view.generation, timeout=30_000
+    )
 
 
 @pytest.fixture
@@ -54,8 +54,10 @@ def test_both_modes_with_the_counts_of_build_mesh(view):
 def test_the_cameras_are_linked(view):
     renderers = view.plotter.renderers
     assert len(renderers) == 2
-    assert renderers[0].camera is renderers[1].camera or \
-        renderers[0].GetActiveCamera() is renderers[1].GetActiveCamera()
+    assert (
+        renderers[0].camera is renderers[1].camera
+        or renderers[0].GetActiveCamera() is renderers[1].GetActiveCamera()
+    )
 
 
 def test_overlap_of_paper_mode_is_shaded(view, qtbot):
@@ -119,10 +121,18 @@ def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
         renderer = view.plotter.renderers[col]
         mesh = view.halves[mode].result.mesh
         assert near(pixel(image, view.plotter, (0.0, 0.0, 0.0), renderer), "#ffffff", 3), mode
-        faces = [share(image, view.plotter, mesh.points[mesh.triangles[t]], colour, tol=25,
-                       renderer=renderer)
-                 for t in range(0, mesh.n_triangles, 37)
-                 for colour in (COLORS["faces"], *COVERAGE_COLORS)]
+        faces = [
+            share(
+                image,
+                view.plotter,
+                mesh.points[mesh.triangles[t]],
+                colour,
+                tol=25,
+                renderer=renderer,
+            )
+            for t in range(0, mesh.n_triangles, 37)
+            for colour in (COLORS["faces"], *COVERAGE_COLORS)
+        ]
         # inside a triangle most samples show a face colour (the rest: its edge lines)
         per_triangle = np.array(faces).reshape(-1, 3).sum(axis=1)
         assert np.median(per_triangle) > 0.5, (mode, per_triangle)
@@ -183,7 +193,6 @@ def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
     from barymesh.app.teach.compare_view import COVERAGE_COLORS
     from barymesh.app.view.scene import COLORS
     from barymesh.presets import load_preset
-
     from gui_helpers import colour_pixels
 
     params, _ = load_preset("srr-openmodes")
@@ -226,7 +235,7 @@ def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
     per_px = 2.0 * view.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
     pts = np.asarray(view.tick_points.points)
     labels = list(view.tick_points.point_data["label"])
-    xs, ys = pts[:nx], pts[nx:nx + ny]
+    xs, ys = pts[:nx], pts[nx : nx + ny]
     # x values just under the bottom ruler (within 20 px), y values just left of the left one
     assert ((xs[:, 1] < c) & (xs[:, 1] > c - 20 * per_px)).all()
     assert ((ys[:, 0] < a) & (ys[:, 0] > a - 30 * per_px)).all()

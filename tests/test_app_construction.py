@@ -16,14 +16,21 @@ from barymesh.app.teach.construction_view import (  # noqa: E402
 )
 from barymesh.app.window import MainWindow  # noqa: E402
 from barymesh.construction import construction_steps  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
-
 from gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
 
 PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.
-PAPER_STEPS = ["Square patch ABCD", "Diagonal BC", "Edge midpoints", "Quarter points",
-               "Connecting lines", "32 sub-triangles", "Centroids", "Shared edges"]
+PAPER_STEPS = [
+    "Square patch ABCD",
+    "Diagonal BC",
+    "Edge midpoints",
+    "Quarter points",
+    "Connecting lines",
+    "32 sub-triangles",
+    "Centroids",
+    "Shared edges",
+]
 
 
 @pytest.fixture
@@ -176,7 +183,13 @@ def test_unsupported_parameters_keep_the_last_steps(view):
 
 def test_label_helpers():
     assert shown_labels(["A", "m1", "m11", "m111", "ab4", "ab3"], 16) == [
-        "A", "m1", "m11", "", "ab4", ""]
+        "A",
+        "m1",
+        "m11",
+        "",
+        "ab4",
+        "",
+    ]
     assert shown_labels(["m111"], 8) == ["m111"]
     offsets = label_offsets(["m1", "m22"], np.array([[0.0, -1.0], [-1.0, 0.0]]), 20, 6)
     assert offsets[0, 0] == 0 and offsets[0, 1] < -12 - 6  # below, clear of half the height

@@ -8,18 +8,17 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from barymesh import MeshParams, build_mesh  # noqa: E402
-from barymesh.io import read_mesh, write_mesh  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
-
 from app_user import (  # noqa: E402
     answer_file_dialogs,
     export_through_dialog,
     patch_counts,
     type_into,
 )
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.io import read_mesh, write_mesh  # noqa: E402
 from gui_helpers import display_point  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
 from test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 
@@ -141,8 +140,13 @@ def test_tab_order_reaches_every_control_top_to_bottom(window):
         w = w.nextInFocusChain()
         if w is rows[0].slider:
             break
-    order = [tabbable.index(x) for r in rows if r.field.isEnabled()
-             for x in (r.slider, r.field) if x is not None]
+    order = [
+        tabbable.index(x)
+        for r in rows
+        if r.field.isEnabled()
+        for x in (r.slider, r.field)
+        if x is not None
+    ]
     assert order == sorted(order)
     for r in rows:
         for w in (r.slider, r.field):
@@ -160,7 +164,7 @@ def _ink(image):
 def _shrunk(mask, k):
     """A k-times larger ink mask back at 1x: a pixel is ink if any of its k x k block is."""
     h, w = mask.shape[0] // k, mask.shape[1] // k
-    return mask[:h * k, :w * k].reshape(h, k, w, k).any(axis=(1, 3))
+    return mask[: h * k, : w * k].reshape(h, k, w, k).any(axis=(1, 3))
 
 
 def _rows_with_ink(mask):
@@ -197,13 +201,15 @@ def _export_screenshot(window, qtbot, file_dialog, path, scale):
 
 @pytest.mark.parametrize("wide", [False, True])
 @pytest.mark.parametrize("scale", [2, 3])
-def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dialog, scale,
-                                               wide):
+def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dialog, scale, wide):
     """At 2x and 3x the rulers, their labels, the axis titles and the colour-bar title sit
     where 1x has them, k times larger (VTK's tiled magnification put the labels inside
     the drawing, cut them, lost the axis titles and left the legend title at 1x size)."""
-    next(a for a in window.menuBar().findChildren(type(window.act_shot))
-         if a.text() == "srr-openmodes").trigger()
+    next(
+        a
+        for a in window.menuBar().findChildren(type(window.act_shot))
+        if a.text() == "srr-openmodes"
+    ).trigger()
     window.controller.flush()
     qtbot.waitUntil(lambda: not window.controller.busy, timeout=60_000)
     window.model.set_color_by("min_angle")  # a colour bar with its title
@@ -251,8 +257,9 @@ def test_scaled_screenshot_looks_like_the_view(window, qtbot, tmp_path, file_dia
     # the colour bar's title is as tall, in its own pixels, k times the 1x one
     rows, cols = regions["legend title"]
     one_rows = _rows_with_ink(_ink(one)[rows, cols])
-    big_rows = _rows_with_ink(_ink(big)[scale * rows.start:scale * rows.stop,
-                                        scale * cols.start:])
+    big_rows = _rows_with_ink(
+        _ink(big)[scale * rows.start : scale * rows.stop, scale * cols.start :]
+    )
     ratio = (big_rows[1] - big_rows[0] + 1) / (one_rows[1] - one_rows[0] + 1)
     assert scale - 0.35 < ratio < scale + 0.35
 
@@ -274,10 +281,9 @@ BIG = MeshParams(angle_step=15.0, subdivisions=32)
 
 @pytest.mark.parametrize("window_params", [BIG])
 def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dialog):
+    from app_user import settle, wait_for_export
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QPushButton
-
-    from app_user import settle, wait_for_export
 
     settle(window, qtbot)
     assert window.model.result.mesh.n_triangles == 98_304
@@ -307,9 +313,8 @@ def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dial
 
 @pytest.mark.parametrize("window_params", [BIG])
 def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog):
-    from PySide6.QtWidgets import QPushButton
-
     from app_user import settle, wait_for_export
+    from PySide6.QtWidgets import QPushButton
 
     settle(window, qtbot)
     folder = tmp_path / "out"
@@ -322,8 +327,9 @@ def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog):
     QTest.mouseClick(browse, Qt.MouseButton.LeftButton)
     QTest.mouseClick(dialog.export_button, Qt.MouseButton.LeftButton)
     job = window.export_job
-    qtbot.waitUntil(lambda: job.progress is not None and job.progress.isVisible(),
-                    timeout=10_000)  # the progress dialog, once the write takes a moment
+    qtbot.waitUntil(
+        lambda: job.progress is not None and job.progress.isVisible(), timeout=10_000
+    )  # the progress dialog, once the write takes a moment
     assert "98,304 triangles" in job.progress.labelText()
     cancel = next(b for b in job.progress.findChildren(QPushButton) if b.text() == "Cancel")
     QTest.mouseClick(cancel, Qt.MouseButton.LeftButton)

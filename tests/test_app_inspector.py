@@ -6,6 +6,7 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from app_user import settle  # noqa: E402
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.app.teach.inspector import (  # noqa: E402
     COLORS,  # noqa: E402
@@ -14,10 +15,8 @@ from barymesh.app.teach.inspector import (  # noqa: E402
     nearest_edge,
     step_edge,
 )
-from PySide6.QtCore import QPoint, Qt  # noqa: E402
-
-from app_user import settle  # noqa: E402
 from gui_helpers import near, type_into, widget_pos  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
 
@@ -77,8 +76,11 @@ def assert_overlay_on_screen(image, win, edge, offset=(0, 0)):
     assert near(at(0.4 * a + 0.6 * b), COLORS["edge"], 40)
     for t, red in ((int(mesh.rwg.t_plus[row]), True), (int(mesh.rwg.t_minus[row]), False)):
         corners = mesh.points[mesh.triangles[t]]
-        samples = [at(np.array([i, j, 10 - i - j]) / 10 @ corners)
-                   for i in range(1, 9) for j in range(1, 9 - i)]
+        samples = [
+            at(np.array([i, j, 10 - i - j]) / 10 @ corners)
+            for i in range(1, 9)
+            for j in range(1, 9 - i)
+        ]
         tinted = [(p[0] > p[2] + 60) if red else (p[2] > p[0] + 60) for p in samples]
         assert np.mean(tinted) > 0.5, (t, samples)
 
@@ -105,8 +107,10 @@ def test_edge_info_for_interior_and_boundary_edges():
     row = 7
     info = edge_info(mesh, int(mesh.rwg.edge[row]))
     assert info.is_rwg and info.sample.row == row
-    assert (info.sample.t_plus, info.sample.t_minus) == (mesh.rwg.t_plus[row],
-                                                         mesh.rwg.t_minus[row])
+    assert (info.sample.t_plus, info.sample.t_minus) == (
+        mesh.rwg.t_plus[row],
+        mesh.rwg.t_minus[row],
+    )
     labels = dict(info.rows())
     assert labels["RWG row n"] == str(row)
     boundary = edge_info(mesh, int(mesh.boundary_edges[0]))
@@ -134,8 +138,10 @@ def test_clicking_an_edge_selects_its_t_plus_and_t_minus(window, qtbot):
         assert panel.edge == edge, row
         s = panel.info.sample
         assert (s.t_plus, s.t_minus) == (rwg.t_plus[row], rwg.t_minus[row])
-        assert (s.free_plus, s.free_minus) == (rwg.free_vertex_plus[row],
-                                               rwg.free_vertex_minus[row])
+        assert (s.free_plus, s.free_minus) == (
+            rwg.free_vertex_plus[row],
+            rwg.free_vertex_minus[row],
+        )
         assert panel.overlay.datasets["triangles"].n_cells == 2
         # 4² quadrature points on each of T+ and T-: 32 arrows
         assert panel.overlay.datasets["arrows"].n_cells == 2 * 16
@@ -220,8 +226,12 @@ def test_selection_survives_a_mesh_change(window, qtbot):
 
 
 def test_presentation_mode_hides_panels_and_comes_back(window, qtbot, tmp_path):
-    docks = [window.parameters_dock, window.statistics_dock, window.layers_dock,
-             window.teaching.inspector_dock]
+    docks = [
+        window.parameters_dock,
+        window.statistics_dock,
+        window.layers_dock,
+        window.teaching.inspector_dock,
+    ]
     shown = {d: d.isVisible() for d in docks}
     width = window.scene.actors["triangle_edges"].prop.line_width
     qtbot.keyClick(window, Qt.Key.Key_F5)
@@ -235,8 +245,9 @@ def test_presentation_mode_hides_panels_and_comes_back(window, qtbot, tmp_path):
     window.plotter.render()
     window.grab().save(str(path))
     corner = window.plotter.mapTo(window, QPoint(0, 0))
-    assert_overlay_on_screen(iio.imread(path)[..., :3], window, window.teaching.inspector.edge,
-                             (corner.x(), corner.y()))
+    assert_overlay_on_screen(
+        iio.imread(path)[..., :3], window, window.teaching.inspector.edge, (corner.x(), corner.y())
+    )
     qtbot.keyClick(window, Qt.Key.Key_F5)
     assert not window.teaching.presentation.active
     assert {d: d.isVisible() for d in docks} == shown

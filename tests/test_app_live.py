@@ -79,7 +79,8 @@ def shown_triangles(window) -> int:
 
 
 def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced(
-        window, qtbot, monkeypatch):
+    window, qtbot, monkeypatch
+):
     threads = []
     real_compute = barymesh.app.worker.compute
 
@@ -197,8 +198,13 @@ def test_inspector_clicks_pick_on_the_dense_mesh(window, qtbot):
     panel = window.teaching.inspector
     assert not window.teaching.inspector_dock.isHidden()
     # its dock narrows the view, which frames the mesh anew: click where it is then
-    qtbot.waitUntil(lambda: window.plotter.width() == window.plotter.renderer.GetSize()[0]
-                    / window.plotter.devicePixelRatioF(), timeout=10_000)
+    qtbot.waitUntil(
+        lambda: (
+            window.plotter.width()
+            == window.plotter.renderer.GetSize()[0] / window.plotter.devicePixelRatioF()
+        ),
+        timeout=10_000,
+    )
     qtbot.wait(100)
     window.plotter.render()
     mesh = window.model.result.mesh
@@ -249,7 +255,8 @@ def test_undo_during_a_build_returns_at_once_without_building(window, qtbot):
 
 
 def test_esc_then_undo_shows_the_old_mesh_without_building_its_scene_again(
-        window, qtbot, monkeypatch):
+    window, qtbot, monkeypatch
+):
     """Issue section 3 item 4: Fig. 12(a) at n = 32, type 40, Esc, Ctrl+Z.
 
     The cancelled build's last stage (the scene arrays, seconds at 2,304,000 triangles)
@@ -281,8 +288,9 @@ def test_esc_then_undo_shows_the_old_mesh_without_building_its_scene_again(
     window.plotter.setFocus()
     qtbot.keyClick(window.plotter, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert window.model.params == FIG12A
-    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040 and not window.controller.busy,
-                    timeout=60_000)
+    qtbot.waitUntil(
+        lambda: shown_triangles(window) == 23_040 and not window.controller.busy, timeout=60_000
+    )
     # the scene shown before, not made again; the counts of n = 4 on the panel
     assert window.model.result.scene is first
     assert prepared[0] == 720 * 2 * DENSE_N**2 and 23_040 not in prepared  # none for Undo
@@ -298,8 +306,9 @@ def test_a_build_slower_than_its_estimate_never_reads_of_about(window, qtbot):
     window.controller.rate = 1e12  # a machine this fast would take no time at all
     type_value(qtbot, window, "subdivisions", "16")
     qtbot.waitUntil(lambda: window.controller.busy, timeout=5_000)
-    qtbot.waitUntil(lambda: "longer than the" in window.statusBar().currentMessage(),
-                    timeout=30_000)
+    qtbot.waitUntil(
+        lambda: "longer than the" in window.statusBar().currentMessage(), timeout=30_000
+    )
     message = window.statusBar().currentMessage()
     assert "Meshing 368,640 triangles" in message and "of about" not in message
 
@@ -387,16 +396,19 @@ def test_colour_bar_ticks_are_distinct_and_inside_the_range(window, qtbot):
 
 def test_readable_ticks_of_a_narrow_range():
     ticks, fmt = readable_ticks(0.0081, 0.0093)
-    assert [fmt % t for t in ticks] == ["0.0082", "0.0084", "0.0086", "0.0088", "0.0090",
-                                        "0.0092"]
+    assert [fmt % t for t in ticks] == ["0.0082", "0.0084", "0.0086", "0.0088", "0.0090", "0.0092"]
 
 
 def test_ruler_labels_sit_on_their_ticks_after_a_preset_change(window, qtbot):
     for name in ("paper-fig8-dsdr", "paper-fig10"):
         assert window.load_preset(name)
         window.controller.flush()
-        qtbot.waitUntil(lambda: not window.controller.busy
-                        and window.model.result.params == window.model.params, timeout=20_000)
+        qtbot.waitUntil(
+            lambda: (
+                not window.controller.busy and window.model.result.params == window.model.params
+            ),
+            timeout=20_000,
+        )
         axes = window.scene.axes
         for axis, (lo, hi) in enumerate((axes.bounds[0:2], axes.bounds[2:4])):
             labels = axes.GetAxisLabels(axis)
@@ -420,18 +432,18 @@ def test_triangle_raster_covers_a_watertight_square_with_the_triangles_under_it(
     centres = (np.arange(64) + 0.5) * texel
     x, y = np.meshgrid(centres + lo[0], centres + lo[1])
     corners = mesh.points[mesh.triangles[raster.ravel()], :2]  # (4096, 3, 2)
-    inside_box = ((corners.min(axis=1) <= np.column_stack([x.ravel(), y.ravel()])
-                   + texel / 2 + 1e-12)
-                  & (corners.max(axis=1) >= np.column_stack([x.ravel(), y.ravel()])
-                     - texel / 2 - 1e-12))
+    inside_box = (
+        corners.min(axis=1) <= np.column_stack([x.ravel(), y.ravel()]) + texel / 2 + 1e-12
+    ) & (corners.max(axis=1) >= np.column_stack([x.ravel(), y.ravel()]) - texel / 2 - 1e-12)
     assert inside_box.all()
 
 
 def _brute_overlap(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:
     """Patches covering each point, one comparison per (point, patch) pair."""
     x, y = xy[:, :1], xy[:, 1:2]
-    return ((rects[:, 0] <= x) & (x <= rects[:, 2]) & (rects[:, 1] <= y)
-            & (y <= rects[:, 3])).sum(axis=1)
+    return ((rects[:, 0] <= x) & (x <= rects[:, 2]) & (rects[:, 1] <= y) & (y <= rects[:, 3])).sum(
+        axis=1
+    )
 
 
 def test_overlap_count_raster_counts_the_rectangles_over_each_texel_centre():
@@ -466,8 +478,12 @@ def test_count_in_rect_never_undercounts():
     for _ in range(20):
         a, c = rng.uniform(-5, 4, 2)
         rect = (a, a + rng.uniform(0.01, 1), c, c + rng.uniform(0.01, 1))
-        exact = np.count_nonzero((pts[:, 0] >= rect[0]) & (pts[:, 0] <= rect[1])
-                                 & (pts[:, 1] >= rect[2]) & (pts[:, 1] <= rect[3]))
+        exact = np.count_nonzero(
+            (pts[:, 0] >= rect[0])
+            & (pts[:, 0] <= rect[1])
+            & (pts[:, 1] >= rect[2])
+            & (pts[:, 1] <= rect[3])
+        )
         assert exact <= count_in_rect(grid, (-5, 5, -5, 5), rect) <= exact + 4 * 50_000 / 64
 
 
@@ -484,8 +500,10 @@ def _assert_paper_drawing(scene, mesh) -> None:
     assert sets["shared_edges"].n_cells == mesh.stats()["interior_edges"]
     assert sets["boundary_edges"].n_cells == len(mesh.boundary_edges)
     assert sets["centroids"].n_points == mesh.n_triangles
-    assert scene.actors["shared_edges"].GetProperty().GetColor() != \
-        scene.actors["boundary_edges"].GetProperty().GetColor()
+    assert (
+        scene.actors["shared_edges"].GetProperty().GetColor()
+        != scene.actors["boundary_edges"].GetProperty().GetColor()
+    )
 
 
 def test_fig12a_start_screen_shows_triangles_centroids_and_shared_edges(window, qtbot):
@@ -570,8 +588,13 @@ def test_overlap_colouring_is_picked_from_the_menu(window, qtbot):
 def test_patches_that_do_not_overlap_keep_the_plain_look(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     type_value(qtbot, window, "angle_step", "20")  # 18 squares a ring, far apart
-    qtbot.waitUntil(lambda: window.model.params.angle_step == 20
-                    and window.model.result.params == window.model.params, timeout=10_000)
+    qtbot.waitUntil(
+        lambda: (
+            window.model.params.angle_step == 20
+            and window.model.result.params == window.model.params
+        ),
+        timeout=10_000,
+    )
     scene = window.scene
     assert window.model.result.stats["overlap_ratio"] == 0
     assert not scene.overlap_look and scene.shown_color_by == "none"
@@ -603,8 +626,15 @@ def test_resting_zoomed_in_on_too_many_triangles_gives_a_sharper_image(window, q
     assert scene.zoom_texture.GetInput().GetDimensions() == (cols, rows, 1)
 
 
-@pytest.mark.parametrize("key, span", [("area", (0.01, 0.05)), ("overlap", (0.5, 20.5)),
-                                       ("patch", (-0.5, 9.5)), ("region", (0.5, 3.5))])
+@pytest.mark.parametrize(
+    "key, span",
+    [
+        ("area", (0.01, 0.05)),
+        ("overlap", (0.5, 20.5)),
+        ("patch", (-0.5, 9.5)),
+        ("region", (0.5, 3.5)),
+    ],
+)
 def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     # the worker colours an overview without VTK; the result is what the faces' VTK
     # lookup table gives the same values
@@ -628,8 +658,7 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     assert np.all(rgba[~covered] == 0)  # transparent where no triangle is
 
 
-def test_a_dense_paper_mesh_finds_its_triangles_only_for_a_colouring_that_needs_them(
-        window, qtbot):
+def test_a_dense_paper_mesh_finds_its_triangles_only_for_a_colouring_that_needs_them(window, qtbot):
     """Issue 17 item 18: shown solid (or by patch count), a dense paper mesh's image is the
     patches' exact coverage and no triangle is looked up under each texel; a colouring per
     triangle picked in the Layers panel has the worker make the image again with it."""

@@ -13,10 +13,9 @@ import scipy.sparse as sp  # noqa: E402
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.app.teach.matrix_view import MatrixView, occupancy_image  # noqa: E402
 from barymesh.app.teach.teaching_tools import shared_edge  # noqa: E402
+from gui_helpers import blend, click_world, near, type_into  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
-
-from gui_helpers import blend, click_world, near, type_into  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 
@@ -148,8 +147,10 @@ def test_occupancy_image_marks_blocks_with_a_nonzero():
 def test_shared_edge_of_two_triangles():
     mesh = build_mesh(FIG10)
     row = 3
-    assert shared_edge(mesh, int(mesh.rwg.t_plus[row]), int(mesh.rwg.t_minus[row])) == \
-        mesh.rwg.edge[row]
+    assert (
+        shared_edge(mesh, int(mesh.rwg.t_plus[row]), int(mesh.rwg.t_minus[row]))
+        == mesh.rwg.edge[row]
+    )
     assert shared_edge(mesh, 0, 0) is None
 
 

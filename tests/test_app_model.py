@@ -73,7 +73,8 @@ def test_other_changes_are_taken_while_one_value_is_refused():
     assert model.params.subdivisions == 3 and model.params.outer_radius == 9.0
     assert list(model.errors) == ["outer_radius"]
     assert model.errors["outer_radius"].message == core_message(
-        angle_step=15.0, subdivisions=3, outer_radius=3.0)
+        angle_step=15.0, subdivisions=3, outer_radius=3.0
+    )
     assert model.draft["outer_radius"] == 3.0
     model.revert("outer_radius")  # Esc
     assert model.draft["outer_radius"] == 9.0 and model.error is None
@@ -125,10 +126,18 @@ def test_file_source_and_return_to_parameters():
     assert model.file_source is None and isinstance(model.result, MeshResult)
 
 
-@pytest.mark.parametrize(("text", "value"), [
-    ("4.5", 4.5), ("-3", -3.0), ("1e-3", 0.001), (" 400 ", 400.0), ("0.0562", 0.0562),
-    ("4.5 mm", 4.5), ("1e400", math.inf),
-])
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("4.5", 4.5),
+        ("-3", -3.0),
+        ("1e-3", 0.001),
+        (" 400 ", 400.0),
+        ("0.0562", 0.0562),
+        ("4.5 mm", 4.5),
+        ("1e400", math.inf),
+    ],
+)
 def test_typed_numbers_are_read_exactly(text, value):
     assert read_number(text, SPECS["inner_radius"]).value == value
 
@@ -161,7 +170,8 @@ def test_integers_are_not_truncated_and_optionals_take_empty():
     for text in ("65", "-1", "3.5"):
         assert not model.set_text("subdivisions", text)
         assert model.errors["subdivisions"].message == core_message(
-            subdivisions=read_number(text, sub).value)
+            subdivisions=read_number(text, sub).value
+        )
     assert read_number("", SPECS["tolerance"]).value is None
     assert read_number("auto", SPECS["tolerance"]).value is None
     assert read_number("", SPECS["inner_radius"]).value == ""
@@ -197,22 +207,26 @@ def test_scheme_change_carries_subdivisions_over_and_says_so():
     model = AppModel(MeshParams(angle_step=15.0, subdivisions=16))
     assert model.set_value("scheme", "barycentric")
     assert (model.params.scheme, model.params.subdivisions) == ("barycentric", 3)
-    assert "16" in model.notes["subdivisions"] and "3 barycentric levels" in model.notes[
-        "subdivisions"]
+    assert (
+        "16" in model.notes["subdivisions"]
+        and "3 barycentric levels" in model.notes["subdivisions"]
+    )
     model.undo()
     assert (model.params.scheme, model.params.subdivisions) == ("uniform", 16)
 
 
-@pytest.mark.parametrize("spec", [s for s in PARAM_SPECS + ADVANCED_SPECS if s.slider],
-                         ids=lambda s: s.name)
+@pytest.mark.parametrize(
+    "spec", [s for s in PARAM_SPECS + ADVANCED_SPECS if s.slider], ids=lambda s: s.name
+)
 def test_slider_positions_round_trip(spec):
     for pos in range(spec.slider_max + 1):
         assert spec.to_slider(spec.from_slider(pos)) == pos
     assert spec.from_slider(spec.slider_max) == spec.maximum
 
 
-@pytest.mark.parametrize("spec", [s for s in PARAM_SPECS + ADVANCED_SPECS if s.windowed],
-                         ids=lambda s: s.name)
+@pytest.mark.parametrize(
+    "spec", [s for s in PARAM_SPECS + ADVANCED_SPECS if s.windowed], ids=lambda s: s.name
+)
 @pytest.mark.parametrize("value", [0.01, 0.037, 1.0, 4.0, 10.0, 360.0, 1000.0, 10_000.0])
 def test_a_windowed_slider_spans_a_decade_each_side_of_its_value(spec, value):
     """Issue section 3 item 5: not 0.01 mm to 10 m on a few dozen pixels."""

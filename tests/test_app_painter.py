@@ -6,14 +6,13 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from app_user import answer_file_dialogs, choose  # noqa: E402
 from barymesh.app.edit import pixels  # noqa: E402
 from barymesh.app.edit.painter import PixelPainterWindow  # noqa: E402
 from barymesh.cell import SYMMETRIES, load_cell, load_cell_preset  # noqa: E402
+from gui_helpers import near, pixel, rendered, type_into, widget_pos  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
-
-from app_user import answer_file_dialogs, choose  # noqa: E402
-from gui_helpers import near, pixel, rendered, type_into, widget_pos  # noqa: E402
 from test_edit_pixels import transforms  # noqa: E402
 
 N = 4  # subdivisions of a pixel patch: 2 n² = 32 triangles (the paper's count)
@@ -22,8 +21,9 @@ NONE = Qt.KeyboardModifier.NoModifier
 
 
 def wait_built(qtbot, painter):
-    qtbot.waitUntil(lambda: not painter.busy and painter.shown_generation == painter.generation,
-                    timeout=60_000)
+    qtbot.waitUntil(
+        lambda: not painter.busy and painter.shown_generation == painter.generation, timeout=60_000
+    )
 
 
 def click_action(painter, action):
@@ -159,8 +159,12 @@ def test_erase_toggle_and_fill_tool(painter, qtbot):
     assert_mesh_of(painter, np.ones((16, 16), bool))
     click_action(painter, painter.act_pen)
     click_action(painter, painter.act_erase)
-    ring = [(4, c) for c in range(4, 12)] + [(11, c) for c in range(4, 12)] + \
-        [(r, 4) for r in range(5, 11)] + [(r, 11) for r in range(5, 11)]
+    ring = (
+        [(4, c) for c in range(4, 12)]
+        + [(11, c) for c in range(4, 12)]
+        + [(r, 4) for r in range(5, 11)]
+        + [(r, 11) for r in range(5, 11)]
+    )
     for r, c in ring:
         QTest.mouseClick(painter.plotter, LEFT, NONE, at(painter, r, c))
     expected = np.ones((16, 16), bool)
@@ -191,8 +195,9 @@ def test_random_fill_from_the_seed_field(painter, qtbot, mode):
     click_action(painter, painter.act_random)
     mask = painter.mask.copy()
     assert np.array_equal(mask, pixels.random_mask((16, 16), 1234, mode, 0.5))
-    assert all(np.array_equal(mask, np.zeros((16, 16), bool) | _image(mask, g))
-               for g in transforms(mode))
+    assert all(
+        np.array_equal(mask, np.zeros((16, 16), bool) | _image(mask, g)) for g in transforms(mode)
+    )
     assert_mesh_of(painter, mask)
     clear(painter)
     click_action(painter, painter.act_random)  # the same seed: the same cell
@@ -314,7 +319,7 @@ def test_a_64_by_64_grid_is_built_in_the_worker(painter, qtbot):
     qtbot.waitUntil(lambda: painter.actors["edges"].GetVisibility(), timeout=10_000)
     x0, x1, y0, y1 = painter._view_rect(margin=0.5)
     mid = 0.5 * (mesh.points[mesh.edges[:, 0], :2] + mesh.points[mesh.edges[:, 1], :2])
-    inside = ((mid[:, 0] >= x0) & (mid[:, 0] <= x1) & (mid[:, 1] >= y0) & (mid[:, 1] <= y1))
+    inside = (mid[:, 0] >= x0) & (mid[:, 0] <= x1) & (mid[:, 1] >= y0) & (mid[:, 1] <= y1)
     drawn = painter.datasets["edges"]
     assert 0 < drawn.n_cells == inside.sum() < len(mesh.edges)
 
@@ -325,9 +330,16 @@ def wheel(widget, pos, delta):
     from PySide6.QtGui import QWheelEvent
     from PySide6.QtWidgets import QApplication
 
-    event = QWheelEvent(QPointF(pos), QPointF(widget.mapToGlobal(pos)), QPoint(0, 0),
-                        QPoint(0, delta), Qt.MouseButton.NoButton, NONE,
-                        Qt.ScrollPhase.NoScrollPhase, False)
+    event = QWheelEvent(
+        QPointF(pos),
+        QPointF(widget.mapToGlobal(pos)),
+        QPoint(0, 0),
+        QPoint(0, delta),
+        Qt.MouseButton.NoButton,
+        NONE,
+        Qt.ScrollPhase.NoScrollPhase,
+        False,
+    )
     QApplication.sendEvent(widget, event)
 
 
@@ -344,8 +356,11 @@ def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):
             x, y, _ = painter.pixel_centre(r, c)
             p = (x + 0.03, y - 0.07, 0.0)
             rgb = pixel(image, painter.plotter, p)
-            assert near(rgb, COLORS["metal"] if mask[r, c] else COLORS["background"], 30), \
-                (r, c, rgb)
+            assert near(rgb, COLORS["metal"] if mask[r, c] else COLORS["background"], 30), (
+                r,
+                c,
+                rgb,
+            )
 
 
 def test_opened_from_the_cell_menu(window, qtbot):
@@ -354,8 +369,11 @@ def test_opened_from_the_cell_menu(window, qtbot):
     assert opener.act_paint in menus["&Cell"].actions()
     with qtbot.waitActive(window):
         window.activateWindow()
-    qtbot.keyClick(window, Qt.Key.Key_P,
-                   Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier)
+    qtbot.keyClick(
+        window,
+        Qt.Key.Key_P,
+        Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier,
+    )
     painter = opener.painter
     assert painter is not None and painter.isVisible()
     wait_built(qtbot, painter)
@@ -386,9 +404,13 @@ def test_keys_of_the_painter(painter, qtbot):
         painter.activateWindow()
     painter.plotter.setFocus()
     mask = painter.mask.copy()
-    for key, mode in ((Qt.Key.Key_8, "8-fold"), (Qt.Key.Key_X, "mirror_x"),
-                      (Qt.Key.Key_Y, "mirror_y"), (Qt.Key.Key_0, "none"),
-                      (Qt.Key.Key_4, "4-fold")):
+    for key, mode in (
+        (Qt.Key.Key_8, "8-fold"),
+        (Qt.Key.Key_X, "mirror_x"),
+        (Qt.Key.Key_Y, "mirror_y"),
+        (Qt.Key.Key_0, "none"),
+        (Qt.Key.Key_4, "4-fold"),
+    ):
         QTest.keyClick(painter.plotter, key)
         assert painter.symmetry == mode
     QTest.keyClick(painter.plotter, Qt.Key.Key_I)
@@ -413,11 +435,11 @@ def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
     from barymesh import MeshParams
     from barymesh.cell import Element, Lattice, PixelGrid, UnitCell
 
-    patch = Element(MeshParams(structure="patch", patch_size=1.0), position=(2.0, 2.0),
-                    name="patch")
+    patch = Element(
+        MeshParams(structure="patch", patch_size=1.0), position=(2.0, 2.0), name="patch"
+    )
     grid = PixelGrid(np.zeros((16, 16), bool), 0.5, (-4.0, -4.0))
-    win = PixelPainterWindow(UnitCell(Lattice.rectangular(8.0), (patch,), grid,
-                                      mode="conforming"))
+    win = PixelPainterWindow(UnitCell(Lattice.rectangular(8.0), (patch,), grid, mode="conforming"))
     win.qtbot = qtbot
     qtbot.addWidget(win)
     win.resize(900, 800)

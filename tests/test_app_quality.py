@@ -8,17 +8,16 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from app_user import click_check_box, settle  # noqa: E402
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.panels import quality_panel  # noqa: E402
 from barymesh.app.view.quality_layer import WORST_COLOR  # noqa: E402
 from barymesh.presets import load_preset  # noqa: E402
 from barymesh.quality import quality_report  # noqa: E402
+from gui_helpers import hex_rgb, near, widget_pos  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QTabBar  # noqa: E402
-
-from app_user import click_check_box, settle  # noqa: E402
-from gui_helpers import hex_rgb, near, widget_pos  # noqa: E402
 
 #: A 10 mm x 2 mm patch: every triangle has legs in the ratio 5:1, smallest angle
 #: atan(0.2) = 11.31°, aspect ratio 3.267 (closed forms in test_core_quality_report.py).
@@ -35,8 +34,12 @@ def open_quality_tab(window, qtbot):
     for bar in window.findChildren(QTabBar):
         texts = [bar.tabText(i) for i in range(bar.count())]
         if bar.isVisible() and sorted(texts) == titles:
-            QTest.mouseClick(bar, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
-                             bar.tabRect(texts.index("Quality")).center())
+            QTest.mouseClick(
+                bar,
+                Qt.MouseButton.LeftButton,
+                Qt.KeyboardModifier.NoModifier,
+                bar.tabRect(texts.index("Quality")).center(),
+            )
             qtbot.waitUntil(lambda: window.quality_panel.seen, timeout=5_000)
             return
     raise AssertionError(f"no tab bar of {titles}")
@@ -89,8 +92,12 @@ def test_panel_shows_cores_report_and_a_click_frames_the_triangle(window, qtbot,
     item = panel.worst_list.item(row)
     panel.worst_list.scrollToItem(item)
     rect = panel.worst_list.visualItemRect(item)
-    QTest.mouseClick(panel.worst_list.viewport(), Qt.MouseButton.LeftButton,
-                     Qt.KeyboardModifier.NoModifier, rect.center())
+    QTest.mouseClick(
+        panel.worst_list.viewport(),
+        Qt.MouseButton.LeftButton,
+        Qt.KeyboardModifier.NoModifier,
+        rect.center(),
+    )
     t = report["worst"][row]["triangle"]
     assert panel.layer.chosen == t and panel.layer.visible and panel.show_layer.isChecked()
     corners = mesh.points[mesh.triangles[t]]
@@ -119,8 +126,11 @@ def small(window, qtbot):
 def test_small_mesh_measured_at_once_and_layer_toggles(small, qtbot, monkeypatch):
     threads = []
     real = quality_panel.quality_report
-    monkeypatch.setattr(quality_panel, "quality_report",
-                        lambda *a, **k: threads.append(threading.current_thread()) or real(*a, **k))
+    monkeypatch.setattr(
+        quality_panel,
+        "quality_report",
+        lambda *a, **k: threads.append(threading.current_thread()) or real(*a, **k),
+    )
     window = small
     panel = window.quality_panel
     open_quality_tab(window, qtbot)
@@ -172,8 +182,9 @@ def test_a_new_mesh_is_measured_again(small, qtbot):
     settle(window, qtbot)
     mesh = window.model.result.mesh
     assert mesh.n_triangles != first["triangles"]
-    qtbot.waitUntil(lambda: window.quality_panel.report["triangles"] == mesh.n_triangles,
-                    timeout=30_000)
+    qtbot.waitUntil(
+        lambda: window.quality_panel.report["triangles"] == mesh.n_triangles, timeout=30_000
+    )
     assert window.quality_panel.report == quality_report(mesh, worst=20)
     assert window.quality_panel.report["min_angle_deg"]["min"] >= 30.0  # issue 12's floor
 

@@ -13,14 +13,13 @@ import pyvista as pv
 pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
+from app_user import choose, click_check_box, drag_slider, settle, type_into  # noqa: E402
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.panels.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
 from barymesh.app.view.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
 from barymesh.mom import PlaneWave, solve, sweep  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
-
-from app_user import choose, click_check_box, drag_slider, settle, type_into  # noqa: E402
 
 #: Makarov's chapter-2 code on platefine, plane wave along −z, E along x, 1 V/m, 300 MHz.
 MAKAROV_PLATEFINE_JMAX = 0.01853
@@ -68,8 +67,9 @@ def test_makarov_plate_current_in_the_layer(window, qtbot):
     layer = panel.layer
     shown = np.asarray(layer.surface.cell_data[MAGNITUDE])
     assert shown.max() == pytest.approx(jmax, rel=1e-12)
-    assert int(np.argmax(shown)) == int(np.argmax(np.linalg.norm(
-        np.abs(direct.current_density), axis=1)))
+    assert int(np.argmax(shown)) == int(
+        np.argmax(np.linalg.norm(np.abs(direct.current_density), axis=1))
+    )
     assert abs(shown.max() / MAKAROV_PLATEFINE_JMAX - 1) < 0.015
     assert panel.solution.frequency == 300e6
     assert f"{jmax:.5g}" in panel.summary.text()
@@ -96,7 +96,8 @@ def test_small_mesh_auto_solves_and_follows_the_mesh(window, qtbot):
     type_into(panel.frequency, "1.2")
     assert panel.layer.magnitude.max() == pytest.approx(largest_j(direct), rel=1e-12)
     assert panel.solution.extinction_cross_section == pytest.approx(
-        direct.extinction_cross_section, rel=1e-12)
+        direct.extinction_cross_section, rel=1e-12
+    )
 
     # a new mesh (n = 5: 3·25 − 10 = 65 unknowns) is solved again, not shown with old data
     type_into(window.controls.rows["subdivisions"].field, "5")
@@ -175,8 +176,9 @@ def test_phase_slider_turns_the_arrows(window, qtbot):
     rho = panel.solution.charge_density
     window.plotter.render()
     shown = pv.wrap(layer._surface_actor.GetMapper().GetInput())  # what was drawn
-    np.testing.assert_allclose(np.asarray(shown.cell_data[CHARGE]),
-                               np.real(rho * np.exp(1j * np.deg2rad(phi))))
+    np.testing.assert_allclose(
+        np.asarray(shown.cell_data[CHARGE]), np.real(rho * np.exp(1j * np.deg2rad(phi)))
+    )
     assert shown.active_scalars_name == CHARGE
     # charge is conserved: the total over the plate vanishes (each RWG function's ±l/A)
     total = np.sum(rho * window.model.result.mesh.areas)
@@ -196,8 +198,9 @@ def test_sweep_marks_the_resonance_and_a_click_solves_there(window, qtbot):
     mesh = window.model.result.mesh
     freqs = np.linspace(0.8e9, 2.4e9, 17)
     direct = sweep(mesh, freqs, PlaneWave(), scattering=False)
-    np.testing.assert_allclose(panel.sweep_result.extinction_cross_section,
-                               direct.extinction_cross_section, rtol=1e-12)
+    np.testing.assert_allclose(
+        panel.sweep_result.extinction_cross_section, direct.extinction_cross_section, rtol=1e-12
+    )
     # a 100 mm plate: its first resonance lies near c / (2 · 100 mm) = 1.5 GHz
     assert len(direct.resonances) >= 1
     np.testing.assert_allclose(panel.sweep_result.resonances, direct.resonances)
@@ -289,13 +292,13 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
     assert panel.sweep_result is None
 
 
-def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(window, qtbot, tmp_path,
-                                                                     monkeypatch):
+def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(
+    window, qtbot, tmp_path, monkeypatch
+):
+    from app_user import answer_file_dialogs
     from barymesh.app.panels.solve_panel import format_impedance
     from barymesh.io import write_mesh
     from barymesh.mom import VoltageSource
-
-    from app_user import answer_file_dialogs
     from test_mom_api import strip
 
     # File > Open the 1 m × 20 mm strip of the API tests (40 × 2 cells, a vertex row at x = 0)
@@ -342,9 +345,8 @@ def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(window, qtb
 
 
 def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monkeypatch):
-    from barymesh.io import write_mesh
-
     from app_user import answer_file_dialogs
+    from barymesh.io import write_mesh
     from test_mom_api import t_junction
 
     panel = open_solve(window, qtbot)
@@ -371,7 +373,8 @@ def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monke
         click(qtbot, panel.solve_button)
         qtbot.waitUntil(lambda: panel.solution_mesh is opened, timeout=120_000)
     assert "warning: 10 junction edges (shared by three or more triangles)" in (
-        panel.summary.text())
+        panel.summary.text()
+    )
     assert panel.solution.warnings == solve(opened, 3e9).warnings
 
 

@@ -41,8 +41,7 @@ def run(qtbot, d, **values):
 
 def test_writes_a_gif_with_the_asked_frame_count(dialog, qtbot, tmp_path):
     out = tmp_path / "angle.gif"
-    assert run(qtbot, dialog, param="angle_step", path=out, start=30.0, stop_value=10.0,
-               frames=4)
+    assert run(qtbot, dialog, param="angle_step", path=out, start=30.0, stop_value=10.0, frames=4)
     assert dialog.result == 4
     frames = iio.imread(out, index=None)
     assert frames.shape[0] == 4 and frames.shape[1:3] == (480, 640)
@@ -65,20 +64,22 @@ def test_writes_an_mp4(dialog, qtbot, tmp_path):
 def test_cancel_leaves_no_file(dialog, qtbot, tmp_path):
     out = tmp_path / "cancelled.gif"
     dialog.signals.progress.connect(lambda *_: dialog.cancel())  # cancel after frame one
-    assert run(qtbot, dialog, param="angle_step", path=out, start=30.0, stop_value=5.0,
-               frames=6)
+    assert run(qtbot, dialog, param="angle_step", path=out, start=30.0, stop_value=5.0, frames=6)
     assert dialog.result == "cancelled"
     assert not out.exists() and not list(tmp_path.glob("*.gif*"))
     assert "no file" in dialog.message.text()
     assert dialog.export_button.isEnabled()
 
 
-@pytest.mark.parametrize(("values", "words"), [
-    ({"param": "subdivisions", "start": 0, "stop_value": 4, "frames": 3}, "subdivisions"),
-    ({"path": "anim.avi"}, ".gif or .mp4"),
-    ({"path": "/no/such/folder/a.gif"}, "no such folder"),
-    ({"path": ""}, "output file"),
-])
+@pytest.mark.parametrize(
+    ("values", "words"),
+    [
+        ({"param": "subdivisions", "start": 0, "stop_value": 4, "frames": 3}, "subdivisions"),
+        ({"path": "anim.avi"}, ".gif or .mp4"),
+        ({"path": "/no/such/folder/a.gif"}, "no such folder"),
+        ({"path": ""}, "output file"),
+    ],
+)
 def test_bad_inputs_are_shown_in_the_dialog(dialog, qtbot, tmp_path, values, words):
     values.setdefault("path", tmp_path / "x.gif")
     assert not run(qtbot, dialog, **values)
@@ -148,7 +149,14 @@ def test_default_output_is_absolute_and_not_the_working_directory(qtbot, tmp_pat
 
 def test_too_many_frames_for_the_size_is_refused_in_the_dialog(dialog, qtbot, tmp_path):
     dialog.size.setCurrentIndex(dialog.size.findText("1280 × 720 (16:9)"))
-    assert not run(qtbot, dialog, param="angle_step", path=tmp_path / "big.gif", start=20.0,
-                   stop_value=1.0, frames=900)
+    assert not run(
+        qtbot,
+        dialog,
+        param="angle_step",
+        path=tmp_path / "big.gif",
+        start=20.0,
+        stop_value=1.0,
+        frames=900,
+    )
     assert "at most 582 frames" in dialog.message.text()
     assert not list(tmp_path.glob("*.gif*"))

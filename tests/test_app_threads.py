@@ -76,8 +76,9 @@ def test_the_recorder_sees_a_dataset_made_in_a_thread(made_off_the_gui_thread):
     assert made_off_the_gui_thread == [("PolyData", "probe")]
 
 
-@pytest.mark.parametrize("params", [MeshParams(angle_step=15.0, subdivisions=2), DENSE],
-                         ids=["full-detail", "overview"])
+@pytest.mark.parametrize(
+    "params", [MeshParams(angle_step=15.0, subdivisions=2), DENSE], ids=["full-detail", "overview"]
+)
 def test_scene_data_holds_plain_arrays(params):
     mesh = build_mesh(params)
     data = scene_data(mesh)
@@ -96,8 +97,7 @@ def test_scene_data_holds_plain_arrays(params):
 def test_a_part_too_dense_for_detail_comes_as_an_image_of_plain_arrays():
     mesh = build_mesh(MeshParams(subdivisions=12))  # 207,360 triangles
     data = scene_data(mesh, pixels=(800, 600))
-    zoom = detail_data(mesh, data.bounds, pixels=(800, 600), ranges=data.ranges,
-                       bounds=data.bounds)
+    zoom = detail_data(mesh, data.bounds, pixels=(800, 600), ranges=data.ranges, bounds=data.bounds)
     assert zoom is not None and zoom.overview is not None  # an image, not polygons
     assert vtk_objects(zoom) == []
 
@@ -114,13 +114,14 @@ def test_compute_compare_and_painter_results_hold_no_vtk_object():
     assert built.edges.n_cells == len(built.cell_mesh.mesh.edges)
 
 
-def test_the_window_makes_datasets_on_the_gui_thread_only(
-        window, qtbot, made_off_the_gui_thread):
+def test_the_window_makes_datasets_on_the_gui_thread_only(window, qtbot, made_off_the_gui_thread):
     """Dense meshes, their details and the compare view, built by the real window's
     worker threads: every dataset on screen was made by the GUI thread."""
     window.model.set_params(DENSE)
-    qtbot.waitUntil(lambda: window.model.result is not None
-                    and window.model.result.mesh.n_triangles == 51_840, timeout=120_000)
+    qtbot.waitUntil(
+        lambda: window.model.result is not None and window.model.result.mesh.n_triangles == 51_840,
+        timeout=120_000,
+    )
     scene = window.scene
     qtbot.waitUntil(lambda: scene.overview is not None, timeout=60_000)
     # rest the camera on a small part of the inner ring: the worker builds its detail
@@ -133,10 +134,17 @@ def test_the_window_makes_datasets_on_the_gui_thread_only(
     assert scene.datasets["faces"].n_cells > 0
     # the paper-vs-conforming window meshes both halves in its own worker
     compare = window.teaching_windows.show_compare()
-    qtbot.waitUntil(lambda: compare.halves.get("conforming") is not None
-                    and compare.halves["conforming"].result is not None, timeout=120_000)
-    assert compare.scenes["paper"].datasets["faces"].n_cells > 0 \
+    qtbot.waitUntil(
+        lambda: (
+            compare.halves.get("conforming") is not None
+            and compare.halves["conforming"].result is not None
+        ),
+        timeout=120_000,
+    )
+    assert (
+        compare.scenes["paper"].datasets["faces"].n_cells > 0
         or compare.scenes["paper"].overview is not None
+    )
     assert made_off_the_gui_thread == []
 
 

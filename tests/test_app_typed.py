@@ -16,15 +16,6 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 import barymesh.app.model  # noqa: E402
-from barymesh import MeshParams, build_mesh  # noqa: E402
-from barymesh.app.model import SPECS, format_value, read_number  # noqa: E402
-from barymesh.io import read_mesh, write_mesh  # noqa: E402
-from barymesh.presets import load_preset, preset_names  # noqa: E402
-from PySide6.QtCore import QLocale, QPoint, Qt  # noqa: E402
-from PySide6.QtGui import QImage  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
-
 from app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
@@ -36,6 +27,14 @@ from app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.model import SPECS, format_value, read_number  # noqa: E402
+from barymesh.io import read_mesh, write_mesh  # noqa: E402
+from barymesh.presets import load_preset, preset_names  # noqa: E402
+from PySide6.QtCore import QLocale, QPoint, Qt  # noqa: E402
+from PySide6.QtGui import QImage  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
+from PySide6.QtWidgets import QApplication  # noqa: E402
 from test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
 
 #: The paper's Fig. 12(a) at n = 2: 720 separate 1 mm patches, 5,760 triangles.
@@ -82,11 +81,19 @@ def save_shot(window, name: str) -> None:
 # -- item 1: a typed value is taken exactly or refused, under its own control -------------
 
 
-@pytest.mark.parametrize(("name", "text"), [
-    ("inner_radius", "-3"), ("angle_step", "400"), ("subdivisions", "65"),
-    ("subdivisions", "-1"), ("subdivisions", "2.5"), ("tolerance", "0.5"),
-    ("inner_radius", "abc"), ("inner_radius", "0"),
-])
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("inner_radius", "-3"),
+        ("angle_step", "400"),
+        ("subdivisions", "65"),
+        ("subdivisions", "-1"),
+        ("subdivisions", "2.5"),
+        ("tolerance", "0.5"),
+        ("inner_radius", "abc"),
+        ("inner_radius", "0"),
+    ],
+)
 def test_refused_values_stay_typed_and_marked(window, name, text):
     shown = window.model.result
     row = window.controls.rows[name]
@@ -108,14 +115,17 @@ def test_refused_values_stay_typed_and_marked(window, name, text):
     assert red_pixels(row.field) == 0
 
 
-@pytest.mark.parametrize(("name", "text", "value"), [
-    ("tolerance", "1e-3", 0.001),          # scientific notation, not "auto"
-    ("inner_radius", "4.5", 4.5),
-    ("inner_radius", "0.005", 0.005),      # below the slider's range: taken, not reverted
-    ("outer_radius", "12345", 12345.0),    # above it
-    ("angle_step", "360", 360.0),
-    ("subdivisions", "3", 3),
-])
+@pytest.mark.parametrize(
+    ("name", "text", "value"),
+    [
+        ("tolerance", "1e-3", 0.001),  # scientific notation, not "auto"
+        ("inner_radius", "4.5", 4.5),
+        ("inner_radius", "0.005", 0.005),  # below the slider's range: taken, not reverted
+        ("outer_radius", "12345", 12345.0),  # above it
+        ("angle_step", "360", 360.0),
+        ("subdivisions", "3", 3),
+    ],
+)
 def test_accepted_values_are_taken_exactly(window, qtbot, name, text, value):
     row = window.controls.rows[name]
     type_into(row.field, text)
@@ -200,8 +210,9 @@ def test_tolerance_slider_at_its_maximum_is_refused_under_it(window, qtbot, monk
     drag_slider(row.slider, row.slider.maximum())
     assert row.slider.value() == row.slider.maximum()
     window.controller.flush()
-    qtbot.waitUntil(lambda: "tolerance" in window.model.errors and not window.controller.busy,
-                    timeout=60_000)
+    qtbot.waitUntil(
+        lambda: "tolerance" in window.model.errors and not window.controller.busy, timeout=60_000
+    )
     assert row.error.text() == core_refusal(FIG12A_N2, tolerance=0.1)
     assert row.field.text() == "0.1" and red_pixels(row.field) > 20
     try:
@@ -229,8 +240,9 @@ def test_a_failed_build_is_not_committed(window, qtbot, tmp_path, monkeypatch):
     drag_slider(row.slider, 32)
     assert row.slider.value() == 32
     window.controller.flush()
-    qtbot.waitUntil(lambda: "tolerance" in window.model.errors and not window.controller.busy,
-                    timeout=60_000)
+    qtbot.waitUntil(
+        lambda: "tolerance" in window.model.errors and not window.controller.busy, timeout=60_000
+    )
     assert row.error.text() == core_refusal(FIG12A_N2, tolerance=0.0562)
     assert row.field.text() == "0.0562" and red_pixels(row.field) > 20
     assert window.model.params == FIG12A_N2 and not window.act_undo.isEnabled()
@@ -319,7 +331,9 @@ def test_presets_show_their_exact_values(window, name):
             assert spec.holds(value)
             assert row.slider.value() == spec.to_slider(value)
             assert 0 < row.slider.value() < row.slider.maximum() or value in (
-                spec.minimum, spec.maximum)
+                spec.minimum,
+                spec.maximum,
+            )
     x, y = params.origin
     assert window.controls.rows["origin"].field.text() == f"{format_value(x)}, {format_value(y)}"
 
@@ -342,11 +356,13 @@ def test_advanced_controls_take_typed_values(window):
     type_into(rows["origin"].field, "1, 2")
     window.controller.flush()
     assert window.model.params.origin == (1.0, 2.0)
-    np.testing.assert_allclose(window.model.result.mesh.points[:, :2].min(axis=0) - before,
-                               (1.0, 2.0))
+    np.testing.assert_allclose(
+        window.model.result.mesh.points[:, :2].min(axis=0) - before, (1.0, 2.0)
+    )
     type_into(rows["max_triangles"].field, "100")  # the mesh has 384
     assert rows["max_triangles"].error.text() == core_refusal(
-        COARSE, origin=(1.0, 2.0), max_triangles=100)
+        COARSE, origin=(1.0, 2.0), max_triangles=100
+    )
     QTest.keyClick(rows["max_triangles"].field, Qt.Key.Key_Escape)
     assert rows["max_triangles"].field.text() == "5000000"
     choose(window.controls.combos["structure"], "patch")
@@ -369,8 +385,7 @@ def test_advanced_controls_take_typed_values(window):
 # -- item 13: a mesh file on screen is said so; going back is explicit --------------------
 
 
-def test_an_opened_file_is_shown_as_such_until_going_back(window, qtbot, tmp_path,
-                                                         monkeypatch):
+def test_an_opened_file_is_shown_as_such_until_going_back(window, qtbot, tmp_path, monkeypatch):
     path = tmp_path / "other.msh"
     write_mesh(build_mesh(MeshParams(structure="patch", subdivisions=3)), path)
     controls = window.controls

@@ -10,15 +10,11 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from app_user import wait_for_export  # noqa: E402
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.teach.inspector import COLORS as INSPECTOR_COLORS  # noqa: E402
 from barymesh.app.view.highlight import COL_COLOR, ROW_COLOR, SMALL_PIXELS  # noqa: E402
 from barymesh.app.window import MainWindow, file_error_sentence  # noqa: E402
-from PySide6.QtCore import QPoint, QPointF, Qt  # noqa: E402
-from PySide6.QtGui import QWheelEvent  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
-
-from app_user import wait_for_export  # noqa: E402
 from gui_helpers import (  # noqa: E402
     click_world,
     display_point,
@@ -29,6 +25,9 @@ from gui_helpers import (  # noqa: E402
     share,
     type_into,
 )
+from PySide6.QtCore import QPoint, QPointF, Qt  # noqa: E402
+from PySide6.QtGui import QWheelEvent  # noqa: E402
+from PySide6.QtWidgets import QApplication  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 
@@ -85,7 +84,7 @@ def test_construction_window_has_rulers_in_mm(active, qtbot):
     image = view.view_image()
     x, y = display_point(view.plotter, (4.0, 0.0, 0.0))
     h = image.shape[0]
-    band = image[h - int(y) + 6:h - int(y) + 24, int(x) - 8:int(x) + 9, :3]
+    band = image[h - int(y) + 6 : h - int(y) + 24, int(x) - 8 : int(x) + 9, :3]
     assert (band.max(axis=2) < 120).any()
 
 
@@ -111,7 +110,7 @@ def test_compare_view_has_rulers_in_both_halves(active, qtbot):
     assert where[1] < 0  # below the patch's bottom side (y = 0)
     x, y = display_point(view.plotter, where, renderer)
     h = image.shape[0]
-    box = image[h - 1 - int(y) - 7:h - int(y) + 7, int(x) - 6:int(x) + 7, :3]
+    box = image[h - 1 - int(y) - 7 : h - int(y) + 7, int(x) - 6 : int(x) + 7, :3]
     assert (box.max(axis=2) < 120).sum() >= 6  # the glyph's dark pixels
 
 
@@ -137,9 +136,16 @@ def test_r_undoes_a_tilt_and_frames_the_whole_mesh(active, qtbot):
 def test_t_undoes_a_tilt_and_keeps_the_zoom(active, qtbot):
     plotter = active.plotter
     centre = QPoint(plotter.width() // 2, plotter.height() // 2)
-    event = QWheelEvent(QPointF(centre), QPointF(plotter.mapToGlobal(centre)), QPoint(0, 0),
-                        QPoint(0, 360), Qt.MouseButton.NoButton, Qt.KeyboardModifier.NoModifier,
-                        Qt.ScrollPhase.NoScrollPhase, False)
+    event = QWheelEvent(
+        QPointF(centre),
+        QPointF(plotter.mapToGlobal(centre)),
+        QPoint(0, 0),
+        QPoint(0, 360),
+        Qt.MouseButton.NoButton,
+        Qt.KeyboardModifier.NoModifier,
+        Qt.ScrollPhase.NoScrollPhase,
+        False,
+    )
     QApplication.sendEvent(plotter, event)
     qtbot.mousePress(plotter, Qt.MouseButton.LeftButton, pos=centre)
     qtbot.mouseMove(plotter, centre + QPoint(60, 40))
@@ -161,8 +167,11 @@ def test_a_1000_by_700_window_gives_the_view_most_of_the_width(active, qtbot):
     key(qtbot, active.plotter, Qt.Key.Key_R)
     qtbot.waitUntil(lambda: fully_in_view(active))
     active.resize(1400, 860)
-    qtbot.waitUntil(lambda: active.dockWidgetArea(active.statistics_dock)
-                    == Qt.DockWidgetArea.RightDockWidgetArea)
+    qtbot.waitUntil(
+        lambda: (
+            active.dockWidgetArea(active.statistics_dock) == Qt.DockWidgetArea.RightDockWidgetArea
+        )
+    )
     assert not active.statistics_dock.isHidden() and not active.layers_dock.isHidden()
 
 
@@ -196,8 +205,10 @@ def test_matrix_marks_over_the_inspector_keep_t_plus_and_its_colour_bar(active, 
     corners = mesh.points[mesh.triangles[t_plus]]
     # T+ is drawn in the divergence map's red (coolwarm's top, at 75 % over the faces),
     # not in the row mark's orange
-    sample = [pixel(image, active.plotter, w @ corners) for w in
-              (np.array([0.6, 0.2, 0.2]), np.array([0.2, 0.6, 0.2]), np.array([0.2, 0.2, 0.6]))]
+    sample = [
+        pixel(image, active.plotter, w @ corners)
+        for w in (np.array([0.6, 0.2, 0.2]), np.array([0.2, 0.6, 0.2]), np.array([0.2, 0.2, 0.6]))
+    ]
     orange_like = [near(p, ROW_COLOR, 45) for p in sample]
     red_like = [p[0] > 150 and p[1] < 120 and p[2] < 120 for p in sample]
     assert sum(red_like) >= 2 and not any(orange_like), sample
@@ -246,16 +257,21 @@ def test_clicks_pick_with_the_triangles_layer_hidden(active, qtbot):
 
 def test_file_error_sentences_name_the_file_once():
     path = "/data/run 3/truncated.msh"
-    said = file_error_sentence("Could not open truncated.msh",
-                               ValueError(f"{path}: {path}: the file ends after 3 of 423 nodes"),
-                               path)
+    said = file_error_sentence(
+        "Could not open truncated.msh",
+        ValueError(f"{path}: {path}: the file ends after 3 of 423 nodes"),
+        path,
+    )
     assert said == "Could not open truncated.msh: the file ends after 3 of 423 nodes."
-    said = file_error_sentence("Could not open x.obj",
-                               UnicodeDecodeError("utf-8", b"ab\xf3", 2, 3, "invalid"), "x.obj")
+    said = file_error_sentence(
+        "Could not open x.obj", UnicodeDecodeError("utf-8", b"ab\xf3", 2, 3, "invalid"), "x.obj"
+    )
     assert said == "Could not open x.obj: it is not UTF-8 text (byte 0xf3 at offset 2)."
-    said = file_error_sentence("Could not open gone.msh",
-                               FileNotFoundError(2, "No such file or directory", "/a/gone.msh"),
-                               "/a/gone.msh")
+    said = file_error_sentence(
+        "Could not open gone.msh",
+        FileNotFoundError(2, "No such file or directory", "/a/gone.msh"),
+        "/a/gone.msh",
+    )
     assert said == "Could not open gone.msh: no such file or directory."
 
 
@@ -448,8 +464,9 @@ def test_export_dialog_writes_in_the_chosen_unit(active, qtbot, tmp_path):
 @pytest.mark.parametrize("window_params", [MeshParams()])  # the paper's Fig. 12(a)
 def test_big_matrix_hover_blits_marks_tiny_triangles_and_a_click_zooms(active, qtbot):
     # Fig. 12(a) is built in the worker thread: wait for it to be on screen
-    qtbot.waitUntil(lambda: active.model.result is not None and not active.controller.busy,
-                    timeout=30_000)
+    qtbot.waitUntil(
+        lambda: active.model.result is not None and not active.controller.busy, timeout=30_000
+    )
     mesh = active.model.result.mesh
     assert mesh.n_triangles == 23_040
     key(qtbot, active.plotter, Qt.Key.Key_M)
@@ -505,22 +522,27 @@ def test_inspector_overlay_colours_on_screen(active, qtbot):
     row = 17
     edge = int(mesh.rwg.edge[row])
     a, b = mesh.points[mesh.edges[edge]]
-    click_world(qtbot, active.plotter, 0.5 * (a + b) + 0.1 * (mesh.centroids[mesh.rwg.t_plus[row]]
-                                                           - 0.5 * (a + b)))
+    click_world(
+        qtbot,
+        active.plotter,
+        0.5 * (a + b) + 0.1 * (mesh.centroids[mesh.rwg.t_plus[row]] - 0.5 * (a + b)),
+    )
     assert active.teaching.inspector.edge == edge
     image = rendered(active.plotter)
     assert near(pixel(image, active.plotter, 0.4 * a + 0.6 * b), INSPECTOR_COLORS["edge"], 40)
     for t, red in ((int(mesh.rwg.t_plus[row]), True), (int(mesh.rwg.t_minus[row]), False)):
         corners = mesh.points[mesh.triangles[t]]
-        samples = [pixel(image, active.plotter, np.array([i, j, 10 - i - j]) / 10 @ corners)
-                   for i in range(1, 9) for j in range(1, 9 - i)]
+        samples = [
+            pixel(image, active.plotter, np.array([i, j, 10 - i - j]) / 10 @ corners)
+            for i in range(1, 9)
+            for j in range(1, 9 - i)
+        ]
         # between the arrows of f_n and rho, T+ is red and T- blue (coolwarm's ends)
         tinted = [(p[0] > p[2] + 60) if red else (p[2] > p[0] + 60) for p in samples]
         assert np.mean(tinted) > 0.5, (t, samples)
 
 
-def test_a_big_mesh_gets_its_readout_from_a_locator_built_in_the_worker(active, qtbot,
-                                                                        monkeypatch):
+def test_a_big_mesh_gets_its_readout_from_a_locator_built_in_the_worker(active, qtbot, monkeypatch):
     import barymesh.app.view.view_tools as view_tools
 
     monkeypatch.setattr(view_tools, "SYNC_LOCATOR", 10)  # 32 triangles count as big here

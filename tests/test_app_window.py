@@ -10,12 +10,6 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from barymesh import MeshParams  # noqa: E402
-from barymesh.app.model import SPECS, applies, format_value  # noqa: E402
-from barymesh.app.window import MainWindow  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
-from PySide6.QtWidgets import QApplication, QMainWindow, QTabBar  # noqa: E402
-
 from app_user import (  # noqa: E402
     choose,
     click_check_box,
@@ -25,7 +19,12 @@ from app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.model import SPECS, applies, format_value  # noqa: E402
+from barymesh.app.window import MainWindow  # noqa: E402
 from gui_helpers import colour_pixels  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtWidgets import QApplication, QMainWindow, QTabBar  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -159,8 +158,9 @@ def test_big_meshes_are_built_in_the_worker(window, qtbot):
     type_into(field, "3")
     type_into(field, "4")  # the latest value wins
     window.controller.flush()
-    qtbot.waitUntil(lambda: busy and busy[-1] is False and not window.controller.busy,
-                    timeout=20_000)
+    qtbot.waitUntil(
+        lambda: busy and busy[-1] is False and not window.controller.busy, timeout=20_000
+    )
     assert window.model.result.params.subdivisions == 4
     assert_counts(window, patch_counts(COARSE_PATCHES, 4))
 
@@ -190,9 +190,22 @@ def test_screenshot_and_quit_from_the_command_line(tmp_path):
     out = tmp_path / "window.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
-        [sys.executable, "-m", "barymesh.app", "--preset", "paper-fig10", "--set", "subdivisions=2",
-         "--screenshot", str(out), "--quit"],
-        env=env, capture_output=True, text=True, timeout=120,
+        [
+            sys.executable,
+            "-m",
+            "barymesh.app",
+            "--preset",
+            "paper-fig10",
+            "--set",
+            "subdivisions=2",
+            "--screenshot",
+            str(out),
+            "--quit",
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert proc.returncode == 0, proc.stderr
     image = iio.imread(out)
@@ -203,8 +216,13 @@ def test_screenshot_and_quit_from_the_command_line(tmp_path):
 
 def test_bad_command_line_values_exit_1(tmp_path):
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
-    proc = subprocess.run([sys.executable, "-m", "barymesh.app", "--set", "subdivisions=0", "--quit"],
-                          env=env, capture_output=True, text=True, timeout=60)
+    proc = subprocess.run(
+        [sys.executable, "-m", "barymesh.app", "--set", "subdivisions=0", "--quit"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert proc.returncode == 1 and "subdivisions" in proc.stderr
 
 
@@ -226,11 +244,12 @@ def test_readme_compare_counts_are_what_the_window_shows(qtbot):
 
     text = _readme()
     caption = re.search(r"!\[Paper vs conforming[^\]]*\]\(assets/compare\.png\)", text).group(0)
-    after = text[text.index(caption) + len(caption):].split("\n\n", 2)[1]
+    after = text[text.index(caption) + len(caption) :].split("\n\n", 2)[1]
     pairs = {
         "image": re.search(r"([\d,]+) against ([\d,]+) RWG unknowns", caption).groups(),
-        "paper-fig12c": re.search(r"`paper-fig12c`.*?([\d,]+) against\s+([\d,]+)", after,
-                                  re.S).groups(),
+        "paper-fig12c": re.search(
+            r"`paper-fig12c`.*?([\d,]+) against\s+([\d,]+)", after, re.S
+        ).groups(),
     }
     assert "1 mm patches at 10° steps" in caption
     win = MainWindow(MeshParams(angle_step=10.0), scripted=True)
@@ -240,15 +259,19 @@ def test_readme_compare_counts_are_what_the_window_shows(qtbot):
     win.controller.flush()
     for source, (paper, conforming) in pairs.items():
         if source != "image":
-            next(a for a in win.menuBar().findChildren(type(win.act_shot))
-                 if a.text() == source).trigger()
+            next(
+                a for a in win.menuBar().findChildren(type(win.act_shot)) if a.text() == source
+            ).trigger()
             win.controller.flush()
         view = win.teaching_windows.show_compare()
-        qtbot.waitUntil(lambda v=view: not v.busy and v.shown_generation == v.generation,
-                        timeout=30_000)
+        qtbot.waitUntil(
+            lambda v=view: not v.busy and v.shown_generation == v.generation, timeout=30_000
+        )
         shown = {mode: view.stats_of(mode)["interior_edges"] for mode in ("paper", "conforming")}
-        assert shown == {"paper": int(paper.replace(",", "")),
-                         "conforming": int(conforming.replace(",", ""))}, source
+        assert shown == {
+            "paper": int(paper.replace(",", "")),
+            "conforming": int(conforming.replace(",", "")),
+        }, source
     win.close()
 
 
@@ -305,8 +328,9 @@ def test_no_progress_message_stays_once_the_mesh_is_shown(window, qtbot):
     shown = window.model.result
     drag_slider(step, step.value() - 12)
     window.controller.flush()
-    qtbot.waitUntil(lambda: window.model.result is not shown and not window.controller.busy,
-                    timeout=60_000)
+    qtbot.waitUntil(
+        lambda: window.model.result is not shown and not window.controller.busy, timeout=60_000
+    )
     assert window.model.params.angle_step < 20.0
     message = window.statusBar().currentMessage()
     assert "Meshing" not in message and "Esc cancels" not in message
@@ -356,8 +380,11 @@ def test_tabbed_docks_keep_their_whole_titles(window, qtbot, width):
     _pump(qtbot, window)
     window.teaching.set_matrix_active(True)  # one more dock tabbed with Statistics
     _pump(qtbot, window)
-    bars = [b for b in window.findChildren(QTabBar)
-            if isinstance(b.parent(), QMainWindow) and b.isVisible() and b.count() > 1]
+    bars = [
+        b
+        for b in window.findChildren(QTabBar)
+        if isinstance(b.parent(), QMainWindow) and b.isVisible() and b.count() > 1
+    ]
     assert bars
     for bar in bars:
         metrics = bar.fontMetrics()
@@ -367,15 +394,26 @@ def test_tabbed_docks_keep_their_whole_titles(window, qtbot, width):
             assert bar.elideMode() == Qt.TextElideMode.ElideNone
 
 
-PAPER_PRESETS = ["paper-fig10", "paper-fig11-12mm", "paper-fig11-4mm", "paper-fig11-8mm",
-                 "paper-fig12a", "paper-fig12b", "paper-fig12c", "paper-fig12d",
-                 "paper-fig8-dsdr", "paper-fig9-square-dsdr"]
+PAPER_PRESETS = [
+    "paper-fig10",
+    "paper-fig11-12mm",
+    "paper-fig11-4mm",
+    "paper-fig11-8mm",
+    "paper-fig12a",
+    "paper-fig12b",
+    "paper-fig12c",
+    "paper-fig12d",
+    "paper-fig8-dsdr",
+    "paper-fig9-square-dsdr",
+]
 
 
 def _wait_for(window, qtbot, params) -> None:
     window.controller.flush()
-    qtbot.waitUntil(lambda: window.model.result is not None
-                    and window.model.result.params == params, timeout=60_000)
+    qtbot.waitUntil(
+        lambda: window.model.result is not None and window.model.result.params == params,
+        timeout=60_000,
+    )
 
 
 @pytest.mark.parametrize("name", PAPER_PRESETS)
@@ -402,8 +440,7 @@ def test_every_paper_preset_is_drawn_as_the_paper_draws_it(window, qtbot, name):
     assert sets["centroids"].n_points == mesh.n_triangles
 
 
-def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, qtbot,
-                                                                        monkeypatch):
+def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, qtbot, monkeypatch):
     import barymesh.app.view.scene as scene_module
 
     scene = window.scene
@@ -492,8 +529,7 @@ def test_layer_check_boxes_show_a_tick(window, qtbot):
 
 
 @pytest.mark.parametrize("size, drawn", [((1024, 768), True), ((200, 150), False)])
-def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_path, size,
-                                                                           drawn):
+def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_path, size, drawn):
     # paper-fig12c, 2,304 triangles: about 10 px a triangle at 1024 x 768 (drawn as the
     # paper draws them: shared edges orange, centroids magenta), about 2 px at 200 x 150
     # (the light look, as in the window)
@@ -503,9 +539,22 @@ def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_p
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     env.pop("DISPLAY", None)
     proc = subprocess.run(
-        [sys.executable, "-m", "barymesh.app.cli", "mesh", "--preset", "paper-fig12c",
-         "--screenshot", str(out), "--window-size", *map(str, size)],
-        env=env, capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "barymesh.app.cli",
+            "mesh",
+            "--preset",
+            "paper-fig12c",
+            "--screenshot",
+            str(out),
+            "--window-size",
+            *map(str, size),
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert proc.returncode == 0, proc.stderr
     image = iio.imread(out)
@@ -527,8 +576,9 @@ def _mesh_right_px(window) -> float:
     return display_point(window.plotter, right)[0]
 
 
-@pytest.mark.parametrize("window_params", [MeshParams(), MeshParams(structure="patch",
-                                                                     subdivisions=4)])
+@pytest.mark.parametrize(
+    "window_params", [MeshParams(), MeshParams(structure="patch", subdivisions=4)]
+)
 def test_the_colour_bar_is_beside_the_mesh_not_over_it(window, qtbot):
     win = window  # the conftest window (1300 x 800) on these parameters
     qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
@@ -551,8 +601,9 @@ def test_the_colour_bar_is_beside_the_mesh_not_over_it(window, qtbot):
     assert not bar.GetVisibility() and win.scene.legend_px() == 0.0
 
 
-@pytest.mark.parametrize("window_params, n", [
-    (MeshParams(structure="patch", subdivisions=n), n) for n in (4, 32)])  # 2 n² equal
+@pytest.mark.parametrize(
+    "window_params, n", [(MeshParams(structure="patch", subdivisions=n), n) for n in (4, 32)]
+)  # 2 n² equal
 def test_area_of_equal_triangles_has_a_scale_around_its_value(window, qtbot, n):
     win = window
     qtbot.waitUntil(lambda: win.model.result is not None, timeout=30_000)
@@ -576,7 +627,6 @@ def test_area_of_equal_triangles_has_a_scale_around_its_value(window, qtbot, n):
 
 def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
     from barymesh.app.view.framing import RULER_PAD
-
     from gui_helpers import display_point
 
     win = MainWindow(MeshParams(subdivisions=8), scripted=True)  # 92,160 triangles
@@ -585,8 +635,10 @@ def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
     win.show()
     qtbot.waitExposed(win)
     win.controller.flush()
-    qtbot.waitUntil(lambda: win.model.result is not None
-                    and win.model.result.mesh.n_triangles == 92_160, timeout=60_000)
+    qtbot.waitUntil(
+        lambda: win.model.result is not None and win.model.result.mesh.n_triangles == 92_160,
+        timeout=60_000,
+    )
     try:
         win.reset_camera()
         scene = win.scene

@@ -140,9 +140,14 @@ def _angles_and_aspects(points, triangles):
     p = np.asarray(points)[np.asarray(triangles)]  # (T, 3, 3)
     sides = np.linalg.norm(p[:, [1, 2, 0]] - p, axis=2)  # side k from vertex k to k + 1
     a, b, c = sides[:, 1], sides[:, 2], sides[:, 0]  # a opposite vertex 0, ...
-    cosines = np.stack([(b**2 + c**2 - a**2) / (2 * b * c),
-                        (c**2 + a**2 - b**2) / (2 * c * a),
-                        (a**2 + b**2 - c**2) / (2 * a * b)], axis=1)
+    cosines = np.stack(
+        [
+            (b**2 + c**2 - a**2) / (2 * b * c),
+            (c**2 + a**2 - b**2) / (2 * c * a),
+            (a**2 + b**2 - c**2) / (2 * a * b),
+        ],
+        axis=1,
+    )
     angles = np.degrees(np.arccos(np.clip(cosines, -1, 1))).min(axis=1)
     s = sides.sum(axis=1) / 2
     area = np.sqrt(np.maximum(s * (s - a) * (s - b) * (s - c), 0))  # Heron
@@ -159,8 +164,17 @@ def test_quality_benchmark_measures_presets_and_the_split_ring(tmp_path: Path) -
     has_gmsh = importlib.util.find_spec("gmsh") is not None
     out = tmp_path / "quality.json"
     # this checkout as its own baseline: the "today" figures must be the "new" ones
-    cmd = [sys.executable, str(ROOT / "benchmarks" / "quality.py"), "--sizes", "10k",
-           "--baseline", str(ROOT), "--markdown", "--json", str(out)]
+    cmd = [
+        sys.executable,
+        str(ROOT / "benchmarks" / "quality.py"),
+        "--sizes",
+        "10k",
+        "--baseline",
+        str(ROOT),
+        "--markdown",
+        "--json",
+        str(out),
+    ]
     if not has_gmsh:
         cmd.append("--no-gmsh")
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
@@ -182,8 +196,10 @@ def test_quality_benchmark_measures_presets_and_the_split_ring(tmp_path: Path) -
             assert row["max_aspect_ratio"] == pytest.approx((1 + math.sqrt(2)) / math.sqrt(3))
             assert "gmsh" not in row
 
-    cases = {"srr-openmodes": load_preset("srr-openmodes")[0],
-             "split ring 10k": MeshParams(**gmsh_peer.split_ring_fields("10k"))}
+    cases = {
+        "srr-openmodes": load_preset("srr-openmodes")[0],
+        "split ring 10k": MeshParams(**gmsh_peer.split_ring_fields("10k")),
+    }
     for name, params in cases.items():
         mesh = build_mesh(params)
         row = rows[name]
@@ -204,16 +220,28 @@ def test_quality_benchmark_measures_presets_and_the_split_ring(tmp_path: Path) -
 def test_quality_benchmark_rejects_a_baseline_without_core(tmp_path: Path) -> None:
     proc = subprocess.run(
         [sys.executable, str(ROOT / "benchmarks" / "quality.py"), "--baseline", str(tmp_path)],
-        capture_output=True, text=True, timeout=120, check=False,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
     )
     assert proc.returncode == 2
     assert str(tmp_path) in proc.stderr and "core/__init__.py" in proc.stderr
+
+
 def test_grading_benchmark_uniform_series_converges_to_its_reference(tmp_path: Path) -> None:
     out = tmp_path / "grading.json"
     png = tmp_path / "grading.png"
     proc = subprocess.run(
-        [sys.executable, str(ROOT / "benchmarks" / "grading.py"), "--quick",
-         "--json", str(out), "--png", str(png)],  # fmt: skip
+        [
+            sys.executable,
+            str(ROOT / "benchmarks" / "grading.py"),
+            "--quick",
+            "--json",
+            str(out),
+            "--png",
+            str(png),
+        ],
         capture_output=True,
         text=True,
         timeout=600,

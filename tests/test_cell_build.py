@@ -13,7 +13,6 @@ from barymesh.cell import (
     tile,
 )
 from barymesh.cell.files import load_cell_preset
-
 from helpers import assert_topology_matches_generic, signed_areas
 
 

@@ -15,7 +15,6 @@ from barymesh.cell.files import (
     load_cell_preset,
     save_cell,
 )
-
 from helpers import assert_clear_message
 
 
@@ -168,9 +167,11 @@ def test_a_patch_far_from_the_cell_is_refused_naming_its_position():
     doc = _preset_doc("double-ring-patch")
     doc["elements"][1]["position"] = [1e16, 0]
     message = _refusal(doc)
-    assert message.startswith("cell: elements[1].position: elements[1].position=(1e+16, 0.0) "
-                              "places metal up to 1e+16 mm from the cell's centre, where float64 "
-                              "cannot resolve its sub-triangle edges of 0.75 mm")  # fmt: skip
+    assert message.startswith(
+        "cell: elements[1].position: elements[1].position=(1e+16, 0.0) "
+        "places metal up to 1e+16 mm from the cell's centre, where float64 "
+        "cannot resolve its sub-triangle edges of 0.75 mm"
+    )
     assert "expected the part within about 7.5e+07 mm of the centre" in message
 
 
@@ -228,12 +229,29 @@ WRONG_KINDS = [None, True, "x", {}, [], [1, 2, 3], {"a": 1}, 1e-320, [None, None
 
 
 @pytest.mark.parametrize("value", WRONG_KINDS, ids=repr)
-@pytest.mark.parametrize("path", ["document", "lattice", "lattice.rectangular",
-                                  "lattice.hexagonal", "elements", "elements[0]",
-                                  "elements[0].position", "elements[0].rotation",
-                                  "elements[0].inner_radius", "elements[0].subdivisions",
-                                  "elements[0].name", "pixels", "pixels.rows", "pixels.origin",
-                                  "pixels.pixel_size", "mode", "version", "tolerance"])  # fmt: skip
+@pytest.mark.parametrize(
+    "path",
+    [
+        "document",
+        "lattice",
+        "lattice.rectangular",
+        "lattice.hexagonal",
+        "elements",
+        "elements[0]",
+        "elements[0].position",
+        "elements[0].rotation",
+        "elements[0].inner_radius",
+        "elements[0].subdivisions",
+        "elements[0].name",
+        "pixels",
+        "pixels.rows",
+        "pixels.origin",
+        "pixels.pixel_size",
+        "mode",
+        "version",
+        "tolerance",
+    ],
+)
 def test_messages_never_show_python_type_names(path, value):
     doc = _preset_doc()
     doc["pixels"] = {"rows": ["1"], "origin": [-9, -9]}
@@ -258,13 +276,16 @@ def test_a_malformed_lattice_says_what_it_expected():
     # was "lattice: too many values to unpack (expected 2)"
     doc = _preset_doc()
     doc["lattice"] = {"rectangular": [1, 2, 3]}
-    assert _refusal(doc) == ("cell: lattice.rectangular: [1, 2, 3] is invalid; expected a "
-                             "period in mm or two periods [px, py]")  # fmt: skip
+    assert _refusal(doc) == (
+        "cell: lattice.rectangular: [1, 2, 3] is invalid; expected a "
+        "period in mm or two periods [px, py]"
+    )
     doc["lattice"] = {"rectangular": [20]}  # one period: a square lattice
     assert cell_from_dict(doc).lattice == Lattice.rectangular(20.0)
     doc["lattice"] = {"a1": [1e300, 0], "a2": [0, 1e300]}
     assert "lattice.a1: a1=(1e+300, 0.0) is 1e+300 mm long; expected a lattice vector" in (
-        _refusal(doc))  # fmt: skip
+        _refusal(doc)
+    )
 
 
 def _many(doc, count):
@@ -278,23 +299,31 @@ def test_a_cell_over_the_budget_is_refused_before_any_part_is_built():
     # budget of 5,000,000; 500 are 5,760,000, refused (was a MemoryError or minutes)
     cell = cell_from_dict(_many(_preset_doc("double-ring-patch"), 500))
     assert cell.predicted_triangles() == 500 * 11_520
-    with pytest.raises(ValueError, match=r"^the cell's parts would make 5,760,000 triangles, "
-                       r"above the budget max_triangles=5,000,000"):  # fmt: skip
+    with pytest.raises(
+        ValueError,
+        match=r"^the cell's parts would make 5,760,000 triangles, "
+        r"above the budget max_triangles=5,000,000",
+    ):
         build_cell(cell)
     small = cell_from_dict(_many(_preset_doc("double-ring-patch"), 3))
-    with pytest.raises(ValueError, match="would make 34,560 triangles, above the budget "
-                       "max_triangles=30,000"):  # fmt: skip
+    with pytest.raises(
+        ValueError, match="would make 34,560 triangles, above the budget max_triangles=30,000"
+    ):
         build_cell(small, max_triangles=30_000)
     assert build_cell(small, max_triangles=34_560).mesh.n_triangles == 34_560
-    with pytest.raises(ValueError, match=r"^3 x 2 copies of 34,560 triangles would make "
-                       "207,360 triangles, above the budget max_triangles=200,000"):  # fmt: skip
+    with pytest.raises(
+        ValueError,
+        match=r"^3 x 2 copies of 34,560 triangles would make "
+        "207,360 triangles, above the budget max_triangles=200,000",
+    ):
         tile(small, 3, 2, max_triangles=200_000)
 
 
 def test_an_element_with_its_own_huge_budget_is_held_to_the_cell_budget():
     doc = _preset_doc("double-ring-patch")
-    doc["elements"][0].update(inner_radius=1e3, outer_radius=2e3, angle_step=0.01,
-                              max_triangles=10**12)  # fmt: skip
+    doc["elements"][0].update(
+        inner_radius=1e3, outer_radius=2e3, angle_step=0.01, max_triangles=10**12
+    )
     cell = cell_from_dict(doc)
     assert cell.predicted_triangles() == 2 * 36_000 * 32 + 32
     with pytest.raises(ValueError, match="would make 2,304,032 triangles"):

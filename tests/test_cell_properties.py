@@ -14,12 +14,11 @@ import numpy as np
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell, tile
 from barymesh.cell.files import CELL_PRESET_DIR, CellFileError, cell_from_dict
 from barymesh.cell.outline import outline_polygons
+from helpers import assert_clear_message
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy.spatial import cKDTree
-
-from helpers import assert_clear_message
 
 SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -86,21 +85,54 @@ DEEP = functools.reduce(lambda v, _: [v], range(900), 1.0)
 #: Values a hostile document may hold anywhere: wrong kinds, extremes, huge and deep values.
 VALUES = st.one_of(
     st.builds(lambda m, e: m * 10.0**e, st.floats(1.0, 9.99), st.integers(-320, 307)),
-    st.sampled_from([0, -1, True, False, None, "x", "4,5", [], {}, {"a": 1}, [1, 2, 3],
-                     [None, None], 1e-320, 5e-324, 1e16, 1e300, 10**400, "s" * 3000, DEEP,
-                     [1e16, 0], [0, -1e16], ["1" * 3000] * 2]),
-)  # fmt: skip
+    st.sampled_from(
+        [
+            0,
+            -1,
+            True,
+            False,
+            None,
+            "x",
+            "4,5",
+            [],
+            {},
+            {"a": 1},
+            [1, 2, 3],
+            [None, None],
+            1e-320,
+            5e-324,
+            1e16,
+            1e300,
+            10**400,
+            "s" * 3000,
+            DEEP,
+            [1e16, 0],
+            [0, -1e16],
+            ["1" * 3000] * 2,
+        ]
+    ),
+)
 FAR = st.sampled_from([1e16, -1e16, 1e12, 1e8, 1e6, 1e5, 50.0, 11.0])
 LATTICES = st.one_of(
-    st.sampled_from([{"rectangular": [1, 2, 3]}, {"rectangular": "ab"}, {"rectangular": DEEP},
-                     {"hexagonal": [1, 2]}, {"a1": [1e-300, 0], "a2": [0, 1e-300]},
-                     {"rectangular": [1e300, 1e300]}, {"square": 3}, [], "x", None]),
+    st.sampled_from(
+        [
+            {"rectangular": [1, 2, 3]},
+            {"rectangular": "ab"},
+            {"rectangular": DEEP},
+            {"hexagonal": [1, 2]},
+            {"a1": [1e-300, 0], "a2": [0, 1e-300]},
+            {"rectangular": [1e300, 1e300]},
+            {"square": 3},
+            [],
+            "x",
+            None,
+        ]
+    ),
     st.builds(lambda v: {"rectangular": [v, 20]}, VALUES),
     st.builds(lambda v: {"hexagonal": v}, VALUES),
     st.builds(lambda v: {"a1": [20, 0], "a2": v}, VALUES),
-)  # fmt: skip
-TOP_KEYS = ["tolerance", "mode", "name", "version", "format", "elements", "pixels",
-            "description"]  # fmt: skip
+)
+TOP_KEYS = ["tolerance", "mode", "name", "version", "format", "elements", "pixels", "description"]
 PIXEL_KEYS = ["rows", "pixel_size", "origin", "subdivisions", "scheme", "diagonal"]
 
 
@@ -114,16 +146,21 @@ def mutated_cell(draw):
         elements = [e for e in elements if isinstance(e, dict)]
         if what == "field" and elements:
             el = draw(st.sampled_from(elements))
-            key = draw(st.sampled_from(sorted(el) + ["tolerance", "max_triangles", "origin",
-                                                     "gap_width", "max_edge"]))  # fmt: skip
+            key = draw(
+                st.sampled_from(
+                    sorted(el) + ["tolerance", "max_triangles", "origin", "gap_width", "max_edge"]
+                )
+            )
             el[key] = draw(VALUES)
         elif what == "far" and elements:
             draw(st.sampled_from(elements))["position"] = [draw(FAR), draw(FAR) * 0]
         elif what == "many" and elements:
             count = draw(st.sampled_from([2, 50, 400]))
             spread = draw(st.floats(0.0, 10.0))
-            doc["elements"] = [dict(elements[0], name=f"e{k}", position=[spread * k / count, 0])
-                               for k in range(count)]  # fmt: skip
+            doc["elements"] = [
+                dict(elements[0], name=f"e{k}", position=[spread * k / count, 0])
+                for k in range(count)
+            ]
         elif what == "lattice":
             doc["lattice"] = draw(LATTICES)
         elif what == "top":
@@ -131,9 +168,11 @@ def mutated_cell(draw):
         elif what == "pixels" and isinstance(doc.get("pixels"), dict):
             doc["pixels"][draw(st.sampled_from(PIXEL_KEYS))] = draw(VALUES)
         else:  # far pixels of any size, or the other mode
-            doc["pixels"] = {"pixel_size": draw(st.sampled_from([0.5, 1e-9, 1e6])),
-                             "origin": [draw(FAR), -4],
-                             "rows": ["1" * 4] * draw(st.sampled_from([1, 4]))}  # fmt: skip
+            doc["pixels"] = {
+                "pixel_size": draw(st.sampled_from([0.5, 1e-9, 1e6])),
+                "origin": [draw(FAR), -4],
+                "rows": ["1" * 4] * draw(st.sampled_from([1, 4])),
+            }
             if draw(st.booleans()):
                 doc["mode"] = "conforming" if doc.get("mode") == "paper" else "paper"
     return doc
@@ -152,8 +191,11 @@ def assert_sound_cell(mesh, tol):
     assert not cKDTree(pts).query_pairs(tol), "vertices within the tolerance left apart"
 
 
-@settings(max_examples=CELL_FUZZ_EXAMPLES, deadline=None,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])  # fmt: skip
+@settings(
+    max_examples=CELL_FUZZ_EXAMPLES,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 @given(mutated_cell())
 def test_hostile_cell_documents_give_a_clear_error_or_a_sound_mesh(doc):
     try:

@@ -363,15 +363,18 @@ def _write_inputs(folder):
         (["mesh", "--params", "deep.json"], 1, ["deep.json", "nested too deeply"]),
         (["mesh", "--set", "subdivisions=" + "9" * 5000], 1, ["--set 'subdivisions=9", "too long"]),
         (["mesh", "--set", "origin=" + "[" * 100_000], 1, ["--set 'origin=[[", "too deeply"]),
-        (["mesh", "--screenshot", "a.png", "--window-size", "16384", "16384"], 2,
-         ["--window-size 16384 16384 would need about 9.0 GiB"]),
+        (
+            ["mesh", "--screenshot", "a.png", "--window-size", "16384", "16384"],
+            2,
+            ["--window-size 16384 16384 would need about 9.0 GiB"],
+        ),
         (["info", "complex.mat"], 1, ["complex.mat: its p holds complex numbers"]),
         (["info", "truncated.msh"], 1, ["truncated.msh: its $Nodes section has no $EndNodes"]),
         (["info", "pipe.msh"], 1, ["pipe.msh: the path is a named pipe (FIFO), not a file"]),
         (["info", "zero.stl"], 1, ["zero.stl: the path is a symbolic link to /dev/zero, which is"]),
         (["info", "loop.obj"], 1, ["loop.obj: the path is a symbolic link loop"]),
     ],
-)  # fmt: skip
+)
 def test_hostile_input_is_one_line_naming_it(tmp_path, args, code, fragments):
     _write_inputs(tmp_path)
     before = set(tmp_path.iterdir())
@@ -398,7 +401,16 @@ def test_screenshot_removes_what_a_killed_render_left(tmp_path):
     stale = tmp_path / f".shot.png{TEMP_MARK}{dead.pid}-x.tmp.png"
     stale.write_bytes(b"")
     os.utime(stale, (1e9, 1e9))
-    r = run("mesh", "--preset", "paper-fig10", "--screenshot", "shot.png", "--window-size", "64",
-            "48", cwd=tmp_path)  # fmt: skip
+    r = run(
+        "mesh",
+        "--preset",
+        "paper-fig10",
+        "--screenshot",
+        "shot.png",
+        "--window-size",
+        "64",
+        "48",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in tmp_path.iterdir() if p.name != "matplotlib") == ["shot.png"]

@@ -20,7 +20,6 @@ from barymesh.app import cli
 from barymesh.cell import cell_preset_names
 from barymesh.cell.files import CELL_PRESET_DIR
 from barymesh.io import read_mesh
-
 from helpers import assert_clear_message
 
 try:  # the optional "cell" extra: only the outline writers need it
@@ -78,8 +77,16 @@ def preset_document(name):
 @pytest.mark.parametrize(("n1", "n2", "n"), [(3, 2, 4), (1, 1, 4), (4, 3, 2), (2, 5, 3)])
 def test_array_of_a_patch_is_one_welded_grid(capsys, n1, n2, n):
     """N1 x N2 touching 10 mm patches of n x n cells: one (n1 n) x (n2 n) grid of squares."""
-    s = stats_of(capsys, "mesh", "--preset", "paper-fig10", "--set", f"subdivisions={n}",
-                 "--array", f"{n1}x{n2}")  # fmt: skip
+    s = stats_of(
+        capsys,
+        "mesh",
+        "--preset",
+        "paper-fig10",
+        "--set",
+        f"subdivisions={n}",
+        "--array",
+        f"{n1}x{n2}",
+    )
     cols, rows = n1 * n, n2 * n
     whole = s["cell"]
     assert whole["triangles"] == n1 * n2 * 2 * n**2  # 3 x 2 at n = 4: 6 x 32 = 192
@@ -96,8 +103,7 @@ def test_array_of_a_patch_is_one_welded_grid(capsys, n1, n2, n):
 
 
 def test_array_summary_and_centring(capsys, in_tmp):
-    code, out, err = run(capsys, "mesh", "--preset", "paper-fig10", "--array", "3x2",
-                         "-o", "a.vtu")  # fmt: skip
+    code, out, err = run(capsys, "mesh", "--preset", "paper-fig10", "--array", "3x2", "-o", "a.vtu")
     assert code == 0, err
     assert "192 triangles, 117 vertices, 6 patches" in out
     assert "an array of 3 x 2 cells" in out
@@ -161,8 +167,11 @@ def _element_params(element, mode):
 
 def test_every_cell_preset_is_reachable(capsys):
     assert cell_preset_names() == [
-        "coding-16x16", "double-ring-patch", "hexagonal-rings", "split-ring-pair"
-    ]  # fmt: skip
+        "coding-16x16",
+        "double-ring-patch",
+        "hexagonal-rings",
+        "split-ring-pair",
+    ]
     code, out, err = run(capsys, "presets")
     lines = dict(line.split(None, 1) for line in out.strip().splitlines())
     for name in cell_preset_names():
@@ -188,8 +197,9 @@ def test_element_cell_presets_counts(capsys):
     # double ring and patch, paper mode: 2 rings x 360 / 2 degrees of patches + the patch
     s = stats_of(capsys, "info", "--cell-preset", "double-ring-patch")
     assert [(p["name"], p["triangles"]) for p in s["parts"]] == [
-        ("rings", 2 * 180 * 2 * n**2), ("centre patch", 2 * n**2)
-    ]  # fmt: skip
+        ("rings", 2 * 180 * 2 * n**2),
+        ("centre patch", 2 * n**2),
+    ]
     assert s["cell"]["triangles"] == 361 * 32
     assert s["cell"]["vertices"] == 361 * (n + 1) ** 2  # paper mode: patches are not merged
     assert s["cell"]["regions"] == 2 and s["periodic_edge_pairs"] == 0
@@ -208,14 +218,21 @@ def test_element_cell_presets_counts(capsys):
 
 
 def test_cell_file_and_info_on_it(capsys, in_tmp):
-    (in_tmp / "two.cell.json").write_text(json.dumps({
-        "format": "barymesh-cell", "version": 1, "name": "two", "mode": "conforming",
-        "lattice": {"rectangular": [4, 2]},
-        "elements": [
-            {"name": "left", "structure": "patch", "patch_size": 2, "position": [-2, -1]},
-            {"name": "right", "structure": "patch", "patch_size": 2, "position": [0, -1]},
-        ],
-    }))  # fmt: skip
+    (in_tmp / "two.cell.json").write_text(
+        json.dumps(
+            {
+                "format": "barymesh-cell",
+                "version": 1,
+                "name": "two",
+                "mode": "conforming",
+                "lattice": {"rectangular": [4, 2]},
+                "elements": [
+                    {"name": "left", "structure": "patch", "patch_size": 2, "position": [-2, -1]},
+                    {"name": "right", "structure": "patch", "patch_size": 2, "position": [0, -1]},
+                ],
+            }
+        )
+    )
     by_option = stats_of(capsys, "info", "--cell", "two.cell.json")
     by_name = stats_of(capsys, "info", "two.cell.json")  # a .cell.json FILE is a cell
     assert by_option == by_name
@@ -253,13 +270,17 @@ def test_cell_msh_has_periodic_section(capsys, in_tmp):
 
 
 def test_periodic_msh_in_metres(capsys, in_tmp):
-    code, out, err = run(capsys, "mesh", "--preset", "paper-fig10", "--array", "2x1",
-                         "-o", "p.msh", "--unit", "m")  # fmt: skip
+    code, out, err = run(
+        capsys, "mesh", "--preset", "paper-fig10", "--array", "2x1", "-o", "p.msh", "--unit", "m"
+    )
     assert code == 0, err
     m = meshio.read(in_tmp / "p.msh")
     assert np.abs(m.points[:, :2]).max() == pytest.approx(0.01)
-    shifts = sorted(abs(float(np.asarray(a).reshape(4, 4)[i, 3]))
-                    for _, _, a, _ in m.gmsh_periodic for i in (0, 1))  # fmt: skip
+    shifts = sorted(
+        abs(float(np.asarray(a).reshape(4, 4)[i, 3]))
+        for _, _, a, _ in m.gmsh_periodic
+        for i in (0, 1)
+    )
     assert shifts == pytest.approx([0.0, 0.0, 0.01, 0.02])
 
 
@@ -301,8 +322,9 @@ def gds_polygons(path):
 
 @needs_writers
 def test_patch_array_outline_is_one_rectangle(capsys, in_tmp):
-    code, out, err = run(capsys, "mesh", "--preset", "paper-fig10", "--array", "3x2",
-                         "-o", "a.dxf", "-o", "a.gds")  # fmt: skip
+    code, out, err = run(
+        capsys, "mesh", "--preset", "paper-fig10", "--array", "3x2", "-o", "a.dxf", "-o", "a.gds"
+    )
     assert code == 0, err
     assert "wrote a.dxf (DXF outline, mm: 1 polygon(s), 0 hole(s), metal area 600 mm^2" in out
     [loop] = dxf_loops(in_tmp / "a.dxf")  # six touching patches merge into one outline
@@ -323,8 +345,9 @@ def test_structure_outline_keeps_its_coordinates(capsys, in_tmp):
 @needs_writers
 def test_coding_cell_outline_area_is_its_pixels(capsys, in_tmp):
     ones = sum(row.count("1") for row in preset_document("coding-16x16")["pixels"]["rows"])
-    code, out, err = run(capsys, "mesh", "--cell-preset", "coding-16x16",
-                         "-o", "c.dxf", "-o", "c.gds")  # fmt: skip
+    code, out, err = run(
+        capsys, "mesh", "--cell-preset", "coding-16x16", "-o", "c.dxf", "-o", "c.gds"
+    )
     assert code == 0, err
     loops = dxf_loops(in_tmp / "c.dxf")
     areas = np.array([shoelace(loop) for loop in loops])
@@ -339,8 +362,18 @@ def test_coding_cell_outline_area_is_its_pixels(capsys, in_tmp):
 @pytest.mark.parametrize("chord_error", [0.05, 0.001])
 def test_ring_outline_within_the_chord_error(capsys, in_tmp, chord_error):
     """The hexagonal-rings ring (3 to 4 mm): regular polygons inscribed in both circles."""
-    code, out, err = run(capsys, "mesh", "--cell-preset", "hexagonal-rings", "-o", "r.dxf",
-                         "-o", "r.gds", "--chord-error", chord_error)  # fmt: skip
+    code, out, err = run(
+        capsys,
+        "mesh",
+        "--cell-preset",
+        "hexagonal-rings",
+        "-o",
+        "r.dxf",
+        "-o",
+        "r.gds",
+        "--chord-error",
+        chord_error,
+    )
     assert code == 0, err
     assert f"chord error {chord_error:g} mm" in out
     outer, hole = sorted(dxf_loops(in_tmp / "r.dxf"), key=lambda loop: -shoelace(loop))
@@ -362,16 +395,25 @@ def test_ring_outline_within_the_chord_error(capsys, in_tmp, chord_error):
 
 
 BAD_RADIUS = {
-    "format": "barymesh-cell", "version": 1, "lattice": {"rectangular": 20},
-    "elements": [{"structure": "patch"}, {"structure": "patch", "position": [5, 5]},
-                 {"structure": "ring", "inner_radius": -1}],
-}  # fmt: skip
-OVERLAP = {
-    "format": "barymesh-cell", "version": 1, "mode": "conforming",
+    "format": "barymesh-cell",
+    "version": 1,
     "lattice": {"rectangular": 20},
-    "elements": [{"name": "a", "structure": "patch", "patch_size": 4},
-                 {"name": "b", "structure": "patch", "patch_size": 4, "position": [1, 1]}],
-}  # fmt: skip
+    "elements": [
+        {"structure": "patch"},
+        {"structure": "patch", "position": [5, 5]},
+        {"structure": "ring", "inner_radius": -1},
+    ],
+}
+OVERLAP = {
+    "format": "barymesh-cell",
+    "version": 1,
+    "mode": "conforming",
+    "lattice": {"rectangular": 20},
+    "elements": [
+        {"name": "a", "structure": "patch", "patch_size": 4},
+        {"name": "b", "structure": "patch", "patch_size": 4, "position": [1, 1]},
+    ],
+}
 
 
 def _write_bad_cells(folder):
@@ -388,30 +430,50 @@ def _write_bad_cells(folder):
 @pytest.mark.parametrize(
     ("args", "fragments"),
     [
-        (["mesh", "--cell", "radius.cell.json"],
-         ["radius.cell.json: elements[2].inner_radius: inner_radius=-1 is invalid"]),
+        (
+            ["mesh", "--cell", "radius.cell.json"],
+            ["radius.cell.json: elements[2].inner_radius: inner_radius=-1 is invalid"],
+        ),
         (["info", "radius.cell.json"], ["radius.cell.json: elements[2].inner_radius"]),
-        (["mesh", "--cell", "overlap.cell.json", "-o", "o.msh"],
-         ["overlap.cell.json: element 'a' (elements[0]) and element 'b' (elements[1]) overlap"]),
-        (["mesh", "--cell", "paper-overlap.cell.json", "-o", "o.msh", "-o", "o.dxf"],
-         ["paper-overlap.cell.json: cannot write o.dxf: the outline needs parts that do not "
-          "overlap"]),
+        (
+            ["mesh", "--cell", "overlap.cell.json", "-o", "o.msh"],
+            ["overlap.cell.json: element 'a' (elements[0]) and element 'b' (elements[1]) overlap"],
+        ),
+        (
+            ["mesh", "--cell", "paper-overlap.cell.json", "-o", "o.msh", "-o", "o.dxf"],
+            [
+                "paper-overlap.cell.json: cannot write o.dxf: the outline needs parts that do not "
+                "overlap"
+            ],
+        ),
         (["mesh", "--cell", "missing.cell.json"], ["missing.cell.json: the file does not exist"]),
         (["mesh", "--cell", "broken.cell.json"], ["broken.cell.json: invalid JSON at line 2"]),
-        (["mesh", "--cell", "digits.cell.json"], ["digits.cell.json: invalid JSON cell (a number"
-                                                 " is too long)"]),
+        (
+            ["mesh", "--cell", "digits.cell.json"],
+            ["digits.cell.json: invalid JSON cell (a number is too long)"],
+        ),
         (["mesh", "--cell", "deep.cell.json"], ["deep.cell.json: invalid JSON cell (nested"]),
         (["mesh", "--cell", "pipe.cell.json"], ["pipe.cell.json: the path is a named pipe"]),
-        (["mesh", "--cell-preset", "coding-16x16", "--array", "100x100"],
-         ["cell preset 'coding-16x16': 100 x 100 copies of 3,968 triangles make 39,680,000 "
-          "triangles, above the budget of max_triangles=5,000,000"]),
-        (["mesh", "--preset", "paper-fig10", "--array", "10x10", "--set", "max_triangles=3000"],
-         ["10 x 10 copies of 32 triangles make 3,200 triangles, above the budget of "
-          "max_triangles=3,000"]),
-        (["mesh", "--preset", "paper-fig10", "-o", "nowhere/p.dxf"],
-         ["nowhere/p.dxf", "does not exist"]),
+        (
+            ["mesh", "--cell-preset", "coding-16x16", "--array", "100x100"],
+            [
+                "cell preset 'coding-16x16': 100 x 100 copies of 3,968 triangles make 39,680,000 "
+                "triangles, above the budget of max_triangles=5,000,000"
+            ],
+        ),
+        (
+            ["mesh", "--preset", "paper-fig10", "--array", "10x10", "--set", "max_triangles=3000"],
+            [
+                "10 x 10 copies of 32 triangles make 3,200 triangles, above the budget of "
+                "max_triangles=3,000"
+            ],
+        ),
+        (
+            ["mesh", "--preset", "paper-fig10", "-o", "nowhere/p.dxf"],
+            ["nowhere/p.dxf", "does not exist"],
+        ),
     ],
-)  # fmt: skip
+)
 def test_input_errors_exit_1_and_write_nothing(capsys, in_tmp, args, fragments):
     _write_bad_cells(in_tmp)
     before = files(in_tmp)
@@ -424,12 +486,17 @@ def test_input_errors_exit_1_and_write_nothing(capsys, in_tmp, args, fragments):
 @pytest.mark.parametrize(
     ("args", "fragment"),
     [
-        (["mesh", "--cell-preset", "nope"], "unknown cell preset 'nope'; expected one of "
-         "coding-16x16, double-ring-patch, hexagonal-rings, split-ring-pair"),
+        (
+            ["mesh", "--cell-preset", "nope"],
+            "unknown cell preset 'nope'; expected one of "
+            "coding-16x16, double-ring-patch, hexagonal-rings, split-ring-pair",
+        ),
         (["mesh", "--cell-preset", "paper-fig10"], "is a structure preset: use --preset"),
         (["mesh", "--preset", "coding-16x16"], "use --cell-preset coding-16x16"),
-        (["mesh", "--cell-preset", "coding-16x16", "--set", "subdivisions=2"],
-         "--set sets the parameters of one structure"),
+        (
+            ["mesh", "--cell-preset", "coding-16x16", "--set", "subdivisions=2"],
+            "--set sets the parameters of one structure",
+        ),
         (["mesh", "--cell", "x.cell.json", "--params", "p.json"], "--params sets the parameters"),
         (["mesh", "--cell", "x.cell.json", "--cell-preset", "coding-16x16"], "give one"),
         (["mesh", "--cell-preset", "coding-16x16", "--period", "3"], "has its own lattice"),
@@ -445,13 +512,44 @@ def test_input_errors_exit_1_and_write_nothing(capsys, in_tmp, args, fragments):
         (["info", "a.msh", "--cell-preset", "coding-16x16"], "not both"),
         (["info", "a.msh", "--array", "2x2"], "--array needs a cell"),
         (["info", "--cell-preset", "coding-16x16", "--unit", "m"], "--unit is for mesh files"),
-        (["sweep", "--cell-preset", "coding-16x16", "--param", "angle_step", "--from", "1",
-          "--to", "2", "--frames", "2", "-o", "s.gif"],
-         "sweep: --cell-preset is not supported: a sweep varies one parameter of one structure"),
-        (["sweep", "--array", "2x2", "--param", "angle_step", "--from", "1", "--to", "2",
-          "--frames", "2", "-o", "s.gif"], "sweep: --array is not supported"),
+        (
+            [
+                "sweep",
+                "--cell-preset",
+                "coding-16x16",
+                "--param",
+                "angle_step",
+                "--from",
+                "1",
+                "--to",
+                "2",
+                "--frames",
+                "2",
+                "-o",
+                "s.gif",
+            ],
+            "sweep: --cell-preset is not supported: a sweep varies one parameter of one structure",
+        ),
+        (
+            [
+                "sweep",
+                "--array",
+                "2x2",
+                "--param",
+                "angle_step",
+                "--from",
+                "1",
+                "--to",
+                "2",
+                "--frames",
+                "2",
+                "-o",
+                "s.gif",
+            ],
+            "sweep: --array is not supported",
+        ),
     ],
-)  # fmt: skip
+)
 def test_usage_errors_exit_2(capsys, in_tmp, args, fragment):
     before = files(in_tmp)
     assert fragment in one_line_error(capsys, 2, *args)
@@ -469,9 +567,21 @@ def test_real_process_error_line(in_tmp):
     (in_tmp / "radius.cell.json").write_text(json.dumps(BAD_RADIUS))
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     r = subprocess.run(
-        [sys.executable, "-m", "barymesh.app.cli", "mesh", "--cell", "radius.cell.json", "-o", "x.msh"],
-        capture_output=True, text=True, env=env, timeout=120,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "barymesh.app.cli",
+            "mesh",
+            "--cell",
+            "radius.cell.json",
+            "-o",
+            "x.msh",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert r.returncode == 1 and r.stdout == ""
     assert r.stderr == (
         "barymesh: error: radius.cell.json: elements[2].inner_radius: inner_radius=-1 is "
@@ -500,20 +610,38 @@ for _ in range(900):
     ("name", "edit", "fragments"),
     [
         # the patch at [1e16, 0]: 16 triangles that repeat a vertex were written to the file
-        ("double-ring-patch", lambda d: d["elements"][1].update(position=[1e16, 0]),
-         ["elements[1].position: elements[1].position=(1e+16, 0.0) places metal up to 1e+16 mm",
-          "float64 cannot resolve its sub-triangle edges of 0.75 mm"]),
+        (
+            "double-ring-patch",
+            lambda d: d["elements"][1].update(position=[1e16, 0]),
+            [
+                "elements[1].position: elements[1].position=(1e+16, 0.0) places metal up to "
+                "1e+16 mm",
+                "float64 cannot resolve its sub-triangle edges of 0.75 mm",
+            ],
+        ),
         # pixels of 1e-9 mm at x = 1e16 mm collapsed onto one point: std::bad_alloc in the weld
-        ("coding-16x16", lambda d: d["pixels"].update(pixel_size=1e-9, origin=[1e16, -4]),
-         ["pixels.origin: pixels.origin=(1e+16, -4.0) places metal"]),
-        ("double-ring-patch", lambda d: d["elements"][0].update(inner_radius=DEEP),
-         ["elements[0].inner_radius: inner_radius=[[[[...]]]] is not a number"]),
-        ("double-ring-patch", lambda d: d.update(lattice={"rectangular": [1, 2, 3]}),
-         ["lattice.rectangular: [1, 2, 3] is invalid; expected a period in mm or two periods"]),
-        ("split-ring-pair", lambda d: d["elements"][0].update(inner_radius=True),
-         ["elements[0].inner_radius: inner_radius=True is a true/false switch, not a number"]),
+        (
+            "coding-16x16",
+            lambda d: d["pixels"].update(pixel_size=1e-9, origin=[1e16, -4]),
+            ["pixels.origin: pixels.origin=(1e+16, -4.0) places metal"],
+        ),
+        (
+            "double-ring-patch",
+            lambda d: d["elements"][0].update(inner_radius=DEEP),
+            ["elements[0].inner_radius: inner_radius=[[[[...]]]] is not a number"],
+        ),
+        (
+            "double-ring-patch",
+            lambda d: d.update(lattice={"rectangular": [1, 2, 3]}),
+            ["lattice.rectangular: [1, 2, 3] is invalid; expected a period in mm or two periods"],
+        ),
+        (
+            "split-ring-pair",
+            lambda d: d["elements"][0].update(inner_radius=True),
+            ["elements[0].inner_radius: inner_radius=True is a true/false switch, not a number"],
+        ),
     ],
-)  # fmt: skip
+)
 def test_mutated_cells_exit_1_with_a_short_clear_line_and_write_nothing(
     capsys, in_tmp, name, edit, fragments
 ):

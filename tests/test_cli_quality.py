@@ -10,7 +10,6 @@ from barymesh.cell import cell_preset_names
 from barymesh.io import read_mesh
 from barymesh.presets import load_preset
 from barymesh.quality import quality_report
-
 from test_cli import assert_one_line_error, run
 
 
@@ -35,8 +34,9 @@ def test_mesh_prints_and_writes_the_report(tmp_path):
     assert "aspect ratio max 3.267, median 3.267; above 3: 32 (100%)" in r.stdout
     written = strict_json((tmp_path / "q.json").read_text())
     assert written["min_angle_deg"]["min"] == pytest.approx(np.degrees(np.arctan(0.2)))
-    expected = quality_report(build_mesh(MeshParams(structure="patch", patch_size=10.0,
-                                                    patch_width=2.0)))
+    expected = quality_report(
+        build_mesh(MeshParams(structure="patch", patch_size=10.0, patch_width=2.0))
+    )
     assert written == json.loads(json.dumps(expected))
     assert len(written["worst"]) == 20 and written["edge_wavelength"] is None
 
@@ -45,8 +45,9 @@ def test_report_alone_on_stdout(tmp_path):
     r = run("mesh", "--preset", "srr-openmodes", "--quality-json", "-", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     report = strict_json(r.stdout)  # nothing else on stdout
-    assert report == json.loads(json.dumps(quality_report(build_mesh(
-        load_preset("srr-openmodes")[0]))))
+    assert report == json.loads(
+        json.dumps(quality_report(build_mesh(load_preset("srr-openmodes")[0])))
+    )
     # issue 12: the conforming preset's sectors are nearly square, no triangle under 30°
     assert report["min_angle_deg"]["min"] >= 30.0
     below = sum(report["min_angle_deg"]["histogram"]["counts"][:15])  # bins 0..30°
@@ -67,14 +68,14 @@ def test_info_with_frequency_adds_edge_over_wavelength(tmp_path):
     assert over["max"] == pytest.approx(2.5 * np.sqrt(2) / 29.9792458, rel=1e-9)
     assert over["above"] == 32  # 0.118 > 1/10 on all 32 triangles
     assert "above 1/10: 32 (100%)" in r.stderr
-    assert report == json.loads(json.dumps(
-        quality_report(read_mesh(tmp_path / "p.msh"), wavelength=29.9792458)))
+    assert report == json.loads(
+        json.dumps(quality_report(read_mesh(tmp_path / "p.msh"), wavelength=29.9792458))
+    )
 
 
 def test_degenerate_triangle_gives_null_not_nan(tmp_path):
     """A zero-area triangle has no aspect ratio: null in both JSON outputs."""
-    (tmp_path / "flat.obj").write_text(
-        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n")
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n")
     r = run("info", "flat.obj", "--quality-json", "q.json", "--stats-json", "-", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     stats = strict_json(r.stdout)
@@ -86,8 +87,9 @@ def test_degenerate_triangle_gives_null_not_nan(tmp_path):
 
 
 def test_usage_errors(tmp_path):
-    r = run("mesh", "--preset", "paper-fig10", "--stats-json", "-", "--quality-json", "-",
-            cwd=tmp_path)
+    r = run(
+        "mesh", "--preset", "paper-fig10", "--stats-json", "-", "--quality-json", "-", cwd=tmp_path
+    )
     assert_one_line_error(r, 2, "--quality-json", "stdout")
     r = run("info", "x.msh", "--frequency", "0", cwd=tmp_path)
     assert_one_line_error(r, 2, "--frequency")
@@ -97,8 +99,9 @@ def test_usage_errors(tmp_path):
 
 def test_cell_info_reports_the_whole_cell(tmp_path):
     name = cell_preset_names()[0]
-    r = run("info", "--cell-preset", name, "--quality-json", "-", "--stats-json", "s.json",
-            cwd=tmp_path)
+    r = run(
+        "info", "--cell-preset", name, "--quality-json", "-", "--stats-json", "s.json", cwd=tmp_path
+    )
     assert r.returncode == 0, r.stderr
     report = strict_json(r.stdout)
     stats = strict_json((tmp_path / "s.json").read_text())

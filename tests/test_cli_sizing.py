@@ -11,14 +11,23 @@ LAMBDA_10GHZ = 29.9792458
 
 def test_mesh_sized_by_frequency_reports_n_and_edge_per_lambda(tmp_path):
     """Fig. 10's 10 mm patch: longest edge 10 √2 / n ≤ λ/10 = 2.998 mm first at n = 5."""
-    r = run("mesh", "--preset", "paper-fig10", "--set", "frequency=10e9", "--stats-json", "-",
-            cwd=tmp_path)
+    r = run(
+        "mesh",
+        "--preset",
+        "paper-fig10",
+        "--set",
+        "frequency=10e9",
+        "--stats-json",
+        "-",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     stats = json.loads(r.stdout)
     assert stats["subdivisions_chosen"] == 5 and stats["triangles"] == 2 * 5**2
     assert math.isclose(stats["wavelength"], LAMBDA_10GHZ, rel_tol=1e-15)
-    assert math.isclose(stats["max_edge_wavelengths"], 10 * math.sqrt(2) / 5 / LAMBDA_10GHZ,
-                        rel_tol=1e-14)
+    assert math.isclose(
+        stats["max_edge_wavelengths"], 10 * math.sqrt(2) / 5 / LAMBDA_10GHZ, rel_tol=1e-14
+    )
     assert stats["lambda_10_rule"] is True
     assert "sized: subdivisions 5 chosen for edges <= 2.99792 mm" in r.stderr
     assert "lambda/10 rule met" in r.stderr
@@ -27,8 +36,16 @@ def test_mesh_sized_by_frequency_reports_n_and_edge_per_lambda(tmp_path):
 def test_frequency_in_a_substrate_and_a_parameter_file(tmp_path):
     """εr = 4 halves λ: λ/10 = 1.499 mm, so n = ceil(10 √2 / 1.499) = 10."""
     path = tmp_path / "sized.json"
-    path.write_text(json.dumps({"structure": "patch", "patch_size": 10.0,
-                                "frequency": 10e9, "relative_permittivity": 4.0}))
+    path.write_text(
+        json.dumps(
+            {
+                "structure": "patch",
+                "patch_size": 10.0,
+                "frequency": 10e9,
+                "relative_permittivity": 4.0,
+            }
+        )
+    )
     r = run("mesh", "--params", path, "--stats-json", "-", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["subdivisions_chosen"] == 10

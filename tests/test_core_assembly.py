@@ -67,8 +67,14 @@ def test_template_path_equals_the_half_edge_sort(case):
     assert by_vertex_pair(fast) == by_vertex_pair(slow)
     assert np.array_equal(fast.edges[fast.triangle_edges], slow.edges[slow.triangle_edges])
     assert fast.junction_incidence.shape[1] == 2
-    for name in ("edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",
-                 "free_vertices"):
+    for name in (
+        "edges",
+        "triangle_edges",
+        "edge_triangles",
+        "valence",
+        "junction_incidence",
+        "free_vertices",
+    ):
         assert getattr(fast, name).dtype == INDEX, name
 
 
@@ -95,8 +101,15 @@ def test_patches_sharing_nothing_keep_their_template_topology():
     fast = patch_topology(template, vmap, 2 * n_local)
     assert len(fast.edges) == 2 * len(template.edges)
     assert len(fast.junction_incidence) == 0
-    assert by_vertex_pair(fast) == by_vertex_pair(edge_topology(patch_triangles(template, vmap),
-                                                                 2 * n_local))
-    for name in ("edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",
-                 "free_vertices"):
+    assert by_vertex_pair(fast) == by_vertex_pair(
+        edge_topology(patch_triangles(template, vmap), 2 * n_local)
+    )
+    for name in (
+        "edges",
+        "triangle_edges",
+        "edge_triangles",
+        "valence",
+        "junction_incidence",
+        "free_vertices",
+    ):
         assert getattr(fast, name).dtype == INDEX, name

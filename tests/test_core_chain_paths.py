@@ -32,9 +32,13 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 TOPOLOGY_FIELDS = (
-    "edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",
+    "edges",
+    "triangle_edges",
+    "edge_triangles",
+    "valence",
+    "junction_incidence",
     "free_vertices",
-)  # fmt: skip
+)
 
 
 def assert_same_topology(got, expect):
@@ -45,8 +49,14 @@ def assert_same_topology(got, expect):
 
 
 RWG_FIELDS = (
-    "edge", "vertices", "t_plus", "t_minus", "free_vertex_plus", "free_vertex_minus", "length",
-)  # fmt: skip
+    "edge",
+    "vertices",
+    "t_plus",
+    "t_minus",
+    "free_vertex_plus",
+    "free_vertex_minus",
+    "length",
+)
 
 
 def assert_same_rwg(mesh):
@@ -72,9 +82,14 @@ def rebuilt(mesh, points=None, triangles=None):
     return TriMesh(
         mesh.points if points is None else points,
         mesh.triangles if triangles is None else triangles,
-        mesh.patch_ids, mesh.regions, mesh.n_patches, mesh.mode, mesh.tolerance,
-        mesh.patch_rects, _template=mesh._template,
-    )  # fmt: skip
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        mesh.patch_rects,
+        _template=mesh._template,
+    )
 
 
 RINGS = [
@@ -88,15 +103,28 @@ RINGS = [
     MeshParams(structure="split_ring", mode="conforming", subdivisions=2, origin=(3.0, -1.0)),
     # the near-square sectors: n x n_v cells (sides 0 and 2 longer than sides 1 and 3),
     # as many sectors per ring as its track's length asks for (36 and 57 here, n_v = 5)
-    MeshParams(structure="double_ring", mode="conforming", subdivisions=8, angle_step=10.0,
-               inner_radius=3.0, outer_radius=6.0),
+    MeshParams(
+        structure="double_ring",
+        mode="conforming",
+        subdivisions=8,
+        angle_step=10.0,
+        inner_radius=3.0,
+        outer_radius=6.0,
+    ),
     # 36 and 108 sectors, n_v = 1: a free vertex across a glued side is two sectors on
-    MeshParams(structure="double_ring", mode="conforming", subdivisions=3, angle_step=10.0,
-               inner_radius=1.5, outer_radius=6.0, diagonal="AD"),
+    MeshParams(
+        structure="double_ring",
+        mode="conforming",
+        subdivisions=3,
+        angle_step=10.0,
+        inner_radius=1.5,
+        outer_radius=6.0,
+        diagonal="AD",
+    ),
     MeshParams(structure="split_double_ring", mode="conforming"),  # two arcs per ring
     MeshParams(structure="double_ring", mode="conforming", subdivisions=6, grading=True),
     MeshParams(structure="split_ring", mode="conforming", grading=True, min_edge=0.05),
-]  # fmt: skip
+]
 
 
 @pytest.mark.parametrize("params", RINGS)
@@ -137,11 +165,17 @@ def test_chain_topology_equals_the_patch_topology_on_random_rings(
 ):
     try:
         params = MeshParams(
-            structure=structure, mode="conforming", angle_step=angle_step, outer_radius=outer,
-            inner_radius=inner, grading=grading and scheme == "uniform",
+            structure=structure,
+            mode="conforming",
+            angle_step=angle_step,
+            outer_radius=outer,
+            inner_radius=inner,
+            grading=grading and scheme == "uniform",
             subdivisions=min(subdivisions, 3) if scheme == "barycentric" else subdivisions,
-            diagonal=diagonal, scheme=scheme, max_triangles=200_000,
-        )  # fmt: skip
+            diagonal=diagonal,
+            scheme=scheme,
+            max_triangles=200_000,
+        )
         mesh = build_mesh(params)
     except ValueError:
         assume(False)
@@ -231,10 +265,14 @@ def test_a_sector_glued_twice_is_refused_as_a_junction():
     per = len(mesh._template.triangles)
     triangles = np.vstack([mesh.triangles, mesh.triangles[:per]])
     twice = TriMesh(
-        mesh.points, triangles, np.r_[mesh.patch_ids, mesh.patch_ids[:per]],
-        np.r_[mesh.regions, mesh.regions[:per]], mesh.n_patches + 1, mesh.mode,
+        mesh.points,
+        triangles,
+        np.r_[mesh.patch_ids, mesh.patch_ids[:per]],
+        np.r_[mesh.regions, mesh.regions[:per]],
+        mesh.n_patches + 1,
+        mesh.mode,
         _template=mesh._template,
-    )  # fmt: skip
+    )
     assert twice._sector_chains is None and _chain_valence(twice) is None
     with pytest.raises(MeshInvariantError, match="edges on 4 triangles"):
         check_mesh(twice, ring_params(), twice._vertex_map)
@@ -252,9 +290,14 @@ def test_a_sector_glued_to_a_third_neighbour_is_refused_as_a_junction():
     vmap3 = np.vstack([vmap, extra])
     per = len(t.triangles)
     third = TriMesh(
-        points, vmap3[:, t.triangles].reshape(-1, 3), np.r_[mesh.patch_ids, np.full(per, 12)],
-        np.r_[mesh.regions, mesh.regions[:per]], mesh.n_patches + 1, mesh.mode, _template=t,
-    )  # fmt: skip
+        points,
+        vmap3[:, t.triangles].reshape(-1, 3),
+        np.r_[mesh.patch_ids, np.full(per, 12)],
+        np.r_[mesh.regions, mesh.regions[:per]],
+        mesh.n_patches + 1,
+        mesh.mode,
+        _template=t,
+    )
     assert third._sector_chains is None  # not the formula: the valence is counted
     with pytest.raises(MeshInvariantError, match="edges on 3 triangles"):
         check_mesh(third, ring_params(), vmap3)
@@ -312,8 +355,9 @@ def test_distinct_regions_are_counted_without_sorting():
 def test_lattice_quality_summary_equals_the_triangle_by_triangle_one(diagonal, degenerate):
     # grid patches distorted at random (some with a collapsed cell): the side range bit
     # for bit, the rest to rounding, NaN and zero angles where the general path has them
-    mesh = build_mesh(MeshParams(structure="patch", mode="paper", subdivisions=6,
-                                 diagonal=diagonal))  # fmt: skip
+    mesh = build_mesh(
+        MeshParams(structure="patch", mode="paper", subdivisions=6, diagonal=diagonal)
+    )
     t = mesh._template
     assert lattice_diagonal(t.triangles, len(t.uv)) == diagonal
     rng = np.random.default_rng(1 if degenerate else 2)
@@ -372,8 +416,14 @@ def test_lattice_quality_summary_of_sector_grids_of_n_by_n_v_cells(diagonal):
         MeshParams(structure="square_split_double_ring", mode="paper", patch_size=0.25),
         MeshParams(structure="double_ring", mode="conforming", subdivisions=5, diagonal="AD"),
         # sectors of 8 x 5 cells, and graded ones of 6 x 2
-        MeshParams(structure="double_ring", mode="conforming", subdivisions=8, angle_step=10.0,
-                   inner_radius=3.0, outer_radius=6.0),  # fmt: skip
+        MeshParams(
+            structure="double_ring",
+            mode="conforming",
+            subdivisions=8,
+            angle_step=10.0,
+            inner_radius=3.0,
+            outer_radius=6.0,
+        ),
         MeshParams(structure="split_ring", mode="conforming", subdivisions=6, grading=True),
     ],
 )

@@ -10,7 +10,6 @@ from barymesh.weld import _lattice_candidates, _window_candidates, merge_pairs
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
-
 from test_core_properties import params
 
 
@@ -224,9 +223,16 @@ def test_stats_fast_path_declines_a_patch_moved_out_of_shape(shift):
     points = mesh.points.copy()
     points[-1, 1] += shift
     moved = TriMesh(
-        points, mesh.triangles, mesh.patch_ids, mesh.regions, mesh.n_patches,
-        mesh.mode, mesh.tolerance, mesh.patch_rects, _template=mesh._template,
-    )  # fmt: skip
+        points,
+        mesh.triangles,
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        mesh.patch_rects,
+        _template=mesh._template,
+    )
     assert moved._copy_stats() is None
     assert_stats_agree(moved.stats(), moved)
 
@@ -247,11 +253,19 @@ def test_stats_fast_path_agrees_on_random_paper_rings(
 ):
     try:
         params = MeshParams(
-            structure=structure, mode="paper", inner_radius=inner, outer_radius=inner + 2 * size,
-            patch_size=size, angle_step=angle_step, subdivisions=subdivisions,
-            diagonal=diagonal, scheme=scheme, origin=origin, gap_width=0.5 * inner,
+            structure=structure,
+            mode="paper",
+            inner_radius=inner,
+            outer_radius=inner + 2 * size,
+            patch_size=size,
+            angle_step=angle_step,
+            subdivisions=subdivisions,
+            diagonal=diagonal,
+            scheme=scheme,
+            origin=origin,
+            gap_width=0.5 * inner,
             max_triangles=200_000,
-        )  # fmt: skip
+        )
         mesh = build_mesh(params)
     except ValueError:
         assume(False)
@@ -391,9 +405,15 @@ def test_sector_edge_counts_decline_renumbered_vertices():
     points = np.empty_like(mesh.points)
     points[new_id] = mesh.points
     renumbered = TriMesh(
-        points, new_id[mesh.triangles], mesh.patch_ids, mesh.regions, mesh.n_patches,
-        mesh.mode, mesh.tolerance, _template=mesh._template,
-    )  # fmt: skip
+        points,
+        new_id[mesh.triangles],
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        _template=mesh._template,
+    )
     assert renumbered._sector_edge_counts() is None
     assert_stats_agree(renumbered.stats(), renumbered)
     assert renumbered.stats()["edges"] == mesh.stats()["edges"]

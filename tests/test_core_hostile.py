@@ -16,9 +16,8 @@ from barymesh.invariants import MeshInvariantError, check_mesh, inverted_or_flat
 from barymesh.mesh import TriMesh
 from barymesh.topology import edge_topology
 from barymesh.weld import merge_pairs, weld_points
-from scipy.spatial import cKDTree
-
 from helpers import assert_clear_message, signed_areas
+from scipy.spatial import cKDTree
 
 #: The issue's budget: no structure may need more memory than this per triangle.
 BYTES_PER_TRIANGLE = 600
@@ -81,8 +80,11 @@ def test_invariant_check_refuses_a_clockwise_triangle_naming_the_parameters():
     flipped = good.triangles.copy()
     flipped[1] = flipped[1, [0, 2, 1]]
     bad = TriMesh(good.points, flipped, good.patch_ids, good.regions, 1, mode="paper")
-    with pytest.raises(MeshInvariantError, match=r"patch with patch_size=2\.0, subdivisions=1 "
-                       r"has 1 of 2 triangles clockwise or flat"):  # fmt: skip
+    with pytest.raises(
+        MeshInvariantError,
+        match=r"patch with patch_size=2\.0, subdivisions=1 "
+        r"has 1 of 2 triangles clockwise or flat",
+    ):
         check_mesh(bad, p)
     assert isinstance(MeshInvariantError("x"), ValueError)
 
@@ -106,8 +108,9 @@ def test_invariant_check_refuses_a_conforming_junction():
     with pytest.raises(MeshInvariantError, match="edges on 3 triangles"):
         check_mesh(junction, p)
     twin = np.vstack([pts, pts[4]])  # vertex 5 at the same point as vertex 4
-    dup = TriMesh(twin, np.array([[0, 1, 2], [1, 5, 2]]), np.zeros(2), np.ones(2), 1,
-                  mode="conforming")  # fmt: skip
+    dup = TriMesh(
+        twin, np.array([[0, 1, 2], [1, 5, 2]]), np.zeros(2), np.ones(2), 1, mode="conforming"
+    )
     with pytest.raises(MeshInvariantError, match="1 vertices at the same point"):
         check_mesh(dup, p)
 
@@ -117,8 +120,9 @@ def test_invariant_check_refuses_a_conforming_junction():
 
 @pytest.mark.parametrize("closeness", [1e-9, 1e-8])
 def test_square_ring_slot_leaving_slivers_is_refused_by_gap_width(closeness):
-    kw = dict(structure="square_split_double_ring", mode="conforming", inner_radius=1,
-              outer_radius=3)  # fmt: skip
+    kw = dict(
+        structure="square_split_double_ring", mode="conforming", inner_radius=1, outer_radius=3
+    )
     with pytest.raises(ValueError, match=r"gap_width=1\.99999") as err:
         MeshParams(**kw, gap_width=2 * (1 - closeness))
     message = str(err.value)
@@ -183,8 +187,13 @@ def test_tolerance_below_float64_rounding_is_refused():
         {"tolerance": 0.1},  # Fig. 12(a), tolerance slider at its maximum
         {"tolerance": 0.0562},  # slider position 32
         {"tolerance": 0.03},
-        {"structure": "ring", "scheme": "barycentric", "subdivisions": 2, "angle_step": 0.2,
-         "tolerance": 0.0139},  # fmt: skip
+        {
+            "structure": "ring",
+            "scheme": "barycentric",
+            "subdivisions": 2,
+            "angle_step": 0.2,
+            "tolerance": 0.0139,
+        },
     ],
 )
 def test_a_chaining_tolerance_is_refused_in_bounded_memory(kw):
@@ -206,9 +215,15 @@ def test_patches_within_the_default_tolerance_are_refused_naming_the_radius():
     [
         # the heavily overlapping paper double ring of issue 10, item 5, welded up to
         # just below its neighbours' distance (2.56e-5 mm)
-        {"structure": "double_ring", "inner_radius": 0.9159, "patch_size": 3.2376,
-         "outer_radius": 5.6588, "angle_step": 0.0568, "subdivisions": 2,
-         "tolerance": 2.5e-5},  # fmt: skip
+        {
+            "structure": "double_ring",
+            "inner_radius": 0.9159,
+            "patch_size": 3.2376,
+            "outer_radius": 5.6588,
+            "angle_step": 0.0568,
+            "subdivisions": 2,
+            "tolerance": 2.5e-5,
+        },
         {"structure": "square_split_double_ring", "tolerance": 0.1},
         {"structure": "square_split_double_ring", "mode": "conforming", "tolerance": 0.1},
         {"scheme": "barycentric", "subdivisions": 2, "tolerance": 0.002},
@@ -280,8 +295,9 @@ def test_from_dict_refuses_with_value_errors(data, match):
 
 
 def test_numpy_scalars_are_taken_as_numbers():
-    p = MeshParams(subdivisions=np.int64(3), max_triangles=np.int32(100_000),
-                   inner_radius=np.float32(4.0))  # fmt: skip
+    p = MeshParams(
+        subdivisions=np.int64(3), max_triangles=np.int32(100_000), inner_radius=np.float32(4.0)
+    )
     assert (p.subdivisions, p.max_triangles) == (3, 100_000)
     assert type(p.subdivisions) is int and type(p.max_triangles) is int
 
@@ -303,8 +319,9 @@ def test_the_per_patch_check_finds_what_the_per_triangle_check_finds(diagonal, s
     from barymesh.invariants import inverted_or_flat_patches
     from barymesh.structures import layout
 
-    p = MeshParams(structure="ring", angle_step=30, subdivisions=2, diagonal=diagonal,
-                   scheme=scheme)  # fmt: skip
+    p = MeshParams(
+        structure="ring", angle_step=30, subdivisions=2, diagonal=diagonal, scheme=scheme
+    )
     lay = layout(p)
     vmap = lay.vertex_of_point.reshape(len(lay.xy), -1)
     mesh = build_mesh(p)
@@ -368,18 +385,32 @@ def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
 # -- 12. the outside fuzz of issue 4 (20,000 parameter sets) -------------------------------
 
 NUMBER_FIELDS = (
-    "inner_radius", "outer_radius", "patch_size", "angle_step", "gap_width", "gap_angle",
-    "tolerance", "patch_width", "max_edge", "frequency", "cells_per_wavelength",
-    "relative_permittivity", "growth_ratio", "min_edge",
-)  # fmt: skip
+    "inner_radius",
+    "outer_radius",
+    "patch_size",
+    "angle_step",
+    "gap_width",
+    "gap_angle",
+    "tolerance",
+    "patch_width",
+    "max_edge",
+    "frequency",
+    "cells_per_wavelength",
+    "relative_permittivity",
+    "growth_ratio",
+    "min_edge",
+)
 
 
 @pytest.mark.parametrize("switch", [True, False, np.True_])
 @pytest.mark.parametrize("name", NUMBER_FIELDS)
 def test_booleans_are_refused_as_numbers(name, switch):
     # inner_radius=True was taken as 1 mm (and gave an OverflowError further on)
-    with pytest.raises(ValueError, match=rf"^{name}={switch!r} is a true/false switch, not a "
-                       "number"):  # fmt: skip
+    with pytest.raises(
+        ValueError,
+        match=rf"^{name}={switch!r} is a true/false switch, not a "
+        "number",
+    ):
         MeshParams(**{name: switch})
     assert_clear_message(f"{name}={switch!r} is a true/false switch")
 
@@ -396,8 +427,11 @@ def test_a_max_edge_float64_cannot_mesh_is_refused_by_name(max_edge):
     # to 10 mm (the default double ring's extent) is 1e-8 x 10 mm
     p = MeshParams()
     assert p.extent == 10.0
-    with pytest.raises(ValueError, match=rf"^max_edge={max_edge!r} mm is too short: float64 "
-                       r"cannot mesh edges below 1e-07 mm at coordinates up to 10 mm"):  # fmt: skip
+    with pytest.raises(
+        ValueError,
+        match=rf"^max_edge={max_edge!r} mm is too short: float64 "
+        r"cannot mesh edges below 1e-07 mm at coordinates up to 10 mm",
+    ):
         MeshParams(max_edge=max_edge)
 
 
@@ -408,19 +442,33 @@ def test_a_max_edge_float64_cannot_mesh_is_refused_by_name(max_edge):
 def test_a_far_sizing_target_is_a_value_error_not_an_overflow(scheme, subdivisions, needed):
     # the patch's edges at the finest level are ~0.02 mm; 1.1e-8 mm asks 1e6 times finer
     p = MeshParams(structure="patch", scheme=scheme, subdivisions=subdivisions, max_edge=1.1e-8)
-    with pytest.raises(ValueError, match=re.escape(f"it would take about {needed}, more than "
-                                                   "1e+15 triangles")):  # fmt: skip
+    with pytest.raises(
+        ValueError, match=re.escape(f"it would take about {needed}, more than 1e+15 triangles")
+    ):
         build_mesh(p)
 
 
 TINY_SLOTS = [
-    dict(structure="split_ring", inner_radius=17.784145362694343, patch_size=2.340888811656802,
-         angle_step=120, subdivisions=8, diagonal="AD"),
-    dict(structure="split_double_ring", inner_radius=0.27249837260654886,
-         patch_size=0.0363806385794857, outer_radius=0.3622957182118971, angle_step=360,
-         subdivisions=6, diagonal="AD", gap_angle=90),
+    dict(
+        structure="split_ring",
+        inner_radius=17.784145362694343,
+        patch_size=2.340888811656802,
+        angle_step=120,
+        subdivisions=8,
+        diagonal="AD",
+    ),
+    dict(
+        structure="split_double_ring",
+        inner_radius=0.27249837260654886,
+        patch_size=0.0363806385794857,
+        outer_radius=0.3622957182118971,
+        angle_step=360,
+        subdivisions=6,
+        diagonal="AD",
+        gap_angle=90,
+    ),
     dict(structure="square_split_double_ring", inner_radius=3.0, outer_radius=5.0),
-]  # fmt: skip
+]
 
 
 def assert_sound_paper(mesh, tol):
@@ -433,8 +481,10 @@ def test_a_conforming_slot_within_the_weld_tolerance_is_refused(kw):
     # gap widths of 1e-10 mm left 8 to 28 vertex pairs closer than the tolerance unwelded
     wide = 0.1 * kw["inner_radius"]
     tol = MeshParams(**kw, mode="conforming", gap_width=wide).weld_tolerance  # 1e-9 of the size
-    refused = (r"^gap_width=1e-10 mm is too narrow: the faces of the slot would be within the "
-               r"welding tolerance \(the default tolerance")  # fmt: skip
+    refused = (
+        r"^gap_width=1e-10 mm is too narrow: the faces of the slot would be within the "
+        r"welding tolerance \(the default tolerance"
+    )
     with pytest.raises(ValueError, match=refused) as err:
         MeshParams(**kw, mode="conforming", gap_width=1e-10)
     assert f"expected gap_width > {2 * tol:.3g} mm (twice the tolerance)" in str(err.value)
@@ -468,8 +518,14 @@ def test_the_wide_slot_of_a_coarse_conforming_split_ring_is_built_to_its_predict
 ):
     # a conforming split ring with angle_step=360, patch_size=1 and gap_width about 12 mm
     # ran past 20 s: its size is predicted and the mesh is small and sound
-    p = MeshParams(structure="split_ring", mode="conforming", angle_step=360, patch_size=1,
-                   gap_width=gap_width, inner_radius=inner_radius)  # fmt: skip
+    p = MeshParams(
+        structure="split_ring",
+        mode="conforming",
+        angle_step=360,
+        patch_size=1,
+        gap_width=gap_width,
+        inner_radius=inner_radius,
+    )
     predicted = p.predicted_triangles()
     assert predicted <= 20 * 2 * 16  # a few sectors of 2 x 4² triangles
     mesh = build_mesh(p)
@@ -482,8 +538,19 @@ def test_the_wide_slot_of_a_coarse_conforming_split_ring_is_built_to_its_predict
 NESTED = functools.reduce(lambda v, _: [v], range(900), 1.0)
 
 
-@pytest.mark.parametrize("name", ["inner_radius", "origin", "structure", "triangle_vertices",
-                                  "subdivisions", "max_triangles", "grading", "tolerance"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "inner_radius",
+        "origin",
+        "structure",
+        "triangle_vertices",
+        "subdivisions",
+        "max_triangles",
+        "grading",
+        "tolerance",
+    ],
+)
 def test_a_900_deep_nested_value_gives_a_short_message_naming_the_parameter(name):
     kw = {name: NESTED}
     if name == "triangle_vertices":

@@ -15,11 +15,10 @@ from barymesh import STRUCTURES, MeshParams, build_mesh
 from barymesh.io import read_mesh, write_mesh
 from barymesh.structures import layout
 from barymesh.topology import edge_topology
+from helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
 from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
-
-from helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
 
 RINGS = ["ring", "double_ring", "split_ring", "split_double_ring", "square_split_double_ring"]
 
@@ -85,9 +84,17 @@ def test_conforming_meshes_are_manifold(p):
 @SETTINGS
 @given(params())
 @example(  # a wide slot and coarse sectors: the end sectors' chords used to cross
-    MeshParams(structure="split_ring", mode="conforming", inner_radius=3.0, outer_radius=3.5,
-               patch_size=0.5, angle_step=66.0, subdivisions=1, gap_width=5.25)
-)  # fmt: skip
+    MeshParams(
+        structure="split_ring",
+        mode="conforming",
+        inner_radius=3.0,
+        outer_radius=3.5,
+        patch_size=0.5,
+        angle_step=66.0,
+        subdivisions=1,
+        gap_width=5.25,
+    )
+)
 def test_triangles_are_proper_and_centroids_inside(p):
     mesh = build_mesh(p)
     assert (signed_areas(mesh) > 0).all()
@@ -139,16 +146,41 @@ FUZZ_BUDGET = 4_000
 ROUND_TRIP_LIMIT = 1_000
 WRITERS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
 
-NASTY = [0.0, -1.0, float("inf"), float("-inf"), float("nan"), 5e-324, 1e-320, 1e-200, 1e-15,
-         1e17, 1e300, 10**400, -(10**400), "4,5", [1, 2], True, False, np.True_,
-         np.array([1.0, 2.0]), None, {}, {"a": 1}, "x" * 3000,
-         functools.reduce(lambda v, _: [v], range(900), 1.0)]  # fmt: skip (issue 4's classes)
+NASTY = [
+    0.0,
+    -1.0,
+    float("inf"),
+    float("-inf"),
+    float("nan"),
+    5e-324,
+    1e-320,
+    1e-200,
+    1e-15,
+    1e17,
+    1e300,
+    10**400,
+    -(10**400),
+    "4,5",
+    [1, 2],
+    True,
+    False,
+    np.True_,
+    np.array([1.0, 2.0]),
+    None,
+    {},
+    {"a": 1},
+    "x" * 3000,
+    functools.reduce(lambda v, _: [v], range(900), 1.0),
+]
 
 
 def magnitude(lo=-320, hi=320):
     """Floats spread over decades (mantissa times a power of ten), inf past float64."""
-    return st.builds(lambda m, e: m * 10.0**e if e < 308 else m * 1e300 * 10.0 ** (e - 300),
-                     st.floats(1.0, 9.99), st.integers(lo, hi))  # fmt: skip
+    return st.builds(
+        lambda m, e: m * 10.0**e if e < 308 else m * 1e300 * 10.0 ** (e - 300),
+        st.floats(1.0, 9.99),
+        st.integers(lo, hi),
+    )
 
 
 #: Values any parameter may be given by a hostile caller, beside its own extremes.
@@ -163,11 +195,14 @@ EXTREMES = {
     "angle_step": st.one_of(magnitude(-325, 3), st.sampled_from([1e-320, 5e-324, 0.0988, 361.0])),
     "subdivisions": st.sampled_from([0, 65, 7, 2.0, 2.5, 10**400, "3", None]),
     "gap_angle": st.one_of(magnitude(-5, 400), st.sampled_from(NASTY)),
-    "origin": st.one_of(st.tuples(magnitude(), magnitude()),
-                        st.sampled_from([(1e17, 0.0), (1.0,), "xy", (float("nan"), 0), None])),
+    "origin": st.one_of(
+        st.tuples(magnitude(), magnitude()),
+        st.sampled_from([(1e17, 0.0), (1.0,), "xy", (float("nan"), 0), None]),
+    ),
     "triangle_vertices": st.one_of(
         st.lists(st.tuples(magnitude(), magnitude()), min_size=3, max_size=3),
-        st.sampled_from([[1, 2, 3], [(0, 0), (1, 0)], [(0, 0), (1, 1), (2, 2)], "abc"])),
+        st.sampled_from([[1, 2, 3], [(0, 0), (1, 0)], [(0, 0), (1, 1), (2, 2)], "abc"]),
+    ),
     "structure": st.sampled_from(["Ring", "", None, 3]),
     "max_triangles": st.sampled_from([0, -1, 1, 2.5, True, 10**400]),
     "grading": st.sampled_from([True, 1, "yes", None, np.True_]),
@@ -179,21 +214,30 @@ EXTREMES = {
     "cells_per_wavelength": WILD,
     "relative_permittivity": WILD,
     "gap_width": st.one_of(WILD, magnitude(-14, -6), st.sampled_from([1e-10, 11.9, 12.0])),
-}  # fmt: skip
+}
 
 
 # strategies built once (building them inside the composite costs more than the mesh)
 SCALE = st.one_of(st.just(1.0), st.just(1.0), magnitude(-120, 120))
 RATIO = st.one_of(st.floats(0.05, 2.0), magnitude(-12, 1))
 RING_GAP = st.one_of(st.floats(0.0, 1.0), st.floats(0.0, 1e-6))
-OPENING = st.one_of(st.floats(0.01, 1.05), st.sampled_from([1 - 1e-9, 1 - 1e-8]),
-                    st.sampled_from([1e-11, 1e-9, 3e-9, 1e-8]))  # slots near the weld tolerance
-ANGLE_STEP = st.one_of(st.floats(2.0, 120.0), st.floats(0.05, 360.0),
-                       st.sampled_from([360.0, 120.0, 90.0, 60.0, 0.5, 0.2, 0.0988]))
+OPENING = st.one_of(
+    st.floats(0.01, 1.05),
+    st.sampled_from([1 - 1e-9, 1 - 1e-8]),
+    st.sampled_from([1e-11, 1e-9, 3e-9, 1e-8]),
+)  # slots near the weld tolerance
+ANGLE_STEP = st.one_of(
+    st.floats(2.0, 120.0),
+    st.floats(0.05, 360.0),
+    st.sampled_from([360.0, 120.0, 90.0, 60.0, 0.5, 0.2, 0.0988]),
+)
 SUBDIVISIONS = st.one_of(st.integers(1, 4), st.integers(1, 64))
 GAP_ANGLE = st.one_of(st.sampled_from([0.0, 90.0, 180.0, 270.0, -90.0]), st.floats(-720, 720))
-ORIGIN = st.one_of(st.just((0.0, 0.0)), st.tuples(st.floats(-10, 10), st.floats(-10, 10)),
-                   st.tuples(magnitude(-3, 12), magnitude(-3, 12)))
+ORIGIN = st.one_of(
+    st.just((0.0, 0.0)),
+    st.tuples(st.floats(-10, 10), st.floats(-10, 10)),
+    st.tuples(magnitude(-3, 12), magnitude(-3, 12)),
+)
 TRIANGLE = st.lists(st.tuples(st.floats(-10, 10), st.floats(-10, 10)), min_size=3, max_size=3)
 WILD_NAMES = st.one_of(st.just(()), st.lists(st.sampled_from(sorted(EXTREMES)), max_size=2))
 
@@ -274,8 +318,10 @@ def assert_sound(mesh, p):
         assert conn.nnz == 2 * s["interior_edges"]
     if mesh._template is not None:  # the template fast path equals the general sort
         fast = mesh.topology
-        assert np.array_equal(edge_rows(fast.edges, fast.edge_triangles, fast.valence),
-                              edge_rows(slow.edges, slow.edge_triangles, slow.valence))  # fmt: skip
+        assert np.array_equal(
+            edge_rows(fast.edges, fast.edge_triangles, fast.valence),
+            edge_rows(slow.edges, slow.edge_triangles, slow.valence),
+        )
         assert np.array_equal(fast.edges[fast.triangle_edges], slow.edges[slow.triangle_edges])
 
 
@@ -296,8 +342,11 @@ def assert_round_trip(mesh, ext):
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * scale)
 
 
-@settings(max_examples=FUZZ_EXAMPLES, deadline=None,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])  # fmt: skip
+@settings(
+    max_examples=FUZZ_EXAMPLES,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+)
 @given(hostile(), st.sampled_from(WRITERS))
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:

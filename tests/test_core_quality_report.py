@@ -26,8 +26,13 @@ def mesh_of(corners):
     """Separate triangles from a (T, 3, 2) array of corners."""
     corners = np.asarray(corners, dtype=np.float64)
     n = len(corners)
-    return TriMesh(corners.reshape(-1, 2), np.arange(3 * n).reshape(n, 3), np.arange(n),
-                   np.ones(n, dtype=int), n)
+    return TriMesh(
+        corners.reshape(-1, 2),
+        np.arange(3 * n).reshape(n, 3),
+        np.arange(n),
+        np.ones(n, dtype=int),
+        n,
+    )
 
 
 def isosceles(apex_deg, base_at=(0.0, 0.0)):
@@ -40,8 +45,12 @@ def isosceles(apex_deg, base_at=(0.0, 0.0)):
 # equilateral (60°, 1); 30-30-120 (30°, (2+√3)/√3); 90-45-45 (45°, (2+√2)/(2√3)·√2);
 # 20-20-140 (20°): a flat cap, ratio 2cos20 (2 + 2cos20)/(4√3 · ½ sin140)
 FOUR = [isosceles(60), isosceles(120, (3, 0)), isosceles(90, (6, 0)), isosceles(140, (9, 0))]
-CAP20 = 2 * np.cos(np.radians(20)) * (2 + 2 * np.cos(np.radians(20))) / (
-    4 * SQRT3 * 0.5 * np.sin(np.radians(140)))
+CAP20 = (
+    2
+    * np.cos(np.radians(20))
+    * (2 + 2 * np.cos(np.radians(20)))
+    / (4 * SQRT3 * 0.5 * np.sin(np.radians(140)))
+)
 
 
 def test_closed_forms_of_four_triangles():
@@ -57,17 +66,19 @@ def test_closed_forms_of_four_triangles():
     assert [w["triangle"] for w in r["worst"]] == [3, 1, 2, 0]
     assert [w["min_angle_deg"] for w in r["worst"]] == pytest.approx([20, 30, 45, 60], abs=1e-12)
     assert [w["aspect_ratio"] for w in r["worst"]] == pytest.approx(
-        [CAP20, (2 + SQRT3) / SQRT3, np.sqrt(2) * (2 + np.sqrt(2)) / (2 * SQRT3), 1.0],
-        rel=1e-12)
+        [CAP20, (2 + SQRT3) / SQRT3, np.sqrt(2) * (2 + np.sqrt(2)) / (2 * SQRT3), 1.0], rel=1e-12
+    )
     apex = np.radians(140)
     assert r["worst"][0]["centroid"] == pytest.approx(
-        [(9 + 10 + 9 + np.cos(apex)) / 3, np.sin(apex) / 3, 0.0], abs=1e-12)
+        [(9 + 10 + 9 + np.cos(apex)) / 3, np.sin(apex) / 3, 0.0], abs=1e-12
+    )
     assert r["edge_wavelength"] is None
 
 
 def test_histograms_count_every_triangle_once():
-    mesh = build_mesh(MeshParams(structure="split_ring", mode="conforming", angle_step=10.0,
-                                 subdivisions=3))
+    mesh = build_mesh(
+        MeshParams(structure="split_ring", mode="conforming", angle_step=10.0, subdivisions=3)
+    )
     r = quality_report(mesh, wavelength=20.0)
     for key in ("min_angle_deg", "aspect_ratio", "edge_wavelength"):
         h = r[key]["histogram"]
@@ -90,8 +101,13 @@ def test_thirty_degrees_bounds_the_aspect_ratio_below_the_threshold():
     # the third vertex where the angles at A (b) and B (c) meet
     t = np.sin(c) / np.sin(b + c)
     third = np.stack([t * np.cos(b), t * np.sin(b)], axis=1)
-    pts = np.concatenate([np.column_stack([corners[:, 0], corners[:, 0]]),
-                          np.column_stack([corners[:, 1], np.zeros_like(b)]), third])
+    pts = np.concatenate(
+        [
+            np.column_stack([corners[:, 0], corners[:, 0]]),
+            np.column_stack([corners[:, 1], np.zeros_like(b)]),
+            third,
+        ]
+    )
     n = len(b)
     tri = np.column_stack([np.arange(n), n + np.arange(n), 2 * n + np.arange(n)])
     q = triangle_quality(np.column_stack([pts, np.zeros(len(pts))]), tri)
@@ -110,8 +126,9 @@ def test_thin_rectangle_closed_form():
     c = np.hypot(a, b)
     assert r["triangles"] == 32
     assert r["min_angle_deg"]["min"] == pytest.approx(np.degrees(np.arctan(b / a)), rel=1e-12)
-    assert r["aspect_ratio"]["max"] == pytest.approx(c * (a + b + c) / (4 * SQRT3 * a * b / 2),
-                                                     rel=1e-12)
+    assert r["aspect_ratio"]["max"] == pytest.approx(
+        c * (a + b + c) / (4 * SQRT3 * a * b / 2), rel=1e-12
+    )
     assert r["min_angle_deg"]["below"] == 32 and r["aspect_ratio"]["above"] == 32
     assert [w["triangle"] for w in r["worst"]] == [0, 1, 2, 3, 4]
 
@@ -147,8 +164,9 @@ def test_wavelength_from_frequency_and_permittivity():
     assert wavelength_mm(10e9) == pytest.approx(29.9792458, rel=1e-12)
     assert wavelength_mm(10e9, 4.0) == pytest.approx(29.9792458 / 2, rel=1e-12)
     assert params_wavelength(SimpleNamespace(frequency=1e9)) == pytest.approx(299.792458)
-    assert params_wavelength(SimpleNamespace(frequency=5e9, relative_permittivity=2.25)) \
-        == pytest.approx(299.792458 / 5 / 1.5)
+    assert params_wavelength(
+        SimpleNamespace(frequency=5e9, relative_permittivity=2.25)
+    ) == pytest.approx(299.792458 / 5 / 1.5)
     assert params_wavelength(MeshParams()) is None  # no frequency: no wavelength
     assert params_wavelength(None) is None
     with pytest.raises(ValueError, match="frequency"):

@@ -9,10 +9,9 @@ from barymesh import MeshParams, build_mesh
 from barymesh.presets import load_preset
 from barymesh.structures import sector_plan
 from barymesh.subdivision import tensor_template
+from helpers import assert_topology_matches_generic
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
-
-from helpers import assert_topology_matches_generic
 
 CIRCULAR = ["ring", "double_ring", "split_ring", "split_double_ring"]
 #: Degrees above 30° the closed form below asks of its estimate (cells are not exactly
@@ -169,9 +168,12 @@ def test_sector_meshes_are_watertight_and_fast_paths_agree(p):
 
 @pytest.mark.parametrize(
     ("name", "old_angle", "old_triangles", "at_30"),
-    [("conforming-double-ring", 19.1, 1152, True), ("srr-openmodes", 28.1, 560, True),
-     ("paper-fig8-dsdr", 7.4, 11008, None)],  # 2° sectors: see below
-)  # fmt: skip
+    [
+        ("conforming-double-ring", 19.1, 1152, True),
+        ("srr-openmodes", 28.1, 560, True),
+        ("paper-fig8-dsdr", 7.4, 11008, None),
+    ],  # 2° sectors: see below
+)
 def test_presets_are_better_shaped_with_fewer_triangles(name, old_angle, old_triangles, at_30):
     """The issue's measurements of the n x n sectors, against the new sectors."""
     p = load_preset(name)[0]
@@ -214,9 +216,9 @@ def test_tensor_template_on_graded_nodes(diagonal):
     assert np.array_equal(t.uv[t.sides[0]], np.stack([u, np.zeros(4)], 1))
     assert np.array_equal(t.uv[t.sides[1]], np.stack([np.ones(3), v], 1))
     p = t.uv[t.triangles]
-    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
-        p[:, 1, 1] - p[:, 0, 1]
-    ) * (p[:, 2, 0] - p[:, 0, 0])
+    cross = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (
+        p[:, 2, 0] - p[:, 0, 0]
+    )
     assert (cross > 0).all() and np.isclose(cross.sum() / 2, 1.0)
     assert (t.valence == 2).sum() == 23 - 2 * (3 + 2)
     diag = {(0, 5)} if diagonal == "AD" else {(1, 4)}  # of the first cell
@@ -303,11 +305,13 @@ def test_grading_refines_the_srr_toward_its_edges_and_slot():
         (dict(grading="yes"), "grading='yes' is invalid"),
         (dict(grading=True), "applies to conforming circular rings"),
         (dict(grading=True, mode="conforming", min_edge=0.25), "min_edge=0.25 mm is not below"),
-        (dict(grading=True, mode="conforming", scheme="barycentric", subdivisions=1),
-         "scheme='uniform'"),
+        (
+            dict(grading=True, mode="conforming", scheme="barycentric", subdivisions=1),
+            "scheme='uniform'",
+        ),
         (dict(min_edge=-1.0), "min_edge"),
     ],
-)  # fmt: skip
+)
 def test_grading_parameters_are_checked(kw, match):
     with pytest.raises(ValueError, match=match):
         MeshParams(**kw)

@@ -30,8 +30,9 @@ def unsized(params, n):
 def predicted(params, n):
     """Triangles of ``params`` at n, whatever the budget (infinite where n is refused)."""
     try:
-        return params.replace(frequency=None, max_edge=None, subdivisions=n,
-                              max_triangles=10**15).predicted_triangles()
+        return params.replace(
+            frequency=None, max_edge=None, subdivisions=n, max_triangles=10**15
+        ).predicted_triangles()
     except ValueError:
         return math.inf
 
@@ -48,10 +49,17 @@ def test_wavelength_is_c0_over_f_sqrt_eps():
 def test_defaults_are_off_and_old_dicts_still_load():
     p = MeshParams()
     assert (p.max_edge, p.frequency, p.cells_per_wavelength, p.relative_permittivity) == (
-        None, None, 10.0, 1.0)
+        None,
+        None,
+        10.0,
+        1.0,
+    )
     assert not p.sized and target_edge(p) is None
-    old = {k: v for k, v in p.to_dict().items()
-           if k not in ("max_edge", "frequency", "cells_per_wavelength", "relative_permittivity")}
+    old = {
+        k: v
+        for k, v in p.to_dict().items()
+        if k not in ("max_edge", "frequency", "cells_per_wavelength", "relative_permittivity")
+    }
     assert MeshParams.from_dict(old) == p
 
 
@@ -91,8 +99,7 @@ def test_stricter_of_frequency_and_max_edge_wins():
     assert build_mesh(both).params.subdivisions == 8
     assert build_mesh(loose).params.subdivisions == 5
     # Feko's λ/12 in a substrate of εr = 2.2
-    feko = MeshParams(**PATCH10, frequency=10e9, cells_per_wavelength=12,
-                      relative_permittivity=2.2)
+    feko = MeshParams(**PATCH10, frequency=10e9, cells_per_wavelength=12, relative_permittivity=2.2)
     assert target_edge(feko)[0] == pytest.approx(LAMBDA_10GHZ / math.sqrt(2.2) / 12)
 
 
@@ -151,8 +158,15 @@ def _pt(mesh):
 
 
 def test_sized_mesh_is_the_unsized_mesh_at_the_chosen_n():
-    p = MeshParams(structure="split_double_ring", mode="conforming", inner_radius=3.0,
-                   outer_radius=5.0, patch_size=1.0, angle_step=30.0, frequency=40e9)
+    p = MeshParams(
+        structure="split_double_ring",
+        mode="conforming",
+        inner_radius=3.0,
+        outer_radius=5.0,
+        patch_size=1.0,
+        angle_step=30.0,
+        frequency=40e9,
+    )
     sized = build_mesh(p)
     plain = build_mesh(unsized(p, sized.params.subdivisions))
     assert np.array_equal(sized.points, plain.points)
@@ -184,16 +198,15 @@ def test_budget_refused_with_the_triangles_needed():
         build_mesh(MeshParams(**PATCH10, max_edge=0.5, max_triangles=1000))
     assert "1,682 triangles" in str(info.value) and "max_triangles=1,000" in str(info.value)
     # at the budget it fits
-    assert build_mesh(MeshParams(**PATCH10, max_edge=0.5, max_triangles=1682)).n_triangles \
-        == 1682
+    assert build_mesh(MeshParams(**PATCH10, max_edge=0.5, max_triangles=1682)).n_triangles == 1682
 
 
 def test_largest_area_and_longest_edge_against_the_per_triangle_figures():
-    mesh = build_mesh(MeshParams(structure="double_ring", mode="conforming", angle_step=15.0,
-                                 subdivisions=3))
+    mesh = build_mesh(
+        MeshParams(structure="double_ring", mode="conforming", angle_step=15.0, subdivisions=3)
+    )
     assert longest_edge(mesh.points, mesh.triangles) == edge_lengths(mesh).max()
-    assert largest_area(mesh.points, mesh.triangles) == pytest.approx(mesh.areas.max(),
-                                                                     rel=1e-14)
+    assert largest_area(mesh.points, mesh.triangles) == pytest.approx(mesh.areas.max(), rel=1e-14)
 
 
 # -- property: λ/cells whenever a frequency is given, and n minimal ---------------------------
@@ -230,9 +243,12 @@ def sized_params(draw):
     cells = draw(st.sampled_from([10.0, 12.0, 20.0]))
     eps = draw(st.sampled_from([1.0, 2.2, 4.4]))
     frequency = wavelength(1.0, eps) / (target * cells)  # λ = target × cells
-    return coarse.replace(frequency=frequency, cells_per_wavelength=cells,
-                          relative_permittivity=eps,
-                          subdivisions=draw(st.integers(1, 6)))
+    return coarse.replace(
+        frequency=frequency,
+        cells_per_wavelength=cells,
+        relative_permittivity=eps,
+        subdivisions=draw(st.integers(1, 6)),
+    )
 
 
 @settings(max_examples=60, deadline=None)
@@ -251,8 +267,9 @@ def test_frequency_gives_edges_within_lambda_over_cells_at_the_smallest_n(p):
             return
         assert "triangles" in message
         top = 64 if p.scheme == "uniform" else 6
-        finest = max((n for n in range(1, top + 1) if predicted(p, n) <= p.max_triangles),
-                     default=0)
+        finest = max(
+            (n for n in range(1, top + 1) if predicted(p, n) <= p.max_triangles), default=0
+        )
         if finest == 0:
             assert "coarsest" in message
         else:
@@ -274,8 +291,9 @@ def test_frequency_gives_edges_within_lambda_over_cells_at_the_smallest_n(p):
 
 
 def test_parameter_file_round_trip(tmp_path):
-    p = MeshParams(**PATCH10, frequency=2.4e9, max_edge=7.5, cells_per_wavelength=12,
-                   relative_permittivity=4.4)
+    p = MeshParams(
+        **PATCH10, frequency=2.4e9, max_edge=7.5, cells_per_wavelength=12, relative_permittivity=4.4
+    )
     path = tmp_path / "sized.json"
     save_params_file(p, path, "sized patch")
     data = json.loads(path.read_text())
@@ -295,5 +313,6 @@ def test_set_frequency_on_the_command_line_resolves():
     assert p.frequency == 10e9 and p.cells_per_wavelength == 12.0
     with pytest.raises(ValueError, match=r"--set 'frequency=-3'.*frequency=-3"):
         resolve_params("paper-fig10", None, ["frequency=-3"])
-    assert resolve_params("paper-fig10", None, ["frequency=10e9", "frequency=null"]).frequency \
-        is None
+    assert (
+        resolve_params("paper-fig10", None, ["frequency=10e9", "frequency=null"]).frequency is None
+    )

@@ -72,13 +72,22 @@ def test_construction_of_the_paper_patch():
         "Shared edges",
     ]
     last = steps[-1]
-    where = {label: tuple(p) for label, p in zip(last.labels, last.points.tolist(), strict=True)
-             if label}
+    where = {
+        label: tuple(p) for label, p in zip(last.labels, last.points.tolist(), strict=True) if label
+    }
     assert where == {
-        "A": (0, 0), "B": (10, 0), "C": (0, 10), "D": (10, 10),
-        "m1": (5, 0), "m2": (0, 5), "m3": (5, 5),
-        "m11": (2.5, 0), "m12": (7.5, 0), "m22": (0, 2.5), "m21": (0, 7.5),
-    }  # fmt: skip
+        "A": (0, 0),
+        "B": (10, 0),
+        "C": (0, 10),
+        "D": (10, 10),
+        "m1": (5, 0),
+        "m2": (0, 5),
+        "m3": (5, 5),
+        "m11": (2.5, 0),
+        "m12": (7.5, 0),
+        "m22": (0, 2.5),
+        "m21": (0, 7.5),
+    }
     assert len(steps[5].triangles) == 32 and len(steps[5].centroids) == 0
     assert len(steps[6].centroids) == 32
     assert len(last.shared_edges) == 40

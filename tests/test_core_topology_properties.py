@@ -15,16 +15,21 @@ import pytest
 import trimesh
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.topology import BLOCK, INDEX, edge_topology, rwg_table, triangle_adjacency
+from helpers import junction_meshes, reference_connectivity, reference_edge_triangles
 from hypothesis import given
 from hypothesis import strategies as st
-
-from helpers import junction_meshes, reference_connectivity, reference_edge_triangles
 
 
 def assert_index_dtypes(topo):
     """Every index array of a topology has the one index dtype."""
-    for name in ("edges", "triangle_edges", "edge_triangles", "valence", "junction_incidence",
-                 "free_vertices"):
+    for name in (
+        "edges",
+        "triangle_edges",
+        "edge_triangles",
+        "valence",
+        "junction_incidence",
+        "free_vertices",
+    ):
         assert getattr(topo, name).dtype == INDEX, name
 
 
@@ -94,9 +99,7 @@ def test_connectivity_is_symmetric_and_equals_the_reference(mesh):
     c = m.connectivity
     assert (c != c.T).nnz == 0
     coo = c.tocoo()
-    assert set(zip(coo.row.tolist(), coo.col.tolist(), strict=True)) == reference_connectivity(
-        tris
-    )
+    assert set(zip(coo.row.tolist(), coo.col.tolist(), strict=True)) == reference_connectivity(tris)
     assert c.nnz == len(reference_connectivity(tris))
     assert set(np.unique(c.data).tolist()) == {1}
 
@@ -113,9 +116,7 @@ def test_rwg_pairs_are_trimesh_face_adjacency(mesh):
     assert ours == theirs
     assert (m.rwg.t_plus < m.rwg.t_minus).all()
     ref = reference_edge_triangles(tris)
-    assert {tuple(v) for v in m.rwg.vertices.tolist()} == {
-        e for e, t in ref.items() if len(t) == 2
-    }
+    assert {tuple(v) for v in m.rwg.vertices.tolist()} == {e for e, t in ref.items() if len(t) == 2}
     # every RWG pair is in the connectivity matrix, both ways
     c = m.connectivity
     assert (c[m.rwg.t_plus, m.rwg.t_minus] == 1).all()
@@ -176,8 +177,15 @@ def test_rwg_table_finds_free_vertices_when_the_topology_has_none(with_junction)
         mesh = build_mesh(MeshParams(structure="double_ring", mode="conforming", angle_step=30))
     bare = replace(mesh.topology, free_vertices=None)
     table = rwg_table(mesh.points, mesh.triangles, bare)
-    for name in ("edge", "vertices", "t_plus", "t_minus", "free_vertex_plus",
-                 "free_vertex_minus", "length"):
+    for name in (
+        "edge",
+        "vertices",
+        "t_plus",
+        "t_minus",
+        "free_vertex_plus",
+        "free_vertex_minus",
+        "length",
+    ):
         assert np.array_equal(getattr(table, name), getattr(mesh.rwg, name)), name
     assert len(table) == mesh.stats()["interior_edges"] > 0
 

@@ -57,11 +57,19 @@ def patch_arrays(draw):
     step = (draw(st.sampled_from([0.5, 1.0, 1.5])), draw(st.sampled_from([0.5, 1.0, 2.0])))
     tolerance = draw(st.sampled_from([0.05, 0.1, 0.2]))
     count = draw(st.integers(1, 5))
-    cells = draw(st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)),
-                          min_size=count, max_size=count))
-    jitter = draw(st.lists(st.tuples(st.sampled_from([-0.15, -0.04, 0.0, 0.03, 0.12]),
-                                     st.sampled_from([-0.07, 0.0, 0.02, 0.15])),
-                           min_size=count, max_size=count))
+    cells = draw(
+        st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=count, max_size=count)
+    )
+    jitter = draw(
+        st.lists(
+            st.tuples(
+                st.sampled_from([-0.15, -0.04, 0.0, 0.03, 0.12]),
+                st.sampled_from([-0.07, 0.0, 0.02, 0.15]),
+            ),
+            min_size=count,
+            max_size=count,
+        )
+    )
     corner = np.array([-7.25, -3.5])
     origins = corner + np.array(cells) * step + np.array(jitter)
     return origins, step, n, tolerance

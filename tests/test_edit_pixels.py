@@ -26,19 +26,31 @@ def mask_and_mode(draw, square=None):
 def transforms(mode):
     """The group of ``mode`` as explicit maps (row, col) -> (row, col) on an R x C grid,
     written from the geometry (not from group_images): x = col - (C-1)/2, y = row - (R-1)/2."""
+
     def make(fx):
         def apply(r, c, rows, cols):
             x, y = c - (cols - 1) / 2, r - (rows - 1) / 2
             x2, y2 = fx(x, y)
             return int(round(y2 + (rows - 1) / 2)), int(round(x2 + (cols - 1) / 2))
+
         return apply
+
     ident = make(lambda x, y: (x, y))
     mx, my = make(lambda x, y: (-x, y)), make(lambda x, y: (x, -y))
-    turns = [ident, make(lambda x, y: (-y, x)), make(lambda x, y: (-x, -y)),
-             make(lambda x, y: (y, -x))]
+    turns = [
+        ident,
+        make(lambda x, y: (-y, x)),
+        make(lambda x, y: (-x, -y)),
+        make(lambda x, y: (y, -x)),
+    ]
     mirrors = [mx, my, make(lambda x, y: (y, x)), make(lambda x, y: (-y, -x))]
-    return {"none": [ident], "mirror_x": [ident, mx], "mirror_y": [ident, my],
-            "4-fold": turns, "8-fold": turns + mirrors}[mode]
+    return {
+        "none": [ident],
+        "mirror_x": [ident, mx],
+        "mirror_y": [ident, my],
+        "4-fold": turns,
+        "8-fold": turns + mirrors,
+    }[mode]
 
 
 def invariant_by_definition(mask, mode):
@@ -134,8 +146,12 @@ def test_paint_then_erase_restores_an_invariant_mask_empty_there(case):
     mask = symmetrized(mask, mode)
     mask = pixels.erase(mask, r, c, mode)  # empty at the pixel (and its orbit)
     painted = pixels.paint(mask, r, c, mode)
-    assert painted[r, c] and painted.sum() == mask.sum() + (
-        pixels.orbit_ids(mask.shape, mode) == pixels.orbit_ids(mask.shape, mode)[r, c]).sum()
+    assert (
+        painted[r, c]
+        and painted.sum()
+        == mask.sum()
+        + (pixels.orbit_ids(mask.shape, mode) == pixels.orbit_ids(mask.shape, mode)[r, c]).sum()
+    )
     assert np.array_equal(pixels.erase(painted, r, c, mode), mask)
 
 
@@ -149,8 +165,12 @@ def test_flood_fill_sets_exactly_the_4_connected_region(case, value):
         i, j = todo.pop()
         for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)):
             a, b = i + di, j + dj
-            if (0 <= a < mask.shape[0] and 0 <= b < mask.shape[1] and (a, b) not in region
-                    and mask[a, b] == mask[r, c]):
+            if (
+                0 <= a < mask.shape[0]
+                and 0 <= b < mask.shape[1]
+                and (a, b) not in region
+                and mask[a, b] == mask[r, c]
+            ):
                 region.add((a, b))
                 todo.append((a, b))
     expected = mask.copy()
@@ -159,8 +179,7 @@ def test_flood_fill_sets_exactly_the_4_connected_region(case, value):
     assert np.array_equal(out, expected)
 
 
-@given(st.sampled_from(SYMMETRIES), st.integers(1, 12), st.integers(0, 2**32),
-       st.floats(0, 1))
+@given(st.sampled_from(SYMMETRIES), st.integers(1, 12), st.integers(0, 2**32), st.floats(0, 1))
 def test_random_fill_is_reproducible_and_respects_density_ends(mode, n, seed, density):
     a = pixels.random_mask((n, n), seed, mode, density)
     assert np.array_equal(a, pixels.random_mask((n, n), seed, mode, density))
@@ -177,8 +196,11 @@ def test_random_fill_draws_about_the_density_and_depends_on_the_seed():
     assert pixels.is_invariant(eight, "8-fold") and 0.4 < eight.mean() < 0.6
 
 
-@given(arrays(bool, st.tuples(st.integers(1, 8), st.integers(1, 8))),
-       st.integers(1, 12), st.integers(1, 12))
+@given(
+    arrays(bool, st.tuples(st.integers(1, 8), st.integers(1, 8))),
+    st.integers(1, 12),
+    st.integers(1, 12),
+)
 def test_resize_keeps_the_centre_and_back_again_restores(mask, rows, cols):
     out = pixels.resized(mask, rows, cols)
     assert out.shape == (rows, cols)

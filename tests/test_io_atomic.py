@@ -221,8 +221,13 @@ def test_killed_mid_write(tmp_path, how):
     target = tmp_path / "mesh.msh"
     target.write_bytes(b"the old file")
     env = dict(os.environ, PYTHONPATH=str(root))
-    child = subprocess.Popen([sys.executable, "-c", CHILD, str(target)], env=env,
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    child = subprocess.Popen(
+        [sys.executable, "-c", CHILD, str(target)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     assert child.stdout.readline() == "writing\n"
     assert len(leftovers(tmp_path)) == 1
     child.send_signal(getattr(signal, how))

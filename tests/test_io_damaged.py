@@ -29,8 +29,21 @@ N_POINTS, N_TRIANGLES = MESH.n_vertices, MESH.n_triangles  # 9 and 8
 #: No case may need more than this while it is refused.
 PEAK_BYTES = 200 * 2**20
 #: Words of a parser's internals that a message about a file must not show.
-INTERNALS = ("reshape", "codec", "array of size", "out of bounds", "exception", "error",
-             "unpack", "buffer", "dtype", "numpy", "meshio", "scipy", "traceback")  # fmt: skip
+INTERNALS = (
+    "reshape",
+    "codec",
+    "array of size",
+    "out of bounds",
+    "exception",
+    "error",
+    "unpack",
+    "buffer",
+    "dtype",
+    "numpy",
+    "meshio",
+    "scipy",
+    "traceback",
+)
 HUGE_COUNTS = ["1000000000000", "-1", "abc", "4294967296", "99999999", "1e3"]
 
 
@@ -66,21 +79,35 @@ def _data_array(name, dtype, values, comps=1, mode="ascii", declared=None, body=
         else:
             body = _b64_block(values.tobytes(), mode == "zlib", declared)
     fmt = "ascii" if mode == "ascii" else "binary"
-    return (f'<DataArray type="{vtk}" Name="{name}" NumberOfComponents="{comps}" '
-            f'format="{fmt}">{body}</DataArray>\n')  # fmt: skip
+    return (
+        f'<DataArray type="{vtk}" Name="{name}" NumberOfComponents="{comps}" '
+        f'format="{fmt}">{body}</DataArray>\n'
+    )
 
 
-def vtk_xml(kind="PolyData", mode="ascii", n_points=None, n_cells=None, points_body=None,
-            points_declared=None, conn=None, offsets=None, extra_attrs="", root_attrs="",
-            verts=None):  # fmt: skip
+def vtk_xml(
+    kind="PolyData",
+    mode="ascii",
+    n_points=None,
+    n_cells=None,
+    points_body=None,
+    points_declared=None,
+    conn=None,
+    offsets=None,
+    extra_attrs="",
+    root_attrs="",
+    verts=None,
+):
     """A VTK XML file of MESH with any field overridden."""
     pts = MESH.points
     conn = MESH.triangles.reshape(-1) if conn is None else np.asarray(conn)
     offsets = 3 * np.arange(1, N_TRIANGLES + 1) if offsets is None else np.asarray(offsets)
     compressor = ' compressor="vtkZLibDataCompressor"' if mode == "zlib" else ""
-    head = (f'<?xml version="1.0"?>\n<VTKFile type="{kind}" version="1.0" '
-            f'byte_order="LittleEndian" header_type="UInt32"{compressor}{root_attrs}>\n'
-            f"<{kind}>\n")  # fmt: skip
+    head = (
+        f'<?xml version="1.0"?>\n<VTKFile type="{kind}" version="1.0" '
+        f'byte_order="LittleEndian" header_type="UInt32"{compressor}{root_attrs}>\n'
+        f"<{kind}>\n"
+    )
     npts = N_POINTS if n_points is None else n_points
     ncells = N_TRIANGLES if n_cells is None else n_cells
     points = _data_array("Points", "f8", pts, 3, mode, points_declared, points_body)
@@ -90,15 +117,19 @@ def vtk_xml(kind="PolyData", mode="ascii", n_points=None, n_cells=None, points_b
     region = _data_array("region", "i4", np.ones(N_TRIANGLES), 1, mode)
     if kind == "PolyData":
         nverts = "0" if verts is None else verts
-        piece = (f'<Piece NumberOfPoints="{npts}" NumberOfVerts="{nverts}" NumberOfLines="0" '
-                 f'NumberOfStrips="0" NumberOfPolys="{ncells}"{extra_attrs}>\n'
-                 f"<Points>{points}</Points><Polys>{arrays}</Polys>"
-                 f"<CellData>{region}</CellData></Piece>\n")  # fmt: skip
+        piece = (
+            f'<Piece NumberOfPoints="{npts}" NumberOfVerts="{nverts}" NumberOfLines="0" '
+            f'NumberOfStrips="0" NumberOfPolys="{ncells}"{extra_attrs}>\n'
+            f"<Points>{points}</Points><Polys>{arrays}</Polys>"
+            f"<CellData>{region}</CellData></Piece>\n"
+        )
     else:
         types = _data_array("types", "u1", np.full(N_TRIANGLES, 5), 1, mode)
-        piece = (f'<Piece NumberOfPoints="{npts}" NumberOfCells="{ncells}"{extra_attrs}>\n'
-                 f"<Points>{points}</Points><Cells>{arrays}{types}</Cells>"
-                 f"<CellData>{region}</CellData></Piece>\n")  # fmt: skip
+        piece = (
+            f'<Piece NumberOfPoints="{npts}" NumberOfCells="{ncells}"{extra_attrs}>\n'
+            f"<Points>{points}</Points><Cells>{arrays}{types}</Cells>"
+            f"<CellData>{region}</CellData></Piece>\n"
+        )
     return (head + piece + f"</{kind}>\n</VTKFile>\n").encode()
 
 
@@ -332,8 +363,9 @@ def _vtk_legacy_cases(tmp_path) -> dict[str, bytes]:
                 cells_line, b"CELLS " + value + b" " + cells_line.split()[2], 1
             )
         cases.update(_truncations(name, data, (0.3, 0.5, 0.7, 0.9)))
-        with_data = meshio.Mesh(MESH.points, [("triangle", MESH.triangles)],
-                                cell_data={"q": [np.ones(N_TRIANGLES)]})  # fmt: skip
+        with_data = meshio.Mesh(
+            MESH.points, [("triangle", MESH.triangles)], cell_data={"q": [np.ones(N_TRIANGLES)]}
+        )
         meshio.write(out, with_data, file_format="vtk", binary=binary)
         data = out.read_bytes()
         field = f"q 1 {N_TRIANGLES} double".encode()
@@ -368,8 +400,12 @@ def _stl_cases(tmp_path) -> dict[str, bytes]:
     cases.update(_truncations("stl-binary", data))
     text = write_mesh(MESH, tmp_path / "a.stl").read_text()
     vertex = next(ln for ln in text.splitlines() if "vertex" in ln)
-    for name, new in (("two-coordinates", "vertex 1 2"), ("words", "vertex x y z"),
-                      ("nan", "vertex nan 0 0"), ("inf", "vertex inf 0 0")):  # fmt: skip
+    for name, new in (
+        ("two-coordinates", "vertex 1 2"),
+        ("words", "vertex x y z"),
+        ("nan", "vertex nan 0 0"),
+        ("inf", "vertex inf 0 0"),
+    ):
         cases[f"stl-ascii-{name}"] = text.replace(vertex, "      " + new, 1).encode()
     cases["stl-ascii-two-vertices"] = text.replace(vertex + "\n", "", 1).encode()
     cases["stl-ascii-no-facets"] = b"solid empty\nendsolid empty\n"
@@ -387,8 +423,13 @@ def _obj_cases(tmp_path) -> dict[str, bytes]:
             tokens[1 + position] = bad
             cases[f"obj-face{position}-{bad}"] = text.replace(face, " ".join(tokens), 1)
     cases["obj-face-two-corners"] = text.replace(face, "f 1 2", 1)
-    for name, new in (("two-coordinates", "v 1 2"), ("words", "v x y z"), ("nan", "v nan 0 0"),
-                      ("inf", "v 0 inf 0"), ("huge", "v 1e999 0 0")):  # fmt: skip
+    for name, new in (
+        ("two-coordinates", "v 1 2"),
+        ("words", "v x y z"),
+        ("nan", "v nan 0 0"),
+        ("inf", "v 0 inf 0"),
+        ("huge", "v 1e999 0 0"),
+    ):
         cases[f"obj-vertex-{name}"] = text.replace(vertex, new, 1)
     cases["obj-no-faces"] = "\n".join(ln for ln in text.splitlines() if not ln.startswith("f"))
     cases["obj-only-quads"] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
@@ -619,8 +660,13 @@ def test_bombs_are_refused_without_the_memory_they_declare(damaged):
     assert len(bombs) == 6
     root = Path(__file__).resolve().parents[1]
     env = dict(os.environ, PYTHONPATH=str(root))
-    r = subprocess.run([sys.executable, "-c", BOMB_CHILD, *bombs], capture_output=True,
-                       text=True, timeout=120, env=env)  # fmt: skip
+    r = subprocess.run(
+        [sys.executable, "-c", BOMB_CHILD, *bombs],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+    )
     assert r.returncode == 0, r.stderr
     grown_kb = int(r.stdout.strip().splitlines()[-1])
     assert grown_kb < 50 * 1024  # the bombs declare 256 MiB to 1.5 GiB

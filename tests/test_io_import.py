@@ -228,7 +228,6 @@ def test_bad_unit(tmp_path):
 def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
     """MSH 4.1 is read by our own reader: the same triangles, regions and patches as written."""
     from barymesh.io.meshio_formats import to_meshio
-
     from helpers import canonical_meshes
 
     mesh = canonical_meshes()["double-ring"]
@@ -247,7 +246,8 @@ def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
 def test_makarov_mat_version_4(tmp_path):
     """MATLAB v4 files (no header) are read after their variable headers are checked."""
     path = tmp_path / "v4.mat"
-    scipy.io.savemat(path, {"p": POINTS[:4].T, "t": np.vstack([TRIANGLES.T + 1, [1, 1]])},
-                     format="4")  # fmt: skip
+    scipy.io.savemat(
+        path, {"p": POINTS[:4].T, "t": np.vstack([TRIANGLES.T + 1, [1, 1]])}, format="4"
+    )
     mesh = read_mesh(path, unit="mm")
     assert mesh.n_triangles == 2 and mesh.areas.sum() == pytest.approx(1.0)

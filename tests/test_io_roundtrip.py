@@ -5,7 +5,6 @@ import numpy as np
 import pytest
 import scipy.io
 from barymesh.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
-
 from helpers import canonical_meshes
 
 pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # meshio STL

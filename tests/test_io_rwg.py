@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 from barymesh.io import write_mesh
-
 from helpers import canonical_meshes
 
 

@@ -5,8 +5,15 @@ import pytest
 from barymesh import MeshParams, build_mesh
 from barymesh.io import write_mesh
 
-COLUMNS = ("edge", "vertex_1", "vertex_2", "t_plus", "t_minus", "free_vertex_plus",
-           "free_vertex_minus")
+COLUMNS = (
+    "edge",
+    "vertex_1",
+    "vertex_2",
+    "t_plus",
+    "t_minus",
+    "free_vertex_plus",
+    "free_vertex_minus",
+)
 
 
 @pytest.mark.parametrize("unit", ["mm", "um"])
@@ -17,8 +24,15 @@ def test_every_rwg_csv_column(tmp_path, unit):
     assert header == [*COLUMNS, f"length_{unit}"]
     table = np.loadtxt(path, delimiter=",", skiprows=1)
     rwg = mesh.rwg
-    expect = [rwg.edge, rwg.vertices[:, 0], rwg.vertices[:, 1], rwg.t_plus, rwg.t_minus,
-              rwg.free_vertex_plus, rwg.free_vertex_minus]
+    expect = [
+        rwg.edge,
+        rwg.vertices[:, 0],
+        rwg.vertices[:, 1],
+        rwg.t_plus,
+        rwg.t_minus,
+        rwg.free_vertex_plus,
+        rwg.free_vertex_minus,
+    ]
     for k, name in enumerate(COLUMNS):
         assert np.array_equal(table[:, k], expect[k]), name
     # vertex_1 < vertex_2: the edge's vertices in the mesh's edge order

@@ -217,10 +217,18 @@ def t_junction(n=10, size=100.0, fin=50.0):
     extra = np.column_stack([xx.ravel(), np.zeros(xx.size), zz.ravel()])
     points = np.concatenate([plate.points, extra])
     on_line = np.arange(n + 1) * 3 + 1  # plate vertices with y = 0, in order of x
-    column = np.column_stack([on_line, len(plate.points) + 2 * np.arange(n + 1),
-                              len(plate.points) + 2 * np.arange(n + 1) + 1])  # fmt: skip
-    quads = [(column[i, j], column[i + 1, j], column[i + 1, j + 1], column[i, j + 1])
-             for i in range(n) for j in range(2)]  # fmt: skip
+    column = np.column_stack(
+        [
+            on_line,
+            len(plate.points) + 2 * np.arange(n + 1),
+            len(plate.points) + 2 * np.arange(n + 1) + 1,
+        ]
+    )
+    quads = [
+        (column[i, j], column[i + 1, j], column[i + 1, j + 1], column[i, j + 1])
+        for i in range(n)
+        for j in range(2)
+    ]
     fin_tri = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
     tri = np.concatenate([plate.triangles, np.array(fin_tri)])
     zeros = np.zeros(len(tri), dtype=int)

@@ -45,8 +45,24 @@ def test_single_frequency_writes_the_currents_for_paraview(tmp_path, monkeypatch
     from barymesh.app import cli
 
     monkeypatch.chdir(tmp_path)  # in-process (fast); the sweep below runs as a subprocess
-    code = cli.main(["solve", *SMALL, "--freq", "6.19GHz", "--dir", "-z", "--pol", "y",
-                     "-o", "j.vtu", "-o", "j.npz", "-o", "one.csv"])  # fmt: skip
+    code = cli.main(
+        [
+            "solve",
+            *SMALL,
+            "--freq",
+            "6.19GHz",
+            "--dir",
+            "-z",
+            "--pol",
+            "y",
+            "-o",
+            "j.vtu",
+            "-o",
+            "j.npz",
+            "-o",
+            "one.csv",
+        ]
+    )
     out = capsys.readouterr()
     assert code == 0, out.err
     assert "139 RWG unknowns" in out.out and "extinction" in out.out
@@ -67,8 +83,18 @@ def test_single_frequency_writes_the_currents_for_paraview(tmp_path, monkeypatch
 
 
 def test_sweep_writes_csv_and_plot_and_finds_the_resonance(tmp_path):
-    r = run(*SMALL, "--freq", "5GHz:7.5GHz:11", "--pol", "0,1,0", "-o", "sweep.csv",
-            "--plot", "sweep.png", cwd=tmp_path)  # fmt: skip
+    r = run(
+        *SMALL,
+        "--freq",
+        "5GHz:7.5GHz:11",
+        "--pol",
+        "0,1,0",
+        "-o",
+        "sweep.csv",
+        "--plot",
+        "sweep.png",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     with open(tmp_path / "sweep.csv") as fh:
         reader = csv.reader(fh)
@@ -94,8 +120,9 @@ def test_feed_prints_the_input_impedance(capsys):
     from barymesh.app import cli
 
     # Makarov's plate fed across its middle line x = 0 (a vertical mesh line)
-    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "100MHz",
-                     "--feed", "0,-500:0,500"])  # fmt: skip
+    code = cli.main(
+        ["solve", "--preset", "makarov-plate", "--freq", "100MHz", "--feed", "0,-500:0,500"]
+    )
     out = capsys.readouterr()
     assert code == 0, out.err
     line = next(x for x in out.out.splitlines() if "input impedance" in x)
@@ -108,8 +135,18 @@ def test_screenshot_renders_the_current_headless(tmp_path):
     import imageio.v3 as iio
 
     # without a display (run() drops DISPLAY), as `barymesh mesh --screenshot` renders
-    r = run("--preset", "makarov-platefine", "--freq", "300MHz", "--screenshot", "j.png",
-            "--window-size", "640", "480", cwd=tmp_path)  # fmt: skip
+    r = run(
+        "--preset",
+        "makarov-platefine",
+        "--freq",
+        "300MHz",
+        "--screenshot",
+        "j.png",
+        "--window-size",
+        "640",
+        "480",
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     assert "wrote j.png (640x480 px)" in r.stdout
     image = iio.imread(tmp_path / "j.png")[..., :3].astype(int)
@@ -161,13 +198,29 @@ def in_process(capsys, code, *args, fragments=()):
 
 
 def test_too_large_a_problem_is_refused_naming_n_and_memory(capsys):
-    in_process(capsys, 1, *SMALL, "--freq", "6GHz", "--max-memory", "100kB",
-               fragments=("N = 139 unknowns need", "MiB", "memory_limit of 0.1 MiB"))  # fmt: skip
+    in_process(
+        capsys,
+        1,
+        *SMALL,
+        "--freq",
+        "6GHz",
+        "--max-memory",
+        "100kB",
+        fragments=("N = 139 unknowns need", "MiB", "memory_limit of 0.1 MiB"),
+    )
 
 
 def test_feed_off_the_mesh_edges_is_bad_input(capsys):
-    in_process(capsys, 1, *SMALL, "--freq", "6GHz", "--feed", "100,100:100,101",
-               fragments=("no interior edge lies on the feed segment",))  # fmt: skip
+    in_process(
+        capsys,
+        1,
+        *SMALL,
+        "--freq",
+        "6GHz",
+        "--feed",
+        "100,100:100,101",
+        fragments=("no interior edge lies on the feed segment",),
+    )
 
 
 def test_solution_warnings_are_printed(tmp_path, monkeypatch, capsys):

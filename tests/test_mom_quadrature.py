@@ -20,10 +20,12 @@ def test_rule_integrates_every_monomial_up_to_its_degree(order):
     # and not one degree more (each rule is the smallest of its degree here)
     i = order + 1
     worst = max(
-        abs(np.sum(w * bary[:, 0] ** a * bary[:, 1] ** (i - a)) - 2.0 * factorial(a)
-            * factorial(i - a) / factorial(i + 2))
+        abs(
+            np.sum(w * bary[:, 0] ** a * bary[:, 1] ** (i - a))
+            - 2.0 * factorial(a) * factorial(i - a) / factorial(i + 2)
+        )
         for a in range(i + 1)
-    )  # fmt: skip
+    )
     assert worst > 1e-12
 
 

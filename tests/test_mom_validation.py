@@ -67,9 +67,13 @@ def _energy_cases():
         ("srr-resonance", srr, 6.19e9, PlaneWave(polarization=(0, 1, 0))),
         ("srr-off-resonance", srr, 10e9, PlaneWave(polarization=(1, 0, 0))),
         ("srr-edge-on", srr, 8e9, PlaneWave(direction=(1, 0, 0), polarization=(0, 1, 0))),
-        ("double-ring", MeshParams(angle_step=15.0, subdivisions=2, mode="conforming"), 20e9,
-         PlaneWave()),
-    ]  # fmt: skip
+        (
+            "double-ring",
+            MeshParams(angle_step=15.0, subdivisions=2, mode="conforming"),
+            20e9,
+            PlaneWave(),
+        ),
+    ]
 
 
 @pytest.mark.parametrize(("name", "params", "freq", "wave"), _energy_cases())
@@ -285,10 +289,13 @@ def _gmsh_split_ring(size, r_in=3.5, r_out=4.0, half_gap=0.5):
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("srr")
         occ = gmsh.model.occ
-        ring, _ = occ.cut([(2, occ.addDisk(0, 0, 0, r_out, r_out))],
-                          [(2, occ.addDisk(0, 0, 0, r_in, r_in)),
-                           (2, occ.addRectangle(-r_out - 1, -half_gap, 0, r_out + 1,
-                                                2 * half_gap))])  # fmt: skip
+        ring, _ = occ.cut(
+            [(2, occ.addDisk(0, 0, 0, r_out, r_out))],
+            [
+                (2, occ.addDisk(0, 0, 0, r_in, r_in)),
+                (2, occ.addRectangle(-r_out - 1, -half_gap, 0, r_out + 1, 2 * half_gap)),
+            ],
+        )
         occ.synchronize()
         assert len(ring) == 1
         gmsh.option.setNumber("Mesh.MeshSizeMin", size)

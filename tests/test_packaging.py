@@ -12,9 +12,8 @@ import venv
 import zipfile
 from pathlib import Path
 
-import pytest
-
 import barymesh
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
@@ -33,7 +32,7 @@ def _folder_packages() -> set[str]:
             if "__pycache__" not in rel:
                 names.add(".".join((prefix, *rel)))
         for data in SETUPTOOLS["package-data"]:
-            if data.startswith(prefix + ".") and data[len(prefix) + 1:].count(".") == 0:
+            if data.startswith(prefix + ".") and data[len(prefix) + 1 :].count(".") == 0:
                 names.add(data)
     return names
 
@@ -66,8 +65,14 @@ def test_editable_install_gives_barymesh_alone(tmp_path):
         "print(u.find_spec('core'), u.find_spec('app'));"
         "print(len(p.preset_names()))"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=_clean_env(),
-                         capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=tmp_path,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 0, out.stderr
     files, specs, presets = out.stdout.splitlines()
     assert files.split() == [str(ROOT / "core" / "__init__.py"), str(ROOT / "app" / "__init__.py")]
@@ -76,8 +81,14 @@ def test_editable_install_gives_barymesh_alone(tmp_path):
 
 
 def test_python_dash_m_barymesh_is_the_command(tmp_path):
-    out = subprocess.run([sys.executable, "-m", "barymesh", "presets"], cwd=tmp_path,
-                         env=_clean_env(), capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [sys.executable, "-m", "barymesh", "presets"],
+        cwd=tmp_path,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 0, out.stderr
     assert "paper-fig10" in out.stdout and "hexagonal-rings" in out.stdout
 
@@ -87,7 +98,11 @@ def wheel(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("wheel")
     build = subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(out), str(ROOT)],
-        cwd=out, capture_output=True, text=True, timeout=600)
+        cwd=out,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert build.returncode == 0, build.stderr
     (path,) = out.glob("barymesh-0.2.0-*.whl")
     return path
@@ -110,9 +125,14 @@ def test_wheel_in_a_fresh_environment(wheel, tmp_path):
     env_dir = tmp_path / "env"
     venv.create(env_dir, with_pip=True)
     python = env_dir / "bin" / "python"
-    install = subprocess.run([python, "-m", "pip", "install", "--quiet", str(wheel)],
-                             cwd=tmp_path, env=_clean_env(), capture_output=True, text=True,
-                             timeout=900)
+    install = subprocess.run(
+        [python, "-m", "pip", "install", "--quiet", str(wheel)],
+        cwd=tmp_path,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert install.returncode == 0, install.stderr
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
@@ -121,25 +141,60 @@ def test_wheel_in_a_fresh_environment(wheel, tmp_path):
         "print(barymesh.__file__);"
         "print(u.find_spec('core'), u.find_spec('app'))"
     )
-    out = subprocess.run([python, "-c", code], cwd=elsewhere, env=_clean_env(),
-                         capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [python, "-c", code],
+        cwd=elsewhere,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 0, out.stderr
     where, specs = out.stdout.splitlines()
     assert Path(where).is_relative_to(env_dir) and specs == "None None"
     stats = subprocess.run(
         [env_dir / "bin" / "barymesh", "mesh", "--preset", "paper-fig10", "--stats-json", "-"],
-        cwd=elsewhere, env=_clean_env(), capture_output=True, text=True, timeout=120)
+        cwd=elsewhere,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert stats.returncode == 0, stats.stderr
     assert json.loads(stats.stdout)["triangles"] == 32
     cell = subprocess.run(
-        [env_dir / "bin" / "barymesh", "mesh", "--cell-preset", "hexagonal-rings",
-         "--stats-json", "-"],
-        cwd=elsewhere, env=_clean_env(), capture_output=True, text=True, timeout=300)
+        [
+            env_dir / "bin" / "barymesh",
+            "mesh",
+            "--cell-preset",
+            "hexagonal-rings",
+            "--stats-json",
+            "-",
+        ],
+        cwd=elsewhere,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert cell.returncode == 0, cell.stderr
     # the same cell as the checkout's own command line builds it
     here = subprocess.run(
-        [sys.executable, "-m", "barymesh", "mesh", "--cell-preset", "hexagonal-rings",
-         "--stats-json", "-"], cwd=elsewhere, env=_clean_env(), capture_output=True, text=True,
-        timeout=300)
+        [
+            sys.executable,
+            "-m",
+            "barymesh",
+            "mesh",
+            "--cell-preset",
+            "hexagonal-rings",
+            "--stats-json",
+            "-",
+        ],
+        cwd=elsewhere,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert json.loads(cell.stdout) == json.loads(here.stdout)
     assert json.loads(cell.stdout)["cell"]["triangles"] == 688  # 43 patches of 16

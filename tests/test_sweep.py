@@ -5,16 +5,31 @@ import numpy as np
 import pytest
 from barymesh import MeshParams
 from barymesh.app.teach.sweep import frame_caption, render_sweep
-
 from test_cli import assert_one_line_error, run
 
 
 @pytest.mark.parametrize("suffix", [".gif", ".mp4"])
 def test_sweep_command_writes_the_asked_frames(tmp_path, suffix):
     out = tmp_path / f"sweep{suffix}"
-    r = run("sweep", "--preset", "paper-fig10", "--param", "subdivisions", "--from", "1",
-            "--to", "4", "--frames", "4", "--window-size", "320", "240", "-o", out.name,
-            cwd=tmp_path)  # fmt: skip
+    r = run(
+        "sweep",
+        "--preset",
+        "paper-fig10",
+        "--param",
+        "subdivisions",
+        "--from",
+        "1",
+        "--to",
+        "4",
+        "--frames",
+        "4",
+        "--window-size",
+        "320",
+        "240",
+        "-o",
+        out.name,
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     assert "wrote" in r.stdout and "4 frames" in r.stdout
     reader = imageio.get_reader(out)
@@ -30,9 +45,15 @@ def test_sweep_command_writes_the_asked_frames(tmp_path, suffix):
 def test_sweep_in_process_reports_progress(tmp_path):
     seen = []
     n = render_sweep(
-        MeshParams(angle_step=20), "angle_step", 20, 10, 3, tmp_path / "a.gif",
-        window_size=(200, 160), progress=lambda done, total: seen.append((done, total)),
-    )  # fmt: skip
+        MeshParams(angle_step=20),
+        "angle_step",
+        20,
+        10,
+        3,
+        tmp_path / "a.gif",
+        window_size=(200, 160),
+        progress=lambda done, total: seen.append((done, total)),
+    )
     assert n == 3
     assert seen[-1] == (6, 6) and len(seen) == 6
 
@@ -47,18 +68,44 @@ def test_frame_caption():
 @pytest.mark.parametrize(
     ("args", "code", "fragment"),
     [
-        (["--param", "mode", "--from", "1", "--to", "2", "--frames", "3", "-o", "a.gif"], 2,
-         "invalid choice: 'mode'"),
-        (["--param", "patch_size", "--from", "1", "--to", "2", "--frames", "1", "-o", "a.gif"], 2,
-         "--frames 1 is invalid"),
-        (["--param", "patch_size", "--from", "1", "--to", "2", "--frames", "3", "-o", "a.avi"], 2,
-         "expected a .gif or .mp4 file"),
-        (["--param", "patch_size", "--from", "1", "--to", "-1", "--frames", "3", "-o", "a.gif"], 1,
-         "sweep frame 2 of 3 (patch_size=0.0)"),
-        (["--param", "patch_size", "--from", "1", "--to", "2", "--frames", "3", "-o", "no/a.gif"],
-         1, "does not exist"),
+        (
+            ["--param", "mode", "--from", "1", "--to", "2", "--frames", "3", "-o", "a.gif"],
+            2,
+            "invalid choice: 'mode'",
+        ),
+        (
+            ["--param", "patch_size", "--from", "1", "--to", "2", "--frames", "1", "-o", "a.gif"],
+            2,
+            "--frames 1 is invalid",
+        ),
+        (
+            ["--param", "patch_size", "--from", "1", "--to", "2", "--frames", "3", "-o", "a.avi"],
+            2,
+            "expected a .gif or .mp4 file",
+        ),
+        (
+            ["--param", "patch_size", "--from", "1", "--to", "-1", "--frames", "3", "-o", "a.gif"],
+            1,
+            "sweep frame 2 of 3 (patch_size=0.0)",
+        ),
+        (
+            [
+                "--param",
+                "patch_size",
+                "--from",
+                "1",
+                "--to",
+                "2",
+                "--frames",
+                "3",
+                "-o",
+                "no/a.gif",
+            ],
+            1,
+            "does not exist",
+        ),
     ],
-)  # fmt: skip
+)
 def test_sweep_errors(tmp_path, args, code, fragment):
     r = run("sweep", *args, cwd=tmp_path)
     assert_one_line_error(r, code, fragment)
@@ -134,7 +181,6 @@ def test_sweep_frames_draw_triangle_edges_and_centroids(tmp_path):
     pytest.importorskip("pyvista")
     from barymesh.app.view.scene import COLORS
     from barymesh.presets import load_preset
-
     from gui_helpers import colour_pixels
 
     base, _ = load_preset("paper-fig12c")

@@ -30,9 +30,11 @@ def ghost_shade(color: str = GHOST_COLOR, opacity: float = GHOST_OPACITY) -> str
     >>> ghost_shade()
     '#e8ebee'
     """
-    rgb = np.array([int(color[i:i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    rgb = np.array([int(color[i : i + 2], 16) for i in (1, 3, 5)], dtype=float)
     mixed = np.round(opacity * rgb + (1.0 - opacity) * 255.0).astype(int)
     return "#" + "".join(f"{v:02x}" for v in mixed)
+
+
 OUTLINE_COLOR = "#2b2b2b"
 COPY_OUTLINE_COLOR = "#8c8c8c"
 _NAMES = ("cell_ghosts", "cell_outline", "cell_copy_outlines")
@@ -87,11 +89,21 @@ class ArrayPreview:
             return
         shifts = copy_shifts(lattice, n1, n2)
         common = {"reset_camera": False, "lighting": False, "render": False, "pickable": False}
-        self.plotter.add_mesh(_outlines(lattice, shifts[:1]), color=OUTLINE_COLOR,
-                              line_width=2.5, name="cell_outline", **common)
+        self.plotter.add_mesh(
+            _outlines(lattice, shifts[:1]),
+            color=OUTLINE_COLOR,
+            line_width=2.5,
+            name="cell_outline",
+            **common,
+        )
         if len(shifts) > 1:
-            self.plotter.add_mesh(_outlines(lattice, shifts[1:]), color=COPY_OUTLINE_COLOR,
-                                  line_width=1.0, name="cell_copy_outlines", **common)
+            self.plotter.add_mesh(
+                _outlines(lattice, shifts[1:]),
+                color=COPY_OUTLINE_COLOR,
+                line_width=1.0,
+                name="cell_copy_outlines",
+                **common,
+            )
         corners = (shifts[:, None, :] + lattice.corners()[None]).reshape(-1, 2)
         lo, hi = corners.min(axis=0), corners.max(axis=0)
         if mesh is not None and mesh.n_triangles:

@@ -99,10 +99,12 @@ class CellState:
         """The selected element's parameters (in the cell's mode), or None."""
         return None if self.selected is None else self.elements[self.selected].params
 
-    def _with(self, elements: list[Element], hidden: list[bool], selected: int | None,
-              **cell_changes: Any) -> CellState:
-        return CellState(self.cell.replace(elements=tuple(elements), **cell_changes),
-                         tuple(hidden), selected)
+    def _with(
+        self, elements: list[Element], hidden: list[bool], selected: int | None, **cell_changes: Any
+    ) -> CellState:
+        return CellState(
+            self.cell.replace(elements=tuple(elements), **cell_changes), tuple(hidden), selected
+        )
 
     def _check(self, k: int) -> None:
         if not isinstance(k, int) or not 0 <= k < len(self.elements):
@@ -124,8 +126,12 @@ class CellState:
         els[self.selected] = Element(params, old.position, old.rotation, old.name)
         return self._with(els, list(self.hidden), self.selected, mode=params.mode)
 
-    def added(self, params: MeshParams, name: str | None = None,
-              position: tuple[float, float] = (0.0, 0.0)) -> CellState:
+    def added(
+        self,
+        params: MeshParams,
+        name: str | None = None,
+        position: tuple[float, float] = (0.0, 0.0),
+    ) -> CellState:
         """A new element at the end (selected), named after its structure by default."""
         name = unique_name(name or params.structure, tuple(el.name for el in self.elements))
         params = params.replace(mode=self.cell.mode)
@@ -136,8 +142,12 @@ class CellState:
         """A copy of element ``k`` right after it (selected), named ``name 2``…"""
         self._check(k)
         el = self.elements[k]
-        copy = Element(el.params, el.position, el.rotation,
-                       unique_name(el.name, tuple(e.name for e in self.elements)))
+        copy = Element(
+            el.params,
+            el.position,
+            el.rotation,
+            unique_name(el.name, tuple(e.name for e in self.elements)),
+        )
         els, hidden = list(self.elements), list(self.hidden)
         els.insert(k + 1, copy)
         hidden.insert(k + 1, hidden[k])
@@ -179,8 +189,12 @@ class CellState:
         """Element ``k`` moved to ``position`` (x, y mm) and/or turned to ``rotation`` (°)."""
         self._check(k)
         el = self.elements[k]
-        new = Element(el.params, el.position if position is None else position,
-                      el.rotation if rotation is None else rotation, el.name)
+        new = Element(
+            el.params,
+            el.position if position is None else position,
+            el.rotation if rotation is None else rotation,
+            el.name,
+        )
         els = list(self.elements)
         els[k] = new
         return self._with(els, list(self.hidden), self.selected)
@@ -193,8 +207,9 @@ class CellState:
         elif kind == "hexagonal":
             lattice = Lattice.hexagonal(period1)
         else:
-            raise ValueError(f"lattice kind={kind!r} is unknown; expected one of "
-                             f"{', '.join(LATTICE_KINDS)}")
+            raise ValueError(
+                f"lattice kind={kind!r} is unknown; expected one of {', '.join(LATTICE_KINDS)}"
+            )
         return CellState(self.cell.replace(lattice=lattice), self.hidden, self.selected)
 
 

@@ -58,8 +58,10 @@ class CellStats(QWidget):
         if not stats:
             return
         cell = result.cell
-        self.title.setText(f"<b>Cell {cell.name}</b>: {cell.lattice.kind} lattice, "
-                           f"{cell.mode} mode; each part alone:")
+        self.title.setText(
+            f"<b>Cell {cell.name}</b>: {cell.lattice.kind} lattice, "
+            f"{cell.mode} mode; each part alone:"
+        )
         parts = stats["parts"]
         self.table.setRowCount(len(parts))
         for r, part in enumerate(parts):
@@ -73,8 +75,10 @@ class CellStats(QWidget):
         height += sum(self.table.rowHeight(r) for r in range(len(parts)))
         self.table.setFixedHeight(min(height, 240))
         pairs, unmatched = stats["periodic_edge_pairs"], stats["unmatched_periodic_edges"]
-        self.periodic.setText(f"Periodic edge pairs across the cell's sides: {pairs:,}"
-                              + (f" ({unmatched:,} edges without a partner)" if unmatched else ""))
+        self.periodic.setText(
+            f"Periodic edge pairs across the cell's sides: {pairs:,}"
+            + (f" ({unmatched:,} edges without a partner)" if unmatched else "")
+        )
         self.notes.setText("\n".join(stats["notes"]))
         self.notes.setVisible(bool(stats["notes"]))
 

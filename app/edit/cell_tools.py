@@ -46,22 +46,36 @@ class CellTools:
         self.lattice = LatticePanel(self.model, box)
         col.addWidget(self.elements, 1)
         col.addWidget(self.lattice)
-        self.dock = window._add_dock("Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea,
-                                     scroll=True)
+        self.dock = window._add_dock(
+            "Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea, scroll=True
+        )
         if self.model.cell_state is None:  # shown when a cell is opened (or from the menu)
             self.dock.hide()
         self.preview = ArrayPreview(window.plotter)
         a = window._action
-        self.act_open = a("Open c&ell…", self.open_cell_dialog, "Ctrl+Shift+O",
-                          "Open a unit cell (*.cell.json): its elements, lattice and pixels")
-        self.act_save = a("Sa&ve cell…", self.save_cell_dialog, "Ctrl+Shift+S",
-                          "Save the unit cell (hidden elements included) as *.cell.json")
-        self.act_new = a("&New cell from this structure", self.new_cell_from_structure,
-                         tip="A unit cell holding the structure of the Parameters panel, on a "
-                             "square lattice a little larger than it")
-        self.act_export_array = a("Export &array mesh…", self.export_array_dialog,
-                                  tip="Weld n1 x n2 copies of the cell (the preview's) into "
-                                      "one mesh and write it")
+        self.act_open = a(
+            "Open c&ell…",
+            self.open_cell_dialog,
+            "Ctrl+Shift+O",
+            "Open a unit cell (*.cell.json): its elements, lattice and pixels",
+        )
+        self.act_save = a(
+            "Sa&ve cell…",
+            self.save_cell_dialog,
+            "Ctrl+Shift+S",
+            "Save the unit cell (hidden elements included) as *.cell.json",
+        )
+        self.act_new = a(
+            "&New cell from this structure",
+            self.new_cell_from_structure,
+            tip="A unit cell holding the structure of the Parameters panel, on a "
+            "square lattice a little larger than it",
+        )
+        self.act_export_array = a(
+            "Export &array mesh…",
+            self.export_array_dialog,
+            tip="Weld n1 x n2 copies of the cell (the preview's) into one mesh and write it",
+        )
         self.dragger = ElementDragger(window)
         self.preset_actions: dict[str, QAction] = {}
         self.model.cell_changed.connect(self._cell_changed)
@@ -71,8 +85,7 @@ class CellTools:
 
     def add_to_menus(self, file: QMenu, cell: QMenu) -> None:
         """Open / Save cell into File (after Save parameters), the rest into Cell."""
-        anchor = next((act for act in file.actions()
-                       if act is self.window.act_save), None)
+        anchor = next((act for act in file.actions() if act is self.window.act_save), None)
         after = file.actions()[file.actions().index(anchor) + 1] if anchor else None
         file.insertActions(after, [self.act_open, self.act_save])
         presets = cell.addMenu("Cell &presets")
@@ -91,8 +104,14 @@ class CellTools:
             presets.addAction("(no cell presets found)").setEnabled(False)
         cell.addActions([self.act_new, self.act_open, self.act_save])
         cell.addSeparator()
-        cell.addActions([self.elements.act_duplicate, self.elements.act_delete,
-                         self.elements.act_up, self.elements.act_down])
+        cell.addActions(
+            [
+                self.elements.act_duplicate,
+                self.elements.act_delete,
+                self.elements.act_up,
+                self.elements.act_down,
+            ]
+        )
         cell.addAction(self.dragger.act)
         cell.addAction(self.act_export_array)
         cell.addSeparator()
@@ -101,8 +120,9 @@ class CellTools:
     # -- files and presets ---------------------------------------------------------------
 
     def open_cell_dialog(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self.window, "Open cell",
-                                              self.window._path_setting("cell", ""), CELL_FILTER)
+        path, _ = QFileDialog.getOpenFileName(
+            self.window, "Open cell", self.window._path_setting("cell", ""), CELL_FILTER
+        )
         if path:
             self.window.settings.setValue("paths/cell", path)
             self.open_cell_file(path)
@@ -180,10 +200,15 @@ class CellTools:
                 return
         lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
         centre, size = (lo + hi) / 2, float((hi - lo).max())
-        element = Element(params, position=(-float(centre[0]), -float(centre[1])),
-                          name=params.structure)
-        cell = UnitCell(Lattice.rectangular(round(1.25 * size, 6)), (element,), mode=params.mode,
-                        name=params.structure)
+        element = Element(
+            params, position=(-float(centre[0]), -float(centre[1])), name=params.structure
+        )
+        cell = UnitCell(
+            Lattice.rectangular(round(1.25 * size, 6)),
+            (element,),
+            mode=params.mode,
+            name=params.structure,
+        )
         self.open_cell(cell, f"New cell of the {params.structure}")
 
     # -- the array -------------------------------------------------------------------------
@@ -198,15 +223,20 @@ class CellTools:
 
         # only what write_mesh writes (it offered .nas and .ply, then "cannot write .nas")
         path, chosen = QFileDialog.getSaveFileName(
-            self.window, f"Export {n1} x {n2} array mesh", start, ";;".join(export_filters()))
+            self.window, f"Export {n1} x {n2} array mesh", start, ";;".join(export_filters())
+        )
         if path:
             if not Path(path).suffix:
                 path += filter_extension(chosen) or ".msh"
             self.window.settings.setValue("paths/array", path)
             self.export_array(path)
 
-    def export_array(self, path: str | os.PathLike[str], unit: str | None = None,
-                     done: Callable[[bool], None] | None = None) -> bool:
+    def export_array(
+        self,
+        path: str | os.PathLike[str],
+        unit: str | None = None,
+        done: Callable[[bool], None] | None = None,
+    ) -> bool:
         """Weld the preview's n1 x n2 copies of the cell (:func:`barymesh.cell.tile`) and write
         them (the format from the extension), both in a worker thread with progress and
         Cancel (:meth:`MainWindow.run_export`). Returns whether the export started."""
@@ -218,8 +248,11 @@ class CellTools:
             return False
         n1, n2 = self.lattice.copies
         result = self.model.result
-        base = (result.cell_mesh if result is not None and result.cell == state.visible
-                else state.visible)
+        base = (
+            result.cell_mesh
+            if result is not None and result.cell == state.visible
+            else state.visible
+        )
 
         made = {}
 
@@ -231,8 +264,7 @@ class CellTools:
             self.last_array = made["array"]
             return f"Wrote the {n1} x {n2} array ({mesh.n_triangles:,} triangles): {described}"
 
-        return self.window.run_export(path, unit, make, f"the {n1} x {n2} array", done,
-                                      wrote=wrote)
+        return self.window.run_export(path, unit, make, f"the {n1} x {n2} array", done, wrote=wrote)
 
     # -- model -> window ---------------------------------------------------------------------
 

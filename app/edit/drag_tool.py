@@ -41,8 +41,9 @@ def snapped(value: float, grid: float | None) -> float:
     return round(round(value / grid) * grid, 12)
 
 
-def edge_snap(moving: np.ndarray, others: np.ndarray, reach: float) -> tuple[float | None,
-                                                                               float | None]:
+def edge_snap(
+    moving: np.ndarray, others: np.ndarray, reach: float
+) -> tuple[float | None, float | None]:
     """The shift (dx, dy) that puts a side of box ``moving`` onto the nearest side of one
     of ``others`` within ``reach`` mm, per axis; None where no side is that close.
 
@@ -79,9 +80,13 @@ class ElementDragger(QObject):
         self._box = np.zeros(4)  # the dragged element's box (x0, y0, x1, y1) at the press
         self._others = np.zeros((0, 4))  # the other shown elements' boxes
         self._actor: Any = None
-        self.act = window._action("&Drag elements", self.set_active, "G",
-                                  "Move an element by dragging it in the view (snapped to the "
-                                  "Elements panel's grid)", checkable=True)
+        self.act = window._action(
+            "&Drag elements",
+            self.set_active,
+            "G",
+            "Move an element by dragging it in the view (snapped to the Elements panel's grid)",
+            checkable=True,
+        )
         window.plotter.installEventFilter(self)
 
     def set_active(self, on: bool) -> None:
@@ -104,9 +109,9 @@ class ElementDragger(QObject):
         if result is None or result.cell is None or state is None or state.visible != result.cell:
             return None
         ratio = w.plotter.devicePixelRatioF()
-        hit = w.teaching.picker.pick_display(pos.x() * ratio,
-                                             (w.plotter.height() - 1 - pos.y()) * ratio,
-                                             emit=False)
+        hit = w.teaching.picker.pick_display(
+            pos.x() * ratio, (w.plotter.height() - 1 - pos.y()) * ratio, emit=False
+        )
         if hit is None:
             return None
         part = int(result.mesh.regions[hit[0]]) - 1
@@ -123,8 +128,11 @@ class ElementDragger(QObject):
             if kind == QEvent.Type.MouseMove and self.dragging is not None:
                 self._move(event.position())
                 return True
-            if (kind == QEvent.Type.MouseButtonRelease and self.dragging is not None
-                    and event.button() == Qt.MouseButton.LeftButton):
+            if (
+                kind == QEvent.Type.MouseButtonRelease
+                and self.dragging is not None
+                and event.button() == Qt.MouseButton.LeftButton
+            ):
                 self._release(event.position())
                 return True
         except Exception:  # noqa: BLE001 - a drag must never take the window down
@@ -178,15 +186,17 @@ class ElementDragger(QObject):
             y = round(float(raw[1] + dy), 12)
         self.target = (x, y)
         if self._actor is not None:
-            self._actor.SetPosition(self.target[0] - self._origin[0],
-                                    self.target[1] - self._origin[1], 0.0)
+            self._actor.SetPosition(
+                self.target[0] - self._origin[0], self.target[1] - self._origin[1], 0.0
+            )
             self.window.request_render()
 
     def _release(self, pos: QPointF) -> None:
         self._move(pos)
         k, target = self.dragging, self.target
         moved = target is not None and not all(
-            math.isclose(a, b, abs_tol=1e-12) for a, b in zip(target, self._origin, strict=True))
+            math.isclose(a, b, abs_tol=1e-12) for a, b in zip(target, self._origin, strict=True)
+        )
         self._cancel()
         if moved:
             self.window.model.edit_cell(lambda s: s.placed(k, position=target))
@@ -211,7 +221,14 @@ class ElementDragger(QObject):
         lift = 1e-3 * state.cell.lattice.size
         points = np.column_stack([mesh.points[:, :2], np.full(mesh.n_vertices, lift)])
         poly = pv.PolyData(points, faces=faces.astype(np.int64))
-        self._actor = w.plotter.add_mesh(poly, color=DRAG_COLOR, opacity=0.5,
-                                         reset_camera=False, lighting=False, render=False,
-                                         pickable=False, name="element_drag")
+        self._actor = w.plotter.add_mesh(
+            poly,
+            color=DRAG_COLOR,
+            opacity=0.5,
+            reset_camera=False,
+            lighting=False,
+            render=False,
+            pickable=False,
+            name="element_drag",
+        )
         w.request_render()

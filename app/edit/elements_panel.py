@@ -54,8 +54,11 @@ class ElementsPanel(QWidget):
         self.model = model
         col = QVBoxLayout(self)
         col.setContentsMargins(6, 6, 6, 6)
-        self.hint = QLabel("No unit cell is open. File ▸ Open cell…, Cell ▸ Cell presets, or "
-                           "Cell ▸ New cell from this structure.", self)
+        self.hint = QLabel(
+            "No unit cell is open. File ▸ Open cell…, Cell ▸ Cell presets, or "
+            "Cell ▸ New cell from this structure.",
+            self,
+        )
         self.hint.setWordWrap(True)
         col.addWidget(self.hint)
 
@@ -66,8 +69,10 @@ class ElementsPanel(QWidget):
         self.list.setRootIsDecorated(False)
         self.list.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
         self.list.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
-        self.list.setToolTip("Check box: the element is meshed (unchecked: hidden). "
-                             "Double-click a name to rename the element.")
+        self.list.setToolTip(
+            "Check box: the element is meshed (unchecked: hidden). "
+            "Double-click a name to rename the element."
+        )
         self.list.currentItemChanged.connect(self._current_changed)
         self.list.itemChanged.connect(self._item_changed)
         self.list.itemDoubleClicked.connect(self._double_clicked)
@@ -96,14 +101,22 @@ class ElementsPanel(QWidget):
                 act.triggered.connect(lambda _=False, n=name: self.add_preset(n))
         self.add_button.setMenu(self.add_menu)
         row.addWidget(self.add_button)
-        self.act_duplicate = self._button(row, "Duplicate", "Ctrl+D", self.duplicate,
-                                          "Copy the selected element (Ctrl+D)")
-        self.act_delete = self._button(row, "Delete", QKeySequence.StandardKey.Delete,
-                                       self.delete, "Remove the selected element (Del)")
-        self.act_up = self._button(row, "Up", "Alt+Up", lambda: self.move(-1),
-                                   "Move the element up the list (Alt+↑)")
-        self.act_down = self._button(row, "Down", "Alt+Down", lambda: self.move(1),
-                                     "Move the element down the list (Alt+↓)")
+        self.act_duplicate = self._button(
+            row, "Duplicate", "Ctrl+D", self.duplicate, "Copy the selected element (Ctrl+D)"
+        )
+        self.act_delete = self._button(
+            row,
+            "Delete",
+            QKeySequence.StandardKey.Delete,
+            self.delete,
+            "Remove the selected element (Del)",
+        )
+        self.act_up = self._button(
+            row, "Up", "Alt+Up", lambda: self.move(-1), "Move the element up the list (Alt+↑)"
+        )
+        self.act_down = self._button(
+            row, "Down", "Alt+Down", lambda: self.move(1), "Move the element down the list (Alt+↓)"
+        )
         row.addStretch(1)
         col.addLayout(row)
 
@@ -120,8 +133,9 @@ class ElementsPanel(QWidget):
         self.rotation.reverted.connect(self._show_selected)
         self.snap = ValueField(self)
         self.snap.setObjectName("snap_grid")
-        self.snap.setToolTip("Cell ▸ Drag elements puts positions on multiples of this "
-                             "(mm); empty or 0: no snapping")
+        self.snap.setToolTip(
+            "Cell ▸ Drag elements puts positions on multiples of this (mm); empty or 0: no snapping"
+        )
         self.snap.submitted.connect(self._snap_typed)
         self.snap.reverted.connect(lambda: self.snap.show_text(format_value(self.snap_grid)))
         self.snap_grid: float | None = DEFAULT_SNAP
@@ -272,8 +286,10 @@ class ElementsPanel(QWidget):
             self.snap.setStyleSheet("")
             self.show_error(None)
         else:
-            self.show_error(f"snap grid={text.strip()!r} is invalid; expected a length > 0 mm, "
-                            "or empty for no snapping")
+            self.show_error(
+                f"snap grid={text.strip()!r} is invalid; expected a length > 0 mm, "
+                "or empty for no snapping"
+            )
             self._keep_typed(self.snap, text)
 
     def _keep_typed(self, field: ValueField, text: str) -> None:
@@ -290,9 +306,14 @@ class ElementsPanel(QWidget):
             return
         self.hint.setVisible(state is None)
         self.list.blockSignals(True)
-        rows = None if state is None else tuple(
-            (el.name, el.params.structure, h)
-            for el, h in zip(state.elements, state.hidden, strict=True))
+        rows = (
+            None
+            if state is None
+            else tuple(
+                (el.name, el.params.structure, h)
+                for el, h in zip(state.elements, state.hidden, strict=True)
+            )
+        )
         if rows != self._rows:  # a new selection alone keeps the items (and a double click)
             self._rows = rows
             self._fill(state)
@@ -316,10 +337,12 @@ class ElementsPanel(QWidget):
         if state is None:
             return
         for el, hidden in zip(state.elements, state.hidden, strict=True):
-            item = QTreeWidgetItem([el.name, STRUCTURE_TITLES.get(el.params.structure,
-                                                                  el.params.structure)])
-            item.setFlags(item.flags() | Qt.ItemFlag.ItemIsEditable
-                          | Qt.ItemFlag.ItemIsUserCheckable)
+            item = QTreeWidgetItem(
+                [el.name, STRUCTURE_TITLES.get(el.params.structure, el.params.structure)]
+            )
+            item.setFlags(
+                item.flags() | Qt.ItemFlag.ItemIsEditable | Qt.ItemFlag.ItemIsUserCheckable
+            )
             item.setCheckState(0, Qt.CheckState.Unchecked if hidden else Qt.CheckState.Checked)
             if hidden:
                 for c in (0, 1):

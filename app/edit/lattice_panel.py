@@ -12,8 +12,11 @@ from barymesh.app.panels.controls import ValueField, decimal_point
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
 
-KIND_TITLES = {"rectangular": "Rectangular", "hexagonal": "Hexagonal",
-               "oblique": "Oblique (from the file)"}
+KIND_TITLES = {
+    "rectangular": "Rectangular",
+    "hexagonal": "Hexagonal",
+    "oblique": "Oblique (from the file)",
+}
 #: Copies per direction the preview offers.
 MAX_COPIES = 50
 
@@ -27,7 +30,8 @@ def parse_copies(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"\s*(\d{1,6})\s*[xX×]\s*(\d{1,6})\s*", text)
     if not match or not all(1 <= int(g) <= MAX_COPIES for g in match.groups()):
         raise argparse.ArgumentTypeError(
-            f"{text[:40]!r} is invalid; expected N1xN2 copies, each 1 to {MAX_COPIES}, e.g. 3x2")
+            f"{text[:40]!r} is invalid; expected N1xN2 copies, each 1 to {MAX_COPIES}, e.g. 3x2"
+        )
     return int(match[1]), int(match[2])
 
 
@@ -64,8 +68,10 @@ class LatticePanel(QGroupBox):
         self.n2.setObjectName("array_n2")
         for box in (self.n1, self.n2):
             box.setRange(1, MAX_COPIES)
-            box.setToolTip("Copies drawn translucent around the cell (not meshed; "
-                           "Cell ▸ Export array mesh… welds them into one mesh)")
+            box.setToolTip(
+                "Copies drawn translucent around the cell (not meshed; "
+                "Cell ▸ Export array mesh… welds them into one mesh)"
+            )
             box.valueChanged.connect(lambda _v: self.copies_changed.emit(*self.copies))
         form.addRow("&Kind", self.kind)
         form.addRow("Period &1 (mm)", self.period1)
@@ -123,7 +129,9 @@ class LatticePanel(QGroupBox):
         editable = lat.kind in LATTICE_KINDS
         self.period1.setEnabled(editable)
         self.period2.setEnabled(lat.kind == "rectangular")
-        self.vectors.setText(f"a1 = ({format_value(round(lat.a1[0], 9))}, "
-                             f"{format_value(round(lat.a1[1], 9))}) mm, a2 = "
-                             f"({format_value(round(lat.a2[0], 9))}, "
-                             f"{format_value(round(lat.a2[1], 9))}) mm")
+        self.vectors.setText(
+            f"a1 = ({format_value(round(lat.a1[0], 9))}, "
+            f"{format_value(round(lat.a1[1], 9))}) mm, a2 = "
+            f"({format_value(round(lat.a2[0], 9))}, "
+            f"{format_value(round(lat.a2[1], 9))}) mm"
+        )

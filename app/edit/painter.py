@@ -116,8 +116,7 @@ class Built:
     midpoints: np.ndarray | None = None  # (E, 2) their midpoints, to clip to the view
 
 
-def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
-                  generation: int) -> Built:
+def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float, generation: int) -> Built:
     """Mesh ``cell`` and make its face and edge layers (thread-safe: no VTK object is
     made; never raises)."""
     start = time.perf_counter()
@@ -127,9 +126,14 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
     per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
     triangles = per_pixel * int(mask.sum())
     if triangles > DEFAULT_MAX_TRIANGLES:
-        return Built(generation, mask, error=(
-            f"{int(mask.sum()):,} pixels make {triangles:,} triangles, more than the budget "
-            f"of {DEFAULT_MAX_TRIANGLES:,}"))
+        return Built(
+            generation,
+            mask,
+            error=(
+                f"{int(mask.sum()):,} pixels make {triangles:,} triangles, more than the budget "
+                f"of {DEFAULT_MAX_TRIANGLES:,}"
+            ),
+        )
     try:
         cm = build_cell(cell)
     except Exception as exc:  # noqa: BLE001 - shown in the window, the last mesh stays
@@ -145,8 +149,10 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
         quads = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
         faces = quads
         if len(own):
-            faces = Layer(np.vstack([quads.points, points]),
-                          faces=(*quads.face_blocks, own + len(quads.points)))
+            faces = Layer(
+                np.vstack([quads.points, points]),
+                faces=(*quads.face_blocks, own + len(quads.points)),
+            )
     else:
         faces = Layer(points, faces=np.asarray(triangles, dtype=np.int64))
     lifted = points.copy()
@@ -154,8 +160,19 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float,
     e = np.asarray(mesh.edges)
     midpoints = 0.5 * (points[e[:, 0], :2] + points[e[:, 1], :2])
     stats = mesh.stats()
-    return Built(generation, mask, cm, None, faces, _lines(lifted, e), stats,
-                 time.perf_counter() - start, lifted, e, midpoints)
+    return Built(
+        generation,
+        mask,
+        cm,
+        None,
+        faces,
+        _lines(lifted, e),
+        stats,
+        time.perf_counter() - start,
+        lifted,
+        e,
+        midpoints,
+    )
 
 
 def _lines(points: np.ndarray, pairs: np.ndarray) -> Layer:
@@ -202,8 +219,10 @@ class PixelPainterWindow(QMainWindow):
     #: A mesh was drawn for the latest edit.
     built = Signal()
     #: Shown while a 4- or 8-fold symmetry waits for the grid to be square again.
-    NOT_SQUARE = ("The grid is not square: symmetry none until it is square again (4- and "
-                  "8-fold need a square grid)")
+    NOT_SQUARE = (
+        "The grid is not square: symmetry none until it is square again (4- and "
+        "8-fold need a square grid)"
+    )
 
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
@@ -284,8 +303,15 @@ class PixelPainterWindow(QMainWindow):
         st = self.state
         if not self._elements and not st.grid.mask.any():
             return None
-        return UnitCell(st.lattice, self._elements, st.grid, self._mode, self._tolerance,
-                        self._name, self._description)
+        return UnitCell(
+            st.lattice,
+            self._elements,
+            st.grid,
+            self._mode,
+            self._tolerance,
+            self._name,
+            self._description,
+        )
 
     def open_cell(self, cell: UnitCell) -> None:
         """Edit ``cell`` (a new history)."""
@@ -297,8 +323,11 @@ class PixelPainterWindow(QMainWindow):
         self.position = 0
         self.setWindowTitle(f"barymesh – paint pixels – {cell.name}")
         if grid.mask.any():  # start in the largest symmetry the cell has
-            fits = [m for m in ("8-fold", "4-fold", "mirror_x", "mirror_y")
-                    if _square_or_mirror(m, grid.shape) and pixels.is_invariant(grid.mask, m)]
+            fits = [
+                m
+                for m in ("8-fold", "4-fold", "mirror_x", "mirror_y")
+                if _square_or_mirror(m, grid.shape) and pixels.is_invariant(grid.mask, m)
+            ]
             self._set_symmetry_box(fits[0] if fits else "none")
         self._state_changed(reframe=True)
 
@@ -307,11 +336,12 @@ class PixelPainterWindow(QMainWindow):
         state = PainterState(grid, lattice or self.state.lattice)
         if state.grid == self.grid and state.lattice == self.state.lattice:
             return False
-        del self.history[self.position + 1:]
+        del self.history[self.position + 1 :]
         self.history.append(state)
         self.position += 1
         reframe = grid.shape != self.history[self.position - 1].grid.shape or (
-            grid.pixel_size != self.history[self.position - 1].grid.pixel_size)
+            grid.pixel_size != self.history[self.position - 1].grid.pixel_size
+        )
         self._state_changed(reframe=reframe)
         return True
 
@@ -350,7 +380,9 @@ class PixelPainterWindow(QMainWindow):
                     self._set_symmetry_box(self._square_symmetry)
                     self.statusBar().showMessage(
                         "The grid is square again: symmetry "
-                        f"{pixels.SYMMETRY_TITLES[self._square_symmetry]} is back", 5000)
+                        f"{pixels.SYMMETRY_TITLES[self._square_symmetry]} is back",
+                        5000,
+                    )
                 self._square_symmetry = None
         self.act_undo.setEnabled(self.position > 0)
         self.act_redo.setEnabled(self.position < len(self.history) - 1)
@@ -380,9 +412,14 @@ class PixelPainterWindow(QMainWindow):
 
     def random_fill(self) -> bool:
         """A random mask under the symmetry mode, from the seed and metal % fields."""
-        return self._edit(lambda: pixels.random_mask(
-            self.mask.shape, self.seed_box.value(), self.symmetry,
-            self.density_box.value() / 100.0))
+        return self._edit(
+            lambda: pixels.random_mask(
+                self.mask.shape,
+                self.seed_box.value(),
+                self.symmetry,
+                self.density_box.value() / 100.0,
+            )
+        )
 
     def fill_at(self, row: int, col: int, value: bool) -> bool:
         """Flood fill the 4-connected region of (row, col) (and its images) with ``value``."""
@@ -395,7 +432,8 @@ class PixelPainterWindow(QMainWindow):
         try:
             mask = pixels.resized(grid.mask, rows, cols)
             centre = np.asarray(grid.origin) + 0.5 * grid.pixel_size * np.array(
-                [grid.shape[1], grid.shape[0]])
+                [grid.shape[1], grid.shape[0]]
+            )
             origin = centre - 0.5 * pixel_size * np.array([cols, rows])
             new = grid.replaced(mask=mask, pixel_size=pixel_size, origin=tuple(origin))
             if _fits(grid, lattice):
@@ -431,7 +469,9 @@ class PixelPainterWindow(QMainWindow):
         if not pixels.is_invariant(self.mask, mode):
             self.statusBar().showMessage(
                 f"The grid is not {pixels.SYMMETRY_TITLES[mode]} symmetric: the next stroke or "
-                "fill adds the images of its metal", 8000)
+                "fill adds the images of its metal",
+                8000,
+            )
         else:
             self.statusBar().showMessage(f"Symmetry: {pixels.SYMMETRY_TITLES[mode]}", 4000)
 
@@ -446,8 +486,7 @@ class PixelPainterWindow(QMainWindow):
     def save_dialog(self) -> None:
         """Save cell…: a ``*.cell.json`` file."""
         start = str(self.path or Path.cwd() / f"{self._name}{SUFFIX}")
-        path, _ = QFileDialog.getSaveFileName(self, "Save cell", start,
-                                              f"Cell files (*{SUFFIX})")
+        path, _ = QFileDialog.getSaveFileName(self, "Save cell", start, f"Cell files (*{SUFFIX})")
         if path:
             self.save(path)
 
@@ -470,8 +509,12 @@ class PixelPainterWindow(QMainWindow):
 
     def open_dialog(self) -> None:
         """Open cell…: edit a ``*.cell.json`` file."""
-        path, _ = QFileDialog.getOpenFileName(self, "Open cell", str(self.path or Path.cwd()),
-                                              f"Cell files (*{SUFFIX});;JSON (*.json)")
+        path, _ = QFileDialog.getOpenFileName(
+            self,
+            "Open cell",
+            str(self.path or Path.cwd()),
+            f"Cell files (*{SUFFIX});;JSON (*.json)",
+        )
         if not path:
             return
         try:
@@ -508,8 +551,11 @@ class PixelPainterWindow(QMainWindow):
     def pixel_centre(self, row: int, col: int) -> tuple[float, float, float]:
         """World point (mm) of the centre of pixel (row, col)."""
         g = self.grid
-        return (g.origin[0] + (col + 0.5) * g.pixel_size,
-                g.origin[1] + (row + 0.5) * g.pixel_size, 0.0)
+        return (
+            g.origin[0] + (col + 0.5) * g.pixel_size,
+            g.origin[1] + (row + 0.5) * g.pixel_size,
+            0.0,
+        )
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         if watched is not self.plotter or self._closed:
@@ -569,8 +615,9 @@ class PixelPainterWindow(QMainWindow):
                 cells = np.argwhere(ids == ids[pixel])
             except ValueError:
                 cells = np.array([pixel])
-        self._set("hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells,
-                                  5 * self._dz))
+        self._set(
+            "hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells, 5 * self._dz)
+        )
         self._schedule_render()
 
     _hovered: tuple[int, int] | None = None
@@ -589,8 +636,9 @@ class PixelPainterWindow(QMainWindow):
         new = pixels.pixel_line(last, pixel) if last is not None else np.array([pixel])
         stroke["pixels"].extend(map(tuple, new.tolist()))
         stroke["last"] = pixel
-        stroke["mask"] = pixels.painted(stroke["start"], stroke["pixels"], self.symmetry,
-                                        stroke["value"])
+        stroke["mask"] = pixels.painted(
+            stroke["start"], stroke["pixels"], self.symmetry, stroke["value"]
+        )
         self._draw_pending(stroke["mask"])
 
     def _release(self) -> None:
@@ -653,39 +701,99 @@ class PixelPainterWindow(QMainWindow):
 
     def _make_actors(self) -> None:
         p = self.plotter
-        self.datasets = {name: pv.PolyData() for name in
-                         ("grid", "faces", "edges", "painted", "erased", "outline", "contacts",
-                          "hover")}
+        self.datasets = {
+            name: pv.PolyData()
+            for name in (
+                "grid",
+                "faces",
+                "edges",
+                "painted",
+                "erased",
+                "outline",
+                "contacts",
+                "hover",
+            )
+        }
         d = self.datasets
         self.actors = {
-            "grid": p.add_mesh(d["grid"], color=COLORS["grid"], line_width=1.0, lighting=False,
-                               reset_camera=False, render=False, pickable=False),
-            "faces": p.add_mesh(d["faces"], color=COLORS["metal"], lighting=False,
-                                reset_camera=False, render=False, pickable=False),
-            "edges": p.add_mesh(d["edges"], color=COLORS["triangle_edges"], line_width=1.0,
-                                lighting=False, reset_camera=False, render=False,
-                                pickable=False),
-            "painted": p.add_mesh(d["painted"], color=COLORS["metal"], lighting=False,
-                                  reset_camera=False, render=False, pickable=False),
-            "erased": p.add_mesh(d["erased"], color=COLORS["erased"], lighting=False,
-                                 reset_camera=False, render=False, pickable=False),
-            "outline": p.add_mesh(d["outline"], color=COLORS["outline"], line_width=2.0,
-                                  lighting=False, reset_camera=False, render=False,
-                                  pickable=False),
-            "contacts": p.add_mesh(d["contacts"], color=COLORS["contacts"], point_size=11.0,
-                                   render_points_as_spheres=True, lighting=False,
-                                   reset_camera=False, render=False, pickable=False),
-            "hover": p.add_mesh(d["hover"], color=COLORS["hover"], line_width=2.5,
-                                style="wireframe", lighting=False, reset_camera=False,
-                                render=False, pickable=False),
+            "grid": p.add_mesh(
+                d["grid"],
+                color=COLORS["grid"],
+                line_width=1.0,
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "faces": p.add_mesh(
+                d["faces"],
+                color=COLORS["metal"],
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "edges": p.add_mesh(
+                d["edges"],
+                color=COLORS["triangle_edges"],
+                line_width=1.0,
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "painted": p.add_mesh(
+                d["painted"],
+                color=COLORS["metal"],
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "erased": p.add_mesh(
+                d["erased"],
+                color=COLORS["erased"],
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "outline": p.add_mesh(
+                d["outline"],
+                color=COLORS["outline"],
+                line_width=2.0,
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "contacts": p.add_mesh(
+                d["contacts"],
+                color=COLORS["contacts"],
+                point_size=11.0,
+                render_points_as_spheres=True,
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
+            "hover": p.add_mesh(
+                d["hover"],
+                color=COLORS["hover"],
+                line_width=2.5,
+                style="wireframe",
+                lighting=False,
+                reset_camera=False,
+                render=False,
+                pickable=False,
+            ),
         }
         # after the style has moved the camera (observers run in no promised order)
         self._camera_timer = QTimer(self)
         self._camera_timer.setSingleShot(True)
         self._camera_timer.setInterval(0)
         self._camera_timer.timeout.connect(self._zoomed)
-        for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
-                      "MouseWheelBackwardEvent"):
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
             p.iren.add_observer(event, lambda *_: self._camera_timer.start())
 
     def _set(self, name: str, data: Layer | pv.PolyData, deep: bool = True) -> None:
@@ -701,10 +809,18 @@ class PixelPainterWindow(QMainWindow):
         p = g.pixel_size
         xs = x0 + p * np.arange(cols + 1)
         ys = y0 + p * np.arange(rows + 1)
-        a = np.vstack([np.column_stack([xs, np.full(cols + 1, ys[0])]),
-                       np.column_stack([np.full(rows + 1, xs[0]), ys])])
-        b = np.vstack([np.column_stack([xs, np.full(cols + 1, ys[-1])]),
-                       np.column_stack([np.full(rows + 1, xs[-1]), ys])])
+        a = np.vstack(
+            [
+                np.column_stack([xs, np.full(cols + 1, ys[0])]),
+                np.column_stack([np.full(rows + 1, xs[0]), ys]),
+            ]
+        )
+        b = np.vstack(
+            [
+                np.column_stack([xs, np.full(cols + 1, ys[-1])]),
+                np.column_stack([np.full(rows + 1, xs[-1]), ys]),
+            ]
+        )
         self._set("grid", _segments(a, b, -self._dz))
         corners = self.state.lattice.corners()
         self._set("outline", _segments(corners, np.roll(corners, -1, axis=0), 3 * self._dz))
@@ -725,8 +841,9 @@ class PixelPainterWindow(QMainWindow):
         if len(contacts):
             corner = contacts.max(axis=1)[:, ::-1]  # (row, col) of the upper right → (x, y)
             xy = origin + p * corner
-            self._set("contacts", pv.PolyData(np.column_stack(
-                [xy, np.full(len(xy), 4 * self._dz)])))
+            self._set(
+                "contacts", pv.PolyData(np.column_stack([xy, np.full(len(xy), 4 * self._dz)]))
+            )
         else:
             self._set("contacts", pv.PolyData())
         self._show_stats(mask)
@@ -756,24 +873,35 @@ class PixelPainterWindow(QMainWindow):
             cell = f"Cell {lattice.kind}, {lattice.area:.6g} mm²"
         parts = [cell, f"Pixels <b>{set_pixels:,}</b> of {mask.size:,}"]
         built = self.last_built
-        current = built is not None and built.stats is not None and np.array_equal(
-            built.mask, mask) and built.error is None
+        current = (
+            built is not None
+            and built.stats is not None
+            and np.array_equal(built.mask, mask)
+            and built.error is None
+        )
         if current:
             s = built.stats
-            parts += [f"Triangles <b>{s['triangles']:,}</b>", f"Vertices {s['vertices']:,}",
-                      f"RWG unknowns {s['interior_edges']:,}"]
+            parts += [
+                f"Triangles <b>{s['triangles']:,}</b>",
+                f"Vertices {s['vertices']:,}",
+                f"RWG unknowns {s['interior_edges']:,}",
+            ]
         elif set_pixels == 0 and not self._elements:
             parts.append("no metal")
         else:
             parts.append("meshing…")
         contacts = len(g.replaced(mask=mask).corner_contacts())
         if contacts:
-            parts.append(f"<span style='color:{COLORS['contacts']}'>● <b>{contacts}</b> "
-                         "corner-only contact(s)</span>")
+            parts.append(
+                f"<span style='color:{COLORS['contacts']}'>● <b>{contacts}</b> "
+                "corner-only contact(s)</span>"
+            )
         self.stats_label.setText(" &nbsp;·&nbsp; ".join(parts))
         self.stats_label.setToolTip(
             "Red dots: pixels that touch at a corner only, a junction risk for solvers"
-            if contacts else "")
+            if contacts
+            else ""
+        )
 
     def _zoomed(self, *_args: Any) -> None:
         """Hide the triangle edges when a pixel is too small on screen to read them."""
@@ -787,8 +915,9 @@ class PixelPainterWindow(QMainWindow):
         if shown:
             self._edges_in_view()
         # a contact dot of at most half a pixel, so that many of them still read as dots
-        self.actors["contacts"].GetProperty().SetPointSize(float(np.clip(0.45 * on_screen,
-                                                                         4.0, 12.0)))
+        self.actors["contacts"].GetProperty().SetPointSize(
+            float(np.clip(0.45 * on_screen, 4.0, 12.0))
+        )
         self._schedule_render()
 
     _edges_view: tuple[float, ...] | None = None
@@ -826,8 +955,12 @@ class PixelPainterWindow(QMainWindow):
         half_h = float(camera.parallel_scale)
         half_w = half_h * w / h
         cx, cy, _ = camera.focal_point
-        return (cx - half_w - margin, cx + half_w + margin,
-                cy - half_h - margin, cy + half_h + margin)
+        return (
+            cx - half_w - margin,
+            cx + half_w + margin,
+            cy - half_h - margin,
+            cy + half_h + margin,
+        )
 
     def reset_view(self) -> None:
         """Frame the cell and the grid from above (R)."""
@@ -835,8 +968,7 @@ class PixelPainterWindow(QMainWindow):
         c = self.state.lattice.corners()
         x = [g.origin[0], g.origin[0] + g.shape[1] * g.pixel_size, *c[:, 0]]
         y = [g.origin[1], g.origin[1] + g.shape[0] * g.pixel_size, *c[:, 1]]
-        frame_from_above(self.plotter, (min(x), max(x), min(y), max(y)), rulers=False,
-                         margin=0.03)
+        frame_from_above(self.plotter, (min(x), max(x), min(y), max(y)), rulers=False, margin=0.03)
         self._zoomed()
 
     def _schedule_render(self) -> None:
@@ -855,8 +987,9 @@ class PixelPainterWindow(QMainWindow):
 
     # -- toolbars ----------------------------------------------------------------------------
 
-    def _action(self, text: str, slot: Any, shortcut: Any = None, tip: str = "",
-                checkable: bool = False) -> QAction:
+    def _action(
+        self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
+    ) -> QAction:
         action = QAction(text, self)
         if shortcut is not None:
             keys = shortcut if isinstance(shortcut, list) else [shortcut]
@@ -872,39 +1005,57 @@ class PixelPainterWindow(QMainWindow):
     def _make_toolbars(self) -> None:
         a = self._action
         tools = QActionGroup(self)
-        self.act_pen = a("Pen", lambda: None, "P", "Left button paints, right button erases; "
-                         "a drag is one stroke", checkable=True)
-        self.act_fill = a("Fill", lambda: None, "F", "Click fills the connected region "
-                          "(4-neighbours) with metal, right click with none", checkable=True)
+        self.act_pen = a(
+            "Pen",
+            lambda: None,
+            "P",
+            "Left button paints, right button erases; a drag is one stroke",
+            checkable=True,
+        )
+        self.act_fill = a(
+            "Fill",
+            lambda: None,
+            "F",
+            "Click fills the connected region (4-neighbours) with metal, right click with none",
+            checkable=True,
+        )
         for act in (self.act_pen, self.act_fill):
             tools.addAction(act)
         self.act_pen.setChecked(True)
-        self.act_erase = a("Erase", lambda: None, "E", "The left button erases too",
-                           checkable=True)
-        self.act_invert = a("Invert", self.invert, "I",
-                            "Babinet complement: metal where there was none")
+        self.act_erase = a("Erase", lambda: None, "E", "The left button erases too", checkable=True)
+        self.act_invert = a(
+            "Invert", self.invert, "I", "Babinet complement: metal where there was none"
+        )
         self.act_clear = a("Clear", self.clear, "Ctrl+Backspace", "No metal anywhere")
-        self.act_random = a("Random", self.random_fill, "G",
-                            "Random pixels under the symmetry, from the seed")
+        self.act_random = a(
+            "Random", self.random_fill, "G", "Random pixels under the symmetry, from the seed"
+        )
         self.act_undo = a("Undo", self.undo, "Ctrl+Z", "Undo the last stroke or edit")
         self.act_redo = a("Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "Redo")
         self.act_open = a("Open cell…", self.open_dialog, "Ctrl+O", "Edit a *.cell.json file")
-        self.act_save = a("Save cell…", self.save_dialog, "Ctrl+S",
-                          "Write the cell as a *.cell.json file")
+        self.act_save = a(
+            "Save cell…", self.save_dialog, "Ctrl+S", "Write the cell as a *.cell.json file"
+        )
         self.act_view = a("Reset view", self.reset_view, "R", "Frame the cell from above")
 
         self.symmetry_box = QComboBox(self)
         for mode in SYMMETRIES:
             self.symmetry_box.addItem(pixels.SYMMETRY_TITLES[mode], mode)
-        self.symmetry_box.setToolTip("Symmetry of every edit about the grid's centre "
-                                     "(keys 0, X, Y, 4, 8)")
+        self.symmetry_box.setToolTip(
+            "Symmetry of every edit about the grid's centre (keys 0, X, Y, 4, 8)"
+        )
         self._last_symmetry = "none"
         self._square_symmetry: str | None = None
         self.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
         for mode, key in SYMMETRY_KEYS.items():
-            a(f"Symmetry {pixels.SYMMETRY_TITLES[mode]}",
-              lambda _=False, m=mode: self.symmetry_box.setCurrentIndex(
-                  self.symmetry_box.findData(m)), key, "Symmetry mode")
+            a(
+                f"Symmetry {pixels.SYMMETRY_TITLES[mode]}",
+                lambda _=False, m=mode: self.symmetry_box.setCurrentIndex(
+                    self.symmetry_box.findData(m)
+                ),
+                key,
+                "Symmetry mode",
+            )
 
         self.seed_box = QSpinBox(self)
         self.seed_box.setRange(0, 2**31 - 1)
@@ -1027,8 +1178,9 @@ def blank_grid(lattice: Lattice, columns: int = 16) -> PixelGrid:
     w, h = np.ptp(corners, axis=0)
     size = float(w) / columns
     rows = max(1, int(round(float(h) / size)))
-    return PixelGrid(np.zeros((rows, columns), bool), size,
-                     (-0.5 * columns * size, -0.5 * rows * size))
+    return PixelGrid(
+        np.zeros((rows, columns), bool), size, (-0.5 * columns * size, -0.5 * rows * size)
+    )
 
 
 def _square_or_mirror(mode: str, shape: tuple[int, int]) -> bool:
@@ -1041,8 +1193,11 @@ def _start_cell() -> UnitCell:
     except (OSError, ValueError) as exc:  # a damaged preset: start blank
         log.warning("cell preset %s unavailable: %s", START_PRESET, exc)
         grid = PixelGrid(np.zeros((16, 16), bool), 0.5, (-4.0, -4.0))
-        return UnitCell(Lattice.rectangular(8.0), pixels=grid.replaced(
-            mask=np.eye(16, dtype=bool)), name="pixels")
+        return UnitCell(
+            Lattice.rectangular(8.0),
+            pixels=grid.replaced(mask=np.eye(16, dtype=bool)),
+            name="pixels",
+        )
 
 
 # -- the main window's Cell menu ------------------------------------------------------------
@@ -1057,8 +1212,11 @@ class PainterOpener(QObject):
         self.window = window
         self.painter: PixelPainterWindow | None = None
         self.act_paint = window._action(
-            "&Paint pixels…", self.show, "Ctrl+Shift+P",
-            "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo")
+            "&Paint pixels…",
+            self.show,
+            "Ctrl+Shift+P",
+            "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo",
+        )
         menu.addAction(self.act_paint)
         window.installEventFilter(self)
 

@@ -126,8 +126,9 @@ def _index(mask: np.ndarray, row: int, col: int) -> tuple[int, int]:
     return int(row), int(col)
 
 
-def painted(mask: np.ndarray, pixels: np.ndarray, symmetry: str = "none",
-            value: bool = True) -> np.ndarray:
+def painted(
+    mask: np.ndarray, pixels: np.ndarray, symmetry: str = "none", value: bool = True
+) -> np.ndarray:
     """Set (``value`` True) or clear every pixel of ``pixels`` and all their images.
 
     Parameters
@@ -172,8 +173,9 @@ def erase(mask: np.ndarray, row: int, col: int, symmetry: str = "none") -> np.nd
     return painted(mask, [_index(_mask(mask), row, col)], symmetry, False)
 
 
-def flood_filled(mask: np.ndarray, row: int, col: int, symmetry: str = "none",
-                 value: bool = True) -> np.ndarray:
+def flood_filled(
+    mask: np.ndarray, row: int, col: int, symmetry: str = "none", value: bool = True
+) -> np.ndarray:
     """Set the connected region of pixel (row, col) (and of its images) to ``value``.
 
     The region is every pixel equal to the clicked one and joined to it through
@@ -210,8 +212,9 @@ def inverted(mask: np.ndarray) -> np.ndarray:
     return ~_mask(mask)
 
 
-def random_mask(shape: tuple[int, int], seed: int, symmetry: str = "none",
-                density: float = 0.5) -> np.ndarray:
+def random_mask(
+    shape: tuple[int, int], seed: int, symmetry: str = "none", density: float = 0.5
+) -> np.ndarray:
     """A random mask invariant under the mode's group, reproducible from ``seed``.
 
     Every orbit is metal with probability ``density``: one draw of
@@ -271,8 +274,9 @@ def resized(mask: np.ndarray, rows: int, cols: int) -> np.ndarray:
     return out
 
 
-def pixel_at(shape: tuple[int, int], origin: tuple[float, float], pixel_size: float,
-             xy: tuple[float, float]) -> tuple[int, int] | None:
+def pixel_at(
+    shape: tuple[int, int], origin: tuple[float, float], pixel_size: float, xy: tuple[float, float]
+) -> tuple[int, int] | None:
     """(row, column) of the pixel containing the point ``xy`` (mm), None outside the grid.
 
     A point on a side between two pixels belongs to the upper / right one.

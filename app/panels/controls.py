@@ -100,24 +100,33 @@ class ValueField(QLineEdit):
     def event(self, event: QEvent) -> bool:
         # Esc belongs to the field while it holds an edit or a refused value, not to a
         # window shortcut (such as cancelling a build).
-        if (event.type() == QEvent.Type.ShortcutOverride
-                and event.key() == Qt.Key.Key_Escape
-                and (self.property("refused") or self.text() != self._shown)):
+        if (
+            event.type() == QEvent.Type.ShortcutOverride
+            and event.key() == Qt.Key.Key_Escape
+            and (self.property("refused") or self.text() != self._shown)
+        ):
             event.accept()
             return True
         # Ctrl+Z / redo in a field showing the accepted value is the window's Undo of the
         # parameter change (the line edit's own text undo put back a text that was not
         # the value, and submitted nothing); with an edit under way it undoes typing
-        if (event.type() == QEvent.Type.ShortcutOverride
-                and _is_undo_key(event)
-                and self.text() == self._shown and not self.property("refused")):
+        if (
+            event.type() == QEvent.Type.ShortcutOverride
+            and _is_undo_key(event)
+            and self.text() == self._shown
+            and not self.property("refused")
+        ):
             event.ignore()
             return True
         return super().event(event)
 
     def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt's name
-        steps = {Qt.Key.Key_Up: 1, Qt.Key.Key_Down: -1,
-                 Qt.Key.Key_PageUp: 10, Qt.Key.Key_PageDown: -10}
+        steps = {
+            Qt.Key.Key_Up: 1,
+            Qt.Key.Key_Down: -1,
+            Qt.Key.Key_PageUp: 10,
+            Qt.Key.Key_PageDown: -10,
+        }
         if event.key() == Qt.Key.Key_Escape:
             self.reverted.emit()
             event.accept()
@@ -150,8 +159,17 @@ def _message_label(parent: QWidget, name: str, colour: str) -> QLabel:
 class FieldRow:
     """Label, optional slider, typed field and unit, with an error line and a note line."""
 
-    def __init__(self, name: str, label: str, grid: QGridLayout, row: int, parent: QWidget,
-                 spec: ParamSpec | None = None, tooltip: str = "", placeholder: str = "") -> None:
+    def __init__(
+        self,
+        name: str,
+        label: str,
+        grid: QGridLayout,
+        row: int,
+        parent: QWidget,
+        spec: ParamSpec | None = None,
+        tooltip: str = "",
+        placeholder: str = "",
+    ) -> None:
         self.name = name
         self.spec = spec
         self.typed: str | None = None  # the text last typed, kept while it is refused
@@ -212,8 +230,7 @@ class FieldRow:
         self.slider.setValue(spec.to_slider(value))
         self.slider.blockSignals(False)
 
-    def show_value(self, value: Any, refused: bool, fallback: Any,
-                   centre: Any = None) -> None:
+    def show_value(self, value: Any, refused: bool, fallback: Any, centre: Any = None) -> None:
         """Show ``value``; a refused one keeps the text as typed. A windowed slider is
         centred again if the value lies outside it (on ``centre`` while it is None)."""
         if not refused:
@@ -227,8 +244,9 @@ class FieldRow:
             on_slider = fallback if typed else value
             if self.spec.windowed and not self.slider.isSliderDown():
                 target = on_slider if on_slider is not None else centre
-                if self.slider_spec is self.spec or (target is not None
-                                                     and not self.slider_spec.holds(target)):
+                if self.slider_spec is self.spec or (
+                    target is not None and not self.slider_spec.holds(target)
+                ):
                     self.recentre(target)
             self.slider.blockSignals(True)
             self.slider.setValue(self.slider_spec.to_slider(on_slider))
@@ -304,8 +322,12 @@ class ControlsPanel(QWidget):
         self.show_draft(model.draft)
         self.show_error(model.error)
 
-    def _group(self, title: str, specs: tuple[ParamSpec, ...],
-               points: dict[str, tuple[str, tuple[str, ...]]]) -> QGroupBox:
+    def _group(
+        self,
+        title: str,
+        specs: tuple[ParamSpec, ...],
+        points: dict[str, tuple[str, tuple[str, ...]]],
+    ) -> QGroupBox:
         group = QGroupBox(title, self)
         grid = QGridLayout(group)
         grid.setColumnStretch(1, 1)
@@ -313,21 +335,39 @@ class ControlsPanel(QWidget):
         grid.setHorizontalSpacing(8)
         i = 0
         for spec in specs:
-            row = FieldRow(spec.name, spec.label, grid, i, group, spec, spec.tooltip,
-                           spec.empty_text if spec.optional else "")
+            row = FieldRow(
+                spec.name,
+                spec.label,
+                grid,
+                i,
+                group,
+                spec,
+                spec.tooltip,
+                spec.empty_text if spec.optional else "",
+            )
             self._wire(row)
             i += 1
-        tips = {"origin": "x, y: the lower-left corner A of a patch, the first vertex of a "
-                          "triangle; for rings the point their patches turn about. Paper "
-                          "mode puts each patch's lower-left corner at origin + r (cos θ, "
-                          "sin θ), as the paper does, so a paper ring's centre is at origin "
-                          "+ (s/2, s/2), s the patch size; conforming rings and square "
-                          "rings are centred on the origin",
-                "triangle_vertices": "Three vertices x, y; x, y; x, y of the triangle "
-                                     "structure; empty = equilateral of side patch size"}
+        tips = {
+            "origin": "x, y: the lower-left corner A of a patch, the first vertex of a "
+            "triangle; for rings the point their patches turn about. Paper "
+            "mode puts each patch's lower-left corner at origin + r (cos θ, "
+            "sin θ), as the paper does, so a paper ring's centre is at origin "
+            "+ (s/2, s/2), s the patch size; conforming rings and square "
+            "rings are centred on the origin",
+            "triangle_vertices": "Three vertices x, y; x, y; x, y of the triangle "
+            "structure; empty = equilateral of side patch size",
+        }
         for name, (label, _structures) in points.items():
-            row = FieldRow(name, label, grid, i, group, None, tips[name],
-                           "equilateral" if name == "triangle_vertices" else "")
+            row = FieldRow(
+                name,
+                label,
+                grid,
+                i,
+                group,
+                None,
+                tips[name],
+                "equilateral" if name == "triangle_vertices" else "",
+            )
             self._wire(row)
             i += 1
         return group
@@ -339,7 +379,8 @@ class ControlsPanel(QWidget):
             row.slider.valueChanged.connect(lambda pos, r=row: self._slider_moved(r, pos))
             row.slider.sliderReleased.connect(lambda r=row: self._slider_released(r))
             row.field.stepped.connect(
-                lambda k, s=row.slider: s.setValue(s.value() + k))  # ↑/↓ in the field
+                lambda k, s=row.slider: s.setValue(s.value() + k)
+            )  # ↑/↓ in the field
         self.rows[row.name] = row
 
     # -- user -> model -------------------------------------------------------------------
@@ -382,8 +423,12 @@ class ControlsPanel(QWidget):
         committed = self.model.params.to_dict()
         sized = self.model.params.sized
         for name, row in self.rows.items():
-            row.show_value(draft.get(name), name in self.model.refused, committed.get(name),
-                           centre=draft.get("patch_size"))
+            row.show_value(
+                draft.get(name),
+                name in self.model.refused,
+                committed.get(name),
+                centre=draft.get("patch_size"),
+            )
             row.set_enabled(applies(name, structure) and not (sized and name == "subdivisions"))
             row.set_note(self.model.notes.get(name))
         self._show_chosen()
@@ -399,8 +444,10 @@ class ControlsPanel(QWidget):
         if chosen is None or result.params != self.model.params:
             return "chosen by the mesher from the frequency or the largest edge"
         what = "levels" if self.model.params.scheme == "barycentric" else "n"
-        return f"chosen by the mesher: {what} = {chosen} (edges ≤ " \
-               f"{result.stats['target_edge']:.4g} mm)"
+        return (
+            f"chosen by the mesher: {what} = {chosen} (edges ≤ "
+            f"{result.stats['target_edge']:.4g} mm)"
+        )
 
     def show_error(self, _error: ParamError | None) -> None:
         errors = self.model.errors

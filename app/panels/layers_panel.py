@@ -133,5 +133,5 @@ class LayersPanel(QWidget):
             "Triangle numbers at the centroids"
             if small
             else f"Switched off above {LABEL_LIMIT} triangles (unreadable); "
-                 f"this mesh has {result.mesh.n_triangles:,}"
+            f"this mesh has {result.mesh.n_triangles:,}"
         )

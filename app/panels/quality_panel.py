@@ -82,7 +82,11 @@ class HistogramView(QWidget):
         """``figures``: one entry of the report (with ``histogram`` and ``threshold``)."""
         if figures is None:
             self.edges, self.counts, self.threshold, self.above_range = (
-                np.empty(0), np.empty(0, dtype=np.int64), None, 0)
+                np.empty(0),
+                np.empty(0, dtype=np.int64),
+                None,
+                0,
+            )
         else:
             h = figures["histogram"]
             self.edges = np.asarray(h["edges"], dtype=np.float64)
@@ -112,8 +116,11 @@ class HistogramView(QWidget):
         p.setFont(font)
         p.setPen(text)
         unit = f" ({self.unit})" if self.unit else ""
-        p.drawText(QRectF(8, 0, self.width() - 16, 16), Qt.AlignmentFlag.AlignLeft
-                   | Qt.AlignmentFlag.AlignVCenter, f"{self.title}{unit}")
+        p.drawText(
+            QRectF(8, 0, self.width() - 16, 16),
+            Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter,
+            f"{self.title}{unit}",
+        )
         r = self.bar_rect()
         if len(self.counts) == 0:
             p.setPen(pal.color(pal.ColorRole.PlaceholderText))
@@ -121,8 +128,11 @@ class HistogramView(QWidget):
             p.end()
             return
         top = max(int(self.counts.max()), 1)
-        p.drawText(QRectF(8, 0, self.width() - 16, 16), Qt.AlignmentFlag.AlignRight
-                   | Qt.AlignmentFlag.AlignVCenter, f"peak {top:,}")
+        p.drawText(
+            QRectF(8, 0, self.width() - 16, 16),
+            Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
+            f"peak {top:,}",
+        )
         p.setPen(Qt.PenStyle.NoPen)
         for k, count in enumerate(self.counts.tolist()):
             if count == 0:
@@ -131,28 +141,37 @@ class HistogramView(QWidget):
             h = max(count / top * r.height(), 1.0)
             centre = 0.5 * (self.edges[k] + self.edges[k + 1])
             bad = self.threshold is not None and (
-                centre < self.threshold if self.bad_side == "below" else centre > self.threshold)
+                centre < self.threshold if self.bad_side == "below" else centre > self.threshold
+            )
             p.setBrush(BAD_COLOR if bad else GOOD_COLOR)
             p.drawRect(QRectF(x0, r.bottom() - h, max(x1 - x0 - 1.0, 1.0), h))
         p.setPen(QPen(text, 1))
         p.drawLine(QPointF(r.left(), r.bottom()), QPointF(r.right(), r.bottom()))
-        labels = [(float(self.edges[0]), Qt.AlignmentFlag.AlignLeft),
-                  (float(self.edges[-1]), Qt.AlignmentFlag.AlignRight)]
+        labels = [
+            (float(self.edges[0]), Qt.AlignmentFlag.AlignLeft),
+            (float(self.edges[-1]), Qt.AlignmentFlag.AlignRight),
+        ]
         if self.threshold is not None and self.edges[0] <= self.threshold <= self.edges[-1]:
             x = self.x_of(self.threshold)
             p.setPen(QPen(BAD_COLOR, 1.5, Qt.PenStyle.DashLine))
             p.drawLine(QPointF(x, r.top() - 2), QPointF(x, r.bottom() + 3))
             p.setPen(BAD_COLOR)
-            p.drawText(QRectF(x - 30, r.bottom() + 2, 60, 14), Qt.AlignmentFlag.AlignHCenter,
-                       _tick(self.threshold))
+            p.drawText(
+                QRectF(x - 30, r.bottom() + 2, 60, 14),
+                Qt.AlignmentFlag.AlignHCenter,
+                _tick(self.threshold),
+            )
         p.setPen(text)
         for value, align in labels:
             x = r.left() if align == Qt.AlignmentFlag.AlignLeft else r.right() - 60
             p.drawText(QRectF(x, r.bottom() + 2, 60, 14), align, _tick(value))
         if self.above_range:
             p.setPen(BAD_COLOR)
-            p.drawText(QRectF(r.right() - 120, r.top(), 120, 14), Qt.AlignmentFlag.AlignRight,
-                       f"+{self.above_range:,} beyond {_tick(self.edges[-1])}")
+            p.drawText(
+                QRectF(r.right() - 120, r.top(), 120, 14),
+                Qt.AlignmentFlag.AlignRight,
+                f"+{self.above_range:,} beyond {_tick(self.edges[-1])}",
+            )
         p.end()
 
 
@@ -247,9 +266,14 @@ class QualityPanel(QWidget):
     def mesh_changed(self, result: Any) -> None:
         """A new mesh on screen: measure it now if seen, else when the panel is shown."""
         old = self._result
-        if result is old or (result is not None and old is not None
-                             and result.mesh is not None and result.mesh is old.mesh
-                             and result.params == old.params and result.source == old.source):
+        if result is old or (
+            result is not None
+            and old is not None
+            and result.mesh is not None
+            and result.mesh is old.mesh
+            and result.params == old.params
+            and result.source == old.source
+        ):
             self._result = result  # Undo back to the mesh on screen: nothing new to measure
             return
         self._result = result
@@ -392,17 +416,21 @@ def figures_text(report: dict[str, Any]) -> str:
     if e is None:
         lines.append("Edge/λ: no frequency set")
     else:
-        lines.append(f"Longest edge <b>{num(e['max'], '.3g')} λ</b> (λ = {e['wavelength_mm']:.4g}"
-                     f" mm); above λ/10: {share(e['above'])}")
+        lines.append(
+            f"Longest edge <b>{num(e['max'], '.3g')} λ</b> (λ = {e['wavelength_mm']:.4g}"
+            f" mm); above λ/10: {share(e['above'])}"
+        )
     return "<br>".join(lines)
 
 
 def worst_text(rank: int, row: dict[str, Any]) -> str:
     """One line of the worst list: rank, triangle, smallest angle, aspect ratio (edge/λ)."""
     angle, ratio = row["min_angle_deg"], row["aspect_ratio"]
-    text = (f"{rank}. triangle {row['triangle']:,}: "
-            f"{'–' if angle is None else f'{angle:.3g}°'}, "
-            f"aspect {'–' if ratio is None else f'{ratio:.3g}'}")
+    text = (
+        f"{rank}. triangle {row['triangle']:,}: "
+        f"{'–' if angle is None else f'{angle:.3g}°'}, "
+        f"aspect {'–' if ratio is None else f'{ratio:.3g}'}"
+    )
     if row.get("edge_wavelength") is not None:
         text += f", {row['edge_wavelength']:.3g} λ"
     return text

@@ -5,7 +5,8 @@ direction of travel and polarisation: an axis such as ``-z`` or ``x``, or a vect
 ``0, 0, -1``) or a delta-gap voltage feed (1 V across the mesh edges on a line between
 two points typed in mm; the input impedance is shown after the solve), a Solve button,
 and the "Surface current" layer's controls (show, linear/log colour map, phase slider and
-animation; :class:`barymesh.app.view.current_layer.CurrentLayer` draws it). **Sweep**: the extinction
+animation; :class:`barymesh.app.view.current_layer.CurrentLayer` draws it).
+**Sweep**: the extinction
 cross-section against frequency (matplotlib), the resonances marked; a click on the
 plot sets the frequency and solves there.
 
@@ -113,8 +114,9 @@ def read_vector(text: str, name: str) -> tuple[float, float, float]:
     except ValueError:
         values = ()
     if len(values) != 3 or not all(math.isfinite(v) for v in values):
-        raise ValueError(f"{name} {text!r} is invalid; expected an axis (x, -z, …) or "
-                         "three numbers x, y, z")
+        raise ValueError(
+            f"{name} {text!r} is invalid; expected an axis (x, -z, …) or three numbers x, y, z"
+        )
     return values  # type: ignore[return-value]
 
 
@@ -129,8 +131,7 @@ def read_point(text: str, name: str) -> tuple[float, ...]:
     except ValueError:
         values = ()
     if len(values) not in (2, 3) or not all(math.isfinite(v) for v in values):
-        raise ValueError(f"{name} {text!r} is invalid; expected a point x, y in mm "
-                         "(e.g. 0, -10)")
+        raise ValueError(f"{name} {text!r} is invalid; expected a point x, y in mm (e.g. 0, -10)")
     return values
 
 
@@ -222,11 +223,19 @@ class SweepPlot(QWidget):
             ax.plot(f, result.extinction_cross_section * 1e6, color="#1f77b4")
             for r in result.resonances:
                 ax.axvline(r / 1e9, color="#d62728", lw=1.0, ls="--")
-                ax.annotate(f"{r / 1e9:.4g} GHz", (r / 1e9, 0.97),
-                            xycoords=("data", "axes fraction"), ha="left", va="top",
-                            fontsize=8, color="#d62728")
-        ax.set_title(note or ("click to solve at a frequency" if result is not None
-                              else "no sweep yet"), fontsize=9)
+                ax.annotate(
+                    f"{r / 1e9:.4g} GHz",
+                    (r / 1e9, 0.97),
+                    xycoords=("data", "axes fraction"),
+                    ha="left",
+                    va="top",
+                    fontsize=8,
+                    color="#d62728",
+                )
+        ax.set_title(
+            note or ("click to solve at a frequency" if result is not None else "no sweep yet"),
+            fontsize=9,
+        )
         self.canvas.draw_idle()
 
     def mark(self, hz: float | None) -> None:
@@ -264,8 +273,9 @@ class SolvePanel(QWidget):
         self.window_ = window
         self.model = window.model
         scene = getattr(window, "scene", None)
-        self.layer = CurrentLayer(window.plotter, window.request_render,
-                                  scene.set_covered if scene is not None else None)
+        self.layer = CurrentLayer(
+            window.plotter, window.request_render, scene.set_covered if scene is not None else None
+        )
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
@@ -318,7 +328,8 @@ class SolvePanel(QWidget):
         """Combo boxes that do not widen the dock to their longest item."""
         for box in self.findChildren(QComboBox):
             box.setSizeAdjustPolicy(
-                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon
+            )
             box.setMinimumContentsLength(6)
 
     def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
@@ -344,30 +355,40 @@ class SolvePanel(QWidget):
         label = QLabel("&Frequency", page)
         label.setBuddy(self.frequency)
         form.addRow(label, row)
-        self.direction = self._vector_box(DIRECTION_PRESETS, "Direction of travel of the "
-                                          "plane wave: an axis (-z: from above) or x, y, z")
-        self.polarization = self._vector_box(POLARIZATION_PRESETS, "Direction of E: an axis "
-                                             "or x, y, z, perpendicular to the direction")
+        self.direction = self._vector_box(
+            DIRECTION_PRESETS,
+            "Direction of travel of the plane wave: an axis (-z: from above) or x, y, z",
+        )
+        self.polarization = self._vector_box(
+            POLARIZATION_PRESETS,
+            "Direction of E: an axis or x, y, z, perpendicular to the direction",
+        )
         self.excitation = QComboBox(page)
         self.excitation.addItem("plane wave", "plane")
         self.excitation.addItem("voltage feed", "feed")
-        self.excitation.setToolTip("What drives the current: an incident plane wave, or a "
-                                   "1 V delta-gap source on the mesh edges along a line")
+        self.excitation.setToolTip(
+            "What drives the current: an incident plane wave, or a "
+            "1 V delta-gap source on the mesh edges along a line"
+        )
         form.addRow("E&xcitation", self.excitation)
         form.addRow("&Direction", self.direction)
         form.addRow("&Polarisation E", self.polarization)
         self.feed_start = QLineEdit("0, -10", page)
         self.feed_end = QLineEdit("0, 10", page)
         for edit in (self.feed_start, self.feed_end):
-            edit.setToolTip("An end of the feed line, x, y in mm: the 1 V gap lies on the "
-                            "interior mesh edges along the line, across the conductor")
+            edit.setToolTip(
+                "An end of the feed line, x, y in mm: the 1 V gap lies on the "
+                "interior mesh edges along the line, across the conductor"
+            )
         form.addRow("Feed sta&rt (mm)", self.feed_start)
         form.addRow("Feed &end (mm)", self.feed_end)
         self.form = form
         self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
         self.auto.setChecked(True)
-        self.auto.setToolTip(f"Solve meshes of at most {AUTO_SOLVE_UNKNOWNS} RWG unknowns at "
-                             "once whenever the mesh or an input changes")
+        self.auto.setToolTip(
+            f"Solve meshes of at most {AUTO_SOLVE_UNKNOWNS} RWG unknowns at "
+            "once whenever the mesh or an input changes"
+        )
         form.addRow(self.auto)
         self.solve_button = QPushButton("Solve", page)
         self.solve_button.setToolTip("Solve for the surface current of the mesh on screen")
@@ -405,7 +426,8 @@ class SolvePanel(QWidget):
         for s in SCALES:
             self.scale.addItem(f"{s} |J|", s)
         self.scale.currentIndexChanged.connect(
-            lambda _i: self.layer.set_scale(self.scale.currentData()))
+            lambda _i: self.layer.set_scale(self.scale.currentData())
+        )
         form.addRow("Colour &scale", self.scale)
         self.phase = QSlider(Qt.Orientation.Horizontal, page)
         self.phase.setRange(0, 360)
@@ -425,8 +447,13 @@ class SolvePanel(QWidget):
         label.setBuddy(self.phase)
         form.addRow(label, row)
 
-        for edit in (self.frequency, self.direction.lineEdit(), self.polarization.lineEdit(),
-                     self.feed_start, self.feed_end):
+        for edit in (
+            self.frequency,
+            self.direction.lineEdit(),
+            self.polarization.lineEdit(),
+            self.feed_start,
+            self.feed_end,
+        ):
             edit.returnPressed.connect(self._inputs_edited)
             edit.editingFinished.connect(self._inputs_edited)
         self.unit.currentIndexChanged.connect(lambda _i: self._inputs_edited())
@@ -477,8 +504,10 @@ class SolvePanel(QWidget):
         self.sweep_count.setValue(46)
         form.addRow("&Frequencies", self.sweep_count)
         self.sweep_button = QPushButton("Run sweep", page)
-        self.sweep_button.setToolTip("Extinction cross-section at each frequency, in the "
-                                     "background (direction and polarisation of the Solve tab)")
+        self.sweep_button.setToolTip(
+            "Extinction cross-section at each frequency, in the "
+            "background (direction and polarisation of the Solve tab)"
+        )
         self.sweep_button.clicked.connect(self.run_sweep)
         form.addRow(self.sweep_button)
         col.addLayout(form)
@@ -511,8 +540,9 @@ class SolvePanel(QWidget):
             try:
                 return hz, VoltageSource(start, end)
             except ValueError as exc:
-                raise ValueError(f"Feed {self.feed_start.text()!r} to "
-                                 f"{self.feed_end.text()!r}: {exc}") from None
+                raise ValueError(
+                    f"Feed {self.feed_start.text()!r} to {self.feed_end.text()!r}: {exc}"
+                ) from None
         d = read_vector(self.direction.currentText(), "Direction")
         p = read_vector(self.polarization.currentText(), "Polarisation")
         return hz, PlaneWave(direction=d, polarization=p)
@@ -610,13 +640,17 @@ class SolvePanel(QWidget):
             a = read_frequency(self.sweep_from.text(), unit)
             b = read_frequency(self.sweep_to.text(), unit)
             if not b > a:
-                raise ValueError(f"Sweep range {self.sweep_from.text()} to "
-                                 f"{self.sweep_to.text()} {unit}: the end must be above the start")
+                raise ValueError(
+                    f"Sweep range {self.sweep_from.text()} to "
+                    f"{self.sweep_to.text()} {unit}: the end must be above the start"
+                )
             _hz, wave = self.inputs()
             if self.excitation.currentData() == "feed":
-                raise ValueError("The sweep plots the extinction cross-section of a plane "
-                                 "wave: choose Excitation: plane wave (barymesh solve --feed "
-                                 "sweeps the input impedance)")
+                raise ValueError(
+                    "The sweep plots the extinction cross-section of a plane "
+                    "wave: choose Excitation: plane wave (barymesh solve --feed "
+                    "sweeps the input impedance)"
+                )
             if mesh is None or len(mesh.rwg) == 0:
                 raise ValueError("The mesh on screen has no RWG unknowns to solve for.")
         except ValueError as exc:
@@ -631,15 +665,26 @@ class SolvePanel(QWidget):
         self._cancel.clear()
 
         def work() -> Any:
-            return sweep(mesh, freqs, wave, scattering=False,
-                         progress=lambda done, total: self._job_progress.emit(token, done, total),
-                         cancel=self._cancel.is_set)
+            return sweep(
+                mesh,
+                freqs,
+                wave,
+                scattering=False,
+                progress=lambda done, total: self._job_progress.emit(token, done, total),
+                cancel=self._cancel.is_set,
+            )
 
         self._start(mesh, "sweep", work, None, f"Sweeping {len(freqs)} frequencies…")
         return True
 
-    def _start(self, mesh: TriMesh, kind: str, work: Callable[[], Any],
-               key: tuple[Any, ...] | None, message: str) -> None:
+    def _start(
+        self,
+        mesh: TriMesh,
+        kind: str,
+        work: Callable[[], Any],
+        key: tuple[Any, ...] | None,
+        message: str,
+    ) -> None:
         token = self._tokens[kind]
         self._running.add(kind)
         self._cancel.clear()
@@ -709,16 +754,21 @@ class SolvePanel(QWidget):
         jmax = float(self.layer.magnitude.max())
         from barymesh.mom import VoltageSource
 
-        driven = (f"input impedance {format_impedance(s.input_impedance)}"
-                  if isinstance(s.excitation, VoltageSource) else
-                  f"extinction cross-section {s.extinction_cross_section * 1e6:.5g} mm²")
-        lines = [f"<b>{len(s.coefficients):,} unknowns at {number} {unit}</b> "
-                 f"({outcome.seconds * 1e3:.0f} ms)",
-                 f"largest |J| {jmax:.5g} A/m",
-                 driven,
-                 f"condition number {s.condition_number:.3g}, residual {s.residual:.1e}"]
-        lines += [f"<span style='color:#b35900'>warning: {html.escape(w)}</span>"
-                  for w in s.warnings]
+        driven = (
+            f"input impedance {format_impedance(s.input_impedance)}"
+            if isinstance(s.excitation, VoltageSource)
+            else f"extinction cross-section {s.extinction_cross_section * 1e6:.5g} mm²"
+        )
+        lines = [
+            f"<b>{len(s.coefficients):,} unknowns at {number} {unit}</b> "
+            f"({outcome.seconds * 1e3:.0f} ms)",
+            f"largest |J| {jmax:.5g} A/m",
+            driven,
+            f"condition number {s.condition_number:.3g}, residual {s.residual:.1e}",
+        ]
+        lines += [
+            f"<span style='color:#b35900'>warning: {html.escape(w)}</span>" for w in s.warnings
+        ]
         self.summary.setText("<br>".join(lines))
         self.plot.mark(s.frequency if self.sweep_mesh is outcome.mesh else None)
         self._show_coefficient()
@@ -735,10 +785,10 @@ class SolvePanel(QWidget):
             self.coefficient_label = QLabel(inspector)
             self.coefficient_label.setWordWrap(True)
             self.coefficient_label.setTextInteractionFlags(
-                Qt.TextInteractionFlag.TextSelectableByMouse)
+                Qt.TextInteractionFlag.TextSelectableByMouse
+            )
             layout = inspector.layout()
-            layout.insertWidget(layout.indexOf(inspector.info_label) + 1,
-                                self.coefficient_label)
+            layout.insertWidget(layout.indexOf(inspector.info_label) + 1, self.coefficient_label)
             inspector.edge_selected.connect(self._show_coefficient)
         return inspector
 
@@ -754,9 +804,11 @@ class SolvePanel(QWidget):
             return "I_n: this edge carries no RWG function."
         c = complex(self.solution.coefficients[n])
         number, unit = format_frequency(self.solution.frequency)
-        return (f"I_{n} = {c.real:.4g} {'+' if c.imag >= 0 else '−'} j{abs(c.imag):.4g} A "
-                f"(|I_n| {abs(c):.4g} A, phase {np.degrees(np.angle(c)):.1f}°) at "
-                f"{number} {unit}")
+        return (
+            f"I_{n} = {c.real:.4g} {'+' if c.imag >= 0 else '−'} j{abs(c.imag):.4g} A "
+            f"(|I_n| {abs(c):.4g} A, phase {np.degrees(np.angle(c)):.1f}°) at "
+            f"{number} {unit}"
+        )
 
     def _show_coefficient(self, edge: int | None = None) -> None:
         inspector = self._inspector()
@@ -771,8 +823,11 @@ class SolvePanel(QWidget):
         self.sweep_result, self.sweep_mesh = r, outcome.mesh
         self.plot.show_result(r)
         res = ", ".join(f"{f / 1e9:.4g} GHz" for f in r.resonances)
-        text = (f"Resonance{'s' if len(r.resonances) != 1 else ''}: {res}" if res
-                else "No resonance in this range.")
+        text = (
+            f"Resonance{'s' if len(r.resonances) != 1 else ''}: {res}"
+            if res
+            else "No resonance in this range."
+        )
         self.resonance_label.setText("\n".join([text] + [f"warning: {w}" for w in r.warnings]))
         self.tabs.setCurrentIndex(1)
 

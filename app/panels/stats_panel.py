@@ -19,7 +19,7 @@ TOOLTIPS = {
     "mesh_time": "build_mesh plus the edge topology and statistics",
     "mom_memory": "A dense N × N complex128 impedance matrix, N = interior edges",
     "subdivisions_chosen": "The smallest subdivisions whose edges all meet the frequency's "
-                           "λ / cells per wavelength or the largest edge",
+    "λ / cells per wavelength or the largest edge",
     "wavelength": "λ = c0 / (f √εr) at the frequency, in the medium of εr",
     "max_edge_wavelengths": "Longest edge of the mesh in wavelengths (λ/10 = 0.1)",
     "max_area_wavelengths2": "Largest triangle area in square wavelengths (λ²/30 = 0.033)",
@@ -82,7 +82,8 @@ class StatsPanel(QWidget):
             self.values[key].setText(text)
         broken = result is not None and result.stats.get("lambda_10_rule") is False
         self.values["lambda_10_rule"].setStyleSheet(
-            "color: #d0021b; font-weight: bold;" if broken else "")
+            "color: #d0021b; font-weight: bold;" if broken else ""
+        )
         junctions = result is not None and result.stats.get("junction_edges", 0) > 0
         self.values["junction_edges"].setStyleSheet(
             "color: #d0021b; font-weight: bold;" if junctions else ""

@@ -33,8 +33,10 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 log = logging.getLogger(__name__)
 
 MODES = ("paper", "conforming")
-TITLES = {"paper": "Paper mode: overlapping patches",
-          "conforming": "Conforming mode: one watertight mesh"}
+TITLES = {
+    "paper": "Paper mode: overlapping patches",
+    "conforming": "Conforming mode: one watertight mesh",
+}
 #: Faces covered by 2 and by 3 or more patches (drawn just over the faces, under every
 #: edge layer: the triangle and shared edges of overlapping patches stay visible on the
 #: shading, where they tangle).
@@ -64,11 +66,10 @@ def patch_coverage(mesh: TriMesh) -> np.ndarray | None:
     out = np.zeros(len(c), dtype=np.int32)
     step = max(1, _CHUNK // len(rects))
     for lo in range(0, len(c), step):
-        x = c[lo:lo + step, 0:1]
-        y = c[lo:lo + step, 1:2]
-        inside = ((x > rects[:, 0]) & (x < rects[:, 2]) & (y > rects[:, 1])
-                  & (y < rects[:, 3]))
-        out[lo:lo + step] = inside.sum(axis=1)
+        x = c[lo : lo + step, 0:1]
+        y = c[lo : lo + step, 1:2]
+        inside = (x > rects[:, 0]) & (x < rects[:, 2]) & (y > rects[:, 1]) & (y < rects[:, 3])
+        out[lo : lo + step] = inside.sum(axis=1)
     return out
 
 
@@ -84,8 +85,11 @@ def coverage_faces(mesh: TriMesh, coverage: np.ndarray | None, dz: float) -> Lay
     used, local = np.unique(tri, return_inverse=True)
     pts = np.array(np.asarray(mesh.points)[used], dtype=np.float64)
     pts[:, 2] += dz
-    return Layer(pts, faces=local.reshape(tri.shape).astype(np.int64),
-                 cell_data={"coverage": np.minimum(coverage[keep], 3).astype(np.float64)})
+    return Layer(
+        pts,
+        faces=local.reshape(tri.shape).astype(np.int64),
+        cell_data={"coverage": np.minimum(coverage[keep], 3).astype(np.float64)},
+    )
 
 
 @dataclasses.dataclass
@@ -112,8 +116,11 @@ def compute_half(params: MeshParams, mode: str) -> Half:
     half = Half(mode, result)
     if mode == "paper":
         coverage = patch_coverage(result.mesh)
-        size = max(result.scene.bounds[1] - result.scene.bounds[0],
-                   result.scene.bounds[3] - result.scene.bounds[2], 1e-9)
+        size = max(
+            result.scene.bounds[1] - result.scene.bounds[0],
+            result.scene.bounds[3] - result.scene.bounds[2],
+            1e-9,
+        )
         # just above the faces (z = 0), under every edge layer (from 1e-4 of the size up)
         half.overlap = coverage_faces(result.mesh, coverage, 0.8e-4 * size)
         if coverage is not None:
@@ -145,20 +152,28 @@ def stats_html(half: Half) -> str:
         ("Shared edges per triangle", f"{n / t:.2f}" if t else "–"),
     ]
     if s.get("junction_edges"):
-        rows.append(("Junction edges", f"<span style='color:#d0021b'>"
-                                       f"{s['junction_edges']:,}</span>"))
+        rows.append(
+            ("Junction edges", f"<span style='color:#d0021b'>{s['junction_edges']:,}</span>")
+        )
     ratio = s.get("overlap_ratio")
     rows.append(("Overlap ratio", "–" if ratio is None else f"{100 * ratio:.1f} %"))
     if half.covered is not None:
         # the legend of the shading: one swatch, one count each
         three = half.covered3 or 0.0
         rows.append(("Triangles under 2+ patches", f"{100 * half.covered:.1f} %"))
-        rows.append((f"<span style='color:{COVERAGE_COLORS[0]}'>■</span> under 2 patches",
-                     f"{100 * (half.covered - three):.1f} %"))
-        rows.append((f"<span style='color:{COVERAGE_COLORS[1]}'>■</span> under 3 or more",
-                     f"{100 * three:.1f} %"))
-    body = "".join(f"<tr><td>{k}</td><td align='right'>&nbsp;&nbsp;{v}</td></tr>"
-                   for k, v in rows)
+        rows.append(
+            (
+                f"<span style='color:{COVERAGE_COLORS[0]}'>■</span> under 2 patches",
+                f"{100 * (half.covered - three):.1f} %",
+            )
+        )
+        rows.append(
+            (
+                f"<span style='color:{COVERAGE_COLORS[1]}'>■</span> under 3 or more",
+                f"{100 * three:.1f} %",
+            )
+        )
+    body = "".join(f"<tr><td>{k}</td><td align='right'>&nbsp;&nbsp;{v}</td></tr>" for k, v in rows)
     return f"<table cellspacing='1'>{body}</table>"
 
 
@@ -187,8 +202,14 @@ class CompareView(FollowingView):
         self.halves: dict[str, Half] = {}
         self._camera_key: tuple[Any, ...] | None = None
 
-        self.plotter = QtInteractor(self, shape=(1, 2), auto_update=False, border=True,
-                                    border_color="#c8c8c8", border_width=1.0)
+        self.plotter = QtInteractor(
+            self,
+            shape=(1, 2),
+            auto_update=False,
+            border=True,
+            border_color="#c8c8c8",
+            border_width=1.0,
+        )
         self.plotter.setMinimumSize(640, 360)
         for key in ("q", "e"):
             self.plotter.clear_events_for_key(key, raise_on_missing=False)
@@ -199,17 +220,26 @@ class CompareView(FollowingView):
             self.plotter.subplot(0, col)
             scene = MeshScene(self.plotter, visible=LAYERS_SHOWN)
             self.scenes[mode] = scene
-            self.plotter.add_text(TITLES[mode], position=(0.03, 0.93), viewport=True,
-                                  font_size=10, color="#202020")
+            self.plotter.add_text(
+                TITLES[mode], position=(0.03, 0.93), viewport=True, font_size=10, color="#202020"
+            )
             self.messages[mode] = self.plotter.add_text(
-                "", position=(0.05, 0.45), viewport=True, font_size=12, color="#d0021b")
+                "", position=(0.05, 0.45), viewport=True, font_size=12, color="#d0021b"
+            )
             if mode == "paper":
                 self.overlays[mode] = pv.PolyData()
                 actor = self.plotter.add_mesh(
-                    self.overlays[mode], scalars=None, reset_camera=False, lighting=False,
-                    render=False, pickable=False, color=COVERAGE_COLORS[0])
+                    self.overlays[mode],
+                    scalars=None,
+                    reset_camera=False,
+                    lighting=False,
+                    render=False,
+                    pickable=False,
+                    color=COVERAGE_COLORS[0],
+                )
                 actor.mapper.lookup_table = pv.LookupTable(
-                    cmap=[COVERAGE_COLORS[0], COVERAGE_COLORS[1]], n_values=2)
+                    cmap=[COVERAGE_COLORS[0], COVERAGE_COLORS[1]], n_values=2
+                )
                 actor.mapper.SetScalarModeToUseCellFieldData()
                 actor.mapper.SelectColorArray("coverage")
                 actor.mapper.SetScalarRange(1.5, 3.5)
@@ -225,12 +255,12 @@ class CompareView(FollowingView):
         self.plotter.subplot(0, 1)
         self.tick_points = pv.PolyData()
         self.tick_mapper, self.tick_actor = add_text_labels(
-            self.plotter, self.tick_points, "#303030", font_size=12, background_opacity=0.0)
+            self.plotter, self.tick_points, "#303030", font_size=12, background_opacity=0.0
+        )
         self.plotter.subplot(0, 0)
         self.plotter.enable_parallel_projection()
         self.plotter.view_xy(render=False)
-        for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
-                      "MouseWheelBackwardEvent"):
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
             self.plotter.iren.add_observer(event, self._camera_moved)
 
         self.stats: dict[str, QLabel] = {}
@@ -327,11 +357,11 @@ class CompareView(FollowingView):
                 scene.update(half.result.scene)  # each half with its rulers in mm
                 bounds.append(half.result.scene.bounds)
                 if half.mode in self.overlays:
-                    overlap = half.overlap.polydata() if half.overlap is not None \
-                        else pv.PolyData()
+                    overlap = half.overlap.polydata() if half.overlap is not None else pv.PolyData()
                     self.overlays[half.mode].copy_from(overlap, deep=True)
             self.stats[half.mode].setText(
-                f"<b style='font-size:13pt'>{TITLES[half.mode]}</b><br>{stats_html(half)}")
+                f"<b style='font-size:13pt'>{TITLES[half.mode]}</b><br>{stats_html(half)}"
+            )
         if bounds:
             b = np.asarray(bounds)
             union = (b[:, 0].min(), b[:, 1].max(), b[:, 2].min(), b[:, 3].max())
@@ -366,13 +396,17 @@ class CompareView(FollowingView):
         height = max(self.plotter.window_size[1], 1)
         per_px = 2.0 * self.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
         xs, ys = np.linspace(a, b, nx), np.linspace(c, d, ny)
-        pts = np.vstack([np.column_stack([xs, np.full(nx, c - 14 * per_px), np.zeros(nx)]),
-                         np.column_stack([np.full(ny, a - 22 * per_px), ys, np.zeros(ny)]),
-                         [[0.5 * (a + b), c - 40 * per_px, 0.0],
-                          [a - 30 * per_px, d + 22 * per_px, 0.0]]])
+        pts = np.vstack(
+            [
+                np.column_stack([xs, np.full(nx, c - 14 * per_px), np.zeros(nx)]),
+                np.column_stack([np.full(ny, a - 22 * per_px), ys, np.zeros(ny)]),
+                [[0.5 * (a + b), c - 40 * per_px, 0.0], [a - 30 * per_px, d + 22 * per_px, 0.0]],
+            ]
+        )
         labels = pv.PolyData(pts)
-        labels.point_data["label"] = np.array([*(f"{v:.4g}" for v in (*xs, *ys)),
-                                               "x (mm)", "y (mm)"])
+        labels.point_data["label"] = np.array(
+            [*(f"{v:.4g}" for v in (*xs, *ys)), "x (mm)", "y (mm)"]
+        )
         self.tick_points.copy_from(labels, deep=True)
         self.tick_mapper.Modified()
 
@@ -395,6 +429,7 @@ class CompareView(FollowingView):
     def _stop(self) -> None:
         self._pending = None
         self.pool.waitForDone(30_000)
+
 
 def _wrapped(text: str, width: int = 48) -> str:
     """Break long error messages into lines for the 3D view."""

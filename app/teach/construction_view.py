@@ -72,8 +72,17 @@ TITLE_FONT = 10
 #: Labels are drawn when an edge is cut into at most this many segments, else only the
 #: first two levels of halving (m1, m2, m3, m11 … m22) or every few division points.
 MAX_LABELLED_SEGMENTS = 8
-LAYERS = ("primary_0", "primary_1", "subtriangles", "segments", "shared_edges", "highlight",
-          "division_points", "points", "centroids")
+LAYERS = (
+    "primary_0",
+    "primary_1",
+    "subtriangles",
+    "segments",
+    "shared_edges",
+    "highlight",
+    "division_points",
+    "points",
+    "centroids",
+)
 
 
 def _lines(segments: np.ndarray, z: float) -> pv.PolyData:
@@ -84,8 +93,9 @@ def _lines(segments: np.ndarray, z: float) -> pv.PolyData:
     pts = np.zeros((2 * len(seg), 3))
     pts[:, :2] = seg.reshape(-1, 2)
     pts[:, 2] = z
-    cells = np.column_stack([np.full(len(seg), 2), np.arange(0, 2 * len(seg), 2),
-                             np.arange(1, 2 * len(seg), 2)])
+    cells = np.column_stack(
+        [np.full(len(seg), 2), np.arange(0, 2 * len(seg), 2), np.arange(1, 2 * len(seg), 2)]
+    )
     return pv.PolyData(pts, lines=cells.ravel())
 
 
@@ -139,8 +149,9 @@ def shown_labels(labels: list[str], n: int) -> list[str]:
     return out
 
 
-def step_datasets(params: MeshParams, step: ConstructionStep, index: int,
-                  size: float) -> tuple[dict[str, pv.PolyData], pv.PolyData]:
+def step_datasets(
+    params: MeshParams, step: ConstructionStep, index: int, size: float
+) -> tuple[dict[str, pv.PolyData], pv.PolyData]:
     """The datasets of every layer for one step, and the label anchors (string array).
 
     Lines are lifted above the faces and points above the lines so a top view draws them
@@ -178,8 +189,13 @@ def step_datasets(params: MeshParams, step: ConstructionStep, index: int,
     return out, anchors
 
 
-def label_offsets(labels: list[str], direction: np.ndarray, font_px: float,
-                  gap_px: float, extra_px: np.ndarray | None = None) -> np.ndarray:
+def label_offsets(
+    labels: list[str],
+    direction: np.ndarray,
+    font_px: float,
+    gap_px: float,
+    extra_px: np.ndarray | None = None,
+) -> np.ndarray:
     """Pixel offsets (k, 2) that move each centred label box just clear of its point.
 
     The box (about 0.62 font sizes per character wide, 1.2 high) is pushed along
@@ -190,13 +206,22 @@ def label_offsets(labels: list[str], direction: np.ndarray, font_px: float,
     direction = np.asarray(direction, dtype=np.float64).reshape(-1, 2)
     half_w = 0.5 * (0.62 * font_px * np.array([len(s) for s in labels], dtype=float) + 6)
     half_h = 0.5 * (1.2 * font_px + 4)
-    extra = (np.zeros((len(direction), 2)) if extra_px is None
-             else np.asarray(extra_px, dtype=np.float64).reshape(-1, 2))
+    extra = (
+        np.zeros((len(direction), 2))
+        if extra_px is None
+        else np.asarray(extra_px, dtype=np.float64).reshape(-1, 2)
+    )
     with np.errstate(divide="ignore"):
-        rx = np.where(np.abs(direction[:, 0]) > 1e-9,
-                      (half_w + gap_px + extra[:, 0]) / np.abs(direction[:, 0]), np.inf)
-        ry = np.where(np.abs(direction[:, 1]) > 1e-9,
-                      (half_h + gap_px + extra[:, 1]) / np.abs(direction[:, 1]), np.inf)
+        rx = np.where(
+            np.abs(direction[:, 0]) > 1e-9,
+            (half_w + gap_px + extra[:, 0]) / np.abs(direction[:, 0]),
+            np.inf,
+        )
+        ry = np.where(
+            np.abs(direction[:, 1]) > 1e-9,
+            (half_h + gap_px + extra[:, 1]) / np.abs(direction[:, 1]),
+            np.inf,
+        )
     r = np.minimum(rx, ry)
     return direction * r[:, None]
 
@@ -239,8 +264,7 @@ class ConstructionView(FollowingView):
         self.label_font = LABEL_FONT
         self.plotter.installEventFilter(self)
         self._create_actors()
-        for event in ("EndInteractionEvent", "MouseWheelForwardEvent",
-                      "MouseWheelBackwardEvent"):
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
             self.plotter.iren.add_observer(event, self._camera_moved)
 
         panel = QWidget(self)
@@ -276,13 +300,18 @@ class ConstructionView(FollowingView):
         self.n_spin.setRange(1, 64)
         self.n_spin.setToolTip("Segments per primary-triangle edge (the paper's n = 4)")
         self.n_spin.valueChanged.connect(
-            lambda v: None if self._syncing else self.model.set_value("subdivisions", int(v)))
+            lambda v: None if self._syncing else self.model.set_value("subdivisions", int(v))
+        )
         self.diagonal = QComboBox(panel)
         self.diagonal.addItem("BC (paper)", "BC")
         self.diagonal.addItem("AD (Makarov)", "AD")
         self.diagonal.currentIndexChanged.connect(
-            lambda i: None if self._syncing
-            else self.model.set_value("diagonal", self.diagonal.itemData(i)))
+            lambda i: (
+                None
+                if self._syncing
+                else self.model.set_value("diagonal", self.diagonal.itemData(i))
+            )
+        )
         form.addRow("Subdivisions &n", self.n_spin)
         form.addRow("&Diagonal", self.diagonal)
 
@@ -340,19 +369,27 @@ class ConstructionView(FollowingView):
         for name in ("primary_0", "primary_1", "subtriangles"):
             self.actors[name] = p.add_mesh(self.datasets[name], color=COLORS[name], **common)
         for name in ("segments", "shared_edges", "highlight"):
-            self.actors[name] = p.add_mesh(self.datasets[name], color=COLORS[name],
-                                           line_width=WIDTHS[name], style="wireframe",
-                                           **common)
+            self.actors[name] = p.add_mesh(
+                self.datasets[name],
+                color=COLORS[name],
+                line_width=WIDTHS[name],
+                style="wireframe",
+                **common,
+            )
         for name in ("division_points", "points", "centroids"):
-            self.actors[name] = p.add_mesh(self.datasets[name], color=COLORS[name],
-                                           point_size=WIDTHS[name], style="points",
-                                           render_points_as_spheres=True, **common)
+            self.actors[name] = p.add_mesh(
+                self.datasets[name],
+                color=COLORS[name],
+                point_size=WIDTHS[name],
+                style="points",
+                render_points_as_spheres=True,
+                **common,
+            )
         self.label_points = pv.PolyData()
         self.label_mapper, self.actors["labels"] = add_text_labels(
             p, self.label_points, COLORS["labels"], LABEL_FONT, background_opacity=0.85
         )
-        self.caption = p.add_text("", position="upper_edge", font_size=TITLE_FONT,
-                                  color="#202020")
+        self.caption = p.add_text("", position="upper_edge", font_size=TITLE_FONT, color="#202020")
         # rulers in mm: the main view's (an empty scene whose only visible part they are)
         self.rulers = MeshScene(p, visible={name: False for name in SCENE_LAYERS})
         self.rulers.set_emphasis(RULER_EMPHASIS)
@@ -366,14 +403,20 @@ class ConstructionView(FollowingView):
         def swatch(colour: str, text: str) -> str:
             return f"<span style='color:{colour}'>■</span>&nbsp;{text}"
 
-        return "<div style='font-size:11pt; line-height:140%'>" + "<br>".join([
-            swatch(COLORS["highlight"], "new lines of this step"),
-            swatch(COLORS["segments"], "lines so far"),
-            swatch(COLORS["points"], "labelled points"),
-            swatch(COLORS["centroids"], "centroids (quadrature points)"),
-            swatch(COLORS["shared_edges"], "shared edges: one RWG unknown each"),
-            "rulers: x and y in mm",
-        ]) + "</div>"
+        return (
+            "<div style='font-size:11pt; line-height:140%'>"
+            + "<br>".join(
+                [
+                    swatch(COLORS["highlight"], "new lines of this step"),
+                    swatch(COLORS["segments"], "lines so far"),
+                    swatch(COLORS["points"], "labelled points"),
+                    swatch(COLORS["centroids"], "centroids (quadrature points)"),
+                    swatch(COLORS["shared_edges"], "shared edges: one RWG unknown each"),
+                    "rulers: x and y in mm",
+                ]
+            )
+            + "</div>"
+        )
 
     # -- parameters and steps ------------------------------------------------------------
 
@@ -489,16 +532,19 @@ class ConstructionView(FollowingView):
             # inside a ruled side, straight out past the tick label at the same place
             direction[left & inner_y] = (-1.0, 0.0)
             direction[bottom & inner_x] = (0.0, -1.0)
-        offsets = label_offsets(labels, direction, self.label_font, 0.6 * WIDTHS["points"],
-                                extra)
+        offsets = label_offsets(labels, direction, self.label_font, 0.6 * WIDTHS["points"], extra)
         moved = anchors.copy(deep=True)
         moved.points[:, :2] += offsets * world_per_px
         self.label_points.copy_from(moved, deep=True)
         self.label_mapper.Modified()
 
     def eventFilter(self, watched: Any, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if (watched is self.plotter and event.type() == QEvent.Type.Resize
-                and self._frame_bounds is not None and not self._closed):
+        if (
+            watched is self.plotter
+            and event.type() == QEvent.Type.Resize
+            and self._frame_bounds is not None
+            and not self._closed
+        ):
             QTimer.singleShot(0, self._refit)
         return super().eventFilter(watched, event)
 

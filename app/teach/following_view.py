@@ -85,9 +85,11 @@ class FollowingView(QWidget):
         if self._closed:
             return
         self._closed = True
-        for event, slot in ((self.model.params_changed, self._params_changed),
-                            (self.model.params_changed, self._note_params),
-                            (self.model.cell_changed, self._cell_changed)):
+        for event, slot in (
+            (self.model.params_changed, self._params_changed),
+            (self.model.params_changed, self._note_params),
+            (self.model.cell_changed, self._cell_changed),
+        ):
             try:
                 event.disconnect(slot)
             except ValueError:

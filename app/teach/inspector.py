@@ -146,8 +146,11 @@ class EdgeInfo:
 
     def rows(self) -> list[tuple[str, str]]:
         """(label, value) pairs for the info box, in the literature's names."""
-        out = [("Edge", f"{self.edge}"), ("Vertices", f"{self.vertices[0]}, {self.vertices[1]}"),
-               ("Length l", f"{self.length:.4g} mm")]
+        out = [
+            ("Edge", f"{self.edge}"),
+            ("Vertices", f"{self.vertices[0]}, {self.vertices[1]}"),
+            ("Length l", f"{self.length:.4g} mm"),
+        ]
         s = self.sample
         if s is None:
             out.append(("Triangles", ", ".join(str(t) for t in self.triangles)))
@@ -163,10 +166,14 @@ class EdgeInfo:
         return out
 
     def html(self) -> str:
-        cells = "".join(f"<tr><td>{html.escape(k)}</td><td><b>{html.escape(v)}</b></td></tr>"
-                        for k, v in self.rows())
-        return (f"<table cellspacing='3'>{cells}</table>"
-                f"<p style='margin-top:6px'>{html.escape(self.status)}</p>")
+        cells = "".join(
+            f"<tr><td>{html.escape(k)}</td><td><b>{html.escape(v)}</b></td></tr>"
+            for k, v in self.rows()
+        )
+        return (
+            f"<table cellspacing='3'>{cells}</table>"
+            f"<p style='margin-top:6px'>{html.escape(self.status)}</p>"
+        )
 
     def summary(self) -> str:
         """One or two lines for the in-view caption."""
@@ -174,9 +181,11 @@ class EdgeInfo:
         if s is None:
             kind = self.status.split(":", 1)[0]
             return f"edge {self.edge}: {kind}, no RWG function"
-        return (f"edge {self.edge}: RWG unknown n = {s.row}, l = {s.length:.3g} mm\n"
-                f"T+ = {s.t_plus}, A+ = {s.area_plus:.3g} mm²\n"
-                f"T− = {s.t_minus}, A− = {s.area_minus:.3g} mm²")
+        return (
+            f"edge {self.edge}: RWG unknown n = {s.row}, l = {s.length:.3g} mm\n"
+            f"T+ = {s.t_plus}, A+ = {s.area_plus:.3g} mm²\n"
+            f"T− = {s.t_minus}, A− = {s.area_minus:.3g} mm²"
+        )
 
 
 def edge_info(mesh: TriMesh, edge: int, quadrature: int = DEFAULT_QUADRATURE) -> EdgeInfo:
@@ -187,15 +196,22 @@ def edge_info(mesh: TriMesh, edge: int, quadrature: int = DEFAULT_QUADRATURE) ->
     a, b = (int(v) for v in mesh.edges[edge])
     length = float(np.linalg.norm(mesh.points[a] - mesh.points[b]))
     sample = sample_rwg(mesh, edge, quadrature) if mesh.topology.valence[edge] == 2 else None
-    return EdgeInfo(edge, (a, b), length, tuple(int(t) for t in edge_triangles(mesh, edge)),
-                    edge_status(mesh, edge), sample)
+    return EdgeInfo(
+        edge,
+        (a, b),
+        length,
+        tuple(int(t) for t in edge_triangles(mesh, edge)),
+        edge_status(mesh, edge),
+        sample,
+    )
 
 
 # -- geometry for the overlay -----------------------------------------------------------
 
 
-def arrow_polygons(starts: np.ndarray, vectors: np.ndarray, width: float,
-                   head: float | None = None) -> pv.PolyData:
+def arrow_polygons(
+    starts: np.ndarray, vectors: np.ndarray, width: float, head: float | None = None
+) -> pv.PolyData:
     """Flat arrows in the xy plane as 7-gons: shaft of ``width``, head 3× wider.
 
     Parameters
@@ -220,10 +236,18 @@ def arrow_polygons(starts: np.ndarray, vectors: np.ndarray, width: float,
     w = 0.5 * width
     tip = starts + d * length[:, None]
     neck = tip - d * h
-    corners = np.stack([
-        starts + n * w, neck + n * w, neck + n * 3 * w, tip,
-        neck - n * 3 * w, neck - n * w, starts - n * w,
-    ], axis=1)  # (k, 7, 3)
+    corners = np.stack(
+        [
+            starts + n * w,
+            neck + n * w,
+            neck + n * 3 * w,
+            tip,
+            neck - n * 3 * w,
+            neck - n * w,
+            starts - n * w,
+        ],
+        axis=1,
+    )  # (k, 7, 3)
     k = len(corners)
     faces = np.empty((k, 8), dtype=np.int64)
     faces[:, 0] = 7
@@ -281,8 +305,9 @@ def overlay_data(mesh: TriMesh, info: EdgeInfo) -> OverlayData:
 
     corners = pts[np.asarray(mesh.triangles)[[s.t_plus, s.t_minus]]]  # (2, 3, 3)
     # above the scene's edge lines (up to 5 dz), so overlapping patches do not hatch T±
-    faces = pv.PolyData.from_regular_faces(_lift(corners.reshape(-1, 3), 5.5 * dz),
-                                           np.arange(6).reshape(2, 3))
+    faces = pv.PolyData.from_regular_faces(
+        _lift(corners.reshape(-1, 3), 5.5 * dz), np.arange(6).reshape(2, 3)
+    )
     faces.cell_data["divergence"] = np.array([s.divergence_plus, s.divergence_minus])
     sets["triangles"] = faces
 
@@ -295,13 +320,13 @@ def overlay_data(mesh: TriMesh, info: EdgeInfo) -> OverlayData:
     where = np.vstack([s.points_plus, s.points_minus])
     peak = float(np.linalg.norm(values[:, :2], axis=1).max()) or 1.0
     vec = values * (0.85 * cell / peak)
-    sets["arrows"] = arrow_polygons(_lift(where - 0.5 * vec, 6.5 * dz), vec, 0.07 * cell,
-                                    head=0.3 * cell)
+    sets["arrows"] = arrow_polygons(
+        _lift(where - 0.5 * vec, 6.5 * dz), vec, 0.07 * cell, head=0.3 * cell
+    )
     free = pts[[s.free_plus, s.free_minus]]
     rho_start = np.vstack([free[0], s.centroid_minus])
     rho_vec = np.vstack([s.rho_plus, s.rho_minus])
-    sets["rho"] = arrow_polygons(_lift(rho_start, 7 * dz), rho_vec, 0.03 * side,
-                                 head=0.1 * side)
+    sets["rho"] = arrow_polygons(_lift(rho_start, 7 * dz), rho_vec, 0.03 * side, head=0.1 * side)
     sets["free"] = _points(_lift(free, 9 * dz))
     # labels just outside the free vertices, away from the edge's midpoint
     mid = 0.5 * (pts[a] + pts[b])
@@ -309,8 +334,13 @@ def overlay_data(mesh: TriMesh, info: EdgeInfo) -> OverlayData:
     away /= np.maximum(np.linalg.norm(away, axis=1, keepdims=True), 1e-300)
     # VTK string arrays are ASCII only: r- with a hyphen
     sets["labels"] = _points(_lift(free + 0.14 * side * away, 10 * dz), ["r+", "r-"])
-    return OverlayData(sets, max(abs(s.divergence_plus), abs(s.divergence_minus)),
-                       info.summary(), s.divergence_plus, s.divergence_minus)
+    return OverlayData(
+        sets,
+        max(abs(s.divergence_plus), abs(s.divergence_minus)),
+        info.summary(),
+        s.divergence_plus,
+        s.divergence_minus,
+    )
 
 
 class InspectorOverlay:
@@ -333,26 +363,43 @@ class InspectorOverlay:
     def _create_actors(self) -> None:
         p = self.plotter
         common = {"reset_camera": False, "lighting": False, "render": False, "pickable": False}
-        tri = p.add_mesh(self.datasets["triangles"], scalars=None, opacity=0.75,
-                         show_scalar_bar=False, **common)
+        tri = p.add_mesh(
+            self.datasets["triangles"], scalars=None, opacity=0.75, show_scalar_bar=False, **common
+        )
         tri.mapper.lookup_table = pv.LookupTable(cmap=DIVERGENCE_CMAP)
         tri.mapper.SetScalarModeToUseCellFieldData()
         tri.mapper.SelectColorArray("divergence")
         tri.mapper.SetScalarVisibility(True)
         self.actors["triangles"] = tri
-        self.actors["others"] = p.add_mesh(self.datasets["others"], color=COLORS["other"],
-                                           opacity=0.85, **common)
+        self.actors["others"] = p.add_mesh(
+            self.datasets["others"], color=COLORS["other"], opacity=0.85, **common
+        )
         self.actors["rho"] = p.add_mesh(self.datasets["rho"], color=COLORS["rho"], **common)
-        self.actors["arrows"] = p.add_mesh(self.datasets["arrows"], color=COLORS["arrows"],
-                                           **common)
-        self.actors["edge_rim"] = p.add_mesh(self.datasets["edge"], color=COLORS["edge_rim"],
-                                             line_width=EDGE_WIDTH + 4, style="wireframe",
-                                             **common)
-        self.actors["edge"] = p.add_mesh(self.datasets["edge"], color=COLORS["edge"],
-                                         line_width=EDGE_WIDTH, style="wireframe", **common)
-        self.actors["free"] = p.add_mesh(self.datasets["free"], color=COLORS["free"],
-                                         point_size=FREE_SIZE, render_points_as_spheres=True,
-                                         style="points", **common)
+        self.actors["arrows"] = p.add_mesh(
+            self.datasets["arrows"], color=COLORS["arrows"], **common
+        )
+        self.actors["edge_rim"] = p.add_mesh(
+            self.datasets["edge"],
+            color=COLORS["edge_rim"],
+            line_width=EDGE_WIDTH + 4,
+            style="wireframe",
+            **common,
+        )
+        self.actors["edge"] = p.add_mesh(
+            self.datasets["edge"],
+            color=COLORS["edge"],
+            line_width=EDGE_WIDTH,
+            style="wireframe",
+            **common,
+        )
+        self.actors["free"] = p.add_mesh(
+            self.datasets["free"],
+            color=COLORS["free"],
+            point_size=FREE_SIZE,
+            render_points_as_spheres=True,
+            style="points",
+            **common,
+        )
         self.label_mapper, self.actors["labels"] = add_text_labels(
             p, self.datasets["labels"], COLORS["labels"], background_opacity=0.75
         )
@@ -416,8 +463,10 @@ class InspectorOverlay:
         self.actors["free"].prop.point_size = FREE_SIZE * self.scale
         self.label_mapper.GetLabelTextProperty().SetFontSize(int(FONT_SIZE * 1.2 * self.scale))
         self.caption.GetTextProperty().SetFontSize(int(FONT_SIZE * self.scale))
-        for prop in (self.scalar_bar.GetTitleTextProperty(),
-                     self.scalar_bar.GetLabelTextProperty()):
+        for prop in (
+            self.scalar_bar.GetTitleTextProperty(),
+            self.scalar_bar.GetLabelTextProperty(),
+        ):
             prop.SetFontSize(int(13 * self.scale))
         self.bar_title.GetTextProperty().SetFontSize(int(13 * self.scale))
 

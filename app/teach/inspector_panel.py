@@ -73,8 +73,9 @@ class ViewPicker(QObject):
         self.enabled = False
         self.suspended = False  # the measure tool takes the clicks
         self.faces_actor = faces_actor
-        self.locate: Callable[[float, float, bool],
-                              tuple[int | None, np.ndarray | None] | None] | None = None
+        self.locate: (
+            Callable[[float, float, bool], tuple[int | None, np.ndarray | None] | None] | None
+        ) = None
         self.picker = vtkCellPicker()
         self.picker.SetTolerance(1e-4)
         self.picker.PickFromListOn()
@@ -82,8 +83,7 @@ class ViewPicker(QObject):
         self._press: QPointF | None = None
         plotter.installEventFilter(self)
 
-    def pick_display(self, x: float, y: float,
-                     emit: bool = True) -> tuple[int, np.ndarray] | None:
+    def pick_display(self, x: float, y: float, emit: bool = True) -> tuple[int, np.ndarray] | None:
         """Pick at VTK display coordinates (pixels, origin bottom left).
 
         Returns the triangle and the picked world point, or None off the mesh. Emits
@@ -137,8 +137,11 @@ class ViewPicker(QObject):
         kind = event.type()
         if kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
             self._press = event.position()
-        elif (kind == QEvent.Type.MouseButtonRelease
-              and event.button() == Qt.MouseButton.LeftButton and self._press is not None):
+        elif (
+            kind == QEvent.Type.MouseButtonRelease
+            and event.button() == Qt.MouseButton.LeftButton
+            and self._press is not None
+        ):
             moved = (event.position() - self._press).manhattanLength()
             self._press = None
             if self.enabled and not self.suspended and moved <= CLICK_SLOP:
@@ -171,8 +174,11 @@ class InspectorPanel(QWidget):
         self.active = False
 
         layout = QVBoxLayout(self)
-        hint = QLabel("Click an edge or a triangle in the 3D view. "
-                      "<b>N</b> / <b>P</b>: next / previous RWG unknown.", self)
+        hint = QLabel(
+            "Click an edge or a triangle in the 3D view. "
+            "<b>N</b> / <b>P</b>: next / previous RWG unknown.",
+            self,
+        )
         hint.setWordWrap(True)
         layout.addWidget(hint)
         form = QFormLayout()
@@ -184,8 +190,9 @@ class InspectorPanel(QWidget):
         self.quadrature = QSpinBox(self)
         self.quadrature.setRange(1, 8)
         self.quadrature.setValue(DEFAULT_QUADRATURE)
-        self.quadrature.setToolTip("f_n is drawn at the centroids of q² sub-triangles "
-                                   "of T+ and T− (the quadrature points)")
+        self.quadrature.setToolTip(
+            "f_n is drawn at the centroids of q² sub-triangles of T+ and T− (the quadrature points)"
+        )
         self.quadrature.valueChanged.connect(lambda _q: self.refresh())
         form.addRow("&Edge", self.edge_spin)
         form.addRow("&Quadrature q (q² points)", self.quadrature)
@@ -213,7 +220,9 @@ class InspectorPanel(QWidget):
             "<span style='color:#3b4cc0'>■</span> T− (∇·f = −l/A−)<br>"
             "<span style='background:#000000;color:#ffe000'>━━</span> the edge &nbsp; "
             "<span style='color:#00a651'>➜</span> ρ± and free vertices r± &nbsp; "
-            "<b>➜</b> f_n at the quadrature points</small>", self)
+            "<b>➜</b> f_n at the quadrature points</small>",
+            self,
+        )
         legend.setWordWrap(True)
         layout.addWidget(legend)
         layout.addStretch(1)

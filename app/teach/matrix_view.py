@@ -95,8 +95,9 @@ class ConnectivityTableModel(QAbstractTableModel):
     def columnCount(self, parent: QModelIndex | QPersistentModelIndex = QModelIndex()) -> int:  # noqa: B008, N802
         return 0 if parent.isValid() else self.dense.shape[1]
 
-    def data(self, index: QModelIndex | QPersistentModelIndex,
-             role: int = Qt.ItemDataRole.DisplayRole) -> Any:
+    def data(
+        self, index: QModelIndex | QPersistentModelIndex, role: int = Qt.ItemDataRole.DisplayRole
+    ) -> Any:
         if not index.isValid():
             return None
         value = int(self.dense[index.row(), index.column()])
@@ -112,12 +113,15 @@ class ConnectivityTableModel(QAbstractTableModel):
             return self._bold
         if role == Qt.ItemDataRole.ToolTipRole:
             i, j = index.row(), index.column()
-            return (f"T{i} and T{j} share an edge" if value
-                    else f"T{i} and T{j} share no edge")
+            return f"T{i} and T{j} share an edge" if value else f"T{i} and T{j} share no edge"
         return None
 
-    def headerData(self, section: int, orientation: Qt.Orientation,  # noqa: N802
-                   role: int = Qt.ItemDataRole.DisplayRole) -> Any:
+    def headerData(
+        self,
+        section: int,
+        orientation: Qt.Orientation,  # noqa: N802
+        role: int = Qt.ItemDataRole.DisplayRole,
+    ) -> Any:
         if role == Qt.ItemDataRole.DisplayRole:
             return str(section)
         return None
@@ -148,12 +152,29 @@ class MatrixView(QWidget):
         self.canvas.setMinimumSize(220, 220)
         self.axes = self.figure.add_subplot(1, 1, 1)
         cmap = ListedColormap(["white", ONE_COLOR])
-        self.image = self.axes.imshow(np.zeros((1, 1)), cmap=cmap, vmin=0, vmax=1,
-                                      interpolation="nearest", aspect="equal")
-        self.row_band = Rectangle((-0.5, -0.5), 1, 1, facecolor=ROW_COLOR, alpha=0.35,
-                                  edgecolor="none", visible=False, animated=True)
-        self.cell_box = Rectangle((-0.5, -0.5), 1, 1, facecolor="none", edgecolor=CELL_COLOR,
-                                  linewidth=2.0, visible=False, animated=True)
+        self.image = self.axes.imshow(
+            np.zeros((1, 1)), cmap=cmap, vmin=0, vmax=1, interpolation="nearest", aspect="equal"
+        )
+        self.row_band = Rectangle(
+            (-0.5, -0.5),
+            1,
+            1,
+            facecolor=ROW_COLOR,
+            alpha=0.35,
+            edgecolor="none",
+            visible=False,
+            animated=True,
+        )
+        self.cell_box = Rectangle(
+            (-0.5, -0.5),
+            1,
+            1,
+            facecolor="none",
+            edgecolor=CELL_COLOR,
+            linewidth=2.0,
+            visible=False,
+            animated=True,
+        )
         self.axes.add_patch(self.row_band)
         self.axes.add_patch(self.cell_box)
         self.canvas.mpl_connect("motion_notify_event", self._mouse_moved)
@@ -175,8 +196,9 @@ class MatrixView(QWidget):
         self.table.clicked.connect(lambda i: self._table_cell(i, True))
         self.caption = QLabel(self)
         self.caption.setWordWrap(True)
-        self.table_note = QLabel(f"The 0/1 table is shown for meshes up to {TABLE_LIMIT} "
-                                 "triangles.", self)
+        self.table_note = QLabel(
+            f"The 0/1 table is shown for meshes up to {TABLE_LIMIT} triangles.", self
+        )
         self.table_note.setWordWrap(True)
         self.cell_label = QLabel(self)
         self.cell_label.setObjectName("matrix_cell")
@@ -184,8 +206,10 @@ class MatrixView(QWidget):
         # two lines reserved: the plot above keeps its size while the text changes
         self.cell_label.setMinimumHeight(2 * self.cell_label.fontMetrics().lineSpacing() + 4)
         self.zoom_button = QPushButton("Zoom to the cell's triangles", self)
-        self.zoom_button.setToolTip("Frame the two triangles of the clicked cell in the 3D "
-                                    "view (Z zooms to the selection too)")
+        self.zoom_button.setToolTip(
+            "Frame the two triangles of the clicked cell in the 3D "
+            "view (Z zooms to the selection too)"
+        )
         self.zoom_button.setEnabled(False)
         self.zoom_button.clicked.connect(self.zoom_requested.emit)
 
@@ -253,8 +277,9 @@ class MatrixView(QWidget):
         self.image.set_extent((-0.5, n - 0.5, n - 0.5, -0.5))
         self.axes.set_xlim(-0.5, n - 0.5)
         self.axes.set_ylim(n - 0.5, -0.5)
-        self.axes.set_title(f"Eq. 27: {n:,} × {n:,}, {matrix.nnz:,} nonzeros",
-                            fontsize=10 * self.font_scale)
+        self.axes.set_title(
+            f"Eq. 27: {n:,} × {n:,}, {matrix.nnz:,} nonzeros", fontsize=10 * self.font_scale
+        )
         interior = len(mesh.interior_edges)
         self.caption.setText(
             f"Entry (i, j) = 1 when triangles i and j share an edge. {matrix.nnz:,} ones "
@@ -357,8 +382,9 @@ class MatrixView(QWidget):
         self.canvas.draw_idle()
 
     def _style_axes(self) -> None:
-        self.axes.tick_params(labelsize=8 * self.font_scale, top=True, labeltop=True,
-                              bottom=False, labelbottom=False)
+        self.axes.tick_params(
+            labelsize=8 * self.font_scale, top=True, labeltop=True, bottom=False, labelbottom=False
+        )
         self.axes.set_xlabel("triangle j", fontsize=9 * self.font_scale)
         self.axes.xaxis.set_label_position("top")
         self.axes.set_ylabel("triangle i", fontsize=9 * self.font_scale)
@@ -378,7 +404,7 @@ class MatrixView(QWidget):
     def _snapped(self, row: int, col: int) -> tuple[int, int]:
         """On a big matrix, a zero cell next to a one (within a few pixels) means the one."""
         m = self.matrix
-        cols = m.indices[m.indptr[row]:m.indptr[row + 1]]
+        cols = m.indices[m.indptr[row] : m.indptr[row + 1]]
         if len(cols) == 0 or col in cols:
             return row, col
         nearest = int(cols[np.argmin(np.abs(cols - col))])
@@ -420,6 +446,4 @@ class MatrixView(QWidget):
 
     def _offer_zoom(self, row: int, col: int) -> None:
         self.zoom_button.setEnabled(True)
-        self.zoom_button.setText(f"Zoom to T{row}" if row == col
-                                 else f"Zoom to T{row} and T{col}")
-
+        self.zoom_button.setText(f"Zoom to T{row}" if row == col else f"Zoom to T{row} and T{col}")

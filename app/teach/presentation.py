@@ -77,8 +77,9 @@ class PresentationMode:
                 w.setFont(self._font)
             if self._state is not None:
                 w.setWindowState(self._state)
-                if not self._state & (Qt.WindowState.WindowMaximized
-                                      | Qt.WindowState.WindowFullScreen):
+                if not self._state & (
+                    Qt.WindowState.WindowMaximized | Qt.WindowState.WindowFullScreen
+                ):
                     w.setGeometry(self._geometry)
             self.emphasize(1.0)
 

@@ -57,8 +57,12 @@ SUGGESTED = {
     "subdivisions": (1.0, 8.0),
     "gap_angle": (0.0, 90.0),
 }
-SIZES = {"800 × 600": (800, 600), "1280 × 720 (16:9)": (1280, 720),
-         "1024 × 1024": (1024, 1024), "640 × 480": (640, 480)}
+SIZES = {
+    "800 × 600": (800, 600),
+    "1280 × 720 (16:9)": (1280, 720),
+    "1024 × 1024": (1024, 1024),
+    "640 × 480": (640, 480),
+}
 
 
 class _Signals(QObject):
@@ -66,12 +70,12 @@ class _Signals(QObject):
     finished = Signal(object)  # None on success, else the message (or "cancelled")
 
 
-def _render_in_child(kwargs: dict, events: multiprocessing.Queue,
-                     stop: threading.Event) -> None:
+def _render_in_child(kwargs: dict, events: multiprocessing.Queue, stop: threading.Event) -> None:
     """The child process: render the sweep, reporting through ``events``."""
     try:
-        frames = render_sweep(**kwargs, progress=lambda d, t: events.put(("progress", d, t)),
-                              should_stop=stop.is_set)
+        frames = render_sweep(
+            **kwargs, progress=lambda d, t: events.put(("progress", d, t)), should_stop=stop.is_set
+        )
     except SweepCancelled:
         events.put(("finished", "cancelled"))
     except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
@@ -93,8 +97,12 @@ class _SweepJob(QRunnable):
         context = multiprocessing.get_context("spawn")  # a fresh VTK, not a fork of ours
         events = context.Queue()
         stop = context.Event()
-        child = context.Process(target=_render_in_child, args=(self.kwargs, events, stop),
-                                daemon=True, name="barymesh-sweep")
+        child = context.Process(
+            target=_render_in_child,
+            args=(self.kwargs, events, stop),
+            daemon=True,
+            name="barymesh-sweep",
+        )
         outcome: object = None
         try:
             child.start()
@@ -141,8 +149,9 @@ class SweepDialog(QDialog):
 
     finished_export = Signal(object)  # frame count, "cancelled" or an error message
 
-    def __init__(self, params: MeshParams, parent: QWidget | None = None,
-                 start_dir: str = "") -> None:
+    def __init__(
+        self, params: MeshParams, parent: QWidget | None = None, start_dir: str = ""
+    ) -> None:
         super().__init__(parent)
         self.setWindowTitle("Export sweep animation")
         self._params = params
@@ -203,8 +212,9 @@ class SweepDialog(QDialog):
         form.addRow(self.progress)
         form.addRow(self.message)
         self.buttons = QDialogButtonBox(self)
-        self.export_button = self.buttons.addButton("&Export",
-                                                    QDialogButtonBox.ButtonRole.AcceptRole)
+        self.export_button = self.buttons.addButton(
+            "&Export", QDialogButtonBox.ButtonRole.AcceptRole
+        )
         self.cancel_button = self.buttons.addButton(QDialogButtonBox.StandardButton.Cancel)
         self.close_button = self.buttons.addButton(QDialogButtonBox.StandardButton.Close)
         self.export_button.clicked.connect(self.start_export)
@@ -241,8 +251,11 @@ class SweepDialog(QDialog):
 
     def _browse(self) -> None:
         path, _ = QFileDialog.getSaveFileName(
-            self, "Export sweep animation", self.path.text(),
-            "GIF animation (*.gif);;MP4 video (*.mp4)")
+            self,
+            "Export sweep animation",
+            self.path.text(),
+            "GIF animation (*.gif);;MP4 video (*.mp4)",
+        )
         if path:
             if Path(path).suffix.lower() not in ANIMATION_EXTENSIONS:
                 path += ".gif"
@@ -269,9 +282,16 @@ class SweepDialog(QDialog):
         base = self.params  # read once: the parameters of the moment Export is pressed
         sweep_params(base, name, start, stop, frames)  # every frame valid?
         check_sweep_size(frames, self.size.currentData())
-        return {"base": base, "name": name, "start": start, "stop": stop,
-                "frames": frames, "path": path, "window_size": self.size.currentData(),
-                "fps": self.fps.value()}
+        return {
+            "base": base,
+            "name": name,
+            "start": start,
+            "stop": stop,
+            "frames": frames,
+            "path": path,
+            "window_size": self.size.currentData(),
+            "fps": self.fps.value(),
+        }
 
     # -- running -------------------------------------------------------------------------
 
@@ -319,8 +339,17 @@ class SweepDialog(QDialog):
         self.finished_export.emit(outcome)
 
     def _set_inputs_enabled(self, on: bool) -> None:
-        for widget in (self.param, self.start, self.stop_value, self.frames, self.fps,
-                       self.size, self.path, self.export_button, self.close_button):
+        for widget in (
+            self.param,
+            self.start,
+            self.stop_value,
+            self.frames,
+            self.fps,
+            self.size,
+            self.path,
+            self.export_button,
+            self.close_button,
+        ):
             widget.setEnabled(on)
         self.cancel_button.setEnabled(not on)
 

@@ -65,18 +65,29 @@ class TeachingTools:
         self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", self.matrix)
 
         a = window._action
-        self.act_inspector = a("RWG &basis inspector", self.set_inspector_active, "I",
-                               "Click an edge or triangle: T+, T−, ρ±, f_n and ∇·f_n",
-                               checkable=True)
+        self.act_inspector = a(
+            "RWG &basis inspector",
+            self.set_inspector_active,
+            "I",
+            "Click an edge or triangle: T+, T−, ρ±, f_n and ∇·f_n",
+            checkable=True,
+        )
         self.act_next = a("&Next edge", self._next, ["N", "]"], "Next RWG unknown")
-        self.act_previous = a("&Previous edge", self._previous, ["P", "["],
-                              "Previous RWG unknown")
-        self.act_matrix = a("Connectivity &matrix", self.set_matrix_active, "M",
-                            "The paper's Eq. 27: which triangles share an edge",
-                            checkable=True)
-        self.act_presentation = a("Presentation &mode", self.presentation.set_active, "F5",
-                                  "Panels hidden, thicker lines, larger fonts (F5 again: back)",
-                                  checkable=True)
+        self.act_previous = a("&Previous edge", self._previous, ["P", "["], "Previous RWG unknown")
+        self.act_matrix = a(
+            "Connectivity &matrix",
+            self.set_matrix_active,
+            "M",
+            "The paper's Eq. 27: which triangles share an edge",
+            checkable=True,
+        )
+        self.act_presentation = a(
+            "Presentation &mode",
+            self.presentation.set_active,
+            "F5",
+            "Panels hidden, thicker lines, larger fonts (F5 again: back)",
+            checkable=True,
+        )
         self._sync_step_actions()
 
     def _dock(self, title: str, name: str, widget: Any) -> QDockWidget:

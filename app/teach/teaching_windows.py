@@ -33,15 +33,24 @@ class TeachingWindows(QObject):
         self.sweep: SweepDialog | None = None
         a = window._action
         self.act_construction = a(
-            "&Construction step by step…", self.show_construction, "F7",
+            "&Construction step by step…",
+            self.show_construction,
+            "F7",
             "The paper's construction of one patch: ABCD, m1 … m22, sub-triangles, "
-            "centroids, shared edges")
+            "centroids, shared edges",
+        )
         self.act_compare = a(
-            "Paper &vs conforming…", self.show_compare, "F8",
-            "The same parameters in paper and conforming mode side by side, with statistics")
+            "Paper &vs conforming…",
+            self.show_compare,
+            "F8",
+            "The same parameters in paper and conforming mode side by side, with statistics",
+        )
         self.act_sweep = a(
-            "Export s&weep animation…", self.show_sweep, "Ctrl+Shift+A",
-            "A GIF or MP4 of one parameter swept over K frames")
+            "Export s&weep animation…",
+            self.show_sweep,
+            "Ctrl+Shift+A",
+            "A GIF or MP4 of one parameter swept over K frames",
+        )
         window.installEventFilter(self)
 
     def add_to_menu(self, menu: QMenu) -> None:

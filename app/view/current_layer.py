@@ -74,8 +74,12 @@ class CurrentLayer:
         :meth:`barymesh.app.view.scene.MeshScene.set_covered`).
     """
 
-    def __init__(self, plotter: Any, request_render: Callable[[], None],
-                 shown_changed: Callable[[bool], None] | None = None) -> None:
+    def __init__(
+        self,
+        plotter: Any,
+        request_render: Callable[[], None],
+        shown_changed: Callable[[bool], None] | None = None,
+    ) -> None:
         self.plotter = plotter
         self.request_render = request_render
         self.shown_changed = shown_changed
@@ -101,8 +105,9 @@ class CurrentLayer:
 
     # -- data ------------------------------------------------------------------------
 
-    def set_current(self, mesh: TriMesh, current: np.ndarray,
-                    charge: np.ndarray | None = None) -> None:
+    def set_current(
+        self, mesh: TriMesh, current: np.ndarray, charge: np.ndarray | None = None
+    ) -> None:
         """Show ``current`` ((T, 3) complex, A/m at the centroids of ``mesh``) and keep
         ``charge`` ((T,) complex ρ_s, C/m²) for the charge colouring.
 
@@ -110,11 +115,15 @@ class CurrentLayer:
         """
         current = np.asarray(current)
         if current.shape != (len(mesh.triangles), 3):
-            raise ValueError(f"current has shape {current.shape}; expected "
-                             f"({len(mesh.triangles)}, 3) for this mesh")
+            raise ValueError(
+                f"current has shape {current.shape}; expected "
+                f"({len(mesh.triangles)}, 3) for this mesh"
+            )
         if charge is not None and np.shape(charge) != (len(mesh.triangles),):
-            raise ValueError(f"charge has shape {np.shape(charge)}; expected "
-                             f"({len(mesh.triangles)},) for this mesh")
+            raise ValueError(
+                f"charge has shape {np.shape(charge)}; expected "
+                f"({len(mesh.triangles)},) for this mesh"
+            )
         import pyvista as pv
 
         same = mesh is self.mesh and self._surface_actor is not None
@@ -174,8 +183,9 @@ class CurrentLayer:
         colours by the active cell scalars)."""
         self.surface.cell_data[MAGNITUDE] = self.magnitude
         self.surface.cell_data[CHARGE] = self._charge_values()
-        self.surface.set_active_scalars(CHARGE if self.quantity == "charge" else MAGNITUDE,
-                                        preference="cell")
+        self.surface.set_active_scalars(
+            CHARGE if self.quantity == "charge" else MAGNITUDE, preference="cell"
+        )
         self.surface.Modified()
 
     def _charge_values(self) -> np.ndarray:
@@ -192,10 +202,14 @@ class CurrentLayer:
             return CHARGE, [-peak, peak], False, "coolwarm", CHARGE_TITLE
         peak = float(self.magnitude.max())
         log_scale = self.scale == "log" and peak > 0
-        clim = ([peak * 10 ** -LOG_DECADES, peak] if log_scale
-                else [0.0, peak if peak > 0 else 1.0])
-        return (MAGNITUDE, clim, log_scale, COLORMAP,
-                f"{BAR_TITLE}{', log scale' if log_scale else ''}")
+        clim = [peak * 10**-LOG_DECADES, peak] if log_scale else [0.0, peak if peak > 0 else 1.0]
+        return (
+            MAGNITUDE,
+            clim,
+            log_scale,
+            COLORMAP,
+            f"{BAR_TITLE}{', log scale' if log_scale else ''}",
+        )
 
     def _refresh(self) -> None:
         """New values on the same mesh: colour range and arrows updated, actors kept."""
@@ -227,11 +241,17 @@ class CurrentLayer:
 
         vectors = self.vectors = arrow_vectors(self.current, self.phase)
         peak = float(self.magnitude.max()) if self.magnitude.size else 0.0
-        cloud = pv.PolyData(np.asarray(self.mesh.centroids, dtype=float)
-                            + np.array([0.0, 0.0, 1e-3 * self._arrow_scale]))
+        cloud = pv.PolyData(
+            np.asarray(self.mesh.centroids, dtype=float)
+            + np.array([0.0, 0.0, 1e-3 * self._arrow_scale])
+        )
         cloud["J"] = vectors * (self._arrow_scale / peak if peak > 0 else 0.0)
-        return cloud.glyph(orient="J", scale="J", factor=1.0,
-                           geom=pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07))
+        return cloud.glyph(
+            orient="J",
+            scale="J",
+            factor=1.0,
+            geom=pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07),
+        )
 
     def _remove_actors(self) -> None:
         for actor in (self._surface_actor, self._arrow_actor):
@@ -244,14 +264,30 @@ class CurrentLayer:
     def _bar_args(self) -> dict[str, Any]:
         """The colour bar where the framed mesh leaves room: above it in a tall view,
         at its right in a wide one."""
-        args = {"title": self._bar_title, "fmt": "%.2g", "color": "black",
-                "title_font_size": 12, "label_font_size": 11, "n_labels": 4}
+        args = {
+            "title": self._bar_title,
+            "fmt": "%.2g",
+            "color": "black",
+            "title_font_size": 12,
+            "label_font_size": 11,
+            "n_labels": 4,
+        }
         w, h = self.plotter.window_size  # the render window's pixels (Qt or not)
         if w > 1.15 * h:
-            return args | {"vertical": True, "position_x": 0.86, "position_y": 0.3,
-                           "width": 0.1, "height": 0.4}
-        return args | {"vertical": False, "position_x": 0.3, "position_y": 0.905,
-                       "width": 0.4, "height": 0.09}
+            return args | {
+                "vertical": True,
+                "position_x": 0.86,
+                "position_y": 0.3,
+                "width": 0.1,
+                "height": 0.4,
+            }
+        return args | {
+            "vertical": False,
+            "position_x": 0.3,
+            "position_y": 0.905,
+            "width": 0.4,
+            "height": 0.09,
+        }
 
     def _draw(self) -> None:
         self._remove_actors()
@@ -260,9 +296,17 @@ class CurrentLayer:
             return
         name, clim, log_scale, cmap, self._bar_title = self._colouring()
         self._surface_actor = self.plotter.add_mesh(
-            self.surface, scalars=name, cmap=cmap, clim=clim, log_scale=log_scale,
-            show_edges=False, lighting=False, reset_camera=False, render=False,
-            name="surface_current", pickable=False,
+            self.surface,
+            scalars=name,
+            cmap=cmap,
+            clim=clim,
+            log_scale=log_scale,
+            show_edges=False,
+            lighting=False,
+            reset_camera=False,
+            render=False,
+            name="surface_current",
+            pickable=False,
             scalar_bar_args=self._bar_args(),
         )
         # the mapper reads self.surface through pyvista's producer: Modified() on it makes
@@ -275,7 +319,13 @@ class CurrentLayer:
         mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-4.0, -8.0)
         self.arrows = self._glyphs()
         self._arrow_actor = self.plotter.add_mesh(
-            self.arrows, color=ARROW_COLOR, lighting=False, reset_camera=False, render=False,
-            name="surface_current_arrows", pickable=False, show_scalar_bar=False,
+            self.arrows,
+            color=ARROW_COLOR,
+            lighting=False,
+            reset_camera=False,
+            render=False,
+            name="surface_current_arrows",
+            pickable=False,
+            show_scalar_bar=False,
         )
         self.set_visible(self.visible)

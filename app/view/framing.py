@@ -51,9 +51,15 @@ def look_from_above(plotter: Any) -> None:
     plotter.renderer.ResetCameraClippingRange()
 
 
-def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
-                     rulers: bool = True, margin: float = 0.04, top: float = 0.0,
-                     right_px: float = 0.0, bottom_px: float = 0.0) -> None:
+def frame_from_above(
+    plotter: Any,
+    bounds: tuple[float, float, float, float],
+    rulers: bool = True,
+    margin: float = 0.04,
+    top: float = 0.0,
+    right_px: float = 0.0,
+    bottom_px: float = 0.0,
+) -> None:
     """Look down the z axis at the rectangle ``bounds`` = (x0, x1, y0, y1) in mm, all of it
     in view whatever the view's aspect ratio.
 
@@ -79,7 +85,7 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
     if rulers:
         (x0, x1, _), (y0, y1, _) = nice_span(x0, x1), nice_span(y0, y1)
     size = max(x1 - x0, y1 - y0, 1e-9)
-    low, high = (RULER_PAD if rulers else (margin, margin))
+    low, high = RULER_PAD if rulers else (margin, margin)
     x0, y0 = x0 - low * size, y0 - low * size
     x1, y1 = x1 + high * size, y1 + (high + top) * size
     if not plotter.camera.parallel_projection:
@@ -102,8 +108,9 @@ def frame_from_above(plotter: Any, bounds: tuple[float, float, float, float],
     plotter.renderer.ResetCameraClippingRange()
 
 
-def frame_points(plotter: Any, points: np.ndarray, fill: float = 0.35,
-                 min_size: float = 0.0) -> None:
+def frame_points(
+    plotter: Any, points: np.ndarray, fill: float = 0.35, min_size: float = 0.0
+) -> None:
     """Centre the view on ``points`` (k, 3) so that they span about ``fill`` of the view.
 
     Used by zoom-to-selection: a triangle or two, an edge, a measured segment. The
@@ -116,8 +123,12 @@ def frame_points(plotter: Any, points: np.ndarray, fill: float = 0.35,
     extent = max(float((hi - lo).max()), float(min_size), 1e-9)
     half = 0.5 * extent / max(min(fill, 1.0), 1e-3)
     centre = 0.5 * (lo + hi)
-    frame_from_above(plotter, (centre[0] - half, centre[0] + half,
-                               centre[1] - half, centre[1] + half), rulers=False, margin=0.0)
+    frame_from_above(
+        plotter,
+        (centre[0] - half, centre[0] + half, centre[1] - half, centre[1] + half),
+        rulers=False,
+        margin=0.0,
+    )
 
 
 def pixels_per_mm(plotter: Any) -> float:
@@ -138,12 +149,17 @@ def visible_rect(plotter: Any) -> tuple[float, float, float, float]:
 
 def rect_inside(inner: Any, outer: Any) -> bool:
     """Whether rectangle ``inner`` = (x0, x1, y0, y1) lies within ``outer``."""
-    return (inner[0] >= outer[0] and inner[1] <= outer[1]
-            and inner[2] >= outer[2] and inner[3] <= outer[3])
+    return (
+        inner[0] >= outer[0]
+        and inner[1] <= outer[1]
+        and inner[2] >= outer[2]
+        and inner[3] <= outer[3]
+    )
 
 
-def world_rect_on_screen(plotter: Any, bounds: tuple[float, float, float, float]
-                         ) -> tuple[float, float]:
+def world_rect_on_screen(
+    plotter: Any, bounds: tuple[float, float, float, float]
+) -> tuple[float, float]:
     """(width, height) in pixels that the rectangle ``bounds`` covers at the current zoom."""
     k = pixels_per_mm(plotter)
     return (float(bounds[1] - bounds[0]) * k, float(bounds[3] - bounds[2]) * k)

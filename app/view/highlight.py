@@ -32,8 +32,12 @@ class TriangleHighlight:
 
     def __init__(self, plotter: pv.Plotter) -> None:
         self.plotter = plotter
-        self.datasets = {"row": pv.PolyData(), "col": pv.PolyData(),
-                         "row_marker": pv.PolyData(), "col_marker": pv.PolyData()}
+        self.datasets = {
+            "row": pv.PolyData(),
+            "col": pv.PolyData(),
+            "row_marker": pv.PolyData(),
+            "col_marker": pv.PolyData(),
+        }
         self.actors = {}
         self.scale = 1.0
         self.outline_only = False
@@ -44,12 +48,21 @@ class TriangleHighlight:
         common = {"reset_camera": False, "lighting": False, "render": False, "pickable": False}
         for name, color in (("row", ROW_COLOR), ("col", COL_COLOR)):
             self.actors[name] = self.plotter.add_mesh(
-                self.datasets[name], color=color, opacity=0.8, show_edges=True,
-                edge_color=color, line_width=OUTLINE_WIDTH, **common,
+                self.datasets[name],
+                color=color,
+                opacity=0.8,
+                show_edges=True,
+                edge_color=color,
+                line_width=OUTLINE_WIDTH,
+                **common,
             )
             self.actors[f"{name}_marker"] = self.plotter.add_mesh(
-                self.datasets[f"{name}_marker"], color=color, point_size=MARKER_PIXELS[name],
-                style="points", render_points_as_spheres=False, **common,
+                self.datasets[f"{name}_marker"],
+                color=color,
+                point_size=MARKER_PIXELS[name],
+                style="points",
+                render_points_as_spheres=False,
+                **common,
             )
         self.triangles: tuple[int, ...] = ()
         self.set_visible(False)

@@ -34,10 +34,17 @@ class MeasureTool:
         self.lift = 0.0
         common = {"reset_camera": False, "lighting": False, "render": False, "pickable": False}
         self.actors = {
-            "line": plotter.add_mesh(self.line, color=COLOR, line_width=LINE_WIDTH,
-                                     style="wireframe", **common),
-            "ends": plotter.add_mesh(self.ends, color=COLOR, point_size=POINT_SIZE,
-                                     render_points_as_spheres=True, style="points", **common),
+            "line": plotter.add_mesh(
+                self.line, color=COLOR, line_width=LINE_WIDTH, style="wireframe", **common
+            ),
+            "ends": plotter.add_mesh(
+                self.ends,
+                color=COLOR,
+                point_size=POINT_SIZE,
+                render_points_as_spheres=True,
+                style="points",
+                **common,
+            ),
         }
         self._draw()
 
@@ -84,8 +91,7 @@ class MeasureTool:
     def _draw(self) -> None:
         pts = [p + np.array([0.0, 0.0, self.lift]) for p in self.points]
         if len(pts) == 2:
-            self.line.copy_from(pv.PolyData(np.array(pts), lines=np.array([2, 0, 1])),
-                                deep=True)
+            self.line.copy_from(pv.PolyData(np.array(pts), lines=np.array([2, 0, 1])), deep=True)
         else:
             self.line.copy_from(pv.PolyData(), deep=True)
         self.ends.copy_from(pv.PolyData(np.array(pts)) if pts else pv.PolyData(), deep=True)

@@ -42,8 +42,9 @@ def raster_side(pixels: tuple[int, int] | None) -> int:
     return int(np.clip(max(pixels), MIN_SIDE, MAX_SIDE))
 
 
-def raster_shape(bounds: tuple[float, float, float, float],
-                 side: int = RASTER_SIDE) -> tuple[int, int]:
+def raster_shape(
+    bounds: tuple[float, float, float, float], side: int = RASTER_SIDE
+) -> tuple[int, int]:
     """(rows, columns) of a raster of at most ``side`` texels covering ``bounds``."""
     x0, x1, y0, y1 = bounds
     w, h = max(x1 - x0, 1e-12), max(y1 - y0, 1e-12)
@@ -52,9 +53,13 @@ def raster_shape(bounds: tuple[float, float, float, float],
     return max(1, int(np.ceil(h * scale))), max(1, int(np.ceil(w * scale)))
 
 
-def overview_raster(points: np.ndarray, triangles: np.ndarray,
-                    bounds: tuple[float, float, float, float], side: int = RASTER_SIDE,
-                    tests: int = RASTER_TESTS) -> np.ndarray:
+def overview_raster(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    bounds: tuple[float, float, float, float],
+    side: int = RASTER_SIDE,
+    tests: int = RASTER_TESTS,
+) -> np.ndarray:
     """:func:`triangle_raster` over ``bounds`` with at most ``side`` texels on a side, fewer
     where that would cost more than ``tests`` point-in-triangle tests (heavy overlaps).
 
@@ -72,8 +77,9 @@ def overview_raster(points: np.ndarray, triangles: np.ndarray,
     for axis in (0, 1):
         c = np.asarray(points[:, axis], dtype=np.float32)
         a, b, d = (c.take(tri[:, k]) for k in range(3))
-        ext.append((np.maximum(np.maximum(a, b), d) - np.minimum(np.minimum(a, b), d))
-                   .astype(np.float64))
+        ext.append(
+            (np.maximum(np.maximum(a, b), d) - np.minimum(np.minimum(a, b), d)).astype(np.float64)
+        )
     # tests(s) ~ sum((wx s + 1)(wy s + 1)) - T for s texels per mm (a box of one texel
     # costs no test): solve tests(s) = budget
     qa = float(np.dot(ext[0], ext[1]))
@@ -86,9 +92,12 @@ def overview_raster(points: np.ndarray, triangles: np.ndarray,
     return triangle_raster(points, tri, bounds, shape)
 
 
-def triangle_raster(points: np.ndarray, triangles: np.ndarray,
-                    bounds: tuple[float, float, float, float],
-                    shape: tuple[int, int]) -> np.ndarray:
+def triangle_raster(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    bounds: tuple[float, float, float, float],
+    shape: tuple[int, int],
+) -> np.ndarray:
     """The triangle covering each texel centre of a raster over ``bounds`` (seen from +z).
 
     Point-in-triangle tests at the texel centres, vectorised over all triangles grouped
@@ -165,8 +174,9 @@ def triangle_raster(points: np.ndarray, triangles: np.ndarray,
     # edge functions A x + B y + C >= 0 inside (signs folded in, tolerance in C)
     coef = []
     for ux, uy, vx, vy in ((ax, ay, bx, by), (bx, by, cx, cy), (cx, cy, ax, ay)):
-        coef.append((-(vy - uy) * sign, (vx - ux) * sign,
-                     ((vy - uy) * ux - (vx - ux) * uy) * sign + tol))
+        coef.append(
+            (-(vy - uy) * sign, (vx - ux) * sign, ((vy - uy) * ux - (vx - ux) * uy) * sign + tol)
+        )
     del ax, bx, cx, ay, by, cy
     # group by the exact texel box (w, h): no test is wasted, no mask needed
     key = w.astype(np.int64) * (1 << 32) + h
@@ -182,7 +192,7 @@ def triangle_raster(points: np.ndarray, triangles: np.ndarray,
         dy = np.repeat(np.arange(gh, dtype=np.float32), gw)
         step = max(1, _BLOCK_TESTS // (gw * gh))
         for lo in range(s, e, step):
-            t = ids[lo:min(e, lo + step)]
+            t = ids[lo : min(e, lo + step)]
             # texel centres relative to the box corner: x = i0 + 0.5 + dx
             ox = (i0[t] + 0.5).astype(np.float32)[:, None]
             oy = (j0[t] + 0.5).astype(np.float32)[:, None]
@@ -198,8 +208,9 @@ def triangle_raster(points: np.ndarray, triangles: np.ndarray,
     return out
 
 
-def triangles_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, float],
-                      margin: float = 0.0) -> np.ndarray:
+def triangles_in_rect(
+    centroids: np.ndarray, rect: tuple[float, float, float, float], margin: float = 0.0
+) -> np.ndarray:
     """Indices of the triangles whose centroid lies in ``rect`` grown by ``margin``.
 
     Parameters
@@ -219,8 +230,9 @@ def triangles_in_rect(centroids: np.ndarray, rect: tuple[float, float, float, fl
     return np.flatnonzero(keep)
 
 
-def count_grid(points: np.ndarray, bounds: tuple[float, float, float, float],
-               side: int = 256) -> np.ndarray:
+def count_grid(
+    points: np.ndarray, bounds: tuple[float, float, float, float], side: int = 256
+) -> np.ndarray:
     """How many of ``points`` fall in each cell of a ``side`` x ``side`` grid over ``bounds``.
 
     Returns
@@ -235,8 +247,11 @@ def count_grid(points: np.ndarray, bounds: tuple[float, float, float, float],
     return np.bincount(j * side + i, minlength=side * side).reshape(side, side).astype(np.int32)
 
 
-def count_in_rect(grid: np.ndarray, bounds: tuple[float, float, float, float],
-                  rect: tuple[float, float, float, float]) -> int:
+def count_in_rect(
+    grid: np.ndarray,
+    bounds: tuple[float, float, float, float],
+    rect: tuple[float, float, float, float],
+) -> int:
     """At least the number of points of :func:`count_grid` ``grid`` inside ``rect``: the
     cells it touches are counted whole (cost: the grid's size, not the points')."""
     rows, cols = grid.shape
@@ -249,8 +264,9 @@ def count_in_rect(grid: np.ndarray, bounds: tuple[float, float, float, float],
     return int(grid[j0:j1, i0:i1].sum())
 
 
-def overlap_count_raster(rects: np.ndarray, bounds: tuple[float, float, float, float],
-                         shape: tuple[int, int]) -> np.ndarray:
+def overlap_count_raster(
+    rects: np.ndarray, bounds: tuple[float, float, float, float], shape: tuple[int, int]
+) -> np.ndarray:
     """How many of the rectangles ``rects`` cover each texel centre of a raster.
 
     Exact at the texel centres, in O(P + texels): each rectangle adds +1/-1 at the
@@ -321,8 +337,7 @@ def overlap_counts_at(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:
     if len(xy) == 0 or len(r) == 0:
         return np.zeros(len(xy), dtype=np.int64)
     x, y = xy[:, 0], xy[:, 1]
-    near = ((r[:, 2] >= x.min()) & (r[:, 0] <= x.max()) & (r[:, 3] >= y.min())
-            & (r[:, 1] <= y.max()))
+    near = (r[:, 2] >= x.min()) & (r[:, 0] <= x.max()) & (r[:, 3] >= y.min()) & (r[:, 1] <= y.max())
     r = r[near]  # (a detail's few points: only the rectangles around them)
     if len(r) == 0:
         return np.zeros(len(xy), dtype=np.int64)
@@ -359,17 +374,22 @@ def overlap_counts_at(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:
     start = np.searchsorted(cells, pc, side="left")
     count = np.searchsorted(cells, pc, side="right") - start
     point = np.repeat(np.arange(len(xy)), count)
-    cand = rid[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
-               + np.repeat(start, count)]
+    cand = rid[
+        np.arange(int(count.sum()))
+        - np.repeat(np.cumsum(count) - count, count)
+        + np.repeat(start, count)
+    ]
     px, py = x[point], y[point]
-    inside = ((r[cand, 0] <= px) & (px <= r[cand, 2]) & (r[cand, 1] <= py)
-              & (py <= r[cand, 3]))
+    inside = (r[cand, 0] <= px) & (px <= r[cand, 2]) & (r[cand, 1] <= py) & (py <= r[cand, 3])
     return out + np.bincount(point[inside], minlength=len(xy))
 
 
-def decimated_lines(points: np.ndarray, pairs: np.ndarray,
-                    bounds: tuple[float, float, float, float],
-                    shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+def decimated_lines(
+    points: np.ndarray,
+    pairs: np.ndarray,
+    bounds: tuple[float, float, float, float],
+    shape: tuple[int, int],
+) -> tuple[np.ndarray, np.ndarray]:
     """Line segments snapped to the texel centres of a raster, as many as it can show.
 
     Each end moves to the centre of its texel; segments that shrink to a point or

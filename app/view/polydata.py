@@ -67,9 +67,12 @@ class Layer:
             if len(blocks) == 1:
                 poly = pv.PolyData.from_regular_faces(points, blocks[0])
             else:  # VTK's flat layout: m, i_1, ..., i_m per polygon
-                flat = np.concatenate([
-                    np.column_stack([np.full(len(b), b.shape[1], dtype=np.int64), b]).ravel()
-                    for b in blocks])
+                flat = np.concatenate(
+                    [
+                        np.column_stack([np.full(len(b), b.shape[1], dtype=np.int64), b]).ravel()
+                        for b in blocks
+                    ]
+                )
                 poly = pv.PolyData(points, faces=flat)
             for name, values in self.cell_data.items():
                 poly.cell_data[name] = values

@@ -28,19 +28,33 @@ class WorstTrianglesLayer:
 
     def __init__(self, plotter: pv.Plotter) -> None:
         self.plotter = plotter
-        self.datasets = {"fill": pv.PolyData(), "markers": pv.PolyData(),
-                         "chosen": pv.PolyData()}
-        common = {"reset_camera": False, "lighting": False, "render": False,
-                  "pickable": False}
+        self.datasets = {"fill": pv.PolyData(), "markers": pv.PolyData(), "chosen": pv.PolyData()}
+        common = {"reset_camera": False, "lighting": False, "render": False, "pickable": False}
         self.actors = {
-            "fill": plotter.add_mesh(self.datasets["fill"], color=WORST_COLOR, opacity=0.85,
-                                     show_edges=True, edge_color=WORST_COLOR, line_width=2.0,
-                                     **common),
-            "markers": plotter.add_mesh(self.datasets["markers"], color=WORST_COLOR,
-                                        point_size=MARKER_PIXELS, style="points",
-                                        render_points_as_spheres=False, **common),
-            "chosen": plotter.add_mesh(self.datasets["chosen"], color=CHOSEN_COLOR,
-                                       style="wireframe", line_width=CHOSEN_WIDTH, **common),
+            "fill": plotter.add_mesh(
+                self.datasets["fill"],
+                color=WORST_COLOR,
+                opacity=0.85,
+                show_edges=True,
+                edge_color=WORST_COLOR,
+                line_width=2.0,
+                **common,
+            ),
+            "markers": plotter.add_mesh(
+                self.datasets["markers"],
+                color=WORST_COLOR,
+                point_size=MARKER_PIXELS,
+                style="points",
+                render_points_as_spheres=False,
+                **common,
+            ),
+            "chosen": plotter.add_mesh(
+                self.datasets["chosen"],
+                color=CHOSEN_COLOR,
+                style="wireframe",
+                line_width=CHOSEN_WIDTH,
+                **common,
+            ),
         }
         self.visible = True
         self.triangles = np.empty(0, dtype=np.int64)
@@ -59,8 +73,9 @@ class WorstTrianglesLayer:
             self._lift_mesh, self._dz = mesh, 2e-4 * max(span, 1e-9)
         return self._dz
 
-    def show(self, mesh: TriMesh | None, triangles: np.ndarray | list[int],
-             span: float | None = None) -> None:
+    def show(
+        self, mesh: TriMesh | None, triangles: np.ndarray | list[int], span: float | None = None
+    ) -> None:
         """Draw ``triangles`` (indices into ``mesh``) in red; the chosen one is forgotten.
 
         ``span``: the larger side of the mesh's extent (mm) when the caller knows it (the
@@ -80,8 +95,7 @@ class WorstTrianglesLayer:
             dz = self._lift(mesh)
             corners = np.asarray(mesh.points)[mesh.triangles[tris]].reshape(-1, 3).copy()
             corners[:, 2] += dz
-            fill = pv.PolyData.from_regular_faces(corners,
-                                                  np.arange(len(corners)).reshape(-1, 3))
+            fill = pv.PolyData.from_regular_faces(corners, np.arange(len(corners)).reshape(-1, 3))
             centres = corners.reshape(-1, 3, 3).mean(axis=1)
             centres[:, 2] += 100 * dz  # above the centroid dots (spheres reach up)
             markers = pv.PolyData(centres)

@@ -134,8 +134,7 @@ class MeshLocator:
         best = int(np.argmax(worst))
         return int(ids[best]) if worst[best] >= -1e-9 else None
 
-    def hit(self, point: np.ndarray, tolerance: float, triangle: int | None = None
-            ) -> Hit | None:
+    def hit(self, point: np.ndarray, tolerance: float, triangle: int | None = None) -> Hit | None:
         """The element at ``point``: a vertex or an edge within ``tolerance`` mm of it,
         else the triangle itself. ``triangle`` skips the search (a picked triangle)."""
         p = np.asarray(point, dtype=np.float64)
@@ -156,8 +155,11 @@ class MeshLocator:
         ends = self.points[self.edges[edges]]  # (3, 2, 3)
         a, b = ends[:, 0], ends[:, 1]
         ab = b - a
-        s = np.clip(np.einsum("ij,ij->i", p - a, ab)
-                    / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300), 0.0, 1.0)
+        s = np.clip(
+            np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300),
+            0.0,
+            1.0,
+        )
         d_edge = np.linalg.norm(a + s[:, None] * ab - p, axis=1)
         if d_edge.min() <= tolerance:
             return Hit("edge", int(edges[np.argmin(d_edge)]), t, p)
@@ -192,11 +194,13 @@ class MeshLocator:
             else:
                 valence = int(m.topology.valence[hit.index])
                 kind = "boundary" if valence == 1 else f"junction of {valence} triangles"
-            return (f"edge {hit.index} ({a}–{b}), l = {length:.{decimals + 1}g} mm, {kind}")
+            return f"edge {hit.index} ({a}–{b}), l = {length:.{decimals + 1}g} mm, {kind}"
         t = hit.index
         centroid = np.asarray(m.centroids[t])
-        return (f"triangle {t} (patch {int(m.patch_ids[t])}), "
-                f"A = {float(m.areas[t]):.4g} mm², centroid {fmt_point(centroid, decimals, z)}")
+        return (
+            f"triangle {t} (patch {int(m.patch_ids[t])}), "
+            f"A = {float(m.areas[t]):.4g} mm², centroid {fmt_point(centroid, decimals, z)}"
+        )
 
 
 def distance_text(a: np.ndarray, b: np.ndarray, decimals: int = 3) -> str:
@@ -204,8 +208,10 @@ def distance_text(a: np.ndarray, b: np.ndarray, decimals: int = 3) -> str:
     a = np.asarray(a, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
     d = b - a
-    text = (f"|AB| = {float(np.linalg.norm(d)):.{decimals}f} mm "
-            f"(Δx = {d[0]:.{decimals}f}, Δy = {d[1]:.{decimals}f}")
+    text = (
+        f"|AB| = {float(np.linalg.norm(d)):.{decimals}f} mm "
+        f"(Δx = {d[0]:.{decimals}f}, Δy = {d[1]:.{decimals}f}"
+    )
     if abs(d[2]) > 1e-12:
         text += f", Δz = {d[2]:.{decimals}f}"
     return text + " mm)"

@@ -43,8 +43,11 @@ def _text_props(scene: MeshScene) -> list[object]:
 
 def _axes_line_props(scene: MeshScene) -> list[object]:
     axes = scene.axes
-    return [axes.GetXAxesLinesProperty(), axes.GetYAxesLinesProperty(),
-            axes.GetZAxesLinesProperty()]
+    return [
+        axes.GetXAxesLinesProperty(),
+        axes.GetYAxesLinesProperty(),
+        axes.GetZAxesLinesProperty(),
+    ]
 
 
 def _copy_scaled(shown: MeshScene, copy: MeshScene, scale: int) -> None:
@@ -94,8 +97,7 @@ def _scene_copy(scene: MeshScene, scale: int) -> tuple[pv.Plotter, MeshScene]:
         # colour tables, legend ticks and ranges as the view has them (the overview
         # object and its images are shared, not rebuilt: their colouring is the same)
         copy.bounds, copy.ranges = scene.bounds, scene.ranges
-        copy.n_triangles, copy.overview, copy.zoom = (scene.n_triangles, scene.overview,
-                                                     scene.zoom)
+        copy.n_triangles, copy.overview, copy.zoom = (scene.n_triangles, scene.overview, scene.zoom)
         copy.paper, copy.overlap_ratio = scene.paper, scene.overlap_ratio
         copy.axes.n_xlabels, copy.axes.n_ylabels = scene.axes.n_xlabels, scene.axes.n_ylabels
         copy.axes.bounds = scene.axes.bounds
@@ -106,8 +108,13 @@ def _scene_copy(scene: MeshScene, scale: int) -> tuple[pv.Plotter, MeshScene]:
         mine.SetScalarVisibility(faces.GetScalarVisibility())
         mine.SelectColorArray(faces.GetArrayName())
         copy.scalar_bar.SetLookupTable(scene.scalar_bar.GetLookupTable())
-        for name in ("NumberOfLabels", "MaximumNumberOfColors", "LabelFormat",
-                     "UseCustomLabels", "DrawTickLabels"):
+        for name in (
+            "NumberOfLabels",
+            "MaximumNumberOfColors",
+            "LabelFormat",
+            "UseCustomLabels",
+            "DrawTickLabels",
+        ):
             getattr(copy.scalar_bar, f"Set{name}")(getattr(scene.scalar_bar, f"Get{name}")())
         if scene.scalar_bar.GetCustomLabels() is not None:
             copy.scalar_bar.SetCustomLabels(scene.scalar_bar.GetCustomLabels())
@@ -191,8 +198,11 @@ def scaled_view_image(scene: MeshScene, scale: int, transparent: bool = False) -
     -------
     (h * scale, w * scale, 3 or 4) uint8 ndarray
     """
-    if isinstance(scale, bool) or not isinstance(scale, int | np.integer) \
-            or not 1 <= int(scale) <= MAX_SCALE:
+    if (
+        isinstance(scale, bool)
+        or not isinstance(scale, int | np.integer)
+        or not 1 <= int(scale) <= MAX_SCALE
+    ):
         raise ValueError(f"scale={scale!r} is invalid; expected an integer 1..{MAX_SCALE}")
     scale = int(scale)
     offsets = _title_offsets(scene, scale) if scale > 1 else {}

@@ -101,11 +101,14 @@ ZOOM_TEXEL_PX = 1.6
 
 @dataclass
 class Overview:
-    """The faces of a dense mesh (or of a part of it) as an image (see :mod:`barymesh.app.view.overview`).
+    """The faces of a dense mesh (or of a part of it) as an image.
+
+    See :mod:`barymesh.app.view.overview`.
 
     ``values`` holds, per colouring array, the value of the triangle under each texel
     (float32, NaN where no triangle is); ``centroid_counts`` (a 256 x 256 grid over
-    ``bounds``, :func:`barymesh.app.view.overview.count_grid`) lets the view count the triangles in a
+    ``bounds``, :func:`barymesh.app.view.overview.count_grid`) lets the view count the
+    triangles in a
     rectangle without touching the mesh.
     """
 
@@ -169,7 +172,7 @@ def patch_outline_pairs(mesh: TriMesh) -> tuple[np.ndarray, np.ndarray]:
         return rect_outlines(mesh.patch_rects)
     et = mesh.edge_triangles
     pid = mesh.patch_ids
-    two = (et[:, 1] >= 0)
+    two = et[:, 1] >= 0
     differs = np.zeros(len(et), dtype=bool)
     differs[two] = pid[et[two, 0]] != pid[et[two, 1]]
     outline = differs | ~two
@@ -191,8 +194,12 @@ def rect_outlines(rects: np.ndarray, z: float = 0.0) -> tuple[np.ndarray, np.nda
     return points, pairs
 
 
-def outline_stride(rects: np.ndarray, overlap_ratio: float, px_per_mm: float,
-                   spacing_px: float = OUTLINE_SPACING_PX) -> int:
+def outline_stride(
+    rects: np.ndarray,
+    overlap_ratio: float,
+    px_per_mm: float,
+    spacing_px: float = OUTLINE_SPACING_PX,
+) -> int:
     """Outline every k-th of the overlapping patches ``rects`` so that their sides lie
     about ``spacing_px`` apart on screen: the union's area over the sides' total length
     is their mean spacing (mm). Returns k >= 1."""
@@ -206,8 +213,9 @@ def outline_stride(rects: np.ndarray, overlap_ratio: float, px_per_mm: float,
     return max(1, min(len(r), int(np.ceil(spacing_px / max(spacing, 1e-12)))))
 
 
-def _face_arrays(mesh: TriMesh, sel: np.ndarray | None,
-                 overlap: bool = True) -> dict[str, np.ndarray]:
+def _face_arrays(
+    mesh: TriMesh, sel: np.ndarray | None, overlap: bool = True
+) -> dict[str, np.ndarray]:
     """The colouring arrays of the triangles ``sel`` (all if None); ``overlap`` (paper
     mode, if asked for): how many patches cover each triangle's centroid."""
     arrays = {
@@ -234,8 +242,9 @@ def _paper_rects(mesh: TriMesh) -> np.ndarray | None:
     return np.asarray(rects, dtype=np.float64)
 
 
-def lut_settings(array: str, ranges: dict[str, tuple[float, float]]
-                 ) -> tuple[object, int, float, float]:
+def lut_settings(
+    array: str, ranges: dict[str, tuple[float, float]]
+) -> tuple[object, int, float, float]:
     """(colour map, number of colours, low, high) of the face colouring ``array``."""
     lo, hi = ranges.get(array, (0.0, 1.0))
     if array == "patch":
@@ -247,8 +256,7 @@ def lut_settings(array: str, ranges: dict[str, tuple[float, float]]
     return "viridis", 256, lo, hi
 
 
-def overview_rgba(ov: Overview, key: str, ranges: dict[str, tuple[float, float]]
-                  ) -> np.ndarray:
+def overview_rgba(ov: Overview, key: str, ranges: dict[str, tuple[float, float]]) -> np.ndarray:
     """(rows, cols, 4) uint8 colours of the overview ``ov`` for the colouring ``key`` (a
     key of :data:`COLOR_BY`): the faces' lookup table (:func:`lut_settings`) applied as
     VTK's ``vtkLookupTable`` does, in plain numpy (no VTK object in a worker thread)."""
@@ -313,8 +321,10 @@ def full_detail_warning(n_triangles: int, detail: str) -> str:
     """
     if detail != "full" or n_triangles <= FULL_DETAIL_WARN:
         return ""
-    return (f"Full detail of {n_triangles:,} triangles: every frame draws each triangle, "
-            "edge and centroid (slow above about 1M; Detail: automatic draws an image)")
+    return (
+        f"Full detail of {n_triangles:,} triangles: every frame draws each triangle, "
+        "edge and centroid (slow above about 1M; Detail: automatic draws an image)"
+    )
 
 
 def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[float, float]]:
@@ -335,9 +345,14 @@ def _ranges(mesh: TriMesh, arrays: dict[str, np.ndarray]) -> dict[str, tuple[flo
     return ranges
 
 
-def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
-               color_by: str = "none", pixels: tuple[int, int] | None = None,
-               cancel: Callable[[], bool] | None = None) -> SceneData:
+def scene_data(
+    mesh: TriMesh,
+    detail_limit: int = DETAIL_TRIANGLES,
+    *,
+    color_by: str = "none",
+    pixels: tuple[int, int] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> SceneData:
     """Build the datasets of every layer for ``mesh`` (thread-safe, no rendering).
 
     A mesh of more than ``detail_limit`` triangles gets an :class:`Overview` (its faces
@@ -404,16 +419,17 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
     check()
     sets = {name: Layer() for name in LAYERS}
     edges = np.asarray(mesh.edges)
-    for level, name, ids in ((4, "boundary_edges", mesh.boundary_edges),
-                             (5, "junction_edges", mesh.junction_edges)):
+    for level, name, ids in (
+        (4, "boundary_edges", mesh.boundary_edges),
+        (5, "junction_edges", mesh.junction_edges),
+    ):
         pairs = edges[np.asarray(ids, dtype=np.int64)]
         sets[name] = _screen_lines(pts, pairs, bounds, shape, level * dz)
     if rects is None:  # (paper mode: the window outlines a part of the patches)
         out_pts, out_pairs = patch_outline_pairs(mesh)
         sets["patch_outlines"] = _screen_lines(out_pts, out_pairs, bounds, shape, 2 * dz)
     check()
-    covered, values = _image_values(raster, shape, arrays if by_triangle else {}, rects,
-                                    bounds)
+    covered, values = _image_values(raster, shape, arrays if by_triangle else {}, rects, bounds)
     del raster, arrays
     check()
     if rects is not None:
@@ -425,13 +441,17 @@ def scene_data(mesh: TriMesh, detail_limit: int = DETAIL_TRIANGLES, *,
     return SceneData(sets, bounds, ranges, n, typical, overview, **paper)
 
 
-def _image_values(raster: np.ndarray | None, shape: tuple[int, int],
-                  arrays: dict[str, np.ndarray],
-                  rects: np.ndarray | None, bounds: tuple[float, float, float, float]
-                  ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def _image_values(
+    raster: np.ndarray | None,
+    shape: tuple[int, int],
+    arrays: dict[str, np.ndarray],
+    rects: np.ndarray | None,
+    bounds: tuple[float, float, float, float],
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Texel coverage and colouring values of an image of ``shape`` texels.
 
-    ``raster`` (triangle per texel, :func:`barymesh.app.view.overview.overview_raster`) may be coarser
+    ``raster`` (triangle per texel,
+    :func:`barymesh.app.view.overview.overview_raster`) may be coarser
     than ``shape`` (heavy overlaps cost more tests): it is stretched to it. Paper mode
     (``rects`` given): the count of patches over each texel centre is exact at the full
     ``shape`` (:func:`barymesh.app.view.overview.overlap_count_raster`), and so is the coverage.
@@ -466,9 +486,13 @@ def _image_values(raster: np.ndarray | None, shape: tuple[int, int],
     return covered, values
 
 
-def _screen_lines(points: np.ndarray, pairs: np.ndarray,
-                  bounds: tuple[float, float, float, float], shape: tuple[int, int],
-                  dz: float) -> Layer:
+def _screen_lines(
+    points: np.ndarray,
+    pairs: np.ndarray,
+    bounds: tuple[float, float, float, float],
+    shape: tuple[int, int],
+    dz: float,
+) -> Layer:
     """Line cells of ``pairs`` snapped to a raster's texels (as many as it can show)."""
     xy, snapped = decimated_lines(points, pairs, bounds, shape)
     if len(snapped) == 0:
@@ -476,11 +500,16 @@ def _screen_lines(points: np.ndarray, pairs: np.ndarray,
     return _line_set(np.column_stack([xy, np.full(len(xy), dz)]), snapped)
 
 
-def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
-                limit: int = DETAIL_TRIANGLES, *, color_by: str = "none",
-                pixels: tuple[int, int] | None = None,
-                ranges: dict[str, tuple[float, float]] | None = None,
-                bounds: tuple[float, float, float, float] | None = None) -> SceneData | None:
+def detail_data(
+    mesh: TriMesh,
+    rect: tuple[float, float, float, float],
+    limit: int = DETAIL_TRIANGLES,
+    *,
+    color_by: str = "none",
+    pixels: tuple[int, int] | None = None,
+    ranges: dict[str, tuple[float, float]] | None = None,
+    bounds: tuple[float, float, float, float] | None = None,
+) -> SceneData | None:
     """Full-detail datasets of the triangles of ``mesh`` around ``rect`` (thread-safe).
 
     ``rect`` (x0, x1, y0, y1, mm) is grown by half its size on every side, so a little
@@ -509,14 +538,23 @@ def detail_data(mesh: TriMesh, rect: tuple[float, float, float, float],
     return SceneData(sets, bounds, {}, len(sel), 0.0, rect=big)
 
 
-def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
-               bounds: tuple[float, float, float, float], color_by: str,
-               pixels: tuple[int, int], ranges: dict[str, tuple[float, float]]) -> SceneData:
+def _zoom_data(
+    mesh: TriMesh,
+    big: tuple[float, float, float, float],
+    bounds: tuple[float, float, float, float],
+    color_by: str,
+    pixels: tuple[int, int],
+    ranges: dict[str, tuple[float, float]],
+) -> SceneData:
     """An overview of the part ``big`` of ``mesh`` (the view grown 2 x 2 times) at about
     one texel a pixel: ``2 * max(pixels)`` texels on its longer side, within the bounds of
     :mod:`barymesh.app.view.overview`."""
-    zone = (max(big[0], bounds[0]), min(big[1], bounds[1]),
-            max(big[2], bounds[2]), min(big[3], bounds[3]))
+    zone = (
+        max(big[0], bounds[0]),
+        min(big[1], bounds[1]),
+        max(big[2], bounds[2]),
+        min(big[3], bounds[3]),
+    )
     if zone[1] <= zone[0] or zone[3] <= zone[2]:
         zone = big
     reach = float(np.max(mesh.edge_lengths)) if mesh.n_triangles else 0.0
@@ -526,20 +564,26 @@ def _zoom_data(mesh: TriMesh, big: tuple[float, float, float, float],
     side = raster_side((2 * max(pixels), 1))
     raster = overview_raster(pts, tri, zone, side)
     rects = _paper_rects(mesh)
-    covered, values = _image_values(raster, raster_shape(zone, side),
-                                    _face_arrays(mesh, sel, overlap=False), rects, zone)
+    covered, values = _image_values(
+        raster, raster_shape(zone, side), _face_arrays(mesh, sel, overlap=False), rects, zone
+    )
     zoom = Overview(zone, covered, values)
-    key = shown_color(color_by if color_by in COLOR_BY else "none",
-                      mesh.overlap_ratio if rects is not None else None)
+    key = shown_color(
+        color_by if color_by in COLOR_BY else "none",
+        mesh.overlap_ratio if rects is not None else None,
+    )
     zoom.rgba = overview_rgba(zoom, key, ranges)
     zoom.image_key = key
     sets = {name: Layer() for name in LAYERS}
     return SceneData(sets, bounds, ranges, len(sel), 0.0, zoom, rect=zone)
 
 
-def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
-                 bounds: tuple[float, float, float, float],
-                 arrays: dict[str, np.ndarray]) -> dict[str, Layer]:
+def _detail_sets(
+    mesh: TriMesh,
+    sel: np.ndarray | None,
+    bounds: tuple[float, float, float, float],
+    arrays: dict[str, np.ndarray],
+) -> dict[str, Layer]:
     """Every layer's dataset for the triangles ``sel`` of ``mesh`` (all if None), the
     faces carrying the colouring ``arrays`` of those triangles."""
     pts = np.asarray(mesh.points, dtype=np.float64)
@@ -575,8 +619,13 @@ def _detail_sets(mesh: TriMesh, sel: np.ndarray | None,
         centroids = np.asarray(mesh.centroids)[ids]
     cell_data = dict(arrays)
     cell_data["triangle"] = ids.astype(np.int64)
-    sets = {"faces": Layer(np.ascontiguousarray(local_pts, dtype=np.float64),
-                           faces=np.asarray(local_tri, dtype=np.int64), cell_data=cell_data)}
+    sets = {
+        "faces": Layer(
+            np.ascontiguousarray(local_pts, dtype=np.float64),
+            faces=np.asarray(local_tri, dtype=np.int64),
+            cell_data=cell_data,
+        )
+    }
     lifted = _lifted(local_pts, dz)
     sets["triangle_edges"] = _line_set(lifted, local_edges)
     if sel is None:
@@ -643,8 +692,9 @@ class MeshScene:
         detail: str = "auto",
     ) -> None:
         if detail not in DETAIL_MODES:
-            raise ValueError(f"detail={detail!r} is unknown; expected one of "
-                             f"{', '.join(DETAIL_MODES)}")
+            raise ValueError(
+                f"detail={detail!r} is unknown; expected one of {', '.join(DETAIL_MODES)}"
+            )
         self.detail = detail
         self.plotter = plotter
         self.visible = dict(DEFAULT_VISIBLE)
@@ -685,16 +735,27 @@ class MeshScene:
         faces.mapper.lookup_table = pv.LookupTable(cmap="viridis")
         faces.mapper.SetScalarModeToUseCellFieldData()
         self.actors["faces"] = faces
-        for name in ("triangle_edges", "patch_outlines", "shared_edges", "boundary_edges",
-                     "junction_edges"):
+        for name in (
+            "triangle_edges",
+            "patch_outlines",
+            "shared_edges",
+            "boundary_edges",
+            "junction_edges",
+        ):
             self.actors[name] = p.add_mesh(
-                self.datasets[name], color=COLORS[name], line_width=WIDTHS[name],
-                style="wireframe", **common,
+                self.datasets[name],
+                color=COLORS[name],
+                line_width=WIDTHS[name],
+                style="wireframe",
+                **common,
             )
         self.actors["centroids"] = p.add_mesh(
-            self.datasets["centroids"], color=COLORS["centroids"],
-            point_size=WIDTHS["centroids"], render_points_as_spheres=True,
-            style="points", **common,
+            self.datasets["centroids"],
+            color=COLORS["centroids"],
+            point_size=WIDTHS["centroids"],
+            render_points_as_spheres=True,
+            style="points",
+            **common,
         )
         mapper = vtkLabeledDataMapper()
         mapper.SetInputData(self.datasets["labels"])
@@ -746,8 +807,12 @@ class MeshScene:
         self.overview_texture.SetColorModeToDirectScalars()
         self.overview_quad = pv.PolyData()
         self.actors_overview = p.add_mesh(
-            self.overview_quad, color="white", reset_camera=False, lighting=False,
-            render=False, pickable=False,
+            self.overview_quad,
+            color="white",
+            reset_camera=False,
+            lighting=False,
+            render=False,
+            pickable=False,
         )
         self.actors_overview.SetTexture(self.overview_texture)
         # a sharper image of the part in view, over the overview (detail_data)
@@ -755,8 +820,12 @@ class MeshScene:
         self.zoom_texture.SetColorModeToDirectScalars()
         self.zoom_quad = pv.PolyData()
         self.actors_zoom = p.add_mesh(
-            self.zoom_quad, color="white", reset_camera=False, lighting=False,
-            render=False, pickable=False,
+            self.zoom_quad,
+            color="white",
+            reset_camera=False,
+            lighting=False,
+            render=False,
+            pickable=False,
         )
         self.actors_zoom.SetTexture(self.zoom_texture)
         for texture in (self.overview_texture, self.zoom_texture):
@@ -768,9 +837,19 @@ class MeshScene:
 
         # Axes in mm with "nice" tick values along the bottom and left of the mesh.
         self.axes = p.show_bounds(
-            bounds=(0.0, 1.0, 0.0, 1.0, 0.0, 0.0), show_zaxis=False, xtitle="x (mm)",
-            ytitle="y (mm)", location="outer", ticks="outside", color="#303030",
-            bold=False, font_size=12, n_xlabels=5, n_ylabels=5, use_2d=True, render=False,
+            bounds=(0.0, 1.0, 0.0, 1.0, 0.0, 0.0),
+            show_zaxis=False,
+            xtitle="x (mm)",
+            ytitle="y (mm)",
+            location="outer",
+            ticks="outside",
+            color="#303030",
+            bold=False,
+            font_size=12,
+            n_xlabels=5,
+            n_ylabels=5,
+            use_2d=True,
+            render=False,
             fmt="%.4g",
         )
         self.axes.SetPickable(False)
@@ -779,8 +858,9 @@ class MeshScene:
 
     # -- state ----------------------------------------------------------------
 
-    def _text_actor(self, position: tuple[float, float], size: int, bold: bool = False,
-                    right: bool = False) -> vtkTextActor:
+    def _text_actor(
+        self, position: tuple[float, float], size: int, bold: bool = False, right: bool = False
+    ) -> vtkTextActor:
         actor = vtkTextActor()
         actor.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
         actor.GetPositionCoordinate().SetValue(*position)
@@ -823,8 +903,11 @@ class MeshScene:
     def overlap_look(self) -> bool:
         """Whether the overlap look is on: colouring "overlap" (Patches over each point)
         chosen on a paper mesh whose patches overlap at least :data:`OVERLAP_LOOK`."""
-        return (self.color_by == "overlap" and self.overlap_ratio is not None
-                and self.overlap_ratio >= OVERLAP_LOOK)
+        return (
+            self.color_by == "overlap"
+            and self.overlap_ratio is not None
+            and self.overlap_ratio >= OVERLAP_LOOK
+        )
 
     @property
     def shown_color_by(self) -> str:
@@ -902,8 +985,7 @@ class MeshScene:
         if inside <= limit // 4:  # the detail grows the rectangle 2 x 2 times
             return rect
         # too many for full detail: a sharper image when the texels show as blocks
-        image = self.zoom if self.zoom is not None and _inside(rect, self.zoom.bounds) \
-            else ov
+        image = self.zoom if self.zoom is not None and _inside(rect, self.zoom.bounds) else ov
         if self.texel_px(image, rect) > ZOOM_TEXEL_PX:
             return rect
         return None
@@ -914,17 +996,24 @@ class MeshScene:
         texel = (image.bounds[1] - image.bounds[0]) / image.covered.shape[1]
         return float(texel * width / max(rect[1] - rect[0], 1e-12))
 
-    def _set_quad(self, quad: pv.PolyData, bounds: tuple[float, float, float, float],
-                  level: float) -> None:
+    def _set_quad(
+        self, quad: pv.PolyData, bounds: tuple[float, float, float, float], level: float
+    ) -> None:
         """``quad`` spans ``bounds`` at ``level`` * 1e-4 of the mesh's size above z = 0."""
-        size = max(self.bounds[1] - self.bounds[0], self.bounds[3] - self.bounds[2], 1e-9) \
-            if self.bounds is not None else 1.0
+        size = (
+            max(self.bounds[1] - self.bounds[0], self.bounds[3] - self.bounds[2], 1e-9)
+            if self.bounds is not None
+            else 1.0
+        )
         x0, x1, y0, y1 = bounds
         dz = level * 1e-4 * size
-        new = pv.PolyData(np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
-                          faces=np.array([4, 0, 1, 2, 3]))
-        new.active_texture_coordinates = np.array([[0, 0], [1, 0], [1, 1], [0, 1]],
-                                                  dtype=np.float32)
+        new = pv.PolyData(
+            np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
+            faces=np.array([4, 0, 1, 2, 3]),
+        )
+        new.active_texture_coordinates = np.array(
+            [[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32
+        )
         quad.copy_from(new, deep=True)
 
     def _set_overview_quad(self) -> None:
@@ -946,8 +1035,9 @@ class MeshScene:
             np.array([[x0, y0, dz], [x1, y0, dz], [x1, y1, dz], [x0, y1, dz]]),
             faces=np.array([4, 0, 1, 2, 3]),
         )
-        quad.active_texture_coordinates = np.array([[0, 0], [1, 0], [1, 1], [0, 1]],
-                                                   dtype=np.float32)
+        quad.active_texture_coordinates = np.array(
+            [[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32
+        )
         self.overview_quad.copy_from(quad, deep=True)
 
     def _recolor_overview(self) -> None:
@@ -978,8 +1068,9 @@ class MeshScene:
     def set_detail(self, detail: str) -> None:
         """Detail "auto" (light look below :data:`LIGHT_PX`) or "full" (always drawn)."""
         if detail not in DETAIL_MODES:
-            raise ValueError(f"detail={detail!r} is unknown; expected one of "
-                             f"{', '.join(DETAIL_MODES)}")
+            raise ValueError(
+                f"detail={detail!r} is unknown; expected one of {', '.join(DETAIL_MODES)}"
+            )
         self.detail = detail
         self.fit_marker_sizes()
         self._apply_visibility()
@@ -1030,8 +1121,12 @@ class MeshScene:
             self.actors[name].SetVisibility(self.drawn(name))
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
         self.actors_zoom.SetVisibility(bool(self.visible["faces"] and self.zoom is not None))
-        legend = bool(self.visible["faces"] and self.shown_color_by != "none"
-                      and self.n_triangles and not self.covered)
+        legend = bool(
+            self.visible["faces"]
+            and self.shown_color_by != "none"
+            and self.n_triangles
+            and not self.covered
+        )
         self.scalar_bar.SetVisibility(legend)
         self.legend_title.SetVisibility(legend)
         self.axes.SetVisibility(self.bounds is not None and self.n_triangles > 0)
@@ -1067,33 +1162,53 @@ class MeshScene:
         parts = []
         if self.overlap_look:
             patches = len(self.patch_rects)
-            which = ("all outlined" if self.outline_stride == 1 else
-                     f"1 in {self.outline_stride} of {patches:,} outlined")
-            parts.append(f"Overlapping patches (ratio {self.overlap_ratio:.2f}): colour = "
-                         f"patches over each point, {which}")
-            parts.append("Triangle edges hidden: they cross between overlapping patches "
-                         "(colour faces by Solid to see them)")
+            which = (
+                "all outlined"
+                if self.outline_stride == 1
+                else f"1 in {self.outline_stride} of {patches:,} outlined"
+            )
+            parts.append(
+                f"Overlapping patches (ratio {self.overlap_ratio:.2f}): colour = "
+                f"patches over each point, {which}"
+            )
+            parts.append(
+                "Triangle edges hidden: they cross between overlapping patches "
+                "(colour faces by Solid to see them)"
+            )
         if self.overview is not None:
             if self.detail_rect is None:
-                rest = "" if self.overlap_look else (
-                    "; zoom in and rest for triangles, edges and centroids")
-                parts.append(f"Detail reduced: {self.n_triangles:,} triangles drawn as an "
-                             f"image{rest}")
+                rest = (
+                    ""
+                    if self.overlap_look
+                    else ("; zoom in and rest for triangles, edges and centroids")
+                )
+                parts.append(
+                    f"Detail reduced: {self.n_triangles:,} triangles drawn as an image{rest}"
+                )
             else:
-                parts.append(f"Full detail of {self.detail_triangles:,} of "
-                             f"{self.n_triangles:,} triangles around the view")
-        wanted = [n for n in ("triangle_edges", "shared_edges", "centroids")
-                  if self.visible[n]]
-        if (self.light and wanted and not self.overlap_look
-                and (self.overview is None or self.detail_rect is not None)):
+                parts.append(
+                    f"Full detail of {self.detail_triangles:,} of "
+                    f"{self.n_triangles:,} triangles around the view"
+                )
+        wanted = [n for n in ("triangle_edges", "shared_edges", "centroids") if self.visible[n]]
+        if (
+            self.light
+            and wanted
+            and not self.overlap_look
+            and (self.overview is None or self.detail_rect is not None)
+        ):
             borders = " and patch borders" if self.paper and self.visible["boundary_edges"] else ""
-            parts.append(f"Triangle edges, centroids{borders} hidden: triangles are "
-                         f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
-                         "zoom in or set Detail: always full)")
+            parts.append(
+                f"Triangle edges, centroids{borders} hidden: triangles are "
+                f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
+                "zoom in or set Detail: always full)"
+            )
         shown = [n for n in COVERED_HIDES if self.visible[n] and n != "labels"]
         if self.covered and shown:
-            parts.append("Surface current shown: shared edges and centroids hidden "
-                         "(untick Surface current in the Solve panel to see them)")
+            parts.append(
+                "Surface current shown: shared edges and centroids hidden "
+                "(untick Surface current in the Solve panel to see them)"
+            )
         warning = full_detail_warning(self.n_triangles, self.detail)
         if warning:
             parts.append(warning)
@@ -1102,8 +1217,11 @@ class MeshScene:
     def _apply_color_by(self) -> None:
         array, title = COLOR_BY[self.shown_color_by]
         mapper = self.actors["faces"].mapper
-        if array is None or array not in self.datasets["faces"].cell_data and (
-                self.overview is None or array not in self.overview.values):
+        if (
+            array is None
+            or array not in self.datasets["faces"].cell_data
+            and (self.overview is None or array not in self.overview.values)
+        ):
             mapper.SetScalarVisibility(False)
             self._recolor_overview()
             return
@@ -1212,8 +1330,9 @@ class MeshScene:
         if tuple(self.axes.bounds) != bounds:
             self.axes.bounds = bounds
 
-    def _rulers_in_view(self, box: tuple[float, float, float, float]
-                        ) -> tuple[tuple[float, float, int], tuple[float, float, int]] | None:
+    def _rulers_in_view(
+        self, box: tuple[float, float, float, float]
+    ) -> tuple[tuple[float, float, int], tuple[float, float, int]] | None:
         """The rulers' spans inside the view when ``box`` (the rounded-out extent) is not
         all in view; None when it is (or the view is not known)."""
         if not self.plotter.camera.parallel_projection:
@@ -1223,8 +1342,12 @@ class MeshScene:
         if rect is None or width <= 0 or height <= 0:
             return None
         tol = 1e-9 * max(box[1] - box[0], box[3] - box[2], 1e-12)
-        if (rect[0] <= box[0] + tol and box[1] <= rect[1] + tol and rect[2] <= box[2] + tol
-                and box[3] <= rect[3] + tol):
+        if (
+            rect[0] <= box[0] + tol
+            and box[1] <= rect[1] + tol
+            and rect[2] <= box[2] + tol
+            and box[3] <= rect[3] + tol
+        ):
             return None
         per_px = (rect[1] - rect[0]) / width
         left, right, bottom, top = self.RULER_INSET_PX
@@ -1285,8 +1408,7 @@ class MeshScene:
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
             if name == "centroids":
-                prop.point_size = (float(np.clip(0.25 * edge_px, 1.5, width))
-                                   * self.emphasis)
+                prop.point_size = float(np.clip(0.25 * edge_px, 1.5, width)) * self.emphasis
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
                 prop.line_width = thin * self.emphasis
@@ -1296,8 +1418,11 @@ class MeshScene:
         :func:`outline_stride`); else the layer's own outlines. True if that changed."""
         stride = 0
         if self.overlap_look and self.patch_rects is not None:
-            px_per_mm = (height / max(2.0 * camera.parallel_scale, 1e-12)
-                         if camera.parallel_projection and height > 0 else np.inf)
+            px_per_mm = (
+                height / max(2.0 * camera.parallel_scale, 1e-12)
+                if camera.parallel_projection and height > 0
+                else np.inf
+            )
             stride = outline_stride(self.patch_rects, self.overlap_ratio, px_per_mm)
         if stride == self.outline_stride:
             return False
@@ -1308,8 +1433,7 @@ class MeshScene:
             x0, x1, y0, y1 = self.bounds
             z = 2e-4 * max(x1 - x0, y1 - y0, 1e-9)
             pts, pairs = rect_outlines(self.patch_rects[::stride], z)
-            self.datasets["patch_outlines"].copy_from(_line_set(pts, pairs).polydata(),
-                                                      deep=False)
+            self.datasets["patch_outlines"].copy_from(_line_set(pts, pairs).polydata(), deep=False)
         return True
 
     def set_emphasis(self, scale: float) -> None:
@@ -1318,21 +1442,25 @@ class MeshScene:
         self.fit_marker_sizes()
         size = int(round(12 * self.emphasis))
         self.actors["labels"].GetMapper().GetLabelTextProperty().SetFontSize(size)
-        for prop in (self.scalar_bar.GetTitleTextProperty(),
-                     self.scalar_bar.GetLabelTextProperty()):
+        for prop in (
+            self.scalar_bar.GetTitleTextProperty(),
+            self.scalar_bar.GetLabelTextProperty(),
+        ):
             prop.SetFontSize(int(round(14 * self.emphasis)))
         for axis in range(3):
             self.axes.GetTitleTextProperty(axis).SetFontSize(size)
             self.axes.GetLabelTextProperty(axis).SetFontSize(size)
 
 
-def _inside(rect: tuple[float, float, float, float],
-            outer: tuple[float, float, float, float] | None) -> bool:
+def _inside(
+    rect: tuple[float, float, float, float], outer: tuple[float, float, float, float] | None
+) -> bool:
     """Whether ``rect`` (x0, x1, y0, y1) lies within ``outer`` (False if None)."""
     if outer is None:
         return False
-    return (outer[0] <= rect[0] and rect[1] <= outer[1] and outer[2] <= rect[2]
-            and rect[3] <= outer[3])
+    return (
+        outer[0] <= rect[0] and rect[1] <= outer[1] and outer[2] <= rect[2] and rect[3] <= outer[3]
+    )
 
 
 def readable_ticks(lo: float, hi: float, count: int = 5) -> tuple[np.ndarray, str]:

@@ -7,7 +7,8 @@ in mm), the View actions *Measure distance* (D) and *Zoom to selection* (Z), and
 selection when no teaching tool takes the clicks.
 
 Hovering is cheap at any mesh size: mouse moves are coalesced into one query per event-
-loop pass, a query asks a :class:`barymesh.app.view.readout.MeshLocator` (a k-d tree built once per mesh,
+loop pass, a query asks a :class:`barymesh.app.view.readout.MeshLocator` (a k-d tree
+built once per mesh,
 in a worker thread for big meshes) about a dozen candidate triangles, and it only sets a
 label's text; the 3D view is not re-rendered for a hover.
 """
@@ -50,8 +51,9 @@ class ElidedLabel(QLabel):
 
     def paintEvent(self, _event: Any) -> None:  # noqa: N802 - Qt's name
         painter = QPainter(self)
-        shown = self.fontMetrics().elidedText(self.text(), Qt.TextElideMode.ElideRight,
-                                              self.contentsRect().width())
+        shown = self.fontMetrics().elidedText(
+            self.text(), Qt.TextElideMode.ElideRight, self.contentsRect().width()
+        )
         painter.setPen(self.palette().color(self.foregroundRole()))
         painter.drawText(self.contentsRect(), int(self.alignment()), shown)
 
@@ -109,11 +111,19 @@ class ViewTools(QObject):
         self._timer.timeout.connect(self._update_hover)
 
         a = window._action
-        self.act_measure = a("&Measure distance", self.set_measuring, "D",
-                             "Click two points in the view: the distance between them in mm",
-                             checkable=True)
-        self.act_zoom = a("&Zoom to selection", self.zoom_to_selection, "Z",
-                          "Frame the selected edge, triangles or measured segment")
+        self.act_measure = a(
+            "&Measure distance",
+            self.set_measuring,
+            "D",
+            "Click two points in the view: the distance between them in mm",
+            checkable=True,
+        )
+        self.act_zoom = a(
+            "&Zoom to selection",
+            self.zoom_to_selection,
+            "Z",
+            "Frame the selected edge, triangles or measured segment",
+        )
         self.plotter.setMouseTracking(True)
         self.plotter.installEventFilter(self)
         # the inspector's and the matrix's clicks are searched in the mesh's arrays too
@@ -159,8 +169,12 @@ class ViewTools(QObject):
     def _ensure_locator(self) -> None:
         """Start building the locator of the mesh on screen, once, if it has none."""
         mesh = self.mesh
-        if (mesh is None or not mesh.n_triangles or self.locator is not None
-                or self._locator_started is mesh):
+        if (
+            mesh is None
+            or not mesh.n_triangles
+            or self.locator is not None
+            or self._locator_started is mesh
+        ):
             return
         self._locator_started = mesh
         self.pool.start(Job(partial(_build_locator, mesh), self._relay.done))
@@ -178,8 +192,9 @@ class ViewTools(QObject):
         if locator is not None and locator.mesh.n_triangles > 200_000:
             # the locator of a mesh no longer on screen (built while the user moved on)
             # held it alive until now: once dropped, hand the pages back, off this thread
-            QTimer.singleShot(0, lambda: threading.Thread(target=release_memory,
-                                                          daemon=True).start())
+            QTimer.singleShot(
+                0, lambda: threading.Thread(target=release_memory, daemon=True).start()
+            )
 
     def set_note(self, text: str) -> None:
         """Show ``text`` on the left of the strip (until the next parameter change)."""
@@ -206,8 +221,11 @@ class ViewTools(QObject):
         elif kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
             self._ensure_locator()
             self._press = event.position()
-        elif (kind == QEvent.Type.MouseButtonRelease and event.button() == Qt.MouseButton.LeftButton
-              and self._press is not None):
+        elif (
+            kind == QEvent.Type.MouseButtonRelease
+            and event.button() == Qt.MouseButton.LeftButton
+            and self._press is not None
+        ):
             moved = (event.position() - self._press).manhattanLength()
             self._press = None
             if moved <= CLICK_SLOP:
@@ -240,8 +258,9 @@ class ViewTools(QObject):
         direction = np.asarray(self.plotter.camera.GetDirectionOfProjection())
         return ray_plane_point(origin, direction, z0)
 
-    def locate_display(self, x: float, y: float, defer: bool = True
-                       ) -> tuple[int | None, np.ndarray | None] | None:
+    def locate_display(
+        self, x: float, y: float, defer: bool = True
+    ) -> tuple[int | None, np.ndarray | None] | None:
         """The triangle of the mesh's arrays under display pixel (x, y), and the point.
 
         The :class:`barymesh.app.teach.inspector_panel.ViewPicker`'s ``locate`` hook: for a flat
@@ -310,8 +329,11 @@ class ViewTools(QObject):
         elif self.cursor is not None and self.mesh is not None and self.locator is None:
             parts.append("(finding elements…)")
         if self.selected is not None and self.locator is not None and not self.measure.active:
-            parts.append("selected: " + self.locator.describe(self.selected, decimals)
-                         .split(" (")[0].split(" at ")[0] + " (Z: zoom to it)")
+            parts.append(
+                "selected: "
+                + self.locator.describe(self.selected, decimals).split(" (")[0].split(" at ")[0]
+                + " (Z: zoom to it)"
+            )
         text = "  ·  ".join(parts)
         self.readout.setText(text)
         self.readout.setToolTip(text)
@@ -373,7 +395,8 @@ class ViewTools(QObject):
         pts = self.selection_points()
         if pts is None:
             self.window.statusBar().showMessage(
-                "Nothing selected: click a triangle, an edge or a vertex first", 5000)
+                "Nothing selected: click a triangle, an edge or a vertex first", 5000
+            )
             return False
         self.zoom_to_points(pts)
         return True

@@ -312,8 +312,11 @@ def build_cell(
 
 def _check_budget(predicted: int, max_triangles: int, what: str) -> None:
     """Refuse ``predicted`` triangles above the budget, before anything is allocated."""
-    if isinstance(max_triangles, bool) or not isinstance(max_triangles, int | np.integer) or (
-            max_triangles < 1):  # fmt: skip
+    if (
+        isinstance(max_triangles, bool)
+        or not isinstance(max_triangles, int | np.integer)
+        or (max_triangles < 1)
+    ):
         raise ValueError(
             f"max_triangles={echo(max_triangles)} is invalid; expected an integer >= 1"
         )

@@ -175,8 +175,7 @@ def _lattice(raw: Any) -> Lattice:
     if not isinstance(raw, dict):
         raise _fail(
             "lattice",
-            f"expected an object such as {{'rectangular': [px, py]}}, got {kind(raw)} "
-            f"{echo(raw)}",
+            f"expected an object such as {{'rectangular': [px, py]}}, got {kind(raw)} {echo(raw)}",
         )
     try:
         if set(raw) == {"rectangular"}:

@@ -435,8 +435,9 @@ class UnitCell:
         counts with n = 1, a lower bound (its own ``max_triangles`` bounds the rest).
         """
         total = sum(
-            (el.params.replace(subdivisions=1) if el.params.sized else el.params)
-            .predicted_triangles()
+            (
+                el.params.replace(subdivisions=1) if el.params.sized else el.params
+            ).predicted_triangles()
             for el in self.elements
         )
         if self.pixels is not None:

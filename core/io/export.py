@@ -95,8 +95,12 @@ def describe_export(path: str | Path, unit: str | None = None) -> str:
 
 
 def write_mesh(
-    mesh: TriMesh, path: str | Path, unit: str | None = None, wavelength: float | None = None,
-    *, cancelled: Callable[[], bool] | None = None,
+    mesh: TriMesh,
+    path: str | Path,
+    unit: str | None = None,
+    wavelength: float | None = None,
+    *,
+    cancelled: Callable[[], bool] | None = None,
 ) -> Path:
     """Write ``mesh`` to ``path``; the extension picks the format (see ``EXPORT_FORMATS``).
 

@@ -19,13 +19,29 @@ from .limits import MAX_CELLS, MAX_POINTS, Damaged, parse_count
 
 #: Element type -> (name, nodes per element), from the MSH 2.2 specification.
 ELEMENT_TYPES = {
-    1: ("line", 2), 2: ("triangle", 3), 3: ("quad", 4), 4: ("tetra", 4),
-    5: ("hexahedron", 8), 6: ("wedge", 6), 7: ("pyramid", 5), 8: ("line3", 3),
-    9: ("triangle6", 6), 10: ("quad9", 9), 11: ("tetra10", 10), 12: ("hexahedron27", 27),
-    13: ("wedge18", 18), 14: ("pyramid14", 14), 15: ("vertex", 1), 16: ("quad8", 8),
-    17: ("hexahedron20", 20), 18: ("wedge15", 15), 19: ("pyramid13", 13),
-    20: ("triangle9", 9), 21: ("triangle10", 10), 26: ("line4", 4),
-}  # fmt: skip
+    1: ("line", 2),
+    2: ("triangle", 3),
+    3: ("quad", 4),
+    4: ("tetra", 4),
+    5: ("hexahedron", 8),
+    6: ("wedge", 6),
+    7: ("pyramid", 5),
+    8: ("line3", 3),
+    9: ("triangle6", 6),
+    10: ("quad9", 9),
+    11: ("tetra10", 10),
+    12: ("hexahedron27", 27),
+    13: ("wedge18", 18),
+    14: ("pyramid14", 14),
+    15: ("vertex", 1),
+    16: ("quad8", 8),
+    17: ("hexahedron20", 20),
+    18: ("wedge15", 15),
+    19: ("pyramid13", 13),
+    20: ("triangle9", 9),
+    21: ("triangle10", 10),
+    26: ("line4", 4),
+}
 TRIANGLE = 2
 
 
@@ -78,8 +94,10 @@ def _nodes(text: str) -> tuple[np.ndarray, np.ndarray]:
         except (DeprecationWarning, ValueError):
             raise Damaged("the $Nodes section holds text that is not a number") from None
     if len(values) != 4 * count:
-        raise Damaged(f"its $Nodes section declares {count:,} nodes but holds "
-                      f"{len(values) / 4:,.4g} (4 numbers per node)")  # fmt: skip
+        raise Damaged(
+            f"its $Nodes section declares {count:,} nodes but holds "
+            f"{len(values) / 4:,.4g} (4 numbers per node)"
+        )
     values = values.reshape(-1, 4)
     return _tags_valid(values[:, 0]), values[:, 1:]
 
@@ -97,8 +115,10 @@ def read_gmsh22(path: Path):
     count, rest = _split_count(body, "elements", MAX_CELLS)
     flat = _integers(rest, "$Elements")
     if count > len(flat) // 4:  # an element line holds at least 4 numbers
-        raise Damaged(f"its $Elements section declares {count:,} elements but holds at most "
-                      f"{len(flat) // 4:,}")  # fmt: skip
+        raise Damaged(
+            f"its $Elements section declares {count:,} elements but holds at most "
+            f"{len(flat) // 4:,}"
+        )
     values = flat.tolist()
     tri, physical, elementary, ignored = [], [], [], {}
     numbers, other, other_numbers = [], [], []
@@ -127,8 +147,10 @@ def read_gmsh22(path: Path):
             other.extend(nodes)
             other_numbers.extend([number] * n_nodes)
     if pos != len(values) or parsed != count:
-        raise Damaged(f"its $Elements section declares {count:,} elements but its numbers do "
-                      "not match that many element lines")  # fmt: skip
+        raise Damaged(
+            f"its $Elements section declares {count:,} elements but its numbers do "
+            "not match that many element lines"
+        )
     _node_indices(tags, np.asarray(other, dtype=np.int64), np.asarray(other_numbers))
     tri = np.asarray(tri, dtype=np.int64).reshape(-1, 3)
     triangles = _node_indices(tags, tri, np.repeat(np.asarray(numbers, dtype=np.int64), 3))
@@ -160,8 +182,9 @@ def _tags_valid(tags: np.ndarray) -> np.ndarray:
     tags = np.asarray(tags, dtype=np.float64)
     bad = (tags % 1 != 0) | (tags < 1) | (tags > 2**62)
     if np.any(bad):
-        raise Damaged(f"node tag {tags[bad][0]:g} is invalid; Gmsh node tags are positive "
-                      "whole numbers")  # fmt: skip
+        raise Damaged(
+            f"node tag {tags[bad][0]:g} is invalid; Gmsh node tags are positive whole numbers"
+        )
     tags = tags.astype(np.int64)
     unique, counts = np.unique(tags, return_counts=True)
     if np.any(counts > 1):
@@ -207,19 +230,25 @@ def _read_binary(data: bytes):
     parsed = 0
     while parsed < count:
         if pos + 12 > len(data):
-            raise Damaged(f"its $Elements section declares {count:,} elements but holds "
-                          f"{parsed:,} (the file is truncated)")  # fmt: skip
+            raise Damaged(
+                f"its $Elements section declares {count:,} elements but holds "
+                f"{parsed:,} (the file is truncated)"
+            )
         kind, follow, n_tags = np.frombuffer(data, dtype=word, count=3, offset=pos).tolist()
         if kind not in ELEMENT_TYPES:
             raise Damaged(f"an element block has type {kind}, which MSH 2.2 does not define")
         if not 1 <= follow <= count - parsed or not 0 <= n_tags <= 64:
-            raise Damaged(f"an element block declares {follow:,} elements with {n_tags} tags, "
-                          f"which the $Elements count ({count:,}) cannot hold")  # fmt: skip
+            raise Damaged(
+                f"an element block declares {follow:,} elements with {n_tags} tags, "
+                f"which the $Elements count ({count:,}) cannot hold"
+            )
         name, n_nodes = ELEMENT_TYPES[kind]
         width = 1 + n_tags + n_nodes
         if pos + 12 + follow * width * 4 > len(data):
-            raise Damaged(f"its $Elements section declares {count:,} elements but the file "
-                          "ends before them (truncated)")  # fmt: skip
+            raise Damaged(
+                f"its $Elements section declares {count:,} elements but the file "
+                "ends before them (truncated)"
+            )
         block = np.frombuffer(data, dtype=word, count=follow * width, offset=pos + 12)
         block = block.reshape(follow, width).astype(np.int64)
         if kind == TRIANGLE:

@@ -48,14 +48,18 @@ class _Numbers:
         if self.binary:
             dt = np.dtype(self.order + dtype)
             if self.pos + n * dt.itemsize > len(self.data):
-                raise Damaged(f"the ${self.section} section declares more than the file holds "
-                              "(it is truncated or a count is wrong)")  # fmt: skip
+                raise Damaged(
+                    f"the ${self.section} section declares more than the file holds "
+                    "(it is truncated or a count is wrong)"
+                )
             out = np.frombuffer(self.data, dtype=dt, count=n, offset=self.pos)
             self.pos += n * dt.itemsize
             return out
         if self.pos + n > len(self.data):
-            raise Damaged(f"the ${self.section} section declares more numbers than it holds "
-                          "(it is truncated or a count is wrong)")  # fmt: skip
+            raise Damaged(
+                f"the ${self.section} section declares more numbers than it holds "
+                "(it is truncated or a count is wrong)"
+            )
         out = self.data[self.pos : self.pos + n]
         self.pos += n
         return out
@@ -65,8 +69,10 @@ class _Numbers:
         if not self.binary and (not np.all(np.isfinite(values)) or np.any(values % 1 != 0)):
             raise Damaged(f"the ${self.section} section holds a count or tag that is not whole")
         if values.size and values.max() >= 2**62:
-            raise Damaged(f"the ${self.section} section holds a number of {values.max():.3g}, "
-                          "beyond any count or tag")  # fmt: skip
+            raise Damaged(
+                f"the ${self.section} section holds a number of {values.max():.3g}, "
+                "beyond any count or tag"
+            )
         return values.astype(np.int64)
 
     def int(self, size_t: bool = False) -> int:
@@ -117,8 +123,10 @@ def _physical_tags(numbers: _Numbers) -> dict[tuple[int, int], int]:
 def _block_count(numbers: _Numbers, what: str, total: int) -> int:
     count = numbers.int(size_t=True)
     if count > total:
-        raise Damaged(f"a block declares {count:,} {what}, more than the {total:,} of the "
-                      f"whole ${numbers.section} section")  # fmt: skip
+        raise Damaged(
+            f"a block declares {count:,} {what}, more than the {total:,} of the "
+            f"whole ${numbers.section} section"
+        )
     return count
 
 
@@ -146,8 +154,9 @@ def read_gmsh41(data: bytes):
         return (None if text is None else text.encode("latin-1")), 0
 
     entities, _ = body("Entities")
-    physical = {} if entities is None else _physical_tags(_Numbers(entities, binary, order,
-                                                                   "Entities"))  # fmt: skip
+    physical = (
+        {} if entities is None else _physical_tags(_Numbers(entities, binary, order, "Entities"))
+    )
     nodes_body, nodes_end = body("Nodes")
     if nodes_body is None:
         raise Damaged("it has no $Nodes section")
@@ -161,15 +170,13 @@ def read_gmsh41(data: bytes):
         count = _block_count(numbers, "nodes", n_nodes)
         width = 3 + (dim if parametric else 0)
         if count * (width + 1) > numbers.left():
-            raise Damaged(f"a node block declares {count:,} nodes; the $Nodes section holds "
-                          "fewer")  # fmt: skip
+            raise Damaged(f"a node block declares {count:,} nodes; the $Nodes section holds fewer")
         tags.append(numbers.ints(count, size_t=True))
         coords.append(numbers.floats(count * width).reshape(count, width)[:, :3])
     numbers.check_end()
     node_tags = _tags_valid(np.concatenate(tags) if tags else np.empty(0))
     if len(node_tags) != n_nodes:
-        raise Damaged(f"its $Nodes section declares {n_nodes:,} nodes but holds "
-                      f"{len(node_tags):,}")  # fmt: skip
+        raise Damaged(f"its $Nodes section declares {n_nodes:,} nodes but holds {len(node_tags):,}")
     points = np.concatenate(coords) if coords else np.empty((0, 3))
 
     elements_body, _ = body("Elements", max(nodes_end, 0))
@@ -201,8 +208,9 @@ def read_gmsh41(data: bytes):
             other_numbers.append(np.repeat(block[:, 0], n_nodes))
     numbers.check_end()
     if seen != n_elements:
-        raise Damaged(f"its $Elements section declares {n_elements:,} elements but its "
-                      f"blocks hold {seen:,}")  # fmt: skip
+        raise Damaged(
+            f"its $Elements section declares {n_elements:,} elements but its blocks hold {seen:,}"
+        )
 
     def joined(parts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
         return np.concatenate(parts) if parts else np.empty(shape, dtype=np.int64)

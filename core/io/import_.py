@@ -176,15 +176,19 @@ def _msh_version(path: Path) -> int | None:
 
 
 _INTERNALS = (
-    (re.compile(r"cannot reshape array of size \d+ into shape"), "its counts do not match its "
-     "data, perhaps truncated"),
+    (
+        re.compile(r"cannot reshape array of size \d+ into shape"),
+        "its counts do not match its data, perhaps truncated",
+    ),
     (re.compile(r"codec can't decode"), "it holds bytes that are not text"),
     (re.compile(r"index -?\d+ is out of bounds"), "it refers to an entry that does not exist"),
     (re.compile(r"invalid literal for int|could not convert string"), "a number is malformed"),
-    (re.compile(r"values to unpack|unpack requires|buffer size|not enough data"),
-     "malformed, perhaps truncated"),
+    (
+        re.compile(r"values to unpack|unpack requires|buffer size|not enough data"),
+        "malformed, perhaps truncated",
+    ),
     (re.compile(r"meshio|ReadError|does not recognise"), "its content does not match the format"),
-)  # fmt: skip
+)
 
 
 def _reason(exc: BaseException, path: Path) -> str:
@@ -235,8 +239,10 @@ def _read_meshio(path: Path, file_format: str):
             continue
         data = np.asarray(block.data)
         if data.ndim != 2 or data.shape[1] != 3:
-            raise Damaged(f"a block of triangles holds {data.size:,} vertex indices in shape "
-                          f"{data.shape}, not 3 per triangle (the file is damaged)")  # fmt: skip
+            raise Damaged(
+                f"a block of triangles holds {data.size:,} vertex indices in shape "
+                f"{data.shape}, not 3 per triangle (the file is damaged)"
+            )
         triangles.append(data.astype(np.int64))
         data = {key: values[k] for key, values in m.cell_data.items()}
         regions.append(_first(data, _REGION_KEYS))
@@ -259,8 +265,10 @@ def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> Tr
     if not np.all(np.isfinite(points)):
         raise MeshFileError(f"{path}: some coordinates are not finite numbers")
     if triangles.min() < 0:
-        raise MeshFileError(f"{path}: a triangle refers to vertex {int(triangles.min())}, "
-                            "which cannot exist (a negative index)")  # fmt: skip
+        raise MeshFileError(
+            f"{path}: a triangle refers to vertex {int(triangles.min())}, "
+            "which cannot exist (a negative index)"
+        )
     if triangles.max() >= len(points):
         raise MeshFileError(
             f"{path}: a triangle refers to vertex {int(triangles.max()):,} (counted from 0) "

@@ -17,8 +17,18 @@ from ..mesh import TriMesh
 from .limits import MAX_CELLS, MAX_POINTS, Damaged, check_count
 
 #: MATLAB classes that hold numbers (logical, char, cell and struct do not).
-_NUMERIC = ("double", "single", "int8", "int16", "int32", "int64",
-            "uint8", "uint16", "uint32", "uint64")  # fmt: skip
+_NUMERIC = (
+    "double",
+    "single",
+    "int8",
+    "int16",
+    "int32",
+    "int64",
+    "uint8",
+    "uint16",
+    "uint32",
+    "uint64",
+)
 
 
 def makarov_arrays(mesh: TriMesh, per_mm: float) -> dict[str, np.ndarray]:
@@ -55,8 +65,10 @@ def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             f"it has no variable {missing[0]!r}; expected Makarov's p (3 x N) and t (4 x M), "
             f"found {', '.join(keys) or 'no variables'}"
         )
-    for name, rows, limit, what in (("p", (2, 3), MAX_POINTS, "vertices"),
-                                    ("t", (3, 4), MAX_CELLS, "triangles")):  # fmt: skip
+    for name, rows, limit, what in (
+        ("p", (2, 3), MAX_POINTS, "vertices"),
+        ("t", (3, 4), MAX_CELLS, "triangles"),
+    ):
         shape, kind = found[name]
         if kind not in _NUMERIC:
             raise Damaged(f"its {name} is of MATLAB class {kind}; expected numbers (double)")
@@ -123,5 +135,7 @@ def _check_v4_headers(path: Path) -> None:
         size = rows * cols * (1 + imag) * _V4_ITEMSIZE[p]
         pos += 20 + namelen + size
         if pos > len(data):
-            raise Damaged(f"a MATLAB v4 variable declares {rows:,} x {cols:,} values but the "
-                          f"file has only {len(data):,} bytes")  # fmt: skip
+            raise Damaged(
+                f"a MATLAB v4 variable declares {rows:,} x {cols:,} values but the "
+                f"file has only {len(data):,} bytes"
+            )

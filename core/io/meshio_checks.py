@@ -28,19 +28,23 @@ _VTK_KEYWORDS = {
 _VTK_LINE = re.compile(
     rb"^[ \t]*(" + b"|".join(_VTK_KEYWORDS) + rb")[ \t]+(\S+)(?:[ \t]+(\S+))?", re.MULTILINE
 )
-_VTK_TYPES = (rb"bit|unsigned_char|char|unsigned_short|short|unsigned_int|int|unsigned_long|"
-              rb"long|float|double|vtktypeint64|vtktypeuint64|vtkIdType")  # fmt: skip
+_VTK_TYPES = (
+    rb"bit|unsigned_char|char|unsigned_short|short|unsigned_int|int|unsigned_long|"
+    rb"long|float|double|vtktypeint64|vtktypeuint64|vtkIdType"
+)
 #: ``FIELD`` arrays: ``name components tuples type``; ``SCALARS``: ``name type [components]``.
-_VTK_FIELD = re.compile(rb"^[ \t]*\S+[ \t]+(\d+)[ \t]+(\d+)[ \t]+(?:" + _VTK_TYPES + rb")[ \t\r]*$",
-                        re.MULTILINE)  # fmt: skip
+_VTK_FIELD = re.compile(
+    rb"^[ \t]*\S+[ \t]+(\d+)[ \t]+(\d+)[ \t]+(?:" + _VTK_TYPES + rb")[ \t\r]*$", re.MULTILINE
+)
 _VTK_SCALARS = re.compile(rb"^[ \t]*SCALARS[ \t]+\S+[ \t]+\S+[ \t]+(\S+)", re.MULTILINE)
 _MSH_SECTION = re.compile(rb"^\$(Nodes|Elements)[ \t\r]*\n([^\n]*)", re.MULTILINE)
 
 
 def _number(token: bytes, what: str) -> int:
     if not token.isdigit() or len(token) > 30:
-        raise Damaged(f"the number of {what} is {token[:30].decode('latin-1')!r}, "
-                      "not a whole number")  # fmt: skip
+        raise Damaged(
+            f"the number of {what} is {token[:30].decode('latin-1')!r}, not a whole number"
+        )
     return int(token)
 
 
@@ -68,13 +72,17 @@ def check_declared_counts(path: Path, ext: str) -> None:
             _fits(components * tuples, "field values", components * tuples, size)
         for match in _VTK_SCALARS.finditer(data):
             if not 1 <= _number(match.group(1), "scalar components") <= 4:
-                raise Damaged(f"a SCALARS line declares {match.group(1).decode('latin-1')[:20]} "
-                              "components; VTK allows 1 to 4")  # fmt: skip
+                raise Damaged(
+                    f"a SCALARS line declares {match.group(1).decode('latin-1')[:20]} "
+                    "components; VTK allows 1 to 4"
+                )
     elif ext == ".stl" and not data[:5].lower() == b"solid" and len(data) >= 84:
         count = int.from_bytes(data[80:84], "little")
         if 84 + 50 * count != size:
-            raise Damaged(f"its header declares {count:,} triangles ({84 + 50 * count:,} bytes) "
-                          f"but the file has {size:,} bytes")  # fmt: skip
+            raise Damaged(
+                f"its header declares {count:,} triangles ({84 + 50 * count:,} bytes) "
+                f"but the file has {size:,} bytes"
+            )
     elif ext == ".msh":
         head = re.match(rb"\s*\$MeshFormat\s+(\S+)\s+(\S+)\s+(\S+)", data)
         binary_4 = bool(head) and head.group(1).startswith(b"4") and head.group(2) == b"1"

@@ -29,11 +29,14 @@ def _corner(token: str, line: int, before: int) -> int:
     if index > 0:
         return index - 1
     if index == 0:
-        raise Damaged(f"line {line}: a face refers to vertex 0; OBJ indices start at 1 "
-                      "(or count back from -1)")  # fmt: skip
+        raise Damaged(
+            f"line {line}: a face refers to vertex 0; OBJ indices start at 1 "
+            "(or count back from -1)"
+        )
     if before + index < 0:
-        raise Damaged(f"line {line}: a face refers to vertex {index}, but only {before:,} "
-                      "vertices precede it")  # fmt: skip
+        raise Damaged(
+            f"line {line}: a face refers to vertex {index}, but only {before:,} vertices precede it"
+        )
     return before + index
 
 
@@ -72,8 +75,10 @@ def read_obj(path: Path):
         raise Damaged(f"a vertex has coordinates {' '.join(bad)[:40]!r}, not numbers") from None
     triangles = np.array(faces, dtype=np.int64).reshape(-1, 3)
     if triangles.size and triangles.max() >= len(points):
-        raise Damaged(f"a face refers to vertex {int(triangles.max()) + 1:,} but the file "
-                      f"defines {len(points):,} vertices")  # fmt: skip
+        raise Damaged(
+            f"a face refers to vertex {int(triangles.max()) + 1:,} but the file "
+            f"defines {len(points):,} vertices"
+        )
     return points, triangles, ignored
 
 

@@ -119,8 +119,13 @@ def csv_paths(path: Path) -> dict[str, Path]:
     }
 
 
-def write_rwg_csv(mesh: TriMesh, path: Path, per_mm: float, unit: str,
-                  before_rename: Callable[[], None] | None = None) -> None:
+def write_rwg_csv(
+    mesh: TriMesh,
+    path: Path,
+    per_mm: float,
+    unit: str,
+    before_rename: Callable[[], None] | None = None,
+) -> None:
     """Write the three CSV files as one set: all to temporary files, then all renamed.
 
     ``before_rename()``, if given, runs once all are written; an exception from it

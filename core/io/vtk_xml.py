@@ -40,11 +40,27 @@ _DTYPES = {
 _COMPRESSORS = ("vtkZLibDataCompressor", "vtkLZMADataCompressor")
 #: VTK cell type -> name in messages (and in ``TriMesh.ignored_cells``).
 _CELL_NAMES = {
-    1: "vertex", 2: "poly_vertex", 3: "line", 4: "poly_line", 5: "triangle",
-    6: "triangle_strip", 7: "polygon", 8: "pixel", 9: "quad", 10: "tetra", 11: "voxel",
-    12: "hexahedron", 13: "wedge", 14: "pyramid", 21: "line3", 22: "triangle6",
-    23: "quad8", 24: "tetra10", 25: "hexahedron20", 42: "polyhedron",
-}  # fmt: skip
+    1: "vertex",
+    2: "poly_vertex",
+    3: "line",
+    4: "poly_line",
+    5: "triangle",
+    6: "triangle_strip",
+    7: "polygon",
+    8: "pixel",
+    9: "quad",
+    10: "tetra",
+    11: "voxel",
+    12: "hexahedron",
+    13: "wedge",
+    14: "pyramid",
+    21: "line3",
+    22: "triangle6",
+    23: "quad8",
+    24: "tetra10",
+    25: "hexahedron20",
+    42: "polyhedron",
+}
 VTK_TRIANGLE = 5
 _SINGULAR = {"Verts": "vertex cell", "Lines": "line", "Polys": "polygon", "Strips": "strip"}
 #: Output is inflated this many bytes at a time.
@@ -189,8 +205,10 @@ class _ArrayReader:
         n_blocks = int(np.frombuffer(first, self.header)[0])
         available = len(source) * 3 // 4 if encoded else len(source)
         if n_blocks * hb > available:
-            raise Damaged(f"the {what} array declares {n_blocks:,} compressed blocks; "
-                          "the file is too short for them")  # fmt: skip
+            raise Damaged(
+                f"the {what} array declares {n_blocks:,} compressed blocks; "
+                "the file is too short for them"
+            )
         head, pos = take((3 + n_blocks) * hb, 0)
         header = np.frombuffer(head, self.header).astype(np.int64)
         block, last = int(header[1]), int(header[2])
@@ -224,8 +242,9 @@ class _ArrayReader:
         if n_bytes is not None and size != n_bytes:
             raise Damaged(f"the {what} array declares {size:,} bytes; its count needs {n_bytes:,}")
         if size < 0 or size > limit:
-            raise Damaged(f"the {what} array declares {size:,} bytes; barymesh reads at most "
-                          f"{limit:,}")  # fmt: skip
+            raise Damaged(
+                f"the {what} array declares {size:,} bytes; barymesh reads at most {limit:,}"
+            )
 
     def _inflate(self, packed: bytes, want: int, out: bytearray, at: int, what: str) -> None:
         """Inflate one block into ``out[at:at + want]``, never producing more than ``want + 1``."""
@@ -237,8 +256,10 @@ class _ArrayReader:
                 room = min(_CHUNK, want - done + 1)
                 chunk = d.decompress(tail, room)
                 if done + len(chunk) > want:
-                    raise Damaged(f"a compressed block of the {what} array inflates to more "
-                                  f"than the {want:,} bytes it declares")  # fmt: skip
+                    raise Damaged(
+                        f"a compressed block of the {what} array inflates to more "
+                        f"than the {want:,} bytes it declares"
+                    )
                 out[at + done : at + done + len(chunk)] = chunk
                 done += len(chunk)
                 tail = d.unconsumed_tail if zlib_mode else b""
@@ -247,8 +268,10 @@ class _ArrayReader:
         except (zlib.error, lzma.LZMAError):
             raise Damaged(f"a compressed block of the {what} array is corrupt") from None
         if done != want:
-            raise Damaged(f"a compressed block of the {what} array inflates to {done:,} bytes; "
-                          f"it declares {want:,}")  # fmt: skip
+            raise Damaged(
+                f"a compressed block of the {what} array inflates to {done:,} bytes; "
+                f"it declares {want:,}"
+            )
 
 
 # -- the file ----------------------------------------------------------------------------
@@ -315,8 +338,10 @@ def _check_indices(tri: np.ndarray, n_points: int, what: str) -> None:
     if low < 0:
         raise Damaged(f"a {what} refers to point {low}; point indices start at 0")
     if high >= n_points:
-        raise Damaged(f"a {what} refers to point {high:,} but there are {n_points:,} points "
-                      "(indices start at 0)")  # fmt: skip
+        raise Damaged(
+            f"a {what} refers to point {high:,} but there are {n_points:,} points "
+            "(indices start at 0)"
+        )
 
 
 def _cell_data(arrays, piece, n_cells: int, keep: slice | np.ndarray) -> dict[str, np.ndarray]:
