@@ -160,10 +160,7 @@ def sizing_stats(mesh: TriMesh, longest: float) -> dict[str, Any]:
     }
     lam = params_wavelength(params)
     if lam is not None:
-        if "quality" in mesh.__dict__:  # per-triangle areas already known
-            area = float(mesh.areas.max()) if mesh.n_triangles else 0.0
-        else:
-            area = largest_area(mesh.points, mesh.triangles, mesh._columns)
+        area = largest_area(mesh.points, mesh.triangles, mesh.columns)
         out["wavelength"] = lam
         out["max_edge_wavelengths"] = longest / lam
         out["max_area_wavelengths2"] = area / (lam * lam)
@@ -279,7 +276,7 @@ def sized_mesh(
             bad = n  # cannot be chosen (an n below ``good`` with more triangles)
         else:
             mesh = build(trial)
-            edges[n] = longest_edge(mesh.points, mesh.triangles, mesh._columns)
+            edges[n] = longest_edge(mesh.points, mesh.triangles, mesh.columns)
             if edges[n] <= target:
                 good, chosen = n, mesh
             else:

@@ -27,8 +27,8 @@ import numpy as np
 
 from .params import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, RELATIVE_TOLERANCE, MeshParams
 from .quality import triangle_quality
+from .repeat import sector_chain_vertices
 from .subdivision import PatchTemplate, graded_nodes, patch_template, tensor_template
-from .topology import INDEX
 from .weld import merge_pairs, weld_lattice_patches, weld_points
 
 #: Widest conforming sector: a closed ring has at least three sectors, so no
@@ -579,7 +579,7 @@ def _conforming_ring_layout(params: MeshParams) -> Layout:
         xy += np.asarray(params.origin)
     floor = plan.min_angle_floor
     if not touching and _sides_in_rows(template):
-        ids, rep = _sector_chain_vertices(template, [c[0] for c in chains], [c[1] for c in chains])
+        ids, rep = sector_chain_vertices(template, [c[0] for c in chains], [c[1] for c in chains])
         return Layout(template, xy, np.concatenate(regions), ids, rep, None, floor)
     if touching:
         # touching rings (as many sectors): the inner ring's outer circle is the
@@ -609,48 +609,6 @@ def _sides_in_rows(template: PatchTemplate) -> bool:
         and np.array_equal(sides[0], np.arange(s))
         and np.array_equal(sides[2], np.arange(nv - s, nv))
     )
-
-
-def _sector_chain_vertices(
-    template: PatchTemplate, m: int | list[int], closed: list[bool]
-) -> tuple[np.ndarray, np.ndarray]:
-    """Vertex ids of chains of sectors glued side 2 to side 0, by formula.
-
-    The same ``(vertex_of_point, representative)`` as :func:`barymesh.weld.merge_pairs`
-    on the glue pairs (vertices numbered by first appearance), without sorting:
-    with the template's side 0 first and side 2 last, local vertex l of
-    sector k is vertex k S + l, S = Nv − (side length), and a closed chain's
-    last side 2 is its first side 0.
-
-    Parameters
-    ----------
-    template : PatchTemplate
-    m : int or list of int
-        Sectors of every chain, or of each chain.
-    closed : list of bool
-        Whether each chain closes on itself.
-    """
-    nv = len(template.uv)
-    s = len(template.sides[0])
-    stride = nv - s
-    counts = [m] * len(closed) if isinstance(m, (int, np.integer)) else list(m)
-    local = np.arange(nv, dtype=INDEX)
-    ids, reps = [], []
-    n_vertices = 0
-    n_points = 0
-    for k, is_closed in zip(counts, closed, strict=True):
-        sector = np.arange(k, dtype=INDEX)[:, None]
-        block = sector * INDEX(stride) + local + INDEX(n_vertices)  # (k, Nv)
-        first = np.ones((k, nv), dtype=bool)  # first appearance of its vertex
-        first[1:, :s] = False
-        if is_closed:
-            block[-1, nv - s :] = n_vertices + np.arange(s, dtype=INDEX)
-            first[-1, nv - s :] = False
-        ids.append(block.ravel())
-        reps.append(np.flatnonzero(first.ravel()).astype(INDEX) + INDEX(n_points))
-        n_vertices += k * stride + (0 if is_closed else s)
-        n_points += k * nv
-    return np.concatenate(ids), np.concatenate(reps)
 
 
 def _conforming_square_rects(params: MeshParams) -> tuple[np.ndarray, np.ndarray]:

@@ -22,6 +22,7 @@ from scipy.spatial import cKDTree
 from ..build import build_mesh
 from ..mesh import TriMesh
 from ..params import DEFAULT_MAX_TRIANGLES, MeshParams
+from ..repeat import Repetition
 from ..subdivision import PatchTemplate, patch_template
 from ..topology import INDEX
 from ..values import echo
@@ -131,7 +132,8 @@ def _element_part(element, mesh: TriMesh) -> _Part:
         hi = element.place(mesh.patch_rects[:, 2:])
         rects = np.concatenate([np.minimum(lo, hi), np.maximum(lo, hi)], axis=1)
     p = element.params
-    template = mesh._template  # the layout's (conforming rings: their sector template)
+    # the layout's template (conforming rings: their sector template)
+    template = None if mesh.repetition is None else mesh.repetition.template
     placed = TriMesh(
         xy,
         mesh.triangles,
@@ -142,7 +144,7 @@ def _element_part(element, mesh: TriMesh) -> _Part:
         mesh.tolerance,
         rects,
         {},
-        mesh._template,
+        mesh.repetition,
     )
     return _Part(
         xy, mesh.triangles, mesh.patch_ids, mesh.n_patches, rects, template, placed, p.min_spacing
@@ -188,7 +190,7 @@ def _pixel_part(cell: UnitCell) -> _Part:
         cell.weld_tolerance,
         rects if cell.mode == "paper" else None,
         {},
-        template,
+        Repetition.of(template, ids, len(xy)),
     )
     return _Part(xy, triangles, patch_ids, n_pix, rects, template, mesh, params.min_spacing)
 
@@ -370,6 +372,9 @@ def _merge(cell: UnitCell, parts: list[_Part | None]) -> tuple[TriMesh, np.ndarr
         rects = np.concatenate([q.rects for _, q in present])
     templates = {id(q.template) for _, q in present}
     template = present[0][1].template if len(templates) == 1 else None
+    repetition = (
+        None if template is None else Repetition.of_triangles(template, triangles, len(rep))
+    )
     mesh = TriMesh(
         points=np.column_stack([xy[rep], np.zeros(len(rep))]),
         triangles=triangles,
@@ -379,7 +384,7 @@ def _merge(cell: UnitCell, parts: list[_Part | None]) -> tuple[TriMesh, np.ndarr
         mode=cell.mode,
         tolerance=cell.weld_tolerance,
         patch_rects=rects,
-        _template=template,
+        repetition=repetition,
         lattice=cell.lattice,
     )
     return mesh, part_of_point[rep]
@@ -515,7 +520,7 @@ def tile(
         mode=m.mode,
         tolerance=m.tolerance,
         patch_rects=rects,
-        _template=m._template,
+        repetition=_tiled_repetition(m, ids, copies, len(rep)),
         lattice=array_lattice,
     )
     return CellMesh(
@@ -526,3 +531,15 @@ def tile(
         base.contact_notes,
         (base.copies[0] * n1, base.copies[1] * n2),
     )
+
+
+def _tiled_repetition(
+    m: TriMesh, ids: np.ndarray, copies: int, n_vertices: int
+) -> Repetition | None:
+    """The repetition of ``copies`` copies of ``m``, point p of the copies at vertex ``ids[p]``."""
+    if m.repetition is None:
+        return None
+    vmap = m.repetition.vertex_map
+    offsets = (np.arange(copies) * m.n_vertices).astype(INDEX)
+    tiled = ids[(vmap[None] + offsets[:, None, None]).reshape(-1, vmap.shape[1])]
+    return Repetition.of(m.repetition.template, tiled, n_vertices)
