@@ -41,7 +41,7 @@ bench: $(STAMP)
 # formats, one module after the other; each mutant runs only the tests that call the function
 # it changed (see [tool.mutmut] in pyproject.toml). The score and the survivors judged
 # harmless are in README.md, Development. `$(BIN)/mutmut browse` shows the survivors.
-MUTATE_MODULES := core.topology core.weld core.assembly core.io
+MUTATE_MODULES := core.topology core.weld core.repeat.patches core.io
 
 .PHONY: mutate
 mutate: $(STAMP)

@@ -2,23 +2,25 @@
 
 A build goes from :class:`barymesh.params.MeshParams` to :class:`barymesh.mesh.TriMesh`
 through each of these modules once, in this order (``tests/test_core_build_path.py``
-records the calls and checks it):
+records the calls :func:`build_mesh` makes and checks it):
 
-1. :mod:`barymesh.structures` (:func:`~barymesh.structures.layout`): the patch
+1. :mod:`barymesh.params`: what the parameters derive (whether the sizing
+   chooses the subdivisions, the weld tolerance);
+2. :mod:`barymesh.structures` (:func:`~barymesh.structures.layout`): the patch
    template (:mod:`barymesh.subdivision`), where each patch or sector goes, and
    the weld of coincident vertices (:mod:`barymesh.weld`), as a vertex map;
-2. :mod:`barymesh.repeat`: the triangles, the template's copied on the vertex
+3. :mod:`barymesh.repeat`: the triangles, the template's copied on the vertex
    map (:func:`~barymesh.repeat.patch_triangles`), and the record of the
    repetition (:meth:`~barymesh.repeat.Repetition.of`), which keeps that map;
-3. :mod:`barymesh.mesh`: the :class:`~barymesh.mesh.TriMesh`, arrays plus the
-   record plus the parameters as provenance;
-4. :mod:`barymesh.check` (:func:`~barymesh.check.check_mesh`): the invariants,
+4. :mod:`barymesh.mesh`: the :class:`~barymesh.mesh.TriMesh`, arrays plus the
+   record, with the parameters as provenance;
+5. :mod:`barymesh.check` (:func:`~barymesh.check.check_mesh`): the invariants,
    read through the record.
 
 A single primary triangle (``structure="triangle"``) takes
-:mod:`barymesh.subdivision` instead of 1–2 (no patches, no record). With
-``frequency`` or ``max_edge`` set, :mod:`barymesh.sizing` runs 1–3 for each
-candidate subdivision and 4 on the one it chooses.
+:mod:`barymesh.subdivision` instead of 2 and 3 (no patches, no record). With
+``frequency`` or ``max_edge`` set, :mod:`barymesh.sizing` comes after 1 and runs
+1 to 4 for each subdivision it tries, then 5 on the one it chooses.
 """
 
 from __future__ import annotations
@@ -107,8 +109,9 @@ def _check_chosen(mesh: TriMesh) -> None:
 def _assemble(params: MeshParams, checkpoint: Callable[[], None]) -> TriMesh:
     """The mesh of ``params`` at its ``subdivisions``, unchecked."""
     checkpoint()
+    tolerance = params.weld_tolerance  # (a property: the parameters are read first)
     if params.structure == "triangle":
-        return _triangle(params)
+        return _triangle(params, tolerance)
     lay = layout(params)
     checkpoint()
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
@@ -131,7 +134,7 @@ def _assemble(params: MeshParams, checkpoint: Callable[[], None]) -> TriMesh:
         regions=_per_triangle(lay.regions, per_patch),
         n_patches=n_patches,
         mode=params.mode,
-        tolerance=params.weld_tolerance,
+        tolerance=tolerance,
         patch_rects=lay.rects if params.mode == "paper" else None,
         repetition=repetition,
         params=params,
@@ -148,7 +151,7 @@ def _per_triangle(per_patch_values: np.ndarray, per_patch: int) -> np.ndarray:
     return out.reshape(-1)
 
 
-def _triangle(params: MeshParams) -> TriMesh:
+def _triangle(params: MeshParams, tolerance: float) -> TriMesh:
     """One primary triangle, subdivided."""
     if params.triangle_vertices is None:
         side = params.patch_size
@@ -168,7 +171,7 @@ def _triangle(params: MeshParams) -> TriMesh:
         regions=np.ones(len(tri), dtype=INDEX),
         n_patches=1,
         mode=params.mode,
-        tolerance=params.weld_tolerance,
+        tolerance=tolerance,
         patch_rects=None,
         params=params,
     )

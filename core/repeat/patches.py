@@ -172,8 +172,8 @@ def patch_edge_counts(
 ) -> np.ndarray:
     """How many edges lie on 1, 2, 3, ... triangles in a structure of patch copies.
 
-    The counts of :func:`edge_topology` (and of the template path in
-    :mod:`barymesh.assembly`) without making any per-edge array: an edge with an end
+    The counts of :func:`barymesh.topology.edge_topology` (and of the template path in
+    :func:`patch_topology`) without making any per-edge array: an edge with an end
     that belongs to one patch only is that patch's template edge; only edges with
     both ends shared can be listed by several patches, and those are matched by
     one sort of their packed vertex pairs (the template valence in the two low
