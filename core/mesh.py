@@ -313,18 +313,22 @@ class TriMesh:
 
         What still holds is kept: the :attr:`repetition` (it holds no coordinates),
         the ``min_angle_floor`` (angles do not scale), the patch rectangles, the
-        tolerance and the :attr:`lattice` scaled with the points. ``params`` becomes
+        tolerance and the :attr:`lattice` scaled with the points (None when the
+        scaled vectors are no lattice, for a factor of 0). ``params`` becomes
         None: its lengths are the unscaled mesh's, and a build from them would
         not give this mesh.
         """
         rects = None if self.patch_rects is None else self.patch_rects * factor
         lattice = self.lattice
         if lattice is not None:
-            lattice = dataclasses.replace(
-                lattice,
-                a1=tuple(factor * a for a in lattice.a1),
-                a2=tuple(factor * a for a in lattice.a2),
-            )
+            try:
+                lattice = dataclasses.replace(
+                    lattice,
+                    a1=tuple(factor * a for a in lattice.a1),
+                    a2=tuple(factor * a for a in lattice.a2),
+                )
+            except ValueError:  # a factor no lattice can take (0, or out of range): dropped
+                lattice = None
         return TriMesh(
             self.points * factor,
             self.triangles,
