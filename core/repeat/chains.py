@@ -24,7 +24,7 @@ sector lists. A long chain's topology is that of a short chain of
     long chain (m sectors):   [ 0 ][ 1 ][ 2 ][ 2 ] ... [ 2 ][ 3 ][ 4 ]
     sector of the long chain:   0    1    2    3   ...  m-3  m-2  m-1
                                           copy j = 0 … m − 5 of the short chain's
-                                          sector 2: its ids plus j (S, Nt, E_mid)
+                                          sector 2: its ids plus j S, j Nt or j E_mid
 
 (a sector's edges reach the vertices of the sector after next, the free vertex
 across a glued side, so the middle sector needs two on each side). Chains follow
