@@ -26,24 +26,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .constants import wavelength
 from .params import MAX_BARYCENTRIC_LEVELS, MAX_PATCH_COUNT, MAX_UNIFORM_SUBDIVISIONS, MeshParams
 from .topology import BLOCK
 
 if TYPE_CHECKING:
     from .mesh import TriMesh
 
-#: Speed of light in vacuum (mm/s), exact by the SI definition of the metre.
-C0_MM_PER_S = 299_792_458_000.0
 #: The rule of thumb the statistics check: every edge at most a tenth of the wavelength.
 RULE_CELLS_PER_WAVELENGTH = 10
-
-
-def wavelength(frequency: float, relative_permittivity: float = 1.0) -> float:
-    """Wavelength (mm) at ``frequency`` (Hz) in a medium of ``relative_permittivity``.
-
-    λ = c0 / (f √εr), with c0 = 299,792,458 m/s.
-    """
-    return C0_MM_PER_S / (frequency * math.sqrt(relative_permittivity))
 
 
 def params_wavelength(params: MeshParams) -> float | None:

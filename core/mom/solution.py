@@ -16,9 +16,9 @@ from functools import cached_property
 
 import numpy as np
 
+from ..constants import ETA0, SPEED_OF_LIGHT
 from .excitation import PlaneWave, VoltageSource
 from .geometry import METRES_PER_MESH_UNIT, MomGeometry
-from .operator import ETA0, SPEED_OF_LIGHT
 
 
 def directions(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
