@@ -14,30 +14,26 @@ from typing import Any
 
 import numpy as np
 
+from .constants import wavelength
+from .kinds import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, SPLIT_STRUCTURES, STRUCTURES
+from .placement import predicted_triangles
+from .sectors import (
+    MAX_SECTOR_DEG,
+    count_steps,
+    graded_track_nodes,
+    narrowest_sector,
+    sector_plan,
+    slot_half_angle,
+)
+from .subdivision import edge_vectors
 from .values import echo as _short
 from .values import finite as _finite
 from .values import number as _float
 from .values import positive as _positive
 
-STRUCTURES = (
-    "patch",
-    "triangle",
-    "ring",
-    "double_ring",
-    "split_ring",
-    "split_double_ring",
-    "square_split_double_ring",
-)
 MODES = ("paper", "conforming")
 DIAGONALS = ("BC", "AD")
 SCHEMES = ("uniform", "barycentric")
-
-#: Structures made of two concentric rings (they use ``outer_radius``).
-DOUBLE_STRUCTURES = ("double_ring", "split_double_ring", "square_split_double_ring")
-#: Structures cut by slots (they use ``gap_width`` and ``gap_angle``).
-SPLIT_STRUCTURES = ("split_ring", "split_double_ring", "square_split_double_ring")
-#: Structures laid out on circles (they use ``angle_step``).
-ANGULAR_STRUCTURES = ("ring", "double_ring", "split_ring", "split_double_ring")
 
 MAX_UNIFORM_SUBDIVISIONS = 64
 #: Most cells across a graded track (grading from min_edge adds cells at both circles).
@@ -315,8 +311,6 @@ class MeshParams:
                 )
             put(self, name, x)
         if self.frequency is not None:
-            from .sizing import wavelength
-
             lam = wavelength(self.frequency, self.relative_permittivity)
             if not lam / self.cells_per_wavelength >= MIN_EDGE:
                 raise ValueError(
@@ -464,9 +458,6 @@ class MeshParams:
         ``angle_step`` asks for, before they are narrowed so that no triangle
         folds (which needs the float64 checks to have passed).
         """
-        from .structures import MAX_SECTOR_DEG, _arcs, _count, _slot_half_angle
-        from .subdivision import edge_vectors
-
         s = self.structure
         if s == "triangle":
             d = edge_vectors(self.scheme, self.subdivisions, None)
@@ -487,8 +478,6 @@ class MeshParams:
         h, w = self.patch_size, self.patch_height
         sides = [(h, w, "patch_size" if h <= w else "patch_width")]
         if self.grading:  # graded cells: the narrowest across the track, instead of h / n
-            from .structures import graded_track_nodes
-
             h *= self.subdivisions * graded_track_nodes(self)[1]
             sides = [(h, w, "min_edge")]
         if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
@@ -498,15 +487,13 @@ class MeshParams:
             )
             span = full
             if s in SPLIT_STRUCTURES:
-                span -= 2 * float(_slot_half_angle(self, r))
+                span -= 2 * float(slot_half_angle(self, r))
             if final:
-                m = _arcs(self)[1]
+                m = sector_plan(self).base
             else:
-                m = _count(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
+                m = count_steps(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
             chord = 2 * r * math.sin(math.radians(span / m) / 2)
             if final and self.grading:
-                from .structures import narrowest_sector
-
                 chord *= narrowest_sector(self)
             if s in SPLIT_STRUCTURES and span < 0.5 * full:
                 name = "gap_width"
@@ -517,8 +504,8 @@ class MeshParams:
             sides.append((h, chord, name))
         elif self.mode == "conforming" and s == "square_split_double_ring":
             r, g = self.inner_radius, self.gap_width
-            sides.append((h, (r - g / 2) / _count(r - g / 2, h), "gap_width"))
-            sides.append((h, 2 * r / _count(2 * r, h), "inner_radius"))
+            sides.append((h, (r - g / 2) / count_steps(r - g / 2, h), "gap_width"))
+            sides.append((h, 2 * r / count_steps(2 * r, h), "inner_radius"))
         best = (math.inf, "patch_size")
         for a, b, name in sides:
             edge = float(np.hypot(a * d[:, 0], b * d[:, 1]).min())
@@ -608,12 +595,10 @@ class MeshParams:
         the ring: a chain of near points, which the weld refuses anyway, but only after
         finding every pair. Checked here from the angle between neighbours in O(1).
         """
-        from .structures import _count
-
         if self.mode != "paper" or self.structure not in ANGULAR_STRUCTURES:
             return
         step = self.angle_step
-        k = _count(360.0, step)
+        k = count_steps(360.0, step)
         if k < 2:
             return
         gap = min(step, 360.0 - (k - 1) * step)
@@ -622,19 +607,17 @@ class MeshParams:
         tol = self.weld_tolerance
         if chord > tol:
             return
-        where = (
-            f"neighbouring patches of the ring of radius {r:.6g} mm are only {chord:.3g} mm "
-            f"apart (angle_step={_short(self.angle_step)})"
-        )
+        patches = f"neighbouring patches of the ring of radius {r:.6g} mm"
         if self.tolerance is not None:
             raise ValueError(
-                f"tolerance={_short(self.tolerance)} mm joins a chain of near points: {where}; "
+                f"tolerance={_short(self.tolerance)} mm joins a chain of near points: {patches} "
+                f"are only {chord:.3g} mm apart (angle_step={_short(self.angle_step)}); "
                 "points farther apart than the tolerance are never merged: use a smaller "
                 f"tolerance (below {chord:.3g} mm) or a larger angle_step"
             )
         raise ValueError(
             f"inner_radius={_short(self.inner_radius)} mm and angle_step="
-            f"{_short(self.angle_step)} put {where.split(' are only ')[0]} within the welding "
+            f"{_short(self.angle_step)} put {patches} within the welding "
             f"tolerance {tol:.3g} mm of each other ({chord:.3g} mm apart): they would be welded "
             "into a chain; use a larger inner_radius or angle_step"
         )
@@ -662,8 +645,6 @@ class MeshParams:
 
     def predicted_triangles(self) -> int:
         """Number of triangles the mesh will have (computed without building it)."""
-        from .structures import predicted_triangles
-
         return predicted_triangles(self)
 
     # -- (de)serialisation --------------------------------------------------
