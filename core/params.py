@@ -261,7 +261,7 @@ class MeshParams:
     # -- validation helpers -------------------------------------------------
 
     def _check_subdivisions(self) -> None:
-        n = self.subdivisions
+        n: Any = self.subdivisions  # as given: not yet known to be an int
         if isinstance(n, float) and n.is_integer():
             n = int(n)
             object.__setattr__(self, "subdivisions", n)
@@ -362,7 +362,7 @@ class MeshParams:
             )
 
     def _check_triangle_vertices(self) -> None:
-        given = self.triangle_vertices
+        given: Any = self.triangle_vertices  # as given: any iterable, or not one
         try:
             items = list(given)
         except TypeError:
@@ -545,7 +545,7 @@ class MeshParams:
         extent = self.extent
         if not extent <= MAX_COORDINATE:
             lengths = self._lengths()
-            name = max(lengths, key=lengths.get)
+            name = max(lengths, key=lengths.__getitem__)
             raise ValueError(
                 f"{name}={_short(getattr(self, name))} places points {extent:.3g} mm from "
                 f"(0, 0); expected coordinates within {MAX_COORDINATE:.0e} mm"

@@ -117,13 +117,13 @@ def rects_touching_slots(
 def paper_origins(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
     """Patch origins and regions of a paper-mode ring structure, slots applied."""
     square = params.structure == "square_split_double_ring"
-    origins, regions = [], []
+    origin_parts, region_parts = [], []
     for region, radius in enumerate(ring_radii(params), start=1):
         o = square_ring_origins(params, radius) if square else paper_ring_origins(params, radius)
-        origins.append(o)
-        regions.append(np.full(len(o), region))
-    origins = np.concatenate(origins)
-    regions = np.concatenate(regions)
+        origin_parts.append(o)
+        region_parts.append(np.full(len(o), region))
+    origins = np.concatenate(origin_parts)
+    regions = np.concatenate(region_parts)
     directions = gap_directions(params)
     if directions:
         h, w = params.patch_size, params.patch_height
@@ -137,14 +137,16 @@ def conforming_square_rects(params: PlacementFields) -> tuple[np.ndarray, np.nda
     """(x0, y0, wx, wy) rectangles tiling the square tracks exactly, slots cut out."""
     h, g = params.patch_size, params.gap_width
     phi = round(params.gap_angle / 90.0) % 2  # 0: horizontal slot, 1: vertical slot
-    rects, regions = [], []
+    rects: list[tuple[float, float, float, float]] = []
+    regions: list[int] = []
     for region, r in enumerate(ring_radii(params), start=1):
         corners = [(-r - h, -r - h), (r, -r - h), (r, r), (-r - h, r)]
         rs = [(x, y, h, h) for x, y in corners]
         full = np.linspace(-r, r, count_steps(2 * r, h) + 1)
         pieces = np.linspace(-r, -g / 2, count_steps(r - g / 2, h) + 1)
-        cut = [np.stack([pieces[:-1], pieces[1:]], 1), np.stack([-pieces[1:], -pieces[:-1]], 1)]
-        cut = np.concatenate(cut)
+        cut = np.concatenate(
+            [np.stack([pieces[:-1], pieces[1:]], 1), np.stack([-pieces[1:], -pieces[:-1]], 1)]
+        )
         whole = np.stack([full[:-1], full[1:]], 1)
         # sides running along x (bottom, top) and along y (left, right)
         along_x = cut if phi == 1 else whole
@@ -155,9 +157,9 @@ def conforming_square_rects(params: PlacementFields) -> tuple[np.ndarray, np.nda
             rs += [(x0, a, h, b - a) for a, b in along_y]
         rects += rs
         regions += [region] * len(rs)
-    rects = np.array(rects)
-    rects[:, :2] += np.asarray(params.origin)
-    return rects, np.array(regions)
+    out = np.array(rects)
+    out[:, :2] += np.asarray(params.origin)
+    return out, np.array(regions)
 
 
 def predicted_patches(params: PlacementFields) -> int:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 from functools import lru_cache
-from typing import Protocol
+from typing import Protocol, overload
 
 import numpy as np
 
@@ -226,6 +226,7 @@ def narrowest_sector(params: RingFields) -> float:
 def _cached_plan(params: _ArcKey) -> SectorPlan:
     directions = gap_directions(params)
     step = min(params.angle_step, MAX_SECTOR_DEG)
+    arcs: tuple[_Arc, ...]
     if not directions:
         arcs = ((0.0, 360.0, True),)
         m = count_steps(360.0, step)
@@ -235,7 +236,7 @@ def _cached_plan(params: _ArcKey) -> SectorPlan:
             arcs = ((phi, phi + 360.0, False),)
         else:
             arcs = ((phi, phi + 180.0, False), (phi + 180.0, phi + 360.0, False))
-        widest = arcs[0][1] - arcs[0][0] - 2 * slot_half_angle(params, _outermost(params))
+        widest = arcs[0][1] - arcs[0][0] - 2 * float(slot_half_angle(params, _outermost(params)))
         m = count_steps(widest, step)
     for _ in range(_MAX_NARROWING):
         plan = _plan_sectors(params, arcs, m)
@@ -315,23 +316,23 @@ def _plan_sectors(params: RingFields, arcs: tuple[_Arc, ...], m: int) -> SectorP
     top = max(c[0] for c in choices)
     threshold = max(min(top, TARGET_MIN_ANGLE), top - _ANGLE_SLACK)
     good = [c for c in choices if c[0] >= threshold]
-    score, nv, sectors, template = max(good, key=lambda c: c[1])
+    score, nv, chosen, template = max(good, key=lambda c: c[1])
     if not params.grading:
-        return SectorPlan(arcs, sectors, m, template, top)
+        return SectorPlan(arcs, chosen, m, template, top)
     if arc[2]:
-        return SectorPlan(arcs, sectors, m, template, None)
+        return SectorPlan(arcs, chosen, m, template, None)
     # graded toward the slot's sides: the end sectors hold cells about min_edge long
     fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
-    bounds = [None] * len(radii)
+    bounds: dict[int, tuple[float, ...]] = {}
     for group in groups:
         mid = math.sqrt(radii[group[0]] * (radii[group[-1]] + h))
         span = math.radians(arc[1] - arc[0] - 2 * float(slot_half_angle(params, mid)))
-        k = sectors[group[0]]
+        k = chosen[group[0]]
         first = min(1.0 / k, fine * nv / (span * mid))
         for i in group:
             bounds[i] = graded_nodes(k, first, params.growth_ratio)
-    sectors = tuple(len(b) - 1 for b in bounds)
-    return SectorPlan(arcs, sectors, m, template, None, tuple(bounds))
+    ends = tuple(bounds[i] for i in range(len(radii)))  # the groups cover every ring
+    return SectorPlan(arcs, tuple(len(b) - 1 for b in ends), m, template, None, ends)
 
 
 def _end_columns(template: PatchTemplate) -> tuple[np.ndarray, np.ndarray]:
@@ -398,6 +399,8 @@ def _sectors_proper(params: RingFields, arc: _Arc, plan: SectorPlan) -> bool:
             samples = min(m, max(3, _SECTOR_CHECK_POINTS // len(template.uv)))
             ks = np.unique(np.round(np.linspace(0, m - 1, samples)))
         rho = radius + u * params.patch_size
+        lo: np.ndarray | float
+        hi: np.ndarray | float
         if closed:
             lo, hi = start, end
         else:
@@ -426,6 +429,13 @@ def _outermost(params: RingFields) -> float:
     return max(ring_radii(params)) + params.patch_size
 
 
+@overload
+def slot_half_angle(params: RingFields, rho: float) -> float: ...
+@overload
+def slot_half_angle(params: RingFields, rho: np.ndarray) -> np.ndarray: ...
 def slot_half_angle(params: RingFields, rho: np.ndarray | float) -> np.ndarray | float:
-    """Angle (degrees) between the slot axis and where a slot side meets radius ρ."""
+    """Angle (degrees) between the slot axis and where a slot side meets radius ρ.
+
+    A float for a float ρ (a NumPy scalar), an array of ρ's shape for an array.
+    """
     return np.degrees(np.arcsin(params.gap_width / (2 * np.asarray(rho))))

@@ -272,7 +272,7 @@ class PixelGrid:
 
     def replaced(self, **changes: Any) -> PixelGrid:
         """A copy with some fields changed (validated again)."""
-        data = {
+        data: dict[str, Any] = {  # the fields as they are, then the changes (validated)
             "mask": self.mask,
             "pixel_size": self.pixel_size,
             "origin": self.origin,
@@ -460,7 +460,7 @@ class UnitCell:
 
     def replace(self, **changes: Any) -> UnitCell:
         """A copy with some fields changed (validated again)."""
-        data = {
+        data: dict[str, Any] = {  # the fields as they are, then the changes (validated)
             "lattice": self.lattice,
             "elements": self.elements,
             "pixels": self.pixels,
