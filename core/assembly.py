@@ -68,14 +68,14 @@ def patch_topology(
     # (take along an axis is much faster than fancy indexing on these 2-D arrays)
     ev0 = vmap.take(e0, axis=1)
     ev1 = vmap.take(e1, axis=1)
-    edges = np.empty((n_patch, n_loc, 2), dtype=INDEX)
+    edges: np.ndarray = np.empty((n_patch, n_loc, 2), dtype=INDEX)  # (P Ne, 2) once reshaped
     np.minimum(ev0, ev1, out=edges[..., 0])
     np.maximum(ev0, ev1, out=edges[..., 1])
     edges = edges.reshape(-1, 2)
     del ev0, ev1
 
     tri_base = (np.arange(n_patch, dtype=INDEX) * INDEX(n_tri))[:, None]  # (P, 1)
-    edge_triangles = np.empty((n_patch, n_loc, 2), dtype=INDEX)
+    edge_triangles: np.ndarray = np.empty((n_patch, n_loc, 2), dtype=INDEX)
     np.add(local_tri, tri_base[:, :, None], out=edge_triangles)
     np.copyto(edge_triangles, -1, where=local_tri < 0)  # column 0 always exists
     edge_triangles = edge_triangles.reshape(-1, 2)
@@ -100,6 +100,10 @@ def patch_topology(
 
     # incidences (group, triangle, free vertex) of the pooled slots, by group then triangle
     pool_p, pool_e = np.divmod(pool, n_loc)
+    # one part per side j, then joined
+    inc_group: list[np.ndarray] | np.ndarray
+    inc_tri: list[np.ndarray] | np.ndarray
+    inc_free: list[np.ndarray] | np.ndarray
     inc_group, inc_tri, inc_free = [], [], []
     for j in (0, 1):
         loc = local_tri[pool_e, j]

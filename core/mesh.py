@@ -263,12 +263,14 @@ class TriMesh:
             return patch_topology(t, self._vertex_map, self.n_vertices)
         return chain_topology(*chains)
 
-    def _chain_arguments(self) -> tuple | None:
+    def _chain_arguments(
+        self,
+    ) -> tuple[list[EdgeTopology], list[int], int, int, list[int]] | None:
         """(short chains, m_i, triangles and vertices per sector, vertices per chain) or None."""
         chains = self._sector_chains
-        if chains is None:
-            return None
         t = self._template
+        if chains is None or t is None:
+            return None
         ms, closed = chains
         s = len(t.sides[0])
         shorts = [_short_chain_topology(t, c) for c in closed]
@@ -352,6 +354,7 @@ class TriMesh:
         corners = self.triangles.reshape(self.n_patches, -1)
         # the template's triangles cover all its vertices: recover the patch vertex
         # map by taking, for each local vertex, one triangle corner where it sits
+        assert self._template is not None  # only meshes built from a template have the map
         _, where = np.unique(self._template.triangles.ravel(), return_index=True)
         return corners.take(where, axis=1)
 
@@ -416,8 +419,9 @@ class TriMesh:
             chains = self._chain_arguments()
             if chains is not None:
                 shorts = [_adjacency_without_junctions(CHAIN * nt, c) for c in chains[0]]
-                if all(c is not None for c in shorts):
-                    return chain_adjacency(shorts, chains[1], nt)
+                present = [c for c in shorts if c is not None]
+                if len(present) == len(shorts):
+                    return chain_adjacency(present, chains[1], nt)
         return triangle_adjacency(self.n_triangles, self.topology)
 
     @cached_property

@@ -465,6 +465,7 @@ def chain_topology(
     triangle_edges = np.empty((sum(ms) * n_tri, 3), dtype=INDEX)
     e0 = t0 = v0 = 0
     for short, m, cut, n_e, n_v in zip(shorts, ms, edge_cuts, n_edges, chain_vertices, strict=True):
+        assert short.free_vertices is not None  # refused above
         extra = m - CHAIN  # sectors 2 … m − 3: extra + 1 copies of the short chain's sector 2
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])  # edges listed by a middle sector
         rows = slice(e0, e0 + n_e)
@@ -562,6 +563,7 @@ def copies_topology(
     n_tri : int
         Triangles of one patch.
     """
+    assert local.free_vertices is not None  # a template's topology has them
     n_loc = len(local.edges)
     valence = np.empty((n_patches, n_loc), dtype=INDEX)
     valence[...] = local.valence
@@ -626,6 +628,7 @@ def copies_rwg(
     measured. Parameters as for :func:`copies_topology`, plus the mesh's
     ``points`` (and ``columns``, see :func:`segment_lengths`).
     """
+    assert local.free_vertices is not None  # a template's topology has them
     rows = np.flatnonzero(local.valence == 2)
     vertices = _tiled(local.edges[rows], n_patches, n_vertices)
     return RWGTable(
@@ -671,6 +674,7 @@ def chain_rwg(
     columns_out = [np.empty(total, dtype=INDEX) for _ in range(4)]
     r0 = e0 = t0 = v0 = 0
     for (short, cut, rows, row_cut), m, n_v in zip(parts, ms, chain_vertices, strict=True):
+        assert short.free_vertices is not None  # as chain_topology's
         extra = m - CHAIN
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])
         unit = int(row_cut[MIDDLE + 1] - row_cut[MIDDLE])
