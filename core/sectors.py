@@ -26,6 +26,7 @@ import numpy as np
 from .kinds import DOUBLE_STRUCTURES
 from .quality import triangle_quality
 from .subdivision import PatchTemplate, graded_nodes, patch_template, tensor_template
+from .values import InvalidValue
 
 
 class RingFields(Protocol):
@@ -247,14 +248,16 @@ def _cached_plan(params: _ArcKey) -> SectorPlan:
             return plan  # over the budget anyway: refused with the triangle count
         m = m + max(1, m // 2)
     if directions:
-        raise ValueError(
+        raise InvalidValue(
+            "gap_width",
             f"gap_width={params.gap_width!r} mm and angle_step={params.angle_step!r}° give no "
-            "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step"
+            "proper conforming mesh of the split ring; use a narrower gap or a smaller angle step",
         )
-    raise ValueError(
+    raise InvalidValue(
+        "inner_radius",
         f"inner_radius={params.inner_radius!r} mm and patch_size={params.patch_size!r} mm give "
         "no proper conforming mesh of the ring: its sectors fold even when narrowed; use a "
-        "larger inner_radius"
+        "larger inner_radius",
     )
 
 
