@@ -50,13 +50,17 @@ mutate: $(STAMP)
 	$(BIN)/mutmut results
 
 # The code is formatted by `ruff format` (line length 100, pyproject.toml); `make format` applies it.
+# Then: no import circle in the core (tests/import_graph.py, grimp's graph) and mypy over
+# core/ ([tool.mypy] in pyproject.toml).
 lint: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
+	$(BIN)/python tests/import_graph.py
+	$(BIN)/python -m mypy
 
 .PHONY: format
 format: $(STAMP)
 	$(BIN)/ruff format .
 
 clean:
-	rm -rf $(VENV) .pytest_cache .hypothesis build *.egg-info mutants
+	rm -rf $(VENV) .pytest_cache .hypothesis .mypy_cache build *.egg-info mutants

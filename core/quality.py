@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from .constants import wavelength
 from .topology import BLOCK
 
 if TYPE_CHECKING:
@@ -216,8 +217,6 @@ HISTOGRAM_BINS = 30
 #: The aspect-ratio histogram spans 1 .. at most this; larger (and infinite) ratios are
 #: counted in its ``above_range``.
 ASPECT_RATIO_RANGE_CAP = 20.0
-#: Speed of light in mm/s, for wavelengths in mm.
-SPEED_OF_LIGHT_MM = 299_792_458.0e3
 
 
 def wavelength_mm(
@@ -244,7 +243,7 @@ def wavelength_mm(
         raise ValueError(
             f"relative_permittivity={relative_permittivity!r} is invalid; expected a number >= 1"
         )
-    return SPEED_OF_LIGHT_MM / (f * float(np.sqrt(eps)))
+    return wavelength(f, eps)
 
 
 def params_wavelength(params: object) -> float | None:

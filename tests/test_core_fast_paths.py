@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.placement import paper_origins
 from barymesh.quality import quality_summary, triangle_quality
 from barymesh.repeat import Repetition, sector_edge_counts, translated_copy_measures
 from barymesh.stats import counted_measures
-from barymesh.structures import _paper_origins
 from barymesh.topology import edge_topology, segment_lengths
 from barymesh.weld import _lattice_candidates, _window_candidates, merge_pairs
 from hypothesis import HealthCheck, assume, event, given, settings
@@ -39,7 +39,7 @@ def pair_set(pairs):
 @pytest.mark.parametrize("angle_step", [0.01, 0.5, 90.0])
 def test_window_candidates_of_paper_rings_equal_the_kd_tree(angle_step):
     params = MeshParams(structure="double_ring", mode="paper", angle_step=angle_step)
-    origins = _paper_origins(params)[0]
+    origins = paper_origins(params)[0]
     args = lattice_inputs(origins, 4, 0.25, params.weld_tolerance)
     assert pair_set(_lattice_candidates(*args)) == pair_set(kd_tree_candidates(*args))
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from barymesh import MeshParams, build_mesh
 from barymesh.presets import load_preset
-from barymesh.structures import sector_plan
+from barymesh.sectors import sector_plan
 from barymesh.subdivision import tensor_template
 from helpers import assert_topology_matches_generic
 from hypothesis import HealthCheck, assume, event, given, settings

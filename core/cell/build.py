@@ -28,7 +28,7 @@ from ..topology import INDEX
 from ..values import echo
 from ..weld import merge_pairs, weld_points
 from .contacts import hanging_vertices, overlapping_triangles, pinch_vertices
-from .model import Lattice, UnitCell
+from .model import Lattice, PixelGrid, UnitCell
 from .periodic import PeriodicPairs, periodic_pairs, side_vertices
 
 log = logging.getLogger(__name__)
@@ -151,9 +151,8 @@ def _element_part(element, mesh: TriMesh) -> _Part:
     )
 
 
-def _pixel_part(cell: UnitCell) -> _Part:
-    """One square patch per set pixel, on one exact grid of points (no weld needed)."""
-    grid = cell.pixels
+def _pixel_part(cell: UnitCell, grid: PixelGrid) -> _Part:
+    """One square patch per set pixel of ``grid`` (the cell's), on one exact grid of points."""
     params = grid.patch_params()
     template = patch_template(grid.scheme, grid.subdivisions, grid.diagonal)
     rows, cols = np.nonzero(grid.mask)
@@ -221,7 +220,9 @@ def _check_overlaps(cell: UnitCell, parts: list[_Part]) -> None:
 def _describe_part(cell: UnitCell, k: int, part: _Part, triangle: int) -> str:
     if k < len(cell.elements):
         return f"element {cell.elements[k].name!r} (elements[{k}])"
-    rows, cols = np.nonzero(cell.pixels.mask)
+    grid = cell.pixels
+    assert grid is not None  # parts past the elements are the pixels'
+    rows, cols = np.nonzero(grid.mask)
     pix = part.patch_ids[triangle]
     return f"pixel (row {rows[pix]}, column {cols[pix]})"
 
@@ -279,9 +280,9 @@ def build_cell(
     for el in cell.elements:
         if el.params not in built:
             built[el.params] = build_mesh(el.params)
-    parts = [_element_part(el, built[el.params]) for el in cell.elements]
+    parts: list[_Part | None] = [_element_part(el, built[el.params]) for el in cell.elements]
     if cell.pixels is not None and cell.pixels.mask.any():
-        parts.append(_pixel_part(cell))
+        parts.append(_pixel_part(cell, cell.pixels))
     elif cell.pixels is not None:
         parts.append(None)  # an empty grid: a part without metal
     present = [q for q in parts if q is not None]

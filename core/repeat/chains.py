@@ -315,6 +315,7 @@ def chain_topology(parts: ChainParts) -> EdgeTopology:
     triangle_edges = np.empty((sum(ms) * n_tri, 3), dtype=INDEX)
     e0 = t0 = v0 = 0
     for short, m, cut, n_e, n_v in zip(shorts, ms, edge_cuts, n_edges, chain_vertices, strict=True):
+        assert short.free_vertices is not None  # refused above
         extra = m - CHAIN  # sectors 2 … m − 3: extra + 1 copies of the short chain's sector 2
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])  # edges listed by a middle sector
         rows = slice(e0, e0 + n_e)
@@ -350,21 +351,22 @@ def chain_rwg(
     shorts, ms, n_tri, stride, chain_vertices = parts
     tri_cut = np.arange(CHAIN + 1) * n_tri
     vertex_starts = np.arange(CHAIN + 1) * stride
-    parts = []
+    pieces: list[tuple[EdgeTopology, np.ndarray, np.ndarray, np.ndarray]] = []
     for short in shorts:
         cut = np.searchsorted(short.edge_triangles[:, 0] // n_tri, np.arange(CHAIN + 1))
         rows = np.flatnonzero(short.valence == 2)
         row_cut = np.searchsorted(rows, cut)  # the interior edges of each sector
-        parts.append((short, cut, rows, row_cut))
+        pieces.append((short, cut, rows, row_cut))
     total = sum(
         int(rc[-1] + (m - CHAIN) * (rc[MIDDLE + 1] - rc[MIDDLE]))
-        for (_, _, _, rc), m in zip(parts, ms, strict=True)
+        for (_, _, _, rc), m in zip(pieces, ms, strict=True)
     )
     edge = np.empty(total, dtype=INDEX)
     vertices = np.empty((total, 2), dtype=INDEX)
     columns_out = [np.empty(total, dtype=INDEX) for _ in range(4)]
     r0 = e0 = t0 = v0 = 0
-    for (short, cut, rows, row_cut), m, n_v in zip(parts, ms, chain_vertices, strict=True):
+    for (short, cut, rows, row_cut), m, n_v in zip(pieces, ms, chain_vertices, strict=True):
+        assert short.free_vertices is not None  # as chain_topology's
         extra = m - CHAIN
         per_sector = int(cut[MIDDLE + 1] - cut[MIDDLE])
         unit = int(row_cut[MIDDLE + 1] - row_cut[MIDDLE])  # interior edges of a middle sector

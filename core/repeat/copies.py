@@ -89,6 +89,7 @@ def copies_topology(
     """
     n_loc = len(local.edges)
     valence = np.empty((n_patches, n_loc), dtype=INDEX)
+    assert local.free_vertices is not None  # a template's topology has them
     valence[...] = local.valence
     return EdgeTopology(
         edges=tiled(local.edges, n_patches, n_vertices),
@@ -153,6 +154,7 @@ def copies_rwg(
     measured. Parameters as for :func:`copies_topology`, plus the mesh's
     ``points`` (and ``columns``, see :func:`barymesh.topology.segment_lengths`).
     """
+    assert local.free_vertices is not None  # a template's topology has them
     rows = np.flatnonzero(local.valence == 2)
     vertices = tiled(local.edges[rows], n_patches, n_vertices)
     return RWGTable(

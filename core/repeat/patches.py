@@ -80,14 +80,14 @@ def patch_topology(
     # (take along an axis is much faster than fancy indexing on these 2-D arrays)
     ev0 = vmap.take(e0, axis=1)
     ev1 = vmap.take(e1, axis=1)
-    edges = np.empty((n_patch, n_loc, 2), dtype=INDEX)
+    edges: np.ndarray = np.empty((n_patch, n_loc, 2), dtype=INDEX)  # (P Ne, 2) once reshaped
     np.minimum(ev0, ev1, out=edges[..., 0])
     np.maximum(ev0, ev1, out=edges[..., 1])
     edges = edges.reshape(-1, 2)
     del ev0, ev1
 
     tri_base = (np.arange(n_patch, dtype=INDEX) * INDEX(n_tri))[:, None]  # (P, 1)
-    edge_triangles = np.empty((n_patch, n_loc, 2), dtype=INDEX)
+    edge_triangles: np.ndarray = np.empty((n_patch, n_loc, 2), dtype=INDEX)
     np.add(local_tri, tri_base[:, :, None], out=edge_triangles)
     np.copyto(edge_triangles, -1, where=local_tri < 0)  # column 0 always exists
     edge_triangles = edge_triangles.reshape(-1, 2)
@@ -112,16 +112,14 @@ def patch_topology(
 
     # incidences (group, triangle, free vertex) of the pooled slots, by group then triangle
     pool_p, pool_e = np.divmod(pool, n_loc)
-    inc_group, inc_tri, inc_free = [], [], []
-    for j in (0, 1):
+    parts: tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]] = ([], [], [])
+    for j in (0, 1):  # one part per side j, then joined
         loc = local_tri[pool_e, j]
         has = loc >= 0
-        inc_group.append(group[has])
-        inc_tri.append(loc[has] + pool_p[has] * n_tri)
-        inc_free.append(vmap[pool_p[has], local_free[pool_e[has], j]])
-    inc_group = np.concatenate(inc_group)
-    inc_tri = np.concatenate(inc_tri)
-    inc_free = np.concatenate(inc_free)
+        parts[0].append(group[has])
+        parts[1].append(loc[has] + pool_p[has] * n_tri)
+        parts[2].append(vmap[pool_p[has], local_free[pool_e[has], j]])
+    inc_group, inc_tri, inc_free = (np.concatenate(p) for p in parts)
     inc = np.lexsort((inc_tri, inc_group))
     inc_group, inc_tri, inc_free = inc_group[inc], inc_tri[inc], inc_free[inc]
     counts = np.bincount(inc_group, minlength=len(first_slot))
