@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 import sys
 from pathlib import Path
 
@@ -9,6 +10,9 @@ import barymesh
 
 DOCS = Path(__file__).resolve().parent
 sys.path.insert(0, str(DOCS / "_ext"))
+# The API pages are generated afresh on every build, so a module renamed or removed leaves
+# no stale page behind (it would be an orphan page, a warning, so an error).
+shutil.rmtree(DOCS / "api" / "generated", ignore_errors=True)
 
 project = "barymesh"
 author = "the barymesh developers"
