@@ -30,6 +30,7 @@ extensions = [
     "sphinxarg.ext",
     "benchmark_tables",
     "barymesh_refs",
+    "mesh_figures",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
