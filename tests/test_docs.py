@@ -200,6 +200,10 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     performance = (html / "performance.html").read_text(encoding="utf-8")
     for result in ("mesher-2026-12-02.json", "solver.json", "quality-2026-12-02.json"):
         assert result in performance
+    assert performance.count("<table") == 4  # mesher, quality, solver, window
+    # the method page's figures drawn from build_mesh at build time
+    for figure in ("subdivision.png", "rings.png"):
+        assert (html / "_images" / figure).is_file()
     # the API reference reaches the packages and the window's modules
     for module in ("barymesh", "barymesh.io", "barymesh.mom", "barymesh.cell", "barymesh.app.cli"):
         assert (html / "api" / "generated" / f"{module}.html").is_file()
