@@ -129,7 +129,11 @@ def _commands(path: Path) -> list[str]:
     return lines
 
 
-@pytest.mark.parametrize("path", [README, ROOT / "docs" / "formats-cli.md"], ids=lambda p: p.name)
+@pytest.mark.parametrize(
+    "path",
+    [README, ROOT / "docs" / "formats-cli.md", ROOT / "docs" / "solving.md"],
+    ids=lambda p: p.name,
+)
 def test_documented_commands_parse_and_name_real_presets_and_parameters(path):
     from barymesh import MeshParams
     from barymesh.app.cli import VERBS, build_parser
