@@ -204,17 +204,41 @@ def quality(doc: dict[str, Any]) -> Table:
 
 
 def latency(doc: dict[str, Any]) -> Table:
-    head = ["case", "triangles", "until shown s", "longest block ms", "paints", "B/triangle"]
+    head = ["case", "triangles", "result", "longest block ms", "paints", "B/triangle"]
     rows = []
-    big = doc.get("big", {})
+    if doc.get("frames"):
+        total = doc["seconds"]["total"]
+        rows.append(
+            [
+                f"slider frame ({doc['slider']}, {doc['frames']} frames)",
+                ", ".join(f"{t:,}" for t in doc["triangles"]),
+                f"{total['median'] * 1e3:.1f} ms median, {total['p95'] * 1e3:.1f} ms p95",
+                f"{doc['longest_block'] * 1e3:.0f}",
+                str(doc["paints_per_frame"]),
+                "",
+            ]
+        )
+    drag = doc.get("drag")
+    if drag:
+        rows.append(
+            [
+                "mouse drag of the slider",
+                "",
+                f"{drag['meshes_per_second']:.1f} meshes/s",
+                f"{drag['longest_block'] * 1e3:.0f}",
+                "",
+                "",
+            ]
+        )
+    big = doc.get("big") or {}
     for key, case in big.items():
         if not isinstance(case, dict) or "shown" not in case:
             continue
         rows.append(
             [
-                key,
+                f"{key}: until shown",
                 _n(case["triangles"]),
-                f"{case['shown']['median']:.2f}",
+                f"{case['shown']['median']:.2f} s",
                 f"{case['longest_block']['median'] * 1e3:.0f}",
                 ", ".join(str(p) for p in case.get("paints", [])),
                 f"{case['bytes_per_triangle']:.0f}",
@@ -222,31 +246,20 @@ def latency(doc: dict[str, Any]) -> Table:
         )
     if "rotation" in big:
         r = big["rotation"]
-        rows.append(
-            [
-                "camera rotation (1M)",
-                "",
-                f"{r['fps']:.0f} frames/s",
-                f"{r['longest_block'] * 1e3:.0f}",
-                "",
-                "",
-            ]
-        )
+        fps = f"{r['fps']:.0f} frames/s"
+        rows.append(["camera rotation (1M)", "", fps, f"{r['longest_block'] * 1e3:.0f}", "", ""])
     if "quality_panel" in big:
         q = big["quality_panel"]
         rows.append(
             [
                 "Quality dock over the 1M mesh",
                 _n(q["triangles"]),
-                f"{q['seconds']:.2f}",
+                f"{q['seconds']:.2f} s",
                 f"{q['longest_block'] * 1e3:.0f}",
                 "",
                 "",
             ]
         )
-    for key in ("slider", "drag"):
-        if key in doc and isinstance(doc[key], dict):
-            rows.append([key, "", json.dumps(doc[key])[:60], "", "", ""])
     note = (
         f"The real window at {doc['window_size'][0]} × {doc['window_size'][1]} under Xvfb, "
         f"{doc.get('renderer', 'renderer not recorded')}."
@@ -256,7 +269,36 @@ def latency(doc: dict[str, Any]) -> Table:
     return head, rows, note
 
 
+def _pct(x: float | None) -> str:
+    return "–" if x is None else f"{100 * x:.2f} %"
+
+
+def grading(doc: dict[str, Any]) -> Table:
+    head = ["series", "n", "triangles", "N", "shortest edge (mm)", "I_cut error", "m_z error"]
+    rows = [
+        [
+            r["series"],
+            str(r["subdivisions"]),
+            _n(r["triangles"]),
+            _n(r["unknowns"]),
+            f"{r['min_edge_mm']:.3f}",
+            _pct(r.get("I_cut_error")),
+            _pct(r.get("m_z_error")),
+        ]
+        for r in doc["rows"]
+    ]
+    i_ref, m_ref = doc["reference"]["I_cut"], doc["reference"]["m_z"]
+    note = (
+        f"Errors against the Richardson reference from the uniform meshes of "
+        f"{' and '.join(f'{n:,}' for n in i_ref['from_unknowns'])} unknowns (uncertainty "
+        f"{_pct(i_ref['uncertainty'])} for I_cut, {_pct(m_ref['uncertainty'])} for m_z), "
+        f"at {doc['frequency_hz'] / 1e9:g} GHz; accuracy figures, the same on any machine."
+    )
+    return head, rows, note
+
+
 RENDERERS: dict[str, Callable[[dict[str, Any]], Table]] = {
+    "grading": grading,
     "mesher": mesher,
     "solver": solver,
     "quality": quality,
@@ -272,7 +314,7 @@ def table_data(name: str) -> tuple[list[str], list[list[str]], str] | None:
     doc = json.loads(path.read_text(encoding="utf-8"))
     head, rows, note = RENDERERS[name](doc)
     rel = path.relative_to(ROOT)
-    if name == "quality":  # counts and angles: the same on any machine
+    if name in ("quality", "grading"):  # counts, angles, errors: the same on any machine
         line = f"From {rel}, measured {_date(path, doc)}. {note}"
     else:
         line = f"From {rel}, measured {_date(path, doc)} on {_machine(doc.get('machine'))}. {note}"
