@@ -28,7 +28,7 @@ def check_mesh(mesh: TriMesh, params: Any) -> None:
     Parameters
     ----------
     mesh : TriMesh
-        A freshly built mesh. With a :attr:`~barymesh.mesh.TriMesh.repetition`,
+        A freshly built mesh. With a repetition record (:class:`~barymesh.repeat.Repetition`),
         each patch's vertices are read once instead of every triangle corner,
         and only the vertices and edges on the patches' sides are compared.
     params : MeshParams

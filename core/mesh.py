@@ -75,7 +75,7 @@ class TriMesh:
         None for imported, cell and scaled meshes.
     min_angle_floor : float or None
         Conforming circular rings: the best smallest angle (degrees) their
-        geometry allows (see :class:`barymesh.structures.SectorPlan`).
+        geometry allows (see :class:`barymesh.sectors.SectorPlan`).
     lattice : barymesh.cell.Lattice or None
         The lattice of the unit cell (or array) the mesh is, set by
         :func:`barymesh.cell.build_cell` and :func:`barymesh.cell.tile`; None otherwise.

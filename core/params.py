@@ -139,15 +139,6 @@ class MeshParams:
         εr of the medium the wavelength is measured in, at least 1 (default 1.0, vacuum):
         λ = c0 / (f √εr).
 
-    Notes
-    -----
-    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`barymesh.build.build_mesh`
-    picks the smallest ``subdivisions`` (within the scheme's range and ``max_triangles``)
-    whose mesh has every edge at most the target, λ / ``cells_per_wavelength`` or
-    ``max_edge``; with both, the smaller (stricter) of the two. The ``subdivisions``
-    given is then not used, and the budget is checked against the n chosen.
-    ``cells_per_wavelength`` and ``relative_permittivity`` do nothing without a
-    ``frequency``.
     grading : bool
         Conforming circular rings (uniform scheme): refine the cells across the
         track geometrically toward both circles (the metal edges, where the
@@ -159,6 +150,16 @@ class MeshParams:
         when grading, below patch_size / subdivisions; ``None`` is that uniform
         width / growth_ratio². A track too narrow for the growth to reach the
         uniform width scales all its cells down alike (ends below min_edge).
+
+    Notes
+    -----
+    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`barymesh.build.build_mesh`
+    picks the smallest ``subdivisions`` (within the scheme's range and ``max_triangles``)
+    whose mesh has every edge at most the target, λ / ``cells_per_wavelength`` or
+    ``max_edge``; with both, the smaller (stricter) of the two. The ``subdivisions``
+    given is then not used, and the budget is checked against the n chosen.
+    ``cells_per_wavelength`` and ``relative_permittivity`` do nothing without a
+    ``frequency``.
     """
 
     structure: str = "double_ring"

@@ -84,12 +84,13 @@ def lattice_quality_summary(
     diagonal: str,
     cells: tuple[int, int] | None = None,
 ) -> QualitySummary:
-    """:func:`quality_summary` of planar grid patches, from their vertices and grid edges.
+    """:func:`~barymesh.quality.quality_summary` of planar grid patches, from their vertices
+    and grid edges.
 
     Each patch's vertices are gathered once (not three corners per triangle)
     and every grid edge, horizontal, vertical or diagonal, is measured once for
     the two triangles beside it. The side lengths and the range of sides are
-    those of :func:`quality_summary` bit for bit (the same sums of squares); a
+    those of :func:`~barymesh.quality.quality_summary` bit for bit (the same sums of squares); a
     triangle's cross product is taken between its two grid legs instead of
     from its first corner, so areas, angles and aspect ratios agree to
     rounding.

@@ -271,7 +271,7 @@ def inverted_or_flat_patches(
     template_triangles: np.ndarray,
     columns: list[np.ndarray] | None = None,
 ) -> np.ndarray:
-    """:func:`inverted_or_flat` of the triangles ``vertex_map[:, template_triangles]``.
+    """:func:`~barymesh.invariants.inverted_or_flat` of ``vertex_map[:, template_triangles]``.
 
     The same answer on the same triangles, faster: each patch's vertex
     coordinates are gathered once and its triangles' corners read from them.
