@@ -9,7 +9,6 @@ Run ``barymesh`` or ``python -m app``; see :func:`main` for the options.
 
 from __future__ import annotations
 
-import argparse
 import json
 import logging
 import os
@@ -25,8 +24,8 @@ from typing import Any
 import barymesh
 import numpy as np
 from barymesh import MeshParams, TriMesh
+from barymesh.app.cli_options import build_window_parser
 from barymesh.app.edit.cell_tools import CellTools
-from barymesh.app.edit.lattice_panel import parse_copies
 from barymesh.app.model import AppModel, MeshResult, ParamError
 from barymesh.app.panels.controls import ControlsPanel
 from barymesh.app.panels.layers_panel import LayersPanel
@@ -1629,45 +1628,6 @@ def disable_view_keys(plotter: Any) -> None:
         style.AddObserver("CharEvent", lambda *_: None)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="barymesh",
-        description="Open the barymesh window: sliders drive the mesher, the 3D view follows.",
-    )
-    parser.add_argument("--preset", metavar="NAME", help="start from a preset (see Presets menu)")
-    parser.add_argument("--params", metavar="FILE", help="start from a JSON parameter file")
-    parser.add_argument(
-        "--set",
-        metavar="NAME=VALUE",
-        nargs="+",
-        action="extend",
-        default=[],
-        dest="sets",
-        help="override parameters, e.g. --set subdivisions=8",
-    )
-    parser.add_argument(
-        "--cell",
-        metavar="FILE.cell.json",
-        help="open a unit cell file (instead of --preset/--params/--set)",
-    )
-    parser.add_argument(
-        "--cell-preset", metavar="NAME", help="open a shipped unit cell (see the Cell menu)"
-    )
-    parser.add_argument(
-        "--array",
-        metavar="N1xN2",
-        type=parse_copies,
-        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)",
-    )
-    parser.add_argument(
-        "--screenshot", metavar="PNG", help="save a grab of the whole window once the mesh is shown"
-    )
-    parser.add_argument(
-        "--quit", action="store_true", help="exit once the mesh is shown (and the screenshot saved)"
-    )
-    return parser
-
-
 def _install_excepthook() -> None:
     """Exceptions in Qt slots go to the log and the status bar, never a crash or dialog."""
 
@@ -1697,7 +1657,7 @@ def main(argv: list[str] | None = None) -> int:
     whole window and exits. ``--cell FILE`` or ``--cell-preset NAME`` (with
     ``--array N1xN2`` for the preview) open a unit cell instead of one structure.
     """
-    parser = build_parser()
+    parser = build_window_parser()
     try:
         args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     except SystemExit as exc:
