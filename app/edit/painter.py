@@ -25,11 +25,12 @@ import logging
 import time
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pyvista as pv
 from barymesh.app.edit import pixels
+from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
 from barymesh.app.worker import Job
@@ -60,9 +61,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-
-if TYPE_CHECKING:
-    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -223,6 +221,11 @@ class PixelPainterWindow(QMainWindow):
         "The grid is not square: symmetry none until it is square again (4- and "
         "8-fold need a square grid)"
     )
+
+    @property
+    def closed(self) -> bool:
+        """Whether the painter was closed (its view released)."""
+        return self._closed
 
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
@@ -1207,26 +1210,26 @@ class PainterOpener(QObject):
     """Cell → Paint pixels… (Ctrl+Shift+P) of a main window: the painter, made on first use,
     closed with the main window."""
 
-    def __init__(self, window: MainWindow, menu: QMenu) -> None:
-        super().__init__(window)
-        self.window = window
+    def __init__(self, host: ToolHost, menu: QMenu) -> None:
+        super().__init__(host.widget)
+        self.host = host
         self.painter: PixelPainterWindow | None = None
-        self.act_paint = window._action(
+        self.act_paint = host.add_action(
             "&Paint pixels…",
             self.show,
             "Ctrl+Shift+P",
             "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo",
         )
         menu.addAction(self.act_paint)
-        window.installEventFilter(self)
+        host.widget.installEventFilter(self)
 
     def show(self) -> PixelPainterWindow | None:
-        if self.painter is None or self.painter._closed:
+        if self.painter is None or self.painter.closed:
             try:
-                self.painter = PixelPainterWindow(parent=self.window)
+                self.painter = PixelPainterWindow(parent=self.host.widget)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
                 log.exception("could not open the pixel painter")
-                self.window.statusBar().showMessage(f"Could not open the pixel painter: {exc}")
+                self.host.show_status(f"Could not open the pixel painter: {exc}")
                 return None
         self.painter.show()
         self.painter.raise_()
@@ -1234,7 +1237,7 @@ class PainterOpener(QObject):
         return self.painter
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if watched is self.window and event.type() == QEvent.Type.Close and self.painter:
+        if watched is self.host.widget and event.type() == QEvent.Type.Close and self.painter:
             try:
                 self.painter.close()
             except RuntimeError:  # already deleted by Qt

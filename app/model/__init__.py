@@ -11,7 +11,8 @@ import it from:
   :func:`read_points`);
 - :mod:`~barymesh.app.model.build`: :func:`compute` of a structure or a unit cell, one
   path, into a :class:`MeshResult`;
-- :mod:`~barymesh.app.model.formatting`: text for values, bytes, seconds, statistics;
+- :mod:`~barymesh.app.model.formatting`: text for values, bytes, seconds, statistics,
+  file errors;
 - :mod:`~barymesh.app.model.app_model`: :class:`AppModel`, parameters with undo/redo,
   refusals, the unit cell, the mesh on screen, layers.
 """
@@ -21,6 +22,7 @@ from barymesh.app.model.build import MeshResult, compute, compute_cell
 from barymesh.app.model.events import Event
 from barymesh.app.model.formatting import (
     STAT_LABELS,
+    file_error_sentence,
     format_bytes,
     format_seconds,
     format_value,
@@ -72,6 +74,7 @@ __all__ = [
     "carry_note",
     "compute",
     "compute_cell",
+    "file_error_sentence",
     "format_bytes",
     "format_seconds",
     "format_value",

@@ -273,7 +273,7 @@ class AppModel:
             self.params = state
         if was_cell is not self.cell_state:  # a cell edited, opened or left
             if changed:
-                self._set_cell_error(None)
+                self.set_cell_error(None)
             self.cell_changed.emit(self.cell_state)
         self.draft_changed.emit(self.draft)
         self._errors_changed()
@@ -305,12 +305,12 @@ class AppModel:
         the edit was taken.
         """
         if self.cell_state is None:
-            self._set_cell_error("no unit cell is open")
+            self.set_cell_error("no unit cell is open")
             return False
         try:
             state = edit(self.cell_state)
         except _REFUSALS as exc:
-            self._set_cell_error(str(exc))
+            self.set_cell_error(str(exc))
             return False
         self._forget_refusals()
         self._commit(state, merge_name=None)
@@ -327,7 +327,9 @@ class AppModel:
         self.draft_changed.emit(self.draft)
         self._errors_changed()
 
-    def _set_cell_error(self, message: str | None) -> None:
+    def set_cell_error(self, message: str | None) -> None:
+        """Say why the cell (or a cell made of the structure) could not be made; ``None``
+        clears it. Announced as ``cell_error_changed`` when it changes."""
         if message != self.cell_error:
             self.cell_error = message
             self.cell_error_changed.emit(message)
@@ -437,7 +439,7 @@ class AppModel:
             self.draft_changed.emit(self.draft)
             self._errors_changed()
             self.history_changed.emit()
-        self._set_cell_error(message)
+        self.set_cell_error(message)
 
     @property
     def file_source(self) -> str | None:

@@ -1,7 +1,10 @@
-"""Text the window shows for values: a field's value, bytes, seconds, the statistics rows."""
+"""Text the window shows: a field's value, bytes, seconds, the statistics rows, and one
+sentence for a file that could not be read or written."""
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -95,3 +98,42 @@ def stats_texts(result: MeshResult | None) -> dict[str, str]:
 
 
 # -- the model -----------------------------------------------------------------------------
+
+
+def file_error_sentence(
+    title: str, exc: BaseException, path: str | os.PathLike[str] | None = None
+) -> str:
+    """``"Could not open a.msh: the file ends after 12 of 423 nodes."``: one sentence.
+
+    The path is said once (``title`` names the file; a message that starts with the path
+    or the file name again has it dropped), an operating-system error says what the system
+    said (not its errno and repeated path), and a text file that is not UTF-8 says so in
+    those words rather than in the codec's.
+
+    >>> file_error_sentence("Could not open a.msh", ValueError("/x/a.msh: a.msh: empty"),
+    ...                     "/x/a.msh")
+    'Could not open a.msh: empty.'
+    """
+    if isinstance(exc, UnicodeDecodeError):
+        bad = exc.object[exc.start : exc.start + 1]
+        code = f"0x{bad[0]:02x}" if bad else "?"
+        reason = f"it is not UTF-8 text (byte {code} at offset {exc.start})"
+    elif isinstance(exc, OSError) and exc.strerror:
+        reason = exc.strerror[:1].lower() + exc.strerror[1:]
+    else:
+        reason = str(exc) or type(exc).__name__
+    reason = " ".join(part.strip() for part in reason.splitlines() if part.strip())
+    prefixes = []
+    if path is not None:
+        full = str(path)
+        prefixes = [full, os.path.abspath(full), Path(full).name]
+    changed = True
+    while changed:  # "path: path: reason" -> "reason"
+        changed = False
+        for prefix in prefixes:
+            for sep in (": ", " "):
+                if prefix and reason.startswith(prefix + sep):
+                    reason = reason[len(prefix) + len(sep) :].lstrip()
+                    changed = True
+    reason = reason.rstrip(". ")
+    return f"{title}: {reason}." if reason else f"{title}."
