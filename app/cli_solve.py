@@ -553,7 +553,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
         import numpy as np
         import pyvista as pv
         from barymesh.app.view.current_layer import CurrentLayer
-        from barymesh.app.view.scene import MeshScene, _prepare_headless, _resized, scene_data
+        from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, scene_data
     except ImportError as exc:
         raise ValueError(
             f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
@@ -561,7 +561,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
     from barymesh.io import atomic_path
 
     width, height = (int(v) for v in window_size)
-    _prepare_headless()
+    prepare_headless()
     plotter = pv.Plotter(off_screen=True, window_size=(width, height))
     try:
         scene = MeshScene(plotter, visible=SCREENSHOT_LAYERS)
@@ -572,7 +572,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
     finally:
         plotter.close()
     if image.shape[:2] != (height, width):
-        image = _resized(image, width, height)
+        image = resized_image(image, width, height)
     with atomic_path(path) as tmp:
         iio.imwrite(tmp, image, extension=".png")
         if not tmp.exists() or tmp.stat().st_size == 0:

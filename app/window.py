@@ -459,6 +459,8 @@ class MainWindow(QMainWindow):
         """The tools, each given the host interface (:class:`barymesh.app.tool_host.ToolHost`)
         and, explicitly, what it needs of the others, so this is the order they need:
 
+        0. the click tools' state (:class:`barymesh.app.model.ClickTools`, no Qt), shared
+           by the Teach tools, the View tools and the drag tool;
         1. the Teach tools make the click picker and the triangle highlight of the view;
         2. the Teach windows (construction, compare, sweep) need only the model;
         3. the View tools (readout, measure, zoom) use the picker, the highlight and the
@@ -475,6 +477,7 @@ class MainWindow(QMainWindow):
             self,
             self.plotter,
             self.scene,
+            self.clicks,
             picker=self.teaching.picker,
             highlight=self.teaching.highlight,
             selected_triangles=self.teaching.selected_triangles,
@@ -489,6 +492,7 @@ class MainWindow(QMainWindow):
             self.plotter,
             self.scene,
             self.framing,
+            self.clicks,
             controls=self.controls,
             parameters_dock=self.parameters_dock,
             run_export=self.run_export,

@@ -20,7 +20,7 @@ from barymesh.app.edit.cell_document import CellState
 from barymesh.app.edit.drag_tool import ElementDragger
 from barymesh.app.edit.elements_panel import ElementsPanel
 from barymesh.app.edit.lattice_panel import LatticePanel
-from barymesh.app.model import AppModel, MeshResult
+from barymesh.app.model import AppModel, ClickTools, MeshResult
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import FramedCamera, frame_from_above
 from barymesh.cell import Element, Lattice, UnitCell
@@ -46,6 +46,8 @@ class CellTools:
         Its rulers and markers follow the preview's extent.
     framing : FramedCamera
         The window's framed camera: a framed cell is framed again with its copies.
+    clicks : ClickTools
+        The view's click tools: the drag tool is one of them.
     controls, parameters_dock : QWidget, QDockWidget
         The Parameters panel, disabled when no element is selected, and its dock, whose
         title names the element it edits.
@@ -63,6 +65,7 @@ class CellTools:
         plotter: Any,
         scene: Any,
         framing: FramedCamera,
+        clicks: ClickTools,
         *,
         controls: QWidget,
         parameters_dock: QDockWidget,
@@ -113,7 +116,7 @@ class CellTools:
             tip="Weld n1 x n2 copies of the cell (the preview's) into one mesh and write it",
         )
         self.dragger = ElementDragger(
-            host, model, plotter, world_at, picker, lambda: self.elements.snap_grid
+            host, model, plotter, clicks, world_at, picker, lambda: self.elements.snap_grid
         )
         self.preset_actions: dict[str, QAction] = {}
         self.model.cell_changed.connect(self._cell_changed)

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
-from barymesh.app.model import AppModel
+from barymesh.app.model import AppModel, ClickTools
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
@@ -77,6 +77,8 @@ class ElementDragger(QObject):
         The cell it edits (one :meth:`AppModel.edit_cell` per drag).
     plotter : pyvistaqt.QtInteractor
         The 3D view whose presses it takes.
+    clicks : ClickTools
+        The view's click tools; this is ``"drag"``.
     world_at : callable
         ``world_at(pos) -> (point or None, triangle or None)``: the View tools' mesh point
         under a widget position.
@@ -91,14 +93,14 @@ class ElementDragger(QObject):
         host: ToolHost,
         model: AppModel,
         plotter: Any,
+        clicks: ClickTools,
         world_at: Callable[[QPointF], tuple[Any, Any]],
         picker: Any,
         snap_grid: Callable[[], float | None],
     ) -> None:
         super().__init__(host.widget)
-        self.host, self.model, self.plotter = host, model, plotter
+        self.host, self.model, self.plotter, self.clicks = host, model, plotter, clicks
         self.world_at, self.picker, self.snap_grid = world_at, picker, snap_grid
-        self.active = False
         self.dragging: int | None = None  # element index in the whole cell
         self._start: np.ndarray | None = None  # world point of the press
         self._origin = (0.0, 0.0)  # the element's position at the press
@@ -115,8 +117,12 @@ class ElementDragger(QObject):
         )
         plotter.installEventFilter(self)
 
+    @property
+    def active(self) -> bool:
+        return self.clicks.is_on("drag")
+
     def set_active(self, on: bool) -> None:
-        self.active = bool(on)
+        self.clicks.set_on("drag", on)
         if self.act.isChecked() != self.active:
             self.act.setChecked(self.active)
         if not self.active:

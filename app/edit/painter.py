@@ -12,10 +12,10 @@ wheel zooms; nothing rotates. A mouse position is turned into a pixel by casting
 ray through the camera onto the plane z = 0 (exact for the parallel projection).
 
 The edits themselves are :mod:`barymesh.app.edit.pixels` (no Qt); this window keeps the undo
-history of (pixel grid, lattice) states, draws, and rebuilds the mesh in a worker thread
-after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
-131,072 triangles). While the build runs, pixels painted or erased since the mesh on
-screen are drawn as flat squares over it.
+history (a :class:`barymesh.app.model.UndoHistory`) of (pixel grid, lattice) states, draws,
+and rebuilds the mesh in a worker thread after every stroke, so the window keeps answering
+on large grids (a 64 x 64 grid is 131,072 triangles). While the build runs, pixels painted
+or erased since the mesh on screen are drawn as flat squares over it.
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 from barymesh.app.edit import pixels
+from barymesh.app.model import UndoHistory
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
@@ -276,8 +277,7 @@ class PixelPainterWindow(QMainWindow):
         self._render_timer.setInterval(0)
         self._render_timer.timeout.connect(self._render)
 
-        self.history: list[PainterState] = []
-        self.position = -1
+        self.undo_history: UndoHistory[PainterState] | None = None  # made by open_cell
         self.open_cell(cell if cell is not None else _start_cell())
         self.resize(1100, 860)
 
@@ -285,7 +285,16 @@ class PixelPainterWindow(QMainWindow):
 
     @property
     def state(self) -> PainterState:
-        return self.history[self.position]
+        return self.undo_history.current
+
+    @property
+    def history(self) -> list[PainterState]:
+        """Every state of the undo history, the current one at :attr:`position`."""
+        return self.undo_history.states
+
+    @property
+    def position(self) -> int:
+        return self.undo_history.position
 
     @property
     def grid(self) -> PixelGrid:
@@ -322,8 +331,7 @@ class PixelPainterWindow(QMainWindow):
         self._elements = cell.elements
         self._mode, self._tolerance = cell.mode, cell.tolerance
         self._name, self._description = cell.name, cell.description
-        self.history = [PainterState(grid, cell.lattice)]
-        self.position = 0
+        self.undo_history = UndoHistory(PainterState(grid, cell.lattice))
         self.setWindowTitle(f"barymesh – paint pixels – {cell.name}")
         if grid.mask.any():  # start in the largest symmetry the cell has
             fits = [
@@ -339,26 +347,23 @@ class PixelPainterWindow(QMainWindow):
         state = PainterState(grid, lattice or self.state.lattice)
         if state.grid == self.grid and state.lattice == self.state.lattice:
             return False
-        del self.history[self.position + 1 :]
-        self.history.append(state)
-        self.position += 1
-        reframe = grid.shape != self.history[self.position - 1].grid.shape or (
-            grid.pixel_size != self.history[self.position - 1].grid.pixel_size
-        )
+        self.undo_history.push(state)
+        before = self.undo_history.previous.grid
+        reframe = grid.shape != before.shape or grid.pixel_size != before.pixel_size
         self._state_changed(reframe=reframe)
         return True
 
     def undo(self) -> None:
-        if self.position > 0:
-            self._go(self.position - 1)
+        old = self.grid
+        if self.undo_history.undo() is not None:
+            self._moved_from(old)
 
     def redo(self) -> None:
-        if self.position < len(self.history) - 1:
-            self._go(self.position + 1)
-
-    def _go(self, position: int) -> None:
         old = self.grid
-        self.position = position
+        if self.undo_history.redo() is not None:
+            self._moved_from(old)
+
+    def _moved_from(self, old: PixelGrid) -> None:
         new = self.grid
         self._state_changed(reframe=old.shape != new.shape or old.pixel_size != new.pixel_size)
 
@@ -387,8 +392,8 @@ class PixelPainterWindow(QMainWindow):
                         5000,
                     )
                 self._square_symmetry = None
-        self.act_undo.setEnabled(self.position > 0)
-        self.act_redo.setEnabled(self.position < len(self.history) - 1)
+        self.act_undo.setEnabled(self.undo_history.can_undo)
+        self.act_redo.setEnabled(self.undo_history.can_redo)
         self._draw_grid()
         if reframe:
             self.reset_view()

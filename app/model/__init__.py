@@ -14,11 +14,16 @@ import it from:
 - :mod:`~barymesh.app.model.formatting`: text for values, bytes, seconds, statistics,
   file errors;
 - :mod:`~barymesh.app.model.app_model`: :class:`AppModel`, parameters with undo/redo,
-  refusals, the unit cell, the mesh on screen, layers.
+  refusals, the unit cell, the mesh on screen, layers;
+- :mod:`~barymesh.app.model.click_tools`: :class:`ClickTools`, which of the 3D view's
+  click tools are on and where a click goes;
+- :mod:`~barymesh.app.model.undo_history`: :class:`UndoHistory`, a linear history of
+  states (the pixel painter's).
 """
 
 from barymesh.app.model.app_model import AppModel, ParamError
 from barymesh.app.model.build import MeshResult, compute, compute_cell
+from barymesh.app.model.click_tools import CLICK_TOOLS, ClickTools
 from barymesh.app.model.events import Event
 from barymesh.app.model.formatting import (
     STAT_LABELS,
@@ -49,9 +54,11 @@ from barymesh.app.model.specs import (
     subdivisions_limit,
 )
 from barymesh.app.model.typed_text import Reading, read_number, read_points
+from barymesh.app.model.undo_history import UndoHistory
 
 __all__ = [
     "ADVANCED_SPECS",
+    "CLICK_TOOLS",
     "CHOICES",
     "CHOICE_STRUCTURES",
     "MODE_TITLES",
@@ -64,11 +71,13 @@ __all__ = [
     "STAT_LABELS",
     "STRUCTURE_TITLES",
     "AppModel",
+    "ClickTools",
     "Event",
     "MeshResult",
     "ParamError",
     "ParamSpec",
     "Reading",
+    "UndoHistory",
     "applies",
     "carried_subdivisions",
     "carry_note",

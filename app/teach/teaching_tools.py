@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 from barymesh import TriMesh
-from barymesh.app.model import Event
+from barymesh.app.model import ClickTools, Event
 from barymesh.app.teach.inspector_panel import InspectorPanel, ViewPicker
 from barymesh.app.teach.matrix_view import MatrixView
 from barymesh.app.teach.presentation import EMPHASIS, PresentationMode
@@ -52,6 +52,8 @@ class TeachingTools:
         The 3D view: its picker, highlight and overlays are made here.
     scene : barymesh.app.view.scene.MeshScene
         What the picker picks (the faces) and what presentation mode thickens.
+    clicks : ClickTools
+        The view's click tools: the inspector and the matrix are two of them.
     beside : QDockWidget, optional
         The docks are tabbed with this one (the Statistics dock).
 
@@ -60,9 +62,15 @@ class TeachingTools:
     """
 
     def __init__(
-        self, host: ToolHost, plotter: Any, scene: Any, beside: QDockWidget | None = None
+        self,
+        host: ToolHost,
+        plotter: Any,
+        scene: Any,
+        clicks: ClickTools,
+        beside: QDockWidget | None = None,
     ) -> None:
         self.host = host
+        self.clicks = clicks
         self.plotter, self.scene = plotter, scene
         self.beside = beside
         self.mesh: TriMesh | None = None
@@ -135,14 +143,15 @@ class TeachingTools:
 
     @property
     def inspector_active(self) -> bool:
-        return self.act_inspector.isChecked()
+        return self.clicks.is_on("inspector")
 
     @property
     def matrix_active(self) -> bool:
-        return self.act_matrix.isChecked()
+        return self.clicks.is_on("matrix")
 
     def set_inspector_active(self, on: bool) -> None:
         on = bool(on)
+        self.clicks.set_on("inspector", on)
         if self.act_inspector.isChecked() != on:
             self.act_inspector.setChecked(on)
         if on:
@@ -158,6 +167,7 @@ class TeachingTools:
 
     def set_matrix_active(self, on: bool) -> None:
         on = bool(on)
+        self.clicks.set_on("matrix", on)
         if self.act_matrix.isChecked() != on:
             self.act_matrix.setChecked(on)
         if on:
@@ -188,7 +198,7 @@ class TeachingTools:
             switch(not dock.isHidden())
 
     def _sync_picking(self) -> None:
-        self.picker.enabled = self.inspector_active or self.matrix_active
+        self.picker.enabled = self.clicks.picking
         self._sync_step_actions()
 
     def _sync_step_actions(self) -> None:

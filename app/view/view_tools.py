@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 from barymesh import TriMesh
+from barymesh.app.model import ClickTools
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_points, pixels_per_mm
 from barymesh.app.view.measure import MeasureTool
@@ -75,6 +76,8 @@ class ViewTools(QObject):
         The 3D view.
     scene : barymesh.app.view.scene.MeshScene
         Its bounds and marker sizes.
+    clicks : ClickTools
+        The view's click tools: measuring is one of them; a click with none on selects.
     picker : barymesh.app.teach.inspector_panel.ViewPicker
         The Teach tools' click picker: clicks go to it while one of them is on, and it
         asks :meth:`locate_display` where a click is.
@@ -92,6 +95,7 @@ class ViewTools(QObject):
         host: ToolHost,
         plotter: Any,
         scene: Any,
+        clicks: ClickTools,
         *,
         picker: Any,
         highlight: Any,
@@ -102,6 +106,7 @@ class ViewTools(QObject):
         self.host = host
         self.plotter = plotter
         self.scene = scene
+        self.clicks = clicks
         self.picker, self.highlight = picker, highlight
         self.selected_triangles, self.refit = selected_triangles, refit
         self.mesh: TriMesh | None = None
@@ -374,8 +379,9 @@ class ViewTools(QObject):
         on = bool(on)
         if self.act_measure.isChecked() != on:
             self.act_measure.setChecked(on)
+        self.clicks.set_on("measure", on)
         self.measure.set_active(on)
-        self.picker.suspended = on
+        self.picker.suspended = self.clicks.measuring
         self._show_readout()
         self.host.request_render()
 
@@ -387,12 +393,13 @@ class ViewTools(QObject):
         if self.locator is not None:
             tol = SNAP_PIXELS / pixels_per_mm(self.plotter)
             hit = self.locator.hit(point, tol, triangle)
-        if self.measure.active:
+        goes_to = self.clicks.click_goes_to()
+        if goes_to == "measure":
             if hit is not None and hit.kind == "vertex":
                 point = self.locator.points[hit.index]  # snap to the vertex
             self.measure.add_point(point)
             self.host.request_render()
-        elif not self.picker.enabled:
+        elif goes_to == "select":
             self.selected = hit
             self.highlight.show(self.mesh, None if hit is None else hit.triangle)
             self.host.request_render()
