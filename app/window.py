@@ -29,7 +29,13 @@ from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
 from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog
 from barymesh.app.edit.cell_tools import CellTools
-from barymesh.app.model import AppModel, MeshResult, ParamError, file_error_sentence
+from barymesh.app.model import (
+    AppModel,
+    ClickTools,
+    MeshResult,
+    ParamError,
+    file_error_sentence,
+)
 from barymesh.app.panels.controls import ControlsPanel
 from barymesh.app.panels.layers_panel import LayersPanel
 from barymesh.app.panels.quality_panel import QualityPanel
@@ -468,8 +474,11 @@ class MainWindow(QMainWindow):
         4. the Cell tools (and their drag tool) use the View tools' ``world_at`` and the
            picker.
         """
+        self.clicks = ClickTools()
         # Teach: RWG basis inspector, connectivity matrix, presentation mode (issue 5)
-        self.teaching = TeachingTools(self, self.plotter, self.scene, beside=self.statistics_dock)
+        self.teaching = TeachingTools(
+            self, self.plotter, self.scene, self.clicks, beside=self.statistics_dock
+        )
         # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
         self.teaching_windows = TeachingWindows(self, self.model)
         # View: hover readout, measure distance, zoom to selection
