@@ -10,11 +10,19 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
-from barymesh import MeshParams
+from barymesh import MeshParams, build_mesh
 from barymesh.app import cli_options
 from barymesh.app.edit.cell_document import CellTarget
-from barymesh.app.model import CLICK_TOOLS, ClickTools, UndoHistory, compute, compute_cell
+from barymesh.app.model import (
+    CLICK_TOOLS,
+    ClickTools,
+    UndoHistory,
+    ViewSelection,
+    compute,
+    compute_cell,
+)
 from barymesh.cell import Element, Lattice, UnitCell
 from hypothesis import given
 from hypothesis import strategies as st
@@ -33,6 +41,8 @@ TOOL_MODULES = (
     "dialogs/help_dialog.py",
 )
 GUI_MODULES = ("PySide6", "vtk", "vtkmodules", "pyvista", "pyvistaqt")
+#: The paper's square patch at n = 4: 2 primary triangles x 4² = 32 sub-triangles.
+PATCH = MeshParams(structure="patch", subdivisions=4)
 
 
 def _tree(relative: str) -> ast.Module:
@@ -92,6 +102,33 @@ def test_an_unknown_click_tool_is_named():
         ClickTools().set_on("zoom", True)
 
 
+# -- the view's selection --------------------------------------------------------------
+
+
+class _Hit:
+    def __init__(self, triangle):
+        self.triangle = triangle
+
+
+def test_zoom_frames_a_measurement_then_the_teach_tools_then_a_click():
+    """On the paper's n = 4 patch (32 triangles): each source gives its own corners."""
+    mesh = build_mesh(PATCH)
+    selection, heard = ViewSelection(), []
+    selection.changed.connect(heard.append)
+    assert selection.points(mesh) is None and selection.points(None, taught=[1]) is None
+    hit = _Hit(5)
+    selection.click(hit)
+    selection.click(hit)  # the same element again: no news
+    assert heard == [hit]
+    np.testing.assert_array_equal(selection.points(mesh), mesh.points[mesh.triangles[5]])
+    taught = selection.points(mesh, taught=[3, 9])
+    np.testing.assert_array_equal(taught, mesh.points[mesh.triangles[[3, 9]]].reshape(6, 3))
+    measured = selection.points(None, measured=[(0, 0, 0), (2.5, 1, 0)], taught=[3])
+    assert measured.shape == (2, 3) and measured.dtype == np.float64 and measured[1, 0] == 2.5
+    selection.clear()
+    assert selection.clicked is None and selection.points(mesh) is None
+
+
 # -- the undo history -----------------------------------------------------------------
 
 OPS = st.lists(
@@ -133,8 +170,6 @@ def test_undo_history_reset_starts_a_new_document():
 
 
 # -- one build path for a structure and a cell ----------------------------------------
-
-PATCH = MeshParams(structure="patch", subdivisions=4)
 
 
 def test_a_structure_and_the_same_structure_as_a_cell_build_alike():

@@ -17,6 +17,8 @@ import it from:
   refusals, the unit cell, the mesh on screen, layers;
 - :mod:`~barymesh.app.model.click_tools`: :class:`ClickTools`, which of the 3D view's
   click tools are on and where a click goes;
+- :mod:`~barymesh.app.model.selection`: :class:`ViewSelection`, what a click selected
+  and what Zoom to selection frames;
 - :mod:`~barymesh.app.model.undo_history`: :class:`UndoHistory`, a linear history of
   states (the pixel painter's).
 """
@@ -34,6 +36,7 @@ from barymesh.app.model.formatting import (
     mom_matrix_bytes,
     stats_texts,
 )
+from barymesh.app.model.selection import ViewSelection
 from barymesh.app.model.specs import (
     ADVANCED_SPECS,
     CHOICE_STRUCTURES,
@@ -78,6 +81,7 @@ __all__ = [
     "ParamSpec",
     "Reading",
     "UndoHistory",
+    "ViewSelection",
     "applies",
     "carried_subdivisions",
     "carry_note",

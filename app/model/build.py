@@ -36,7 +36,7 @@ class MeshResult:
 
     @property
     def target(self) -> MeshParams | CellTarget | None:
-        """What was built, as :meth:`AppModel.build_target` asks for it."""
+        """What was built, as :meth:`barymesh.app.model.AppModel.build_target` asks for it."""
         return CellTarget(self.cell) if self.cell is not None else self.params
 
 

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 from barymesh import TriMesh
-from barymesh.app.model import ClickTools
+from barymesh.app.model import ClickTools, ViewSelection
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_points, pixels_per_mm
 from barymesh.app.view.measure import MeasureTool
@@ -113,7 +113,7 @@ class ViewTools(QObject):
         self.locator: MeshLocator | None = None
         self._locator_started: TriMesh | None = None  # the mesh whose locator is being built
         self.hit: Hit | None = None
-        self.selected: Hit | None = None
+        self.selection = ViewSelection()  # a click's, when no click tool takes it
         self.cursor: np.ndarray | None = None
         self._pos: QPointF | None = None
         self._press: QPointF | None = None
@@ -182,7 +182,8 @@ class ViewTools(QObject):
         self.mesh = mesh
         self.locator = None
         self._pending_pick = None
-        self.hit = self.selected = None
+        self.hit = None
+        self.selection.clear()
         self.measure.set_active(self.measure.active)  # forget the points
         if mesh is not None and mesh.n_triangles:
             # the scene's bounds (computed in the worker): a pass over millions of points
@@ -375,6 +376,11 @@ class ViewTools(QObject):
 
     # -- clicks, measuring, selection ------------------------------------------------
 
+    @property
+    def selected(self) -> Hit | None:
+        """The element a click selected (:attr:`selection`), or None."""
+        return self.selection.clicked
+
     def set_measuring(self, on: bool) -> None:
         on = bool(on)
         if self.act_measure.isChecked() != on:
@@ -400,7 +406,7 @@ class ViewTools(QObject):
             self.measure.add_point(point)
             self.host.request_render()
         elif goes_to == "select":
-            self.selected = hit
+            self.selection.click(hit)
             self.highlight.show(self.mesh, None if hit is None else hit.triangle)
             self.host.request_render()
         self._show_readout()
@@ -409,19 +415,11 @@ class ViewTools(QObject):
         """The corners of what is selected, (k, 3) mm, or None.
 
         In order: a finished measurement, the inspector's edge (its triangles), the matrix
-        cell's triangles, a clicked element.
+        cell's triangles, a clicked element (:meth:`ViewSelection.points`).
         """
-        mesh = self.mesh
-        if self.measure.active and self.measure.complete:
-            return np.array(self.measure.points)
-        if mesh is None:
-            return None
-        tris = self.selected_triangles()
-        if tris is not None:
-            return mesh.points[mesh.triangles[list(tris)]].reshape(-1, 3)
-        if self.selected is not None:
-            return mesh.points[mesh.triangles[self.selected.triangle]].reshape(-1, 3)
-        return None
+        measured = self.measure.points if self.measure.active and self.measure.complete else None
+        taught = self.selected_triangles() if self.mesh is not None else None
+        return self.selection.points(self.mesh, measured, taught)
 
     def zoom_to_selection(self) -> bool:
         """Centre the view on the selection, filling about a third of it."""
