@@ -36,6 +36,7 @@ class Parser(argparse.ArgumentParser):
 
 
 def window_size(text: str) -> int:
+    """``--window-size`` W or H: a whole number of pixels, 16 to 16384."""
     try:
         value = int(text)
     except ValueError:
@@ -46,6 +47,7 @@ def window_size(text: str) -> int:
 
 
 def finite(text: str) -> float:
+    """A finite number (``--fps``, ``--from``, ``--chord-error``…)."""
     try:
         value = float(text)
     except ValueError:
@@ -56,6 +58,7 @@ def finite(text: str) -> float:
 
 
 def whole(text: str) -> int:
+    """A whole number (``--frames``)."""
     try:
         return int(text)
     except ValueError:
@@ -63,6 +66,7 @@ def whole(text: str) -> int:
 
 
 def array_size(text: str) -> tuple[int, int]:
+    """``--array N1xN2``: at least one copy each way, e.g. ``3x2`` -> (3, 2)."""
     match = re.fullmatch(r"\s*(\d{1,12})\s*[xX×]\s*(\d{1,12})\s*", text)
     if not match:
         raise argparse.ArgumentTypeError(
@@ -75,6 +79,7 @@ def array_size(text: str) -> tuple[int, int]:
 
 
 def period(text: str) -> tuple[float, float]:
+    """``--period PX[,PY]`` in mm, both > 0 (one value: a square lattice)."""
     parts = text.split(",")
     if len(parts) > 2:
         raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected PX or PX,PY in mm")
@@ -112,6 +117,7 @@ def add_cell_options(p: argparse.ArgumentParser, structure: bool = True) -> None
 
 
 def add_params_options(p: argparse.ArgumentParser) -> None:
+    """``--preset``, ``--params`` and the repeatable ``--set name=value``."""
     g = p.add_argument_group("parameters (later sources win: preset, then file, then --set)")
     g.add_argument("--preset", metavar="NAME", help="start from a preset (see `barymesh presets`)")
     g.add_argument("--params", metavar="FILE.json", help="a JSON parameter file")
@@ -127,6 +133,7 @@ def add_params_options(p: argparse.ArgumentParser) -> None:
 
 
 def add_stats_option(p: argparse.ArgumentParser) -> None:
+    """``--stats-json PATH|-``."""
     p.add_argument(
         "--stats-json",
         metavar="PATH|-",
@@ -136,6 +143,7 @@ def add_stats_option(p: argparse.ArgumentParser) -> None:
 
 
 def add_quality_option(p: argparse.ArgumentParser) -> None:
+    """``--quality-json PATH|-``."""
     p.add_argument(
         "--quality-json",
         metavar="PATH|-",
@@ -216,6 +224,8 @@ RENDER_MEMORY_LIMIT = 2 * 2**30
 
 
 def check_render_size(verb: str, width: int, height: int) -> None:
+    """Refuse (:class:`UsageError`) an off-screen render that would need more memory than
+    :data:`RENDER_MEMORY_LIMIT`, before it starts."""
     need = width * height * RENDER_BYTES_PER_PIXEL
     if need > RENDER_MEMORY_LIMIT:
         raise UsageError(
@@ -226,6 +236,8 @@ def check_render_size(verb: str, width: int, height: int) -> None:
 
 
 def check_folder(target: str) -> None:
+    """Refuse (:class:`InputError`) an output whose folder does not exist, before the work
+    that would write it."""
     folder = Path(target).parent
     if not folder.is_dir():
         what = "is not a folder" if folder.exists() else "does not exist"
