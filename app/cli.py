@@ -19,153 +19,41 @@ Errors are one line on stderr, never a traceback.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import json
 import math
 import os
 import re
 import sys
-import threading
-import time
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn, TextIO
+from typing import Any, NoReturn
 
 from barymesh.app import cli_solve
+from barymesh.app.cli_options import (
+    InputError,
+    Parser,
+    UsageError,
+    add_cell_options,
+    add_params_options,
+    add_quality_option,
+    add_stats_option,
+    build_window_parser,
+    check_folder,
+    check_render_size,
+    finite,
+    whole,
+    window_size,
+)
+from barymesh.app.cli_progress import progress
+
+__all__ = ["InputError", "UsageError", "build_parser", "main", "progress"]
 
 PROG = "barymesh"
 #: Options that belong to the desktop window when given without a verb.
 WINDOW_OPTIONS = ("--preset", "--params", "--set", "--screenshot", "--quit")
-#: Work longer than this (seconds) shows a spinner when stderr is a terminal.
-PROGRESS_DELAY = 1.0
-
-
-class UsageError(Exception):
-    """Bad command-line usage (exit code 2)."""
-
-
-class InputError(Exception):
-    """Bad input: parameter values, files (exit code 1)."""
 
 
 # -- argument parsing ------------------------------------------------------
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with usage errors raised as :class:`UsageError`, not printed mid-way."""
-
-    def error(self, message: str) -> NoReturn:
-        raise UsageError(f"{self.prog}: {message}")
-
-
-def _window_size(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of pixels") from None
-    if not 16 <= value <= 16384:
-        raise argparse.ArgumentTypeError(f"{value} pixels is outside 16..16384")
-    return value
-
-
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a number") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a finite number")
-    return value
-
-
-def _whole(text: str) -> int:
-    try:
-        return int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a whole number") from None
-
-
-def _array_size(text: str) -> tuple[int, int]:
-    match = re.fullmatch(r"\s*(\d{1,12})\s*[xX×]\s*(\d{1,12})\s*", text)
-    if not match:
-        raise argparse.ArgumentTypeError(
-            f"{text[:40]!r} is invalid; expected N1xN2 copies, e.g. 3x2"
-        )
-    n1, n2 = int(match[1]), int(match[2])
-    if n1 < 1 or n2 < 1:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected at least 1x1")
-    return n1, n2
-
-
-def _period(text: str) -> tuple[float, float]:
-    parts = text.split(",")
-    if len(parts) > 2:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected PX or PX,PY in mm")
-    values = [_finite(part) for part in parts]
-    if min(values) <= 0:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected periods > 0 mm")
-    return values[0], values[-1]
-
-
-def _add_cell_options(p: argparse.ArgumentParser, structure: bool = True) -> None:
-    """``--cell``, ``--cell-preset``, ``--array`` and, with ``structure``, ``--period``."""
-    if structure:
-        title = "unit cell (instead of --preset/--params/--set, except --array and --period)"
-        array = (
-            "an N1 x N2 array of the cell, or of the structure on a rectangular lattice whose "
-            "periods are its bounding box (copies touch), as one welded mesh"
-        )
-    else:
-        title = "unit cell (instead of a mesh FILE)"
-        array = "an N1 x N2 array of the cell, as one welded mesh"
-    g = p.add_argument_group(title)
-    g.add_argument("--cell", metavar="FILE.cell.json", help="a unit-cell file")
-    g.add_argument(
-        "--cell-preset", metavar="NAME", help="a shipped unit cell (see `barymesh presets`)"
-    )
-    g.add_argument("--array", type=_array_size, metavar="N1xN2", help=array)
-    if structure:
-        g.add_argument(
-            "--period",
-            type=_period,
-            metavar="PX[,PY]",
-            help="lattice periods (mm) of a structure made into a cell, instead of its "
-            "bounding box",
-        )
-
-
-def _add_params_options(p: argparse.ArgumentParser) -> None:
-    g = p.add_argument_group("parameters (later sources win: preset, then file, then --set)")
-    g.add_argument("--preset", metavar="NAME", help="start from a preset (see `barymesh presets`)")
-    g.add_argument("--params", metavar="FILE.json", help="a JSON parameter file")
-    g.add_argument(
-        "--set",
-        dest="sets",
-        metavar="name=value",
-        action="append",
-        default=[],
-        help="one parameter, value as JSON when it parses: subdivisions=8, origin=[1,2], "
-        "mode=conforming (repeatable)",
-    )
-
-
-def _add_stats_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--stats-json",
-        metavar="PATH|-",
-        help="write the statistics as JSON to PATH, or to stdout with '-' (then nothing "
-        "else goes to stdout)",
-    )
-
-
-def _add_quality_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--quality-json",
-        metavar="PATH|-",
-        help="write the quality report (smallest angle, aspect ratio, edge/wavelength: "
-        "figures, histograms, the 20 worst triangles) as JSON to PATH, or to stdout with '-'",
-    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -173,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     from barymesh.cell.outline import DEFAULT_CHORD_ERROR
     from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, UNITS
 
-    parser = _Parser(
+    parser = Parser(
         prog=PROG,
         description="RWG-ready triangle meshes of metasurface unit cells. "
         "Without a command, opens the desktop window "
@@ -182,7 +70,7 @@ def build_parser() -> argparse.ArgumentParser:
     from barymesh import __version__
 
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
-    verbs = parser.add_subparsers(dest="verb", metavar="COMMAND", parser_class=_Parser)
+    verbs = parser.add_subparsers(dest="verb", metavar="COMMAND", parser_class=Parser)
 
     mesh = verbs.add_parser(
         "mesh",
@@ -191,8 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
         "or of a unit cell or an array, write each -o file (format from its extension), "
         "optionally render a screenshot without a display, and print a short summary.",
     )
-    _add_params_options(mesh)
-    _add_cell_options(mesh)
+    add_params_options(mesh)
+    add_cell_options(mesh)
     out = mesh.add_argument_group("output")
     out.add_argument(
         "-o",
@@ -206,7 +94,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     out.add_argument(
         "--chord-error",
-        type=_finite,
+        type=finite,
         metavar="MM",
         help=f"outlines: largest distance between an arc and its chords (default "
         f"{DEFAULT_CHORD_ERROR:g} mm)",
@@ -220,7 +108,7 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument(
         "--window-size",
         nargs=2,
-        type=_window_size,
+        type=window_size,
         metavar=("W", "H"),
         default=(1024, 768),
         help="screenshot size in pixels (default 1024 768)",
@@ -228,8 +116,8 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument(
         "--transparent", action="store_true", help="screenshot with a transparent background"
     )
-    _add_stats_option(out)
-    _add_quality_option(out)
+    add_stats_option(out)
+    add_quality_option(out)
 
     info = verbs.add_parser(
         "info",
@@ -240,7 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
         "meshed instead and its statistics printed per part, with the periodic check.",
     )
     info.add_argument("file", metavar="FILE", nargs="?", help="the mesh file (or a cell file)")
-    _add_cell_options(info, structure=False)
+    add_cell_options(info, structure=False)
     info.add_argument(
         "--unit",
         choices=UNITS,
@@ -248,13 +136,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     info.add_argument(
         "--frequency",
-        type=_finite,
+        type=finite,
         metavar="HZ",
         help="the quality report adds each triangle's longest edge over the free-space "
         "wavelength at this frequency (the lambda/10 rule)",
     )
-    _add_stats_option(info)
-    _add_quality_option(info)
+    add_stats_option(info)
+    add_quality_option(info)
 
     from barymesh.sweep import MAX_FRAMES, SWEEPABLE
 
@@ -264,19 +152,19 @@ def build_parser() -> argparse.ArgumentParser:
         description="Mesh and render K frames with one parameter going from A to B "
         "(integers rounded), without a display, and save them as an animation.",
     )
-    _add_params_options(sweep)
+    add_params_options(sweep)
     for option in ("--cell", "--cell-preset", "--array", "--period"):  # refused in one line
         dest = "refused_" + option[2:].replace("-", "_")
         sweep.add_argument(option, dest=dest, help=argparse.SUPPRESS)
     anim = sweep.add_argument_group("sweep")
     anim.add_argument("--param", required=True, choices=SWEEPABLE, help="the parameter to vary")
-    anim.add_argument("--from", dest="start", required=True, type=_finite, metavar="A")
-    anim.add_argument("--to", dest="stop", required=True, type=_finite, metavar="B")
+    anim.add_argument("--from", dest="start", required=True, type=finite, metavar="A")
+    anim.add_argument("--to", dest="stop", required=True, type=finite, metavar="B")
     anim.add_argument(
-        "--frames", required=True, type=_whole, metavar="K", help=f"frames, 2..{MAX_FRAMES}"
+        "--frames", required=True, type=whole, metavar="K", help=f"frames, 2..{MAX_FRAMES}"
     )
     anim.add_argument(
-        "--fps", type=_finite, default=4.0, help="frames per second, up to 100 (default 4)"
+        "--fps", type=finite, default=4.0, help="frames per second, up to 100 (default 4)"
     )
     anim.add_argument(
         "-o", "--output", required=True, metavar="OUT", help="the animation: .gif or .mp4"
@@ -284,7 +172,7 @@ def build_parser() -> argparse.ArgumentParser:
     anim.add_argument(
         "--window-size",
         nargs=2,
-        type=_window_size,
+        type=window_size,
         metavar=("W", "H"),
         default=(800, 600),
         help="frame size in pixels (default 800 600)",
@@ -298,52 +186,6 @@ def build_parser() -> argparse.ArgumentParser:
         "(--cell-preset NAME, described as 'cell: ...'), one line each.",
     )
     return parser
-
-
-# -- progress --------------------------------------------------------------
-
-
-@contextlib.contextmanager
-def progress(what: str, stream: TextIO | None = None) -> Iterator[None]:
-    """Show ``what`` with a spinner and the elapsed time on ``stream`` (stderr).
-
-    Only when the stream is a terminal and the work takes longer than
-    ``PROGRESS_DELAY`` seconds; the line is cleared when the work ends.
-    """
-    stream = sys.stderr if stream is None else stream
-    try:
-        tty = stream.isatty()
-    except (AttributeError, ValueError):
-        tty = False
-    if not tty:
-        yield
-        return
-    done = threading.Event()
-    shown = threading.Event()
-    start = time.monotonic()
-
-    def spin() -> None:
-        if done.wait(PROGRESS_DELAY):
-            return
-        frames = "|/-\\"
-        k = 0
-        while not done.is_set():
-            shown.set()
-            stream.write(f"\r{frames[k % 4]} {what} … {time.monotonic() - start:5.1f} s")
-            stream.flush()
-            k += 1
-            done.wait(0.1)
-
-    thread = threading.Thread(target=spin, daemon=True)
-    thread.start()
-    try:
-        yield
-    finally:
-        done.set()
-        thread.join()
-        if shown.is_set():
-            stream.write("\r\033[K")
-            stream.flush()
 
 
 # -- output ----------------------------------------------------------------
@@ -482,7 +324,7 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
     if args.transparent and not args.screenshot:
         raise UsageError("mesh: --transparent needs --screenshot")
     if args.screenshot:
-        _check_render_size("mesh", *args.window_size)
+        check_render_size("mesh", *args.window_size)
     for text in args.sets:
         if "=" not in text or not text.partition("=")[0].strip():
             raise UsageError(f"mesh: --set {text!r} is invalid; expected name=value")
@@ -490,7 +332,7 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
     targets = [*args.outputs, args.screenshot]
     targets += [t for t in (args.stats_json, args.quality_json) if t != "-"]
     for target in filter(None, targets):
-        _check_folder(target)  # before minutes of meshing, not after
+        check_folder(target)  # before minutes of meshing, not after
     for out in outlines:
         _check_outline_writer(out)
 
@@ -788,23 +630,6 @@ def _describe_outline(out: str, polygons: list[Any], chord_error: float | None) 
     )
 
 
-#: Bytes an off-screen render needs per pixel (colour, depth and VTK's copies; measured:
-#: 9.1 GB for 16384 x 16384 with llvmpipe).
-RENDER_BYTES_PER_PIXEL = 36
-#: Renders estimated above this are refused before they start.
-RENDER_MEMORY_LIMIT = 2 * 2**30
-
-
-def _check_render_size(verb: str, width: int, height: int) -> None:
-    need = width * height * RENDER_BYTES_PER_PIXEL
-    if need > RENDER_MEMORY_LIMIT:
-        raise UsageError(
-            f"{verb}: --window-size {width} {height} would need about {need / 2**30:.1f} GiB "
-            f"to render; at most {RENDER_MEMORY_LIMIT / 2**30:.0f} GiB "
-            f"({RENDER_MEMORY_LIMIT // RENDER_BYTES_PER_PIXEL:,} pixels)"
-        )
-
-
 def _resolve(args: argparse.Namespace) -> Any:
     """The parameters of ``args``; every error names its source (preset, file, --set)."""
     from barymesh.presets import resolve_params
@@ -817,13 +642,6 @@ def _resolve(args: argparse.Namespace) -> Any:
         sources = ", ".join(filter(None, given)) or "default parameters"
         why = "nested too deeply" if isinstance(exc, RecursionError) else str(exc)
         raise InputError(f"{sources}: {why}") from None
-
-
-def _check_folder(target: str) -> None:
-    folder = Path(target).parent
-    if not folder.is_dir():
-        what = "is not a folder" if folder.exists() else "does not exist"
-        raise InputError(f"cannot write {target}: the folder {folder} {what}")
 
 
 def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) -> None:
@@ -870,7 +688,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
         ) from None
     for target in (args.stats_json, args.quality_json):
         if target is not None and target != "-":
-            _check_folder(target)
+            check_folder(target)
     say = sys.stderr if _to_stdout(args) else sys.stdout
     if cell_given:
         built = _build(args)
@@ -918,12 +736,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError(f"sweep: -o {args.output}: expected a .gif or .mp4 file")
     if not 0 < args.fps <= 100:
         raise UsageError(f"sweep: --fps {args.fps:g} is invalid; expected more than 0, up to 100")
-    _check_render_size("sweep", *args.window_size)
+    check_render_size("sweep", *args.window_size)
     try:
         check_sweep_size(args.frames, tuple(args.window_size))
     except ValueError as exc:
         raise UsageError(f"sweep: {exc}") from None
-    _check_folder(args.output)
+    check_folder(args.output)
     base = _resolve(args)
     try:
         from barymesh.app.teach.sweep import render_sweep
@@ -967,20 +785,16 @@ def _open_window(argv: list[str]) -> int:
         print(build_parser().format_help())
         print("The desktop window is not available yet; use the commands above.")
         return 0
-    from barymesh.app import window
+    parser = build_window_parser()  # bad options: one line and exit 2, before any window
 
-    window_parser = getattr(window, "build_parser", None)
-    if window_parser is not None:  # bad options: one line and exit 2, before any window
-        parser = window_parser()
+    def one_line(message: str) -> NoReturn:
+        raise UsageError(f"{message} (see barymesh --help)")
 
-        def one_line(message: str) -> NoReturn:
-            raise UsageError(f"{message} (see barymesh --help)")
-
-        parser.error = one_line
-        try:
-            parser.parse_args(argv)
-        except SystemExit as exc:  # --help
-            return int(exc.code or 0)
+    parser.error = one_line
+    try:
+        parser.parse_args(argv)
+    except SystemExit as exc:  # --help
+        return int(exc.code or 0)
     return int(window_main(argv) or 0)
 
 

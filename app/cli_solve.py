@@ -9,8 +9,9 @@
     barymesh solve --preset makarov-platefine --freq 300MHz --screenshot current.png
 
 Registered in :mod:`barymesh.app.cli` (``add_parser`` builds the subcommand, ``run``
-executes it). Errors are raised as ``barymesh.app.cli`` exceptions (one line, exit 1
-or 2, never a traceback).
+executes it); the options and checks it shares with :mod:`barymesh.app.cli` come from
+:mod:`barymesh.app.cli_options`. Errors are raised as the command line's exceptions (one
+line, exit 1 or 2, never a traceback).
 """
 
 from __future__ import annotations
@@ -21,6 +22,14 @@ import io
 import re
 from pathlib import Path
 from typing import Any
+
+from barymesh.app.cli_options import (
+    add_params_options,
+    check_folder,
+    check_render_size,
+    window_size,
+)
+from barymesh.app.cli_progress import progress
 
 #: Frequency units understood by --freq.
 FREQUENCY_UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9, "thz": 1e12}
@@ -51,8 +60,6 @@ class SolveUsageError(ValueError):
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     """Add the ``solve`` subcommand to ``subparsers`` (of :func:`barymesh.app.cli.build_parser`)."""
-    from barymesh.app.cli import _add_params_options
-
     p = subparsers.add_parser(
         "solve",
         help="solve for the currents (RWG Method of Moments) at one frequency or a sweep",
@@ -61,7 +68,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "(--feed). One --freq prints the cross-sections; a range sweeps them and finds the "
         "resonances. Time convention exp(jwt); mesh lengths in mm.",
     )
-    _add_params_options(p)
+    add_params_options(p)
     p.add_argument("--mesh", metavar="FILE", help="solve a mesh file instead of building one")
     from barymesh.io import UNITS
 
@@ -112,8 +119,6 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "frequency: J_abs, J_real, J_imag per triangle for ParaView) (repeatable)",
     )
     out.add_argument("--plot", metavar="PNG", help="plot the sweep's cross-sections to PNG")
-    from barymesh.app.cli import _window_size
-
     out.add_argument(
         "--screenshot",
         metavar="PNG",
@@ -123,7 +128,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     out.add_argument(
         "--window-size",
         nargs=2,
-        type=_window_size,
+        type=window_size,
         metavar=("W", "H"),
         default=(1024, 768),
         help="screenshot size in pixels (default 1024 768)",
@@ -251,16 +256,7 @@ def run(args: argparse.Namespace) -> int:
         raise  # error() raises; this line is never reached
 
 
-def _check_folder(target: str) -> None:
-    folder = Path(target).parent
-    if not folder.is_dir():
-        what = "is not a folder" if folder.exists() else "does not exist"
-        raise ValueError(f"cannot write {target}: the folder {folder} {what}")
-
-
 def _run(args: argparse.Namespace) -> int:
-    from barymesh.app.cli import progress
-
     freqs = parse_frequencies(args.freq)
     is_sweep = len(freqs) > 1
     allowed = SWEEP_OUTPUTS if is_sweep else SINGLE_OUTPUTS
@@ -280,14 +276,12 @@ def _run(args: argparse.Namespace) -> int:
     if args.screenshot and Path(args.screenshot).suffix.lower() != ".png":
         raise SolveUsageError(f"--screenshot {args.screenshot}: expected a .png file")
     if args.screenshot:
-        from barymesh.app.cli import _check_render_size
-
-        _check_render_size("solve", *args.window_size)
+        check_render_size("solve", *args.window_size)
     if args.mesh and (args.preset or args.params or args.sets):
         raise SolveUsageError("--mesh cannot be combined with --preset, --params or --set")
     for target in [*args.outputs, args.plot, args.screenshot]:
         if target:
-            _check_folder(target)
+            check_folder(target)
     memory = parse_memory(args.max_memory)
     excitation = _excitation(args)
 
@@ -559,7 +553,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
         import numpy as np
         import pyvista as pv
         from barymesh.app.view.current_layer import CurrentLayer
-        from barymesh.app.view.scene import MeshScene, _prepare_headless, _resized, scene_data
+        from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, scene_data
     except ImportError as exc:
         raise ValueError(
             f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"
@@ -567,7 +561,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
     from barymesh.io import atomic_path
 
     width, height = (int(v) for v in window_size)
-    _prepare_headless()
+    prepare_headless()
     plotter = pv.Plotter(off_screen=True, window_size=(width, height))
     try:
         scene = MeshScene(plotter, visible=SCREENSHOT_LAYERS)
@@ -578,7 +572,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
     finally:
         plotter.close()
     if image.shape[:2] != (height, width):
-        image = _resized(image, width, height)
+        image = resized_image(image, width, height)
     with atomic_path(path) as tmp:
         iio.imwrite(tmp, image, extension=".png")
         if not tmp.exists() or tmp.stat().st_size == 0:

@@ -9,7 +9,6 @@ Run ``barymesh`` or ``python -m app``; see :func:`main` for the options.
 
 from __future__ import annotations
 
-import argparse
 import json
 import logging
 import os
@@ -25,9 +24,18 @@ from typing import Any
 import barymesh
 import numpy as np
 from barymesh import MeshParams, TriMesh
+from barymesh.app.cli_options import build_window_parser
+from barymesh.app.dialogs.export_dialog import ExportDialog
+from barymesh.app.dialogs.help_dialog import HelpDialog
+from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog
 from barymesh.app.edit.cell_tools import CellTools
-from barymesh.app.edit.lattice_panel import parse_copies
-from barymesh.app.model import AppModel, MeshResult, ParamError
+from barymesh.app.model import (
+    AppModel,
+    ClickTools,
+    MeshResult,
+    ParamError,
+    file_error_sentence,
+)
 from barymesh.app.panels.controls import ControlsPanel
 from barymesh.app.panels.layers_panel import LayersPanel
 from barymesh.app.panels.quality_panel import QualityPanel
@@ -36,6 +44,7 @@ from barymesh.app.panels.stats_panel import StatsPanel
 from barymesh.app.teach.teaching_tools import TeachingTools
 from barymesh.app.teach.teaching_windows import TeachingWindows
 from barymesh.app.view.framing import (
+    FramedCamera,
     frame_from_above,
     look_from_above,
     pixels_per_mm,
@@ -59,30 +68,19 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import (
     QApplication,
-    QCheckBox,
-    QComboBox,
-    QDialog,
-    QDialogButtonBox,
     QDockWidget,
     QFileDialog,
-    QFormLayout,
-    QHBoxLayout,
     QLabel,
-    QLineEdit,
     QMainWindow,
     QMenu,
     QMessageBox,
     QProgressBar,
     QProgressDialog,
-    QPushButton,
     QScrollArea,
-    QSpinBox,
     QStyle,
     QTabBar,
-    QTextBrowser,
     QToolBar,
     QToolButton,
-    QVBoxLayout,
     QWidget,
 )
 
@@ -121,207 +119,6 @@ def app_settings() -> QSettings:
     return QSettings(
         QSettings.Format.IniFormat, QSettings.Scope.UserScope, ORGANIZATION, APPLICATION
     )
-
-
-class ScreenshotDialog(QDialog):
-    """Scale (1–4×) and transparency for File → Export screenshot; save or copy."""
-
-    def __init__(self, window: MainWindow) -> None:
-        super().__init__(window)
-        self.window_ = window
-        self.setWindowTitle("Export screenshot")
-        form = QFormLayout(self)
-        self.scale = QSpinBox(self)
-        self.scale.setRange(1, 4)
-        self.scale.setSuffix(" ×")
-        self.scale.setValue(int(window.settings.value("screenshot/scale", 2)))
-        self.transparent = QCheckBox("Transparent background", self)
-        self.transparent.setChecked(
-            window.settings.value("screenshot/transparent", "false") in (True, "true")
-        )
-        w, h = window.plotter.width(), window.plotter.height()
-        self.size_label = QLabel(self)
-        self.scale.valueChanged.connect(lambda s: self.size_label.setText(f"{w * s} × {h * s} px"))
-        self.size_label.setText(f"{w * self.scale.value()} × {h * self.scale.value()} px")
-        form.addRow("&Scale", self.scale)
-        form.addRow("Size", self.size_label)
-        form.addRow(self.transparent)
-        buttons = QDialogButtonBox(self)
-        save = buttons.addButton("Save PNG…", QDialogButtonBox.ButtonRole.AcceptRole)
-        copy = buttons.addButton("Copy to clipboard", QDialogButtonBox.ButtonRole.ActionRole)
-        buttons.addButton(QDialogButtonBox.StandardButton.Close)
-        save.clicked.connect(self._save)
-        copy.clicked.connect(self._copy)
-        buttons.rejected.connect(self.reject)
-        form.addRow(buttons)
-
-    def _remember(self) -> None:
-        self.window_.settings.setValue("screenshot/scale", self.scale.value())
-        self.window_.settings.setValue("screenshot/transparent", self.transparent.isChecked())
-
-    def _save(self) -> None:
-        self._remember()
-        start = str(self.window_.settings.value("paths/screenshot", "barymesh.png"))
-        path, _ = QFileDialog.getSaveFileName(self, "Export screenshot", start, "PNG (*.png)")
-        if path:
-            if not path.lower().endswith(".png"):
-                path += ".png"
-            self.window_.settings.setValue("paths/screenshot", path)
-            if self.window_.save_view_png(path, self.scale.value(), self.transparent.isChecked()):
-                self.accept()
-
-    def _copy(self) -> None:
-        self._remember()
-        self.window_.copy_view_to_clipboard(self.scale.value(), self.transparent.isChecked())
-        self.accept()
-
-
-def file_error_sentence(
-    title: str, exc: BaseException, path: str | os.PathLike[str] | None = None
-) -> str:
-    """``"Could not open a.msh: the file ends after 12 of 423 nodes."``: one sentence.
-
-    The path is said once (``title`` names the file; a message that starts with the path
-    or the file name again has it dropped), an operating-system error says what the system
-    said (not its errno and repeated path), and a text file that is not UTF-8 says so in
-    those words rather than in the codec's.
-
-    >>> file_error_sentence("Could not open a.msh", ValueError("/x/a.msh: a.msh: empty"),
-    ...                     "/x/a.msh")
-    'Could not open a.msh: empty.'
-    """
-    if isinstance(exc, UnicodeDecodeError):
-        bad = exc.object[exc.start : exc.start + 1]
-        code = f"0x{bad[0]:02x}" if bad else "?"
-        reason = f"it is not UTF-8 text (byte {code} at offset {exc.start})"
-    elif isinstance(exc, OSError) and exc.strerror:
-        reason = exc.strerror[:1].lower() + exc.strerror[1:]
-    else:
-        reason = str(exc) or type(exc).__name__
-    reason = " ".join(part.strip() for part in reason.splitlines() if part.strip())
-    prefixes = []
-    if path is not None:
-        full = str(path)
-        prefixes = [full, os.path.abspath(full), Path(full).name]
-    changed = True
-    while changed:  # "path: path: reason" -> "reason"
-        changed = False
-        for prefix in prefixes:
-            for sep in (": ", " "):
-                if prefix and reason.startswith(prefix + sep):
-                    reason = reason[len(prefix) + len(sep) :].lstrip()
-                    changed = True
-    reason = reason.rstrip(". ")
-    return f"{title}: {reason}." if reason else f"{title}."
-
-
-class HelpDialog(QDialog):
-    """Help → About / F1: the method and every shortcut, scrolling inside the screen."""
-
-    def __init__(self, html: str, parent: QWidget | None = None) -> None:
-        super().__init__(parent)
-        self.setWindowTitle("About barymesh")
-        self.browser = QTextBrowser(self)
-        self.browser.setOpenExternalLinks(True)
-        self.browser.setHtml(html)
-        buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Close, self)
-        buttons.rejected.connect(self.close)
-        col = QVBoxLayout(self)
-        col.addWidget(self.browser, 1)
-        col.addWidget(buttons)
-        screen = parent.screen() if parent is not None else QGuiApplication.primaryScreen()
-        room = screen.availableGeometry()
-        self.resize(min(620, int(0.9 * room.width())), min(560, int(0.8 * room.height())))
-
-
-class ExportDialog(QDialog):
-    """File → Export mesh: the file (its extension picks the format) and the length unit."""
-
-    def __init__(self, window: MainWindow) -> None:
-        super().__init__(window)
-        from barymesh.io import EXPORT_FORMATS, UNITS
-
-        self.window_ = window
-        self.formats = EXPORT_FORMATS
-        self.setWindowTitle("Export mesh")
-        form = QFormLayout(self)
-        self.path = QLineEdit(window._path_setting("export", "barymesh.msh"), self)
-        self.path.setMinimumWidth(360)
-        browse = QPushButton("Browse…", self)
-        browse.clicked.connect(self._browse)
-        row = QHBoxLayout()
-        row.addWidget(self.path, 1)
-        row.addWidget(browse)
-        label = QLabel("&File", self)
-        label.setBuddy(self.path)
-        form.addRow(label, row)
-        self.format_label = QLabel(self)
-        form.addRow("Format", self.format_label)
-        self.unit = QComboBox(self)
-        self.unit.addItem("the format's default", None)
-        names = {
-            "m": "m (metres)",
-            "mm": "mm (millimetres, the mesher's unit)",
-            "um": "µm (micrometres)",
-        }
-        for unit in UNITS:
-            self.unit.addItem(names.get(unit, unit), unit)
-        saved = window.settings.value("export/unit", "")
-        self.unit.setCurrentIndex(max(self.unit.findData(saved), 0) if saved else 0)
-        form.addRow("Length &unit", self.unit)
-        self.error = QLabel(self)
-        self.error.setStyleSheet("color: #d0021b;")
-        self.error.setWordWrap(True)
-        form.addRow(self.error)
-        buttons = QDialogButtonBox(self)
-        self.export_button = buttons.addButton("Export", QDialogButtonBox.ButtonRole.AcceptRole)
-        buttons.addButton(QDialogButtonBox.StandardButton.Cancel)
-        buttons.accepted.connect(self._export)
-        buttons.rejected.connect(self.reject)
-        form.addRow(buttons)
-        self.path.textChanged.connect(self._describe)
-        self.unit.currentIndexChanged.connect(self._describe)
-        self._describe()
-
-    def _describe(self) -> None:
-        from barymesh.io import describe_export
-
-        try:
-            text = describe_export(Path(self.path.text()).name, self.unit.currentData())
-            self.format_label.setText(text.split(" (", 1)[1].rstrip(")"))
-            self.export_button.setEnabled(True)
-        except ValueError as exc:
-            self.format_label.setText(str(exc))
-            self.export_button.setEnabled(False)
-
-    def _browse(self) -> None:
-        from barymesh.io import export_filters, filter_extension
-
-        path, chosen = QFileDialog.getSaveFileName(
-            self, "Export mesh", self.path.text(), ";;".join(export_filters())
-        )
-        if path:
-            if not Path(path).suffix:
-                path += filter_extension(chosen) or ".msh"
-            self.path.setText(path)
-
-    def _export(self) -> None:
-        path = self.path.text().strip()
-        unit = self.unit.currentData()
-        self.window_.settings.setValue("export/unit", unit or "")
-        self.window_.settings.setValue("paths/export", path)
-        self.error.setText("")
-        if self.window_.start_export(path, unit, done=self._finished):
-            self.export_button.setEnabled(False)  # until this one is written or cancelled
-        else:
-            self._finished(False)
-
-    def _finished(self, ok: bool) -> None:
-        if ok:
-            self.accept()
-            return
-        self.error.setText(self.window_.statusBar().currentMessage())
-        self._describe()
 
 
 #: An export still writing after this many ms shows its progress dialog (with Cancel).
@@ -389,6 +186,7 @@ class MainWindow(QMainWindow):
             self.plotter, visible=self.model.layers, color_by=self.model.color_by
         )
         self.scene.top_view()
+        self.framing = FramedCamera(self.plotter)  # the camera a mesh was last framed with
         self.plotter.iren.add_observer("EndInteractionEvent", self._camera_moved)
         self.plotter.iren.add_observer("MouseWheelForwardEvent", self._camera_moved)
         self.plotter.iren.add_observer("MouseWheelBackwardEvent", self._camera_moved)
@@ -404,27 +202,26 @@ class MainWindow(QMainWindow):
         self._rest_timer.timeout.connect(self._camera_rested)
         self._detail_token: tuple[int, tuple[float, ...]] | None = None
         self._closed = False
+        self._arranging = False  # arrange_docks is moving the docks
         self._tuned = False
 
         self.controls = ControlsPanel(self.model, self)
         self.stats = StatsPanel(self.model, self)
         self.layers = LayersPanel(self.model, self)
-        self._add_dock(
+        self.add_dock(
             "Parameters", self.controls, Qt.DockWidgetArea.LeftDockWidgetArea, scroll=True
         )
         # in a scroll area, like the other tall docks: the statistics' full height (426 px)
         # must not set the window's minimum height (it did: 733 px, 823 with a cell)
-        self._add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
-        self._add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
+        self.add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
         self.solve_panel = SolvePanel(self)
-        self._add_dock(
-            "Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True
-        )
+        self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
         # Quality: the quality report, its histograms and worst triangles (red layer)
         self.quality_panel = QualityPanel(self)
-        self._add_dock(
+        self.add_dock(
             "Quality", self.quality_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True
         )
         self.tabifyDockWidget(self.statistics_dock, self.quality_dock)
@@ -480,7 +277,6 @@ class MainWindow(QMainWindow):
         self.model.params_changed.connect(self._params_changed_note)
 
         self._auto_docks = True  # narrow/wide dock layout follows the width until moved
-        self._arranging = False
         self._narrow = False
         for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
             dock.dockLocationChanged.connect(self._dock_moved)
@@ -497,11 +293,44 @@ class MainWindow(QMainWindow):
 
     # -- construction ------------------------------------------------------------------
 
-    def _add_dock(
-        self, title: str, widget: QWidget, area: Qt.DockWidgetArea, scroll: bool = False
+    # -- the tools' host (barymesh.app.tool_host.ToolHost) ---------------------------------
+
+    @property
+    def widget(self) -> QMainWindow:
+        return self
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    @property
+    def arranging_docks(self) -> bool:
+        return self._arranging
+
+    def show_status(self, message: str, timeout_ms: int = 0) -> None:
+        self.statusBar().showMessage(message, timeout_ms)
+
+    def status_message(self) -> str:
+        return self.statusBar().currentMessage()
+
+    def setting(self, key: str, default: Any = None) -> Any:
+        return self.settings.value(key, default)
+
+    def set_setting(self, key: str, value: Any) -> None:
+        self.settings.setValue(key, value)
+
+    def add_dock(
+        self,
+        title: str,
+        widget: QWidget,
+        area: Qt.DockWidgetArea,
+        scroll: bool = False,
+        name: str | None = None,
+        tab_with: QDockWidget | None = None,
     ) -> QDockWidget:
+        """A dock of ``widget``; the window's own (no ``name``) is also ``<title>_dock``."""
         dock = QDockWidget(title, self)
-        dock.setObjectName(f"dock_{title.lower()}")
+        dock.setObjectName(name or f"dock_{title.lower()}")
         if scroll:
             area_widget = QScrollArea(dock)
             area_widget.setWidget(widget)
@@ -514,10 +343,13 @@ class MainWindow(QMainWindow):
         else:
             dock.setWidget(widget)
         self.addDockWidget(area, dock)
-        setattr(self, f"{title.lower()}_dock", dock)
+        if tab_with is not None:
+            self.tabifyDockWidget(tab_with, dock)
+        if name is None:
+            setattr(self, f"{title.lower()}_dock", dock)
         return dock
 
-    def _action(
+    def add_action(
         self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
     ) -> QAction:
         action = QAction(text, self)
@@ -541,7 +373,7 @@ class MainWindow(QMainWindow):
             self._io_error = None
         except ImportError as exc:  # pragma: no cover - barymesh.io ships with core
             self._io_error = f"mesh files need barymesh.io ({exc})"
-        a = self._action
+        a = self.add_action
         self.act_open = a(
             "&Open mesh file…",
             self.open_mesh_dialog,
@@ -627,14 +459,55 @@ class MainWindow(QMainWindow):
             self.color_actions[key] = act
         self.act_help = a("&Keyboard shortcuts…", self.show_about, "F1", "Shortcuts and the method")
         self.act_about = a("&About barymesh", self.show_about)
+        self._make_tools()
+
+    def _make_tools(self) -> None:
+        """The tools, each given the host interface (:class:`barymesh.app.tool_host.ToolHost`)
+        and, explicitly, what it needs of the others, so this is the order they need:
+
+        0. the click tools' state (:class:`barymesh.app.model.ClickTools`, no Qt), shared
+           by the Teach tools, the View tools and the drag tool;
+        1. the Teach tools make the click picker and the triangle highlight of the view;
+        2. the Teach windows (construction, compare, sweep) need only the model;
+        3. the View tools (readout, measure, zoom) use the picker, the highlight and the
+           Teach tools' selection; the Teach tools' zoom requests are connected to them;
+        4. the Cell tools (and their drag tool) use the View tools' ``world_at`` and the
+           picker.
+        """
+        self.clicks = ClickTools()
         # Teach: RWG basis inspector, connectivity matrix, presentation mode (issue 5)
-        self.teaching = TeachingTools(self)
+        self.teaching = TeachingTools(
+            self, self.plotter, self.scene, self.clicks, beside=self.statistics_dock
+        )
         # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
-        self.teaching_windows = TeachingWindows(self)
+        self.teaching_windows = TeachingWindows(self, self.model)
         # View: hover readout, measure distance, zoom to selection
-        self.view_tools = ViewTools(self)
+        self.view_tools = ViewTools(
+            self,
+            self.plotter,
+            self.scene,
+            self.clicks,
+            picker=self.teaching.picker,
+            highlight=self.teaching.highlight,
+            selected_triangles=self.teaching.selected_triangles,
+            refit=self.refit_if_framed,
+        )
+        self.teaching.zoom_to_selection_requested.connect(self.view_tools.zoom_to_selection)
+        self.teaching.zoom_to_points_requested.connect(self.view_tools.zoom_to_points)
         # Cell: unit-cell files and presets, the Elements dock, the array preview (issue 13)
-        self.cell_tools = CellTools(self)
+        self.cell_tools = CellTools(
+            self,
+            self.model,
+            self.plotter,
+            self.scene,
+            self.framing,
+            self.clicks,
+            controls=self.controls,
+            parameters_dock=self.parameters_dock,
+            run_export=self.run_export,
+            world_at=self.view_tools.world_at,
+            picker=self.teaching.picker,
+        )
 
     def _cell_menu(self) -> QMenu:
         """The menu bar's "&Cell" menu, made on first use, so that every tool adds to one."""
@@ -674,7 +547,7 @@ class MainWindow(QMainWindow):
         presets.setToolTipsVisible(True)
         if not descriptions:
             presets.addAction("(no presets found)").setEnabled(False)
-        self.cell_tools.add_to_menus(file, self._cell_menu())
+        self.cell_tools.add_to_menus(file, self._cell_menu(), after=self.act_save)
 
         edit = bar.addMenu("&Edit")
         edit.addActions([self.act_undo, self.act_redo])
@@ -1069,20 +942,16 @@ class MainWindow(QMainWindow):
             )
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
-        self._framed = self._camera_state()
-
-    def _camera_state(self) -> tuple[float, ...]:
-        c = self.plotter.camera
-        return (*c.position, *c.focal_point, *c.up, float(c.parallel_scale))
+        self.framing.remember()
 
     def refit_if_framed(self, render: bool = True) -> None:
         """After the view changed size: keep a framed mesh framed (not a moved camera).
 
         From the view's resize event pass ``render=False``: a resized widget is repainted
         anyway, and that one paint then shows the refitted camera."""
-        if self._closed or getattr(self, "_framed", None) is None:
+        if self._closed:
             return
-        if np.allclose(self._camera_state(), self._framed, rtol=1e-9, atol=1e-12):
+        if self.framing.holds():
             self.frame_mesh()
             if render:
                 self.request_render()
@@ -1139,7 +1008,13 @@ class MainWindow(QMainWindow):
         return str(self.settings.value(f"paths/{key}", default))
 
     def screenshot_dialog(self) -> None:
-        ScreenshotDialog(self).exec()
+        ScreenshotDialog(
+            self,
+            self.settings,
+            (self.plotter.width(), self.plotter.height()),
+            self.save_view_png,
+            self.copy_view_to_clipboard,
+        ).exec()
 
     def open_mesh_dialog(self) -> None:
         from barymesh.io import IMPORT_EXTENSIONS
@@ -1162,7 +1037,7 @@ class MainWindow(QMainWindow):
         try:
             mesh: TriMesh = read_mesh(path)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not open {Path(path).name}", exc, path)
+            self.file_error(f"Could not open {Path(path).name}", exc, path)
             return False
         result = self.model.show_imported(mesh, str(path))
         if not self.model.set_result(result):
@@ -1191,7 +1066,7 @@ class MainWindow(QMainWindow):
         try:
             params = load_params_file(path)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not load {Path(path).name}", exc, path)
+            self.file_error(f"Could not load {Path(path).name}", exc, path)
             return False
         self.model.set_params(params)
         return True
@@ -1223,7 +1098,7 @@ class MainWindow(QMainWindow):
         try:
             save_params_file(params, path)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not save {Path(path).name}", exc, path)
+            self.file_error(f"Could not save {Path(path).name}", exc, path)
             return False
         newer = " (those of the mesh on screen; newer ones are being meshed)"
         self.statusBar().showMessage(
@@ -1233,7 +1108,9 @@ class MainWindow(QMainWindow):
 
     def export_mesh_dialog(self) -> ExportDialog:
         """File → Export mesh: a file, its format and the length unit (window-modal)."""
-        dialog = ExportDialog(self)
+        dialog = ExportDialog(
+            self, self.settings, self.start_export, self.statusBar().currentMessage
+        )
         dialog.open()
         self.export_dialog = dialog
         return dialog
@@ -1251,7 +1128,7 @@ class MainWindow(QMainWindow):
             write_mesh(result.mesh, path, unit=unit, wavelength=params_wavelength(params))
             what = describe_export(path, unit)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not export {Path(path).name}", exc, path)
+            self.file_error(f"Could not export {Path(path).name}", exc, path)
             return False
         self.statusBar().showMessage(f"Wrote {what}", 5000)
         return True
@@ -1312,7 +1189,7 @@ class MainWindow(QMainWindow):
         try:
             described = describe_export(path, unit)
         except ValueError as exc:
-            self._file_error(f"Could not export {Path(path).name}", exc, path)
+            self.file_error(f"Could not export {Path(path).name}", exc, path)
             return False
         job = ExportJob(str(path), described, done, wrote=wrote)
         progress = QProgressDialog(f"Writing {Path(path).name}: {what}…", "Cancel", 0, 0, self)
@@ -1370,7 +1247,7 @@ class MainWindow(QMainWindow):
         elif error is not None:
             if not isinstance(error, ValueError | OSError):
                 log.error("export failed", exc_info=error)
-            self._file_error(f"Could not export {Path(job.path).name}", error, job.path)
+            self.file_error(f"Could not export {Path(job.path).name}", error, job.path)
         else:
             wrote = job.wrote(job.mesh, job.what) if job.wrote is not None else f"Wrote {job.what}"
             if job.cancelled:  # Cancel came after the file was complete and in place
@@ -1385,7 +1262,7 @@ class MainWindow(QMainWindow):
         try:
             params, description = load_preset(name)
         except (ValueError, OSError) as exc:
-            self._file_error(f"Could not load preset {name}", exc)
+            self.file_error(f"Could not load preset {name}", exc)
             return False
         self._note_params = None
         self.model.set_params(params)
@@ -1395,7 +1272,7 @@ class MainWindow(QMainWindow):
         self.statusBar().showMessage(f"Preset {name}: {description}", 8000)
         return True
 
-    def _file_error(
+    def file_error(
         self, title: str, exc: BaseException, path: str | os.PathLike[str] | None = None
     ) -> None:
         """One sentence in the status bar (and a warning box): the file once, the reason
@@ -1629,45 +1506,6 @@ def disable_view_keys(plotter: Any) -> None:
         style.AddObserver("CharEvent", lambda *_: None)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="barymesh",
-        description="Open the barymesh window: sliders drive the mesher, the 3D view follows.",
-    )
-    parser.add_argument("--preset", metavar="NAME", help="start from a preset (see Presets menu)")
-    parser.add_argument("--params", metavar="FILE", help="start from a JSON parameter file")
-    parser.add_argument(
-        "--set",
-        metavar="NAME=VALUE",
-        nargs="+",
-        action="extend",
-        default=[],
-        dest="sets",
-        help="override parameters, e.g. --set subdivisions=8",
-    )
-    parser.add_argument(
-        "--cell",
-        metavar="FILE.cell.json",
-        help="open a unit cell file (instead of --preset/--params/--set)",
-    )
-    parser.add_argument(
-        "--cell-preset", metavar="NAME", help="open a shipped unit cell (see the Cell menu)"
-    )
-    parser.add_argument(
-        "--array",
-        metavar="N1xN2",
-        type=parse_copies,
-        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)",
-    )
-    parser.add_argument(
-        "--screenshot", metavar="PNG", help="save a grab of the whole window once the mesh is shown"
-    )
-    parser.add_argument(
-        "--quit", action="store_true", help="exit once the mesh is shown (and the screenshot saved)"
-    )
-    return parser
-
-
 def _install_excepthook() -> None:
     """Exceptions in Qt slots go to the log and the status bar, never a crash or dialog."""
 
@@ -1697,7 +1535,7 @@ def main(argv: list[str] | None = None) -> int:
     whole window and exits. ``--cell FILE`` or ``--cell-preset NAME`` (with
     ``--array N1xN2`` for the preview) open a unit cell instead of one structure.
     """
-    parser = build_parser()
+    parser = build_window_parser()
     try:
         args = parser.parse_args(sys.argv[1:] if argv is None else argv)
     except SystemExit as exc:

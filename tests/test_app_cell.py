@@ -752,7 +752,7 @@ def test_model_cell_undo_and_refusals_without_qt():
         "barymesh.app.edit.cell_document",
         "barymesh.app.edit.array_preview",
         "barymesh.app.edit.drag_tool",
-        "barymesh.app.edit.lattice_panel",
+        "barymesh.app.cli_options",  # parse_copies, the preview's N1xN2, was lattice_panel's
     ],
 )
 def test_docstring_examples(module):

@@ -15,7 +15,7 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-import barymesh.app.model  # noqa: E402
+import barymesh.app.model.build  # noqa: E402
 from app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
@@ -192,13 +192,13 @@ def test_arrow_keys_in_a_field_step_its_slider(window):
 
 def _builds_on_threads(monkeypatch):
     threads = []
-    real = barymesh.app.model.build_mesh
+    real = barymesh.app.model.build.build_mesh
 
     def recording(*args, **kwargs):
         threads.append(threading.current_thread() is threading.main_thread())
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(barymesh.app.model, "build_mesh", recording)
+    monkeypatch.setattr(barymesh.app.model.build, "build_mesh", recording)
     return threads
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from barymesh.app import cli
+from barymesh.app import cli, cli_progress
 from barymesh.cell import cell_preset_names
 from barymesh.io import read_mesh
 from barymesh.presets import preset_names
@@ -280,7 +280,7 @@ class FakeTTY(io.StringIO):
 def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
     import time
 
-    monkeypatch.setattr(cli, "PROGRESS_DELAY", 0.05)
+    monkeypatch.setattr(cli_progress, "PROGRESS_DELAY", 0.05)
     tty = FakeTTY()
     with cli.progress("building", tty):
         time.sleep(0.4)
@@ -288,13 +288,13 @@ def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
     assert "building" in text and " s" in text and text.endswith("\r\033[K")
 
     quick = FakeTTY()
-    monkeypatch.setattr(cli, "PROGRESS_DELAY", 5.0)
+    monkeypatch.setattr(cli_progress, "PROGRESS_DELAY", 5.0)
     with cli.progress("building", quick):
         pass
     assert quick.getvalue() == ""
 
     pipe = io.StringIO()
-    monkeypatch.setattr(cli, "PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(cli_progress, "PROGRESS_DELAY", 0.0)
     with cli.progress("building", pipe):
         time.sleep(0.2)
     assert pipe.getvalue() == ""

@@ -25,6 +25,9 @@ from typing import Any
 from barymesh import MeshParams
 from barymesh.cell import Element, Lattice, UnitCell
 
+#: Copies per direction the array preview offers (a view setting, not part of the cell).
+MAX_COPIES = 50
+
 #: Lattice kinds the Lattice panel offers (an oblique lattice comes from a file only).
 LATTICE_KINDS = ("rectangular", "hexagonal")
 

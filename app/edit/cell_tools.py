@@ -1,8 +1,9 @@
 """The window's unit-cell tools: cell files and presets, the Elements dock (elements,
 lattice, array preview) and the export of an array, wired to the model.
 
-:class:`CellTools` is made by :class:`barymesh.app.window.MainWindow` with its actions; the
-window adds :meth:`CellTools.add_to_menus` to its File and Cell menus.
+:class:`CellTools` gets the window's :class:`barymesh.app.tool_host.ToolHost` and what it
+uses of the window and of the View tools; the window adds :meth:`CellTools.add_to_menus`
+to its File and Cell menus.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ import logging
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any
 
 from barymesh import TriMesh
 from barymesh.app.edit.array_preview import ArrayPreview
@@ -19,40 +20,78 @@ from barymesh.app.edit.cell_document import CellState
 from barymesh.app.edit.drag_tool import ElementDragger
 from barymesh.app.edit.elements_panel import ElementsPanel
 from barymesh.app.edit.lattice_panel import LatticePanel
-from barymesh.app.model import MeshResult
-from barymesh.app.view.framing import frame_from_above
+from barymesh.app.model import AppModel, ClickTools, MeshResult
+from barymesh.app.tool_host import ToolHost
+from barymesh.app.view.framing import FramedCamera, frame_from_above
 from barymesh.cell import Element, Lattice, UnitCell
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction
-from PySide6.QtWidgets import QFileDialog, QMenu, QVBoxLayout, QWidget
-
-if TYPE_CHECKING:
-    from barymesh.app.window import MainWindow
+from PySide6.QtWidgets import QDockWidget, QFileDialog, QMenu, QVBoxLayout, QWidget
 
 log = logging.getLogger(__name__)
 CELL_FILTER = "Unit cells (*.cell.json);;All files (*)"
 
 
 class CellTools:
-    """Cell files, presets, the Elements dock and the array preview of one window."""
+    """Cell files, presets, the Elements dock and the array preview of one window.
 
-    def __init__(self, window: MainWindow) -> None:
-        self.window = window
-        self.model = window.model
-        box = QWidget(window)
+    Parameters
+    ----------
+    host : ToolHost
+        The window: actions, the Elements dock, status, settings, file errors, renders.
+    model : AppModel
+    plotter : pyvistaqt.QtInteractor
+        The 3D view (the array preview draws in it).
+    scene : barymesh.app.view.scene.MeshScene
+        Its rulers and markers follow the preview's extent.
+    framing : FramedCamera
+        The window's framed camera: a framed cell is framed again with its copies.
+    clicks : ClickTools
+        The view's click tools: the drag tool is one of them.
+    controls, parameters_dock : QWidget, QDockWidget
+        The Parameters panel, disabled when no element is selected, and its dock, whose
+        title names the element it edits.
+    run_export : callable
+        ``run_export(path, unit, make, what, done, wrote=...) -> bool`` of the window:
+        ``make()`` in a worker thread, then the file written there, with progress.
+    world_at, picker
+        The View tools' ``world_at(pos)`` and the Teach tools' picker, for the drag tool.
+    """
+
+    def __init__(
+        self,
+        host: ToolHost,
+        model: AppModel,
+        plotter: Any,
+        scene: Any,
+        framing: FramedCamera,
+        clicks: ClickTools,
+        *,
+        controls: QWidget,
+        parameters_dock: QDockWidget,
+        run_export: Callable[..., bool],
+        world_at: Callable[[Any], tuple[Any, Any]],
+        picker: Any,
+    ) -> None:
+        self.host = host
+        self.model = model
+        self.plotter, self.scene, self.framing = plotter, scene, framing
+        self.controls, self.parameters_dock = controls, parameters_dock
+        self.run_export = run_export
+        box = QWidget(host.widget)
         col = QVBoxLayout(box)
         col.setContentsMargins(0, 0, 0, 0)
         self.elements = ElementsPanel(self.model, box)
         self.lattice = LatticePanel(self.model, box)
         col.addWidget(self.elements, 1)
         col.addWidget(self.lattice)
-        self.dock = window._add_dock(
+        self.dock = host.add_dock(
             "Elements", box, Qt.DockWidgetArea.LeftDockWidgetArea, scroll=True
         )
         if self.model.cell_state is None:  # shown when a cell is opened (or from the menu)
             self.dock.hide()
-        self.preview = ArrayPreview(window.plotter)
-        a = window._action
+        self.preview = ArrayPreview(plotter)
+        a = host.add_action
         self.act_open = a(
             "Open c&ell…",
             self.open_cell_dialog,
@@ -76,16 +115,19 @@ class CellTools:
             self.export_array_dialog,
             tip="Weld n1 x n2 copies of the cell (the preview's) into one mesh and write it",
         )
-        self.dragger = ElementDragger(window)
+        self.dragger = ElementDragger(
+            host, model, plotter, clicks, world_at, picker, lambda: self.elements.snap_grid
+        )
         self.preset_actions: dict[str, QAction] = {}
         self.model.cell_changed.connect(self._cell_changed)
         self.model.result_changed.connect(self._result_changed)
         self.lattice.copies_changed.connect(self._copies_changed)
         self._cell_changed(self.model.cell_state)
 
-    def add_to_menus(self, file: QMenu, cell: QMenu) -> None:
-        """Open / Save cell into File (after Save parameters), the rest into Cell."""
-        anchor = next((act for act in file.actions() if act is self.window.act_save), None)
+    def add_to_menus(self, file: QMenu, cell: QMenu, after: QAction | None = None) -> None:
+        """Open / Save cell into File (after ``after``, Save parameters), the rest into
+        Cell."""
+        anchor = next((act for act in file.actions() if act is after), None)
         after = file.actions()[file.actions().index(anchor) + 1] if anchor else None
         file.insertActions(after, [self.act_open, self.act_save])
         presets = cell.addMenu("Cell &presets")
@@ -121,10 +163,10 @@ class CellTools:
 
     def open_cell_dialog(self) -> None:
         path, _ = QFileDialog.getOpenFileName(
-            self.window, "Open cell", self.window._path_setting("cell", ""), CELL_FILTER
+            self.host.widget, "Open cell", str(self.host.setting("paths/cell", "")), CELL_FILTER
         )
         if path:
-            self.window.settings.setValue("paths/cell", path)
+            self.host.set_setting("paths/cell", path)
             self.open_cell_file(path)
 
     def open_cell_file(self, path: str | os.PathLike[str]) -> bool:
@@ -135,7 +177,7 @@ class CellTools:
         try:
             cell = load_cell(path)
         except (ValueError, OSError) as exc:
-            self.window._file_error(f"Could not open {Path(path).name}", exc, path)
+            self.host.file_error(f"Could not open {Path(path).name}", exc, path)
             return False
         self.open_cell(cell, f"Opened {Path(path).name}")
         return True
@@ -146,7 +188,7 @@ class CellTools:
         try:
             cell = load_cell_preset(name)
         except (ValueError, OSError) as exc:
-            self.window._file_error(f"Could not load cell preset {name}", exc)
+            self.host.file_error(f"Could not load cell preset {name}", exc)
             return False
         self.open_cell(cell, f"Cell preset {name}: {cell.description}")
         return True
@@ -155,18 +197,18 @@ class CellTools:
         self.model.set_cell(cell)
         self.dock.show()
         self.dock.raise_()
-        self.window.statusBar().showMessage(message, 8000)
+        self.host.show_status(message, 8000)
 
     def save_cell_dialog(self) -> None:
         if self.model.cell is None:
-            self.window.statusBar().showMessage("No unit cell is open: nothing to save")
+            self.host.show_status("No unit cell is open: nothing to save")
             return
-        start = self.window._path_setting("cell", f"{self.model.cell.name}.cell.json")
-        path, _ = QFileDialog.getSaveFileName(self.window, "Save cell", start, CELL_FILTER)
+        start = str(self.host.setting("paths/cell", f"{self.model.cell.name}.cell.json"))
+        path, _ = QFileDialog.getSaveFileName(self.host.widget, "Save cell", start, CELL_FILTER)
         if path:
             if not path.lower().endswith(".json"):
                 path += ".cell.json"
-            self.window.settings.setValue("paths/cell", path)
+            self.host.set_setting("paths/cell", path)
             self.save_cell_file(path)
 
     def save_cell_file(self, path: str | os.PathLike[str]) -> bool:
@@ -174,14 +216,14 @@ class CellTools:
 
         cell = self.model.cell
         if cell is None:
-            self.window.statusBar().showMessage("No unit cell is open: nothing to save")
+            self.host.show_status("No unit cell is open: nothing to save")
             return False
         try:
             save_cell(cell, path)
         except (ValueError, OSError) as exc:
-            self.window._file_error(f"Could not save {Path(path).name}", exc, path)
+            self.host.file_error(f"Could not save {Path(path).name}", exc, path)
             return False
-        self.window.statusBar().showMessage(f"Saved {path}", 5000)
+        self.host.show_status(f"Saved {path}", 5000)
         return True
 
     def new_cell_from_structure(self) -> None:
@@ -196,7 +238,7 @@ class CellTools:
             try:
                 mesh = build_mesh(params)
             except (ValueError, TypeError) as exc:
-                self.model._set_cell_error(f"could not mesh the structure: {exc}")
+                self.model.set_cell_error(f"could not mesh the structure: {exc}")
                 return
         lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
         centre, size = (lo + hi) / 2, float((hi - lo).max())
@@ -215,20 +257,20 @@ class CellTools:
 
     def export_array_dialog(self) -> None:
         if self.model.cell_state is None:
-            self.window.statusBar().showMessage("No unit cell is open: no array to export")
+            self.host.show_status("No unit cell is open: no array to export")
             return
         n1, n2 = self.lattice.copies
-        start = self.window._path_setting("array", f"{self.model.cell.name}-{n1}x{n2}.msh")
+        start = str(self.host.setting("paths/array", f"{self.model.cell.name}-{n1}x{n2}.msh"))
         from barymesh.io import export_filters, filter_extension
 
         # only what write_mesh writes (it offered .nas and .ply, then "cannot write .nas")
         path, chosen = QFileDialog.getSaveFileName(
-            self.window, f"Export {n1} x {n2} array mesh", start, ";;".join(export_filters())
+            self.host.widget, f"Export {n1} x {n2} array mesh", start, ";;".join(export_filters())
         )
         if path:
             if not Path(path).suffix:
                 path += filter_extension(chosen) or ".msh"
-            self.window.settings.setValue("paths/array", path)
+            self.host.set_setting("paths/array", path)
             self.export_array(path)
 
     def export_array(
@@ -239,12 +281,12 @@ class CellTools:
     ) -> bool:
         """Weld the preview's n1 x n2 copies of the cell (:func:`barymesh.cell.tile`) and write
         them (the format from the extension), both in a worker thread with progress and
-        Cancel (:meth:`MainWindow.run_export`). Returns whether the export started."""
+        Cancel (the window's ``run_export``). Returns whether the export started."""
         from barymesh.cell import tile
 
         state = self.model.cell_state
         if state is None:
-            self.window.statusBar().showMessage("No unit cell is open: no array to export")
+            self.host.show_status("No unit cell is open: no array to export")
             return False
         n1, n2 = self.lattice.copies
         result = self.model.result
@@ -264,23 +306,22 @@ class CellTools:
             self.last_array = made["array"]
             return f"Wrote the {n1} x {n2} array ({mesh.n_triangles:,} triangles): {described}"
 
-        return self.window.run_export(path, unit, make, f"the {n1} x {n2} array", done, wrote=wrote)
+        return self.run_export(path, unit, make, f"the {n1} x {n2} array", done, wrote=wrote)
 
     # -- model -> window ---------------------------------------------------------------------
 
     def _cell_changed(self, state: CellState | None) -> None:
-        w = self.window
         editable = state is None or state.selected is not None
-        w.controls.setEnabled(editable)
+        self.controls.setEnabled(editable)
         if state is None:
-            w.parameters_dock.setWindowTitle("Parameters")
+            self.parameters_dock.setWindowTitle("Parameters")
             if self.preview.clear():
-                w.request_render()
+                self.host.request_render()
         elif state.selected is not None:
             name = state.elements[state.selected].name
-            w.parameters_dock.setWindowTitle(f"Parameters – element {name}")
+            self.parameters_dock.setWindowTitle(f"Parameters – element {name}")
         else:
-            w.parameters_dock.setWindowTitle("Parameters – no element selected")
+            self.parameters_dock.setWindowTitle("Parameters – no element selected")
         for act in (self.act_save, self.act_export_array, self.dragger.act):
             act.setEnabled(state is not None)
 
@@ -291,22 +332,20 @@ class CellTools:
         self._draw_preview(self.model.result, reframe=True)
 
     def _draw_preview(self, result: MeshResult | None, reframe: bool) -> None:
-        w = self.window
-        if w._closed:
+        if self.host.closed:
             return
         cell = result.cell if result is not None else None
         if cell is None:  # a structure: no outline (and no extra paint of the view)
             if self.preview.clear():
-                w.request_render()
+                self.host.request_render()
             return
         # a freshly framed mesh (not a camera the user moved) is framed with its copies
-        framed = getattr(w, "_framed", None)
-        was_framed = framed is not None and w._camera_state() == framed
+        was_framed = self.framing.holds(exact=True)
         self.preview.show(result.mesh, cell.lattice, *self.lattice.copies)
         if self.preview.bounds is not None:  # rulers (and R) span the cell and its copies
-            w.scene.show_rulers(self.preview.bounds)
+            self.scene.show_rulers(self.preview.bounds)
         if (reframe or was_framed) and self.preview.bounds is not None:
-            frame_from_above(w.plotter, self.preview.bounds)
-            w.scene.fit_marker_sizes()
-            w._framed = w._camera_state()
-        w.request_render()
+            frame_from_above(self.plotter, self.preview.bounds)
+            self.scene.fit_marker_sizes()
+            self.framing.remember()
+        self.host.request_render()

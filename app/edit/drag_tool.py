@@ -14,15 +14,15 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pyvista as pv
+from barymesh.app.model import AppModel, ClickTools
+from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
-
-if TYPE_CHECKING:
-    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 DRAG_COLOR = "#00a0b0"
@@ -67,12 +67,40 @@ def edge_snap(
 
 
 class ElementDragger(QObject):
-    """The drag tool of one window (see the module docstring)."""
+    """The drag tool of one window (see the module docstring).
 
-    def __init__(self, window: MainWindow) -> None:
-        super().__init__(window)
-        self.window = window
-        self.active = False
+    Parameters
+    ----------
+    host : ToolHost
+        The window: the tool's action, render requests.
+    model : AppModel
+        The cell it edits (one :meth:`AppModel.edit_cell` per drag).
+    plotter : pyvistaqt.QtInteractor
+        The 3D view whose presses it takes.
+    clicks : ClickTools
+        The view's click tools; this is ``"drag"``.
+    world_at : callable
+        ``world_at(pos) -> (point or None, triangle or None)``: the View tools' mesh point
+        under a widget position.
+    picker : barymesh.app.teach.inspector_panel.ViewPicker
+        The view's picker: which triangle (so which element) is under the pointer.
+    snap_grid : callable
+        ``snap_grid() -> float or None``: the Elements panel's grid (mm) positions snap to.
+    """
+
+    def __init__(
+        self,
+        host: ToolHost,
+        model: AppModel,
+        plotter: Any,
+        clicks: ClickTools,
+        world_at: Callable[[QPointF], tuple[Any, Any]],
+        picker: Any,
+        snap_grid: Callable[[], float | None],
+    ) -> None:
+        super().__init__(host.widget)
+        self.host, self.model, self.plotter, self.clicks = host, model, plotter, clicks
+        self.world_at, self.picker, self.snap_grid = world_at, picker, snap_grid
         self.dragging: int | None = None  # element index in the whole cell
         self._start: np.ndarray | None = None  # world point of the press
         self._origin = (0.0, 0.0)  # the element's position at the press
@@ -80,17 +108,21 @@ class ElementDragger(QObject):
         self._box = np.zeros(4)  # the dragged element's box (x0, y0, x1, y1) at the press
         self._others = np.zeros((0, 4))  # the other shown elements' boxes
         self._actor: Any = None
-        self.act = window._action(
+        self.act = host.add_action(
             "&Drag elements",
             self.set_active,
             "G",
             "Move an element by dragging it in the view (snapped to the Elements panel's grid)",
             checkable=True,
         )
-        window.plotter.installEventFilter(self)
+        plotter.installEventFilter(self)
+
+    @property
+    def active(self) -> bool:
+        return self.clicks.is_on("drag")
 
     def set_active(self, on: bool) -> None:
-        self.active = bool(on)
+        self.clicks.set_on("drag", on)
         if self.act.isChecked() != self.active:
             self.act.setChecked(self.active)
         if not self.active:
@@ -99,18 +131,17 @@ class ElementDragger(QObject):
     # -- mouse ------------------------------------------------------------------------
 
     def _world(self, pos: QPointF) -> np.ndarray | None:
-        point, _triangle = self.window.view_tools.world_at(pos)
+        point, _triangle = self.world_at(pos)
         return None if point is None else np.asarray(point, dtype=np.float64)[:2]
 
     def element_at(self, pos: QPointF) -> int | None:
         """The element (index in the whole cell) whose metal is under ``pos``, or None."""
-        w = self.window
-        result, state = w.model.result, w.model.cell_state
+        result, state = self.model.result, self.model.cell_state
         if result is None or result.cell is None or state is None or state.visible != result.cell:
             return None
-        ratio = w.plotter.devicePixelRatioF()
-        hit = w.teaching.picker.pick_display(
-            pos.x() * ratio, (w.plotter.height() - 1 - pos.y()) * ratio, emit=False
+        ratio = self.plotter.devicePixelRatioF()
+        hit = self.picker.pick_display(
+            pos.x() * ratio, (self.plotter.height() - 1 - pos.y()) * ratio, emit=False
         )
         if hit is None:
             return None
@@ -145,7 +176,7 @@ class ElementDragger(QObject):
         start = self._world(pos)
         if k is None or start is None:
             return False  # not on an element: the camera's press
-        model = self.window.model
+        model = self.model
         model.select_element(k)
         self.dragging, self._start = k, start
         self._origin = model.cell_state.elements[k].position
@@ -158,7 +189,7 @@ class ElementDragger(QObject):
 
     def _boxes(self) -> dict[int, np.ndarray]:
         """Bounding box (x0, y0, x1, y1) of every shown element as placed, by its index."""
-        result, state = self.window.model.result, self.window.model.cell_state
+        result, state = self.model.result, self.model.cell_state
         shown = [k for k, hidden in enumerate(state.hidden) if not hidden]
         boxes = {}
         for k, mesh in zip(shown, result.cell_mesh.part_meshes, strict=False):
@@ -171,14 +202,14 @@ class ElementDragger(QObject):
         point = self._world(pos)
         if point is None or self._start is None:
             return
-        grid = self.window.cell_tools.elements.snap_grid
+        grid = self.snap_grid()
         delta = point - self._start
         x = snapped(self._origin[0] + delta[0], grid)
         y = snapped(self._origin[1] + delta[1], grid)
         # a side near another element's side wins over the grid
         raw = np.array([self._origin[0] + delta[0], self._origin[1] + delta[1]])
         shift = np.tile(raw - self._origin, 2)
-        reach = EDGE_SNAP_PX / max(pixels_per_mm(self.window.plotter), 1e-12)
+        reach = EDGE_SNAP_PX / max(pixels_per_mm(self.plotter), 1e-12)
         dx, dy = edge_snap(self._box + shift, self._others, reach)
         if dx is not None:
             x = round(float(raw[0] + dx), 12)
@@ -189,7 +220,7 @@ class ElementDragger(QObject):
             self._actor.SetPosition(
                 self.target[0] - self._origin[0], self.target[1] - self._origin[1], 0.0
             )
-            self.window.request_render()
+            self.host.request_render()
 
     def _release(self, pos: QPointF) -> None:
         self._move(pos)
@@ -199,20 +230,19 @@ class ElementDragger(QObject):
         )
         self._cancel()
         if moved:
-            self.window.model.edit_cell(lambda s: s.placed(k, position=target))
+            self.model.edit_cell(lambda s: s.placed(k, position=target))
 
     def _cancel(self) -> None:
         self.dragging = None
         self._start = None
         if self._actor is not None:
-            self.window.plotter.remove_actor(self._actor, render=False)
+            self.plotter.remove_actor(self._actor, render=False)
             self._actor = None
-            self.window.request_render()
+            self.host.request_render()
 
     def _draw_part(self, k: int) -> None:
         """The element's own mesh as a wireframe that follows the pointer."""
-        w = self.window
-        result, state = w.model.result, w.model.cell_state
+        result, state = self.model.result, self.model.cell_state
         part = [j for j, hidden in enumerate(state.hidden) if not hidden].index(k)
         mesh = result.cell_mesh.part_meshes[part]
         if not mesh.n_triangles:
@@ -221,7 +251,7 @@ class ElementDragger(QObject):
         lift = 1e-3 * state.cell.lattice.size
         points = np.column_stack([mesh.points[:, :2], np.full(mesh.n_vertices, lift)])
         poly = pv.PolyData(points, faces=faces.astype(np.int64))
-        self._actor = w.plotter.add_mesh(
+        self._actor = self.plotter.add_mesh(
             poly,
             color=DRAG_COLOR,
             opacity=0.5,
@@ -231,4 +261,4 @@ class ElementDragger(QObject):
             pickable=False,
             name="element_drag",
         )
-        w.request_render()
+        self.host.request_render()

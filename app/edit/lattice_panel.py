@@ -3,10 +3,7 @@ n1 x n2 copies (a view setting, not part of the cell)."""
 
 from __future__ import annotations
 
-import argparse
-import re
-
-from barymesh.app.edit.cell_document import LATTICE_KINDS, CellState, lattice_periods
+from barymesh.app.edit.cell_document import LATTICE_KINDS, MAX_COPIES, CellState, lattice_periods
 from barymesh.app.model import AppModel, format_value, read_number
 from barymesh.app.panels.controls import ValueField, decimal_point
 from PySide6.QtCore import Signal
@@ -17,22 +14,6 @@ KIND_TITLES = {
     "hexagonal": "Hexagonal",
     "oblique": "Oblique (from the file)",
 }
-#: Copies per direction the preview offers.
-MAX_COPIES = 50
-
-
-def parse_copies(text: str) -> tuple[int, int]:
-    """``"3x2"`` -> (3, 2): the preview's copies as typed on the command line.
-
-    >>> parse_copies("3x2"), parse_copies(" 4 × 1 ")
-    ((3, 2), (4, 1))
-    """
-    match = re.fullmatch(r"\s*(\d{1,6})\s*[xX×]\s*(\d{1,6})\s*", text)
-    if not match or not all(1 <= int(g) <= MAX_COPIES for g in match.groups()):
-        raise argparse.ArgumentTypeError(
-            f"{text[:40]!r} is invalid; expected N1xN2 copies, each 1 to {MAX_COPIES}, e.g. 3x2"
-        )
-    return int(match[1]), int(match[2])
 
 
 class LatticePanel(QGroupBox):

@@ -12,10 +12,10 @@ wheel zooms; nothing rotates. A mouse position is turned into a pixel by casting
 ray through the camera onto the plane z = 0 (exact for the parallel projection).
 
 The edits themselves are :mod:`barymesh.app.edit.pixels` (no Qt); this window keeps the undo
-history of (pixel grid, lattice) states, draws, and rebuilds the mesh in a worker thread
-after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
-131,072 triangles). While the build runs, pixels painted or erased since the mesh on
-screen are drawn as flat squares over it.
+history (a :class:`barymesh.app.model.UndoHistory`) of (pixel grid, lattice) states, draws,
+and rebuilds the mesh in a worker thread after every stroke, so the window keeps answering
+on large grids (a 64 x 64 grid is 131,072 triangles). While the build runs, pixels painted
+or erased since the mesh on screen are drawn as flat squares over it.
 """
 
 from __future__ import annotations
@@ -25,11 +25,13 @@ import logging
 import time
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import pyvista as pv
 from barymesh.app.edit import pixels
+from barymesh.app.model import UndoHistory
+from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
 from barymesh.app.worker import Job
@@ -60,9 +62,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-
-if TYPE_CHECKING:
-    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -224,6 +223,11 @@ class PixelPainterWindow(QMainWindow):
         "8-fold need a square grid)"
     )
 
+    @property
+    def closed(self) -> bool:
+        """Whether the painter was closed (its view released)."""
+        return self._closed
+
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
         from pyvistaqt import QtInteractor
@@ -273,8 +277,7 @@ class PixelPainterWindow(QMainWindow):
         self._render_timer.setInterval(0)
         self._render_timer.timeout.connect(self._render)
 
-        self.history: list[PainterState] = []
-        self.position = -1
+        self.undo_history: UndoHistory[PainterState] | None = None  # made by open_cell
         self.open_cell(cell if cell is not None else _start_cell())
         self.resize(1100, 860)
 
@@ -282,7 +285,16 @@ class PixelPainterWindow(QMainWindow):
 
     @property
     def state(self) -> PainterState:
-        return self.history[self.position]
+        return self.undo_history.current
+
+    @property
+    def history(self) -> list[PainterState]:
+        """Every state of the undo history, the current one at :attr:`position`."""
+        return self.undo_history.states
+
+    @property
+    def position(self) -> int:
+        return self.undo_history.position
 
     @property
     def grid(self) -> PixelGrid:
@@ -319,8 +331,7 @@ class PixelPainterWindow(QMainWindow):
         self._elements = cell.elements
         self._mode, self._tolerance = cell.mode, cell.tolerance
         self._name, self._description = cell.name, cell.description
-        self.history = [PainterState(grid, cell.lattice)]
-        self.position = 0
+        self.undo_history = UndoHistory(PainterState(grid, cell.lattice))
         self.setWindowTitle(f"barymesh – paint pixels – {cell.name}")
         if grid.mask.any():  # start in the largest symmetry the cell has
             fits = [
@@ -336,26 +347,23 @@ class PixelPainterWindow(QMainWindow):
         state = PainterState(grid, lattice or self.state.lattice)
         if state.grid == self.grid and state.lattice == self.state.lattice:
             return False
-        del self.history[self.position + 1 :]
-        self.history.append(state)
-        self.position += 1
-        reframe = grid.shape != self.history[self.position - 1].grid.shape or (
-            grid.pixel_size != self.history[self.position - 1].grid.pixel_size
-        )
+        self.undo_history.push(state)
+        before = self.undo_history.previous.grid
+        reframe = grid.shape != before.shape or grid.pixel_size != before.pixel_size
         self._state_changed(reframe=reframe)
         return True
 
     def undo(self) -> None:
-        if self.position > 0:
-            self._go(self.position - 1)
+        old = self.grid
+        if self.undo_history.undo() is not None:
+            self._moved_from(old)
 
     def redo(self) -> None:
-        if self.position < len(self.history) - 1:
-            self._go(self.position + 1)
-
-    def _go(self, position: int) -> None:
         old = self.grid
-        self.position = position
+        if self.undo_history.redo() is not None:
+            self._moved_from(old)
+
+    def _moved_from(self, old: PixelGrid) -> None:
         new = self.grid
         self._state_changed(reframe=old.shape != new.shape or old.pixel_size != new.pixel_size)
 
@@ -384,8 +392,8 @@ class PixelPainterWindow(QMainWindow):
                         5000,
                     )
                 self._square_symmetry = None
-        self.act_undo.setEnabled(self.position > 0)
-        self.act_redo.setEnabled(self.position < len(self.history) - 1)
+        self.act_undo.setEnabled(self.undo_history.can_undo)
+        self.act_redo.setEnabled(self.undo_history.can_redo)
         self._draw_grid()
         if reframe:
             self.reset_view()
@@ -1207,26 +1215,26 @@ class PainterOpener(QObject):
     """Cell → Paint pixels… (Ctrl+Shift+P) of a main window: the painter, made on first use,
     closed with the main window."""
 
-    def __init__(self, window: MainWindow, menu: QMenu) -> None:
-        super().__init__(window)
-        self.window = window
+    def __init__(self, host: ToolHost, menu: QMenu) -> None:
+        super().__init__(host.widget)
+        self.host = host
         self.painter: PixelPainterWindow | None = None
-        self.act_paint = window._action(
+        self.act_paint = host.add_action(
             "&Paint pixels…",
             self.show,
             "Ctrl+Shift+P",
             "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo",
         )
         menu.addAction(self.act_paint)
-        window.installEventFilter(self)
+        host.widget.installEventFilter(self)
 
     def show(self) -> PixelPainterWindow | None:
-        if self.painter is None or self.painter._closed:
+        if self.painter is None or self.painter.closed:
             try:
-                self.painter = PixelPainterWindow(parent=self.window)
+                self.painter = PixelPainterWindow(parent=self.host.widget)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
                 log.exception("could not open the pixel painter")
-                self.window.statusBar().showMessage(f"Could not open the pixel painter: {exc}")
+                self.host.show_status(f"Could not open the pixel painter: {exc}")
                 return None
         self.painter.show()
         self.painter.raise_()
@@ -1234,7 +1242,7 @@ class PainterOpener(QObject):
         return self.painter
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if watched is self.window and event.type() == QEvent.Type.Close and self.painter:
+        if watched is self.host.widget and event.type() == QEvent.Type.Close and self.painter:
             try:
                 self.painter.close()
             except RuntimeError:  # already deleted by Qt

@@ -24,6 +24,11 @@ class FollowingView(QWidget):
     _closed = False
     presenting = False
 
+    @property
+    def closed(self) -> bool:
+        """Whether the window was closed (it stopped following, its view is released)."""
+        return self._closed
+
     def _add_presentation_key(self) -> None:
         """F5 in this window: full screen with larger fonts, F5 again: back."""
         shortcut = QShortcut(QKeySequence("F5"), self)

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pyvista as pv
 from barymesh import MeshParams, build_mesh
-from barymesh.app.view.scene import MeshScene, _prepare_headless, scene_data
+from barymesh.app.view.scene import MeshScene, prepare_headless, scene_data
 from barymesh.io import atomic_write
 from barymesh.sweep import check_sweep_size, sweep_params
 
@@ -120,7 +120,7 @@ def render_sweep(
 
     # second pass: mesh again and render, so memory does not grow with the frame count
     width, height = (int(v) for v in window_size)
-    _prepare_headless()
+    prepare_headless()
     plotter = pv.Plotter(off_screen=True, window_size=(width, height))
     images = []
     try:

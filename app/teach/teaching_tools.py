@@ -5,25 +5,29 @@ overlays and the actions, and links them: a click on the mesh selects an edge in
 inspector and the triangle's row in the matrix; hovering a matrix cell marks its two
 triangles; clicking a one selects the edge they share. The window calls
 :meth:`TeachingTools.mesh_changed` with every new mesh.
+
+The tools make the view's click picker and triangle highlight, which the View tools use
+too; their zoom buttons ask for a zoom through :attr:`TeachingTools.zoom_to_points_requested`
+and :attr:`~TeachingTools.zoom_to_selection_requested`, which the window connects to the
+View tools (made after these).
 """
 
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from barymesh import TriMesh
+from barymesh.app.model import ClickTools, Event
 from barymesh.app.teach.inspector_panel import InspectorPanel, ViewPicker
 from barymesh.app.teach.matrix_view import MatrixView
 from barymesh.app.teach.presentation import EMPHASIS, PresentationMode
+from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
 from barymesh.app.view.highlight import TriangleHighlight
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QDockWidget, QMenu
-
-if TYPE_CHECKING:
-    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -38,33 +42,61 @@ def shared_edge(mesh: TriMesh, a: int, b: int) -> int | None:
 
 
 class TeachingTools:
-    """The inspector, matrix view and presentation mode of one :class:`MainWindow`."""
+    """The inspector, matrix view and presentation mode of one window.
 
-    def __init__(self, window: MainWindow) -> None:
-        self.window = window
+    Parameters
+    ----------
+    host : ToolHost
+        The window: the actions, the two docks, render requests, presentation mode.
+    plotter : pyvistaqt.QtInteractor
+        The 3D view: its picker, highlight and overlays are made here.
+    scene : barymesh.app.view.scene.MeshScene
+        What the picker picks (the faces) and what presentation mode thickens.
+    clicks : ClickTools
+        The view's click tools: the inspector and the matrix are two of them.
+    beside : QDockWidget, optional
+        The docks are tabbed with this one (the Statistics dock).
+
+    Events: ``zoom_to_selection_requested()`` (the inspector's Zoom) and
+    ``zoom_to_points_requested(points)`` ((k, 3) mm, the matrix cell's Zoom).
+    """
+
+    def __init__(
+        self,
+        host: ToolHost,
+        plotter: Any,
+        scene: Any,
+        clicks: ClickTools,
+        beside: QDockWidget | None = None,
+    ) -> None:
+        self.host = host
+        self.clicks = clicks
+        self.plotter, self.scene = plotter, scene
+        self.beside = beside
         self.mesh: TriMesh | None = None
-        plotter = window.plotter
+        self.zoom_to_selection_requested = Event()
+        self.zoom_to_points_requested = Event()
         self.inspector = InspectorPanel(plotter)
         self.matrix = MatrixView()
         self.highlight = TriangleHighlight(plotter)
-        self.picker = ViewPicker(plotter, window.scene.actors["faces"], window)
+        self.picker = ViewPicker(plotter, scene.actors["faces"], host.widget)
         self.picker.triangle_picked.connect(self._triangle_picked)
         self.inspector.zoom_requested.connect(self.zoom_to_edge)
         self.matrix.cell_hovered.connect(self._cell_hovered)
         self.matrix.cell_clicked.connect(self._cell_clicked)
         self.matrix.zoom_requested.connect(self.zoom_to_cell)
-        self.presentation = PresentationMode(window, self._emphasize)
+        self.presentation = PresentationMode(host.widget, self._emphasize)
         # a hover marks the triangles at once but repaints the 3D view only when the
         # pointer rests: a sweep across the spy plot costs one paint, not one per cell
-        self._repaint = QTimer(window)
+        self._repaint = QTimer(host.widget)
         self._repaint.setSingleShot(True)
         self._repaint.setInterval(HOVER_REPAINT_MS)
-        self._repaint.timeout.connect(window.request_render)
+        self._repaint.timeout.connect(host.request_render)
 
         self.inspector_dock = self._dock("RWG inspector", "dock_inspector", self.inspector)
         self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", self.matrix)
 
-        a = window._action
+        a = host.add_action
         self.act_inspector = a(
             "RWG &basis inspector",
             self.set_inspector_active,
@@ -91,14 +123,9 @@ class TeachingTools:
         self._sync_step_actions()
 
     def _dock(self, title: str, name: str, widget: Any) -> QDockWidget:
-        w = self.window
-        dock = QDockWidget(title, w)
-        dock.setObjectName(name)
-        dock.setWidget(widget)
-        w.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
-        anchor = getattr(w, "statistics_dock", None)
-        if anchor is not None:
-            w.tabifyDockWidget(anchor, dock)
+        dock = self.host.add_dock(
+            title, widget, Qt.DockWidgetArea.RightDockWidgetArea, name=name, tab_with=self.beside
+        )
         dock.hide()
         dock.visibilityChanged.connect(lambda _v, d=dock: self._dock_visibility(d))
         return dock
@@ -116,14 +143,15 @@ class TeachingTools:
 
     @property
     def inspector_active(self) -> bool:
-        return self.act_inspector.isChecked()
+        return self.clicks.is_on("inspector")
 
     @property
     def matrix_active(self) -> bool:
-        return self.act_matrix.isChecked()
+        return self.clicks.is_on("matrix")
 
     def set_inspector_active(self, on: bool) -> None:
         on = bool(on)
+        self.clicks.set_on("inspector", on)
         if self.act_inspector.isChecked() != on:
             self.act_inspector.setChecked(on)
         if on:
@@ -139,6 +167,7 @@ class TeachingTools:
 
     def set_matrix_active(self, on: bool) -> None:
         on = bool(on)
+        self.clicks.set_on("matrix", on)
         if self.act_matrix.isChecked() != on:
             self.act_matrix.setChecked(on)
         if on:
@@ -147,7 +176,7 @@ class TeachingTools:
             if not self.presentation.active:
                 self.matrix_dock.hide()
             self.highlight.show(None, None)
-            self.window.request_render()
+            self.host.request_render()
         self._sync_picking()
 
     def _show_dock(self, dock: QDockWidget) -> None:
@@ -160,7 +189,7 @@ class TeachingTools:
         """A dock closed with its own button turns its tool off, a dock shown (a restored
         session, View menu) turns it on: a dock is never shown for a tool that is off.
         Not while presenting or while the window arranges its docks."""
-        if self.presentation.active or getattr(self.window, "_arranging", False):
+        if self.presentation.active or self.host.arranging_docks:
             return
         inspector = dock is self.inspector_dock
         active = self.inspector_active if inspector else self.matrix_active
@@ -169,7 +198,7 @@ class TeachingTools:
             switch(not dock.isHidden())
 
     def _sync_picking(self) -> None:
-        self.picker.enabled = self.inspector_active or self.matrix_active
+        self.picker.enabled = self.clicks.picking
         self._sync_step_actions()
 
     def _sync_step_actions(self) -> None:
@@ -203,11 +232,11 @@ class TeachingTools:
             self.matrix.highlight_row(triangle)
             if not self.inspector_active:
                 self._mark(triangle)
-        self.window.request_render()
+        self.host.request_render()
 
     def _mark(self, row: int | None, col: int | None = None) -> None:
         self.highlight.show(self.mesh, row, col)
-        self.highlight.fit(pixels_per_mm(self.window.plotter))
+        self.highlight.fit(pixels_per_mm(self.plotter))
 
     def _cell_hovered(self, row: int, col: int) -> None:
         """Cheap at any size: the spy plot blits one box, the 3D view is asked for one
@@ -219,7 +248,7 @@ class TeachingTools:
     def _cell_clicked(self, row: int, col: int) -> None:
         self._cell_hovered(row, col)
         self._repaint.stop()
-        self.window.request_render()
+        self.host.request_render()
         self.matrix.highlight_row(row)
         if self.inspector_active and self.mesh is not None:
             edge = shared_edge(self.mesh, row, col)
@@ -237,7 +266,17 @@ class TeachingTools:
     def zoom_to_edge(self) -> None:
         """Centre the view on the inspected edge, its triangles filling about a third."""
         if self.inspector_active and self.inspector.info is not None:
-            self.window.view_tools.zoom_to_selection()
+            self.zoom_to_selection_requested.emit()
+
+    def selected_triangles(self) -> list[int] | None:
+        """The triangles these tools select, for Zoom to selection: the inspected edge's
+        two, else the marked matrix cell's (or row's); None when neither tool is on or
+        holds a selection."""
+        if self.inspector_active and self.inspector.info is not None:
+            return list(self.inspector.info.triangles)
+        if self.matrix_active and self.highlight.triangles:
+            return list(self.highlight.triangles)
+        return None
 
     def zoom_to_cell(self) -> None:
         """Frame the two triangles of the clicked matrix cell (the spy plot's Zoom button)."""
@@ -247,14 +286,14 @@ class TeachingTools:
         self._mark(*cell)
         tris = sorted(set(cell))
         mesh = self.mesh
-        self.window.view_tools.zoom_to_points(mesh.points[mesh.triangles[tris]].reshape(-1, 3))
+        self.zoom_to_points_requested.emit(mesh.points[mesh.triangles[tris]].reshape(-1, 3))
 
     def _emphasize(self, scale: float) -> None:
-        self.window.scene.set_emphasis(scale)
+        self.scene.set_emphasis(scale)
         overlay = 1.0 if scale == 1.0 else 0.8 * EMPHASIS
         self.inspector.overlay.set_scale(overlay)
         self.highlight.set_scale(overlay)
         self.matrix.set_font_scale(scale)
         if self.act_presentation.isChecked() != self.presentation.active:
             self.act_presentation.setChecked(self.presentation.active)
-        self.window.plotter.render()
+        self.plotter.render()

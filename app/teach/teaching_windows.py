@@ -10,6 +10,8 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any
 
+from barymesh.app.model import AppModel
+from barymesh.app.tool_host import ToolHost
 from PySide6.QtCore import QEvent, QObject
 from PySide6.QtWidgets import QMenu
 
@@ -17,21 +19,29 @@ if TYPE_CHECKING:
     from barymesh.app.teach.compare_view import CompareView
     from barymesh.app.teach.construction_view import ConstructionView
     from barymesh.app.teach.sweep_dialog import SweepDialog
-    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
 
 class TeachingWindows(QObject):
-    """The construction window, the compare window and the sweep dialog of one window."""
+    """The construction window, the compare window and the sweep dialog of one window.
 
-    def __init__(self, window: MainWindow) -> None:
-        super().__init__(window)
-        self.window = window
+    Parameters
+    ----------
+    host : ToolHost
+        The window: the actions, the parent of the windows (closed with it), status
+        messages, the sweep's folder setting.
+    model : AppModel
+        What the windows follow.
+    """
+
+    def __init__(self, host: ToolHost, model: AppModel) -> None:
+        super().__init__(host.widget)
+        self.host, self.model = host, model
         self.construction: ConstructionView | None = None
         self.compare: CompareView | None = None
         self.sweep: SweepDialog | None = None
-        a = window._action
+        a = host.add_action
         self.act_construction = a(
             "&Construction step by step…",
             self.show_construction,
@@ -51,7 +61,7 @@ class TeachingWindows(QObject):
             "Ctrl+Shift+A",
             "A GIF or MP4 of one parameter swept over K frames",
         )
-        window.installEventFilter(self)
+        host.widget.installEventFilter(self)
 
     def add_to_menu(self, menu: QMenu) -> None:
         """Add the construction and compare windows to the Teach menu."""
@@ -63,9 +73,9 @@ class TeachingWindows(QObject):
     def show_construction(self) -> ConstructionView | None:
         from barymesh.app.teach.construction_view import ConstructionView
 
-        if self.construction is None or self.construction._closed:
+        if self.construction is None or self.construction.closed:
             try:
-                self.construction = ConstructionView(self.window.model, self.window)
+                self.construction = ConstructionView(self.model, self.host.widget)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
                 return self._failed("construction view", exc)
         self._raise(self.construction)
@@ -74,9 +84,9 @@ class TeachingWindows(QObject):
     def show_compare(self) -> CompareView | None:
         from barymesh.app.teach.compare_view import CompareView
 
-        if self.compare is None or self.compare._closed:
+        if self.compare is None or self.compare.closed:
             try:
-                self.compare = CompareView(self.window.model, self.window)
+                self.compare = CompareView(self.model, self.host.widget)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
                 return self._failed("paper vs conforming view", exc)
         self._raise(self.compare)
@@ -88,9 +98,9 @@ class TeachingWindows(QObject):
         if self.sweep is not None and self.sweep.running:
             self._raise(self.sweep)
             return self.sweep
-        start = str(self.window.settings.value("paths/sweep_dir", ""))
+        start = str(self.host.setting("paths/sweep_dir", ""))
         try:
-            self.sweep = SweepDialog(lambda: self.window.model.params, self.window, start_dir=start)
+            self.sweep = SweepDialog(lambda: self.model.params, self.host.widget, start_dir=start)
         except Exception as exc:  # noqa: BLE001 - reported, never a crash
             return self._failed("sweep dialog", exc)
         self.sweep.finished_export.connect(self._sweep_done)
@@ -102,8 +112,8 @@ class TeachingWindows(QObject):
             from pathlib import Path
 
             path = Path(self.sweep.path.text()).expanduser()
-            self.window.settings.setValue("paths/sweep_dir", str(path.parent))
-            self.window.statusBar().showMessage(f"Wrote {outcome} frames to {path}", 8000)
+            self.host.set_setting("paths/sweep_dir", str(path.parent))
+            self.host.show_status(f"Wrote {outcome} frames to {path}", 8000)
 
     @staticmethod
     def _raise(widget: Any) -> None:
@@ -113,7 +123,7 @@ class TeachingWindows(QObject):
 
     def _failed(self, what: str, exc: BaseException) -> None:
         log.exception("could not open the %s", what)
-        self.window.statusBar().showMessage(f"Could not open the {what}: {exc}")
+        self.host.show_status(f"Could not open the {what}: {exc}")
         return None
 
     # -- closing with the main window ----------------------------------------------------
@@ -128,6 +138,6 @@ class TeachingWindows(QObject):
                     pass
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if watched is self.window and event.type() == QEvent.Type.Close:
+        if watched is self.host.widget and event.type() == QEvent.Type.Close:
             self.close_all()
         return False

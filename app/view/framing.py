@@ -163,3 +163,33 @@ def world_rect_on_screen(
     """(width, height) in pixels that the rectangle ``bounds`` covers at the current zoom."""
     k = pixels_per_mm(plotter)
     return (float(bounds[1] - bounds[0]) * k, float(bounds[3] - bounds[2]) * k)
+
+
+class FramedCamera:
+    """The camera of ``plotter`` as a mesh was last framed.
+
+    The window keeps a framed mesh framed (through resizes, with the array preview's
+    copies) until the camera is moved: :meth:`holds` says whether it still is as framed.
+    """
+
+    def __init__(self, plotter: Any) -> None:
+        self.plotter = plotter
+        self.framed: tuple[float, ...] | None = None
+
+    def state(self) -> tuple[float, ...]:
+        """Position, focal point, view up and parallel scale: 10 floats."""
+        c = self.plotter.camera
+        return (*c.position, *c.focal_point, *c.up, float(c.parallel_scale))
+
+    def remember(self) -> None:
+        """The camera as it is now is the framed one."""
+        self.framed = self.state()
+
+    def holds(self, exact: bool = False) -> bool:
+        """Whether the camera is still as framed (to rounding, or ``exact``ly)."""
+        if self.framed is None:
+            return False
+        now = self.state()
+        if exact:
+            return now == self.framed
+        return bool(np.allclose(now, self.framed, rtol=1e-9, atol=1e-12))

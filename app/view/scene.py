@@ -1546,7 +1546,7 @@ def nice_inside(lo: float, hi: float) -> tuple[float, float, int]:
     return a, b, int(round((b - a) / step)) + 1
 
 
-def _prepare_headless() -> None:
+def prepare_headless() -> None:
     """Without an X display, have VTK render through EGL instead of trying X first."""
     if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
@@ -1585,7 +1585,7 @@ def render_screenshot(
     if width < 1 or height < 1:
         raise ValueError(f"window_size={window_size!r} is invalid; expected two positive ints")
     path = Path(path)
-    _prepare_headless()
+    prepare_headless()
     plotter = pv.Plotter(off_screen=True, window_size=(width, height))
     try:
         scene = MeshScene(plotter, visible=visible, color_by=color_by)
@@ -1596,13 +1596,13 @@ def render_screenshot(
         plotter.close()
     image = np.asarray(image)
     if image.shape[:2] != (height, width):  # high-DPI or a window manager resized it
-        image = _resized(image, width, height)
+        image = resized_image(image, width, height)
     import imageio.v3 as iio
 
     iio.imwrite(path, image, extension=".png")
 
 
-def _resized(image: np.ndarray, width: int, height: int) -> np.ndarray:
+def resized_image(image: np.ndarray, width: int, height: int) -> np.ndarray:
     """Nearest-neighbour resize (rarely needed; keeps the promised size exact)."""
     rows = (np.arange(height) * image.shape[0] / height).astype(int)
     cols = (np.arange(width) * image.shape[1] / width).astype(int)

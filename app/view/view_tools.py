@@ -17,11 +17,14 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Callable, Sequence
 from functools import partial
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from barymesh import TriMesh
+from barymesh.app.model import ClickTools, ViewSelection
+from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_points, pixels_per_mm
 from barymesh.app.view.measure import MeasureTool
 from barymesh.app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
@@ -29,9 +32,6 @@ from barymesh.app.worker import Job, release_memory
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
 from PySide6.QtGui import QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
-
-if TYPE_CHECKING:
-    from barymesh.app.window import MainWindow
 
 log = logging.getLogger(__name__)
 
@@ -63,21 +63,57 @@ class _Relay(QObject):
 
 
 class ViewTools(QObject):
-    """Readout, measuring and zoom-to-selection of one :class:`barymesh.app.window.MainWindow`.
+    """Readout, measuring and zoom-to-selection of one window.
 
-    The window puts :attr:`strip` under its 3D view and calls :meth:`mesh_changed` with
-    every new mesh.
+    The window puts :meth:`container` (its 3D view with :attr:`strip` under it) in the
+    middle and calls :meth:`mesh_changed` with every new mesh.
+
+    Parameters
+    ----------
+    host : ToolHost
+        The window: the actions, status messages, render requests.
+    plotter : pyvistaqt.QtInteractor
+        The 3D view.
+    scene : barymesh.app.view.scene.MeshScene
+        Its bounds and marker sizes.
+    clicks : ClickTools
+        The view's click tools: measuring is one of them; a click with none on selects.
+    picker : barymesh.app.teach.inspector_panel.ViewPicker
+        The Teach tools' click picker: clicks go to it while one of them is on, and it
+        asks :meth:`locate_display` where a click is.
+    highlight : barymesh.app.view.highlight.TriangleHighlight
+        The triangles a click selects are marked with it.
+    selected_triangles : callable
+        ``selected_triangles() -> list of int or None``: what the Teach tools select
+        (framed by Zoom to selection after a measurement, before a clicked triangle).
+    refit : callable
+        ``refit(render=False)``: the window's keep-a-framed-mesh-framed, on a resize.
     """
 
-    def __init__(self, window: MainWindow) -> None:
-        super().__init__(window)
-        self.window = window
-        self.plotter = window.plotter
+    def __init__(
+        self,
+        host: ToolHost,
+        plotter: Any,
+        scene: Any,
+        clicks: ClickTools,
+        *,
+        picker: Any,
+        highlight: Any,
+        selected_triangles: Callable[[], Sequence[int] | None],
+        refit: Callable[..., None],
+    ) -> None:
+        super().__init__(host.widget)
+        self.host = host
+        self.plotter = plotter
+        self.scene = scene
+        self.clicks = clicks
+        self.picker, self.highlight = picker, highlight
+        self.selected_triangles, self.refit = selected_triangles, refit
         self.mesh: TriMesh | None = None
         self.locator: MeshLocator | None = None
         self._locator_started: TriMesh | None = None  # the mesh whose locator is being built
         self.hit: Hit | None = None
-        self.selected: Hit | None = None
+        self.selection = ViewSelection()  # a click's, when no click tool takes it
         self.cursor: np.ndarray | None = None
         self._pos: QPointF | None = None
         self._press: QPointF | None = None
@@ -85,7 +121,7 @@ class ViewTools(QObject):
 
         # two lines of a fixed height (a new text never resizes, so never repaints, the
         # 3D view): the note, then the readout; text too long is elided, whole in the tip
-        self.strip = QWidget(window)
+        self.strip = QWidget(host.widget)
         self.strip.setObjectName("info_strip")
         col = QVBoxLayout(self.strip)
         col.setContentsMargins(8, 2, 8, 3)
@@ -110,7 +146,7 @@ class ViewTools(QObject):
         self._timer.setInterval(0)
         self._timer.timeout.connect(self._update_hover)
 
-        a = window._action
+        a = host.add_action
         self.act_measure = a(
             "&Measure distance",
             self.set_measuring,
@@ -127,11 +163,11 @@ class ViewTools(QObject):
         self.plotter.setMouseTracking(True)
         self.plotter.installEventFilter(self)
         # the inspector's and the matrix's clicks are searched in the mesh's arrays too
-        window.teaching.picker.locate = self.locate_display
+        picker.locate = self.locate_display
 
     def container(self) -> QWidget:
         """The 3D view with the strip under it (the window's central widget)."""
-        box = QWidget(self.window)
+        box = QWidget(self.host.widget)
         col = QVBoxLayout(box)
         col.setContentsMargins(0, 0, 0, 0)
         col.setSpacing(0)
@@ -146,12 +182,13 @@ class ViewTools(QObject):
         self.mesh = mesh
         self.locator = None
         self._pending_pick = None
-        self.hit = self.selected = None
+        self.hit = None
+        self.selection.clear()
         self.measure.set_active(self.measure.active)  # forget the points
         if mesh is not None and mesh.n_triangles:
             # the scene's bounds (computed in the worker): a pass over millions of points
             # here would block the GUI thread
-            b = getattr(self.window.scene, "bounds", None)
+            b = getattr(self.scene, "bounds", None)
             if b is not None:
                 span = float(max(b[1] - b[0], b[3] - b[2]))
             else:
@@ -187,7 +224,7 @@ class ViewTools(QObject):
             if pending is not None and locator.planar:
                 triangle = locator.triangle_at(pending)
                 if triangle is not None:
-                    self.window.teaching.picker.triangle_picked.emit(triangle, pending)
+                    self.picker.triangle_picked.emit(triangle, pending)
             return
         if locator is not None and locator.mesh.n_triangles > 200_000:
             # the locator of a mesh no longer on screen (built while the user moved on)
@@ -207,7 +244,7 @@ class ViewTools(QObject):
         kind = event.type()
         if kind == QEvent.Type.Resize:
             # at once, before the paint this resize brings: the refit then costs no paint
-            self.window.refit_if_framed(render=False)
+            self.refit(render=False)
         elif kind == QEvent.Type.MouseMove:
             self._ensure_locator()
             if not event.buttons():
@@ -281,7 +318,7 @@ class ViewTools(QObject):
         else:
             z = np.asarray(mesh.points)[:, 2]
             lo, hi = float(z.min()), float(z.max())
-            b = getattr(self.window.scene, "bounds", None)
+            b = getattr(self.scene, "bounds", None)
             size = float(max(b[1] - b[0], b[3] - b[2])) if b is not None else 1.0
             if hi - lo > 1e-9 * max(size, 1e-12):
                 return None
@@ -297,8 +334,7 @@ class ViewTools(QObject):
         return locator.triangle_at(point), point
 
     def _picked(self, x: float, y: float) -> tuple[np.ndarray | None, int | None]:
-        picker = self.window.teaching.picker
-        hit = picker.pick_display(x, y, emit=False)
+        hit = self.picker.pick_display(x, y, emit=False)
         return (None, None) if hit is None else (hit[1], hit[0])
 
     def _update_hover(self) -> None:
@@ -340,14 +376,20 @@ class ViewTools(QObject):
 
     # -- clicks, measuring, selection ------------------------------------------------
 
+    @property
+    def selected(self) -> Hit | None:
+        """The element a click selected (:attr:`selection`), or None."""
+        return self.selection.clicked
+
     def set_measuring(self, on: bool) -> None:
         on = bool(on)
         if self.act_measure.isChecked() != on:
             self.act_measure.setChecked(on)
+        self.clicks.set_on("measure", on)
         self.measure.set_active(on)
-        self.window.teaching.picker.suspended = on
+        self.picker.suspended = self.clicks.measuring
         self._show_readout()
-        self.window.request_render()
+        self.host.request_render()
 
     def _clicked(self, pos: QPointF) -> None:
         point, triangle = self.world_at(pos)
@@ -357,44 +399,33 @@ class ViewTools(QObject):
         if self.locator is not None:
             tol = SNAP_PIXELS / pixels_per_mm(self.plotter)
             hit = self.locator.hit(point, tol, triangle)
-        if self.measure.active:
+        goes_to = self.clicks.click_goes_to()
+        if goes_to == "measure":
             if hit is not None and hit.kind == "vertex":
                 point = self.locator.points[hit.index]  # snap to the vertex
             self.measure.add_point(point)
-            self.window.request_render()
-        elif not self.window.teaching.picker.enabled:
-            self.selected = hit
-            self.window.teaching.highlight.show(self.mesh, None if hit is None else hit.triangle)
-            self.window.request_render()
+            self.host.request_render()
+        elif goes_to == "select":
+            self.selection.click(hit)
+            self.highlight.show(self.mesh, None if hit is None else hit.triangle)
+            self.host.request_render()
         self._show_readout()
 
     def selection_points(self) -> np.ndarray | None:
         """The corners of what is selected, (k, 3) mm, or None.
 
         In order: a finished measurement, the inspector's edge (its triangles), the matrix
-        cell's triangles, a clicked element.
+        cell's triangles, a clicked element (:meth:`ViewSelection.points`).
         """
-        mesh = self.mesh
-        teaching = self.window.teaching
-        if self.measure.active and self.measure.complete:
-            return np.array(self.measure.points)
-        if mesh is None:
-            return None
-        if teaching.inspector_active and teaching.inspector.info is not None:
-            tris = list(teaching.inspector.info.triangles)
-            return mesh.points[mesh.triangles[tris]].reshape(-1, 3)
-        if teaching.matrix_active and teaching.highlight.triangles:
-            tris = list(teaching.highlight.triangles)
-            return mesh.points[mesh.triangles[tris]].reshape(-1, 3)
-        if self.selected is not None:
-            return mesh.points[mesh.triangles[self.selected.triangle]].reshape(-1, 3)
-        return None
+        measured = self.measure.points if self.measure.active and self.measure.complete else None
+        taught = self.selected_triangles() if self.mesh is not None else None
+        return self.selection.points(self.mesh, measured, taught)
 
     def zoom_to_selection(self) -> bool:
         """Centre the view on the selection, filling about a third of it."""
         pts = self.selection_points()
         if pts is None:
-            self.window.statusBar().showMessage(
+            self.host.show_status(
                 "Nothing selected: click a triangle, an edge or a vertex first", 5000
             )
             return False
@@ -404,9 +435,9 @@ class ViewTools(QObject):
     def zoom_to_points(self, pts: np.ndarray) -> None:
         """Centre the view on the points (k, 3) mm, filling about a third of it."""
         frame_points(self.plotter, pts, fill=0.35)
-        self.window.scene.fit_marker_sizes()
-        self.window.teaching.highlight.fit(pixels_per_mm(self.plotter))
-        self.window.request_render()
+        self.scene.fit_marker_sizes()
+        self.highlight.fit(pixels_per_mm(self.plotter))
+        self.host.request_render()
         self._show_readout()
 
 

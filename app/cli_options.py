@@ -1,0 +1,246 @@
+"""The command line's options and their checks, shared by :mod:`barymesh.app.cli`,
+:mod:`barymesh.app.cli_solve` and the window
+(:func:`~barymesh.app.cli_options.build_window_parser` is the one parser of ``barymesh``
+without a command, for :func:`barymesh.app.cli.main` and :func:`barymesh.app.window.main`
+alike).
+
+Qt-free: the command line works without the app extras.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from pathlib import Path
+from typing import NoReturn
+
+from barymesh.app.edit.cell_document import MAX_COPIES
+
+
+class UsageError(Exception):
+    """Bad command-line usage (exit code 2)."""
+
+
+class InputError(Exception):
+    """Bad input: parameter values, files (exit code 1)."""
+
+
+# -- argument types and groups ------------------------------------------------
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with usage errors raised as :class:`UsageError`, not printed mid-way."""
+
+    def error(self, message: str) -> NoReturn:
+        """Raise :class:`UsageError` with the program's name and ``message``."""
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def window_size(text: str) -> int:
+    """``--window-size`` W or H: a whole number of pixels, 16 to 16384."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of pixels") from None
+    if not 16 <= value <= 16384:
+        raise argparse.ArgumentTypeError(f"{value} pixels is outside 16..16384")
+    return value
+
+
+def finite(text: str) -> float:
+    """A finite number (``--fps``, ``--from``, ``--chord-error``…)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a finite number")
+    return value
+
+
+def whole(text: str) -> int:
+    """A whole number (``--frames``)."""
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a whole number") from None
+
+
+def array_size(text: str) -> tuple[int, int]:
+    """``--array N1xN2``: at least one copy each way, e.g. ``3x2`` -> (3, 2)."""
+    match = re.fullmatch(r"\s*(\d{1,12})\s*[xX×]\s*(\d{1,12})\s*", text)
+    if not match:
+        raise argparse.ArgumentTypeError(
+            f"{text[:40]!r} is invalid; expected N1xN2 copies, e.g. 3x2"
+        )
+    n1, n2 = int(match[1]), int(match[2])
+    if n1 < 1 or n2 < 1:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected at least 1x1")
+    return n1, n2
+
+
+def period(text: str) -> tuple[float, float]:
+    """``--period PX[,PY]`` in mm, both > 0 (one value: a square lattice)."""
+    parts = text.split(",")
+    if len(parts) > 2:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected PX or PX,PY in mm")
+    values = [finite(part) for part in parts]
+    if min(values) <= 0:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is invalid; expected periods > 0 mm")
+    return values[0], values[-1]
+
+
+def add_cell_options(p: argparse.ArgumentParser, structure: bool = True) -> None:
+    """``--cell``, ``--cell-preset``, ``--array`` and, with ``structure``, ``--period``."""
+    if structure:
+        title = "unit cell (instead of --preset/--params/--set, except --array and --period)"
+        array = (
+            "an N1 x N2 array of the cell, or of the structure on a rectangular lattice whose "
+            "periods are its bounding box (copies touch), as one welded mesh"
+        )
+    else:
+        title = "unit cell (instead of a mesh FILE)"
+        array = "an N1 x N2 array of the cell, as one welded mesh"
+    g = p.add_argument_group(title)
+    g.add_argument("--cell", metavar="FILE.cell.json", help="a unit-cell file")
+    g.add_argument(
+        "--cell-preset", metavar="NAME", help="a shipped unit cell (see `barymesh presets`)"
+    )
+    g.add_argument("--array", type=array_size, metavar="N1xN2", help=array)
+    if structure:
+        g.add_argument(
+            "--period",
+            type=period,
+            metavar="PX[,PY]",
+            help="lattice periods (mm) of a structure made into a cell, instead of its "
+            "bounding box",
+        )
+
+
+def add_params_options(p: argparse.ArgumentParser) -> None:
+    """``--preset``, ``--params`` and the repeatable ``--set name=value``."""
+    g = p.add_argument_group("parameters (later sources win: preset, then file, then --set)")
+    g.add_argument("--preset", metavar="NAME", help="start from a preset (see `barymesh presets`)")
+    g.add_argument("--params", metavar="FILE.json", help="a JSON parameter file")
+    g.add_argument(
+        "--set",
+        dest="sets",
+        metavar="name=value",
+        action="append",
+        default=[],
+        help="one parameter, value as JSON when it parses: subdivisions=8, origin=[1,2], "
+        "mode=conforming (repeatable)",
+    )
+
+
+def add_stats_option(p: argparse.ArgumentParser) -> None:
+    """``--stats-json PATH|-``."""
+    p.add_argument(
+        "--stats-json",
+        metavar="PATH|-",
+        help="write the statistics as JSON to PATH, or to stdout with '-' (then nothing "
+        "else goes to stdout)",
+    )
+
+
+def add_quality_option(p: argparse.ArgumentParser) -> None:
+    """``--quality-json PATH|-``."""
+    p.add_argument(
+        "--quality-json",
+        metavar="PATH|-",
+        help="write the quality report (smallest angle, aspect ratio, edge/wavelength: "
+        "figures, histograms, the 20 worst triangles) as JSON to PATH, or to stdout with '-'",
+    )
+
+
+def parse_copies(text: str) -> tuple[int, int]:
+    """``"3x2"`` -> (3, 2): the window's array preview copies as typed on the command line.
+
+    >>> parse_copies("3x2"), parse_copies(" 4 × 1 ")
+    ((3, 2), (4, 1))
+    """
+    match = re.fullmatch(r"\s*(\d{1,6})\s*[xX×]\s*(\d{1,6})\s*", text)
+    if not match or not all(1 <= int(g) <= MAX_COPIES for g in match.groups()):
+        raise argparse.ArgumentTypeError(
+            f"{text[:40]!r} is invalid; expected N1xN2 copies, each 1 to {MAX_COPIES}, e.g. 3x2"
+        )
+    return int(match[1]), int(match[2])
+
+
+# -- the window's options ------------------------------------------------------
+
+
+def build_window_parser() -> argparse.ArgumentParser:
+    """The parser of ``barymesh`` without a command: the window's options.
+
+    Errors print the usage and exit 2 (:func:`barymesh.app.window.main`);
+    :func:`barymesh.app.cli.main` makes them one line first.
+    """
+    parser = argparse.ArgumentParser(
+        prog="barymesh",
+        description="Open the barymesh window: sliders drive the mesher, the 3D view follows.",
+    )
+    parser.add_argument("--preset", metavar="NAME", help="start from a preset (see Presets menu)")
+    parser.add_argument("--params", metavar="FILE", help="start from a JSON parameter file")
+    parser.add_argument(
+        "--set",
+        metavar="NAME=VALUE",
+        nargs="+",
+        action="extend",
+        default=[],
+        dest="sets",
+        help="override parameters, e.g. --set subdivisions=8",
+    )
+    parser.add_argument(
+        "--cell",
+        metavar="FILE.cell.json",
+        help="open a unit cell file (instead of --preset/--params/--set)",
+    )
+    parser.add_argument(
+        "--cell-preset", metavar="NAME", help="open a shipped unit cell (see the Cell menu)"
+    )
+    parser.add_argument(
+        "--array",
+        metavar="N1xN2",
+        type=parse_copies,
+        help="with a cell: preview N1 x N2 copies of it (drawn, not meshed)",
+    )
+    parser.add_argument(
+        "--screenshot", metavar="PNG", help="save a grab of the whole window once the mesh is shown"
+    )
+    parser.add_argument(
+        "--quit", action="store_true", help="exit once the mesh is shown (and the screenshot saved)"
+    )
+    return parser
+
+
+# -- checks --------------------------------------------------------------------
+
+
+#: Bytes an off-screen render needs per pixel (colour, depth and VTK's copies; measured:
+#: 9.1 GB for 16384 x 16384 with llvmpipe).
+RENDER_BYTES_PER_PIXEL = 36
+#: Renders estimated above this are refused before they start.
+RENDER_MEMORY_LIMIT = 2 * 2**30
+
+
+def check_render_size(verb: str, width: int, height: int) -> None:
+    """Refuse (:class:`UsageError`) an off-screen render that would need more memory than
+    :data:`RENDER_MEMORY_LIMIT`, before it starts."""
+    need = width * height * RENDER_BYTES_PER_PIXEL
+    if need > RENDER_MEMORY_LIMIT:
+        raise UsageError(
+            f"{verb}: --window-size {width} {height} would need about {need / 2**30:.1f} GiB "
+            f"to render; at most {RENDER_MEMORY_LIMIT / 2**30:.0f} GiB "
+            f"({RENDER_MEMORY_LIMIT // RENDER_BYTES_PER_PIXEL:,} pixels)"
+        )
+
+
+def check_folder(target: str) -> None:
+    """Refuse (:class:`InputError`) an output whose folder does not exist, before the work
+    that would write it."""
+    folder = Path(target).parent
+    if not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise InputError(f"cannot write {target}: the folder {folder} {what}")
