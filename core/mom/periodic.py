@@ -35,6 +35,7 @@ touches the cell boundary), sheet impedance, interpolating sweeps.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -201,9 +202,24 @@ def _rwg_maps(
     return (head + matrix(rows, cols, values)).tocsr(), matrix(rows_b, cols_b, values_b), crossing
 
 
+_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def periodic_geometry(mesh: TriMesh, lattice: Any = None) -> PeriodicGeometry:
-    """The frequency-independent data of the array of ``mesh`` on ``lattice`` (or its own)."""
+    """The frequency-independent data of the array of ``mesh`` on ``lattice`` (or its own).
+
+    Cached per mesh and lattice: a sweep over frequency or angle computes it once.
+    """
     vectors = _lattice_metres(mesh, lattice)
+    key = tuple(vectors.ravel())
+    per_mesh = _CACHE.setdefault(mesh, {})
+    if key not in per_mesh:
+        per_mesh.clear()  # one lattice per mesh at a time; keeps memory bounded
+        per_mesh[key] = _periodic_geometry(mesh, lattice, vectors)
+    return per_mesh[key]
+
+
+def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> PeriodicGeometry:
     base = mom_geometry(mesh)
     if np.any(base.vertices[:, 2] != 0.0):
         raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
