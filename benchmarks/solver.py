@@ -48,6 +48,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from barymesh import build_mesh  # noqa: E402
+from barymesh.constants import ETA0, MU0, SPEED_OF_LIGHT  # noqa: E402
 from barymesh.mesh import TriMesh  # noqa: E402
 from barymesh.mom import (  # noqa: E402
     PlaneWave,
@@ -59,7 +60,6 @@ from barymesh.mom import (  # noqa: E402
     sweep,
     wavenumber,
 )
-from barymesh.mom.operator import ETA0, MU0, SPEED_OF_LIGHT  # noqa: E402
 from barymesh.mom.solve import dense_solve  # noqa: E402
 from barymesh.presets import load_preset, resolve_params  # noqa: E402
 

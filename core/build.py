@@ -1,4 +1,27 @@
-"""The public entry point: parameters in, finished mesh out."""
+"""The public entry point: parameters in, finished mesh out.
+
+A build goes from :class:`barymesh.params.MeshParams` to :class:`barymesh.mesh.TriMesh`
+through each of these modules once, in this order (``tests/test_core_build_path.py``
+records the calls :func:`build_mesh` makes and checks it):
+
+1. :mod:`barymesh.params`: what the parameters derive (whether the sizing
+   chooses the subdivisions, the weld tolerance);
+2. :mod:`barymesh.structures` (:func:`~barymesh.structures.layout`): the patch
+   template (:mod:`barymesh.subdivision`), where each patch or sector goes, and
+   the weld of coincident vertices (:mod:`barymesh.weld`), as a vertex map;
+3. :mod:`barymesh.repeat`: the triangles, the template's copied on the vertex
+   map (:func:`~barymesh.repeat.patch_triangles`), and the record of the
+   repetition (:meth:`~barymesh.repeat.Repetition.of`), which keeps that map;
+4. :mod:`barymesh.mesh`: the :class:`~barymesh.mesh.TriMesh`, arrays plus the
+   record, with the parameters as provenance;
+5. :mod:`barymesh.check` (:func:`~barymesh.check.check_mesh`): the invariants,
+   read through the record.
+
+A single primary triangle (``structure="triangle"``) takes
+:mod:`barymesh.subdivision` instead of 2 and 3 (no patches, no record). With
+``frequency`` or ``max_edge`` set, :mod:`barymesh.sizing` comes after 1 and runs
+1 to 4 for each subdivision it tries, then 5 on the one it chooses.
+"""
 
 from __future__ import annotations
 
@@ -6,10 +29,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .assembly import patch_triangles
-from .invariants import check_mesh
+from .check import check_mesh
 from .mesh import TriMesh
 from .params import MeshParams
+from .repeat import Repetition, patch_triangles
 from .sizing import sized_mesh
 from .structures import layout
 from .subdivision import subdivide
@@ -38,7 +61,7 @@ def build_mesh(
     -------
     TriMesh
         Finite, counter-clockwise, without flat triangles and, in conforming mode,
-        manifold without duplicate vertices (:func:`barymesh.invariants.check_mesh`).
+        manifold without duplicate vertices (:func:`barymesh.check.check_mesh`).
 
     Raises
     ------
@@ -72,25 +95,23 @@ def build_mesh(
             raise BuildCancelled("the build was cancelled")
 
     if params.sized:
-        return sized_mesh(params, lambda p: _assemble(p, checkpoint)[0], _check_chosen)
-    mesh, vertex_map = _assemble(params, checkpoint)
-    check_mesh(mesh, params, vertex_map)
+        return sized_mesh(params, lambda p: _assemble(p, checkpoint), _check_chosen)
+    mesh = _assemble(params, checkpoint)
+    check_mesh(mesh, params)
     return mesh
 
 
 def _check_chosen(mesh: TriMesh) -> None:
     """The invariant check of a mesh whose subdivisions the sizing chose."""
-    vertex_map = None if mesh._template is None else mesh._vertex_map
-    check_mesh(mesh, mesh.params, vertex_map)
+    check_mesh(mesh, mesh.params)
 
 
-def _assemble(
-    params: MeshParams, checkpoint: Callable[[], None]
-) -> tuple[TriMesh, np.ndarray | None]:
-    """The mesh of ``params`` at its ``subdivisions``, unchecked, and its patch vertex map."""
+def _assemble(params: MeshParams, checkpoint: Callable[[], None]) -> TriMesh:
+    """The mesh of ``params`` at its ``subdivisions``, unchecked."""
     checkpoint()
+    tolerance = params.weld_tolerance  # (a property: the parameters are read first)
     if params.structure == "triangle":
-        return _triangle(params), None
+        return _triangle(params, tolerance)
     lay = layout(params)
     checkpoint()
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
@@ -102,6 +123,7 @@ def _assemble(
         points[:, :2] = flat.take(lay.representative).view(np.float64).reshape(-1, 2)
     vertex_map = lay.vertex_of_point.reshape(len(lay.xy), -1)
     triangles = patch_triangles(lay.template, vertex_map)
+    repetition = Repetition.of(lay.template, vertex_map, len(points))
     checkpoint()
     per_patch = len(lay.template.triangles)
     n_patches = len(lay.xy)
@@ -112,13 +134,13 @@ def _assemble(
         regions=_per_triangle(lay.regions, per_patch),
         n_patches=n_patches,
         mode=params.mode,
-        tolerance=params.weld_tolerance,
+        tolerance=tolerance,
         patch_rects=lay.rects if params.mode == "paper" else None,
-        _template=lay.template,
+        repetition=repetition,
         params=params,
         min_angle_floor=lay.min_angle_floor,
     )
-    return mesh, vertex_map
+    return mesh
 
 
 def _per_triangle(per_patch_values: np.ndarray, per_patch: int) -> np.ndarray:
@@ -129,7 +151,7 @@ def _per_triangle(per_patch_values: np.ndarray, per_patch: int) -> np.ndarray:
     return out.reshape(-1)
 
 
-def _triangle(params: MeshParams) -> TriMesh:
+def _triangle(params: MeshParams, tolerance: float) -> TriMesh:
     """One primary triangle, subdivided."""
     if params.triangle_vertices is None:
         side = params.patch_size
@@ -149,7 +171,7 @@ def _triangle(params: MeshParams) -> TriMesh:
         regions=np.ones(len(tri), dtype=INDEX),
         n_patches=1,
         mode=params.mode,
-        tolerance=params.weld_tolerance,
+        tolerance=tolerance,
         patch_rects=None,
         params=params,
     )

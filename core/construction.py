@@ -106,10 +106,9 @@ def construction_steps(params: MeshParams) -> list[ConstructionStep]:
     n = params.subdivisions
     if params.structure == "triangle":
         mesh = build_mesh(params)
-        corners = mesh.points[[0, n, len(mesh.points) - 1], :2]
-        a, b, c = corners
+        a, b, c = mesh.points[[0, n, len(mesh.points) - 1], :2]
         primaries = [(a, b, c)]
-        names = ("A", "B", "C")
+        names: tuple[str, ...] = ("A", "B", "C")
     else:
         patch = MeshParams(
             structure="patch",
@@ -175,7 +174,7 @@ def construction_steps(params: MeshParams) -> list[ConstructionStep]:
     halvings = _bisection_labels(n)
     if halvings is not None:
         m3 = (p1 + p2) / 2
-        level_of = {}
+        level_of: dict[int, list[tuple[str, str, float]]] = {}
         for label, edge, frac in halvings:
             level_of.setdefault(len(label) - 1, []).append((label, edge, frac))
         for level in sorted(level_of):

@@ -97,10 +97,10 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     """The quadrant sweep of the module docstring; None when it does not apply."""
     n = len(rects)
     x0, y0, x1, y1 = (np.ascontiguousarray(rects[:, k]) for k in range(4))
-    grid = _grid(x0, x1), _grid(y0, y1)
-    if None in grid:
+    grid_x, grid_y = _grid(x0, x1), _grid(y0, y1)
+    if grid_x is None or grid_y is None:
         return None
-    (gx0, cx), (gy0, cy) = grid
+    (gx0, cx), (gy0, cy) = grid_x, grid_y
     i_first, i_last = _cells(x0, x1, gx0, cx)
     j_first, j_last = _cells(y0, y1, gy0, cy)
     n_i = i_last - i_first + 1

@@ -14,30 +14,27 @@ from typing import Any
 
 import numpy as np
 
+from .constants import wavelength
+from .kinds import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, SPLIT_STRUCTURES, STRUCTURES
+from .placement import predicted_triangles
+from .sectors import (
+    MAX_SECTOR_DEG,
+    count_steps,
+    graded_track_nodes,
+    narrowest_sector,
+    sector_plan,
+    slot_half_angle,
+)
+from .subdivision import edge_vectors
+from .values import InvalidValue
 from .values import echo as _short
 from .values import finite as _finite
 from .values import number as _float
 from .values import positive as _positive
 
-STRUCTURES = (
-    "patch",
-    "triangle",
-    "ring",
-    "double_ring",
-    "split_ring",
-    "split_double_ring",
-    "square_split_double_ring",
-)
 MODES = ("paper", "conforming")
 DIAGONALS = ("BC", "AD")
 SCHEMES = ("uniform", "barycentric")
-
-#: Structures made of two concentric rings (they use ``outer_radius``).
-DOUBLE_STRUCTURES = ("double_ring", "split_double_ring", "square_split_double_ring")
-#: Structures cut by slots (they use ``gap_width`` and ``gap_angle``).
-SPLIT_STRUCTURES = ("split_ring", "split_double_ring", "square_split_double_ring")
-#: Structures laid out on circles (they use ``angle_step``).
-ANGULAR_STRUCTURES = ("ring", "double_ring", "split_ring", "split_double_ring")
 
 MAX_UNIFORM_SUBDIVISIONS = 64
 #: Most cells across a graded track (grading from min_edge adds cells at both circles).
@@ -65,7 +62,9 @@ MAX_PATCH_COUNT = 1e15
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
     if not isinstance(value, str) or value not in allowed:
-        raise ValueError(f"{name}={_short(value)} is unknown; expected one of {', '.join(allowed)}")
+        raise InvalidValue(
+            name, f"{name}={_short(value)} is unknown; expected one of {', '.join(allowed)}"
+        )
     return value
 
 
@@ -75,7 +74,7 @@ def _point(name: str, value: Any, whole: Any = None) -> tuple[float, float]:
     try:
         x, y = value
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={shown} is invalid; expected {expected} in mm") from None
+        raise InvalidValue(name, f"{name}={shown} is invalid; expected {expected} in mm") from None
     return (_finite(name, x), _finite(name, y))
 
 
@@ -140,15 +139,6 @@ class MeshParams:
         εr of the medium the wavelength is measured in, at least 1 (default 1.0, vacuum):
         λ = c0 / (f √εr).
 
-    Notes
-    -----
-    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`barymesh.build.build_mesh`
-    picks the smallest ``subdivisions`` (within the scheme's range and ``max_triangles``)
-    whose mesh has every edge at most the target, λ / ``cells_per_wavelength`` or
-    ``max_edge``; with both, the smaller (stricter) of the two. The ``subdivisions``
-    given is then not used, and the budget is checked against the n chosen.
-    ``cells_per_wavelength`` and ``relative_permittivity`` do nothing without a
-    ``frequency``.
     grading : bool
         Conforming circular rings (uniform scheme): refine the cells across the
         track geometrically toward both circles (the metal edges, where the
@@ -160,6 +150,16 @@ class MeshParams:
         when grading, below patch_size / subdivisions; ``None`` is that uniform
         width / growth_ratio². A track too narrow for the growth to reach the
         uniform width scales all its cells down alike (ends below min_edge).
+
+    Notes
+    -----
+    *Sizing.* With ``frequency`` or ``max_edge`` set, :func:`barymesh.build.build_mesh`
+    picks the smallest ``subdivisions`` (within the scheme's range and ``max_triangles``)
+    whose mesh has every edge at most the target, λ / ``cells_per_wavelength`` or
+    ``max_edge``; with both, the smaller (stricter) of the two. The ``subdivisions``
+    given is then not used, and the budget is checked against the n chosen.
+    ``cells_per_wavelength`` and ``relative_permittivity`` do nothing without a
+    ``frequency``.
     """
 
     structure: str = "double_ring"
@@ -199,18 +199,22 @@ class MeshParams:
             put(self, "patch_width", _positive("patch_width", self.patch_width))
         step = _finite("angle_step", self.angle_step)
         if not 0 < step <= 360:
-            raise ValueError(f"angle_step={_short(self.angle_step)} is outside (0, 360] degrees")
+            raise InvalidValue(
+                "angle_step", f"angle_step={_short(self.angle_step)} is outside (0, 360] degrees"
+            )
         if self.structure in ANGULAR_STRUCTURES and 360.0 / step > MAX_PATCH_COUNT:
-            raise ValueError(
+            raise InvalidValue(
+                "angle_step",
                 f"angle_step={_short(self.angle_step)} degrees is too small: it would place "
-                f"more than {MAX_PATCH_COUNT:.0e} patches on a ring"
+                f"more than {MAX_PATCH_COUNT:.0e} patches on a ring",
             )
         put(self, "angle_step", step)
         gap_angle = _finite("gap_angle", self.gap_angle)
         if abs(gap_angle) > MAX_GAP_ANGLE:
-            raise ValueError(
+            raise InvalidValue(
+                "gap_angle",
                 f"gap_angle={_short(self.gap_angle)} is invalid; expected an angle within "
-                f"+-{MAX_GAP_ANGLE:.0e} degrees"
+                f"+-{MAX_GAP_ANGLE:.0e} degrees",
             )
         put(self, "gap_angle", gap_angle)
         put(self, "origin", _point("origin", self.origin))
@@ -220,7 +224,10 @@ class MeshParams:
             budget = int(budget)
             put(self, "max_triangles", budget)
         if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-            raise ValueError(f"max_triangles={_short(budget)} is invalid; expected an integer >= 1")
+            raise InvalidValue(
+                "max_triangles",
+                f"max_triangles={_short(budget)} is invalid; expected an integer >= 1",
+            )
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
         if self.tolerance is not None:  # a number before the sector plan (keyed on it) is made
@@ -234,26 +241,29 @@ class MeshParams:
             put(self, "tolerance", tol)
             limit = 0.5 * self.min_spacing
             if tol >= limit:
-                raise ValueError(
+                raise InvalidValue(
+                    "tolerance",
                     f"tolerance={_short(self.tolerance)} mm is too large: it must be below half "
                     f"the smallest sub-triangle edge, {limit:.6g} mm, or it would collapse "
-                    "triangles"
+                    "triangles",
                 )
             floor = MIN_RELATIVE_TOLERANCE * self.extent
             if tol < floor:
-                raise ValueError(
+                raise InvalidValue(
+                    "tolerance",
                     f"tolerance={_short(self.tolerance)} mm is too small: float64 rounds "
                     f"coordinates of {self.extent:.6g} mm by more, so shared points would stay "
-                    f"apart; expected tolerance >= {floor:.6g} mm"
+                    f"apart; expected tolerance >= {floor:.6g} mm",
                 )
         self._check_slot_width()
         self._check_paper_chain()
         budget = self.max_triangles
         predicted = self.predicted_triangles()
         if predicted == 0:
-            raise ValueError(
+            raise InvalidValue(
+                "gap_width",
                 f"gap_width={self.gap_width!r} mm removes every patch of the {self.structure}; "
-                "the slot must leave metal on both sides: use a narrower gap or larger radii"
+                "the slot must leave metal on both sides: use a narrower gap or larger radii",
             )
         if predicted > budget and not self.sized:  # sized: checked at the n chosen
             raise ValueError(
@@ -265,7 +275,7 @@ class MeshParams:
     # -- validation helpers -------------------------------------------------
 
     def _check_subdivisions(self) -> None:
-        n = self.subdivisions
+        n: Any = self.subdivisions  # as given: not yet known to be an int
         if isinstance(n, float) and n.is_integer():
             n = int(n)
             object.__setattr__(self, "subdivisions", n)
@@ -273,11 +283,14 @@ class MeshParams:
             n = int(n)
             object.__setattr__(self, "subdivisions", n)
         if isinstance(n, bool) or not isinstance(n, int):
-            raise ValueError(f"subdivisions={_short(self.subdivisions)} is not an integer")
+            raise InvalidValue(
+                "subdivisions", f"subdivisions={_short(self.subdivisions)} is not an integer"
+            )
         top = MAX_UNIFORM_SUBDIVISIONS if self.scheme == "uniform" else MAX_BARYCENTRIC_LEVELS
         if not 1 <= n <= top:
-            raise ValueError(
-                f"subdivisions={_short(n)} is outside 1..{top} for the {self.scheme} scheme"
+            raise InvalidValue(
+                "subdivisions",
+                f"subdivisions={_short(n)} is outside 1..{top} for the {self.scheme} scheme",
             )
 
     def _check_sizing(self) -> None:
@@ -289,18 +302,20 @@ class MeshParams:
             extent = self.extent  # beyond MAX_COORDINATE the length is refused by name later
             floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * extent if extent <= MAX_COORDINATE else 0)
             if not self.max_edge >= floor:
-                raise ValueError(
+                raise InvalidValue(
+                    "max_edge",
                     f"max_edge={_short(self.max_edge)} mm is too short: float64 cannot mesh "
                     f"edges below {floor:.3g} mm at coordinates up to {self.extent:.3g} mm; "
-                    f"expected max_edge >= {floor:.3g} mm"
+                    f"expected max_edge >= {floor:.3g} mm",
                 )
         if self.frequency is not None:
             f = _float("frequency", self.frequency, "a frequency in Hz")
             if not math.isfinite(f) or f <= 0:
                 ghz = f" (= {f / 1e9:g} GHz)" if math.isfinite(f) and f else ""
-                raise ValueError(
+                raise InvalidValue(
+                    "frequency",
                     f"frequency={_short(self.frequency)} Hz{ghz} is invalid; expected a "
-                    "finite frequency > 0 Hz (10e9 for 10 GHz), or none for no sizing"
+                    "finite frequency > 0 Hz (10e9 for 10 GHz), or none for no sizing",
                 )
             put(self, "frequency", f)
         for name, what in (
@@ -310,19 +325,19 @@ class MeshParams:
             value = getattr(self, name)
             x = _float(name, value, f"{what} >= 1")
             if not (math.isfinite(x) and x >= 1):
-                raise ValueError(
-                    f"{name}={_short(value)} is invalid; expected {what}: a finite number >= 1"
+                raise InvalidValue(
+                    name,
+                    f"{name}={_short(value)} is invalid; expected {what}: a finite number >= 1",
                 )
             put(self, name, x)
         if self.frequency is not None:
-            from .sizing import wavelength
-
             lam = wavelength(self.frequency, self.relative_permittivity)
             if not lam / self.cells_per_wavelength >= MIN_EDGE:
-                raise ValueError(
+                raise InvalidValue(
+                    "frequency",
                     f"frequency={_short(self.frequency)} Hz is too high: edges of λ/"
                     f"{self.cells_per_wavelength:g} = {lam / self.cells_per_wavelength:.3g} mm "
-                    f"are below the shortest edge float64 can mesh, {MIN_EDGE:g} mm"
+                    f"are below the shortest edge float64 can mesh, {MIN_EDGE:g} mm",
                 )
 
     @property
@@ -332,13 +347,16 @@ class MeshParams:
 
     def _check_grading(self) -> None:
         if not isinstance(self.grading, (bool, np.bool_)):
-            raise ValueError(f"grading={_short(self.grading)} is invalid; expected true or false")
+            raise InvalidValue(
+                "grading", f"grading={_short(self.grading)} is invalid; expected true or false"
+            )
         object.__setattr__(self, "grading", bool(self.grading))
         ratio = _finite("growth_ratio", self.growth_ratio)
         if not 1.0 < ratio <= 2.0:
-            raise ValueError(
+            raise InvalidValue(
+                "growth_ratio",
                 f"growth_ratio={_short(self.growth_ratio)} is outside (1, 2]: neighbouring "
-                "cells may differ by at most a factor of 2"
+                "cells may differ by at most a factor of 2",
             )
         object.__setattr__(self, "growth_ratio", ratio)
         if self.min_edge is not None:
@@ -346,89 +364,101 @@ class MeshParams:
         if not self.grading:
             return
         if self.mode != "conforming" or self.structure not in ANGULAR_STRUCTURES:
-            raise ValueError(
+            raise InvalidValue(
+                "grading",
                 f"grading=True applies to conforming circular rings, not to the {self.mode} "
-                f"{self.structure}; expected mode='conforming' and a ring structure"
+                f"{self.structure}; expected mode='conforming' and a ring structure",
             )
         if self.scheme != "uniform":
-            raise ValueError("grading=True needs scheme='uniform' (graded cells across the track)")
+            raise InvalidValue(
+                "grading", "grading=True needs scheme='uniform' (graded cells across the track)"
+            )
         cell = self.patch_size / self.subdivisions
         if self.min_edge is not None and not self.min_edge < cell:
-            raise ValueError(
+            raise InvalidValue(
+                "min_edge",
                 f"min_edge={_short(self.min_edge)} mm is not below the uniform cell "
-                f"patch_size / subdivisions = {cell:.6g} mm; expected a smaller min_edge"
+                f"patch_size / subdivisions = {cell:.6g} mm; expected a smaller min_edge",
             )
         fine = cell / ratio**2 if self.min_edge is None else self.min_edge
         cells = self.subdivisions + 2 * math.ceil(math.log(cell / fine) / math.log(ratio))
         if cells > MAX_GRADED_CELLS:
-            raise ValueError(
+            raise InvalidValue(
+                "min_edge",
                 f"min_edge={_short(self.min_edge)} mm with growth_ratio={ratio!r} grades the "
                 f"track into about {cells} cells across; expected at most {MAX_GRADED_CELLS}: "
-                "use a larger min_edge or growth_ratio"
+                "use a larger min_edge or growth_ratio",
             )
 
     def _check_triangle_vertices(self) -> None:
-        given = self.triangle_vertices
+        given: Any = self.triangle_vertices  # as given: any iterable, or not one
         try:
             items = list(given)
         except TypeError:
             items = []
         if isinstance(given, (str, bytes)) or len(items) != 3:
-            raise ValueError(
-                f"triangle_vertices={_short(given)} is invalid; expected three (x, y) points in mm"
+            raise InvalidValue(
+                "triangle_vertices",
+                f"triangle_vertices={_short(given)} is invalid; expected three (x, y) points in mm",
             )
         pts = tuple(_point("triangle_vertices", p, given) for p in items)
         (ax, ay), (bx, by), (cx, cy) = pts
         twice_area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
         scale = max(abs(v) for p in pts for v in p) or 1.0
         if abs(twice_area) <= 1e-12 * scale * scale:
-            raise ValueError(
+            raise InvalidValue(
+                "triangle_vertices",
                 f"triangle_vertices={_short(given)} are collinear; "
-                "a primary triangle needs a non-zero area"
+                "a primary triangle needs a non-zero area",
             )
         object.__setattr__(self, "triangle_vertices", pts)
 
     def _check_geometry(self) -> None:
         s = self.structure
         if s in DOUBLE_STRUCTURES and self.outer_radius <= self.inner_radius:
-            raise ValueError(
+            raise InvalidValue(
+                "outer_radius",
                 f"outer_radius={self.outer_radius!r} mm must be larger than "
-                f"inner_radius={self.inner_radius!r} mm"
+                f"inner_radius={self.inner_radius!r} mm",
             )
         if (
             s in DOUBLE_STRUCTURES
             and self.mode == "conforming"
             and self.outer_radius < self.inner_radius + self.patch_size - 1e-12
         ):
-            raise ValueError(
+            raise InvalidValue(
+                "outer_radius",
                 f"outer_radius={self.outer_radius!r} mm makes the rings overlap in conforming "
                 f"mode; expected outer_radius >= inner_radius + patch_size = "
-                f"{self.inner_radius + self.patch_size:g} mm"
+                f"{self.inner_radius + self.patch_size:g} mm",
             )
         if (
             s == "square_split_double_ring"
             and self.mode == "conforming"
             and self.outer_radius <= self.inner_radius + self.patch_size + 1e-9 * self.outer_radius
         ):
-            raise ValueError(
+            raise InvalidValue(
+                "outer_radius",
                 f"outer_radius={self.outer_radius!r} mm makes the square tracks touch; conforming "
                 f"square rings need a gap between them: expected outer_radius > "
-                f"{self.inner_radius + self.patch_size:g} mm"
+                f"{self.inner_radius + self.patch_size:g} mm",
             )
         if s in SPLIT_STRUCTURES and self.gap_width >= 2 * self.inner_radius:
-            raise ValueError(
+            raise InvalidValue(
+                "gap_width",
                 f"gap_width={self.gap_width!r} mm is too wide for inner_radius="
                 f"{self.inner_radius!r} mm; the slot must leave metal on both sides: "
-                f"expected gap_width < {2 * self.inner_radius:g} mm"
+                f"expected gap_width < {2 * self.inner_radius:g} mm",
             )
         if (
             s == "square_split_double_ring"
             and self.mode == "conforming"
             and not math.isclose(self.gap_angle / 90.0, round(self.gap_angle / 90.0), abs_tol=1e-9)
         ):
-            raise ValueError(
+            raise InvalidValue(
+                "gap_angle",
                 f"gap_angle={self.gap_angle!r} is not supported for conforming square rings; "
-                "expected a multiple of 90 degrees (slots through the middle of the sides)"
+                "expected a multiple of 90 degrees (slots through the middle of the sides)",
             )
 
     # -- derived quantities -------------------------------------------------
@@ -464,9 +494,6 @@ class MeshParams:
         ``angle_step`` asks for, before they are narrowed so that no triangle
         folds (which needs the float64 checks to have passed).
         """
-        from .structures import MAX_SECTOR_DEG, _arcs, _count, _slot_half_angle
-        from .subdivision import edge_vectors
-
         s = self.structure
         if s == "triangle":
             d = edge_vectors(self.scheme, self.subdivisions, None)
@@ -487,8 +514,6 @@ class MeshParams:
         h, w = self.patch_size, self.patch_height
         sides = [(h, w, "patch_size" if h <= w else "patch_width")]
         if self.grading:  # graded cells: the narrowest across the track, instead of h / n
-            from .structures import graded_track_nodes
-
             h *= self.subdivisions * graded_track_nodes(self)[1]
             sides = [(h, w, "min_edge")]
         if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
@@ -498,15 +523,13 @@ class MeshParams:
             )
             span = full
             if s in SPLIT_STRUCTURES:
-                span -= 2 * float(_slot_half_angle(self, r))
+                span -= 2 * float(slot_half_angle(self, r))
             if final:
-                m = _arcs(self)[1]
+                m = sector_plan(self).base
             else:
-                m = _count(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
+                m = count_steps(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
             chord = 2 * r * math.sin(math.radians(span / m) / 2)
             if final and self.grading:
-                from .structures import narrowest_sector
-
                 chord *= narrowest_sector(self)
             if s in SPLIT_STRUCTURES and span < 0.5 * full:
                 name = "gap_width"
@@ -517,8 +540,8 @@ class MeshParams:
             sides.append((h, chord, name))
         elif self.mode == "conforming" and s == "square_split_double_ring":
             r, g = self.inner_radius, self.gap_width
-            sides.append((h, (r - g / 2) / _count(r - g / 2, h), "gap_width"))
-            sides.append((h, 2 * r / _count(2 * r, h), "inner_radius"))
+            sides.append((h, (r - g / 2) / count_steps(r - g / 2, h), "gap_width"))
+            sides.append((h, 2 * r / count_steps(2 * r, h), "inner_radius"))
         best = (math.inf, "patch_size")
         for a, b, name in sides:
             edge = float(np.hypot(a * d[:, 0], b * d[:, 1]).min())
@@ -558,10 +581,11 @@ class MeshParams:
         extent = self.extent
         if not extent <= MAX_COORDINATE:
             lengths = self._lengths()
-            name = max(lengths, key=lengths.get)
-            raise ValueError(
+            name = max(lengths, key=lengths.__getitem__)
+            raise InvalidValue(
+                name,
                 f"{name}={_short(getattr(self, name))} places points {extent:.3g} mm from "
-                f"(0, 0); expected coordinates within {MAX_COORDINATE:.0e} mm"
+                f"(0, 0); expected coordinates within {MAX_COORDINATE:.0e} mm",
             )
         floor = max(MIN_EDGE, MIN_RELATIVE_EDGE * extent)
         edge, name = self._shortest_edge(final=False)
@@ -576,11 +600,12 @@ class MeshParams:
                 piece = self.inner_radius - self.gap_width / 2  # the shortest cut side
                 widest = 2 * (self.inner_radius - piece * floor / edge)
                 limit = f"; expected gap_width <= {widest:.12g} mm"
-            raise ValueError(
+            raise InvalidValue(
+                name,
                 f"{name}={_short(getattr(self, name))} makes sub-triangle edges of {edge:.3g} mm "
                 f"at coordinates up to {extent:.3g} mm, too short for float64 to mesh: the "
                 f"shortest edge must be at least {floor:.3g} mm ({MIN_RELATIVE_EDGE:g} of the "
-                f"largest coordinate){limit}"
+                f"largest coordinate){limit}",
             )
 
     def _check_slot_width(self) -> None:
@@ -595,10 +620,11 @@ class MeshParams:
         tol = self.weld_tolerance
         if not self.gap_width > 2 * tol:
             source = "tolerance" if self.tolerance is not None else "the default tolerance"
-            raise ValueError(
+            raise InvalidValue(
+                "gap_width",
                 f"gap_width={_short(self.gap_width)} mm is too narrow: the faces of the slot "
                 f"would be within the welding tolerance ({source} {tol:.3g} mm) of each other; "
-                f"expected gap_width > {2 * tol:.3g} mm (twice the tolerance)"
+                f"expected gap_width > {2 * tol:.3g} mm (twice the tolerance)",
             )
 
     def _check_paper_chain(self) -> None:
@@ -608,12 +634,10 @@ class MeshParams:
         the ring: a chain of near points, which the weld refuses anyway, but only after
         finding every pair. Checked here from the angle between neighbours in O(1).
         """
-        from .structures import _count
-
         if self.mode != "paper" or self.structure not in ANGULAR_STRUCTURES:
             return
         step = self.angle_step
-        k = _count(360.0, step)
+        k = count_steps(360.0, step)
         if k < 2:
             return
         gap = min(step, 360.0 - (k - 1) * step)
@@ -622,21 +646,21 @@ class MeshParams:
         tol = self.weld_tolerance
         if chord > tol:
             return
-        where = (
-            f"neighbouring patches of the ring of radius {r:.6g} mm are only {chord:.3g} mm "
-            f"apart (angle_step={_short(self.angle_step)})"
-        )
+        patches = f"neighbouring patches of the ring of radius {r:.6g} mm"
         if self.tolerance is not None:
-            raise ValueError(
-                f"tolerance={_short(self.tolerance)} mm joins a chain of near points: {where}; "
+            raise InvalidValue(
+                "tolerance",
+                f"tolerance={_short(self.tolerance)} mm joins a chain of near points: {patches} "
+                f"are only {chord:.3g} mm apart (angle_step={_short(self.angle_step)}); "
                 "points farther apart than the tolerance are never merged: use a smaller "
-                f"tolerance (below {chord:.3g} mm) or a larger angle_step"
+                f"tolerance (below {chord:.3g} mm) or a larger angle_step",
             )
-        raise ValueError(
+        raise InvalidValue(
+            "inner_radius",
             f"inner_radius={_short(self.inner_radius)} mm and angle_step="
-            f"{_short(self.angle_step)} put {where.split(' are only ')[0]} within the welding "
+            f"{_short(self.angle_step)} put {patches} within the welding "
             f"tolerance {tol:.3g} mm of each other ({chord:.3g} mm apart): they would be welded "
-            "into a chain; use a larger inner_radius or angle_step"
+            "into a chain; use a larger inner_radius or angle_step",
         )
 
     @property
@@ -662,8 +686,6 @@ class MeshParams:
 
     def predicted_triangles(self) -> int:
         """Number of triangles the mesh will have (computed without building it)."""
-        from .structures import predicted_triangles
-
         return predicted_triangles(self)
 
     # -- (de)serialisation --------------------------------------------------

@@ -13,11 +13,11 @@ layout (the description is optional) and may live anywhere.
 from __future__ import annotations
 
 import json
-import re
 from pathlib import Path
 from typing import Any
 
 from .params import MeshParams
+from .values import InvalidValue
 
 
 def _asset_dir() -> Path:
@@ -185,8 +185,7 @@ def resolve_params(
     try:
         return MeshParams.from_dict(data)
     except (ValueError, TypeError) as exc:
-        match = re.match(r"(\w+)=", str(exc))
-        source = origin.get(match.group(1)) if match else None
+        source = origin.get(exc.field) if isinstance(exc, InvalidValue) else None
         if source is None:
             source = ", ".join(dict.fromkeys(origin.values())) or "default parameters"
         raise ValueError(f"{source}: {exc}") from None

@@ -26,24 +26,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .constants import wavelength
 from .params import MAX_BARYCENTRIC_LEVELS, MAX_PATCH_COUNT, MAX_UNIFORM_SUBDIVISIONS, MeshParams
 from .topology import BLOCK
 
 if TYPE_CHECKING:
     from .mesh import TriMesh
 
-#: Speed of light in vacuum (mm/s), exact by the SI definition of the metre.
-C0_MM_PER_S = 299_792_458_000.0
 #: The rule of thumb the statistics check: every edge at most a tenth of the wavelength.
 RULE_CELLS_PER_WAVELENGTH = 10
-
-
-def wavelength(frequency: float, relative_permittivity: float = 1.0) -> float:
-    """Wavelength (mm) at ``frequency`` (Hz) in a medium of ``relative_permittivity``.
-
-    λ = c0 / (f √εr), with c0 = 299,792,458 m/s.
-    """
-    return C0_MM_PER_S / (frequency * math.sqrt(relative_permittivity))
 
 
 def params_wavelength(params: MeshParams) -> float | None:
@@ -152,18 +143,18 @@ def sizing_stats(mesh: TriMesh, longest: float) -> dict[str, Any]:
     ``lambda_10_rule`` (True when every edge is at most λ/10).
     """
     params = getattr(mesh, "params", None)
-    if params is None or not params.sized:
+    if params is None:
+        return {}
+    target = target_edge(params)
+    if target is None:  # not sized
         return {}
     out: dict[str, Any] = {
         "subdivisions_chosen": int(params.subdivisions),
-        "target_edge": float(target_edge(params)[0]),
+        "target_edge": float(target[0]),
     }
     lam = params_wavelength(params)
     if lam is not None:
-        if "quality" in mesh.__dict__:  # per-triangle areas already known
-            area = float(mesh.areas.max()) if mesh.n_triangles else 0.0
-        else:
-            area = largest_area(mesh.points, mesh.triangles, mesh._columns)
+        area = largest_area(mesh.points, mesh.triangles, mesh.columns)
         out["wavelength"] = lam
         out["max_edge_wavelengths"] = longest / lam
         out["max_area_wavelengths2"] = area / (lam * lam)
@@ -255,7 +246,12 @@ def sized_mesh(
         subdivision of the scheme, or the triangle budget ``max_triangles``, cannot meet
         it, with the triangles it would take.
     """
-    target, name = target_edge(params)
+    found = target_edge(params)
+    if found is None:
+        raise ValueError(
+            "sized_mesh needs parameters with a frequency or a max_edge; both are none"
+        )
+    target, name = found
     scheme = params.scheme
     top = _limit(scheme)
     edges: dict[int, float] = {}  # n -> longest edge of its mesh, for every n measured
@@ -279,7 +275,7 @@ def sized_mesh(
             bad = n  # cannot be chosen (an n below ``good`` with more triangles)
         else:
             mesh = build(trial)
-            edges[n] = longest_edge(mesh.points, mesh.triangles, mesh._columns)
+            edges[n] = longest_edge(mesh.points, mesh.triangles, mesh.columns)
             if edges[n] <= target:
                 good, chosen = n, mesh
             else:
@@ -293,6 +289,7 @@ def sized_mesh(
             # from above: the estimate from ``good``'s own edge, at most n - 1 (usually n - 1
             # exactly: the first estimate is usually right, and n - 1 proves it minimal)
             n = max(bad + 1, min(good - 1, _estimate(scheme, good, edges[good], target)))
+    assert chosen is not None  # the mesh of ``good``, which the loop found
     check(chosen)
     return chosen
 
@@ -310,7 +307,7 @@ def _refuse(
     top = _limit(scheme)
     what = _what(params, name, target)
     if bad == 0:  # not even n = 1 fits the budget
-        count = params.replace(subdivisions=1).predicted_triangles()
+        count: int | None = params.replace(subdivisions=1).predicted_triangles()
         raise ValueError(
             f"{what}, but the coarsest mesh already has {count:,} triangles, above the "
             f"budget max_triangles={params.max_triangles:,}"

@@ -169,7 +169,7 @@ class PatchTemplate:
     triangle_edges: np.ndarray
     edge_triangles: np.ndarray
     valence: np.ndarray
-    sides: np.ndarray
+    sides: np.ndarray | tuple[np.ndarray, ...]
     segments: int
     lattice: bool
 
@@ -197,7 +197,8 @@ def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTempla
         primaries = ((a, b, d), (a, d, c))
     else:
         raise ValueError(f"diagonal={diagonal!r} is unknown; expected 'BC' or 'AD'")
-    pts, tris = [], []
+    pts: list[np.ndarray] = []
+    tris: list[np.ndarray] = []
     for p0, p1, p2 in primaries:
         pts.append(p0 + bary[:, :1] * (p1 - p0) + bary[:, 1:] * (p2 - p0))
         tris.append(tri + len(bary) * len(tris))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 
@@ -87,7 +88,8 @@ def sweep_params(
     for k, v in enumerate(values):
         value = int(round(v)) if is_int else float(v)
         try:
-            out.append(dataclasses.replace(base, **{name: value}))
+            change: dict[str, Any] = {name: value}  # checked by MeshParams, named in the error
+            out.append(dataclasses.replace(base, **change))
         except ValueError as err:
             raise ValueError(f"sweep frame {k + 1} of {frames} ({name}={value!r}): {err}") from None
     return out

@@ -33,6 +33,33 @@ _ECHO.maxstring = 40
 _ECHO.maxlong = _ECHO.maxother = ECHO_LENGTH
 
 
+class InvalidValue(ValueError):
+    """A value refused at the boundary, with the field it was given for.
+
+    Its message names the field too; ``field`` is that name as data, for callers that
+    point at where the value came from (a preset file, a ``--set``, a key of a
+    document) without reading it back out of the message.
+
+    Attributes
+    ----------
+    field : str
+        The parameter (``"gap_width"``) or a path in a unit cell
+        (``"elements[2].position"``, ``"pixels.origin"``).
+
+    Examples
+    --------
+    >>> try:
+    ...     positive("patch_size", -1)
+    ... except InvalidValue as exc:
+    ...     print(exc.field, "|", exc)
+    patch_size | patch_size=-1 is invalid; expected a finite length > 0 mm
+    """
+
+    def __init__(self, field: str, message: str) -> None:
+        super().__init__(message)
+        self.field = field
+
+
 def echo(value: Any) -> str:
     """``repr`` of a value, cut to a readable length (a 5000-digit integer is still named).
 
@@ -71,22 +98,28 @@ def number(name: str, value: Any, expected: str) -> float:
     Booleans are refused: ``float(True)`` is 1.0, but a switch is no length.
     """
     if isinstance(value, (bool, np.bool_)):
-        raise ValueError(
-            f"{name}={value!r} is a true/false switch, not a number; expected {expected}"
+        raise InvalidValue(
+            name, f"{name}={value!r} is a true/false switch, not a number; expected {expected}"
         )
     try:
         return float(value)
     except OverflowError:
-        raise ValueError(f"{name}={echo(value)} is too large; expected {expected}") from None
+        raise InvalidValue(
+            name, f"{name}={echo(value)} is too large; expected {expected}"
+        ) from None
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={echo(value)} is not a number; expected {expected}") from None
+        raise InvalidValue(
+            name, f"{name}={echo(value)} is not a number; expected {expected}"
+        ) from None
 
 
 def positive(name: str, value: Any) -> float:
     """A finite length > 0 (mm), or a ``ValueError`` naming ``name``."""
     x = number(name, value, "a positive length in mm")
     if not math.isfinite(x) or x <= 0:
-        raise ValueError(f"{name}={echo(value)} is invalid; expected a finite length > 0 mm")
+        raise InvalidValue(
+            name, f"{name}={echo(value)} is invalid; expected a finite length > 0 mm"
+        )
     return x
 
 
@@ -94,13 +127,15 @@ def finite(name: str, value: Any) -> float:
     """A finite number, or a ``ValueError`` naming ``name``."""
     x = number(name, value, "a finite number")
     if not math.isfinite(x):
-        raise ValueError(f"{name}={echo(value)} is invalid; expected a finite number")
+        raise InvalidValue(name, f"{name}={echo(value)} is invalid; expected a finite number")
     return x
 
 
 def pair(name: str, value: Any) -> tuple[float, float]:
     """Two finite numbers (x, y) in mm, or a ``ValueError`` naming ``name``."""
     if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__len__") or len(value) != 2:
-        raise ValueError(f"{name}={echo(value)} is invalid; expected two numbers (x, y) in mm")
+        raise InvalidValue(
+            name, f"{name}={echo(value)} is invalid; expected two numbers (x, y) in mm"
+        )
     x, y = value
     return (finite(name, x), finite(name, y))

@@ -16,6 +16,38 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 from .topology import INDEX
 
 
+class NearPointChain(ValueError):
+    """A group of points joined by the tolerance whose ends are farther apart than it.
+
+    Attributes
+    ----------
+    tolerance : float
+        The welding distance ε (mm).
+    centre : tuple of float
+        (x, y) mean of the group's points (mm).
+    span : float
+        Distance between the group's two farthest points (mm), > ``tolerance``.
+    """
+
+    def __init__(self, tolerance: float, centre: tuple[float, float], span: float) -> None:
+        self.tolerance = tolerance
+        self.centre = centre
+        self.span = span
+        super().__init__(
+            f"{self.finding}; points farther apart than the tolerance are never merged: use a "
+            "smaller tolerance"
+        )
+
+    @property
+    def finding(self) -> str:
+        """What was found, without the advice: where the chain is and how long."""
+        x, y = self.centre
+        return (
+            f"tolerance={self.tolerance:.6g} mm joins a chain of near points near "
+            f"({x:.6g}, {y:.6g}) whose ends are {self.span:.6g} mm apart"
+        )
+
+
 def merge_pairs(
     n_points: int,
     pairs: np.ndarray,
@@ -113,12 +145,7 @@ def _check_diameters(nodes: np.ndarray, comp: np.ndarray, coords: np.ndarray, to
     g = int(chain[0])
     group = pts[ends[g] : ends[g + 1]]
     centre = group.mean(axis=0)
-    raise ValueError(
-        f"tolerance={tol:.6g} mm joins a chain of near points near "
-        f"({centre[0]:.6g}, {centre[1]:.6g}) whose ends are {_diameter(group):.6g} mm apart; "
-        "points farther apart than the tolerance are never merged: use a smaller "
-        "tolerance"
-    )
+    raise NearPointChain(tol, (float(centre[0]), float(centre[1])), _diameter(group))
 
 
 #: Directions of the projections that bound a group's diameter (within 0.03 %).

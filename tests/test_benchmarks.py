@@ -68,7 +68,7 @@ def test_mesher_benchmark_has_paper_n4_rows_at_1m_and_4m(monkeypatch) -> None:
 
 
 def test_mesher_benchmark_conforming_rows_reach_their_nominal_sizes(monkeypatch) -> None:
-    from barymesh.structures import sector_plan
+    from barymesh.sectors import sector_plan
 
     spec = importlib.util.spec_from_file_location("mesher", ROOT / "benchmarks" / "mesher.py")
     mesher = importlib.util.module_from_spec(spec)

@@ -6,7 +6,7 @@ triangles (a junction), which no built structure produces on purpose.
 """
 
 import numpy as np
-from barymesh.assembly import patch_topology, patch_triangles
+from barymesh.repeat import patch_topology, patch_triangles
 from barymesh.subdivision import patch_template
 from barymesh.topology import INDEX, edge_topology
 from hypothesis import given

@@ -1,9 +1,9 @@
 """Shortcuts taken for rings of sectors and grid patches give what the general paths give.
 
 A conforming ring whose vertices are numbered by formula repeats the topology
-of a short chain of sectors (``barymesh.topology.chain_topology``) and takes its
+of a short chain of sectors (``barymesh.repeat.chains.chain_topology``) and takes its
 largest edge valence from that chain in the invariant check; grid patches
-reduce their quality edge by edge (``barymesh.quality.lattice_quality_summary``).
+reduce their quality edge by edge (``barymesh.repeat.lattice_quality_summary``).
 Each shortcut is compared with the general path, and defects planted in a mesh
 that takes the shortcut must still be refused.
 """
@@ -11,23 +11,20 @@ that takes the shortcut must still be refused.
 import numpy as np
 import pytest
 from barymesh import MeshParams, TriMesh, build_mesh
-from barymesh.assembly import patch_topology
-from barymesh.invariants import (
-    MeshInvariantError,
-    _chain_valence,
-    _point_keys,
-    check_mesh,
-    duplicate_vertices,
-)
-from barymesh.mesh import _count_distinct
-from barymesh.quality import (
+from barymesh.check import check_mesh
+from barymesh.invariants import MeshInvariantError, _point_keys, duplicate_vertices
+from barymesh.quality import quality_summary, triangle_quality
+from barymesh.repeat import (
+    CHAIN,
+    Repetition,
+    chain_valence,
     lattice_diagonal,
     lattice_quality_summary,
-    quality_summary,
-    triangle_quality,
+    patch_topology,
 )
+from barymesh.stats import count_distinct
 from barymesh.subdivision import tensor_template
-from barymesh.topology import CHAIN, edge_topology, rwg_table, triangle_adjacency
+from barymesh.topology import edge_topology, rwg_table, triangle_adjacency
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
@@ -79,17 +76,42 @@ def assert_same_rwg(mesh):
 
 def rebuilt(mesh, points=None, triangles=None):
     """The mesh with other points or triangles, same template (nothing cached)."""
+    points = mesh.points if points is None else points
+    triangles = mesh.triangles if triangles is None else triangles
     return TriMesh(
-        mesh.points if points is None else points,
-        mesh.triangles if triangles is None else triangles,
+        points,
+        triangles,
         mesh.patch_ids,
         mesh.regions,
         mesh.n_patches,
         mesh.mode,
         mesh.tolerance,
         mesh.patch_rects,
-        _template=mesh._template,
+        repetition=copies_of(mesh.repetition.template, triangles, len(points)),
     )
+
+
+def copies_of(template, triangles, n_vertices):
+    """The repetition of triangles that are copies of ``template``'s (the map read back)."""
+    return Repetition.of_triangles(template, triangles, n_vertices)
+
+
+def chains_of(mesh):
+    """(sectors, closed) when the mesh takes the chain paths, else None."""
+    rep = mesh.repetition
+    return (rep.sectors, rep.closed) if rep.kind == "chains" else None
+
+
+def chain_valence_of(mesh):
+    """The valence the invariant check takes from the short chains, None off the chain path."""
+    rep = mesh.repetition
+    return chain_valence(rep.template, rep.closed) if rep.kind == "chains" else None
+
+
+def general_patch_topology(mesh):
+    """The patch path (only the glued edges sorted) on the mesh's template and vertex map."""
+    rep = mesh.repetition
+    return patch_topology(rep.template, rep.vertex_map, mesh.n_vertices)
 
 
 RINGS = [
@@ -130,13 +152,13 @@ RINGS = [
 @pytest.mark.parametrize("params", RINGS)
 def test_chain_topology_equals_the_patch_topology_bit_for_bit(params):
     mesh = build_mesh(params)
-    chains = mesh._sector_chains
+    chains = chains_of(mesh)
     assert chains is not None  # rings of sectors numbered by formula: the shortcut is taken
     ms, closed = chains
     assert min(ms) >= CHAIN and sum(ms) == mesh.n_patches
     assert all(closed) == ("split" not in params.structure)
     assert not any(closed) or all(closed)
-    expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
+    expect = general_patch_topology(mesh)
     assert_same_topology(mesh.topology, expect)
     general = edge_topology(mesh.triangles, mesh.n_vertices)
     assert len(mesh.edges) == len(general.edges)
@@ -179,7 +201,7 @@ def test_chain_topology_equals_the_patch_topology_on_random_rings(
         mesh = build_mesh(params)
     except ValueError:
         assume(False)
-    expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
+    expect = general_patch_topology(mesh)
     assert_same_topology(mesh.topology, expect)
     assert_same_rwg(mesh)
 
@@ -196,8 +218,8 @@ def test_chain_topology_equals_the_patch_topology_on_random_rings(
 )
 def test_other_layouts_take_the_general_topology(params):
     mesh = build_mesh(params)
-    assert mesh._sector_chains is None
-    expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
+    assert chains_of(mesh) is None
+    expect = general_patch_topology(mesh)
     assert_same_topology(mesh.topology, expect)
 
 
@@ -208,8 +230,8 @@ def test_renumbered_vertices_take_the_general_topology():
     swap[[0, 1]] = [1, 0]
     points = mesh.points[np.argsort(swap)]
     renumbered = rebuilt(mesh, points, swap[mesh.triangles])
-    assert renumbered._sector_chains is None
-    expect = patch_topology(renumbered._template, renumbered._vertex_map, renumbered.n_vertices)
+    assert chains_of(renumbered) is None
+    expect = general_patch_topology(renumbered)
     assert_same_topology(renumbered.topology, expect)
     assert renumbered.stats()["edges"] == mesh.stats()["edges"]
 
@@ -219,7 +241,8 @@ def test_a_scaled_formula_ring_keeps_its_chains_and_its_floor():
     mesh = build_mesh(MeshParams(structure="split_double_ring", mode="conforming"))
     metres = mesh.scaled(1e-3)
     assert metres.params is None and metres.min_angle_floor == mesh.min_angle_floor
-    assert metres._sector_chains == mesh._sector_chains
+    assert chains_of(metres) == chains_of(mesh) is not None
+    assert metres.repetition is mesh.repetition  # no coordinates in it: kept as it is
     assert_same_topology(metres.topology, mesh.topology)
     got, expect = metres.stats(), mesh.stats()
     assert got["min_angle_floor_deg"] == expect["min_angle_floor_deg"]
@@ -237,8 +260,8 @@ def ring_params():
 
 def test_the_invariant_check_takes_the_chain_valence_of_a_formula_ring():
     mesh = build_mesh(ring_params())
-    assert _chain_valence(mesh) == 2
-    check_mesh(rebuilt(mesh), ring_params(), mesh._vertex_map)
+    assert chain_valence_of(mesh) == 2
+    check_mesh(rebuilt(mesh), ring_params())
 
 
 def test_two_rings_laid_on_each_other_are_refused_as_duplicate_vertices():
@@ -250,19 +273,19 @@ def test_two_rings_laid_on_each_other_are_refused_as_duplicate_vertices():
     points = mesh.points.copy()
     points[half:] = points[:half]
     stacked = rebuilt(mesh, points)
-    assert stacked._sector_chains is not None  # still the formula path
+    assert chains_of(stacked) is not None  # still the formula path
     # (the check looks among the vertices on the sectors' sides, where sectors are glued)
-    sides = mesh._vertex_map[:, mesh._template.side_vertices]
+    sides = mesh.repetition.vertex_map[:, mesh.repetition.template.side_vertices]
     on_sides = len(np.unique(sides[sides < half]))
     with pytest.raises(MeshInvariantError, match=f"has {on_sides:,} vertices at the same point"):
-        check_mesh(stacked, p, stacked._vertex_map)
+        check_mesh(stacked, p)
 
 
 def test_a_sector_glued_twice_is_refused_as_a_junction():
     # one more sector on the same vertices as sector 0: its edges on 4 triangles; the
     # vertex map is no longer the formula's, so the valence is counted in general
     mesh = build_mesh(MeshParams(structure="ring", mode="conforming", angle_step=30.0))
-    per = len(mesh._template.triangles)
+    per = len(mesh.repetition.template.triangles)
     triangles = np.vstack([mesh.triangles, mesh.triangles[:per]])
     twice = TriMesh(
         mesh.points,
@@ -271,19 +294,19 @@ def test_a_sector_glued_twice_is_refused_as_a_junction():
         np.r_[mesh.regions, mesh.regions[:per]],
         mesh.n_patches + 1,
         mesh.mode,
-        _template=mesh._template,
+        repetition=copies_of(mesh.repetition.template, triangles, mesh.n_vertices),
     )
-    assert twice._sector_chains is None and _chain_valence(twice) is None
+    assert chains_of(twice) is None and chain_valence_of(twice) is None
     with pytest.raises(MeshInvariantError, match="edges on 4 triangles"):
-        check_mesh(twice, ring_params(), twice._vertex_map)
+        check_mesh(twice, ring_params())
 
 
 def test_a_sector_glued_to_a_third_neighbour_is_refused_as_a_junction():
     # a copy of sector 1 on new vertices a hair (1e-9) further out, but for its side 0,
     # which stays sector 0's side 2: those edges on 3 triangles, no two points equal
     mesh = build_mesh(MeshParams(structure="ring", mode="conforming", angle_step=30.0))
-    t = mesh._template
-    vmap = mesh._vertex_map
+    t = mesh.repetition.template
+    vmap = mesh.repetition.vertex_map
     extra = mesh.n_vertices + np.arange(len(t.uv))
     extra[t.sides[0]] = vmap[1, t.sides[0]]
     points = np.vstack([mesh.points, mesh.points[vmap[1]] * (1 + 1e-9)])
@@ -296,11 +319,11 @@ def test_a_sector_glued_to_a_third_neighbour_is_refused_as_a_junction():
         np.r_[mesh.regions, mesh.regions[:per]],
         mesh.n_patches + 1,
         mesh.mode,
-        _template=t,
+        repetition=Repetition.of(t, vmap3, len(points)),
     )
-    assert third._sector_chains is None  # not the formula: the valence is counted
+    assert chains_of(third) is None  # not the formula: the valence is counted
     with pytest.raises(MeshInvariantError, match="edges on 3 triangles"):
-        check_mesh(third, ring_params(), vmap3)
+        check_mesh(third, ring_params())
 
 
 @pytest.mark.parametrize(
@@ -316,9 +339,9 @@ def test_bad_coordinates_in_a_formula_ring_are_refused(plant, message):
     points = mesh.points.copy()
     plant(points)
     bad = rebuilt(mesh, points)
-    assert bad._sector_chains is not None
+    assert chains_of(bad) is not None
     with pytest.raises(MeshInvariantError, match=message):
-        check_mesh(bad, ring_params(), bad._vertex_map)
+        check_mesh(bad, ring_params())
 
 
 # -- duplicate vertices: keys that tell point-symmetric points apart --------------------
@@ -338,13 +361,13 @@ def test_point_keys_tell_mirrored_points_apart_and_duplicates_are_counted_exactl
 
 
 def test_distinct_regions_are_counted_without_sorting():
-    assert _count_distinct(np.array([], dtype=np.int32)) == 0
-    assert _count_distinct(np.array([2, 2, 2], dtype=np.int32)) == 1
-    assert _count_distinct(np.array([1, 2, 1, 2], dtype=np.int32)) == 2
-    assert _count_distinct(np.array([1, 5, 5, 1], dtype=np.int32)) == 2  # none between
-    assert _count_distinct(np.array([1, 5, 3, 1, 3], dtype=np.int32)) == 3
-    assert _count_distinct(np.array([-4, 900, 7, 7], dtype=np.int32)) == 3
-    assert _count_distinct(np.array([0, 1 << 30, 5], dtype=np.int64)) == 3
+    assert count_distinct(np.array([], dtype=np.int32)) == 0
+    assert count_distinct(np.array([2, 2, 2], dtype=np.int32)) == 1
+    assert count_distinct(np.array([1, 2, 1, 2], dtype=np.int32)) == 2
+    assert count_distinct(np.array([1, 5, 5, 1], dtype=np.int32)) == 2  # none between
+    assert count_distinct(np.array([1, 5, 3, 1, 3], dtype=np.int32)) == 3
+    assert count_distinct(np.array([-4, 900, 7, 7], dtype=np.int32)) == 3
+    assert count_distinct(np.array([0, 1 << 30, 5], dtype=np.int64)) == 3
 
 
 # -- grid patches: quality reduced edge by edge -------------------------------------------
@@ -358,7 +381,7 @@ def test_lattice_quality_summary_equals_the_triangle_by_triangle_one(diagonal, d
     mesh = build_mesh(
         MeshParams(structure="patch", mode="paper", subdivisions=6, diagonal=diagonal)
     )
-    t = mesh._template
+    t = mesh.repetition.template
     assert lattice_diagonal(t.triangles, len(t.uv)) == diagonal
     rng = np.random.default_rng(1 if degenerate else 2)
     n_patches = 300
@@ -429,7 +452,7 @@ def test_lattice_quality_summary_of_sector_grids_of_n_by_n_v_cells(diagonal):
 )
 def test_stats_of_grid_patches_equal_the_general_figures(params):
     mesh = build_mesh(params)
-    t = mesh._template
+    t = mesh.repetition.template
     cells = (len(t.sides[0]) - 1, len(t.sides[1]) - 1)
     assert lattice_diagonal(t.triangles, len(t.uv), cells) == params.diagonal  # grid path
     got = mesh.stats()
@@ -459,8 +482,8 @@ def test_stats_of_grid_patches_equal_the_general_figures(params):
 )
 def test_copies_topology_equals_the_patch_topology_bit_for_bit(params):
     mesh = build_mesh(params)
-    assert mesh._unwelded_copies
-    expect = patch_topology(mesh._template, mesh._vertex_map, mesh.n_vertices)
+    assert mesh.repetition.kind == "copies"
+    expect = general_patch_topology(mesh)
     assert_same_topology(mesh.topology, expect)
     general = edge_topology(mesh.triangles, mesh.n_vertices)
     assert np.array_equal(np.bincount(mesh.topology.valence), np.bincount(general.valence))
@@ -469,12 +492,12 @@ def test_copies_topology_equals_the_patch_topology_bit_for_bit(params):
 
 def test_welded_or_renumbered_patches_are_not_taken_for_copies():
     welded = build_mesh(MeshParams(structure="square_split_double_ring", patch_size=0.5))
-    assert not welded._unwelded_copies
+    assert welded.repetition.kind != "copies"
     mesh = build_mesh(MeshParams(angle_step=30.0))
     # the last two vertices swapped: still unwelded, but not in template order
     swap = np.arange(mesh.n_vertices)
     swap[[-1, -2]] = swap[[-2, -1]]
     renumbered = rebuilt(mesh, mesh.points[np.argsort(swap)], swap[mesh.triangles])
-    assert not renumbered._unwelded_copies
-    expect = patch_topology(renumbered._template, renumbered._vertex_map, renumbered.n_vertices)
+    assert renumbered.repetition.kind != "copies"
+    expect = general_patch_topology(renumbered)
     assert_same_topology(renumbered.topology, expect)

@@ -3,8 +3,10 @@
 import numpy as np
 import pytest
 from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.placement import paper_origins
 from barymesh.quality import quality_summary, triangle_quality
-from barymesh.structures import _paper_origins
+from barymesh.repeat import Repetition, sector_edge_counts, translated_copy_measures
+from barymesh.stats import counted_measures
 from barymesh.topology import edge_topology, segment_lengths
 from barymesh.weld import _lattice_candidates, _window_candidates, merge_pairs
 from hypothesis import HealthCheck, assume, event, given, settings
@@ -37,7 +39,7 @@ def pair_set(pairs):
 @pytest.mark.parametrize("angle_step", [0.01, 0.5, 90.0])
 def test_window_candidates_of_paper_rings_equal_the_kd_tree(angle_step):
     params = MeshParams(structure="double_ring", mode="paper", angle_step=angle_step)
-    origins = _paper_origins(params)[0]
+    origins = paper_origins(params)[0]
     args = lattice_inputs(origins, 4, 0.25, params.weld_tolerance)
     assert pair_set(_lattice_candidates(*args)) == pair_set(kd_tree_candidates(*args))
 
@@ -109,8 +111,11 @@ def test_quality_equals_the_reference_bit_for_bit(scale, dims):
     assert_same_bits(triangle_quality(points, triangles), expect)
     pts3 = np.column_stack([points, np.zeros(len(points))]) if dims == 2 else points
     mesh = TriMesh(pts3, triangles, np.zeros(len(triangles)), np.ones(len(triangles)), 1)
-    mesh.stats()  # edge lengths first: the sides are then taken from them
+    mesh.stats()  # edge lengths first: the quality does not depend on what is cached
     assert_same_bits(mesh.quality, expect)
+    # the sides taken from the edge lengths: the same sums of squares, the same bits
+    sides = (mesh.edge_lengths, mesh.triangle_edges)
+    assert_same_bits(triangle_quality(mesh.points, mesh.triangles, None, *sides), expect)
 
 
 def test_planar_areas_do_not_overflow_where_the_square_would():
@@ -170,6 +175,22 @@ def general_stats(mesh):
     }
 
 
+def copy_measures(mesh):
+    """The measures of translated copies, or None when the mesh is not such copies."""
+    rep = mesh.repetition
+    if rep is None or rep.kind != "copies":
+        return None
+    return translated_copy_measures(rep.template, mesh.points, mesh.columns)
+
+
+def sector_counts(mesh):
+    """The edge counts of chains or closed rings of sectors, or None for other meshes."""
+    rep = mesh.repetition
+    chains = (rep.sectors, rep.closed) if rep.kind == "chains" else None
+    regions = mesh.regions[:: len(rep.template.triangles)]
+    return sector_edge_counts(rep.template, rep.vertex_map, mesh.n_vertices, chains, regions)
+
+
 def assert_stats_agree(got, mesh, edge_range_bits=False):
     expect = general_stats(mesh)
     for key in STATS_KEYS_EXACT:
@@ -196,7 +217,7 @@ def assert_stats_agree(got, mesh, edge_range_bits=False):
 )
 def test_stats_of_translated_copies_equal_the_general_ones(params):
     mesh = build_mesh(params)
-    fast = mesh._copy_stats()
+    fast = copy_measures(mesh)
     assert fast is not None  # these layouts weld nothing: the fast path must be taken
     assert_stats_agree(fast, mesh)
     stats = build_mesh(params).stats()
@@ -213,7 +234,7 @@ def test_stats_of_translated_copies_equal_the_general_ones(params):
     ],
 )
 def test_stats_fast_path_declines_welded_and_deformed_patches(params):
-    assert build_mesh(params)._copy_stats() is None
+    assert copy_measures(build_mesh(params)) is None
 
 
 @pytest.mark.parametrize("shift", [1e-9, 1e-3])
@@ -231,9 +252,9 @@ def test_stats_fast_path_declines_a_patch_moved_out_of_shape(shift):
         mesh.mode,
         mesh.tolerance,
         mesh.patch_rects,
-        _template=mesh._template,
+        repetition=mesh.repetition,
     )
-    assert moved._copy_stats() is None
+    assert copy_measures(moved) is None
     assert_stats_agree(moved.stats(), moved)
 
 
@@ -269,7 +290,7 @@ def test_stats_fast_path_agrees_on_random_paper_rings(
         mesh = build_mesh(params)
     except ValueError:
         assume(False)
-    fast = mesh._copy_stats()
+    fast = copy_measures(mesh)
     event("fast path" if fast is not None else "full path")
     if fast is not None:
         assert_stats_agree(fast, mesh)
@@ -280,7 +301,7 @@ def test_stats_fast_path_agrees_on_random_paper_rings(
 
 def assert_counted_stats_equal_the_general_ones(params):
     mesh = build_mesh(params)
-    got = mesh._measured_stats()
+    got = counted_measures(mesh)
     assert "topology" not in mesh.__dict__ and "quality" not in mesh.__dict__  # stayed lazy
     assert_stats_agree(got, mesh, edge_range_bits=True)
     stats = build_mesh(params).stats()
@@ -356,7 +377,7 @@ def general_counts(mesh):
 )
 def test_sector_edge_counts_of_closed_rings_equal_the_general_edge_finder(params):
     mesh = build_mesh(params)
-    counts = mesh._sector_edge_counts()
+    counts = sector_counts(mesh)
     assert counts is not None  # closed rings of glued sectors: the fast path must be taken
     np.testing.assert_array_equal(counts, general_counts(mesh))
     # V − E + F = 0 per closed ring
@@ -375,10 +396,10 @@ def test_sector_edge_counts_of_open_arcs_come_from_their_short_chains(params):
     # the build has checked the arcs' numbering (the invariant check reads the chains):
     # counts summed from the short chains, one arc of sectors per ring and slot side
     mesh = build_mesh(params)
-    assert "_sector_chains" in mesh.__dict__ and mesh._sector_chains is not None
-    ms, closed = mesh._sector_chains
+    assert mesh.repetition.kind == "chains"
+    ms, closed = mesh.repetition.sectors, mesh.repetition.closed
     assert not any(closed) and sum(ms) == mesh.n_patches
-    counts = mesh._sector_edge_counts()
+    counts = sector_counts(mesh)
     np.testing.assert_array_equal(counts, general_counts(mesh))
     # V − E + F = 1 per open arc
     assert mesh.n_vertices - counts.sum() + mesh.n_triangles == len(ms)
@@ -394,7 +415,7 @@ def test_sector_edge_counts_of_open_arcs_come_from_their_short_chains(params):
     ],
 )
 def test_sector_edge_counts_decline_other_layouts(params):
-    assert build_mesh(params)._sector_edge_counts() is None
+    assert sector_counts(build_mesh(params)) is None
 
 
 def test_sector_edge_counts_decline_renumbered_vertices():
@@ -412,9 +433,11 @@ def test_sector_edge_counts_decline_renumbered_vertices():
         mesh.n_patches,
         mesh.mode,
         mesh.tolerance,
-        _template=mesh._template,
+        repetition=Repetition.of_triangles(
+            mesh.repetition.template, new_id[mesh.triangles], mesh.n_vertices
+        ),
     )
-    assert renumbered._sector_edge_counts() is None
+    assert sector_counts(renumbered) is None
     assert_stats_agree(renumbered.stats(), renumbered)
     assert renumbered.stats()["edges"] == mesh.stats()["edges"]
 
@@ -424,7 +447,7 @@ def test_sector_edge_counts_decline_renumbered_vertices():
 def test_sector_edge_counts_equal_the_general_edge_finder_on_random_rings(p):
     assume(p.structure != "triangle")
     mesh = build_mesh(p)
-    counts = mesh._sector_edge_counts()
+    counts = sector_counts(mesh)
     event("sector counts" if counts is not None else "declined")
     if counts is not None:
         np.testing.assert_array_equal(counts, general_counts(mesh))

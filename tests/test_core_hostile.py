@@ -12,7 +12,8 @@ import tracemalloc
 import numpy as np
 import pytest
 from barymesh import MeshParams, build_mesh
-from barymesh.invariants import MeshInvariantError, check_mesh, inverted_or_flat
+from barymesh.check import check_mesh
+from barymesh.invariants import MeshInvariantError, inverted_or_flat
 from barymesh.mesh import TriMesh
 from barymesh.topology import edge_topology
 from barymesh.weld import merge_pairs, weld_points
@@ -316,7 +317,7 @@ def test_a_chain_at_the_default_tolerance_does_not_blame_a_tolerance_nobody_set(
 @pytest.mark.parametrize("diagonal", ["BC", "AD"])
 @pytest.mark.parametrize("scheme", ["uniform", "barycentric"])
 def test_the_per_patch_check_finds_what_the_per_triangle_check_finds(diagonal, scheme):
-    from barymesh.invariants import inverted_or_flat_patches
+    from barymesh.repeat import inverted_or_flat_patches
     from barymesh.structures import layout
 
     p = MeshParams(
@@ -362,7 +363,7 @@ def test_every_structure_builds_within_the_memory_budget(kw, mode):
 
 
 def test_the_per_patch_valence_check_sees_a_patch_laid_twice():
-    from barymesh.invariants import glued_edge_valence
+    from barymesh.repeat import glued_edge_valence
     from barymesh.structures import layout
 
     p = MeshParams(structure="ring", mode="conforming", angle_step=30, subdivisions=3)

@@ -113,3 +113,34 @@ def test_params_are_frozen():
     with pytest.raises(AttributeError):
         p.patch_size = 2.0  # type: ignore[misc]
     assert p.replace(patch_size=2.0).patch_size == 2.0
+
+
+@pytest.mark.parametrize(
+    ("changes", "field"),
+    [
+        ({"patch_size": -1}, "patch_size"),
+        ({"structure": "hexagon"}, "structure"),
+        ({"angle_step": 0}, "angle_step"),
+        ({"subdivisions": 2.5}, "subdivisions"),
+        ({"origin": (1, 2, 3)}, "origin"),
+        ({"structure": "split_ring", "gap_width": 9}, "gap_width"),
+        ({"tolerance": 0.5}, "tolerance"),
+        ({"frequency": -1}, "frequency"),
+        ({"grading": True}, "grading"),
+        ({"outer_radius": 3}, "outer_radius"),
+        (
+            {"structure": "triangle", "triangle_vertices": [(0, 0), (1, 1), (2, 2)]},
+            "triangle_vertices",
+        ),
+        ({"mode": "conforming", "structure": "ring", "angle_step": 1e-14}, "angle_step"),
+    ],
+)
+def test_a_refused_value_carries_its_field_as_data(changes, field):
+    """Presets and cell files point at the source of a bad value by ``exc.field``, not by
+    reading the message; the message names the same field first."""
+    from barymesh.values import InvalidValue
+
+    with pytest.raises(InvalidValue) as err:
+        MeshParams(**changes)
+    assert err.value.field == field
+    assert str(err.value).startswith(f"{field}=")

@@ -316,7 +316,7 @@ def assert_sound(mesh, p):
     assert (conn != conn.T).nnz == 0
     if s["junction_edges"] == 0:
         assert conn.nnz == 2 * s["interior_edges"]
-    if mesh._template is not None:  # the template fast path equals the general sort
+    if mesh.repetition is not None:  # the repeated fast path equals the general sort
         fast = mesh.topology
         assert np.array_equal(
             edge_rows(fast.edges, fast.edge_triangles, fast.valence),

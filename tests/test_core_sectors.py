@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from barymesh import MeshParams, build_mesh
 from barymesh.presets import load_preset
-from barymesh.structures import sector_plan
+from barymesh.sectors import sector_plan
 from barymesh.subdivision import tensor_template
 from helpers import assert_topology_matches_generic
 from hypothesis import HealthCheck, assume, event, given, settings
@@ -150,7 +150,7 @@ def test_never_more_triangles_than_sectors_of_n_by_n_cells(p):
     # angle_step stays the widest sector: at least the asked number per arc and ring
     arcs = _geometry(p)[0]
     rings = 2 if p.structure in ("double_ring", "split_double_ring") else 1
-    per_arc = np.bincount(mesh.regions[:: len(mesh._template.triangles)])[1:] // arcs
+    per_arc = np.bincount(mesh.regions[:: len(mesh.repetition.template.triangles)])[1:] // arcs
     assert len(per_arc) == rings and (per_arc >= asked_sectors(p)).all()
 
 
@@ -282,7 +282,7 @@ def test_graded_cells_grow_by_at_most_the_growth_ratio(p):
             chords = np.hypot(*np.diff(ends, axis=0).T)
             assert _growth(chords) <= q * (1 + 1e-9)
     # angle_step stays the widest sector
-    per_arc = np.bincount(mesh.regions[:: len(mesh._template.triangles)])[1:]
+    per_arc = np.bincount(mesh.regions[:: len(mesh.repetition.template.triangles)])[1:]
     assert (per_arc // _geometry(p)[0] >= asked_sectors(p)).all()
 
 

@@ -6,6 +6,7 @@ import tracemalloc
 import numpy as np
 import pytest
 from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.constants import SPEED_OF_LIGHT
 from barymesh.mom import (
     PlaneWave,
     ProblemTooLarge,
@@ -17,7 +18,6 @@ from barymesh.mom import (
     solve,
     sweep,
 )
-from barymesh.mom.operator import SPEED_OF_LIGHT
 from barymesh.presets import load_preset, resolve_params
 
 

@@ -211,7 +211,7 @@ def _mie_pec_efficiency(ka, n_max=40):
 def test_pec_sphere_converges_to_mie():
     # a closed, curved surface: every coordinate active, points off the source planes
     trimesh = pytest.importorskip("trimesh")
-    from barymesh.mom.operator import SPEED_OF_LIGHT
+    from barymesh.constants import SPEED_OF_LIGHT
 
     ka, radius_mm = 1.0, 1.0
     freq = ka / (radius_mm * 1e-3) * SPEED_OF_LIGHT / (2 * np.pi)

@@ -22,12 +22,13 @@ from scipy.spatial import cKDTree
 from ..build import build_mesh
 from ..mesh import TriMesh
 from ..params import DEFAULT_MAX_TRIANGLES, MeshParams
+from ..repeat import Repetition
 from ..subdivision import PatchTemplate, patch_template
 from ..topology import INDEX
 from ..values import echo
 from ..weld import merge_pairs, weld_points
 from .contacts import hanging_vertices, overlapping_triangles, pinch_vertices
-from .model import Lattice, UnitCell
+from .model import Lattice, PixelGrid, UnitCell
 from .periodic import PeriodicPairs, periodic_pairs, side_vertices
 
 log = logging.getLogger(__name__)
@@ -131,7 +132,8 @@ def _element_part(element, mesh: TriMesh) -> _Part:
         hi = element.place(mesh.patch_rects[:, 2:])
         rects = np.concatenate([np.minimum(lo, hi), np.maximum(lo, hi)], axis=1)
     p = element.params
-    template = mesh._template  # the layout's (conforming rings: their sector template)
+    # the layout's template (conforming rings: their sector template)
+    template = None if mesh.repetition is None else mesh.repetition.template
     placed = TriMesh(
         xy,
         mesh.triangles,
@@ -142,16 +144,15 @@ def _element_part(element, mesh: TriMesh) -> _Part:
         mesh.tolerance,
         rects,
         {},
-        mesh._template,
+        mesh.repetition,
     )
     return _Part(
         xy, mesh.triangles, mesh.patch_ids, mesh.n_patches, rects, template, placed, p.min_spacing
     )
 
 
-def _pixel_part(cell: UnitCell) -> _Part:
-    """One square patch per set pixel, on one exact grid of points (no weld needed)."""
-    grid = cell.pixels
+def _pixel_part(cell: UnitCell, grid: PixelGrid) -> _Part:
+    """One square patch per set pixel of ``grid`` (the cell's), on one exact grid of points."""
     params = grid.patch_params()
     template = patch_template(grid.scheme, grid.subdivisions, grid.diagonal)
     rows, cols = np.nonzero(grid.mask)
@@ -188,7 +189,7 @@ def _pixel_part(cell: UnitCell) -> _Part:
         cell.weld_tolerance,
         rects if cell.mode == "paper" else None,
         {},
-        template,
+        Repetition.of(template, ids, len(xy)),
     )
     return _Part(xy, triangles, patch_ids, n_pix, rects, template, mesh, params.min_spacing)
 
@@ -219,7 +220,9 @@ def _check_overlaps(cell: UnitCell, parts: list[_Part]) -> None:
 def _describe_part(cell: UnitCell, k: int, part: _Part, triangle: int) -> str:
     if k < len(cell.elements):
         return f"element {cell.elements[k].name!r} (elements[{k}])"
-    rows, cols = np.nonzero(cell.pixels.mask)
+    grid = cell.pixels
+    assert grid is not None  # parts past the elements are the pixels'
+    rows, cols = np.nonzero(grid.mask)
     pix = part.patch_ids[triangle]
     return f"pixel (row {rows[pix]}, column {cols[pix]})"
 
@@ -277,9 +280,9 @@ def build_cell(
     for el in cell.elements:
         if el.params not in built:
             built[el.params] = build_mesh(el.params)
-    parts = [_element_part(el, built[el.params]) for el in cell.elements]
+    parts: list[_Part | None] = [_element_part(el, built[el.params]) for el in cell.elements]
     if cell.pixels is not None and cell.pixels.mask.any():
-        parts.append(_pixel_part(cell))
+        parts.append(_pixel_part(cell, cell.pixels))
     elif cell.pixels is not None:
         parts.append(None)  # an empty grid: a part without metal
     present = [q for q in parts if q is not None]
@@ -370,6 +373,9 @@ def _merge(cell: UnitCell, parts: list[_Part | None]) -> tuple[TriMesh, np.ndarr
         rects = np.concatenate([q.rects for _, q in present])
     templates = {id(q.template) for _, q in present}
     template = present[0][1].template if len(templates) == 1 else None
+    repetition = (
+        None if template is None else Repetition.of_triangles(template, triangles, len(rep))
+    )
     mesh = TriMesh(
         points=np.column_stack([xy[rep], np.zeros(len(rep))]),
         triangles=triangles,
@@ -379,7 +385,7 @@ def _merge(cell: UnitCell, parts: list[_Part | None]) -> tuple[TriMesh, np.ndarr
         mode=cell.mode,
         tolerance=cell.weld_tolerance,
         patch_rects=rects,
-        _template=template,
+        repetition=repetition,
         lattice=cell.lattice,
     )
     return mesh, part_of_point[rep]
@@ -515,7 +521,7 @@ def tile(
         mode=m.mode,
         tolerance=m.tolerance,
         patch_rects=rects,
-        _template=m._template,
+        repetition=_tiled_repetition(m, ids, copies, len(rep)),
         lattice=array_lattice,
     )
     return CellMesh(
@@ -526,3 +532,15 @@ def tile(
         base.contact_notes,
         (base.copies[0] * n1, base.copies[1] * n2),
     )
+
+
+def _tiled_repetition(
+    m: TriMesh, ids: np.ndarray, copies: int, n_vertices: int
+) -> Repetition | None:
+    """The repetition of ``copies`` copies of ``m``, point p of the copies at vertex ``ids[p]``."""
+    if m.repetition is None:
+        return None
+    vmap = m.repetition.vertex_map
+    offsets = (np.arange(copies) * m.n_vertices).astype(INDEX)
+    tiled = ids[(vmap[None] + offsets[:, None, None]).reshape(-1, vmap.shape[1])]
+    return Repetition.of(m.repetition.template, tiled, n_vertices)

@@ -22,7 +22,6 @@ Errors name the place in the document, e.g. ``elements[2].inner_radius``.
 from __future__ import annotations
 
 import json
-import re
 from pathlib import Path
 from typing import Any
 
@@ -30,7 +29,7 @@ import numpy as np
 
 from ..params import MODES, MeshParams
 from ..presets import ASSET_DIR, read_json_file
-from ..values import echo, kind
+from ..values import InvalidValue, echo, kind
 from .model import Element, Lattice, PixelGrid, UnitCell
 
 FORMAT = "barymesh-cell"
@@ -74,10 +73,9 @@ def _unknown(data: dict[str, Any], known: tuple[str, ...] | set[str], where: str
 
 def _field_error(exc: Exception, where: str, fields: set[str]) -> CellFileError:
     """Prefix a validation error with the document path of the field it names."""
-    text = str(exc)
-    match = re.match(r"(\w+)=", text)
-    path = f"{where}.{match.group(1)}" if match and match.group(1) in fields else where
-    return _fail(path, text)
+    field = exc.field if isinstance(exc, InvalidValue) else None
+    path = f"{where}.{field}" if field in fields else where
+    return _fail(path, str(exc))
 
 
 # -- dict <-> cell ------------------------------------------------------------
@@ -163,12 +161,9 @@ def _cell_from_dict(data: Any) -> UnitCell:
             description=data.get("description", ""),
         )
     except (ValueError, TypeError) as exc:
-        text = str(exc)
-        match = re.match(r"(elements\[\d+\](?:\.\w+)?|pixels\.\w+)", text)
-        if match:
-            raise _fail(match.group(1), text) from None
-        match = re.match(r"(\w+)=", text)
-        raise _fail(match.group(1) if match else "document", text) from None
+        # the field named, a parameter or a path such as elements[2].position
+        field = exc.field if isinstance(exc, InvalidValue) else "document"
+        raise _fail(field, str(exc)) from None
 
 
 def _lattice(raw: Any) -> Lattice:
@@ -195,10 +190,8 @@ def _lattice(raw: Any) -> Lattice:
     except CellFileError:
         raise
     except (ValueError, TypeError) as exc:
-        match = re.match(r"(\w+)=", str(exc))
-        key = {"px": "rectangular", "py": "rectangular", "a": "hexagonal"}.get(
-            match.group(1) if match else "", match.group(1) if match else ""
-        )
+        field = exc.field if isinstance(exc, InvalidValue) else ""
+        key = {"px": "rectangular", "py": "rectangular", "a": "hexagonal"}.get(field, field)
         raise _fail(f"lattice.{key}" if key else "lattice", str(exc)) from None
     raise _fail(
         "lattice",

@@ -33,7 +33,7 @@ from ..params import (
     RELATIVE_TOLERANCE,
     MeshParams,
 )
-from ..values import echo, number, pair, positive
+from ..values import InvalidValue, echo, number, pair, positive
 
 #: Largest |rotation| (degrees) of an element; beyond it float64 cannot place the turn.
 MAX_ROTATION = 1e6
@@ -71,15 +71,17 @@ class Lattice:
         for vname, vec in (("a1", a1), ("a2", a2)):
             length = math.hypot(*vec)
             if not MIN_EDGE <= length <= MAX_COORDINATE:
-                raise ValueError(
+                raise InvalidValue(
+                    vname,
                     f"{vname}={vec!r} is {length:.3g} mm long; expected a lattice vector "
-                    f"between {MIN_EDGE:.0e} and {MAX_COORDINATE:.0e} mm"
+                    f"between {MIN_EDGE:.0e} and {MAX_COORDINATE:.0e} mm",
                 )
         cross = a1[0] * a2[1] - a1[1] * a2[0]
         if abs(cross) <= 1e-12 * math.hypot(*a1) * math.hypot(*a2) or cross == 0:
-            raise ValueError(
+            raise InvalidValue(
+                "a1",
                 f"a1={a1!r} and a2={a2!r} are parallel (or zero); a lattice needs two "
-                "independent vectors"
+                "independent vectors",
             )
 
     @classmethod
@@ -159,13 +161,16 @@ class Element:
         object.__setattr__(self, "position", _vector("position", self.position))
         rot = number("rotation", self.rotation, "an angle in degrees")
         if not (math.isfinite(rot) and abs(rot) <= MAX_ROTATION):
-            raise ValueError(
+            raise InvalidValue(
+                "rotation",
                 f"rotation={echo(self.rotation)} is invalid; expected a finite angle within "
-                f"+-{MAX_ROTATION:.0e} degrees"
+                f"+-{MAX_ROTATION:.0e} degrees",
             )
         object.__setattr__(self, "rotation", rot)
         if not isinstance(self.name, str) or not self.name.strip():
-            raise ValueError(f"name={echo(self.name)} is invalid; expected a non-empty string")
+            raise InvalidValue(
+                "name", f"name={echo(self.name)} is invalid; expected a non-empty string"
+            )
 
     def place(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) points ``xy`` (N, 2) of the local frame, rotated then translated."""
@@ -272,7 +277,7 @@ class PixelGrid:
 
     def replaced(self, **changes: Any) -> PixelGrid:
         """A copy with some fields changed (validated again)."""
-        data = {
+        data: dict[str, Any] = {  # the fields as they are, then the changes (validated)
             "mask": self.mask,
             "pixel_size": self.pixel_size,
             "origin": self.origin,
@@ -299,11 +304,13 @@ def symmetrized(mask: np.ndarray, symmetry: str) -> np.ndarray:
     """
     m = np.asarray(mask, dtype=bool)
     if symmetry not in SYMMETRIES:
-        raise ValueError(
-            f"symmetry={symmetry!r} is unknown; expected one of {', '.join(SYMMETRIES)}"
+        raise InvalidValue(
+            "symmetry", f"symmetry={symmetry!r} is unknown; expected one of {', '.join(SYMMETRIES)}"
         )
     if symmetry in ("4-fold", "8-fold") and m.shape[0] != m.shape[1]:
-        raise ValueError(f"symmetry={symmetry!r} needs a square mask, got shape {m.shape}")
+        raise InvalidValue(
+            "symmetry", f"symmetry={symmetry!r} needs a square mask, got shape {m.shape}"
+        )
     if symmetry == "mirror_x":
         return m | m[:, ::-1]
     if symmetry == "mirror_y":
@@ -349,8 +356,8 @@ class UnitCell:
         if not isinstance(self.lattice, Lattice):
             raise TypeError(f"lattice must be a Lattice, got {echo(self.lattice)}")
         if not isinstance(self.mode, str) or self.mode not in MODES:
-            raise ValueError(
-                f"mode={echo(self.mode)} is unknown; expected one of {', '.join(MODES)}"
+            raise InvalidValue(
+                "mode", f"mode={echo(self.mode)} is unknown; expected one of {', '.join(MODES)}"
             )
         elements = tuple(self.elements)
         seen: dict[str, int] = {}
@@ -359,17 +366,19 @@ class UnitCell:
             if not isinstance(el, Element):
                 raise TypeError(f"elements[{k}] must be an Element, got {echo(el)}")
             if el.name in seen:
-                raise ValueError(
+                raise InvalidValue(
+                    f"elements[{k}].name",
                     f"elements[{k}].name={echo(el.name)} is already the name of "
-                    f"elements[{seen[el.name]}]; element names must be unique"
+                    f"elements[{seen[el.name]}]; element names must be unique",
                 )
             seen[el.name] = k
             if el.params.mode != self.mode:
                 try:
                     params = el.params.replace(mode=self.mode)
                 except ValueError as exc:
-                    raise ValueError(
-                        f"elements[{k}] ({echo(el.name)}) in {self.mode} mode: {exc}"
+                    raise InvalidValue(
+                        f"elements[{k}]",
+                        f"elements[{k}] ({echo(el.name)}) in {self.mode} mode: {exc}",
                     ) from None
                 el = Element(params, el.position, el.rotation, el.name)
             fixed.append(el)
@@ -397,21 +406,23 @@ class UnitCell:
         for where, shift, reach, edge in self._part_reaches():
             if not edge >= MIN_RELATIVE_EDGE * reach:
                 far = edge / MIN_RELATIVE_EDGE
-                raise ValueError(
+                raise InvalidValue(
+                    where,
                     f"{where}={echo(shift)} places metal up to {reach:.3g} mm from the cell's "
                     f"centre, where float64 cannot resolve its sub-triangle edges of {edge:.3g} "
                     f"mm (at least {MIN_RELATIVE_EDGE:g} of the largest coordinate); expected "
-                    f"the part within about {far:.3g} mm of the centre"
+                    f"the part within about {far:.3g} mm of the centre",
                 )
             if not tol >= MIN_RELATIVE_TOLERANCE * reach:
                 name = "tolerance" if self.tolerance is not None else where
                 value = self.tolerance if self.tolerance is not None else shift
-                raise ValueError(
+                raise InvalidValue(
+                    name,
                     f"{name}={echo(value)}: metal up to {reach:.3g} mm from the cell's centre "
                     f"is rounded by float64 by more than the welding tolerance {tol:.3g} mm, so "
                     f"shared points would stay apart; expected the part within "
                     f"{tol / MIN_RELATIVE_TOLERANCE:.3g} mm of the centre, or a tolerance of at "
-                    f"least {MIN_RELATIVE_TOLERANCE * reach:.3g} mm"
+                    f"least {MIN_RELATIVE_TOLERANCE * reach:.3g} mm",
                 )
 
     def _part_reaches(self) -> list[tuple[str, tuple[float, float], float, float]]:
@@ -460,7 +471,7 @@ class UnitCell:
 
     def replace(self, **changes: Any) -> UnitCell:
         """A copy with some fields changed (validated again)."""
-        data = {
+        data: dict[str, Any] = {  # the fields as they are, then the changes (validated)
             "lattice": self.lattice,
             "elements": self.elements,
             "pixels": self.pixels,

@@ -324,9 +324,10 @@ def write_outline_gds(
     lib = gdstk.Library("BARYMESH", unit=1e-3, precision=1e-9)
     top = lib.new_cell(cell_name)
     for poly in polygons:
-        outer = gdstk.Polygon(poly.outer, layer=layer, datatype=datatype)
+        # gdstk takes (N, 2) arrays; its stubs name sequences of points only
+        outer = gdstk.Polygon(poly.outer, layer=layer, datatype=datatype)  # type: ignore[arg-type]
         if poly.holes:
-            holes = [gdstk.Polygon(h) for h in poly.holes]
+            holes = [gdstk.Polygon(h) for h in poly.holes]  # type: ignore[arg-type]
             pieces = gdstk.boolean(
                 outer, holes, "not", precision=1e-6, layer=layer, datatype=datatype
             )

@@ -11,13 +11,36 @@ where it is +1/2 (the slave, the master moved by a_k).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..mesh import TriMesh
 from ..topology import edge_keys
 from .model import Lattice
+
+
+class EdgedMesh(Protocol):
+    """What the matching reads of a mesh (a :class:`barymesh.mesh.TriMesh`, read only).
+
+    The mesh module asks this one for :attr:`barymesh.mesh.TriMesh.periodic_pairs`, so
+    this module names no mesh class: it is below the mesh.
+    """
+
+    @property
+    def points(self) -> np.ndarray:
+        """(V, 2 or 3) float64 vertex coordinates (mm)."""
+        ...
+
+    @property
+    def edges(self) -> np.ndarray:
+        """(E, 2) int vertex pairs of every edge."""
+        ...
+
+    @property
+    def boundary_edges(self) -> np.ndarray:
+        """(B,) int ids of the edges on one triangle only."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -76,13 +99,13 @@ def side_vertices(points: np.ndarray, lattice: Lattice, tolerance: float) -> np.
     return out
 
 
-def periodic_pairs(mesh: TriMesh, lattice: Lattice, tolerance: float) -> PeriodicPairs:
+def periodic_pairs(mesh: EdgedMesh, lattice: Lattice, tolerance: float) -> PeriodicPairs:
     """Match the boundary edges on opposite sides of the cell.
 
     Parameters
     ----------
-    mesh : TriMesh
-        The cell's mesh, with the cell centred on the origin.
+    mesh : EdgedMesh
+        The cell's mesh (a :class:`barymesh.mesh.TriMesh`), with the cell centred on the origin.
     lattice : Lattice
     tolerance : float
         Distance (mm) within which a translated vertex meets its partner.
@@ -105,9 +128,8 @@ def periodic_pairs(mesh: TriMesh, lattice: Lattice, tolerance: float) -> Periodi
             continue
         v_minus = np.unique(edges[minus])
         v_plus = np.unique(edges[plus])
-        dist, nearest = cKDTree(xy[v_plus]).query(
-            xy[v_minus] + shift, distance_upper_bound=tolerance
-        )
+        dist, near = cKDTree(xy[v_plus]).query(xy[v_minus] + shift, distance_upper_bound=tolerance)
+        nearest = np.asarray(near)  # (n,) for n query points (a scalar only for one point)
         found = np.isfinite(dist)
         partner = np.full(len(xy), -1, dtype=np.int64)
         partner[v_minus[found]] = v_plus[nearest[found]]

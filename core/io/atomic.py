@@ -62,7 +62,7 @@ def remove_stale_temp_files(target: str | Path) -> list[Path]:
     """
     target = Path(target)
     pattern = _temp_pattern(target)
-    removed = []
+    removed: list[Path] = []
     try:
         entries = list(os.scandir(target.parent))
     except OSError:

@@ -120,8 +120,13 @@ def read_gmsh22(path: Path):
             f"{len(flat) // 4:,}"
         )
     values = flat.tolist()
-    tri, physical, elementary, ignored = [], [], [], {}
-    numbers, other, other_numbers = [], [], []
+    tri_nodes: list[list[int]] = []
+    physical: list[int] = []
+    elementary: list[int] = []
+    ignored: dict[str, int] = {}
+    numbers: list[int] = []
+    other: list[int] = []
+    other_numbers: list[int] = []
     pos, parsed = 0, 0
     for _ in range(count):  # element lines differ in length: walk them
         if pos + 3 > len(values):
@@ -138,7 +143,7 @@ def read_gmsh22(path: Path):
         nodes = values[pos + 3 + n_tags : pos + 3 + n_tags + n_nodes]
         pos += 3 + n_tags + n_nodes
         if kind == TRIANGLE:
-            tri.append(nodes)
+            tri_nodes.append(nodes)
             numbers.append(number)
             physical.append(element_tags[0] if n_tags >= 1 else 0)
             elementary.append(element_tags[1] if n_tags >= 2 else 0)
@@ -152,7 +157,7 @@ def read_gmsh22(path: Path):
             "not match that many element lines"
         )
     _node_indices(tags, np.asarray(other, dtype=np.int64), np.asarray(other_numbers))
-    tri = np.asarray(tri, dtype=np.int64).reshape(-1, 3)
+    tri = np.asarray(tri_nodes, dtype=np.int64).reshape(-1, 3)
     triangles = _node_indices(tags, tri, np.repeat(np.asarray(numbers, dtype=np.int64), 3))
     return points, triangles, np.asarray(physical), np.asarray(elementary), ignored
 

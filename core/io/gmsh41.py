@@ -10,6 +10,7 @@ section defines (Gmsh node tags are positive integers).
 
 from __future__ import annotations
 
+import builtins
 import re
 import warnings
 
@@ -32,6 +33,7 @@ class _Numbers:
 
     def __init__(self, body: bytes, binary: bool, order: str, section: str) -> None:
         self.binary, self.order, self.section, self.pos = binary, order, section, 0
+        self.data: bytes | np.ndarray  # the bytes (binary) or the numbers parsed (ASCII)
         if binary:
             self.data = body
             return
@@ -60,7 +62,7 @@ class _Numbers:
                 f"the ${self.section} section declares more numbers than it holds "
                 "(it is truncated or a count is wrong)"
             )
-        out = self.data[self.pos : self.pos + n]
+        out = np.asarray(self.data[self.pos : self.pos + n])  # an ndarray already (ASCII)
         self.pos += n
         return out
 
@@ -78,10 +80,10 @@ class _Numbers:
     def int(self, size_t: bool = False) -> int:
         return int(self.ints(1, size_t)[0])
 
-    def floats(self, n: int) -> np.ndarray:
+    def floats(self, n: builtins.int) -> np.ndarray:
         return self._take(n, "f8").astype(np.float64)
 
-    def left(self) -> int:
+    def left(self) -> builtins.int:  # ``int`` is the method above in the class body
         return len(self.data) - self.pos
 
     def check_end(self) -> None:

@@ -89,6 +89,9 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
     problem = file_problem(path)
     if problem:
         raise MeshFileError(f"{path}: {problem}")
+    regions: np.ndarray | None
+    patch_ids: np.ndarray | None
+    ignored: dict[str, int]  # cell type -> cells of it that are not triangles
     try:
         if ext == ".mat":
             points, triangles, regions = read_makarov(path)
@@ -211,7 +214,7 @@ def _first(data: dict, keys: tuple[str, ...]) -> np.ndarray | None:
     return None
 
 
-def _read_meshio(path: Path, file_format: str):
+def _read_meshio(path: Path, file_format: str | None):
     import meshio
 
     # meshio.read prints a ReadError's message on stdout and calls sys.exit(1); it warns
@@ -232,7 +235,10 @@ def _read_meshio(path: Path, file_format: str):
     noise = (out.getvalue() + err.getvalue()).strip()
     if noise:
         log.info("meshio on %s: %s", path, noise)
-    triangles, regions, patches, ignored = [], [], [], {}
+    triangles: list[np.ndarray] = []
+    regions: list[np.ndarray | None] = []
+    patches: list[np.ndarray | None] = []
+    ignored: dict[str, int] = {}
     for k, block in enumerate(m.cells):
         if block.type != "triangle":
             ignored[block.type] = ignored.get(block.type, 0) + len(block.data)
@@ -244,13 +250,19 @@ def _read_meshio(path: Path, file_format: str):
                 f"{data.shape}, not 3 per triangle (the file is damaged)"
             )
         triangles.append(data.astype(np.int64))
-        data = {key: values[k] for key, values in m.cell_data.items()}
-        regions.append(_first(data, _REGION_KEYS))
-        patches.append(_first(data, _PATCH_KEYS))
+        cell_data = {key: values[k] for key, values in m.cell_data.items()}
+        regions.append(_first(cell_data, _REGION_KEYS))
+        patches.append(_first(cell_data, _PATCH_KEYS))
     tri = np.concatenate(triangles) if triangles else np.empty((0, 3), dtype=np.int64)
-    reg = np.concatenate(regions) if triangles and all(r is not None for r in regions) else None
-    pat = np.concatenate(patches) if triangles and all(p is not None for p in patches) else None
+    reg = _joined(regions) if triangles else None
+    pat = _joined(patches) if triangles else None
     return np.asarray(m.points, dtype=np.float64), tri, reg, pat, ignored
+
+
+def _joined(blocks: list[np.ndarray | None]) -> np.ndarray | None:
+    """The blocks' values end to end, or None if a block has none."""
+    present = [b for b in blocks if b is not None]
+    return np.concatenate(present) if len(present) == len(blocks) else None
 
 
 def _assemble(path, points, triangles, regions, patch_ids, ignored, to_mm) -> TriMesh:

@@ -42,7 +42,8 @@ def makarov_arrays(mesh: TriMesh, per_mm: float) -> dict[str, np.ndarray]:
 def write_makarov(mesh: TriMesh, path: Path, per_mm: float) -> None:
     """Write ``p`` and ``t`` as a MATLAB v5 file."""
     with open(path, "wb") as fh:
-        scipy.io.savemat(fh, makarov_arrays(mesh, per_mm), format="5", oned_as="column")
+        # savemat writes to an open binary file too (its docs); the stubs name paths only
+        scipy.io.savemat(fh, makarov_arrays(mesh, per_mm), format="5", oned_as="column")  # type: ignore[arg-type]
 
 
 def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -98,12 +99,12 @@ def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             f"its t refers to vertex {tri.max():g} but p has {p.shape[1]} vertices "
             "(indices are 1-based)"
         )
-    tri = tri.astype(np.int64) - 1
+    triangles = tri.astype(np.int64) - 1
     regions = np.asarray(t[3], dtype=np.int64) if t.shape[0] == 4 else np.ones(len(tri), int)
     points = p.T
     if points.shape[1] == 2:
         points = np.column_stack([points, np.zeros(len(points))])
-    return points, tri, regions
+    return points, triangles, regions
 
 
 #: MATLAB v4 precision digit -> bytes per value.

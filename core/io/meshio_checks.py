@@ -85,7 +85,7 @@ def check_declared_counts(path: Path, ext: str) -> None:
             )
     elif ext == ".msh":
         head = re.match(rb"\s*\$MeshFormat\s+(\S+)\s+(\S+)\s+(\S+)", data)
-        binary_4 = bool(head) and head.group(1).startswith(b"4") and head.group(2) == b"1"
+        binary_4 = head is not None and head.group(1).startswith(b"4") and head.group(2) == b"1"
         for match in _MSH_SECTION.finditer(data):
             what = "nodes" if match.group(1) == b"Nodes" else "elements"
             limit = MAX_POINTS if what == "nodes" else MAX_CELLS

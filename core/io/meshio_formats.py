@@ -46,7 +46,7 @@ def cell_quality(mesh: TriMesh, wavelength: float | None = None) -> dict[str, np
     the longest side of each triangle over λ (the figures of
     :func:`barymesh.quality.quality_report`).
     """
-    data = {
+    data: dict[str, np.ndarray] = {
         "patch_id": mesh.patch_ids.astype(np.int32),
         "region": mesh.regions.astype(np.int32),
         "area": np.asarray(mesh.areas, dtype=np.float64),

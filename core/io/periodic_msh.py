@@ -79,12 +79,12 @@ def periodic_msh_text(cell_mesh, per_mm: float = 1.0) -> str:
     np.savetxt(out, np.column_stack([ids, points]), fmt=["%d", "%.17g", "%.17g", "%.17g"])
     out.write("$EndNodes\n")
 
-    lines = []  # (curve tag, v0, v1)
+    parts = []  # (curve tag, v0, v1)
     for k, (master, slave) in enumerate(SIDE_CURVES):
         sel = pairs.edge_shift == k
-        lines.append(np.column_stack([np.full(sel.sum(), master), mesh.edges[pairs.edges[sel, 0]]]))
-        lines.append(np.column_stack([np.full(sel.sum(), slave), mesh.edges[pairs.edges[sel, 1]]]))
-    lines = np.concatenate(lines).astype(np.int64) if lines else np.empty((0, 3), np.int64)
+        parts.append(np.column_stack([np.full(sel.sum(), master), mesh.edges[pairs.edges[sel, 0]]]))
+        parts.append(np.column_stack([np.full(sel.sum(), slave), mesh.edges[pairs.edges[sel, 1]]]))
+    lines = np.concatenate(parts).astype(np.int64) if parts else np.empty((0, 3), np.int64)
     n_lines, n_tri = len(lines), mesh.n_triangles
     out.write(f"$Elements\n{n_lines + n_tri}\n")
     if n_lines:

@@ -66,12 +66,15 @@ def rwg_arrays(mesh: TriMesh, per_mm: float, unit: str) -> dict[str, np.ndarray]
 def write_rwg_npz(mesh: TriMesh, path: Path, per_mm: float, unit: str) -> None:
     """Write the RWG bundle as an uncompressed ``.npz``."""
     with open(path, "wb") as fh:
-        np.savez(fh, **rwg_arrays(mesh, per_mm, unit))
+        # the keys are array names (never savez's allow_pickle), so ** passes arrays only
+        np.savez(fh, **rwg_arrays(mesh, per_mm, unit))  # type: ignore[arg-type]
 
 
 def _csv(header: str, columns: list[np.ndarray], fmts: list[str]) -> str:
     buf = io.StringIO()
-    table = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns]) if columns else []
+    table: np.ndarray | list[float] = (
+        np.column_stack([np.asarray(c, dtype=np.float64) for c in columns]) if columns else []
+    )
     np.savetxt(buf, table, fmt=fmts, delimiter=",", header=header, comments="")
     return buf.getvalue()
 

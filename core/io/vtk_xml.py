@@ -19,6 +19,7 @@ import re
 import warnings
 import zlib
 from pathlib import Path
+from typing import Literal
 from xml.etree import ElementTree as ET
 
 import numpy as np
@@ -97,7 +98,7 @@ class _ArrayReader:
         order = root.attrib.get("byte_order", "LittleEndian")
         if order not in ("LittleEndian", "BigEndian"):
             raise Damaged(f"its byte_order {order!r} is not LittleEndian or BigEndian")
-        self.order = "<" if order == "LittleEndian" else ">"
+        self.order: Literal["<", ">"] = "<" if order == "LittleEndian" else ">"
         self.header = np.dtype(_DTYPES[header]).newbyteorder(self.order)
         self.appended, self.raw = appended, raw
 
@@ -131,7 +132,10 @@ class _ArrayReader:
             values = self._ascii(el.text or "", dtype, what, expected, limit)
         elif fmt in ("binary", "appended"):
             if fmt == "binary":
-                source, encoded = "".join((el.text or "").split()).encode("ascii", "replace"), True
+                source: bytes | memoryview = "".join((el.text or "").split()).encode(
+                    "ascii", "replace"
+                )
+                encoded = True
             else:
                 if self.appended is None:
                     raise Damaged(f"the {what} array is appended but the file has no AppendedData")
@@ -262,7 +266,7 @@ class _ArrayReader:
                     )
                 out[at + done : at + done + len(chunk)] = chunk
                 done += len(chunk)
-                tail = d.unconsumed_tail if zlib_mode else b""
+                tail = b"" if isinstance(d, lzma.LZMADecompressor) else d.unconsumed_tail
                 if d.eof or (not chunk and not tail):
                     break
         except (zlib.error, lzma.LZMAError):
@@ -381,7 +385,8 @@ def read_vtp(path: Path):
     what is wrong.
     """
     root, arrays = _root(path, "PolyData")
-    pieces, ignored = [], {}
+    pieces: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]] = []  # (points, tri, data)
+    ignored: dict[str, int] = {}
     elements = root.findall("./PolyData/Piece")
     if not elements:
         raise Damaged("it has no PolyData Piece")
@@ -421,7 +426,8 @@ def read_vtu(path: Path):
     ``ignored_cells`` by name. Raises :class:`Damaged` saying what is wrong.
     """
     root, arrays = _root(path, "UnstructuredGrid")
-    pieces, ignored = [], {}
+    pieces: list[tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]] = []  # (points, tri, data)
+    ignored: dict[str, int] = {}
     elements = root.findall("./UnstructuredGrid/Piece")
     if not elements:
         raise Damaged("it has no UnstructuredGrid Piece")
@@ -431,6 +437,8 @@ def read_vtu(path: Path):
         tri, keep = np.empty((0, 3), dtype=np.int64), np.zeros(n_cells, dtype=bool)
         if n_cells:
             section = piece.find("Cells")
+            if section is None:  # as _offsets says
+                raise Damaged(f"it declares {n_cells:,} cells but has no section for them")
             starts, ends, conn = _offsets(arrays, section, n_cells, "cells")
             named = {el.attrib.get("Name"): el for el in section.findall("DataArray")}
             types = arrays.read(named.get("types"), "cell types", n_cells).astype(np.int64)

@@ -15,7 +15,7 @@ from .geometry import METRES_PER_MESH_UNIT, MomGeometry
 
 def _unit(value: object, name: str, dtype: type = float) -> np.ndarray:
     try:
-        v = np.asarray(value, dtype=dtype)
+        v: np.ndarray = np.asarray(value, dtype=dtype)
     except (TypeError, ValueError):
         raise ValueError(f"{name}={value!r} is not a 3-vector of numbers") from None
     if v.shape != (3,) or not np.all(np.isfinite(v)):
@@ -154,7 +154,7 @@ class VoltageSource:
         a = self.start * METRES_PER_MESH_UNIT
         b = self.end * METRES_PER_MESH_UNIT
         axis = b - a
-        length = np.linalg.norm(axis)
+        length = float(np.linalg.norm(axis))
         tri = geom.rwg_triangles
         # the edge's vertices: the two corners of T+ that are not its free vertex
         # (found as the vertices shared by T+ and T−)

@@ -247,7 +247,11 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
         return sp.csr_matrix((values.ravel(), (rows, cols)), shape=(n, len(triangles)))
 
     coef_matrix = matrix(coef)
-    offset_matrices = tuple(matrix(coef * offset[:, :, c]) for c in range(3))
+    offset_matrices = (
+        matrix(coef * offset[:, :, 0]),
+        matrix(coef * offset[:, :, 1]),
+        matrix(coef * offset[:, :, 2]),
+    )
 
     far = _rule(corners, areas, centroids, far_order)
     near = _rule(corners, areas, centroids, order)

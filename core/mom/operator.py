@@ -25,14 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..constants import ETA0, SPEED_OF_LIGHT
 from .geometry import MomGeometry, far_point_distances
 
-#: Speed of light in vacuum (m/s).
-SPEED_OF_LIGHT = 299_792_458.0
-#: Vacuum permeability (H/m).
-MU0 = 4e-7 * np.pi
-#: Vacuum impedance η = μ0 c (Ω).
-ETA0 = MU0 * SPEED_OF_LIGHT
 #: Complex numbers held by one block of the far-pair kernel.
 BLOCK_ENTRIES = 1 << 21
 #: Fewest blocks of observation triangles per fill.

@@ -16,9 +16,9 @@ from functools import cached_property
 
 import numpy as np
 
+from ..constants import ETA0, SPEED_OF_LIGHT
 from .excitation import PlaneWave, VoltageSource
 from .geometry import METRES_PER_MESH_UNIT, MomGeometry
-from .operator import ETA0, SPEED_OF_LIGHT
 
 
 def directions(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -225,12 +225,18 @@ class Solution:
     @property
     def input_power(self) -> float:
         """½ Re(V I*) (W) delivered by a voltage source; equals the radiated power for PEC."""
-        return 0.5 * float(np.real(self.excitation.voltage * np.conj(self.feed_current)))
+        source = self.excitation
+        if not isinstance(source, VoltageSource):
+            raise ValueError("input_power needs a VoltageSource excitation")
+        return 0.5 * float(np.real(source.voltage * np.conj(self.feed_current)))
 
     @property
     def input_impedance(self) -> complex:
         """Z_in = V / I_feed (Ω) of a voltage source."""
-        return self.excitation.voltage / self.feed_current
+        source = self.excitation
+        if not isinstance(source, VoltageSource):
+            raise ValueError("input_impedance needs a VoltageSource excitation")
+        return source.voltage / self.feed_current
 
 
 def sphere_rule(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

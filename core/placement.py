@@ -1,0 +1,197 @@
+"""Where the patches of a structure go, and how many triangles they make, before any mesh.
+
+Paper mode is the paper's Eqs. 28–35: axis-aligned patches whose lower-left corner is
+(r cos θ, r sin θ) for θ = 0, Δθ, 2Δθ, … below 360° (:func:`paper_ring_origins`), and
+square rings tiled by patches along their sides; a slot removes the patches that share
+area with it. Conforming square rings are tiled exactly by rectangles
+(:func:`conforming_square_rects`); conforming circular rings are cut into the sectors of
+:func:`barymesh.sectors.sector_plan`.
+
+:func:`predicted_triangles` counts the triangles from that alone: the parameters
+(:class:`barymesh.params.MeshParams`) check their triangle budget with it, so this module
+sits below them and reads only the fields of :class:`PlacementFields`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Protocol
+
+import numpy as np
+
+from .kinds import ANGULAR_STRUCTURES
+from .sectors import RingFields, count_steps, gap_directions, ring_radii, sector_plan
+
+
+class PlacementFields(RingFields, Protocol):
+    """The fields of :class:`barymesh.params.MeshParams` that place the patches (read only)."""
+
+    @property
+    def mode(self) -> str: ...
+    @property
+    def origin(self) -> tuple[float, float]: ...
+    @property
+    def patch_height(self) -> float: ...
+    @property
+    def triangles_per_primary(self) -> int: ...
+
+
+#: Above this many patches the count is estimated from above instead of placed.
+_EXACT_COUNT_LIMIT = 20_000_000
+
+
+def paper_ring_origins(params: PlacementFields, radius: float) -> np.ndarray:
+    """Lower-left corners (r cos θ, r sin θ) + centre, θ = 0, Δθ, … < 360° (Eqs. 28–29)."""
+    k = count_steps(360.0, params.angle_step)
+    theta = np.radians(np.arange(k) * params.angle_step)
+    centre = np.asarray(params.origin)
+    return centre + radius * np.stack([np.cos(theta), np.sin(theta)], axis=1)
+
+
+def square_ring_origins(params: PlacementFields, half_side: float) -> np.ndarray:
+    """Lower-left corners of square patches tiling a square track (paper mode).
+
+    The track lies between the squares of half side R and R + h. Each side's
+    strip is covered by h x h patches spread evenly from end to end; they tile
+    it exactly when its length is a multiple of h and overlap slightly
+    otherwise, as the paper's patches do.
+    """
+    r, h = half_side, params.patch_size
+    k_long = count_steps(2 * (r + h), h)
+    k_short = count_steps(2 * r, h)
+    xs = np.linspace(-r - h, r, k_long) if k_long > 1 else np.array([-r - h])
+    ys = np.linspace(-r, r - h, k_short) if k_short > 1 else np.array([-r])
+    bottom = np.stack([xs, np.full_like(xs, -r - h)], axis=1)
+    top = np.stack([xs, np.full_like(xs, r)], axis=1)
+    left = np.stack([np.full_like(ys, -r - h), ys], axis=1)
+    right = np.stack([np.full_like(ys, r), ys], axis=1)
+    return np.asarray(params.origin) + np.concatenate([bottom, right, top, left])
+
+
+def rects_touching_slots(
+    rects: np.ndarray, centre: tuple[float, float], directions: list[float], width: float
+) -> np.ndarray:
+    """Which axis-aligned rectangles share area with a slot (separating-axis test).
+
+    A slot is the half-strip of the given ``width`` starting at ``centre`` and
+    running in direction φ (degrees); two opposite directions make a full
+    strip through the centre. Rectangles that only touch a slot's side line
+    are kept.
+
+    Parameters
+    ----------
+    rects : (P, 4) float64
+        (x0, y0, x1, y1).
+    """
+    rel = rects - np.array([centre[0], centre[1], centre[0], centre[1]])
+    cx = rel[:, [0, 2, 2, 0]]
+    cy = rel[:, [1, 1, 3, 3]]
+    eps = 1e-12 * max(1.0, float(np.abs(rel).max(initial=0.0)))
+    half = width / 2
+    hit = np.zeros(len(rects), dtype=bool)
+    angles = [d % 360.0 for d in directions]
+    full = len(angles) == 2 and math.isclose((angles[1] - angles[0]) % 360.0, 180.0, abs_tol=1e-9)
+    for phi in angles[:1] if full else angles:
+        c, s = math.cos(math.radians(phi)), math.sin(math.radians(phi))
+        d = -s * cx + c * cy  # across the slot
+        t = c * cx + s * cy  # along the slot
+        ok = (d.max(1) > -half + eps) & (d.min(1) < half - eps)
+        if not full:
+            ok &= t.max(1) > eps
+            for axis_lo, axis_hi, along, across in (
+                (rel[:, 0], rel[:, 2], c, -s),
+                (rel[:, 1], rel[:, 3], s, c),
+            ):
+                ends = (half * across, -half * across)
+                lo, hi = min(ends), max(ends)
+                if along > 1e-15:
+                    ok &= axis_hi > lo + eps
+                elif along < -1e-15:
+                    ok &= axis_lo < hi - eps
+                else:
+                    ok &= (axis_hi > lo + eps) & (axis_lo < hi - eps)
+        hit |= ok
+    return hit
+
+
+def paper_origins(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
+    """Patch origins and regions of a paper-mode ring structure, slots applied."""
+    square = params.structure == "square_split_double_ring"
+    origin_parts, region_parts = [], []
+    for region, radius in enumerate(ring_radii(params), start=1):
+        o = square_ring_origins(params, radius) if square else paper_ring_origins(params, radius)
+        origin_parts.append(o)
+        region_parts.append(np.full(len(o), region))
+    origins = np.concatenate(origin_parts)
+    regions = np.concatenate(region_parts)
+    directions = gap_directions(params)
+    if directions:
+        h, w = params.patch_size, params.patch_height
+        rects = np.concatenate([origins, origins + [h, w]], axis=1)
+        keep = ~rects_touching_slots(rects, params.origin, directions, params.gap_width)
+        origins, regions = origins[keep], regions[keep]
+    return origins, regions
+
+
+def conforming_square_rects(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
+    """(x0, y0, wx, wy) rectangles tiling the square tracks exactly, slots cut out."""
+    h, g = params.patch_size, params.gap_width
+    phi = round(params.gap_angle / 90.0) % 2  # 0: horizontal slot, 1: vertical slot
+    rects: list[tuple[float, float, float, float]] = []
+    regions: list[int] = []
+    for region, r in enumerate(ring_radii(params), start=1):
+        corners = [(-r - h, -r - h), (r, -r - h), (r, r), (-r - h, r)]
+        rs = [(x, y, h, h) for x, y in corners]
+        full = np.linspace(-r, r, count_steps(2 * r, h) + 1)
+        pieces = np.linspace(-r, -g / 2, count_steps(r - g / 2, h) + 1)
+        cut = np.concatenate(
+            [np.stack([pieces[:-1], pieces[1:]], 1), np.stack([-pieces[1:], -pieces[:-1]], 1)]
+        )
+        whole = np.stack([full[:-1], full[1:]], 1)
+        # sides running along x (bottom, top) and along y (left, right)
+        along_x = cut if phi == 1 else whole
+        along_y = cut if phi == 0 else whole
+        for y0 in (-r - h, r):
+            rs += [(a, y0, b - a, h) for a, b in along_x]
+        for x0 in (-r - h, r):
+            rs += [(x0, a, h, b - a) for a, b in along_y]
+        rects += rs
+        regions += [region] * len(rs)
+    out = np.array(rects)
+    out[:, :2] += np.asarray(params.origin)
+    return out, np.array(regions)
+
+
+def predicted_patches(params: PlacementFields) -> int:
+    """Number of patches (or sectors) of the structure, computed cheaply."""
+    s = params.structure
+    if s in ("patch", "triangle"):
+        return 1
+    if s == "square_split_double_ring":
+        h = params.patch_size
+        upper = sum(
+            2 * count_steps(2 * (r + h), h) + 2 * count_steps(2 * r, h) + 8
+            for r in ring_radii(params)
+        )
+    elif params.mode == "conforming":
+        plan = sector_plan(params)
+        return len(plan.arcs) * sum(plan.sectors)
+    else:
+        upper = len(ring_radii(params)) * count_steps(360.0, params.angle_step)
+    if upper > _EXACT_COUNT_LIMIT:
+        return upper  # far beyond any budget: not worth placing the patches to count them
+    if s == "square_split_double_ring" and params.mode == "conforming":
+        return len(conforming_square_rects(params)[0])
+    if gap_directions(params):
+        return len(paper_origins(params)[0])
+    return upper
+
+
+def predicted_triangles(params: PlacementFields) -> int:
+    """Number of triangles of the structure, computed cheaply."""
+    if params.structure == "triangle":
+        return params.triangles_per_primary
+    if params.mode == "conforming" and params.structure in ANGULAR_STRUCTURES:
+        plan = sector_plan(params)
+        return len(plan.arcs) * sum(plan.sectors) * len(plan.template.triangles)
+    return predicted_patches(params) * 2 * params.triangles_per_primary

@@ -1,0 +1,251 @@
+"""Unwelded copies of one patch: patch p owns vertices p Nv … p Nv + Nv − 1.
+
+A paper mesh whose patches share no vertex (nothing welded) is the template
+copied patch after patch, every id shifted by whole patches::
+
+    template (Nv vertices, Nt triangles, Ne edges)     copy p of P
+    local vertex   l                         ->  vertex    p Nv + l
+    local triangle t                         ->  triangle  p Nt + t
+    template edge  e                         ->  edge      p Ne + e
+    -1 (no triangle, no free vertex)         ->  -1
+
+    vertex_map = [[0,      1,      …, Nv − 1    ],     (the identity, row by row:
+                  [Nv,     Nv + 1, …, 2 Nv − 1  ],      :func:`is_unwelded_copies`)
+                  …
+                  [(P−1)Nv,        …, P Nv − 1  ]]
+
+Every array is the template's, written once per copy with its ids shifted
+(:func:`fill_tiled`); no gather or sort of the size of the mesh. When the
+patches are also translations of one another (the paper's rings), their
+edge lengths and triangle quality are the first patch's
+(:func:`translated_copy_measures`). The results equal the general paths of
+:mod:`barymesh.topology` and :mod:`barymesh.quality` (bit for bit; the
+aggregates to 1e-13) in ``tests/test_core_chain_paths.py`` and
+``tests/test_core_fast_paths.py``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..quality import triangle_quality
+from ..subdivision import PatchTemplate
+from ..topology import BLOCK, INDEX, EdgeTopology, RWGTable, segment_lengths
+from .patches import patch_topology
+
+#: Translated copies stand in for the full computation only when every patch's vertices,
+#: relative to its first, are within this fraction of the shortest side of where the
+#: first patch has them (rounding included). On random paper rings the aggregates then
+#: differ from the full computation by at most a quarter of this (below 1e-13).
+COPY_TOLERANCE = 2.5e-13
+
+
+def is_unwelded_copies(vertex_map: np.ndarray) -> bool:
+    """Whether patch p's local vertex l is vertex p Nv + l, for every entry (block by block).
+
+    >>> is_unwelded_copies(np.arange(6).reshape(2, 3)), is_unwelded_copies(np.zeros((2, 3)))
+    (True, False)
+    """
+    n_p, nv = vertex_map.shape
+    rows = max(1, BLOCK // max(nv, 1))
+    local = np.arange(nv, dtype=INDEX)
+    for lo in range(0, n_p, rows):
+        ids = vertex_map[lo : lo + rows]
+        base = (np.arange(lo, lo + len(ids), dtype=INDEX) * INDEX(nv))[:, None]
+        if not np.array_equal(ids - base, np.broadcast_to(local, ids.shape)):
+            return False
+    return True
+
+
+def template_topology(template: PatchTemplate) -> EdgeTopology:
+    """The topology of one copy of ``template`` (vertices 0 … Nv − 1), free vertices included."""
+    nv = len(template.uv)
+    return patch_topology(template, np.arange(nv, dtype=INDEX)[None], nv)
+
+
+def copies_topology(
+    local: EdgeTopology, n_patches: int, n_vertices: int, n_tri: int
+) -> EdgeTopology:
+    """Topology of ``n_patches`` unwelded copies of one patch, patch p's vertices from p Nv.
+
+    Every edge is a template edge of one copy: the template's arrays shifted by
+    p times the vertices, triangles and edges of a patch, written once each
+    (no gathers). The same arrays as :func:`barymesh.repeat.patches.patch_topology` on an
+    identity vertex map, bit for bit.
+
+    Parameters
+    ----------
+    local : EdgeTopology
+        The template's topology, edges ascending within each pair, free vertices
+        filled in, no junctions.
+    n_patches : int
+    n_vertices : int
+        Vertices of one patch (Nv).
+    n_tri : int
+        Triangles of one patch.
+    """
+    n_loc = len(local.edges)
+    valence = np.empty((n_patches, n_loc), dtype=INDEX)
+    assert local.free_vertices is not None  # a template's topology has them
+    valence[...] = local.valence
+    return EdgeTopology(
+        edges=tiled(local.edges, n_patches, n_vertices),
+        triangle_edges=tiled(local.triangle_edges, n_patches, n_loc),
+        edge_triangles=tiled(local.edge_triangles, n_patches, n_tri),
+        valence=valence.reshape(-1),
+        junction_incidence=np.empty((0, 2), dtype=INDEX),
+        free_vertices=tiled(local.free_vertices, n_patches, n_vertices),
+    )
+
+
+def tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
+    """``a`` once per patch, patch p's ids (not the -1 entries) shifted by p ``step``."""
+    out = np.empty((n_patches,) + a.shape, dtype=INDEX)
+    fill_tiled(out.reshape(-1), a, n_patches, step, 0)
+    return out.reshape((-1,) + a.shape[1:])
+
+
+def fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int) -> None:
+    """Write ``copies`` copies of ``a`` into the flat ``out``, copy k's ids plus k ``step`` + base.
+
+    Entries of -1 (none) stay -1. Block by block over a pattern of whole copies:
+    long, contiguous adds even when ``a`` is a handful of values (a broadcast add
+    over (copies, len(a)) would run one short inner loop per copy).
+    """
+    flat = np.ascontiguousarray(a, dtype=INDEX).reshape(-1)
+    k = len(flat)
+    if copies == 0 or k == 0:
+        return
+    per = max(1, min(copies, BLOCK // k))  # copies per block
+    ramp = np.repeat(np.arange(per, dtype=INDEX) * INDEX(step), k)
+    missing = flat < 0
+    if missing.any():
+        keep = np.tile(~missing, per).astype(INDEX)  # 0 where -1 must stay
+        pattern = np.tile(flat, per) + ramp * keep + INDEX(base) * keep
+    else:
+        keep = None
+        pattern = np.tile(flat, per) + ramp + INDEX(base)
+    for lo in range(0, copies, per):
+        n = min(per, copies - lo) * k
+        block = out[lo * k : lo * k + n]
+        if keep is None:
+            np.add(pattern[:n], INDEX(lo * step), out=block)
+        else:
+            np.multiply(keep[:n], INDEX(lo * step), out=block)
+            block += pattern[:n]
+
+
+def copies_rwg(
+    local: EdgeTopology,
+    n_patches: int,
+    n_vertices: int,
+    n_tri: int,
+    points: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+) -> RWGTable:
+    """The RWG table of the topology :func:`copies_topology` makes, without gathers.
+
+    :func:`barymesh.topology.rwg_table` of that topology, bit for bit.
+
+    The template's interior edges, copy after copy; only the lengths are
+    measured. Parameters as for :func:`copies_topology`, plus the mesh's
+    ``points`` (and ``columns``, see :func:`barymesh.topology.segment_lengths`).
+    """
+    assert local.free_vertices is not None  # a template's topology has them
+    rows = np.flatnonzero(local.valence == 2)
+    vertices = tiled(local.edges[rows], n_patches, n_vertices)
+    return RWGTable(
+        edge=tiled(rows.astype(INDEX), n_patches, len(local.edges)),
+        vertices=vertices,
+        t_plus=tiled(local.edge_triangles[rows, 0], n_patches, n_tri),
+        t_minus=tiled(local.edge_triangles[rows, 1], n_patches, n_tri),
+        free_vertex_plus=tiled(local.free_vertices[rows, 0], n_patches, n_vertices),
+        free_vertex_minus=tiled(local.free_vertices[rows, 1], n_patches, n_vertices),
+        length=segment_lengths(points, vertices, columns),
+    )
+
+
+def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
+    """The connectivity matrix of ``n_patches`` unwelded copies of one patch.
+
+    Block diagonal: the patch's matrix ``local`` (sorted rows, as
+    :func:`barymesh.topology.triangle_adjacency` makes them) once per copy, its column ids
+    shifted by the patch's triangles; the same matrix as
+    :func:`barymesh.topology.triangle_adjacency` on the whole mesh, array for array.
+    """
+    n_tri = local.shape[0]
+    counts = np.diff(local.indptr).astype(INDEX)
+    indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)
+    per_row = np.empty((n_patches, n_tri), dtype=INDEX)
+    per_row[...] = counts
+    np.cumsum(per_row.reshape(-1), out=indptr[1:])
+    indices = tiled(local.indices.astype(INDEX), n_patches, n_tri)
+    data = np.ones(len(indices), dtype=np.int8)
+    return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
+
+
+def translated_copy_measures(
+    template: PatchTemplate, points: np.ndarray, columns: list[np.ndarray]
+) -> dict[str, Any] | None:
+    """Topology counts and quality aggregates of unwelded copies that are translations.
+
+    When every patch is the first one translated (checked: each patch's
+    coordinates relative to its first vertex match the first patch's to
+    :data:`COPY_TOLERANCE` of the shortest side, counting the rounding of the
+    coordinates), the edges are the template's, patch by patch, and the edge
+    lengths and triangle quality are the first patch's, so one patch is
+    measured instead of all. None when that does not hold (deformed patches).
+
+    Parameters
+    ----------
+    template : PatchTemplate
+    points : (P Nv, 3) float64
+        The mesh's points, patch p's from p Nv (:func:`is_unwelded_copies`).
+    columns : list of (P Nv,) float64
+        Contiguous x, y (and z unless all zero) columns of ``points``.
+
+    Returns
+    -------
+    dict or None
+        ``edges``, ``interior_edges``, ``boundary_edges``, ``junction_edges``,
+        ``min_edge``, ``max_edge``, ``min_angle_deg``, ``max_aspect_ratio``, ``area``
+        (the keys of :func:`barymesh.stats.general_measures`).
+    """
+    nv = len(template.uv)
+    n_p = len(points) // nv if nv else 0
+    if n_p == 0 or n_p * nv != len(points):
+        return None
+    rows = max(1, BLOCK // nv)
+    # reductions gathered into arrays, so that a NaN anywhere makes the check fail
+    extent = np.max([[x.max(), -x.min()] for x in columns])
+    deviations = []
+    blocks = [x.reshape(n_p, nv) for x in columns]
+    firsts = [x[0] - x[0, 0] for x in blocks]
+    for lo in range(0, n_p, rows):
+        for x, first in zip(blocks, firsts, strict=True):
+            block = x[lo : lo + rows]
+            rel = block - block[:, :1]
+            rel -= first
+            deviations += [rel.max(), -rel.min()]
+    pts = points[:nv]
+    lengths = segment_lengths(pts, template.edges)
+    shortest = float(lengths.min()) if len(lengths) else 0.0
+    slack = np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent
+    if not (shortest > 0 and slack <= COPY_TOLERANCE * shortest):
+        return None
+    q = triangle_quality(pts, template.triangles)
+    valence = np.bincount(template.valence, minlength=3)
+    return {
+        "edges": n_p * len(template.edges),
+        "interior_edges": n_p * int(valence[2]),
+        "boundary_edges": n_p * int(valence[1]),
+        "junction_edges": n_p * int(valence[3:].sum()),
+        "min_edge": shortest,
+        "max_edge": float(lengths.max()),
+        "min_angle_deg": float(q.min_angles_deg.min()),
+        "max_aspect_ratio": float(q.aspect_ratios.max()),
+        "area": n_p * float(q.areas.sum()),
+    }

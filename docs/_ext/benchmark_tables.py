@@ -1,0 +1,363 @@
+"""The performance page's tables, written at build time from ``benchmarks/results/*.json``.
+
+``.. benchmark-table:: NAME`` (in MyST: a ``{benchmark-table}`` fence) reads the newest
+``benchmarks/results/NAME*.json`` (newest by the date in its name, ``NAME-YYYY-MM-DD.json``,
+else by the date of the commit that last changed it) and writes one table of it, with a
+line naming the file, the machine and the date. A benchmark that has no result file yet
+gets a line saying so and how to make one. Each renderer knows its benchmark's JSON, as
+written by ``benchmarks/NAME.py --json``.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from docutils import nodes
+from sphinx.util.docutils import SphinxDirective
+
+ROOT = Path(__file__).resolve().parents[2]
+RESULTS = ROOT / "benchmarks" / "results"
+_DATE = re.compile(r"(\d{4}-\d{2}-\d{2})")
+
+
+def _date(path: Path, doc: dict[str, Any]) -> str:
+    """The day the result was measured: its ``date`` key, its name, or its commit."""
+    if isinstance(doc.get("date"), str):
+        return doc["date"]
+    match = _DATE.search(path.name)
+    if match:
+        return match.group(1)
+    try:
+        out = subprocess.run(
+            ["git", "log", "-1", "--format=%cs", "--", str(path)],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=False,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        out = ""
+    return f"{out} (the day the file was committed)" if out else "undated"
+
+
+def newest(name: str) -> Path | None:
+    """The newest result file of benchmark ``name``, or None."""
+    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file()]
+    if not files:
+        return None
+
+    def key(p: Path) -> tuple[str, str]:
+        match = _DATE.search(p.name)
+        return (match.group(1) if match else "0000-00-00", p.name)
+
+    return max(files, key=key)
+
+
+def _s(seconds: float | None, digits: int = 3) -> str:
+    return "–" if seconds is None else f"{seconds:.{digits}f}"
+
+
+def _spread(t: dict[str, float] | None) -> str:
+    if not t:
+        return "–"
+    return f"{t['median']:.3f} ({t['min']:.3f}–{t['max']:.3f})"
+
+
+def _n(value: int | None) -> str:
+    return "–" if value is None else f"{value:,}"
+
+
+def _machine(m: dict[str, Any] | None) -> str:
+    if not m:
+        return "a machine the file does not describe"
+    parts = []
+    cpu = m.get("cpu")
+    cores = m.get("cores", m.get("cpus"))
+    if cpu or cores:
+        parts.append(" ".join(str(x) for x in (cpu, f"{cores} cores" if cores else None) if x))
+    if m.get("platform"):
+        parts.append(m["platform"])
+    if m.get("python"):
+        parts.append(f"Python {m['python']}")
+    if m.get("numpy"):
+        parts.append(f"numpy {m['numpy']}")
+    if m.get("openblas_threads"):
+        parts.append(f"{m['openblas_threads']} BLAS thread(s)")
+    if m.get("load_average") is not None:
+        parts.append(f"load average {m['load_average']:.1f} when the file was written")
+    return ", ".join(parts)
+
+
+Table = tuple[list[str], list[list[str]], str]
+
+
+def mesher(doc: dict[str, Any]) -> Table:
+    head = [
+        "workload",
+        "size",
+        "triangles",
+        "ours s",
+        "MiB (B/tri)",
+        "peer",
+        "peer s",
+        "ratio",
+        "stats() / build_mesh",
+    ]
+    rows = []
+    for w in doc["workloads"]:
+        ours = w.get("ours", {})
+        stats = w.get("stats", {}).get("median")
+        build = w.get("build_mesh", {}).get("median")
+        ratio = f"{stats / build:.2f}" if stats and build else "–"
+        peers = [k for k in ("a-exact", "a-tol", "gmsh") if k in w] or [None]
+        for i, peer in enumerate(peers):
+            p = w.get(peer, {}) if peer else {}
+            first = i == 0
+            rows.append(
+                [
+                    w["name"] if first else "",
+                    w["size"] if first else "",
+                    _n(w.get("triangles")) if first else "",
+                    _spread(ours) if first else "",
+                    f"{ours['peak_mib']:.0f} ({ours['bytes_per_triangle']:.0f})"
+                    if first and "peak_mib" in ours
+                    else "",
+                    {"a-exact": "(a) exact", "a-tol": "(a) tolerance", "gmsh": "(b) gmsh"}.get(
+                        peer, "none"
+                    ),
+                    _spread(p) if p else "–",
+                    f"{p['ratio']:.1f}×" if p.get("ratio") else "–",
+                    ratio if first else "",
+                ]
+            )
+    note = (
+        f"Times in seconds, median (min–max) of {doc.get('reps', '?')} repetitions, ours and "
+        "the peer alternating; ratio = peer median / our median."
+    )
+    return head, rows, note
+
+
+def solver(doc: dict[str, Any]) -> Table:
+    head = ["workload", "N", "frequency", "ours s", "Makarov-style s", "speed-up", "largest |J|"]
+    rows = []
+    for w in doc["workloads"]:
+        if "frequencies" in w:
+            freq = f"{w['frequencies']} frequencies"
+            extra = (
+                f"resonance {w['ours_resonance_hz'] / 1e9:.4f} vs "
+                f"{w['makarov_resonance_hz'] / 1e9:.4f} GHz"
+            )
+        else:
+            freq = f"{w['frequency_hz'] / 1e6:g} MHz"
+            extra = f"{w['ours_max_j']:.5g} vs {w['makarov_max_j']:.5g} A/m"
+        rows.append(
+            [
+                w["name"],
+                _n(w["unknowns"]),
+                freq,
+                _s(w["ours_s"]),
+                _s(w["makarov_s"]),
+                f"{w['speedup']:.1f}×",
+                extra,
+            ]
+        )
+    bempp = doc.get("bempp")
+    note = "Fill + solve, cold, best of the repetitions; ours against the Makarov-style solver."
+    if bempp:
+        note += f" bempp-cl: {bempp}."
+    return head, rows, note
+
+
+def quality(doc: dict[str, Any]) -> Table:
+    gmsh = doc.get("gmsh_algorithm") is not None
+    head = ["mesh", "mode", "triangles", "unknowns", "min angle °", "max aspect"]
+    if gmsh:
+        head += ["gmsh triangles", "gmsh min angle °", "gmsh max aspect"]
+    rows = []
+    for r in doc["rows"]:
+        row = [
+            r["name"],
+            r["mode"],
+            _n(r["triangles"]),
+            _n(r["unknowns"]),
+            f"{r['min_angle_deg']:.1f}",
+            f"{r['max_aspect_ratio']:.2f}",
+        ]
+        if gmsh:
+            g = r.get("gmsh") or {}
+            row += [
+                _n(g.get("triangles")),
+                f"{g['min_angle_deg']:.1f}" if g else "–",
+                f"{g['max_aspect_ratio']:.2f}" if g else "–",
+            ]
+        rows.append(row)
+    note = "Figures from TriMesh.stats(); unknowns = interior edges = rows of the RWG table."
+    if not gmsh:
+        note += " This run had no gmsh columns (gmsh not installed or --no-gmsh)."
+    return head, rows, note
+
+
+def latency(doc: dict[str, Any]) -> Table:
+    head = ["case", "triangles", "result", "longest block ms", "paints", "B/triangle"]
+    rows = []
+    if doc.get("frames"):
+        total = doc["seconds"]["total"]
+        rows.append(
+            [
+                f"slider frame ({doc['slider']}, {doc['frames']} frames)",
+                ", ".join(f"{t:,}" for t in doc["triangles"]),
+                f"{total['median'] * 1e3:.1f} ms median, {total['p95'] * 1e3:.1f} ms p95",
+                f"{doc['longest_block'] * 1e3:.0f}",
+                str(doc["paints_per_frame"]),
+                "",
+            ]
+        )
+    drag = doc.get("drag")
+    if drag:
+        rows.append(
+            [
+                "mouse drag of the slider",
+                "",
+                f"{drag['meshes_per_second']:.1f} meshes/s",
+                f"{drag['longest_block'] * 1e3:.0f}",
+                "",
+                "",
+            ]
+        )
+    big = doc.get("big") or {}
+    for key, case in big.items():
+        if not isinstance(case, dict) or "shown" not in case:
+            continue
+        rows.append(
+            [
+                f"{key}: until shown",
+                _n(case["triangles"]),
+                f"{case['shown']['median']:.2f} s",
+                f"{case['longest_block']['median'] * 1e3:.0f}",
+                ", ".join(str(p) for p in case.get("paints", [])),
+                f"{case['bytes_per_triangle']:.0f}",
+            ]
+        )
+    if "rotation" in big:
+        r = big["rotation"]
+        fps = f"{r['fps']:.0f} frames/s"
+        rows.append(["camera rotation (1M)", "", fps, f"{r['longest_block'] * 1e3:.0f}", "", ""])
+    if "quality_panel" in big:
+        q = big["quality_panel"]
+        rows.append(
+            [
+                "Quality dock over the 1M mesh",
+                _n(q["triangles"]),
+                f"{q['seconds']:.2f} s",
+                f"{q['longest_block'] * 1e3:.0f}",
+                "",
+                "",
+            ]
+        )
+    note = (
+        f"The real window at {doc['window_size'][0]} × {doc['window_size'][1]} under Xvfb, "
+        f"{doc.get('renderer', 'renderer not recorded')}."
+    )
+    if doc.get("conditions"):
+        note += f" Conditions: {doc['conditions']}."
+    return head, rows, note
+
+
+def _pct(x: float | None) -> str:
+    return "–" if x is None else f"{100 * x:.2f} %"
+
+
+def grading(doc: dict[str, Any]) -> Table:
+    head = ["series", "n", "triangles", "N", "shortest edge (mm)", "I_cut error", "m_z error"]
+    rows = [
+        [
+            r["series"],
+            str(r["subdivisions"]),
+            _n(r["triangles"]),
+            _n(r["unknowns"]),
+            f"{r['min_edge_mm']:.3f}",
+            _pct(r.get("I_cut_error")),
+            _pct(r.get("m_z_error")),
+        ]
+        for r in doc["rows"]
+    ]
+    i_ref, m_ref = doc["reference"]["I_cut"], doc["reference"]["m_z"]
+    note = (
+        f"Errors against the Richardson reference from the uniform meshes of "
+        f"{' and '.join(f'{n:,}' for n in i_ref['from_unknowns'])} unknowns (uncertainty "
+        f"{_pct(i_ref['uncertainty'])} for I_cut, {_pct(m_ref['uncertainty'])} for m_z), "
+        f"at {doc['frequency_hz'] / 1e9:g} GHz; accuracy figures, the same on any machine."
+    )
+    return head, rows, note
+
+
+RENDERERS: dict[str, Callable[[dict[str, Any]], Table]] = {
+    "grading": grading,
+    "mesher": mesher,
+    "solver": solver,
+    "quality": quality,
+    "latency": latency,
+}
+
+
+def table_data(name: str) -> tuple[list[str], list[list[str]], str] | None:
+    """Benchmark ``name``'s header, rows and the line under them; None without a result."""
+    path = newest(name)
+    if path is None:
+        return None
+    doc = json.loads(path.read_text(encoding="utf-8"))
+    head, rows, note = RENDERERS[name](doc)
+    rel = path.relative_to(ROOT)
+    if name in ("quality", "grading"):  # counts, angles, errors: the same on any machine
+        line = f"From {rel}, measured {_date(path, doc)}. {note}"
+    else:
+        line = f"From {rel}, measured {_date(path, doc)} on {_machine(doc.get('machine'))}. {note}"
+    return head, rows, line
+
+
+def _table(head: list[str], rows: list[list[str]]) -> nodes.table:
+    table = nodes.table(classes=["benchmark-table"])
+    group = nodes.tgroup(cols=len(head))
+    table += group
+    for _ in head:
+        group += nodes.colspec(colwidth=1)
+    for part, lines in ((nodes.thead(), [head]), (nodes.tbody(), rows)):
+        for cells in lines:
+            row = nodes.row()
+            for text in cells:
+                row += nodes.entry("", nodes.paragraph(text=text))
+            part += row
+        group += part
+    return table
+
+
+class BenchmarkTable(SphinxDirective):
+    required_arguments = 1
+    has_content = False
+
+    def run(self) -> list[nodes.Node]:
+        name = self.arguments[0]
+        if name not in RENDERERS:
+            known = sorted(RENDERERS)
+            raise self.error(f"benchmark-table: unknown benchmark {name!r}; known: {known}")
+        path = newest(name)
+        if path is None:
+            text = (
+                f"No stored result of benchmarks/{name}.py yet: run it with "
+                f"--json benchmarks/results/{name}-YYYY-MM-DD.json."
+            )
+            return [nodes.paragraph(text=text)]
+        self.env.note_dependency(str(path))
+        head, rows, line = table_data(name)
+        return [_table(head, rows), nodes.paragraph(text=line)]
+
+
+def setup(app):  # noqa: ANN001
+    app.add_directive("benchmark-table", BenchmarkTable)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
