@@ -112,7 +112,7 @@ def patch_cell(shift=(0.0, 0.0)):
     ],
 )
 def test_power_balance_and_t_equals_one_plus_r(wave):
-    s = periodic_solve(patch_cell(), 20e9, wave)
+    s = periodic_solve(patch_cell(), 17e9, wave)  # below every grating lobe up to 45°
     assert len(s.orders) == 1
     assert abs(s.power_balance - 1) < 1e-3
     r, t = s.co_polar()
@@ -130,14 +130,15 @@ def test_power_balance_with_grating_lobes():
 
 
 def test_reciprocity():
-    pg = periodic_geometry(patch_cell())
+    # strips: the unknowns across the cell's sides make Z(k_t) far from symmetric
+    pg = periodic_geometry(strips(8, 2))
     k = wavenumber(17e9)
     kt = (0.3 * k, -0.2 * k)
     forward = periodic_impedance_matrix(pg, k, kt)
     backward = periodic_impedance_matrix(pg, k, (-kt[0], -kt[1]))
     scale = np.abs(forward).max()
     assert np.abs(forward.T - backward).max() < 1e-3 * scale
-    assert np.abs(forward.T - forward).max() > 1e-3 * scale  # oblique: not symmetric itself
+    assert np.abs(forward.T - forward).max() > 0.1 * scale  # oblique: not symmetric itself
 
 
 def test_moving_the_element_inside_the_cell_changes_nothing():

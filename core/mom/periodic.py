@@ -171,7 +171,12 @@ def _rwg_maps(
     minus, plus = pairs.edges[:, 0], pairs.edges[:, 1]
     m = len(minus)
     points = base.vertices
-    rows, cols, values, rows_b, cols_b, values_b = [], [], [], [], [], []
+    rows: list[np.ndarray] = []
+    cols: list[np.ndarray] = []
+    values: list[np.ndarray] = []
+    rows_b: list[np.ndarray] = []
+    cols_b: list[np.ndarray] = []
+    values_b: list[np.ndarray] = []
     if m:
         ends = topo.edges[minus]
         length = np.linalg.norm(points[ends[:, 0]] - points[ends[:, 1]], axis=1)

@@ -185,7 +185,7 @@ class PeriodicGreen:
         object.__setattr__(self, "splitting", float(splitting))
         E = float(splitting)
         lattice = np.array([a1, a2])
-        diameter = max(np.linalg.norm(a1 + a2), np.linalg.norm(a1 - a2))
+        diameter = float(max(np.linalg.norm(a1 + a2), np.linalg.norm(a1 - a2)))
         reach = diameter if self.reach is None else float(self.reach)
         log_tol = math.log(1.0 / self.tolerance)
         growth = (abs(k) / (2.0 * E)) ** 2  # the spatial terms' factor e^((k/2E)²)
@@ -214,6 +214,12 @@ class PeriodicGreen:
         object.__setattr__(self, "gamma", gamma)
 
     # -- geometry ------------------------------------------------------------------------
+
+    @property
+    def split(self) -> float:
+        """Ewald's E in use (1/m): ``splitting``, or its default when none was given."""
+        assert self.splitting is not None  # set by __post_init__
+        return self.splitting
 
     @property
     def area(self) -> float:
@@ -280,7 +286,7 @@ class PeriodicGreen:
 
     def _spatial(self, rho: np.ndarray, z: np.ndarray, centre_regular: np.ndarray) -> np.ndarray:
         """Σ over images; where ``centre_regular``, the (0, 0) image minus e^(−jkR)/R."""
-        E, k = self.splitting, self.k
+        E, k = self.split, self.k
         c = 1j * k / (2.0 * E)
         offsets = self.images @ self.lattice  # (M, 2)
         phase = np.exp(-1j * (offsets @ np.asarray(self.kt)))  # (M,)
@@ -302,7 +308,7 @@ class PeriodicGreen:
         return terms @ phase
 
     def _spectral(self, rho: np.ndarray, z: np.ndarray) -> np.ndarray:
-        E = self.splitting
+        E = self.split
         gamma = self.gamma[None, :]
         zz = z[:, None]
         u = gamma / (2.0 * E)
