@@ -12,12 +12,16 @@ True
 Modules: :mod:`.quadrature` (triangle rules), :mod:`.singular` (closed-form
 potential integrals), :mod:`.geometry` (the per-mesh cache),
 :mod:`.operator` (the impedance matrix), :mod:`.excitation`,
-:mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep).
+:mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep);
+for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
+:mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission).
 """
 
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import MomGeometry, mom_geometry
 from .operator import impedance_matrix, wavenumber
+from .periodic import PeriodicSolution, periodic_geometry, periodic_solve
+from .periodic_green import PeriodicGreen
 from .solution import Solution
 from .solve import (
     ProblemTooLarge,
@@ -32,6 +36,8 @@ from .solve import (
 
 __all__ = [
     "MomGeometry",
+    "PeriodicGreen",
+    "PeriodicSolution",
     "PlaneWave",
     "ProblemTooLarge",
     "Solution",
@@ -44,6 +50,8 @@ __all__ = [
     "impedance_matrix",
     "lorentzian_peaks",
     "mom_geometry",
+    "periodic_geometry",
+    "periodic_solve",
     "solve",
     "sweep",
     "wavenumber",

@@ -1,0 +1,616 @@
+"""The EFIE of an infinite array: a flat PEC screen repeated on a 2D lattice.
+
+A plane wave of transverse wavevector k_t falls on the array; the currents in
+cell (m, n) are those of cell (0, 0) times e^(−j k_t·ρ_mn) (Floquet). The EFIE on
+one cell is the free-space one with G replaced by the periodic Green's function
+G_p of :mod:`barymesh.mom.periodic_green`::
+
+    Z_mn = jη/4π ∫∫ [k f_m·f_n − (1/k) ∇·f_m ∇'·f_n] G_p(r − r') dS dS'
+
+Each triangle pair (o, s) is integrated against the image of s nearest to o,
+shifted by ρ_σ (σ from rounding the lattice coordinates of c_o − c_s), using
+G_p(ρ) = e^(+j k_t·ρ_σ) G_p(ρ − ρ_σ)... written the other way round,
+G_p(r − r') = e^(−j k_t·ρ_σ) G_p(r − r' − ρ_σ), and G_p = G + G_reg there:
+
+- G = e^(−jkR)/R of that one image, integrated as the free-space solver does
+  (closed-form 1/R and R parts for pairs that touch, across the cell's sides too);
+- G_reg, smooth over the reduced cell, by the far rule from a bicubic table
+  in lattice coordinates, recomputed per frequency (a few thousand Ewald sums).
+
+The scattered field is a sum of Floquet orders (p, q) of wavevectors
+(κ_pq, ±β_pq) above and below the screen, each an amplitude
+E_pq = −kη / (2 A β_pq) · J̃(κ_pq)_⊥ with J̃(κ) = ∫_cell J e^(+jκ·ρ) dS.
+
+Polarisations: TE is ẑ × κ̂ (for κ = 0, the incident plane's φ̂); TM completes
+the wave's triad with a tangential part that is the same above and below
+(TM = TE × k̂ for waves going down, −TE × k̂ for waves going up). With this
+convention the co-polar (0, 0) coefficients of a zero-thickness screen obey
+T = 1 + R, and power balance reads Σ (|R|² + |T|²) β_pq / β_00 = 1 over the
+propagating orders.
+
+Not in this module yet: RWG unknowns across the cell's sides (metal that
+touches the cell boundary), sheet impedance, interpolating sweeps.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.ndimage import map_coordinates, spline_filter
+
+from ..mesh import TriMesh
+from .excitation import PlaneWave
+from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry
+from .operator import ETA0, wavenumber
+from .periodic_green import PeriodicGreen
+from .singular import potential_integrals
+from .solve import dense_solve
+
+#: Near triples: centroids closer than this many times the larger triangle's longest edge.
+NEAR_FACTOR = 1.5
+#: Table nodes per cell length of the smooth part G_reg.
+TABLE_NODES = 48
+#: Largest triangle, as a fraction of the cell's smallest height.
+MAX_TRIANGLE = 0.2
+#: Complex entries per block of the far-rule kernel.
+BLOCK_ENTRIES = 1 << 21
+
+
+def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
+    lat = lattice if lattice is not None else getattr(mesh, "lattice", None)
+    if lat is None:
+        raise ValueError(
+            "the mesh carries no lattice: an infinite array needs a unit cell "
+            "(mesh a cell, or pass lattice=Lattice(...))"
+        )
+    vectors = np.array([lat.a1, lat.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
+    return vectors
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicGeometry:
+    """The frequency-independent part of an infinite-array solve (metres).
+
+    Attributes
+    ----------
+    base : MomGeometry
+        The mesh's free-space geometry (rules, its interior RWG maps).
+    lattice : (2, 2) float
+        Rows a1, a2 (m).
+    maps : (N, 3T) sparse float
+        The RWG functions of cell (0, 0) as [C | D_x | D_y] (see
+        :mod:`barymesh.mom.geometry`): the interior ones, then one per pair of matching
+        edges on opposite sides of the cell, whose T+ lies inside the cell at the minus
+        side and whose T− is the triangle at the plus side, seen from the next cell.
+        ``maps`` holds every half but those T−, which are in ``folded``.
+    folded : (N, 3T) sparse float
+        The T− halves of the unknowns across the cell's sides, at their place in cell
+        (0, 0); they carry the Floquet phase e^(−j k_t·a) of the lattice vector a they
+        are moved by (``crossing``).
+    crossing : (N, 2) float
+        That lattice vector (m), zero for the interior unknowns.
+    shift : (T, T, 2) int8
+        σ of each pair (observation, source): the source image used.
+    near : (K, 2) int
+        (observation, source) pairs whose image σ touches the observation triangle.
+    near_static_inv_r, near_static_r : (K, 8) float
+        The eight moments of 1/R and R over those pairs (near rule outside, closed form
+        inside), against the shifted source.
+    near_distances : (K, Qn, Qn) float
+    far_delta : (T, Qf, T, Qf, 2) float or None
+        r − r' − ρ_σ between the far rule's points, when it fits in memory.
+    table_extent : float
+        Half-width of the G_reg table in lattice coordinates.
+    """
+
+    base: MomGeometry
+    lattice: np.ndarray
+    maps: sp.csr_matrix
+    folded: sp.csr_matrix
+    crossing: np.ndarray
+    shift: np.ndarray
+    near: np.ndarray
+    near_static_inv_r: np.ndarray
+    near_static_r: np.ndarray
+    near_distances: np.ndarray
+    table_extent: float
+
+    @property
+    def area(self) -> float:
+        return float(abs(np.linalg.det(self.lattice)))
+
+    @property
+    def n_unknowns(self) -> int:
+        return self.maps.shape[0]
+
+    @property
+    def n_crossing(self) -> int:
+        """Unknowns across the cell's sides."""
+        return int(np.count_nonzero(np.any(self.crossing != 0, axis=1)))
+
+    def basis_maps(self, kt: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """The (N, 3T) complex maps of the basis functions and of the testing functions.
+
+        Basis halves moved by a carry e^(−j k_t·a), testing halves its conjugate.
+        """
+        phase = np.exp(-1j * (self.crossing @ np.asarray(kt, dtype=np.float64)))
+        basis = self.maps + sp.diags(phase) @ self.folded
+        test = self.maps + sp.diags(np.conj(phase)) @ self.folded
+        return basis.tocsr(), test.tocsr()
+
+    @cached_property
+    def shift_vectors(self) -> np.ndarray:
+        """(T, T, 2) float: ρ_σ of each pair (m)."""
+        return self.shift.astype(np.float64) @ self.lattice
+
+
+def _rwg_maps(
+    mesh: TriMesh, base: MomGeometry, lattice: Any, vectors: np.ndarray
+) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
+    """[C | D_x | D_y] of the interior unknowns and of those across the cell's sides."""
+    from ..cell.periodic import periodic_pairs
+
+    lat = lattice if lattice is not None else mesh.lattice
+    pairs = periodic_pairs(mesh, lat, mesh.tolerance)
+    if not pairs.matched:
+        raise ValueError(
+            f"{len(pairs.unmatched_edges)} boundary edge(s) of the metal lie on a side of the "
+            "cell with no matching edge on the opposite side: the metal crosses the cell "
+            "boundary, but its mesh is not periodic there (mesh the cell with a lattice)"
+        )
+    t = base.n_triangles
+    interior = [base.coef_matrix] + list(base.offset_matrices[:2])
+    n_int = base.n_unknowns
+    topo = mesh.topology
+    minus, plus = pairs.edges[:, 0], pairs.edges[:, 1]
+    m = len(minus)
+    points = base.vertices
+    rows: list[np.ndarray] = []
+    cols: list[np.ndarray] = []
+    values: list[np.ndarray] = []
+    rows_b: list[np.ndarray] = []
+    cols_b: list[np.ndarray] = []
+    values_b: list[np.ndarray] = []
+    if m:
+        ends = topo.edges[minus]
+        length = np.linalg.norm(points[ends[:, 0]] - points[ends[:, 1]], axis=1)
+        for side, (edge, sign) in enumerate(((minus, 1.0), (plus, -1.0))):
+            tri = topo.edge_triangles[edge, 0]
+            corners = base.triangles[tri]
+            on_edge = (corners[:, :, None] == topo.edges[edge][:, None, :]).any(axis=2)
+            free = corners[np.arange(m), np.argmin(on_edge, axis=1)]
+            coef = sign * length / (2.0 * base.areas[tri])
+            offset = base.centroids[tri] - points[free]
+            row = n_int + np.arange(m)
+            for c, value in enumerate((coef, coef * offset[:, 0], coef * offset[:, 1])):
+                (rows_b if side else rows).append(row)
+                (cols_b if side else cols).append(tri + c * t)
+                (values_b if side else values).append(value)
+    n = n_int + m
+    head = sp.vstack([sp.hstack(interior, "csr"), sp.csr_matrix((m, 3 * t))], "csr")
+
+    def matrix(r: list, c: list, v: list) -> sp.csr_matrix:
+        if not r:
+            return sp.csr_matrix((n, 3 * t))
+        return sp.csr_matrix(
+            (np.concatenate(v), (np.concatenate(r), np.concatenate(c))), shape=(n, 3 * t)
+        )
+
+    crossing = np.zeros((n, 2))
+    crossing[n_int:] = vectors[pairs.edge_shift] if m else 0.0
+    return (head + matrix(rows, cols, values)).tocsr(), matrix(rows_b, cols_b, values_b), crossing
+
+
+_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def periodic_geometry(mesh: TriMesh, lattice: Any = None) -> PeriodicGeometry:
+    """The frequency-independent data of the array of ``mesh`` on ``lattice`` (or its own).
+
+    Cached per mesh and lattice: a sweep over frequency or angle computes it once.
+    """
+    vectors = _lattice_metres(mesh, lattice)
+    key = tuple(vectors.ravel())
+    per_mesh = _CACHE.setdefault(mesh, {})
+    if key not in per_mesh:
+        per_mesh.clear()  # one lattice per mesh at a time; keeps memory bounded
+        per_mesh[key] = _periodic_geometry(mesh, lattice, vectors)
+    return per_mesh[key]
+
+
+def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> PeriodicGeometry:
+    base = mom_geometry(mesh)
+    if np.any(base.vertices[:, 2] != 0.0):
+        raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
+    heights = abs(np.linalg.det(vectors)) / np.linalg.norm(vectors, axis=1)
+    if base.sizes.max() > MAX_TRIANGLE * heights.min():
+        raise ValueError(
+            f"triangles of up to {base.sizes.max() * 1e3:.4g} mm are too large for a cell of "
+            f"height {heights.min() * 1e3:.4g} mm; refine the mesh (at most "
+            f"{MAX_TRIANGLE:g} of the cell's height)"
+        )
+    maps, folded, crossing = _rwg_maps(mesh, base, lattice, vectors)
+    c = base.centroids[:, :2]
+    inverse = np.linalg.inv(vectors)
+    frac = (c[:, None, :] - c[None, :, :]) @ inverse  # (T, T, 2) lattice coordinates
+    shift = np.rint(frac).astype(np.int8)
+    reduced = (frac - shift) @ vectors
+    gap = np.linalg.norm(reduced, axis=2)
+    reach = NEAR_FACTOR * np.maximum(base.sizes[:, None], base.sizes[None, :])
+    obs, src = np.nonzero(gap < reach)
+    near = np.stack([obs, src], axis=1)
+    offset = shift[obs, src].astype(np.float64) @ vectors  # (K, 2)
+    offset3 = np.concatenate([offset, np.zeros((len(offset), 1))], axis=1)
+    corners = base.vertices[base.triangles]
+    src_corners = corners[src] + offset3[:, None, :]
+    src_centroids = base.centroids[src] + offset3
+    rule = base.near
+    q = rule.size
+    r = rule.points[obs].reshape(-1, 3)
+    inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(
+        r, src_corners, np.repeat(np.arange(len(obs)), q)
+    )
+    w = rule.weights[obs]
+    rho = rule.rho[obs]
+    to_centroid = (r - np.repeat(src_centroids, q, axis=0)).reshape(len(obs), q, 3)
+    static = []
+    for scalar, vector in ((inv_r, vec_inv_r), (r1, vec_r1)):
+        s = scalar.reshape(len(obs), q)
+        v = vector.reshape(len(obs), q, 3) + to_centroid * s[:, :, None]
+        m = np.empty((len(obs), 8))
+        m[:, 0] = (w * s).sum(axis=1)
+        m[:, 1:4] = np.einsum("kq,kqc->kc", w * s, rho)
+        m[:, 4:7] = np.einsum("kq,kqc->kc", w, v)
+        m[:, 7] = np.einsum("kq,kqc->k", w, rho * v)
+        static.append(m)
+    src_points = rule.points[src] + offset3[:, None, :]
+    d = rule.points[obs][:, :, None, :] - src_points[:, None, :, :]
+    near_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
+    # the far rule's points lie within a triangle's size of their centroid
+    pad = 2.0 * base.sizes.max() * np.linalg.norm(inverse, axis=0).max()
+    return PeriodicGeometry(
+        base=base,
+        lattice=vectors,
+        maps=maps,
+        folded=folded,
+        crossing=crossing,
+        shift=shift,
+        near=near,
+        near_static_inv_r=static[0],
+        near_static_r=static[1],
+        near_distances=near_distances,
+        table_extent=0.5 + pad + 1e-3,
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class RegularTable:
+    """G_reg on a uniform grid of lattice coordinates, as cubic B-spline coefficients.
+
+    ``__call__`` interpolates at offsets (..., 2) in metres; the error is that of a
+    cubic spline of a smooth function, O((1/TABLE_NODES)⁴) relative.
+    """
+
+    lattice_inverse: np.ndarray
+    start: float
+    step: float
+    coefficients: np.ndarray
+
+    @classmethod
+    def build(cls, pg: PeriodicGeometry, green: PeriodicGreen) -> RegularTable:
+        margin = 3  # nodes beyond the extent, so that the boundary condition stays away
+        step = 1.0 / TABLE_NODES
+        n = int(math.ceil(2 * pg.table_extent / step)) + 1 + 2 * margin
+        start = -pg.table_extent - margin * step
+        u = start + step * np.arange(n)
+        grid = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2)
+        values = green.regular(grid @ pg.lattice).reshape(n, n)
+        coefficients = spline_filter(values, order=3, mode="mirror", output=np.complex128)
+        return cls(np.linalg.inv(pg.lattice), start, step, coefficients)
+
+    def __call__(self, delta: np.ndarray) -> np.ndarray:
+        uv = (delta.reshape(-1, 2) @ self.lattice_inverse - self.start) / self.step
+        out = map_coordinates(self.coefficients, uv.T, order=3, mode="mirror", prefilter=False)
+        return out.reshape(delta.shape[:-1])
+
+
+def _moments(kernel: np.ndarray, far: Any, obs: np.ndarray, src: np.ndarray) -> np.ndarray:
+    """(8, ...) far-rule moments of ``kernel`` (..., Qo, Qs) over triangle pairs (obs, src).
+
+    ``obs`` and ``src`` index the rule's triangles and broadcast against the kernel's
+    leading axes.
+    """
+    w_o, rho_o = far.weights[obs], far.rho[obs][..., :2]  # (..., Q), (..., Q, 2)
+    w_s, rho_s = far.weights[src], far.rho[src][..., :2]
+    h0 = np.einsum("...ab,...b->...a", kernel, w_s)  # ∫ K dS'
+    h1 = np.einsum("...ab,...b,...bc->...ac", kernel, w_s, rho_s)  # ∫ K ρ' dS'
+    out = np.zeros((8,) + kernel.shape[:-2], dtype=np.complex128)
+    out[0] = np.einsum("...a,...a->...", w_o, h0)
+    for c in range(2):
+        out[1 + c] = np.einsum("...a,...a->...", w_o * rho_o[..., c], h0)
+        out[4 + c] = np.einsum("...a,...a->...", w_o, h1[..., c])
+        out[7] += np.einsum("...a,...a->...", w_o * rho_o[..., c], h1[..., c])
+    return out
+
+
+def _point_offsets(pg: PeriodicGeometry, obs: np.ndarray, src: np.ndarray) -> np.ndarray:
+    """(..., Qo, Qs, 2) r − r' − ρ_σ between the far rule's points of pairs (obs, src)."""
+    far = pg.base.far
+    shift = pg.shift_vectors[obs, src]  # (..., 2)
+    return (
+        far.points[obs][..., :, None, :2]
+        - far.points[src][..., None, :, :2]
+        - shift[..., None, None, :]
+    )
+
+
+def _free_kernel(delta: np.ndarray, k: complex) -> np.ndarray:
+    dist = np.sqrt(np.einsum("...c,...c->...", delta, delta))
+    with np.errstate(divide="ignore", invalid="ignore"):  # self pairs: near, corrected
+        kernel = np.exp(-1j * k * dist) / dist
+    kernel[dist == 0.0] = 0.0
+    return kernel
+
+
+def _near_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
+    """(K, 8) moments of G over the near triples: closed-form 1/R, R plus the smooth rest."""
+    rule = pg.base.near
+    obs, src = pg.near[:, 0], pg.near[:, 1]
+    dist = pg.near_distances
+    x = k * dist
+    with np.errstate(divide="ignore", invalid="ignore"):
+        smooth = (np.cos(x) - 1.0 + 0.5 * x * x - 1j * np.sin(x)) / dist
+    smooth[dist == 0.0] = -1j * k
+    w_o, w_s = rule.weights[obs], rule.weights[src]
+    rho_o, rho_s = rule.rho[obs], rule.rho[src]  # ρ' is the same for the shifted source
+    h0 = np.einsum("kab,kb->ka", smooth, w_s)
+    h1 = np.einsum("kab,kb,kbc->kac", smooth, w_s, rho_s)
+    out = np.empty((len(obs), 8), dtype=np.complex128)
+    out[:, 0] = np.einsum("ka,ka->k", w_o, h0)
+    out[:, 1:4] = np.einsum("ka,kac,ka->kc", w_o, rho_o, h0)
+    out[:, 4:7] = np.einsum("ka,kac->kc", w_o, h1)
+    out[:, 7] = np.einsum("ka,kac,kac->k", w_o, rho_o, h1)
+    return out + pg.near_static_inv_r - (0.5 * k * k) * pg.near_static_r
+
+
+def periodic_impedance_matrix(
+    pg: PeriodicGeometry, k: complex, kt: tuple[float, float] = (0.0, 0.0)
+) -> np.ndarray:
+    """The (N, N) complex EFIE matrix of the array at wavenumber ``k``, Floquet phase ``kt``.
+
+    ``kt`` is the incident wave's transverse wavevector (rad/m). Reciprocity:
+    Z(k_t)ᵀ = Z(−k_t).
+    """
+    base = pg.base
+    t, n = base.n_triangles, pg.n_unknowns
+    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
+    table = RegularTable.build(pg, green)
+    # near triples: the closed-form moments of G replace the far rule's
+    near_obs, near_src = pg.near[:, 0], pg.near[:, 1]
+    far_g = _moments(
+        _free_kernel(_point_offsets(pg, near_obs, near_src), k), base.far, near_obs, near_src
+    )  # (8, K)
+    correction = _near_moments(pg, k) - far_g.T  # (K, 8), pairs sorted by observation
+    # the coefficient and offset maps, (N, 3T) stacked as [C | D_x | D_y]
+    basis, test = pg.basis_maps(np.asarray(kt))
+    phase_all = np.exp(-1j * (pg.shift_vectors @ np.asarray(kt)))  # (T, T)
+    starts = np.searchsorted(near_obs, np.arange(t + 1))
+    q = base.far.size
+    block = max(1, min(t, BLOCK_ENTRIES // max(1, t * q * q)))
+    everyone = np.arange(t)
+    z = np.zeros((n, n), dtype=np.complex128)
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        rows = np.arange(lo, hi)[:, None]
+        delta = _point_offsets(pg, rows, everyone[None, :])  # (B, T, Q, Q, 2)
+        kernel = _free_kernel(delta, k) + table(delta)
+        m = _moments(kernel, base.far, rows, everyone[None, :])  # (8, B, T)
+        span = slice(starts[lo], starts[hi])
+        m[:, near_obs[span] - lo, near_src[span]] += correction[span].T
+        m *= phase_all[None, lo:hi]
+        b = hi - lo
+        s = np.zeros((3, b, 3, t), dtype=np.complex128)
+        s[0, :, 0] = k * m[7] - (4.0 / k) * m[0]
+        for c in range(2):
+            s[0, :, 1 + c] = k * m[1 + c]  # C_m ρ · D_n
+            s[1 + c, :, 0] = k * m[4 + c]  # D_m · ρ' C_n
+            s[1 + c, :, 1 + c] = k * m[0]  # D_m · D_n
+        cols = np.concatenate([np.arange(lo, hi) + c * t for c in range(3)])
+        left = test[:, cols]  # (N, 3B)
+        right = (basis @ s.reshape(3 * b, 3 * t).T).T  # (3B, N): S · Basisᵀ
+        z += left @ right
+    z *= 1j * ETA0 / (4.0 * np.pi)
+    return z
+
+
+def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:
+    """Unit TE and TM vectors (P, 3) of the waves going up and down of each order."""
+    norm = np.linalg.norm(kappa, axis=1)
+    plane = np.array([math.cos(phi), math.sin(phi)])  # the incidence plane, for κ = 0
+    safe = np.where(norm > 1e-9 * k, norm, 1.0)[:, None]
+    along = np.where(norm[:, None] > 1e-9 * k, kappa / safe, plane)
+    # along is κ̂ (or the incidence plane's direction for κ = 0); TE = ẑ × κ̂
+    te = np.stack([-along[:, 1], along[:, 0], np.zeros(len(along))], axis=1)
+    kz = np.real_if_close(beta)
+    up = np.concatenate([kappa, kz[:, None]], axis=1) / k
+    down = np.concatenate([kappa, -kz[:, None]], axis=1) / k
+    tm_down = np.cross(te, down)
+    tm_up = -np.cross(te, up)
+    return te, tm_up, tm_down
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSolution:
+    """Currents and Floquet amplitudes of an infinite array at one frequency and incidence.
+
+    Attributes
+    ----------
+    geometry : PeriodicGeometry
+    frequency : float
+        Hz.
+    incidence : PlaneWave
+    coefficients : (N,) complex
+        RWG currents of cell (0, 0) (A).
+    orders : (P, 2) int
+        Floquet orders (p, q), the propagating ones: (0, 0) first.
+    kappa : (P, 2) float
+        Their transverse wavevectors (rad/m).
+    beta : (P,) float
+        Their normal wavenumbers (rad/m).
+    reflection, transmission : (P, 2) complex
+        Amplitudes of each order's TE and TM fields on the incident side and the far
+        side, in units of the incident amplitude (transmission includes the incident
+        wave in the (0, 0) order).
+    incident_te_tm : (2,) complex
+        The incident field's TE and TM components (unit amplitude).
+    """
+
+    geometry: PeriodicGeometry
+    frequency: float
+    incidence: PlaneWave
+    coefficients: np.ndarray
+    orders: np.ndarray
+    kappa: np.ndarray
+    beta: np.ndarray
+    reflection: np.ndarray
+    transmission: np.ndarray
+    incident_te_tm: np.ndarray
+    condition_number: float
+    residual: float
+
+    @property
+    def power_fractions(self) -> tuple[np.ndarray, np.ndarray]:
+        """(P,) reflected and transmitted power of each order over the incident power."""
+        weight = self.beta / self.beta[0]
+        return (
+            weight * (np.abs(self.reflection) ** 2).sum(axis=1),
+            weight * (np.abs(self.transmission) ** 2).sum(axis=1),
+        )
+
+    @property
+    def power_balance(self) -> float:
+        """Σ reflected + transmitted power over incident: 1 for a lossless screen."""
+        r, t = self.power_fractions
+        return float(r.sum() + t.sum())
+
+    def co_polar(self) -> tuple[complex, complex]:
+        """(R, T) of the (0, 0) order along the incident polarisation."""
+        p = self.incident_te_tm
+        return complex(self.reflection[0] @ np.conj(p)), complex(self.transmission[0] @ np.conj(p))
+
+    @property
+    def current_density(self) -> np.ndarray:
+        """(T, 3) complex J (A/m) at the centroids of cell (0, 0)."""
+        t = self.geometry.base.n_triangles
+        kt = self.kappa[0]
+        return _current(self.geometry, kt, self.coefficients, np.zeros((t, 1, 3)))[:, 0]
+
+
+def periodic_solve(
+    mesh: TriMesh,
+    frequency: float,
+    incidence: PlaneWave | None = None,
+    *,
+    lattice: Any = None,
+) -> PeriodicSolution:
+    """Reflection and transmission of the infinite array of ``mesh`` at one frequency.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        One cell of the screen (mm), flat in z = 0, its metal inside the cell.
+    frequency : float
+        Hz.
+    incidence : PlaneWave, optional
+        Default: normal incidence from above, E along x.
+    lattice : Lattice, optional
+        The array's lattice (mm); default the mesh's own (a unit cell's).
+
+    Returns
+    -------
+    PeriodicSolution
+    """
+    frequency = float(frequency)
+    if not (np.isfinite(frequency) and frequency > 0):
+        raise ValueError(f"frequency={frequency!r} is invalid; expected a positive number (Hz)")
+    wave = PlaneWave() if incidence is None else incidence
+    if not isinstance(wave, PlaneWave):
+        raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
+    d = np.asarray(wave.direction)
+    if abs(d[2]) < 1e-9:
+        raise ValueError("the incident wave travels along the screen (direction_z = 0)")
+    pg = periodic_geometry(mesh, lattice)
+    k = wavenumber(frequency)
+    kt = (float(k * d[0]), float(k * d[1]))
+    z = periodic_impedance_matrix(pg, k, kt)
+    base = pg.base
+    rule = base.near
+    e = wave.field(rule.points, k)
+    e0 = np.einsum("tq,tqc->tc", rule.weights, e)
+    e1 = np.einsum("tq,tqc->t", rule.weights, rule.rho * e)
+    _, test = pg.basis_maps(np.asarray(kt))
+    v = test @ np.concatenate([e1, e0[:, 0], e0[:, 1]])
+    current, cond, residual = dense_solve(z, v)
+    return _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual)
+
+
+def _current(pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.ndarray):
+    """(T, Q, 3) J of cell (0, 0) at points ρ (T, Q, 3) from their triangles' centroids."""
+    t = pg.base.n_triangles
+    basis, _ = pg.basis_maps(kt)
+    linear = basis.T @ current  # (3T,): C, D_x, D_y per triangle
+    alpha = linear[:t]
+    beta = np.stack([linear[t : 2 * t], linear[2 * t :], np.zeros(t)], axis=1)
+    return alpha[:, None, None] * rho + beta[:, None, :]
+
+
+def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
+    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
+    prop = green.propagating()
+    orders, kappa = green.orders[prop], green.kappa[prop]
+    first = np.flatnonzero(np.all(orders == 0, axis=1))
+    order = np.concatenate([first, np.setdiff1d(np.arange(len(orders)), first)])
+    orders, kappa = orders[order], kappa[order]
+    beta = np.sqrt(k * k - np.einsum("ij,ij->i", kappa, kappa))
+    base = pg.base
+    rule = base.near
+    j = _current(pg, kt, current, rule.rho)  # (T, Q, 3)
+    phase = np.exp(1j * (rule.points[:, :, :2] @ kappa.T))  # (T, Q, P)
+    jt = np.einsum("tq,tqc,tqp->pc", rule.weights, j, phase)  # J̃(κ_pq), (P, 3)
+    d = np.asarray(wave.direction)
+    phi = math.atan2(d[1], d[0]) if np.hypot(d[0], d[1]) > 1e-12 else 0.0
+    te, tm_up, tm_down = _floquet_basis(kappa, beta, k, phi)
+    scale = -k * ETA0 / (2.0 * pg.area * beta)  # E_pq = scale · J̃_⊥
+    up = scale[:, None] * np.stack(
+        [np.einsum("pc,pc->p", jt, te), np.einsum("pc,pc->p", jt, tm_up)], axis=1
+    )
+    down = scale[:, None] * np.stack(
+        [np.einsum("pc,pc->p", jt, te), np.einsum("pc,pc->p", jt, tm_down)], axis=1
+    )
+    pol = np.asarray(wave.polarization) * wave.amplitude
+    going_down = d[2] < 0
+    tm_inc = tm_down[0] if going_down else tm_up[0]
+    incident = np.array([pol @ te[0], pol @ tm_inc]) / wave.amplitude
+    reflected, transmitted = (up, down) if going_down else (down, up)
+    transmitted = transmitted / wave.amplitude
+    transmitted[0] += incident
+    return PeriodicSolution(
+        geometry=pg,
+        frequency=frequency,
+        incidence=wave,
+        coefficients=current,
+        orders=orders,
+        kappa=kappa,
+        beta=beta,
+        reflection=reflected / wave.amplitude,
+        transmission=transmitted,
+        incident_te_tm=incident,
+        condition_number=cond,
+        residual=residual,
+    )
