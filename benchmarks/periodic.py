@@ -1,0 +1,125 @@
+"""Speed of the infinite-array solver (barymesh.mom.periodic_solve) beside the free-space one.
+
+The issue's targets: one frequency of a 1,000-unknown cell, fill plus solve, in 0.2 s on
+this 2-core machine, and the periodic fill within 2x of the free-space fill at the same N.
+Both solvers run on the same mesh in the same run, alternating:
+
+* ``periodic``: the periodic EFIE matrix (Ewald table, near triples, far rule) and its LU
+  (``dense_solve``), the per-mesh periodic geometry timed apart (cold, then cached);
+* ``free space``: :func:`barymesh.mom.impedance_matrix` on the same mesh (the same
+  triangles and rules; its unknowns are the interior edges only).
+
+Usage::
+
+    python benchmarks/periodic.py                  # about 1,000 unknowns
+    python benchmarks/periodic.py --json out.json
+    python benchmarks/periodic.py --quick          # a tiny cell (the test suite)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
+from barymesh.mom import PlaneWave, impedance_matrix, mom_geometry
+from barymesh.mom.operator import wavenumber
+from barymesh.mom.periodic import periodic_geometry, periodic_impedance_matrix
+from barymesh.mom.solve import dense_solve
+
+P = 10.0  # mm
+
+
+def patch_cell(pixels: int, subdivisions: int):
+    """A square patch of half the cell's side, on a pixel grid (metal off the sides)."""
+    mask = np.zeros((pixels, pixels), dtype=bool)
+    mask[pixels // 4 : 3 * pixels // 4, pixels // 4 : 3 * pixels // 4] = True
+    grid = PixelGrid(
+        mask, pixel_size=P / pixels, origin=(-P / 2, -P / 2), subdivisions=subdivisions
+    )
+    cell = UnitCell(lattice=Lattice.rectangular(P), pixels=grid, mode="conforming")
+    return build_cell(cell).mesh
+
+
+def _best(times: list[float]) -> float:
+    return float(min(times))
+
+
+def measure(pixels: int, subdivisions: int, reps: int, frequency: float = 20e9) -> dict[str, Any]:
+    mesh = patch_cell(pixels, subdivisions)
+    k = wavenumber(frequency)
+    wave = PlaneWave.from_angles(20, 0, 0)
+    kt = (float(k * wave.direction[0]), float(k * wave.direction[1]))
+    t = time.perf_counter()
+    pg = periodic_geometry(mesh)
+    geometry_cold = time.perf_counter() - t
+    free_geom = mom_geometry(mesh)
+    periodic_fill, periodic_lu, free_fill = [], [], []
+    for _ in range(reps):
+        t = time.perf_counter()
+        z = periodic_impedance_matrix(pg, k, kt)
+        periodic_fill.append(time.perf_counter() - t)
+        v = np.ones(len(z), dtype=np.complex128)
+        t = time.perf_counter()
+        dense_solve(z, v)
+        periodic_lu.append(time.perf_counter() - t)
+        del z
+        t = time.perf_counter()
+        impedance_matrix(free_geom, k)
+        free_fill.append(time.perf_counter() - t)
+    fill, lu, free = _best(periodic_fill), _best(periodic_lu), _best(free_fill)
+    return {
+        "triangles": int(mesh.n_triangles),
+        "unknowns": int(pg.n_unknowns),
+        "free_space_unknowns": int(free_geom.n_unknowns),
+        "frequency_hz": frequency,
+        "periodic_geometry_s": geometry_cold,
+        "periodic_fill_s": fill,
+        "periodic_lu_s": lu,
+        "periodic_fill_plus_solve_s": fill + lu,
+        "free_space_fill_s": free,
+        "fill_ratio": fill / free,
+        "target_fill_plus_solve_s": 0.2,
+        "target_fill_ratio": 2.0,
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", type=Path, help="write the results here")
+    ap.add_argument("--quick", action="store_true", help="a tiny cell, one repetition")
+    ap.add_argument("--reps", type=int, default=3)
+    args = ap.parse_args(argv)
+    case = (8, 1, 1) if args.quick else (16, 3, args.reps)  # 32 or 1,152 triangles
+    row = measure(*case)
+    doc = {
+        "benchmark": "periodic",
+        "date": time.strftime("%Y-%m-%d"),
+        "machine": {
+            "cpus": os.cpu_count(),
+            "platform": platform.platform(),
+            "python": platform.python_version(),
+            "load_average": list(os.getloadavg()),
+        },
+        "rows": [row],
+    }
+    print(
+        f"{row['unknowns']} unknowns ({row['triangles']} triangles): periodic fill "
+        f"{row['periodic_fill_s']:.3f} s + LU {row['periodic_lu_s']:.3f} s "
+        f"(target fill + solve 0.2 s); free-space fill {row['free_space_fill_s']:.3f} s, "
+        f"ratio {row['fill_ratio']:.1f} (target 2); periodic geometry "
+        f"{row['periodic_geometry_s']:.3f} s once per mesh"
+    )
+    if args.json:
+        args.json.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
