@@ -22,7 +22,7 @@ import numpy as np
 import pyvista as pv
 from barymesh import MeshParams, TriMesh
 from barymesh.app.model import AppModel, MeshResult, compute
-from barymesh.app.teach.following_view import FollowingView
+from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
 from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span, scene_data
@@ -210,6 +210,7 @@ class CompareView(FollowingView):
             border_color="#c8c8c8",
             border_width=1.0,
         )
+        tune_multi_samples(self.plotter)  # no MSAA on llvmpipe: a render costs 8x less
         self.plotter.setMinimumSize(640, 360)
         for key in ("q", "e"):
             self.plotter.clear_events_for_key(key, raise_on_missing=False)
