@@ -32,8 +32,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 from barymesh import TriMesh
+from barymesh.app.view.canvas import ShownCanvas
 from barymesh.app.worker import run_in_thread
-from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.font_manager import FontProperties
@@ -133,25 +133,6 @@ class _Relay(QObject):
     ready = Signal(object)
 
 
-class SpyCanvas(FigureCanvasQTAgg):
-    """A canvas that draws only while shown: a draw asked for while it is hidden (a new
-    mesh, a resize of the hidden dock) is made once, when it is shown."""
-
-    _wanted = False
-
-    def draw_idle(self) -> None:
-        if not self.isVisible():
-            self._wanted = True
-            return
-        super().draw_idle()
-
-    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
-        super().showEvent(event)
-        if self._wanted:
-            self._wanted = False
-            super().draw_idle()
-
-
 class ConnectivityTableModel(QAbstractTableModel):
     """The dense 0/1 matrix for a :class:`QTableView` (small meshes only)."""
 
@@ -232,7 +213,7 @@ class MatrixView(QWidget):
         self._relay.ready.connect(self._picture_ready)
 
         self.figure = Figure(figsize=(4, 4), dpi=100)
-        self.canvas = SpyCanvas(self.figure)
+        self.canvas = ShownCanvas(self.figure)
         self.canvas.setMinimumSize(220, 220)
         self.axes = self.figure.add_subplot(1, 1, 1)
         cmap = ListedColormap(["white", ONE_COLOR])

@@ -111,7 +111,8 @@ class CurrentLayer:
         """Show ``current`` ((T, 3) complex, A/m at the centroids of ``mesh``) and keep
         ``charge`` ((T,) complex ρ_s, C/m²) for the charge colouring.
 
-        A new current on the mesh already shown updates the layer's arrays in place.
+        A new current updates the layer's arrays in place, on the mesh already shown or
+        on a new one (the actors and the colour bar are kept: no actor is added).
         """
         current = np.asarray(current)
         if current.shape != (len(mesh.triangles), 3):
@@ -126,20 +127,25 @@ class CurrentLayer:
             )
         import pyvista as pv
 
-        same = mesh is self.mesh and self._surface_actor is not None
+        drawn = self._surface_actor is not None and self.surface is not None
+        new_mesh = mesh is not self.mesh
         self.mesh, self.current = mesh, current
         self.charge = None if charge is None else np.asarray(charge)
         self.magnitude = np.linalg.norm(np.abs(current), axis=1)
-        if same:
-            self._set_arrays()
+        if new_mesh:
+            tri = np.asarray(mesh.triangles, dtype=np.int64)
+            faces = np.column_stack([np.full(len(tri), 3, dtype=np.int64), tri]).ravel()
+            surface = pv.PolyData(np.asarray(mesh.points, dtype=float), faces)
+            area = float(np.mean(mesh.areas)) if len(tri) else 1.0
+            self._arrow_scale = ARROW_LENGTH * np.sqrt(max(area, 1e-300))
+            if drawn:  # the dataset the mapper reads takes the new mesh
+                self.surface.copy_from(surface)
+            else:
+                self.surface = surface
+        self._set_arrays()
+        if drawn:
             self._refresh()
             return
-        tri = np.asarray(mesh.triangles, dtype=np.int64)
-        faces = np.column_stack([np.full(len(tri), 3, dtype=np.int64), tri]).ravel()
-        self.surface = pv.PolyData(np.asarray(mesh.points, dtype=float), faces)
-        self._set_arrays()
-        area = float(np.mean(mesh.areas)) if len(tri) else 1.0
-        self._arrow_scale = ARROW_LENGTH * np.sqrt(max(area, 1e-300))
         self._draw()
 
     def clear(self) -> None:
