@@ -238,3 +238,29 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     assert view.params.subdivisions == 3
     win.close()
     assert view._closed
+
+
+def test_caption_names_each_step_at_the_top_of_the_view(view, qtbot):
+    """The caption (a text actor of a fixed size, centred at the top) follows the steps;
+    the sub-triangle step draws the paper's 32 = 2 n² sub-triangles."""
+    from barymesh.app.teach.construction_view import CAPTION_PX
+
+    view.slider.setFocus()
+    qtbot.keyClick(view.slider, Qt.Key.Key_Home)
+    widths = []
+    for i, start in enumerate(PAPER_STEPS):
+        if i:
+            qtbot.mouseClick(view.next_button, Qt.MouseButton.LeftButton)
+        assert view.index == i
+        assert view.caption.GetInput() == f"{i + 1}/8  {view.steps[i].title}"
+        assert view.caption.GetInput().split("  ", 1)[1].startswith(start)
+        image = view.view_image()
+        dark = np.argwhere(image[: 3 * CAPTION_PX].astype(int).sum(axis=-1) < 300)
+        assert len(dark), "no caption drawn"
+        (top, left), (bottom, right) = dark.min(axis=0), dark.max(axis=0)
+        assert 2 <= top <= 10 and CAPTION_PX * 0.6 <= bottom - top <= CAPTION_PX * 1.2
+        assert abs(0.5 * (left + right) - 0.5 * image.shape[1]) <= 3  # centred
+        widths.append(right - left)
+        if start.startswith("32 sub-triangles"):
+            assert view.datasets["subtriangles"].n_cells == 2 * PATCH.subdivisions**2 == 32
+    assert len(set(widths)) > 1  # a longer title is drawn wider, at the same size
