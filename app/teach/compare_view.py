@@ -274,6 +274,7 @@ class CompareView(FollowingView):
             label.setStyleSheet("font-size: 12pt;")
             label.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
             label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+            _reserve_stats_height(label)
             self.stats[mode] = label
             row.addWidget(label, 1)
         self.status = QLabel(self)
@@ -420,7 +421,7 @@ class CompareView(FollowingView):
             if self.halves.get(mode) is not None and self.halves[mode].error is None:
                 self.scenes[mode].fit_marker_sizes()
         self.plotter.subplot(0, 0)
-        self.plotter.render()
+        self.plotter.update()  # one paint, by the widget (a render here drew it twice)
 
     def stats_of(self, mode: str) -> dict[str, Any] | None:
         """The statistics shown for ``mode`` (None when that mode failed)."""
@@ -430,6 +431,24 @@ class CompareView(FollowingView):
     def _stop(self) -> None:
         self._pending = None
         self.pool.waitForDone(30_000)
+
+
+#: The rows of a paper half's statistics: five counts, the overlap ratio and the three
+#: coverage rows (junction edges add one more, rarely).
+STATS_ROWS = 9
+
+
+def _reserve_stats_height(label: QLabel) -> None:
+    """Give ``label`` the height of the tallest statistics at once: the 3D view above
+    keeps its size when the first statistics come (else it is resized and painted twice,
+    shaders compiled the first time, right after the meshes)."""
+    row = "<tr><td>Triangles under 2+ patches</td><td align='right'>&nbsp;&nbsp;100.0 %</td></tr>"
+    label.setText(
+        f"<b style='font-size:13pt'>{TITLES['paper']}</b><br>"
+        f"<table cellspacing='1'>{row * STATS_ROWS}</table>"
+    )
+    label.setMinimumHeight(label.sizeHint().height())
+    label.setText("")
 
 
 def _wrapped(text: str, width: int = 48) -> str:
