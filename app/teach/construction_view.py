@@ -362,6 +362,7 @@ class ConstructionView(FollowingView):
         self._follow_cells()
         self._syncing = False
         self.set_params(model.params)
+        self._paint_empty_first()
 
     # -- actors (created once) -----------------------------------------------------------
 

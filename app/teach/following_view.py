@@ -81,9 +81,42 @@ class FollowingView(QWidget):
     def refit(self) -> None:
         """Frame the view again (after a resize); the subclass knows what to frame."""
 
+    def _paint_empty_first(self) -> None:
+        """Hide every visible prop until the window has painted once, then show them.
+
+        The first paint of a new window's view sets up its GL context and the scene's
+        first render compiles its shaders (on llvmpipe, on this thread): together they
+        held the event loop for one long pass. Now the first paint draws the background
+        only and the scene comes by a timer in the next pass.
+        """
+        hidden = []
+        for renderer in self.plotter.renderers:
+            props = renderer.GetViewProps()
+            for i in range(props.GetNumberOfItems()):
+                prop = props.GetItemAsObject(i)
+                if prop.GetVisibility():
+                    prop.SetVisibility(False)
+                    hidden.append(prop)
+        self._unrevealed = hidden
+
+    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().showEvent(event)
+        if getattr(self, "_unrevealed", None):
+            QTimer.singleShot(1, self._reveal)  # a timer: after this pass's paint
+
+    def _reveal(self) -> None:
+        """Show the props :meth:`_paint_empty_first` hid (idempotent)."""
+        hidden, self._unrevealed = getattr(self, "_unrevealed", None), None
+        if not hidden or self._closed:
+            return
+        for prop in hidden:
+            prop.SetVisibility(True)
+        self.plotter.update()
+
     def view_image(self) -> np.ndarray:
         """The 3D view as an (h, w, 3) uint8 array (as it is now: a change waiting for its
         paint is rendered first)."""
+        self._reveal()
         self.plotter.render()
         image = self.plotter.screenshot(None, return_img=True)
         self.plotter.render()
