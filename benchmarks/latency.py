@@ -22,12 +22,23 @@ frames per second at 1M, RSS per triangle above the idle window and after return
 to Fig. 12(a). A 10 ms heartbeat timer records the longest block of the event loop
 throughout.
 
+The ``--teaching`` round opens and steps the teaching windows as a user does, on Fig. 10
+(one 10 mm patch at n = 4) and Fig. 12(a): the connectivity matrix (key M), the
+construction window (F7: opening, its Next button, n + 1 in its spin box), the paper vs
+conforming window (F8: opening, a new inner radius), a mouse drag of the patch-size slider
+with auto-solve on (Solve tab, 40 unknowns) and 3 s of Animate; with ``--big`` above 0
+also the matrix of Fig. 12(a) at n = 27 (1,049,760 triangles). For each case it reports
+the event loop's longest block, in wall time and in the GUI thread's CPU time (a loaded
+machine stretches the first, hardly the second); ``--profile DIR`` writes a cProfile
+file per case.
+
 Usage::
 
     python benchmarks/latency.py                    # 50 frames, drag, 3 big rounds
     python benchmarks/latency.py --frames 10 --json out.json
     python benchmarks/latency.py --quick            # 6 frames, 0.5 s drag (tests)
     python benchmarks/latency.py --big-only --big 3 # only the 1M and 4.8M rounds
+    python benchmarks/latency.py --teaching --load "2 test runs" --json out.json
 
 Without ``DISPLAY`` the script re-runs itself under ``xvfb-run``.
 """
@@ -483,19 +494,6 @@ def measure(
 
 # -- the teaching windows (--teaching) ---------------------------------------------------
 
-#: Fig. 10: one 10 mm patch at n = 4 (32 triangles, 40 RWG unknowns: auto-solved).
-TEACHING_CASES = (
-    "matrix_open_fig10",
-    "matrix_open_fig12a",
-    "construction_open",
-    "construction_step",
-    "construction_n_change",
-    "compare_open",
-    "compare_param_change",
-    "auto_solve_slider_step",
-    "animate_step",
-)
-
 
 class _Profiles:
     """cProfile of each case into ``directory`` (``--profile``), or nothing."""
@@ -576,7 +574,7 @@ def _summary(runs: list[dict]) -> dict:
     }
 
 
-def measure_teaching(repeats: int = 3, profile: Path | None = None) -> dict:
+def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = True) -> dict:
     """Open and step each teaching window as a user does (keys, clicks, a mouse drag) and
     record the event loop's longest block per case; returns the JSON document."""
     os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
@@ -606,10 +604,10 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None) -> dict:
         if window.model.result is None or window.model.result.params != params:
             _show(app_, window, params, beat)
 
-    def matrix_open(case: str, params, other) -> None:
+    def matrix_open(case: str, params, other, runs_wanted: int = repeats) -> None:
         view = window.teaching.matrix
         runs = []
-        for _ in range(repeats):
+        for _ in range(runs_wanted):
             show(other)
             show(params)  # a new mesh while the dock is hidden: drawn when it opens
             draws = view.full_draws
@@ -634,6 +632,9 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None) -> dict:
 
     matrix_open("matrix_open_fig10", fig10, fig12a)
     matrix_open("matrix_open_fig12a", fig12a, fig10)
+    if big:  # Fig. 12(a) at n = 27: 1,049,760 triangles (its picture made in a worker)
+        matrix_open("matrix_open_1M", MeshParams(subdivisions=27), fig12a, 1)
+        show(fig12a)
 
     # -- construction window (F7) ------------------------------------------------------
     show(fig12a)
@@ -965,7 +966,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.teaching:
         if args.repeats < 1:
             ap.error(f"--repeats={args.repeats}: expected at least 1")
-        doc = measure_teaching(args.repeats, args.profile)
+        doc = measure_teaching(args.repeats, args.profile, big=args.big > 0)
         doc["load"] = {"note": args.load, "loadavg_after": list(os.getloadavg())}
         print(table(doc))
         if args.json:
