@@ -966,8 +966,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.teaching:
         if args.repeats < 1:
             ap.error(f"--repeats={args.repeats}: expected at least 1")
+        before = list(os.getloadavg())
         doc = measure_teaching(args.repeats, args.profile, big=args.big > 0)
-        doc["load"] = {"note": args.load, "loadavg_after": list(os.getloadavg())}
+        doc["load"] = {
+            "note": args.load,
+            "cores": os.cpu_count(),
+            "loadavg_before": before,
+            "loadavg_after": list(os.getloadavg()),
+        }
         print(table(doc))
         if args.json:
             args.json.write_text(json.dumps(doc, indent=2))
