@@ -227,6 +227,8 @@ class CompareView(FollowingView):
         self.shown_generation = -1
         self.halves: dict[str, Half] = {}
         self._camera_key: tuple[Any, ...] | None = None
+        self._drawn_once = False
+        self._shown_later: int | None = None  # a generation drawn, its second half pending
 
         self.plotter = QtInteractor(
             self,
@@ -360,11 +362,23 @@ class CompareView(FollowingView):
             self._start()  # a newer request is waiting: this result is stale
             return
         self.show_halves(halves)
-        self.shown_generation = generation
         self._busy_note.stop()
         if self.status.text():
             self.status.setText("")
+        if self._unrevealed:  # the first meshes: shown once the second half is drawn
+            self._shown_later = generation
+        else:
+            self._mark_shown(generation)
+
+    def _mark_shown(self, generation: int) -> None:
+        self.shown_generation = generation
         self.shown.emit()
+
+    def _reveal(self) -> None:
+        super()._reveal()
+        generation, self._shown_later = self._shown_later, None
+        if generation is not None and not self._closed:
+            self._mark_shown(generation)
 
     @property
     def busy(self) -> bool:
@@ -399,6 +413,9 @@ class CompareView(FollowingView):
             self.stats[half.mode].setText(
                 f"<b style='font-size:13pt'>{TITLES[half.mode]}</b><br>{stats_html(half)}"
             )
+        if not self._drawn_once:  # the first meshes: the conforming half a pass later
+            self._drawn_once = True
+            self._draw_in_two_passes([self.plotter.renderers[1]])
         if bounds:
             b = np.asarray(bounds)
             union = (b[:, 0].min(), b[:, 1].max(), b[:, 2].min(), b[:, 3].max())

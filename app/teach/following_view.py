@@ -7,7 +7,7 @@ import os
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import Qt, QTimer
+from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtGui import QCloseEvent, QKeySequence, QShortcut
 from PySide6.QtWidgets import QWidget
 
@@ -43,6 +43,22 @@ def tune_multi_samples(plotter: Any) -> int:
     return samples
 
 
+class _AfterNextPaint(QObject):
+    """Calls ``callback`` by a timer right after ``widget``'s next paint (once)."""
+
+    def __init__(self, widget: QWidget, callback: Any) -> None:
+        super().__init__(widget)
+        self.callback = callback
+        widget.installEventFilter(self)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if event.type() == QEvent.Type.Paint:
+            watched.removeEventFilter(self)
+            QTimer.singleShot(1, self.callback)  # a timer: after this paint is done
+            self.deleteLater()
+        return False
+
+
 class FollowingView(QWidget):
     """A window with its own pyvistaqt ``plotter`` that follows ``model.params_changed``.
 
@@ -53,6 +69,7 @@ class FollowingView(QWidget):
 
     _closed = False
     presenting = False
+    _unrevealed: list[Any] | None = None
 
     def _add_presentation_key(self) -> None:
         """F5 in this window: full screen with larger fonts, F5 again: back."""
@@ -87,22 +104,30 @@ class FollowingView(QWidget):
         The first paint of a new window's view sets up its GL context and the scene's
         first render compiles its shaders (on llvmpipe, on this thread): together they
         held the event loop for one long pass. Now the first paint draws the background
-        only and the scene comes by a timer in the next pass.
+        only and the scene comes by a timer right after it, in the next pass.
         """
+        self._unrevealed = self._hide_props(self.plotter.renderers)
+        _AfterNextPaint(self.plotter, self._reveal)
+
+    @staticmethod
+    def _hide_props(renderers: Any) -> list[Any]:
+        """Hide the visible props of ``renderers``; returns them."""
         hidden = []
-        for renderer in self.plotter.renderers:
+        for renderer in renderers:
             props = renderer.GetViewProps()
             for i in range(props.GetNumberOfItems()):
                 prop = props.GetItemAsObject(i)
                 if prop.GetVisibility():
                     prop.SetVisibility(False)
                     hidden.append(prop)
-        self._unrevealed = hidden
+        return hidden
 
-    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
-        super().showEvent(event)
-        if getattr(self, "_unrevealed", None):
-            QTimer.singleShot(1, self._reveal)  # a timer: after this pass's paint
+    def _draw_in_two_passes(self, renderers: Any) -> None:
+        """Hide the props of ``renderers`` now and show them by a timer, in the next pass
+        of the event loop (a scene's first render compiles its shaders: in two passes,
+        half of them each)."""
+        self._unrevealed = [*(self._unrevealed or []), *self._hide_props(renderers)]
+        _AfterNextPaint(self.plotter, self._reveal)
 
     def _reveal(self) -> None:
         """Show the props :meth:`_paint_empty_first` hid (idempotent)."""
