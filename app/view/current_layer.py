@@ -97,6 +97,7 @@ class CurrentLayer:
         self._surface_actor: Any = None
         self._arrow_actor: Any = None
         self._bar_title: str | None = None
+        self._arrow: Any = None  # the glyph's arrow (pyvista.PolyData), made once
 
     @property
     def shown(self) -> bool:
@@ -252,12 +253,9 @@ class CurrentLayer:
             + np.array([0.0, 0.0, 1e-3 * self._arrow_scale])
         )
         cloud["J"] = vectors * (self._arrow_scale / peak if peak > 0 else 0.0)
-        return cloud.glyph(
-            orient="J",
-            scale="J",
-            factor=1.0,
-            geom=pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07),
-        )
+        if self._arrow is None:  # one arrow shape for every step
+            self._arrow = pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07)
+        return cloud.glyph(orient="J", scale="J", factor=1.0, geom=self._arrow)
 
     def _remove_actors(self) -> None:
         for actor in (self._surface_actor, self._arrow_actor):
