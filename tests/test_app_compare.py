@@ -276,3 +276,16 @@ def test_worker_meshes_at_a_lower_priority_and_a_slow_build_says_so(view, qtbot,
         assert_half(view, fine, mode)
     if sys.platform.startswith("linux"):
         assert seen and all(nice >= compare_view.WORKER_NICE for nice in seen)
+
+
+def test_closing_while_the_first_meshes_wait_for_their_second_pass(qtbot):
+    """Closed between the paper half's paint and the conforming half's: no crash, and the
+    window is not left busy."""
+    win = CompareView(AppModel(COARSE))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    qtbot.waitUntil(lambda: win.halves.get("conforming") is not None, timeout=30_000)
+    win.close()
+    qtbot.wait(50)
+    assert win._closed and not win.busy

@@ -382,7 +382,9 @@ class CompareView(FollowingView):
 
     @property
     def busy(self) -> bool:
-        return self._running or self._pending is not None
+        """Whether meshes are being made or drawn (the first's second half waits for its
+        pass: :meth:`_reveal`)."""
+        return self._running or self._pending is not None or self._shown_later is not None
 
     # -- drawing -------------------------------------------------------------------------
 
@@ -482,7 +484,7 @@ class CompareView(FollowingView):
 
     def _stop(self) -> None:
         self._busy_note.stop()
-        self._pending = None
+        self._pending = self._shown_later = None
         self.pool.waitForDone(30_000)
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any
 
-from PySide6.QtCore import QEvent, QObject, QTimer
+from PySide6.QtCore import QEvent, QObject
 from PySide6.QtWidgets import QMenu
 
 if TYPE_CHECKING:
@@ -79,11 +79,6 @@ class TeachingWindows(QObject):
                 self.compare = CompareView(self.window.model, self.window)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
                 return self._failed("paper vs conforming view", exc)
-            # shown by a timer, in the next pass of the event loop: making its two scenes
-            # and its view's first paint (a new GL context) held the loop in one pass
-            view = self.compare
-            QTimer.singleShot(1, lambda: None if view._closed else self._raise(view))
-            return view
         self._raise(self.compare)
         return self.compare
 
