@@ -22,12 +22,23 @@ frames per second at 1M, RSS per triangle above the idle window and after return
 to Fig. 12(a). A 10 ms heartbeat timer records the longest block of the event loop
 throughout.
 
+The ``--teaching`` round opens and steps the teaching windows as a user does, on Fig. 10
+(one 10 mm patch at n = 4) and Fig. 12(a): the connectivity matrix (key M), the
+construction window (F7: opening, its Next button, n + 1 in its spin box), the paper vs
+conforming window (F8: opening, a new inner radius), a mouse drag of the patch-size slider
+with auto-solve on (Solve tab, 40 unknowns) and 3 s of Animate; with ``--big`` above 0
+also the matrix of Fig. 12(a) at n = 27 (1,049,760 triangles). For each case it reports
+the event loop's longest block, in wall time and in the GUI thread's CPU time (a loaded
+machine stretches the first, hardly the second); ``--profile DIR`` writes a cProfile
+file per case.
+
 Usage::
 
     python benchmarks/latency.py                    # 50 frames, drag, 3 big rounds
     python benchmarks/latency.py --frames 10 --json out.json
     python benchmarks/latency.py --quick            # 6 frames, 0.5 s drag (tests)
     python benchmarks/latency.py --big-only --big 3 # only the 1M and 4.8M rounds
+    python benchmarks/latency.py --teaching --load "2 test runs" --json out.json
 
 Without ``DISPLAY`` the script re-runs itself under ``xvfb-run``.
 """
@@ -113,30 +124,45 @@ def _rss() -> int:
 
 
 class _Heartbeat:
-    """A 10 ms timer; ``gaps`` are the times between beats (s): the event loop's blocks."""
+    """A 10 ms timer; ``gaps`` are the times between beats (s): the event loop's blocks.
+
+    ``thread_gaps`` are the GUI thread's CPU seconds in each gap (``time.thread_time``):
+    on a loaded machine a block's wall time grows with the other processes' share of the
+    cores, its CPU time does not (what llvmpipe's own threads render is not in it).
+    """
 
     def __init__(self) -> None:
         from PySide6.QtCore import QTimer
 
         self.gaps: list[float] = []
+        self.thread_gaps: list[float] = []
         self.last = time.perf_counter()
+        self.last_cpu = time.thread_time()
         self.timer = QTimer()
         self.timer.setInterval(10)
         self.timer.timeout.connect(self._beat)
         self.timer.start()
 
     def _beat(self) -> None:
-        now = time.perf_counter()
+        now, cpu = time.perf_counter(), time.thread_time()
         self.gaps.append(now - self.last)
-        self.last = now
+        self.thread_gaps.append(cpu - self.last_cpu)
+        self.last, self.last_cpu = now, cpu
 
     def reset(self) -> None:
         self.gaps = []
+        self.thread_gaps = []
         self.last = time.perf_counter()
+        self.last_cpu = time.thread_time()
 
     @property
     def longest(self) -> float:
         return max(self.gaps, default=0.0)
+
+    @property
+    def longest_cpu(self) -> float:
+        """The GUI thread's CPU seconds in its busiest gap."""
+        return max(self.thread_gaps, default=0.0)
 
 
 def _stats(values: list[float]) -> dict:
@@ -231,8 +257,12 @@ def _quality_panel(app_, window, beat: _Heartbeat, timeout: float = 60.0) -> dic
     return {"triangles": n, "seconds": seconds, "longest_block": longest}
 
 
-def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
-    """A real mouse drag of ``name``'s slider handle: press, moves, release (QTest)."""
+def _drag(
+    app_, window, name: str, seconds: float, beat: _Heartbeat, span_px: int | None = None
+) -> dict:
+    """A real mouse drag of ``name``'s slider handle: press, moves, release (QTest);
+    back and forth over ``span_px`` pixels (default: 3.5 value units; negative: to the
+    left of the handle)."""
     from PySide6.QtCore import QPoint, Qt
     from PySide6.QtTest import QTest
     from PySide6.QtWidgets import QStyle, QStyleOptionSlider
@@ -247,7 +277,8 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
     # stay among valid values: inner radius 4 mm up to about 7.5 mm (outer ring at 9 mm);
     # on the default slider one pixel is about 0.46 mm
     px_per_pos = max(slider.width() - handle.width(), 1) / max(slider.maximum(), 1)
-    span = max(2, int(3.5 / row_step(window, name) * px_per_pos))
+    span = abs(span_px) if span_px else max(2, int(3.5 / row_step(window, name) * px_per_pos))
+    sign = -1 if span_px is not None and span_px < 0 else 1
     meshes: list[float] = []
 
     def note(_result) -> None:
@@ -263,7 +294,7 @@ def _drag(app_, window, name: str, seconds: float, beat: _Heartbeat) -> dict:
         # back and forth over ``span`` pixels, a move every ~8 ms as a mouse reports them
         phase = step % (2 * span)
         dx = phase if phase <= span else 2 * span - phase
-        QTest.mouseMove(slider, QPoint(start.x() + dx, start.y()))
+        QTest.mouseMove(slider, QPoint(start.x() + sign * dx, start.y()))
         _wait_until(app_, lambda: False, 0.008)
     QTest.mouseRelease(
         slider,
@@ -461,13 +492,348 @@ def measure(
     }
 
 
+# -- the teaching windows (--teaching) ---------------------------------------------------
+
+
+class _Profiles:
+    """cProfile of each case into ``directory`` (``--profile``), or nothing."""
+
+    def __init__(self, directory: Path | None) -> None:
+        self.directory = directory
+        self.profile = None
+
+    def start(self) -> None:
+        if self.directory is not None:
+            import cProfile
+
+            self.profile = cProfile.Profile()
+            self.profile.enable()
+
+    def stop(self, case: str) -> None:
+        if self.profile is not None:
+            self.profile.disable()
+            self.directory.mkdir(parents=True, exist_ok=True)
+            self.profile.dump_stats(str(self.directory / f"{case}.prof"))
+            self.profile = None
+
+
+def _key(app_, widget, key) -> None:
+    """A key press and release on ``widget``, as a user types it."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+
+    QTest.keyClick(widget, key, Qt.KeyboardModifier.NoModifier)
+
+
+def _focus(app_, window) -> None:
+    """The main window active and its 3D view focused, where a user's key goes."""
+    window.activateWindow()
+    window.raise_()
+    _wait_until(app_, lambda: app_.activeWindow() is window, 2.0)
+    window.plotter.setFocus()
+
+
+def _click(widget) -> None:
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+
+    QTest.mouseClick(widget, Qt.MouseButton.LeftButton)
+
+
+def _block_of(
+    app_,
+    beat: _Heartbeat,
+    action: Callable[[], None],
+    done: Callable[[], bool],
+    settle: float = 0.5,
+    timeout: float = 60.0,
+) -> dict:
+    """Run ``action`` (a user's key or click), wait until ``done()`` and ``settle`` s more;
+    the seconds until done and the longest event-loop block meanwhile."""
+    _wait_until(app_, lambda: False, 0.2)
+    beat.reset()
+    start = time.perf_counter()
+    action()
+    ok = _wait_until(app_, done, timeout)
+    seconds = time.perf_counter() - start
+    _wait_until(app_, lambda: False, settle)
+    if not ok:
+        raise RuntimeError(f"not done {timeout:.0f} s after the action")
+    return {"seconds": seconds, "longest_block": beat.longest, "longest_cpu": beat.longest_cpu}
+
+
+def _summary(runs: list[dict]) -> dict:
+    blocks = [r["longest_block"] for r in runs]
+    cpu = [r["longest_cpu"] for r in runs]
+    return {
+        "longest_block": max(blocks),
+        "longest_block_median": statistics.median(blocks),
+        "longest_cpu": max(cpu),
+        "longest_cpu_median": statistics.median(cpu),
+        "runs": runs,
+    }
+
+
+def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = True) -> dict:
+    """Open and step each teaching window as a user does (keys, clicks, a mouse drag) and
+    record the event loop's longest block per case; returns the JSON document."""
+    os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
+    from barymesh import MeshParams
+    from barymesh.app.window import MainWindow
+    from PySide6.QtCore import QSettings, Qt
+    from PySide6.QtWidgets import QApplication
+
+    app_ = QApplication.instance() or QApplication([sys.argv[0]])
+    settings_dir = tempfile.mkdtemp(prefix="barymesh-latency-")
+    settings = QSettings(str(Path(settings_dir) / "settings.ini"), QSettings.Format.IniFormat)
+    fig10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
+    fig12a = MeshParams()
+    window = MainWindow(fig10, settings=settings, scripted=True)
+    window.resize(*WINDOW_SIZE)
+    window.show()
+    _wait_until(app_, lambda: window.plotter.isVisible(), 30)
+    window.activateWindow()
+    window.controller.flush()
+    _wait_until(app_, lambda: window.model.result is not None, 30)
+    _wait_until(app_, lambda: False, 1.0)
+    beat = _Heartbeat()
+    prof = _Profiles(profile)
+    out: dict[str, dict] = {}
+
+    def show(params) -> None:
+        if window.model.result is None or window.model.result.params != params:
+            _show(app_, window, params, beat)
+
+    def matrix_open(case: str, params, other, runs_wanted: int = repeats) -> None:
+        view = window.teaching.matrix
+        runs = []
+        for _ in range(runs_wanted):
+            show(other)
+            show(params)  # a new mesh while the dock is hidden: drawn when it opens
+            draws = view.full_draws
+            prof.start()
+            runs.append(
+                _block_of(
+                    app_,
+                    beat,
+                    lambda: (_focus(app_, window), _key(app_, window.plotter, Qt.Key.Key_M)),
+                    lambda d=draws: (
+                        not view.stale and view.full_draws > d and view.matrix is not None
+                    ),
+                )
+            )
+            prof.stop(case)
+            runs[-1]["nonzeros"] = view.nonzeros()
+            runs[-1]["full_draws"] = view.full_draws - draws
+            _focus(app_, window)
+            _key(app_, window.plotter, Qt.Key.Key_M)  # closed again
+            _wait_until(app_, lambda: not window.teaching.matrix_active, 5)
+        out[case] = _summary(runs) | {"triangles": window.model.result.mesh.n_triangles}
+
+    matrix_open("matrix_open_fig10", fig10, fig12a)
+    matrix_open("matrix_open_fig12a", fig12a, fig10)
+    if big:  # Fig. 12(a) at n = 27: 1,049,760 triangles (its picture made in a worker)
+        matrix_open("matrix_open_1M", MeshParams(subdivisions=27), fig12a, 1)
+        show(fig12a)
+
+    # -- construction window (F7) ------------------------------------------------------
+    show(fig12a)
+    tw = window.teaching_windows
+    runs = []
+    for i in range(repeats):
+        prof.start()
+        runs.append(
+            _block_of(
+                app_,
+                beat,
+                lambda: (_focus(app_, window), _key(app_, window.plotter, Qt.Key.Key_F7)),
+                lambda: tw.construction is not None and tw.construction.isVisible(),
+                settle=1.0,
+            )
+        )
+        prof.stop("construction_open")
+        view = tw.construction
+        runs[-1]["triangles_last_step"] = len(view.steps[-1].triangles)
+        if i < repeats - 1:
+            view.close()
+            _wait_until(app_, lambda: False, 0.5)
+    out["construction_open"] = _summary(runs)
+    view = tw.construction
+    runs = []
+    view.set_step(0)
+    _wait_until(app_, lambda: False, 0.3)
+    prof.start()
+    for _ in range(min(len(view.steps) - 1, 4 * repeats)):
+        index = view.index
+        runs.append(
+            _block_of(
+                app_,
+                beat,
+                lambda: _click(view.next_button),
+                lambda i=index: view.index == i + 1,
+                settle=0.3,
+            )
+        )
+    prof.stop("construction_step")
+    out["construction_step"] = _summary(runs) | {"steps": len(view.steps)}
+    runs = []
+    prof.start()
+    for _ in range(repeats):
+        n = view.n_spin.value()
+        view.n_spin.setFocus()
+        runs.append(
+            _block_of(
+                app_,
+                beat,
+                lambda: _key(app_, view.n_spin, Qt.Key.Key_Up),
+                lambda n=n: (
+                    view.params is not None
+                    and view.params.subdivisions == n + 1
+                    and window.model.result.params.subdivisions == n + 1
+                ),
+                settle=0.8,
+            )
+        )
+        runs[-1]["subdivisions"] = n + 1
+    prof.stop("construction_n_change")
+    out["construction_n_change"] = _summary(runs)
+    view.close()
+    _wait_until(app_, lambda: False, 0.5)
+
+    # -- compare window (F8) -----------------------------------------------------------
+    show(fig12a)
+    runs = []
+    for i in range(repeats):
+        prof.start()
+        runs.append(
+            _block_of(
+                app_,
+                beat,
+                lambda: (_focus(app_, window), _key(app_, window.plotter, Qt.Key.Key_F8)),
+                lambda: (
+                    tw.compare is not None and tw.compare.shown_generation == tw.compare.generation
+                ),
+                settle=1.0,
+            )
+        )
+        prof.stop("compare_open")
+        if i < repeats - 1:
+            tw.compare.close()
+            _wait_until(app_, lambda: False, 0.5)
+    out["compare_open"] = _summary(runs)
+    compare = tw.compare
+    row = window.controls.rows["inner_radius"]
+    runs = []
+    prof.start()
+    for i in range(2 * repeats):
+        target = row.slider.value() + (1 if i % 2 == 0 else -1)
+        runs.append(
+            _block_of(
+                app_,
+                beat,
+                lambda t=target: row.slider.setValue(t),
+                lambda: (
+                    not compare.busy
+                    and compare.shown_generation == compare.generation
+                    and not window.controller.busy
+                ),
+                settle=0.8,
+            )
+        )
+    prof.stop("compare_param_change")
+    out["compare_param_change"] = _summary(runs)
+    compare.close()
+    _wait_until(app_, lambda: False, 0.5)
+
+    # -- auto-solve while a slider is dragged (Solve tab) ------------------------------
+    show(MeshParams(structure="patch", patch_size=100.0, subdivisions=4))  # 40 unknowns
+    panel = window.solve_panel
+    window.solve_dock.show()
+    window.solve_dock.raise_()
+    _wait_until(app_, panel.isVisible, 5)
+    panel.frequency.setText("1.2")
+    _click(panel.solve_button)
+    _wait_until(app_, lambda: panel.solution is not None, 30)
+    _wait_until(app_, lambda: False, 0.5)
+    solved: list[float] = []
+    panel.solved.connect(lambda _s: solved.append(time.perf_counter()))
+    prof.start()
+    _focus(app_, window)  # a closed teaching window left the main one inactive
+    # from the slider's position of the patch size shown (its end, after the compare
+    # window's parameters) to the left: a new mesh, and a solve, with every move
+    drag = _drag(app_, window, "patch_size", 3.0, beat, span_px=-30)
+    drag_cpu = beat.longest_cpu
+    prof.stop("auto_solve_slider_step")
+    _wait_until(app_, lambda: False, 0.5)
+    out["auto_solve_slider_step"] = {
+        "longest_block": drag["longest_block"],
+        "longest_cpu": drag_cpu,
+        "meshes": drag["meshes"],
+        "solves": len(solved),
+        "seconds": drag["seconds"],
+        "unknowns": len(window.model.result.mesh.rwg),
+    }
+
+    # -- Animate (the surface current's phase) -----------------------------------------
+    steps: list[float] = []
+    panel.phase.valueChanged.connect(lambda _v: steps.append(time.perf_counter()))
+    _wait_until(app_, lambda: False, 0.3)
+    beat.reset()
+    prof.start()
+    _click(panel.animate)
+    _wait_until(app_, lambda: False, 3.0)
+    _click(panel.animate)
+    prof.stop("animate_step")
+    out["animate_step"] = {
+        "longest_block": beat.longest,
+        "longest_cpu": beat.longest_cpu,
+        "phase_steps": len(steps),
+        "steps_per_second": len(steps) / 3.0,
+        "triangles": window.model.result.mesh.n_triangles,
+    }
+    beat.timer.stop()
+    size = tuple(window.plotter.ren_win.GetSize())
+    renderer = _renderer(window)
+    window.close()
+    _wait_until(app_, lambda: False, 0.3)
+    shutil.rmtree(settings_dir, ignore_errors=True)
+    return {
+        "round": "teaching",
+        "window_size": list(WINDOW_SIZE),
+        "view_size": list(size),
+        "renderer": renderer,
+        "repeats": repeats,
+        "cases": out,
+    }
+
+
 def _renderer(window) -> str:
     info = window.plotter.ren_win.ReportCapabilities() or ""
     found = re.search(r"OpenGL renderer string:\s*(.+)", info)
     return found.group(1).strip() if found else "unknown"
 
 
+def teaching_table(doc: dict) -> str:
+    """The --teaching round: each case's longest event-loop block (target <= 100 ms)."""
+    lines = [
+        f"teaching windows, view {doc['view_size'][0]}x{doc['view_size'][1]}, "
+        f"renderer {doc['renderer']}, {doc['repeats']} runs a case",
+        "longest event-loop block per case (target <= 100 ms), wall time and the GUI "
+        "thread's CPU time in its busiest gap",
+        f"{'case':26} {'wall ms':>8} {'median':>8} {'cpu ms':>8} {'median':>8}",
+    ]
+    for case, c in doc["cases"].items():
+        row = [c["longest_block"], c.get("longest_block_median")]
+        row += [c["longest_cpu"], c.get("longest_cpu_median")]
+        lines.append(
+            f"{case:26} " + " ".join("       –" if v is None else f"{v * 1e3:8.0f}" for v in row)
+        )
+    return "\n".join(lines)
+
+
 def table(doc: dict) -> str:
+    if doc.get("round") == "teaching":
+        return teaching_table(doc)
     if doc["frames"] == 0:
         lines = [f"view {doc['view_size'][0]}x{doc['view_size'][1]}, renderer {doc['renderer']}"]
         return "\n".join(lines + _big_lines(doc.get("big")))
@@ -564,6 +930,21 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="no slider frames and no drag: only the --big rounds",
     )
+    ap.add_argument(
+        "--teaching",
+        action="store_true",
+        help="only the teaching windows: opening and stepping each, an auto-solve slider "
+        "drag and Animate, the longest event-loop block of each",
+    )
+    ap.add_argument(
+        "--repeats", type=int, default=3, help="runs of each --teaching case (default 3)"
+    )
+    ap.add_argument(
+        "--load",
+        default="",
+        help="what else loaded the machine meanwhile (written into the --teaching JSON)",
+    )
+    ap.add_argument("--profile", type=Path, help="--teaching: a cProfile file per case here")
     ap.add_argument("--json", type=Path, help="also write the results here")
     args = ap.parse_args(argv)
     frames = 6 if args.quick else args.frames
@@ -582,6 +963,21 @@ def main(argv: list[str] | None = None) -> int:
             cmd += [str(Path(__file__).resolve()), *(sys.argv[1:] if argv is None else argv)]
             return subprocess.call(cmd, env=env)
         ap.error("no display: run under Xvfb (xvfb-run -a python benchmarks/latency.py)")
+    if args.teaching:
+        if args.repeats < 1:
+            ap.error(f"--repeats={args.repeats}: expected at least 1")
+        before = list(os.getloadavg())
+        doc = measure_teaching(args.repeats, args.profile, big=args.big > 0)
+        doc["load"] = {
+            "note": args.load,
+            "cores": os.cpu_count(),
+            "loadavg_before": before,
+            "loadavg_after": list(os.getloadavg()),
+        }
+        print(table(doc))
+        if args.json:
+            args.json.write_text(json.dumps(doc, indent=2))
+        return 0
     from barymesh.app.model import SPECS
 
     if args.slider not in SPECS:

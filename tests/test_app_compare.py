@@ -241,3 +241,51 @@ def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
     assert ((ys[:, 0] < a) & (ys[:, 0] > a - 30 * per_px)).all()
     np.testing.assert_allclose(xs[:, 0], np.linspace(a, b, nx))
     assert labels[-2:] == ["x (mm)", "y (mm)"]
+
+
+def test_worker_meshes_at_a_lower_priority_and_a_slow_build_says_so(view, qtbot, monkeypatch):
+    """The halves are meshed in a worker thread of nice WORKER_NICE (Linux), still with
+    build_mesh's counts; "meshing…" appears only when a build outlasts BUSY_NOTE_MS."""
+    import os
+    import sys
+    import threading
+
+    import barymesh.app.teach.compare_view as compare_view
+
+    seen = []
+    gate = threading.Event()
+    real = compare_view.compute_halves
+
+    def recorded(params, generation):
+        out = real(params, generation)  # sets the thread's priority first
+        if sys.platform.startswith("linux"):
+            seen.append(os.getpriority(os.PRIO_PROCESS, threading.get_native_id()))
+        gate.wait(20)
+        return out
+
+    monkeypatch.setattr(compare_view, "compute_halves", recorded)
+    fine = COARSE.replace(subdivisions=3)
+    view.request(fine)
+    qtbot.wait(compare_view.BUSY_NOTE_MS // 3)
+    assert view.busy and view.status.text() == ""  # a short wait: nothing said yet
+    qtbot.waitUntil(lambda: "meshing" in view.status.text(), timeout=5_000)
+    gate.set()
+    wait_shown(qtbot, view)
+    assert view.status.text() == ""
+    for mode in ("paper", "conforming"):
+        assert_half(view, fine, mode)
+    if sys.platform.startswith("linux"):
+        assert seen and all(nice >= compare_view.WORKER_NICE for nice in seen)
+
+
+def test_closing_while_the_first_meshes_wait_for_their_second_pass(qtbot):
+    """Closed between the paper half's paint and the conforming half's: no crash, and the
+    window is not left busy."""
+    win = CompareView(AppModel(COARSE))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    qtbot.waitUntil(lambda: win.halves.get("conforming") is not None, timeout=30_000)
+    win.close()
+    qtbot.wait(50)
+    assert win._closed and not win.busy

@@ -238,3 +238,75 @@ def test_opened_from_the_teach_menu_and_closed_with_the_window(qtbot):
     assert view.params.subdivisions == 3
     win.close()
     assert view._closed
+
+
+def test_caption_names_each_step_at_the_top_of_the_view(view, qtbot):
+    """The caption (a text actor of a fixed size, centred at the top) follows the steps;
+    the sub-triangle step draws the paper's 32 = 2 n² sub-triangles."""
+    from barymesh.app.teach.construction_view import CAPTION_PX
+
+    view.slider.setFocus()
+    qtbot.keyClick(view.slider, Qt.Key.Key_Home)
+    widths = []
+    for i, start in enumerate(PAPER_STEPS):
+        if i:
+            qtbot.mouseClick(view.next_button, Qt.MouseButton.LeftButton)
+        assert view.index == i
+        assert view.caption.GetInput() == f"{i + 1}/8  {view.steps[i].title}"
+        assert view.caption.GetInput().split("  ", 1)[1].startswith(start)
+        image = view.view_image()
+        dark = np.argwhere(image[: 3 * CAPTION_PX].astype(int).sum(axis=-1) < 300)
+        assert len(dark), "no caption drawn"
+        (top, left), (bottom, right) = dark.min(axis=0), dark.max(axis=0)
+        assert 2 <= top <= 10 and CAPTION_PX * 0.6 <= bottom - top <= CAPTION_PX * 1.2
+        assert abs(0.5 * (left + right) - 0.5 * image.shape[1]) <= 3  # centred
+        widths.append(right - left)
+        if start.startswith("32 sub-triangles"):
+            assert view.datasets["subtriangles"].n_cells == 2 * PATCH.subdivisions**2 == 32
+    assert len(set(widths)) > 1  # a longer title is drawn wider, at the same size
+
+
+def _main_window(qtbot):
+    win = MainWindow(PATCH, scripted=True)
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    with qtbot.waitActive(win):
+        win.activateWindow()
+    win.plotter.setFocus()
+    return win
+
+
+def test_opening_paints_the_background_first_and_then_the_step(qtbot):
+    """F7: the window's first paint is the bare background (the GL context and the first
+    shaders in separate passes of the event loop); the step comes by itself right after."""
+    from barymesh.app.teach.construction_view import COLORS
+    from gui_helpers import rendered
+
+    win = _main_window(qtbot)
+    qtbot.keyClick(win.plotter, Qt.Key.Key_F7)
+    view = win.teaching_windows.construction
+    assert view.isVisible() and len(view.steps) == 8
+    assert not view.actors["primary_0"].GetVisibility()  # not in the first paint
+    qtbot.waitUntil(lambda: view.actors["primary_0"].GetVisibility(), timeout=5_000)
+    assert view._unrevealed is None
+    image = rendered(view.plotter)  # without view_image's own reveal
+    p = view.plotter
+    assert view.index == 0  # the square ABCD: its corners and sides
+    for corner in ((0.0, 0.0), (10.0, 0.0), (0.0, 10.0), (10.0, 10.0)):
+        assert near(pixel(image, p, (*corner, 0.0)), COLORS["points"], 40), corner
+    assert drawn_near(image, p, (5.0, 0.0, 0.0), COLORS["segments"], 40)  # side AB
+    assert near(pixel(image, p, (5.0, 5.0, 0.0)), "#ffffff", 3)  # no triangle yet
+    win.close()
+
+
+def test_closing_before_the_first_step_is_shown(qtbot):
+    win = _main_window(qtbot)
+    qtbot.keyClick(win.plotter, Qt.Key.Key_F7)
+    view = win.teaching_windows.construction
+    assert view._unrevealed  # the step waits for the next pass
+    win.close()  # closes the construction window with it, before that pass
+    assert view._closed
+    qtbot.wait(50)  # the reveal timer fires on a closed window: nothing happens
+    assert view._unrevealed is None

@@ -182,3 +182,78 @@ def test_matrix_screenshot_shows_ones_zeros_and_the_picked_row(window, qtbot, tm
     one_in_row = int(np.flatnonzero(dense[t] == 1)[0])
     assert near(at(t, zero_in_row), blend(ROW_COLOR, 0.35), 12)
     assert near(at(t, one_in_row), blend(ROW_COLOR, 0.35, ONE_COLOR), 12)
+
+
+def _picture_in_a_worker(monkeypatch, gate=None):
+    """Every mesh's matrix picture computed in a worker thread (the threshold below Fig.
+    10's size); returns the threads that computed them."""
+    import threading
+
+    import barymesh.app.teach.matrix_view as matrix_view
+
+    threads = []
+    real = matrix_view.matrix_picture
+
+    def recorded(mesh):
+        threads.append(threading.get_ident())
+        if gate is not None:
+            gate.wait(20)
+        return real(mesh)
+
+    monkeypatch.setattr(matrix_view, "matrix_picture", recorded)
+    monkeypatch.setattr(matrix_view, "WORKER_TRIANGLES", 10)
+    return threads
+
+
+def test_a_big_mesh_gets_its_matrix_from_a_worker_with_the_right_nonzeros(
+    window, qtbot, monkeypatch
+):
+    import threading
+
+    threads = _picture_in_a_worker(monkeypatch)
+    view = window.teaching.matrix
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 5)  # 50 triangles
+    window.controller.flush()
+    assert view.computing and view.stale  # the event loop goes on meanwhile
+    qtbot.waitUntil(lambda: not view.stale, timeout=20_000)
+    mesh = window.model.result.mesh
+    assert threads and threads[-1] != threading.get_ident()
+    # a patch at n = 5: 3n² − 2n = 65 interior edges, each two ones of the matrix
+    assert view.matrix.shape == (50, 50)
+    assert view.nonzeros() == 2 * len(mesh.interior_edges) == 130
+    assert view.table_nonzeros() == 130
+    assert "130 ones = 2 × 65 interior edges" in view.caption.text()
+    assert view.full_draws >= 1
+
+
+def test_a_newer_mesh_wins_over_a_picture_still_computed(window, qtbot, monkeypatch):
+    import threading
+
+    gate = threading.Event()
+    _picture_in_a_worker(monkeypatch, gate)
+    view = window.teaching.matrix
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 5)  # 50 triangles, held
+    window.controller.flush()
+    assert view.computing
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 3)  # 18 triangles
+    window.controller.flush()
+    gate.set()
+    qtbot.waitUntil(lambda: not view.stale, timeout=20_000)
+    qtbot.wait(200)  # the n = 5 picture arrives late and is dropped
+    assert view.matrix.shape == (18, 18)
+    assert view.nonzeros() == 2 * (3 * 9 - 2 * 3) == 42
+
+
+def test_closing_the_window_while_the_matrix_is_computed(window, qtbot, monkeypatch):
+    import threading
+
+    gate = threading.Event()
+    _picture_in_a_worker(monkeypatch, gate)
+    view = window.teaching.matrix
+    type_into(qtbot, window.controls.rows["subdivisions"].spin, 5)
+    window.controller.flush()
+    assert view.computing
+    window.close()
+    gate.set()  # the picture comes after the window closed: no crash, nothing drawn
+    qtbot.waitUntil(lambda: not view.computing, timeout=20_000)
+    assert view.nonzeros() == 130 and not view.isVisible()

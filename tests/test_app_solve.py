@@ -448,3 +448,38 @@ def test_previous_mesh_warning_is_shown_whole(window, qtbot, size):
     # as tall as its wrapped text needs at its width (not cut at the top and bottom)
     assert label.height() >= label.heightForWidth(label.width()) > 0
     assert label.height() >= label.fontMetrics().lineSpacing()
+
+
+def test_auto_solve_while_a_slider_is_dragged_draws_each_new_mesh_in_the_same_actors(window, qtbot):
+    """A slider drag with auto-solve on: every new mesh is solved and its current drawn
+    in the layer's existing actors (no actor removed and added: two renders saved)."""
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1.2")
+    layer = panel.layer
+    surface_actor, arrow_actor = layer._surface_actor, layer._arrow_actor
+    assert surface_actor is not None and arrow_actor is not None
+    slider = window.controls.rows["patch_size"].slider
+    drag_slider(slider, slider.value() - 20)
+    window.controller.flush()
+    mesh = window.model.result.mesh
+    assert mesh.params.patch_size < 100.0  # a smaller patch, still 40 unknowns
+    assert len(mesh.rwg) == 40 and panel.solution_mesh is mesh and layer.mesh is mesh
+    assert layer._surface_actor is surface_actor and layer._arrow_actor is arrow_actor
+    direct = solve(mesh, 1.2e9)
+    window.plotter.render()
+    drawn = pv.wrap(surface_actor.GetMapper().GetInput())  # what was drawn
+    np.testing.assert_allclose(np.asarray(drawn.points), mesh.points)
+    np.testing.assert_allclose(
+        np.asarray(drawn.cell_data[MAGNITUDE]),
+        np.linalg.norm(np.abs(direct.current_density), axis=1),
+        rtol=1e-10,
+    )
+    assert surface_actor.GetMapper().GetScalarRange()[1] == pytest.approx(largest_j(direct))
+    arrows = pv.wrap(arrow_actor.GetMapper().GetInput())
+    np.testing.assert_allclose(np.asarray(arrows.points), np.asarray(layer.arrows.points))
+    # the arrows sit on the new mesh: inside its (smaller) patch, about its centroids
+    xy = np.asarray(arrows.points)[:, :2]
+    lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
+    assert (xy >= lo - 1e-6).all() and (xy <= hi + 1e-6).all()
+    np.testing.assert_allclose(xy.mean(axis=0), mesh.centroids[:, :2].mean(axis=0), atol=2.0)
+    assert BAR_TITLE in window.plotter.scalar_bars

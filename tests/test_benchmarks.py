@@ -124,6 +124,43 @@ def test_latency_benchmark_runs_a_few_frames_in_the_window(tmp_path: Path) -> No
     assert "whole frame median" in proc.stdout
 
 
+def test_latency_teaching_round_reports_each_case(tmp_path: Path) -> None:
+    """``latency.py --teaching``: a longest event-loop block for every case, measured
+    while the windows show what they should (no timing is asserted)."""
+    pytest.importorskip("pyvistaqt")
+    out = tmp_path / "teaching.json"
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "latency.py"), "--teaching"]
+    cmd += ["--repeats", "1", "--big", "0", "--load", "test", "--json", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    cases = doc["cases"]
+    assert set(cases) == {
+        "matrix_open_fig10",
+        "matrix_open_fig12a",
+        "construction_open",
+        "construction_step",
+        "construction_n_change",
+        "compare_open",
+        "compare_param_change",
+        "auto_solve_slider_step",
+        "animate_step",
+    }
+    for case in cases.values():
+        assert case["longest_block"] > 0 and case["longest_cpu"] >= 0
+    # what the windows showed meanwhile: Eq. 27's ones are twice the interior edges
+    assert cases["matrix_open_fig10"]["runs"][0]["nonzeros"] == 80
+    assert cases["matrix_open_fig12a"]["runs"][0]["nonzeros"] == 57_600
+    assert cases["matrix_open_fig12a"]["triangles"] == 23_040
+    assert cases["construction_open"]["runs"][0]["triangles_last_step"] == 32  # 2 n²
+    assert cases["construction_step"]["steps"] == 8
+    auto = cases["auto_solve_slider_step"]
+    assert auto["unknowns"] == 40 and auto["meshes"] >= 1 and auto["solves"] >= 1
+    assert cases["animate_step"]["phase_steps"] >= 1
+    assert doc["load"]["note"] == "test"
+    assert "compare_open" in proc.stdout
+
+
 def _interior_edge_count(triangles) -> int:
     """Edges on exactly two triangles, counted from the triangles alone."""
     import numpy as np

@@ -194,11 +194,12 @@ class SweepPlot(QWidget):
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
-        from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
+        from barymesh.app.view.canvas import ShownCanvas
         from matplotlib.figure import Figure
 
         self.figure = Figure(figsize=(3, 2.4), dpi=90, layout="constrained")
-        self.canvas = FigureCanvasQTAgg(self.figure)
+        # drawn only while its tab is shown: a new mesh marks it with every auto-solve
+        self.canvas = ShownCanvas(self.figure)
         self.canvas.setMinimumHeight(220)
         self.axes = self.figure.add_subplot()
         self.result: Any = None
@@ -853,15 +854,17 @@ class SolvePanel(QWidget):
 
     def _mesh_changed(self, result: Any) -> None:
         mesh = result.mesh
-        if self.solution is not None and self.solution_mesh is not mesh:
-            self._invalidate("The result was for the previous mesh: Solve again.")
         if self.sweep_result is not None and self.sweep_mesh is not mesh:
             self.plot.show_result(self.sweep_result, note="this sweep is for the previous mesh")
             self.sweep_mesh = None
         if self._running:
             self.cancel()
-        if self.solution is None and self._small():
+        if (self.solution is None or self.solution_mesh is not mesh) and self._small():
+            # auto-solve: the new current replaces the old one in the layer's actors
+            # (removing them first and adding them again cost two renders per mesh)
             self.solve()
+        if self.solution is not None and self.solution_mesh is not mesh:
+            self._invalidate("The result was for the previous mesh: Solve again.")
 
     # -- the layer's controls --------------------------------------------------------
 

@@ -20,7 +20,7 @@ import numpy as np
 import pyvista as pv
 from barymesh import MeshParams
 from barymesh.app.model import AppModel
-from barymesh.app.teach.following_view import FollowingView
+from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
 from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
 from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span
 from barymesh.construction import ConstructionStep, construction_steps
@@ -69,6 +69,9 @@ LABEL_FONT = 22
 RULER_EMPHASIS = 1.4
 RULER_CLEARANCE = {"left": 48.0, "bottom": 26.0}
 TITLE_FONT = 10
+#: The caption's font size (px) and its distance from the top of the view (px).
+CAPTION_PX = 25
+CAPTION_TOP_PX = 6
 #: Labels are drawn when an edge is cut into at most this many segments, else only the
 #: first two levels of halving (m1, m2, m3, m11 … m22) or every few division points.
 MAX_LABELLED_SEGMENTS = 8
@@ -255,6 +258,7 @@ class ConstructionView(FollowingView):
         self._syncing = True  # the n and diagonal controls copy the model, not the reverse
 
         self.plotter = QtInteractor(self, auto_update=False)
+        tune_multi_samples(self.plotter)  # no MSAA on llvmpipe: a render costs 8x less
         self.plotter.setMinimumSize(480, 400)
         for key in ("q", "e"):
             self.plotter.clear_events_for_key(key, raise_on_missing=False)
@@ -358,6 +362,7 @@ class ConstructionView(FollowingView):
         self._follow_cells()
         self._syncing = False
         self.set_params(model.params)
+        self._paint_empty_first()
 
     # -- actors (created once) -----------------------------------------------------------
 
@@ -389,7 +394,16 @@ class ConstructionView(FollowingView):
         self.label_mapper, self.actors["labels"] = add_text_labels(
             p, self.label_points, COLORS["labels"], LABEL_FONT, background_opacity=0.85
         )
-        self.caption = p.add_text("", position="upper_edge", font_size=TITLE_FONT, color="#202020")
+        # a text actor at the size VTK's upper-edge corner annotation drew it (25 px at
+        # every window size): the annotation searched its font size again at every new
+        # text, re-opening the font each time, more than half of a step's time
+        self.caption = p.add_text(
+            "", position=(0.5, 1.0), viewport=True, font_size=TITLE_FONT, color="#202020"
+        )
+        self.caption.prop.font_size = CAPTION_PX
+        self.caption.prop.justification_horizontal = "center"
+        self.caption.prop.justification_vertical = "top"
+        self._place_caption()
         # rulers in mm: the main view's (an empty scene whose only visible part they are)
         self.rulers = MeshScene(p, visible={name: False for name in SCENE_LAYERS})
         self.rulers.set_emphasis(RULER_EMPHASIS)
@@ -496,7 +510,7 @@ class ConstructionView(FollowingView):
         self.actors["centroids"].prop.point_size = 4.0 if fine else WIDTHS["centroids"]
         self.actors["points"].prop.point_size = 9.0 if fine else WIDTHS["points"]
         self.actors["division_points"].prop.point_size = 5.0 if fine else WIDTHS["division_points"]
-        self.caption.SetText(7, f"{index + 1}/{len(self.steps)}  {step.title}")
+        self.caption.SetInput(f"{index + 1}/{len(self.steps)}  {step.title}")
         key = (round(float(lo[0]), 9), round(float(lo[1]), 9), round(size, 9))
         if key != self._frame_key:
             self._frame_key = key
@@ -551,9 +565,15 @@ class ConstructionView(FollowingView):
     def refit(self) -> None:
         self._refit()
 
+    def _place_caption(self) -> None:
+        """The caption centred at the top, :data:`CAPTION_TOP_PX` below the view's edge."""
+        height = max(self.plotter.window_size[1], 1)
+        self.caption.SetPosition(0.5, 1.0 - CAPTION_TOP_PX / height)
+
     def _refit(self) -> None:
         if self._closed or self._frame_bounds is None:
             return
+        self._place_caption()
         self.frame(*self._frame_bounds)
         self.place_labels()
         self.plotter.update()

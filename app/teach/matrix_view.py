@@ -8,6 +8,13 @@ nonzero), so a 23,040 × 23,040 matrix costs one ``bincount``. Meshes up to
 ``cell_hovered`` / ``cell_clicked`` (row, column); :meth:`MatrixView.highlight_row` marks
 a triangle's row. A hidden view only remembers that it is stale and redraws when shown.
 
+The event loop is never held long: the picture of a mesh of more than
+:data:`WORKER_TRIANGLES` triangles is computed in a worker thread (:func:`matrix_picture`,
+numpy and scipy only), the figure is drawn once when the view is shown (a hidden canvas
+does not draw) and its layout is placed from font metrics (:meth:`MatrixView.place_axes`)
+rather than by matplotlib's constrained layout at every draw, which took half of each
+draw's time.
+
 A hover stays cheap at any size: the cell box and the row band are matplotlib "animated"
 artists blitted over a cached picture of the plot (no full redraw), and the text under
 the plot names the two triangles and the edge they share. A click offers *Zoom to*
@@ -18,21 +25,25 @@ pixel.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from barymesh import TriMesh
-from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
+from barymesh.app.view.canvas import ShownCanvas
+from barymesh.app.worker import run_in_thread
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties
 from matplotlib.patches import Rectangle
 from PySide6.QtCore import (
     QAbstractTableModel,
     QModelIndex,
+    QObject,
     QPersistentModelIndex,
     Qt,
-    QTimer,
     Signal,
 )
 from PySide6.QtGui import QBrush, QColor, QFont
@@ -56,6 +67,14 @@ TABLE_LIMIT = 64
 ONE_COLOR = "#1f4e9c"
 ROW_COLOR = "#f28e2b"
 CELL_COLOR = "#e0001b"
+#: Meshes of more triangles get their picture in a worker thread: the occupancy image of
+#: 1,049,760 triangles costs about 240 ms, Fig. 12(a)'s (23,040) about 5 ms.
+WORKER_TRIANGLES = 100_000
+#: Font sizes (points, before the presentation scale) and the margins of the spy plot.
+TICK_FONT = 8
+LABEL_FONT = 9
+TITLE_FONT = 10
+MARGIN_PX = 6
 
 
 def occupancy_image(matrix: sp.spmatrix, bins: int) -> np.ndarray:
@@ -71,6 +90,47 @@ def occupancy_image(matrix: sp.spmatrix, bins: int) -> np.ndarray:
     c = (coo.col.astype(np.int64) * b) // n
     counts = np.bincount(r * b + c, minlength=b * b)
     return counts.reshape(b, b) > 0
+
+
+@dataclass(frozen=True, eq=False)
+class MatrixPicture:
+    """What the spy plot shows of one mesh (plain arrays: made in any thread).
+
+    Attributes
+    ----------
+    matrix : (T, T) scipy.sparse.csr_matrix
+        The Eq. 27 connectivity matrix.
+    picture : (b, b) float64
+        The 0/1 matrix itself (T up to :data:`DENSE_LIMIT`) or its occupancy image.
+    interior : int
+        Interior edges of the mesh.
+    """
+
+    matrix: sp.csr_matrix
+    picture: np.ndarray
+    interior: int
+
+
+def matrix_picture(mesh: TriMesh) -> MatrixPicture:
+    """The connectivity matrix of ``mesh`` and the picture the spy plot draws of it."""
+    matrix = sp.csr_matrix(mesh.connectivity)
+    if matrix.shape[0] <= DENSE_LIMIT:
+        picture = (matrix.toarray() != 0).astype(np.float64)
+    else:
+        picture = occupancy_image(matrix, IMAGE_BINS).astype(np.float64)
+    return MatrixPicture(matrix, picture, len(mesh.interior_edges))
+
+
+def _picture_or_error(mesh: TriMesh) -> MatrixPicture | BaseException:
+    """:func:`matrix_picture` for a worker thread: an exception is returned, not raised."""
+    try:
+        return matrix_picture(mesh)
+    except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
+        return exc
+
+
+class _Relay(QObject):
+    ready = Signal(object)
 
 
 class ConnectivityTableModel(QAbstractTableModel):
@@ -147,8 +207,13 @@ class MatrixView(QWidget):
         self.full_draws = 0  # complete redraws of the spy plot (a hover blits instead)
         self.blits = 0
 
-        self.figure = Figure(figsize=(4, 4), dpi=100, layout="constrained")
-        self.canvas = FigureCanvasQTAgg(self.figure)
+        self.picture: MatrixPicture | None = None
+        self._token: object | None = None  # the picture being computed in a worker
+        self._relay = _Relay(self)
+        self._relay.ready.connect(self._picture_ready)
+
+        self.figure = Figure(figsize=(4, 4), dpi=100)
+        self.canvas = ShownCanvas(self.figure)
         self.canvas.setMinimumSize(220, 220)
         self.axes = self.figure.add_subplot(1, 1, 1)
         cmap = ListedColormap(["white", ONE_COLOR])
@@ -180,6 +245,7 @@ class MatrixView(QWidget):
         self.canvas.mpl_connect("motion_notify_event", self._mouse_moved)
         self.canvas.mpl_connect("button_press_event", self._mouse_pressed)
         self.canvas.mpl_connect("draw_event", self._drawn)
+        self.canvas.mpl_connect("resize_event", lambda _event: self.place_axes())
 
         self.table_model = ConnectivityTableModel(self)
         self.table = QTableView(self)
@@ -239,48 +305,79 @@ class MatrixView(QWidget):
         self.cell_label.setText("")
         self.zoom_button.setEnabled(False)
         self.stale = True
+        self._token = None  # a picture still being computed is of an older mesh
         if self.isVisible():
-            self.refresh()
+            self._refresh_soon()
 
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().showEvent(event)
-        if self.stale:  # after the layout settles: never change labels inside a resize
-            QTimer.singleShot(0, self._refresh_if_stale)
+        # before the first layout and paint: the caption's new text is laid out with the
+        # rest and the canvas draws once, at its final size
+        self._refresh_if_stale()
 
     def _refresh_if_stale(self) -> None:
-        if self.stale and self.isVisible():
+        if self.stale and self._token is None and self.isVisible():
+            self._refresh_soon()
+
+    @property
+    def computing(self) -> bool:
+        """Whether a worker thread is computing the picture of the mesh."""
+        return self._token is not None
+
+    def _refresh_soon(self) -> None:
+        """:meth:`refresh` here for a small mesh, else the picture in a worker thread."""
+        mesh = self.mesh
+        if mesh is None or mesh.n_triangles <= WORKER_TRIANGLES:
             self.refresh()
+            return
+        token = self._token = object()
+        self.caption.setText(f"Computing the {mesh.n_triangles:,} × {mesh.n_triangles:,} matrix…")
+        run_in_thread(partial(_picture_or_error, mesh), self._relay.ready, token, mesh)
+
+    def _picture_ready(self, payload: tuple[object, TriMesh, Any]) -> None:
+        token, mesh, picture = payload
+        if token is not self._token or mesh is not self.mesh:
+            return  # a newer mesh came meanwhile
+        self._token = None
+        if isinstance(picture, BaseException):
+            log.error("connectivity failed", exc_info=picture)
+            self.stale = False
+            self.caption.setText(f"No connectivity matrix: {picture}")
+            return
+        self._show_picture(mesh, picture)
 
     def refresh(self) -> None:
-        """Redraw the spy plot and the table from the current mesh."""
-        self.stale = False
+        """Redraw the spy plot and the table from the current mesh (on this thread)."""
+        self._token = None
         mesh = self.mesh
         if mesh is None or mesh.n_triangles == 0:
-            self.matrix = None
+            self.stale = False
+            self.matrix = self.picture = None
             self.image.set_data(np.zeros((1, 1)))
             self.caption.setText("No mesh.")
             self.table_model.set_matrix(np.zeros((0, 0)))
             self.canvas.draw_idle()
             return
         try:
-            matrix = sp.csr_matrix(mesh.connectivity)
+            picture = matrix_picture(mesh)
         except Exception:  # noqa: BLE001 - the window keeps the last good view
+            self.stale = False
             log.exception("connectivity failed")
             return
-        self.matrix = matrix
+        self._show_picture(mesh, picture)
+
+    def _show_picture(self, mesh: TriMesh, picture: MatrixPicture) -> None:
+        """Put ``picture`` of ``mesh`` into the plot, the caption and the table."""
+        self.stale = False
+        self.picture = picture
+        matrix = self.matrix = picture.matrix
         n = matrix.shape[0]
-        if n <= DENSE_LIMIT:
-            picture = (matrix.toarray() != 0).astype(np.float64)
-        else:
-            picture = occupancy_image(matrix, IMAGE_BINS).astype(np.float64)
-        self.image.set_data(picture)
+        self.image.set_data(picture.picture)
         self.image.set_extent((-0.5, n - 0.5, n - 0.5, -0.5))
         self.axes.set_xlim(-0.5, n - 0.5)
         self.axes.set_ylim(n - 0.5, -0.5)
-        self.axes.set_title(
-            f"Eq. 27: {n:,} × {n:,}, {matrix.nnz:,} nonzeros", fontsize=10 * self.font_scale
-        )
-        interior = len(mesh.interior_edges)
+        self.axes.title.set_text(f"Eq. 27: {n:,} × {n:,}, {matrix.nnz:,} nonzeros")
+        interior = picture.interior
         self.caption.setText(
             f"Entry (i, j) = 1 when triangles i and j share an edge. {matrix.nnz:,} ones "
             f"= 2 × {interior:,} interior edges"
@@ -293,6 +390,7 @@ class MatrixView(QWidget):
         self.table_note.setVisible(not small)
         self.row_band.set_visible(False)
         self.cell_box.set_visible(False)
+        self.place_axes()
         self.canvas.draw_idle()
 
     def nonzeros(self) -> int:
@@ -377,17 +475,61 @@ class MatrixView(QWidget):
     def set_font_scale(self, scale: float) -> None:
         self.font_scale = float(scale)
         self._style_axes()
-        if self.matrix is not None:
-            self.axes.title.set_fontsize(10 * self.font_scale)
+        self.place_axes()
         self.canvas.draw_idle()
 
     def _style_axes(self) -> None:
+        s = self.font_scale
         self.axes.tick_params(
-            labelsize=8 * self.font_scale, top=True, labeltop=True, bottom=False, labelbottom=False
+            labelsize=TICK_FONT * s, top=True, labeltop=True, bottom=False, labelbottom=False
         )
-        self.axes.set_xlabel("triangle j", fontsize=9 * self.font_scale)
+        self.axes.set_xlabel("triangle j", fontsize=LABEL_FONT * s)
         self.axes.xaxis.set_label_position("top")
-        self.axes.set_ylabel("triangle i", fontsize=9 * self.font_scale)
+        self.axes.set_ylabel("triangle i", fontsize=LABEL_FONT * s)
+        # a title at a fixed offset above the axes (place_axes sets it): matplotlib
+        # would otherwise measure the top tick labels at every draw to lift it over them
+        self.axes.set_title(self.axes.get_title(), fontsize=TITLE_FONT * s, y=1.0)
+
+    def place_axes(self) -> None:
+        """The square axes and its title placed in the canvas from font metrics.
+
+        What constrained layout found at every draw (about half of each draw's time),
+        computed here in a few text measurements: room on the left for the row label
+        and the widest row number, on top for the title, the column label and the
+        column numbers; the square as large as fits, centred.
+        """
+        width, height = self.figure.bbox.width, self.figure.bbox.height
+        if width < 2 or height < 2:
+            return
+        s, pt = self.font_scale, self.figure.dpi / 72.0
+        n = 0 if self.matrix is None else self.matrix.shape[0]
+        renderer = self.canvas.get_renderer()
+
+        def text_size(text: str, points: float) -> tuple[float, float]:
+            w, h, _d = renderer.get_text_width_height_descent(
+                text, FontProperties(size=points), ismath=False
+            )
+            return w, h
+
+        # the widest tick number: as many digits as n (up to 1e6, then 0.2 … ×1e6)
+        digits = "8" * (len(str(max(n, 1))) if n < 1_000_000 else 3)
+        tick_w, tick_h = text_size(digits, TICK_FONT * s)
+        _label_w, label_h = text_size("triangle j", LABEL_FONT * s)
+        _title_w, title_h = text_size("Eq. 27: 8", TITLE_FONT * s)
+        ticks = (3.5 + 3.5) * pt  # tick length and pad (matplotlib's defaults)
+        label_pad = 4.0 * pt
+        top_of_axes = ticks + tick_h + label_pad + label_h  # numbers and label over it
+        left = MARGIN_PX + label_h + label_pad + tick_w + ticks
+        top = MARGIN_PX + title_h + 6.0 * pt + top_of_axes
+        right = MARGIN_PX + 0.5 * tick_w
+        bottom = MARGIN_PX + 0.5 * tick_h
+        side = max(min(width - left - right, height - top - bottom), 4.0)
+        x0 = left + 0.5 * (width - left - right - side)
+        y0 = bottom + 0.5 * (height - top - bottom - side)
+        self.axes.set_position([x0 / width, y0 / height, side / width, side / height])
+        self.axes.set_title(
+            self.axes.get_title(), fontsize=TITLE_FONT * s, y=1.0, pad=top_of_axes / pt + 6.0
+        )
 
     # -- mouse -----------------------------------------------------------------------
 

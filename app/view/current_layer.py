@@ -97,6 +97,7 @@ class CurrentLayer:
         self._surface_actor: Any = None
         self._arrow_actor: Any = None
         self._bar_title: str | None = None
+        self._arrow: Any = None  # the glyph's arrow (pyvista.PolyData), made once
 
     @property
     def shown(self) -> bool:
@@ -111,7 +112,8 @@ class CurrentLayer:
         """Show ``current`` ((T, 3) complex, A/m at the centroids of ``mesh``) and keep
         ``charge`` ((T,) complex ρ_s, C/m²) for the charge colouring.
 
-        A new current on the mesh already shown updates the layer's arrays in place.
+        A new current updates the layer's arrays in place, on the mesh already shown or
+        on a new one (the actors and the colour bar are kept: no actor is added).
         """
         current = np.asarray(current)
         if current.shape != (len(mesh.triangles), 3):
@@ -126,20 +128,25 @@ class CurrentLayer:
             )
         import pyvista as pv
 
-        same = mesh is self.mesh and self._surface_actor is not None
+        drawn = self._surface_actor is not None and self.surface is not None
+        new_mesh = mesh is not self.mesh
         self.mesh, self.current = mesh, current
         self.charge = None if charge is None else np.asarray(charge)
         self.magnitude = np.linalg.norm(np.abs(current), axis=1)
-        if same:
-            self._set_arrays()
+        if new_mesh:
+            tri = np.asarray(mesh.triangles, dtype=np.int64)
+            faces = np.column_stack([np.full(len(tri), 3, dtype=np.int64), tri]).ravel()
+            surface = pv.PolyData(np.asarray(mesh.points, dtype=float), faces)
+            area = float(np.mean(mesh.areas)) if len(tri) else 1.0
+            self._arrow_scale = ARROW_LENGTH * np.sqrt(max(area, 1e-300))
+            if drawn:  # the dataset the mapper reads takes the new mesh
+                self.surface.copy_from(surface)
+            else:
+                self.surface = surface
+        self._set_arrays()
+        if drawn:
             self._refresh()
             return
-        tri = np.asarray(mesh.triangles, dtype=np.int64)
-        faces = np.column_stack([np.full(len(tri), 3, dtype=np.int64), tri]).ravel()
-        self.surface = pv.PolyData(np.asarray(mesh.points, dtype=float), faces)
-        self._set_arrays()
-        area = float(np.mean(mesh.areas)) if len(tri) else 1.0
-        self._arrow_scale = ARROW_LENGTH * np.sqrt(max(area, 1e-300))
         self._draw()
 
     def clear(self) -> None:
@@ -246,12 +253,9 @@ class CurrentLayer:
             + np.array([0.0, 0.0, 1e-3 * self._arrow_scale])
         )
         cloud["J"] = vectors * (self._arrow_scale / peak if peak > 0 else 0.0)
-        return cloud.glyph(
-            orient="J",
-            scale="J",
-            factor=1.0,
-            geom=pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07),
-        )
+        if self._arrow is None:  # one arrow shape for every step
+            self._arrow = pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07)
+        return cloud.glyph(orient="J", scale="J", factor=1.0, geom=self._arrow)
 
     def _remove_actors(self) -> None:
         for actor in (self._surface_actor, self._arrow_actor):
