@@ -414,6 +414,7 @@ def _csv_text(rows: list[list[float]]) -> str:
 
 def _write_sweep(r: Any, out: str) -> None:
     import numpy as np
+
     from barymesh.io import atomic_path, atomic_write_text
 
     if out.lower().endswith(".csv"):
@@ -446,6 +447,7 @@ def _write_sweep(r: Any, out: str) -> None:
 
 def _write_single(s: Any, mesh: Any, out: str) -> None:
     import numpy as np
+
     from barymesh.io import atomic_path, atomic_write_text
     from barymesh.mom import PlaneWave
 
@@ -552,6 +554,7 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
         import imageio.v3 as iio
         import numpy as np
         import pyvista as pv
+
         from barymesh.app.view.current_layer import CurrentLayer
         from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, scene_data
     except ImportError as exc:

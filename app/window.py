@@ -21,8 +21,36 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import barymesh
 import numpy as np
+from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer, Signal
+from PySide6.QtGui import (
+    QAction,
+    QActionGroup,
+    QCloseEvent,
+    QGuiApplication,
+    QIcon,
+    QImage,
+    QKeySequence,
+)
+from PySide6.QtWidgets import (
+    QApplication,
+    QDockWidget,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMenu,
+    QMessageBox,
+    QProgressBar,
+    QProgressDialog,
+    QScrollArea,
+    QStyle,
+    QTabBar,
+    QToolBar,
+    QToolButton,
+    QWidget,
+)
+
+import barymesh
 from barymesh import MeshParams, TriMesh
 from barymesh.app.cli_options import build_window_parser
 from barymesh.app.dialogs.export_dialog import ExportDialog
@@ -56,33 +84,6 @@ from barymesh.app.view.overview import DETAIL_TRIANGLES
 from barymesh.app.view.scene import MeshScene, needs_triangles, scene_data
 from barymesh.app.view.view_tools import ViewTools
 from barymesh.app.worker import BuildJob, MeshController, release_memory, run_in_thread
-from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer, Signal
-from PySide6.QtGui import (
-    QAction,
-    QActionGroup,
-    QCloseEvent,
-    QGuiApplication,
-    QIcon,
-    QImage,
-    QKeySequence,
-)
-from PySide6.QtWidgets import (
-    QApplication,
-    QDockWidget,
-    QFileDialog,
-    QLabel,
-    QMainWindow,
-    QMenu,
-    QMessageBox,
-    QProgressBar,
-    QProgressDialog,
-    QScrollArea,
-    QStyle,
-    QTabBar,
-    QToolBar,
-    QToolButton,
-    QWidget,
-)
 
 log = logging.getLogger(__name__)
 

@@ -31,10 +31,11 @@ import time
 from collections.abc import Callable
 from functools import partial
 
+from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
+
 from barymesh import MeshParams
 from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.view.scene import detail_data, scene_data
-from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
 log = logging.getLogger(__name__)
 

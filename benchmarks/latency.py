@@ -380,11 +380,12 @@ def measure(
     """Open the window (1400 x 860) and time ``frames`` slider moves, a ``drag``-second
     mouse drag and ``big`` rounds of the dense meshes; returns the JSON document."""
     os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
+    from PySide6.QtCore import QSettings
+    from PySide6.QtWidgets import QApplication
+
     import barymesh.app.worker
     from barymesh import MeshParams
     from barymesh.app.window import MainWindow
-    from PySide6.QtCore import QSettings
-    from PySide6.QtWidgets import QApplication
 
     app_ = QApplication.instance() or QApplication([sys.argv[0]])
     settings_dir = tempfile.mkdtemp(prefix="barymesh-latency-")
@@ -578,10 +579,11 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     """Open and step each teaching window as a user does (keys, clicks, a mouse drag) and
     record the event loop's longest block per case; returns the JSON document."""
     os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
-    from barymesh import MeshParams
-    from barymesh.app.window import MainWindow
     from PySide6.QtCore import QSettings, Qt
     from PySide6.QtWidgets import QApplication
+
+    from barymesh import MeshParams
+    from barymesh.app.window import MainWindow
 
     app_ = QApplication.instance() or QApplication([sys.argv[0]])
     settings_dir = tempfile.mkdtemp(prefix="barymesh-latency-")

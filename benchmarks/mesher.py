@@ -66,10 +66,11 @@ import scipy.sparse as sp
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from gmsh_peer import Gmsh, split_ring_fields  # noqa: E402
+
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.quality import triangle_quality  # noqa: E402
 from barymesh.structures import layout  # noqa: E402
-from gmsh_peer import Gmsh, split_ring_fields  # noqa: E402
 
 SIZES = ("10k", "100k", "1M", "4M")
 

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.mom import PlaneWave, impedance_matrix, mom_geometry
 from barymesh.mom.operator import wavenumber

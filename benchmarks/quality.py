@@ -104,6 +104,7 @@ def measure(sizes: list[str], presets: bool = True) -> list[dict[str, Any]]:
 def measure_gmsh(params: dict[str, Any], target: int, algorithm: int) -> dict[str, Any]:
     """gmsh's mesh of the geometry of ``params`` at about ``target`` triangles, measured by core."""
     import numpy as np
+
     from barymesh import MeshParams, TriMesh
 
     t0 = time.perf_counter()

@@ -4,9 +4,10 @@ import functools
 import re
 
 import numpy as np
+from hypothesis import strategies as st
+
 from barymesh import MeshParams, build_mesh
 from barymesh.topology import edge_topology
-from hypothesis import strategies as st
 
 
 def signed_areas(mesh):

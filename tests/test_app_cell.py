@@ -21,6 +21,9 @@ from app_user import (  # noqa: E402
     type_into,
     wait_for_export,
 )
+from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
+
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.window import file_error_sentence  # noqa: E402
 from barymesh.cell import (  # noqa: E402
@@ -32,8 +35,6 @@ from barymesh.cell import (  # noqa: E402
     load_cell_preset,
     tile,
 )
-from PySide6.QtCore import Qt  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 
@@ -446,8 +447,9 @@ def spin_to(box, value):
 
 
 def test_array_preview_draws_copies_without_meshing_them(window, qtbot, tmp_path, monkeypatch):
-    from barymesh.io import read_mesh
     from gui_helpers import near, pixel, rendered
+
+    from barymesh.io import read_mesh
 
     open_preset(window, qtbot, "double-ring-patch")
     cell = load_cell_preset("double-ring-patch")
@@ -855,8 +857,9 @@ def test_export_array_offers_only_what_it_can_write(window, qtbot, tmp_path, mon
     extension it offers now writes a file that reads back as the welded array."""
     import re
 
-    from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, read_mesh
     from PySide6.QtWidgets import QFileDialog
+
+    from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, read_mesh
 
     open_preset(window, qtbot, "double-ring-patch")
     cell = load_cell_preset("double-ring-patch")
@@ -924,10 +927,11 @@ def test_the_cell_looks_the_same_whichever_element_is_selected(window, qtbot):
 
 
 def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window, qtbot):
+    from gui_helpers import hex_rgb, near, pixel, rendered
+
     from barymesh.app.edit.array_preview import ghost_shade
     from barymesh.app.view.overview import overlap_counts_at
     from barymesh.app.view.scene import COLORS
-    from gui_helpers import hex_rgb, near, pixel, rendered
 
     open_preset(window, qtbot, "double-ring-patch")
     mesh = window.model.result.mesh

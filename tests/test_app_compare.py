@@ -5,12 +5,13 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from gui_helpers import near, pixel, share, type_into  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.app.model import AppModel  # noqa: E402
 from barymesh.app.teach.compare_view import CompareView, patch_coverage  # noqa: E402
 from barymesh.app.window import MainWindow  # noqa: E402
-from gui_helpers import near, pixel, share, type_into  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)
 COUNTS = ("triangles", "vertices", "interior_edges", "boundary_edges")
@@ -106,6 +107,7 @@ def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
     paper mode, the shade of a face under two patches), at the rings' centre the white
     background."""
     import imageio.v3 as iio
+
     from barymesh.app.teach.compare_view import COVERAGE_COLORS
     from barymesh.app.view.scene import COLORS
 
@@ -190,10 +192,11 @@ def test_both_halves_show_triangle_edges_at_the_default_size(qtbot, preset):
 
 
 def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
+    from gui_helpers import colour_pixels
+
     from barymesh.app.teach.compare_view import COVERAGE_COLORS
     from barymesh.app.view.scene import COLORS
     from barymesh.presets import load_preset
-    from gui_helpers import colour_pixels
 
     params, _ = load_preset("srr-openmodes")
     win = CompareView(AppModel(params))

@@ -6,6 +6,9 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.model import AppModel  # noqa: E402
 from barymesh.app.teach.construction_view import (  # noqa: E402
@@ -16,8 +19,6 @@ from barymesh.app.teach.construction_view import (  # noqa: E402
 )
 from barymesh.app.window import MainWindow  # noqa: E402
 from barymesh.construction import construction_steps  # noqa: E402
-from gui_helpers import drawn_near, near, pixel, type_into  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
 
 PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.
@@ -281,8 +282,9 @@ def _main_window(qtbot):
 def test_opening_paints_the_background_first_and_then_the_step(qtbot):
     """F7: the window's first paint is the bare background (the GL context and the first
     shaders in separate passes of the event loop); the step comes by itself right after."""
-    from barymesh.app.teach.construction_view import COLORS
     from gui_helpers import rendered
+
+    from barymesh.app.teach.construction_view import COLORS
 
     win = _main_window(qtbot)
     qtbot.keyClick(win.plotter, Qt.Key.Key_F7)

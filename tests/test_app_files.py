@@ -14,12 +14,13 @@ from app_user import (  # noqa: E402
     patch_counts,
     type_into,
 )
-from barymesh import MeshParams, build_mesh  # noqa: E402
-from barymesh.io import read_mesh, write_mesh  # noqa: E402
 from gui_helpers import display_point  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
+
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.io import read_mesh, write_mesh  # noqa: E402
 
 
 @pytest.fixture
@@ -174,8 +175,9 @@ def _rows_with_ink(mask):
 
 def _export_screenshot(window, qtbot, file_dialog, path, scale):
     """File → Export screenshot as a user does it: type the scale, Save PNG…, a file."""
-    from barymesh.app.window import ScreenshotDialog
     from PySide6.QtWidgets import QPushButton
+
+    from barymesh.app.window import ScreenshotDialog
 
     shown = []
     original = ScreenshotDialog.exec

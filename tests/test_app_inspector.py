@@ -7,6 +7,9 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from app_user import settle  # noqa: E402
+from gui_helpers import near, type_into, widget_pos  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
+
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.app.teach.inspector import (  # noqa: E402
     COLORS,  # noqa: E402
@@ -15,8 +18,6 @@ from barymesh.app.teach.inspector import (  # noqa: E402
     nearest_edge,
     step_edge,
 )
-from gui_helpers import near, type_into, widget_pos  # noqa: E402
-from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # the paper's Fig. 10
 

@@ -17,6 +17,9 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
+from PySide6.QtCore import Qt, QTimer  # noqa: E402
+from PySide6.QtWidgets import QToolBar  # noqa: E402
+
 import barymesh.app.view.scene  # noqa: E402
 import barymesh.app.worker  # noqa: E402
 from barymesh import MeshParams, build_mesh  # noqa: E402
@@ -31,8 +34,6 @@ from barymesh.app.view.overview import (  # noqa: E402
     triangle_raster,
 )
 from barymesh.app.view.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
-from PySide6.QtCore import Qt, QTimer  # noqa: E402
-from PySide6.QtWidgets import QToolBar  # noqa: E402
 
 FIG12A = MeshParams()  # the paper's Fig. 12(a): 720 patches, 23,040 triangles at n = 4
 DENSE_N = 32  # Fig. 12(a) at n = 32: 720 * 2 * 32**2 = 1,474,560 triangles
@@ -639,9 +640,10 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     # the worker colours an overview without VTK; the result is what the faces' VTK
     # lookup table gives the same values
     import pyvista as pv
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
     from barymesh.app.view.layers import COLOR_BY
     from barymesh.app.view.scene import Overview, lut_settings, overview_rgba
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
     array = COLOR_BY[key][0]
     lo, hi = span

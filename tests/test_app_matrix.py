@@ -10,12 +10,13 @@ pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
 import scipy.sparse as sp  # noqa: E402
-from barymesh import MeshParams, build_mesh  # noqa: E402
-from barymesh.app.teach.matrix_view import MatrixView, occupancy_image  # noqa: E402
-from barymesh.app.teach.teaching_tools import shared_edge  # noqa: E402
 from gui_helpers import blend, click_world, near, type_into  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
+
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.teach.matrix_view import MatrixView, occupancy_image  # noqa: E402
+from barymesh.app.teach.teaching_tools import shared_edge  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 

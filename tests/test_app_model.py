@@ -3,6 +3,7 @@
 import math
 
 import pytest
+
 from barymesh import MeshParams
 from barymesh.app.model import (
     ADVANCED_SPECS,

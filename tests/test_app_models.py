@@ -12,6 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
 from barymesh import MeshParams, build_mesh
 from barymesh.app import cli_options
 from barymesh.app.edit.cell_document import CellTarget
@@ -24,8 +27,6 @@ from barymesh.app.model import (
     compute_cell,
 )
 from barymesh.cell import Element, Lattice, UnitCell
-from hypothesis import given
-from hypothesis import strategies as st
 
 APP = Path(__file__).resolve().parents[1] / "app"
 #: The window's tools (issue 18, point 4): none may import MainWindow or reach into it.

@@ -7,13 +7,14 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from app_user import answer_file_dialogs, choose  # noqa: E402
-from barymesh.app.edit import pixels  # noqa: E402
-from barymesh.app.edit.painter import PixelPainterWindow  # noqa: E402
-from barymesh.cell import SYMMETRIES, load_cell, load_cell_preset  # noqa: E402
 from gui_helpers import near, pixel, rendered, type_into, widget_pos  # noqa: E402
 from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from test_edit_pixels import transforms  # noqa: E402
+
+from barymesh.app.edit import pixels  # noqa: E402
+from barymesh.app.edit.painter import PixelPainterWindow  # noqa: E402
+from barymesh.cell import SYMMETRIES, load_cell, load_cell_preset  # noqa: E402
 
 N = 4  # subdivisions of a pixel patch: 2 n² = 32 triangles (the paper's count)
 LEFT, RIGHT = Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton
@@ -345,6 +346,7 @@ def wheel(widget, pos, delta):
 
 def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):
     import imageio.v3 as iio
+
     from barymesh.app.edit.painter import COLORS
 
     image = rendered(painter.plotter)
@@ -505,8 +507,9 @@ def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
 
 
 def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
-    from barymesh.app.edit.painter import cell_menu
     from PySide6.QtWidgets import QMainWindow
+
+    from barymesh.app.edit.painter import cell_menu
 
     win = QMainWindow()
     qtbot.addWidget(win)

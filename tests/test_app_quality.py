@@ -9,15 +9,16 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from app_user import click_check_box, settle  # noqa: E402
+from gui_helpers import hex_rgb, near, widget_pos  # noqa: E402
+from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
+from PySide6.QtWidgets import QTabBar  # noqa: E402
+
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.panels import quality_panel  # noqa: E402
 from barymesh.app.view.quality_layer import WORST_COLOR  # noqa: E402
 from barymesh.presets import load_preset  # noqa: E402
 from barymesh.quality import quality_report  # noqa: E402
-from gui_helpers import hex_rgb, near, widget_pos  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
-from PySide6.QtWidgets import QTabBar  # noqa: E402
 
 #: A 10 mm x 2 mm patch: every triangle has legs in the ratio 5:1, smallest angle
 #: atan(0.2) = 11.31°, aspect ratio 3.267 (closed forms in test_core_quality_report.py).

@@ -14,11 +14,12 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from app_user import patch_counts, settle, shown_counts, type_into  # noqa: E402
-from barymesh import MeshParams, build_mesh  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 from test_app_window import COARSE, COARSE_PATCHES  # noqa: E402
+
+from barymesh import MeshParams, build_mesh  # noqa: E402
 
 #: λ (mm) at 100 GHz in vacuum, c0 = 299,792,458 m/s.
 LAMBDA_100GHZ = 2.99792458

@@ -14,12 +14,13 @@ pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
 from app_user import choose, click_check_box, drag_slider, settle, type_into  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
+from PySide6.QtTest import QTest  # noqa: E402
+
 from barymesh import MeshParams  # noqa: E402
 from barymesh.app.panels.solve_panel import AUTO_SOLVE_UNKNOWNS  # noqa: E402
 from barymesh.app.view.current_layer import BAR_TITLE, CHARGE, CHARGE_TITLE, MAGNITUDE  # noqa: E402
 from barymesh.mom import PlaneWave, solve, sweep  # noqa: E402
-from PySide6.QtCore import QPoint, Qt  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
 
 #: Makarov's chapter-2 code on platefine, plane wave along −z, E along x, 1 V/m, 300 MHz.
 MAKAROV_PLATEFINE_JMAX = 0.01853
@@ -296,10 +297,11 @@ def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(
     window, qtbot, tmp_path, monkeypatch
 ):
     from app_user import answer_file_dialogs
+    from test_mom_api import strip
+
     from barymesh.app.panels.solve_panel import format_impedance
     from barymesh.io import write_mesh
     from barymesh.mom import VoltageSource
-    from test_mom_api import strip
 
     # File > Open the 1 m × 20 mm strip of the API tests (40 × 2 cells, a vertex row at x = 0)
     answer = answer_file_dialogs(monkeypatch)
@@ -346,8 +348,9 @@ def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(
 
 def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monkeypatch):
     from app_user import answer_file_dialogs
-    from barymesh.io import write_mesh
     from test_mom_api import t_junction
+
+    from barymesh.io import write_mesh
 
     panel = open_solve(window, qtbot)
     mesh = window.model.result.mesh  # the 100 mm patch, 40 unknowns: solved as typed

@@ -15,7 +15,6 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-import barymesh.app.model.build  # noqa: E402
 from app_user import (  # noqa: E402
     answer_file_dialogs,
     choose,
@@ -27,15 +26,17 @@ from app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
-from barymesh import MeshParams, build_mesh  # noqa: E402
-from barymesh.app.model import SPECS, format_value, read_number  # noqa: E402
-from barymesh.io import read_mesh, write_mesh  # noqa: E402
-from barymesh.presets import load_preset, preset_names  # noqa: E402
 from PySide6.QtCore import QLocale, QPoint, Qt  # noqa: E402
 from PySide6.QtGui import QImage  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 from test_app_window import COARSE, COARSE_PATCHES, assert_counts  # noqa: E402
+
+import barymesh.app.model.build  # noqa: E402
+from barymesh import MeshParams, build_mesh  # noqa: E402
+from barymesh.app.model import SPECS, format_value, read_number  # noqa: E402
+from barymesh.io import read_mesh, write_mesh  # noqa: E402
+from barymesh.presets import load_preset, preset_names  # noqa: E402
 
 #: The paper's Fig. 12(a) at n = 2: 720 separate 1 mm patches, 5,760 triangles.
 FIG12A_N2 = MeshParams(subdivisions=2)

@@ -11,10 +11,6 @@ import pytest
 pytest.importorskip("pyvistaqt")
 
 from app_user import wait_for_export  # noqa: E402
-from barymesh import MeshParams  # noqa: E402
-from barymesh.app.teach.inspector import COLORS as INSPECTOR_COLORS  # noqa: E402
-from barymesh.app.view.highlight import COL_COLOR, ROW_COLOR, SMALL_PIXELS  # noqa: E402
-from barymesh.app.window import MainWindow, file_error_sentence  # noqa: E402
 from gui_helpers import (  # noqa: E402
     click_world,
     display_point,
@@ -28,6 +24,11 @@ from gui_helpers import (  # noqa: E402
 from PySide6.QtCore import QPoint, QPointF, Qt  # noqa: E402
 from PySide6.QtGui import QWheelEvent  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
+
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.teach.inspector import COLORS as INSPECTOR_COLORS  # noqa: E402
+from barymesh.app.view.highlight import COL_COLOR, ROW_COLOR, SMALL_PIXELS  # noqa: E402
+from barymesh.app.window import MainWindow, file_error_sentence  # noqa: E402
 
 FIG10 = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)  # 32 triangles
 

@@ -19,12 +19,13 @@ from app_user import (  # noqa: E402
     shown_counts,
     type_into,
 )
-from barymesh import MeshParams  # noqa: E402
-from barymesh.app.model import SPECS, applies, format_value  # noqa: E402
-from barymesh.app.window import MainWindow  # noqa: E402
 from gui_helpers import colour_pixels  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication, QMainWindow, QTabBar  # noqa: E402
+
+from barymesh import MeshParams  # noqa: E402
+from barymesh.app.model import SPECS, applies, format_value  # noqa: E402
+from barymesh.app.window import MainWindow  # noqa: E402
 
 COARSE = MeshParams(angle_step=15.0, subdivisions=2)  # = conftest's window_params
 #: COARSE has 24 patches on each ring, none touching another: closed forms hold.
@@ -631,8 +632,9 @@ def test_area_of_equal_triangles_has_a_scale_around_its_value(window, qtbot, n):
 
 
 def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
-    from barymesh.app.view.framing import RULER_PAD
     from gui_helpers import display_point
+
+    from barymesh.app.view.framing import RULER_PAD
 
     win = MainWindow(MeshParams(subdivisions=8), scripted=True)  # 92,160 triangles
     qtbot.addWidget(win)

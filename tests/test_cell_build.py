@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from helpers import assert_topology_matches_generic, signed_areas
+
 from barymesh import MeshParams
 from barymesh.cell import (
     Element,
@@ -13,7 +15,6 @@ from barymesh.cell import (
     tile,
 )
 from barymesh.cell.files import load_cell_preset
-from helpers import assert_topology_matches_generic, signed_areas
 
 
 def patch(size=1.0, n=4, **kw):

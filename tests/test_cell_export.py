@@ -7,6 +7,7 @@ import sys
 import meshio
 import numpy as np
 import pytest
+
 from barymesh import MeshParams
 from barymesh.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
 from barymesh.cell.files import load_cell_preset

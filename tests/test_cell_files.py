@@ -4,6 +4,8 @@ import json
 
 import numpy as np
 import pytest
+from helpers import assert_clear_message
+
 from barymesh import MeshParams
 from barymesh.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, tile
 from barymesh.cell.files import (
@@ -15,7 +17,6 @@ from barymesh.cell.files import (
     load_cell_preset,
     save_cell,
 )
-from helpers import assert_clear_message
 
 
 def test_presets_are_the_four_classic_cells():

@@ -11,14 +11,15 @@ import json
 import os
 
 import numpy as np
-from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell, tile
-from barymesh.cell.files import CELL_PRESET_DIR, CellFileError, cell_from_dict
-from barymesh.cell.outline import outline_polygons
 from helpers import assert_clear_message
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy.spatial import cKDTree
+
+from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell, tile
+from barymesh.cell.files import CELL_PRESET_DIR, CellFileError, cell_from_dict
+from barymesh.cell.outline import outline_polygons
 
 SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

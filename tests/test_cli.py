@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from barymesh.app import cli, cli_progress
 from barymesh.cell import cell_preset_names
 from barymesh.io import read_mesh

@@ -15,12 +15,13 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
+from helpers import assert_clear_message
+
 from barymesh import MeshParams, build_mesh
 from barymesh.app import cli
 from barymesh.cell import cell_preset_names
 from barymesh.cell.files import CELL_PRESET_DIR
 from barymesh.io import read_mesh
-from helpers import assert_clear_message
 
 try:  # the optional "cell" extra: only the outline writers need it
     import ezdxf

@@ -5,12 +5,13 @@ import json
 
 import numpy as np
 import pytest
+from test_cli import assert_one_line_error, run
+
 from barymesh import MeshParams, build_mesh
 from barymesh.cell import cell_preset_names
 from barymesh.io import read_mesh
 from barymesh.presets import load_preset
 from barymesh.quality import quality_report
-from test_cli import assert_one_line_error, run
 
 
 def strict_json(text):

@@ -6,11 +6,12 @@ triangles (a junction), which no built structure produces on purpose.
 """
 
 import numpy as np
+from hypothesis import given
+from hypothesis import strategies as st
+
 from barymesh.repeat import patch_topology, patch_triangles
 from barymesh.subdivision import patch_template
 from barymesh.topology import INDEX, edge_topology
-from hypothesis import given
-from hypothesis import strategies as st
 
 
 @st.composite

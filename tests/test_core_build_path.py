@@ -3,8 +3,9 @@
 import re
 import sys
 
-import barymesh.build
 import pytest
+
+import barymesh.build
 from barymesh import MeshParams, build_mesh
 
 STEP = re.compile(r"^\d+\. :mod:`(barymesh\.\w+)`", re.MULTILINE)

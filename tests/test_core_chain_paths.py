@@ -10,6 +10,9 @@ that takes the shortcut must still be refused.
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.check import check_mesh
 from barymesh.invariants import MeshInvariantError, _point_keys, duplicate_vertices
@@ -25,8 +28,6 @@ from barymesh.repeat import (
 from barymesh.stats import count_distinct
 from barymesh.subdivision import tensor_template
 from barymesh.topology import edge_topology, rwg_table, triangle_adjacency
-from hypothesis import HealthCheck, assume, given, settings
-from hypothesis import strategies as st
 
 TOPOLOGY_FIELDS = (
     "edges",

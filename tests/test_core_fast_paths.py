@@ -2,6 +2,11 @@
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, event, given, settings
+from hypothesis import strategies as st
+from scipy.spatial import cKDTree
+from test_core_properties import params
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.placement import paper_origins
 from barymesh.quality import quality_summary, triangle_quality
@@ -9,10 +14,6 @@ from barymesh.repeat import Repetition, sector_edge_counts, translated_copy_meas
 from barymesh.stats import counted_measures
 from barymesh.topology import edge_topology, segment_lengths
 from barymesh.weld import _lattice_candidates, _window_candidates, merge_pairs
-from hypothesis import HealthCheck, assume, event, given, settings
-from hypothesis import strategies as st
-from scipy.spatial import cKDTree
-from test_core_properties import params
 
 
 def kd_tree_candidates(origins, frac, reach, radius):

@@ -11,14 +11,15 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from helpers import assert_clear_message, signed_areas
+from scipy.spatial import cKDTree
+
 from barymesh import MeshParams, build_mesh
 from barymesh.check import check_mesh
 from barymesh.invariants import MeshInvariantError, inverted_or_flat
 from barymesh.mesh import TriMesh
 from barymesh.topology import edge_topology
 from barymesh.weld import merge_pairs, weld_points
-from helpers import assert_clear_message, signed_areas
-from scipy.spatial import cKDTree
 
 #: The issue's budget: no structure may need more memory than this per triangle.
 BYTES_PER_TRIANGLE = 600

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.io
+
 from barymesh import MeshParams, build_mesh
 
 REFERENCE = Path(__file__).resolve().parent / "data" / "makarov"

@@ -8,6 +8,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.overlap import union_area, union_area_slabs
 from barymesh.presets import load_preset, preset_names

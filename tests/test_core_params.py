@@ -4,6 +4,7 @@ import json
 import math
 
 import pytest
+
 from barymesh import MeshParams
 from barymesh.params import STRUCTURES
 

@@ -11,14 +11,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from barymesh import STRUCTURES, MeshParams, build_mesh
-from barymesh.io import read_mesh, write_mesh
-from barymesh.structures import layout
-from barymesh.topology import edge_topology
 from helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
 from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
+
+from barymesh import STRUCTURES, MeshParams, build_mesh
+from barymesh.io import read_mesh, write_mesh
+from barymesh.structures import layout
+from barymesh.topology import edge_topology
 
 RINGS = ["ring", "double_ring", "split_ring", "split_double_ring", "square_split_double_ring"]
 

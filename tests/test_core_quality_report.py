@@ -6,6 +6,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.presets import load_preset
 from barymesh.quality import (

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.repeat import CHAIN, Repetition, patch_triangles

@@ -5,13 +5,14 @@ import math
 
 import numpy as np
 import pytest
+from helpers import assert_topology_matches_generic
+from hypothesis import HealthCheck, assume, event, given, settings
+from hypothesis import strategies as st
+
 from barymesh import MeshParams, build_mesh
 from barymesh.presets import load_preset
 from barymesh.sectors import sector_plan
 from barymesh.subdivision import tensor_template
-from helpers import assert_topology_matches_generic
-from hypothesis import HealthCheck, assume, event, given, settings
-from hypothesis import strategies as st
 
 CIRCULAR = ["ring", "double_ring", "split_ring", "split_double_ring"]
 #: Degrees above 30° the closed form below asks of its estimate (cells are not exactly

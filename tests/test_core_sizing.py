@@ -6,11 +6,12 @@ import re
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
 from barymesh import MeshParams, build_mesh
 from barymesh.presets import load_params_file, resolve_params, save_params_file
 from barymesh.sizing import largest_area, longest_edge, target_edge, wavelength
-from hypothesis import assume, given, settings
-from hypothesis import strategies as st
 
 #: c0 = 299,792,458 m/s (exact): λ at 10 GHz in mm.
 LAMBDA_10GHZ = 29.9792458

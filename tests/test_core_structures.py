@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from barymesh import MeshParams, build_mesh
 from helpers import assert_topology_matches_generic, components, signed_areas
+
+from barymesh import MeshParams, build_mesh
 
 
 def counts(mesh):

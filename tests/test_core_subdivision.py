@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from barymesh.subdivision import barycentric_subdivision, patch_template, uniform_subdivision
 
 

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.construction import construction_steps
 from barymesh.rwg_basis import edge_status, quadrature_points, sample_rwg

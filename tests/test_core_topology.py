@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import trimesh
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.topology import edge_topology, triangle_adjacency
 

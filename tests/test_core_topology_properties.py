@@ -13,11 +13,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 import trimesh
-from barymesh import MeshParams, TriMesh, build_mesh
-from barymesh.topology import BLOCK, INDEX, edge_topology, rwg_table, triangle_adjacency
 from helpers import junction_meshes, reference_connectivity, reference_edge_triangles
 from hypothesis import given
 from hypothesis import strategies as st
+
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.topology import BLOCK, INDEX, edge_topology, rwg_table, triangle_adjacency
 
 
 def assert_index_dtypes(topo):

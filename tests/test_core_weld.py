@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.weld import merge_pairs, weld_lattice_patches, weld_points
 

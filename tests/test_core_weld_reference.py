@@ -8,10 +8,11 @@ apart than the tolerance.
 
 import numpy as np
 import pytest
-from barymesh.topology import INDEX
-from barymesh.weld import merge_pairs, weld_lattice_patches, weld_points
 from hypothesis import given
 from hypothesis import strategies as st
+
+from barymesh.topology import INDEX
+from barymesh.weld import merge_pairs, weld_lattice_patches, weld_points
 
 
 def brute_force_weld(coords, tolerance):

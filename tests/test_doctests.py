@@ -12,9 +12,10 @@ import importlib
 import inspect
 import pkgutil
 
+import pytest
+
 import barymesh
 import barymesh.app
-import pytest
 
 
 def _modules(package) -> list[str]:

@@ -3,11 +3,12 @@ fill, invert, random fill and resize, with property tests over random masks."""
 
 import numpy as np
 import pytest
-from barymesh.app.edit import pixels
-from barymesh.cell import SYMMETRIES, symmetrized
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
+
+from barymesh.app.edit import pixels
+from barymesh.cell import SYMMETRIES, symmetrized
 
 GROUP_ORDER = {"none": 1, "mirror_x": 2, "mirror_y": 2, "4-fold": 4, "8-fold": 8}
 

@@ -5,6 +5,7 @@ import os
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.io import ExportError, atomic_write_text, export, meshio_formats, write_mesh
 

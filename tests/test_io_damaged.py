@@ -21,6 +21,7 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
+
 from barymesh import MeshParams, build_mesh
 from barymesh.io import MeshFileError, read_mesh, write_mesh
 

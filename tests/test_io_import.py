@@ -4,6 +4,7 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
+
 from barymesh.io import IMPORT_EXTENSIONS, MeshFileError, read_mesh
 
 # two triangles of a unit square (mm) plus a boundary line and a point
@@ -227,8 +228,9 @@ def test_bad_unit(tmp_path):
 @pytest.mark.parametrize("binary", [False, True], ids=["ascii", "binary"])
 def test_gmsh41_as_meshio_writes_it(tmp_path, binary):
     """MSH 4.1 is read by our own reader: the same triangles, regions and patches as written."""
-    from barymesh.io.meshio_formats import to_meshio
     from helpers import canonical_meshes
+
+    from barymesh.io.meshio_formats import to_meshio
 
     mesh = canonical_meshes()["double-ring"]
     path = tmp_path / "rings.msh"

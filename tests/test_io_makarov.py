@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.io
+
 from barymesh import build_mesh
 from barymesh.io import read_mesh, write_mesh
 from barymesh.presets import load_preset

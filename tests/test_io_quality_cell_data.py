@@ -4,6 +4,7 @@ meshio (and pyvista for our own .vtp writer)."""
 import meshio
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.io import write_mesh
 from barymesh.presets import load_preset

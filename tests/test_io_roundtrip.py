@@ -4,8 +4,9 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
-from barymesh.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
 from helpers import canonical_meshes
+
+from barymesh.io import EXPORT_EXTENSIONS, per_mm, read_mesh, write_mesh
 
 pytestmark = pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # meshio STL
 

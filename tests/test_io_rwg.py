@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from barymesh.io import write_mesh
 from helpers import canonical_meshes
+
+from barymesh.io import write_mesh
 
 
 @pytest.fixture(scope="module")

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.io import write_mesh
 

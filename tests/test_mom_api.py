@@ -5,6 +5,7 @@ import tracemalloc
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.constants import SPEED_OF_LIGHT
 from barymesh.mom import (

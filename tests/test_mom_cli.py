@@ -9,6 +9,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
+
 from barymesh import build_mesh
 from barymesh.mom import PlaneWave, solve
 from barymesh.presets import resolve_params

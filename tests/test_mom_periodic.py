@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.constants import SPEED_OF_LIGHT

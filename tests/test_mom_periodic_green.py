@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 import pytest
+
 from barymesh.mom.periodic_green import PeriodicGreen, default_splitting, reciprocal_vectors
 
 A = 0.01  # 10 mm cells

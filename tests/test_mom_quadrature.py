@@ -4,6 +4,7 @@ from math import factorial
 
 import numpy as np
 import pytest
+
 from barymesh.mom.quadrature import ORDERS, triangle_rule
 from barymesh.mom.singular import potential_integrals
 

@@ -7,10 +7,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
+
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.mom import PlaneWave, mom_geometry, solve, sweep
 from barymesh.presets import load_preset, resolve_params
-from scipy.spatial import cKDTree
 
 REFERENCE = Path(__file__).resolve().parent / "data" / "makarov"
 MAKAROV_MAX_J = 0.01853  # A/m, Makarov's chapter-2 plate at 300 MHz

@@ -12,8 +12,9 @@ import venv
 import zipfile
 from pathlib import Path
 
-import barymesh
 import pytest
+
+import barymesh
 
 ROOT = Path(__file__).resolve().parents[1]
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())

@@ -3,6 +3,7 @@
 import json
 
 import pytest
+
 from barymesh import MeshParams, build_mesh
 from barymesh.presets import (
     PRESET_DIR,

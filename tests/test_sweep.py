@@ -3,9 +3,10 @@
 import imageio.v2 as imageio
 import numpy as np
 import pytest
+from test_cli import assert_one_line_error, run
+
 from barymesh import MeshParams
 from barymesh.app.teach.sweep import frame_caption, render_sweep
-from test_cli import assert_one_line_error, run
 
 
 @pytest.mark.parametrize("suffix", [".gif", ".mp4"])
@@ -179,9 +180,10 @@ def test_sweep_frames_draw_triangle_edges_and_centroids(tmp_path):
     # paper-fig12c from n = 2 to 4 at 800 x 600: triangles of 8 px and more on every
     # frame, drawn the way the window draws them (shared edges orange, centroids magenta)
     pytest.importorskip("pyvista")
+    from gui_helpers import colour_pixels
+
     from barymesh.app.view.scene import COLORS
     from barymesh.presets import load_preset
-    from gui_helpers import colour_pixels
 
     base, _ = load_preset("paper-fig12c")
     out = tmp_path / "sweep.gif"

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+
 from barymesh import TriMesh
 from barymesh.cell import Lattice
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from barymesh.app.model import MeshResult
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QHeaderView,
@@ -12,6 +11,8 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh.app.model import MeshResult
 
 RIGHT = Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter
 #: Columns: title -> key of TriMesh.stats().

@@ -14,6 +14,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QAction
+from PySide6.QtWidgets import QDockWidget, QFileDialog, QMenu, QVBoxLayout, QWidget
+
 from barymesh import TriMesh
 from barymesh.app.edit.array_preview import ArrayPreview
 from barymesh.app.edit.cell_document import CellState
@@ -24,9 +28,6 @@ from barymesh.app.model import AppModel, ClickTools, MeshResult
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import FramedCamera, frame_from_above
 from barymesh.cell import Element, Lattice, UnitCell
-from PySide6.QtCore import Qt
-from PySide6.QtGui import QAction
-from PySide6.QtWidgets import QDockWidget, QFileDialog, QMenu, QVBoxLayout, QWidget
 
 log = logging.getLogger(__name__)
 CELL_FILTER = "Unit cells (*.cell.json);;All files (*)"

@@ -19,10 +19,11 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt
+
 from barymesh.app.model import AppModel, ClickTools
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt
 
 log = logging.getLogger(__name__)
 DRAG_COLOR = "#00a0b0"

@@ -12,10 +12,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from barymesh import MeshParams
-from barymesh.app.edit.cell_document import CellState
-from barymesh.app.model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
-from barymesh.app.panels.controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (
@@ -30,6 +26,11 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh import MeshParams
+from barymesh.app.edit.cell_document import CellState
+from barymesh.app.model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
+from barymesh.app.panels.controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
 
 #: The grid (mm) a dragged element's position snaps to, until the user types another.
 DEFAULT_SNAP = 0.5

@@ -3,11 +3,12 @@ n1 x n2 copies (a view setting, not part of the cell)."""
 
 from __future__ import annotations
 
+from PySide6.QtCore import Signal
+from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
+
 from barymesh.app.edit.cell_document import LATTICE_KINDS, MAX_COPIES, CellState, lattice_periods
 from barymesh.app.model import AppModel, format_value, read_number
 from barymesh.app.panels.controls import ValueField, decimal_point
-from PySide6.QtCore import Signal
-from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
 
 KIND_TITLES = {
     "rectangular": "Rectangular",

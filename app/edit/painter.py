@@ -29,6 +29,21 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDoubleSpinBox,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMenu,
+    QSpinBox,
+    QToolBar,
+    QVBoxLayout,
+    QWidget,
+)
+
 from barymesh.app.edit import pixels
 from barymesh.app.model import UndoHistory
 from barymesh.app.tool_host import ToolHost
@@ -48,20 +63,6 @@ from barymesh.cell import (
 )
 from barymesh.params import DEFAULT_MAX_TRIANGLES
 from barymesh.subdivision import patch_template
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
-from PySide6.QtWidgets import (
-    QComboBox,
-    QDoubleSpinBox,
-    QFileDialog,
-    QLabel,
-    QMainWindow,
-    QMenu,
-    QSpinBox,
-    QToolBar,
-    QVBoxLayout,
-    QWidget,
-)
 
 log = logging.getLogger(__name__)
 

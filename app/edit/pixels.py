@@ -28,8 +28,9 @@ nothing, so painting and then erasing a pixel restores the mask.
 from __future__ import annotations
 
 import numpy as np
-from barymesh.cell import SYMMETRIES, symmetrized
 from scipy import ndimage
+
+from barymesh.cell import SYMMETRIES, symmetrized
 
 #: What the painter shows for each symmetry mode.
 SYMMETRY_TITLES = {

@@ -24,6 +24,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+
 from barymesh.app.model.events import Event
 
 

@@ -21,20 +21,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from barymesh.app.model import (
-    ADVANCED_SPECS,
-    CHOICES,
-    PARAM_SPECS,
-    POINT_PARAMS,
-    AppModel,
-    MeshResult,
-    ParamError,
-    ParamSpec,
-    applies,
-    format_value,
-    read_number,
-    subdivisions_limit,
-)
 from PySide6.QtCore import QEvent, QLocale, Qt, Signal
 from PySide6.QtGui import QKeyEvent
 from PySide6.QtWidgets import (
@@ -48,6 +34,21 @@ from PySide6.QtWidgets import (
     QSlider,
     QVBoxLayout,
     QWidget,
+)
+
+from barymesh.app.model import (
+    ADVANCED_SPECS,
+    CHOICES,
+    PARAM_SPECS,
+    POINT_PARAMS,
+    AppModel,
+    MeshResult,
+    ParamError,
+    ParamSpec,
+    applies,
+    format_value,
+    read_number,
+    subdivisions_limit,
 )
 
 ERROR_COLOUR = "#d0021b"

@@ -3,15 +3,6 @@ level of detail."""
 
 from __future__ import annotations
 
-from barymesh.app.model import AppModel, MeshResult
-from barymesh.app.view.layers import (
-    COLOR_BY_TITLES,
-    DETAIL_MODES,
-    LABEL_LIMIT,
-    LAYER_TITLES,
-    LAYERS,
-)
-from barymesh.app.view.scene import COLORS, full_detail_warning
 from PySide6.QtCore import QSize
 from PySide6.QtGui import QColor, QIcon, QPainter, QPixmap
 from PySide6.QtWidgets import (
@@ -22,6 +13,16 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh.app.model import AppModel, MeshResult
+from barymesh.app.view.layers import (
+    COLOR_BY_TITLES,
+    DETAIL_MODES,
+    LABEL_LIMIT,
+    LAYER_TITLES,
+    LAYERS,
+)
+from barymesh.app.view.scene import COLORS, full_detail_warning
 
 
 def swatch(color: str, size: int = 11) -> QIcon:

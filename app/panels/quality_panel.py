@@ -20,10 +20,6 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-from barymesh import TriMesh
-from barymesh.app.view.quality_layer import WorstTrianglesLayer
-from barymesh.app.worker import SYNC_TRIANGLES, run_in_thread
-from barymesh.quality import params_wavelength, quality_report
 from PySide6.QtCore import QPointF, QRectF, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QColor, QFont, QPainter, QPen
 from PySide6.QtWidgets import (
@@ -35,6 +31,11 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh import TriMesh
+from barymesh.app.view.quality_layer import WorstTrianglesLayer
+from barymesh.app.worker import SYNC_TRIANGLES, run_in_thread
+from barymesh.quality import params_wavelength, quality_report
 
 log = logging.getLogger(__name__)
 

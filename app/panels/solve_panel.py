@@ -30,8 +30,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from barymesh import TriMesh
-from barymesh.app.view.current_layer import SCALES, CurrentLayer
 from PySide6.QtCore import (
     QEvent,
     QObject,
@@ -58,6 +56,9 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh import TriMesh
+from barymesh.app.view.current_layer import SCALES, CurrentLayer
 
 log = logging.getLogger(__name__)
 
@@ -194,8 +195,9 @@ class SweepPlot(QWidget):
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
-        from barymesh.app.view.canvas import ShownCanvas
         from matplotlib.figure import Figure
+
+        from barymesh.app.view.canvas import ShownCanvas
 
         self.figure = Figure(figsize=(3, 2.4), dpi=90, layout="constrained")
         # drawn only while its tab is shown: a new mesh marks it with every auto-solve

@@ -6,10 +6,11 @@ wavelengths, the largest area in λ² and whether every edge is within λ/10.
 
 from __future__ import annotations
 
-from barymesh.app.edit.cell_stats import CellStats
-from barymesh.app.model import STAT_LABELS, AppModel, MeshResult, stats_texts
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFormLayout, QLabel, QWidget
+
+from barymesh.app.edit.cell_stats import CellStats
+from barymesh.app.model import STAT_LABELS, AppModel, MeshResult, stats_texts
 
 TOOLTIPS = {
     "interior_edges": "Edges shared by exactly two triangles: one RWG basis function each",

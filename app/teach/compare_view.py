@@ -23,6 +23,9 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
+from PySide6.QtCore import QObject, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
+
 from barymesh import MeshParams, TriMesh
 from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
@@ -30,8 +33,6 @@ from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
 from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span, scene_data
 from barymesh.app.worker import Job
-from PySide6.QtCore import QObject, Qt, QThreadPool, QTimer, Signal
-from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
 log = logging.getLogger(__name__)
 

@@ -18,12 +18,6 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
-from barymesh import MeshParams
-from barymesh.app.model import AppModel
-from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
-from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
-from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span
-from barymesh.construction import ConstructionStep, construction_steps
 from PySide6.QtCore import QEvent, Qt, QTimer, Signal
 from PySide6.QtGui import QKeySequence, QShortcut
 from PySide6.QtWidgets import (
@@ -37,6 +31,13 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh import MeshParams
+from barymesh.app.model import AppModel
+from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
+from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
+from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span
+from barymesh.construction import ConstructionStep, construction_steps
 
 log = logging.getLogger(__name__)
 

@@ -19,12 +19,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import pyvista as pv
-from barymesh import TriMesh
-from barymesh.app.view.scene import add_text_labels
-from barymesh.rwg_basis import BasisSample, edge_status, sample_rwg
 from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkTextActor
+
+from barymesh import TriMesh
+from barymesh.app.view.scene import add_text_labels
+from barymesh.rwg_basis import BasisSample, edge_status, sample_rwg
 
 #: Overlay colours: the selected edge, the quadrature arrows of f_n, the vectors ρ±, the
 #: free vertices; T± take the divergence colour map (red +, blue −).

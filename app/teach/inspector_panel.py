@@ -16,6 +16,18 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, Signal
+from PySide6.QtWidgets import (
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSpinBox,
+    QVBoxLayout,
+    QWidget,
+)
+from vtkmodules.vtkRenderingCore import vtkCellPicker
+
 from barymesh import TriMesh
 from barymesh.app.teach.inspector import (
     DEFAULT_QUADRATURE,
@@ -28,17 +40,6 @@ from barymesh.app.teach.inspector import (
     overlay_data,
     step_edge,
 )
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt, Signal
-from PySide6.QtWidgets import (
-    QFormLayout,
-    QHBoxLayout,
-    QLabel,
-    QPushButton,
-    QSpinBox,
-    QVBoxLayout,
-    QWidget,
-)
-from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 log = logging.getLogger(__name__)
 

@@ -31,9 +31,6 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from barymesh import TriMesh
-from barymesh.app.view.canvas import ShownCanvas
-from barymesh.app.worker import run_in_thread
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.font_manager import FontProperties
@@ -58,6 +55,10 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
+
+from barymesh import TriMesh
+from barymesh.app.view.canvas import ShownCanvas
+from barymesh.app.worker import run_in_thread
 
 log = logging.getLogger(__name__)
 

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
+
 from barymesh import MeshParams, build_mesh
 from barymesh.app.view.scene import MeshScene, prepare_headless, scene_data
 from barymesh.io import atomic_write

@@ -19,9 +19,6 @@ import queue
 import threading
 from pathlib import Path
 
-from barymesh import MeshParams
-from barymesh.app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
-from barymesh.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 from PySide6.QtGui import QCloseEvent
 from PySide6.QtWidgets import (
@@ -39,6 +36,10 @@ from PySide6.QtWidgets import (
     QSpinBox,
     QWidget,
 )
+
+from barymesh import MeshParams
+from barymesh.app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
+from barymesh.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 
 log = logging.getLogger(__name__)
 

@@ -18,6 +18,9 @@ import logging
 from typing import Any
 
 import numpy as np
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import QDockWidget, QMenu
+
 from barymesh import TriMesh
 from barymesh.app.model import ClickTools, Event
 from barymesh.app.teach.inspector_panel import InspectorPanel, ViewPicker
@@ -26,8 +29,6 @@ from barymesh.app.teach.presentation import EMPHASIS, PresentationMode
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
 from barymesh.app.view.highlight import TriangleHighlight
-from PySide6.QtCore import Qt, QTimer
-from PySide6.QtWidgets import QDockWidget, QMenu
 
 log = logging.getLogger(__name__)
 

@@ -10,10 +10,11 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any
 
-from barymesh.app.model import AppModel
-from barymesh.app.tool_host import ToolHost
 from PySide6.QtCore import QEvent, QObject
 from PySide6.QtWidgets import QMenu
+
+from barymesh.app.model import AppModel
+from barymesh.app.tool_host import ToolHost
 
 if TYPE_CHECKING:
     from barymesh.app.teach.compare_view import CompareView

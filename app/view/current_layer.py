@@ -16,6 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+
 from barymesh import TriMesh
 
 log = logging.getLogger(__name__)

@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+
 from barymesh.app.view.scene import nice_span
 
 #: Room around the mesh for the ruler labels (left and bottom) and a margin (right, top),

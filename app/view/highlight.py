@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
+
 from barymesh import TriMesh
 
 ROW_COLOR = "#f28e2b"  # the triangle of the matrix row (as the row band of the spy plot)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
+
 from barymesh.app.view.readout import distance_text
 
 COLOR = "#00a0b0"  # teal: apart from every layer colour of the scene

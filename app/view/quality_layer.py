@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
+
 from barymesh import TriMesh
 
 WORST_COLOR = "#d0021b"

@@ -15,8 +15,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from barymesh import TriMesh
 from scipy.spatial import cKDTree
+
+from barymesh import TriMesh
 
 #: Candidate triangles looked at per query (nearest centroids).
 CANDIDATES = 12

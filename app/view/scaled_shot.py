@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
+
 from barymesh.app.view.layers import LAYERS
 from barymesh.app.view.scene import MeshScene
 

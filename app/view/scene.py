@@ -26,6 +26,11 @@ from pathlib import Path
 
 import numpy as np
 import pyvista as pv
+from vtkmodules.vtkCommonCore import vtkDoubleArray
+from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
+from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
+
 from barymesh import BuildCancelled, TriMesh
 from barymesh.app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
 from barymesh.app.view.overview import (
@@ -41,10 +46,6 @@ from barymesh.app.view.overview import (
     triangles_in_rect,
 )
 from barymesh.app.view.polydata import Layer
-from vtkmodules.vtkCommonCore import vtkDoubleArray
-from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
-from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
-from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
 log = logging.getLogger(__name__)
 

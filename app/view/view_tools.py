@@ -22,6 +22,10 @@ from functools import partial
 from typing import Any
 
 import numpy as np
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtGui import QPainter
+from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
+
 from barymesh import TriMesh
 from barymesh.app.model import ClickTools, ViewSelection
 from barymesh.app.tool_host import ToolHost
@@ -29,9 +33,6 @@ from barymesh.app.view.framing import frame_points, pixels_per_mm
 from barymesh.app.view.measure import MeasureTool
 from barymesh.app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
 from barymesh.app.worker import Job, release_memory
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
-from PySide6.QtGui import QPainter
-from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
 log = logging.getLogger(__name__)
 

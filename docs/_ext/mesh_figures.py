@@ -40,6 +40,7 @@ def _draw_mesh(ax, mesh, *, centroids: bool = True, colour=None) -> None:  # noq
 def subdivision(path: Path) -> None:
     """One 10 mm patch at n = 1 … 4: 2n² triangles, (n + 1)² vertices."""
     import matplotlib.pyplot as plt
+
     from barymesh import MeshParams, build_mesh
 
     fig, axes = plt.subplots(1, 4, figsize=(10, 2.9))
@@ -57,6 +58,7 @@ def rings(path: Path) -> None:
     """The paper's Fig. 12(c) (2 mm patches every 10°) in paper mode, and conforming."""
     import matplotlib.pyplot as plt
     import numpy as np
+
     from barymesh import build_mesh
     from barymesh.presets import load_preset
 
