@@ -26,19 +26,37 @@ from hypothesis import HealthCheck, settings  # noqa: E402
 # another name. pytest_sessionfinish fails the run if any test imported them.
 FOLDER_NAMES = ("core", "app")
 
-if os.environ.get("MUTANT_UNDER_TEST") is not None:  # pragma: no cover - only under mutmut
-    # `make mutate` runs the tests inside mutmut's copy of the checkout (mutants/), whose
-    # core/ holds the mutated code; import that copy as barymesh, not the editable install.
-    import importlib.util
-    from pathlib import Path
+UNDER_MUTMUT = os.environ.get("MUTANT_UNDER_TEST") is not None
 
-    _init = Path.cwd() / "core" / "__init__.py"
-    _spec = importlib.util.spec_from_file_location(
-        "barymesh", _init, submodule_search_locations=[str(_init.parent)]
-    )
-    _module = importlib.util.module_from_spec(_spec)
-    sys.modules["barymesh"] = _module
-    _spec.loader.exec_module(_module)
+if UNDER_MUTMUT:  # pragma: no cover - only under `make mutate`
+    # mutmut runs the tests inside its copy of the checkout (mutants/, the working
+    # directory), whose core/ holds the mutated code, and it names each function by its
+    # file's path (core.topology.x). So there the mesher is imported as `core`, from that
+    # copy, and every `barymesh.X` the tests import is the same module object as `core.X`.
+    import importlib
+    import importlib.abc
+    import importlib.util
+
+    class _Alias(importlib.abc.Loader):
+        def __init__(self, real: str) -> None:
+            self.real = real
+
+        def create_module(self, spec):
+            return importlib.import_module(self.real)
+
+        def exec_module(self, module) -> None:
+            pass
+
+    class _CoreAsBarymesh(importlib.abc.MetaPathFinder):
+        def find_spec(self, fullname, path=None, target=None):
+            top, _, rest = fullname.partition(".")
+            if top != "barymesh" or rest == "app" or rest.startswith("app."):
+                return None
+            real = "core" + fullname[len("barymesh") :]
+            return importlib.util.spec_from_loader(fullname, _Alias(real))
+
+    sys.path.insert(0, os.getcwd())
+    sys.meta_path.insert(0, _CoreAsBarymesh())
 
 # -- hypothesis: the same examples on every run, nothing written into the checkout ---------
 #
@@ -171,6 +189,8 @@ def release_gui():
 
 
 def pytest_sessionfinish(session, exitstatus):
+    if UNDER_MUTMUT:  # pragma: no cover - there, `core` is the mutated copy on purpose
+        return
     loaded = sorted(name for name in sys.modules if name.split(".")[0] in FOLDER_NAMES)
     if loaded:
         print(
