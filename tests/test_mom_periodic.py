@@ -16,7 +16,7 @@ import pytest
 
 from barymesh import MeshParams, build_mesh
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
-from barymesh.constants import SPEED_OF_LIGHT
+from barymesh.constants import ETA0, SPEED_OF_LIGHT
 from barymesh.mom import PlaneWave
 from barymesh.mom.operator import wavenumber
 from barymesh.mom.periodic import periodic_geometry, periodic_impedance_matrix, periodic_solve
@@ -202,3 +202,56 @@ def test_the_benchmark_runs_and_reports_both_solvers(tmp_path):
     assert row["triangles"] == 32  # a 4 x 4 pixel patch, 2 triangles per pixel at n = 1
     assert row["unknowns"] == row["free_space_unknowns"]  # the patch is off the cell's sides
     assert row["periodic_fill_s"] > 0 and row["free_space_fill_s"] > 0
+
+
+# -- sheet impedance -----------------------------------------------------------------------
+#
+# A uniform sheet of surface impedance Z_s filling the whole cell (metal across every side):
+# the exact plane-wave answer is R = −η_w / (2 Z_s + η_w), T = 2 Z_s / (2 Z_s + η_w), with
+# the wave impedance η_w = η/cos θ (TE) or η cos θ (TM); it absorbs 1 − |R|² − |T|².
+
+SHEETS = [ETA0 / 2, 50.0, 100 + 80j, 1000.0]
+
+
+@pytest.fixture(scope="module")
+def full_sheet():
+    return pixel_cell(np.ones((8, 8), dtype=bool), 1)  # 128 triangles, every side crossed
+
+
+def sheet_answer(zs: complex, wave_impedance: float) -> tuple[complex, complex]:
+    return -wave_impedance / (2 * zs + wave_impedance), 2 * zs / (2 * zs + wave_impedance)
+
+
+@pytest.mark.parametrize("zs", SHEETS)
+def test_uniform_resistive_sheet_at_normal_incidence(full_sheet, zs):
+    s = periodic_solve(full_sheet, 12e9, PlaneWave(), sheet_impedance=zs)
+    r, t = s.co_polar()
+    expected_r, expected_t = sheet_answer(zs, ETA0)
+    assert abs(r - expected_r) < 1e-4 and abs(t - expected_t) < 1e-4
+    # the dissipated power (½ Re Z_s ∫|J|²) against what the Floquet amplitudes leave
+    assert abs(s.absorption - (1 - abs(r) ** 2 - abs(t) ** 2)) < 1e-4
+    assert abs(s.power_balance - 1) < 1e-4
+
+
+@pytest.mark.parametrize("polarization_angle", [0, 90])  # TM, TE
+def test_uniform_resistive_sheet_at_oblique_incidence(full_sheet, polarization_angle):
+    wave = PlaneWave.from_angles(30, 0, polarization_angle)
+    s = periodic_solve(full_sheet, 12e9, wave, sheet_impedance=100 + 80j)
+    cos = abs(wave.direction[2])
+    eta_w = ETA0 / cos if polarization_angle == 90 else ETA0 * cos
+    r, t = s.co_polar()
+    expected_r, expected_t = sheet_answer(100 + 80j, eta_w)
+    assert abs(r - expected_r) < 2e-3 and abs(t - expected_t) < 2e-3
+    assert abs(s.power_balance - 1) < 1e-4
+
+
+def test_a_perfect_sheet_reflects_everything(full_sheet):
+    s = periodic_solve(full_sheet, 12e9, PlaneWave())
+    r, t = s.co_polar()
+    assert abs(r + 1) < 1e-4 and abs(t) < 1e-4 and s.absorption == 0.0
+
+
+@pytest.mark.parametrize("bad", [-1.0, "ten", True, float("nan"), complex(-1, 5)])
+def test_a_bad_sheet_impedance_is_named(full_sheet, bad):
+    with pytest.raises(ValueError, match="sheet_impedance"):
+        periodic_solve(full_sheet, 12e9, sheet_impedance=bad)

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import Any
 
@@ -469,6 +469,12 @@ class PeriodicSolution:
         wave in the (0, 0) order).
     incident_te_tm : (2,) complex
         The incident field's TE and TM components (unit amplitude).
+    condition_number, residual : float
+        Of the solve (see :func:`barymesh.mom.solve.dense_solve`).
+    sheet_impedance : complex
+        Z_s of the screen (Ω per square).
+    absorption : float
+        Power dissipated in the sheet over the incident power through the cell.
     """
 
     geometry: PeriodicGeometry
@@ -483,6 +489,8 @@ class PeriodicSolution:
     incident_te_tm: np.ndarray
     condition_number: float
     residual: float
+    sheet_impedance: complex = 0j
+    absorption: float = 0.0
 
     @property
     def power_fractions(self) -> tuple[np.ndarray, np.ndarray]:
@@ -495,9 +503,12 @@ class PeriodicSolution:
 
     @property
     def power_balance(self) -> float:
-        """Σ reflected + transmitted power over incident: 1 for a lossless screen."""
+        """Reflected, transmitted and absorbed power over the incident power: 1.
+
+        The absorbed part is that of a sheet impedance (zero on a perfect conductor).
+        """
         r, t = self.power_fractions
-        return float(r.sum() + t.sum())
+        return float(r.sum() + t.sum() + self.absorption)
 
     def co_polar(self) -> tuple[complex, complex]:
         """(R, T) of the (0, 0) order along the incident polarisation."""
@@ -518,6 +529,7 @@ def periodic_solve(
     incidence: PlaneWave | None = None,
     *,
     lattice: Any = None,
+    sheet_impedance: complex = 0.0,
 ) -> PeriodicSolution:
     """Reflection and transmission of the infinite array of ``mesh`` at one frequency.
 
@@ -531,6 +543,11 @@ def periodic_solve(
         Default: normal incidence from above, E along x.
     lattice : Lattice, optional
         The array's lattice (mm); default the mesh's own (a unit cell's).
+    sheet_impedance : complex
+        Surface impedance Z_s of the screen (Ω per square, Re Z_s >= 0): the boundary
+        condition E_tan = Z_s J adds Z_s times the Gram matrix to the EFIE. 0 is a
+        perfect conductor; a resistive or lossy sheet absorbs
+        (:attr:`PeriodicSolution.absorption`).
 
     Returns
     -------
@@ -545,10 +562,25 @@ def periodic_solve(
     d = np.asarray(wave.direction)
     if abs(d[2]) < 1e-9:
         raise ValueError("the incident wave travels along the screen (direction_z = 0)")
+    try:
+        zs = complex(sheet_impedance)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"sheet_impedance={sheet_impedance!r} is not a number (ohms per square)"
+        ) from None
+    if isinstance(sheet_impedance, bool) or not np.isfinite(zs) or zs.real < 0:
+        raise ValueError(
+            f"sheet_impedance={sheet_impedance!r} is invalid; expected a finite complex "
+            "number with a real part >= 0 (ohms per square; a negative one would be a gain)"
+        )
     pg = periodic_geometry(mesh, lattice)
     k = wavenumber(frequency)
     kt = (float(k * d[0]), float(k * d[1]))
     z = periodic_impedance_matrix(pg, k, kt)
+    gram = None
+    if zs != 0:
+        gram = gram_matrix(pg, np.asarray(kt))
+        z += zs * gram.toarray()
     base = pg.base
     rule = base.near
     e = wave.field(rule.points, k)
@@ -557,7 +589,29 @@ def periodic_solve(
     _, test = pg.basis_maps(np.asarray(kt))
     v = test @ np.concatenate([e1, e0[:, 0], e0[:, 1]])
     current, cond, residual = dense_solve(z, v)
-    return _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual)
+    solution = _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual)
+    absorbed = 0.0
+    if gram is not None:
+        # ½ Re(Z_s) ∫ |J|² over the cell, against the incident power through it
+        dissipated = 0.5 * zs.real * float(np.real(np.vdot(current, gram @ current)))
+        incident = wave.amplitude**2 / (2.0 * ETA0) * pg.area * abs(float(d[2]))
+        absorbed = dissipated / incident
+    return replace(solution, sheet_impedance=zs, absorption=absorbed)
+
+
+def gram_matrix(pg: PeriodicGeometry, kt: np.ndarray) -> sp.csr_matrix:
+    """(N, N) sparse G_mn = ∫ f_m*·f_n dS over cell (0, 0): the RWG Gram matrix.
+
+    Per triangle, f = C ρ + D with ρ measured from its centroid, so ∫ f_m·f_n =
+    C_m C_n ∫ |ρ|² + D_m·D_n A (the cross terms vanish: ∫ ρ dS = 0). Testing halves
+    carry the conjugate Floquet phase, as in the impedance matrix.
+    """
+    base = pg.base
+    rule = base.near
+    second = np.einsum("tq,tqc,tqc->t", rule.weights, rule.rho, rule.rho)  # ∫ |ρ|² dS
+    weights = np.concatenate([second, base.areas, base.areas])
+    basis, test = pg.basis_maps(kt)
+    return (test @ sp.diags(weights) @ basis.T).tocsr()
 
 
 def _current(pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.ndarray):
