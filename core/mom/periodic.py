@@ -50,7 +50,7 @@ from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry
 from .operator import ETA0, wavenumber
 from .periodic_green import PeriodicGreen
 from .singular import potential_integrals
-from .solve import dense_solve
+from .solve import check_sheet_impedance, dense_solve
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
@@ -562,17 +562,7 @@ def periodic_solve(
     d = np.asarray(wave.direction)
     if abs(d[2]) < 1e-9:
         raise ValueError("the incident wave travels along the screen (direction_z = 0)")
-    try:
-        zs = complex(sheet_impedance)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"sheet_impedance={sheet_impedance!r} is not a number (ohms per square)"
-        ) from None
-    if isinstance(sheet_impedance, bool) or not np.isfinite(zs) or zs.real < 0:
-        raise ValueError(
-            f"sheet_impedance={sheet_impedance!r} is invalid; expected a finite complex "
-            "number with a real part >= 0 (ohms per square; a negative one would be a gain)"
-        )
+    zs = check_sheet_impedance(sheet_impedance)
     pg = periodic_geometry(mesh, lattice)
     k = wavenumber(frequency)
     kt = (float(k * d[0]), float(k * d[1]))

@@ -19,6 +19,7 @@ import numpy as np
 from ..constants import ETA0, SPEED_OF_LIGHT
 from .excitation import PlaneWave, VoltageSource
 from .geometry import METRES_PER_MESH_UNIT, MomGeometry
+from .operator import gram_matrix
 
 
 def directions(theta: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -48,6 +49,8 @@ class Solution:
         ‖Z I − V‖ / ‖V‖.
     warnings : tuple of str
         Caveats, e.g. overlapping patches in a paper-mode mesh.
+    sheet_impedance : complex
+        Z_s of the surface (Ω per square); 0 for a perfect conductor.
     """
 
     geometry: MomGeometry
@@ -58,6 +61,7 @@ class Solution:
     condition_number: float = float("nan")
     residual: float = float("nan")
     warnings: tuple[str, ...] = field(default=())
+    sheet_impedance: complex = 0j
 
     # -- current and charge -------------------------------------------------
 
@@ -137,8 +141,18 @@ class Solution:
 
     @property
     def absorption_cross_section(self) -> float:
-        """σ_ext − σ_s (m²): ≈ 0 for a perfect conductor, a check of the solve."""
+        """σ_ext − σ_s (m²): ≈ 0 for a perfect conductor, a check of the solve; for a
+        resistive sheet, ≈ :attr:`ohmic_power` over the incident intensity."""
         return self.extinction_cross_section - self.scattering_cross_section
+
+    @cached_property
+    def ohmic_power(self) -> float:
+        """½ Re(Z_s) ∫ |J|² dS (W): the power a sheet impedance dissipates (0 for a PEC)."""
+        if self.sheet_impedance == 0:
+            return 0.0
+        gram = gram_matrix(self.geometry)
+        current = self.coefficients
+        return 0.5 * self.sheet_impedance.real * float(np.real(np.vdot(current, gram @ current)))
 
     def _sphere_degree(self) -> int:
         g = self.geometry

@@ -15,7 +15,7 @@ from . import geometry
 from .caveats import solve_warnings
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import FAR_ORDER, NEAR_FACTOR, NEAR_ORDER, MomGeometry, mom_geometry
-from .operator import impedance_matrix, wavenumber
+from .operator import gram_matrix, impedance_matrix, wavenumber
 from .quadrature import triangle_rule
 from .solution import Solution
 
@@ -223,16 +223,38 @@ def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float]
     return current, cond, residual
 
 
+def check_sheet_impedance(value: object) -> complex:
+    """``value`` as a surface impedance Z_s (Ω per square); a ValueError naming it if invalid."""
+    try:
+        zs = complex(value)  # type: ignore[call-overload]  # any input: refused below
+    except (TypeError, ValueError):
+        raise ValueError(f"sheet_impedance={value!r} is not a number (ohms per square)") from None
+    if isinstance(value, bool) or not np.isfinite(zs) or zs.real < 0:
+        raise ValueError(
+            f"sheet_impedance={value!r} is invalid; expected a finite complex number with a "
+            "real part >= 0 (ohms per square; a negative one would be a gain)"
+        )
+    return zs
+
+
 def _solve_at(
-    mesh: TriMesh, geom: MomGeometry, frequency: float, excitation: PlaneWave | VoltageSource
+    mesh: TriMesh,
+    geom: MomGeometry,
+    frequency: float,
+    excitation: PlaneWave | VoltageSource,
+    sheet_impedance: complex = 0j,
 ) -> Solution:
     k = wavenumber(frequency)
     z = impedance_matrix(geom, k)
+    if sheet_impedance != 0:
+        z += sheet_impedance * gram_matrix(geom).toarray()
     v = excitation_vector(geom, k, excitation)
     i, cond, residual = dense_solve(z, v)
     del z
     warnings = solve_warnings(mesh, k, cond)
-    return Solution(geom, frequency, excitation, i, v, cond, residual, warnings)
+    return Solution(
+        geom, frequency, excitation, i, v, cond, residual, warnings, complex(sheet_impedance)
+    )
 
 
 def solve(
@@ -244,8 +266,9 @@ def solve(
     far_order: int = FAR_ORDER,
     near_factor: float = NEAR_FACTOR,
     memory_limit: float | None = None,
+    sheet_impedance: complex = 0.0,
 ) -> Solution:
-    """Currents on a perfectly conducting mesh in free space at one frequency.
+    """Currents on a perfectly conducting (or resistive) mesh in free space at one frequency.
 
     EFIE, RWG basis and Galerkin testing, time convention e^(jωt); the mesh's
     mm are converted to metres.
@@ -263,6 +286,10 @@ def solve(
         Near-pair distance in units of the larger triangle's longest edge.
     memory_limit : float, optional
         Refuse problems whose matrix and LU need more bytes than this.
+    sheet_impedance : complex
+        Surface impedance Z_s (Ω per square, Re Z_s >= 0) of the whole surface: the
+        boundary condition E_tan = Z_s J adds Z_s times the Gram matrix to the EFIE, and
+        :attr:`Solution.ohmic_power` is what the sheet dissipates. 0: a perfect conductor.
 
     Returns
     -------
@@ -284,11 +311,12 @@ def solve(
     """
     frequency = _check_frequency(frequency)
     excitation = _default_excitation(excitation)
+    zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
-    solution = _solve_at(mesh, geom, frequency, excitation)
+    solution = _solve_at(mesh, geom, frequency, excitation, zs)
     for text in solution.warnings:
         log.warning(text)
     return solution
@@ -422,6 +450,7 @@ def sweep(
     far_order: int = FAR_ORDER,
     near_factor: float = NEAR_FACTOR,
     memory_limit: float | None = None,
+    sheet_impedance: complex = 0.0,
 ) -> SweepResult:
     """Solve at each frequency, reusing the frequency-independent geometry.
 
@@ -438,7 +467,7 @@ def sweep(
         with :class:`SolveCancelled`.
     scattering : bool
         Also integrate the far field for the scattering cross-section.
-    order, far_order, near_factor, memory_limit
+    order, far_order, near_factor, memory_limit, sheet_impedance
         As for :func:`solve`.
 
     Returns
@@ -456,6 +485,7 @@ def sweep(
     if np.any(np.diff(freqs) <= 0):
         raise ValueError("frequencies must be strictly increasing")
     excitation = _default_excitation(excitation)
+    zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
@@ -472,7 +502,7 @@ def sweep(
     for j, f in enumerate(freqs):
         if cancel is not None and cancel():
             raise SolveCancelled(f"the sweep was cancelled after {j} of {nf} frequencies")
-        s = _solve_at(mesh, geom, float(f), excitation)
+        s = _solve_at(mesh, geom, float(f), excitation, zs)
         coefs[j] = s.coefficients
         conds[j] = s.condition_number
         residuals[j] = s.residual
