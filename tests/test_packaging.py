@@ -94,6 +94,16 @@ def test_python_dash_m_barymesh_is_the_command(tmp_path):
     assert "paper-fig10" in out.stdout and "hexagonal-rings" in out.stdout
 
 
+def _stats_json(program: Path, cwd: Path, *prefix: str) -> subprocess.CompletedProcess:
+    """``program [prefix] mesh --cell-preset hexagonal-rings --stats-json -``, checked."""
+    args = [program, *prefix, "mesh", "--cell-preset", "hexagonal-rings", "--stats-json", "-"]
+    out = subprocess.run(
+        args, cwd=cwd, env=_clean_env(), capture_output=True, text=True, timeout=300
+    )
+    assert out.returncode == 0, out.stderr
+    return out
+
+
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("wheel")
@@ -163,39 +173,8 @@ def test_wheel_in_a_fresh_environment(wheel, tmp_path):
     )
     assert stats.returncode == 0, stats.stderr
     assert json.loads(stats.stdout)["triangles"] == 32
-    cell = subprocess.run(
-        [
-            env_dir / "bin" / "barymesh",
-            "mesh",
-            "--cell-preset",
-            "hexagonal-rings",
-            "--stats-json",
-            "-",
-        ],
-        cwd=elsewhere,
-        env=_clean_env(),
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert cell.returncode == 0, cell.stderr
+    cell = _stats_json(env_dir / "bin" / "barymesh", elsewhere)
+    here = _stats_json(Path(sys.executable), elsewhere, "-m", "barymesh")
     # the same cell as the checkout's own command line builds it
-    here = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "barymesh",
-            "mesh",
-            "--cell-preset",
-            "hexagonal-rings",
-            "--stats-json",
-            "-",
-        ],
-        cwd=elsewhere,
-        env=_clean_env(),
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
     assert json.loads(cell.stdout) == json.loads(here.stdout)
     assert json.loads(cell.stdout)["cell"]["triangles"] == 688  # 43 patches of 16

@@ -274,7 +274,7 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     rank = np.cumsum(~near_mirrored) - 1
     near_half = np.where(near_mirrored, rank[partner], rank)
     near_distances = _pair_distances(near.points[obs[near_upper]], near.points[src[near_upper]])
-    static_inv_r, static_r = _static_moments(near, corners, centroids, obs, src)
+    static_inv_r, static_r = static_moments(near, corners, centroids, obs, src)
 
     far_distances = None
     n_points = far.points.shape[0] * far.size
@@ -350,10 +350,15 @@ def _pair_distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.sqrt(d2, out=d2)
 
 
-def _static_moments(
+def static_moments(
     near: Rule, corners: np.ndarray, centroids: np.ndarray, obs: np.ndarray, src: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(K, 8) moments of 1/R and R: near rule outside, closed form inside."""
+    """(K, 8) moments of 1/R and R: near rule outside, closed form inside.
+
+    Pair i is observation triangle ``obs[i]`` of the rule against the source triangle in
+    row ``src[i]`` of ``corners`` and ``centroids``, which need not be the mesh's own (the
+    periodic solver passes images of them moved by lattice vectors).
+    """
     k, q = len(obs), near.size
     r = near.points[obs].reshape(-1, 3)  # (K Q, 3)
     inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(r, corners, np.repeat(src, q))

@@ -46,10 +46,9 @@ from scipy.ndimage import map_coordinates, spline_filter
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
-from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry
+from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry, static_moments
 from .operator import ETA0, wavenumber
 from .periodic_green import PeriodicGreen
-from .singular import potential_integrals
 from .solve import check_sheet_impedance, dense_solve
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
@@ -250,25 +249,9 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
     corners = base.vertices[base.triangles]
     src_corners = corners[src] + offset3[:, None, :]
     src_centroids = base.centroids[src] + offset3
+    # the free-space solver's closed-form 1/R and R moments, against the shifted sources
+    static = static_moments(base.near, src_corners, src_centroids, obs, np.arange(len(obs)))
     rule = base.near
-    q = rule.size
-    r = rule.points[obs].reshape(-1, 3)
-    inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(
-        r, src_corners, np.repeat(np.arange(len(obs)), q)
-    )
-    w = rule.weights[obs]
-    rho = rule.rho[obs]
-    to_centroid = (r - np.repeat(src_centroids, q, axis=0)).reshape(len(obs), q, 3)
-    static = []
-    for scalar, vector in ((inv_r, vec_inv_r), (r1, vec_r1)):
-        s = scalar.reshape(len(obs), q)
-        v = vector.reshape(len(obs), q, 3) + to_centroid * s[:, :, None]
-        m = np.empty((len(obs), 8))
-        m[:, 0] = (w * s).sum(axis=1)
-        m[:, 1:4] = np.einsum("kq,kqc->kc", w * s, rho)
-        m[:, 4:7] = np.einsum("kq,kqc->kc", w, v)
-        m[:, 7] = np.einsum("kq,kqc->k", w, rho * v)
-        static.append(m)
     src_points = rule.points[src] + offset3[:, None, :]
     d = rule.points[obs][:, :, None, :] - src_points[:, None, :, :]
     near_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
