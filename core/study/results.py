@@ -150,10 +150,17 @@ def read_result(output: str | Path) -> StudyResult:
     meta = json.loads(paths[2].read_text(encoding="utf-8"))
     spec = parse_spec(meta["spec"])
     if Path(output).suffix.lower() == ".csv":
+        from .point import FREE_SPACE_COLUMNS
+
         table = pd.read_csv(paths[0], index_col="point")
+        table = table.astype(dict.fromkeys(FREE_SPACE_COLUMNS, float))
         derived = pd.read_csv(paths[1], index_col="point", keep_default_na=False)
         for c in spec.derived_columns:
             derived[c] = pd.to_numeric(derived[c]).astype(float)
+        for axis in spec.axes:  # CSV writes 14.0 as 14: the spec's values give the type
+            if any(isinstance(v, float) for v in axis.values):
+                for frame in (table, derived):
+                    frame[axis.path] = frame[axis.path].astype(float)
     else:
         table = pd.read_parquet(paths[0], engine="pyarrow")
         derived = pd.read_parquet(paths[1], engine="pyarrow")

@@ -315,11 +315,11 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
         if not axis.incidence:
             base.design({axis.path: axis.values[0]})
     document = {
-        "base": {"kind": base.kind, "data": base.data},
+        "base": {"params" if base.kind == "params" else "cell": base.data},
         "axes": {a.path: list(a.values) for a in axes},
         "sample": sample,
-        "solve": {k: v for k, v in solve.__dict__.items() if v is not None},
-        "derive": [d.__dict__ for d in derive],
+        "solve": _solve_document(solve),
+        "derive": [{d.name: list(d.at)} if d.at else d.name for d in derive],
         "output": output,
     }
     document = json.loads(json.dumps(document))  # tuples to lists: the canonical form
@@ -349,6 +349,13 @@ def _base(raw: Any, base_dir: str | Path | None) -> Base:
     if key in ("cell", "cell_preset"):
         from ..cell import cell_preset_names, cell_to_dict, load_cell, load_cell_preset
 
+        if key == "cell" and isinstance(value, dict):  # a cell document inline
+            from ..cell import cell_from_dict
+
+            try:
+                return Base("cell", cell_to_dict(cell_from_dict(value, where)))
+            except (TypeError, ValueError) as exc:
+                raise _fail(where, str(exc)) from None
         if not isinstance(value, str):
             raise _fail(where, f"{_kind(value)}; expected a name or a path")
         try:
@@ -436,6 +443,15 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
     kind = raw.get("kind")
     if kind not in SOLVE_KINDS:
         raise _fail("solve.kind", f"{kind!r}; expected one of {', '.join(SOLVE_KINDS)}")
+    if kind == "infinite_array":
+        from .. import mom
+
+        if not hasattr(mom, "periodic_sweep"):
+            raise _fail(
+                "solve.kind",
+                "infinite_array is not available yet (it needs barymesh.mom.periodic_sweep, "
+                "being written); use free_space",
+            )
     known = {"kind", "frequencies", "memory_limit", *INCIDENCE_KEYS}
     if kind == "free_space":
         known |= {"direction", "polarization"}
@@ -486,6 +502,18 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
                 _plane_wave({**incidence, a.path.split(".")[1]: v}, a.path)
         _plane_wave(incidence, "solve")
     return Solve(kind, tuple(values), direction, polarization, incidence, memory)
+
+
+def _solve_document(solve: Solve) -> dict[str, Any]:
+    """The solve settings as the spec writes them (what :func:`_solve` reads back)."""
+    doc: dict[str, Any] = {"kind": solve.kind, "frequencies": list(solve.frequencies)}
+    if solve.memory_limit is not None:
+        doc["memory_limit"] = solve.memory_limit
+    if solve.direction is not None:
+        doc.update(direction=solve.direction, polarization=solve.polarization)
+    else:
+        doc.update(solve.incidence or {})
+    return doc
 
 
 def incidence_angle(pol: Any, where: str) -> float:
