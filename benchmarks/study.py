@@ -60,14 +60,14 @@ def study_spec(side: int, frequencies: int) -> dict[str, Any]:
     }
 
 
-def timed_serial(spec: Any) -> float:
-    """Seconds of :func:`run_serial` over ``spec``, after one point to warm up."""
+def timed_serial(spec: Any) -> tuple[float, Any]:
+    """Seconds of :func:`run_serial` over ``spec`` (after one point to warm up), and its result."""
     from barymesh.study.point import solve_point
 
     solve_point(StudyContext.of(spec), 0, spec.points()[0])  # imports, quadrature rules
     start = time.perf_counter()
-    run_serial(spec)
-    return time.perf_counter() - start
+    result = run_serial(spec)
+    return time.perf_counter() - start, result
 
 
 def single_blas_thread(argv: list[str]) -> float:
@@ -104,7 +104,11 @@ def cluster_run(spec: Any, processes: bool, workers: int, empty_tasks: int) -> d
     start = time.perf_counter()
     with (
         LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=processes, dashboard_address=":0"
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=processes,
+            dashboard_address="127.0.0.1:0",
+            **({"host": "127.0.0.1"} if processes else {}),  # threads talk in-process
         ) as cluster,
         Client(cluster) as client,
     ):
@@ -133,15 +137,15 @@ def main(argv: list[str] | None = None) -> int:
     spec = parse_spec(study_spec(side, freqs))
     n = len(spec.points())
     if args.serial_only:  # the serial loop alone, in a process of its own (one BLAS thread)
-        print(json.dumps({"serial_s": timed_serial(spec)}))
+        print(json.dumps({"serial_s": timed_serial(spec)[0]}))
         return 0
     load_before = os.getloadavg()
     print(f"{n} points x {freqs} frequencies, {args.workers} workers; load {load_before[0]:.2f}")
 
     from barymesh.study.point import solve_point
 
-    serial_s = serial_all = timed_serial(spec)
-    serial = run_serial(spec)
+    serial_s, serial = timed_serial(spec)
+    serial_all = serial_s
     print(f"serial      {serial_s:8.2f} s  ({serial_s / n:.3f} s per point, BLAS on all cores)")
     one = single_blas_thread(argv or [])
     print(f"serial      {one:8.2f} s  ({one / n:.3f} s per point, one BLAS thread)")

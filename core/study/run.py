@@ -330,7 +330,8 @@ def _client(
             n_workers=n,
             threads_per_worker=1,
             processes=processes,
-            dashboard_address=":0",
+            dashboard_address="127.0.0.1:0",
+            **({"host": "127.0.0.1"} if processes else {}),  # threads talk in-process
         ) as cluster,
         Client(cluster) as c,
     ):
