@@ -170,3 +170,19 @@ def test_bad_points_are_error_rows_and_the_study_goes_on(client, tmp_path):
     assert result.derived.loc[result.derived.status != "ok", "quality_factor"].isna().all()
     back = read_result(tmp_path / "b.csv")
     pd.testing.assert_frame_equal(back.derived, result.derived, check_exact=True)
+
+
+def test_a_study_runs_on_a_scheduler_by_address_or_from_the_dask_config(client, reference):
+    import dask
+
+    address = client.scheduler.address
+    assert address.startswith("tcp://127.0.0.1:")
+    by_address = run(parse_spec(SPEC), scheduler=address)
+    assert_same(by_address, reference)
+    assert by_address.meta["workers"] == 2  # the fixture's two workers, no new cluster
+    with dask.config.set({"scheduler-address": address}):
+        from_config = run(parse_spec(SPEC))
+    assert_same(from_config, reference)
+    assert from_config.meta["workers"] == 2
+    with pytest.raises(ValueError, match="workers= sizes a local cluster"):
+        run(parse_spec(SPEC), scheduler=address, workers=2)

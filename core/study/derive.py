@@ -63,9 +63,16 @@ def bandwidth_3db(frequencies: np.ndarray, response: np.ndarray) -> float:
 
 
 def derived_figures(
-    derive: tuple[Derive, ...], frequencies: np.ndarray, response: np.ndarray
+    derive: tuple[Derive, ...], table: dict[str, np.ndarray], response: np.ndarray
 ) -> dict[str, float]:
-    """The derived table's columns of one point: ``{column: value}`` in ``derive``'s order."""
+    """The derived table's columns of one point: ``{column: value}`` in ``derive``'s order.
+
+    ``table`` holds the point's per-frequency columns; ``response`` (F,) is the power-like
+    quantity whose peak is the resonance: σ_ext in free space, |R_co|² for an infinite
+    array. ``extinction_cross_section_at`` and ``reflection_at`` interpolate
+    ``extinction_cross_section_m2`` and ``reflection_co_abs`` linearly.
+    """
+    frequencies = table["frequency_hz"]
     out: dict[str, float] = {}
     peak: tuple[float, float] | None = None
     for d in derive:
@@ -76,6 +83,9 @@ def derived_figures(
         elif d.name == "bandwidth_3db":
             out[d.columns[0]] = bandwidth_3db(frequencies, response)
         else:  # a value at given frequencies, interpolated between samples
-            values = np.interp(np.asarray(d.at), frequencies, response)
+            name = "extinction_cross_section_m2"
+            if d.name == "reflection_at":
+                name = "reflection_co_abs"
+            values = np.interp(np.asarray(d.at), frequencies, table[name])
             out.update({c: float(v) for c, v in zip(d.columns, values, strict=True)})
     return out

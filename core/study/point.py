@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from .derive import derived_figures
-from .spec import Base, Derive, Solve, StudySpec, _plane_wave
+from .spec import Base, Derive, Solve, StudySpec, plane_wave
 
 #: The per-frequency columns of a free-space point, as ``barymesh solve -o x.csv`` names
 #: them (:data:`barymesh.app.cli_solve.CSV_COLUMNS`).
@@ -36,6 +36,31 @@ FREE_SPACE_COLUMNS = (
     "condition_number",
     "residual",
 )
+
+#: The per-frequency columns of an infinite-array point: the (0, 0) order's TE and TM
+#: reflection and transmission (real and imaginary parts, incident amplitude 1;
+#: transmission includes the incident wave), their co-polar magnitudes along the incident
+#: polarisation, and the power not reflected nor transmitted in any propagating order
+#: (what a sheet impedance absorbs; the power-balance error on a perfect conductor).
+INFINITE_ARRAY_COLUMNS = (
+    "frequency_hz",
+    "reflection_te_real",
+    "reflection_te_imag",
+    "reflection_tm_real",
+    "reflection_tm_imag",
+    "transmission_te_real",
+    "transmission_te_imag",
+    "transmission_tm_real",
+    "transmission_tm_imag",
+    "reflection_co_abs",
+    "transmission_co_abs",
+    "absorption",
+)
+
+
+def solve_columns(kind: str) -> tuple[str, ...]:
+    """The per-frequency columns of a solve ``kind`` (``frequency_hz`` first)."""
+    return FREE_SPACE_COLUMNS if kind == "free_space" else INFINITE_ARRAY_COLUMNS
 
 
 @dataclass(frozen=True)
@@ -109,9 +134,9 @@ def incidence_wave(context: StudyContext, values: dict[str, Any]) -> Any:
     """The point's PlaneWave: the solve's incidence with the point's incidence axes."""
     s = context.solve
     if s.direction is not None:
-        return _plane_wave({"direction": s.direction, "polarization": s.polarization}, "solve")
+        return plane_wave({"direction": s.direction, "polarization": s.polarization}, "solve")
     _, incidence = split_values(values)
-    return _plane_wave({**(s.incidence or {}), **incidence}, "solve")
+    return plane_wave({**(s.incidence or {}), **incidence}, "solve")
 
 
 def error_point(context: StudyContext, index: int, values: dict[str, Any], status: str):
@@ -149,11 +174,12 @@ def solve_point(
     if memory_limit is not None:
         limit = memory_limit if limit is None else min(limit, memory_limit)
     try:
-        table, response = _free_space(mesh, context.solve, wave, limit)
+        solve = _free_space if context.solve.kind == "free_space" else _infinite_array
+        table, response = solve(mesh, context.solve, wave, limit)
     except (ValueError, TypeError, MemoryError, ArithmeticError) as exc:
         point = error_point(context, index, values, one_line(exc))
         return PointResult(**{**point.__dict__, "unknowns": len(mesh.rwg)})
-    derived = derived_figures(context.derive, table["frequency_hz"], response)
+    derived = derived_figures(context.derive, table, response)
     return PointResult(index, dict(values), "ok", table, derived, len(mesh.rwg))
 
 
@@ -188,3 +214,40 @@ def _free_space(mesh: Any, solve: Solve, wave: Any, limit: float | None):
         for name, c in zip(FREE_SPACE_COLUMNS, columns, strict=True)
     }
     return table, ext
+
+
+def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None):
+    """The (0, 0) order over frequency (:func:`barymesh.mom.periodic_sweep`); the response
+    the figures are derived from is the reflected power |R_co|²."""
+    from ..mom import periodic_sweep
+    from ..mom.solve import check_memory
+
+    check_memory(len(mesh.rwg), limit)
+    r = periodic_sweep(
+        mesh,
+        np.asarray(solve.frequencies),
+        wave,
+        interpolate=solve.interpolate,
+        polarizations="incident",
+    )
+    refl, trans = r.reflection, r.transmission  # (F, 2): TE, TM
+    r_co, t_co = r.co_polar()
+    columns = (
+        r.frequencies,
+        refl[:, 0].real,
+        refl[:, 0].imag,
+        refl[:, 1].real,
+        refl[:, 1].imag,
+        trans[:, 0].real,
+        trans[:, 0].imag,
+        trans[:, 1].real,
+        trans[:, 1].imag,
+        np.abs(r_co),
+        np.abs(t_co),
+        r.absorption,
+    )
+    table = {
+        name: np.ascontiguousarray(c, dtype=float)
+        for name, c in zip(INFINITE_ARRAY_COLUMNS, columns, strict=True)
+    }
+    return table, np.abs(r_co) ** 2

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .point import PointResult
+from .point import PointResult, solve_columns
 from .spec import StudySpec
 
 #: Schema metadata key of a part file that holds the point's derived row (JSON).
@@ -150,10 +150,8 @@ def read_result(output: str | Path) -> StudyResult:
     meta = json.loads(paths[2].read_text(encoding="utf-8"))
     spec = parse_spec(meta["spec"])
     if Path(output).suffix.lower() == ".csv":
-        from .point import FREE_SPACE_COLUMNS
-
         table = pd.read_csv(paths[0], index_col="point")
-        table = table.astype(dict.fromkeys(FREE_SPACE_COLUMNS, float))
+        table = table.astype(dict.fromkeys(solve_columns(spec.solve.kind), float))
         derived = pd.read_csv(paths[1], index_col="point", keep_default_na=False)
         for c in spec.derived_columns:
             derived[c] = pd.to_numeric(derived[c]).astype(float)
@@ -176,9 +174,7 @@ def tables(spec: StudySpec, points: list[PointResult]) -> tuple[pd.DataFrame, pd
     figures = list(spec.derived_columns)
     points = sorted(points, key=lambda p: p.index)
     frames = []
-    from .point import FREE_SPACE_COLUMNS
-
-    columns = list(FREE_SPACE_COLUMNS)
+    columns = list(solve_columns(spec.solve.kind))
     for p in points:
         if p.status != "ok":
             continue

@@ -175,7 +175,9 @@ class Solve:
 
     ``frequencies`` (F,) Hz; for ``free_space`` either ``direction`` and ``polarization``
     (vectors) or ``incidence`` angles (``theta``, ``phi`` in degrees, ``pol`` "TE", "TM"
-    or an angle from θ̂ towards φ̂); for ``infinite_array`` the incidence angles.
+    or an angle from θ̂ towards φ̂); for ``infinite_array`` the incidence angles, and
+    ``interpolate`` (solve at chosen samples and fit the rest, as
+    :func:`barymesh.mom.periodic_sweep` does; False solves every frequency).
     """
 
     kind: str
@@ -184,6 +186,7 @@ class Solve:
     polarization: tuple[float, float, float] | None = None
     incidence: dict[str, Any] | None = None
     memory_limit: float | None = None
+    interpolate: bool = True
 
 
 @dataclass(frozen=True)
@@ -200,7 +203,7 @@ class Derive:
             return (FIGURE_COLUMNS[self.name],)
         quantity = {
             "extinction_cross_section_at": "extinction_cross_section_m2",
-            "reflection_at": "reflection_abs",
+            "reflection_at": "reflection_co_abs",
         }[self.name]
         return tuple(f"{quantity}_at_{f / 1e9:.6g}GHz" for f in self.at)
 
@@ -311,6 +314,8 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
         raise _fail("output", f"{_kind(output)}; expected a file name (.parquet or .csv)")
     if output is not None and Path(output).suffix.lower() not in (".parquet", ".csv"):
         raise _fail("output", f"{output!r}: expected a .parquet or .csv file")
+    if solve.kind == "infinite_array" and base.kind != "cell":
+        raise _fail("solve.kind", "infinite_array needs a unit cell: base cell or cell_preset")
     for axis in axes:  # every geometry path must exist in the base
         if not axis.incidence:
             base.design({axis.path: axis.values[0]})
@@ -443,18 +448,11 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
     kind = raw.get("kind")
     if kind not in SOLVE_KINDS:
         raise _fail("solve.kind", f"{kind!r}; expected one of {', '.join(SOLVE_KINDS)}")
-    if kind == "infinite_array":
-        from .. import mom
-
-        if not hasattr(mom, "periodic_sweep"):
-            raise _fail(
-                "solve.kind",
-                "infinite_array is not available yet (it needs barymesh.mom.periodic_sweep, "
-                "being written); use free_space",
-            )
     known = {"kind", "frequencies", "memory_limit", *INCIDENCE_KEYS}
     if kind == "free_space":
         known |= {"direction", "polarization"}
+    else:
+        known |= {"interpolate"}
     extra = sorted(set(raw) - known)
     if extra:
         raise _fail(f"solve.{extra[0]}", f"unknown key for {kind}; expected {sorted(known)}")
@@ -482,6 +480,9 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
     memory = raw.get("memory_limit")
     if memory is not None and not _number("solve.memory_limit", memory) > 0:
         raise _fail("solve.memory_limit", f"{memory!r}; expected bytes > 0")
+    interpolate = raw.get("interpolate", True)
+    if not isinstance(interpolate, bool):
+        raise _fail("solve.interpolate", f"{interpolate!r}; expected true or false")
     angles = {k: raw[k] for k in INCIDENCE_KEYS if k in raw}
     vectors = {k: raw[k] for k in ("direction", "polarization") if k in raw}
     varied = [a for a in axes if a.incidence]
@@ -494,14 +495,14 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
     if vectors:
         direction = _vector("solve.direction", vectors.get("direction", [0, 0, -1]))
         polarization = _vector("solve.polarization", vectors.get("polarization", [1, 0, 0]))
-        _plane_wave({"direction": direction, "polarization": polarization}, "solve")
+        plane_wave({"direction": direction, "polarization": polarization}, "solve")
     else:
         incidence = {"theta": 0.0, "phi": 0.0, "pol": "TM", **angles}
         for a in varied:  # each value must make a wave
             for v in a.values:
-                _plane_wave({**incidence, a.path.split(".")[1]: v}, a.path)
-        _plane_wave(incidence, "solve")
-    return Solve(kind, tuple(values), direction, polarization, incidence, memory)
+                plane_wave({**incidence, a.path.split(".")[1]: v}, a.path)
+        plane_wave(incidence, "solve")
+    return Solve(kind, tuple(values), direction, polarization, incidence, memory, interpolate)
 
 
 def _solve_document(solve: Solve) -> dict[str, Any]:
@@ -509,6 +510,8 @@ def _solve_document(solve: Solve) -> dict[str, Any]:
     doc: dict[str, Any] = {"kind": solve.kind, "frequencies": list(solve.frequencies)}
     if solve.memory_limit is not None:
         doc["memory_limit"] = solve.memory_limit
+    if solve.kind == "infinite_array":
+        doc["interpolate"] = solve.interpolate
     if solve.direction is not None:
         doc.update(direction=solve.direction, polarization=solve.polarization)
     else:
@@ -525,8 +528,10 @@ def incidence_angle(pol: Any, where: str) -> float:
     return float(pol)
 
 
-def _plane_wave(incidence: dict[str, Any], where: str) -> Any:
-    """The PlaneWave of ``incidence`` (vectors or angles); a bad one is a SpecError."""
+def plane_wave(incidence: dict[str, Any], where: str) -> Any:
+    """The :class:`~barymesh.mom.PlaneWave` of ``incidence``: ``direction`` and
+    ``polarization`` vectors, or ``theta``, ``phi`` and ``pol``; a bad one is a
+    :class:`SpecError` naming ``where``."""
     from ..mom import PlaneWave
 
     try:
