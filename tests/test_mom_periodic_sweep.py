@@ -201,3 +201,80 @@ def test_bad_input_is_named(dipoles):
         periodic_sweep(dipoles, [SPEED_OF_LIGHT / (P * 1e-3)], interpolate=False)
     with pytest.raises(SolveCancelled):
         periodic_sweep(dipoles, BAND, cancel=lambda: True)
+
+
+# -- files -------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def l_cell_sweep():
+    """An L with unequal arms (no mirror symmetry): cross-polarised, so S12 = S21 is
+    reciprocity, not symmetry; normal incidence, below and above the grating lobe."""
+    mask = np.zeros((8, 8), dtype=bool)
+    mask[1:7, 1:3] = True
+    mask[1:3, 1:5] = True
+    return periodic_sweep(pixel_cell(mask), [10e9, 20e9, 35e9], interpolate=False)
+
+
+def test_the_touchstone_file_reads_back_with_scikit_rf(l_cell_sweep, tmp_path):
+    import skrf  # the test extra's scikit-rf, an independent Touchstone reader
+
+    sweep = l_cell_sweep
+    path = tmp_path / "rt.s4p"
+    sweep.to_touchstone(path)
+    network = skrf.Network(str(path))
+    assert network.nports == 4
+    assert np.allclose(network.f, sweep.frequencies, rtol=1e-12)
+    s = network.s
+    # from above: R and T of the (0, 0) order, TE/TM, both incidences
+    assert np.abs(s[:, :2, :2] - sweep.order_reflection[:, 0]).max() < 1e-10
+    assert np.abs(s[:, 2:, :2] - sweep.order_transmission[:, 0]).max() < 1e-10
+    # reciprocity S_ij = S_ji, with a real cross-polarised coupling
+    assert np.abs(s[:, 0, 1]).min() > 0.05
+    assert np.abs(s - s.transpose(0, 2, 1)).max() < 1e-4  # the solver's quadrature error
+    # a lossless screen: S is unitary below the grating lobe, not above it
+    eye = np.eye(4)
+    below, above = sweep.frequencies < sweep.grating_lobe_onsets[0], slice(-1, None)
+    for m in s[below]:
+        assert np.abs(m.conj().T @ m - eye).max() < 1e-3
+    for m in s[above]:
+        assert np.abs(m.conj().T @ m - eye).max() > 0.01
+    text = path.read_text()
+    assert "exp(+j w t)" in text and "# Hz S RI R 1" in text
+
+
+def test_the_touchstone_file_needs_both_polarizations(dipoles, tmp_path):
+    one = periodic_sweep(dipoles, [12e9], ALONG, interpolate=False, polarizations="incident")
+    with pytest.raises(ValueError, match="polarizations='both'"):
+        one.to_touchstone(tmp_path / "x.s4p")
+    assert not (tmp_path / "x.s4p").exists()
+
+
+def test_the_orders_csv_holds_every_propagating_order(l_cell_sweep, tmp_path):
+    import csv
+
+    from barymesh.io.floquet import ORDER_COLUMNS
+
+    sweep = l_cell_sweep
+    path = tmp_path / "orders.csv"
+    sweep.to_csv(path)
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert tuple(rows[0]) == ORDER_COLUMNS
+    by_f: dict[float, list] = {}
+    for row in rows:
+        by_f.setdefault(float(row["frequency_hz"]), []).append(row)
+    assert sorted(by_f) == list(sweep.frequencies)
+    counts = [len(by_f[f]) for f in sweep.frequencies]
+    assert counts == [2, 2, 10]  # (0, 0) below the onset, five orders above, TE and TM each
+    for f, group in by_f.items():
+        power = sum(float(r["R_power"]) + float(r["T_power"]) for r in group)
+        assert power == pytest.approx(1.0, abs=1e-3), f  # a lossless screen
+        assert all(r["solved"] == "1" for r in group)
+    above = by_f[sweep.frequencies[-1]]
+    assert {(int(r["p"]), int(r["q"])) for r in above} == {(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)}
+    assert sum(float(r["R_power"]) + float(r["T_power"]) for r in above[2:]) > 0.01
+    first = rows[0]
+    r = complex(float(first["R_re"]), float(first["R_im"]))
+    assert abs(r - sweep.reflection[0, 0]) < 1e-12
+    assert float(first["R_abs"]) == pytest.approx(abs(r))

@@ -26,7 +26,7 @@ import logging
 import math
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
@@ -344,15 +344,15 @@ class PeriodicSweep:
 
     def to_touchstone(self, path: Any) -> None:
         """Write the (0, 0) order's 4-port S-parameters (TE/TM above, TE/TM below) to
-        ``path`` (.s4p); see :func:`barymesh.io.touchstone.write_touchstone`."""
-        from ..io.touchstone import write_touchstone
+        ``path`` (.s4p); see :func:`barymesh.io.floquet.write_touchstone`."""
+        from ..io.floquet import write_touchstone
 
         write_touchstone(path, self)
 
     def to_csv(self, path: Any) -> None:
         """Write every propagating order at every frequency to ``path`` (CSV); see
-        :func:`barymesh.io.touchstone.write_orders_csv`."""
-        from ..io.touchstone import write_orders_csv
+        :func:`barymesh.io.floquet.write_orders_csv`."""
+        from ..io.floquet import write_orders_csv
 
         write_orders_csv(path, self)
 
@@ -383,7 +383,7 @@ class _Piece:
     samples: dict  # frequency -> (R, T), each (n_orders, 2, K)
     branch_lo: float | None = None  # the onset at its lower end (a branch point), if any
     branch_hi: float | None = None
-    error: np.ndarray | None = None  # (len(grid),)
+    error: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (len(grid),)
 
     def scale(self, f: np.ndarray) -> np.ndarray:
         """The fit's variable x in [−1, 1]: analytic in x at an onset's square-root branch.
@@ -723,7 +723,7 @@ def _resonances(sweep: PeriodicSweep, co_fits: list) -> tuple[np.ndarray, tuple,
                 continue  # the kink of an onset, not a resonance
             piece, fit = next(((p, a) for p, a in co_fits if i in p.grid), (None, None))
             fi, q = float(f[i]), math.nan
-            if fit is not None:
+            if fit is not None and piece is not None:
                 local = np.linspace(f[i - 1], f[i + 1], 41)
                 local = local[(local >= piece.lo) & (local <= piece.hi)]
                 values = np.abs(np.asarray(fit(piece.scale(local))))
