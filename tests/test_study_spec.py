@@ -175,11 +175,6 @@ def test_a_bad_spec_is_one_error_naming_the_key(changes, message):
     assert "\n" not in str(info.value)
 
 
-def test_the_infinite_array_kind_is_not_available_yet():
-    with pytest.raises(SpecError, match="solve.kind: infinite_array is not available yet"):
-        parse_spec(spec(solve={"kind": "infinite_array", "frequencies": "8GHz:12GHz:5"}))
-
-
 def test_a_spec_file_that_is_not_json_names_the_file(tmp_path):
     path = tmp_path / "s.json"
     path.write_text("{nope")
@@ -291,3 +286,89 @@ def test_only_the_study_package_imports_dask_and_the_table_libraries():
         outside = sorted(m for m in importers if not m.startswith(allowed))
         assert outside == [], (package, outside)
     assert "barymesh.study.run" in graph.find_modules_that_directly_import("distributed")
+
+
+# -- the infinite array ----------------------------------------------------------------------
+
+#: A 10 mm square lattice of square patches (lower-left corner at -3.5 mm), 50 triangles at
+#: 7 mm: edges under 0.2 of the period, as the periodic solver asks.
+PATCH_ARRAY = {
+    "format": "barymesh-cell",
+    "version": 1,
+    "name": "patch-array",
+    "mode": "paper",
+    "tolerance": None,
+    "lattice": {"rectangular": [10.0, 10.0]},
+    "elements": [
+        {
+            "name": "patch",
+            "position": [-3.5, -3.5],
+            "rotation": 0.0,
+            "structure": "patch",
+            "patch_size": 6.0,
+            "subdivisions": 5,
+        }
+    ],
+    "pixels": None,
+}
+
+
+def test_an_infinite_array_study_is_periodic_sweep_per_point():
+    from barymesh.cell import build_cell, cell_from_dict
+    from barymesh.mom import PlaneWave, periodic_sweep
+    from barymesh.study.point import INFINITE_ARRAY_COLUMNS
+
+    s = parse_spec(
+        {
+            "base": {"cell": PATCH_ARRAY},
+            "axes": {"elements[0].patch_size": [6.5, 7.0]},
+            "solve": {
+                "kind": "infinite_array",
+                "frequencies": "24GHz:29GHz:6",
+                "theta": 0,
+                "phi": 0,
+                "pol": "TM",
+                "interpolate": False,
+            },
+            "derive": ["resonance_frequency", {"reflection_at": ["26.5GHz"]}],
+        }
+    )
+    result = run_serial(s)
+    assert (result.derived.status == "ok").all(), result.derived.status.tolist()
+    assert list(result.table.columns) == ["elements[0].patch_size", *INFINITE_ARRAY_COLUMNS]
+    cell = dict(PATCH_ARRAY, elements=[{**PATCH_ARRAY["elements"][0], "patch_size": 7.0}])
+    mesh = build_cell(cell_from_dict(cell)).mesh
+    direct = periodic_sweep(
+        mesh,
+        parse_frequencies("24GHz:29GHz:6"),
+        PlaneWave.from_angles(0, 0, 0),  # TM: E along theta-hat, x at normal incidence
+        interpolate=False,
+        polarizations="incident",
+    )
+    row = result.table.loc[1]
+    np.testing.assert_array_equal(row["reflection_tm_real"], direct.reflection[:, 1].real)
+    np.testing.assert_array_equal(row["transmission_te_imag"], direct.transmission[:, 0].imag)
+    np.testing.assert_array_equal(row["reflection_co_abs"], np.abs(direct.co_polar()[0]))
+    # a perfect conductor below the first grating lobe (30 GHz): the (0, 0) order's TE and
+    # TM powers, reflected and transmitted, add up to the incident power
+    t = result.table
+    assert np.abs(t["absorption"]).max() < 1e-4
+    power = sum(
+        t[f"{side}_{p}_real"] ** 2 + t[f"{side}_{p}_imag"] ** 2
+        for side in ("reflection", "transmission")
+        for p in ("te", "tm")
+    )
+    np.testing.assert_allclose(power, 1.0, atol=1e-4)
+    assert (t["reflection_co_abs"] <= 1.0 + 1e-6).all()
+    r = result.derived.set_index("elements[0].patch_size")
+    # the resonance is the peak of the reflected power |R_co|^2 (total reflection, near
+    # 27 GHz here, below the first grating lobe at 30 GHz)
+    f0 = resonance(row["frequency_hz"].to_numpy(), row["reflection_co_abs"].to_numpy() ** 2)[0]
+    assert r.resonance_frequency_hz[7.0] == f0 and 25e9 < f0 < 29e9
+    at = np.interp(26.5e9, row["frequency_hz"], row["reflection_co_abs"])
+    assert r["reflection_co_abs_at_26.5GHz"][7.0] == at
+
+
+def test_an_infinite_array_needs_a_cell():
+    with pytest.raises(SpecError, match="solve.kind: infinite_array needs a unit cell"):
+        parse_spec(spec(solve={"kind": "infinite_array", "frequencies": "8GHz:12GHz:5"}))
