@@ -24,7 +24,7 @@ from .spec import Derive
 def resonance(frequencies: np.ndarray, response: np.ndarray) -> tuple[float, float]:
     """The strongest peak's frequency (Hz) and its Q = f0 / (2γ), from the Lorentzian fit.
 
-    The peaks are those of :func:`barymesh.mom.solve.lorentzian_peaks` (the sweep's
+    The peaks are those of :func:`barymesh.mom.lorentzian_peaks` (the sweep's
     ``resonances`` and ``quality_factors``); the strongest is the one at the largest
     sample. (NaN, NaN) without a peak inside the sweep.
     """

@@ -84,7 +84,7 @@ class PointResult:
     Attributes
     ----------
     index : int
-        The point's number in :meth:`StudySpec.points`.
+        The point's number in :meth:`barymesh.study.spec.StudySpec.points`.
     values : dict
         Its axis values.
     status : str

@@ -1,4 +1,4 @@
-"""Running a study on Dask (:mod:`distributed`), or serially, resumably.
+"""Running a study on Dask (``distributed``), or serially, resumably.
 
 :func:`run` submits one task per point (build the mesh, solve with
 :func:`barymesh.mom.sweep`, derive) to a Dask cluster: a ``LocalCluster`` over this

@@ -210,7 +210,7 @@ class Derive:
 
 @dataclass(frozen=True)
 class StudySpec:
-    """A checked study spec (see :func:`parse_spec`); :meth:`points` lists its points."""
+    """A checked study spec (see :func:`parse_spec`); ``points()`` lists its points."""
 
     base: Base
     axes: tuple[Axis, ...]
@@ -506,7 +506,7 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
 
 
 def _solve_document(solve: Solve) -> dict[str, Any]:
-    """The solve settings as the spec writes them (what :func:`_solve` reads back)."""
+    """The solve settings as the spec writes them (what ``_solve`` reads back)."""
     doc: dict[str, Any] = {"kind": solve.kind, "frequencies": list(solve.frequencies)}
     if solve.memory_limit is not None:
         doc["memory_limit"] = solve.memory_limit
