@@ -8,7 +8,7 @@ comes so that a rerun goes on where the last one stopped, and returns a
 (pandas), Parquet or CSV files, and an xarray Dataset.
 
 Needs the ``study`` extra (``pip install 'barymesh[study]'``: dask, distributed, pandas,
-pyarrow, xarray); nothing else in barymesh imports Dask.
+pyarrow, xarray, and bokeh for the Dask dashboard); nothing else in barymesh imports Dask.
 
 >>> from barymesh.study import parse_spec, run_serial
 >>> spec = parse_spec({"base": {"params": {"structure": "patch", "patch_size": 15.0,
