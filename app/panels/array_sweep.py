@@ -1,0 +1,244 @@
+"""The numbers behind the Solve dock's "Infinite array" tab (numpy only, no Qt).
+
+:func:`sweep_array` is the one adapter between the tab and the periodic solver: a
+point-by-point sweep of :func:`barymesh.mom.periodic_solve` over the band, reduced to what
+the tab plots (the co-polar (0, 0) reflection and transmission), the grating-lobe onsets
+of the lattice at the chosen angle and the resonances of the curve. It runs in a worker
+thread and stops between frequencies when ``cancel()`` says so.
+
+:func:`orders_rows` turns one :class:`barymesh.mom.PeriodicSolution` into the rows of the
+tab's table of propagating Floquet orders.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from barymesh import TriMesh
+from barymesh.constants import SPEED_OF_LIGHT
+
+#: Polarisations offered, and the angle ``PlaneWave.from_angles`` turns E by from θ̂:
+#: TE has E along φ̂ (perpendicular to the plane of incidence), TM along θ̂.
+POLARIZATIONS = {"TE": 90.0, "TM": 0.0}
+#: Floquet orders |p|, |q| <= this are searched for grating-lobe onsets.
+ORDER_RANGE = 4
+#: Metres per mesh unit (meshes and lattices are in mm).
+METRES = 1e-3
+
+
+@dataclass(frozen=True)
+class ArrayInputs:
+    """What the tab's fields say: the band, the angle, the polarisation and Z_s.
+
+    Attributes
+    ----------
+    frequencies : (F,) float
+        Hz, increasing.
+    theta, phi : float
+        Direction the wave comes from (degrees): θ from the normal, φ from x.
+    polarization : str
+        ``"TE"`` or ``"TM"``.
+    sheet_impedance : complex
+        Ω per square (0: a perfect conductor).
+    """
+
+    frequencies: tuple[float, ...]
+    theta: float
+    phi: float
+    polarization: str
+    sheet_impedance: complex = 0j
+
+    def incidence(self) -> Any:
+        """The incident :class:`barymesh.mom.PlaneWave` (unit amplitude)."""
+        from barymesh.mom import PlaneWave
+
+        return PlaneWave.from_angles(self.theta, self.phi, POLARIZATIONS[self.polarization])
+
+
+@dataclass(frozen=True, eq=False)
+class ArraySweep:
+    """The co-polar (0, 0) coefficients of an infinite array over a band.
+
+    Attributes
+    ----------
+    frequencies : (F,) float
+        Hz.
+    reflection, transmission : (F,) complex
+        Co-polar R and T of the (0, 0) order (T includes the incident wave).
+    grating_lobe_onsets : tuple of (float, tuple of (int, int))
+        Onset frequencies (Hz) inside the band, each with the orders (p, q) that begin
+        to propagate there.
+    resonances : (K,) float
+        Frequencies (Hz) of the interior maxima of |R|.
+    inputs : ArrayInputs
+    """
+
+    frequencies: np.ndarray
+    reflection: np.ndarray
+    transmission: np.ndarray
+    grating_lobe_onsets: tuple[tuple[float, tuple[tuple[int, int], ...]], ...]
+    resonances: np.ndarray
+    inputs: ArrayInputs
+
+
+def lattice_vectors(mesh: TriMesh) -> np.ndarray:
+    """(2, 2) float lattice vectors a1, a2 (rows, metres) of a unit cell's mesh.
+
+    Raises ValueError (one line) when the mesh carries no lattice.
+    """
+    lattice = getattr(mesh, "lattice", None)
+    if lattice is None:
+        raise ValueError(
+            "The mesh on screen has no lattice: open a unit cell (Cell ▸ Cell presets) "
+            "to solve its infinite array"
+        )
+    return np.array([lattice.a1, lattice.a2], dtype=np.float64) * METRES
+
+
+def grating_lobe_onsets(
+    vectors: np.ndarray, theta: float, phi: float, band: tuple[float, float]
+) -> tuple[tuple[float, tuple[tuple[int, int], ...]], ...]:
+    """Frequencies in ``band`` (Hz) at which a Floquet order (p, q) ≠ (0, 0) starts to
+    propagate, for a wave from (θ, φ) (degrees) on the lattice ``vectors`` ((2, 2), m).
+
+    Order (p, q) has κ = k u + p b1 + q b2 (u = the incident direction's transverse part);
+    it propagates once |κ| <= k, so its onset solves (1 − |u|²) k² − 2 (u·G) k − |G|² = 0.
+
+    >>> a = np.eye(2) * 0.012  # a 12 mm square lattice
+    >>> [(round(f / 1e9, 3), orders) for f, orders in grating_lobe_onsets(a, 0, 0, (1e9, 26e9))]
+    [(24.983, ((-1, 0), (0, -1), (0, 1), (1, 0)))]
+    """
+    recip = 2.0 * np.pi * np.linalg.inv(np.asarray(vectors, dtype=np.float64)).T  # rows b1, b2
+    t, f = math.radians(theta), math.radians(phi)
+    u = -math.sin(t) * np.array([math.cos(f), math.sin(f)])
+    n = np.arange(-ORDER_RANGE, ORDER_RANGE + 1)
+    pq = np.stack(np.meshgrid(n, n, indexing="ij"), axis=-1).reshape(-1, 2)
+    pq = pq[np.any(pq != 0, axis=1)]
+    g = pq @ recip  # (M, 2)
+    ug = g @ u
+    gg = np.einsum("ij,ij->i", g, g)
+    a = 1.0 - u @ u
+    k = (ug + np.sqrt(ug * ug + a * gg)) / a
+    hz = k * SPEED_OF_LIGHT / (2.0 * np.pi)
+    inside = (hz >= band[0]) & (hz <= band[1])
+    hz, pq = hz[inside], pq[inside]
+    out: list[tuple[float, tuple[tuple[int, int], ...]]] = []
+    for i in np.argsort(hz, kind="stable"):
+        order = (int(pq[i, 0]), int(pq[i, 1]))
+        if out and abs(hz[i] - out[-1][0]) <= 1e-9 * hz[i]:
+            out[-1] = (out[-1][0], tuple(sorted((*out[-1][1], order))))
+        else:
+            out.append((float(hz[i]), (order,)))
+    return tuple(out)
+
+
+def resonance_frequencies(frequencies: np.ndarray, magnitude: np.ndarray) -> np.ndarray:
+    """(K,) frequencies of the interior maxima of ``magnitude`` (parabola through each
+    maximum and its two neighbours).
+
+    >>> f = np.array([1.0, 2.0, 3.0, 4.0])
+    >>> resonance_frequencies(f, np.array([0.1, 0.5, 0.5, 0.1])).tolist()
+    [2.5]
+    """
+    f, m = np.asarray(frequencies, dtype=float), np.asarray(magnitude, dtype=float)
+    if len(f) < 3:
+        return np.zeros(0)
+    i = np.flatnonzero((m[1:-1] >= m[:-2]) & (m[1:-1] > m[2:])) + 1
+    y0, y1, y2 = m[i - 1], m[i], m[i + 1]
+    denom = y0 - 2.0 * y1 + y2
+    shift = np.where(np.abs(denom) > 0, 0.5 * (y0 - y2) / np.where(denom == 0, 1, denom), 0.0)
+    step = np.where(shift >= 0, f[np.minimum(i + 1, len(f) - 1)] - f[i], f[i] - f[i - 1])
+    return f[i] + np.clip(shift, -0.5, 0.5) * step
+
+
+def solve_point(mesh: TriMesh, hz: float, inputs: ArrayInputs) -> Any:
+    """:func:`barymesh.mom.periodic_solve` of ``mesh`` at ``hz`` with the tab's inputs."""
+    from barymesh.mom import periodic_solve
+
+    return periodic_solve(mesh, hz, inputs.incidence(), sheet_impedance=inputs.sheet_impedance)
+
+
+def sweep_array(
+    mesh: TriMesh,
+    inputs: ArrayInputs,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> ArraySweep:
+    """The co-polar (0, 0) R and T of ``mesh``'s infinite array over ``inputs``' band.
+
+    Raises ``barymesh.mom.SolveCancelled`` when ``cancel()`` turns true (checked before
+    each frequency).
+    """
+    from barymesh.mom import SolveCancelled
+
+    vectors = lattice_vectors(mesh)
+    freqs = np.asarray(inputs.frequencies, dtype=np.float64)
+    r = np.empty(len(freqs), dtype=complex)
+    t = np.empty(len(freqs), dtype=complex)
+    for i, hz in enumerate(freqs):
+        if cancel is not None and cancel():
+            raise SolveCancelled(f"the array sweep was cancelled after {i} of {len(freqs)}")
+        r[i], t[i] = solve_point(mesh, float(hz), inputs).co_polar()
+        if progress is not None:
+            progress(i + 1, len(freqs))
+    onsets = grating_lobe_onsets(
+        vectors, inputs.theta, inputs.phi, (float(freqs[0]), float(freqs[-1]))
+    )
+    return ArraySweep(
+        frequencies=freqs,
+        reflection=r,
+        transmission=t,
+        grating_lobe_onsets=onsets,
+        resonances=resonance_frequencies(freqs, np.abs(r)),
+        inputs=inputs,
+    )
+
+
+@dataclass(frozen=True)
+class OrderRow:
+    """One propagating Floquet order of a solution: its amplitudes, power and direction.
+
+    ``reflected`` and ``transmitted`` are the TE and TM amplitudes' norm (units of the
+    incident field); ``power_r``/``power_t`` their power over the incident power;
+    ``theta``/``phi`` (degrees) the direction the reflected wave leaves in (the
+    transmitted one leaves at the same angles below the screen).
+    """
+
+    p: int
+    q: int
+    reflected: float
+    transmitted: float
+    power_r: float
+    power_t: float
+    theta: float
+    phi: float
+
+
+def orders_rows(solution: Any) -> list[OrderRow]:
+    """The table rows of every propagating order of a ``PeriodicSolution``, (0, 0) first."""
+    power_r, power_t = solution.power_fractions
+    kappa = np.asarray(solution.kappa, dtype=float)
+    k = np.sqrt(np.einsum("ij,ij->i", kappa, kappa) + np.real(solution.beta) ** 2)
+    theta = np.degrees(np.arcsin(np.clip(np.hypot(kappa[:, 0], kappa[:, 1]) / k, 0.0, 1.0)))
+    phi = np.degrees(np.arctan2(kappa[:, 1], kappa[:, 0]))
+    phi = np.where(theta < 1e-9, 0.0, phi)
+    r = np.linalg.norm(np.abs(solution.reflection), axis=1)
+    t = np.linalg.norm(np.abs(solution.transmission), axis=1)
+    return [
+        OrderRow(
+            int(solution.orders[i, 0]),
+            int(solution.orders[i, 1]),
+            float(r[i]),
+            float(t[i]),
+            float(power_r[i]),
+            float(power_t[i]),
+            float(theta[i]),
+            float(phi[i]) + 0.0,
+        )
+        for i in range(len(solution.orders))
+    ]
