@@ -108,15 +108,15 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
         mag.plot(f, t_db, color=T_COLOR, marker=".", label="|T|")
         ph.plot(f, np.degrees(np.angle(result.reflection)), color=R_COLOR, marker=".")
         ph.plot(f, np.degrees(np.angle(result.transmission)), color=T_COLOR, marker=".")
-        mag.legend(fontsize=7, loc="lower left")
-        for hz, orders in result.grating_lobe_onsets:
+        mag.legend(fontsize=7, loc="best")
+        for n, (hz, orders) in enumerate(result.grating_lobe_onsets):
             for ax in (mag, ph):
                 ax.axvline(hz / 1e9, color=ONSET_COLOR, lw=1.0, ls=":")
             first = orders[0]
             more = f" +{len(orders) - 1}" if len(orders) > 1 else ""
-            ph.annotate(
+            ph.annotate(  # staggered: onsets close together keep their labels apart
                 f"grating lobe\n({first[0]},{first[1]}){more} {hz / 1e9:.4g}",
-                (hz / 1e9, 0.03),
+                (hz / 1e9, 0.03 + 0.3 * (n % 3)),
                 xycoords=("data", "axes fraction"),
                 ha="right",
                 va="bottom",
@@ -204,9 +204,10 @@ def draw_orders(solution: Any, size: tuple[int, int], ratio: float = 1.0) -> Pic
             xytext=(0.0, 0.0),
             arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.5},
         )
-        ax.text(
-            dx * 1.1,
-            dz * 1.1 + math.copysign(0.07, dz),
+        length = math.hypot(dx, dz)
+        ax.text(  # beyond the tip, along the arrow
+            dx + 0.16 * dx / length,
+            dz + 0.16 * dz / length,
             f"({p},{q})",
             fontsize=7,
             color=color,

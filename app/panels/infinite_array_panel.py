@@ -64,7 +64,17 @@ from barymesh.app.worker import Job
 log = logging.getLogger(__name__)
 
 #: The orders table's columns.
-ORDER_COLUMNS = ("p", "q", "|R|", "|T|", "P_R", "P_T", "θ (°)", "φ (°)")
+ORDER_COLUMNS = ("p", "q", "|R|", "|T|", "P_R", "P_T", "θ°", "φ°")
+ORDER_TIPS = (
+    "Floquet order p (along the first lattice vector's reciprocal)",
+    "Floquet order q",
+    "Reflected amplitude of the order, TE and TM together (incident amplitude 1)",
+    "Transmitted amplitude (the (0, 0) order includes the incident wave)",
+    "Reflected power of the order over the incident power",
+    "Transmitted power of the order over the incident power",
+    "Angle of the order's wave from the normal",
+    "Azimuth of the order's wave (from x)",
+)
 
 
 def read_angle(text: str, name: str, low: float, high: float) -> float:
@@ -269,7 +279,7 @@ class InfiniteArrayPanel(QWidget):
         row.addWidget(QLabel("to", self))
         row.addWidget(self.band_stop, 1)
         row.addWidget(self.unit)
-        form.addRow("&Band", row)
+        form.addRow(self._label("&Band", self.band_start), row)
         self.points = QSpinBox(self)
         self.points.setRange(2, 1001)
         self.points.setValue(21)
@@ -284,7 +294,7 @@ class InfiniteArrayPanel(QWidget):
         row.addWidget(self.theta, 1)
         row.addWidget(QLabel("φ", self))
         row.addWidget(self.phi, 1)
-        form.addRow("&Angle (°)", row)
+        form.addRow(self._label("&Angle (°)", self.theta), row)
         self.polarization = QComboBox(self)
         for name in POLARIZATIONS:
             self.polarization.addItem(name, name)
@@ -293,7 +303,7 @@ class InfiniteArrayPanel(QWidget):
         self.sheet = QLineEdit("", self)
         self.sheet.setPlaceholderText("0 (perfect conductor)")
         self.sheet.setToolTip("Sheet impedance Z_s of the screen, Ω/sq, e.g. 50 or 10-5j")
-        form.addRow("&Z_s (Ω/sq)", self.sheet)
+        form.addRow("Sheet &impedance (Ω/sq)", self.sheet)
         self.live = QCheckBox("&Live: follow the mesh", self)
         self.live.setChecked(True)
         self.live.setToolTip("Sweep again whenever the mesh changes (a slider, the cell editor)")
@@ -326,10 +336,16 @@ class InfiniteArrayPanel(QWidget):
         col.addWidget(self.summary)
         self.table = QTableWidget(0, len(ORDER_COLUMNS), self)
         self.table.setHorizontalHeaderLabels(list(ORDER_COLUMNS))
+        for column, tip in enumerate(ORDER_TIPS):
+            self.table.horizontalHeaderItem(column).setToolTip(tip)
         self.table.verticalHeader().hide()
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
         self.table.horizontalHeader().setMinimumSectionSize(20)
+        self.table.verticalHeader().setDefaultSectionSize(20)
+        font = self.table.font()
+        font.setPointSizeF(font.pointSizeF() * 0.85)
+        self.table.setFont(font)
         self.table.setMinimumHeight(110)
         col.addWidget(self.table)
         self.drawing = PictureView(200, self)
@@ -337,6 +353,12 @@ class InfiniteArrayPanel(QWidget):
         col.addWidget(self.drawing)
         for edit in (self.band_start, self.band_stop, self.theta, self.phi, self.sheet):
             edit.returnPressed.connect(self._edited)
+
+    def _label(self, text: str, buddy: QWidget) -> QLabel:
+        """A row's label whose mnemonic (Alt + the underlined letter) focuses ``buddy``."""
+        label = QLabel(text, self)
+        label.setBuddy(buddy)
+        return label
 
     # -- inputs ----------------------------------------------------------------------
 
@@ -531,12 +553,12 @@ class InfiniteArrayPanel(QWidget):
             values = (
                 str(row.p),
                 str(row.q),
-                f"{row.reflected:.4f}",
-                f"{row.transmitted:.4f}",
+                f"{row.reflected:.3f}",
+                f"{row.transmitted:.3f}",
                 f"{row.power_r:.4f}",
                 f"{row.power_t:.4f}",
                 f"{row.theta:.1f}",
-                f"{row.phi:.1f}",
+                f"{row.phi:.0f}",
             )
             for j, text in enumerate(values):
                 item = QTableWidgetItem(text)
