@@ -17,7 +17,11 @@ Measured numbers: ``benchmarks/periodic_validation.py`` and the Solving page of 
 
 from __future__ import annotations
 
+import json
 import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -138,3 +142,19 @@ def test_split_ring_array_at_twice_the_ring_is_further_still(free_space_resonanc
     twice = array_resonance(split_ring_cell(2 * RING, 2), free_space_resonance, ALONG)[0]
     three = array_resonance(split_ring_cell(3 * RING, 2), five_times, ALONG)[0]
     assert abs(twice / free_space_resonance - 1) > abs(three / free_space_resonance - 1)
+
+
+def test_the_validation_benchmark_runs_and_reports_collin(tmp_path):
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "periodic_validation.py"
+    out = tmp_path / "validation.json"
+    proc = subprocess.run(
+        [sys.executable, str(script), "--quick", "--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr
+    (row,) = json.loads(out.read_text())["collin"]
+    assert row["triangles"] == 144 and row["p_over_lambda"] == 0.9
+    assert abs(row["gamma_perp"] - COLLIN[0.9][0]) == pytest.approx(abs(row["gamma_perp_error"]))
+    assert abs(row["gamma_par_error"]) < 0.01  # a 144-triangle graded grating is within 0.01
