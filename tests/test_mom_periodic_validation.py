@@ -17,6 +17,7 @@ Measured numbers: ``benchmarks/periodic_validation.py`` and the Solving page of 
 
 from __future__ import annotations
 
+import doctest
 import json
 import os
 import subprocess
@@ -24,6 +25,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import periodic_meshes
 import pytest
 from periodic_meshes import (
     array_resonance,
@@ -37,7 +39,8 @@ from barymesh.constants import SPEED_OF_LIGHT
 from barymesh.mom import PlaneWave, periodic_solve, sweep
 
 SLOW = pytest.mark.skipif(
-    not os.environ.get("BARYMESH_SLOW"), reason="about a minute; set BARYMESH_SLOW=1 to run it"
+    not os.environ.get("BARYMESH_SLOW"),
+    reason="about 20 s more (two more ring arrays); set BARYMESH_SLOW=1 to run it",
 )
 
 P = 10.0  # mm
@@ -56,6 +59,11 @@ ALONG = PlaneWave(polarization=(0, 1, 0))
 @pytest.fixture(scope="module")
 def strips():
     return graded_strips(P, across=16, along=6)  # 192 triangles
+
+
+def test_the_cell_helpers_examples_run():
+    result = doctest.testmod(periodic_meshes)
+    assert result.attempted >= 4 and result.failed == 0
 
 
 def test_graded_strips_are_periodic_across_the_cell(strips):
