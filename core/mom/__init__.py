@@ -14,7 +14,8 @@ potential integrals), :mod:`.geometry` (the per-mesh cache),
 :mod:`.operator` (the impedance matrix), :mod:`.excitation`,
 :mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep);
 for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
-:mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission).
+:mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),
+:mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating).
 """
 
 from .excitation import PlaneWave, VoltageSource, excitation_vector
@@ -22,6 +23,7 @@ from .geometry import MomGeometry, mom_geometry
 from .operator import impedance_matrix, wavenumber
 from .periodic import PeriodicSolution, periodic_geometry, periodic_solve
 from .periodic_green import PeriodicGreen
+from .periodic_sweep import PeriodicSweep, grating_lobe_onsets, periodic_sweep, te_tm_polarizations
 from .solution import Solution
 from .solve import (
     ProblemTooLarge,
@@ -38,6 +40,7 @@ __all__ = [
     "MomGeometry",
     "PeriodicGreen",
     "PeriodicSolution",
+    "PeriodicSweep",
     "PlaneWave",
     "ProblemTooLarge",
     "Solution",
@@ -47,12 +50,15 @@ __all__ = [
     "check_memory",
     "excitation_vector",
     "find_peaks",
+    "grating_lobe_onsets",
     "impedance_matrix",
     "lorentzian_peaks",
     "mom_geometry",
     "periodic_geometry",
     "periodic_solve",
+    "periodic_sweep",
     "solve",
     "sweep",
+    "te_tm_polarizations",
     "wavenumber",
 ]

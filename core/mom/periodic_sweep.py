@@ -1,0 +1,766 @@
+"""Frequency sweeps of an infinite array: point by point, or by adaptive rational fits.
+
+:func:`periodic_sweep` solves the array of a unit cell (:func:`~barymesh.mom.periodic_solve`)
+at the frequencies asked for, or, with ``interpolate=True`` (the default), at a few of them
+chosen greedily, and reports the rest from rational fits of the Floquet coefficients (AAA,
+Nakatsukasa, Sète & Trefethen 2018, :class:`scipy.interpolate.AAA`).
+
+The coefficients are analytic in frequency except where a Floquet order (p, q) starts to
+propagate (a grating lobe, or Wood-Rayleigh anomaly, at |κ_pq| = k): there they have a
+square-root branch point. So the band is cut at every onset, each piece is fitted on its
+own, and each piece has a sample just above or just below the onset
+(:data:`ONSET_OFFSET`, relative).
+
+In each piece, the coefficients of the (0, 0) order are fitted three times: on all
+samples, on the even-numbered ones and on the odd-numbered ones (sorted by frequency,
+both with the piece's two ends). The estimated error at a requested frequency is the
+larger difference between the fit on all samples and either half's fit; the next sample
+goes where that estimate is largest over the whole band, until it is below
+``tolerance`` everywhere. The half fits use half the samples, so the estimate is
+pessimistic for the fit on all of them, which is the one reported.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from scipy.interpolate import AAA
+from scipy.signal import find_peaks
+
+from ..constants import SPEED_OF_LIGHT
+from ..mesh import TriMesh
+from .excitation import PlaneWave
+from .geometry import METRES_PER_MESH_UNIT
+from .periodic import PeriodicSolution, periodic_geometry, periodic_solve
+from .periodic_green import reciprocal_vectors
+from .solve import SolveCancelled, check_sheet_impedance
+
+log = logging.getLogger(__name__)
+
+#: Relative distance of the samples placed just below and just above a grating-lobe onset.
+ONSET_OFFSET = 1e-5
+#: Samples a piece of the band starts with (both ends included).
+INITIAL_SAMPLES = 5
+#: Smallest prominence of a peak or dip of |R_co| reported as a resonance.
+RESONANCE_PROMINENCE = 0.05
+
+__all__ = [
+    "ONSET_OFFSET",
+    "PeriodicSweep",
+    "grating_lobe_onsets",
+    "periodic_sweep",
+    "te_tm_polarizations",
+]
+
+
+def _direction(incidence: PlaneWave) -> np.ndarray:
+    d = np.asarray(incidence.direction, dtype=np.float64)
+    if abs(d[2]) < 1e-9:
+        raise ValueError("the incident wave travels along the screen (direction_z = 0)")
+    return d
+
+
+def te_tm_polarizations(direction: Sequence[float] | np.ndarray) -> np.ndarray:
+    """(2, 3) float: the unit TE and TM electric fields of a wave travelling along ``direction``.
+
+    The convention of :mod:`barymesh.mom.periodic`: TE = ẑ × κ̂ (κ̂ the wave's in-plane
+    direction, or x̂ at normal incidence), TM = TE × d̂ for a wave going down
+    (−TE × d̂ going up), so that a :class:`PlaneWave` with E along row 0 has TE/TM
+    components (1, 0) and one along row 1 has (0, 1).
+
+    Examples
+    --------
+    >>> te_tm_polarizations((0, 0, -1)).round(12) + 0.0  # normal incidence from above
+    array([[ 0.,  1.,  0.],
+           [-1.,  0.,  0.]])
+    """
+    d = np.asarray(direction, dtype=np.float64)
+    d = d / np.linalg.norm(d)
+    along = d[:2]
+    norm = float(np.hypot(*along))
+    along = along / norm if norm > 1e-12 else np.array([1.0, 0.0])
+    te = np.array([-along[1], along[0], 0.0])
+    tm = np.cross(te, d) if d[2] < 0 else -np.cross(te, d)
+    return np.stack([te, tm])
+
+
+def _lattice_vectors(mesh: TriMesh, lattice: Any) -> np.ndarray:
+    lat = lattice if lattice is not None else getattr(mesh, "lattice", None)
+    if lat is None:
+        raise ValueError(
+            "the mesh carries no lattice: an infinite array needs a unit cell "
+            "(mesh a cell, or pass lattice=Lattice(...))"
+        )
+    return np.array([lat.a1, lat.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
+
+
+def _order_onsets(vectors: np.ndarray, direction: np.ndarray, f_max: float) -> tuple:
+    """Orders (p, q) that propagate somewhere below ``f_max`` and their onsets (Hz).
+
+    κ_pq = k u + G_pq with u the incident direction's in-plane part; |κ_pq| = k at
+    k = (u·G + sqrt((u·G)² + (1 − |u|²) |G|²)) / (1 − |u|²), and above it the order
+    propagates. Sorted by onset, (0, 0) first (onset 0).
+    """
+    b1, b2 = reciprocal_vectors(vectors[0], vectors[1])
+    recip = np.array([b1, b2])
+    u = direction[:2]
+    k_max = 2.0 * np.pi * f_max / SPEED_OF_LIGHT
+    # an order propagates only if |G| <= |κ| + k|u| < k (1 + |u|)
+    radius = k_max * (1.0 + np.linalg.norm(u))
+    reach = np.ceil(radius * np.linalg.norm(np.linalg.inv(recip), axis=0)).astype(int)
+    p, q = np.meshgrid(np.arange(-reach[0], reach[0] + 1), np.arange(-reach[1], reach[1] + 1))
+    orders = np.stack([p.ravel(), q.ravel()], axis=1)
+    g = orders @ recip
+    ug = g @ u
+    g2 = np.einsum("ij,ij->i", g, g)
+    one = 1.0 - u @ u
+    k_on = (ug + np.sqrt(ug * ug + one * g2)) / one
+    onset = k_on * SPEED_OF_LIGHT / (2.0 * np.pi)
+    keep = onset < f_max
+    orders, onset = orders[keep], onset[keep]
+    order = np.lexsort((orders[:, 1], orders[:, 0], onset))
+    return orders[order], onset[order]
+
+
+def grating_lobe_onsets(
+    lattice: Any,
+    incidence: PlaneWave | None = None,
+    f_max: float = 1e12,
+    f_min: float = 0.0,
+) -> np.ndarray:
+    """Frequencies (Hz) in (f_min, f_max) at which a Floquet order (p, q) ≠ (0, 0) starts
+    to propagate, for a fixed incidence direction.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        The array's lattice (mm), e.g. ``mesh.lattice`` of a unit cell.
+    incidence : PlaneWave, optional
+        Only its direction matters; default normal incidence.
+    f_max, f_min : float
+        Hz.
+
+    Returns
+    -------
+    (G,) float
+        Increasing; orders with the same onset count once.
+
+    Examples
+    --------
+    A square lattice of 10 mm: c/P at normal incidence; at θ = 30° in the xz plane,
+    c/(P (1 + sin θ)) for (1, 0), then (1, ±1), then c/(P cos θ) for (0, ±1).
+
+    >>> from barymesh.cell import Lattice
+    >>> (grating_lobe_onsets(Lattice.rectangular(10.0), f_max=40e9) / 1e9).round(3)
+    array([29.979])
+    >>> wave = PlaneWave.from_angles(30, 0)
+    >>> (grating_lobe_onsets(Lattice.rectangular(10.0), wave, 35e9) / 1e9).round(3)
+    array([19.986, 32.892, 34.617])
+    """
+    wave = PlaneWave() if incidence is None else incidence
+    vectors = np.array([lattice.a1, lattice.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
+    _, onset = _order_onsets(vectors, _direction(wave), float(f_max))
+    onset = onset[(onset > f_min) & (onset > 0)]
+    return _merged(onset)
+
+
+def _merged(onsets: np.ndarray, rtol: float = 1e-9) -> np.ndarray:
+    onsets = np.sort(onsets)
+    if len(onsets) == 0:
+        return onsets
+    keep = np.concatenate([[True], np.diff(onsets) > rtol * onsets[1:]])
+    return onsets[keep]
+
+
+@dataclass(frozen=True, eq=False)
+class PeriodicSweep:
+    """Reflection and transmission of an infinite array over frequency.
+
+    Attributes
+    ----------
+    frequencies : (F,) float
+        Hz, as asked for.
+    incidence : PlaneWave
+        The incident wave: its direction is that of every frequency; its polarisation
+        is the one :attr:`reflection`, :attr:`transmission` and :meth:`co_polar` report.
+    polarizations : (K, 3) float
+        The incident fields solved: TE and TM (:func:`te_tm_polarizations`, K = 2), or the
+        incidence's own polarisation alone (K = 1).
+    incident_te_tm : (2,) complex
+        The incidence's TE and TM components.
+    orders : (P, 2) int
+        Every Floquet order (p, q) that propagates somewhere in the band, (0, 0) first,
+        then by onset.
+    onsets : (P,) float
+        The frequency (Hz) above which each order propagates (0 for (0, 0)).
+    order_reflection, order_transmission : (F, P, 2, K) complex
+        TE and TM amplitude of each order on the incident side and the far side, per
+        incident field solved, in units of the incident amplitude (as in
+        :class:`~barymesh.mom.PeriodicSolution`); NaN where the order is evanescent.
+    lattice : (2, 2) float
+        Rows a1, a2 (m).
+    sampled : (S,) float
+        The frequencies solved (Hz), increasing: with ``interpolate=False`` the requested
+        ones; otherwise the greedy samples, including those next to each onset.
+    error_estimate : (F,) float
+        Estimated absolute error of the (0, 0) coefficients at each frequency (0 where
+        solved).
+    interpolated : bool
+    sheet_impedance : complex
+        Ω per square.
+    resonances : (R,) float
+        Hz: peaks and dips of |R_co| (total reflection, total transmission).
+    resonance_kinds : tuple of str
+        "peak" or "dip" per resonance.
+    quality_factors : (R,) float
+        Q = Re f_p / (2 |Im f_p|) of the rational fit's pole f_p nearest each resonance
+        (NaN when there is none close by).
+    mesh : TriMesh
+        The cell, for :meth:`solution`.
+    lattice_source : object
+        The ``lattice=`` given (None: the mesh's own), for :meth:`solution`.
+    """
+
+    frequencies: np.ndarray
+    incidence: PlaneWave
+    polarizations: np.ndarray
+    incident_te_tm: np.ndarray
+    orders: np.ndarray
+    onsets: np.ndarray
+    order_reflection: np.ndarray
+    order_transmission: np.ndarray
+    lattice: np.ndarray
+    sampled: np.ndarray
+    error_estimate: np.ndarray
+    interpolated: bool
+    sheet_impedance: complex
+    resonances: np.ndarray
+    resonance_kinds: tuple[str, ...]
+    quality_factors: np.ndarray
+    mesh: TriMesh
+    lattice_source: Any = None
+
+    @property
+    def n_solves(self) -> int:
+        """Frequencies solved (each one impedance matrix, K right-hand sides)."""
+        return len(self.sampled)
+
+    @property
+    def both_polarizations(self) -> bool:
+        """True when TE and TM incidence were both solved (the full 2 × 2 per order)."""
+        return self.polarizations.shape[0] == 2
+
+    @cached_property
+    def grating_lobe_onsets(self) -> np.ndarray:
+        """(G,) float: the onsets (Hz) inside the band, increasing, each once."""
+        f = self.frequencies
+        inside = self.onsets[(self.onsets > f[0]) & (self.onsets < f[-1])]
+        return _merged(inside)
+
+    @property
+    def propagating(self) -> np.ndarray:
+        """(F, P) bool: which orders propagate at each frequency."""
+        return self.frequencies[:, None] > self.onsets[None, :]
+
+    def _respond(self, coefficients: np.ndarray) -> np.ndarray:
+        """(F, P, 2, K) → (F, P, 2): the response to the incidence's polarisation."""
+        if self.both_polarizations:
+            return coefficients @ self.incident_te_tm
+        return coefficients[..., 0]
+
+    @cached_property
+    def order_response(self) -> tuple[np.ndarray, np.ndarray]:
+        """(F, P, 2) complex R and T of every order for the incidence's polarisation."""
+        return self._respond(self.order_reflection), self._respond(self.order_transmission)
+
+    @property
+    def reflection(self) -> np.ndarray:
+        """(F, 2) complex: TE and TM reflection of the (0, 0) order, for the incidence."""
+        return self.order_response[0][:, 0]
+
+    @property
+    def transmission(self) -> np.ndarray:
+        """(F, 2) complex: TE and TM transmission of the (0, 0) order (incident wave
+        included), for the incidence."""
+        return self.order_response[1][:, 0]
+
+    def co_polar(self) -> tuple[np.ndarray, np.ndarray]:
+        """(F,) complex R and T of the (0, 0) order along the incident polarisation."""
+        p = np.conj(self.incident_te_tm)
+        return self.reflection @ p, self.transmission @ p
+
+    def cross_polar(self) -> tuple[np.ndarray, np.ndarray]:
+        """(F,) complex R and T of the (0, 0) order across the incident polarisation."""
+        c = self.incident_te_tm
+        q = np.array([-np.conj(c[1]), np.conj(c[0])])  # orthogonal to c
+        return self.reflection @ np.conj(q), self.transmission @ np.conj(q)
+
+    @cached_property
+    def beta(self) -> np.ndarray:
+        """(F, P) float: β_pq = sqrt(k² − |κ_pq|²) (rad/m), NaN where evanescent."""
+        k = 2.0 * np.pi * self.frequencies / SPEED_OF_LIGHT
+        recip = np.array(reciprocal_vectors(self.lattice[0], self.lattice[1]))
+        u = np.asarray(self.incidence.direction)[:2]
+        kappa = k[:, None, None] * u + (self.orders @ recip)[None]
+        b2 = k[:, None] ** 2 - np.einsum("fpc,fpc->fp", kappa, kappa)
+        return np.where(self.propagating & (b2 > 0), np.sqrt(np.abs(b2)), np.nan)
+
+    @cached_property
+    def power_fractions(self) -> tuple[np.ndarray, np.ndarray]:
+        """(F, P) reflected and transmitted power of each order over the incident power
+        (0 where evanescent), for the incidence."""
+        r, t = self.order_response
+        weight = self.beta / self.beta[:, :1]
+        rp = np.nan_to_num(weight * (np.abs(r) ** 2).sum(axis=2))
+        tp = np.nan_to_num(weight * (np.abs(t) ** 2).sum(axis=2))
+        return rp, tp
+
+    @property
+    def absorption(self) -> np.ndarray:
+        """(F,) float: 1 − reflected − transmitted power, what a sheet impedance absorbs.
+
+        From the coefficients, so on a perfect conductor it measures the power balance
+        error (discretisation, fit).
+        """
+        r, t = self.power_fractions
+        return 1.0 - r.sum(axis=1) - t.sum(axis=1)
+
+    def solution(self, frequency: float) -> PeriodicSolution:
+        """The full solve at one frequency (currents included), for the incidence."""
+        return periodic_solve(
+            self.mesh,
+            frequency,
+            self.incidence,
+            lattice=self.lattice_source,
+            sheet_impedance=self.sheet_impedance,
+        )
+
+    def to_touchstone(self, path: Any) -> None:
+        """Write the (0, 0) order's 4-port S-parameters (TE/TM above, TE/TM below) to
+        ``path`` (.s4p); see :func:`barymesh.io.floquet.write_touchstone`."""
+        from ..io.floquet import write_touchstone
+
+        write_touchstone(path, self)
+
+    def to_csv(self, path: Any) -> None:
+        """Write every propagating order at every frequency to ``path`` (CSV); see
+        :func:`barymesh.io.floquet.write_orders_csv`."""
+        from ..io.floquet import write_orders_csv
+
+        write_orders_csv(path, self)
+
+
+# -- the sweep --------------------------------------------------------------------------
+
+
+def _fit(x: np.ndarray, values: np.ndarray) -> list[AAA]:
+    """One AAA fit per column of ``values`` (S, M) at points ``x`` (S,)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return [AAA(x, values[:, m]) for m in range(values.shape[1])]
+
+
+def _evaluate(fits: list[AAA], x: np.ndarray) -> np.ndarray:
+    out = np.stack([np.asarray(r(x), dtype=np.complex128) for r in fits], axis=1)
+    return np.where(np.isfinite(out), out, np.inf)  # a pole on the grid: a huge error
+
+
+@dataclass
+class _Piece:
+    """One piece of the band between grating-lobe onsets (mutable, private to the sweep)."""
+
+    lo: float  # ends of the piece (Hz): band edges, or onsets ± ONSET_OFFSET
+    hi: float
+    grid: np.ndarray  # indices of the requested frequencies in it
+    n_orders: int  # orders propagating in it: the first n_orders of the sweep's
+    samples: dict  # frequency -> (R, T), each (n_orders, 2, K)
+    branch_lo: float | None = None  # the onset at its lower end (a branch point), if any
+    branch_hi: float | None = None
+    error: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (len(grid),)
+
+    def scale(self, f: np.ndarray) -> np.ndarray:
+        """The fit's variable x in [−1, 1]: analytic in x at an onset's square-root branch.
+
+        Near an onset f0 a coefficient is A(f) + B(f) sqrt(|f − f0|) with A, B analytic,
+        so it is analytic in s = sqrt(|f − f0|): x is linear in s at a piece with one
+        onset end, and in t, f = a + (b − a) sin² t, at one between two onsets.
+        """
+        f = np.asarray(f, dtype=np.float64)
+        a = self.lo if self.branch_lo is None else self.branch_lo
+        b = self.hi if self.branch_hi is None else self.branch_hi
+        width = max(b - a, 1.0)
+        u = np.clip((f - a) / width, 0.0, 1.0)
+        if self.branch_lo is not None and self.branch_hi is not None:
+            return 4.0 / np.pi * np.arcsin(np.sqrt(u)) - 1.0
+        if self.branch_lo is not None:
+            return 2.0 * np.sqrt(u) - 1.0
+        if self.branch_hi is not None:
+            return 1.0 - 2.0 * np.sqrt(1.0 - u)
+        return 2.0 * u - 1.0
+
+    def unscale(self, x: np.ndarray) -> np.ndarray:
+        """Frequency (Hz, complex for poles) of the fit's variable x (inverse of scale)."""
+        x = np.asarray(x, dtype=np.complex128)
+        a = self.lo if self.branch_lo is None else self.branch_lo
+        b = self.hi if self.branch_hi is None else self.branch_hi
+        width = max(b - a, 1.0)
+        if self.branch_lo is not None and self.branch_hi is not None:
+            u = np.sin(np.pi / 4.0 * (x + 1.0)) ** 2
+        elif self.branch_lo is not None:
+            u = ((x + 1.0) / 2.0) ** 2
+        elif self.branch_hi is not None:
+            u = 1.0 - ((1.0 - x) / 2.0) ** 2
+        else:
+            u = (x + 1.0) / 2.0
+        return a + width * u
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        x = np.array(sorted(self.samples))
+        v = np.stack(
+            [np.concatenate([r.ravel(), t.ravel()]) for r, t in (self.samples[f] for f in x)]
+        )
+        return x, v
+
+
+def _headline(piece: _Piece, k: int) -> np.ndarray:
+    """Columns of the (0, 0) order's R and T among a piece's flattened values."""
+    n = piece.n_orders * 2 * k
+    return np.concatenate([np.arange(2 * k), n + np.arange(2 * k)])
+
+
+def _refit(piece: _Piece, frequencies: np.ndarray, k: int) -> None:
+    x, v = piece.arrays()
+    grid_f = frequencies[piece.grid]
+    solved = np.isin(grid_f, x)
+    if len(x) < 3:
+        piece.error = np.where(solved, 0.0, np.inf)
+        return
+    cols = _headline(piece, k)
+    xs, vh = piece.scale(x), v[:, cols]
+    xg = piece.scale(grid_f)
+    full = _evaluate(_fit(xs, vh), xg)
+    even = np.zeros(len(x), dtype=bool)
+    even[::2] = True
+    odd = ~even
+    even[-1] = odd[0] = odd[-1] = True
+    diff = np.zeros(len(grid_f))
+    for half in (even, odd):
+        other = _evaluate(_fit(xs[half], vh[half]), xg)
+        with np.errstate(invalid="ignore"):
+            diff = np.maximum(diff, np.nan_to_num(np.abs(full - other), nan=np.inf).max(axis=1))
+    piece.error = np.where(solved, 0.0, diff)
+
+
+def _solve_samples(
+    mesh: TriMesh,
+    frequency: float,
+    waves: list[PlaneWave],
+    lattice: Any,
+    zs: complex,
+    orders: np.ndarray,
+    n_orders: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """R and T (n_orders, 2, K) of the first ``n_orders`` orders for each incident wave."""
+    k = len(waves)
+    r = np.zeros((n_orders, 2, k), dtype=np.complex128)
+    t = np.zeros((n_orders, 2, k), dtype=np.complex128)
+    index = {tuple(o): i for i, o in enumerate(orders[:n_orders].tolist())}
+    for j, wave in enumerate(waves):
+        s = periodic_solve(mesh, frequency, wave, lattice=lattice, sheet_impedance=zs)
+        rows = np.array([index.get(tuple(o), -1) for o in s.orders.tolist()])
+        if np.any(rows < 0) or len(rows) != n_orders:
+            raise RuntimeError(
+                f"at {frequency:.9g} Hz the solver's propagating orders {s.orders.tolist()} "
+                f"differ from the expected {orders[:n_orders].tolist()}"
+            )
+        r[rows, :, j] = s.reflection
+        t[rows, :, j] = s.transmission
+    return r, t
+
+
+def periodic_sweep(
+    mesh: TriMesh,
+    frequencies: Sequence[float] | np.ndarray,
+    incidence: PlaneWave | None = None,
+    *,
+    interpolate: bool = True,
+    polarizations: str = "both",
+    lattice: Any = None,
+    sheet_impedance: complex = 0.0,
+    tolerance: float = 1e-3,
+    max_samples: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> PeriodicSweep:
+    """Reflection and transmission of the infinite array of ``mesh`` over frequency.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        One cell of the screen (mm), flat in z = 0, carrying a lattice (a unit cell),
+        or with ``lattice=``.
+    frequencies : (F,) float
+        Hz, strictly increasing.
+    incidence : PlaneWave, optional
+        The incident wave at every frequency; default normal incidence from above,
+        E along x.
+    interpolate : bool
+        True: solve at greedily chosen samples and fit the rest (see the module's
+        docstring); False: solve at every frequency.
+    polarizations : {"both", "incident"}
+        "both" solves TE and TM incidence from the incidence's direction (the full
+        2 × 2 of every order, needed by :meth:`PeriodicSweep.to_touchstone`; the
+        incidence's own polarisation is their combination); "incident" solves the
+        incidence's polarisation alone (half the work).
+    lattice : Lattice, optional
+        Default: the mesh's own.
+    sheet_impedance : complex
+        Z_s of the screen (Ω per square), as for :func:`~barymesh.mom.periodic_solve`.
+    tolerance : float
+        Target absolute error of the (0, 0) coefficients (``interpolate=True``).
+    max_samples : int, optional
+        Most frequencies solved with ``interpolate=True`` (default: as many as asked
+        for, plus two per onset); when reached first, the sweep stops and says so in
+        the log, and :attr:`PeriodicSweep.error_estimate` shows where it is uncertain.
+    progress : callable, optional
+        ``progress(done, total)`` after each frequency solved; ``total`` is the number
+        of frequencies with ``interpolate=False`` and ``max_samples`` otherwise (the
+        last call reports ``done == total``).
+    cancel : callable, optional
+        Checked before each frequency; when it returns True the sweep stops with
+        :class:`~barymesh.mom.SolveCancelled`.
+
+    Returns
+    -------
+    PeriodicSweep
+
+    Raises
+    ------
+    ValueError
+        Bad frequencies, no lattice, metal across the cell boundary without matching
+        periodic edges (from :func:`~barymesh.mom.periodic.periodic_geometry`), a
+        frequency at a grating-lobe onset with ``interpolate=False``.
+    """
+    freqs = _check_frequencies(frequencies)
+    wave = PlaneWave() if incidence is None else incidence
+    if not isinstance(wave, PlaneWave):
+        raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
+    direction = _direction(wave)
+    if polarizations not in ("both", "incident"):
+        raise ValueError(f"polarizations={polarizations!r}; expected 'both' or 'incident'")
+    zs = check_sheet_impedance(sheet_impedance)
+    tolerance = float(tolerance)
+    if not (np.isfinite(tolerance) and tolerance > 0):
+        raise ValueError(f"tolerance={tolerance!r}; expected a positive number")
+    if not isinstance(mesh, TriMesh):
+        raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    vectors = _lattice_vectors(mesh, lattice)
+    periodic_geometry(mesh, lattice)  # every check of the cell (boundary, size) up front
+    basis = te_tm_polarizations(direction)
+    pol = np.asarray(wave.polarization)
+    incident_te_tm = basis @ pol
+    if polarizations == "both":
+        fields = basis
+        waves = [PlaneWave(direction, e, wave.amplitude) for e in basis]
+    else:
+        fields = np.real_if_close(pol)[None, :]
+        waves = [wave]
+    kk = len(waves)
+    orders, onsets = _order_onsets(vectors, direction, float(freqs[-1]))
+    inside = _merged(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
+    nf = len(freqs)
+    if max_samples is None:
+        max_samples = nf + 2 * len(inside)
+    max_samples = int(max_samples)
+    if max_samples < 1:
+        raise ValueError(f"max_samples={max_samples!r}; expected a positive number")
+    total = nf if not interpolate else max_samples
+    done = 0
+
+    def solve_at(f: float, n_orders: int) -> tuple[np.ndarray, np.ndarray]:
+        nonlocal done
+        if cancel is not None and cancel():
+            raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
+        out = _solve_samples(mesh, f, waves, lattice, zs, orders, n_orders)
+        done += 1
+        if progress is not None:
+            progress(done, total)
+        return out
+
+    # the pieces between onsets; a requested frequency at an onset belongs to the lower one
+    edges = np.concatenate([[freqs[0]], inside, [freqs[-1]]])
+    which = np.clip(np.searchsorted(inside, freqs, side="left"), 0, len(inside))
+    pieces = []
+    for i in range(len(edges) - 1):
+        lo = edges[i] * (1 + ONSET_OFFSET) if i > 0 else edges[i]
+        hi = edges[i + 1] * (1 - ONSET_OFFSET) if i < len(edges) - 2 else edges[i + 1]
+        n_orders = int(np.count_nonzero(onsets < 0.5 * (edges[i] + edges[i + 1])))
+        piece = _Piece(lo, hi, np.flatnonzero(which == i), n_orders, {})
+        piece.branch_lo = float(edges[i]) if i > 0 else None
+        piece.branch_hi = float(edges[i + 1]) if i < len(edges) - 2 else None
+        pieces.append(piece)
+
+    if not interpolate:
+        for piece in pieces:
+            for g in piece.grid:
+                piece.samples[float(freqs[g])] = solve_at(float(freqs[g]), piece.n_orders)
+            piece.error = np.zeros(len(piece.grid))
+    else:
+        budget_hit = False
+        for piece in pieces:  # the ends, then a few evenly spread requested frequencies
+            grid_f = freqs[piece.grid]
+            starts = [piece.lo, piece.hi]
+            inner = grid_f[(grid_f > piece.lo) & (grid_f < piece.hi)]
+            if len(inner):
+                pick = np.unique(np.linspace(0, len(inner) - 1, INITIAL_SAMPLES)[1:-1].round())
+                starts += list(inner[pick.astype(int)])
+            for j, f in enumerate(sorted(set(starts), key=lambda f: f not in (piece.lo, piece.hi))):
+                if j >= 2 and done >= max_samples:  # the two ends are always solved
+                    budget_hit = True
+                    break
+                piece.samples[float(f)] = solve_at(float(f), piece.n_orders)
+            _refit(piece, freqs, kk)
+        while not budget_hit:
+            worst = [p.error.max() if len(p.error) else 0.0 for p in pieces]
+            i = int(np.argmax(worst))
+            if worst[i] < tolerance:
+                break
+            if done >= max_samples:
+                budget_hit = True
+                break
+            piece = pieces[i]
+            f = float(freqs[piece.grid[int(np.argmax(piece.error))]])
+            piece.samples[f] = solve_at(f, piece.n_orders)
+            _refit(piece, freqs, kk)
+        if budget_hit:
+            log.warning(
+                "the interpolating sweep stopped at max_samples=%d with an estimated error "
+                "of %.3g (tolerance %.3g)",
+                max_samples,
+                max(p.error.max() if len(p.error) else 0.0 for p in pieces),
+                tolerance,
+            )
+        if progress is not None and done < total:
+            progress(done, done)
+
+    # fill the (F, P, 2, K) arrays: solved values where solved, the fits elsewhere
+    n_all = len(orders)
+    refl = np.full((nf, n_all, 2, kk), np.nan, dtype=np.complex128)
+    trans = np.full((nf, n_all, 2, kk), np.nan, dtype=np.complex128)
+    error = np.zeros(nf)
+    sampled: list[float] = []
+    co_fits: list[tuple[_Piece, AAA | None]] = []
+    for piece in pieces:
+        x, v = piece.arrays()
+        sampled += list(x)
+        n = piece.n_orders * 2 * kk
+        grid_f = freqs[piece.grid]
+        if len(x) >= 2:
+            fits = _fit(piece.scale(x), v)
+            values = _evaluate(fits, piece.scale(grid_f))
+        else:
+            values = np.repeat(v, len(grid_f), axis=0)
+        for j, f in enumerate(grid_f):  # exact values where solved
+            if float(f) in piece.samples:
+                r, t = piece.samples[float(f)]
+                values[j] = np.concatenate([r.ravel(), t.ravel()])
+        shape = (len(grid_f), piece.n_orders, 2, kk)
+        refl[piece.grid, : piece.n_orders] = values[:, :n].reshape(shape)
+        trans[piece.grid, : piece.n_orders] = values[:, n:].reshape(shape)
+        error[piece.grid] = piece.error
+        co = _co_series(v[:, : 2 * kk].reshape(-1, 2, kk), incident_te_tm, kk)
+        co_fits.append((piece, AAA(piece.scale(x), co) if len(x) >= 3 else None))
+    result = PeriodicSweep(
+        frequencies=freqs,
+        incidence=wave,
+        polarizations=fields,
+        incident_te_tm=incident_te_tm,
+        orders=orders,
+        onsets=onsets,
+        order_reflection=refl,
+        order_transmission=trans,
+        lattice=vectors,
+        sampled=np.array(sorted(sampled)),
+        error_estimate=error,
+        interpolated=bool(interpolate),
+        sheet_impedance=zs,
+        resonances=np.zeros(0),
+        resonance_kinds=(),
+        quality_factors=np.zeros(0),
+        mesh=mesh,
+        lattice_source=lattice,
+    )
+    found, kinds, q = _resonances(result, co_fits)
+    return replace(result, resonances=found, resonance_kinds=kinds, quality_factors=q)
+
+
+def _co_series(r00: np.ndarray, c: np.ndarray, k: int) -> np.ndarray:
+    """(S,) R_co of the (0, 0) order from its (S, 2, K) samples."""
+    response = r00 @ c if k == 2 else r00[..., 0]
+    return response @ np.conj(c)
+
+
+def _resonances(sweep: PeriodicSweep, co_fits: list) -> tuple[np.ndarray, tuple, np.ndarray]:
+    """Peaks and dips of |R_co| on the sweep's curve, refined on the fits, with Q."""
+    f = sweep.frequencies
+    r = np.abs(sweep.co_polar()[0])
+    if len(f) < 3 or not np.all(np.isfinite(r)):
+        return np.zeros(0), (), np.zeros(0)
+    found, kinds, qs = [], [], []
+    onsets = sweep.grating_lobe_onsets
+    step = np.min(np.diff(f))
+    for kind, y in (("peak", r), ("dip", -r)):
+        idx, _ = find_peaks(y, prominence=RESONANCE_PROMINENCE)
+        for i in idx:
+            if len(onsets) and np.min(np.abs(onsets - f[i])) < 1.5 * max(step, f[i] - f[i - 1]):
+                continue  # the kink of an onset, not a resonance
+            piece, fit = next(((p, a) for p, a in co_fits if i in p.grid), (None, None))
+            fi, q = float(f[i]), math.nan
+            if fit is not None and piece is not None:
+                local = np.linspace(f[i - 1], f[i + 1], 41)
+                local = local[(local >= piece.lo) & (local <= piece.hi)]
+                values = np.abs(np.asarray(fit(piece.scale(local))))
+                if np.all(np.isfinite(values)) and len(local):
+                    fi = float(local[np.argmax(values) if kind == "peak" else np.argmin(values)])
+                poles = piece.unscale(fit.poles())
+                poles = poles[np.abs(poles.imag) > 0]
+                if len(poles):
+                    nearest = poles[np.argmin(np.abs(poles - fi))]
+                    if abs(nearest.real - fi) < 0.5 * fi:
+                        q = float(nearest.real / (2.0 * abs(nearest.imag)))
+            found.append(fi)
+            kinds.append(kind)
+            qs.append(q)
+    order = np.argsort(found)
+    return (
+        np.array(found)[order],
+        tuple(kinds[j] for j in order),
+        np.array(qs)[order],
+    )
+
+
+def _check_frequencies(frequencies: Any) -> np.ndarray:
+    try:
+        freqs = np.asarray(frequencies, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"frequencies={frequencies!r} is not a list of numbers (Hz)") from None
+    if len(freqs) == 0:
+        raise ValueError("frequencies is empty; expected at least one frequency in Hz")
+    bad = ~(np.isfinite(freqs) & (freqs > 0))
+    if np.any(bad):
+        raise ValueError(
+            f"frequencies[{int(np.argmax(bad))}]={freqs[bad][0]!r} is invalid; "
+            "expected positive frequencies in Hz"
+        )
+    if np.any(np.diff(freqs) <= 0):
+        raise ValueError("frequencies must be strictly increasing")
+    freqs = freqs.copy()
+    freqs.flags.writeable = False
+    return freqs
