@@ -1,10 +1,12 @@
 """The numbers behind the Solve dock's "Infinite array" tab (numpy only, no Qt).
 
-:func:`sweep_array` is the one adapter between the tab and the periodic solver: a
-point-by-point sweep of :func:`barymesh.mom.periodic_solve` over the band, reduced to what
-the tab plots (the co-polar (0, 0) reflection and transmission), the grating-lobe onsets
-of the lattice at the chosen angle and the resonances of the curve. It runs in a worker
-thread and stops between frequencies when ``cancel()`` says so.
+:func:`sweep_array` is the one adapter between the tab and the periodic solver:
+:func:`barymesh.mom.periodic_sweep` over the band (interpolating, AAA, from
+:data:`INTERPOLATE_POINTS` frequencies on; below, point by point with
+:func:`barymesh.mom.periodic_solve`, where a fit would cost more solves than it saves),
+reduced to what the tab plots (the co-polar (0, 0)
+reflection and transmission), the grating-lobe onsets with the orders that start there,
+and the resonances. It stops before its next solve when ``cancel()`` says so.
 
 :func:`orders_rows` turns one :class:`barymesh.mom.PeriodicSolution` into the rows of the
 tab's table of propagating Floquet orders.
@@ -13,8 +15,8 @@ The frequencies are solved in a child process (:func:`solver_process`, one for t
 program, started on the first sweep), not in the calling worker thread: a thread shares
 the GIL with the GUI thread, and every draw the window made meanwhile (the curve, the
 cell's preview, the 3D view) took twice as long, up to a third of a second on a loaded
-machine. Only the mesh, a frequency and the inputs go to the child; two numbers come
-back.
+machine. The mesh and the inputs go to the child, an :class:`ArraySweep` comes back;
+cancel and progress cross through two shared integers (:class:`_Shared`).
 """
 
 from __future__ import annotations
@@ -24,10 +26,10 @@ import itertools
 import math
 import multiprocessing
 import threading
-import weakref
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -38,10 +40,12 @@ from barymesh.constants import SPEED_OF_LIGHT
 #: Polarisations offered, and the angle ``PlaneWave.from_angles`` turns E by from θ̂:
 #: TE has E along φ̂ (perpendicular to the plane of incidence), TM along θ̂.
 POLARIZATIONS = {"TE": 90.0, "TM": 0.0}
-#: Floquet orders |p|, |q| <= this are searched for grating-lobe onsets.
-ORDER_RANGE = 4
 #: Metres per mesh unit (meshes and lattices are in mm).
 METRES = 1e-3
+#: Bands of at least this many frequencies are swept by rational interpolation.
+INTERPOLATE_POINTS = 21
+#: Floquet orders |p|, |q| <= this are searched for grating-lobe onsets.
+ORDER_RANGE = 4
 
 
 @dataclass(frozen=True)
@@ -87,8 +91,12 @@ class ArraySweep:
         Onset frequencies (Hz) inside the band, each with the orders (p, q) that begin
         to propagate there.
     resonances : (K,) float
-        Frequencies (Hz) of the interior maxima of |R|.
+        Frequencies (Hz) of the resonances (peaks and dips of |R|).
     inputs : ArrayInputs
+    sampled : (S,) float
+        The frequencies solved (Hz); the others come from the rational fit.
+    error_estimate : (F,) float
+        The fit's estimated absolute error (0 where solved).
     """
 
     frequencies: np.ndarray
@@ -97,6 +105,13 @@ class ArraySweep:
     grating_lobe_onsets: tuple[tuple[float, tuple[tuple[int, int], ...]], ...]
     resonances: np.ndarray
     inputs: ArrayInputs
+    sampled: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    error_estimate: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def interpolated(self) -> bool:
+        """Whether some frequencies come from the fit, not from a solve."""
+        return len(self.sampled) < len(self.frequencies)
 
 
 def lattice_vectors(mesh: TriMesh) -> np.ndarray:
@@ -176,40 +191,114 @@ def solve_point(mesh: TriMesh, hz: float, inputs: ArrayInputs) -> Any:
     return periodic_solve(mesh, hz, inputs.incidence(), sheet_impedance=inputs.sheet_impedance)
 
 
+class _Shared:
+    """Two integers the parent and the child process both see: the highest job number
+    cancelled, and the solves done by the running job (its progress)."""
+
+    def __init__(self, context: Any) -> None:
+        self.cancelled = context.Value("q", 0, lock=False)
+        self.done = context.Value("q", 0, lock=False)
+
+
 _PROCESS: ProcessPoolExecutor | None = None
+_SHARED: _Shared | None = None
 _PROCESS_LOCK = threading.Lock()
-#: Parent side: a number per mesh object sent to the child (it keeps that mesh, and so
-#: its periodic geometry, while the numbers it is sent match).
-_KEYS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-_COUNTER = itertools.count(1)
-#: Child side: (key, mesh) of the mesh last solved.
-_CHILD_MESH: list[Any] = [None, None]
+_JOBS = itertools.count(1)
+#: Child side: the shared integers (from the initializer: they are inherited, not sent).
+_CHILD: list[Any] = [None]
 
 
-def solver_process() -> ProcessPoolExecutor:
+def _child_start(shared: _Shared) -> None:
+    _CHILD[0] = shared
+
+
+def solver_process() -> tuple[ProcessPoolExecutor, _Shared]:
     """The one child process the sweeps solve in (spawned: a process running Qt threads
-    is never forked); shut down when the program ends."""
-    global _PROCESS
+    is never forked) and its shared integers; shut down when the program ends."""
+    global _PROCESS, _SHARED
     with _PROCESS_LOCK:
         if _PROCESS is None:
             context = multiprocessing.get_context("spawn")
-            _PROCESS = ProcessPoolExecutor(max_workers=1, mp_context=context)
+            _SHARED = _Shared(context)
+            _PROCESS = ProcessPoolExecutor(
+                max_workers=1, mp_context=context, initializer=_child_start, initargs=(_SHARED,)
+            )
             atexit.register(_PROCESS.shutdown, wait=False, cancel_futures=True)
-        return _PROCESS
+        return _PROCESS, _SHARED
 
 
-def _mesh_key(mesh: TriMesh) -> int:
+def _forget_process(executor: ProcessPoolExecutor) -> None:
+    """A child that died is replaced by a new one at the next sweep."""
+    global _PROCESS
     with _PROCESS_LOCK:
-        if mesh not in _KEYS:
-            _KEYS[mesh] = next(_COUNTER)
-        return _KEYS[mesh]
+        if _PROCESS is executor:
+            _PROCESS = None
 
 
-def _co_polar_in_child(key: int, mesh: TriMesh, hz: float, inputs: ArrayInputs) -> tuple:
-    """(R, T) co-polar at ``hz``; runs in the child, reusing the mesh of the same key."""
-    if _CHILD_MESH[0] != key:
-        _CHILD_MESH[:] = [key, mesh]
-    return solve_point(_CHILD_MESH[1], hz, inputs).co_polar()
+def _sweep_in_child(job: int, mesh: TriMesh, inputs: ArrayInputs) -> ArraySweep:
+    shared = _CHILD[0]
+    shared.done.value = 0
+
+    def progress(done: int, _total: int) -> None:
+        shared.done.value = done
+
+    return _sweep(mesh, inputs, progress, lambda: shared.cancelled.value >= job)
+
+
+def _sweep(
+    mesh: TriMesh,
+    inputs: ArrayInputs,
+    progress: Callable[[int, int], None] | None,
+    cancel: Callable[[], bool] | None,
+) -> ArraySweep:
+    from barymesh.mom import SolveCancelled, periodic_sweep
+
+    freqs = np.asarray(inputs.frequencies, dtype=np.float64)
+    band = (float(freqs[0]), float(freqs[-1]))
+    onsets = grating_lobe_onsets(lattice_vectors(mesh), inputs.theta, inputs.phi, band)
+    if len(freqs) < INTERPOLATE_POINTS:
+        # point by point here: periodic_sweep(interpolate=False) refuses a band with an
+        # onset-to-onset piece that holds no requested frequency ("need at least one
+        # array to stack"), and a short band costs fewer solves than a fit would
+        r = np.empty(len(freqs), dtype=complex)
+        t = np.empty(len(freqs), dtype=complex)
+        for i, hz in enumerate(freqs):
+            if cancel is not None and cancel():
+                raise SolveCancelled(f"the array sweep was cancelled after {i} of {len(freqs)}")
+            r[i], t[i] = solve_point(mesh, float(hz), inputs).co_polar()
+            if progress is not None:
+                progress(i + 1, len(freqs))
+        return ArraySweep(
+            freqs,
+            r,
+            t,
+            onsets,
+            resonance_frequencies(freqs, np.abs(r)),
+            inputs,
+            freqs.copy(),
+            np.zeros(len(freqs)),
+        )
+    sweep = periodic_sweep(
+        mesh,
+        freqs,
+        inputs.incidence(),
+        interpolate=True,
+        polarizations="incident",
+        sheet_impedance=inputs.sheet_impedance,
+        progress=progress,
+        cancel=cancel,
+    )
+    r, t = sweep.co_polar()
+    return ArraySweep(
+        frequencies=freqs,
+        reflection=np.asarray(r),
+        transmission=np.asarray(t),
+        grating_lobe_onsets=onsets,
+        resonances=np.asarray(sweep.resonances, dtype=float),
+        inputs=inputs,
+        sampled=np.asarray(sweep.sampled, dtype=float),
+        error_estimate=np.asarray(sweep.error_estimate, dtype=float),
+    )
 
 
 def sweep_array(
@@ -221,38 +310,32 @@ def sweep_array(
 ) -> ArraySweep:
     """The co-polar (0, 0) R and T of ``mesh``'s infinite array over ``inputs``' band.
 
-    Each frequency is solved in :func:`solver_process` (``in_process=False``: here).
-    Raises ``barymesh.mom.SolveCancelled`` when ``cancel()`` turns true (checked before
-    each frequency).
+    The sweep runs in :func:`solver_process` (``in_process=False``: here); ``progress``
+    is called with (solves done, frequencies) while it runs. Raises
+    ``barymesh.mom.SolveCancelled`` when ``cancel()`` turns true (seen before the next
+    solve), or ValueError naming what is wrong with the cell.
     """
-    from barymesh.mom import SolveCancelled
-
-    vectors = lattice_vectors(mesh)
-    freqs = np.asarray(inputs.frequencies, dtype=np.float64)
-    r = np.empty(len(freqs), dtype=complex)
-    t = np.empty(len(freqs), dtype=complex)
-    for i, hz in enumerate(freqs):
+    lattice_vectors(mesh)  # no lattice: say so here, before a process is started
+    if not in_process:
+        return _sweep(mesh, inputs, progress, cancel)
+    executor, shared = solver_process()
+    job = next(_JOBS)
+    future = executor.submit(_sweep_in_child, job, mesh, inputs)
+    total, seen = len(inputs.frequencies), -1
+    while True:
+        try:
+            return future.result(timeout=0.05)
+        except TimeoutError:
+            pass
+        except BrokenProcessPool:
+            _forget_process(executor)
+            raise RuntimeError("the solver's process ended unexpectedly; run again") from None
         if cancel is not None and cancel():
-            raise SolveCancelled(f"the array sweep was cancelled after {i} of {len(freqs)}")
-        if in_process:
-            key = _mesh_key(mesh)
-            job = solver_process().submit(_co_polar_in_child, key, mesh, float(hz), inputs)
-            r[i], t[i] = job.result()
-        else:
-            r[i], t[i] = solve_point(mesh, float(hz), inputs).co_polar()
-        if progress is not None:
-            progress(i + 1, len(freqs))
-    onsets = grating_lobe_onsets(
-        vectors, inputs.theta, inputs.phi, (float(freqs[0]), float(freqs[-1]))
-    )
-    return ArraySweep(
-        frequencies=freqs,
-        reflection=r,
-        transmission=t,
-        grating_lobe_onsets=onsets,
-        resonances=resonance_frequencies(freqs, np.abs(r)),
-        inputs=inputs,
-    )
+            shared.cancelled.value = max(shared.cancelled.value, job)
+        done = int(shared.done.value)
+        if progress is not None and done != seen:
+            seen = done
+            progress(min(done, total), total)
 
 
 @dataclass(frozen=True)
