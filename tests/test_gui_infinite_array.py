@@ -280,3 +280,25 @@ def test_bad_input_says_why_and_keeps_the_last_good_curve(window, qtbot):
         np.testing.assert_allclose(tab.plot.figure.axes[0].lines[0].get_ydata(), line)
         type_into(field, keep)
     save_shot(tab, "infinite_array_refused")
+
+
+@pytest.mark.skipif(not os.environ.get("BARYMESH_SLOW"), reason="about 30 solves; BARYMESH_SLOW=1")
+def test_a_long_band_is_swept_by_periodic_sweep_interpolating():
+    """The tab's adapter on a long band is periodic_sweep's interpolating sweep: the
+    same curve, and at its samples the direct solve."""
+    from barymesh.app.panels.array_sweep import INTERPOLATE_POINTS, ArrayInputs, sweep_array
+    from barymesh.cell import build_cell
+    from barymesh.mom import periodic_sweep
+
+    mesh = build_cell(UnitCell(Lattice.rectangular(P), (Element(RING),), mode="conforming")).mesh
+    freqs = np.linspace(10e9, 20e9, INTERPOLATE_POINTS)
+    got = sweep_array(mesh, ArrayInputs(tuple(freqs), 10.0, 30.0, "TM"))
+    wave = PlaneWave.from_angles(10.0, 30.0, 0.0)
+    direct = periodic_sweep(mesh, freqs, wave, polarizations="incident")
+    r, t = direct.co_polar()
+    np.testing.assert_allclose(got.reflection, r, atol=1e-9)
+    np.testing.assert_allclose(got.transmission, t, atol=1e-9)
+    np.testing.assert_allclose(got.sampled, direct.sampled)
+    i = int(np.flatnonzero(np.isin(freqs, got.sampled))[1])
+    r_i, t_i = periodic_solve(mesh, freqs[i], wave).co_polar()
+    assert abs(got.reflection[i] - r_i) < 1e-6 and abs(got.transmission[i] - t_i) < 1e-6

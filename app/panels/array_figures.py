@@ -7,7 +7,7 @@ the sweep or the solve, into an RGBA array (:class:`Picture`); the GUI thread on
 it. A picture keeps what a click needs: the frequency axis' span in pixels.
 
 :func:`draw_curve` draws |R| and |T| (dB) and their phase against frequency, the
-grating-lobe onsets (dotted, labelled) and the resonances (dashed, labelled).
+grating-lobe onsets (dotted, labelled) and the resonances (dashed, labelled in GHz).
 :func:`draw_orders` draws the propagating Floquet orders as arrows leaving the screen.
 """
 
@@ -123,11 +123,11 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
                 fontsize=6,
                 color=ONSET_COLOR,
             )
-        for hz in result.resonances:
+        for n, hz in enumerate(result.resonances):
             mag.axvline(hz / 1e9, color=RESONANCE_COLOR, lw=1.0, ls="--")
-            mag.annotate(
-                f"{hz / 1e9:.4g} GHz",
-                (hz / 1e9, 0.97),
+            mag.annotate(  # staggered, as the onsets' labels
+                f"{hz / 1e9:.4g}",
+                (hz / 1e9, 0.97 - 0.12 * (n % 3)),
                 xycoords=("data", "axes fraction"),
                 ha="left",
                 va="top",

@@ -2,19 +2,21 @@
 
 When the mesh on screen is a unit cell (it carries a lattice: a cell preset, a cell file,
 the cell editor), the tab takes a band (start, stop, points), the angle the wave comes
-from (θ, φ in degrees), TE or TM, and an optional sheet impedance (Ω/sq), and plots the
-co-polar (0, 0) |R| and |T| in dB and their phase against frequency
-(:class:`ArrayPlot`), the grating-lobe onsets marked and the resonances labelled. The
-sweep (:func:`barymesh.app.panels.array_sweep.sweep_array`) runs in a worker thread,
-numpy only; with **Live** on, every new mesh (a slider, the cell editor) cancels the
-running sweep and starts the next one.
+from (θ, φ in degrees), TE or TM, and an optional sheet impedance (Ω/sq), and shows the
+co-polar (0, 0) |R| and |T| in dB and their phase against frequency, the grating-lobe
+onsets marked and the resonances labelled. The sweep
+(:func:`barymesh.app.panels.array_sweep.sweep_array`) runs in the solver process, waited
+for by a worker thread, which then draws the figure
+(:func:`barymesh.app.panels.array_figures.draw_curve`, Agg) into an image; the GUI thread
+only shows it (:class:`PictureView`). With **Live** on, every new mesh (a slider, the cell
+editor) cancels the running sweep and starts the next one.
 
-A click on the plot solves the array at that frequency (in the worker): the cell's
-current goes into the Solve tab's "Surface current" layer (the cell editor's ghost
-copies stay drawn around it), and the propagating Floquet orders into a table and a
-drawing (:class:`FloquetDrawing`, a matplotlib figure: the screen, the incident wave, and
-an arrow per order above (reflected) and below (transmitted), in the plane of incidence).
-Without a lattice the tab says why in one line and its inputs are disabled.
+A click on the curve solves the array at that frequency (in the worker): the cell's
+current goes into the Solve tab's "Surface current" layer (the cell editor's ghost copies
+stay drawn around it), and the propagating Floquet orders into a table and a drawing
+(:func:`~barymesh.app.panels.array_figures.draw_orders`: the screen, the incident wave,
+and an arrow per order above (reflected) and below (transmitted), in the plane of
+incidence). Without a lattice the tab says why in one line and its inputs are disabled.
 """
 
 from __future__ import annotations
