@@ -245,6 +245,7 @@ class InfiniteArrayPanel(QWidget):
         self.point_mesh: TriMesh | None = None
         self.engaged = False  # set by the first Run: from then on Live follows the mesh
         self.cancelled: list[int] = []  # tokens of sweeps cancelled by a newer one
+        self.stopped: list[int] = []  # tokens of sweeps that stopped early (SolveCancelled)
         self.last_outcome: Any = None
         #: the latest job of each kind: a sweep, a solve at a clicked frequency, a redraw of
         #: the curve or of the orders (a resize); an older job's result is dropped
@@ -500,6 +501,8 @@ class InfiniteArrayPanel(QWidget):
     def _finished(self, outcome: Any) -> None:
         self.last_outcome = outcome
         self._cancel.pop(outcome.token, None) if outcome.kind == "array" else None
+        if outcome.cancelled:
+            self.stopped.append(outcome.token)
         if outcome.token != self._tokens[outcome.kind] or outcome.cancelled:
             log.debug("dropped a stale %s", outcome.kind)
             return
