@@ -394,8 +394,8 @@ class InfiniteArrayPanel(QWidget):
             lattice_vectors(mesh)
         except ValueError as exc:
             return f"{exc}."
-        if len(mesh.rwg) == 0 and not len(mesh.periodic_pairs.edges):
-            return "The cell has no RWG unknowns to solve for."
+        # no RWG table here (a big mesh's would hold the GUI thread at every change): a
+        # cell without unknowns is refused by the solver in the worker, in one line
         return ""
 
     def _update_enabled(self) -> None:
