@@ -9,13 +9,21 @@ G_p of :mod:`barymesh.mom.periodic_green`::
 
 Each triangle pair (o, s) is integrated against the image of s nearest to o,
 shifted by ρ_σ (σ from rounding the lattice coordinates of c_o − c_s), using
-G_p(ρ) = e^(+j k_t·ρ_σ) G_p(ρ − ρ_σ)... written the other way round,
 G_p(r − r') = e^(−j k_t·ρ_σ) G_p(r − r' − ρ_σ), and G_p = G + G_reg there:
 
-- G = e^(−jkR)/R of that one image, integrated as the free-space solver does
-  (closed-form 1/R and R parts for pairs that touch, across the cell's sides too);
-- G_reg, smooth over the reduced cell, by the far rule from a bicubic table
-  in lattice coordinates, recomputed per frequency (a few thousand Ewald sums).
+- G = e^(−jkR)/R of that one image, integrated as the free-space solver does: its
+  far rule on every pair (the kernel of a pair and of its mirror are one, so half
+  of them are evaluated), its closed-form 1/R and R parts on the pairs that touch,
+  across the cell's sides too;
+- G_reg, smooth over the reduced cell, by a second-order Taylor expansion about
+  each pair's centroid offset: with the triangles' areas A, second moments
+  I = ∫ρρᵀ dS and third moments about their centroids (∫ρ dS = 0), the eight
+  moments follow from G_reg, ∇G_reg and its Hessian at T² points instead of the
+  kernel at T²Q² (error O(h³) relative, h the triangle size over the distance to
+  the next image, the same order as the far rule's). Those are read from a grid of
+  step 1/:data:`TAYLOR_NODES` in lattice coordinates (the expansion is taken about
+  the nearest node), tabulated per frequency from the Chebyshev interpolant of
+  G_reg through :data:`CHEBYSHEV_NODES`² Ewald sums.
 
 The scattered field is a sum of Floquet orders (p, q) of wavevectors
 (κ_pq, ±β_pq) above and below the screen, each an amplitude
@@ -27,9 +35,6 @@ the wave's triad with a tangential part that is the same above and below
 convention the co-polar (0, 0) coefficients of a zero-thickness screen obey
 T = 1 + R, and power balance reads Σ (|R|² + |T|²) β_pq / β_00 = 1 over the
 propagating orders.
-
-Not in this module yet: RWG unknowns across the cell's sides (metal that
-touches the cell boundary), sheet impedance, interpolating sweeps.
 """
 
 from __future__ import annotations
@@ -37,28 +42,39 @@ from __future__ import annotations
 import math
 import weakref
 from dataclasses import dataclass, replace
-from functools import cached_property
+from functools import cache, cached_property
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.ndimage import map_coordinates, spline_filter
+from numpy.polynomial import chebyshev
+from scipy.spatial import cKDTree
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
 from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry, static_moments
-from .operator import ETA0, wavenumber
+from .operator import ETA0, far_kernel, near_moments, wavenumber
 from .periodic_green import PeriodicGreen
 from .solve import check_sheet_impedance, dense_solve
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
-#: Table nodes per cell length of the smooth part G_reg.
-TABLE_NODES = 48
+#: Chebyshev nodes per lattice direction through which G_reg is interpolated (per frequency).
+CHEBYSHEV_NODES = 20
+#: Grid nodes per cell length at which G_reg's Taylor coefficients are tabulated.
+TAYLOR_NODES = 256
 #: Largest triangle, as a fraction of the cell's smallest height.
 MAX_TRIANGLE = 0.2
 #: Complex entries per block of the far-rule kernel.
 BLOCK_ENTRIES = 1 << 21
+#: Fewest blocks of observation triangles in the far-rule pass (so that the mirrored
+#: half is most of the work).
+MIN_BLOCKS = 8
+#: Largest cached table of far-rule point distances (bytes); above it, recomputed per fill.
+DISTANCE_CACHE_BYTES = 160 * 2**20
+#: The six moments of a pair kept on a flat screen, as rows of :data:`MOMENTS` (1, ρ_x,
+#: ρ_y, ρ'_x, ρ'_y, ρ·ρ'; the z ones vanish).
+FLAT_MOMENTS = (0, 1, 2, 4, 5, 7)
 
 
 def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
@@ -73,13 +89,50 @@ def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
+class RegularGrid:
+    """Where G_reg is read for each triangle pair: frequency-independent, per mesh.
+
+    G_reg is interpolated through its values at n × n Chebyshev nodes of the square
+    [−e, e]² of lattice coordinates (e just over ½: every reduced centroid offset lies
+    in [−½, ½]²); its value, gradient and Hessian are tabulated on a uniform grid of
+    step 1/:data:`TAYLOR_NODES` over that square, and each pair expands G_reg about the
+    grid node nearest to its centroid offset.
+
+    Attributes
+    ----------
+    nodes : (n,) float
+        The Chebyshev nodes (lattice coordinates).
+    maps : (3, G, n) float
+        From values at the nodes to the interpolant's value, first and second
+        derivative along one lattice coordinate at the grid's G points.
+    node : (T, T) int32
+        Flat index (G × G grid) of the node nearest each pair's reduced centroid
+        offset, [source, observation].
+    offset : (2, T, T) float
+        That offset minus the node (m), x and y, [source, observation].
+    second : (T, 2, 2) float
+        ∫ ρρᵀ dS of each triangle about its centroid (m⁴).
+    third : (T, 2, 2, 2) float
+        ∫ ρ_i ρ_j ρ_k dS (m⁵).
+    """
+
+    nodes: np.ndarray
+    maps: np.ndarray
+    node: np.ndarray
+    offset: np.ndarray
+    second: np.ndarray
+    third: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class PeriodicGeometry:
     """The frequency-independent part of an infinite-array solve (metres).
 
     Attributes
     ----------
     base : MomGeometry
-        The mesh's free-space geometry (rules, its interior RWG maps).
+        The mesh's free-space geometry (rules, its interior RWG maps, its near pairs:
+        those of the periodic fill whose nearest image is the triangle itself).
     lattice : (2, 2) float
         Rows a1, a2 (m).
     maps : (N, 3T) sparse float
@@ -95,17 +148,22 @@ class PeriodicGeometry:
     crossing : (N, 2) float
         That lattice vector (m), zero for the interior unknowns.
     shift : (T, T, 2) int8
-        σ of each pair (observation, source): the source image used.
-    near : (K, 2) int
-        (observation, source) pairs whose image σ touches the observation triangle.
-    near_static_inv_r, near_static_r : (K, 8) float
+        σ of each pair (observation, source): the source image used; σ(s, o) = −σ(o, s).
+    cross : (K, 2) int
+        (observation, source) pairs whose image σ ≠ 0 touches the observation triangle
+        (near across the cell's sides), sorted by observation.
+    cross_static_inv_r, cross_static_r : (K, 8) float
         The eight moments of 1/R and R over those pairs (near rule outside, closed form
         inside), against the shifted source.
-    near_distances : (K, Qn, Qn) float
-    far_delta : (T, Qf, T, Qf, 2) float or None
-        r − r' − ρ_σ between the far rule's points, when it fits in memory.
-    table_extent : float
-        Half-width of the G_reg table in lattice coordinates.
+    cross_distances : (K, Qn, Qn) float
+        |r − r' − ρ_σ| between their near rule's points.
+    far_distances : (T Qf, T Qf) float or None
+        |r − r' − ρ_σ| between the far rule's points (zeros replaced by 1; those pairs
+        are self pairs), symmetric; kept when it fits :data:`DISTANCE_CACHE_BYTES`.
+    far_reach : float
+        Largest of those distances (m), or a bound on it.
+    regular : RegularGrid
+        Where the smooth part G_reg is read.
     """
 
     base: MomGeometry
@@ -114,11 +172,13 @@ class PeriodicGeometry:
     folded: sp.csr_matrix
     crossing: np.ndarray
     shift: np.ndarray
-    near: np.ndarray
-    near_static_inv_r: np.ndarray
-    near_static_r: np.ndarray
-    near_distances: np.ndarray
-    table_extent: float
+    cross: np.ndarray
+    cross_static_inv_r: np.ndarray
+    cross_static_r: np.ndarray
+    cross_distances: np.ndarray
+    far_distances: np.ndarray | None
+    far_reach: float
+    regular: RegularGrid
 
     @property
     def area(self) -> float:
@@ -133,6 +193,12 @@ class PeriodicGeometry:
         """Unknowns across the cell's sides."""
         return int(np.count_nonzero(np.any(self.crossing != 0, axis=1)))
 
+    @cached_property
+    def near(self) -> np.ndarray:
+        """(K, 2) int: every near (observation, source) pair, sorted by observation."""
+        pairs = np.concatenate([self.base.near_pairs, self.cross])
+        return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
     def basis_maps(self, kt: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
         """The (N, 3T) complex maps of the basis functions and of the testing functions.
 
@@ -146,7 +212,13 @@ class PeriodicGeometry:
     @cached_property
     def shift_vectors(self) -> np.ndarray:
         """(T, T, 2) float: ρ_σ of each pair (m)."""
-        return self.shift.astype(np.float64) @ self.lattice
+        return _shift_vectors(self.shift, self.lattice)
+
+
+def _shift_vectors(shift: np.ndarray, lattice: np.ndarray) -> np.ndarray:
+    """ρ_σ = σ_1 a1 + σ_2 a2 (..., 2), elementwise so that ρ_(−σ) = −ρ_σ bit for bit."""
+    s = shift.astype(np.float64)
+    return s[..., :1] * lattice[0] + s[..., 1:] * lattice[1]
 
 
 def _rwg_maps(
@@ -224,7 +296,7 @@ def periodic_geometry(mesh: TriMesh, lattice: Any = None) -> PeriodicGeometry:
 
 
 def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> PeriodicGeometry:
-    base = mom_geometry(mesh)
+    base = mom_geometry(mesh, near_factor=NEAR_FACTOR)  # its near pairs: those of σ = 0
     if np.any(base.vertices[:, 2] != 0.0):
         raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
     heights = abs(np.linalg.det(vectors)) / np.linalg.norm(vectors, axis=1)
@@ -235,28 +307,37 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
             f"{MAX_TRIANGLE:g} of the cell's height)"
         )
     maps, folded, crossing = _rwg_maps(mesh, base, lattice, vectors)
-    c = base.centroids[:, :2]
-    inverse = np.linalg.inv(vectors)
-    frac = (c[:, None, :] - c[None, :, :]) @ inverse  # (T, T, 2) lattice coordinates
-    shift = np.rint(frac).astype(np.int8)
-    reduced = (frac - shift) @ vectors
-    gap = np.linalg.norm(reduced, axis=2)
-    reach = NEAR_FACTOR * np.maximum(base.sizes[:, None], base.sizes[None, :])
-    obs, src = np.nonzero(gap < reach)
-    near = np.stack([obs, src], axis=1)
-    offset = shift[obs, src].astype(np.float64) @ vectors  # (K, 2)
+    centroids = base.centroids[:, :2]
+    lat = centroids @ np.linalg.inv(vectors)  # lattice coordinates of the centroids
+    frac = lat[:, None, :] - lat[None, :, :]  # (T, T, 2), antisymmetric bit for bit
+    shift = np.rint(frac)  # rint is odd (ties to even), so σ(s, o) = −σ(o, s)
+    frac -= shift  # the reduced centroid offsets, in [−½, ½]²
+    shift = shift.astype(np.int8)
+    cross = _cross_pairs(base, vectors, shift)
+    obs, src = cross[:, 0], cross[:, 1]
+    offset = _shift_vectors(shift[obs, src], vectors)  # (K, 2)
     offset3 = np.concatenate([offset, np.zeros((len(offset), 1))], axis=1)
     corners = base.vertices[base.triangles]
-    src_corners = corners[src] + offset3[:, None, :]
-    src_centroids = base.centroids[src] + offset3
     # the free-space solver's closed-form 1/R and R moments, against the shifted sources
-    static = static_moments(base.near, src_corners, src_centroids, obs, np.arange(len(obs)))
+    static = static_moments(
+        base.near,
+        corners[src] + offset3[:, None, :],
+        base.centroids[src] + offset3,
+        obs,
+        np.arange(len(obs)),
+    )
     rule = base.near
-    src_points = rule.points[src] + offset3[:, None, :]
-    d = rule.points[obs][:, :, None, :] - src_points[:, None, :, :]
-    near_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
-    # the far rule's points lie within a triangle's size of their centroid
-    pad = 2.0 * base.sizes.max() * np.linalg.norm(inverse, axis=0).max()
+    d = rule.points[obs][:, :, None, :] - (rule.points[src] + offset3[:, None, :])[:, None]
+    cross_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
+    far = base.far
+    q = far.size
+    far_distances = None
+    if (len(centroids) * q) ** 2 * 8 <= DISTANCE_CACHE_BYTES:
+        far_distances = _far_distances(far.points, shift, vectors, 0, len(centroids))
+        far_reach = float(far_distances.max())
+    else:
+        gap = np.sqrt(np.einsum("ijc,ijc->ij", frac @ vectors, frac @ vectors)).max()
+        far_reach = float(gap + 2.0 * base.sizes.max())
     return PeriodicGeometry(
         base=base,
         lattice=vectors,
@@ -264,88 +345,225 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
         folded=folded,
         crossing=crossing,
         shift=shift,
-        near=near,
-        near_static_inv_r=static[0],
-        near_static_r=static[1],
-        near_distances=near_distances,
-        table_extent=0.5 + pad + 1e-3,
+        cross=cross,
+        cross_static_inv_r=static[0],
+        cross_static_r=static[1],
+        cross_distances=cross_distances,
+        far_distances=far_distances,
+        far_reach=far_reach,
+        regular=_regular_grid(base, vectors, frac),
     )
 
 
-@dataclass(frozen=True, eq=False)
-class RegularTable:
-    """G_reg on a uniform grid of lattice coordinates, as cubic B-spline coefficients.
+def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    """(K, 2) pairs (o, s) near through an image σ ≠ 0, sorted (the σ = 0 ones: ``base``)."""
+    centroids = base.centroids[:, :2]
+    sizes = base.sizes
+    tree = cKDTree(centroids)
+    radius = NEAR_FACTOR * sizes.max()
+    low, high = shift.reshape(-1, 2).min(axis=0), shift.reshape(-1, 2).max(axis=0)
+    found = []
+    for s1 in range(int(low[0]), int(high[0]) + 1):
+        for s2 in range(int(low[1]), int(high[1]) + 1):
+            if s1 == 0 and s2 == 0:
+                continue
+            image = cKDTree(centroids + s1 * vectors[0] + s2 * vectors[1])
+            hits = tree.sparse_distance_matrix(image, radius, output_type="ndarray")
+            o, s = hits["i"].astype(np.intp), hits["j"].astype(np.intp)
+            keep = (hits["v"] < NEAR_FACTOR * np.maximum(sizes[o], sizes[s])) & np.all(
+                shift[o, s] == (s1, s2), axis=1
+            )
+            found.append(np.stack([o[keep], s[keep]], axis=1))
+    pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.intp)
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
-    ``__call__`` interpolates at offsets (..., 2) in metres; the error is that of a
-    cubic spline of a smooth function, O((1/TABLE_NODES)⁴) relative.
+
+def _far_distances(
+    points: np.ndarray, shift: np.ndarray, vectors: np.ndarray, lo: int, hi: int
+) -> np.ndarray:
+    """(Ts Qf, Tb Qf) |r − r' − ρ_σ| from the far points of sources lo..T to observers lo..hi.
+
+    Row (s, b), column (o, a); exact zeros (a self pair's points) are replaced by 1. The
+    full table (lo = 0, hi = T) is symmetric bit for bit: ρ_σ is odd in the pair.
     """
-
-    lattice_inverse: np.ndarray
-    start: float
-    step: float
-    coefficients: np.ndarray
-
-    @classmethod
-    def build(cls, pg: PeriodicGeometry, green: PeriodicGreen) -> RegularTable:
-        margin = 3  # nodes beyond the extent, so that the boundary condition stays away
-        step = 1.0 / TABLE_NODES
-        n = int(math.ceil(2 * pg.table_extent / step)) + 1 + 2 * margin
-        start = -pg.table_extent - margin * step
-        u = start + step * np.arange(n)
-        grid = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2)
-        values = green.regular(grid @ pg.lattice).reshape(n, n)
-        coefficients = spline_filter(values, order=3, mode="mirror", output=np.complex128)
-        return cls(np.linalg.inv(pg.lattice), start, step, coefficients)
-
-    def __call__(self, delta: np.ndarray) -> np.ndarray:
-        uv = (delta.reshape(-1, 2) @ self.lattice_inverse - self.start) / self.step
-        out = map_coordinates(self.coefficients, uv.T, order=3, mode="mirror", prefilter=False)
-        return out.reshape(delta.shape[:-1])
-
-
-def _moments(kernel: np.ndarray, far: Any, obs: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """(8, ...) far-rule moments of ``kernel`` (..., Qo, Qs) over triangle pairs (obs, src).
-
-    ``obs`` and ``src`` index the rule's triangles and broadcast against the kernel's
-    leading axes.
-    """
-    w_o, rho_o = far.weights[obs], far.rho[obs][..., :2]  # (..., Q), (..., Q, 2)
-    w_s, rho_s = far.weights[src], far.rho[src][..., :2]
-    h0 = np.einsum("...ab,...b->...a", kernel, w_s)  # ∫ K dS'
-    h1 = np.einsum("...ab,...b,...bc->...ac", kernel, w_s, rho_s)  # ∫ K ρ' dS'
-    out = np.zeros((8,) + kernel.shape[:-2], dtype=np.complex128)
-    out[0] = np.einsum("...a,...a->...", w_o, h0)
+    src, obs = points[lo:, :, :2], points[lo:hi, :, :2]
+    ts, q, tb = len(src), src.shape[1], len(obs)
+    rho = _shift_vectors(shift[lo:hi, lo:], vectors)  # (Tb, Ts, 2), observation first
+    dist = np.zeros((ts, q, tb, q))
     for c in range(2):
-        out[1 + c] = np.einsum("...a,...a->...", w_o * rho_o[..., c], h0)
-        out[4 + c] = np.einsum("...a,...a->...", w_o, h1[..., c])
-        out[7] += np.einsum("...a,...a->...", w_o * rho_o[..., c], h1[..., c])
+        diff = obs[None, None, :, :, c] - src[:, :, None, None, c]
+        diff -= rho[:, :, c].T[:, None, :, None]
+        diff *= diff
+        dist += diff
+    np.sqrt(dist, out=dist)
+    dist[dist == 0.0] = 1.0
+    return dist.reshape(ts * q, tb * q)
+
+
+@cache
+def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev nodes on [−extent, extent] and the (3, G, n) maps to a grid of ``step``."""
+    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)  # first kind, in [−1, 1]
+    to_coefficients = np.linalg.inv(chebyshev.chebvander(x, n - 1))
+    half = int(round(extent / step))
+    grid = step * np.arange(-half, half + 1) / extent
+    eye = np.eye(n)
+    maps = np.stack(
+        [
+            chebyshev.chebvander(grid, n - 1 - d) @ chebyshev.chebder(eye, d, axis=0)
+            if d
+            else chebyshev.chebvander(grid, n - 1)
+            for d in range(3)
+        ]
+    )
+    maps = maps @ to_coefficients / extent ** np.arange(3)[:, None, None]
+    return extent * x, maps
+
+
+def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -> RegularGrid:
+    """The Taylor data of G_reg for centroid offsets ``reduced`` (T, T, 2) [o, s], lattice."""
+    step = 1.0 / TAYLOR_NODES
+    extent = 0.5 + 2.0 * step
+    nodes, maps = _chebyshev_maps(CHEBYSHEV_NODES, extent, step)
+    half = int(round(extent / step))
+    nearest = np.rint(reduced.transpose(1, 0, 2) / step)  # [s, o]: odd, like σ
+    node = ((nearest[..., 0] + half) * (2 * half + 1) + nearest[..., 1] + half).astype(np.int32)
+    rest = reduced.transpose(1, 0, 2) - step * nearest  # lattice coordinates
+    offset = np.stack([rest @ vectors[:, c] for c in range(2)])
+    rule = base.near
+    w, rho = rule.weights, rule.rho[:, :, :2]
+    second = np.einsum("tq,tqi,tqj->tij", w, rho, rho)
+    third = np.einsum("tq,tqi,tqj,tqk->tijk", w, rho, rho, rho)
+    return RegularGrid(nodes, maps, node, offset, second, third)
+
+
+def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
+    """(6, G²) G_reg and its x, y, xx, xy, yy derivatives (m) on the grid, for one k, k_t."""
+    rg = pg.regular
+    u = rg.nodes
+    n = len(u)
+    points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ pg.lattice
+    values = green.regular(points).reshape(n, n)
+    b0, b1, b2 = rg.maps
+    v0, v1, v2 = values @ b0.T, values @ b1.T, values @ b2.T
+    g, gu, gv = b0 @ v0, b1 @ v0, b0 @ v1
+    guu, guv, gvv = b2 @ v0, b1 @ v1, b0 @ v2
+    m = np.linalg.inv(pg.lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
+    out = np.empty((6,) + g.shape, dtype=np.complex128)
+    out[0] = g
+    for c in range(2):
+        out[1 + c] = m[c, 0] * gu + m[c, 1] * gv
+    for i, (a, b) in enumerate(((0, 0), (0, 1), (1, 1))):
+        out[3 + i] = (
+            m[a, 0] * m[b, 0] * guu
+            + (m[a, 0] * m[b, 1] + m[a, 1] * m[b, 0]) * guv
+            + m[a, 1] * m[b, 1] * gvv
+        )
+    return out.reshape(6, -1)
+
+
+def _regular_moments(pg: PeriodicGeometry, tables: np.ndarray, lo: int, hi: int) -> np.ndarray:
+    """(6, T, B) flat moments of G_reg over pairs (source s, observation lo..hi).
+
+    G_reg(n + w) ≈ g + ∇g·w + ½ wᵀHw about the grid node n, w = e + ρ − ρ' with e the
+    centroid offset's distance to the node; integrated over both triangles with
+    ∫ρ dS = 0, I = ∫ρρᵀ dS and J = ∫ρρρ dS::
+
+        ∫∫ 1      = A A' (g + ∇g·e + ½ eᵀHe) + ½ (A' tr HI + A tr HI')
+        ∫∫ ρ      = A' (I (∇g + He) + ½ J:H)
+        ∫∫ ρ'     = A (−I' (∇g + He) + ½ J':H)
+        ∫∫ ρ·ρ'   = −tr(I H I')
+    """
+    rg = pg.regular
+    node = rg.node[:, lo:hi]
+    g, gx, gy, hxx, hxy, hyy = (np.take(t, node) for t in tables)
+    ex, ey = rg.offset[0][:, lo:hi], rg.offset[1][:, lo:hi]
+    area = pg.base.areas
+    a_s, a_o = area[:, None], area[None, lo:hi]
+    i_s, i_o = rg.second[:, None], rg.second[None, lo:hi]  # (T, 1, 2, 2), (1, B, 2, 2)
+    j_s, j_o = rg.third[:, None], rg.third[None, lo:hi]
+    # the gradient at the centroid offset, to first order
+    dx = gx + hxx * ex + hxy * ey
+    dy = gy + hxy * ex + hyy * ey
+    out = np.empty((6,) + g.shape, dtype=np.complex128)
+
+    def trace(i: np.ndarray) -> np.ndarray:  # tr(H I)
+        return hxx * i[..., 0, 0] + 2.0 * hxy * i[..., 0, 1] + hyy * i[..., 1, 1]
+
+    out[0] = a_s * a_o * (g + 0.5 * ((gx + dx) * ex + (gy + dy) * ey))
+    out[0] += 0.5 * (a_s * trace(i_o) + a_o * trace(i_s))
+    for c in range(2):
+        out[1 + c] = a_s * (
+            i_o[..., c, 0] * dx + i_o[..., c, 1] * dy + 0.5 * trace(j_o[..., c, :, :])
+        )
+        out[3 + c] = a_o * (
+            0.5 * trace(j_s[..., c, :, :]) - i_s[..., c, 0] * dx - i_s[..., c, 1] * dy
+        )
+    # tr(I H I') = Σ_kl H_kl Σ_i I_ik I'_li
+    out[5] = -(
+        hxx * (i_o[..., 0, 0] * i_s[..., 0, 0] + i_o[..., 1, 0] * i_s[..., 0, 1])
+        + hxy
+        * (
+            i_o[..., 0, 0] * i_s[..., 1, 0]
+            + i_o[..., 1, 0] * i_s[..., 1, 1]
+            + i_o[..., 0, 1] * i_s[..., 0, 0]
+            + i_o[..., 1, 1] * i_s[..., 0, 1]
+        )
+        + hyy * (i_o[..., 0, 1] * i_s[..., 1, 0] + i_o[..., 1, 1] * i_s[..., 1, 1])
+    )
     return out
 
 
-def _point_offsets(pg: PeriodicGeometry, obs: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """(..., Qo, Qs, 2) r − r' − ρ_σ between the far rule's points of pairs (obs, src)."""
-    far = pg.base.far
-    shift = pg.shift_vectors[obs, src]  # (..., 2)
-    return (
-        far.points[obs][..., :, None, :2]
-        - far.points[src][..., None, :, :2]
-        - shift[..., None, None, :]
-    )
+def _image_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+    """(6, T, T) flat moments of G = e^(−jkR)/R of the nearest image, [source, observation].
+
+    The far rule on every pair, computed for the pairs (o, s ≥ o's block) only: a pair's
+    mirror (s, o) has the same point distances, transposed, so its moments are the
+    same with ρ and ρ' swapped. The near pairs then get the closed-form moments: the
+    free-space solver's own for σ = 0, the shifted ones of ``pg.cross`` for σ ≠ 0.
+    """
+    base = pg.base
+    far = base.far
+    t, q = base.n_triangles, far.size
+    w = far.weights
+    w_rho = w[:, :, None] * far.rho[:, :, :2]  # (T, Q, 2)
+    src_weights = np.concatenate([w[:, None, :], w_rho.transpose(0, 2, 1)], axis=1)
+    out = np.empty((6, t, t), dtype=np.complex128)
+    block = max(1, min(BLOCK_ENTRIES // max(1, t * q * q), -(-t // MIN_BLOCKS)))
+    max_phase = k * pg.far_reach
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        tb, ts = hi - lo, t - lo
+        if pg.far_distances is not None:
+            dist = pg.far_distances[lo * q :, lo * q : hi * q]
+        else:
+            dist = _far_distances(far.points, pg.shift, pg.lattice, lo, hi)
+        kernel = far_kernel(dist, k, max_phase).reshape(ts, q, tb * q)
+        h = np.matmul(src_weights[lo:], kernel.view(np.float64)).view(np.complex128)
+        del kernel
+        h = h.reshape(ts, 3, tb, q)
+        w_o, wr_o = w[lo:hi], w_rho[lo:hi]
+        m0 = np.einsum("spa,pa->sp", h[:, 0], w_o)
+        m1 = [np.einsum("spa,pa->sp", h[:, 0], wr_o[:, :, c]) for c in range(2)]
+        m4 = [np.einsum("spa,pa->sp", h[:, 1 + c], w_o) for c in range(2)]
+        m7 = sum(np.einsum("spa,pa->sp", h[:, 1 + c], wr_o[:, :, c]) for c in range(2))
+        for i, m in enumerate((m0, *m1, *m4, m7)):
+            out[i, lo:, lo:hi] = m
+        # the mirrored pairs (observation s ≥ hi, source lo..hi): ρ and ρ' swap
+        for i, m in enumerate((m0, *m4, *m1, m7)):
+            out[i, lo:hi, hi:] = m[tb:].T
+    obs, src = base.near_pairs[:, 0], base.near_pairs[:, 1]
+    out[:, src, obs] = near_moments(base, k)[:, FLAT_MOMENTS].T
+    if len(pg.cross):
+        out[:, pg.cross[:, 1], pg.cross[:, 0]] = _cross_moments(pg, k)[:, FLAT_MOMENTS].T
+    return out
 
 
-def _free_kernel(delta: np.ndarray, k: complex) -> np.ndarray:
-    dist = np.sqrt(np.einsum("...c,...c->...", delta, delta))
-    with np.errstate(divide="ignore", invalid="ignore"):  # self pairs: near, corrected
-        kernel = np.exp(-1j * k * dist) / dist
-    kernel[dist == 0.0] = 0.0
-    return kernel
-
-
-def _near_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
-    """(K, 8) moments of G over the near triples: closed-form 1/R, R plus the smooth rest."""
+def _cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+    """(K, 8) moments of G over the near pairs across the cell's sides (closed-form 1/R, R)."""
     rule = pg.base.near
-    obs, src = pg.near[:, 0], pg.near[:, 1]
-    dist = pg.near_distances
+    obs, src = pg.cross[:, 0], pg.cross[:, 1]
+    dist = pg.cross_distances
     x = k * dist
     with np.errstate(divide="ignore", invalid="ignore"):
         smooth = (np.cos(x) - 1.0 + 0.5 * x * x - 1j * np.sin(x)) / dist
@@ -359,7 +577,7 @@ def _near_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     out[:, 1:4] = np.einsum("ka,kac,ka->kc", w_o, rho_o, h0)
     out[:, 4:7] = np.einsum("ka,kac->kc", w_o, h1)
     out[:, 7] = np.einsum("ka,kac,kac->k", w_o, rho_o, h1)
-    return out + pg.near_static_inv_r - (0.5 * k * k) * pg.near_static_r
+    return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
 
 
 def periodic_impedance_matrix(
@@ -372,44 +590,56 @@ def periodic_impedance_matrix(
     """
     base = pg.base
     t, n = base.n_triangles, pg.n_unknowns
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
-    table = RegularTable.build(pg, green)
-    # near triples: the closed-form moments of G replace the far rule's
-    near_obs, near_src = pg.near[:, 0], pg.near[:, 1]
-    far_g = _moments(
-        _free_kernel(_point_offsets(pg, near_obs, near_src), k), base.far, near_obs, near_src
-    )  # (8, K)
-    correction = _near_moments(pg, k) - far_g.T  # (K, 8), pairs sorted by observation
-    # the coefficient and offset maps, (N, 3T) stacked as [C | D_x | D_y]
-    basis, test = pg.basis_maps(np.asarray(kt))
-    phase_all = np.exp(-1j * (pg.shift_vectors @ np.asarray(kt)))  # (T, T)
-    starts = np.searchsorted(near_obs, np.arange(t + 1))
-    q = base.far.size
-    block = max(1, min(t, BLOCK_ENTRIES // max(1, t * q * q)))
-    everyone = np.arange(t)
+    kt = np.asarray(kt, dtype=np.float64)
+    if complex(k).imag != 0:
+        raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
+    k = float(np.real(k))
+    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
+    tables = _regular_tables(pg, green)
+    moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
+    # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2
+    turns = pg.lattice @ kt
+    low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
+    steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
+    # Z = test · S · basisᵀ: S by blocks of observation triangles, Sᵀ laid out source first
+    # so that the real sparse maps multiply it as a real array (two halves of the maps:
+    # ``maps`` real, ``folded`` with the Floquet phase of each unknown's crossing)
+    phase = np.exp(-1j * (pg.crossing @ kt))
+    maps, folded = pg.maps, pg.folded.tocsr()
+    crossing = np.flatnonzero(np.diff(folded.indptr))  # the unknowns across the sides
+    folded_rows = folded[crossing] if len(crossing) else None
+    maps_cols = pg.maps.tocsc()
+    block = max(1, min(t, BLOCK_ENTRIES // max(1, 9 * t)))
     z = np.zeros((n, n), dtype=np.complex128)
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        rows = np.arange(lo, hi)[:, None]
-        delta = _point_offsets(pg, rows, everyone[None, :])  # (B, T, Q, Q, 2)
-        kernel = _free_kernel(delta, k) + table(delta)
-        m = _moments(kernel, base.far, rows, everyone[None, :])  # (8, B, T)
-        span = slice(starts[lo], starts[hi])
-        m[:, near_obs[span] - lo, near_src[span]] += correction[span].T
-        m *= phase_all[None, lo:hi]
         b = hi - lo
-        s = np.zeros((3, b, 3, t), dtype=np.complex128)
-        s[0, :, 0] = k * m[7] - (4.0 / k) * m[0]
+        m = moments[:, :, lo:hi] + _regular_moments(pg, tables, lo, hi)  # (6, T, B)
+        sigma = pg.shift[lo:hi]  # (B, T, 2) [o, s]
+        m *= (steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]).T
+        s = np.zeros((3, t, 3, b), dtype=np.complex128)  # Sᵀ: [basis part, s, test part, o]
+        s[0, :, 0] = k * m[5] - (4.0 / k) * m[0]
         for c in range(2):
-            s[0, :, 1 + c] = k * m[1 + c]  # C_m ρ · D_n
-            s[1 + c, :, 0] = k * m[4 + c]  # D_m · ρ' C_n
+            s[1 + c, :, 0] = k * m[1 + c]  # C_m ρ · D_n
+            s[0, :, 1 + c] = k * m[3 + c]  # D_m · ρ' C_n
             s[1 + c, :, 1 + c] = k * m[0]  # D_m · D_n
+        s = s.reshape(3 * t, 3 * b)
+        right = _real_product(maps, s)  # (N, 3B): basis · Sᵀ
+        if folded_rows is not None:
+            right[crossing] += phase[crossing, None] * (folded_rows @ s)
+        right = np.ascontiguousarray(right.T)  # (3B, N)
         cols = np.concatenate([np.arange(lo, hi) + c * t for c in range(3)])
-        left = test[:, cols]  # (N, 3B)
-        right = (basis @ s.reshape(3 * b, 3 * t).T).T  # (3B, N): S · Basisᵀ
-        z += left @ right
+        z += _real_product(maps_cols[:, cols].tocsr(), right)
+        if folded_rows is not None:
+            z[crossing] += np.conj(phase[crossing, None]) * (folded_rows[:, cols] @ right)
     z *= 1j * ETA0 / (4.0 * np.pi)
     return z
+
+
+def _real_product(real: sp.csr_matrix, dense: np.ndarray) -> np.ndarray:
+    """``real @ dense`` for a real sparse matrix and a C-contiguous complex array."""
+    out = real @ dense.view(np.float64)
+    return out.view(np.complex128)
 
 
 def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:
