@@ -67,6 +67,8 @@ TAYLOR_NODES = 256
 MAX_TRIANGLE = 0.2
 #: Complex entries per block of the far-rule kernel.
 BLOCK_ENTRIES = 1 << 21
+#: Observation triangles per block of the Taylor moments (small: the block stays in cache).
+REGULAR_BLOCK = 64
 #: Fewest blocks of observation triangles in the far-rule pass (so that the mirrored
 #: half is most of the work).
 MIN_BLOCKS = 8
@@ -75,6 +77,8 @@ DISTANCE_CACHE_BYTES = 160 * 2**20
 #: The six moments of a pair kept on a flat screen, as rows of :data:`MOMENTS` (1, ρ_x,
 #: ρ_y, ρ'_x, ρ'_y, ρ·ρ'; the z ones vanish).
 FLAT_MOMENTS = (0, 1, 2, 4, 5, 7)
+#: The entries xx, xy, yy of a symmetric 2 × 2 matrix.
+UPPER = ((0, 0), (0, 1), (1, 1))
 
 
 def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
@@ -444,10 +448,11 @@ def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
     n = len(u)
     points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ pg.lattice
     values = green.regular(points).reshape(n, n)
+    # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
+    v0, v1, v2 = np.einsum("ij,dkj->dik", values, rg.maps)
     b0, b1, b2 = rg.maps
-    v0, v1, v2 = values @ b0.T, values @ b1.T, values @ b2.T
-    g, gu, gv = b0 @ v0, b1 @ v0, b0 @ v1
-    guu, guv, gvv = b2 @ v0, b1 @ v1, b0 @ v2
+    g, gu, gv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
+    guu, guv, gvv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
     m = np.linalg.inv(pg.lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
     out = np.empty((6,) + g.shape, dtype=np.complex128)
     out[0] = g
@@ -462,56 +467,77 @@ def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
     return out.reshape(6, -1)
 
 
-def _regular_moments(pg: PeriodicGeometry, tables: np.ndarray, lo: int, hi: int) -> np.ndarray:
-    """(6, T, B) flat moments of G_reg over pairs (source s, observation lo..hi).
+def _add_regular_moments(
+    pg: PeriodicGeometry, tables: np.ndarray, lo: int, hi: int, out: np.ndarray
+) -> None:
+    """Add the flat moments of G_reg over pairs (source s, observation lo..hi) to ``out``.
 
-    G_reg(n + w) ≈ g + ∇g·w + ½ wᵀHw about the grid node n, w = e + ρ − ρ' with e the
-    centroid offset's distance to the node; integrated over both triangles with
-    ∫ρ dS = 0, I = ∫ρρᵀ dS and J = ∫ρρρ dS::
+    ``out`` is (6, T, B). G_reg(n + w) ≈ g + ∇g·w + ½ wᵀHw about the grid node n,
+    w = e + ρ − ρ' with e the centroid offset less the node; integrated over both
+    triangles with ∫ρ dS = 0, I = ∫ρρᵀ dS and J = ∫ρρρ dS (d = ∇g + He)::
 
         ∫∫ 1      = A A' (g + ∇g·e + ½ eᵀHe) + ½ (A' tr HI + A tr HI')
-        ∫∫ ρ      = A' (I (∇g + He) + ½ J:H)
-        ∫∫ ρ'     = A (−I' (∇g + He) + ½ J':H)
+        ∫∫ ρ      = A' (I d + ½ J:H)
+        ∫∫ ρ'     = A (−I' d + ½ J':H)
         ∫∫ ρ·ρ'   = −tr(I H I')
     """
     rg = pg.regular
-    node = rg.node[:, lo:hi]
-    g, gx, gy, hxx, hxy, hyy = (np.take(t, node) for t in tables)
+    g, gx, gy, hxx, hxy, hyy = np.take(tables, rg.node[:, lo:hi], axis=1)
     ex, ey = rg.offset[0][:, lo:hi], rg.offset[1][:, lo:hi]
     area = pg.base.areas
-    a_s, a_o = area[:, None], area[None, lo:hi]
-    i_s, i_o = rg.second[:, None], rg.second[None, lo:hi]  # (T, 1, 2, 2), (1, B, 2, 2)
-    j_s, j_o = rg.third[:, None], rg.third[None, lo:hi]
-    # the gradient at the centroid offset, to first order
-    dx = gx + hxx * ex + hxy * ey
-    dy = gy + hxy * ex + hyy * ey
-    out = np.empty((6,) + g.shape, dtype=np.complex128)
+    a_s, a_o = area[:, None], area[lo:hi]
+    i_s, i_o = rg.second[:, None], rg.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
+    j_s, j_o = rg.third[:, None], rg.third[lo:hi]
+    tmp = np.empty_like(g)
 
-    def trace(i: np.ndarray) -> np.ndarray:  # tr(H I)
-        return hxx * i[..., 0, 0] + 2.0 * hxy * i[..., 0, 1] + hyy * i[..., 1, 1]
+    def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
+        np.multiply(a, w, out=tmp)
+        acc += tmp
 
-    out[0] = a_s * a_o * (g + 0.5 * ((gx + dx) * ex + (gy + dy) * ey))
-    out[0] += 0.5 * (a_s * trace(i_o) + a_o * trace(i_s))
-    for c in range(2):
-        out[1 + c] = a_s * (
-            i_o[..., c, 0] * dx + i_o[..., c, 1] * dy + 0.5 * trace(j_o[..., c, :, :])
-        )
-        out[3 + c] = a_o * (
-            0.5 * trace(j_s[..., c, :, :]) - i_s[..., c, 0] * dx - i_s[..., c, 1] * dy
-        )
-    # tr(I H I') = Σ_kl H_kl Σ_i I_ik I'_li
-    out[5] = -(
-        hxx * (i_o[..., 0, 0] * i_s[..., 0, 0] + i_o[..., 1, 0] * i_s[..., 0, 1])
-        + hxy
-        * (
-            i_o[..., 0, 0] * i_s[..., 1, 0]
-            + i_o[..., 1, 0] * i_s[..., 1, 1]
-            + i_o[..., 0, 1] * i_s[..., 0, 0]
-            + i_o[..., 1, 1] * i_s[..., 0, 1]
-        )
-        + hyy * (i_o[..., 0, 1] * i_s[..., 1, 0] + i_o[..., 1, 1] * i_s[..., 1, 1])
+    def hessian(acc: np.ndarray, wxx, wxy, wyy) -> None:  # acc += H:w (wxy both halves)
+        mac(acc, hxx, wxx)
+        mac(acc, hxy, wxy)
+        mac(acc, hyy, wyy)
+
+    dx = hxx * ex
+    dx += gx
+    mac(dx, hxy, ey)
+    dy = hyy * ey
+    dy += gy
+    mac(dy, hxy, ex)
+    # m0: A A' (g + ½ (∇g + d)·e) + ½ A' tr HI + ½ A tr HI'
+    value = gx + dx
+    value *= ex
+    np.add(gy, dy, out=tmp)
+    tmp *= ey
+    value += tmp
+    value *= 0.5
+    value += g
+    value *= a_s * a_o
+    hessian(
+        value,
+        *(0.5 * (a_s * i_o[:, p, q] + a_o * i_s[..., p, q]) * (1 + (p != q)) for p, q in UPPER),
     )
-    return out
+    out[0] += value
+    for c in range(2):
+        # A' (I d + ½ J:H), then A (−I' d + ½ J':H)
+        acc = dx * i_o[:, c, 0]
+        mac(acc, dy, i_o[:, c, 1])
+        hessian(acc, *(0.5 * j_o[:, c, p, q] * (1 + (p != q)) for p, q in UPPER))
+        acc *= a_s
+        out[1 + c] += acc
+        np.multiply(dx, -i_s[..., c, 0], out=acc)
+        mac(acc, dy, -i_s[..., c, 1])
+        hessian(acc, *(0.5 * j_s[..., c, p, q] * (1 + (p != q)) for p, q in UPPER))
+        acc *= a_o
+        out[3 + c] += acc
+    # −tr(I H I') = −Σ_kl H_kl C_kl, C_kl = Σ_i I_ik I'_li (outer products of the two sides)
+    i_s = i_s[:, 0]
+
+    def outer(p: int, q: int) -> np.ndarray:
+        return -(np.outer(i_s[:, q, 0], i_o[:, 0, p]) + np.outer(i_s[:, q, 1], i_o[:, 1, p]))
+
+    hessian(out[5], outer(0, 0), outer(0, 1) + outer(1, 0), outer(1, 1))
 
 
 def _image_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
@@ -588,51 +614,60 @@ def periodic_impedance_matrix(
     ``kt`` is the incident wave's transverse wavevector (rad/m). Reciprocity:
     Z(k_t)ᵀ = Z(−k_t).
     """
-    base = pg.base
-    t, n = base.n_triangles, pg.n_unknowns
-    kt = np.asarray(kt, dtype=np.float64)
     if complex(k).imag != 0:
         raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
     k = float(np.real(k))
+    kt = np.asarray(kt, dtype=np.float64)
+    base = pg.base
+    t, n = base.n_triangles, pg.n_unknowns
     green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
     tables = _regular_tables(pg, green)
     moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
-    # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2
-    turns = pg.lattice @ kt
-    low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
-    steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
-    # Z = test · S · basisᵀ: S by blocks of observation triangles, Sᵀ laid out source first
-    # so that the real sparse maps multiply it as a real array (two halves of the maps:
-    # ``maps`` real, ``folded`` with the Floquet phase of each unknown's crossing)
+    for lo in range(0, t, REGULAR_BLOCK):
+        hi = min(t, lo + REGULAR_BLOCK)
+        _add_regular_moments(pg, tables, lo, hi, moments[:, :, lo:hi])
+    # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2 (1 where every σ is 0)
+    if np.any(kt) and np.any(pg.shift):
+        turns = pg.lattice @ kt
+        low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
+        steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
+        for lo in range(0, t, REGULAR_BLOCK):
+            sigma = pg.shift[lo : lo + REGULAR_BLOCK]  # (B, T, 2) [o, s]
+            phase = steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]
+            moments[:, :, lo : lo + REGULAR_BLOCK] *= phase.T
+    # Z = Σ_ab test_a S_ab basis_bᵀ over the parts a, b of [C | D_x | D_y] (the maps are
+    # real; the T− halves of the unknowns across the sides carry their Floquet phase):
+    # S_00 = k ∫∫ρ·ρ'G − 4/k ∫∫G, S_0c = k ∫∫ρ_c G, S_c0 = k ∫∫ρ'_c G, S_cc = k ∫∫G
     phase = np.exp(-1j * (pg.crossing @ kt))
-    maps, folded = pg.maps, pg.folded.tocsr()
-    crossing = np.flatnonzero(np.diff(folded.indptr))  # the unknowns across the sides
-    folded_rows = folded[crossing] if len(crossing) else None
-    maps_cols = pg.maps.tocsc()
-    block = max(1, min(t, BLOCK_ENTRIES // max(1, 9 * t)))
+    parts = [pg.maps[:, c * t : (c + 1) * t] for c in range(3)]
+    crossing = np.flatnonzero(np.diff(pg.folded.tocsr().indptr))  # the unknowns across
+    folded = [pg.folded.tocsr()[crossing][:, c * t : (c + 1) * t].tocsr() for c in range(3)]
+    columns = [p.tocsc() for p in parts]
+    moments[5] -= (4.0 / (k * k)) * moments[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+    block = max(1, min(t, BLOCK_ENTRIES // max(1, 2 * n)))
     z = np.zeros((n, n), dtype=np.complex128)
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        b = hi - lo
-        m = moments[:, :, lo:hi] + _regular_moments(pg, tables, lo, hi)  # (6, T, B)
-        sigma = pg.shift[lo:hi]  # (B, T, 2) [o, s]
-        m *= (steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]).T
-        s = np.zeros((3, t, 3, b), dtype=np.complex128)  # Sᵀ: [basis part, s, test part, o]
-        s[0, :, 0] = k * m[5] - (4.0 / k) * m[0]
-        for c in range(2):
-            s[1 + c, :, 0] = k * m[1 + c]  # C_m ρ · D_n
-            s[0, :, 1 + c] = k * m[3 + c]  # D_m · ρ' C_n
-            s[1 + c, :, 1 + c] = k * m[0]  # D_m · D_n
-        s = s.reshape(3 * t, 3 * b)
-        right = _real_product(maps, s)  # (N, 3B): basis · Sᵀ
-        if folded_rows is not None:
-            right[crossing] += phase[crossing, None] * (folded_rows @ s)
-        right = np.ascontiguousarray(right.T)  # (3B, N)
-        cols = np.concatenate([np.arange(lo, hi) + c * t for c in range(3)])
-        z += _real_product(maps_cols[:, cols].tocsr(), right)
-        if folded_rows is not None:
-            z[crossing] += np.conj(phase[crossing, None]) * (folded_rows[:, cols] @ right)
-    z *= 1j * ETA0 / (4.0 * np.pi)
+        m = moments[:, :, lo:hi]
+        # right_a = Σ_b basis_b S_abᵀ, (N, B) for the observation triangles lo..hi
+        pairs = (
+            ((0, 5), (1, 1), (2, 2)),  # a = 0: C with S_00, D_x with S_0x, D_y with S_0y
+            ((0, 3), (1, 0)),  # a = x: C with S_x0, D_x with S_xx
+            ((0, 4), (2, 0)),  # a = y
+        )
+        for a, terms in enumerate(pairs):
+            right = np.zeros((n, hi - lo), dtype=np.complex128)
+            for b, i in terms:
+                x = np.ascontiguousarray(m[i])
+                right += _real_product(parts[b], x)
+                if len(crossing):
+                    right[crossing] += phase[crossing, None] * (folded[b] @ x)
+            right = np.ascontiguousarray(right.T)  # (B, N)
+            test = columns[a][:, lo:hi].tocsr()
+            z += _real_product(test, right)
+            if len(crossing):
+                z[crossing] += np.conj(phase[crossing, None]) * (folded[a][:, lo:hi] @ right)
+    z *= 1j * k * ETA0 / (4.0 * np.pi)
     return z
 
 
