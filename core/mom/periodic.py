@@ -59,10 +59,11 @@ from .solve import check_sheet_impedance, dense_solve
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
-#: Chebyshev nodes per lattice direction through which G_reg is interpolated (per frequency).
-CHEBYSHEV_NODES = 20
+#: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
+#: frequency); more at high frequency: 10 + k |a| (interpolation error below 1e-6 of G_reg).
+CHEBYSHEV_NODES = 16
 #: Grid nodes per cell length at which G_reg's Taylor coefficients are tabulated.
-TAYLOR_NODES = 256
+TAYLOR_NODES = 128
 #: Largest triangle, as a fraction of the cell's smallest height.
 MAX_TRIANGLE = 0.2
 #: Complex entries per block of the far-rule kernel.
@@ -74,6 +75,8 @@ REGULAR_BLOCK = 64
 MIN_BLOCKS = 8
 #: Largest cached table of far-rule point distances (bytes); above it, recomputed per fill.
 DISTANCE_CACHE_BYTES = 160 * 2**20
+#: Entries of the scratch slab in which point distances are computed.
+DISTANCE_SLAB = 1 << 18
 #: The six moments of a pair kept on a flat screen, as rows of :data:`MOMENTS` (1, ρ_x,
 #: ρ_y, ρ'_x, ρ'_y, ρ·ρ'; the z ones vanish).
 FLAT_MOMENTS = (0, 1, 2, 4, 5, 7)
@@ -104,11 +107,6 @@ class RegularGrid:
 
     Attributes
     ----------
-    nodes : (n,) float
-        The Chebyshev nodes (lattice coordinates).
-    maps : (3, G, n) float
-        From values at the nodes to the interpolant's value, first and second
-        derivative along one lattice coordinate at the grid's G points.
     node : (T, T) int32
         Flat index (G × G grid) of the node nearest each pair's reduced centroid
         offset, [source, observation].
@@ -120,8 +118,6 @@ class RegularGrid:
         ∫ ρ_i ρ_j ρ_k dS (m⁵).
     """
 
-    nodes: np.ndarray
-    maps: np.ndarray
     node: np.ndarray
     offset: np.ndarray
     second: np.ndarray
@@ -392,14 +388,24 @@ def _far_distances(
     """
     src, obs = points[lo:, :, :2], points[lo:hi, :, :2]
     ts, q, tb = len(src), src.shape[1], len(obs)
-    rho = _shift_vectors(shift[lo:hi, lo:], vectors)  # (Tb, Ts, 2), observation first
-    dist = np.zeros((ts, q, tb, q))
-    for c in range(2):
-        diff = obs[None, None, :, :, c] - src[:, :, None, None, c]
-        diff -= rho[:, :, c].T[:, None, :, None]
-        diff *= diff
-        dist += diff
-    np.sqrt(dist, out=dist)
+    dist = np.empty((ts, q, tb, q))
+    # slabs of source triangles, so that the only large array written is the table
+    rows = max(1, DISTANCE_SLAB // (q * tb * q))
+    scratch = np.empty((min(rows, ts), q, tb, q))
+    for first in range(0, ts, rows):
+        last = min(ts, first + rows)
+        out, tmp = dist[first:last], scratch[: last - first]
+        sigma = shift[lo:hi, lo + first : lo + last].astype(np.float64)  # (Tb, r, 2)
+        for c in range(2):
+            rho = sigma[..., 0] * vectors[0, c] + sigma[..., 1] * vectors[1, c]  # as ρ_σ
+            np.subtract(obs[None, None, :, :, c], src[first:last, :, None, None, c], out=tmp)
+            tmp -= rho.T[:, None, :, None]
+            tmp *= tmp
+            if c:
+                out += tmp
+            else:
+                out[...] = tmp
+        np.sqrt(out, out=out)
     dist[dist == 0.0] = 1.0
     return dist.reshape(ts * q, tb * q)
 
@@ -427,30 +433,35 @@ def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.
 def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -> RegularGrid:
     """The Taylor data of G_reg for centroid offsets ``reduced`` (T, T, 2) [o, s], lattice."""
     step = 1.0 / TAYLOR_NODES
-    extent = 0.5 + 2.0 * step
-    nodes, maps = _chebyshev_maps(CHEBYSHEV_NODES, extent, step)
-    half = int(round(extent / step))
-    nearest = np.rint(reduced.transpose(1, 0, 2) / step)  # [s, o]: odd, like σ
-    node = ((nearest[..., 0] + half) * (2 * half + 1) + nearest[..., 1] + half).astype(np.int32)
-    rest = reduced.transpose(1, 0, 2) - step * nearest  # lattice coordinates
-    offset = np.stack([rest @ vectors[:, c] for c in range(2)])
+    half = TAYLOR_NODES // 2 + 2  # the grid spans [−e, e]², e = half · step, just over ½
+    swapped = reduced.transpose(1, 0, 2)  # [s, o]
+    nearest = np.rint(swapped * TAYLOR_NODES)  # odd, like σ
+    node = (nearest[..., 0] + half) * (2 * half + 1)
+    node += nearest[..., 1] + half
+    node = node.astype(np.int32)
+    rest = swapped - step * nearest  # lattice coordinates
+    offset = np.empty((2,) + node.shape)
+    for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
+        np.multiply(rest[..., 0], vectors[0, c], out=offset[c])
+        offset[c] += rest[..., 1] * vectors[1, c]
     rule = base.near
     w, rho = rule.weights, rule.rho[:, :, :2]
     second = np.einsum("tq,tqi,tqj->tij", w, rho, rho)
     third = np.einsum("tq,tqi,tqj,tqk->tijk", w, rho, rho, rho)
-    return RegularGrid(nodes, maps, node, offset, second, third)
+    return RegularGrid(node, offset, second, third)
 
 
 def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
     """(6, G²) G_reg and its x, y, xx, xy, yy derivatives (m) on the grid, for one k, k_t."""
-    rg = pg.regular
-    u = rg.nodes
-    n = len(u)
+    step = 1.0 / TAYLOR_NODES
+    reach = float(np.linalg.norm(pg.lattice, axis=1).max())
+    n = max(CHEBYSHEV_NODES, math.ceil(10 + abs(green.k) * reach))
+    u, maps = _chebyshev_maps(n, (TAYLOR_NODES // 2 + 2) * step, step)
     points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ pg.lattice
     values = green.regular(points).reshape(n, n)
     # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
-    v0, v1, v2 = np.einsum("ij,dkj->dik", values, rg.maps)
-    b0, b1, b2 = rg.maps
+    v0, v1, v2 = np.einsum("ij,dkj->dik", values, maps)
+    b0, b1, b2 = maps
     g, gu, gv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
     guu, guv, gvv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
     m = np.linalg.inv(pg.lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
