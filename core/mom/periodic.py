@@ -68,7 +68,8 @@ TAYLOR_NODES = 128
 MAX_TRIANGLE = 0.2
 #: Complex entries per block of the far-rule kernel.
 BLOCK_ENTRIES = 1 << 21
-#: Observation triangles per block of the Taylor moments (small: the block stays in cache).
+#: Observation triangles per block of the second pass (Taylor moments, Floquet phase,
+#: products with the RWG maps): small, so that the block stays in cache.
 REGULAR_BLOCK = 64
 #: Fewest blocks of observation triangles in the far-rule pass (so that the mirrored
 #: half is most of the work).
@@ -552,7 +553,7 @@ def _add_regular_moments(
 
 
 def _image_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
-    """(6, T, T) flat moments of G = e^(−jkR)/R of the nearest image, [source, observation].
+    """(6, T, T) complex64 flat moments of G = e^(−jkR)/R of the nearest image, [s, o].
 
     The far rule on every pair, computed for the pairs (o, s ≥ o's block) only: a pair's
     mirror (s, o) has the same point distances, transposed, so its moments are the
@@ -565,7 +566,9 @@ def _image_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
     w = far.weights
     w_rho = w[:, :, None] * far.rho[:, :, :2]  # (T, Q, 2)
     src_weights = np.concatenate([w[:, None, :], w_rho.transpose(0, 2, 1)], axis=1)
-    out = np.empty((6, t, t), dtype=np.complex128)
+    # single precision: the far kernel's phase is single already (1e-7 of |G|), and the
+    # table is written and read once per fill (half the memory traffic of double)
+    out = np.empty((6, t, t), dtype=np.complex64)
     block = max(1, min(BLOCK_ENTRIES // max(1, t * q * q), -(-t // MIN_BLOCKS)))
     max_phase = k * pg.far_reach
     for lo in range(0, t, block):
@@ -634,18 +637,12 @@ def periodic_impedance_matrix(
     green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
     tables = _regular_tables(pg, green)
     moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
-    for lo in range(0, t, REGULAR_BLOCK):
-        hi = min(t, lo + REGULAR_BLOCK)
-        _add_regular_moments(pg, tables, lo, hi, moments[:, :, lo:hi])
     # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2 (1 where every σ is 0)
+    steps = None
     if np.any(kt) and np.any(pg.shift):
         turns = pg.lattice @ kt
         low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
         steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
-        for lo in range(0, t, REGULAR_BLOCK):
-            sigma = pg.shift[lo : lo + REGULAR_BLOCK]  # (B, T, 2) [o, s]
-            phase = steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]
-            moments[:, :, lo : lo + REGULAR_BLOCK] *= phase.T
     # Z = Σ_ab test_a S_ab basis_bᵀ over the parts a, b of [C | D_x | D_y] (the maps are
     # real; the T− halves of the unknowns across the sides carry their Floquet phase):
     # S_00 = k ∫∫ρ·ρ'G − 4/k ∫∫G, S_0c = k ∫∫ρ_c G, S_c0 = k ∫∫ρ'_c G, S_cc = k ∫∫G
@@ -654,30 +651,36 @@ def periodic_impedance_matrix(
     crossing = np.flatnonzero(np.diff(pg.folded.tocsr().indptr))  # the unknowns across
     folded = [pg.folded.tocsr()[crossing][:, c * t : (c + 1) * t].tocsr() for c in range(3)]
     columns = [p.tocsc() for p in parts]
-    moments[5] -= (4.0 / (k * k)) * moments[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
-    block = max(1, min(t, BLOCK_ENTRIES // max(1, 2 * n)))
+    terms = (
+        ((0, 5), (1, 1), (2, 2)),  # a = 0: C with S_00, D_x with S_0x, D_y with S_0y
+        ((0, 3), (1, 0)),  # a = x: C with S_x0, D_x with S_xx
+        ((0, 4), (2, 0)),  # a = y
+    )
     z = np.zeros((n, n), dtype=np.complex128)
-    for lo in range(0, t, block):
-        hi = min(t, lo + block)
-        m = moments[:, :, lo:hi]
-        # right_a = Σ_b basis_b S_abᵀ, (N, B) for the observation triangles lo..hi
-        pairs = (
-            ((0, 5), (1, 1), (2, 2)),  # a = 0: C with S_00, D_x with S_0x, D_y with S_0y
-            ((0, 3), (1, 0)),  # a = x: C with S_x0, D_x with S_xx
-            ((0, 4), (2, 0)),  # a = y
-        )
-        for a, terms in enumerate(pairs):
+    # blocks of observation triangles small enough that their moments stay in cache
+    for lo in range(0, t, REGULAR_BLOCK):
+        hi = min(t, lo + REGULAR_BLOCK)
+        m = moments[:, :, lo:hi].astype(np.complex128)  # (6, T, B)
+        _add_regular_moments(pg, tables, lo, hi, m)
+        if steps is not None:
+            sigma = pg.shift[lo:hi]  # (B, T, 2) [o, s]
+            m *= (steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]).T
+        m[5] -= (4.0 / (k * k)) * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+        tests = [c[:, lo:hi].tocsr() for c in columns]
+        rows = np.unique(np.concatenate([x.nonzero()[0] for x in tests]))  # live on lo..hi
+        block = np.zeros((len(rows), n), dtype=np.complex128)
+        for a, pairs in enumerate(terms):
+            # right_a = Σ_b basis_b S_abᵀ, (N, B)
             right = np.zeros((n, hi - lo), dtype=np.complex128)
-            for b, i in terms:
-                x = np.ascontiguousarray(m[i])
-                right += _real_product(parts[b], x)
+            for b, i in pairs:
+                right += _real_product(parts[b], m[i])
                 if len(crossing):
-                    right[crossing] += phase[crossing, None] * (folded[b] @ x)
+                    right[crossing] += phase[crossing, None] * (folded[b] @ m[i])
             right = np.ascontiguousarray(right.T)  # (B, N)
-            test = columns[a][:, lo:hi].tocsr()
-            z += _real_product(test, right)
+            block += _real_product(tests[a][rows], right)
             if len(crossing):
                 z[crossing] += np.conj(phase[crossing, None]) * (folded[a][:, lo:hi] @ right)
+        z[rows] += block
     z *= 1j * k * ETA0 / (4.0 * np.pi)
     return z
 
