@@ -111,8 +111,9 @@ class RegularGrid:
     node : (T, T) int32
         Flat index (G × G grid) of the node nearest each pair's reduced centroid
         offset, [source, observation].
-    offset : (2, T, T) float
-        That offset minus the node (m), x and y, [source, observation].
+    offset : (2, T, T) float32
+        That offset minus the node (m), x and y, [source, observation]; single precision,
+        as are the Taylor moments (G_reg is needed to 1e-7 of itself, not 1e-16).
     second : (T, 2, 2) float
         ∫ ρρᵀ dS of each triangle about its centroid (m⁴).
     third : (T, 2, 2, 2) float
@@ -441,7 +442,7 @@ def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -
     node += nearest[..., 1] + half
     node = node.astype(np.int32)
     rest = swapped - step * nearest  # lattice coordinates
-    offset = np.empty((2,) + node.shape)
+    offset = np.empty((2,) + node.shape, dtype=np.float32)
     for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
         np.multiply(rest[..., 0], vectors[0, c], out=offset[c])
         offset[c] += rest[..., 1] * vectors[1, c]
@@ -453,7 +454,7 @@ def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -
 
 
 def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
-    """(6, G²) G_reg and its x, y, xx, xy, yy derivatives (m) on the grid, for one k, k_t."""
+    """(6, G²) complex64 G_reg and its x, y, xx, xy, yy derivatives (m) on the grid."""
     step = 1.0 / TAYLOR_NODES
     reach = float(np.linalg.norm(pg.lattice, axis=1).max())
     n = max(CHEBYSHEV_NODES, math.ceil(10 + abs(green.k) * reach))
@@ -476,7 +477,7 @@ def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
             + (m[a, 0] * m[b, 1] + m[a, 1] * m[b, 0]) * guv
             + m[a, 1] * m[b, 1] * gvv
         )
-    return out.reshape(6, -1)
+    return out.reshape(6, -1).astype(np.complex64)
 
 
 def _add_regular_moments(
@@ -496,10 +497,11 @@ def _add_regular_moments(
     rg = pg.regular
     g, gx, gy, hxx, hxy, hyy = np.take(tables, rg.node[:, lo:hi], axis=1)
     ex, ey = rg.offset[0][:, lo:hi], rg.offset[1][:, lo:hi]
-    area = pg.base.areas
+    real = ex.dtype  # single precision (G_reg to 1e-7 relative), or double
+    area = pg.base.areas.astype(real)
     a_s, a_o = area[:, None], area[lo:hi]
-    i_s, i_o = rg.second[:, None], rg.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
-    j_s, j_o = rg.third[:, None], rg.third[lo:hi]
+    i_s, i_o = rg.second.astype(real)[:, None], rg.second.astype(real)[lo:hi]  # (T, 1, 2, 2)
+    j_s, j_o = rg.third.astype(real)[:, None], rg.third.astype(real)[lo:hi]
     tmp = np.empty_like(g)
 
     def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
