@@ -335,7 +335,7 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
     q = far.size
     far_distances = None
     if (len(centroids) * q) ** 2 * 8 <= DISTANCE_CACHE_BYTES:
-        far_distances = _far_distances(far.points, shift, vectors, 0, len(centroids))
+        far_distances = _shifted_table(base, shift, vectors)
         far_reach = float(far_distances.max())
     else:
         gap = np.sqrt(np.einsum("ijc,ijc->ij", frac @ vectors, frac @ vectors)).max()
@@ -378,6 +378,37 @@ def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> n
             found.append(np.stack([o[keep], s[keep]], axis=1))
     pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.intp)
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
+
+def _shifted_table(base: MomGeometry, shift: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """The whole (T Qf, T Qf) table of |r − r' − ρ_σ|: the free space's where σ = 0.
+
+    Where every σ is 0 (an element off the cell's sides) it is the free-space table
+    itself; otherwise that table's copy with the pairs of σ ≠ 0 recomputed, bit for bit
+    as :func:`_far_distances` computes them.
+    """
+    t, q = base.n_triangles, base.far.size
+    if base.far_distances is None:
+        return _far_distances(base.far.points, shift, vectors, 0, t)
+    moved = np.any(shift != 0, axis=2)  # (T, T) [o, s]
+    if not moved.any():
+        return base.far_distances
+    if np.count_nonzero(moved) > t * t // 4:
+        return _far_distances(base.far.points, shift, vectors, 0, t)
+    table = base.far_distances.copy()
+    obs, src = np.nonzero(moved)
+    points = base.far.points[:, :, :2]
+    sigma = shift[obs, src].astype(np.float64)
+    d2 = np.zeros((len(obs), q, q))
+    for c in range(2):
+        rho = sigma[:, 0] * vectors[0, c] + sigma[:, 1] * vectors[1, c]
+        diff = points[obs][:, None, :, c] - points[src][:, :, None, c]  # [k, b (src), a (obs)]
+        diff -= rho[:, None, None]
+        diff *= diff
+        d2 += diff
+    np.sqrt(d2, out=d2)
+    table.reshape(t, q, t, q)[src, :, obs, :] = d2  # row (s, b), column (o, a)
+    return table
 
 
 def _far_distances(
