@@ -112,16 +112,19 @@ class RegularGrid:
         Flat index (G × G grid) of the node nearest each pair's reduced centroid
         offset, [source, observation].
     offset : (2, T, T) float32
-        That offset minus the node (m), x and y, [source, observation]; single precision,
+        That offset minus the node (m), x and y, [source, observation]. Single precision,
         as are the Taylor moments (G_reg is needed to 1e-7 of itself, not 1e-16).
-    second : (T, 2, 2) float
+    areas : (T,) float32
+        Triangle areas (m²).
+    second : (T, 2, 2) float32
         ∫ ρρᵀ dS of each triangle about its centroid (m⁴).
-    third : (T, 2, 2, 2) float
+    third : (T, 2, 2, 2) float32
         ∫ ρ_i ρ_j ρ_k dS (m⁵).
     """
 
     node: np.ndarray
     offset: np.ndarray
+    areas: np.ndarray
     second: np.ndarray
     third: np.ndarray
 
@@ -481,7 +484,10 @@ def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -
     w, rho = rule.weights, rule.rho[:, :, :2]
     second = np.einsum("tq,tqi,tqj->tij", w, rho, rho)
     third = np.einsum("tq,tqi,tqj,tqk->tijk", w, rho, rho, rho)
-    return RegularGrid(node, offset, second, third)
+    single = np.float32
+    return RegularGrid(
+        node, offset, base.areas.astype(single), second.astype(single), third.astype(single)
+    )
 
 
 def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
@@ -528,11 +534,9 @@ def _add_regular_moments(
     rg = pg.regular
     g, gx, gy, hxx, hxy, hyy = np.take(tables, rg.node[:, lo:hi], axis=1)
     ex, ey = rg.offset[0][:, lo:hi], rg.offset[1][:, lo:hi]
-    real = ex.dtype  # single precision (G_reg to 1e-7 relative), or double
-    area = pg.base.areas.astype(real)
-    a_s, a_o = area[:, None], area[lo:hi]
-    i_s, i_o = rg.second.astype(real)[:, None], rg.second.astype(real)[lo:hi]  # (T, 1, 2, 2)
-    j_s, j_o = rg.third.astype(real)[:, None], rg.third.astype(real)[lo:hi]
+    a_s, a_o = rg.areas[:, None], rg.areas[lo:hi]
+    i_s, i_o = rg.second[:, None], rg.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
+    j_s, j_o = rg.third[:, None], rg.third[lo:hi]
     tmp = np.empty_like(g)
 
     def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
