@@ -184,8 +184,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     out.add_argument(
         "--plot",
         metavar="PNG",
-        help="plot the sweep's cross-sections (with --periodic: |R| and |T| in dB, the "
-        "grating-lobe onsets marked) to PNG",
+        help="plot the sweep's cross-sections (with --periodic: the magnitudes of R and T "
+        "in dB, the grating-lobe onsets marked) to PNG",
     )
     out.add_argument(
         "--screenshot",

@@ -531,6 +531,7 @@ def periodic_sweep(
         Most frequencies solved with ``interpolate=True`` (default: as many as asked
         for, plus two per onset); when reached first, the sweep stops and says so in
         the log, and :attr:`PeriodicSweep.error_estimate` shows where it is uncertain.
+        The two ends of every piece between onsets are solved whatever the limit.
     progress : callable, optional
         ``progress(done, total)`` after each frequency solved; ``total`` is the number
         of frequencies with ``interpolate=False`` and ``max_samples`` otherwise (the
