@@ -172,3 +172,28 @@ def test_bad_combinations_are_one_line_errors(cell_file, capsys, tmp_path, args,
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
     assert fragment in lines[0]
+
+
+def test_a_mesh_file_with_a_period(capsys, tmp_path):
+    from barymesh import MeshParams, build_mesh
+    from barymesh.io import write_mesh
+
+    path = write_mesh(
+        build_mesh(MeshParams(structure="patch", patch_size=6.0, subdivisions=6)),
+        tmp_path / "patch.msh",
+    )
+    code, out, err = run(capsys, "--mesh", path, "--period", "10", "--periodic", "--freq", "15GHz")
+    assert code == 0, err
+    balance = float(re.search(r"reflected \+ transmitted = ([0-9.]+)", out)[1])
+    assert balance == pytest.approx(1.0, abs=1e-3)
+    onset = float(re.search(r"next grating-lobe onset: ([0-9.]+) GHz", out)[1])
+    assert onset == pytest.approx(SPEED_OF_LIGHT / (P * 1e-3) / 1e9, rel=1e-5)
+    code, out, err = run(capsys, "--mesh", path, "--period", "5", "--periodic", "--freq", "15GHz")
+    assert code == 1 and "larger than the period" in err
+
+
+def test_a_finite_array_of_the_cell_in_free_space(cell_file, capsys):
+    code, out, err = run(capsys, "--cell", cell_file, "--array", "2x1", "--freq", "15GHz")
+    assert code == 0, err
+    assert "2 x 1 copies: 48 triangles" in out
+    assert "extinction" in out

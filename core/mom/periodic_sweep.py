@@ -222,8 +222,9 @@ class PeriodicSweep:
     resonance_kinds : tuple of str
         "peak" or "dip" per resonance.
     quality_factors : (R,) float
-        Q = Re f_p / (2 |Im f_p|) of the rational fit's pole f_p nearest each resonance
-        (NaN when there is none close by).
+        Q = Re f_p / (2 |Im f_p|) of the rational fit's pole f_p nearest each resonance,
+        among the poles whose term reaches the resonance prominence on the real axis (NaN
+        when there is none close by).
     mesh : TriMesh
         The cell, for :meth:`solution`.
     lattice_source : object
@@ -734,8 +735,12 @@ def _resonances(sweep: PeriodicSweep, co_fits: list) -> tuple[np.ndarray, tuple,
                 values = np.abs(np.asarray(fit(piece.scale(local))))
                 if np.all(np.isfinite(values)) and len(local):
                     fi = float(local[np.argmax(values) if kind == "peak" else np.argmin(values)])
-                poles = piece.unscale(fit.poles())
-                poles = poles[np.abs(poles.imag) > 0]
+                # a pole that makes a feature: the height |residue / Im x_p| of its term on
+                # the real axis at least a resonance's prominence (not a Froissart doublet)
+                xp, res = np.asarray(fit.poles()), np.asarray(fit.residues())
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    height = np.abs(res) / np.abs(xp.imag)
+                poles = piece.unscale(xp[(xp.imag != 0) & (height >= RESONANCE_PROMINENCE)])
                 if len(poles):
                     nearest = poles[np.argmin(np.abs(poles - fi))]
                     if abs(nearest.real - fi) < 0.5 * fi:
