@@ -7,6 +7,10 @@
         --plot sweep.png
     barymesh solve --mesh strip.msh --freq 150MHz --feed 0,-10:0,10
     barymesh solve --preset makarov-platefine --freq 300MHz --screenshot current.png
+    barymesh solve --cell-preset coding-16x16 --periodic --freq 5GHz:40GHz:651 \\
+        --theta 30 --phi 0 --pol te -o rt.s4p -o orders.csv --plot rt.png
+    barymesh solve --preset paper-fig11-8mm --set subdivisions=8 --period 10 --periodic \\
+        --freq 20GHz
 
 Registered in :mod:`barymesh.app.cli` (``add_parser`` builds the subcommand, ``run``
 executes it); the options and checks it shares with :mod:`barymesh.app.cli` come from
@@ -25,10 +29,18 @@ from typing import Any
 
 from barymesh import frequencies
 from barymesh.app.cli_options import (
+    add_cell_options,
     add_params_options,
     check_folder,
     check_render_size,
     window_size,
+)
+from barymesh.app.cli_periodic import (
+    PeriodicUsageError,
+    cell_mesh,
+    check_periodic_usage,
+    parse_impedance,
+    run_periodic,
 )
 from barymesh.app.cli_progress import progress
 
@@ -67,9 +79,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description="Build a mesh (or read one with --mesh) and solve the EFIE for a perfect "
         "conductor in free space: a plane wave (--dir, --pol) or a delta-gap voltage source "
         "(--feed). One --freq prints the cross-sections; a range sweeps them and finds the "
-        "resonances. Time convention exp(jwt); mesh lengths in mm.",
+        "resonances. With --periodic, solve the infinite array of a unit cell (--cell, "
+        "--cell-preset, or a structure with --period): one --freq prints R and T of every "
+        "propagating Floquet order; a range sweeps them (interpolating) and finds the "
+        "grating-lobe onsets and the resonances. Time convention exp(jwt); mesh lengths in mm.",
     )
     add_params_options(p)
+    add_cell_options(p)
     p.add_argument("--mesh", metavar="FILE", help="solve a mesh file instead of building one")
     from barymesh.io import UNITS
 
@@ -91,8 +107,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     s.add_argument(
         "--pol",
-        metavar="AXIS | X,Y,Z",
-        help="polarisation of E: x (default), y, ... or a vector, perpendicular to --dir",
+        metavar="AXIS | X,Y,Z | te | tm",
+        help="polarisation of E: x (default), y, ... or a vector, perpendicular to --dir; "
+        "with --periodic also te (default: E across the plane of incidence; y at normal "
+        "incidence) or tm",
     )
     s.add_argument("--amplitude", type=float, default=1.0, help="|E| in V/m (default 1)")
     s.add_argument(
@@ -102,11 +120,53 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "of a plane wave; prints the input impedance",
     )
     s.add_argument("--volts", type=float, default=1.0, help="feed voltage (default 1 V)")
+    s.add_argument(
+        "--sheet-impedance",
+        metavar="Z",
+        help="surface impedance of the metal in ohm per square, complex allowed (377, "
+        "10-5j): a resistive or lossy sheet instead of a perfect conductor",
+    )
     s.add_argument("--order", type=int, default=None, help="near quadrature degree (1-8)")
     s.add_argument(
         "--max-memory",
         metavar="SIZE",
         help="refuse problems needing more memory than this (e.g. 2GB, 500MB)",
+    )
+    per = p.add_argument_group("infinite array (--periodic)")
+    per.add_argument(
+        "--periodic",
+        action="store_true",
+        help="solve the infinite array of the unit cell (--cell, --cell-preset, or the "
+        "structure with --period): reflection and transmission of its Floquet orders",
+    )
+    per.add_argument(
+        "--theta",
+        type=float,
+        default=None,
+        metavar="DEG",
+        help="angle of incidence from the normal, 0 (default) to below 90 degrees; the wave "
+        "comes from above",
+    )
+    per.add_argument(
+        "--phi", type=float, default=None, metavar="DEG", help="azimuth of incidence (degrees)"
+    )
+    per.add_argument(
+        "--no-interpolate",
+        action="store_true",
+        help="solve at every frequency of the sweep instead of fitting the curve (AAA) "
+        "through a few solved ones",
+    )
+    per.add_argument(
+        "--tolerance",
+        type=float,
+        default=None,
+        metavar="TOL",
+        help="target error of the interpolating sweep's R and T (default 1e-3)",
+    )
+    per.add_argument(
+        "--current-at",
+        metavar="F",
+        help="frequency of the current a sweep writes to -o FILE.vtu (e.g. 18.5GHz)",
     )
     out = p.add_argument_group("output")
     out.add_argument(
@@ -117,9 +177,17 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         action="append",
         default=[],
         help="results: .csv (cross-sections per frequency), .npz (arrays), .vtu (one "
-        "frequency: J_abs, J_real, J_imag per triangle for ParaView) (repeatable)",
+        "frequency: J_abs, J_real, J_imag per triangle for ParaView); with --periodic: "
+        ".s4p (the (0, 0) order as a Touchstone 4-port, TE/TM above and below), .csv (R "
+        "and T of every propagating order per frequency), .vtu (the cell's current) "
+        "(repeatable)",
     )
-    out.add_argument("--plot", metavar="PNG", help="plot the sweep's cross-sections to PNG")
+    out.add_argument(
+        "--plot",
+        metavar="PNG",
+        help="plot the sweep's cross-sections (with --periodic: the magnitudes of R and T "
+        "in dB, the grating-lobe onsets marked) to PNG",
+    )
     out.add_argument(
         "--screenshot",
         metavar="PNG",
@@ -232,7 +300,7 @@ def run(args: argparse.Namespace) -> int:
     """
     try:
         return _run(args)
-    except SolveUsageError as exc:
+    except (SolveUsageError, PeriodicUsageError) as exc:
         args.solve_parser.error(str(exc))
         raise  # error() raises; this line is never reached
 
@@ -240,6 +308,10 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     freqs = parse_frequencies(args.freq)
     is_sweep = len(freqs) > 1
+    check_periodic_usage(args, len(freqs))
+    zs = parse_impedance(args.sheet_impedance)
+    if args.periodic:
+        return _run_periodic(args, freqs, zs)
     allowed = SWEEP_OUTPUTS if is_sweep else SINGLE_OUTPUTS
     for out in args.outputs:
         if Path(out).suffix.lower() not in allowed:
@@ -260,18 +332,22 @@ def _run(args: argparse.Namespace) -> int:
         check_render_size("solve", *args.window_size)
     if args.mesh and (args.preset or args.params or args.sets):
         raise SolveUsageError("--mesh cannot be combined with --preset, --params or --set")
+    if args.mesh and (args.cell or args.cell_preset or args.array):
+        raise SolveUsageError("--mesh cannot be combined with --cell, --cell-preset or --array")
     for target in [*args.outputs, args.plot, args.screenshot]:
         if target:
             check_folder(target)
     memory = parse_memory(args.max_memory)
     excitation = _excitation(args)
+    if zs != 0 and not isinstance(excitation, _plane_wave()):
+        raise SolveUsageError("--sheet-impedance takes a plane wave, not --feed")
 
     from barymesh.mom import solve, sweep
 
     mesh, title = _mesh(args, progress)
     n = len(mesh.rwg)
     print(f"{title}: {mesh.n_triangles:,} triangles, {n:,} RWG unknowns")
-    options: dict[str, Any] = {"memory_limit": memory}
+    options: dict[str, Any] = {"memory_limit": memory, "sheet_impedance": zs}
     if args.order is not None:
         options["order"] = args.order
     try:
@@ -301,6 +377,37 @@ def _run(args: argparse.Namespace) -> int:
     except MemoryError as exc:
         raise ValueError(f"not enough memory for N = {n:,} unknowns ({exc})") from None
     return 0
+
+
+def _plane_wave() -> type:
+    from barymesh.mom import PlaneWave
+
+    return PlaneWave
+
+
+def _run_periodic(args: argparse.Namespace, freqs: list[float], zs: complex) -> int:
+    if args.plot and len(freqs) == 1:
+        raise SolveUsageError("--plot needs a sweep: --freq A:B:K")
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise SolveUsageError(f"--plot {args.plot}: expected a .png file")
+    if args.mesh and (args.preset or args.params or args.sets):
+        raise SolveUsageError("--mesh cannot be combined with --preset, --params or --set")
+    if args.unit and not args.mesh:
+        raise SolveUsageError("--unit applies to --mesh files only")
+    if args.preset is not None:
+        from barymesh.presets import preset_names
+
+        if args.preset not in preset_names():
+            raise SolveUsageError(
+                f"unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
+            )
+    current_at = parse_frequency(args.current_at) if args.current_at is not None else None
+    pol = (args.pol or "te").strip().lower()
+    vector = None if pol in ("te", "tm") else parse_vector(args.pol, "--pol")
+    for target in [*args.outputs, args.plot]:
+        if target:
+            check_folder(target)
+    return run_periodic(args, freqs, zs, current_at, progress, vector)
 
 
 def _excitation(args: argparse.Namespace) -> Any:
@@ -333,6 +440,10 @@ def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
             return read_mesh(args.mesh, unit=args.unit), args.mesh
     if args.unit:
         raise SolveUsageError("--unit applies to --mesh files only")
+    if args.cell is not None or args.cell_preset is not None or args.array is not None:
+        with progress("building the cell"):
+            mesh, title, _ = cell_mesh(args)
+        return mesh, title
     if args.preset is not None and args.preset not in preset_names():
         raise SolveUsageError(
             f"unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
@@ -352,6 +463,8 @@ def _report_single(s: Any) -> None:
             f"  extinction {s.extinction_cross_section:.6g} m^2, scattering "
             f"{s.scattering_cross_section:.6g} m^2 (PEC: equal within the quadrature error)"
         )
+        if s.sheet_impedance != 0:
+            print(f"  absorption cross-section {s.absorption_cross_section:.6g} m^2 (the sheet)")
     else:
         z = s.input_impedance
         print(f"  input impedance {z.real:.6g} {'+-'[z.imag < 0]} j{abs(z.imag):.6g} ohm")
@@ -458,19 +571,9 @@ def _write_single(s: Any, mesh: Any, out: str) -> None:
                 input_impedance_ohm=zin,
             )
     else:
-        import meshio
+        from barymesh.io.current_vtu import write_current_vtu
 
-        cells = [("triangle", np.asarray(mesh.triangles, dtype=np.int64))]
-        data = {
-            "J_abs": [np.linalg.norm(j, axis=1)],
-            "J_real": [np.ascontiguousarray(j.real)],
-            "J_imag": [np.ascontiguousarray(j.imag)],
-            "charge_abs": [np.abs(s.charge_density)],
-        }
-        with atomic_path(out) as tmp:
-            meshio.write(
-                str(tmp), meshio.Mesh(mesh.points, cells, cell_data=data), file_format="vtu"
-            )
+        write_current_vtu(out, mesh, j, charge_abs=np.abs(s.charge_density))
 
 
 def _plot_sweep(r: Any, path: str) -> None:

@@ -65,6 +65,7 @@ from barymesh.app.model import (
     file_error_sentence,
 )
 from barymesh.app.panels.controls import ControlsPanel
+from barymesh.app.panels.infinite_array_panel import InfiniteArrayPanel
 from barymesh.app.panels.layers_panel import LayersPanel
 from barymesh.app.panels.quality_panel import QualityPanel
 from barymesh.app.panels.solve_panel import SolvePanel
@@ -218,6 +219,10 @@ class MainWindow(QMainWindow):
         self.add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
         self.solve_panel = SolvePanel(self)
+        self.array_panel = InfiniteArrayPanel(
+            self.model, self.solve_panel.show_array_current, self.solve_panel
+        )
+        self.solve_panel.add_page(self.array_panel, "&Infinite array")
         self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
         # Quality: the quality report, its histograms and worst triangles (red layer)

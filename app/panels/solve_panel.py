@@ -296,6 +296,7 @@ class SolvePanel(QWidget):
         self._tokens = {"solve": 0, "sweep": 0}
         self._running: set[str] = set()
         self._cancel = threading.Event()
+        self._pages: list[QWidget] = []  # tabs added by add_page
         self._job_done.connect(self._finished)
         self._job_progress.connect(self._progress)
 
@@ -777,6 +778,29 @@ class SolvePanel(QWidget):
         self._show_coefficient()
         self.solved.emit(s)
 
+    def add_page(self, page: QWidget, title: str) -> None:
+        """A further tab of the dock (the Infinite array); its ``stop()`` is called when the
+        window closes."""
+        self.tabs.addTab(page, title)
+        self._pages.append(page)
+        self._narrow_combos()
+
+    def show_array_current(self, mesh: TriMesh | None, current: Any) -> None:
+        """Show another solver's (T, 3) current of ``mesh`` in the Surface current layer
+        (the infinite array's cell), in place of the free-space result; ``(None, None)``
+        takes it away again if it is still the one shown."""
+        if mesh is None:
+            if self.layer.current is not None and self.solution is None:
+                self.layer.clear()
+            return
+        self.solution = self.solution_mesh = self.solution_inputs = None
+        self.stale.hide()
+        self.layer.set_phase(self.phase.value())
+        self.layer.visible = self.show_current.isChecked()
+        self.layer.set_current(mesh, current)
+        self.summary.setText("The current on screen is the infinite array's (its tab).")
+        self._show_coefficient()
+
     # -- the RWG inspector's I_n -------------------------------------------------------
 
     def _inspector(self) -> Any:
@@ -914,4 +938,5 @@ class SolvePanel(QWidget):
             self.model.result_changed.disconnect(self._mesh_changed)
         except ValueError:
             pass
-        return self.pool.waitForDone(msecs)
+        done = [page.stop(msecs) for page in self._pages if hasattr(page, "stop")]
+        return self.pool.waitForDone(msecs) and all(done)

@@ -146,7 +146,7 @@ def write_orders_csv(path: str | Path, sweep: Any) -> None:
     """Write every propagating Floquet order at every frequency of ``sweep`` to a CSV.
 
     One row per frequency, order (p, q) and scattered polarisation (``te``, ``tm``), for
-    the sweep's incidence (:attr:`PeriodicSweep.incidence`): R and T (T of (0, 0)
+    the sweep's incidence (its ``incidence``): R and T (T of (0, 0)
     includes the incident wave), magnitude and phase (degrees), the power fraction of
     that wave (|R|² β_pq / β_00), ``solved`` (1 where the frequency was solved, 0 where
     it was interpolated) and the sweep's error estimate. Columns :data:`ORDER_COLUMNS`.

@@ -9,13 +9,23 @@ G_p of :mod:`barymesh.mom.periodic_green`::
 
 Each triangle pair (o, s) is integrated against the image of s nearest to o,
 shifted by ρ_σ (σ from rounding the lattice coordinates of c_o − c_s), using
-G_p(ρ) = e^(+j k_t·ρ_σ) G_p(ρ − ρ_σ)... written the other way round,
 G_p(r − r') = e^(−j k_t·ρ_σ) G_p(r − r' − ρ_σ), and G_p = G + G_reg there:
 
-- G = e^(−jkR)/R of that one image, integrated as the free-space solver does
-  (closed-form 1/R and R parts for pairs that touch, across the cell's sides too);
-- G_reg, smooth over the reduced cell, by the far rule from a bicubic table
-  in lattice coordinates, recomputed per frequency (a few thousand Ewald sums).
+- G = e^(−jkR)/R of that one image, integrated as the free-space solver does: its
+  far rule on every pair (the kernel of a pair and of its mirror are one, so half
+  of them are evaluated), its closed-form 1/R and R parts on the pairs that touch,
+  across the cell's sides too;
+- G_reg, smooth over the reduced cell, by a second-order Taylor expansion about
+  each pair's centroid offset: with the triangles' areas A, second moments
+  I = ∫ρρᵀ dS and third moments about their centroids (∫ρ dS = 0), the eight
+  moments follow from G_reg, ∇G_reg and its Hessian at T² points instead of the
+  kernel at T²Q². The error is O(h³), h the triangle size against the distance to
+  the next image and the wavelength: the far rule's order, with a few times its
+  constant (the matrix is within 1e-4 to 3e-4 of the far rule's at k h = 0.4 to
+  0.75). Those are read from a grid of step 1/:data:`TAYLOR_NODES` in lattice
+  coordinates (the expansion is taken about the nearest node), tabulated per
+  frequency from the Chebyshev interpolant of G_reg through n² Ewald sums,
+  n = :data:`CHEBYSHEV_NODES` or 8 + k |a| at high frequency.
 
 The scattered field is a sum of Floquet orders (p, q) of wavevectors
 (κ_pq, ±β_pq) above and below the screen, each an amplitude
@@ -27,9 +37,6 @@ the wave's triad with a tangential part that is the same above and below
 convention the co-polar (0, 0) coefficients of a zero-thickness screen obey
 T = 1 + R, and power balance reads Σ (|R|² + |T|²) β_pq / β_00 = 1 over the
 propagating orders.
-
-Not in this module yet: RWG unknowns across the cell's sides (metal that
-touches the cell boundary), sheet impedance, interpolating sweeps.
 """
 
 from __future__ import annotations
@@ -37,28 +44,47 @@ from __future__ import annotations
 import math
 import weakref
 from dataclasses import dataclass, replace
-from functools import cached_property
+from functools import cache, cached_property
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.ndimage import map_coordinates, spline_filter
+from numpy.polynomial import chebyshev
+from scipy.spatial import cKDTree
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
 from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry, static_moments
-from .operator import ETA0, wavenumber
+from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments, wavenumber
 from .periodic_green import PeriodicGreen
 from .solve import check_sheet_impedance, dense_solve
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
-#: Table nodes per cell length of the smooth part G_reg.
-TABLE_NODES = 48
+#: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
+#: frequency); more at high frequency: 8 + k |a| (the matrix moves by 4e-6 or less).
+CHEBYSHEV_NODES = 12
+#: Grid nodes per cell length at which G_reg's Taylor coefficients are tabulated.
+TAYLOR_NODES = 128
 #: Largest triangle, as a fraction of the cell's smallest height.
 MAX_TRIANGLE = 0.2
 #: Complex entries per block of the far-rule kernel.
 BLOCK_ENTRIES = 1 << 21
+#: Observation triangles per block of the second pass (Taylor moments, Floquet phase,
+#: products with the RWG maps): small, so that the block stays in cache.
+REGULAR_BLOCK = 64
+#: Fewest blocks of observation triangles in the far-rule pass (so that the mirrored
+#: half is most of the work).
+MIN_BLOCKS = 8
+#: Largest cached table of far-rule point distances (bytes); above it, recomputed per fill.
+DISTANCE_CACHE_BYTES = 160 * 2**20
+#: Entries of the scratch slab in which point distances are computed.
+DISTANCE_SLAB = 1 << 18
+#: The six moments of a pair kept on a flat screen, as rows of :data:`MOMENTS` (1, ρ_x,
+#: ρ_y, ρ'_x, ρ'_y, ρ·ρ'; the z ones vanish).
+FLAT_MOMENTS = (0, 1, 2, 4, 5, 7)
+#: The entries xx, xy, yy of a symmetric 2 × 2 matrix.
+UPPER = ((0, 0), (0, 1), (1, 1))
 
 
 def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
@@ -73,13 +99,47 @@ def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
+class RegularGrid:
+    """Where G_reg is read for each triangle pair: frequency-independent, per mesh.
+
+    G_reg is interpolated through its values at n × n Chebyshev nodes of the square
+    [−e, e]² of lattice coordinates (e just over ½: every reduced centroid offset lies
+    in [−½, ½]²); its value, gradient and Hessian are tabulated on a uniform grid of
+    step 1/:data:`TAYLOR_NODES` over that square, and each pair expands G_reg about the
+    grid node nearest to its centroid offset.
+
+    Attributes
+    ----------
+    node : (T, T) int32
+        Flat index (G × G grid) of the node nearest each pair's reduced centroid
+        offset, [source, observation].
+    offset : (2, T, T) float32
+        That offset minus the node (m), x and y, [source, observation]. Single precision,
+        as are the Taylor moments (G_reg is needed to 1e-7 of itself, not 1e-16).
+    areas : (T,) float32
+        Triangle areas (m²).
+    second : (T, 2, 2) float32
+        ∫ ρρᵀ dS of each triangle about its centroid (m⁴).
+    third : (T, 2, 2, 2) float32
+        ∫ ρ_i ρ_j ρ_k dS (m⁵).
+    """
+
+    node: np.ndarray
+    offset: np.ndarray
+    areas: np.ndarray
+    second: np.ndarray
+    third: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class PeriodicGeometry:
     """The frequency-independent part of an infinite-array solve (metres).
 
     Attributes
     ----------
     base : MomGeometry
-        The mesh's free-space geometry (rules, its interior RWG maps).
+        The mesh's free-space geometry (rules, its interior RWG maps, its near pairs:
+        those of the periodic fill whose nearest image is the triangle itself).
     lattice : (2, 2) float
         Rows a1, a2 (m).
     maps : (N, 3T) sparse float
@@ -95,17 +155,22 @@ class PeriodicGeometry:
     crossing : (N, 2) float
         That lattice vector (m), zero for the interior unknowns.
     shift : (T, T, 2) int8
-        σ of each pair (observation, source): the source image used.
-    near : (K, 2) int
-        (observation, source) pairs whose image σ touches the observation triangle.
-    near_static_inv_r, near_static_r : (K, 8) float
+        σ of each pair (observation, source): the source image used; σ(s, o) = −σ(o, s).
+    cross : (K, 2) int
+        (observation, source) pairs whose image σ ≠ 0 touches the observation triangle
+        (near across the cell's sides), sorted by observation.
+    cross_static_inv_r, cross_static_r : (K, 8) float
         The eight moments of 1/R and R over those pairs (near rule outside, closed form
         inside), against the shifted source.
-    near_distances : (K, Qn, Qn) float
-    far_delta : (T, Qf, T, Qf, 2) float or None
-        r − r' − ρ_σ between the far rule's points, when it fits in memory.
-    table_extent : float
-        Half-width of the G_reg table in lattice coordinates.
+    cross_distances : (K, Qn, Qn) float
+        |r − r' − ρ_σ| between their near rule's points.
+    far_distances : (T Qf, T Qf) float or None
+        |r − r' − ρ_σ| between the far rule's points (zeros replaced by 1; those pairs
+        are self pairs), symmetric; kept when it fits :data:`DISTANCE_CACHE_BYTES`.
+    far_reach : float
+        Largest of those distances (m), or a bound on it.
+    regular : RegularGrid
+        Where the smooth part G_reg is read.
     """
 
     base: MomGeometry
@@ -114,11 +179,13 @@ class PeriodicGeometry:
     folded: sp.csr_matrix
     crossing: np.ndarray
     shift: np.ndarray
-    near: np.ndarray
-    near_static_inv_r: np.ndarray
-    near_static_r: np.ndarray
-    near_distances: np.ndarray
-    table_extent: float
+    cross: np.ndarray
+    cross_static_inv_r: np.ndarray
+    cross_static_r: np.ndarray
+    cross_distances: np.ndarray
+    far_distances: np.ndarray | None
+    far_reach: float
+    regular: RegularGrid
 
     @property
     def area(self) -> float:
@@ -133,6 +200,12 @@ class PeriodicGeometry:
         """Unknowns across the cell's sides."""
         return int(np.count_nonzero(np.any(self.crossing != 0, axis=1)))
 
+    @cached_property
+    def near(self) -> np.ndarray:
+        """(K, 2) int: every near (observation, source) pair, sorted by observation."""
+        pairs = np.concatenate([self.base.near_pairs, self.cross])
+        return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
     def basis_maps(self, kt: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
         """The (N, 3T) complex maps of the basis functions and of the testing functions.
 
@@ -146,7 +219,13 @@ class PeriodicGeometry:
     @cached_property
     def shift_vectors(self) -> np.ndarray:
         """(T, T, 2) float: ρ_σ of each pair (m)."""
-        return self.shift.astype(np.float64) @ self.lattice
+        return _shift_vectors(self.shift, self.lattice)
+
+
+def _shift_vectors(shift: np.ndarray, lattice: np.ndarray) -> np.ndarray:
+    """ρ_σ = σ_1 a1 + σ_2 a2 (..., 2), elementwise so that ρ_(−σ) = −ρ_σ bit for bit."""
+    s = shift.astype(np.float64)
+    return s[..., :1] * lattice[0] + s[..., 1:] * lattice[1]
 
 
 def _rwg_maps(
@@ -224,7 +303,7 @@ def periodic_geometry(mesh: TriMesh, lattice: Any = None) -> PeriodicGeometry:
 
 
 def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> PeriodicGeometry:
-    base = mom_geometry(mesh)
+    base = mom_geometry(mesh, near_factor=NEAR_FACTOR)  # its near pairs: those of σ = 0
     if np.any(base.vertices[:, 2] != 0.0):
         raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
     heights = abs(np.linalg.det(vectors)) / np.linalg.norm(vectors, axis=1)
@@ -235,28 +314,37 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
             f"{MAX_TRIANGLE:g} of the cell's height)"
         )
     maps, folded, crossing = _rwg_maps(mesh, base, lattice, vectors)
-    c = base.centroids[:, :2]
-    inverse = np.linalg.inv(vectors)
-    frac = (c[:, None, :] - c[None, :, :]) @ inverse  # (T, T, 2) lattice coordinates
-    shift = np.rint(frac).astype(np.int8)
-    reduced = (frac - shift) @ vectors
-    gap = np.linalg.norm(reduced, axis=2)
-    reach = NEAR_FACTOR * np.maximum(base.sizes[:, None], base.sizes[None, :])
-    obs, src = np.nonzero(gap < reach)
-    near = np.stack([obs, src], axis=1)
-    offset = shift[obs, src].astype(np.float64) @ vectors  # (K, 2)
+    centroids = base.centroids[:, :2]
+    lat = centroids @ np.linalg.inv(vectors)  # lattice coordinates of the centroids
+    frac = lat[:, None, :] - lat[None, :, :]  # (T, T, 2), antisymmetric bit for bit
+    shift = np.rint(frac)  # rint is odd (ties to even), so σ(s, o) = −σ(o, s)
+    frac -= shift  # the reduced centroid offsets, in [−½, ½]²
+    shift = shift.astype(np.int8)
+    cross = _cross_pairs(base, vectors, shift)
+    obs, src = cross[:, 0], cross[:, 1]
+    offset = _shift_vectors(shift[obs, src], vectors)  # (K, 2)
     offset3 = np.concatenate([offset, np.zeros((len(offset), 1))], axis=1)
     corners = base.vertices[base.triangles]
-    src_corners = corners[src] + offset3[:, None, :]
-    src_centroids = base.centroids[src] + offset3
     # the free-space solver's closed-form 1/R and R moments, against the shifted sources
-    static = static_moments(base.near, src_corners, src_centroids, obs, np.arange(len(obs)))
+    static = static_moments(
+        base.near,
+        corners[src] + offset3[:, None, :],
+        base.centroids[src] + offset3,
+        obs,
+        np.arange(len(obs)),
+    )
     rule = base.near
-    src_points = rule.points[src] + offset3[:, None, :]
-    d = rule.points[obs][:, :, None, :] - src_points[:, None, :, :]
-    near_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
-    # the far rule's points lie within a triangle's size of their centroid
-    pad = 2.0 * base.sizes.max() * np.linalg.norm(inverse, axis=0).max()
+    d = rule.points[obs][:, :, None, :] - (rule.points[src] + offset3[:, None, :])[:, None]
+    cross_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
+    far = base.far
+    q = far.size
+    far_distances = None
+    if (len(centroids) * q) ** 2 * 8 <= DISTANCE_CACHE_BYTES:
+        far_distances = _shifted_table(base, shift, vectors)
+        far_reach = float(far_distances.max())
+    else:
+        gap = np.sqrt(np.einsum("ijc,ijc->ij", frac @ vectors, frac @ vectors)).max()
+        far_reach = float(gap + 2.0 * base.sizes.max())
     return PeriodicGeometry(
         base=base,
         lattice=vectors,
@@ -264,88 +352,315 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
         folded=folded,
         crossing=crossing,
         shift=shift,
-        near=near,
-        near_static_inv_r=static[0],
-        near_static_r=static[1],
-        near_distances=near_distances,
-        table_extent=0.5 + pad + 1e-3,
+        cross=cross,
+        cross_static_inv_r=static[0],
+        cross_static_r=static[1],
+        cross_distances=cross_distances,
+        far_distances=far_distances,
+        far_reach=far_reach,
+        regular=_regular_grid(base, vectors, frac),
     )
 
 
-@dataclass(frozen=True, eq=False)
-class RegularTable:
-    """G_reg on a uniform grid of lattice coordinates, as cubic B-spline coefficients.
+def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    """(K, 2) pairs (o, s) near through an image σ ≠ 0, sorted (the σ = 0 ones: ``base``)."""
+    centroids = base.centroids[:, :2]
+    sizes = base.sizes
+    tree = cKDTree(centroids)
+    radius = NEAR_FACTOR * sizes.max()
+    low, high = shift.reshape(-1, 2).min(axis=0), shift.reshape(-1, 2).max(axis=0)
+    found = []
+    for s1 in range(int(low[0]), int(high[0]) + 1):
+        for s2 in range(int(low[1]), int(high[1]) + 1):
+            if s1 == 0 and s2 == 0:
+                continue
+            image = cKDTree(centroids + s1 * vectors[0] + s2 * vectors[1])
+            hits = tree.sparse_distance_matrix(image, radius, output_type="ndarray")
+            o, s = hits["i"].astype(np.intp), hits["j"].astype(np.intp)
+            keep = (hits["v"] < NEAR_FACTOR * np.maximum(sizes[o], sizes[s])) & np.all(
+                shift[o, s] == (s1, s2), axis=1
+            )
+            found.append(np.stack([o[keep], s[keep]], axis=1))
+    pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.intp)
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
-    ``__call__`` interpolates at offsets (..., 2) in metres; the error is that of a
-    cubic spline of a smooth function, O((1/TABLE_NODES)⁴) relative.
+
+def _shifted_table(base: MomGeometry, shift: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """The whole (T Qf, T Qf) table of |r − r' − ρ_σ|: the free space's where σ = 0.
+
+    Where every σ is 0 (an element off the cell's sides) it is the free-space table
+    itself; otherwise that table's copy with the pairs of σ ≠ 0 recomputed, bit for bit
+    as :func:`_far_distances` computes them.
     """
-
-    lattice_inverse: np.ndarray
-    start: float
-    step: float
-    coefficients: np.ndarray
-
-    @classmethod
-    def build(cls, pg: PeriodicGeometry, green: PeriodicGreen) -> RegularTable:
-        margin = 3  # nodes beyond the extent, so that the boundary condition stays away
-        step = 1.0 / TABLE_NODES
-        n = int(math.ceil(2 * pg.table_extent / step)) + 1 + 2 * margin
-        start = -pg.table_extent - margin * step
-        u = start + step * np.arange(n)
-        grid = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2)
-        values = green.regular(grid @ pg.lattice).reshape(n, n)
-        coefficients = spline_filter(values, order=3, mode="mirror", output=np.complex128)
-        return cls(np.linalg.inv(pg.lattice), start, step, coefficients)
-
-    def __call__(self, delta: np.ndarray) -> np.ndarray:
-        uv = (delta.reshape(-1, 2) @ self.lattice_inverse - self.start) / self.step
-        out = map_coordinates(self.coefficients, uv.T, order=3, mode="mirror", prefilter=False)
-        return out.reshape(delta.shape[:-1])
-
-
-def _moments(kernel: np.ndarray, far: Any, obs: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """(8, ...) far-rule moments of ``kernel`` (..., Qo, Qs) over triangle pairs (obs, src).
-
-    ``obs`` and ``src`` index the rule's triangles and broadcast against the kernel's
-    leading axes.
-    """
-    w_o, rho_o = far.weights[obs], far.rho[obs][..., :2]  # (..., Q), (..., Q, 2)
-    w_s, rho_s = far.weights[src], far.rho[src][..., :2]
-    h0 = np.einsum("...ab,...b->...a", kernel, w_s)  # ∫ K dS'
-    h1 = np.einsum("...ab,...b,...bc->...ac", kernel, w_s, rho_s)  # ∫ K ρ' dS'
-    out = np.zeros((8,) + kernel.shape[:-2], dtype=np.complex128)
-    out[0] = np.einsum("...a,...a->...", w_o, h0)
+    t, q = base.n_triangles, base.far.size
+    if base.far_distances is None:
+        return _far_distances(base.far.points, shift, vectors, 0, t)
+    moved = np.any(shift != 0, axis=2)  # (T, T) [o, s]
+    if not moved.any():
+        return base.far_distances
+    if np.count_nonzero(moved) > t * t // 4:
+        return _far_distances(base.far.points, shift, vectors, 0, t)
+    table = base.far_distances.copy()
+    obs, src = np.nonzero(moved)
+    points = base.far.points[:, :, :2]
+    sigma = shift[obs, src].astype(np.float64)
+    d2 = np.zeros((len(obs), q, q))
     for c in range(2):
-        out[1 + c] = np.einsum("...a,...a->...", w_o * rho_o[..., c], h0)
-        out[4 + c] = np.einsum("...a,...a->...", w_o, h1[..., c])
-        out[7] += np.einsum("...a,...a->...", w_o * rho_o[..., c], h1[..., c])
-    return out
+        rho = sigma[:, 0] * vectors[0, c] + sigma[:, 1] * vectors[1, c]
+        diff = points[obs][:, None, :, c] - points[src][:, :, None, c]  # [k, b (src), a (obs)]
+        diff -= rho[:, None, None]
+        diff *= diff
+        d2 += diff
+    np.sqrt(d2, out=d2)
+    table.reshape(t, q, t, q)[src, :, obs, :] = d2  # row (s, b), column (o, a)
+    return table
 
 
-def _point_offsets(pg: PeriodicGeometry, obs: np.ndarray, src: np.ndarray) -> np.ndarray:
-    """(..., Qo, Qs, 2) r − r' − ρ_σ between the far rule's points of pairs (obs, src)."""
-    far = pg.base.far
-    shift = pg.shift_vectors[obs, src]  # (..., 2)
-    return (
-        far.points[obs][..., :, None, :2]
-        - far.points[src][..., None, :, :2]
-        - shift[..., None, None, :]
+def _far_distances(
+    points: np.ndarray, shift: np.ndarray, vectors: np.ndarray, lo: int, hi: int
+) -> np.ndarray:
+    """(Ts Qf, Tb Qf) |r − r' − ρ_σ| from the far points of sources lo..T to observers lo..hi.
+
+    Row (s, b), column (o, a); exact zeros (a self pair's points) are replaced by 1. The
+    full table (lo = 0, hi = T) is symmetric bit for bit: ρ_σ is odd in the pair.
+    """
+    src, obs = points[lo:, :, :2], points[lo:hi, :, :2]
+    ts, q, tb = len(src), src.shape[1], len(obs)
+    dist = np.empty((ts, q, tb, q))
+    # slabs of source triangles, so that the only large array written is the table
+    rows = max(1, DISTANCE_SLAB // (q * tb * q))
+    scratch = np.empty((min(rows, ts), q, tb, q))
+    for first in range(0, ts, rows):
+        last = min(ts, first + rows)
+        out, tmp = dist[first:last], scratch[: last - first]
+        sigma = shift[lo:hi, lo + first : lo + last].astype(np.float64)  # (Tb, r, 2)
+        for c in range(2):
+            rho = sigma[..., 0] * vectors[0, c] + sigma[..., 1] * vectors[1, c]  # as ρ_σ
+            np.subtract(obs[None, None, :, :, c], src[first:last, :, None, None, c], out=tmp)
+            tmp -= rho.T[:, None, :, None]
+            tmp *= tmp
+            if c:
+                out += tmp
+            else:
+                out[...] = tmp
+        np.sqrt(out, out=out)
+    dist[dist == 0.0] = 1.0
+    return dist.reshape(ts * q, tb * q)
+
+
+@cache
+def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev nodes on [−extent, extent] and the (3, G, n) maps to a grid of ``step``."""
+    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)  # first kind, in [−1, 1]
+    to_coefficients = np.linalg.inv(chebyshev.chebvander(x, n - 1))
+    half = int(round(extent / step))
+    grid = step * np.arange(-half, half + 1) / extent
+    eye = np.eye(n)
+    maps = np.stack(
+        [
+            chebyshev.chebvander(grid, n - 1 - d) @ chebyshev.chebder(eye, d, axis=0)
+            if d
+            else chebyshev.chebvander(grid, n - 1)
+            for d in range(3)
+        ]
+    )
+    maps = maps @ to_coefficients / extent ** np.arange(3)[:, None, None]
+    return extent * x, maps
+
+
+def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -> RegularGrid:
+    """The Taylor data of G_reg for centroid offsets ``reduced`` (T, T, 2) [o, s], lattice."""
+    step = 1.0 / TAYLOR_NODES
+    half = TAYLOR_NODES // 2 + 2  # the grid spans [−e, e]², e = half · step, just over ½
+    swapped = reduced.transpose(1, 0, 2)  # [s, o]
+    nearest = np.rint(swapped * TAYLOR_NODES)  # odd, like σ
+    node = (nearest[..., 0] + half) * (2 * half + 1)
+    node += nearest[..., 1] + half
+    node = node.astype(np.int32)
+    rest = swapped - step * nearest  # lattice coordinates
+    offset = np.empty((2,) + node.shape, dtype=np.float32)
+    for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
+        np.multiply(rest[..., 0], vectors[0, c], out=offset[c])
+        offset[c] += rest[..., 1] * vectors[1, c]
+    rule = base.near
+    w, rho = rule.weights, rule.rho[:, :, :2]
+    second = np.einsum("tq,tqi,tqj->tij", w, rho, rho)
+    third = np.einsum("tq,tqi,tqj,tqk->tijk", w, rho, rho, rho)
+    single = np.float32
+    return RegularGrid(
+        node, offset, base.areas.astype(single), second.astype(single), third.astype(single)
     )
 
 
-def _free_kernel(delta: np.ndarray, k: complex) -> np.ndarray:
-    dist = np.sqrt(np.einsum("...c,...c->...", delta, delta))
-    with np.errstate(divide="ignore", invalid="ignore"):  # self pairs: near, corrected
-        kernel = np.exp(-1j * k * dist) / dist
-    kernel[dist == 0.0] = 0.0
+def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
+    """(6, G²) complex64 G_reg and its x, y, xx, xy, yy derivatives (m) on the grid."""
+    step = 1.0 / TAYLOR_NODES
+    reach = float(np.linalg.norm(pg.lattice, axis=1).max())
+    n = max(CHEBYSHEV_NODES, math.ceil(8 + abs(green.k) * reach))
+    u, maps = _chebyshev_maps(n, (TAYLOR_NODES // 2 + 2) * step, step)
+    points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ pg.lattice
+    values = green.regular(points).reshape(n, n)
+    # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
+    v0, v1, v2 = np.einsum("ij,dkj->dik", values, maps)
+    b0, b1, b2 = maps
+    g, gu, gv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
+    guu, guv, gvv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
+    m = np.linalg.inv(pg.lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
+    out = np.empty((6,) + g.shape, dtype=np.complex128)
+    out[0] = g
+    for c in range(2):
+        out[1 + c] = m[c, 0] * gu + m[c, 1] * gv
+    for i, (a, b) in enumerate(((0, 0), (0, 1), (1, 1))):
+        out[3 + i] = (
+            m[a, 0] * m[b, 0] * guu
+            + (m[a, 0] * m[b, 1] + m[a, 1] * m[b, 0]) * guv
+            + m[a, 1] * m[b, 1] * gvv
+        )
+    return out.reshape(6, -1).astype(np.complex64)
+
+
+def _add_regular_moments(
+    pg: PeriodicGeometry, tables: np.ndarray, lo: int, hi: int, out: np.ndarray
+) -> None:
+    """Add the flat moments of G_reg over pairs (source s, observation lo..hi) to ``out``.
+
+    ``out`` is (6, T, B). G_reg(n + w) ≈ g + ∇g·w + ½ wᵀHw about the grid node n,
+    w = e + ρ − ρ' with e the centroid offset less the node; integrated over both
+    triangles with ∫ρ dS = 0, I = ∫ρρᵀ dS and J = ∫ρρρ dS (d = ∇g + He)::
+
+        ∫∫ 1      = A A' (g + ∇g·e + ½ eᵀHe) + ½ (A' tr HI + A tr HI')
+        ∫∫ ρ      = A' (I d + ½ J:H)
+        ∫∫ ρ'     = A (−I' d + ½ J':H)
+        ∫∫ ρ·ρ'   = −tr(I H I')
+    """
+    rg = pg.regular
+    g, gx, gy, hxx, hxy, hyy = np.take(tables, rg.node[:, lo:hi], axis=1)
+    ex, ey = rg.offset[0][:, lo:hi], rg.offset[1][:, lo:hi]
+    a_s, a_o = rg.areas[:, None], rg.areas[lo:hi]
+    i_s, i_o = rg.second[:, None], rg.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
+    j_s, j_o = rg.third[:, None], rg.third[lo:hi]
+    tmp = np.empty_like(g)
+
+    def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
+        np.multiply(a, w, out=tmp)
+        acc += tmp
+
+    def hessian(acc: np.ndarray, wxx, wxy, wyy) -> None:  # acc += H:w (wxy both halves)
+        mac(acc, hxx, wxx)
+        mac(acc, hxy, wxy)
+        mac(acc, hyy, wyy)
+
+    dx = hxx * ex
+    dx += gx
+    mac(dx, hxy, ey)
+    dy = hyy * ey
+    dy += gy
+    mac(dy, hxy, ex)
+    # m0: A A' (g + ½ (∇g + d)·e) + ½ A' tr HI + ½ A tr HI'
+    value = gx + dx
+    value *= ex
+    np.add(gy, dy, out=tmp)
+    tmp *= ey
+    value += tmp
+    value *= 0.5
+    value += g
+    value *= a_s * a_o
+    hessian(
+        value,
+        *(0.5 * (a_s * i_o[:, p, q] + a_o * i_s[..., p, q]) * (1 + (p != q)) for p, q in UPPER),
+    )
+    out[0] += value
+    for c in range(2):
+        # A' (I d + ½ J:H), then A (−I' d + ½ J':H)
+        acc = dx * i_o[:, c, 0]
+        mac(acc, dy, i_o[:, c, 1])
+        hessian(acc, *(0.5 * j_o[:, c, p, q] * (1 + (p != q)) for p, q in UPPER))
+        acc *= a_s
+        out[1 + c] += acc
+        np.multiply(dx, -i_s[..., c, 0], out=acc)
+        mac(acc, dy, -i_s[..., c, 1])
+        hessian(acc, *(0.5 * j_s[..., c, p, q] * (1 + (p != q)) for p, q in UPPER))
+        acc *= a_o
+        out[3 + c] += acc
+    # −tr(I H I') = −Σ_kl H_kl C_kl, C_kl = Σ_i I_ik I'_li (outer products of the two sides)
+    i_s = i_s[:, 0]
+
+    def outer(p: int, q: int) -> np.ndarray:
+        return -(np.outer(i_s[:, q, 0], i_o[:, 0, p]) + np.outer(i_s[:, q, 1], i_o[:, 1, p]))
+
+    hessian(out[5], outer(0, 0), outer(0, 1) + outer(1, 0), outer(1, 1))
+
+
+def _single_kernel(dist: np.ndarray, k: float, max_phase: float) -> np.ndarray:
+    """e^(−jkR)/R in complex64, as :func:`barymesh.mom.operator.far_kernel` computes it."""
+    if max_phase <= SINGLE_PRECISION_PHASE:
+        x = np.multiply(dist, np.float32(k), dtype=np.float32)
+    else:  # reduce the phase to [−π, π] in double precision first
+        x = k * dist
+        x -= (2.0 * np.pi) * np.rint(x * (0.5 / np.pi))
+        x = x.astype(np.float32)
+    inv = np.divide(np.float32(1.0), dist, dtype=np.float32)
+    kernel = np.empty(dist.shape, dtype=np.complex64)
+    np.multiply(np.cos(x), inv, out=kernel.real)
+    np.negative(inv, out=inv)
+    np.multiply(np.sin(x), inv, out=kernel.imag)
     return kernel
 
 
-def _near_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
-    """(K, 8) moments of G over the near triples: closed-form 1/R, R plus the smooth rest."""
+def _image_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+    """(6, T, T) complex64 flat moments of G = e^(−jkR)/R of the nearest image, [s, o].
+
+    The far rule on every pair, computed for the pairs (o, s ≥ o's block) only: a pair's
+    mirror (s, o) has the same point distances, transposed, so its moments are the
+    same with ρ and ρ' swapped. The near pairs then get the closed-form moments: the
+    free-space solver's own for σ = 0, the shifted ones of ``pg.cross`` for σ ≠ 0.
+    """
+    base = pg.base
+    far = base.far
+    t, q = base.n_triangles, far.size
+    w = far.weights
+    w_rho = w[:, :, None] * far.rho[:, :, :2]  # (T, Q, 2)
+    src_weights = np.concatenate([w[:, None, :], w_rho.transpose(0, 2, 1)], axis=1)
+    # single precision throughout: the free-space far kernel's phase is single already
+    # (1e-7 of |G|, against the far rule's 1e-3), and half the memory traffic of double
+    src_weights = src_weights.astype(np.float32)
+    w, w_rho = w.astype(np.float32), w_rho.astype(np.float32)
+    out = np.empty((6, t, t), dtype=np.complex64)
+    block = max(1, min(BLOCK_ENTRIES // max(1, t * q * q), -(-t // MIN_BLOCKS)))
+    max_phase = k * pg.far_reach
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        tb, ts = hi - lo, t - lo
+        if pg.far_distances is not None:
+            dist = pg.far_distances[lo * q :, lo * q : hi * q]
+        else:
+            dist = _far_distances(far.points, pg.shift, pg.lattice, lo, hi)
+        kernel = _single_kernel(dist, k, max_phase).reshape(ts, q, tb * q)
+        h = np.matmul(src_weights[lo:], kernel.view(np.float32)).view(np.complex64)
+        del kernel
+        h = h.reshape(ts, 3, tb, q)
+        w_o, wr_o = w[lo:hi], w_rho[lo:hi]
+        m0 = np.einsum("spa,pa->sp", h[:, 0], w_o)
+        m1 = [np.einsum("spa,pa->sp", h[:, 0], wr_o[:, :, c]) for c in range(2)]
+        m4 = [np.einsum("spa,pa->sp", h[:, 1 + c], w_o) for c in range(2)]
+        m7 = sum(np.einsum("spa,pa->sp", h[:, 1 + c], wr_o[:, :, c]) for c in range(2))
+        for i, m in enumerate((m0, *m1, *m4, m7)):
+            out[i, lo:, lo:hi] = m
+        # the mirrored pairs (observation s ≥ hi, source lo..hi): ρ and ρ' swap
+        for i, m in enumerate((m0, *m4, *m1, m7)):
+            out[i, lo:hi, hi:] = m[tb:].T
+    obs, src = base.near_pairs[:, 0], base.near_pairs[:, 1]
+    out[:, src, obs] = near_moments(base, k)[:, FLAT_MOMENTS].T
+    if len(pg.cross):
+        out[:, pg.cross[:, 1], pg.cross[:, 0]] = _cross_moments(pg, k)[:, FLAT_MOMENTS].T
+    return out
+
+
+def _cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+    """(K, 8) moments of G over the near pairs across the cell's sides (closed-form 1/R, R)."""
     rule = pg.base.near
-    obs, src = pg.near[:, 0], pg.near[:, 1]
-    dist = pg.near_distances
+    obs, src = pg.cross[:, 0], pg.cross[:, 1]
+    dist = pg.cross_distances
     x = k * dist
     with np.errstate(divide="ignore", invalid="ignore"):
         smooth = (np.cos(x) - 1.0 + 0.5 * x * x - 1j * np.sin(x)) / dist
@@ -359,7 +674,7 @@ def _near_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     out[:, 1:4] = np.einsum("ka,kac,ka->kc", w_o, rho_o, h0)
     out[:, 4:7] = np.einsum("ka,kac->kc", w_o, h1)
     out[:, 7] = np.einsum("ka,kac,kac->k", w_o, rho_o, h1)
-    return out + pg.near_static_inv_r - (0.5 * k * k) * pg.near_static_r
+    return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
 
 
 def periodic_impedance_matrix(
@@ -370,46 +685,67 @@ def periodic_impedance_matrix(
     ``kt`` is the incident wave's transverse wavevector (rad/m). Reciprocity:
     Z(k_t)ᵀ = Z(−k_t).
     """
+    if complex(k).imag != 0:
+        raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
+    k = float(np.real(k))
+    kt = np.asarray(kt, dtype=np.float64)
     base = pg.base
     t, n = base.n_triangles, pg.n_unknowns
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
-    table = RegularTable.build(pg, green)
-    # near triples: the closed-form moments of G replace the far rule's
-    near_obs, near_src = pg.near[:, 0], pg.near[:, 1]
-    far_g = _moments(
-        _free_kernel(_point_offsets(pg, near_obs, near_src), k), base.far, near_obs, near_src
-    )  # (8, K)
-    correction = _near_moments(pg, k) - far_g.T  # (K, 8), pairs sorted by observation
-    # the coefficient and offset maps, (N, 3T) stacked as [C | D_x | D_y]
-    basis, test = pg.basis_maps(np.asarray(kt))
-    phase_all = np.exp(-1j * (pg.shift_vectors @ np.asarray(kt)))  # (T, T)
-    starts = np.searchsorted(near_obs, np.arange(t + 1))
-    q = base.far.size
-    block = max(1, min(t, BLOCK_ENTRIES // max(1, t * q * q)))
-    everyone = np.arange(t)
+    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
+    tables = _regular_tables(pg, green)
+    moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
+    # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2 (1 where every σ is 0)
+    steps = None
+    if np.any(kt) and np.any(pg.shift):
+        turns = pg.lattice @ kt
+        low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
+        steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
+    # Z = Σ_ab test_a S_ab basis_bᵀ over the parts a, b of [C | D_x | D_y] (the maps are
+    # real; the T− halves of the unknowns across the sides carry their Floquet phase):
+    # S_00 = k ∫∫ρ·ρ'G − 4/k ∫∫G, S_0c = k ∫∫ρ_c G, S_c0 = k ∫∫ρ'_c G, S_cc = k ∫∫G
+    phase = np.exp(-1j * (pg.crossing @ kt))
+    parts = [pg.maps[:, c * t : (c + 1) * t] for c in range(3)]
+    crossing = np.flatnonzero(np.diff(pg.folded.tocsr().indptr))  # the unknowns across
+    folded = [pg.folded.tocsr()[crossing][:, c * t : (c + 1) * t].tocsr() for c in range(3)]
+    columns = [p.tocsc() for p in parts]
+    terms = (
+        ((0, 5), (1, 1), (2, 2)),  # a = 0: C with S_00, D_x with S_0x, D_y with S_0y
+        ((0, 3), (1, 0)),  # a = x: C with S_x0, D_x with S_xx
+        ((0, 4), (2, 0)),  # a = y
+    )
     z = np.zeros((n, n), dtype=np.complex128)
-    for lo in range(0, t, block):
-        hi = min(t, lo + block)
-        rows = np.arange(lo, hi)[:, None]
-        delta = _point_offsets(pg, rows, everyone[None, :])  # (B, T, Q, Q, 2)
-        kernel = _free_kernel(delta, k) + table(delta)
-        m = _moments(kernel, base.far, rows, everyone[None, :])  # (8, B, T)
-        span = slice(starts[lo], starts[hi])
-        m[:, near_obs[span] - lo, near_src[span]] += correction[span].T
-        m *= phase_all[None, lo:hi]
-        b = hi - lo
-        s = np.zeros((3, b, 3, t), dtype=np.complex128)
-        s[0, :, 0] = k * m[7] - (4.0 / k) * m[0]
-        for c in range(2):
-            s[0, :, 1 + c] = k * m[1 + c]  # C_m ρ · D_n
-            s[1 + c, :, 0] = k * m[4 + c]  # D_m · ρ' C_n
-            s[1 + c, :, 1 + c] = k * m[0]  # D_m · D_n
-        cols = np.concatenate([np.arange(lo, hi) + c * t for c in range(3)])
-        left = test[:, cols]  # (N, 3B)
-        right = (basis @ s.reshape(3 * b, 3 * t).T).T  # (3B, N): S · Basisᵀ
-        z += left @ right
-    z *= 1j * ETA0 / (4.0 * np.pi)
+    # blocks of observation triangles small enough that their moments stay in cache
+    for lo in range(0, t, REGULAR_BLOCK):
+        hi = min(t, lo + REGULAR_BLOCK)
+        m = moments[:, :, lo:hi].astype(np.complex128)  # (6, T, B)
+        _add_regular_moments(pg, tables, lo, hi, m)
+        if steps is not None:
+            sigma = pg.shift[lo:hi]  # (B, T, 2) [o, s]
+            m *= (steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]).T
+        m[5] -= (4.0 / (k * k)) * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+        tests = [c[:, lo:hi].tocsr() for c in columns]
+        rows = np.unique(np.concatenate([x.nonzero()[0] for x in tests]))  # live on lo..hi
+        block = np.zeros((len(rows), n), dtype=np.complex128)
+        for a, pairs in enumerate(terms):
+            # right_a = Σ_b basis_b S_abᵀ, (N, B)
+            right = np.zeros((n, hi - lo), dtype=np.complex128)
+            for b, i in pairs:
+                right += _real_product(parts[b], m[i])
+                if len(crossing):
+                    right[crossing] += phase[crossing, None] * (folded[b] @ m[i])
+            right = np.ascontiguousarray(right.T)  # (B, N)
+            block += _real_product(tests[a][rows], right)
+            if len(crossing):
+                z[crossing] += np.conj(phase[crossing, None]) * (folded[a][:, lo:hi] @ right)
+        z[rows] += block
+    z *= 1j * k * ETA0 / (4.0 * np.pi)
     return z
+
+
+def _real_product(real: sp.csr_matrix, dense: np.ndarray) -> np.ndarray:
+    """``real @ dense`` for a real sparse matrix and a C-contiguous complex array."""
+    out = real @ dense.view(np.float64)
+    return out.view(np.complex128)
 
 
 def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:

@@ -1,0 +1,384 @@
+"""The numbers behind the Solve dock's "Infinite array" tab (numpy only, no Qt).
+
+:func:`sweep_array` is the one adapter between the tab and the periodic solver:
+:func:`barymesh.mom.periodic_sweep` over the band (interpolating, AAA, from
+:data:`INTERPOLATE_POINTS` frequencies on; below, point by point with
+:func:`barymesh.mom.periodic_solve`, where a fit would cost more solves than it saves),
+reduced to what the tab plots (the co-polar (0, 0)
+reflection and transmission), the grating-lobe onsets with the orders that start there,
+and the resonances. It stops before its next solve when ``cancel()`` says so.
+
+:func:`orders_rows` turns one :class:`barymesh.mom.PeriodicSolution` into the rows of the
+tab's table of propagating Floquet orders.
+
+The frequencies are solved in a child process (:func:`solver_process`, one for the whole
+program, started on the first sweep), not in the calling worker thread: a thread shares
+the GIL with the GUI thread, and every draw the window made meanwhile (the curve, the
+cell's preview, the 3D view) took twice as long, up to a third of a second on a loaded
+machine. The mesh and the inputs go to the child, an :class:`ArraySweep` comes back;
+cancel and progress cross through two shared integers (:class:`_Shared`).
+"""
+
+from __future__ import annotations
+
+import atexit
+import itertools
+import math
+import multiprocessing
+import threading
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from barymesh import TriMesh
+from barymesh.constants import SPEED_OF_LIGHT
+
+#: Polarisations offered, and the angle ``PlaneWave.from_angles`` turns E by from θ̂:
+#: TE has E along φ̂ (perpendicular to the plane of incidence), TM along θ̂.
+POLARIZATIONS = {"TE": 90.0, "TM": 0.0}
+#: Metres per mesh unit (meshes and lattices are in mm).
+METRES = 1e-3
+#: Bands of at least this many frequencies are swept by rational interpolation (21 cost
+#: 27 solves on a ring cell with three grating-lobe onsets in the band: no saving).
+INTERPOLATE_POINTS = 41
+#: Floquet orders |p|, |q| <= this are searched for grating-lobe onsets.
+ORDER_RANGE = 4
+
+
+@dataclass(frozen=True)
+class ArrayInputs:
+    """What the tab's fields say: the band, the angle, the polarisation and Z_s.
+
+    Attributes
+    ----------
+    frequencies : (F,) float
+        Hz, increasing.
+    theta, phi : float
+        Direction the wave comes from (degrees): θ from the normal, φ from x.
+    polarization : str
+        ``"TE"`` or ``"TM"``.
+    sheet_impedance : complex
+        Ω per square (0: a perfect conductor).
+    """
+
+    frequencies: tuple[float, ...]
+    theta: float
+    phi: float
+    polarization: str
+    sheet_impedance: complex = 0j
+
+    def incidence(self) -> Any:
+        """The incident :class:`barymesh.mom.PlaneWave` (unit amplitude)."""
+        from barymesh.mom import PlaneWave
+
+        return PlaneWave.from_angles(self.theta, self.phi, POLARIZATIONS[self.polarization])
+
+
+@dataclass(frozen=True, eq=False)
+class ArraySweep:
+    """The co-polar (0, 0) coefficients of an infinite array over a band.
+
+    Attributes
+    ----------
+    frequencies : (F,) float
+        Hz.
+    reflection, transmission : (F,) complex
+        Co-polar R and T of the (0, 0) order (T includes the incident wave).
+    grating_lobe_onsets : tuple of (float, tuple of (int, int))
+        Onset frequencies (Hz) inside the band, each with the orders (p, q) that begin
+        to propagate there.
+    resonances : (K,) float
+        Frequencies (Hz) of the resonances (peaks and dips of |R|).
+    inputs : ArrayInputs
+    sampled : (S,) float
+        The frequencies solved (Hz); the others come from the rational fit.
+    error_estimate : (F,) float
+        The fit's estimated absolute error (0 where solved).
+    """
+
+    frequencies: np.ndarray
+    reflection: np.ndarray
+    transmission: np.ndarray
+    grating_lobe_onsets: tuple[tuple[float, tuple[tuple[int, int], ...]], ...]
+    resonances: np.ndarray
+    inputs: ArrayInputs
+    sampled: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    error_estimate: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def interpolated(self) -> bool:
+        """Whether some frequencies come from the fit, not from a solve."""
+        return len(self.sampled) < len(self.frequencies)
+
+
+def lattice_vectors(mesh: TriMesh) -> np.ndarray:
+    """(2, 2) float lattice vectors a1, a2 (rows, metres) of a unit cell's mesh.
+
+    Raises ValueError (one line) when the mesh carries no lattice.
+    """
+    lattice = getattr(mesh, "lattice", None)
+    if lattice is None:
+        raise ValueError(
+            "The mesh on screen has no lattice: open a unit cell (Cell ▸ Cell presets) "
+            "to solve its infinite array"
+        )
+    return np.array([lattice.a1, lattice.a2], dtype=np.float64) * METRES
+
+
+def grating_lobe_onsets(
+    vectors: np.ndarray, theta: float, phi: float, band: tuple[float, float]
+) -> tuple[tuple[float, tuple[tuple[int, int], ...]], ...]:
+    """Frequencies in ``band`` (Hz) at which a Floquet order (p, q) ≠ (0, 0) starts to
+    propagate, for a wave from (θ, φ) (degrees) on the lattice ``vectors`` ((2, 2), m).
+
+    Order (p, q) has κ = k u + p b1 + q b2 (u = the incident direction's transverse part);
+    it propagates once |κ| <= k, so its onset solves (1 − |u|²) k² − 2 (u·G) k − |G|² = 0.
+
+    >>> a = np.eye(2) * 0.012  # a 12 mm square lattice
+    >>> [(round(f / 1e9, 3), orders) for f, orders in grating_lobe_onsets(a, 0, 0, (1e9, 26e9))]
+    [(24.983, ((-1, 0), (0, -1), (0, 1), (1, 0)))]
+    """
+    recip = 2.0 * np.pi * np.linalg.inv(np.asarray(vectors, dtype=np.float64)).T  # rows b1, b2
+    t, f = math.radians(theta), math.radians(phi)
+    u = -math.sin(t) * np.array([math.cos(f), math.sin(f)])
+    n = np.arange(-ORDER_RANGE, ORDER_RANGE + 1)
+    pq = np.stack(np.meshgrid(n, n, indexing="ij"), axis=-1).reshape(-1, 2)
+    pq = pq[np.any(pq != 0, axis=1)]
+    g = pq @ recip  # (M, 2)
+    ug = g @ u
+    gg = np.einsum("ij,ij->i", g, g)
+    a = 1.0 - u @ u
+    k = (ug + np.sqrt(ug * ug + a * gg)) / a
+    hz = k * SPEED_OF_LIGHT / (2.0 * np.pi)
+    inside = (hz >= band[0]) & (hz <= band[1])
+    hz, pq = hz[inside], pq[inside]
+    out: list[tuple[float, tuple[tuple[int, int], ...]]] = []
+    for i in np.argsort(hz, kind="stable"):
+        order = (int(pq[i, 0]), int(pq[i, 1]))
+        if out and abs(hz[i] - out[-1][0]) <= 1e-9 * hz[i]:
+            out[-1] = (out[-1][0], tuple(sorted((*out[-1][1], order))))
+        else:
+            out.append((float(hz[i]), (order,)))
+    return tuple(out)
+
+
+def resonance_frequencies(frequencies: np.ndarray, magnitude: np.ndarray) -> np.ndarray:
+    """(K,) frequencies of the interior maxima of ``magnitude`` (parabola through each
+    maximum and its two neighbours).
+
+    >>> f = np.array([1.0, 2.0, 3.0, 4.0])
+    >>> resonance_frequencies(f, np.array([0.1, 0.5, 0.5, 0.1])).tolist()
+    [2.5]
+    """
+    f, m = np.asarray(frequencies, dtype=float), np.asarray(magnitude, dtype=float)
+    if len(f) < 3:
+        return np.zeros(0)
+    i = np.flatnonzero((m[1:-1] >= m[:-2]) & (m[1:-1] > m[2:])) + 1
+    y0, y1, y2 = m[i - 1], m[i], m[i + 1]
+    denom = y0 - 2.0 * y1 + y2
+    shift = np.where(np.abs(denom) > 0, 0.5 * (y0 - y2) / np.where(denom == 0, 1, denom), 0.0)
+    step = np.where(shift >= 0, f[np.minimum(i + 1, len(f) - 1)] - f[i], f[i] - f[i - 1])
+    return f[i] + np.clip(shift, -0.5, 0.5) * step
+
+
+def solve_point(mesh: TriMesh, hz: float, inputs: ArrayInputs) -> Any:
+    """:func:`barymesh.mom.periodic_solve` of ``mesh`` at ``hz`` with the tab's inputs."""
+    from barymesh.mom import periodic_solve
+
+    return periodic_solve(mesh, hz, inputs.incidence(), sheet_impedance=inputs.sheet_impedance)
+
+
+class _Shared:
+    """Two integers the parent and the child process both see: the highest job number
+    cancelled, and the solves done by the running job (its progress)."""
+
+    def __init__(self, context: Any) -> None:
+        self.cancelled = context.Value("q", 0, lock=False)
+        self.done = context.Value("q", 0, lock=False)
+
+
+_PROCESS: ProcessPoolExecutor | None = None
+_SHARED: _Shared | None = None
+_PROCESS_LOCK = threading.Lock()
+_JOBS = itertools.count(1)
+#: Child side: the shared integers (from the initializer: they are inherited, not sent).
+_CHILD: list[Any] = [None]
+
+
+def _child_start(shared: _Shared) -> None:
+    _CHILD[0] = shared
+
+
+def solver_process() -> tuple[ProcessPoolExecutor, _Shared]:
+    """The one child process the sweeps solve in (spawned: a process running Qt threads
+    is never forked) and its shared integers; shut down when the program ends."""
+    global _PROCESS, _SHARED
+    with _PROCESS_LOCK:
+        if _PROCESS is None:
+            context = multiprocessing.get_context("spawn")
+            _SHARED = _Shared(context)
+            _PROCESS = ProcessPoolExecutor(
+                max_workers=1, mp_context=context, initializer=_child_start, initargs=(_SHARED,)
+            )
+            atexit.register(_PROCESS.shutdown, wait=False, cancel_futures=True)
+        return _PROCESS, _SHARED
+
+
+def _forget_process(executor: ProcessPoolExecutor) -> None:
+    """A child that died is replaced by a new one at the next sweep."""
+    global _PROCESS
+    with _PROCESS_LOCK:
+        if _PROCESS is executor:
+            _PROCESS = None
+
+
+def _sweep_in_child(job: int, mesh: TriMesh, inputs: ArrayInputs) -> ArraySweep:
+    shared = _CHILD[0]
+    shared.done.value = 0
+
+    def progress(done: int, _total: int) -> None:
+        shared.done.value = done
+
+    return _sweep(mesh, inputs, progress, lambda: shared.cancelled.value >= job)
+
+
+def _sweep(
+    mesh: TriMesh,
+    inputs: ArrayInputs,
+    progress: Callable[[int, int], None] | None,
+    cancel: Callable[[], bool] | None,
+) -> ArraySweep:
+    from barymesh.mom import SolveCancelled, periodic_sweep
+
+    freqs = np.asarray(inputs.frequencies, dtype=np.float64)
+    band = (float(freqs[0]), float(freqs[-1]))
+    onsets = grating_lobe_onsets(lattice_vectors(mesh), inputs.theta, inputs.phi, band)
+    if len(freqs) < INTERPOLATE_POINTS:
+        # point by point here: periodic_sweep(interpolate=False) refuses a band with an
+        # onset-to-onset piece that holds no requested frequency ("need at least one
+        # array to stack"), and a short band costs fewer solves than a fit would
+        r = np.empty(len(freqs), dtype=complex)
+        t = np.empty(len(freqs), dtype=complex)
+        for i, hz in enumerate(freqs):
+            if cancel is not None and cancel():
+                raise SolveCancelled(f"the array sweep was cancelled after {i} of {len(freqs)}")
+            r[i], t[i] = solve_point(mesh, float(hz), inputs).co_polar()
+            if progress is not None:
+                progress(i + 1, len(freqs))
+        return ArraySweep(
+            freqs,
+            r,
+            t,
+            onsets,
+            resonance_frequencies(freqs, np.abs(r)),
+            inputs,
+            freqs.copy(),
+            np.zeros(len(freqs)),
+        )
+    sweep = periodic_sweep(
+        mesh,
+        freqs,
+        inputs.incidence(),
+        interpolate=True,
+        polarizations="incident",
+        sheet_impedance=inputs.sheet_impedance,
+        progress=progress,
+        cancel=cancel,
+    )
+    r, t = sweep.co_polar()
+    return ArraySweep(
+        frequencies=freqs,
+        reflection=np.asarray(r),
+        transmission=np.asarray(t),
+        grating_lobe_onsets=onsets,
+        resonances=np.asarray(sweep.resonances, dtype=float),
+        inputs=inputs,
+        sampled=np.asarray(sweep.sampled, dtype=float),
+        error_estimate=np.asarray(sweep.error_estimate, dtype=float),
+    )
+
+
+def sweep_array(
+    mesh: TriMesh,
+    inputs: ArrayInputs,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+    in_process: bool = True,
+) -> ArraySweep:
+    """The co-polar (0, 0) R and T of ``mesh``'s infinite array over ``inputs``' band.
+
+    The sweep runs in :func:`solver_process` (``in_process=False``: here); ``progress``
+    is called with (solves done, frequencies) while it runs. Raises
+    ``barymesh.mom.SolveCancelled`` when ``cancel()`` turns true (seen before the next
+    solve), or ValueError naming what is wrong with the cell.
+    """
+    lattice_vectors(mesh)  # no lattice: say so here, before a process is started
+    if not in_process:
+        return _sweep(mesh, inputs, progress, cancel)
+    executor, shared = solver_process()
+    job = next(_JOBS)
+    future = executor.submit(_sweep_in_child, job, mesh, inputs)
+    total, seen = len(inputs.frequencies), -1
+    while True:
+        try:
+            return future.result(timeout=0.05)
+        except TimeoutError:
+            pass
+        except BrokenProcessPool:
+            _forget_process(executor)
+            raise RuntimeError("the solver's process ended unexpectedly; run again") from None
+        if cancel is not None and cancel():
+            shared.cancelled.value = max(shared.cancelled.value, job)
+        done = int(shared.done.value)
+        if progress is not None and done != seen:
+            seen = done
+            progress(min(done, total), total)
+
+
+@dataclass(frozen=True)
+class OrderRow:
+    """One propagating Floquet order of a solution: its amplitudes, power and direction.
+
+    ``reflected`` and ``transmitted`` are the TE and TM amplitudes' norm (units of the
+    incident field); ``power_r``/``power_t`` their power over the incident power;
+    ``theta``/``phi`` (degrees) the direction the reflected wave leaves in (the
+    transmitted one leaves at the same angles below the screen).
+    """
+
+    p: int
+    q: int
+    reflected: float
+    transmitted: float
+    power_r: float
+    power_t: float
+    theta: float
+    phi: float
+
+
+def orders_rows(solution: Any) -> list[OrderRow]:
+    """The table rows of every propagating order of a ``PeriodicSolution``, (0, 0) first."""
+    power_r, power_t = solution.power_fractions
+    kappa = np.asarray(solution.kappa, dtype=float)
+    k = np.sqrt(np.einsum("ij,ij->i", kappa, kappa) + np.real(solution.beta) ** 2)
+    theta = np.degrees(np.arcsin(np.clip(np.hypot(kappa[:, 0], kappa[:, 1]) / k, 0.0, 1.0)))
+    phi = np.degrees(np.arctan2(kappa[:, 1], kappa[:, 0]))
+    phi = np.where(theta < 1e-9, 0.0, phi)
+    r = np.linalg.norm(np.abs(solution.reflection), axis=1)
+    t = np.linalg.norm(np.abs(solution.transmission), axis=1)
+    return [
+        OrderRow(
+            int(solution.orders[i, 0]),
+            int(solution.orders[i, 1]),
+            float(r[i]),
+            float(t[i]),
+            float(power_r[i]),
+            float(power_t[i]),
+            float(theta[i]),
+            float(phi[i]) + 0.0,
+        )
+        for i in range(len(solution.orders))
+    ]

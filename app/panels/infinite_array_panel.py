@@ -1,0 +1,616 @@
+"""The Solve dock's "Infinite array" tab: R and T of a unit cell's infinite array.
+
+When the mesh on screen is a unit cell (it carries a lattice: a cell preset, a cell file,
+the cell editor), the tab takes a band (start, stop, points), the angle the wave comes
+from (θ, φ in degrees), TE or TM, and an optional sheet impedance (Ω/sq), and shows the
+co-polar (0, 0) |R| and |T| in dB and their phase against frequency, the grating-lobe
+onsets marked and the resonances labelled. The sweep
+(:func:`barymesh.app.panels.array_sweep.sweep_array`) runs in the solver process, waited
+for by a worker thread, which then draws the figure
+(:func:`barymesh.app.panels.array_figures.draw_curve`, Agg) into an image; the GUI thread
+only shows it (:class:`PictureView`). With **Live** on, every new mesh (a slider, the cell
+editor) cancels the running sweep and starts the next one.
+
+A click on the curve solves the array at that frequency (in the worker): the cell's
+current goes into the Solve tab's "Surface current" layer (the cell editor's ghost copies
+stay drawn around it), and the propagating Floquet orders into a table and a drawing
+(:func:`~barymesh.app.panels.array_figures.draw_orders`: the screen, the incident wave,
+and an arrow per order above (reflected) and below (transmitted), in the plane of
+incidence). Without a lattice the tab says why in one line and its inputs are disabled.
+"""
+
+from __future__ import annotations
+
+import cmath
+import logging
+import math
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from PySide6.QtCore import QPoint, QSize, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtGui import QColor, QImage, QPainter, QPen
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QCheckBox,
+    QComboBox,
+    QFormLayout,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QPushButton,
+    QSizePolicy,
+    QSpinBox,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from barymesh import TriMesh
+from barymesh.app.panels.array_figures import Picture, draw_curve, draw_orders
+from barymesh.app.panels.array_sweep import (
+    POLARIZATIONS,
+    ArrayInputs,
+    ArraySweep,
+    lattice_vectors,
+    orders_rows,
+    solve_point,
+    sweep_array,
+)
+from barymesh.app.panels.solve_panel import PANEL_WIDTH, UNITS, read_frequency, run_job
+from barymesh.app.worker import Job
+
+log = logging.getLogger(__name__)
+
+#: The orders table's columns.
+ORDER_COLUMNS = ("p", "q", "|R|", "|T|", "P_R", "P_T", "θ°", "φ°")
+ORDER_TIPS = (
+    "Floquet order p (along the first lattice vector's reciprocal)",
+    "Floquet order q",
+    "Reflected amplitude of the order, TE and TM together (incident amplitude 1)",
+    "Transmitted amplitude (the (0, 0) order includes the incident wave)",
+    "Reflected power of the order over the incident power",
+    "Transmitted power of the order over the incident power",
+    "Angle of the order's wave from the normal",
+    "Azimuth of the order's wave (from x)",
+)
+
+
+def read_angle(text: str, name: str, low: float, high: float) -> float:
+    """A typed angle in degrees within [low, high); ValueError naming ``name``.
+
+    >>> read_angle("30", "θ", 0, 90)
+    30.0
+    """
+    try:
+        value = float(text.strip().replace("°", "").replace("−", "-"))
+    except ValueError:
+        raise ValueError(f"{name} {text!r} is not a number; type degrees, e.g. 30") from None
+    if not math.isfinite(value) or not low <= value < high:
+        raise ValueError(f"{name} {text!r} is out of range; expected {low:g} <= {name} < {high:g}°")
+    return value
+
+
+def read_impedance(text: str) -> complex:
+    """A sheet impedance in Ω/sq: ``""`` -> 0, ``"377"``, ``"10-5j"``, ``"10 - j5"``.
+
+    >>> read_impedance(""), read_impedance("10 - j5"), read_impedance("3+4j")
+    (0j, (10-5j), (3+4j))
+    """
+    t = text.strip().replace("Ω", "").replace("−", "-").replace(" ", "").replace("i", "j")
+    if not t:
+        return 0j
+    # "j5" and "-j5" after a sign: move the j behind the number (Python's 5j)
+    parts, i = [], 0
+    for j, ch in enumerate(t):
+        if ch in "+-" and j > 0 and t[j - 1] not in "eE":
+            parts.append(t[i:j])
+            i = j
+    parts.append(t[i:])
+    fixed = []
+    for part in parts:
+        sign = part[0] if part[:1] in ("+", "-") else ""
+        body = part[len(sign) :]
+        if body.startswith("j") and len(body) > 1:
+            body = body[1:] + "j"
+        fixed.append(sign + body)
+    try:
+        z = complex("".join(fixed))
+    except ValueError:
+        raise ValueError(
+            f"Sheet impedance {text!r} is not a complex number; type Ω/sq, e.g. 50 or 10-5j"
+        ) from None
+    if not (cmath.isfinite(z) and z.real >= 0):
+        raise ValueError(
+            f"Sheet impedance {text!r} is invalid; expected Re Z_s >= 0 (a passive sheet)"
+        )
+    return z
+
+
+class PictureView(QWidget):
+    """Shows a :class:`barymesh.app.panels.array_figures.Picture` drawn in the worker; a
+    click on a curve's axes reports its frequency (Hz); :meth:`mark` draws a line at one."""
+
+    clicked = Signal(float)
+    resized = Signal()
+
+    def __init__(self, height: int, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setMinimumHeight(height)
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+        self._height = height
+        self.picture: Picture | None = None
+        self.marked: float | None = None
+        self._image: QImage | None = None
+        self._resize_timer = QTimer(self)
+        self._resize_timer.setSingleShot(True)
+        self._resize_timer.setInterval(150)
+        self._resize_timer.timeout.connect(self.resized.emit)
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        return QSize(PANEL_WIDTH, self._height)
+
+    def request_size(self) -> tuple[tuple[int, int], float]:
+        """(w, h) widget pixels and the device-pixel ratio to draw a picture at."""
+        return (max(self.width(), 100), max(self.height(), 100)), self.devicePixelRatioF()
+
+    def show_picture(self, picture: Picture) -> None:
+        self.picture = picture
+        rgba = np.ascontiguousarray(picture.rgba)
+        h, w = rgba.shape[:2]
+        image = QImage(rgba.data, w, h, 4 * w, QImage.Format.Format_RGBA8888).copy()
+        image.setDevicePixelRatio(picture.ratio)
+        self._image = image
+        self.update()
+
+    def mark(self, hz: float | None) -> None:
+        self.marked = hz
+        self.update()
+
+    @property
+    def figure(self) -> Any:
+        """The matplotlib figure last drawn (its axes, lines and texts; read only)."""
+        return None if self.picture is None else self.picture.figure
+
+    def data_to_widget(self, hz: float) -> QPoint:
+        """Widget pixel of frequency ``hz`` half way down the curve's axes (tests click)."""
+        p = self.picture
+        return QPoint(round(p.widget_x(hz)), round(p.widget_y_middle()))
+
+    def paintEvent(self, _event: Any) -> None:  # noqa: N802 - Qt's name
+        painter = QPainter(self)
+        painter.fillRect(self.rect(), QColor("white"))
+        if self._image is not None:
+            painter.drawImage(0, 0, self._image)
+            p = self.picture
+            if self.marked is not None and p is not None and p.x_range[1] > p.x_range[0]:
+                x = p.widget_x(self.marked)
+                painter.setPen(QPen(QColor(80, 80, 80), 1))
+                painter.drawLine(
+                    round(x),
+                    round(p.y_pixels[0] / p.ratio),
+                    round(x),
+                    round(p.y_pixels[1] / p.ratio),
+                )
+        painter.end()
+
+    def mousePressEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        if self.picture is None or event.button() != Qt.MouseButton.LeftButton:
+            return
+        pos = event.position()
+        hz = self.picture.frequency_at(pos.x(), pos.y())
+        if hz is not None:
+            self.clicked.emit(hz)
+
+    def resizeEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().resizeEvent(event)
+        if self.picture is not None:
+            self._resize_timer.start()
+
+
+class InfiniteArrayPanel(QWidget):
+    """The "Infinite array" tab (see module docstring).
+
+    Parameters
+    ----------
+    model : AppModel
+        The window's model (its ``result.mesh`` is the mesh on screen).
+    show_current : callable
+        ``show_current(mesh, current)`` puts a (T, 3) complex current into the Surface
+        current layer (the Solve tab's), ``show_current(None, None)`` takes it away.
+    """
+
+    _job_done = Signal(object)
+    _job_progress = Signal(int, int, int)
+    #: an ArraySweep shown (tests, the docs' screenshot)
+    swept = Signal(object)
+
+    def __init__(
+        self,
+        model: Any,
+        show_current: Callable[[TriMesh | None, Any], None],
+        parent: QWidget | None = None,
+    ) -> None:
+        super().__init__(parent)
+        self.model = model
+        self.show_current = show_current
+        self.pool = QThreadPool(self)
+        self.pool.setMaxThreadCount(1)
+        self.result: ArraySweep | None = None
+        self.result_mesh: TriMesh | None = None
+        self.point: Any = None  # the PeriodicSolution at the clicked frequency
+        self.point_mesh: TriMesh | None = None
+        self.engaged = False  # set by the first Run: from then on Live follows the mesh
+        self.cancelled: list[int] = []  # tokens of sweeps cancelled by a newer one
+        self.stopped: list[int] = []  # tokens of sweeps that stopped early (SolveCancelled)
+        self.last_outcome: Any = None
+        #: the latest job of each kind: a sweep, a solve at a clicked frequency, a redraw of
+        #: the curve or of the orders (a resize); an older job's result is dropped
+        self._tokens = {"array": 0, "point": 0, "curve": 0, "orders": 0}
+        self._cancel: dict[int, threading.Event] = {}
+        self._job_done.connect(self._finished)
+        self._job_progress.connect(self._progress)
+        self._build()
+        model.result_changed.connect(self._mesh_changed)
+        self._update_enabled()
+        self._redraw("curve")
+        self._redraw("orders")
+
+    # -- layout ----------------------------------------------------------------------
+
+    def _build(self) -> None:
+        col = QVBoxLayout(self)
+        self.reason = QLabel(self)
+        self.reason.setWordWrap(True)
+        self.reason.setStyleSheet("color: #b35900;")
+        col.addWidget(self.reason)
+        self.inputs_box = QWidget(self)
+        form = QFormLayout(self.inputs_box)
+        form.setContentsMargins(0, 0, 0, 0)
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
+        self.band_start = QLineEdit("10", self)
+        self.band_stop = QLineEdit("30", self)
+        self.unit = QComboBox(self)
+        for u in UNITS:
+            self.unit.addItem(u, u)
+        self.unit.setCurrentText("GHz")
+        row = QHBoxLayout()
+        row.addWidget(self.band_start, 1)
+        row.addWidget(QLabel("to", self))
+        row.addWidget(self.band_stop, 1)
+        row.addWidget(self.unit)
+        form.addRow(self._label("&Band", self.band_start), row)
+        self.points = QSpinBox(self)
+        self.points.setRange(2, 1001)
+        self.points.setValue(21)
+        self.points.setToolTip("Frequencies in the band, evenly spaced")
+        form.addRow("&Points", self.points)
+        self.theta = QLineEdit("0", self)
+        self.theta.setToolTip("θ (degrees from the normal) of the direction the wave comes from")
+        self.phi = QLineEdit("0", self)
+        self.phi.setToolTip("φ (degrees from x) of the direction the wave comes from")
+        row = QHBoxLayout()
+        row.addWidget(QLabel("θ", self))
+        row.addWidget(self.theta, 1)
+        row.addWidget(QLabel("φ", self))
+        row.addWidget(self.phi, 1)
+        form.addRow(self._label("&Angle (°)", self.theta), row)
+        self.polarization = QComboBox(self)
+        for name in POLARIZATIONS:
+            self.polarization.addItem(name, name)
+        self.polarization.setToolTip("TE: E perpendicular to the plane of incidence; TM: in it")
+        form.addRow("P&olarisation", self.polarization)
+        self.sheet = QLineEdit("", self)
+        self.sheet.setPlaceholderText("0 (perfect conductor)")
+        self.sheet.setToolTip("Sheet impedance Z_s of the screen, Ω/sq, e.g. 50 or 10-5j")
+        form.addRow("Sheet &impedance (Ω/sq)", self.sheet)
+        self.live = QCheckBox("&Live: follow the mesh", self)
+        self.live.setChecked(True)
+        self.live.setToolTip("Sweep again whenever the mesh changes (a slider, the cell editor)")
+        self.run_button = QPushButton("&Run", self)
+        self.run_button.setToolTip("Sweep R and T of the infinite array over the band")
+        self.run_button.clicked.connect(self.run)
+        row = QHBoxLayout()
+        row.addWidget(self.run_button)
+        row.addWidget(self.live, 1)
+        form.addRow(row)
+        col.addWidget(self.inputs_box)
+        self.error = QLabel(self)
+        self.error.setStyleSheet("color: #d0021b;")
+        self.error.setWordWrap(True)
+        col.addWidget(self.error)
+        self.status = QLabel(self)
+        self.status.setWordWrap(True)
+        col.addWidget(self.status)
+        self.note = QLabel("No curve yet.", self)
+        self.note.setWordWrap(True)
+        col.addWidget(self.note)
+        self.plot = PictureView(330, self)
+        self.plot.setToolTip("Click a frequency: the current and the Floquet orders there")
+        self.plot.clicked.connect(self.solve_at)
+        self.plot.resized.connect(lambda: self._redraw("curve"))
+        col.addWidget(self.plot)
+        self.summary = QLabel(self)
+        self.summary.setWordWrap(True)
+        self.summary.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        col.addWidget(self.summary)
+        self.table = QTableWidget(0, len(ORDER_COLUMNS), self)
+        self.table.setHorizontalHeaderLabels(list(ORDER_COLUMNS))
+        for column, tip in enumerate(ORDER_TIPS):
+            self.table.horizontalHeaderItem(column).setToolTip(tip)
+        self.table.verticalHeader().hide()
+        self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
+        self.table.horizontalHeader().setMinimumSectionSize(20)
+        self.table.verticalHeader().setDefaultSectionSize(20)
+        font = self.table.font()
+        font.setPointSizeF(font.pointSizeF() * 0.85)
+        self.table.setFont(font)
+        self.table.setMinimumHeight(110)
+        col.addWidget(self.table)
+        self.drawing = PictureView(200, self)
+        self.drawing.resized.connect(lambda: self._redraw("orders"))
+        col.addWidget(self.drawing)
+        for edit in (self.band_start, self.band_stop, self.theta, self.phi, self.sheet):
+            edit.returnPressed.connect(self._edited)
+
+    def _label(self, text: str, buddy: QWidget) -> QLabel:
+        """A row's label whose mnemonic (Alt + the underlined letter) focuses ``buddy``."""
+        label = QLabel(text, self)
+        label.setBuddy(buddy)
+        return label
+
+    # -- inputs ----------------------------------------------------------------------
+
+    @property
+    def mesh(self) -> TriMesh | None:
+        result = self.model.result
+        return None if result is None else result.mesh
+
+    def inputs(self) -> ArrayInputs:
+        """The fields as :class:`ArrayInputs`; ValueError naming the field if invalid."""
+        unit = self.unit.currentText()
+        a = read_frequency(self.band_start.text(), unit)
+        b = read_frequency(self.band_stop.text(), unit)
+        if not b > a:
+            raise ValueError(
+                f"Band {self.band_start.text()} to {self.band_stop.text()} {unit}: "
+                "the end must be above the start"
+            )
+        theta = read_angle(self.theta.text(), "θ", 0.0, 90.0)
+        phi = read_angle(self.phi.text(), "φ", -360.0, 360.0)
+        zs = read_impedance(self.sheet.text())
+        freqs = tuple(float(f) for f in np.linspace(a, b, self.points.value()))
+        return ArrayInputs(freqs, theta, phi, self.polarization.currentData(), zs)
+
+    def _reason(self, mesh: TriMesh | None) -> str:
+        """Why the tab cannot sweep ``mesh`` ("" if it can)."""
+        if mesh is None:
+            return "No mesh on screen."
+        try:
+            lattice_vectors(mesh)
+        except ValueError as exc:
+            return f"{exc}."
+        # no RWG table here (a big mesh's would hold the GUI thread at every change): a
+        # cell without unknowns is refused by the solver in the worker, in one line
+        return ""
+
+    def _update_enabled(self) -> None:
+        reason = self._reason(self.mesh)
+        self.reason.setText(reason)
+        self.reason.setVisible(bool(reason))
+        self.inputs_box.setEnabled(not reason)
+
+    def _edited(self) -> None:
+        try:
+            self.inputs()
+        except ValueError as exc:
+            self.error.setText(str(exc))
+            return
+        self.error.clear()
+
+    # -- jobs ------------------------------------------------------------------------
+
+    def run(self) -> bool:
+        """Sweep the mesh on screen over the band (a worker); False and a message if the
+        inputs or the mesh cannot be swept (the last good curve stays)."""
+        mesh = self.mesh
+        try:
+            inputs = self.inputs()
+            reason = self._reason(mesh)
+            if reason:
+                raise ValueError(reason)
+        except ValueError as exc:
+            self.error.setText(str(exc))
+            return False
+        self.error.clear()
+        self.engaged = True
+        self._cancel_running("array")
+        self._tokens["array"] += 1
+        token = self._tokens["array"]
+        stop = self._cancel[token] = threading.Event()
+
+        size, ratio = self.plot.request_size()
+
+        def work() -> tuple[ArraySweep, Picture]:  # worker thread: numpy and Agg only
+            sweep = sweep_array(
+                mesh,
+                inputs,
+                progress=lambda done, total: self._job_progress.emit(token, done, total),
+                cancel=stop.is_set,
+            )
+            return sweep, draw_curve(sweep, size, ratio)
+
+        n = len(inputs.frequencies)
+        self.status.setText(f"Sweeping {n} frequencies…")
+        self.pool.start(Job(lambda: run_job(token, mesh, "array", work), self._job_done))
+        return True
+
+    def solve_at(self, hz: float) -> bool:
+        """Solve the array at ``hz`` (a worker): the current, the orders table and drawing."""
+        mesh = self.result_mesh
+        if self.result is None or mesh is None or mesh is not self.mesh:
+            return False
+        inputs = self.result.inputs
+        self.plot.mark(hz)
+        self._tokens["point"] += 1
+        token = self._tokens["point"]
+        size, ratio = self.drawing.request_size()
+
+        def work() -> tuple[Any, Picture]:  # worker thread
+            solution = solve_point(mesh, hz, inputs)
+            return solution, draw_orders(solution, size, ratio)
+
+        self.status.setText(f"Solving at {hz / 1e9:.4g} GHz…")
+        self.pool.start(Job(lambda: run_job(token, mesh, "point", work), self._job_done))
+        return True
+
+    def _redraw(self, kind: str) -> None:
+        """Draw the curve or the orders again (in the worker) at their view's size."""
+        view = self.plot if kind == "curve" else self.drawing
+        data = self.result if kind == "curve" else self.point
+        draw = draw_curve if kind == "curve" else draw_orders
+        size, ratio = view.request_size()
+        self._tokens[kind] += 1
+        token = self._tokens[kind]
+        self.pool.start(
+            Job(lambda: run_job(token, None, kind, lambda: draw(data, size, ratio)), self._job_done)
+        )
+
+    def _cancel_running(self, kind: str) -> None:
+        token = self._tokens[kind]
+        stop = self._cancel.pop(token, None)
+        if stop is not None:
+            stop.set()
+            self.cancelled.append(token)
+
+    def cancel(self) -> None:
+        """Stop the running sweep before its next frequency; drop its result."""
+        if self._cancel:
+            self._cancel_running("array")
+            self._tokens["array"] += 1
+            self.status.setText("The array sweep was cancelled.")
+
+    def _progress(self, token: int, done: int, total: int) -> None:
+        if token == self._tokens["array"]:
+            self.status.setText(f"Sweeping: {done} of {total} frequencies…")
+
+    def _finished(self, outcome: Any) -> None:
+        self.last_outcome = outcome
+        self._cancel.pop(outcome.token, None) if outcome.kind == "array" else None
+        if outcome.cancelled:
+            self.stopped.append(outcome.token)
+        if outcome.token != self._tokens[outcome.kind] or outcome.cancelled:
+            log.debug("dropped a stale %s", outcome.kind)
+            return
+        if outcome.error is not None:
+            self.status.clear()
+            self.error.setText(
+                f"The array {'sweep' if outcome.kind == 'array' else 'solve'} "
+                f"failed: {outcome.error}"
+            )
+            return
+        if outcome.kind in ("curve", "orders"):
+            view = self.plot if outcome.kind == "curve" else self.drawing
+            view.show_picture(outcome.result)
+            return
+        if outcome.mesh is not self.mesh:
+            self.status.setText("The result was for a previous mesh: dropped.")
+            return
+        self.status.setText(f"Done in {outcome.seconds:.2f} s.")
+        data, picture = outcome.result
+        if outcome.kind == "array":
+            self.result, self.result_mesh = data, outcome.mesh
+            self._tokens["curve"] += 1  # a redraw asked for before is older than this
+            self.plot.show_picture(picture)
+            self._describe(data)
+            self.swept.emit(data)
+        else:
+            self._tokens["orders"] += 1
+            self.drawing.show_picture(picture)
+            self._show_point(data, outcome.mesh)
+
+    def _describe(self, r: ArraySweep) -> None:
+        i = r.inputs
+        self.note.setText(
+            f"{i.polarization}, θ {i.theta:g}°, φ {i.phi:g}°"
+            + (f", Z_s {i.sheet_impedance:g} Ω/sq" if i.sheet_impedance else "")
+            + ": click the curve for the orders"
+        )
+        lines = []
+        if len(r.resonances):
+            lines.append("Resonance: " + ", ".join(f"{f / 1e9:.4g} GHz" for f in r.resonances))
+        for hz, orders in r.grating_lobe_onsets:
+            names = ", ".join(f"({p},{q})" for p, q in orders)
+            lines.append(f"Grating lobe {names} from {hz / 1e9:.4g} GHz")
+        if not lines:
+            lines.append("No resonance and no grating lobe in this band.")
+        self.summary.setText("\n".join(lines))
+
+    def _show_point(self, solution: Any, mesh: TriMesh) -> None:
+        self.point, self.point_mesh = solution, mesh
+        rows = orders_rows(solution)
+        self.table.setRowCount(len(rows))
+        for i, row in enumerate(rows):
+            values = (
+                str(row.p),
+                str(row.q),
+                f"{row.reflected:.3f}",
+                f"{row.transmitted:.3f}",
+                f"{row.power_r:.4f}",
+                f"{row.power_t:.4f}",
+                f"{row.theta:.1f}",
+                f"{row.phi:.0f}",
+            )
+            for j, text in enumerate(values):
+                item = QTableWidgetItem(text)
+                item.setTextAlignment(Qt.AlignmentFlag.AlignCenter)
+                self.table.setItem(i, j, item)
+        total = solution.power_balance
+        r, t = solution.co_polar()
+        self.summary.setText(
+            f"At {solution.frequency / 1e9:.5g} GHz: {len(rows)} propagating order"
+            f"{'s' if len(rows) != 1 else ''}; co-polar |R| {abs(r):.4f}, |T| {abs(t):.4f}; "
+            f"power balance {total:.5f}"
+        )
+        self.plot.mark(solution.frequency)
+        self.show_current(mesh, solution.current_density)
+
+    # -- the mesh changed ------------------------------------------------------------
+
+    def _mesh_changed(self, result: Any) -> None:
+        self._update_enabled()
+        mesh = result.mesh if result is not None else None
+        if self.point is not None and self.point_mesh is not mesh:
+            self.point = self.point_mesh = None
+            self.table.setRowCount(0)
+            self.plot.mark(None)
+            self._redraw("orders")
+            self.show_current(None, None)
+        live = self.engaged and self.live.isChecked() and mesh is not None
+        if self.result is not None and self.result_mesh is not mesh:
+            self.result_mesh = None
+            self.note.setText(
+                "Updating for the new mesh…" if live else "This curve is for the previous mesh."
+            )
+        if live:
+            if self._reason(mesh):
+                self._cancel_running("array")
+                return
+            self.run()  # cancels the running sweep first
+
+    def stop(self, msecs: int = 30_000) -> bool:
+        """Cancel and wait for running jobs (the window is closing)."""
+        for stop in self._cancel.values():
+            stop.set()
+        self._cancel.clear()
+        for kind in self._tokens:
+            self._tokens[kind] += 1
+        try:
+            self.model.result_changed.disconnect(self._mesh_changed)
+        except (RuntimeError, ValueError):
+            pass
+        return self.pool.waitForDone(msecs)

@@ -1,0 +1,199 @@
+"""``barymesh solve --periodic``: the infinite array from the command line, in-process.
+
+The numbers are checked against physics, not against what the code printed before: the
+power balance of a lossless screen, the grating-lobe onsets of a 10 mm square lattice
+(c/P at normal incidence, c/(P (1 + sin θ)) at 30°), the Touchstone file read back with
+scikit-rf, the CSV's power per frequency.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+
+import numpy as np
+import pytest
+
+from barymesh.app import cli
+from barymesh.cell import Lattice, PixelGrid, UnitCell, save_cell
+from barymesh.constants import SPEED_OF_LIGHT
+
+P = 10.0  # mm
+
+
+@pytest.fixture(scope="module")
+def cell_file(tmp_path_factory):
+    """7.5 × 2.5 mm strips along y on a 10 mm square lattice (24 triangles)."""
+    mask = np.zeros((8, 8), dtype=bool)
+    mask[1:7, 3:5] = True
+    pixels = PixelGrid(mask, pixel_size=P / 8, origin=(-P / 2, -P / 2), subdivisions=1)
+    cell = UnitCell(Lattice.rectangular(P), pixels=pixels, mode="conforming", name="dipoles")
+    path = tmp_path_factory.mktemp("cells") / "dipoles.cell.json"
+    save_cell(cell, path)
+    return str(path)
+
+
+def run(capsys, *args):
+    code = cli.main(["solve", *map(str, args)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_one_frequency_prints_every_propagating_order(cell_file, capsys):
+    code, out, err = run(capsys, "--cell", cell_file, "--periodic", "--freq", "35GHz")
+    assert code == 0, err
+    rows = re.findall(r"^\s+\(\s*(-?\d+),\s*(-?\d+)\)\s+(.*)$", out, re.M)
+    # above c/P = 29.98 GHz at normal incidence: (0, 0) and the four first orders
+    assert {(int(p), int(q)) for p, q, _ in rows} == {(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)}
+    power = sum(sum(float(v) for v in rest.split()[-2:]) for _, _, rest in rows)
+    assert power == pytest.approx(1.0, abs=2e-3)  # a lossless screen
+    balance = float(re.search(r"reflected \+ transmitted = ([0-9.]+)", out)[1])
+    assert balance == pytest.approx(1.0, abs=2e-3)
+    # the next onset, (1, 1) at sqrt(2) c/P
+    onset = float(re.search(r"next grating-lobe onset: ([0-9.]+) GHz", out)[1])
+    assert onset == pytest.approx(np.sqrt(2) * SPEED_OF_LIGHT / (P * 1e-3) / 1e9, rel=1e-5)
+
+
+def test_a_sweep_writes_touchstone_csv_vtu_and_plot(cell_file, capsys, tmp_path):
+    import meshio
+    import skrf
+
+    s4p, orders, vtu, png = (tmp_path / n for n in ("rt.s4p", "orders.csv", "j.vtu", "rt.png"))
+    code, out, err = run(
+        capsys,
+        "--cell", cell_file, "--periodic", "--freq", "10GHz:35GHz:4", "--no-interpolate",
+        "--theta", "30", "--phi", "0", "--pol", "tm",
+        "-o", s4p, "-o", orders, "-o", vtu, "--current-at", "20GHz", "--plot", png,
+    )  # fmt: skip
+    assert code == 0, err
+    # onsets of a 10 mm square lattice at 30° in the xz plane, by hand
+    c, theta = SPEED_OF_LIGHT, np.radians(30)
+    first = c / (P * 1e-3 * (1 + np.sin(theta))) / 1e9  # (1, 0): 19.986 GHz
+    g = 2 * np.pi / (P * 1e-3)
+    k11 = (-0.5 * g + np.sqrt(0.25 * g * g + 0.75 * 2 * g * g)) / 0.75  # (1, ±1)
+    expected = [first, k11 * c / (2 * np.pi) / 1e9, c / (P * 1e-3 * np.cos(theta)) / 1e9]
+    printed = re.search(r"grating-lobe onsets: (.*)$", out, re.M)[1]
+    onsets = [float(v) for v in re.findall(r"([0-9.]+) GHz", printed)]
+    assert onsets == pytest.approx(expected, rel=1e-5)
+    # the 4-port: power is conserved below the first onset, lost to other orders above it
+    network = skrf.Network(str(s4p))
+    assert np.allclose(network.f, [10e9, 10e9 + 25e9 / 3, 10e9 + 50e9 / 3, 35e9])
+    column = (np.abs(network.s) ** 2).sum(axis=1)  # (F, 4): power out per incident port
+    below = network.f < first * 1e9
+    assert np.abs(column[below] - 1).max() < 2e-3
+    assert np.all(column[~below] < 0.99)
+    # the CSV: every propagating order; with them the power balances everywhere
+    with open(orders, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    for f in network.f:
+        group = [r for r in rows if float(r["frequency_hz"]) == pytest.approx(f)]
+        assert sum(float(r["R_power"]) + float(r["T_power"]) for r in group) == pytest.approx(
+            1.0, abs=2e-3
+        )
+    # at 35 GHz: (0, 0), (1, 0), (1, ±1) and (0, ±1)
+    assert len({(r["p"], r["q"]) for r in rows if float(r["frequency_hz"]) == 35e9}) == 6
+    # the TM incidence's co-polar R in the CSV is the file's S22 (R TM <- TM)
+    tm = [r for r in rows if r["p"] == r["q"] == "0" and r["pol"] == "tm"]
+    r22 = np.array([complex(float(r["R_re"]), float(r["R_im"])) for r in tm])
+    assert np.abs(r22 - network.s[:, 1, 1]).max() < 1e-9
+    mesh = meshio.read(vtu)
+    j = mesh.cell_data["J_abs"][0]
+    assert len(j) == 24 and j.max() > 0
+    assert png.stat().st_size > 10_000
+
+
+def test_the_sweep_interpolates_by_default(cell_file, capsys):
+    code, out, err = run(capsys, "--cell", cell_file, "--periodic", "--freq", "8GHz:16GHz:81")
+    assert code == 0, err
+    solved = int(re.search(r"interpolating sweep: (\d+) frequencies solved", out)[1])
+    assert 3 <= solved <= 12
+    assert "grating-lobe onsets: none in the band" in out
+
+
+def test_a_structure_with_a_period_and_a_sheet_impedance(capsys):
+    code, out, err = run(
+        capsys,
+        "--preset", "paper-fig11-8mm", "--set", "subdivisions=8", "--period", "10,12",
+        "--periodic", "--freq", "12GHz", "--sheet-impedance", "30-10j",
+    )  # fmt: skip
+    assert code == 0, err
+    assert "on a 10 x 12 mm lattice" in out
+    parts = re.search(r"reflected ([0-9.]+) \+ transmitted ([0-9.]+) \+ absorbed ([0-9.]+)", out)
+    reflected, transmitted, absorbed = (float(v) for v in parts.groups())
+    assert absorbed > 0.05  # a lossy sheet really absorbs
+    assert reflected + transmitted + absorbed == pytest.approx(1.0, abs=1e-5)
+
+
+def test_free_space_takes_the_sheet_impedance(capsys):
+    code, out, err = run(
+        capsys,
+        "--preset", "srr-openmodes", "--set", "subdivisions=1", "--freq", "6.19GHz",
+        "--pol", "y", "--sheet-impedance", "20",
+    )  # fmt: skip
+    assert code == 0, err
+    absorbed = float(re.search(r"absorption cross-section ([0-9.eE+-]+) m\^2", out)[1])
+    assert absorbed > 0
+
+
+@pytest.mark.parametrize(
+    ("args", "code", "fragment"),
+    [
+        (["--preset", "paper-fig11-8mm", "--periodic"], 2, "--periodic needs a unit cell"),
+        (["CELL", "--periodic", "--theta", "90"], 2, "0 <= theta < 90"),
+        (["CELL", "--periodic", "--dir", "-z"], 2, "--theta and --phi"),
+        (["CELL", "--periodic", "--feed", "0,0:0,1"], 2, "drop --feed"),
+        (["CELL", "--periodic", "--array", "2x2"], 2, "--array makes a finite array"),
+        (["CELL", "--periodic", "--period", "10"], 2, "has its own lattice"),
+        (["CELL", "--periodic", "-o", "x.npz"], 2, "with --periodic expected .s4p"),
+        (["CELL", "--periodic", "-o", "x.vtu", "--freq2"], 2, "--current-at"),
+        (["CELL", "--periodic", "--current-at", "5GHz"], 2, "-o FILE.vtu"),
+        (["CELL", "--periodic", "--plot", "rt.png"], 2, "--plot needs a sweep"),
+        (["CELL", "--periodic", "--sheet-impedance", "abc"], 2, "--sheet-impedance"),
+        (["CELL", "--periodic", "--pol", "0,0,1"], 2, "perpendicular"),
+        (["CELL", "--periodic", "--tolerance", "2"], 2, "--tolerance"),
+        (["CELL", "--theta", "30"], 2, "--theta applies to --periodic"),
+        (["CELL", "-o", "x.s4p"], 2, "needs --periodic"),
+        (["--preset", "paper-fig11-8mm", "--period", "10"], 2, "add --periodic"),
+        (["--preset", "paper-fig11-8mm", "--period", "5", "--periodic"], 1, "larger than"),
+        (["CELL", "--periodic", "--sheet-impedance", "-5"], 1, "sheet_impedance"),
+        (["--cell-preset", "nope", "--periodic"], 2, "unknown cell preset"),
+    ],
+)
+def test_bad_combinations_are_one_line_errors(cell_file, capsys, tmp_path, args, code, fragment):
+    args = [cell_file if a == "CELL" else a for a in args]
+    args = [a.replace("x.", str(tmp_path / "x.")) if a.startswith("x.") else a for a in args]
+    freq = ["--freq", "5GHz:6GHz:3"] if "--freq2" in args else ["--freq", "12GHz"]
+    args = [a for a in args if a != "--freq2"]
+    if args[0].endswith(".cell.json"):
+        args = ["--cell", *args]
+    got, out, err = run(capsys, *args, *freq)
+    assert got == code, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert fragment in lines[0]
+
+
+def test_a_mesh_file_with_a_period(capsys, tmp_path):
+    from barymesh import MeshParams, build_mesh
+    from barymesh.io import write_mesh
+
+    path = write_mesh(
+        build_mesh(MeshParams(structure="patch", patch_size=6.0, subdivisions=6)),
+        tmp_path / "patch.msh",
+    )
+    code, out, err = run(capsys, "--mesh", path, "--period", "10", "--periodic", "--freq", "15GHz")
+    assert code == 0, err
+    balance = float(re.search(r"reflected \+ transmitted = ([0-9.]+)", out)[1])
+    assert balance == pytest.approx(1.0, abs=1e-3)
+    onset = float(re.search(r"next grating-lobe onset: ([0-9.]+) GHz", out)[1])
+    assert onset == pytest.approx(SPEED_OF_LIGHT / (P * 1e-3) / 1e9, rel=1e-5)
+    code, out, err = run(capsys, "--mesh", path, "--period", "5", "--periodic", "--freq", "15GHz")
+    assert code == 1 and "larger than the period" in err
+
+
+def test_a_finite_array_of_the_cell_in_free_space(cell_file, capsys):
+    code, out, err = run(capsys, "--cell", cell_file, "--array", "2x1", "--freq", "15GHz")
+    assert code == 0, err
+    assert "2 x 1 copies: 48 triangles" in out
+    assert "extinction" in out
