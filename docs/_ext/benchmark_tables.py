@@ -48,7 +48,9 @@ def _date(path: Path, doc: dict[str, Any]) -> str:
 
 def newest(name: str) -> Path | None:
     """The newest result file of benchmark ``name``, or None."""
-    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file()]
+    # NAME.json or NAME-YYYY-MM-DD.json: periodic-validation-*.json is not periodic's
+    pattern = re.compile(rf"{re.escape(name)}(-\d{{4}}-\d{{2}}-\d{{2}})?\.json")
+    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file() and pattern.fullmatch(p.name)]
     if not files:
         return None
 
