@@ -48,9 +48,15 @@ def _date(path: Path, doc: dict[str, Any]) -> str:
 
 def newest(name: str) -> Path | None:
     """The newest result file of benchmark ``name``, or None."""
-    # NAME.json or NAME-YYYY-MM-DD.json: periodic-validation-*.json is not periodic's
-    pattern = re.compile(rf"{re.escape(name)}(-\d{{4}}-\d{{2}}-\d{{2}})?\.json")
-    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file() and pattern.fullmatch(p.name)]
+    # NAME[-VARIANT][-DATE].json, but not the files of another script: benchmarks/
+    # periodic_validation.py writes periodic-validation-*.json, which is not periodic's
+    variant = re.compile(rf"{re.escape(name)}-([a-z][a-z0-9_]*)(?=-\d{{4}}-|\.json)")
+
+    def another_script(p: Path) -> bool:
+        match = variant.match(p.name)
+        return bool(match) and (RESULTS.parent / f"{name}_{match.group(1)}.py").is_file()
+
+    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file() and not another_script(p)]
     if not files:
         return None
 
