@@ -49,6 +49,10 @@ def _date(path: Path, doc: dict[str, Any]) -> str:
 def newest(name: str) -> Path | None:
     """The newest result file of benchmark ``name``, or None."""
     files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file()]
+    # "periodic-2026-12-02.json" before "periodic-validation-2026-12-02.json" (another
+    # benchmark's file); names with only variants ("latency-big-...") take those
+    own = [p for p in files if _DATE.sub("", p.stem).rstrip("-") == name]
+    files = own or files
     if not files:
         return None
 
