@@ -688,22 +688,23 @@ def periodic_impedance_matrix(
     if complex(k).imag != 0:
         raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
     k = float(np.real(k))
-    kt = np.asarray(kt, dtype=np.float64)
+    kx, ky = (float(c) for c in kt)
     base = pg.base
     t, n = base.n_triangles, pg.n_unknowns
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
+    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (kx, ky))
+    kt_vector = np.array([kx, ky])
     tables = _regular_tables(pg, green)
     moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
     # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2 (1 where every σ is 0)
     steps = None
-    if np.any(kt) and np.any(pg.shift):
-        turns = pg.lattice @ kt
+    if np.any(kt_vector) and np.any(pg.shift):
+        turns = pg.lattice @ kt_vector
         low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
         steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
     # Z = Σ_ab test_a S_ab basis_bᵀ over the parts a, b of [C | D_x | D_y] (the maps are
     # real; the T− halves of the unknowns across the sides carry their Floquet phase):
     # S_00 = k ∫∫ρ·ρ'G − 4/k ∫∫G, S_0c = k ∫∫ρ_c G, S_c0 = k ∫∫ρ'_c G, S_cc = k ∫∫G
-    phase = np.exp(-1j * (pg.crossing @ kt))
+    phase = np.exp(-1j * (pg.crossing @ kt_vector))
     parts = [pg.maps[:, c * t : (c + 1) * t] for c in range(3)]
     crossing = np.flatnonzero(np.diff(pg.folded.tocsr().indptr))  # the unknowns across
     folded = [pg.folded.tocsr()[crossing][:, c * t : (c + 1) * t].tocsr() for c in range(3)]

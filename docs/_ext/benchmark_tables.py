@@ -48,15 +48,11 @@ def _date(path: Path, doc: dict[str, Any]) -> str:
 
 def newest(name: str) -> Path | None:
     """The newest result file of benchmark ``name``, or None."""
-    # NAME[-VARIANT][-DATE].json, but not the files of another script: benchmarks/
-    # periodic_validation.py writes periodic-validation-*.json, which is not periodic's
-    variant = re.compile(rf"{re.escape(name)}-([a-z][a-z0-9_]*)(?=-\d{{4}}-|\.json)")
-
-    def another_script(p: Path) -> bool:
-        match = variant.match(p.name)
-        return bool(match) and (RESULTS.parent / f"{name}_{match.group(1)}.py").is_file()
-
-    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file() and not another_script(p)]
+    files = [p for p in RESULTS.glob(f"{name}*.json") if p.is_file()]
+    # "periodic-2026-12-02.json" before "periodic-validation-2026-12-02.json" (another
+    # benchmark's file); names with only variants ("latency-big-...") take those
+    own = [p for p in files if _DATE.sub("", p.stem).rstrip("-") == name]
+    files = own or files
     if not files:
         return None
 
