@@ -9,7 +9,7 @@ STAMP  := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[app,test,docs]'
+	$(BIN)/python -m pip install --quiet -e '.[app,test,docs,study]'
 	touch $(STAMP)
 
 # Debian packages the desktop window and its tests need (a virtual X server and Mesa's

@@ -6,6 +6,7 @@
     barymesh mesh [options]        build a mesh, write files, render a screenshot
     barymesh info FILE             import a mesh file and print its statistics
     barymesh presets               list the presets (structures, then unit cells)
+    barymesh study SPEC.json       a design study on Dask (barymesh.app.cli_study)
 
 A unit cell (``--cell FILE.cell.json`` or ``--cell-preset NAME``) or an array
 (``--array N1xN2``, of a cell or of one structure) is meshed by
@@ -28,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn
 
-from barymesh.app import cli_solve
+from barymesh.app import cli_solve, cli_study
 from barymesh.app.cli_options import (
     InputError,
     Parser,
@@ -179,6 +180,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
 
     cli_solve.add_parser(verbs)
+    cli_study.add_parser(verbs)
     verbs.add_parser(
         "presets",
         help="list the presets, one per line",
@@ -768,6 +770,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 #: ``register(verbs)`` call there) and one entry here.
 VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
 VERBS["solve"] = cli_solve.run
+VERBS["study"] = cli_study.run
 
 
 # -- entry point -----------------------------------------------------------

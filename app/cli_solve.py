@@ -27,6 +27,7 @@ import re
 from pathlib import Path
 from typing import Any
 
+from barymesh import frequencies
 from barymesh.app.cli_options import (
     add_cell_options,
     add_params_options,
@@ -44,7 +45,7 @@ from barymesh.app.cli_periodic import (
 from barymesh.app.cli_progress import progress
 
 #: Frequency units understood by --freq.
-FREQUENCY_UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9, "thz": 1e12}
+FREQUENCY_UNITS = frequencies.FREQUENCY_UNITS
 #: Named directions for --dir and --pol.
 AXES = {
     "x": (1.0, 0.0, 0.0),
@@ -213,25 +214,15 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def parse_frequency(text: str) -> float:
-    """``'6.19GHz'`` -> 6.19e9 (Hz); a bare number is in Hz.
+    """``'6.19GHz'`` -> 6.19e9 (Hz); a bare number is in Hz (:mod:`barymesh.frequencies`).
 
     >>> parse_frequency("6.19GHz"), parse_frequency("300 MHz"), parse_frequency("1e9")
     (6190000000.0, 300000000.0, 1000000000.0)
     """
-    m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-zA-Z]*)\s*", text)
-    unit = m.group(2).lower() if m else ""
-    if not m or unit not in FREQUENCY_UNITS and unit != "":
-        raise SolveUsageError(
-            f"--freq {text!r} is invalid; expected a number with Hz, kHz, MHz, GHz "
-            "or THz, e.g. 6.19GHz"
-        )
     try:
-        value = float(m.group(1)) * FREQUENCY_UNITS.get(unit, 1.0)
-    except ValueError:
-        raise SolveUsageError(f"--freq {text!r} is not a number") from None
-    if not value > 0 or value == float("inf"):
-        raise SolveUsageError(f"--freq {text!r} is invalid; expected a positive frequency")
-    return value
+        return frequencies.parse_frequency(text, "--freq")
+    except ValueError as exc:
+        raise SolveUsageError(str(exc)) from None
 
 
 def parse_frequencies(text: str) -> list[float]:
@@ -240,20 +231,10 @@ def parse_frequencies(text: str) -> list[float]:
     >>> parse_frequencies("3GHz:12GHz:4")
     [3000000000.0, 6000000000.0, 9000000000.0, 12000000000.0]
     """
-    parts = text.split(":")
-    if len(parts) == 1:
-        return [parse_frequency(text)]
-    if len(parts) != 3:
-        raise SolveUsageError(f"--freq {text!r} is invalid; expected F or A:B:K")
-    a, b = parse_frequency(parts[0]), parse_frequency(parts[1])
     try:
-        k = int(parts[2])
-    except ValueError:
-        raise SolveUsageError(f"--freq {text!r}: K={parts[2]!r} is not a whole number") from None
-    if k < 2 or not b > a:
-        raise SolveUsageError(f"--freq {text!r} is invalid; expected A < B and K >= 2 frequencies")
-    step = (b - a) / (k - 1)
-    return [a + i * step for i in range(k - 1)] + [b]
+        return frequencies.parse_frequencies(text, "--freq")
+    except ValueError as exc:
+        raise SolveUsageError(str(exc)) from None
 
 
 def parse_vector(text: str, option: str) -> tuple[float, float, float]:

@@ -525,6 +525,24 @@ class MainWindow(QMainWindow):
         self.cell_menu = bar.addMenu("&Cell")
         return self.cell_menu
 
+    def _study_action(self) -> QAction:
+        """File → Design study (:mod:`barymesh.app.dialogs.study_dialog`), made on first use."""
+
+        def open_study() -> None:
+            from barymesh.app.dialogs.study_dialog import StudyDialog
+
+            if getattr(self, "study_dialog", None) is None:
+                self.study_dialog = StudyDialog(
+                    lambda: self.model.params, self.model.set_params, parent=self
+                )
+            self.study_dialog.show()
+            self.study_dialog.raise_()
+
+        self.act_study = self.add_action(
+            "Design stud&y…", open_study, tip="Vary two parameters over a frequency range on Dask"
+        )
+        return self.act_study
+
     def _make_menus(self) -> None:
         bar = self.menuBar()
         file = bar.addMenu("&File")
@@ -534,6 +552,7 @@ class MainWindow(QMainWindow):
         file.addSeparator()
         file.addActions([self.act_export, self.act_shot, self.act_copy])
         file.addAction(self.teaching_windows.act_sweep)
+        file.addAction(self._study_action())
         file.addSeparator()
         file.addAction(self.act_quit)
 

@@ -1,0 +1,42 @@
+"""Design studies: parameter × frequency sweeps of a cell, one Dask task per point.
+
+A spec (JSON, :mod:`.spec`) names a base design, axes of parameter paths and their values
+(a product or a Latin-hypercube sample), the solve and the figures to derive;
+:func:`run` runs it on a Dask cluster (:mod:`.run`), writing each finished point as it
+comes so that a rerun goes on where the last one stopped, and returns a
+:class:`StudyResult` (:mod:`.results`): a per-frequency table and a derived table
+(pandas), Parquet or CSV files, and an xarray Dataset.
+
+Needs the ``study`` extra (``pip install 'barymesh[study]'``: dask, distributed, pandas,
+pyarrow, xarray, and bokeh for the Dask dashboard); nothing else in barymesh imports Dask.
+
+>>> from barymesh.study import parse_spec, run_serial
+>>> spec = parse_spec({"base": {"params": {"structure": "patch", "patch_size": 15.0,
+...                                        "subdivisions": 2}},
+...                    "axes": {"patch_size": [14.0, 15.0]},
+...                    "solve": {"kind": "free_space", "frequencies": "6GHz:11GHz:11"}})
+>>> result = run_serial(spec)
+>>> list(result.derived.columns)
+['patch_size', 'status', 'resonance_frequency_hz', 'quality_factor']
+>>> bool(result.derived.resonance_frequency_hz.is_monotonic_decreasing)
+True
+"""
+
+from .point import PointResult, StudyContext
+from .results import StudyResult, read_result
+from .run import Progress, run, run_serial
+from .spec import SpecError, StudySpec, load_spec, parse_spec
+
+__all__ = [
+    "PointResult",
+    "Progress",
+    "SpecError",
+    "StudyContext",
+    "StudyResult",
+    "StudySpec",
+    "load_spec",
+    "parse_spec",
+    "read_result",
+    "run",
+    "run_serial",
+]
