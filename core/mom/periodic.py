@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 import weakref
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cache, cached_property
 from typing import Any
@@ -871,41 +872,127 @@ def periodic_solve(
     Returns
     -------
     PeriodicSolution
+
+    See Also
+    --------
+    periodic_solve_many : several incidences at one frequency, one matrix per k_t.
+    """
+    wave = PlaneWave() if incidence is None else incidence
+    if not isinstance(wave, PlaneWave):
+        raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
+    return periodic_solve_many(
+        mesh, frequency, [wave], lattice=lattice, sheet_impedance=sheet_impedance
+    )[0]
+
+
+def periodic_solve_many(
+    mesh: TriMesh,
+    frequency: float,
+    incidences: Sequence[PlaneWave],
+    *,
+    lattice: Any = None,
+    sheet_impedance: complex = 0.0,
+) -> tuple[PeriodicSolution, ...]:
+    """:func:`periodic_solve` for several incident waves at one frequency.
+
+    The impedance matrix depends on the incidence only through its transverse
+    wavevector k_t = k (d_x, d_y): waves that share it (TE and TM from one direction,
+    or the same direction's mirror from below) share one fill and one LU, solved
+    with one right-hand side per wave (:func:`~barymesh.mom.solve.dense_solve`). Each
+    distinct k_t is filled and factorised once.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        One cell of the screen (mm), as for :func:`periodic_solve`.
+    frequency : float
+        Hz.
+    incidences : sequence of PlaneWave
+        At least one.
+    lattice : Lattice, optional
+        Default: the mesh's own.
+    sheet_impedance : complex
+        Ω per square, as for :func:`periodic_solve`.
+
+    Returns
+    -------
+    tuple of PeriodicSolution
+        One per incidence, in their order; each equals :func:`periodic_solve` of that
+        wave (to the refinement's floor, ~1e-15 relative).
     """
     frequency = float(frequency)
     if not (np.isfinite(frequency) and frequency > 0):
         raise ValueError(f"frequency={frequency!r} is invalid; expected a positive number (Hz)")
-    wave = PlaneWave() if incidence is None else incidence
-    if not isinstance(wave, PlaneWave):
-        raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
-    d = np.asarray(wave.direction)
-    if abs(d[2]) < 1e-9:
-        raise ValueError("the incident wave travels along the screen (direction_z = 0)")
+    if isinstance(incidences, PlaneWave):
+        raise TypeError(
+            "incidences must be a sequence of PlaneWave; for one wave use periodic_solve"
+        )
+    waves = list(incidences)
+    if not waves:
+        raise ValueError("incidences is empty; expected at least one PlaneWave")
+    for i, wave in enumerate(waves):
+        if not isinstance(wave, PlaneWave):
+            raise TypeError(f"incidences[{i}] must be a PlaneWave, got {type(wave).__name__}")
+        if abs(np.asarray(wave.direction)[2]) < 1e-9:
+            raise ValueError(
+                f"incidences[{i}] travels along the screen (direction_z = 0)"
+                if len(waves) > 1
+                else "the incident wave travels along the screen (direction_z = 0)"
+            )
     zs = check_sheet_impedance(sheet_impedance)
     pg = periodic_geometry(mesh, lattice)
     k = wavenumber(frequency)
-    kt = (float(k * d[0]), float(k * d[1]))
+    groups: dict[tuple[float, float], list[int]] = {}
+    for i, wave in enumerate(waves):
+        d = np.asarray(wave.direction)
+        groups.setdefault((float(k * d[0]), float(k * d[1])), []).append(i)
+    out: list[PeriodicSolution | None] = [None] * len(waves)
+    for kt, members in groups.items():
+        solved = _solve_shared(pg, frequency, k, kt, [waves[i] for i in members], zs)
+        for i, s in zip(members, solved, strict=True):
+            out[i] = s
+    return tuple(out)  # type: ignore[arg-type]  # every slot filled
+
+
+def _solve_shared(
+    pg: PeriodicGeometry,
+    frequency: float,
+    k: float,
+    kt: tuple[float, float],
+    waves: list[PlaneWave],
+    zs: complex,
+) -> list[PeriodicSolution]:
+    """The waves of one transverse wavevector ``kt``: one fill, one LU, K right-hand sides."""
     z = periodic_impedance_matrix(pg, k, kt)
     gram = None
     if zs != 0:
         gram = gram_matrix(pg, np.asarray(kt))
         z += zs * gram.toarray()
-    base = pg.base
-    rule = base.near
-    e = wave.field(rule.points, k)
-    e0 = np.einsum("tq,tqc->tc", rule.weights, e)
-    e1 = np.einsum("tq,tqc->t", rule.weights, rule.rho * e)
+    rule = pg.base.near
     _, test = pg.basis_maps(np.asarray(kt))
-    v = test @ np.concatenate([e1, e0[:, 0], e0[:, 1]])
-    current, cond, residual = dense_solve(z, v)
-    solution = _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual)
-    absorbed = 0.0
-    if gram is not None:
-        # ½ Re(Z_s) ∫ |J|² over the cell, against the incident power through it
-        dissipated = 0.5 * zs.real * float(np.real(np.vdot(current, gram @ current)))
-        incident = wave.amplitude**2 / (2.0 * ETA0) * pg.area * abs(float(d[2]))
-        absorbed = dissipated / incident
-    return replace(solution, sheet_impedance=zs, absorption=absorbed)
+    columns = []
+    for wave in waves:
+        e = wave.field(rule.points, k)
+        e0 = np.einsum("tq,tqc->tc", rule.weights, e)
+        e1 = np.einsum("tq,tqc->t", rule.weights, rule.rho * e)
+        columns.append(test @ np.concatenate([e1, e0[:, 0], e0[:, 1]]))
+    currents, cond, residuals = dense_solve(z, np.stack(columns, axis=1))
+    del z
+    solutions = []
+    for j, wave in enumerate(waves):
+        current = np.ascontiguousarray(currents[:, j])
+        solution = _floquet_amplitudes(
+            pg, frequency, wave, k, kt, current, cond, float(residuals[j])
+        )
+        absorbed = 0.0
+        if gram is not None:
+            # ½ Re(Z_s) ∫ |J|² over the cell, against the incident power through it
+            dissipated = 0.5 * zs.real * float(np.real(np.vdot(current, gram @ current)))
+            d = np.asarray(wave.direction)
+            incident = wave.amplitude**2 / (2.0 * ETA0) * pg.area * abs(float(d[2]))
+            absorbed = dissipated / incident
+        solutions.append(replace(solution, sheet_impedance=zs, absorption=absorbed))
+    return solutions
 
 
 def gram_matrix(pg: PeriodicGeometry, kt: np.ndarray) -> sp.csr_matrix:
