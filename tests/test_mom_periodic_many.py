@@ -7,6 +7,8 @@
 - ``periodic_sweep(polarizations="both")`` fills once per frequency solved, not twice.
 - ``dense_solve`` with an (N, K) right-hand side equals K one-column solves, in the
   refined single-precision path and in the double-precision fallback.
+- A solve of this size runs on one BLAS thread (a loaded 2-core machine stalls
+  threaded products), restored afterwards.
 - Bad input is named.
 """
 
@@ -141,3 +143,21 @@ def test_bad_input_is_named(ell):
         periodic_solve_many(ell, 1e10, PlaneWave())
     with pytest.raises(ValueError, match=r"v has shape \(3, 2, 2\)"):
         dense_solve(np.eye(3, dtype=complex), np.ones((3, 2, 2)))
+
+
+def test_a_small_solve_runs_on_one_blas_thread(ell, monkeypatch):
+    from threadpoolctl import threadpool_info
+
+    seen = []
+    real = periodic_module.dense_solve
+
+    def recorded(z, v):
+        seen.append([i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"])
+        return real(z, v)
+
+    before = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+    monkeypatch.setattr(periodic_module, "dense_solve", recorded)
+    periodic_solve(ell, 9e9)
+    # restored afterwards
+    assert [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"] == before
+    assert seen and all(n == 1 for n in seen[0])
