@@ -684,7 +684,7 @@ def _cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
 
 
 def periodic_impedance_matrix(
-    pg: PeriodicGeometry, k: complex, kt: tuple[float, float] = (0.0, 0.0)
+    pg: PeriodicGeometry, k: complex, kt: tuple[float, float] | np.ndarray = (0.0, 0.0)
 ) -> np.ndarray:
     """The (N, N) complex EFIE matrix of the array at wavenumber ``k``, Floquet phase ``kt``.
 
@@ -697,7 +697,9 @@ def periodic_impedance_matrix(
     kt = np.asarray(kt, dtype=np.float64)
     base = pg.base
     t, n = base.n_triangles, pg.n_unknowns
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
+    green = PeriodicGreen(
+        tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (float(kt[0]), float(kt[1]))
+    )
     tables = _regular_tables(pg, green)
     moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
     # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2 (1 where every σ is 0)
@@ -1003,7 +1005,8 @@ def _solve_shared(
         current, cond, residual = dense_solve(z, columns[0])
         currents, residuals = current[:, None], np.array([residual])
     else:
-        currents, cond, residuals = dense_solve(z, np.stack(columns, axis=1))
+        currents, cond, many = dense_solve(z, np.stack(columns, axis=1))
+        residuals = np.asarray(many)
     del z
     solutions = []
     for j, wave in enumerate(waves):

@@ -273,7 +273,7 @@ def _solve_at(
     del z
     warnings = solve_warnings(mesh, k, cond)
     return Solution(
-        geom, frequency, excitation, i, v, cond, residual, warnings, complex(sheet_impedance)
+        geom, frequency, excitation, i, v, cond, float(residual), warnings, complex(sheet_impedance)
     )
 
 
