@@ -38,7 +38,7 @@ from ..constants import SPEED_OF_LIGHT
 from ..mesh import TriMesh
 from .excitation import PlaneWave
 from .geometry import METRES_PER_MESH_UNIT
-from .periodic import PeriodicSolution, periodic_geometry, periodic_solve
+from .periodic import PeriodicSolution, periodic_geometry, periodic_solve, periodic_solve_many
 from .periodic_green import reciprocal_vectors
 from .solve import SolveCancelled, check_sheet_impedance
 
@@ -475,8 +475,9 @@ def _solve_samples(
     r = np.zeros((n_orders, 2, k), dtype=np.complex128)
     t = np.zeros((n_orders, 2, k), dtype=np.complex128)
     index = {tuple(o): i for i, o in enumerate(orders[:n_orders].tolist())}
-    for j, wave in enumerate(waves):
-        s = periodic_solve(mesh, frequency, wave, lattice=lattice, sheet_impedance=zs)
+    # the waves share k_t (one direction): one fill and one LU, a right-hand side each
+    solutions = periodic_solve_many(mesh, frequency, waves, lattice=lattice, sheet_impedance=zs)
+    for j, s in enumerate(solutions):
         rows = np.array([index.get(tuple(o), -1) for o in s.orders.tolist()])
         if np.any(rows < 0) or len(rows) != n_orders:
             raise RuntimeError(

@@ -157,7 +157,7 @@ def _default_excitation(excitation: PlaneWave | VoltageSource | None) -> PlaneWa
 REFINEMENT_STEPS = 10
 
 
-def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float]:
+def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float | np.ndarray]:
     """Solve Z I = V: single-precision LU refined in double precision, else a double LU.
 
     The LU of Z rounded to complex64 costs half that of complex128; iterative
@@ -170,20 +170,30 @@ def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float]
     :data:`REFINEMENT_STEPS` steps (an ill-conditioned matrix, e.g. overlapping
     paper-mode patches), Z is factorised in double precision.
 
+    Several right-hand sides (the columns of a 2-D ``v``) share the one LU: each column
+    is refined on its own (it stops when its own residual stops halving), and Z is
+    factorised in double precision when any column fails the test.
+
     Parameters
     ----------
     z : (N, N) complex128
-    v : (N,) complex128
+    v : (N,) or (N, K) complex128
 
     Returns
     -------
-    current : (N,) complex128
+    current : (N,) or (N, K) complex128
+        The shape of ``v``.
     condition_number : float
         LAPACK's estimate of the 1-norm condition number.
-    residual : float
-        ‖Z I − V‖ / ‖V‖.
+    residual : float or (K,) float
+        ‖Z I − V‖ / ‖V‖ (per column for a 2-D ``v``).
     """
-    n = len(v)
+    v = np.asarray(v)
+    if v.ndim not in (1, 2) or len(v) != len(z):
+        raise ValueError(f"v has shape {v.shape}; expected ({len(z)},) or ({len(z)}, K)")
+    single = v.ndim == 1
+    rhs = v[:, None] if single else v
+    n, kk = rhs.shape
     z32 = z.astype(np.complex64)
     magnitude = np.abs(z32)
     anorm = float(magnitude.sum(axis=0).max())
@@ -194,32 +204,42 @@ def dense_solve(z: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, float, float]
     current = None
     if info == 0:
         rcond, _ = sla.lapack.cgecon(lu32, anorm, norm="1")
-        x = np.zeros(n, dtype=np.complex128)
-        r = v
-        best, found = np.inf, None
+        x = np.zeros((n, kk), dtype=np.complex128)
+        r = rhs.astype(np.complex128)
+        best = np.full(kk, np.inf)
+        found_x = np.zeros((n, kk), dtype=np.complex128)
+        found_r = r.copy()
+        live = np.ones(kk, dtype=bool)  # columns still refining
         for _ in range(REFINEMENT_STEPS):
-            dx, _ = sla.lapack.cgetrs(lu32, piv32, r.astype(np.complex64))
-            x = x + dx
-            r = v - z @ x
-            size = float(np.abs(r).max())
-            if size >= best:
-                break  # stalled at the double-precision floor (or diverging)
-            improved = size < 0.5 * best
-            best, found = size, (x, r)
-            if not improved:
+            cols = np.flatnonzero(live)
+            if not len(cols):
                 break
+            dx, _ = sla.lapack.cgetrs(lu32, piv32, r[:, cols].astype(np.complex64))
+            x[:, cols] += dx
+            r[:, cols] = rhs[:, cols] - z @ x[:, cols]
+            size = np.abs(r[:, cols]).max(axis=0)
+            worse = size >= best[cols]  # stalled at the double-precision floor (or diverging)
+            better = cols[~worse]
+            improved = size[~worse] < 0.5 * best[better]
+            best[better] = size[~worse]
+            found_x[:, better] = x[:, better]
+            found_r[:, better] = r[:, better]
+            live[cols[worse]] = False
+            live[better[~improved]] = False
         tol = np.finfo(np.float64).eps * np.sqrt(n) * inf_norm
-        if found is not None and best <= tol * float(np.abs(found[0]).max()):
-            current, r = found
+        if np.all(best <= tol * np.abs(found_x).max(axis=0)):
+            current, r = found_x, found_r
     del lu32
     if current is None:
         lu, piv = sla.lu_factor(z, check_finite=False)
-        current = sla.lu_solve((lu, piv), v, check_finite=False)
+        current = sla.lu_solve((lu, piv), rhs, check_finite=False)
         rcond, _ = sla.lapack.zgecon(lu, anorm, norm="1")
         del lu
-        r = v - z @ current
-    residual = float(np.linalg.norm(r) / np.linalg.norm(v))
+        r = rhs - z @ current
+    residual = np.linalg.norm(r, axis=0) / np.linalg.norm(rhs, axis=0)
     cond = float(1.0 / rcond) if rcond > 0 else float("inf")
+    if single:
+        return current[:, 0], cond, float(residual[0])
     return current, cond, residual
 
 
@@ -253,7 +273,7 @@ def _solve_at(
     del z
     warnings = solve_warnings(mesh, k, cond)
     return Solution(
-        geom, frequency, excitation, i, v, cond, residual, warnings, complex(sheet_impedance)
+        geom, frequency, excitation, i, v, cond, float(residual), warnings, complex(sheet_impedance)
     )
 
 
