@@ -85,6 +85,12 @@ def single_blas_thread(argv: list[str]) -> float:
     return float(json.loads(out.strip().splitlines()[-1])["serial_s"])
 
 
+def _warm_up(spec: Any) -> None:
+    from barymesh.study.point import solve_point
+
+    solve_point(StudyContext.of(spec), 0, spec.points()[0])
+
+
 def _noop(x: int) -> int:
     return x
 
@@ -99,10 +105,14 @@ def scheduler_overhead(client: Any, n: int) -> dict[str, float]:
 
 
 def cluster_run(spec: Any, processes: bool, workers: int, empty_tasks: int) -> dict[str, Any]:
+    import dask
     from distributed import Client, LocalCluster
+
+    from barymesh.study.run import MALLOC_TRIM, WORKER_TRIM_THRESHOLD
 
     start = time.perf_counter()
     with (
+        dask.config.set({MALLOC_TRIM: str(WORKER_TRIM_THRESHOLD)}),  # as barymesh study does
         LocalCluster(
             n_workers=workers,
             threads_per_worker=1,
@@ -114,6 +124,7 @@ def cluster_run(spec: Any, processes: bool, workers: int, empty_tasks: int) -> d
     ):
         startup = time.perf_counter() - start
         client.gather(client.map(_noop, range(workers), pure=False))
+        client.run(_warm_up, spec)  # each worker as the serial loop: imports, quadrature rules
         start = time.perf_counter()
         result = run(spec, client, resume=False)
         seconds = time.perf_counter() - start

@@ -44,6 +44,11 @@ from .spec import StudySpec, load_spec
 
 log = logging.getLogger(__name__)
 
+MALLOC_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
+#: glibc's trim threshold (bytes) in the workers of a local cluster: freed memory above it
+#: goes back to the system.
+WORKER_TRIM_THRESHOLD = 1 << 30
+
 #: Retries of a task whose worker died (on top of Dask's own rescheduling).
 RETRIES = 2
 
@@ -326,6 +331,11 @@ def _client(
         return
     n = workers or os.cpu_count() or 1
     with (
+        # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which hands freed memory back
+        # to the system at once; a solve allocates and frees large numpy temporaries in a
+        # loop, so every one faults its pages in again: the 64-point benchmark's workers
+        # spent 1.5 times the serial loop's CPU time per point with it (benchmarks/study.py)
+        dask.config.set({MALLOC_TRIM: str(WORKER_TRIM_THRESHOLD)}),
         LocalCluster(
             n_workers=n,
             threads_per_worker=1,
