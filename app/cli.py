@@ -42,6 +42,7 @@ from barymesh.app.cli_options import (
     check_folder,
     check_render_size,
     finite,
+    load_cell_source,
     whole,
     window_size,
 )
@@ -419,7 +420,7 @@ def _build(args: argparse.Namespace) -> _Built:
 
     array, period = args.array, getattr(args, "period", None)
     if args.cell is not None or args.cell_preset is not None:
-        cell, label = _load_cell_source(args)
+        cell, label = load_cell_source(args)
         budget = None
     else:
         params = _resolve(args)
@@ -468,21 +469,6 @@ def _structure_label(args: argparse.Namespace) -> str:
     given = [f"preset {args.preset!r}" if args.preset else "", args.params or ""]
     given += [f"--set {text!r}" for text in args.sets]
     return ", ".join(filter(None, given)) or "the default structure"
-
-
-def _load_cell_source(args: argparse.Namespace) -> tuple[Any, str]:
-    """The cell of ``--cell`` or ``--cell-preset`` and its label; errors name the file."""
-    from barymesh.cell import load_cell, load_cell_preset
-
-    if args.cell_preset is not None:
-        return load_cell_preset(args.cell_preset), f"cell preset {args.cell_preset!r}"
-    from barymesh.io.import_ import file_problem
-
-    path = Path(args.cell)
-    problem = file_problem(path)  # a pipe or a device is never opened
-    if problem:
-        raise InputError(f"{path}: {problem}")
-    return load_cell(path), str(path)  # CellFileError names the file and the place
 
 
 def _structure_cell(params: Any, mesh: Any, name: str, period: tuple[float, float] | None) -> Any:

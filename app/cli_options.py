@@ -13,7 +13,7 @@ import argparse
 import math
 import re
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from barymesh.app.edit.cell_document import MAX_COPIES
 
@@ -116,6 +116,20 @@ def add_cell_options(p: argparse.ArgumentParser, structure: bool = True) -> None
             help="lattice periods (mm) of a structure made into a cell, instead of its "
             "bounding box",
         )
+
+
+def load_cell_source(args: argparse.Namespace) -> tuple[Any, str]:
+    """The cell of ``--cell`` or ``--cell-preset`` and its label; errors name the file."""
+    from barymesh.cell import load_cell, load_cell_preset
+    from barymesh.io.import_ import file_problem
+
+    if args.cell_preset is not None:
+        return load_cell_preset(args.cell_preset), f"cell preset {args.cell_preset!r}"
+    path = Path(args.cell)
+    problem = file_problem(path)  # a pipe or a device is never opened
+    if problem:
+        raise InputError(f"{path}: {problem}")
+    return load_cell(path), str(path)  # CellFileError names the file and the place
 
 
 def add_params_options(p: argparse.ArgumentParser) -> None:

@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from barymesh.app.cli_options import load_cell_source
+
 #: Outputs of --periodic: the 4-port, every Floquet order, the cell's current.
 PERIODIC_OUTPUTS = (".s4p", ".csv", ".vtu")
 
@@ -219,22 +221,14 @@ def cell_mesh(args: argparse.Namespace, structure_mesh: Any = None) -> tuple[Any
 
 
 def _load_cell(args: argparse.Namespace) -> tuple[Any, str]:
-    from barymesh.cell import cell_preset_names, load_cell, load_cell_preset
+    from barymesh.cell import cell_preset_names
 
-    if args.cell_preset is not None:
-        if args.cell_preset not in cell_preset_names():
-            raise PeriodicUsageError(
-                f"unknown cell preset {args.cell_preset!r}; expected one of "
-                f"{', '.join(cell_preset_names())}"
-            )
-        return load_cell_preset(args.cell_preset), f"cell preset {args.cell_preset!r}"
-    from barymesh.io.import_ import file_problem
-
-    path = Path(args.cell)
-    problem = file_problem(path)
-    if problem:
-        raise ValueError(f"{path}: {problem}")
-    return load_cell(path), str(path)
+    if args.cell_preset is not None and args.cell_preset not in cell_preset_names():
+        raise PeriodicUsageError(
+            f"unknown cell preset {args.cell_preset!r}; expected one of "
+            f"{', '.join(cell_preset_names())}"
+        )
+    return load_cell_source(args)
 
 
 def _check_fits(mesh: Any, px: float, py: float, label: str) -> None:
