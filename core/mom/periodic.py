@@ -9,23 +9,9 @@ G_p of :mod:`barymesh.mom.periodic_green`::
 
 Each triangle pair (o, s) is integrated against the image of s nearest to o,
 shifted by ρ_σ (σ from rounding the lattice coordinates of c_o − c_s), using
-G_p(r − r') = e^(−j k_t·ρ_σ) G_p(r − r' − ρ_σ), and G_p = G + G_reg there:
-
-- G = e^(−jkR)/R of that one image, integrated as the free-space solver does: its
-  far rule on every pair (the kernel of a pair and of its mirror are one, so half
-  of them are evaluated), its closed-form 1/R and R parts on the pairs that touch,
-  across the cell's sides too;
-- G_reg, smooth over the reduced cell, by a second-order Taylor expansion about
-  each pair's centroid offset: with the triangles' areas A, second moments
-  I = ∫ρρᵀ dS and third moments about their centroids (∫ρ dS = 0), the eight
-  moments follow from G_reg, ∇G_reg and its Hessian at T² points instead of the
-  kernel at T²Q². The error is O(h³), h the triangle size against the distance to
-  the next image and the wavelength: the far rule's order, with a few times its
-  constant (the matrix is within 1e-4 to 3e-4 of the far rule's at k h = 0.4 to
-  0.75). Those are read from a grid of step 1/:data:`TAYLOR_NODES` in lattice
-  coordinates (the expansion is taken about the nearest node), tabulated per
-  frequency from the Chebyshev interpolant of G_reg through n² Ewald sums,
-  n = :data:`CHEBYSHEV_NODES` or 8 + k |a| at high frequency.
+G_p(r − r') = e^(−j k_t·ρ_σ) G_p(r − r' − ρ_σ), and G_p = G + G_reg there: G =
+e^(−jkR)/R of that one image, G_reg smooth over the reduced cell. How each part is
+integrated, and fast, is :mod:`barymesh.mom.periodic_fill`.
 
 The scattered field is a sum of Floquet orders (p, q) of wavevectors
 (κ_pq, ±β_pq) above and below the screen, each an amplitude
@@ -51,46 +37,24 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from numpy.polynomial import chebyshev
 from scipy.spatial import cKDTree
 from threadpoolctl import ThreadpoolController
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
 from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry, static_moments
-from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments, wavenumber
+from .operator import ETA0, wavenumber
+from .periodic_fill import FillPlan, fill, fill_plan
 from .periodic_green import PeriodicGreen
 from .solve import check_sheet_impedance, dense_solve
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
-#: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
-#: frequency); more at high frequency: 8 + k |a| (the matrix moves by 4e-6 or less).
-CHEBYSHEV_NODES = 12
-#: Grid nodes per cell length at which G_reg's Taylor coefficients are tabulated.
-TAYLOR_NODES = 128
 #: Largest triangle, as a fraction of the cell's smallest height.
 MAX_TRIANGLE = 0.2
-#: Complex entries per block of the far-rule kernel.
-BLOCK_ENTRIES = 1 << 21
-#: Observation triangles per block of the second pass (Taylor moments, Floquet phase,
-#: products with the RWG maps): small, so that the block stays in cache.
-REGULAR_BLOCK = 64
-#: Fewest blocks of observation triangles in the far-rule pass (so that the mirrored
-#: half is most of the work).
-MIN_BLOCKS = 8
-#: Largest cached table of far-rule point distances (bytes); above it, recomputed per fill.
-DISTANCE_CACHE_BYTES = 160 * 2**20
-#: Entries of the scratch slab in which point distances are computed.
-DISTANCE_SLAB = 1 << 18
-#: The six moments of a pair kept on a flat screen, as rows of :data:`MOMENTS` (1, ρ_x,
-#: ρ_y, ρ'_x, ρ'_y, ρ·ρ'; the z ones vanish).
-FLAT_MOMENTS = (0, 1, 2, 4, 5, 7)
 #: Largest solve (unknowns) run with one BLAS thread (:func:`blas_threads`): on a shared
 #: 2-core machine the threaded LU of 1,680 unknowns took 0.41-0.55 s, one thread 0.24 s.
 SERIAL_BLAS_UNKNOWNS = 2000
-#: The entries xx, xy, yy of a symmetric 2 × 2 matrix.
-UPPER = ((0, 0), (0, 1), (1, 1))
 
 
 def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
@@ -102,39 +66,6 @@ def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
         )
     vectors = np.array([lat.a1, lat.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
     return vectors
-
-
-@dataclass(frozen=True, eq=False)
-class RegularGrid:
-    """Where G_reg is read for each triangle pair: frequency-independent, per mesh.
-
-    G_reg is interpolated through its values at n × n Chebyshev nodes of the square
-    [−e, e]² of lattice coordinates (e just over ½: every reduced centroid offset lies
-    in [−½, ½]²); its value, gradient and Hessian are tabulated on a uniform grid of
-    step 1/:data:`TAYLOR_NODES` over that square, and each pair expands G_reg about the
-    grid node nearest to its centroid offset.
-
-    Attributes
-    ----------
-    node : (T, T) int32
-        Flat index (G × G grid) of the node nearest each pair's reduced centroid
-        offset, [source, observation].
-    offset : (2, T, T) float32
-        That offset minus the node (m), x and y, [source, observation]. Single precision,
-        as are the Taylor moments (G_reg is needed to 1e-7 of itself, not 1e-16).
-    areas : (T,) float32
-        Triangle areas (m²).
-    second : (T, 2, 2) float32
-        ∫ ρρᵀ dS of each triangle about its centroid (m⁴).
-    third : (T, 2, 2, 2) float32
-        ∫ ρ_i ρ_j ρ_k dS (m⁵).
-    """
-
-    node: np.ndarray
-    offset: np.ndarray
-    areas: np.ndarray
-    second: np.ndarray
-    third: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,13 +101,8 @@ class PeriodicGeometry:
         inside), against the shifted source.
     cross_distances : (K, Qn, Qn) float
         |r − r' − ρ_σ| between their near rule's points.
-    far_distances : (T Qf, T Qf) float or None
-        |r − r' − ρ_σ| between the far rule's points (zeros replaced by 1; those pairs
-        are self pairs), symmetric; kept when it fits :data:`DISTANCE_CACHE_BYTES`.
-    far_reach : float
-        Largest of those distances (m), or a bound on it.
-    regular : RegularGrid
-        Where the smooth part G_reg is read.
+    plan : FillPlan
+        How the matrix is filled (:mod:`barymesh.mom.periodic_fill`).
     """
 
     base: MomGeometry
@@ -189,9 +115,7 @@ class PeriodicGeometry:
     cross_static_inv_r: np.ndarray
     cross_static_r: np.ndarray
     cross_distances: np.ndarray
-    far_distances: np.ndarray | None
-    far_reach: float
-    regular: RegularGrid
+    plan: FillPlan
 
     @property
     def area(self) -> float:
@@ -342,15 +266,6 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
     rule = base.near
     d = rule.points[obs][:, :, None, :] - (rule.points[src] + offset3[:, None, :])[:, None]
     cross_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
-    far = base.far
-    q = far.size
-    far_distances = None
-    if (len(centroids) * q) ** 2 * 8 <= DISTANCE_CACHE_BYTES:
-        far_distances = _shifted_table(base, shift, vectors)
-        far_reach = float(far_distances.max())
-    else:
-        gap = np.sqrt(np.einsum("ijc,ijc->ij", frac @ vectors, frac @ vectors)).max()
-        far_reach = float(gap + 2.0 * base.sizes.max())
     return PeriodicGeometry(
         base=base,
         lattice=vectors,
@@ -362,9 +277,7 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
         cross_static_inv_r=static[0],
         cross_static_r=static[1],
         cross_distances=cross_distances,
-        far_distances=far_distances,
-        far_reach=far_reach,
-        regular=_regular_grid(base, vectors, frac),
+        plan=fill_plan(base, vectors, shift, frac, cross, maps, folded),
     )
 
 
@@ -391,298 +304,6 @@ def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> n
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
 
-def _shifted_table(base: MomGeometry, shift: np.ndarray, vectors: np.ndarray) -> np.ndarray:
-    """The whole (T Qf, T Qf) table of |r − r' − ρ_σ|: the free space's where σ = 0.
-
-    Where every σ is 0 (an element off the cell's sides) it is the free-space table
-    itself; otherwise that table's copy with the pairs of σ ≠ 0 recomputed, bit for bit
-    as :func:`_far_distances` computes them.
-    """
-    t, q = base.n_triangles, base.far.size
-    if base.far_distances is None:
-        return _far_distances(base.far.points, shift, vectors, 0, t)
-    moved = np.any(shift != 0, axis=2)  # (T, T) [o, s]
-    if not moved.any():
-        return base.far_distances
-    if np.count_nonzero(moved) > t * t // 4:
-        return _far_distances(base.far.points, shift, vectors, 0, t)
-    table = base.far_distances.copy()
-    obs, src = np.nonzero(moved)
-    points = base.far.points[:, :, :2]
-    sigma = shift[obs, src].astype(np.float64)
-    d2 = np.zeros((len(obs), q, q))
-    for c in range(2):
-        rho = sigma[:, 0] * vectors[0, c] + sigma[:, 1] * vectors[1, c]
-        diff = points[obs][:, None, :, c] - points[src][:, :, None, c]  # [k, b (src), a (obs)]
-        diff -= rho[:, None, None]
-        diff *= diff
-        d2 += diff
-    np.sqrt(d2, out=d2)
-    table.reshape(t, q, t, q)[src, :, obs, :] = d2  # row (s, b), column (o, a)
-    return table
-
-
-def _far_distances(
-    points: np.ndarray, shift: np.ndarray, vectors: np.ndarray, lo: int, hi: int
-) -> np.ndarray:
-    """(Ts Qf, Tb Qf) |r − r' − ρ_σ| from the far points of sources lo..T to observers lo..hi.
-
-    Row (s, b), column (o, a); exact zeros (a self pair's points) are replaced by 1. The
-    full table (lo = 0, hi = T) is symmetric bit for bit: ρ_σ is odd in the pair.
-    """
-    src, obs = points[lo:, :, :2], points[lo:hi, :, :2]
-    ts, q, tb = len(src), src.shape[1], len(obs)
-    dist = np.empty((ts, q, tb, q))
-    # slabs of source triangles, so that the only large array written is the table
-    rows = max(1, DISTANCE_SLAB // (q * tb * q))
-    scratch = np.empty((min(rows, ts), q, tb, q))
-    for first in range(0, ts, rows):
-        last = min(ts, first + rows)
-        out, tmp = dist[first:last], scratch[: last - first]
-        sigma = shift[lo:hi, lo + first : lo + last].astype(np.float64)  # (Tb, r, 2)
-        for c in range(2):
-            rho = sigma[..., 0] * vectors[0, c] + sigma[..., 1] * vectors[1, c]  # as ρ_σ
-            np.subtract(obs[None, None, :, :, c], src[first:last, :, None, None, c], out=tmp)
-            tmp -= rho.T[:, None, :, None]
-            tmp *= tmp
-            if c:
-                out += tmp
-            else:
-                out[...] = tmp
-        np.sqrt(out, out=out)
-    dist[dist == 0.0] = 1.0
-    return dist.reshape(ts * q, tb * q)
-
-
-@cache
-def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.ndarray]:
-    """Chebyshev nodes on [−extent, extent] and the (3, G, n) maps to a grid of ``step``."""
-    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)  # first kind, in [−1, 1]
-    to_coefficients = np.linalg.inv(chebyshev.chebvander(x, n - 1))
-    half = int(round(extent / step))
-    grid = step * np.arange(-half, half + 1) / extent
-    eye = np.eye(n)
-    maps = np.stack(
-        [
-            chebyshev.chebvander(grid, n - 1 - d) @ chebyshev.chebder(eye, d, axis=0)
-            if d
-            else chebyshev.chebvander(grid, n - 1)
-            for d in range(3)
-        ]
-    )
-    maps = maps @ to_coefficients / extent ** np.arange(3)[:, None, None]
-    return extent * x, maps
-
-
-def _regular_grid(base: MomGeometry, vectors: np.ndarray, reduced: np.ndarray) -> RegularGrid:
-    """The Taylor data of G_reg for centroid offsets ``reduced`` (T, T, 2) [o, s], lattice."""
-    step = 1.0 / TAYLOR_NODES
-    half = TAYLOR_NODES // 2 + 2  # the grid spans [−e, e]², e = half · step, just over ½
-    swapped = reduced.transpose(1, 0, 2)  # [s, o]
-    nearest = np.rint(swapped * TAYLOR_NODES)  # odd, like σ
-    node = (nearest[..., 0] + half) * (2 * half + 1)
-    node += nearest[..., 1] + half
-    node = node.astype(np.int32)
-    rest = swapped - step * nearest  # lattice coordinates
-    offset = np.empty((2,) + node.shape, dtype=np.float32)
-    for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
-        np.multiply(rest[..., 0], vectors[0, c], out=offset[c])
-        offset[c] += rest[..., 1] * vectors[1, c]
-    rule = base.near
-    w, rho = rule.weights, rule.rho[:, :, :2]
-    second = np.einsum("tq,tqi,tqj->tij", w, rho, rho)
-    third = np.einsum("tq,tqi,tqj,tqk->tijk", w, rho, rho, rho)
-    single = np.float32
-    return RegularGrid(
-        node, offset, base.areas.astype(single), second.astype(single), third.astype(single)
-    )
-
-
-def _regular_tables(pg: PeriodicGeometry, green: PeriodicGreen) -> np.ndarray:
-    """(6, G²) complex64 G_reg and its x, y, xx, xy, yy derivatives (m) on the grid."""
-    step = 1.0 / TAYLOR_NODES
-    reach = float(np.linalg.norm(pg.lattice, axis=1).max())
-    n = max(CHEBYSHEV_NODES, math.ceil(8 + abs(green.k) * reach))
-    u, maps = _chebyshev_maps(n, (TAYLOR_NODES // 2 + 2) * step, step)
-    points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ pg.lattice
-    values = green.regular(points).reshape(n, n)
-    # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
-    v0, v1, v2 = np.einsum("ij,dkj->dik", values, maps)
-    b0, b1, b2 = maps
-    g, gu, gv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
-    guu, guv, gvv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
-    m = np.linalg.inv(pg.lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
-    out = np.empty((6,) + g.shape, dtype=np.complex128)
-    out[0] = g
-    for c in range(2):
-        out[1 + c] = m[c, 0] * gu + m[c, 1] * gv
-    for i, (a, b) in enumerate(((0, 0), (0, 1), (1, 1))):
-        out[3 + i] = (
-            m[a, 0] * m[b, 0] * guu
-            + (m[a, 0] * m[b, 1] + m[a, 1] * m[b, 0]) * guv
-            + m[a, 1] * m[b, 1] * gvv
-        )
-    return out.reshape(6, -1).astype(np.complex64)
-
-
-def _add_regular_moments(
-    pg: PeriodicGeometry, tables: np.ndarray, lo: int, hi: int, out: np.ndarray
-) -> None:
-    """Add the flat moments of G_reg over pairs (source s, observation lo..hi) to ``out``.
-
-    ``out`` is (6, T, B). G_reg(n + w) ≈ g + ∇g·w + ½ wᵀHw about the grid node n,
-    w = e + ρ − ρ' with e the centroid offset less the node; integrated over both
-    triangles with ∫ρ dS = 0, I = ∫ρρᵀ dS and J = ∫ρρρ dS (d = ∇g + He)::
-
-        ∫∫ 1      = A A' (g + ∇g·e + ½ eᵀHe) + ½ (A' tr HI + A tr HI')
-        ∫∫ ρ      = A' (I d + ½ J:H)
-        ∫∫ ρ'     = A (−I' d + ½ J':H)
-        ∫∫ ρ·ρ'   = −tr(I H I')
-    """
-    rg = pg.regular
-    g, gx, gy, hxx, hxy, hyy = np.take(tables, rg.node[:, lo:hi], axis=1)
-    ex, ey = rg.offset[0][:, lo:hi], rg.offset[1][:, lo:hi]
-    a_s, a_o = rg.areas[:, None], rg.areas[lo:hi]
-    i_s, i_o = rg.second[:, None], rg.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
-    j_s, j_o = rg.third[:, None], rg.third[lo:hi]
-    tmp = np.empty_like(g)
-
-    def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
-        np.multiply(a, w, out=tmp)
-        acc += tmp
-
-    def hessian(acc: np.ndarray, wxx, wxy, wyy) -> None:  # acc += H:w (wxy both halves)
-        mac(acc, hxx, wxx)
-        mac(acc, hxy, wxy)
-        mac(acc, hyy, wyy)
-
-    dx = hxx * ex
-    dx += gx
-    mac(dx, hxy, ey)
-    dy = hyy * ey
-    dy += gy
-    mac(dy, hxy, ex)
-    # m0: A A' (g + ½ (∇g + d)·e) + ½ A' tr HI + ½ A tr HI'
-    value = gx + dx
-    value *= ex
-    np.add(gy, dy, out=tmp)
-    tmp *= ey
-    value += tmp
-    value *= 0.5
-    value += g
-    value *= a_s * a_o
-    hessian(
-        value,
-        *(0.5 * (a_s * i_o[:, p, q] + a_o * i_s[..., p, q]) * (1 + (p != q)) for p, q in UPPER),
-    )
-    out[0] += value
-    for c in range(2):
-        # A' (I d + ½ J:H), then A (−I' d + ½ J':H)
-        acc = dx * i_o[:, c, 0]
-        mac(acc, dy, i_o[:, c, 1])
-        hessian(acc, *(0.5 * j_o[:, c, p, q] * (1 + (p != q)) for p, q in UPPER))
-        acc *= a_s
-        out[1 + c] += acc
-        np.multiply(dx, -i_s[..., c, 0], out=acc)
-        mac(acc, dy, -i_s[..., c, 1])
-        hessian(acc, *(0.5 * j_s[..., c, p, q] * (1 + (p != q)) for p, q in UPPER))
-        acc *= a_o
-        out[3 + c] += acc
-    # −tr(I H I') = −Σ_kl H_kl C_kl, C_kl = Σ_i I_ik I'_li (outer products of the two sides)
-    i_s = i_s[:, 0]
-
-    def outer(p: int, q: int) -> np.ndarray:
-        return -(np.outer(i_s[:, q, 0], i_o[:, 0, p]) + np.outer(i_s[:, q, 1], i_o[:, 1, p]))
-
-    hessian(out[5], outer(0, 0), outer(0, 1) + outer(1, 0), outer(1, 1))
-
-
-def _single_kernel(dist: np.ndarray, k: float, max_phase: float) -> np.ndarray:
-    """e^(−jkR)/R in complex64, as :func:`barymesh.mom.operator.far_kernel` computes it."""
-    if max_phase <= SINGLE_PRECISION_PHASE:
-        x = np.multiply(dist, np.float32(k), dtype=np.float32)
-    else:  # reduce the phase to [−π, π] in double precision first
-        x = k * dist
-        x -= (2.0 * np.pi) * np.rint(x * (0.5 / np.pi))
-        x = x.astype(np.float32)
-    inv = np.divide(np.float32(1.0), dist, dtype=np.float32)
-    kernel = np.empty(dist.shape, dtype=np.complex64)
-    np.multiply(np.cos(x), inv, out=kernel.real)
-    np.negative(inv, out=inv)
-    np.multiply(np.sin(x), inv, out=kernel.imag)
-    return kernel
-
-
-def _image_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
-    """(6, T, T) complex64 flat moments of G = e^(−jkR)/R of the nearest image, [s, o].
-
-    The far rule on every pair, computed for the pairs (o, s ≥ o's block) only: a pair's
-    mirror (s, o) has the same point distances, transposed, so its moments are the
-    same with ρ and ρ' swapped. The near pairs then get the closed-form moments: the
-    free-space solver's own for σ = 0, the shifted ones of ``pg.cross`` for σ ≠ 0.
-    """
-    base = pg.base
-    far = base.far
-    t, q = base.n_triangles, far.size
-    w = far.weights
-    w_rho = w[:, :, None] * far.rho[:, :, :2]  # (T, Q, 2)
-    src_weights = np.concatenate([w[:, None, :], w_rho.transpose(0, 2, 1)], axis=1)
-    # single precision throughout: the free-space far kernel's phase is single already
-    # (1e-7 of |G|, against the far rule's 1e-3), and half the memory traffic of double
-    src_weights = src_weights.astype(np.float32)
-    w, w_rho = w.astype(np.float32), w_rho.astype(np.float32)
-    out = np.empty((6, t, t), dtype=np.complex64)
-    block = max(1, min(BLOCK_ENTRIES // max(1, t * q * q), -(-t // MIN_BLOCKS)))
-    max_phase = k * pg.far_reach
-    for lo in range(0, t, block):
-        hi = min(t, lo + block)
-        tb, ts = hi - lo, t - lo
-        if pg.far_distances is not None:
-            dist = pg.far_distances[lo * q :, lo * q : hi * q]
-        else:
-            dist = _far_distances(far.points, pg.shift, pg.lattice, lo, hi)
-        kernel = _single_kernel(dist, k, max_phase).reshape(ts, q, tb * q)
-        h = np.matmul(src_weights[lo:], kernel.view(np.float32)).view(np.complex64)
-        del kernel
-        h = h.reshape(ts, 3, tb, q)
-        w_o, wr_o = w[lo:hi], w_rho[lo:hi]
-        m0 = np.einsum("spa,pa->sp", h[:, 0], w_o)
-        m1 = [np.einsum("spa,pa->sp", h[:, 0], wr_o[:, :, c]) for c in range(2)]
-        m4 = [np.einsum("spa,pa->sp", h[:, 1 + c], w_o) for c in range(2)]
-        m7 = sum(np.einsum("spa,pa->sp", h[:, 1 + c], wr_o[:, :, c]) for c in range(2))
-        for i, m in enumerate((m0, *m1, *m4, m7)):
-            out[i, lo:, lo:hi] = m
-        # the mirrored pairs (observation s ≥ hi, source lo..hi): ρ and ρ' swap
-        for i, m in enumerate((m0, *m4, *m1, m7)):
-            out[i, lo:hi, hi:] = m[tb:].T
-    obs, src = base.near_pairs[:, 0], base.near_pairs[:, 1]
-    out[:, src, obs] = near_moments(base, k)[:, FLAT_MOMENTS].T
-    if len(pg.cross):
-        out[:, pg.cross[:, 1], pg.cross[:, 0]] = _cross_moments(pg, k)[:, FLAT_MOMENTS].T
-    return out
-
-
-def _cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
-    """(K, 8) moments of G over the near pairs across the cell's sides (closed-form 1/R, R)."""
-    rule = pg.base.near
-    obs, src = pg.cross[:, 0], pg.cross[:, 1]
-    dist = pg.cross_distances
-    x = k * dist
-    with np.errstate(divide="ignore", invalid="ignore"):
-        smooth = (np.cos(x) - 1.0 + 0.5 * x * x - 1j * np.sin(x)) / dist
-    smooth[dist == 0.0] = -1j * k
-    w_o, w_s = rule.weights[obs], rule.weights[src]
-    rho_o, rho_s = rule.rho[obs], rule.rho[src]  # ρ' is the same for the shifted source
-    h0 = np.einsum("kab,kb->ka", smooth, w_s)
-    h1 = np.einsum("kab,kb,kbc->kac", smooth, w_s, rho_s)
-    out = np.empty((len(obs), 8), dtype=np.complex128)
-    out[:, 0] = np.einsum("ka,ka->k", w_o, h0)
-    out[:, 1:4] = np.einsum("ka,kac,ka->kc", w_o, rho_o, h0)
-    out[:, 4:7] = np.einsum("ka,kac->kc", w_o, h1)
-    out[:, 7] = np.einsum("ka,kac,kac->k", w_o, rho_o, h1)
-    return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
-
-
 def periodic_impedance_matrix(
     pg: PeriodicGeometry, k: complex, kt: tuple[float, float] | np.ndarray = (0.0, 0.0)
 ) -> np.ndarray:
@@ -693,67 +314,7 @@ def periodic_impedance_matrix(
     """
     if complex(k).imag != 0:
         raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
-    k = float(np.real(k))
-    kt = np.asarray(kt, dtype=np.float64)
-    base = pg.base
-    t, n = base.n_triangles, pg.n_unknowns
-    green = PeriodicGreen(
-        tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (float(kt[0]), float(kt[1]))
-    )
-    tables = _regular_tables(pg, green)
-    moments = _image_moments(pg, k)  # (6, T, T) [source, observation]
-    # e^(−j k_t·ρ_σ) of each pair, from the phases of a1 and a2 (1 where every σ is 0)
-    steps = None
-    if np.any(kt) and np.any(pg.shift):
-        turns = pg.lattice @ kt
-        low = pg.shift.reshape(-1, 2).min(axis=0).astype(np.intp)
-        steps = [np.exp(-1j * turns[c] * np.arange(low[c], 1 - low[c])) for c in range(2)]
-    # Z = Σ_ab test_a S_ab basis_bᵀ over the parts a, b of [C | D_x | D_y] (the maps are
-    # real; the T− halves of the unknowns across the sides carry their Floquet phase):
-    # S_00 = k ∫∫ρ·ρ'G − 4/k ∫∫G, S_0c = k ∫∫ρ_c G, S_c0 = k ∫∫ρ'_c G, S_cc = k ∫∫G
-    phase = np.exp(-1j * (pg.crossing @ kt))
-    parts = [pg.maps[:, c * t : (c + 1) * t] for c in range(3)]
-    crossing = np.flatnonzero(np.diff(pg.folded.tocsr().indptr))  # the unknowns across
-    folded = [pg.folded.tocsr()[crossing][:, c * t : (c + 1) * t].tocsr() for c in range(3)]
-    columns = [p.tocsc() for p in parts]
-    terms = (
-        ((0, 5), (1, 1), (2, 2)),  # a = 0: C with S_00, D_x with S_0x, D_y with S_0y
-        ((0, 3), (1, 0)),  # a = x: C with S_x0, D_x with S_xx
-        ((0, 4), (2, 0)),  # a = y
-    )
-    z = np.zeros((n, n), dtype=np.complex128)
-    # blocks of observation triangles small enough that their moments stay in cache
-    for lo in range(0, t, REGULAR_BLOCK):
-        hi = min(t, lo + REGULAR_BLOCK)
-        m = moments[:, :, lo:hi].astype(np.complex128)  # (6, T, B)
-        _add_regular_moments(pg, tables, lo, hi, m)
-        if steps is not None:
-            sigma = pg.shift[lo:hi]  # (B, T, 2) [o, s]
-            m *= (steps[0][sigma[..., 0] - low[0]] * steps[1][sigma[..., 1] - low[1]]).T
-        m[5] -= (4.0 / (k * k)) * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
-        tests = [c[:, lo:hi].tocsr() for c in columns]
-        rows = np.unique(np.concatenate([x.nonzero()[0] for x in tests]))  # live on lo..hi
-        block = np.zeros((len(rows), n), dtype=np.complex128)
-        for a, pairs in enumerate(terms):
-            # right_a = Σ_b basis_b S_abᵀ, (N, B)
-            right = np.zeros((n, hi - lo), dtype=np.complex128)
-            for b, i in pairs:
-                right += _real_product(parts[b], m[i])
-                if len(crossing):
-                    right[crossing] += phase[crossing, None] * (folded[b] @ m[i])
-            right = np.ascontiguousarray(right.T)  # (B, N)
-            block += _real_product(tests[a][rows], right)
-            if len(crossing):
-                z[crossing] += np.conj(phase[crossing, None]) * (folded[a][:, lo:hi] @ right)
-        z[rows] += block
-    z *= 1j * k * ETA0 / (4.0 * np.pi)
-    return z
-
-
-def _real_product(real: sp.csr_matrix, dense: np.ndarray) -> np.ndarray:
-    """``real @ dense`` for a real sparse matrix and a C-contiguous complex array."""
-    out = real @ dense.view(np.float64)
-    return out.view(np.complex128)
+    return fill(pg, float(np.real(k)), np.asarray(kt, dtype=np.float64))
 
 
 def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:

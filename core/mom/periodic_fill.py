@@ -1,0 +1,592 @@
+"""How the EFIE matrix of an infinite array is filled: a plan per mesh, a fill per frequency.
+
+Each triangle pair (observation o, source s) is integrated against the image of s
+nearest to o, shifted by ρ_σ (see :mod:`barymesh.mom.periodic`), with the periodic
+Green's function split as G_p = G + G_reg there: G = e^(−jkR)/R of that image, G_reg
+the smooth rest. With c the offset from that image's centroid to o's, the pairs fall
+in three kinds by |c| against the larger triangle's longest edge h:
+
+- **near** (|c| < 1.5 h, :data:`barymesh.mom.periodic.NEAR_FACTOR`): G by the
+  free-space solver's closed-form 1/R and R parts plus the near rule on the rest;
+- **close** (|c| < :data:`IMAGE_TAYLOR_FACTOR` h): G by the free-space far rule
+  (every point with every point, one of each mirrored pair);
+- **distant**, most pairs: G, like G_reg everywhere, by a second-order Taylor
+  expansion about c, integrated exactly over both triangles through their areas A,
+  second moments I = ∫ρρᵀ dS and third moments J = ∫ρρρ dS about their centroids
+  (∫ρ dS = 0). The moments follow from the value, gradient and Hessian at T² points
+  instead of the kernel at T²Q². The error is O((h/|c|)³) for G, against the far
+  rule's O((h/|c|)²) in the first moments (its three points do not integrate J):
+  from 4 h on, the matrix moves by 3e-5 of its norm against the far rule's (whose
+  own error, against a degree-5 rule on both triangles, is 2.4e-4).
+
+G_reg's value, gradient and Hessian are read from a grid of step
+1/:data:`TAYLOR_NODES` in lattice coordinates (the expansion is taken about the
+node nearest the reduced offset), tabulated per frequency from the Chebyshev
+interpolant of G_reg through n² Ewald sums, n = :data:`CHEBYSHEV_NODES` or 8 + k |a|.
+
+The expansion runs in single precision on split real and imaginary parts (its
+coefficients are real), in blocks of :data:`TAYLOR_BLOCK` observation triangles that
+stay in cache; each block's moments go at once through the sparse RWG maps into
+the (3T, N) right factor R of Z = [C | D_x | D_y] R, one sparse product at the end.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.polynomial import chebyshev
+
+from .geometry import MomGeometry
+from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
+from .periodic_green import PeriodicGreen
+
+if TYPE_CHECKING:
+    from .periodic import PeriodicGeometry
+
+#: Pairs at least this many times the larger triangle's longest edge apart (centroid to
+#: the nearest image's centroid) have G expanded like G_reg; closer ones take the far rule.
+IMAGE_TAYLOR_FACTOR = 4.0
+#: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
+#: frequency); more at high frequency: 8 + k |a| (the matrix moves by 4e-6 or less).
+CHEBYSHEV_NODES = 12
+#: Grid nodes per cell length at which G_reg's Taylor coefficients are tabulated.
+TAYLOR_NODES = 128
+#: Source-observation pairs per block of the Taylor pass (its ~20 temporaries stay in cache).
+TAYLOR_BLOCK = 1 << 15
+#: The six moments of a pair kept on a flat screen, as rows of
+#: :data:`barymesh.mom.geometry.MOMENTS` (1, ρ_x, ρ_y, ρ'_x, ρ'_y, ρ·ρ').
+FLAT_MOMENTS = (0, 1, 2, 4, 5, 7)
+#: The flat moments of a pair's mirror (ρ and ρ' swap).
+MIRRORED = (0, 3, 4, 1, 2, 5)
+#: Z = Σ_a C_a S_ab C_bᵀ over the parts a, b of [C | D_x | D_y], with S_00 = k ∫∫ρ·ρ'G −
+#: 4/k ∫∫G, S_0c = k ∫∫ρ_c G, S_c0 = k ∫∫ρ'_c G, S_cc = k ∫∫G: per part a, its (b, moment).
+TERMS = (
+    ((0, 5), (1, 1), (2, 2)),  # a = 0: C with S_00, D_x with S_0x, D_y with S_0y
+    ((0, 3), (1, 0)),  # a = x: C with S_x0, D_x with S_xx
+    ((0, 4), (2, 0)),  # a = y
+)
+#: The entries xx, xy, yy of a symmetric 2 × 2 matrix.
+UPPER = ((0, 0), (0, 1), (1, 1))
+
+
+@dataclass(frozen=True, eq=False)
+class FillPlan:
+    """The frequency-independent data of the periodic fill; pairs as [source, observation].
+
+    Lengths are in units of ``scale`` (a typical triangle's size), so that the single
+    precision moments (areas, I, J and their products) stay far from float32's
+    underflow on any mesh.
+
+    Attributes
+    ----------
+    scale : float
+        The unit of length (m).
+    node : (T, T) int32
+        Flat index (G × G grid) of the Taylor node nearest each pair's reduced centroid
+        offset.
+    offset : (2, T, T) float32
+        That offset minus the node, x and y.
+    distance : (T, T) float32
+        |c|, c = c_o − c_s − ρ_σ the offset from the source image's centroid.
+    inverse : (T, T) float32
+        1/|c| on the distant pairs, 0 on the near and close ones (G is not expanded there).
+    unit : (2, T, T) float32
+        c/|c| on the distant pairs, x and y; 0 elsewhere.
+    sigma_code : (T, T) int16
+        Row of ``sigmas`` holding each pair's σ.
+    sigmas : (S, 2) int
+        The distinct σ.
+    close : (K, 2) int
+        (observation, source) of one of each mirrored pair of close pairs.
+    close_distance : (Q², K) float32
+        Far-rule point distances |r − r' − ρ_σ| of those pairs, [a Q + b, pair].
+    close_weights : (6, Q², K) float32
+        The flat moments' point weights: moment i = Σ_p W[i, p] G_p.
+    special : (M, 2) int
+        (observation, source) of every near and close pair, sorted by observation: the
+        near pairs of σ = 0, those across the cell's sides, the close pairs and their
+        mirrors, permuted by ``special_order``.
+    special_order : (M,) int
+        Their order in the concatenation of those four lists.
+    special_starts : (T + 1,) int
+        Where each observation triangle's pairs start in ``special``.
+    areas : (T,) float32
+    second : (T, 2, 2) float32
+    third : (T, 2, 2, 2) float32
+    reach : float
+        A bound on |r − r' − ρ_σ| over every point pair.
+    maps : (N, 3T) csr float32
+        The real RWG maps [C | D_x | D_y] of the unknowns (their T− halves across the
+        cell's sides excluded), C in units of 1/``scale``.
+    folded : (C, 3T) csr float32
+        The T− halves of the C unknowns across the sides (``crossing_rows``).
+    crossing_rows : (C,) int
+    """
+
+    scale: float
+    node: np.ndarray
+    offset: np.ndarray
+    distance: np.ndarray
+    inverse: np.ndarray
+    unit: np.ndarray
+    sigma_code: np.ndarray
+    sigmas: np.ndarray
+    close: np.ndarray
+    close_distance: np.ndarray
+    close_weights: np.ndarray
+    special: np.ndarray
+    special_order: np.ndarray
+    special_starts: np.ndarray
+    areas: np.ndarray
+    second: np.ndarray
+    third: np.ndarray
+    reach: float
+    maps: sp.csr_matrix
+    folded: sp.csr_matrix
+    crossing_rows: np.ndarray
+
+
+def fill_plan(
+    base: MomGeometry,
+    lattice: np.ndarray,
+    shift: np.ndarray,
+    reduced: np.ndarray,
+    cross: np.ndarray,
+    maps: sp.csr_matrix,
+    folded: sp.csr_matrix,
+) -> FillPlan:
+    """The :class:`FillPlan` of a cell.
+
+    Parameters
+    ----------
+    base : MomGeometry
+        The cell's free-space geometry (its near pairs are those of σ = 0).
+    lattice : (2, 2) float
+        Rows a1, a2 (m).
+    shift : (T, T, 2) int8
+        σ of each pair, [observation, source].
+    reduced : (T, T, 2) float
+        The reduced centroid offsets in lattice coordinates, [observation, source].
+    cross : (K, 2) int
+        The near pairs across the cell's sides (σ ≠ 0), (observation, source).
+    maps, folded : (N, 3T) sparse float
+        The RWG maps (see :class:`barymesh.mom.periodic.PeriodicGeometry`).
+    """
+    t = base.n_triangles
+    single = np.float32
+    # G_reg's Taylor nodes, [s, o]
+    step = 1.0 / TAYLOR_NODES
+    half = TAYLOR_NODES // 2 + 2  # the grid spans [−e, e]², e = half · step, just over ½
+    swapped = reduced.transpose(1, 0, 2)
+    nearest = np.rint(swapped * TAYLOR_NODES)  # odd, like σ
+    node = (nearest[..., 0] + half) * (2 * half + 1)
+    node += nearest[..., 1] + half
+    rest = swapped - step * nearest  # lattice coordinates
+    offset = np.empty((2, t, t), dtype=single)
+    for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
+        np.multiply(rest[..., 0], lattice[0, c], out=offset[c])
+        offset[c] += rest[..., 1] * lattice[1, c]
+    # the offset c from the source image's centroid, [s, o]
+    centroid_offset = np.empty((2, t, t))
+    for c in range(2):
+        np.multiply(swapped[..., 0], lattice[0, c], out=centroid_offset[c])
+        centroid_offset[c] += swapped[..., 1] * lattice[1, c]
+    distance = np.sqrt(centroid_offset[0] ** 2 + centroid_offset[1] ** 2)
+    sizes = base.sizes
+    larger = np.maximum(sizes[:, None], sizes[None, :])
+    near = np.zeros((t, t), dtype=bool)  # [s, o]
+    near[base.near_pairs[:, 1], base.near_pairs[:, 0]] = True
+    near[cross[:, 1], cross[:, 0]] = True
+    expanded = (distance >= IMAGE_TAYLOR_FACTOR * larger) & ~near
+    inverse = np.zeros((t, t), dtype=single)
+    np.divide(1.0, distance, out=inverse, where=expanded, casting="unsafe")
+    # σ as a small code per pair, [s, o]
+    sigma = shift.transpose(1, 0, 2).reshape(-1, 2).astype(np.intp)
+    low = sigma.min(axis=0)
+    span = int(sigma[:, 1].max() - low[1] + 1)
+    flat = (sigma[:, 0] - low[0]) * span + (sigma[:, 1] - low[1])
+    present = np.flatnonzero(np.bincount(flat))
+    sigmas = np.stack([present // span + low[0], present % span + low[1]], axis=1)
+    lookup = np.zeros(present[-1] + 1, dtype=np.int16)
+    lookup[present] = np.arange(len(present))
+    code = lookup[flat]
+    # close pairs, one of each mirrored pair (observation o < source s), with their points
+    obs, src = np.nonzero((~expanded & ~near).T & np.triu(np.ones((t, t), dtype=bool), 1))
+    close = np.stack([obs, src], axis=1)
+    far = base.far
+    q = far.size
+    moved = far.points[src, :, :2] + (shift[obs, src].astype(np.float64) @ lattice)[:, None, :]
+    delta = far.points[obs, :, None, :2] - moved[:, None, :, :]  # (K, a, b, 2)
+    close_distance = np.sqrt(np.einsum("kabc,kabc->kab", delta, delta)).reshape(-1, q * q).T
+    h = float(np.median(sizes))  # the unit of length of the plan
+    w, rho = far.weights / h**2, far.rho[:, :, :2] / h
+    left = [w[obs], w[obs] * rho[obs, :, 0], w[obs] * rho[obs, :, 1]]  # (K, a)
+    right = [w[src], w[src] * rho[src, :, 0], w[src] * rho[src, :, 1]]  # (K, b)
+
+    def weights(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return (u[:, :, None] * v[:, None, :]).reshape(-1, q * q).T.astype(single)
+
+    close_weights = np.stack(
+        [
+            weights(left[0], right[0]),
+            weights(left[1], right[0]),
+            weights(left[2], right[0]),
+            weights(left[0], right[1]),
+            weights(left[0], right[2]),
+            weights(left[1], right[1]) + weights(left[2], right[2]),
+        ]
+    )
+    special = np.concatenate([base.near_pairs, cross, close, close[:, ::-1]])
+    special_order = np.lexsort((special[:, 1], special[:, 0]))
+    special = special[special_order]
+    special_starts = np.searchsorted(special[:, 0], np.arange(t + 1))
+    rule = base.near
+    w_near, rho_near = rule.weights, rule.rho[:, :, :2]
+    second = np.einsum("tq,tqi,tqj->tij", w_near, rho_near, rho_near)
+    third = np.einsum("tq,tqi,tqj,tqk->tijk", w_near, rho_near, rho_near, rho_near)
+    crossing_rows = np.flatnonzero(np.diff(folded.tocsr().indptr))
+    unit = centroid_offset * inverse
+    column = np.concatenate([np.full(t, h), np.ones(2 * t)])  # C in 1/h: times h
+
+    def scaled(matrix: sp.csr_matrix) -> sp.csr_matrix:
+        return sp.csr_matrix(matrix @ sp.diags(column), dtype=single)
+
+    return FillPlan(
+        scale=h,
+        node=node.astype(np.int32),
+        offset=offset / single(h),
+        distance=(distance / h).astype(single),
+        inverse=inverse * single(h),
+        unit=unit.astype(single),
+        sigma_code=code.reshape(t, t).astype(np.int16),
+        sigmas=sigmas,
+        close=close,
+        close_distance=(close_distance / h).astype(single),
+        close_weights=close_weights,
+        special=special,
+        special_order=special_order,
+        special_starts=special_starts,
+        areas=(base.areas / h**2).astype(single),
+        second=(second / h**4).astype(single),
+        third=(third / h**5).astype(single),
+        reach=float(distance.max() + 2.0 * sizes.max()) / h,
+        maps=scaled(maps),
+        folded=scaled(folded.tocsr()[crossing_rows]),
+        crossing_rows=crossing_rows,
+    )
+
+
+@cache
+def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev nodes on [−extent, extent] and the (3, G, n) maps to a grid of ``step``."""
+    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)  # first kind, in [−1, 1]
+    to_coefficients = np.linalg.inv(chebyshev.chebvander(x, n - 1))
+    half = int(round(extent / step))
+    grid = step * np.arange(-half, half + 1) / extent
+    eye = np.eye(n)
+    maps = np.stack(
+        [
+            chebyshev.chebvander(grid, n - 1 - d) @ chebyshev.chebder(eye, d, axis=0)
+            if d
+            else chebyshev.chebvander(grid, n - 1)
+            for d in range(3)
+        ]
+    )
+    maps = maps @ to_coefficients / extent ** np.arange(3)[:, None, None]
+    return extent * x, maps
+
+
+def regular_tables(lattice: np.ndarray, green: PeriodicGreen) -> np.ndarray:
+    """(12, G²) float32: G_reg and its x, y, xx, xy, yy derivatives on the grid, re and im.
+
+    Rows 2d and 2d + 1 are the real and imaginary parts of derivative d.
+    """
+    step = 1.0 / TAYLOR_NODES
+    reach = float(np.linalg.norm(lattice, axis=1).max())
+    n = max(CHEBYSHEV_NODES, math.ceil(8 + abs(green.k) * reach))
+    u, maps = _chebyshev_maps(n, (TAYLOR_NODES // 2 + 2) * step, step)
+    points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ lattice
+    values = green.regular(points).reshape(n, n)
+    # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
+    v0, v1, v2 = np.einsum("ij,dkj->dik", values, maps)
+    b0, b1, b2 = maps
+    g, gu, gv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
+    guu, guv, gvv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
+    m = np.linalg.inv(lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
+    out = np.empty((6,) + g.shape, dtype=np.complex128)
+    out[0] = g
+    for c in range(2):
+        out[1 + c] = m[c, 0] * gu + m[c, 1] * gv
+    for i, (a, b) in enumerate(UPPER):
+        out[3 + i] = (
+            m[a, 0] * m[b, 0] * guu
+            + (m[a, 0] * m[b, 1] + m[a, 1] * m[b, 0]) * guv
+            + m[a, 1] * m[b, 1] * gvv
+        )
+    flat = out.reshape(6, -1)
+    return np.stack([flat.real, flat.imag], axis=1).reshape(12, -1).astype(np.float32)
+
+
+def _phase(distance: np.ndarray, k: float, max_phase: float) -> np.ndarray:
+    """k R in float32, reduced to [−π, π] in double precision first when it can be large."""
+    if max_phase <= SINGLE_PRECISION_PHASE:
+        return np.multiply(distance, np.float32(k), dtype=np.float32)
+    x = k * distance.astype(np.float64)
+    x -= (2.0 * np.pi) * np.rint(x * (0.5 / np.pi))
+    return x.astype(np.float32)
+
+
+def cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+    """(K, 8) moments of G over the near pairs across the cell's sides (closed-form 1/R, R)."""
+    rule = pg.base.near
+    obs, src = pg.cross[:, 0], pg.cross[:, 1]
+    dist = pg.cross_distances
+    x = k * dist
+    with np.errstate(divide="ignore", invalid="ignore"):
+        smooth = (np.cos(x) - 1.0 + 0.5 * x * x - 1j * np.sin(x)) / dist
+    smooth[dist == 0.0] = -1j * k
+    w_o, w_s = rule.weights[obs], rule.weights[src]
+    rho_o, rho_s = rule.rho[obs], rule.rho[src]  # ρ' is the same for the shifted source
+    h0 = np.einsum("kab,kb->ka", smooth, w_s)
+    h1 = np.einsum("kab,kb,kbc->kac", smooth, w_s, rho_s)
+    out = np.empty((len(obs), 8), dtype=np.complex128)
+    out[:, 0] = np.einsum("ka,ka->k", w_o, h0)
+    out[:, 1:4] = np.einsum("ka,kac,ka->kc", w_o, rho_o, h0)
+    out[:, 4:7] = np.einsum("ka,kac->kc", w_o, h1)
+    out[:, 7] = np.einsum("ka,kac,kac->k", w_o, rho_o, h1)
+    return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
+
+
+def special_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+    """(6, 2, M) float32 flat moments of G over the near and close pairs, re and im.
+
+    In the order of ``pg.plan.special``: the near pairs by the free-space solver's
+    closed forms, those across the cell's sides likewise against the shifted source,
+    the close pairs by the far rule (their mirrors with ρ and ρ' swapped). In units of
+    the plan's ``scale`` h: G times h, areas over h², so the six moments over h³, h⁴,
+    h⁴, h⁴, h⁴ and h⁵.
+    """
+    plan = pg.plan
+    h = plan.scale
+    kh = k * h
+    x = _phase(plan.close_distance, kh, kh * plan.reach)
+    inverse = np.divide(np.float32(1.0), plan.close_distance, dtype=np.float32)
+    kernel = np.stack([np.cos(x) * inverse, -np.sin(x) * inverse])  # (2, Q², K)
+    close = np.einsum("ipk,rpk->irk", plan.close_weights, kernel).reshape(12, -1)
+    closed = [near_moments(pg.base, k, single=True)[:, FLAT_MOMENTS]]
+    if len(pg.cross):
+        closed.append(cross_moments(pg, k)[:, FLAT_MOMENTS])
+    near = np.concatenate(closed).T / (h ** np.array([3, 4, 4, 4, 4, 5]))[:, None]  # (6, K)
+    values = np.empty((6, 2, len(plan.special)), dtype=np.float32)
+    n_near, n_close = near.shape[1], close.shape[1]
+    values[:, 0, :n_near] = near.real
+    values[:, 1, :n_near] = near.imag
+    flat = values.reshape(12, -1)
+    flat[:, n_near : n_near + n_close] = close
+    mirrored = np.array([[2 * i, 2 * i + 1] for i in MIRRORED]).ravel()
+    flat[:, n_near + n_close :] = close[mirrored]
+    return np.take(flat, plan.special_order, axis=1).reshape(6, 2, -1)
+
+
+def _taylor_moments(
+    plan: FillPlan, tables: np.ndarray, k: float, max_phase: float, lo: int, hi: int
+) -> np.ndarray:
+    """(6, 2, T, B) float32 flat moments of G + G_reg's expansions, observers lo..hi.
+
+    With the expansion about c (G) or about the grid node n (G_reg, e = c − n the
+    remainder), both written about c as f + ∇f·w + ½ wᵀHw with w = ρ − ρ'::
+
+        ∫∫ 1      = A A' f + ½ (A' tr HI + A tr HI')
+        ∫∫ ρ      = A' (I ∇f + ½ J:H)
+        ∫∫ ρ'     = A (−I' ∇f + ½ J':H)
+        ∫∫ ρ·ρ'   = −tr(I H I')
+
+    f = g + ∇g·e + ½ eᵀHe, ∇f = ∇g + He for G_reg from the node's g, ∇g, H; G's terms are
+    zero on the near and close pairs (``plan.inverse`` is 0 there).
+    """
+    t, b = plan.node.shape[0], hi - lo
+    # a row of 12 per pair (one cache line), then planes
+    rows = np.take(tables, plan.node[:, lo:hi], axis=0)  # (T, B, 12)
+    g, gx, gy, hxx, hxy, hyy = np.ascontiguousarray(rows.transpose(2, 0, 1)).reshape(6, 2, t, b)
+    ex, ey = plan.offset[0][:, lo:hi], plan.offset[1][:, lo:hi]
+    tmp = np.empty_like(g)
+
+    def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
+        np.multiply(a, w, out=tmp)
+        acc += tmp
+
+    # G_reg about c: f = g + ½ (∇g + ∇f)·e, ∇f = ∇g + He
+    dx = hxx * ex
+    dx += gx
+    mac(dx, hxy, ey)
+    dy = hyy * ey
+    dy += gy
+    mac(dy, hxy, ex)
+    value = gx + dx
+    value *= ex
+    np.add(gy, dy, out=tmp)
+    tmp *= ey
+    value += tmp
+    value *= 0.5
+    value += g
+    # G = e^(−jkR)/R about c: G' = −(1/R + jk) G, G'' = (2/R² − k² + 2jk/R) G, and
+    # ∇G = G' ĉ, H = (G'' − G'/R) ĉĉᵀ + (G'/R) I
+    inv = plan.inverse[:, lo:hi]
+    x = _phase(plan.distance[:, lo:hi], k, max_phase)
+    kk = np.float32(k)
+    gr = np.cos(x)
+    gr *= inv
+    gi = np.sin(x)
+    gi *= inv
+    np.negative(gi, out=gi)
+    g1 = np.empty_like(g)  # G'
+    np.multiply(gi, kk, out=g1[0])
+    g1[0] -= inv * gr
+    np.multiply(gr, kk, out=g1[1])
+    g1[1] += inv * gi
+    np.negative(g1[1], out=g1[1])
+    a2 = inv * inv
+    a2 *= 2.0
+    a2 -= kk * kk
+    b2 = inv * (2.0 * kk)
+    p = np.empty_like(g)  # G'' − G'/R
+    np.multiply(a2, gr, out=p[0])
+    p[0] -= b2 * gi
+    np.multiply(a2, gi, out=p[1])
+    p[1] += b2 * gr
+    q = g1 * inv  # G'/R
+    p -= q
+    value[0] += gr
+    value[1] += gi
+    ux, uy = plan.unit[0][:, lo:hi], plan.unit[1][:, lo:hi]
+    mac(dx, g1, ux)
+    mac(dy, g1, uy)
+    hxx += q
+    hyy += q
+    uu = ux * ux
+    mac(hxx, p, uu)
+    np.multiply(ux, uy, out=uu)
+    mac(hxy, p, uu)
+    np.multiply(uy, uy, out=uu)
+    mac(hyy, p, uu)
+
+    a_s, a_o = plan.areas[:, None], plan.areas[lo:hi]
+    i_s, i_o = plan.second[:, None], plan.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
+    j_s, j_o = plan.third[:, None], plan.third[lo:hi]
+    out = np.empty((6, 2, t, b), dtype=np.float32)
+
+    def hessian(acc: np.ndarray, wxx, wxy, wyy) -> None:  # acc += H:w (wxy both halves)
+        mac(acc, hxx, wxx)
+        mac(acc, hxy, wxy)
+        mac(acc, hyy, wyy)
+
+    # ∫∫ 1 = A A' f + ½ A' tr HI + ½ A tr HI'
+    value *= a_o
+    hessian(value, *(0.5 * i_o[:, p, q] * (1 + (p != q)) for p, q in UPPER))
+    value *= a_s
+    acc = out[0]
+    np.multiply(hxx, 0.5 * i_s[..., 0, 0], out=acc)
+    mac(acc, hxy, i_s[..., 0, 1])
+    mac(acc, hyy, 0.5 * i_s[..., 1, 1])
+    acc *= a_o
+    acc += value
+    for c in range(2):
+        # A' (I ∇f + ½ J:H), then A (−I' ∇f + ½ J':H)
+        acc = out[1 + c]
+        np.multiply(dx, i_o[:, c, 0], out=acc)
+        mac(acc, dy, i_o[:, c, 1])
+        hessian(acc, *(0.5 * j_o[:, c, p, q] * (1 + (p != q)) for p, q in UPPER))
+        acc *= a_s
+        acc = out[3 + c]
+        np.multiply(dx, -i_s[..., c, 0], out=acc)
+        mac(acc, dy, -i_s[..., c, 1])
+        hessian(acc, *(0.5 * j_s[..., c, p, q] * (1 + (p != q)) for p, q in UPPER))
+        acc *= a_o
+    # −tr(I H I') = −Σ_kl H_kl C_kl, C_kl = Σ_i I_ik I'_li (outer products of the two sides)
+    i_s = i_s[:, 0]
+
+    def outer(p: int, q: int) -> np.ndarray:
+        return -(np.outer(i_s[:, q, 0], i_o[:, 0, p]) + np.outer(i_s[:, q, 1], i_o[:, 1, p]))
+
+    out[5] = 0.0
+    hessian(out[5], outer(0, 0), outer(0, 1) + outer(1, 0), outer(1, 1))
+    return out
+
+
+def _block_phases(pg: PeriodicGeometry, kt: np.ndarray) -> np.ndarray | None:
+    """(2, S) float32 e^(−j k_t·ρ_σ) of each distinct σ, re and im; None when all are 1."""
+    plan = pg.plan
+    if not np.any(kt) or not np.any(plan.sigmas):
+        return None
+    rho = plan.sigmas.astype(np.float64) @ pg.lattice
+    phase = np.exp(-1j * (rho @ kt))
+    return np.stack([phase.real, phase.imag]).astype(np.float32)
+
+
+def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
+    """The (N, N) complex128 EFIE matrix of the array at real ``k`` and Floquet phase ``kt``.
+
+    See :func:`barymesh.mom.periodic.periodic_impedance_matrix`, which checks the input.
+    """
+    plan = pg.plan
+    t, n = pg.base.n_triangles, pg.n_unknowns
+    h = plan.scale  # every length below in units of h: G and its derivatives times h, h², h³
+    green = PeriodicGreen(
+        tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (float(kt[0]), float(kt[1]))
+    )
+    tables = regular_tables(pg.lattice, green)
+    tables *= (h ** np.repeat([1, 2, 2, 3, 3, 3], 2))[:, None].astype(np.float32)
+    tables = np.ascontiguousarray(tables.T)  # (G², 12)
+    special = special_moments(pg, k)  # (6, 2, M)
+    phases = _block_phases(pg, kt)
+    crossing = plan.crossing_rows
+    unknown_phase = np.exp(-1j * (pg.crossing[crossing] @ kt))
+    ph = unknown_phase.real.astype(np.float32)[:, None], unknown_phase.imag.astype(np.float32)
+    ph = (ph[0], ph[1][:, None])
+    parts = [plan.maps[:, c * t : (c + 1) * t] for c in range(3)]
+    folded = [plan.folded[:, c * t : (c + 1) * t] for c in range(3)]
+    right = np.zeros((3 * t, 2 * n), dtype=np.float32)  # R, re | im
+    kh = k * h
+    max_phase = kh * plan.reach
+    block = max(1, min(t, TAYLOR_BLOCK // max(1, t)))
+    scale = np.float32(4.0 / (kh * kh))
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        m = _taylor_moments(plan, tables, kh, max_phase, lo, hi)  # (6, 2, T, B)
+        first, last = plan.special_starts[lo], plan.special_starts[hi]
+        obs, src = plan.special[first:last, 0] - lo, plan.special[first:last, 1]
+        m[:, :, src, obs] += special[:, :, first:last]
+        if phases is not None:
+            code = plan.sigma_code[:, lo:hi]
+            pr, pi = phases[0][code], phases[1][code]
+            re = m[:, 0] * pr
+            re -= m[:, 1] * pi
+            m[:, 1] *= pr
+            m[:, 1] += m[:, 0] * pi
+            m[:, 0] = re
+        m[5] -= scale * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+        for a, pairs in enumerate(TERMS):
+            # R_a = Σ_b S_abᵀ C_bᵀ on the block's rows: (C_b S_ab)ᵀ, re and im
+            re = sum(parts[b] @ m[i, 0] for b, i in pairs)
+            im = sum(parts[b] @ m[i, 1] for b, i in pairs)
+            if len(crossing):  # the T− halves across the sides carry e^(−j k_t·a)
+                fr = sum(folded[b] @ m[i, 0] for b, i in pairs)
+                fi = sum(folded[b] @ m[i, 1] for b, i in pairs)
+                re[crossing] += ph[0] * fr - ph[1] * fi
+                im[crossing] += ph[0] * fi + ph[1] * fr
+            right[a * t + lo : a * t + hi, :n] = re.T
+            right[a * t + lo : a * t + hi, n:] = im.T
+    product = plan.maps @ right  # (N, 2N)
+    z = np.empty((n, n), dtype=np.complex128)
+    z.real = product[:, :n]
+    z.imag = product[:, n:]
+    if len(crossing):  # the testing halves across the sides carry e^(+j k_t·a)
+        extra = plan.folded @ right
+        z[crossing] += np.conj(unknown_phase)[:, None] * (extra[:, :n] + 1j * extra[:, n:])
+    z *= 1j * k * ETA0 / (4.0 * np.pi) * h**3  # C/h S/k C/h in SI: h³ times the scaled sum
+    return z
