@@ -188,4 +188,4 @@ def test_power_balance_error_falls_with_the_mesh_below_the_first_onset():
 
     coarse, fine = imbalance(1), imbalance(2)
     assert coarse < 1e-3  # the bound below the first grating lobe, on 128 triangles
-    assert fine < coarse / 4  # third order: about 1/10 per halving (measured 7.3e-4, 6.6e-5)
+    assert fine < coarse / 4  # third order: at least 1/8 per halving (measured 7.3e-4, 2.8e-5)

@@ -15,6 +15,7 @@ potential integrals), :mod:`.geometry` (the per-mesh cache),
 :mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep);
 for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
 :mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),
+:mod:`.periodic_fill` (how its matrix is filled),
 :mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating).
 """
 
