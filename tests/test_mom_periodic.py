@@ -130,6 +130,49 @@ def test_power_balance_with_grating_lobes():
     assert abs(s.power_balance - 1) < 1e-3
 
 
+def test_power_balance_just_above_an_onset():
+    # 0.15 % above the (0, ±1) onset at 30° (two orders have just started to propagate,
+    # nearly grazing): their terms c e^(−jκ·ρ), c ~ 1/β, are integrated exactly, not by
+    # the Taylor expansion of G_reg (measured 7.1e-6; expanded with the rest: 1.3e-4)
+    from barymesh.mom import grating_lobe_onsets
+
+    wave = PlaneWave.from_angles(30, 0, 90)
+    mesh = patch_cell()
+    onset = grating_lobe_onsets(mesh.lattice, wave, 40e9)[1]
+    s = periodic_solve(mesh, onset * (1 + 1.5e-3), wave)
+    assert len(s.orders) == 4
+    assert abs(s.power_balance - 1) < 3e-5
+
+
+def test_the_orders_taken_out_of_g_reg_are_put_back_exactly(monkeypatch):
+    # The slow Floquet orders leave the Taylor tables and come back as a rank-3 term of Z.
+    # Taking 13 of them out (their term is 3.6e-2 of Z) or none must give nearly the same
+    # matrix: measured 3.0e-4 apart, the Taylor expansion's error on those plane waves
+    # (κh up to 1); a wrong sign or factor in either half would move Z by the term's size
+    import barymesh.mom.periodic_fill as fill
+
+    pg = periodic_geometry(strips(8, 2))
+    k = wavenumber(17e9)
+    kt = np.array([0.3 * k, -0.2 * k])
+    monkeypatch.setattr(fill, "SLOW_ORDERS", 2.0)  # many orders out, propagating or not
+    kappa, c = fill.slow_orders(green_of(pg, k, kt), pg.lattice)
+    assert len(c) >= 9
+    u, v = fill.slow_order_terms(pg, k, kt, kappa, c)
+    with_terms = periodic_impedance_matrix(pg, k, kt)
+    monkeypatch.setattr(fill, "SLOW_ORDERS", 0.0)
+    assert len(fill.slow_orders(green_of(pg, k, kt), pg.lattice)[1]) == 0
+    without = periodic_impedance_matrix(pg, k, kt)
+    scale = np.linalg.norm(without)
+    assert np.linalg.norm(u @ v.T) > 1e-2 * scale
+    assert np.linalg.norm(with_terms - without) < 1e-3 * scale
+
+
+def green_of(pg, k, kt):
+    from barymesh.mom import PeriodicGreen
+
+    return PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, tuple(kt))
+
+
 def test_reciprocity():
     # strips: the unknowns across the cell's sides make Z(k_t) far from symmetric
     pg = periodic_geometry(strips(8, 2))

@@ -40,10 +40,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 from numpy.polynomial import chebyshev
+from scipy.linalg import blas
 
 from .geometry import MomGeometry
 from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
-from .periodic_green import PeriodicGreen
+from .periodic_green import PeriodicGreen, reciprocal_vectors
 
 if TYPE_CHECKING:
     from .periodic import PeriodicGeometry
@@ -51,6 +52,9 @@ if TYPE_CHECKING:
 #: Pairs at least this many times the larger triangle's longest edge apart (centroid to
 #: the nearest image's centroid) have G expanded like G_reg; closer ones take the far rule.
 IMAGE_TAYLOR_FACTOR = 4.0
+#: Floquet orders with |γ_pq| under this times the smallest reciprocal vector are taken
+#: out of G_reg and integrated exactly (:func:`slow_orders`).
+SLOW_ORDERS = 0.5
 #: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
 #: frequency); more at high frequency: 8 + k |a| (the matrix moves by 4e-6 or less).
 CHEBYSHEV_NODES = 12
@@ -301,17 +305,70 @@ def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.
     return extent * x, maps
 
 
-def regular_tables(lattice: np.ndarray, green: PeriodicGreen) -> np.ndarray:
+def slow_orders(green: PeriodicGreen, lattice: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Floquet orders taken out of G_reg: (S, 2) κ_pq (rad/m) and (S,) c = 2π/(A γ_pq).
+
+    An order near its onset (γ_pq → 0) adds c e^(−jκ_pq·ρ) to G_p with c ~ 1/γ large:
+    smooth, but with derivatives too large for the Taylor expansion. Every order with
+    |γ_pq| under :data:`SLOW_ORDERS` times the smallest reciprocal vector (every
+    propagating one, and the evanescent ones that nearly propagate) is integrated
+    exactly instead, as a rank-3 term of Z (:func:`slow_order_terms`).
+    """
+    b1, b2 = reciprocal_vectors(lattice[0], lattice[1])
+    limit = SLOW_ORDERS * min(np.linalg.norm(b1), np.linalg.norm(b2))
+    keep = np.abs(green.gamma) < limit
+    return green.kappa[keep], 2.0 * np.pi / (green.area * green.gamma[keep])
+
+
+def slow_order_terms(
+    pg: PeriodicGeometry, k: float, kt: np.ndarray, kappa: np.ndarray, c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(N, 3S) U and V with U Vᵀ the part of Z from G = Σ c e^(−jκ·(r − r')) (SI, Ω).
+
+    The kernel is separable: with E0 = ∫ e^(−jκ·r) dS and E1 = ∫ ρ e^(−jκ·r) dS per
+    triangle (the near rule), the testing functions' Fourier moments are P_c = C E1_c +
+    D_c E0 and Q = C E0, the basis functions' the same with e^(+jκ·r'), and the term is
+    jkη/4π c (Σ_c P_c P̃_cᵀ − 4/k² Q Q̃ᵀ).
+    """
+    rule = pg.base.near
+    t = pg.base.n_triangles
+    basis, test = pg.basis_maps(kt)
+    phase = np.exp(-1j * np.einsum("tqc,sc->tqs", rule.points[:, :, :2], kappa))  # (T, Q, S)
+    e0 = np.einsum("tq,tqs->ts", rule.weights, phase)
+    e1 = np.einsum("tq,tqc,tqs->tcs", rule.weights, rule.rho[:, :, :2], phase)
+
+    def moments(maps: sp.csr_matrix, e0: np.ndarray, e1: np.ndarray) -> list[np.ndarray]:
+        cm, dx, dy = (maps[:, i * t : (i + 1) * t] for i in range(3))
+        return [cm @ e1[:, 0] + dx @ e0, cm @ e1[:, 1] + dy @ e0, cm @ e0]
+
+    p = moments(test, e0, e1)
+    q = moments(basis, np.conj(e0), np.conj(e1))
+    scale = 1j * k * ETA0 / (4.0 * np.pi) * c
+    u = np.concatenate([p[0] * scale, p[1] * scale, p[2] * (scale * (-4.0 / (k * k)))], axis=1)
+    v = np.concatenate(q, axis=1)
+    return u, v
+
+
+def regular_tables(
+    lattice: np.ndarray,
+    green: PeriodicGreen,
+    kappa: np.ndarray | None = None,
+    c: np.ndarray | None = None,
+) -> np.ndarray:
     """(12, G²) float32: G_reg and its x, y, xx, xy, yy derivatives on the grid, re and im.
 
-    Rows 2d and 2d + 1 are the real and imaginary parts of derivative d.
+    Rows 2d and 2d + 1 are the real and imaginary parts of derivative d. With ``kappa``
+    and ``c``, the orders Σ c e^(−jκ·ρ) are taken out of G_reg first (:func:`slow_orders`).
     """
     step = 1.0 / TAYLOR_NODES
     reach = float(np.linalg.norm(lattice, axis=1).max())
     n = max(CHEBYSHEV_NODES, math.ceil(8 + abs(green.k) * reach))
     u, maps = _chebyshev_maps(n, (TAYLOR_NODES // 2 + 2) * step, step)
     points = np.stack(np.meshgrid(u, u, indexing="ij"), axis=-1).reshape(-1, 2) @ lattice
-    values = green.regular(points).reshape(n, n)
+    values = green.regular(points)
+    if kappa is not None and c is not None and len(c):
+        values = values - np.exp(-1j * (points @ kappa.T)) @ c
+    values = values.reshape(n, n)
     # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
     v0, v1, v2 = np.einsum("ij,dkj->dik", values, maps)
     b0, b1, b2 = maps
@@ -320,8 +377,8 @@ def regular_tables(lattice: np.ndarray, green: PeriodicGreen) -> np.ndarray:
     m = np.linalg.inv(lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
     out = np.empty((6,) + g.shape, dtype=np.complex128)
     out[0] = g
-    for c in range(2):
-        out[1 + c] = m[c, 0] * gu + m[c, 1] * gv
+    for axis in range(2):
+        out[1 + axis] = m[axis, 0] * gu + m[axis, 1] * gv
     for i, (a, b) in enumerate(UPPER):
         out[3 + i] = (
             m[a, 0] * m[b, 0] * guu
@@ -539,7 +596,8 @@ def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
     green = PeriodicGreen(
         tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (float(kt[0]), float(kt[1]))
     )
-    tables = regular_tables(pg.lattice, green)
+    slow_kappa, slow_c = slow_orders(green, pg.lattice)
+    tables = regular_tables(pg.lattice, green, slow_kappa, slow_c)
     tables *= (h ** np.repeat([1, 2, 2, 3, 3, 3], 2))[:, None].astype(np.float32)
     tables = np.ascontiguousarray(tables.T)  # (G², 12)
     special = special_moments(pg, k)  # (6, 2, M)
@@ -589,4 +647,8 @@ def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
         extra = plan.folded @ right
         z[crossing] += np.conj(unknown_phase)[:, None] * (extra[:, :n] + 1j * extra[:, n:])
     z *= 1j * k * ETA0 / (4.0 * np.pi) * h**3  # C/h S/k C/h in SI: h³ times the scaled sum
+    if len(slow_c):  # the orders taken out of G_reg, exactly
+        u, v = slow_order_terms(pg, k, kt, slow_kappa, slow_c)
+        # z += u vᵀ in place, as zᵀ (Fortran order) += v uᵀ: no N² temporary
+        blas.zgemm(1.0, v, u, beta=1.0, c=z.T, trans_b=1, overwrite_c=1)
     return z
