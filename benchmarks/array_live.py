@@ -127,19 +127,22 @@ class Heartbeat:
         now, cpu = time.perf_counter(), time.thread_time()
         self.gaps.append(now - self.last)
         self.cpu_gaps.append(cpu - self.last_cpu)
+        self.ends.append(now)
         self.last, self.last_cpu = now, cpu
 
     def reset(self) -> None:
         self.gaps: list[float] = []
         self.cpu_gaps: list[float] = []
+        self.ends: list[float] = []
         self.last, self.last_cpu = time.perf_counter(), time.thread_time()
 
-    def longest(self) -> tuple[float, float]:
-        """(wall, GUI-thread CPU) seconds of the longest gap since the last reset."""
+    def longest(self) -> tuple[float, float, float]:
+        """(wall, GUI-thread CPU) seconds of the longest gap since the last reset, and the
+        ``time.perf_counter()`` its end came at."""
         if not self.gaps:
-            return 0.0, 0.0
+            return 0.0, 0.0, self.last
         i = max(range(len(self.gaps)), key=self.gaps.__getitem__)
-        return self.gaps[i], self.cpu_gaps[i]
+        return self.gaps[i], self.cpu_gaps[i], self.ends[i]
 
 
 def type_into(field: Any, text: str) -> None:
@@ -217,7 +220,7 @@ def mouse(slider: Any, kind: Any, x: int, y: int, button: Any, buttons: Any) -> 
 
 
 def _curve_shown(window: Any, swept: list, painted: list) -> bool:
-    """The tab has shown a curve (``swept``: times it did) of the mesh on screen, and has
+    """The tab has shown a curve (``swept``: (time, ...) of each) of the mesh on screen, and has
     painted it since (``painted``: (time, picture) of each paint of the plot)."""
     tab, result = window.array_panel, window.model.result
     return (
@@ -226,7 +229,7 @@ def _curve_shown(window: Any, swept: list, painted: list) -> bool:
         and tab.result_mesh is result.mesh
         and bool(swept)
         and bool(painted)
-        and painted[-1][0] > swept[-1]
+        and painted[-1][0] > swept[-1][0]
         and painted[-1][1] is tab.plot.picture
     )
 
@@ -292,8 +295,15 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
         painted.append((time.perf_counter(), tab.plot.picture))
 
     tab.plot.paintEvent = paint_and_note  # Qt calls the instance's override
-    swept: list[float] = []  # when the tab showed a new curve (its picture set)
-    tab.swept.connect(lambda _sweep: swept.append(time.perf_counter()))
+    # (time, the worker's seconds) when the tab showed a new curve (its picture set)
+    swept: list[tuple[float, float]] = []
+    meshes: list[tuple[float, Any]] = []  # (time, mesh) of each new mesh on screen
+    tab.swept.connect(
+        lambda _sweep: swept.append((time.perf_counter(), float(tab.last_outcome.seconds)))
+    )
+    window.model.result_changed.connect(
+        lambda result: meshes.append((time.perf_counter(), getattr(result, "mesh", None)))
+    )
     type_into(tab.band_start, f"{band[0]:g}")
     type_into(tab.band_stop, f"{band[1]:g}")
     type_into(tab.points.lineEdit(), str(points))
@@ -346,6 +356,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
             mouse(slider, QEvent.Type.MouseMove, x0 + (x_end - x0) * k // steps, y, none, left)
         painted.clear()
         swept.clear()
+        meshes.clear()
         mouse(slider, QEvent.Type.MouseButtonRelease, x_end, y, left, none)
         released = time.perf_counter()
         during_drag = beat.longest()
@@ -357,6 +368,8 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
                 f"error {tab.error.text()!r})"
             )
         shown = painted[-1][0]
+        # when the mesh whose curve is shown came on screen (before the release: 0)
+        mesh_at = next((t for t, m in meshes if m is tab.result_mesh), released)
         # the heartbeat's next beat closes the gap that holds the paint
         n_beats = len(beat.gaps)
         wait_until(lambda n=n_beats: len(beat.gaps) > n, 1.0)
@@ -376,11 +389,19 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
                 "drag_s": released - drag_start,
                 "moves": steps,
                 "time_to_curve_s": shown - released,
-                "worker_s": float(tab.last_outcome.seconds),
+                "mesh_after_release_s": mesh_at - released,
+                "worker_s": swept[-1][1],
+                "shown_after_worker_s": shown - swept[-1][0],
                 "longest_block_drag_s": during_drag[0],
                 "longest_block_drag_cpu_s": during_drag[1],
                 "longest_block_after_release_s": after_release[0],
                 "longest_block_after_release_cpu_s": after_release[1],
+                # where that block was: its start, from the release, beside the mesh's
+                # arrival and the curve's (what held the loop then)
+                "longest_block_after_release_start_s": after_release[2]
+                - after_release[0]
+                - released,
+                "curve_arrived_after_release_s": swept[-1][0] - released,
                 "paints": len(painted),
             }
         )
@@ -445,12 +466,13 @@ def table(doc: dict) -> str:
         f"{c['preset']} at n = {c['subdivisions']}: {c['triangles']} triangles, "
         f"{c['unknowns']} unknowns; band {doc['band_ghz'][0]:g}-{doc['band_ghz'][1]:g} GHz, "
         f"{doc['points']} points; first curve {doc['first_curve']['seconds']:.2f} s",
-        f"{'round':>5} {'curve s':>8} {'worker s':>8} {'solves':>6} {'drag ms':>8} "
+        f"{'round':>5} {'curve s':>8} {'mesh s':>7} {'worker s':>8} {'solves':>6} {'drag ms':>8} "
         f"{'(cpu)':>6} {'after ms':>8} {'(cpu)':>6}",
     ]
     for r in doc["rows"]:
         lines.append(
-            f"{r['round']:5d} {r['time_to_curve_s']:8.2f} {r['worker_s']:8.2f} {r['solves']:6d} "
+            f"{r['round']:5d} {r['time_to_curve_s']:8.2f} {r['mesh_after_release_s']:7.2f} "
+            f"{r['worker_s']:8.2f} {r['solves']:6d} "
             f"{r['longest_block_drag_s'] * 1e3:8.0f} {r['longest_block_drag_cpu_s'] * 1e3:6.0f} "
             f"{r['longest_block_after_release_s'] * 1e3:8.0f} "
             f"{r['longest_block_after_release_cpu_s'] * 1e3:6.0f}"
