@@ -385,6 +385,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
                 "mesh_changed": mesh is not old_mesh,
                 "triangles": int(mesh.n_triangles),
                 "frequencies": len(result.frequencies),
+                "band_hz": [float(result.frequencies[0]), float(result.frequencies[-1])],
                 "solves": len(result.sampled),
                 "drag_s": released - drag_start,
                 "moves": steps,
