@@ -325,3 +325,61 @@ def test_grading_benchmark_uniform_series_converges_to_its_reference(tmp_path: P
     assert peer["I_cut_error"] < finest["I_cut_error"] / 2
     # both series approach the limit from the same side: the graded one is further along
     assert abs(complex(*peer["I_cut"])) > abs(complex(*finest["I_cut"])) * 1.005
+
+
+def test_array_live_benchmark_sweeps_the_cell_after_a_mouse_drag(tmp_path: Path) -> None:
+    """``array_live.py --quick``: one mouse drag of the ring's inner radius in the window,
+    after which the tab shows the 21-point curve of the new cell mesh (no time asserted)."""
+    pytest.importorskip("pyvistaqt")
+    pytest.importorskip("matplotlib")
+    from dataclasses import replace
+
+    from barymesh.app.panels.array_sweep import INTERPOLATE_POINTS
+    from barymesh.cell import build_cell, load_cell_preset
+    from barymesh.mom import periodic_geometry
+
+    out = tmp_path / "array-live.json"
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "array_live.py"), "--quick"]
+        + ["--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    assert doc["benchmark"] == "array-live"
+    assert doc["targets"] == {"time_to_curve_s": 1.5, "longest_block_s": 0.1}
+    assert set(doc["met"]) == {
+        "time_to_curve",
+        "longest_block_after_release",
+        "longest_block_during_drag",
+        "longest_block",
+    }
+    assert len(doc["machine"]["load_averages_1_5_15_min"]) == 3
+    # the window showed the preset's ring at n = 3: the same cell built here
+    cell = load_cell_preset("hexagonal-rings")
+    ring = cell.elements[0]
+    ring = replace(ring, params=replace(ring.params, subdivisions=3))
+    mesh = build_cell(replace(cell, elements=(ring,))).mesh
+    c = doc["cell"]
+    assert (c["triangles"], c["unknowns"]) == (
+        mesh.n_triangles,
+        periodic_geometry(mesh).n_unknowns,
+    )
+    assert 400 <= c["unknowns"] <= 600  # "a cell of about 500 unknowns"
+    assert doc["first_curve"]["frequencies"] == 21
+    (row,) = doc["rows"]
+    assert row["mesh_changed"]
+    # the drag moved the radius off the preset's 3 mm, towards where the mouse went
+    assert row["inner_radius_mm"] != ring.params.inner_radius
+    assert (row["inner_radius_mm"] - 3.0) * (row["target_inner_radius_mm"] - 3.0) > 0
+    assert row["frequencies"] == 21 < INTERPOLATE_POINTS  # the typed band, point by point
+    assert row["band_hz"] == pytest.approx([5e9, 30e9])
+    assert row["solves"] == 21
+    assert row["paints"] >= 1
+    assert row["time_to_curve_s"] >= row["worker_s"] > 0
+    assert row["longest_block_drag_s"] > 0 and row["longest_block_after_release_s"] > 0
+    assert doc["memory"]["window_rss_after"] > 0 and doc["memory"]["solver_rss_after"] > 0
+    assert "round" in proc.stdout and "unknowns" in proc.stdout
