@@ -146,11 +146,6 @@ class PeriodicGeometry:
         test = self.maps + sp.diags(np.conj(phase)) @ self.folded
         return basis.tocsr(), test.tocsr()
 
-    @cached_property
-    def shift_vectors(self) -> np.ndarray:
-        """(T, T, 2) float: ρ_σ of each pair (m)."""
-        return _shift_vectors(self.shift, self.lattice)
-
 
 def _shift_vectors(shift: np.ndarray, lattice: np.ndarray) -> np.ndarray:
     """ρ_σ = σ_1 a1 + σ_2 a2 (..., 2), elementwise so that ρ_(−σ) = −ρ_σ bit for bit."""

@@ -105,10 +105,9 @@ class FillPlan:
         Row of ``sigmas`` holding each pair's σ.
     sigmas : (S, 2) int
         The distinct σ.
-    close : (K, 2) int
-        (observation, source) of one of each mirrored pair of close pairs.
     close_distance : (Q², K) float32
-        Far-rule point distances |r − r' − ρ_σ| of those pairs, [a Q + b, pair].
+        Far-rule point distances |r − r' − ρ_σ| of the close pairs, one of each mirrored
+        pair (observation o < source s, in ``special`` after the near ones), [a Q + b, pair].
     close_weights : (6, Q², K) float32
         The flat moments' point weights: moment i = Σ_p W[i, p] G_p.
     special : (M, 2) int
@@ -140,7 +139,6 @@ class FillPlan:
     unit: np.ndarray
     sigma_code: np.ndarray
     sigmas: np.ndarray
-    close: np.ndarray
     close_distance: np.ndarray
     close_weights: np.ndarray
     special: np.ndarray
@@ -269,7 +267,6 @@ def fill_plan(
         unit=unit.astype(single),
         sigma_code=code.reshape(t, t).astype(np.int16),
         sigmas=sigmas,
-        close=close,
         close_distance=(close_distance / h).astype(single),
         close_weights=close_weights,
         special=special,
@@ -604,8 +601,7 @@ def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
     phases = _block_phases(pg, kt)
     crossing = plan.crossing_rows
     unknown_phase = np.exp(-1j * (pg.crossing[crossing] @ kt))
-    ph = unknown_phase.real.astype(np.float32)[:, None], unknown_phase.imag.astype(np.float32)
-    ph = (ph[0], ph[1][:, None])
+    ph = [part.astype(np.float32)[:, None] for part in (unknown_phase.real, unknown_phase.imag)]
     parts = [plan.maps[:, c * t : (c + 1) * t] for c in range(3)]
     folded = [plan.folded[:, c * t : (c + 1) * t] for c in range(3)]
     right = np.zeros((3 * t, 2 * n), dtype=np.float32)  # R, re | im
