@@ -101,9 +101,8 @@ def check_periodic_usage(args: argparse.Namespace, n_frequencies: int) -> None:
         raise PeriodicUsageError(
             "--array makes a finite array; --periodic solves the infinite one: drop one"
         )
-    for option, value in (("--order", args.order), ("--max-memory", args.max_memory)):
-        if value is not None:
-            raise PeriodicUsageError(f"{option} applies to the free-space solver, not --periodic")
+    if args.order is not None:
+        raise PeriodicUsageError("--order applies to the free-space solver, not --periodic")
     if args.screenshot:
         raise PeriodicUsageError(
             "--screenshot is not available with --periodic: write the cell's current with "
@@ -252,9 +251,10 @@ def run_periodic(
     current_at: float | None,
     progress: Any,
     vector: tuple[float, float, float] | None = None,
+    memory_limit: float | None = None,
 ) -> int:
     """Solve, report and write; ``progress`` is the command line's spinner, ``vector`` the
-    parsed --pol vector (None for te and tm)."""
+    parsed --pol vector (None for te and tm), ``memory_limit`` the parsed --max-memory."""
     from barymesh.mom import periodic_sweep
 
     wave = incidence(args, vector)
@@ -273,6 +273,7 @@ def run_periodic(
         "polarizations": "both" if both else "incident",
         "lattice": lattice,
         "sheet_impedance": sheet_impedance,
+        "memory_limit": memory_limit,
     }
     if args.tolerance is not None:
         options["tolerance"] = args.tolerance

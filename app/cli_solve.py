@@ -407,7 +407,8 @@ def _run_periodic(args: argparse.Namespace, freqs: list[float], zs: complex) -> 
     for target in [*args.outputs, args.plot]:
         if target:
             check_folder(target)
-    return run_periodic(args, freqs, zs, current_at, progress, vector)
+    memory = parse_memory(args.max_memory)
+    return run_periodic(args, freqs, zs, current_at, progress, vector, memory)
 
 
 def _excitation(args: argparse.Namespace) -> Any:

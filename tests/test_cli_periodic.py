@@ -157,6 +157,8 @@ def test_free_space_takes_the_sheet_impedance(capsys):
         (["--preset", "paper-fig11-8mm", "--period", "5", "--periodic"], 1, "larger than"),
         (["CELL", "--periodic", "--sheet-impedance", "-5"], 1, "sheet_impedance"),
         (["--cell-preset", "nope", "--periodic"], 2, "unknown cell preset"),
+        (["CELL", "--periodic", "--max-memory", "100MB"], 1, "use a coarser mesh"),
+        (["CELL", "--periodic", "--order", "3"], 2, "--order applies to the free-space"),
     ],
 )
 def test_bad_combinations_are_one_line_errors(cell_file, capsys, tmp_path, args, code, fragment):

@@ -11,15 +11,23 @@
 
 from __future__ import annotations
 
+import tracemalloc
+
 import numpy as np
 import pytest
 
 from barymesh import MeshParams, build_mesh
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.constants import ETA0, SPEED_OF_LIGHT
-from barymesh.mom import PlaneWave
+from barymesh.mom import PlaneWave, ProblemTooLarge, periodic_sweep
+from barymesh.mom import periodic as periodic_module
 from barymesh.mom.operator import wavenumber
-from barymesh.mom.periodic import periodic_geometry, periodic_impedance_matrix, periodic_solve
+from barymesh.mom.periodic import (
+    periodic_geometry,
+    periodic_impedance_matrix,
+    periodic_memory_needed,
+    periodic_solve,
+)
 
 P = 10.0  # mm
 #: Collin's exact values: P/λ -> (|Γ⊥|, ∠Γ⊥ in degrees, |Γ∥|), E across / along the strips.
@@ -205,6 +213,43 @@ def test_bad_input_is_named():
         periodic_solve(patch_cell(), -1.0)
     with pytest.raises(ValueError, match="along the screen"):
         periodic_solve(patch_cell(), 10e9, PlaneWave(direction=(1, 0, 0), polarization=(0, 1, 0)))
+
+
+def test_a_cell_too_large_for_the_memory_allowed_is_refused_before_allocating():
+    mesh = pixel_cell(np.ones((16, 16), dtype=bool))  # 2,048 triangles, every side metal
+    pg = periodic_geometry(mesh)  # the model's inputs; the cache is dropped next
+    t, n = mesh.n_triangles, pg.n_unknowns
+    need = periodic_memory_needed(t, n)
+    cache = periodic_module._CACHE
+    cache.pop(mesh, None)
+    del pg
+    tracemalloc.start()
+    try:
+        with pytest.raises(ProblemTooLarge) as refused:
+            periodic_solve(mesh, 10e9, memory_limit=need - 1)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    message = str(refused.value)
+    assert f"T = {t:,} triangles, N = {n:,} unknowns" in message
+    assert "memory_limit" in message and "coarser mesh" in message
+    assert peak < 0.05 * need  # refused before any T² table or N² matrix
+    assert not cache.get(mesh)  # and nothing half-built is cached
+    with pytest.raises(ProblemTooLarge):
+        periodic_sweep(mesh, [9e9, 11e9], memory_limit=need - 1)
+
+
+def test_the_memory_model_covers_a_measured_solve():
+    mesh = pixel_cell(np.pad(np.ones((12, 12), dtype=bool), 2))  # 1,152 triangles
+    periodic_module._CACHE.pop(mesh, None)
+    tracemalloc.start()
+    try:
+        solution = periodic_solve(mesh, 10e9)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    need = periodic_memory_needed(mesh.n_triangles, len(solution.coefficients))
+    assert peak <= need <= 2.5 * peak  # a bound, and not a vacuous one
 
 
 def test_babinet_complementary_screens_converge_to_t_plus_t_prime_one():

@@ -4,7 +4,10 @@ from math import factorial
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from barymesh.mom.geometry import close_pairs
 from barymesh.mom.quadrature import ORDERS, triangle_rule
 from barymesh.mom.singular import potential_integrals
 
@@ -104,3 +107,21 @@ def test_closed_forms_ignore_corner_order_and_orientation():
         got = potential_integrals(r, np.repeat(CORNERS[perm][None], 2, axis=0))
         for g, w in zip(got, ref, strict=True):
             np.testing.assert_allclose(g, w, rtol=1e-13, atol=1e-15)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    n_a=st.integers(0, 40),
+    n_b=st.integers(0, 40),
+    spread=st.floats(0.1, 10.0),
+)
+def test_close_pairs_finds_exactly_the_brute_force_pairs(seed, n_a, n_b, spread):
+    # graded sizes (a 100x range) and two different point sets, as the periodic images are
+    rng = np.random.default_rng(seed)
+    a, b = rng.uniform(0, spread, (n_a, 2)), rng.uniform(0, spread, (n_b, 2))
+    size_a, size_b = 10 ** rng.uniform(-2, 0, n_a), 10 ** rng.uniform(-2, 0, n_b)
+    got = close_pairs(a, b, size_a, size_b, 1.5)
+    d = np.linalg.norm(a[:, None] - b[None], axis=2) if n_a and n_b else np.zeros((n_a, n_b))
+    want = np.argwhere(d < 1.5 * np.maximum(size_a[:, None], size_b[None]))
+    assert got.shape == want.shape and np.array_equal(got, want)  # both sorted by (i, j)

@@ -22,7 +22,13 @@ for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's functi
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import MomGeometry, mom_geometry
 from .operator import impedance_matrix, wavenumber
-from .periodic import PeriodicSolution, periodic_geometry, periodic_solve, periodic_solve_many
+from .periodic import (
+    PeriodicSolution,
+    check_periodic_memory,
+    periodic_geometry,
+    periodic_solve,
+    periodic_solve_many,
+)
 from .periodic_green import PeriodicGreen
 from .periodic_sweep import PeriodicSweep, grating_lobe_onsets, periodic_sweep, te_tm_polarizations
 from .solution import Solution
@@ -49,6 +55,7 @@ __all__ = [
     "SweepResult",
     "VoltageSource",
     "check_memory",
+    "check_periodic_memory",
     "excitation_vector",
     "find_peaks",
     "grating_lobe_onsets",

@@ -50,6 +50,8 @@ NEAR_FACTOR = 1.5
 DISTANCE_CACHE_BYTES = 160 * 2**20
 #: Entries of the scratch slab in which point distances are computed.
 DISTANCE_SLAB = 1 << 18
+#: Near pairs per block of :func:`static_moments` (about 3 KB of temporaries each).
+STATIC_BLOCK = 1 << 15
 
 
 @dataclass(frozen=True, eq=False)
@@ -208,6 +210,39 @@ def mom_geometry(
     return per_mesh[key]
 
 
+def close_pairs(
+    a: np.ndarray, b: np.ndarray, size_a: np.ndarray, size_b: np.ndarray, factor: float
+) -> np.ndarray:
+    """(K, 2) pairs (i, j), sorted, with |a_i − b_j| < factor · max(size_a[i], size_b[j]).
+
+    Each point is searched within its own radius, so the work and memory grow with the
+    pairs found, not with the largest size (a fixed radius of factor × max size made a
+    graded mesh's candidates nearly all T² pairs).
+    """
+    if len(a) == 0 or len(b) == 0:
+        return np.zeros((0, 2), dtype=np.intp)
+    tree_a, tree_b = cKDTree(a), cKDTree(b)
+    by_a = tree_b.query_ball_point(a, factor * size_a)  # j near i within i's radius
+    by_b = tree_a.query_ball_point(b, factor * size_b)  # i near j within j's radius
+    count_a = np.fromiter(map(len, by_a), dtype=np.intp, count=len(a))
+    count_b = np.fromiter(map(len, by_b), dtype=np.intp, count=len(b))
+    i = np.concatenate([np.repeat(np.arange(len(a)), count_a), _flat(by_b, count_b)])
+    j = np.concatenate([_flat(by_a, count_a), np.repeat(np.arange(len(b)), count_b)])
+    key = np.unique(i * len(b) + j)
+    i, j = np.divmod(key, len(b))
+    dist = np.linalg.norm(a[i] - b[j], axis=1)
+    keep = dist < factor * np.maximum(size_a[i], size_b[j])
+    return np.stack([i[keep], j[keep]], axis=1)
+
+
+def _flat(lists: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The concatenation of ``lists`` (an object array of index lists) as intp."""
+    total = int(counts.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.intp)
+    return np.fromiter((x for row in lists for x in row), dtype=np.intp, count=total)
+
+
 def _rule(corners: np.ndarray, areas: np.ndarray, centroids: np.ndarray, order: int) -> Rule:
     bary, w = triangle_rule(order)
     points = np.einsum("qk,tkc->tqc", bary, corners)
@@ -257,11 +292,8 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     near = _rule(corners, areas, centroids, order)
 
     # -- near pairs ------------------------------------------------------------------
-    tree = cKDTree(centroids)
-    pairs = tree.query_pairs(near_factor * sizes.max(), output_type="ndarray")
-    if len(pairs):
-        dist = np.linalg.norm(centroids[pairs[:, 0]] - centroids[pairs[:, 1]], axis=1)
-        pairs = pairs[dist < near_factor * np.maximum(sizes[pairs[:, 0]], sizes[pairs[:, 1]])]
+    pairs = close_pairs(centroids, centroids, sizes, sizes, near_factor)
+    pairs = pairs[pairs[:, 0] < pairs[:, 1]]
     selfs = np.repeat(np.arange(len(triangles))[:, None], 2, axis=1)
     near_pairs = np.concatenate([selfs, pairs, pairs[:, ::-1]]).astype(np.intp)
     near_pairs = near_pairs[np.lexsort((near_pairs[:, 1], near_pairs[:, 0]))]
@@ -357,8 +389,21 @@ def static_moments(
 
     Pair i is observation triangle ``obs[i]`` of the rule against the source triangle in
     row ``src[i]`` of ``corners`` and ``centroids``, which need not be the mesh's own (the
-    periodic solver passes images of them moved by lattice vectors).
+    periodic solver passes images of them moved by lattice vectors). Computed in blocks
+    of :data:`STATIC_BLOCK` pairs, so the temporaries stay bounded on meshes with many
+    near pairs (graded meshes: over 100 per triangle).
     """
+    k = len(obs)
+    inv_r, r1 = np.empty((k, 8)), np.empty((k, 8))
+    for start in range(0, k, STATIC_BLOCK):
+        part = slice(start, start + STATIC_BLOCK)
+        inv_r[part], r1[part] = _static_block(near, corners, centroids, obs[part], src[part])
+    return inv_r, r1
+
+
+def _static_block(
+    near: Rule, corners: np.ndarray, centroids: np.ndarray, obs: np.ndarray, src: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     k, q = len(obs), near.size
     r = near.points[obs].reshape(-1, 3)  # (K Q, 3)
     inv_r, r1, vec_inv_r, vec_r1 = potential_integrals(r, corners, np.repeat(src, q))

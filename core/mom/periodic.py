@@ -37,16 +37,27 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.spatial import cKDTree
 from threadpoolctl import ThreadpoolController
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
-from .geometry import METRES_PER_MESH_UNIT, MomGeometry, mom_geometry, static_moments
+from .geometry import (
+    METRES_PER_MESH_UNIT,
+    MomGeometry,
+    close_pairs,
+    mom_geometry,
+    static_moments,
+)
 from .operator import ETA0, wavenumber
 from .periodic_fill import FillPlan, fill, fill_plan
 from .periodic_green import PeriodicGreen
-from .solve import check_sheet_impedance, dense_solve
+from .solve import (
+    ProblemTooLarge,
+    check_sheet_impedance,
+    dense_solve,
+    format_bytes,
+    memory_allowance,
+)
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
@@ -55,6 +66,18 @@ MAX_TRIANGLE = 0.2
 #: Largest solve (unknowns) run with one BLAS thread (:func:`blas_threads`): on a shared
 #: 2-core machine the threaded LU of 1,680 unknowns took 0.41-0.55 s, one thread 0.24 s.
 SERIAL_BLAS_UNKNOWNS = 2000
+
+#: Peak bytes per triangle pair (T²) while :func:`periodic_geometry` builds its tables
+#: (the fill plan's offsets, distances, σ codes and their temporaries), measured with
+#: tracemalloc: 189-192 at T = 2,048-4,608 above a fixed ~0.1 GiB, plus a margin.
+GEOMETRY_PEAK_BYTES_PER_T2 = 200.0
+#: Bytes per triangle pair the built geometry keeps (measured 39-48 at T = 2,048-4,608).
+GEOMETRY_BYTES_PER_T2 = 42.0
+#: Peak bytes per N² of one periodic solve beyond the geometry: Z, the fill's float32
+#: Taylor blocks and right factor, and the LU (measured 41.2-42.7 at N = 3,008-6,816).
+SOLVE_BYTES_PER_N2 = 45.0
+#: Bytes whatever the size (the O(T) tables, Taylor blocks of TAYLOR_BLOCK pairs, BLAS).
+PERIODIC_FIXED_BYTES = 160 * 2**20
 
 
 def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
@@ -213,21 +236,118 @@ def _rwg_maps(
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def periodic_geometry(mesh: TriMesh, lattice: Any = None) -> PeriodicGeometry:
+def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool = True) -> int:
+    """Peak bytes of a periodic solve of T triangles and N unknowns (a measured model).
+
+    Parameters
+    ----------
+    n_triangles, n_unknowns : int
+        T and N of the cell.
+    geometry : bool
+        Whether :func:`periodic_geometry` is still to be built (its T² tables count);
+        False counts only what one solve allocates beyond a cached geometry.
+
+    Returns
+    -------
+    int
+        ``max(200 T², 42 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
+        beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``.
+
+    Examples
+    --------
+    >>> periodic_memory_needed(1000, 1500) == 200 * 1000**2 + 160 * 2**20
+    True
+    """
+    t2, n2 = float(n_triangles) ** 2, float(n_unknowns) ** 2
+    solve = SOLVE_BYTES_PER_N2 * n2
+    if geometry:
+        solve = max(GEOMETRY_PEAK_BYTES_PER_T2 * t2, GEOMETRY_BYTES_PER_T2 * t2 + solve)
+    return int(solve) + PERIODIC_FIXED_BYTES
+
+
+def check_periodic_memory(
+    n_triangles: int,
+    n_unknowns: int,
+    memory_limit: float | None = None,
+    *,
+    geometry: bool = True,
+) -> int:
+    """Refuse a periodic cell whose solve would need more memory than allowed.
+
+    Parameters
+    ----------
+    n_triangles, n_unknowns : int
+        T and N of the cell.
+    memory_limit : float, optional
+        A cap in bytes (in addition to the memory available now).
+    geometry : bool
+        As for :func:`periodic_memory_needed`.
+
+    Returns
+    -------
+    int
+        The bytes needed.
+
+    Raises
+    ------
+    ProblemTooLarge
+        Naming T, N, the memory needed and the memory allowed, before anything of
+        that size is allocated.
+    """
+    need = periodic_memory_needed(n_triangles, n_unknowns, geometry=geometry)
+    allowed, source = memory_allowance(memory_limit)
+    if need > allowed:
+        what = f"about {SOLVE_BYTES_PER_N2:g} N² bytes for the dense matrix and its LU"
+        if geometry:
+            what = (
+                f"about {GEOMETRY_PEAK_BYTES_PER_T2:g} bytes per triangle pair while its "
+                f"tables are built, and {what}"
+            )
+        raise ProblemTooLarge(
+            f"the infinite array of T = {n_triangles:,} triangles, N = {n_unknowns:,} "
+            f"unknowns needs {format_bytes(need)} at its peak ({what}), more than "
+            f"{source}; use a coarser mesh"
+        )
+    return need
+
+
+def periodic_geometry(
+    mesh: TriMesh, lattice: Any = None, *, memory_limit: float | None = None
+) -> PeriodicGeometry:
     """The frequency-independent data of the array of ``mesh`` on ``lattice`` (or its own).
 
     Cached per mesh and lattice: a sweep over frequency or angle computes it once.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+        One cell of the screen (mm).
+    lattice : Lattice, optional
+        Default: the mesh's own.
+    memory_limit : float, optional
+        A cap in bytes for building it and one solve beside it
+        (:func:`check_periodic_memory`, checked before the T² tables are allocated).
+
+    Raises
+    ------
+    ProblemTooLarge
+        When the geometry and a solve would not fit in memory.
+    ValueError
+        A mesh off z = 0, triangles too large for the cell, metal across the cell's
+        sides without matching periodic edges.
     """
     vectors = _lattice_metres(mesh, lattice)
     key = tuple(vectors.ravel())
     per_mesh = _CACHE.setdefault(mesh, {})
     if key not in per_mesh:
         per_mesh.clear()  # one lattice per mesh at a time; keeps memory bounded
-        per_mesh[key] = _periodic_geometry(mesh, lattice, vectors)
+        per_mesh[key] = _periodic_geometry(mesh, lattice, vectors, memory_limit)
     return per_mesh[key]
 
 
-def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> PeriodicGeometry:
+def _periodic_geometry(
+    mesh: TriMesh, lattice: Any, vectors: np.ndarray, memory_limit: float | None
+) -> PeriodicGeometry:
     base = mom_geometry(mesh, near_factor=NEAR_FACTOR)  # its near pairs: those of σ = 0
     if np.any(base.vertices[:, 2] != 0.0):
         raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
@@ -239,6 +359,7 @@ def _periodic_geometry(mesh: TriMesh, lattice: Any, vectors: np.ndarray) -> Peri
             f"{MAX_TRIANGLE:g} of the cell's height)"
         )
     maps, folded, crossing = _rwg_maps(mesh, base, lattice, vectors)
+    check_periodic_memory(base.n_triangles, maps.shape[0], memory_limit)
     centroids = base.centroids[:, :2]
     lat = centroids @ np.linalg.inv(vectors)  # lattice coordinates of the centroids
     frac = lat[:, None, :] - lat[None, :, :]  # (T, T, 2), antisymmetric bit for bit
@@ -280,21 +401,17 @@ def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> n
     """(K, 2) pairs (o, s) near through an image σ ≠ 0, sorted (the σ = 0 ones: ``base``)."""
     centroids = base.centroids[:, :2]
     sizes = base.sizes
-    tree = cKDTree(centroids)
-    radius = NEAR_FACTOR * sizes.max()
     low, high = shift.reshape(-1, 2).min(axis=0), shift.reshape(-1, 2).max(axis=0)
     found = []
     for s1 in range(int(low[0]), int(high[0]) + 1):
         for s2 in range(int(low[1]), int(high[1]) + 1):
             if s1 == 0 and s2 == 0:
                 continue
-            image = cKDTree(centroids + s1 * vectors[0] + s2 * vectors[1])
-            hits = tree.sparse_distance_matrix(image, radius, output_type="ndarray")
-            o, s = hits["i"].astype(np.intp), hits["j"].astype(np.intp)
-            keep = (hits["v"] < NEAR_FACTOR * np.maximum(sizes[o], sizes[s])) & np.all(
-                shift[o, s] == (s1, s2), axis=1
-            )
-            found.append(np.stack([o[keep], s[keep]], axis=1))
+            image = centroids + s1 * vectors[0] + s2 * vectors[1]
+            hits = close_pairs(centroids, image, sizes, sizes, NEAR_FACTOR)
+            o, s = hits[:, 0], hits[:, 1]
+            keep = np.all(shift[o, s] == (s1, s2), axis=1)
+            found.append(hits[keep])
     pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.intp)
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
@@ -413,6 +530,7 @@ def periodic_solve(
     *,
     lattice: Any = None,
     sheet_impedance: complex = 0.0,
+    memory_limit: float | None = None,
 ) -> PeriodicSolution:
     """Reflection and transmission of the infinite array of ``mesh`` at one frequency.
 
@@ -431,6 +549,10 @@ def periodic_solve(
         condition E_tan = Z_s J adds Z_s times the Gram matrix to the EFIE. 0 is a
         perfect conductor; a resistive or lossy sheet absorbs
         (:attr:`PeriodicSolution.absorption`).
+    memory_limit : float, optional
+        A cap in bytes (in addition to the memory available now); a cell that would
+        need more raises :class:`~barymesh.mom.ProblemTooLarge` before allocating
+        (:func:`check_periodic_memory`).
 
     Returns
     -------
@@ -444,7 +566,12 @@ def periodic_solve(
     if not isinstance(wave, PlaneWave):
         raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
     return periodic_solve_many(
-        mesh, frequency, [wave], lattice=lattice, sheet_impedance=sheet_impedance
+        mesh,
+        frequency,
+        [wave],
+        lattice=lattice,
+        sheet_impedance=sheet_impedance,
+        memory_limit=memory_limit,
     )[0]
 
 
@@ -455,6 +582,7 @@ def periodic_solve_many(
     *,
     lattice: Any = None,
     sheet_impedance: complex = 0.0,
+    memory_limit: float | None = None,
 ) -> tuple[PeriodicSolution, ...]:
     """:func:`periodic_solve` for several incident waves at one frequency.
 
@@ -476,6 +604,8 @@ def periodic_solve_many(
         Default: the mesh's own.
     sheet_impedance : complex
         Ω per square, as for :func:`periodic_solve`.
+    memory_limit : float, optional
+        Bytes, as for :func:`periodic_solve`.
 
     Returns
     -------
@@ -503,7 +633,8 @@ def periodic_solve_many(
                 else "the incident wave travels along the screen (direction_z = 0)"
             )
     zs = check_sheet_impedance(sheet_impedance)
-    pg = periodic_geometry(mesh, lattice)
+    pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
+    check_periodic_memory(pg.base.n_triangles, pg.n_unknowns, memory_limit, geometry=False)
     k = wavenumber(frequency)
     groups: dict[tuple[float, float], list[int]] = {}
     for i, wave in enumerate(waves):

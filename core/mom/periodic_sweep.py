@@ -469,6 +469,7 @@ def _solve_samples(
     zs: complex,
     orders: np.ndarray,
     n_orders: int,
+    memory_limit: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """R and T (n_orders, 2, K) of the first ``n_orders`` orders for each incident wave."""
     k = len(waves)
@@ -476,7 +477,9 @@ def _solve_samples(
     t = np.zeros((n_orders, 2, k), dtype=np.complex128)
     index = {tuple(o): i for i, o in enumerate(orders[:n_orders].tolist())}
     # the waves share k_t (one direction): one fill and one LU, a right-hand side each
-    solutions = periodic_solve_many(mesh, frequency, waves, lattice=lattice, sheet_impedance=zs)
+    solutions = periodic_solve_many(
+        mesh, frequency, waves, lattice=lattice, sheet_impedance=zs, memory_limit=memory_limit
+    )
     for j, s in enumerate(solutions):
         rows = np.array([index.get(tuple(o), -1) for o in s.orders.tolist()])
         if np.any(rows < 0) or len(rows) != n_orders:
@@ -502,6 +505,7 @@ def periodic_sweep(
     max_samples: int | None = None,
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
+    memory_limit: float | None = None,
 ) -> PeriodicSweep:
     """Reflection and transmission of the infinite array of ``mesh`` over frequency.
 
@@ -541,6 +545,10 @@ def periodic_sweep(
     cancel : callable, optional
         Checked before each frequency; when it returns True the sweep stops with
         :class:`~barymesh.mom.SolveCancelled`.
+    memory_limit : float, optional
+        A cap in bytes (in addition to the memory available now): a cell whose solve
+        would need more raises :class:`~barymesh.mom.ProblemTooLarge` before anything
+        is allocated (:func:`~barymesh.mom.periodic.check_periodic_memory`).
 
     Returns
     -------
@@ -548,6 +556,8 @@ def periodic_sweep(
 
     Raises
     ------
+    ProblemTooLarge
+        The cell would not fit in memory (checked before the first solve).
     ValueError
         Bad frequencies, no lattice, metal across the cell boundary without matching
         periodic edges (from :func:`~barymesh.mom.periodic.periodic_geometry`), a
@@ -567,7 +577,8 @@ def periodic_sweep(
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     vectors = _lattice_vectors(mesh, lattice)
-    periodic_geometry(mesh, lattice)  # every check of the cell (boundary, size) up front
+    # every check of the cell (boundary, size, memory) up front
+    periodic_geometry(mesh, lattice, memory_limit=memory_limit)
     basis = te_tm_polarizations(direction)
     pol = np.asarray(wave.polarization)
     incident_te_tm = basis @ pol
@@ -593,7 +604,7 @@ def periodic_sweep(
         nonlocal done
         if cancel is not None and cancel():
             raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
-        out = _solve_samples(mesh, f, waves, lattice, zs, orders, n_orders)
+        out = _solve_samples(mesh, f, waves, lattice, zs, orders, n_orders, memory_limit)
         done += 1
         if progress is not None:
             progress(done, total)

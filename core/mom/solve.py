@@ -105,20 +105,35 @@ def check_memory(n: int, memory_limit: float | None = None, far_points: int = 0)
         Naming N, the memory needed and the memory allowed.
     """
     need = memory_needed(n, far_points)
-    avail = available_memory()
-    allowed = avail if memory_limit is None else min(avail, float(memory_limit))
+    allowed, source = memory_allowance(memory_limit)
     if need > allowed:
-        source = (
-            f"the memory_limit of {_gb(memory_limit)}"
-            if memory_limit is not None and memory_limit < avail
-            else f"the {_gb(avail)} of memory available"
-        )
         raise ProblemTooLarge(
-            f"N = {n:,} unknowns need {_gb(need)} at the peak of a solve (the dense "
+            f"N = {n:,} unknowns need {format_bytes(need)} at the peak of a solve (the dense "
             f"impedance matrix, its single-precision copies or LU factors: about "
             f"{PEAK_BYTES_PER_N2:g} N² bytes), more than {source}; use a coarser mesh"
         )
     return need
+
+
+def memory_allowance(memory_limit: float | None = None) -> tuple[float, str]:
+    """The bytes a solve may use now, and how to name that bound in an error.
+
+    Parameters
+    ----------
+    memory_limit : float, optional
+        A cap in bytes (in addition to the memory available now).
+
+    Returns
+    -------
+    allowed : float
+        The smaller of the memory available and ``memory_limit``.
+    source : str
+        "the memory_limit of 2.00 GiB" or "the 20.1 GiB of memory available".
+    """
+    avail = available_memory()
+    if memory_limit is not None and memory_limit < avail:
+        return float(memory_limit), f"the memory_limit of {format_bytes(memory_limit)}"
+    return float(avail), f"the {format_bytes(avail)} of memory available"
 
 
 def _far_points(mesh: TriMesh, far_order: int) -> int:
@@ -129,7 +144,8 @@ def _far_points(mesh: TriMesh, far_order: int) -> int:
         return 0
 
 
-def _gb(b: float) -> str:
+def format_bytes(b: float) -> str:
+    """Bytes as GiB (from a quarter GiB) or MiB, for error messages: "9.47 GiB"."""
     return f"{b / 2**30:.2f} GiB" if b >= 2**28 else f"{b / 2**20:.1f} MiB"
 
 

@@ -220,15 +220,14 @@ def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None):
     """The (0, 0) order over frequency (:func:`barymesh.mom.periodic_sweep`); the response
     the figures are derived from is the reflected power |R_co|²."""
     from ..mom import periodic_sweep
-    from ..mom.solve import check_memory
 
-    check_memory(len(mesh.rwg), limit)
     r = periodic_sweep(
         mesh,
         np.asarray(solve.frequencies),
         wave,
         interpolate=solve.interpolate,
         polarizations="incident",
+        memory_limit=limit,
     )
     refl, trans = r.reflection, r.transmission  # (F, 2): TE, TM
     r_co, t_co = r.co_polar()
