@@ -53,7 +53,8 @@ if TYPE_CHECKING:
 #: the nearest image's centroid) have G expanded like G_reg; closer ones take the far rule.
 IMAGE_TAYLOR_FACTOR = 4.0
 #: Floquet orders with |γ_pq| under this times the smallest reciprocal vector are taken
-#: out of G_reg and integrated exactly (:func:`slow_orders`).
+#: out of G_reg and integrated exactly (:func:`slow_orders`); from there to twice it, a
+#: fraction going smoothly to 0, so that the matrix is smooth in frequency.
 SLOW_ORDERS = 0.5
 #: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
 #: frequency); more at high frequency: 8 + k |a| (the matrix moves by 4e-6 or less).
@@ -303,18 +304,27 @@ def _chebyshev_maps(n: int, extent: float, step: float) -> tuple[np.ndarray, np.
 
 
 def slow_orders(green: PeriodicGreen, lattice: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The Floquet orders taken out of G_reg: (S, 2) κ_pq (rad/m) and (S,) c = 2π/(A γ_pq).
+    """The Floquet orders taken out of G_reg: (S, 2) κ_pq (rad/m) and (S,) c = w 2π/(A γ_pq).
 
     An order near its onset (γ_pq → 0) adds c e^(−jκ_pq·ρ) to G_p with c ~ 1/γ large:
     smooth, but with derivatives too large for the Taylor expansion. Every order with
-    |γ_pq| under :data:`SLOW_ORDERS` times the smallest reciprocal vector (every
+    |γ_pq| under L = :data:`SLOW_ORDERS` times the smallest reciprocal vector (every
     propagating one, and the evanescent ones that nearly propagate) is integrated
     exactly instead, as a rank-3 term of Z (:func:`slow_order_terms`).
+
+    Between L and 2L only the fraction w of the order is taken out, w falling from 1
+    to 0 as a quintic smoothstep in |γ_pq|: the split is exact for any w (what is taken
+    out of G_reg is added back), so w changes only which part carries the Taylor error,
+    and the matrix stays smooth in frequency. A hard switch at L made |R| jump by up to
+    1e-3 where an order crossed it, which rational fits of a sweep cannot follow.
     """
     b1, b2 = reciprocal_vectors(lattice[0], lattice[1])
     limit = SLOW_ORDERS * min(np.linalg.norm(b1), np.linalg.norm(b2))
-    keep = np.abs(green.gamma) < limit
-    return green.kappa[keep], 2.0 * np.pi / (green.area * green.gamma[keep])
+    size = np.abs(green.gamma)
+    keep = size < 2.0 * limit
+    s = np.clip((2.0 * limit - size[keep]) / limit, 0.0, 1.0) if limit > 0 else size[keep]
+    weight = s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
+    return green.kappa[keep], weight * 2.0 * np.pi / (green.area * green.gamma[keep])
 
 
 def slow_order_terms(
