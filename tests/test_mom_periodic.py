@@ -157,8 +157,9 @@ def test_power_balance_just_above_an_onset():
 def test_the_solution_is_continuous_where_an_order_starts_being_taken_out(side):
     # At normal incidence the order (p, q) has |γ| = b sqrt|p² + q² − (k/b)²|: it equals
     # the limit L = b/2 at k/b = sqrt(0.75), sqrt(1.25) ((1, 0), evanescent, propagating)
-    # and sqrt(1.75) ((1, 1)), and 2L at sqrt(3) ((2, 0) and (1, 1)). A hard switch at L made R jump by 1e-4-1e-3
-    # there (a rational fit of a sweep then needs a sample at every grid point nearby);
+    # and sqrt(1.75) ((1, 1)), and 2L at sqrt(3) ((2, 0) and (1, 1)). A hard switch at L
+    # made R jump by 1e-5-1e-4 there (a sweep's rational fit then needs a sample at every
+    # grid point nearby);
     # the blend from L to 2L keeps R continuous: steps of 1e-7 relative change it by
     # about 1e-7 (|dR/df| f ~ 1)
     mesh = patch_cell()
