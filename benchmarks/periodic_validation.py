@@ -202,6 +202,7 @@ def plot(result: dict[str, Any], path: Path) -> None:
     left.set_xlabel("P/λ")
     left.set_ylabel("error in |Γ∥| (E along the strips)")
     left.set_title("Collin's strip grating", fontsize=10)
+    left.set_ylim(1e-7, 0.1)  # room for the legend below the curves
     left.legend(fontsize=7, loc="lower right")
     iso = result["isolated"]
     x = [row["period_over_ring"] for row in iso["arrays"]]
