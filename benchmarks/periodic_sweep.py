@@ -71,8 +71,9 @@ def measure(pixels: int, frequencies: np.ndarray, point_by_point: bool) -> dict[
         "interpolating_s_per_solve": interpolating / fitted.n_solves,
         "largest_error_estimate": float(fitted.error_estimate.max()),
         "resonances_hz": [float(f) for f in fitted.resonances],
+        "curve_s": geometry + interpolating,  # what a user waits for: geometry and sweep
         "target_s": TARGET_S,
-        "target_met": interpolating <= TARGET_S,
+        "target_met": geometry + interpolating <= TARGET_S,
     }
     if point_by_point:
         t = time.perf_counter()
@@ -111,9 +112,9 @@ def main(argv: list[str] | None = None) -> int:
     }
     line = (
         f"{row['frequencies']} frequencies, {row['triangles']} triangles, {row['unknowns']} "
-        f"unknowns: interpolating sweep {row['interpolating_s']:.1f} s "
-        f"({row['interpolating_solves']} solves, {row['interpolating_s_per_solve']:.2f} s "
-        f"each; target {TARGET_S:g} s)"
+        f"unknowns: geometry {row['geometry_s']:.1f} s + interpolating sweep "
+        f"{row['interpolating_s']:.1f} s ({row['interpolating_solves']} solves, "
+        f"{row['interpolating_s_per_solve']:.2f} s each; target {TARGET_S:g} s for both)"
     )
     if "point_by_point_s" in row:
         line += (

@@ -207,9 +207,10 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     assert performance.count("<table") == 4  # mesher, quality, solver, window
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
-    # speed and live infinite-array tables made at build time
-    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 5
+    # speed, infinite-array sweep and live infinite-array tables made at build time
+    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 6
     assert "periodic-2026-12-02.json" in solving
+    assert "periodic-sweep-2026-12-02.json" in solving
     assert "array-live-2026-12-02.json" in solving
     # the method page's figures drawn from build_mesh at build time
     for figure in ("subdivision.png", "rings.png"):

@@ -282,6 +282,33 @@ def test_bad_input_says_why_and_keeps_the_last_good_curve(window, qtbot):
     save_shot(tab, "infinite_array_refused")
 
 
+def test_a_cell_too_large_for_memory_is_refused_in_a_line_and_the_curve_stays(
+    window, qtbot, monkeypatch
+):
+    # as if the machine had 150 MiB free: the cell's array would need more (its fixed
+    # part alone is 160 MiB), so the worker refuses it before the solver process builds
+    # anything, the message names the sizes, the last good curve and its mesh stay
+    import importlib
+
+    solve_module = importlib.import_module("barymesh.mom.solve")  # not the function
+    tab = open_array_tab(window, qtbot)
+    type_band(qtbot, tab, "10", "20", 2)
+    good = run_and_wait(qtbot, tab)
+    line = tab.plot.figure.axes[0].lines[0].get_ydata().copy()
+    monkeypatch.setattr(solve_module, "available_memory", lambda: 150 * 2**20)
+    qtbot.mouseClick(tab.run_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: tab.error.text() != "", timeout=60_000)
+    message = tab.error.text()
+    mesh = window.model.result.mesh
+    assert message.startswith("The array sweep failed: the infinite array of T = "), message
+    assert f"T = {mesh.n_triangles:,} triangles" in message
+    assert "150.0 MiB of memory available; use a coarser mesh" in message
+    assert "Traceback" not in message and "\n" not in message
+    assert tab.result is good
+    np.testing.assert_allclose(tab.plot.figure.axes[0].lines[0].get_ydata(), line)
+    save_shot(tab, "infinite_array_too_large")
+
+
 @pytest.mark.skipif(not os.environ.get("BARYMESH_SLOW"), reason="about 30 solves; BARYMESH_SLOW=1")
 def test_a_long_band_is_swept_by_periodic_sweep_interpolating():
     """The tab's adapter on a long band is periodic_sweep's interpolating sweep: the

@@ -281,3 +281,28 @@ def test_the_orders_csv_holds_every_propagating_order(l_cell_sweep, tmp_path):
     r = complex(float(first["R_re"]), float(first["R_im"]))
     assert abs(r - sweep.reflection[0, 0]) < 1e-12
     assert float(first["R_abs"]) == pytest.approx(abs(r))
+
+
+def test_the_sweep_benchmark_runs_both_sweeps_and_they_agree(tmp_path):
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "periodic_sweep.py"
+    out = tmp_path / "periodic-sweep.json"
+    proc = subprocess.run(
+        [sys.executable, str(script), "--quick", "--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr
+    (row,) = json.loads(out.read_text())["rows"]
+    assert row["frequencies"] == 41 and row["point_by_point_solves"] == 41
+    assert 5 <= row["interpolating_solves"] < 41  # fewer solves than frequencies
+    # the interpolated curve against every point-by-point solve (no onset in 2-28 GHz)
+    assert row["largest_abs_r_difference"] < 1e-3
+    assert row["largest_abs_t_difference"] < 1e-3
+    assert row["largest_phase_r_difference_deg"] < 1.0
+    assert row["curve_s"] == pytest.approx(row["geometry_s"] + row["interpolating_s"])

@@ -302,6 +302,19 @@ def _sweep(
     )
 
 
+def check_array_memory(mesh: TriMesh) -> None:
+    """Raise ``barymesh.mom.ProblemTooLarge`` when the array of ``mesh`` would not fit in
+    memory (:func:`barymesh.mom.check_periodic_memory`), from its triangles and unknowns
+    (the interior edges and the pairs across the cell's sides): in the worker thread, in
+    a second, rather than after the solver process has built the cell's geometry."""
+    from barymesh.cell.periodic import periodic_pairs
+    from barymesh.mom import check_periodic_memory
+
+    pairs = periodic_pairs(mesh, mesh.lattice, mesh.tolerance)
+    crossing = len(pairs.edges) if pairs.matched else 0
+    check_periodic_memory(mesh.n_triangles, len(mesh.rwg) + crossing)
+
+
 def sweep_array(
     mesh: TriMesh,
     inputs: ArrayInputs,
@@ -317,6 +330,7 @@ def sweep_array(
     solve), or ValueError naming what is wrong with the cell.
     """
     lattice_vectors(mesh)  # no lattice: say so here, before a process is started
+    check_array_memory(mesh)  # too large: say so here, before the process builds tables
     if not in_process:
         return _sweep(mesh, inputs, progress, cancel)
     executor, shared = solver_process()

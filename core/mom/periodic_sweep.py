@@ -11,13 +11,14 @@ square-root branch point. So the band is cut at every onset, each piece is fitte
 own, and each piece has a sample just above or just below the onset
 (:data:`ONSET_OFFSET`, relative).
 
-In each piece, the coefficients of the (0, 0) order are fitted three times: on all
-samples, on the even-numbered ones and on the odd-numbered ones (sorted by frequency,
-both with the piece's two ends). The estimated error at a requested frequency is the
-larger difference between the fit on all samples and either half's fit; the next sample
-goes where that estimate is largest over the whole band, until it is below
-``tolerance`` everywhere. The half fits use half the samples, so the estimate is
-pessimistic for the fit on all of them, which is the one reported.
+In each piece, the reflection coefficients of the (0, 0) order (its T is δ + R on a
+zero-thickness screen) are fitted three times: on all samples, on the even-numbered ones
+and on the odd-numbered ones (sorted by frequency, both with the piece's two ends). The
+estimated error at a requested frequency is the larger difference between the fit on
+all samples and either half's fit; the next sample goes where that estimate is largest
+over the whole band, until it is below ``tolerance`` everywhere. The half fits use half
+the samples, so the estimate is pessimistic for the fit on all of them, which is the one
+reported.
 """
 
 from __future__ import annotations
@@ -433,9 +434,13 @@ class _Piece:
 
 
 def _headline(piece: _Piece, k: int) -> np.ndarray:
-    """Columns of the (0, 0) order's R and T among a piece's flattened values."""
-    n = piece.n_orders * 2 * k
-    return np.concatenate([np.arange(2 * k), n + np.arange(2 * k)])
+    """Columns of the (0, 0) order's R among a piece's flattened values (TE, TM per wave).
+
+    Its T needs no fit of its own: E_tan is continuous across a zero-thickness screen
+    (perfect or a sheet impedance), so T_00 = δ + R_00 component by component, to
+    rounding, and a fit of R is as good for T.
+    """
+    return np.arange(2 * k)
 
 
 def _refit(piece: _Piece, frequencies: np.ndarray, k: int) -> None:
@@ -589,6 +594,7 @@ def periodic_sweep(
         fields = np.real_if_close(pol)[None, :]
         waves = [wave]
     kk = len(waves)
+    incident_components = (basis @ fields.T).ravel()  # (2, K): TE/TM of each wave, as R[0]
     orders, onsets = _order_onsets(vectors, direction, float(freqs[-1]))
     inside = _merged(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
     nf = len(freqs)
@@ -680,11 +686,15 @@ def periodic_sweep(
         sampled += list(x)
         n = piece.n_orders * 2 * kk
         grid_f = freqs[piece.grid]
+        # R alone is fitted: E_tan is continuous across the screen, so every order's T is
+        # its R, plus the incident wave's TE/TM components for (0, 0) (the solver's too)
         if len(x) >= 2:
-            fits = _fit(piece.scale(x), v)
-            values = _evaluate(fits, piece.scale(grid_f))
+            fitted_r = _evaluate(_fit(piece.scale(x), v[:, :n]), piece.scale(grid_f))
         else:
-            values = np.repeat(v, len(grid_f), axis=0)
+            fitted_r = np.repeat(v[:, :n], len(grid_f), axis=0)
+        fitted_t = fitted_r.copy()
+        fitted_t[:, : 2 * kk] += incident_components
+        values = np.concatenate([fitted_r, fitted_t], axis=1)
         for j, f in enumerate(grid_f):  # exact values where solved
             if float(f) in piece.samples:
                 r, t = piece.samples[float(f)]
@@ -694,7 +704,7 @@ def periodic_sweep(
         trans[piece.grid, : piece.n_orders] = values[:, n:].reshape(shape)
         error[piece.grid] = piece.error
         co = _co_series(v[:, : 2 * kk].reshape(-1, 2, kk), incident_te_tm, kk)
-        co_fits.append((piece, AAA(piece.scale(x), co) if len(x) >= 3 else None))
+        co_fits.append((piece, _fit(piece.scale(x), co[:, None])[0] if len(x) >= 3 else None))
     result = PeriodicSweep(
         frequencies=freqs,
         incidence=wave,
