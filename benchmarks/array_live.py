@@ -55,9 +55,21 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+
+from window_tools import (
+    Heartbeat,
+    children_rss,
+    click,
+    click_check_box,
+    mouse,
+    rss,
+    slider_rects,
+    slider_x,
+    type_into,
+    wait_until,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -69,153 +81,6 @@ SLIDER = "inner_radius"
 VALUES = (3.4, 2.8, 3.3, 2.9, 3.5, 3.0, 3.2, 2.7)
 TARGET_CURVE_S = 1.5
 TARGET_BLOCK_S = 0.1
-
-
-# -- small helpers (as in benchmarks/latency.py) -----------------------------------------
-
-
-def wait_until(condition: Callable[[], bool], timeout: float) -> bool:
-    """Run the event loop until ``condition()`` (polled every ms) or ``timeout`` (s)."""
-    from PySide6.QtCore import QEventLoop, QTimer
-
-    if condition():
-        return True
-    loop = QEventLoop()
-    deadline = time.perf_counter() + timeout
-    poll = QTimer()
-    poll.setInterval(1)
-
-    def check() -> None:
-        if condition() or time.perf_counter() > deadline:
-            poll.stop()
-            loop.quit()
-
-    poll.timeout.connect(check)
-    poll.start()
-    loop.exec()
-    return condition()
-
-
-def rss(pid: int | str = "self") -> int:
-    """Resident set size of process ``pid`` (bytes; Linux; 0 elsewhere)."""
-    try:
-        with open(f"/proc/{pid}/statm") as f:
-            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-    except OSError:  # pragma: no cover - not Linux, or the process is gone
-        return 0
-
-
-def solver_rss() -> int:
-    """RSS of the solver process (the window's only child process), 0 if none."""
-    import multiprocessing
-
-    return sum(rss(p.pid) for p in multiprocessing.active_children())
-
-
-class Heartbeat:
-    """A 10 ms timer; the gaps between its beats are the event loop's blocks (s), wall
-    time and the GUI thread's CPU time (``time.thread_time``) in each."""
-
-    def __init__(self) -> None:
-        from PySide6.QtCore import QTimer
-
-        self.reset()
-        self.timer = QTimer()
-        self.timer.setInterval(10)
-        self.timer.timeout.connect(self._beat)
-        self.timer.start()
-
-    def _beat(self) -> None:
-        now, cpu = time.perf_counter(), time.thread_time()
-        self.gaps.append(now - self.last)
-        self.cpu_gaps.append(cpu - self.last_cpu)
-        self.ends.append(now)
-        self.last, self.last_cpu = now, cpu
-
-    def reset(self) -> None:
-        self.gaps: list[float] = []
-        self.cpu_gaps: list[float] = []
-        self.ends: list[float] = []
-        self.last, self.last_cpu = time.perf_counter(), time.thread_time()
-
-    def longest(self) -> tuple[float, float, float]:
-        """(wall, GUI-thread CPU) seconds of the longest gap since the last reset, and the
-        ``time.perf_counter()`` its end came at."""
-        if not self.gaps:
-            return 0.0, 0.0, self.last
-        i = max(range(len(self.gaps)), key=self.gaps.__getitem__)
-        return self.gaps[i], self.cpu_gaps[i], self.ends[i]
-
-
-def type_into(field: Any, text: str) -> None:
-    """Select all in ``field``, type ``text`` and press Enter, as a user does."""
-    from PySide6.QtCore import Qt
-    from PySide6.QtTest import QTest
-
-    QTest.keyClick(field, Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
-    QTest.keyClick(field, Qt.Key.Key_Backspace)
-    QTest.keyClicks(field, text)
-    QTest.keyClick(field, Qt.Key.Key_Return)
-
-
-def click(widget: Any, pos: Any = None) -> None:
-    from PySide6.QtCore import Qt
-    from PySide6.QtTest import QTest
-
-    if pos is None:
-        QTest.mouseClick(widget, Qt.MouseButton.LeftButton)
-    else:
-        QTest.mouseClick(widget, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, pos)
-
-
-def click_check_box(box: Any) -> None:
-    """A click on a check box's indicator."""
-    from PySide6.QtWidgets import QStyle, QStyleOptionButton
-
-    opt = QStyleOptionButton()
-    box.initStyleOption(opt)
-    rect = box.style().subElementRect(QStyle.SubElement.SE_CheckBoxIndicator, opt, box)
-    click(box, rect.center())
-
-
-def _handle(slider: Any) -> tuple[Any, Any]:
-    from PySide6.QtWidgets import QStyle, QStyleOptionSlider
-
-    opt = QStyleOptionSlider()
-    slider.initStyleOption(opt)
-    style = slider.style()
-    cc, sc = QStyle.ComplexControl.CC_Slider, QStyle.SubControl
-    return (
-        style.subControlRect(cc, opt, sc.SC_SliderHandle, slider),
-        style.subControlRect(cc, opt, sc.SC_SliderGroove, slider),
-    )
-
-
-def slider_x(slider: Any, position: int) -> int:
-    """The x pixel of the handle's centre when ``slider`` is at ``position``."""
-    from PySide6.QtWidgets import QStyle
-
-    handle, groove = _handle(slider)
-    span = groove.width() - handle.width()
-    offset = QStyle.sliderPositionFromValue(slider.minimum(), slider.maximum(), position, span)
-    return groove.x() + handle.width() // 2 + offset
-
-
-def mouse(slider: Any, kind: Any, x: int, y: int, button: Any, buttons: Any) -> None:
-    from PySide6.QtCore import QPoint, QPointF, Qt
-    from PySide6.QtGui import QMouseEvent
-    from PySide6.QtWidgets import QApplication
-
-    point = QPointF(QPoint(x, y))
-    event = QMouseEvent(
-        kind,
-        point,
-        QPointF(slider.mapToGlobal(point)),
-        button,
-        buttons,
-        Qt.KeyboardModifier.NoModifier,
-    )
-    QApplication.sendEvent(slider, event)
 
 
 # -- the measurement ---------------------------------------------------------------------
@@ -332,7 +197,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
     row = window.controls.rows[SLIDER]
     slider = row.slider
     beat = Heartbeat()
-    rss_before, child_before = rss(), solver_rss()
+    rss_before, child_before = rss(), children_rss()
     profiler = None
     if profile is not None:
         import cProfile
@@ -344,7 +209,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
         value = VALUES[i % len(VALUES)]
         old_mesh = window.model.result.mesh
         x_end = slider_x(slider, row.slider_spec.to_slider(value))
-        handle, _groove = _handle(slider)
+        handle, _groove = slider_rects(slider)
         x0, y = handle.center().x(), handle.center().y()
         if x_end == x0:
             raise RuntimeError(f"{SLIDER} = {value}: the handle is there already")
@@ -361,7 +226,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
         meshes.clear()
         mouse(slider, QEvent.Type.MouseButtonRelease, x_end, y, left, none)
         released = time.perf_counter()
-        during_drag = beat.longest()
+        during_drag = beat.longest_block()
         beat.reset()
         ok = wait_until(lambda: _curve_shown(window, swept, painted), 120)
         if not ok:
@@ -375,7 +240,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
         # the heartbeat's next beat closes the gap that holds the paint
         n_beats = len(beat.gaps)
         wait_until(lambda n=n_beats: len(beat.gaps) > n, 1.0)
-        after_release = beat.longest()
+        after_release = beat.longest_block()
         mesh = window.model.result.mesh
         result = tab.result
         element = window.model.cell.elements[0].params
@@ -428,7 +293,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
         "window_rss_before": rss_before,
         "window_rss_after": rss(),
         "solver_rss_before": child_before,
-        "solver_rss_after": solver_rss(),
+        "solver_rss_after": children_rss(),
     }
     window.close()
     wait_until(lambda: False, 0.3)

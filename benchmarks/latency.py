@@ -59,6 +59,8 @@ import weakref
 from collections.abc import Callable
 from pathlib import Path
 
+from window_tools import Heartbeat, rss, wait_until
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
@@ -87,84 +89,6 @@ def _percentile(values: list[float], q: float) -> float:
     return ordered[lo] + (ordered[hi] - ordered[lo]) * (k - lo)
 
 
-def _wait_until(app_, condition: Callable[[], bool], timeout: float) -> bool:
-    """Run the event loop until ``condition()`` (polled every ms) or ``timeout`` (s).
-
-    An event loop rather than a ``processEvents()`` busy loop: PySide6 6.12 under
-    CPython 3.11 loses a reference to None with every call of a void method, and a busy
-    loop makes millions of them.
-    """
-    from PySide6.QtCore import QEventLoop, QTimer
-
-    if condition():
-        return True
-    loop = QEventLoop()
-    deadline = time.perf_counter() + timeout
-    poll = QTimer()
-    poll.setInterval(1)
-
-    def check() -> None:
-        if condition() or time.perf_counter() > deadline:
-            poll.stop()
-            loop.quit()
-
-    poll.timeout.connect(check)
-    poll.start()
-    loop.exec()
-    return condition()
-
-
-def _rss() -> int:
-    """Resident set size of this process (bytes; Linux)."""
-    try:
-        with open("/proc/self/statm") as f:
-            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
-    except OSError:  # pragma: no cover - not Linux
-        return 0
-
-
-class _Heartbeat:
-    """A 10 ms timer; ``gaps`` are the times between beats (s): the event loop's blocks.
-
-    ``thread_gaps`` are the GUI thread's CPU seconds in each gap (``time.thread_time``):
-    on a loaded machine a block's wall time grows with the other processes' share of the
-    cores, its CPU time does not (what llvmpipe's own threads render is not in it).
-    """
-
-    def __init__(self) -> None:
-        from PySide6.QtCore import QTimer
-
-        self.gaps: list[float] = []
-        self.thread_gaps: list[float] = []
-        self.last = time.perf_counter()
-        self.last_cpu = time.thread_time()
-        self.timer = QTimer()
-        self.timer.setInterval(10)
-        self.timer.timeout.connect(self._beat)
-        self.timer.start()
-
-    def _beat(self) -> None:
-        now, cpu = time.perf_counter(), time.thread_time()
-        self.gaps.append(now - self.last)
-        self.thread_gaps.append(cpu - self.last_cpu)
-        self.last, self.last_cpu = now, cpu
-
-    def reset(self) -> None:
-        self.gaps = []
-        self.thread_gaps = []
-        self.last = time.perf_counter()
-        self.last_cpu = time.thread_time()
-
-    @property
-    def longest(self) -> float:
-        return max(self.gaps, default=0.0)
-
-    @property
-    def longest_cpu(self) -> float:
-        """The GUI thread's CPU seconds in its busiest gap."""
-        return max(self.thread_gaps, default=0.0)
-
-
 def _stats(values: list[float]) -> dict:
     return {
         "median": statistics.median(values),
@@ -175,7 +99,7 @@ def _stats(values: list[float]) -> dict:
     }
 
 
-def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dict:
+def _show(app_, window, params, beat: Heartbeat, timeout: float = 120.0) -> dict:
     """Set ``params`` as a preset would and time until the view has painted the mesh."""
     old = weakref.ref(window.model.result)  # not a reference: the old mesh must be freed
     paints = window.paint_counter.paints
@@ -184,8 +108,7 @@ def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dic
     window.model.set_params(params)
     # shown: a new result and a paint since (the paint may come inside the result's
     # handling, when a panel relayout resizes the view: it then is the only one)
-    ok = _wait_until(
-        app_,
+    ok = wait_until(
         lambda: (
             window.model.result is not old()
             and window.model.result.params == params
@@ -200,7 +123,7 @@ def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dic
             f"{c.busy}, pending {c._pending is not None}, stale {len(c._stale)})"
         )
     seconds = window.paint_counter.last - start
-    _wait_until(app_, lambda: False, 0.8)  # a late second paint would show here
+    wait_until(lambda: False, 0.8)  # a late second paint would show here
     result = window.model.result
     return {
         "triangles": result.mesh.n_triangles,
@@ -212,7 +135,7 @@ def _show(app_, window, params, beat: _Heartbeat, timeout: float = 120.0) -> dic
     }
 
 
-def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
+def _rotate(app_, window, beat: Heartbeat, frames: int = 12) -> dict:
     """Turn the camera ``frames`` times by 3 degrees and render each (the render window's
     own ``Render``, what a rotating mouse drag costs per frame); frames per second."""
     camera = window.plotter.camera
@@ -223,9 +146,9 @@ def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
         start = time.perf_counter()
         window.plotter.ren_win.Render()
         times.append(time.perf_counter() - start)
-        _wait_until(app_, lambda: False, 0.02)
+        wait_until(lambda: False, 0.02)
     window.top_view()
-    _wait_until(app_, lambda: False, 0.3)
+    wait_until(lambda: False, 0.3)
     return {
         "frame": _stats(times),
         "fps": 1.0 / statistics.median(times),
@@ -233,7 +156,7 @@ def _rotate(app_, window, beat: _Heartbeat, frames: int = 12) -> dict:
     }
 
 
-def _quality_panel(app_, window, beat: _Heartbeat, timeout: float = 60.0) -> dict:
+def _quality_panel(app_, window, beat: Heartbeat, timeout: float = 60.0) -> dict:
     """Raise the Quality dock over the mesh on screen: until its report is shown, and the
     event loop's longest block meanwhile (the report is measured when the tab is seen)."""
     panel = window.quality_panel
@@ -242,23 +165,22 @@ def _quality_panel(app_, window, beat: _Heartbeat, timeout: float = 60.0) -> dic
     start = time.perf_counter()
     window.quality_dock.show()
     window.quality_dock.raise_()
-    ok = _wait_until(
-        app_,
+    ok = wait_until(
         lambda: panel.report is not None and panel.up_to_date and panel.report["triangles"] == n,
         timeout,
     )
     seconds = time.perf_counter() - start
-    _wait_until(app_, lambda: False, 0.3)
+    wait_until(lambda: False, 0.3)
     longest = beat.longest
     window.statistics_dock.raise_()
-    _wait_until(app_, lambda: False, 0.3)
+    wait_until(lambda: False, 0.3)
     if not ok:
         raise RuntimeError(f"no quality report {timeout:.0f} s after raising the Quality dock")
     return {"triangles": n, "seconds": seconds, "longest_block": longest}
 
 
 def _drag(
-    app_, window, name: str, seconds: float, beat: _Heartbeat, span_px: int | None = None
+    app_, window, name: str, seconds: float, beat: Heartbeat, span_px: int | None = None
 ) -> dict:
     """A real mouse drag of ``name``'s slider handle: press, moves, release (QTest);
     back and forth over ``span_px`` pixels (default: 3.5 value units; negative: to the
@@ -295,7 +217,7 @@ def _drag(
         phase = step % (2 * span)
         dx = phase if phase <= span else 2 * span - phase
         QTest.mouseMove(slider, QPoint(start.x() + sign * dx, start.y()))
-        _wait_until(app_, lambda: False, 0.008)
+        wait_until(lambda: False, 0.008)
     QTest.mouseRelease(
         slider,
         Qt.MouseButton.LeftButton,
@@ -304,7 +226,7 @@ def _drag(
     )
     elapsed = time.perf_counter() - t0
     window.controller.flush()
-    _wait_until(app_, lambda: not window.controller.busy, 30)
+    wait_until(lambda: not window.controller.busy, 30)
     window.model.result_changed.disconnect(note)
     return {
         "seconds": elapsed,
@@ -324,10 +246,10 @@ def measure_big(app_, window, repeats: int) -> dict:
     """Dense meshes: shown time, paints, blocks, rotation, memory per triangle."""
     from barymesh import MeshParams
 
-    beat = _Heartbeat()
+    beat = Heartbeat()
     fig12a = MeshParams()
     out: dict = {}
-    idle = _rss()
+    idle = rss()
     cases = {
         "1M": MeshParams(subdivisions=27),  # Fig. 12(a) at n = 27: 1,049,760 triangles
         # the paper double ring at n = 4 with a 0.02304 degree step: 1,000,000 triangles
@@ -345,13 +267,13 @@ def measure_big(app_, window, repeats: int) -> dict:
         runs, back = [], []
         for _ in range(repeats):
             runs.append(_show(app_, window, params, beat))
-            rss_big = _rss()
+            rss_big = rss()
             if key == "1M" and "rotation" not in out:
                 out["rotation"] = _rotate(app_, window, beat)
                 out["quality_panel"] = _quality_panel(app_, window, beat)
             back.append(_show(app_, window, fig12a, beat))
             runs[-1]["rss_above_idle"] = rss_big - idle
-            back[-1]["rss_after_return"] = _rss()
+            back[-1]["rss_after_return"] = rss()
         shown = [r["shown"] for r in runs]
         out[key] = {
             "params": params.to_dict(),
@@ -394,10 +316,10 @@ def measure(
     window = MainWindow(params, settings=settings, scripted=True)
     window.resize(*WINDOW_SIZE)
     window.show()
-    _wait_until(app_, lambda: window.plotter.isVisible(), 30)
+    wait_until(lambda: window.plotter.isVisible(), 30)
     window.controller.flush()
-    _wait_until(app_, lambda: window.model.result is not None, 30)
-    _wait_until(app_, lambda: False, 1.0)
+    wait_until(lambda: window.model.result is not None, 30)
+    wait_until(lambda: False, 1.0)
 
     record: dict[str, float] = {}
     barymesh.app.worker.scene_data = _timed(record, "scene_data", barymesh.app.worker.scene_data)
@@ -423,7 +345,7 @@ def measure(
         size = tuple(window.plotter.ren_win.GetSize())
         renderer = _renderer(window)
         window.close()
-        _wait_until(app_, lambda: False, 0.2)
+        wait_until(lambda: False, 0.2)
         shutil.rmtree(settings_dir, ignore_errors=True)
         return {
             "frames": 0,
@@ -441,8 +363,8 @@ def measure(
     painted.clear()
     row.slider.setValue(positions[1])  # so that the first timed move changes the value
     target[0] = window.model.params
-    _wait_until(app_, frame_done, 30)
-    beat = _Heartbeat()
+    wait_until(frame_done, 30)
+    beat = Heartbeat()
     samples: dict[str, list[float]] = {part: [] for part in PARTS}
     triangles = set()
     paints_per_mesh = []
@@ -454,10 +376,10 @@ def measure(
         row.slider.setValue(positions[i % 2])
         target[0] = window.model.params
         # a frame is finished when the new mesh is in the datasets and the view has painted
-        if not _wait_until(app_, frame_done, 30):
+        if not wait_until(frame_done, 30):
             raise RuntimeError(f"no frame within 30 s after setting {name}")
         total = painted[-1] - start
-        _wait_until(app_, lambda: False, 0.05)
+        wait_until(lambda: False, 0.05)
         paints_per_mesh.append(len(painted))
         result = window.model.result
         triangles.add(result.mesh.n_triangles)
@@ -475,7 +397,7 @@ def measure(
     size = tuple(window.plotter.ren_win.GetSize())
     renderer = _renderer(window)
     window.close()
-    _wait_until(app_, lambda: False, 0.2)
+    wait_until(lambda: False, 0.2)
     shutil.rmtree(settings_dir, ignore_errors=True)
     return {
         "slider": name,
@@ -530,7 +452,7 @@ def _focus(app_, window) -> None:
     """The main window active and its 3D view focused, where a user's key goes."""
     window.activateWindow()
     window.raise_()
-    _wait_until(app_, lambda: app_.activeWindow() is window, 2.0)
+    wait_until(lambda: app_.activeWindow() is window, 2.0)
     window.plotter.setFocus()
 
 
@@ -543,7 +465,7 @@ def _click(widget) -> None:
 
 def _block_of(
     app_,
-    beat: _Heartbeat,
+    beat: Heartbeat,
     action: Callable[[], None],
     done: Callable[[], bool],
     settle: float = 0.5,
@@ -551,13 +473,13 @@ def _block_of(
 ) -> dict:
     """Run ``action`` (a user's key or click), wait until ``done()`` and ``settle`` s more;
     the seconds until done and the longest event-loop block meanwhile."""
-    _wait_until(app_, lambda: False, 0.2)
+    wait_until(lambda: False, 0.2)
     beat.reset()
     start = time.perf_counter()
     action()
-    ok = _wait_until(app_, done, timeout)
+    ok = wait_until(done, timeout)
     seconds = time.perf_counter() - start
-    _wait_until(app_, lambda: False, settle)
+    wait_until(lambda: False, settle)
     if not ok:
         raise RuntimeError(f"not done {timeout:.0f} s after the action")
     return {"seconds": seconds, "longest_block": beat.longest, "longest_cpu": beat.longest_cpu}
@@ -593,12 +515,12 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     window = MainWindow(fig10, settings=settings, scripted=True)
     window.resize(*WINDOW_SIZE)
     window.show()
-    _wait_until(app_, lambda: window.plotter.isVisible(), 30)
+    wait_until(lambda: window.plotter.isVisible(), 30)
     window.activateWindow()
     window.controller.flush()
-    _wait_until(app_, lambda: window.model.result is not None, 30)
-    _wait_until(app_, lambda: False, 1.0)
-    beat = _Heartbeat()
+    wait_until(lambda: window.model.result is not None, 30)
+    wait_until(lambda: False, 1.0)
+    beat = Heartbeat()
     prof = _Profiles(profile)
     out: dict[str, dict] = {}
 
@@ -629,7 +551,7 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
             runs[-1]["full_draws"] = view.full_draws - draws
             _focus(app_, window)
             _key(app_, window.plotter, Qt.Key.Key_M)  # closed again
-            _wait_until(app_, lambda: not window.teaching.matrix_active, 5)
+            wait_until(lambda: not window.teaching.matrix_active, 5)
         out[case] = _summary(runs) | {"triangles": window.model.result.mesh.n_triangles}
 
     matrix_open("matrix_open_fig10", fig10, fig12a)
@@ -658,12 +580,12 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
         runs[-1]["triangles_last_step"] = len(view.steps[-1].triangles)
         if i < repeats - 1:
             view.close()
-            _wait_until(app_, lambda: False, 0.5)
+            wait_until(lambda: False, 0.5)
     out["construction_open"] = _summary(runs)
     view = tw.construction
     runs = []
     view.set_step(0)
-    _wait_until(app_, lambda: False, 0.3)
+    wait_until(lambda: False, 0.3)
     prof.start()
     for _ in range(min(len(view.steps) - 1, 4 * repeats)):
         index = view.index
@@ -700,7 +622,7 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     prof.stop("construction_n_change")
     out["construction_n_change"] = _summary(runs)
     view.close()
-    _wait_until(app_, lambda: False, 0.5)
+    wait_until(lambda: False, 0.5)
 
     # -- compare window (F8) -----------------------------------------------------------
     show(fig12a)
@@ -721,7 +643,7 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
         prof.stop("compare_open")
         if i < repeats - 1:
             tw.compare.close()
-            _wait_until(app_, lambda: False, 0.5)
+            wait_until(lambda: False, 0.5)
     out["compare_open"] = _summary(runs)
     compare = tw.compare
     row = window.controls.rows["inner_radius"]
@@ -745,18 +667,18 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     prof.stop("compare_param_change")
     out["compare_param_change"] = _summary(runs)
     compare.close()
-    _wait_until(app_, lambda: False, 0.5)
+    wait_until(lambda: False, 0.5)
 
     # -- auto-solve while a slider is dragged (Solve tab) ------------------------------
     show(MeshParams(structure="patch", patch_size=100.0, subdivisions=4))  # 40 unknowns
     panel = window.solve_panel
     window.solve_dock.show()
     window.solve_dock.raise_()
-    _wait_until(app_, panel.isVisible, 5)
+    wait_until(panel.isVisible, 5)
     panel.frequency.setText("1.2")
     _click(panel.solve_button)
-    _wait_until(app_, lambda: panel.solution is not None, 30)
-    _wait_until(app_, lambda: False, 0.5)
+    wait_until(lambda: panel.solution is not None, 30)
+    wait_until(lambda: False, 0.5)
     solved: list[float] = []
     panel.solved.connect(lambda _s: solved.append(time.perf_counter()))
     prof.start()
@@ -766,7 +688,7 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     drag = _drag(app_, window, "patch_size", 3.0, beat, span_px=-30)
     drag_cpu = beat.longest_cpu
     prof.stop("auto_solve_slider_step")
-    _wait_until(app_, lambda: False, 0.5)
+    wait_until(lambda: False, 0.5)
     out["auto_solve_slider_step"] = {
         "longest_block": drag["longest_block"],
         "longest_cpu": drag_cpu,
@@ -779,11 +701,11 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     # -- Animate (the surface current's phase) -----------------------------------------
     steps: list[float] = []
     panel.phase.valueChanged.connect(lambda _v: steps.append(time.perf_counter()))
-    _wait_until(app_, lambda: False, 0.3)
+    wait_until(lambda: False, 0.3)
     beat.reset()
     prof.start()
     _click(panel.animate)
-    _wait_until(app_, lambda: False, 3.0)
+    wait_until(lambda: False, 3.0)
     _click(panel.animate)
     prof.stop("animate_step")
     out["animate_step"] = {
@@ -797,7 +719,7 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     size = tuple(window.plotter.ren_win.GetSize())
     renderer = _renderer(window)
     window.close()
-    _wait_until(app_, lambda: False, 0.3)
+    wait_until(lambda: False, 0.3)
     shutil.rmtree(settings_dir, ignore_errors=True)
     return {
         "round": "teaching",
