@@ -165,13 +165,16 @@ class Outcome:
 
 def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Outcome:
     """Call ``work()`` and wrap what it returns or raises (never raises)."""
-    from barymesh.mom import SolveCancelled
+    from barymesh.mom import ProblemTooLarge, SolveCancelled
 
     start = time.perf_counter()
     try:
         result = work()
     except SolveCancelled as exc:
         return Outcome(token, mesh, kind, error=str(exc), cancelled=True)
+    except ProblemTooLarge as exc:  # a refusal with its reason, not a fault: no traceback
+        log.info("the %s was refused: %s", kind, exc)
+        return Outcome(token, mesh, kind, error=str(exc))
     except Exception as exc:  # noqa: BLE001 - shown in the panel, never a crash
         log.exception("the %s failed", kind)
         return Outcome(token, mesh, kind, error=str(exc) or type(exc).__name__)
