@@ -167,6 +167,10 @@ class MainWindow(QMainWindow):
         super().__init__()
         from pyvistaqt import QtInteractor
 
+        from barymesh.app.gui_gc import collect_in_gui_thread
+
+        collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
+
         self.export_job: ExportJob | None = None  # the export being written, if any
         self._export_done.connect(self._export_finished)
 

@@ -175,3 +175,45 @@ def test_an_abandoned_build_stops_inside_the_scene_stage():
 
     result = compute(DENSE, prepare=partial(prepare))
     assert result.cancelled and result.mesh is None
+
+
+def test_garbage_made_in_a_worker_is_collected_in_the_gui_thread(window, qtbot):
+    # CPython runs its cyclic collector in whichever thread crosses the allocation
+    # threshold; a worker that collected a VTK object deadlocked the window against a
+    # render (tests/test_app_views.py, the Infinite array tab's figure in a worker). With
+    # the window up, collection is the GUI thread's timer's: cycles dropped in a worker,
+    # with far more allocations than a generation-0 threshold, die in the GUI thread.
+    import gc
+
+    from barymesh.app.gui_gc import collect_in_gui_thread
+
+    assert not gc.isenabled()
+    collector = collect_in_gui_thread()  # the window's own: one per process
+    assert collect_in_gui_thread() is collector
+    died_in: list[int] = []
+
+    class Node:
+        def __init__(self) -> None:
+            self.me = self  # a reference cycle: only the cyclic collector frees it
+
+        def __del__(self) -> None:
+            died_in.append(threading.get_ident())
+
+    kept: list = []
+
+    def worker() -> None:
+        for _ in range(50):
+            Node()
+        # live containers past the generation-0 threshold (the count is allocations less
+        # deallocations): the automatic collector would run here, in the worker
+        kept.extend([i] for i in range(3 * gc.get_threshold()[0]))
+
+    thread = threading.Thread(target=worker)
+    thread.start()
+    thread.join()
+    assert died_in == []  # nothing collected in the worker
+    before = collector.collections
+    qtbot.waitUntil(lambda: len(died_in) == 50, timeout=10_000)
+    assert set(died_in) == {threading.get_ident()}  # all in the GUI thread
+    assert collector.collections > before
+    kept.clear()
