@@ -24,6 +24,7 @@ of those, collected by the sparse (N, T) matrices ``coef_matrix`` and
 
 from __future__ import annotations
 
+import itertools
 import weakref
 from dataclasses import dataclass
 
@@ -240,7 +241,7 @@ def _flat(lists: np.ndarray, counts: np.ndarray) -> np.ndarray:
     total = int(counts.sum())
     if total == 0:
         return np.zeros(0, dtype=np.intp)
-    return np.fromiter((x for row in lists for x in row), dtype=np.intp, count=total)
+    return np.fromiter(itertools.chain.from_iterable(lists), dtype=np.intp, count=total)
 
 
 def _rule(corners: np.ndarray, areas: np.ndarray, centroids: np.ndarray, order: int) -> Rule:

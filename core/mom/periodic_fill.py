@@ -322,7 +322,7 @@ def slow_orders(green: PeriodicGreen, lattice: np.ndarray) -> tuple[np.ndarray, 
     limit = SLOW_ORDERS * min(np.linalg.norm(b1), np.linalg.norm(b2))
     size = np.abs(green.gamma)
     keep = size < 2.0 * limit
-    s = np.clip((2.0 * limit - size[keep]) / limit, 0.0, 1.0) if limit > 0 else size[keep]
+    s = np.clip((2.0 * limit - size[keep]) / limit, 0.0, 1.0)  # empty when limit is 0
     weight = s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
     return green.kappa[keep], weight * 2.0 * np.pi / (green.area * green.gamma[keep])
 
