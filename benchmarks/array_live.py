@@ -49,7 +49,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import shutil
 import subprocess
 import sys
@@ -58,6 +57,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from machine import machine
 from window_tools import (
     Heartbeat,
     children_rss,
@@ -304,13 +304,7 @@ def measure(rounds: int, points: int, band: tuple[float, float], profile: Path |
     return {
         "benchmark": "array-live",
         "date": time.strftime("%Y-%m-%d"),
-        "machine": {
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "python": platform.python_version(),
-            "load_average": os.getloadavg()[0],  # others may be running at the same time
-            "load_averages_1_5_15_min": list(os.getloadavg()),
-        },
+        "machine": machine(),
         "window_size": list(WINDOW_SIZE),
         "cell": cell,
         "band_ghz": list(band),

@@ -26,13 +26,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from machine import machine
 
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.mom import (
@@ -141,13 +140,7 @@ def main(argv: list[str] | None = None) -> int:
     doc = {
         "benchmark": "periodic",
         "date": time.strftime("%Y-%m-%d"),
-        "machine": {
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "python": platform.python_version(),
-            "load_average": os.getloadavg()[0],  # others may be running at the same time
-            "load_averages_1_5_15_min": list(os.getloadavg()),
-        },
+        "machine": machine(),
         "reps": reps,
         "rows": rows,
     }

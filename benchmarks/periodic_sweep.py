@@ -24,13 +24,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from machine import machine
 
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.mom import PlaneWave, periodic_sweep
@@ -102,12 +101,7 @@ def main(argv: list[str] | None = None) -> int:
     doc = {
         "benchmark": "periodic-sweep",
         "date": time.strftime("%Y-%m-%d"),
-        "machine": {
-            "cpus": os.cpu_count(),
-            "platform": platform.platform(),
-            "python": platform.python_version(),
-            "load_averages_1_5_15_min": list(os.getloadavg()),
-        },
+        "machine": machine(),
         "rows": [row],
     }
     line = (

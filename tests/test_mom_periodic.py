@@ -289,21 +289,9 @@ def test_babinet_complementary_screens_converge_to_t_plus_t_prime_one():
 
 
 def test_the_benchmark_runs_and_reports_both_solvers(tmp_path):
-    import json
-    import subprocess
-    import sys
-    from pathlib import Path
+    from benchmark_runs import run_quick
 
-    script = Path(__file__).resolve().parents[1] / "benchmarks" / "periodic.py"
-    out = tmp_path / "periodic.json"
-    proc = subprocess.run(
-        [sys.executable, str(script), "--quick", "--json", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stderr
-    (row,) = json.loads(out.read_text())["rows"]
+    (row,) = run_quick("periodic.py", tmp_path)["rows"]
     assert row["triangles"] == 32  # a 4 x 4 pixel patch, 2 triangles per pixel at n = 1
     assert row["unknowns"] == row["free_space_unknowns"]  # the patch is off the cell's sides
     assert row["periodic_fill_s"] > 0 and row["free_space_fill_s"] > 0

@@ -284,21 +284,9 @@ def test_the_orders_csv_holds_every_propagating_order(l_cell_sweep, tmp_path):
 
 
 def test_the_sweep_benchmark_runs_both_sweeps_and_they_agree(tmp_path):
-    import json
-    import subprocess
-    import sys
-    from pathlib import Path
+    from benchmark_runs import run_quick
 
-    script = Path(__file__).resolve().parents[1] / "benchmarks" / "periodic_sweep.py"
-    out = tmp_path / "periodic-sweep.json"
-    proc = subprocess.run(
-        [sys.executable, str(script), "--quick", "--json", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stderr
-    (row,) = json.loads(out.read_text())["rows"]
+    (row,) = run_quick("periodic_sweep.py", tmp_path)["rows"]
     assert row["frequencies"] == 41 and row["point_by_point_solves"] == 41
     assert 5 <= row["interpolating_solves"] < 41  # fewer solves than frequencies
     # the interpolated curve against every point-by-point solve (no onset in 2-28 GHz)
@@ -306,3 +294,14 @@ def test_the_sweep_benchmark_runs_both_sweeps_and_they_agree(tmp_path):
     assert row["largest_abs_t_difference"] < 1e-3
     assert row["largest_phase_r_difference_deg"] < 1.0
     assert row["curve_s"] == pytest.approx(row["geometry_s"] + row["interpolating_s"])
+
+
+def test_the_accuracy_benchmark_compares_the_sweep_with_every_frequency_solved(tmp_path):
+    from benchmark_runs import run_quick
+
+    (row,) = run_quick("sweep_accuracy.py", tmp_path)["rows"]
+    assert row["case"] == "dipoles" and row["frequencies"] == 41
+    assert 5 <= row["solves"] < 41  # fewer solves than frequencies
+    # the interpolated R against all 41 solved, within the tolerance it was asked for
+    assert 0 < row["largest_r_difference"] < row["tolerance"] == 1e-3
+    assert row["largest_error_estimate"] < row["tolerance"]

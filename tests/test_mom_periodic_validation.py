@@ -18,11 +18,7 @@ Measured numbers: ``benchmarks/periodic_validation.py`` and the Solving page of 
 from __future__ import annotations
 
 import doctest
-import json
 import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import periodic_meshes
@@ -153,16 +149,9 @@ def test_split_ring_array_at_twice_the_ring_is_further_still(free_space_resonanc
 
 
 def test_the_validation_benchmark_runs_and_reports_collin(tmp_path):
-    script = Path(__file__).resolve().parents[1] / "benchmarks" / "periodic_validation.py"
-    out = tmp_path / "validation.json"
-    proc = subprocess.run(
-        [sys.executable, str(script), "--quick", "--json", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stderr
-    (row,) = json.loads(out.read_text())["collin"]
+    from benchmark_runs import run_quick
+
+    (row,) = run_quick("periodic_validation.py", tmp_path)["collin"]
     assert row["triangles"] == 144 and row["p_over_lambda"] == 0.9
     assert abs(row["gamma_perp"] - COLLIN[0.9][0]) == pytest.approx(abs(row["gamma_perp_error"]))
     assert abs(row["gamma_par_error"]) < 0.01  # a 144-triangle graded grating is within 0.01

@@ -374,3 +374,29 @@ def test_an_infinite_array_study_is_periodic_sweep_per_point():
 def test_an_infinite_array_needs_a_cell():
     with pytest.raises(SpecError, match="solve.kind: infinite_array needs a unit cell"):
         parse_spec(spec(solve={"kind": "infinite_array", "frequencies": "8GHz:12GHz:5"}))
+
+
+def test_an_infinite_array_point_too_large_is_refused_by_the_periodic_memory_model():
+    # a 6 mm patch at n = 20: 800 triangles, up to 1,200 unknowns. The free-space model
+    # allows it in 200 MiB (81 MiB), the infinite array's does not (its geometry's T²
+    # tables: 282 MiB), so the point is refused before submission, and the small one solved
+    s = parse_spec(
+        {
+            "base": {"cell": PATCH_ARRAY},
+            "axes": {"elements[0].subdivisions": [5, 20]},
+            "solve": {
+                "kind": "infinite_array",
+                "frequencies": "24GHz:26GHz:2",
+                "interpolate": False,
+                "memory_limit": 200 * 2**20,
+            },
+        }
+    )
+    result = run_serial(s)
+    status = result.derived.set_index("elements[0].subdivisions")["status"]
+    assert status[5] == "ok"
+    assert status[20] == (
+        "up to T = 800 triangles and N = 1,200 unknowns of an infinite array need 0.275 GB "
+        "at the peak of a solve, more than a worker's 0.195 GB; use a coarser mesh"
+    )
+    assert result.computed == 1 and result.meta["refused"] == 1

@@ -27,6 +27,7 @@ from __future__ import annotations
 import itertools
 import weakref
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -122,7 +123,8 @@ class MomGeometry:
         pair: outer integral by the near rule, inner one in closed form.
     far_distances : (T Qf, T Qf) float64 or None
         |r − r'| between all far-rule points (zeros replaced by 1; those pairs
-        are near ones), kept when it fits :data:`DISTANCE_CACHE_BYTES`.
+        are near ones), kept when it fits :data:`DISTANCE_CACHE_BYTES`; built on
+        first use.
     near_factor : float
     """
 
@@ -144,8 +146,19 @@ class MomGeometry:
     near_distances: np.ndarray
     static_inv_r: np.ndarray
     static_r: np.ndarray
-    far_distances: np.ndarray | None
     near_factor: float
+
+    @cached_property
+    def far_distances(self) -> np.ndarray | None:
+        """(T Qf, T Qf) |r − r'| between all far-rule points, or None when too large.
+
+        Built on first use (the free-space fill; the periodic one has no use for it) and
+        kept when it fits ``DISTANCE_CACHE_BYTES``.
+        """
+        n_points = self.far.points.shape[0] * self.far.size
+        if n_points * n_points * 8 > DISTANCE_CACHE_BYTES:
+            return None
+        return far_point_distances(self.far, 0, self.n_triangles)
 
     @property
     def n_unknowns(self) -> int:
@@ -309,10 +322,6 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
     near_distances = _pair_distances(near.points[obs[near_upper]], near.points[src[near_upper]])
     static_inv_r, static_r = static_moments(near, corners, centroids, obs, src)
 
-    far_distances = None
-    n_points = far.points.shape[0] * far.size
-    if n_points * n_points * 8 <= DISTANCE_CACHE_BYTES:
-        far_distances = far_point_distances(far, 0, len(triangles))
     return MomGeometry(
         vertices=vertices,
         triangles=triangles,
@@ -332,7 +341,6 @@ def _build(mesh: TriMesh, order: int, far_order: int, near_factor: float) -> Mom
         near_distances=near_distances,
         static_inv_r=static_inv_r,
         static_r=static_r,
-        far_distances=far_distances,
         near_factor=near_factor,
     )
 

@@ -182,37 +182,56 @@ def fill_plan(
     """
     t = base.n_triangles
     single = np.float32
-    # G_reg's Taylor nodes, [s, o]
+    sizes = base.sizes
+    h = float(np.median(sizes))  # the unit of length of the plan
+    # the reduced offsets [s, o], one contiguous plane per lattice coordinate
+    u, v = (np.ascontiguousarray(reduced[..., c].T) for c in range(2))
+    # G_reg's Taylor nodes
     step = 1.0 / TAYLOR_NODES
     half = TAYLOR_NODES // 2 + 2  # the grid spans [−e, e]², e = half · step, just over ½
-    swapped = reduced.transpose(1, 0, 2)
-    nearest = np.rint(swapped * TAYLOR_NODES)  # odd, like σ
-    node = (nearest[..., 0] + half) * (2 * half + 1)
-    node += nearest[..., 1] + half
-    rest = swapped - step * nearest  # lattice coordinates
-    offset = np.empty((2, t, t), dtype=single)
+    nu, nv = np.rint(u * TAYLOR_NODES), np.rint(v * TAYLOR_NODES)  # odd, like σ
+    node = (nu + half) * (2 * half + 1)
+    node += nv + half
+    nu *= step
+    nv *= step
+    np.subtract(u, nu, out=nu)  # the offset from the node, lattice coordinates
+    np.subtract(v, nv, out=nv)
+    offset = np.empty((2, t, t), dtype=single)  # in units of h
     for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
-        np.multiply(rest[..., 0], lattice[0, c], out=offset[c])
-        offset[c] += rest[..., 1] * lattice[1, c]
+        np.multiply(nu, lattice[0, c] / h, out=offset[c], casting="same_kind")
+        offset[c] += nv * (lattice[1, c] / h)
+    del nu, nv
     # the offset c from the source image's centroid, [s, o]
-    centroid_offset = np.empty((2, t, t))
-    for c in range(2):
-        np.multiply(swapped[..., 0], lattice[0, c], out=centroid_offset[c])
-        centroid_offset[c] += swapped[..., 1] * lattice[1, c]
-    distance = np.sqrt(centroid_offset[0] ** 2 + centroid_offset[1] ** 2)
-    sizes = base.sizes
+    cx = u * lattice[0, 0]
+    cx += v * lattice[1, 0]
+    cy = u * lattice[0, 1]
+    cy += v * lattice[1, 1]
+    del u, v
+    distance = np.hypot(cx, cy)
     larger = np.maximum(sizes[:, None], sizes[None, :])
+    larger *= IMAGE_TAYLOR_FACTOR
     near = np.zeros((t, t), dtype=bool)  # [s, o]
     near[base.near_pairs[:, 1], base.near_pairs[:, 0]] = True
     near[cross[:, 1], cross[:, 0]] = True
-    expanded = (distance >= IMAGE_TAYLOR_FACTOR * larger) & ~near
-    inverse = np.zeros((t, t), dtype=single)
-    np.divide(1.0, distance, out=inverse, where=expanded, casting="unsafe")
+    expanded = distance >= larger
+    expanded &= ~near
+    del larger
+    inverse = np.zeros((t, t))
+    np.divide(1.0, distance, out=inverse, where=expanded)
+    unit = np.empty((2, t, t), dtype=single)
+    np.multiply(cx, inverse, out=unit[0], casting="same_kind")
+    np.multiply(cy, inverse, out=unit[1], casting="same_kind")
+    del cx, cy
     # σ as a small code per pair, [s, o]
-    sigma = shift.transpose(1, 0, 2).reshape(-1, 2).astype(np.intp)
-    low = sigma.min(axis=0)
-    span = int(sigma[:, 1].max() - low[1] + 1)
-    flat = (sigma[:, 0] - low[0]) * span + (sigma[:, 1] - low[1])
+    s0, s1 = (np.ascontiguousarray(shift[..., c].T, dtype=np.int32) for c in range(2))
+    low = (int(s0.min()), int(s1.min()))
+    span = int(s1.max()) - low[1] + 1
+    s0 -= low[0]
+    s0 *= span
+    s0 += s1
+    s0 -= low[1]
+    flat = s0.ravel()
+    del s1
     present = np.flatnonzero(np.bincount(flat))
     sigmas = np.stack([present // span + low[0], present % span + low[1]], axis=1)
     lookup = np.zeros(present[-1] + 1, dtype=np.int16)
@@ -226,7 +245,6 @@ def fill_plan(
     moved = far.points[src, :, :2] + (shift[obs, src].astype(np.float64) @ lattice)[:, None, :]
     delta = far.points[obs, :, None, :2] - moved[:, None, :, :]  # (K, a, b, 2)
     close_distance = np.sqrt(np.einsum("kabc,kabc->kab", delta, delta)).reshape(-1, q * q).T
-    h = float(np.median(sizes))  # the unit of length of the plan
     w, rho = far.weights / h**2, far.rho[:, :, :2] / h
     left = [w[obs], w[obs] * rho[obs, :, 0], w[obs] * rho[obs, :, 1]]  # (K, a)
     right = [w[src], w[src] * rho[src, :, 0], w[src] * rho[src, :, 1]]  # (K, b)
@@ -253,7 +271,6 @@ def fill_plan(
     second = np.einsum("tq,tqi,tqj->tij", w_near, rho_near, rho_near)
     third = np.einsum("tq,tqi,tqj,tqk->tijk", w_near, rho_near, rho_near, rho_near)
     crossing_rows = np.flatnonzero(np.diff(folded.tocsr().indptr))
-    unit = centroid_offset * inverse
     column = np.concatenate([np.full(t, h), np.ones(2 * t)])  # C in 1/h: times h
 
     def scaled(matrix: sp.csr_matrix) -> sp.csr_matrix:
@@ -262,10 +279,10 @@ def fill_plan(
     return FillPlan(
         scale=h,
         node=node.astype(np.int32),
-        offset=offset / single(h),
-        distance=(distance / h).astype(single),
-        inverse=inverse * single(h),
-        unit=unit.astype(single),
+        offset=offset,
+        distance=np.multiply(distance, 1.0 / h, dtype=single),
+        inverse=np.multiply(inverse, h, dtype=single),
+        unit=unit,
         sigma_code=code.reshape(t, t).astype(np.int16),
         sigmas=sigmas,
         close_distance=(close_distance / h).astype(single),
@@ -375,12 +392,18 @@ def regular_tables(
     values = green.regular(points)
     if kappa is not None and c is not None and len(c):
         values = values - np.exp(-1j * (points @ kappa.T)) @ c
-    values = values.reshape(n, n)
-    # tiny products, by einsum: a threaded BLAS call of this size stalls on a busy machine
-    v0, v1, v2 = np.einsum("ij,dkj->dik", values, maps)
+    # tiny products, by einsum (a threaded BLAS call of this size stalls on a busy
+    # machine), on the real and imaginary parts side by side: the maps are real, and a
+    # real einsum is several times faster than a complex one
+    pairs = np.ascontiguousarray(values).view(np.float64).reshape(n, n, 2)
+    v0, v1, v2 = np.einsum("ijc,dkj->dikc", pairs, maps)  # (n, G, 2) each
     b0, b1, b2 = maps
-    g, gu, gv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
-    guu, guv, gvv = (np.einsum("ij,jk->ik", b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
+
+    def product(b: np.ndarray, v: np.ndarray) -> np.ndarray:  # b (G, n) real @ v (n, G) complex
+        return np.einsum("ij,jkc->ikc", b, v).view(np.complex128)[..., 0]
+
+    g, gu, gv = (product(b, v) for b, v in ((b0, v0), (b1, v0), (b0, v1)))
+    guu, guv, gvv = (product(b, v) for b, v in ((b2, v0), (b1, v1), (b0, v2)))
     m = np.linalg.inv(lattice)  # ∇_x = M ∇_u, H_x = M H_u Mᵀ
     out = np.empty((6,) + g.shape, dtype=np.complex128)
     out[0] = g

@@ -293,9 +293,15 @@ class PeriodicGreen:
         d = rho[:, None, :] - offsets[None, :, :]
         r = np.sqrt(np.einsum("nmi,nmi->nm", d, d) + (z * z)[:, None])  # (N, M)
         with np.errstate(divide="ignore", invalid="ignore"):
-            terms = (
-                np.exp(-1j * k * r) * erfc(r * E - c) + np.exp(1j * k * r) * erfc(r * E + c)
-            ) / (2.0 * r)
+            if k.imag == 0.0:
+                # c is imaginary, so erfc(RE + c) = conj(erfc(RE − c)): the two halves are
+                # conjugate and the term is real, Re(e^(−jkR) erfc(RE − c)) / R
+                terms = (np.exp(-1j * k * r) * erfc(r * E - c)).real / r
+            else:
+                terms = (
+                    np.exp(-1j * k * r) * erfc(r * E - c) + np.exp(1j * k * r) * erfc(r * E + c)
+                ) / (2.0 * r)
+        regular = None
         if np.any(centre_regular):
             at = int(np.flatnonzero(np.all(self.images == 0, axis=1))[0])
             rc = r[centre_regular, at]
@@ -304,8 +310,15 @@ class PeriodicGreen:
                     np.exp(1j * k * rc) * erfc(rc * E + c) - np.exp(-1j * k * rc) * erfc(c - rc * E)
                 ) / (2.0 * rc)
             limit = 1j * k * erfc(c) - 2.0 * E / math.sqrt(math.pi) * np.exp(-(c * c))
-            terms[centre_regular, at] = np.where(rc * E < SMALL_RE, limit, reg)
-        return terms @ phase
+            regular = np.where(rc * E < SMALL_RE, limit, reg)
+            terms[centre_regular, at] = 0.0  # its phase is 1: added after the sum
+        if np.iscomplexobj(terms):
+            out = terms @ phase
+        else:
+            out = terms @ phase.real + 1j * (terms @ phase.imag)
+        if regular is not None:
+            out[centre_regular] += regular
+        return out
 
     def _spectral(self, rho: np.ndarray, z: np.ndarray) -> np.ndarray:
         E = self.split

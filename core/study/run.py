@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..mom.periodic import periodic_memory_needed
 from ..mom.solve import ProblemTooLarge, memory_needed
 from .point import PointResult, StudyContext, design, error_point, one_line, predicted_unknowns
 from .point import solve_point as _solve_point
@@ -93,10 +94,15 @@ def _refusal(
     limits = [v for v in (limit, context.solve.memory_limit) if v]
     if limits:
         n = predicted_unknowns(item)
-        need = memory_needed(n)
+        if context.solve.kind == "free_space":
+            need, what = memory_needed(n), f"up to N = {n:,} unknowns"
+        else:  # the infinite array: its geometry's T² tables too
+            t = int(item.predicted_triangles())
+            need = periodic_memory_needed(t, n)
+            what = f"up to T = {t:,} triangles and N = {n:,} unknowns of an infinite array"
         if need > min(limits):
             text = (
-                f"up to N = {n:,} unknowns need {need / 2**30:.3g} GB at the peak of a solve, "
+                f"{what} need {need / 2**30:.3g} GB at the peak of a solve, "
                 f"more than a worker's {min(limits) / 2**30:.3g} GB; use a coarser mesh"
             )
             return error_point(context, index, values, one_line(ProblemTooLarge(text)))
