@@ -51,8 +51,6 @@ from barymesh.app.cli_progress import progress
 __all__ = ["InputError", "UsageError", "build_parser", "main", "progress"]
 
 PROG = "barymesh"
-#: Options that belong to the desktop window when given without a verb.
-WINDOW_OPTIONS = ("--preset", "--params", "--set", "--screenshot", "--quit")
 
 
 # -- argument parsing ------------------------------------------------------

@@ -38,7 +38,6 @@ from PySide6.QtWidgets import (
     QFileDialog,
     QLabel,
     QMainWindow,
-    QMenu,
     QMessageBox,
     QProgressBar,
     QProgressDialog,
@@ -519,16 +518,6 @@ class MainWindow(QMainWindow):
             picker=self.teaching.picker,
         )
 
-    def _cell_menu(self) -> QMenu:
-        """The menu bar's "&Cell" menu, made on first use, so that every tool adds to one."""
-        bar = self.menuBar()
-        for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
-            if menu.title() == "&Cell":
-                self.cell_menu = menu
-                return menu
-        self.cell_menu = bar.addMenu("&Cell")
-        return self.cell_menu
-
     def _study_action(self) -> QAction:
         """File → Design study (:mod:`barymesh.app.dialogs.study_dialog`), made on first use."""
 
@@ -576,7 +565,10 @@ class MainWindow(QMainWindow):
         presets.setToolTipsVisible(True)
         if not descriptions:
             presets.addAction("(no presets found)").setEnabled(False)
-        self.cell_tools.add_to_menus(file, self._cell_menu(), after=self.act_save)
+        from barymesh.app.edit.painter import PainterOpener, cell_menu
+
+        self.cell_menu = cell_menu(self)  # the one "&Cell" menu every tool adds to
+        self.cell_tools.add_to_menus(file, self.cell_menu, after=self.act_save)
 
         edit = bar.addMenu("&Edit")
         edit.addActions([self.act_undo, self.act_redo])
@@ -607,12 +599,7 @@ class MainWindow(QMainWindow):
         self.teaching.add_to_menu(self.teach_menu)
         self.teaching_windows.add_to_menu(self.teach_menu)
 
-        from barymesh.app.edit.painter import (  # Cell → Paint pixels… (issue 13)
-            PainterOpener,
-            cell_menu,
-        )
-
-        self.painter_opener = PainterOpener(self, cell_menu(self))
+        self.painter_opener = PainterOpener(self, self.cell_menu)  # Cell → Paint pixels…
 
         help_ = bar.addMenu("&Help")
         help_.addActions([self.act_help, self.act_about])

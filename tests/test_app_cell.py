@@ -25,6 +25,7 @@ from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
 from barymesh import MeshParams  # noqa: E402
+from barymesh.app.edit.painter import cell_menu  # noqa: E402
 from barymesh.app.window import file_error_sentence  # noqa: E402
 from barymesh.cell import (  # noqa: E402
     Element,
@@ -552,7 +553,7 @@ def test_new_cell_from_the_structure_on_screen(window, qtbot):
     assert cell.lattice == Lattice.rectangular(23.75)
     assert_shows(window, cell)
     assert shown_counts(window)["triangles"] == 384  # the structure's own mesh, one copy
-    assert window.cell_menu.title() == "&Cell" and window._cell_menu() is window.cell_menu
+    assert window.cell_menu.title() == "&Cell" and cell_menu(window) is window.cell_menu
 
 
 # -- dragging in the view --------------------------------------------------------------
