@@ -210,6 +210,19 @@ def test_reciprocity():
     assert np.abs(forward.T - forward).max() > 0.1 * scale  # oblique: not symmetric itself
 
 
+def test_the_rwg_maps_of_the_last_floquet_phase_are_kept_for_that_phase_only():
+    # a solve asks for them three times at one k_t: the second call is the first's result,
+    # and another k_t gets its own (the strips cross the cell's sides: the phase matters)
+    pg = periodic_geometry(strips(8, 2))
+    k = wavenumber(17e9)
+    basis, test = pg.basis_maps((0.3 * k, -0.2 * k))
+    again = pg.basis_maps(np.array([0.3 * k, -0.2 * k]))
+    assert again[0] is basis and again[1] is test
+    back, _ = pg.basis_maps((-0.3 * k, 0.2 * k))  # e^(+j k_t·a): the testing map of +k_t
+    assert pg.n_crossing > 0 and abs(back - basis).max() > 0.1
+    assert abs(back - test).max() < 1e-15
+
+
 def test_moving_the_element_inside_the_cell_changes_nothing():
     wave = PlaneWave.from_angles(20, 30, 0)
     a = periodic_solve(patch_cell(), 20e9, wave)

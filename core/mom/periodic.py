@@ -162,12 +162,21 @@ class PeriodicGeometry:
     def basis_maps(self, kt: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
         """The (N, 3T) complex maps of the basis functions and of the testing functions.
 
-        Basis halves moved by a carry e^(−j k_t·a), testing halves its conjugate.
+        Basis halves moved by a carry e^(−j k_t·a), testing halves its conjugate. The last
+        k_t's pair is kept: a solve asks for it three times (the right-hand side, the
+        orders taken out of G_reg, the current). Read only.
         """
-        phase = np.exp(-1j * (self.crossing @ np.asarray(kt, dtype=np.float64)))
+        kt = np.asarray(kt, dtype=np.float64)
+        key = (float(kt[0]), float(kt[1]))
+        last = self.__dict__.get("_last_basis_maps")
+        if last is not None and last[0] == key:
+            return last[1]
+        phase = np.exp(-1j * (self.crossing @ kt))
         basis = self.maps + sp.diags(phase) @ self.folded
         test = self.maps + sp.diags(np.conj(phase)) @ self.folded
-        return basis.tocsr(), test.tocsr()
+        maps = (basis.tocsr(), test.tocsr())
+        self.__dict__["_last_basis_maps"] = (key, maps)  # a frozen dataclass: not setattr
+        return maps
 
 
 def _shift_vectors(shift: np.ndarray, lattice: np.ndarray) -> np.ndarray:
