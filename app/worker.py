@@ -31,6 +31,7 @@ import time
 from collections.abc import Callable
 from functools import partial
 
+import shiboken6
 from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
 from barymesh import MeshParams
@@ -84,17 +85,25 @@ def release_memory() -> None:
 class Job(QRunnable):
     """Run ``work()`` on a thread-pool thread and emit its return value with ``done``.
 
-    ``done`` is a signal of a QObject living on the GUI thread, so the result is
-    delivered there (a queued connection). Used by the compare view.
+    ``done`` is a signal of ``owner``, a QObject living on the GUI thread, so the result
+    is delivered there (a queued connection). When the owner is destroyed meanwhile (its
+    window or panel closed while the job ran), the result is dropped; an error emitting
+    to a live owner is raised as ever.
     """
 
-    def __init__(self, work: Callable[[], object], done: Signal) -> None:
+    def __init__(self, work: Callable[[], object], done: Signal, owner: QObject) -> None:
         super().__init__()
         self.work, self.done = work, done
+        self.owner = owner  # its Python side stays alive; its C++ side may go
         self.setAutoDelete(True)
 
     def run(self) -> None:  # worker thread
-        self.done.emit(self.work())
+        result = self.work()
+        try:
+            self.done.emit(result)
+        except (RuntimeError, TypeError):  # "Signal source has been deleted", and kin
+            if shiboken6.isValid(self.owner):
+                raise
 
 
 def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) -> None:

@@ -676,7 +676,9 @@ class PixelPainterWindow(QMainWindow):
         cell, mask, dz, generation = self._pending
         self._pending = None
         self._running = True
-        self.pool.start(Job(partial(build_preview, cell, mask, dz, generation), self._relay.done))
+        self.pool.start(
+            Job(partial(build_preview, cell, mask, dz, generation), self._relay.done, self._relay)
+        )
 
     def _finished(self, built: Built) -> None:
         self._running = False

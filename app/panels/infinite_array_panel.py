@@ -446,7 +446,7 @@ class InfiniteArrayPanel(QWidget):
 
         n = len(inputs.frequencies)
         self.status.setText(f"Sweeping {n} frequencies…")
-        self.pool.start(Job(lambda: run_job(token, mesh, "array", work), self._job_done))
+        self.pool.start(Job(lambda: run_job(token, mesh, "array", work), self._job_done, self))
         return True
 
     def solve_at(self, hz: float) -> bool:
@@ -465,7 +465,7 @@ class InfiniteArrayPanel(QWidget):
             return solution, draw_orders(solution, size, ratio)
 
         self.status.setText(f"Solving at {hz / 1e9:.4g} GHz…")
-        self.pool.start(Job(lambda: run_job(token, mesh, "point", work), self._job_done))
+        self.pool.start(Job(lambda: run_job(token, mesh, "point", work), self._job_done, self))
         return True
 
     def _redraw(self, kind: str) -> None:
@@ -477,7 +477,11 @@ class InfiniteArrayPanel(QWidget):
         self._tokens[kind] += 1
         token = self._tokens[kind]
         self.pool.start(
-            Job(lambda: run_job(token, None, kind, lambda: draw(data, size, ratio)), self._job_done)
+            Job(
+                lambda: run_job(token, None, kind, lambda: draw(data, size, ratio)),
+                self._job_done,
+                self,
+            )
         )
 
     def _cancel_running(self, kind: str) -> None:

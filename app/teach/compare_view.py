@@ -352,7 +352,9 @@ class CompareView(FollowingView):
             return
         params, self._pending = self._pending, None
         self._running = True
-        self.pool.start(Job(partial(compute_halves, params, self.generation), self._relay.done))
+        self.pool.start(
+            Job(partial(compute_halves, params, self.generation), self._relay.done, self._relay)
+        )
 
     def _finished(self, payload: tuple[int, list[Half]]) -> None:
         self._running = False

@@ -215,7 +215,7 @@ class ViewTools(QObject):
         ):
             return
         self._locator_started = mesh
-        self.pool.start(Job(partial(_build_locator, mesh), self._relay.done))
+        self.pool.start(Job(partial(_build_locator, mesh), self._relay.done, self._relay))
 
     def _locator_ready(self, locator: MeshLocator | None) -> None:
         if locator is not None and locator.mesh is self.mesh:
