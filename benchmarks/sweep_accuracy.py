@@ -43,11 +43,9 @@ from typing import Any
 
 import numpy as np
 
-from barymesh import build_mesh
-from barymesh.cell import Element, Lattice, PixelGrid, UnitCell, build_cell, load_cell_preset
+from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell, load_cell_preset
 from barymesh.mom import PlaneWave, periodic_sweep
 from barymesh.mom.periodic import periodic_geometry
-from barymesh.presets import resolve_params
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from machine import machine  # noqa: E402
@@ -73,13 +71,15 @@ def hexagonal_ring(inner: float) -> Any:
 
 
 def patch() -> Any:
-    params = resolve_params("paper-fig11-8mm", None, ["subdivisions=8"])
-    mesh = build_mesh(params)
-    lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
-    centre = (lo + hi) / 2
-    element = Element(params, position=(-centre[0], -centre[1]))
-    cell = UnitCell(Lattice.rectangular(P, P), (element,), mode=params.mode)
-    return build_cell(cell).mesh
+    """The docs' command-line example's cell, made as ``barymesh solve`` makes it."""
+    from barymesh.app.cli import build_parser
+    from barymesh.app.cli_periodic import cell_mesh
+
+    args = build_parser().parse_args(
+        ["solve", "--preset", "paper-fig11-8mm", "--set", "subdivisions=8", "--period", "10"]
+        + ["--periodic", "--freq", "35GHz"]
+    )
+    return cell_mesh(args)[0]
 
 
 def split_ring() -> Any:
