@@ -11,7 +11,9 @@
 
 from __future__ import annotations
 
+import importlib
 import math
+import threading
 
 import numpy as np
 import pytest
@@ -28,6 +30,8 @@ from barymesh.mom import (
     te_tm_polarizations,
 )
 from barymesh.mom.periodic_sweep import ONSET_OFFSET
+
+sweep_module = importlib.import_module("barymesh.mom.periodic_sweep")  # beside the function
 
 P = 10.0  # mm
 BAND = np.linspace(5e9, 40e9, 651)
@@ -204,6 +208,69 @@ def test_bad_input_is_named(dipoles):
         periodic_sweep(dipoles, [SPEED_OF_LIGHT / (P * 1e-3)], interpolate=False)
     with pytest.raises(SolveCancelled):
         periodic_sweep(dipoles, BAND, cancel=lambda: True)
+
+
+# -- the overlapped solves ---------------------------------------------------------------
+
+
+@pytest.fixture
+def solve_threads(monkeypatch):
+    """The names of the threads that ran each sweep solve (LU and amplitudes)."""
+    names: list[str] = []
+    real = sweep_module.solve_system
+
+    def recording(system, waves):
+        names.append(threading.current_thread().name)
+        return real(system, waves)
+
+    monkeypatch.setattr(sweep_module, "solve_system", recording)
+    return names
+
+
+def test_overlapped_solves_equal_solves_one_after_another(dipoles, solve_threads, monkeypatch):
+    # each frequency's LU runs in the worker while the next one is filled; the values are
+    # those of the solves one after another, to the refinement's floor
+    band = np.linspace(8e9, 26e9, 7)
+    overlapped = periodic_sweep(dipoles, band, ALONG, interpolate=False)
+    assert len(solve_threads) == 7
+    assert all(name.startswith("barymesh-sweep") for name in solve_threads)
+    monkeypatch.setattr(sweep_module, "OVERLAP", False)
+    solve_threads.clear()
+    serial = periodic_sweep(dipoles, band, ALONG, interpolate=False)
+    assert solve_threads == [threading.main_thread().name] * 7
+    np.testing.assert_allclose(
+        overlapped.order_reflection[:, 0], serial.order_reflection[:, 0], rtol=0, atol=1e-12
+    )
+    np.testing.assert_array_equal(overlapped.sampled, serial.sampled)
+
+
+def test_without_memory_for_a_second_matrix_the_solves_run_one_after_another(
+    dipoles, solve_threads, monkeypatch
+):
+    monkeypatch.setattr(sweep_module, "OVERLAP_BYTES_PER_N2", 1e15)  # no second matrix fits
+    sweep = periodic_sweep(dipoles, np.linspace(8e9, 26e9, 3), ALONG, interpolate=False)
+    assert sweep.n_solves == 3
+    assert solve_threads == [threading.main_thread().name] * 3
+
+
+def test_a_cancelled_or_failed_overlapped_sweep_leaves_no_thread_behind(dipoles, monkeypatch):
+    asked = []
+
+    def cancel_third() -> bool:
+        asked.append(1)
+        return len(asked) >= 3
+
+    with pytest.raises(SolveCancelled, match="after 1 frequencies"):
+        periodic_sweep(dipoles, BAND, ALONG, cancel=cancel_third)
+    assert not [t for t in threading.enumerate() if t.name.startswith("barymesh-sweep")]
+
+    def failing(system, waves):
+        raise MemoryError(f"no room at {system.frequency:.3g} Hz")
+
+    monkeypatch.setattr(sweep_module, "solve_system", failing)
+    with pytest.raises(MemoryError, match="no room at 5e"):
+        periodic_sweep(dipoles, BAND, ALONG)
+    assert not [t for t in threading.enumerate() if t.name.startswith("barymesh-sweep")]
 
 
 # -- files -------------------------------------------------------------------------------

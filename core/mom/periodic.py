@@ -652,7 +652,8 @@ def periodic_solve_many(
     out: list[PeriodicSolution | None] = [None] * len(waves)
     for kt, members in groups.items():
         with blas_threads(pg.n_unknowns):
-            solved = _solve_shared(pg, frequency, k, kt, [waves[i] for i in members], zs)
+            system = fill_system(pg, frequency, kt, zs)
+            solved = solve_system(system, [waves[i] for i in members])
         for i, s in zip(members, solved, strict=True):
             out[i] = s
     return tuple(out)  # type: ignore[arg-type]  # every slot filled
@@ -672,23 +673,70 @@ def blas_threads(n: int) -> contextlib.AbstractContextManager:
     """
     if n > SERIAL_BLAS_UNKNOWNS:
         return contextlib.nullcontext()
+    return one_blas_thread()
+
+
+def one_blas_thread() -> contextlib.AbstractContextManager:
+    """Every BLAS library of the process on one thread, while the context lasts."""
     return _blas_controller().limit(limits=1, user_api="blas")
 
 
-def _solve_shared(
+@dataclass(frozen=True, eq=False)
+class FilledSystem:
+    """The EFIE of an array at one frequency and k_t, filled, not yet solved.
+
+    The two halves of a solve (:func:`fill_system`, :func:`solve_system`), so that a
+    sweep can fill the next frequency while the last one is factorised.
+
+    Attributes
+    ----------
+    geometry : PeriodicGeometry
+    frequency : float
+        Hz.
+    kt : (2,) float
+        The transverse wavevector (rad/m).
+    matrix : (N, N) complex128
+        Z, plus Z_s times the Gram matrix; :func:`solve_system` overwrites it.
+    gram : (N, N) sparse or None
+        The Gram matrix, when Z_s ≠ 0.
+    sheet_impedance : complex
+        Ω per square.
+    """
+
+    geometry: PeriodicGeometry
+    frequency: float
+    kt: tuple[float, float]
+    matrix: np.ndarray
+    gram: sp.csr_matrix | None
+    sheet_impedance: complex
+
+
+def fill_system(
     pg: PeriodicGeometry,
     frequency: float,
-    k: float,
-    kt: tuple[float, float],
-    waves: list[PlaneWave],
-    zs: complex,
-) -> list[PeriodicSolution]:
-    """The waves of one transverse wavevector ``kt``: one fill, one LU, K right-hand sides."""
-    z = periodic_impedance_matrix(pg, k, kt)
+    kt: Sequence[float] | np.ndarray,
+    sheet_impedance: complex = 0.0,
+) -> FilledSystem:
+    """The filled EFIE of ``pg`` at ``frequency`` (Hz) and Floquet phase ``kt`` (rad/m)."""
+    key = (float(kt[0]), float(kt[1]))
+    k = wavenumber(frequency)
+    z = periodic_impedance_matrix(pg, k, key)
     gram = None
-    if zs != 0:
-        gram = gram_matrix(pg, np.asarray(kt))
-        z += zs * gram.toarray()
+    if sheet_impedance != 0:
+        gram = gram_matrix(pg, np.asarray(key))
+        z += sheet_impedance * gram.toarray()
+    return FilledSystem(pg, float(frequency), key, z, gram, complex(sheet_impedance))
+
+
+def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[PeriodicSolution]:
+    """The solutions for ``waves``, which share the system's k_t: one LU, K right-hand sides.
+
+    Overwrites ``system.matrix`` (the LU's copy is single precision; the refinement's
+    residuals use the matrix, then it is released).
+    """
+    pg, frequency, kt = system.geometry, system.frequency, system.kt
+    zs, gram, z = system.sheet_impedance, system.gram, system.matrix
+    k = wavenumber(frequency)
     rule = pg.base.near
     _, test = pg.basis_maps(np.asarray(kt))
     columns = []
