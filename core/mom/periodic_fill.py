@@ -43,6 +43,7 @@ from numpy.polynomial import chebyshev
 from scipy.linalg import blas
 
 from .geometry import MomGeometry
+from .near_series import near_moments_series
 from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
 from .periodic_green import PeriodicGreen, reciprocal_vectors
 
@@ -465,7 +466,10 @@ def special_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
     inverse = np.divide(np.float32(1.0), plan.close_distance, dtype=np.float32)
     kernel = np.stack([np.cos(x) * inverse, -np.sin(x) * inverse])  # (2, Q², K)
     close = np.einsum("ipk,rpk->irk", plan.close_weights, kernel).reshape(12, -1)
-    closed = [near_moments(pg.base, k, single=True)[:, FLAT_MOMENTS]]
+    own = near_moments_series(pg.base, k)  # the smooth kernel's power series, when it applies
+    if own is None:
+        own = near_moments(pg.base, k, single=True)
+    closed = [own[:, FLAT_MOMENTS]]
     if len(pg.cross):
         closed.append(cross_moments(pg, k)[:, FLAT_MOMENTS])
     near = np.concatenate(closed).T / (h ** np.array([3, 4, 4, 4, 4, 5]))[:, None]  # (6, K)
