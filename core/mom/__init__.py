@@ -11,7 +11,8 @@ True
 
 Modules: :mod:`.quadrature` (triangle rules), :mod:`.singular` (closed-form
 potential integrals), :mod:`.geometry` (the per-mesh cache),
-:mod:`.operator` (the impedance matrix), :mod:`.excitation`,
+:mod:`.operator` (the impedance matrix), :mod:`.near_series` (its near pairs' smooth
+kernel as a power series in k), :mod:`.excitation`,
 :mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep);
 for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
 :mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),

@@ -22,7 +22,11 @@ everywhere. The left-out fits use two thirds of the samples, so the estimate is
 pessimistic for the fit on all of them, which is the one reported. (Against fits on
 halves, the even- and odd-numbered samples, it takes 10 to 20 % fewer solves for the same
 tolerance; against point-by-point solves of eight cells and angles, the reported curves
-stay within half the tolerance: ``benchmarks/sweep_accuracy.py``.)
+stay within 0.6 times the tolerance: ``benchmarks/sweep_accuracy.py``.)
+
+Each sample's matrix is filled in the calling thread and factorised in a worker thread
+(:class:`_Samples`), so the next sample is filled beside the last one's LU; the next
+sample is then chosen before the last one's result is in (:data:`OVERLAP_MARGIN`).
 """
 
 from __future__ import annotations
