@@ -770,6 +770,8 @@ def periodic_sweep(
     with _Samples(mesh, waves, lattice, zs, orders, memory_limit) as samples:
         depth = 1 if samples.overlapping else 0  # samples solved while the next is chosen
         while True:
+            if cancel is not None and cancel():  # before the next choice (a refit) too
+                raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
             nxt = None
             while queue and nxt is None:
                 piece, f, always = queue.pop()
@@ -787,8 +789,6 @@ def periodic_sweep(
                     nxt = None
                     budget_hit = not flying
             if nxt is not None:
-                if cancel is not None and cancel():
-                    raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
                 piece, f = nxt
                 flying.append((piece, f, samples.start(f, piece.n_orders)))
                 started += 1
