@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from .geometry import MomGeometry
+from .operator import near_moments_from_half
 
 #: The series stops where (k R_max)ⁿ/n! falls below this.
 SERIES_TOLERANCE = 1e-13
@@ -91,14 +92,4 @@ def near_moments_series(geom: MomGeometry, k: float) -> np.ndarray | None:
     m4 = np.empty(flat.shape[1], dtype=np.complex128)
     m4.real = coefficients.real @ flat
     m4.imag = coefficients.imag @ flat
-    m4 = m4.reshape(-1, 4, 4)[geom.near_half]  # (K, 4, 4)
-    mirrored = geom.near_mirrored
-    m4[mirrored] = m4[mirrored].transpose(0, 2, 1)
-    out = np.empty((len(m4), 8), dtype=np.complex128)
-    out[:, 0] = m4[:, 0, 0]
-    out[:, 1:4] = m4[:, 1:, 0]
-    out[:, 4:7] = m4[:, 0, 1:]
-    out[:, 7] = m4[:, 1, 1] + m4[:, 2, 2] + m4[:, 3, 3]
-    out += geom.static_inv_r
-    out -= (0.5 * k * k) * geom.static_r
-    return out
+    return near_moments_from_half(geom, m4.reshape(-1, 4, 4), k)

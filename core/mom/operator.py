@@ -73,6 +73,16 @@ def near_moments(geom: MomGeometry, k: float, single: bool = False) -> np.ndarra
     w = geom.near.weights[:, :, None]
     frame = np.concatenate([w, w * geom.near.rho], axis=2)  # (T, Qn, 4): w, w ρ
     m4 = np.matmul(frame[obs].transpose(0, 2, 1), smooth @ frame[src].astype(np.complex128))
+    return near_moments_from_half(geom, m4, k)
+
+
+def near_moments_from_half(geom: MomGeometry, m4: np.ndarray, k: float) -> np.ndarray:
+    """(K, 8) complex moments of G over the near pairs from the smooth kernel's moments.
+
+    ``m4`` is (H, 4, 4) complex: the frame [w, w ρ] moments of the smooth kernel over the
+    pairs of ``geom.near_upper`` (one of each mirrored pair); the mirrors take their
+    transposes, and the closed-form 1/R and R parts are added.
+    """
     m4 = m4[geom.near_half]  # (K, 4, 4)
     mirrored = geom.near_mirrored
     m4[mirrored] = m4[mirrored].transpose(0, 2, 1)
