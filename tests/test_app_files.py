@@ -277,12 +277,38 @@ def _grow(mask, px=2):
 
 # -- exports in a worker thread, with progress and Cancel (issue 3, item 10) ---------------
 
-#: 48 patches x 2 x 32² = 98,304 triangles: an STL ASCII write of a few seconds.
+#: 48 patches x 2 x 32² = 98,304 triangles: an STL ASCII write of about 0.8 s here.
 BIG = MeshParams(angle_step=15.0, subdivisions=32)
+#: The least time the write takes in these tests (:func:`long_write`).
+LONG_WRITE_S = 1.5
+
+
+@pytest.fixture
+def long_write(monkeypatch):
+    """The export's write lasts at least LONG_WRITE_S, whatever the machine.
+
+    The real write follows a wait that watches for Cancel as the writer does. On a fast
+    machine the 98,304-triangle STL takes under a second, and showing the progress
+    dialog (after 300 ms) over the big view blocks the event loop for about 0.6 s: the
+    dialog, and the heartbeat beside the write, would then come or not by chance.
+    """
+    import time
+
+    import barymesh.io
+
+    real = barymesh.io.write_mesh
+
+    def write(*args, cancelled=None, **kwargs):
+        deadline = time.monotonic() + LONG_WRITE_S
+        while time.monotonic() < deadline and not (cancelled is not None and cancelled()):
+            time.sleep(0.01)
+        return real(*args, cancelled=cancelled, **kwargs)
+
+    monkeypatch.setattr(barymesh.io, "write_mesh", write)
 
 
 @pytest.mark.parametrize("window_params", [BIG])
-def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dialog):
+def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dialog, long_write):
     from app_user import settle, wait_for_export
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QPushButton
@@ -314,7 +340,7 @@ def test_export_runs_while_the_window_answers(window, qtbot, tmp_path, file_dial
 
 
 @pytest.mark.parametrize("window_params", [BIG])
-def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog):
+def test_cancelled_export_leaves_no_file(window, qtbot, tmp_path, file_dialog, long_write):
     from app_user import settle, wait_for_export
     from PySide6.QtWidgets import QPushButton
 
