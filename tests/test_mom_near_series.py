@@ -79,6 +79,8 @@ def test_beyond_its_reach_the_series_declines_and_its_tables_are_kept():
     assert power_tables(geom, 3) is not first and np.shares_memory(power_tables(geom, 3), first)
     longer = power_tables(geom, 8)  # extended when more terms are asked for
     np.testing.assert_array_equal(longer[:5], first)
+    fresh = power_tables(mom_geometry(ring()), 8)  # built at once: the same tables
+    np.testing.assert_allclose(longer, fresh, rtol=1e-12, atol=1e-12 * np.abs(fresh).max())
     # the m = 0 table is the product of the two triangles' frame moments
     upper = geom.near_upper
     obs, src = geom.near_pairs[upper, 0], geom.near_pairs[upper, 1]

@@ -56,8 +56,9 @@ def power_tables(geom: MomGeometry, count: int) -> np.ndarray:
     :func:`~barymesh.mom.operator.near_moments`. Kept on the geometry and extended when
     more terms are asked for (read only).
     """
-    kept = geom.__dict__.get("_near_power_tables")
-    if kept is not None and len(kept) >= count:
+    kept: np.ndarray = geom.__dict__.get("_near_power_tables", np.zeros((0,)))
+    have = len(kept)
+    if have >= count:
         return kept[:count]
     upper = geom.near_upper
     obs, src = geom.near_pairs[upper, 0], geom.near_pairs[upper, 1]
@@ -65,10 +66,12 @@ def power_tables(geom: MomGeometry, count: int) -> np.ndarray:
     frame = np.concatenate([w, w * geom.near.rho], axis=2)  # (T, Qn, 4)
     left = frame[obs].transpose(0, 2, 1)  # (H, 4, Qn)
     right = frame[src]  # (H, Qn, 4)
-    power = np.ones_like(geom.near_distances)
     out = np.empty((count,) + (len(upper), 4, 4))
-    for m in range(count):
-        if m:
+    if have:
+        out[:have] = kept
+    power = geom.near_distances**have  # R^m for the first table not kept
+    for m in range(have, count):
+        if m > have:
             power *= geom.near_distances
         np.matmul(left, power @ right, out=out[m])
     geom.__dict__["_near_power_tables"] = out  # a frozen dataclass: not setattr

@@ -696,7 +696,7 @@ class FilledSystem:
     kt : (2,) float
         The transverse wavevector (rad/m).
     matrix : (N, N) complex128
-        Z, plus Z_s times the Gram matrix; :func:`solve_system` overwrites it.
+        Z, plus Z_s times the Gram matrix (read only).
     gram : (N, N) sparse or None
         The Gram matrix, when Z_s ≠ 0.
     sheet_impedance : complex
@@ -731,8 +731,8 @@ def fill_system(
 def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[PeriodicSolution]:
     """The solutions for ``waves``, which share the system's k_t: one LU, K right-hand sides.
 
-    Overwrites ``system.matrix`` (the LU's copy is single precision; the refinement's
-    residuals use the matrix, then it is released).
+    The LU is of a single-precision copy of ``system.matrix``; the refinement's residuals
+    use the matrix itself, which is left as it is.
     """
     pg, frequency, kt = system.geometry, system.frequency, system.kt
     zs, gram, z = system.sheet_impedance, system.gram, system.matrix
@@ -751,7 +751,6 @@ def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[Perio
     else:
         currents, cond, many = dense_solve(z, np.stack(columns, axis=1))
         residuals = np.asarray(many)
-    del z
     solutions = []
     for j, wave in enumerate(waves):
         current = np.ascontiguousarray(currents[:, j])
