@@ -67,3 +67,32 @@ def test_no_wavelength_no_edge_field_and_solver_formats_stay_lean(tmp_path):
     for ext in (".stl", ".obj"):
         back = meshio.read(write_mesh(mesh, tmp_path / f"a{ext}", wavelength=30.0))
         assert set(back.cell_data) <= {"facet_normals", "obj:group_ids"}
+
+
+@pytest.mark.parametrize("ext", [".vtk", ".vtu"])
+def test_vtk_itself_reads_every_cell_array(tmp_path, dsdr, ext):
+    """VTK (ParaView's reader, through pyvista) gets every cell array with its values.
+
+    VTK 9's legacy reader does not know meshio's ``vtktypeint32`` and then drops all the
+    cell data of the file (meshio issue 1410), so the integer arrays are written as int64.
+    """
+    pv = pytest.importorskip("pyvista")
+    wavelength = 30.0
+    grid = pv.read(write_mesh(dsdr, tmp_path / f"d{ext}", unit="m", wavelength=wavelength))
+    assert grid.n_cells == dsdr.n_triangles == 2_752
+    assert set(grid.cell_data.keys()) == {
+        "patch_id",
+        "region",
+        "area",
+        "min_angle",
+        "aspect_ratio",
+        "edge_wavelength",
+    }
+    np.testing.assert_array_equal(grid.cell_data["patch_id"], dsdr.patch_ids)
+    np.testing.assert_array_equal(grid.cell_data["region"], dsdr.regions)
+    assert set(np.unique(grid.cell_data["region"]).tolist()) == {1, 2}  # the double ring
+    np.testing.assert_allclose(grid.cell_data["area"], dsdr.areas * 1e-6, rtol=1e-15)
+    np.testing.assert_allclose(grid.cell_data["min_angle"], dsdr.min_angles, rtol=1e-15)
+    np.testing.assert_allclose(grid.cell_data["aspect_ratio"], dsdr.aspect_ratios, rtol=1e-15)
+    sides = longest_sides(dsdr.points, dsdr.triangles)
+    np.testing.assert_allclose(grid.cell_data["edge_wavelength"], sides / wavelength, rtol=1e-15)

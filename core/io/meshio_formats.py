@@ -41,14 +41,18 @@ def region_names(mesh: TriMesh) -> dict[int, str]:
 def cell_quality(mesh: TriMesh, wavelength: float | None = None) -> dict[str, np.ndarray]:
     """Per-triangle data written to VTK files (names as in the window's colour menu).
 
-    ``patch_id``, ``region`` (int32), ``area`` (mm²), ``min_angle`` (degrees),
+    ``patch_id``, ``region`` (int64), ``area`` (mm²), ``min_angle`` (degrees),
     ``aspect_ratio``, each (T,); with ``wavelength`` (mm) also ``edge_wavelength``,
     the longest side of each triangle over λ (the figures of
     :func:`barymesh.quality.quality_report`).
+
+    The integers are int64: meshio writes int32 to a legacy ``.vtk`` as ``vtktypeint32``,
+    which VTK's own reader (ParaView, pyvista) does not know, and it then drops every cell
+    array of the file (meshio issue 1410); ``vtktypeint64`` it reads.
     """
     data: dict[str, np.ndarray] = {
-        "patch_id": mesh.patch_ids.astype(np.int32),
-        "region": mesh.regions.astype(np.int32),
+        "patch_id": mesh.patch_ids.astype(np.int64),
+        "region": mesh.regions.astype(np.int64),
         "area": np.asarray(mesh.areas, dtype=np.float64),
         "min_angle": np.asarray(mesh.min_angles, dtype=np.float64),
         "aspect_ratio": np.asarray(mesh.aspect_ratios, dtype=np.float64),
