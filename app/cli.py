@@ -59,7 +59,7 @@ PROG = "barymesh"
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the subcommands (``mesh``, ``info``, ``sweep``, ``presets``)."""
     from barymesh.cell.outline import DEFAULT_CHORD_ERROR
-    from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, UNITS
+    from barymesh.io import EXPORT_EXTENSIONS, IMPORT_EXTENSIONS, MSH_VERSIONS, UNITS
 
     parser = Parser(
         prog=PROG,
@@ -103,6 +103,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--unit",
         choices=UNITS,
         help="length unit of the written files (default mm; .mat: m)",
+    )
+    out.add_argument(
+        "--msh-version",
+        choices=MSH_VERSIONS,
+        help=f"Gmsh format of a .msh: {MSH_VERSIONS[0]} (default; the solvers of Makarov's era "
+        "read it) or 4.1 (Gmsh 4's own; each patch one entity); a cell's $Periodic in both",
     )
     out.add_argument("--screenshot", metavar="PNG", help="render the mesh off-screen to PNG")
     out.add_argument(
@@ -289,8 +295,9 @@ def _cmd_mesh(args: argparse.Namespace) -> int:
                 _write_outline(polygons, out, built.name)
                 print(f"wrote {_describe_outline(out, polygons, args.chord_error)}", file=say)
             else:
-                extra = _write_mesh_file(built, out, args.unit, wavelength)
-                print(f"wrote {describe_export(out, args.unit)}{extra}", file=say)
+                extra = _write_mesh_file(built, out, args.unit, wavelength, args.msh_version)
+                described = describe_export(out, args.unit, args.msh_version)
+                print(f"wrote {described}{extra}", file=say)
     if args.screenshot:
         _screenshot(built.mesh, args.screenshot, tuple(args.window_size), args.transparent)
         print(f"wrote {args.screenshot} ({args.window_size[0]}x{args.window_size[1]} px)", file=say)
@@ -324,6 +331,13 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
         )
     if args.transparent and not args.screenshot:
         raise UsageError("mesh: --transparent needs --screenshot")
+    if args.msh_version is not None and not any(
+        Path(out).suffix.lower() == ".msh" for out in args.outputs
+    ):
+        raise UsageError(
+            f"mesh: --msh-version {args.msh_version} sets the format of a .msh output; add "
+            "-o FILE.msh"
+        )
     if args.screenshot:
         check_render_size("mesh", *args.window_size)
     for text in args.sets:
@@ -535,24 +549,27 @@ def _cell_summary(cell_mesh: Any, stats: dict[str, Any], label: str) -> str:
 
 
 def _write_mesh_file(
-    built: _Built, out: str, unit: str | None, wavelength: float | None = None
+    built: _Built,
+    out: str,
+    unit: str | None,
+    wavelength: float | None = None,
+    msh_version: str | None = None,
 ) -> str:
     """Write a mesh file; a cell's .msh gets ``$Periodic`` when periodic. Returns a remark.
 
-    With ``wavelength`` (mm) VTK files also carry each triangle's edge/wavelength."""
-    from barymesh.io import export_unit, per_mm, write_mesh
+    With ``wavelength`` (mm) VTK files also carry each triangle's edge/wavelength;
+    ``msh_version`` is the Gmsh format of a .msh."""
+    from barymesh.io import export_unit, per_mm, write_mesh, write_periodic_msh
 
     cell_mesh = built.cell_mesh
     if cell_mesh is None or Path(out).suffix.lower() != ".msh":
-        write_mesh(built.mesh, out, unit=unit, wavelength=wavelength)
+        write_mesh(built.mesh, out, unit=unit, wavelength=wavelength, msh_version=msh_version)
         return ""
     pairs = cell_mesh.periodic_pairs
     if pairs.matched and len(pairs.edges):
-        from barymesh.io.periodic_msh import write_periodic_msh
-
-        write_periodic_msh(cell_mesh, out, per_mm(export_unit(out, unit)))
+        write_periodic_msh(cell_mesh, out, per_mm(export_unit(out, unit)), msh_version)
         return f" with $Periodic: {len(pairs.edges):,} edge pairs"
-    write_mesh(built.mesh, out, unit=unit)
+    write_mesh(built.mesh, out, unit=unit, msh_version=msh_version)
     why = "not periodic" if not pairs.matched else "no mesh edge on its sides"
     return f" without $Periodic ({why})"
 

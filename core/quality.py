@@ -275,6 +275,37 @@ def longest_sides(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return out
 
 
+def cell_figures(mesh: TriMesh, wavelength: float | None = None) -> dict[str, np.ndarray]:
+    """Per-triangle data of a mesh as files and viewers carry it (the colour menu's names).
+
+    Parameters
+    ----------
+    mesh : TriMesh
+    wavelength : float, optional
+        λ in mm: adds ``edge_wavelength``, each triangle's longest side over λ (the
+        figure of :func:`quality_report`).
+
+    Returns
+    -------
+    dict of str to (T,) array
+        ``patch_id``, ``region`` (int64), ``area`` (mm²), ``min_angle`` (degrees),
+        ``aspect_ratio`` (float64), and with ``wavelength`` ``edge_wavelength``.
+        The integers are int64: VTK's legacy reader does not know meshio's
+        ``vtktypeint32`` and drops every cell array of a file that has one (meshio
+        issue 1410), while ``vtktypeint64`` it reads.
+    """
+    data: dict[str, np.ndarray] = {
+        "patch_id": np.asarray(mesh.patch_ids).astype(np.int64),
+        "region": np.asarray(mesh.regions).astype(np.int64),
+        "area": np.asarray(mesh.areas, dtype=np.float64),
+        "min_angle": np.asarray(mesh.min_angles, dtype=np.float64),
+        "aspect_ratio": np.asarray(mesh.aspect_ratios, dtype=np.float64),
+    }
+    if wavelength is not None:
+        data["edge_wavelength"] = longest_sides(mesh.points, mesh.triangles) / float(wavelength)
+    return data
+
+
 def _number(x: float) -> float | None:
     """A JSON-ready float: None for NaN and ±inf."""
     x = float(x)

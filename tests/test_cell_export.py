@@ -17,7 +17,7 @@ from barymesh.cell.outline import (
     outline_polygons,
     signed_area,
 )
-from barymesh.io.periodic_msh import write_periodic_msh
+from barymesh.io import write_periodic_msh
 
 try:  # the optional "cell" extra; everything but the two writers works without it
     import ezdxf
@@ -196,7 +196,7 @@ def test_unknown_outline_format(tmp_path):
 
 def test_core_does_not_import_the_export_libraries():
     code = (
-        "import sys, core, barymesh.cell, barymesh.cell.outline, barymesh.io.periodic_msh; "
+        "import sys, core, barymesh.cell, barymesh.cell.outline, barymesh.io.gmsh_msh; "
         "print('ezdxf' in sys.modules, 'gdstk' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

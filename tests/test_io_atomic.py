@@ -42,7 +42,7 @@ def test_failure_mid_write_keeps_existing_file(tmp_path, monkeypatch, ext):
     target = tmp_path / f"mesh{ext}"
     target.write_bytes(b"the old file")
 
-    def half_then_fail(mesh, path, ext, factor, wavelength=None):
+    def half_then_fail(mesh, path, ext, factor, wavelength=None, msh_version="2.2"):
         path.write_bytes(b"half a mesh")
         raise OSError(28, "No space left on device")
 
@@ -55,7 +55,7 @@ def test_failure_mid_write_keeps_existing_file(tmp_path, monkeypatch, ext):
 
 
 def test_failure_without_existing_file_leaves_nothing(tmp_path, monkeypatch):
-    def fail(mesh, path, ext, factor, wavelength=None):
+    def fail(mesh, path, ext, factor, wavelength=None, msh_version="2.2"):
         path.write_bytes(b"partial")
         raise ValueError("the writer broke")
 
@@ -199,7 +199,7 @@ signal.signal(signal.SIGINT, signal.default_int_handler)
 from barymesh import MeshParams, build_mesh
 from barymesh.io import export, write_mesh
 
-def slow(mesh, path, ext, factor, wavelength=None):
+def slow(mesh, path, ext, factor, wavelength=None, msh_version="2.2"):
     path.write_bytes(b"half a mesh")
     print("writing", flush=True)
     while True:

@@ -32,6 +32,7 @@ from .export import (
     filter_extension,
     write_mesh,
 )
+from .gmsh_msh import MSH_VERSIONS, write_periodic_msh
 from .import_ import IMPORT_EXTENSIONS, IMPORT_FORMATS, MeshFileError, read_mesh
 from .units import PER_MM, UNITS, per_mm
 
@@ -40,6 +41,7 @@ __all__ = [
     "EXPORT_FORMATS",
     "IMPORT_EXTENSIONS",
     "IMPORT_FORMATS",
+    "MSH_VERSIONS",
     "PER_MM",
     "UNITS",
     "ExportCancelled",
@@ -60,4 +62,5 @@ __all__ = [
     "read_mesh",
     "remove_stale_temp_files",
     "write_mesh",
+    "write_periodic_msh",
 ]

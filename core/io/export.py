@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..mesh import TriMesh
 from .atomic import ExportCancelled, ExportError, atomic_path
+from .gmsh_msh import check_msh_version
 from .makarov import write_makarov
 from .meshio_formats import write_meshio
 from .rwg import write_rwg_csv, write_rwg_npz
@@ -89,9 +90,16 @@ def export_unit(path: str | Path, unit: str | None = None) -> str:
     return unit
 
 
-def describe_export(path: str | Path, unit: str | None = None) -> str:
-    """``"out.msh (Gmsh MSH 2.2 ASCII, mm)"`` for messages."""
-    return f"{path} ({export_format(path).name}, {export_unit(path, unit)})"
+def describe_export(path: str | Path, unit: str | None = None, msh_version: str = "2.2") -> str:
+    """``"out.msh (Gmsh MSH 2.2 ASCII, mm)"`` for messages (``msh_version`` of a .msh).
+
+    >>> describe_export("cell.msh", msh_version="4.1")
+    'cell.msh (Gmsh MSH 4.1 ASCII, mm)'
+    """
+    name = export_format(path).name
+    if Path(path).suffix.lower() == ".msh":
+        name = name.replace("2.2", check_msh_version(msh_version))
+    return f"{path} ({name}, {export_unit(path, unit)})"
 
 
 def write_mesh(
@@ -101,6 +109,7 @@ def write_mesh(
     wavelength: float | None = None,
     *,
     cancelled: Callable[[], bool] | None = None,
+    msh_version: str = "2.2",
 ) -> Path:
     """Write ``mesh`` to ``path``; the extension picks the format (see ``EXPORT_FORMATS``).
 
@@ -118,6 +127,9 @@ def write_mesh(
         Asked before the write starts and once the file is written, before it replaces
         ``path``: True raises :class:`ExportCancelled`, and no file (not even a
         temporary one) is left. For an export in a worker thread with a Cancel button.
+    msh_version : {"2.2", "4.1"}
+        The Gmsh format of a ``.msh``: 2.2 (the default, which the solvers of
+        Makarov's era read) or 4.1 (Gmsh 4's own; the patches are its entities).
 
     Returns
     -------
@@ -127,7 +139,7 @@ def write_mesh(
     Raises
     ------
     ValueError
-        For an extension or a unit we do not know.
+        For an extension, a unit or an MSH version we do not know.
     ExportError
         When the file cannot be written (the message names the path and why).
     ExportCancelled
@@ -139,6 +151,7 @@ def write_mesh(
     ext = path.suffix.lower()
     u = export_unit(path, unit)
     factor = per_mm(u)
+    version = check_msh_version(msh_version)
 
     def check() -> None:
         if cancelled is not None and cancelled():
@@ -156,7 +169,7 @@ def write_mesh(
         elif ext == ".vtp":
             write_vtp(mesh, tmp, factor, wavelength)
         else:
-            write_meshio(mesh, tmp, ext, factor, wavelength)
+            write_meshio(mesh, tmp, ext, factor, wavelength, version)
         if not tmp.exists():
             raise ExportError(f"cannot write {path}: the writer produced no file")
         check()
