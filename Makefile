@@ -17,20 +17,22 @@ $(STAMP): pyproject.toml
 system-deps:
 	@bash scripts/system-deps.sh
 
+# The gmsh wheel links X11/OpenGL libraries even when it runs headless (make bench, and
+# make test: tests/test_io_gmsh.py reads our .msh files back with Gmsh).
+GMSH_DEPS := libglu1-mesa libxcursor1 libxft2 libxinerama1 libxrender1 libxfixes3 libxext6 \
+	libfontconfig1 libgomp1
+
 run: $(STAMP) system-deps
 	$(BIN)/barymesh
 
-test: $(STAMP) system-deps
+test: $(STAMP)
+	@bash scripts/system-deps.sh $(GMSH_DEPS)
 	$(BIN)/python -m pytest
 
 # The hostile-parameter fuzz of the core at 50,000 examples (make test runs 2,000).
 fuzz: $(STAMP)
 	BARYMESH_FUZZ_EXAMPLES=50000 $(BIN)/python -m pytest -p no:xvfb -q \
 		tests/test_core_properties.py -k hostile --hypothesis-show-statistics
-
-# The gmsh wheel links X11/OpenGL libraries even when it runs headless.
-GMSH_DEPS := libglu1-mesa libxcursor1 libxft2 libxinerama1 libxrender1 libxfixes3 libxext6 \
-	libfontconfig1 libgomp1
 
 bench: $(STAMP)
 	@bash scripts/system-deps.sh $(GMSH_DEPS)

@@ -7,6 +7,7 @@
     barymesh info FILE             import a mesh file and print its statistics
     barymesh presets               list the presets (structures, then unit cells)
     barymesh study SPEC.json       a design study on Dask (barymesh.app.cli_study)
+    barymesh --print-completion bash   the shell completion script (barymesh.app.cli_completion)
 
 A unit cell (``--cell FILE.cell.json`` or ``--cell-preset NAME``) or an array
 (``--array N1xN2``, of a cell or of one structure) is meshed by
@@ -192,7 +193,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="List the structure presets (--preset NAME), then the unit-cell presets "
         "(--cell-preset NAME, described as 'cell: ...'), one line each.",
     )
-    return parser
+    from barymesh.app.cli_completion import add_completion
+
+    return add_completion(parser)
 
 
 # -- output ----------------------------------------------------------------
@@ -813,7 +816,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit code (0, 1 input, 2 usage)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        if not argv or (argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version")):
+        own = ("-h", "--help", "--version", "--print-completion")
+        if not argv or (argv[0].startswith("-") and argv[0].split("=")[0] not in own):
             return _open_window(argv)
         parser = build_parser()
         try:

@@ -132,6 +132,20 @@ def test_wheel_holds_barymesh_and_its_data(wheel):
     assert top_level.split() == ["barymesh"]
 
 
+def test_wheel_metadata_names_the_project_urls_and_the_completion(wheel):
+    text = zipfile.ZipFile(wheel).read("barymesh-0.2.0.dist-info/METADATA").decode()
+    urls = dict(
+        line.split(": ", 1)[1].split(", ", 1)
+        for line in text.splitlines()
+        if line.startswith("Project-URL: ")
+    )
+    assert set(urls) == {"Homepage", "Documentation", "Source", "Issues", "Changelog"}
+    assert all(url.startswith("https://") for url in urls.values())
+    assert urls["Changelog"].endswith("/CHANGELOG.md") and urls["Issues"].endswith("/issues")
+    requires = [line for line in text.splitlines() if line.startswith("Requires-Dist: ")]
+    assert any(line.startswith("Requires-Dist: shtab") and "extra" not in line for line in requires)
+
+
 def test_wheel_in_a_fresh_environment(wheel, tmp_path):
     env_dir = tmp_path / "env"
     venv.create(env_dir, with_pip=True)
@@ -173,6 +187,16 @@ def test_wheel_in_a_fresh_environment(wheel, tmp_path):
     )
     assert stats.returncode == 0, stats.stderr
     assert json.loads(stats.stdout)["triangles"] == 32
+    completion = subprocess.run(
+        [env_dir / "bin" / "barymesh", "--print-completion", "bash"],
+        cwd=elsewhere,
+        env=_clean_env(),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert completion.returncode == 0, completion.stderr
+    assert "_shtab_barymesh" in completion.stdout and "--msh-version" in completion.stdout
     cell = _stats_json(env_dir / "bin" / "barymesh", elsewhere)
     here = _stats_json(Path(sys.executable), elsewhere, "-m", "barymesh")
     # the same cell as the checkout's own command line builds it
