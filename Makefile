@@ -52,11 +52,13 @@ mutate: $(STAMP)
 	$(BIN)/mutmut results
 
 # The documentation (Sphinx, docs/): warnings are errors (-W), every reference into barymesh
-# must resolve (-n). autodoc imports the window's modules (no display needed to import them);
+# must resolve (-n), and every internal link and anchor of the built HTML must resolve
+# (scripts/check_html_links.py; Sphinx's linkcheck builder is for the external ones). autodoc imports the window's modules (no display needed to import them);
 # the API pages are generated afresh, so a renamed module leaves no stale page behind.
 docs: $(STAMP) system-deps
 	rm -rf docs/api/generated
 	$(BIN)/python -m sphinx -b html -W --keep-going -n docs docs/_build/html
+	$(BIN)/python scripts/check_html_links.py docs/_build/html
 	@echo "open docs/_build/html/index.html"
 
 # The code is formatted by `ruff format` (line length 100, pyproject.toml); `make format` applies it.

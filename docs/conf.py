@@ -24,6 +24,9 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    # MathJax 3 from the PyPI package (docs extra), copied into _static/mathjax: the maths
+    # renders offline, with no CDN
+    "sphinx-mathjax-offline",
     "sphinx.ext.viewcode",
     "numpydoc",
     "myst_parser",
@@ -31,6 +34,7 @@ extensions = [
     "benchmark_tables",
     "barymesh_refs",
     "mesh_figures",
+    "site_links",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}

@@ -1,11 +1,13 @@
 """Check that every internal link of a built HTML site resolves (``make docs`` runs it).
 
-Every ``href`` and ``src`` of every ``.html`` file under the folder is read with the
-standard library's HTML parser. A link with a scheme (``https:``, ``mailto:``) or to
-another host is external and left to Sphinx's ``linkcheck`` builder; every other one is
-internal and must point at a file that exists in the site, and its ``#anchor``, if any,
-at an ``id`` (or an ``<a name>``) in that file. A link with a scheme a browser cannot
-follow from a page (``tcp:``, ``file:``) is reported too: it is a typo for text.
+Every ``href`` and ``src`` of every page (``.html`` file) under the folder is read with the
+standard library's HTML parser; ``_static/`` holds the theme's and extensions' assets (an
+HTML template among them), which are targets but not pages. A link with a scheme
+(``https:``, ``mailto:``) or to another host is external and left to Sphinx's
+``linkcheck`` builder; every other one is internal and must point at a file that exists
+in the site, and its ``#anchor``, if any, at an ``id`` (or an ``<a name>``) in that file.
+A link with a scheme a browser cannot follow from a page (``tcp:``, ``file:``) is
+reported too: it is text that became a link.
 
 ``python scripts/check_html_links.py docs/_build/html`` prints each broken link as
 ``page: target (why)`` and exits 1 if there is one, 0 otherwise.
@@ -61,6 +63,11 @@ def _parse(path: Path) -> _Page:
     return page
 
 
+def site_pages(root: Path) -> list[Path]:
+    """The pages of the site at ``root``: its ``.html`` files outside ``_static/``."""
+    return sorted(p for p in root.rglob("*.html") if "_static" not in p.relative_to(root).parts)
+
+
 def broken_links(site: str | Path) -> list[BrokenLink]:
     """The internal links of the HTML files under ``site`` that do not resolve.
 
@@ -77,7 +84,7 @@ def broken_links(site: str | Path) -> list[BrokenLink]:
     root = Path(site).resolve()
     if not root.is_dir():
         raise FileNotFoundError(f"{site}: no such folder; build the site first (make docs)")
-    pages = {p: _parse(p) for p in sorted(root.rglob("*.html"))}
+    pages = {p: _parse(p) for p in site_pages(root)}
     broken = []
     for path, page in pages.items():
         name = path.relative_to(root).as_posix()
@@ -119,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     for link in broken:
         print(link)
-    pages = sum(1 for _ in Path(args[0]).rglob("*.html"))
+    pages = len(site_pages(Path(args[0]).resolve()))
     if broken:
         print(f"{len(broken)} broken internal link(s) in {pages} pages", file=sys.stderr)
         return 1

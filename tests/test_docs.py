@@ -8,6 +8,13 @@
   program's own parser and name presets and parameters that exist.
 * Every relative link in the README, CONTRIBUTING.md, CHANGELOG.md and the documentation's
   pages points at a file that exists.
+* Every Python example of every page runs as written: a page's blocks run in order in one
+  namespace, in an empty folder, with the files its other blocks name written there first
+  (``srr.json``). A block is skipped only when its first line says why
+  (``# not run: <reason>``); a page that needs an extra says so, and is skipped (naming
+  it) where that extra is missing.
+* The built site's internal links and anchors all resolve (``scripts/check_html_links.py``,
+  which ``make docs`` runs too), and its maths needs no network (MathJax is in the site).
 """
 
 from __future__ import annotations
@@ -19,6 +26,7 @@ import re
 import shlex
 import subprocess
 import sys
+import textwrap
 from dataclasses import fields
 from pathlib import Path
 
@@ -58,6 +66,89 @@ def _relative_targets(path: Path) -> list[str]:
         if not re.match(r"^[a-z][a-z0-9+.-]*:", t)  # http:, https:, mailto:
         and not t.startswith("#")
     ]
+
+
+#: The documentation's pages (Markdown and reStructuredText) whose Python examples run.
+DOC_PAGES = sorted(
+    [p for p in (ROOT / "docs").rglob("*.md") if "_build" not in p.parts]
+    + [p for p in (ROOT / "docs").glob("*.rst")]
+)
+#: Pages whose examples need an extra: (extra, modules it brings). The page must say so.
+PAGE_EXTRAS = {
+    "cells.md": ("cell", ("ezdxf", "gdstk")),
+    "study.rst": ("study", ("dask", "distributed", "pandas", "pyarrow", "xarray")),
+}
+#: The first line of a block that is not run, followed by the reason.
+NOT_RUN = "# not run:"
+#: A file named just before a code block (``srr.json``: / `srr.json`:), which the page's
+#: Python examples read.
+_NAMED_FILE = re.compile(
+    r"^(?:``|`)(?P<name>[\w.-]+)(?:``|`):\n\n"
+    r"(?:```\w*\n(?P<md>.*?)^```|\.\. code-block:: \w+\n\n(?P<rst>(?:(?:   [^\n]*)?\n)+))",
+    re.MULTILINE | re.DOTALL,
+)
+
+
+def python_blocks(page: Path) -> list[tuple[int, str]]:
+    """(first line number, code) of every Python block of a Markdown or rst page, in order."""
+    text = page.read_text(encoding="utf-8")
+    found = []
+    if page.suffix == ".md":
+        for match in re.finditer(r"^```python\n(.*?)^```", text, flags=re.MULTILINE | re.DOTALL):
+            found.append((text.count("\n", 0, match.start()) + 2, match.group(1)))
+    else:
+        pattern = r"^\.\. code-block:: python\n\n((?:(?:[ ]{3}.*)?\n)+)"
+        for match in re.finditer(pattern, text, flags=re.MULTILINE):
+            code = textwrap.dedent(match.group(1))
+            found.append((text.count("\n", 0, match.start()) + 3, code))
+    return found
+
+
+def named_files(page: Path) -> dict[str, str]:
+    """The files a page shows right after naming them: name -> content."""
+    files = {}
+    for match in _NAMED_FILE.finditer(page.read_text(encoding="utf-8")):
+        body = match.group("md") if match.group("md") is not None else match.group("rst")
+        files[match.group("name")] = textwrap.dedent(body)
+    return files
+
+
+def test_the_python_blocks_and_the_files_they_read_are_found():
+    blocks = {p.name: python_blocks(p) for p in DOC_PAGES}
+    assert len(blocks["solving.md"]) == 3 and len(blocks["study.rst"]) == 2
+    assert len(blocks["cells.md"]) == 1 and len(blocks["getting-started.md"]) == 1
+    assert blocks["study.rst"][0][1].startswith("from barymesh.study import run\n")
+    assert json.loads(named_files(ROOT / "docs" / "study.rst")["srr.json"])["base"] == {
+        "preset": "srr-openmodes"
+    }
+
+
+@pytest.mark.parametrize("page", [p for p in DOC_PAGES if python_blocks(p)], ids=lambda p: p.name)
+def test_every_python_example_of_a_page_runs_as_written(page, tmp_path, monkeypatch):
+    extra = PAGE_EXTRAS.get(page.name)
+    if extra is not None:
+        name, modules = extra
+        text = page.read_text(encoding="utf-8")
+        assert f"barymesh[{name}]" in text, f"{page.name} should say it needs the {name} extra"
+        for module in modules:
+            pytest.importorskip(module, reason=f"{page.name} needs barymesh[{name}]")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    for name, content in named_files(page).items():
+        (tmp_path / name).write_text(content, encoding="utf-8")
+    namespace: dict = {"__name__": f"docs_{page.stem.replace('-', '_')}"}
+    ran = 0
+    for line, code in python_blocks(page):
+        first = code.lstrip().splitlines()[0]
+        if first.startswith(NOT_RUN):
+            assert first[len(NOT_RUN) :].strip(), f"{page.name}:{line}: say why it is not run"
+            continue
+        with contextlib.redirect_stdout(io.StringIO()):
+            exec(compile(code, f"{page.relative_to(ROOT)}:{line}", "exec"), namespace)
+        ran += 1
+    assert ran >= 1
+    if "matplotlib.pyplot" in sys.modules:
+        sys.modules["matplotlib.pyplot"].close("all")
 
 
 def test_readme_is_at_most_15_kb():
@@ -226,3 +317,58 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
 
     for verb in VERBS:
         assert f">{verb}<" in reference or f"barymesh {verb}" in reference, verb
+    # every internal link and anchor resolves, the source pages' "[docs]" back-links too
+    check = _check_html_links()
+    assert check.broken_links(html) == []
+    assert "tcp://host:8786" in reference and 'href="tcp:' not in reference  # text, not a link
+    backlinks = sum(
+        page.read_text(encoding="utf-8").count('class="viewcode-back"')
+        for page in (html / "_modules").rglob("*.html")
+    )
+    assert backlinks > 300
+    # the maths renders offline: MathJax is in the site, and no page loads a script from
+    # another host
+    method = (html / "method.html").read_text(encoding="utf-8")
+    assert 'class="math' in method
+    scripts = re.findall(r'<script[^>]*\ssrc="([^"]+)"', method)
+    assert "_static/mathjax/tex-chtml.js" in scripts
+    assert (html / "_static" / "mathjax" / "tex-chtml.js").stat().st_size > 100_000
+    assert (html / "_static" / "mathjax" / "output" / "chtml" / "fonts" / "woff-v2").is_dir()
+    for page in check.site_pages(html):
+        for src in re.findall(r'<script[^>]*\ssrc="([^"]+)"', page.read_text(encoding="utf-8")):
+            assert "://" not in src and not src.startswith("//"), (page.name, src)
+
+
+def _check_html_links():
+    """scripts/check_html_links.py as a module."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "check_html_links", ROOT / "scripts" / "check_html_links.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["check_html_links"] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_link_check_finds_broken_links_and_anchors(tmp_path):
+    check = _check_html_links()
+    (tmp_path / "a").mkdir()
+    (tmp_path / "index.html").write_text(
+        '<a href="a/b.html#there">ok</a> <a href="a/b.html#nowhere">bad anchor</a> '
+        '<a href="missing.html">no file</a> <a href="tcp://host:8786">tcp</a> '
+        '<a href="https://example.org/x">external</a> <a href="#top">self</a> <p id="top"></p>'
+        '<img src="a/pic.png">'
+    )
+    (tmp_path / "a" / "b.html").write_text('<h1 id="there">b</h1><a href="../index.html">up</a>')
+    (tmp_path / "a" / "pic.png").write_bytes(b"")
+    broken = [(b.page, b.target) for b in check.broken_links(tmp_path)]
+    assert broken == [
+        ("index.html", "a/b.html#nowhere"),
+        ("index.html", "missing.html"),
+        ("index.html", "tcp://host:8786"),
+    ]
+    assert check.main([str(tmp_path)]) == 1
+    (tmp_path / "index.html").write_text('<a href="a/b.html#there">ok</a>')
+    assert check.main([str(tmp_path)]) == 0
