@@ -11,7 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .overlap import union_area
-from .quality import TriangleQuality, triangle_quality
+from .quality import TriangleQuality, cell_figures, triangle_quality
 from .repeat import Repetition, repeated_connectivity, repeated_rwg, repeated_topology
 from .stats import mesh_stats
 from .topology import (
@@ -27,6 +27,8 @@ from .topology import (
 )
 
 if TYPE_CHECKING:
+    import meshio
+
     from .params import MeshParams
 
 
@@ -307,6 +309,74 @@ class TriMesh:
         ``max_edge`` the keys of :func:`barymesh.sizing.sizing_stats`.
         """
         return mesh_stats(self)
+
+    # -- hand-offs to other libraries ---------------------------------------
+
+    def to_meshio(self, wavelength: float | None = None) -> meshio.Mesh:
+        """The mesh as a :class:`meshio.Mesh`, to write any format meshio knows.
+
+        Parameters
+        ----------
+        wavelength : float, optional
+            λ in mm: the cell data also get ``edge_wavelength``.
+
+        Returns
+        -------
+        meshio.Mesh
+            Points (V, 3) in mm, one ``triangle`` block (T, 3) int64, and as cell data
+            the per-triangle figures of :func:`barymesh.quality.cell_figures`
+            (``patch_id``, ``region``, ``area`` in mm², ``min_angle``, ``aspect_ratio``).
+            :func:`barymesh.io.write_mesh` writes files with units, tags and atomically.
+
+        Examples
+        --------
+        >>> from barymesh import MeshParams, build_mesh
+        >>> m = build_mesh(MeshParams(structure="patch", subdivisions=2)).to_meshio()
+        >>> m.cells[0].data.shape, sorted(m.cell_data)
+        ((8, 3), ['area', 'aspect_ratio', 'min_angle', 'patch_id', 'region'])
+        """
+        import meshio
+
+        data = cell_figures(self, wavelength)
+        return meshio.Mesh(
+            np.array(self.points, dtype=np.float64),
+            [("triangle", self.triangles.astype(np.int64))],
+            cell_data={name: [values] for name, values in data.items()},
+        )
+
+    def to_pyvista(self, wavelength: float | None = None) -> Any:
+        """The mesh as a ``pyvista.PolyData`` (VTK), with the cell data of :meth:`to_meshio`.
+
+        Imports pyvista (the ``app`` extra) when called, and only then: the rest of the
+        core never loads VTK.
+
+        Parameters
+        ----------
+        wavelength : float, optional
+            λ in mm: the cell data also get ``edge_wavelength``.
+
+        Returns
+        -------
+        pyvista.PolyData
+            ``points`` (V, 3) mm, one triangle per cell, ``cell_data`` as :meth:`to_meshio`.
+
+        Raises
+        ------
+        ImportError
+            When pyvista is not installed (the message says how to install it).
+        """
+        try:
+            import pyvista
+        except ImportError as exc:
+            raise ImportError(
+                f"TriMesh.to_pyvista needs pyvista: pip install 'barymesh[app]' ({exc})"
+            ) from None
+        triangles = self.triangles.astype(np.int64)
+        faces = np.column_stack([np.full(len(triangles), 3, dtype=np.int64), triangles])
+        poly = pyvista.PolyData(np.array(self.points, dtype=np.float64), faces.ravel())
+        for name, values in cell_figures(self, wavelength).items():
+            poly.cell_data[name] = values
+        return poly
 
     def scaled(self, factor: float) -> TriMesh:
         """A copy with coordinates multiplied by ``factor`` (for unit conversion).

@@ -186,3 +186,40 @@ def test_a_study_runs_on_a_scheduler_by_address_or_from_the_dask_config(client, 
     assert from_config.meta["workers"] == 2
     with pytest.raises(ValueError, match="workers= sizes a local cluster"):
         run(parse_spec(SPEC), scheduler=address, workers=2)
+
+
+def test_the_meta_records_the_workers_that_solved_the_points(tmp_path):
+    """Not the scheduler's count at the end: a worker that leaves mid-study still counts."""
+    import json
+
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address="127.0.0.1:0",
+        ) as cluster,
+        distributed.Client(cluster) as c,
+    ):
+        retired = []
+
+        def retire_the_busiest(p):  # after 4 points, the worker holding most results leaves
+            if p.done == 4 and not retired:
+                held = c.run(lambda dask_worker: len(dask_worker.data))
+                busiest = max(held, key=held.get)
+                assert held[busiest] >= 3  # the shared context and 2 of the 4 points at least
+                retired.append(busiest)
+                c.retire_workers([busiest], close_workers=True)
+
+        out = tmp_path / "w.parquet"
+        result = run(parse_spec(SPEC), c, output=out, progress=retire_the_busiest)
+        remaining = set(c.scheduler_info()["workers"])
+    meta = json.loads((tmp_path / "w.meta.json").read_text())
+    assert retired and retired[0] not in remaining
+    assert result.computed == 9 and (result.derived.status == "ok").all()
+    assert meta["workers_at_start"] == 2 and meta["workers_at_end"] == len(remaining)
+    assert retired[0] in meta["worker_points"] and meta["worker_points"][retired[0]] >= 2
+    assert meta["workers"] == len(meta["worker_points"]) >= 2
+    assert sum(meta["worker_points"].values()) == 9
+    assert set(meta["worker_points"]) <= {retired[0], *remaining}

@@ -268,6 +268,45 @@ def test_a_latin_hypercube_study_has_a_point_dimension():
     assert ds.sizes == {"point": 3, "frequency_hz": 11}
 
 
+def test_the_xarray_variables_carry_their_units():
+    s = parse_spec(
+        spec(
+            axes={"patch_size": [14.0, 15.0], "incidence.theta": [0.0, 30.0]},
+            derive=[
+                "resonance_frequency",
+                "quality_factor",
+                "bandwidth_3db",
+                {"extinction_cross_section_at": ["9GHz"]},
+            ],
+        )
+    )
+    result = run_serial(s)
+    ds = result.to_xarray()
+    units = {name: ds[name].attrs.get("units") for name in [*ds.data_vars, *ds.coords]}
+    assert units == {
+        "extinction_cross_section_m2": "m2",
+        "scattering_cross_section_m2": "m2",
+        "absorption_cross_section_m2": "m2",
+        "input_impedance_real_ohm": "ohm",
+        "input_impedance_imag_ohm": "ohm",
+        "condition_number": "1",
+        "residual": "1",
+        "status": None,  # text
+        "resonance_frequency_hz": "Hz",
+        "quality_factor": "1",
+        "bandwidth_3db_hz": "Hz",
+        "extinction_cross_section_m2_at_9GHz": "m2",
+        "frequency_hz": "Hz",
+        "patch_size": "mm",
+        "incidence.theta": "degree",
+    }
+    # a Latin hypercube too: the axes are coordinates along the points
+    lhs = parse_spec(spec(sample={"latin_hypercube": 2, "seed": 1}, axes={"gap_angle": [0, 90]}))
+    ds = run_serial(lhs).to_xarray()
+    assert ds["gap_angle"].attrs["units"] == "degree" and "units" not in ds["point"].attrs
+    assert ds["resonance_frequency_hz"].attrs["units"] == "Hz"
+
+
 # -- dependencies ----------------------------------------------------------------------------
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import os
 import platform
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,6 +30,56 @@ from .spec import StudySpec
 
 #: Schema metadata key of a part file that holds the point's derived row (JSON).
 PART_KEY = b"barymesh.study.point"
+
+#: Units of the table columns by the suffix of their name (the CF conventions' UDUNITS
+#: spelling, which xarray's unit-aware libraries read); a column without one is a ratio.
+COLUMN_UNITS = {"_hz": "Hz", "_m2": "m2", "_ohm": "ohm"}
+#: Units of the parameters an axis may vary (the last name of its path): MeshParams and
+#: cell fields are in mm and degrees, the incidence's angles in degrees.
+AXIS_UNITS = {
+    **dict.fromkeys(
+        (
+            "inner_radius",
+            "outer_radius",
+            "patch_size",
+            "patch_width",
+            "gap_width",
+            "origin",
+            "tolerance",
+            "max_edge",
+            "min_edge",
+            "position",
+            "pixel_size",
+            "a1",
+            "a2",
+        ),
+        "mm",
+    ),
+    **dict.fromkeys(("angle_step", "gap_angle", "rotation", "theta", "phi"), "degree"),
+    "frequency": "Hz",
+}
+
+
+def column_units(name: str) -> str:
+    """The unit of a table column (``"Hz"``, ``"m2"``, ``"ohm"``), ``"1"`` for a ratio.
+
+    >>> column_units("resonance_frequency_hz"), column_units("extinction_cross_section_m2_at_9GHz")
+    ('Hz', 'm2')
+    >>> column_units("quality_factor")
+    '1'
+    """
+    base = name.split("_at_", 1)[0]
+    return next((u for suffix, u in COLUMN_UNITS.items() if base.endswith(suffix)), "1")
+
+
+def axis_units(path: str) -> str | None:
+    """The unit of an axis (``"elements[1].gap_width"`` -> ``"mm"``); None where it has none.
+
+    >>> axis_units("elements[1].gap_width"), axis_units("incidence.theta"), axis_units("mode")
+    ('mm', 'degree', None)
+    """
+    name = re.sub(r"\[\d+\]", "", path).rsplit(".", 1)[-1]
+    return AXIS_UNITS.get(name)
 
 
 @dataclass(frozen=True, eq=False)
@@ -45,7 +96,10 @@ class StudyResult:
     meta : dict
         Spec, digest, package versions, machine, and the run's counts: ``computed``
         (points solved by this run), ``resumed`` (read back from the parts of an earlier
-        run), ``refused`` (error rows found before submission).
+        run), ``refused`` (error rows found before submission); the workers:
+        ``workers`` (how many solved points in this run, from the scheduler's task
+        stream), ``worker_points`` (each one's address and the points it solved),
+        ``workers_at_start`` and ``workers_at_end`` (connected to the scheduler then).
     """
 
     spec: StudySpec
@@ -69,7 +123,10 @@ class StudyResult:
         A product sample has the axes and ``frequency_hz`` as dimensions, with the axis
         values as coordinates; a Latin-hypercube sample has the dimensions ``point`` and
         ``frequency_hz``, with each axis a coordinate along ``point``. Error points are
-        NaN; ``status`` is a string variable over the points.
+        NaN; ``status`` is a string variable over the points. Every number carries its
+        ``units`` attribute (:func:`column_units`, :func:`axis_units`: ``"Hz"``,
+        ``"m2"``, ``"ohm"``, ``"mm"``, ``"degree"``, ``"1"`` for a ratio), as the CF
+        conventions spell them, so plots label their axes and pint-xarray can read them.
         """
         import xarray as xr
 
@@ -99,7 +156,7 @@ class StudyResult:
             attrs={"spec": self.spec.canonical(), "digest": self.spec.digest()},
         )
         if self.spec.latin_hypercube or not axes:
-            return ds
+            return _with_units(ds)
         shape = [len(a.values) for a in self.spec.axes]
         out = xr.Dataset(
             {
@@ -115,7 +172,7 @@ class StudyResult:
             },
             attrs=ds.attrs,
         )
-        return out
+        return _with_units(out)
 
     def write(self, output: str | Path) -> list[Path]:
         """Write the tables (Parquet or CSV by ``output``'s extension) and the meta JSON.
@@ -134,6 +191,21 @@ class StudyResult:
                     frame.to_parquet(tmp, engine="pyarrow")
         atomic_write_text(paths[2], json.dumps(self.meta, indent=2, default=str) + "\n")
         return paths
+
+
+def _with_units(ds: Any) -> Any:
+    """``ds`` with a ``units`` attribute on every numeric variable and coordinate."""
+    for name in [*ds.data_vars, *ds.coords]:
+        var = ds[name]
+        if var.dtype.kind not in "fiuc":
+            continue
+        if name in ds.data_vars or name == "frequency_hz":
+            unit: str | None = column_units(str(name))
+        else:
+            unit = axis_units(str(name)) if name != "point" else None
+        if unit is not None:
+            var.attrs["units"] = unit
+    return ds
 
 
 def output_paths(output: str | Path) -> list[Path]:

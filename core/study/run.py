@@ -23,6 +23,7 @@ import contextlib
 import logging
 import os
 import time
+from collections import Counter
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -197,7 +198,13 @@ def run_serial(
             study.add(refused, computed=False)
         else:
             study.add(_solve_point(context, i, study.points[i]))
-    return study.result(scheduler="serial", workers=1)
+    return study.result(
+        scheduler="serial",
+        workers=1,
+        worker_points={"serial": study.computed},
+        workers_at_start=1,
+        workers_at_end=1,
+    )
 
 
 def run(
@@ -251,11 +258,12 @@ def run(
     spec = spec if isinstance(spec, StudySpec) else load_spec(spec)
     study = _Collector(spec, output if output is not None else spec.output, resume, progress)
     with _client(client, scheduler, workers, processes) as c:
-        from distributed import as_completed
+        from distributed import as_completed, get_task_stream
 
         study.dashboard = c.dashboard_link or ""
         context = StudyContext.of(spec)
-        limits = [w.get("memory_limit") or 0 for w in c.scheduler_info()["workers"].values()]
+        at_start = c.scheduler_info()["workers"]
+        limits = [w.get("memory_limit") or 0 for w in at_start.values()]
         limit = min(limits) if limits and min(limits) > 0 else None
         study.report()
         submit = []
@@ -267,30 +275,42 @@ def run(
                 submit.append(i)
         futures: list[Any] = []
         index_of: dict[Any, int] = {}
-        try:
-            if submit:
-                shared = c.scatter(context, broadcast=True, hash=False)
-                futures = [
-                    c.submit(
-                        solve_point,
-                        shared,
-                        i,
-                        study.points[i],
-                        key=f"barymesh-study-{spec.digest()}-{i}-{id(study):x}",
-                        retries=retries,
-                        pure=False,
-                    )
-                    for i in submit
-                ]
-                index_of = {f.key: i for f, i in zip(futures, submit, strict=True)}
-            for future in as_completed(futures):
-                study.add(_outcome(context, future, index_of[future.key], study))
-        except KeyboardInterrupt:
-            c.cancel(futures)
-            log.info("interrupted: %d of %d points kept", len(study.finished), len(study.points))
-            raise
-        workers_seen = len(c.scheduler_info()["workers"])
-    return study.result(scheduler=study.dashboard and "dask", workers=workers_seen)
+        # the scheduler's record of which worker ran each task: the workers that really
+        # solved the points (a worker may join, die or leave while the study runs)
+        with get_task_stream(client=c) as stream:
+            try:
+                if submit:
+                    shared = c.scatter(context, broadcast=True, hash=False)
+                    futures = [
+                        c.submit(
+                            solve_point,
+                            shared,
+                            i,
+                            study.points[i],
+                            key=f"barymesh-study-{spec.digest()}-{i}-{id(study):x}",
+                            retries=retries,
+                            pure=False,
+                        )
+                        for i in submit
+                    ]
+                    index_of = {f.key: i for f, i in zip(futures, submit, strict=True)}
+                for future in as_completed(futures):
+                    study.add(_outcome(context, future, index_of[future.key], study))
+            except KeyboardInterrupt:
+                c.cancel(futures)
+                log.info(
+                    "interrupted: %d of %d points kept", len(study.finished), len(study.points)
+                )
+                raise
+        ran = Counter(str(r["worker"]) for r in stream.data if r.get("key") in index_of)
+        at_end = len(c.scheduler_info()["workers"])
+    return study.result(
+        scheduler=study.dashboard and "dask",
+        workers=len(ran),
+        worker_points=dict(sorted(ran.items())),
+        workers_at_start=len(at_start),
+        workers_at_end=at_end,
+    )
 
 
 def _outcome(context: StudyContext, future: Any, index: int, study: _Collector) -> PointResult:
