@@ -294,12 +294,23 @@ def run_periodic(
         elif suffix == ".csv":
             sweep.to_csv(out)
         else:
-            from barymesh.io.current_vtu import write_current_vtu
+            from barymesh.io.current_vtu import describe_excitation, write_current_vtu
 
             f = frequencies[0] if current_at is None else current_at
             with progress(f"solving at {f / 1e9:.6g} GHz for the current"):
                 solution = sweep.solution(f)
-            write_current_vtu(out, mesh, solution.current_density)
+            a1, a2 = (np.asarray(a, dtype=float) * 1e3 for a in sweep.lattice)  # m -> mm
+            theta = 0.0 if args.theta is None else args.theta
+            phi = 0.0 if args.phi is None else args.phi
+            text = (
+                f"infinite array of this cell (lattice a1 = ({a1[0]:.6g}, {a1[1]:.6g}) mm, "
+                f"a2 = ({a2[0]:.6g}, {a2[1]:.6g}) mm), {describe_excitation(wave)}: from above, "
+                f"theta = {theta:g} deg, phi = {phi:g} deg; J of the cell at the origin (the "
+                "others differ by the Floquet phase)"
+            )
+            write_current_vtu(
+                out, mesh, solution.current_density, frequency=f, excitation=wave, description=text
+            )
         print(f"wrote {out}")
     if args.plot:
         plot_sweep(sweep, args.plot)

@@ -21,8 +21,6 @@ line, exit 1 or 2, never a traceback).
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import re
 from pathlib import Path
 from typing import Any
@@ -43,6 +41,7 @@ from barymesh.app.cli_periodic import (
     run_periodic,
 )
 from barymesh.app.cli_progress import progress
+from barymesh.io import cross_sections
 
 #: Frequency units understood by --freq.
 FREQUENCY_UNITS = frequencies.FREQUENCY_UNITS
@@ -54,17 +53,8 @@ AXES = {
 }
 SWEEP_OUTPUTS = (".csv", ".npz")
 SINGLE_OUTPUTS = (".csv", ".npz", ".vtu")
-#: Columns of the sweep CSV, in order.
-CSV_COLUMNS = (
-    "frequency_hz",
-    "extinction_cross_section_m2",
-    "scattering_cross_section_m2",
-    "absorption_cross_section_m2",
-    "input_impedance_real_ohm",
-    "input_impedance_imag_ohm",
-    "condition_number",
-    "residual",
-)
+#: Columns of the sweep CSV, in order (:data:`barymesh.io.cross_sections.CSV_COLUMNS`).
+CSV_COLUMNS = cross_sections.CSV_COLUMNS
 
 
 class SolveUsageError(ValueError):
@@ -498,33 +488,13 @@ def _report_sweep(r: Any, excitation: Any) -> None:
         print(f"  warning: {text}")
 
 
-def _csv_text(rows: list[list[float]]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(CSV_COLUMNS)
-    for row in rows:
-        w.writerow([repr(float(v)) for v in row])
-    return buf.getvalue()
-
-
 def _write_sweep(r: Any, out: str) -> None:
     import numpy as np
 
-    from barymesh.io import atomic_path, atomic_write_text
+    from barymesh.io import atomic_path
 
     if out.lower().endswith(".csv"):
-        rows = zip(
-            r.frequencies,
-            r.extinction_cross_section,
-            r.scattering_cross_section,
-            r.extinction_cross_section - r.scattering_cross_section,
-            r.input_impedance.real,
-            r.input_impedance.imag,
-            r.condition_numbers,
-            r.residuals,
-            strict=True,
-        )
-        atomic_write_text(out, _csv_text([list(row) for row in rows]))
+        r.to_csv(out)
         return
     with atomic_path(out) as tmp, open(tmp, "wb") as fh:
         np.savez_compressed(
@@ -554,8 +524,10 @@ def _write_single(s: Any, mesh: Any, out: str) -> None:
     suffix = Path(out).suffix.lower()
     j = s.current_density
     if suffix == ".csv":
-        row = [s.frequency, ext, sca, ext - sca, zin.real, zin.imag, s.condition_number, s.residual]
-        atomic_write_text(out, _csv_text([row]))
+        rows = cross_sections.cross_section_rows(
+            s.frequency, ext, sca, zin, s.condition_number, s.residual
+        )
+        atomic_write_text(out, cross_sections.csv_text(rows))
     elif suffix == ".npz":
         with atomic_path(out) as tmp, open(tmp, "wb") as fh:
             np.savez_compressed(
@@ -574,7 +546,14 @@ def _write_single(s: Any, mesh: Any, out: str) -> None:
     else:
         from barymesh.io.current_vtu import write_current_vtu
 
-        write_current_vtu(out, mesh, j, charge_abs=np.abs(s.charge_density))
+        write_current_vtu(
+            out,
+            mesh,
+            j,
+            frequency=s.frequency,
+            excitation=s.excitation,
+            charge_abs=np.abs(s.charge_density),
+        )
 
 
 def _plot_sweep(r: Any, path: str) -> None:

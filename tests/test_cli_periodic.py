@@ -55,7 +55,6 @@ def test_one_frequency_prints_every_propagating_order(cell_file, capsys):
 
 
 def test_a_sweep_writes_touchstone_csv_vtu_and_plot(cell_file, capsys, tmp_path):
-    import meshio
     import skrf
 
     s4p, orders, vtu, png = (tmp_path / n for n in ("rt.s4p", "orders.csv", "j.vtu", "rt.png"))
@@ -96,9 +95,15 @@ def test_a_sweep_writes_touchstone_csv_vtu_and_plot(cell_file, capsys, tmp_path)
     tm = [r for r in rows if r["p"] == r["q"] == "0" and r["pol"] == "tm"]
     r22 = np.array([complex(float(r["R_re"]), float(r["R_im"])) for r in tm])
     assert np.abs(r22 - network.s[:, 1, 1]).max() < 1e-9
-    mesh = meshio.read(vtu)
-    j = mesh.cell_data["J_abs"][0]
+    grid = pytest.importorskip("pyvista").read(vtu)  # VTK, as ParaView reads it
+    j = np.asarray(grid.cell_data["J_abs"])
     assert len(j) == 24 and j.max() > 0
+    assert grid.field_data["frequency_hz"].tolist() == [20e9]
+    (text,) = grid.field_data["excitation"]
+    assert text.startswith("infinite array of this cell (lattice a1 = (10, 0) mm, a2 = (0, 10) mm)")
+    assert "from above, theta = 30 deg, phi = 0 deg" in text
+    direction = grid.field_data["direction"][0]
+    np.testing.assert_allclose(direction, [-np.sin(theta), 0.0, -np.cos(theta)], atol=1e-15)
     assert png.stat().st_size > 10_000
 
 

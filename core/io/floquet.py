@@ -9,6 +9,8 @@ import nothing of the solver).
   (``skrf.Network(path)``).
 - :func:`write_orders_csv`: one row per frequency, propagating order (p, q) and scattered
   polarisation: R and T, their power fractions, whether the frequency was solved.
+- :func:`to_network`: the same 4-port as a ``skrf.Network`` in memory (scikit-rf, when it
+  is installed), at full precision.
 """
 
 from __future__ import annotations
@@ -43,7 +45,13 @@ ORDER_COLUMNS = (
     "error_estimate",
 )
 
-__all__ = ["ORDER_COLUMNS", "scattering_matrices", "write_orders_csv", "write_touchstone"]
+__all__ = [
+    "ORDER_COLUMNS",
+    "scattering_matrices",
+    "to_network",
+    "write_orders_csv",
+    "write_touchstone",
+]
 
 
 def scattering_matrices(sweep: Any) -> np.ndarray:
@@ -85,17 +93,8 @@ def _number(x: float) -> str:
     return f"{x:.12g}"
 
 
-def write_touchstone(path: str | Path, sweep: Any) -> None:
-    """Write the (0, 0) order's 4-port S-parameters of ``sweep`` to a Touchstone v1 file.
-
-    Parameters
-    ----------
-    path : str or Path
-        Usually ending in ``.s4p``; written atomically.
-    sweep : PeriodicSweep
-        Solved with ``polarizations='both'``.
-    """
-    s = scattering_matrices(sweep)
+def _comments(sweep: Any) -> list[str]:
+    """The Touchstone file's comment lines (without the ``!``): ports, conventions, sweep."""
     d = np.asarray(sweep.incidence.direction, dtype=np.float64)
     theta, phi = _angles(d)
     side = "above" if d[2] < 0 else "below"
@@ -107,39 +106,86 @@ def write_touchstone(path: str | Path, sweep: Any) -> None:
         else f"solved at each of the {len(sweep.frequencies)} frequencies"
     )
     zs = complex(sweep.sheet_impedance)
-    lines = [
-        "! barymesh periodic_sweep: the (0, 0) Floquet order of an infinite array as a 4-port",
-        "! Ports: 1 = TE above the screen, 2 = TM above, 3 = TE below, 4 = TM below.",
-        "! Reference planes: the screen, z = 0, for every port. Time convention exp(+j w t).",
-        f"! Incidence: from {side}, theta = {theta:.6g} deg, phi = {phi:.6g} deg, travelling along",
-        f"!   ({_number(d[0])}, {_number(d[1])}, {_number(d[2])}); the same transverse wavevector "
+    return [
+        " barymesh periodic_sweep: the (0, 0) Floquet order of an infinite array as a 4-port",
+        " Ports: 1 = TE above the screen, 2 = TM above, 3 = TE below, 4 = TM below.",
+        " Reference planes: the screen, z = 0, for every port. Time convention exp(+j w t).",
+        f" Incidence: from {side}, theta = {theta:.6g} deg, phi = {phi:.6g} deg, travelling along",
+        f"   ({_number(d[0])}, {_number(d[1])}, {_number(d[2])}); the same transverse wavevector "
         "k_t = k (dx, dy) at every",
-        "!   port (the mirrored direction on the other side).",
-        "! TE = z x kappa/|kappa| (the incidence plane's normal; y at normal incidence),",
-        "!   TM = TE x d for a wave travelling down, -TE x d travelling up: the tangential part",
-        "!   of TM is the same above and below.",
-        "! Reference impedance: each port's mode's wave impedance (TE: eta0 k/beta, TM:",
-        "!   eta0 beta/k). S_ij is the ratio of the modes' E amplitudes, which for the (0, 0)",
-        "!   order (the same beta on both sides) are power waves: |S_ij|^2 is the power fraction.",
-        "!   'R 1' below: the data are normalised to those impedances.",
-        "! S_ij with j = 1, 2 from the solver: i = 1, 2 reflection, i = 3, 4 transmission",
-        "!   (incident wave included).",
-        "! j = 3, 4 by symmetry, not solved: a zero-thickness screen in free space is its own",
-        "!   mirror image in z = 0; the mirror maps the wave from above onto the one from below",
-        "!   with the same k_t and the same TE/TM components (TE is tangential, TM's tangential",
-        "!   part is the same on both sides), and so S(3:4, 3:4) = S(1:2, 1:2), S(1:2, 3:4) =",
-        "!   S(3:4, 1:2).",
-        f"! Sheet impedance Z_s = {zs.real:.6g} {'+-'[zs.imag < 0]} j{abs(zs.imag):.6g} ohm/sq.",
-        f"! Grating-lobe onsets in the band: {onsets}; above one, power also goes into other",
-        "!   orders and this 4-port is not unitary (see the CSV of every order).",
-        f"! Frequencies: {how}.",
-        "# Hz S RI R 1",
+        "   port (the mirrored direction on the other side).",
+        " TE = z x kappa/|kappa| (the incidence plane's normal; y at normal incidence),",
+        "   TM = TE x d for a wave travelling down, -TE x d travelling up: the tangential part",
+        "   of TM is the same above and below.",
+        " Reference impedance: each port's mode's wave impedance (TE: eta0 k/beta, TM:",
+        "   eta0 beta/k). S_ij is the ratio of the modes' E amplitudes, which for the (0, 0)",
+        "   order (the same beta on both sides) are power waves: |S_ij|^2 is the power fraction.",
+        "   'R 1' below: the data are normalised to those impedances.",
+        " S_ij with j = 1, 2 from the solver: i = 1, 2 reflection, i = 3, 4 transmission",
+        "   (incident wave included).",
+        " j = 3, 4 by symmetry, not solved: a zero-thickness screen in free space is its own",
+        "   mirror image in z = 0; the mirror maps the wave from above onto the one from below",
+        "   with the same k_t and the same TE/TM components (TE is tangential, TM's tangential",
+        "   part is the same on both sides), and so S(3:4, 3:4) = S(1:2, 1:2), S(1:2, 3:4) =",
+        "   S(3:4, 1:2).",
+        f" Sheet impedance Z_s = {zs.real:.6g} {'+-'[zs.imag < 0]} j{abs(zs.imag):.6g} ohm/sq.",
+        f" Grating-lobe onsets in the band: {onsets}; above one, power also goes into other",
+        "   orders and this 4-port is not unitary (see the CSV of every order).",
+        f" Frequencies: {how}.",
     ]
+
+
+def write_touchstone(path: str | Path, sweep: Any) -> None:
+    """Write the (0, 0) order's 4-port S-parameters of ``sweep`` to a Touchstone v1 file.
+
+    Parameters
+    ----------
+    path : str or Path
+        Usually ending in ``.s4p``; written atomically.
+    sweep : PeriodicSweep
+        Solved with ``polarizations='both'``.
+    """
+    s = scattering_matrices(sweep)
+    lines = ["!" + line for line in _comments(sweep)] + ["# Hz S RI R 1"]
     for f, m in zip(sweep.frequencies, s, strict=True):
         for i in range(4):
             pairs = " ".join(f"{_number(v.real)} {_number(v.imag)}" for v in m[i])
             lines.append(f"{_number(f) if i == 0 else ' ' * 8} {pairs}")
     atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def to_network(sweep: Any, name: str = "barymesh periodic sweep") -> Any:
+    """The (0, 0) order's 4-port of ``sweep`` as a ``skrf.Network`` (scikit-rf).
+
+    The S-parameters of :func:`scattering_matrices` at full precision (the Touchstone
+    file keeps 12 digits), reference impedance 1 (normalised to each port's wave
+    impedance, as the file's ``R 1``), the file's comment lines as ``comments``.
+
+    Parameters
+    ----------
+    sweep : PeriodicSweep
+        Solved with ``polarizations='both'``.
+    name : str
+        The network's name.
+
+    Raises
+    ------
+    ImportError
+        When scikit-rf is not installed (the message says how to install it).
+    ValueError
+        When the sweep solved one incident polarisation only.
+    """
+    s = scattering_matrices(sweep)
+    try:
+        import skrf
+    except ImportError as exc:
+        raise ImportError(
+            f"PeriodicSweep.to_network needs scikit-rf: pip install scikit-rf ({exc})"
+        ) from None
+    frequency = skrf.Frequency.from_f(np.asarray(sweep.frequencies, dtype=float), unit="Hz")
+    network = skrf.Network(frequency=frequency, s=s, z0=1.0, name=name)
+    network.comments = "\n".join(line.strip() for line in _comments(sweep))
+    return network
 
 
 def write_orders_csv(path: str | Path, sweep: Any) -> None:

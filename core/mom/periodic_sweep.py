@@ -395,6 +395,13 @@ class PeriodicSweep:
 
         write_orders_csv(path, self)
 
+    def to_network(self, name: str = "barymesh periodic sweep") -> Any:
+        """The (0, 0) order's 4-port as a ``skrf.Network`` (needs scikit-rf); see
+        :func:`barymesh.io.floquet.to_network`."""
+        from ..io.floquet import to_network
+
+        return to_network(self, name)
+
 
 # -- the sweep --------------------------------------------------------------------------
 

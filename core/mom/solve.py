@@ -6,6 +6,7 @@ import logging
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
@@ -412,6 +413,13 @@ class SweepResult:
         """
         centres, half_widths = lorentzian_peaks(self.frequencies, self.extinction_cross_section)
         return centres / (2.0 * half_widths)
+
+    def to_csv(self, path: str | Path) -> None:
+        """Write one row per frequency to ``path`` (CSV), the columns of ``barymesh solve -o
+        sweep.csv``; see :func:`barymesh.io.cross_sections.write_sweep_csv`."""
+        from ..io.cross_sections import write_sweep_csv
+
+        write_sweep_csv(path, self)
 
 
 def find_peaks(x: np.ndarray, y: np.ndarray, floor: float = 0.05) -> np.ndarray:
