@@ -267,6 +267,7 @@ def run_periodic(
     with progress("building the unit cell"):
         mesh, title, lattice = cell_mesh(args, structure)
     print(f"{title}: {mesh.n_triangles:,} triangles, {len(mesh.rwg):,} interior RWG unknowns")
+    _say_expected_time(mesh, lattice, frequencies, wave, not args.no_interpolate)
     both = any(Path(out).suffix.lower() == ".s4p" for out in args.outputs)
     options: dict[str, Any] = {
         "interpolate": not args.no_interpolate,
@@ -279,8 +280,8 @@ def run_periodic(
         options["tolerance"] = args.tolerance
     n = len(frequencies)
     what = f"solving the infinite array at {n} frequenc{'ies' if n > 1 else 'y'}"
-    with progress(what):
-        sweep = periodic_sweep(mesh, frequencies, wave, **options)
+    with progress(what) as report:
+        sweep = periodic_sweep(mesh, frequencies, wave, progress=report, **options)
     _describe_incidence(args, sweep)
     if n == 1:
         _report_orders(sweep)
@@ -316,6 +317,57 @@ def run_periodic(
         plot_sweep(sweep, args.plot)
         print(f"wrote {args.plot}")
     return 0
+
+
+#: A periodic solve expected to take longer than this (seconds) says so before it starts.
+LONG_SOLVE_S = 30.0
+
+
+def _say_expected_time(
+    mesh: Any, lattice: Any, frequencies: list[float], wave: Any, interpolate: bool
+) -> None:
+    """Before a long solve: its size and the time the measured model expects
+    (:func:`barymesh.mom.timing.periodic_sweep_time`)."""
+    from barymesh.cell.periodic import periodic_pairs
+    from barymesh.mom import grating_lobe_onsets
+    from barymesh.mom.timing import periodic_sweep_time
+
+    lat = lattice if lattice is not None else mesh.lattice
+    pairs = mesh.periodic_pairs if lattice is None else periodic_pairs(mesh, lat, mesh.tolerance)
+    unknowns = len(mesh.rwg) + (len(pairs.edges) if pairs is not None else 0)
+    n = len(frequencies)
+    onsets = 0
+    if n > 1:
+        onsets = len(grating_lobe_onsets(lat, wave, f_max=frequencies[-1], f_min=frequencies[0]))
+    t = periodic_sweep_time(mesh.n_triangles, unknowns, n, interpolate and n > 1, onsets)
+    if t.most_s < LONG_SOLVE_S:
+        return
+    solves = (
+        f"{t.most_solves}"
+        if t.fewest_solves == t.most_solves
+        else f"{t.fewest_solves} to {t.most_solves}"
+    )
+    span = (
+        _minutes(t.most_s)
+        if t.fewest_solves == t.most_solves
+        else f"{_minutes(t.fewest_s)} to {_minutes(t.most_s)}"
+    )
+    print(
+        f"  a long solve: {mesh.n_triangles:,} triangles, {unknowns:,} unknowns, {n} "
+        f"frequenc{'ies' if n > 1 else 'y'} ({solves} solved, about {t.per_solve_s:.0f} s "
+        f"each, and {t.geometry_s:.0f} s for the cell's tables): expected {span} on the "
+        "2-core benchmark machine, longer on a loaded one",
+        flush=True,
+    )
+
+
+def _minutes(seconds: float) -> str:
+    """``"40 s"``, ``"12 min"``, ``"2.5 h"``: a rough duration."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
 
 
 def _describe_incidence(args: argparse.Namespace, sweep: Any) -> None:

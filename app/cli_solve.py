@@ -342,8 +342,8 @@ def _run(args: argparse.Namespace) -> int:
         options["order"] = args.order
     try:
         if is_sweep:
-            with progress(f"solving {len(freqs)} frequencies, N = {n:,}"):
-                result = sweep(mesh, freqs, excitation, **options)
+            with progress(f"solving {len(freqs)} frequencies, N = {n:,}") as report:
+                result = sweep(mesh, freqs, excitation, progress=report, **options)
             _report_sweep(result, excitation)
             for out in args.outputs:
                 _write_sweep(result, out)

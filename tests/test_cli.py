@@ -3,6 +3,7 @@
 import io
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -299,6 +300,41 @@ def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
     with cli.progress("building", pipe):
         time.sleep(0.2)
     assert pipe.getvalue() == ""
+
+
+def test_progress_off_a_terminal_writes_log_lines_with_the_steps(monkeypatch):
+    """A pipe or a log gets whole lines: after LOG_DELAY, every LOG_EVERY, and at the end."""
+    import time
+
+    monkeypatch.setattr(cli_progress, "LOG_DELAY", 0.05)
+    monkeypatch.setattr(cli_progress, "LOG_EVERY", 0.2)
+    log = io.StringIO()
+    with cli.progress("solving 4 frequencies", log) as report:
+        report(1, 4)
+        time.sleep(0.15)  # the first line: 1/4 and the time left at that rate
+        report(3, 4)
+        time.sleep(0.25)  # another line: 3/4
+        report(4, 4)
+    lines = log.getvalue().splitlines()
+    assert "\r" not in log.getvalue() and "\033" not in log.getvalue()
+    assert re.fullmatch(r"solving 4 frequencies: 1/4 after 0s, about 0s left", lines[0])
+    assert "solving 4 frequencies: 3/4 after 0s, about 0s left" in lines[1:-1]
+    assert lines[-1] == "solving 4 frequencies: done, 4/4 in 0s"
+
+    failed = io.StringIO()
+    with pytest.raises(RuntimeError), cli.progress("building", failed):
+        time.sleep(0.1)
+        raise RuntimeError("no room")
+    assert failed.getvalue().splitlines() == [
+        "building: running for 0s",
+        "building: stopped after 0s",
+    ]
+
+    monkeypatch.setattr(cli_progress, "LOG_DELAY", 5.0)
+    quick = io.StringIO()
+    with cli.progress("building", quick):
+        time.sleep(0.1)
+    assert quick.getvalue() == ""  # quick work: nothing in the log
 
 
 # -- screenshots -----------------------------------------------------------

@@ -141,6 +141,23 @@ def test_the_progress_bar_shows_points_failures_and_time_left():
     text = stream.getvalue()
     assert text.count("dashboard: http://127.0.0.1:8787/status") == 1
     assert text.endswith("2/4 points, 0 failed, 2s left")
-    quiet = io.StringIO()  # not a terminal: nothing
-    ProgressBar(quiet)(Progress(1, 0, 4, 1.0, 3.0))
-    assert quiet.getvalue() == ""
+    # not a terminal (a log, a pipe): whole lines, at the start, each tenth of the points
+    # (here each point) and the end, never a carriage return or an escape sequence
+    log = io.StringIO()
+    bar = ProgressBar(log)
+    bar(Progress(0, 0, 4, 0.0, float("nan"), "http://127.0.0.1:8787/status"))
+    bar(Progress(1, 0, 4, 61.0, 183.0, "http://127.0.0.1:8787/status"))
+    bar(Progress(4, 1, 4, 250.0, 0.0, "http://127.0.0.1:8787/status"))
+    bar.close()
+    assert log.getvalue().splitlines() == [
+        "dashboard: http://127.0.0.1:8787/status",
+        "study: 0/4 points, 0 failed, time left unknown (0s so far)",
+        "study: 1/4 points, 0 failed, 3m03s left (1m01s so far)",
+        "study: 4/4 points, 1 failed, 0s left (4m10s so far)",
+    ]
+    # many points: a line per tenth, not per point
+    many = io.StringIO()
+    bar = ProgressBar(many)
+    for done in range(101):
+        bar(Progress(done, 0, 100, float(done), float(100 - done)))
+    assert len(many.getvalue().splitlines()) == 11
