@@ -84,7 +84,7 @@ def near_moments_series(geom: MomGeometry, k: float) -> np.ndarray | None:
     (k R_max > :data:`SERIES_MAX_PHASE`, or its tables would exceed
     :data:`SERIES_MAX_BYTES`)."""
     dist = geom.near_distances
-    terms = series_terms(k * float(dist.max()) if dist.size else 0.0)
+    terms = series_terms(abs(k) * float(dist.max()) if dist.size else 0.0)
     if terms is None or terms * dist.shape[0] * 128 > SERIES_MAX_BYTES:
         return None
     tables = power_tables(geom, terms)  # M_m for m = n − 1
