@@ -49,6 +49,7 @@ from .geometry import (
     static_moments,
 )
 from .operator import ETA0, wavenumber
+from .periodic_caveats import periodic_warnings
 from .periodic_fill import FillPlan, fill, fill_plan
 from .periodic_green import PeriodicGreen
 from .periodic_layered import layer_orders, layered_kernel, sheet_field
@@ -853,6 +854,7 @@ def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[Perio
                 sheet_impedance=zs,
                 sheet_absorption=absorbed,
                 absorption=absorbed + solution.layer_absorption,
+                warnings=periodic_warnings(pg, stack, frequency, d, cond),
             )
         )
     return solutions
