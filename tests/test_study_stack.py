@@ -246,6 +246,12 @@ def test_the_zero_phase_frequency_skips_the_180_degree_wrap_and_names_further_pa
     # where |R| is below the floor (no reflection), its phase is not read
     value, notes = zero_phase_frequency(f, phase, np.full(6, 1e-4))
     assert math.isnan(value) and notes[0].startswith("zero phase: |R_co| is below 0.001")
+    # from +100° to −100° the shorter way is through 180°, but the step is too long to be sure
+    value, notes = zero_phase_frequency(f[:2], np.array([100.0, -100.0]), np.ones(2))
+    assert math.isnan(value) and notes[0].endswith(
+        "zero_phase_frequency_hz is NaN, but it moves by up to 160° from one sample to the "
+        "next, too far to tell which way it went: sample more finely"
+    )
     # the phase between samples goes the shorter way round: 170° to −170° passes 180°
     np.testing.assert_allclose(reflection_phase(f, phase, [2.5e9, 2.25e9]), [180.0, 175.0])
 
@@ -330,14 +336,16 @@ pytest.importorskip("distributed")
 
 @pytest.fixture(scope="module")
 def his_study(tmp_path_factory):
-    """A 3 x 2 study of the patch HIS on a 2-worker LocalCluster: substrate thickness x εr."""
+    """A 3 x 2 study of the patch HIS on a 2-worker LocalCluster: substrate thickness x εr,
+    6.5-10.5 GHz in steps of 0.5 GHz."""
     import distributed
 
     out = tmp_path_factory.mktemp("his") / "his.parquet"
     s = parse_spec(
         spec(
             axes={"stack.below[0].thickness": [1.5, 2.0, 2.5], "stack.below[0].eps_r": [2.2, 3.0]},
-            derive=["zero_phase_frequency", {"reflection_phase_at": ["5GHz", "7.25GHz"]}],
+            solve={"kind": "infinite_array", "frequencies": "6.5GHz:10.5GHz:9"},
+            derive=["zero_phase_frequency", {"reflection_phase_at": ["6.5GHz", "7.25GHz"]}],
             output=str(out),
         )
     )
@@ -385,8 +393,8 @@ def test_the_recorded_phase_equals_a_direct_solve_on_the_same_stack(his_study):
             below=(Layer(row["stack.below[0].thickness"], row["stack.below[0].eps_r"]),),
             ground=True,
         )
-        direct = periodic_solve(mesh, 5e9, TM, stack=stack)  # 5 GHz: the band's end, solved
-        assert row["reflection_co_phase_deg_at_5GHz"] == pytest.approx(co_phase(direct), abs=1e-9)
+        direct = periodic_solve(mesh, 6.5e9, TM, stack=stack)  # the band's end: solved
+        assert row["reflection_co_phase_deg_at_6.5GHz"] == pytest.approx(co_phase(direct), abs=1e-9)
     # off the grid (7.25 GHz) the phase lies between its neighbours' (7 and 7.5 GHz)
     t = result.table.reset_index().set_index(["point", "frequency_hz"]).reflection_co_phase_deg
     for point, row in result.derived.iterrows():
@@ -399,8 +407,8 @@ def test_each_point_records_its_sweep_s_warnings_and_the_cli_sums_them_up(his_st
     d = result.derived
     mesh = his_mesh()
     freqs = np.array(s.solve.frequencies)
-    # the 8 mm patch at n = 6 has edges of 1.89 mm: over λ/10 in εr = 3 below 9.2 GHz's
-    # wavelength (the band reaches 10.5 GHz), under it in εr = 2.2 up to 10.7 GHz
+    # the 8 mm patch at n = 6 has edges of 1.89 mm: more than λ/10 in εr = 3 above 9.2 GHz
+    # (the band reaches 10.5 GHz), less in εr = 2.2 up to 10.7 GHz
     for point in (0, 1):
         row = d.loc[point]
         stack = Stack(
@@ -422,3 +430,43 @@ def test_each_point_records_its_sweep_s_warnings_and_the_cli_sums_them_up(his_st
     ds = result.to_xarray()
     assert ds.warnings.dims == ("stack.below[0].thickness", "stack.below[0].eps_r")
     assert ds.warnings.values[0, 1].startswith("coarse mesh") and ds.warnings.values[0, 0] == ""
+
+
+def test_barymesh_study_names_the_stack_and_sums_up_the_warnings(tmp_path, monkeypatch, capsys):
+    from barymesh.app import cli
+
+    monkeypatch.chdir(tmp_path)
+    doc = spec(
+        axes={"stack.below[0].eps_r": [2.2, 3.0]},
+        solve={
+            "kind": "infinite_array",
+            "frequencies": ["6.5GHz", "10.5GHz"],
+            "interpolate": False,
+        },
+        derive=["zero_phase_frequency"],
+    )
+    (tmp_path / "his.json").write_text(json.dumps(doc))
+    assert cli.main(["study", "his.json", "--threads", "--workers", "1", "-o", "his.csv"]) == 0
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    assert lines[1] == "  on the stack 1.575mm eps=2.2; ground"
+    assert "2 points: 2 ok, 0 failed; 2 solved now" in out
+    assert "  warnings on 2 of 2 points (the derived table's warnings column):" in lines
+    # two samples 4 GHz apart: the phase moves by more than 180° between them, so whether
+    # it passed through 0 cannot be told (the note says so, both points); and εr = 3 at
+    # 10.5 GHz has the mesh coarse (point 1 only)
+    zero = [x for x in lines if x.startswith("    zero phase (points 0, 1): the phase of R_co")]
+    assert len(zero) == 1 and "sample more finely (point 0)" in zero[0], out
+    coarse = [x for x in lines if x.startswith("    coarse mesh (point 1): edges up to 1.89 mm")]
+    assert len(coarse) == 1, out
+    derived = read_result(tmp_path / "his.csv").derived
+    assert derived.warnings[1].startswith("coarse mesh: edges up to 1.89 mm")
+    # a bad stack axis: one line naming the key, exit 1
+    (tmp_path / "bad.json").write_text(json.dumps(spec(axes={"stack.below[2].eps_r": [3.0]})))
+    assert cli.main(["study", "bad.json"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(
+        "study spec: axes.stack.below[2].eps_r: the stack has 1 layer(s) below the sheet, so no "
+        "below[2] (1.575mm eps=2.2; ground)"
+    ), err
+    assert len(err.splitlines()) == 1

@@ -32,6 +32,9 @@ import numpy as np
 from ..mom.solve import lorentzian_peaks
 from .spec import REFERENCE_PLANE_COLUMN, Derive
 
+#: Largest step of the phase (degrees) between two samples that the zero-phase frequency
+#: trusts to have gone the shorter way round (a NaN's note says so above it).
+PHASE_STEP = 90.0
 #: |R_co| under which its phase is not read (the interpolating sweep's default tolerance,
 #: the absolute error of its coefficients): no zero of the phase is looked for there.
 PHASE_FLOOR = 1e-3
@@ -139,10 +142,17 @@ def zero_phase_frequency(
         found.append(float(f[i] + (f[i + 1] - f[i]) * p[i] / (p[i] - ends[i])))
     if not found:
         low, high = float(p[usable].min()), float(p[usable].max())
-        return math.nan, (
+        text = (
             f"zero phase: the phase of R_co does not pass through 0 over {band} (it stays "
-            f"between {low:+.4g}° and {high:+.4g}°); zero_phase_frequency_hz is NaN",
+            f"between {low:+.4g}° and {high:+.4g}°); zero_phase_frequency_hz is NaN"
         )
+        jumps = np.abs(step[usable[:-1] & usable[1:]])
+        if len(jumps) and jumps.max() > PHASE_STEP:
+            text += (
+                f", but it moves by up to {jumps.max():.3g}° from one sample to the next, "
+                "too far to tell which way it went: sample more finely"
+            )
+        return math.nan, (text,)
     found.sort()
     if len(found) == 1:
         return found[0], ()

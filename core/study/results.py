@@ -72,7 +72,7 @@ class StudyResult:
         out: dict[str, list[int]] = {}
         for point, text in self.derived[WARNINGS_COLUMN].items():
             for kind in dict.fromkeys(w.split(":", 1)[0] for w in str(text).splitlines()):
-                out.setdefault(kind, []).append(int(point))  # type: ignore[arg-type]
+                out.setdefault(kind, []).append(int(point))
         return out
 
     def to_xarray(self) -> Any:
