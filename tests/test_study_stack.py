@@ -376,6 +376,13 @@ def test_the_zero_phase_frequency_falls_as_the_substrate_thickens_or_its_eps_r_g
     # a thicker substrate (more inductance) or a larger εr (more capacitance): lower
     assert (np.diff(f0.to_numpy(), axis=0) < -0.3e9).all()
     assert (np.diff(f0.to_numpy(), axis=1) < -0.3e9).all()
+    # the table of docs/study.rst ("A study on a substrate")
+    np.testing.assert_allclose(
+        f0.to_numpy() / 1e9, [[9.99, 8.79], [9.10, 8.03], [8.30, 7.34]], atol=0.006
+    )
+    np.testing.assert_allclose(
+        d["reflection_co_phase_deg_at_7.25GHz"], [132.8, 115.9, 104.7, 67.7, 67.1, 8.0], atol=0.06
+    )
     # the figure is a zero of the solver's phase: a direct solve there is within 0.5° of 0
     mesh = his_mesh()
     for (h, eps), f in f0.stack().items():
