@@ -425,3 +425,20 @@ def test_a_solve_says_when_not_to_trust_it():
 
     assert condition_warning(1e13)[0].startswith("ill-conditioned:")
     assert condition_warning(1e5) == ()
+
+
+def test_the_layered_benchmark_runs_and_reports_each_part(tmp_path):
+    from benchmark_runs import run_quick
+
+    doc = run_quick("layered.py", tmp_path)
+    speed, sweep = doc["speed"], doc["sweep"]
+    assert speed["grounded_substrate_s"] > 0 and speed["free_standing_s"] > 0
+    assert speed["ratio"] == pytest.approx(speed["grounded_substrate_s"] / speed["free_standing_s"])
+    assert sweep["solves"] < sweep["frequencies"]
+    assert sweep["largest_difference_r"] < 1e-3 and sweep["largest_difference_t"] < 1e-3
+    assert all(row["difference"] < 1e-3 for row in doc["convergence"])
+    cases = {row["case"]: row for row in doc["validation"]}
+    assert cases["grounded slab, no metal (exact)"]["difference"] < 1e-12
+    assert cases["fully metallised cell (R = -1)"]["difference"] < 2e-4
+    strips = [row for row in doc["validation"] if row["case"].startswith("strips")]
+    assert strips and all(row["difference"] < 2e-3 for row in strips)
