@@ -442,3 +442,27 @@ def test_the_layered_benchmark_runs_and_reports_each_part(tmp_path):
     assert cases["fully metallised cell (R = -1)"]["difference"] < 2e-4
     strips = [row for row in doc["validation"] if row["case"].startswith("strips")]
     assert strips and all(row["difference"] < 2e-3 for row in strips)
+
+
+def test_a_peak_beside_an_onset_that_is_not_total_reflection_is_flagged():
+    from barymesh.mom.periodic_caveats import onset_resonance_warning
+
+    onsets = np.array([32.8923e9])
+    # a peak of |R| = 0.69 0.9 % below the onset: its kink, flagged; one of |R| = 0.99: real
+    flagged = onset_resonance_warning(
+        np.array([32.6e9, 32.7e9]),
+        ("peak", "peak"),
+        onsets,
+        np.array([0.69, 0.99]),
+        np.array([0.37, 0.1]),
+    )
+    assert len(flagged) == 1 and "32.6 GHz" in flagged[0] and "|T| = 0.37" in flagged[0]
+    far = onset_resonance_warning(
+        np.array([20e9]), ("dip",), onsets, np.array([0.3]), np.array([0.9])
+    )
+    assert far == ()
+    # in a sweep: a 5 mm patch at 30°, TM, across the (1, ±1) onset at 32.89 GHz
+    sweep = periodic_sweep(patch(10), np.linspace(31e9, 34e9, 61), PlaneWave.from_angles(30, 0, 90))
+    assert sweep.grating_lobe_onsets[0] == pytest.approx(32.892e9, rel=1e-4)
+    notes = [w for w in sweep.warnings if w.startswith("resonance next to an onset")]
+    assert notes, sweep.resonances
