@@ -276,7 +276,7 @@ def layered_kernel(stack: Stack, lattice: np.ndarray, k0: float, kt: np.ndarray)
     kt = np.asarray(kt, dtype=np.float64)
     area = abs(float(np.linalg.det(lattice)))
     b1, b2 = reciprocal_vectors(lattice[0], lattice[1])
-    b_min = min(np.linalg.norm(b1), np.linalg.norm(b2))
+    b_min = float(min(np.linalg.norm(b1), np.linalg.norm(b2)))
     limit = BLEND * b_min
     medium = extraction(stack, k0)
     scale = 2.0 * np.pi / area

@@ -276,7 +276,7 @@ class Stack:
                 out.append(Layer(**item))
             return out
 
-        return cls(layers("above"), layers("below"), data.get("ground", False))
+        return cls(tuple(layers("above")), tuple(layers("below")), data.get("ground", False))
 
     def replaced(self, path: str, value: float) -> Stack:
         """A copy with one value changed, by a path such as ``below[0].thickness``."""
@@ -298,9 +298,9 @@ class Stack:
         }
         values[name] = value
         layers[index] = Layer(**values)
-        return Stack(
-            **{"above": self.above, "below": self.below, "ground": self.ground, side: tuple(layers)}
-        )
+        if side == "above":
+            return Stack(tuple(layers), self.below, self.ground)
+        return Stack(self.above, tuple(layers), self.ground)
 
     # -- the background: the stack without the sheet --------------------------------------
 
