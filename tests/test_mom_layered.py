@@ -85,18 +85,18 @@ def test_grounded_slab_reflects_everything_with_the_textbook_phase(frequency, de
     assert math.degrees(np.angle(gamma[0])) == pytest.approx(degrees, abs=5e-4)
 
 
-@pytest.mark.parametrize("theta", [20.0, 60.0])
-def test_oblique_slab_reflection_matches_fresnel_through_the_layer(theta):
+@pytest.mark.parametrize(("theta", "mu"), [(20.0, 1.0), (60.0, 1.0), (40.0, 1.5)])
+def test_oblique_slab_reflection_matches_fresnel_through_the_layer(theta, mu):
     """An open lossy slab: TE and TM from the textbook's impedance transformation."""
     eps, d, f = 4.4 - 0.088j, 2.0e-3, 11e9
-    stack = Stack(below=(Layer(2.0, 4.4, 0.02),))
+    stack = Stack(below=(Layer(2.0, 4.4, 0.02, mu),))
     k0 = 2 * math.pi * f / SPEED_OF_LIGHT
     s = math.sin(math.radians(theta))
     kz0 = k0 * math.cos(math.radians(theta))
-    kzd = k0 * np.sqrt(eps - s * s + 0j)
+    kzd = k0 * np.sqrt(eps * mu - s * s + 0j)
     kzd = kzd if kzd.imag <= 0 else -kzd
     expected = []
-    for z0, zd in ((k0 / kz0, k0 / kzd), (kz0 / k0, kzd / (k0 * eps))):  # TE, TM (× η0)
+    for z0, zd in ((k0 / kz0, mu * k0 / kzd), (kz0 / k0, kzd / (k0 * eps))):  # TE, TM (× η0)
         t = np.tan(kzd * d)
         zin = zd * (z0 + 1j * zd * t) / (zd + 1j * z0 * t)
         expected.append((zin - z0) / (zin + z0))
