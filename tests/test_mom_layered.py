@@ -466,3 +466,24 @@ def test_a_peak_beside_an_onset_that_is_not_total_reflection_is_flagged():
     assert sweep.grating_lobe_onsets[0] == pytest.approx(32.892e9, rel=1e-4)
     notes = [w for w in sweep.warnings if w.startswith("resonance next to an onset")]
     assert notes, sweep.resonances
+
+
+@pytest.mark.parametrize(
+    "stack",
+    [
+        Stack(below=(Layer(1.0, 3.0, 0.01),)),
+        Stack(above=(Layer(0.7, 2.0, 0.02), Layer(0.3, 4.0)), below=(Layer(1.0, 3.0, 0.01),)),
+        Stack(above=(Layer(1.0, 2.2),), below=(Layer(1.0, 3.0),), ground=True),
+    ],
+)
+def test_t_follows_from_r_through_the_layers(stack):
+    """The sheet has no thickness: T = a δ + b R, order by order, with a and b from the
+    lines alone (what a sweep uses to take T from its fit of R)."""
+    from barymesh.mom.stack import transmission_map
+
+    for f, theta in ((12e9, 25.0), (33e9, 30.0)):  # one order; four above the onset
+        s = periodic_solve(patch(), f, PlaneWave.from_angles(theta, 10, 30), stack=stack)
+        a, b = transmission_map(stack, wavenumber(f), np.einsum("ij,ij->i", s.kappa, s.kappa))
+        t = b * s.reflection
+        t[0] += a[0] * s.incident_te_tm
+        np.testing.assert_allclose(t, s.transmission, atol=1e-12)
