@@ -293,6 +293,7 @@ def test_the_xarray_variables_carry_their_units():
         "condition_number": "1",
         "residual": "1",
         "status": None,  # text
+        "warnings": None,  # text
         "resonance_frequency_hz": "Hz",
         "quality_factor": "1",
         "bandwidth_3db_hz": "Hz",
