@@ -383,6 +383,8 @@ class InfiniteArrayPanel(QWidget):
         box.setContentsMargins(4, 4, 4, 4)
         self.stack_editor = StackEditor(self.stack_box)
         self.stack_editor.changed.connect(self._stack_changed)
+        # a good stack again: a refusal of it under Run goes (a bad one is said in the box)
+        self.stack_editor.edited.connect(lambda: self.stack_editor.error or self._edited())
         box.addWidget(self.stack_editor)
         col.addWidget(self.stack_box)
         self.note = QLabel("No curve yet.", self)
@@ -395,11 +397,12 @@ class InfiniteArrayPanel(QWidget):
         self.curve_area = QWidget()
         area = QVBoxLayout(self.curve_area)
         area.setContentsMargins(2, 2, 2, 2)
-        self.curve_warning = QLabel(self.curve_area)  # the warnings' kinds, over the curve
-        self.curve_warning.setWordWrap(True)
-        self.curve_warning.setStyleSheet("color: #a05000;")
-        self.curve_warning.hide()
-        area.addWidget(self.curve_warning)
+        # one line over the curve: what it is, or its warnings' kinds (always there, so
+        # that the curve does not move when a warning comes or goes)
+        self.curve_line = QLabel("No curve yet: Run in the Infinite array tab.", self.curve_area)
+        self.curve_line.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
+        self.curve_line.setStyleSheet("color: #555555;")
+        area.addWidget(self.curve_line)
         grow = self.host is not None
         self.plot = PictureView(230 if grow else 330, self.curve_area, grow=grow)
         self.plot.setToolTip("Click a frequency: the current and the Floquet orders there")
@@ -519,11 +522,17 @@ class InfiniteArrayPanel(QWidget):
         says it is for the previous stack."""
         live = self.engaged and self.live.isChecked() and self.mesh is not None
         if self.result is not None and self.result.inputs.stack != stack:
-            self.note.setText(
+            self._stale(
                 "Updating for the new stack…" if live else "This curve is for the previous stack."
             )
         if live and not self._reason(self.mesh):
             self.run()
+
+    def _stale(self, text: str) -> None:
+        """Say (in the tab and over the curve) that the curve shown is not for the inputs."""
+        self.note.setText(text)
+        self.curve_line.setStyleSheet("color: #555555;")
+        self.curve_line.setText(text)
 
     # -- the curve's dock ------------------------------------------------------------
 
@@ -686,6 +695,7 @@ class InfiniteArrayPanel(QWidget):
         self.note.setText(
             f"{i.polarization}, θ {i.theta:g}°, φ {i.phi:g}°"
             + (f", Z_s {i.sheet_impedance:g} Ω/sq" if i.sheet_impedance else "")
+            + (f", on {i.stack.describe()}" if i.stack is not None else ", in vacuum")
             + ": click the curve for the orders"
         )
         lines = []
@@ -726,9 +736,11 @@ class InfiniteArrayPanel(QWidget):
             for text in self.point.warnings:
                 found.setdefault(text.split(":")[0], at + text)
         if not found:
-            for label in (self.warnings, self.curve_warning):
-                label.clear()
-                label.hide()
+            self.warnings.clear()
+            self.warnings.hide()
+            self.curve_line.setStyleSheet("color: #555555;")
+            self.curve_line.setText(self.note.text())
+            self.curve_line.setToolTip(self.summary.text())
             return
         lines = []
         for kind, text in found.items():
@@ -736,12 +748,12 @@ class InfiniteArrayPanel(QWidget):
             lines.append(f"⚠ {html.escape(head)}<b>{html.escape(kind)}</b>{html.escape(rest)}")
         self.warnings.setText("<br>".join(lines))
         self.warnings.show()
-        self.curve_warning.setText(
+        self.curve_line.setStyleSheet("color: #a05000;")
+        self.curve_line.setText(
             f"⚠ Do not trust this curve blindly: {'; '.join(found)} (the Infinite array tab "
             "says why)"
         )
-        self.curve_warning.setToolTip("\n".join(found.values()))
-        self.curve_warning.show()
+        self.curve_line.setToolTip("\n".join(found.values()))
 
     def _show_point(self, solution: Any, mesh: TriMesh) -> None:
         self.point, self.point_mesh = solution, mesh
@@ -787,7 +799,7 @@ class InfiniteArrayPanel(QWidget):
         live = self.engaged and self.live.isChecked() and mesh is not None
         if self.result is not None and self.result_mesh is not mesh:
             self.result_mesh = None
-            self.note.setText(
+            self._stale(
                 "Updating for the new mesh…" if live else "This curve is for the previous mesh."
             )
         if live:

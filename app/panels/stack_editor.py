@@ -190,6 +190,8 @@ class StackEditor(QWidget):
 
     #: the new good stack (a barymesh.mom.Stack; None: the sheet alone in vacuum)
     changed = Signal(object)
+    #: after every edit, good or bad (:attr:`error` says which)
+    edited = Signal()
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -406,6 +408,7 @@ class StackEditor(QWidget):
             self.error = str(exc)
             self.message.setText(self.error)
             self.message.show()
+            self.edited.emit()
             return
         self.error = ""
         self.message.clear()
@@ -415,6 +418,7 @@ class StackEditor(QWidget):
             self.stack = stack
             self.sketch.set_stack(stack)
             self.changed.emit(stack)
+        self.edited.emit()
 
     def _mark_bad_cells(self, sheet: int) -> None:
         self._filling = True
