@@ -257,6 +257,13 @@ def test_the_curve_is_whole_and_unscrolled_at_the_default_size(window, qtbot):
     # the inputs and Run stay where they were: in the Solve dock, above its fold
     assert tab.run_button.visibleRegion().boundingRect() == tab.run_button.rect()
     save_shot(window, "array_default_size")
+    # closed (what its title bar's × does), the dock comes back with Show the curve
+    assert not tab.show_curve_button.isVisible()
+    tab.curve_dock.close()
+    qtbot.waitUntil(tab.show_curve_button.isVisible)
+    click(qtbot, tab.show_curve_button)
+    qtbot.waitUntil(tab.plot.isVisible)
+    assert not tab.show_curve_button.isVisible()
 
 
 def test_a_picture_drawn_for_another_size_is_drawn_again(qtbot):
