@@ -78,7 +78,7 @@ def power_tables(geom: MomGeometry, count: int) -> np.ndarray:
     return out
 
 
-def near_moments_series(geom: MomGeometry, k: float) -> np.ndarray | None:
+def near_moments_series(geom: MomGeometry, k: complex) -> np.ndarray | None:
     """(K, 8) complex moments of G over the near pairs, as
     :func:`~barymesh.mom.operator.near_moments`; None when the series does not apply
     (k R_max > :data:`SERIES_MAX_PHASE`, or its tables would exceed

@@ -82,7 +82,7 @@ def near_moments(geom: MomGeometry, k: complex, single: bool = False) -> np.ndar
     return near_moments_from_half(geom, m4, k)
 
 
-def near_moments_from_half(geom: MomGeometry, m4: np.ndarray, k: float) -> np.ndarray:
+def near_moments_from_half(geom: MomGeometry, m4: np.ndarray, k: complex) -> np.ndarray:
     """(K, 8) complex moments of G over the near pairs from the smooth kernel's moments.
 
     ``m4`` is (H, 4, 4) complex: the frame [w, w ρ] moments of the smooth kernel over the

@@ -885,7 +885,21 @@ def _current(pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.
     return alpha[:, None, None] * rho + beta[:, None, :]
 
 
-def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
+@dataclass(frozen=True, eq=False)
+class _Harmonics:
+    """The propagating Floquet orders of a solve, (0, 0) first, and the currents' J̃ there."""
+
+    orders: np.ndarray  # (P, 2) int
+    kappa: np.ndarray  # (P, 2) rad/m
+    beta: np.ndarray  # (P,) rad/m
+    jt: np.ndarray  # (P, 3) complex J̃(κ_pq) = ∫ J e^(+jκ·ρ) dS over the cell
+    te: np.ndarray  # (P, 3) unit TE, and TM going up and down
+    tm_up: np.ndarray
+    tm_down: np.ndarray
+    phi: float  # the incidence plane's azimuth (rad)
+
+
+def _harmonics(pg, wave, k, kt, current) -> _Harmonics:
     green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
     prop = green.propagating()
     orders, kappa = green.orders[prop], green.kappa[prop]
@@ -893,14 +907,21 @@ def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> 
     order = np.concatenate([first, np.setdiff1d(np.arange(len(orders)), first)])
     orders, kappa = orders[order], kappa[order]
     beta = np.sqrt(k * k - np.einsum("ij,ij->i", kappa, kappa))
-    base = pg.base
-    rule = base.near
+    rule = pg.base.near
     j = _current(pg, kt, current, rule.rho)  # (T, Q, 3)
     phase = np.exp(1j * (rule.points[:, :, :2] @ kappa.T))  # (T, Q, P)
     jt = np.einsum("tq,tqc,tqp->pc", rule.weights, j, phase)  # J̃(κ_pq), (P, 3)
     d = np.asarray(wave.direction)
     phi = math.atan2(d[1], d[0]) if np.hypot(d[0], d[1]) > 1e-12 else 0.0
     te, tm_up, tm_down = _floquet_basis(kappa, beta, k, phi)
+    return _Harmonics(orders, kappa, beta, jt, te, tm_up, tm_down, phi)
+
+
+def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
+    h = _harmonics(pg, wave, k, kt, current)
+    orders, kappa, beta, jt = h.orders, h.kappa, h.beta, h.jt
+    te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
+    d = np.asarray(wave.direction)
     scale = -k * ETA0 / (2.0 * pg.area * beta)  # E_pq = scale · J̃_⊥
     up = scale[:, None] * np.stack(
         [np.einsum("pc,pc->p", jt, te), np.einsum("pc,pc->p", jt, tm_up)], axis=1
@@ -944,22 +965,11 @@ def _layered_amplitudes(
     ``power_given`` is ½ Re(I^H Z I) less the sheet impedance's loss (W per cell): with
     lossy layers, the power the currents lose in them is that less what they radiate.
     """
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
-    prop = green.propagating()
-    orders, kappa = green.orders[prop], green.kappa[prop]
-    first = np.flatnonzero(np.all(orders == 0, axis=1))
-    order = np.concatenate([first, np.setdiff1d(np.arange(len(orders)), first)])
-    orders, kappa = orders[order], kappa[order]
-    kappa2 = np.einsum("ij,ij->i", kappa, kappa)
-    beta = np.sqrt(k * k - kappa2)
-    base = pg.base
-    rule = base.near
-    j = _current(pg, kt, current, rule.rho)  # (T, Q, 3)
-    phase = np.exp(1j * (rule.points[:, :, :2] @ kappa.T))  # (T, Q, P)
-    jt = np.einsum("tq,tqc,tqp->pc", rule.weights, j, phase)  # J̃(κ_pq), (P, 3)
+    h = _harmonics(pg, wave, k, kt, current)
+    orders, kappa, beta, jt, phi = h.orders, h.kappa, h.beta, h.jt, h.phi
+    te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
     d = np.asarray(wave.direction)
-    phi = math.atan2(d[1], d[0]) if np.hypot(d[0], d[1]) > 1e-12 else 0.0
-    te, tm_up, tm_down = _floquet_basis(kappa, beta, k, phi)
+    kappa2 = np.einsum("ij,ij->i", kappa, kappa)
     norm = np.sqrt(kappa2)
     plane = np.array([math.cos(phi), math.sin(phi), 0.0])
     safe = np.where(norm > 1e-9 * k, norm, 1.0)[:, None]

@@ -438,7 +438,7 @@ def _phase(distance: np.ndarray, k: float, max_phase: float) -> np.ndarray:
     return x.astype(np.float32)
 
 
-def cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+def cross_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     """(K, 8) moments of G over the near pairs across the cell's sides (closed-form 1/R, R)."""
     rule = pg.base.near
     obs, src = pg.cross[:, 0], pg.cross[:, 1]
@@ -459,7 +459,7 @@ def cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
     return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
 
 
-def special_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+def special_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     """(6, 2, M) float32 flat moments of G over the near and close pairs, re and im.
 
     ``k`` may be complex (Im k < 0, a lossy medium).

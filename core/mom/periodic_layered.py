@@ -48,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .periodic_green import reciprocal_vectors
+from .periodic_green import lattice_points, reciprocal_vectors
 from .stack import Layer, Stack, side
 
 #: The rest Δ is summed until |Δ(κ)| |κ| falls below this on a whole ring of harmonics.
@@ -155,16 +155,8 @@ def orders_within(
     lattice: np.ndarray, kt: np.ndarray, radius: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """(M, 2) orders (p, q) and their κ = k_t + p b1 + q b2 with |κ| <= radius."""
-    b1, b2 = reciprocal_vectors(lattice[0], lattice[1])
-    recip = np.array([b1, b2])
-    inverse = np.linalg.inv(recip)
-    reach = (radius + np.linalg.norm(kt)) * np.linalg.norm(inverse, axis=0)
-    p = np.arange(-math.ceil(reach[0]), math.ceil(reach[0]) + 1)
-    q = np.arange(-math.ceil(reach[1]), math.ceil(reach[1]) + 1)
-    orders = np.stack(np.meshgrid(p, q, indexing="ij"), axis=-1).reshape(-1, 2)
-    kappa = orders @ recip + kt
-    keep = np.einsum("ij,ij->i", kappa, kappa) <= radius * radius
-    return orders[keep], kappa[keep]
+    recip = np.array(reciprocal_vectors(lattice[0], lattice[1]))
+    return lattice_points(recip, radius, centre=np.asarray(kt, dtype=np.float64))
 
 
 @dataclass(frozen=True, eq=False)
@@ -276,7 +268,7 @@ def layered_kernel(stack: Stack, lattice: np.ndarray, k0: float, kt: np.ndarray)
     kt = np.asarray(kt, dtype=np.float64)
     area = abs(float(np.linalg.det(lattice)))
     b1, b2 = reciprocal_vectors(lattice[0], lattice[1])
-    b_min = min(np.linalg.norm(b1), np.linalg.norm(b2))
+    b_min = float(min(np.linalg.norm(b1), np.linalg.norm(b2)))
     limit = BLEND * b_min
     medium = extraction(stack, k0)
     scale = 2.0 * np.pi / area

@@ -476,6 +476,7 @@ class _Piece:
     branch_lo: float | None = None  # the onset at its lower end (a branch point), if any
     branch_hi: float | None = None
     error: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (len(grid),)
+    gain: np.ndarray | None = None  # (len(grid),) max(1, |b|) of T = a δ + b R on layers
     stale: bool = True  # samples were added since ``error`` was estimated
 
     def scale(self, f: np.ndarray) -> np.ndarray:
@@ -522,28 +523,25 @@ class _Piece:
         return x, v
 
 
-def _headline(piece: _Piece, k: int, with_t: bool = False) -> np.ndarray:
+def _headline(piece: _Piece, k: int) -> np.ndarray:
     """Columns of the (0, 0) order's R among a piece's flattened values (TE, TM per wave).
 
-    In vacuum its T needs no fit of its own: E_tan is continuous across a zero-thickness
-    screen (perfect or a sheet impedance), so T_00 = δ + R_00 component by component, to
-    rounding, and a fit of R is as good for T. On layers (``with_t``) T_00 is its own,
-    and its columns follow R's.
+    Its T needs no fit of its own: E_tan is continuous across a zero-thickness screen
+    (perfect or a sheet impedance), so T_00 = δ + R_00 component by component in vacuum,
+    to rounding, and T = a δ + b R on layers (:func:`barymesh.mom.stack.transmission_map`):
+    a fit of R is as good for T, but for the factor |b| (``_Piece.gain``).
     """
-    if not with_t:
-        return np.arange(2 * k)
-    n = piece.n_orders * 2 * k
-    return np.concatenate([np.arange(2 * k), n + np.arange(2 * k)])
+    return np.arange(2 * k)
 
 
-def _refit(piece: _Piece, frequencies: np.ndarray, k: int, with_t: bool = False) -> None:
+def _refit(piece: _Piece, frequencies: np.ndarray, k: int) -> None:
     grid_f = frequencies[piece.grid]
     solved = np.isin(grid_f, list(piece.samples))
     if len(piece.samples) < 3:  # no fit yet (none at all while the first ones are solved)
         piece.error = np.where(solved, 0.0, np.inf)
         return
     x, v = piece.arrays()
-    cols = _headline(piece, k, with_t)
+    cols = _headline(piece, k)
     xs, vh = piece.scale(x), v[:, cols]
     xg = piece.scale(grid_f)
     full = _evaluate(_fit(xs, vh, clean_up=False), xg)
@@ -555,6 +553,8 @@ def _refit(piece: _Piece, frequencies: np.ndarray, k: int, with_t: bool = False)
         other = _evaluate(_fit(xs[keep], vh[keep], clean_up=False), xg)
         with np.errstate(invalid="ignore"):
             diff = np.maximum(diff, np.nan_to_num(np.abs(full - other), nan=np.inf).max(axis=1))
+    if piece.gain is not None:  # on layers T's error is R's times |b|
+        diff = diff * piece.gain
     piece.error = np.where(solved, 0.0, diff)
 
 
@@ -666,14 +666,13 @@ def _next_sample(
     k: int,
     flying: list[tuple[_Piece, float]],
     tolerance: float,
-    with_t: bool = False,
 ) -> tuple[_Piece, float] | None:
     """The requested frequency of largest estimated error, or None when all are below
     ``tolerance``; grid points left to the samples being solved (``flying``) excluded."""
     worst, best = 0.0, None
     for piece in pieces:
         if piece.stale:
-            _refit(piece, frequencies, k, with_t)
+            _refit(piece, frequencies, k)
             piece.stale = False
         if not len(piece.grid):
             continue
@@ -775,7 +774,6 @@ def periodic_sweep(
             "the incident wave comes from below, where the ground plane is: a grounded "
             "stack is lit from above (direction_z < 0)"
         )
-    layered = stack is not None and not stack.ground  # T of its own to fit
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise ValueError(f"tolerance={tolerance!r}; expected a positive number")
@@ -816,6 +814,11 @@ def periodic_sweep(
         piece = _Piece(lo, hi, np.flatnonzero(which == i), n_orders, {})
         piece.branch_lo = float(edges[i]) if i > 0 else None
         piece.branch_hi = float(edges[i + 1]) if i < len(edges) - 2 else None
+        if stack is not None:  # T's error is R's times |b| (T = a δ + b R)
+            _, b = _transmission_maps(
+                stack, vectors, direction, freqs[piece.grid], orders[:n_orders]
+            )
+            piece.gain = np.maximum(1.0, np.abs(b[:, 0]).max(axis=1)) if len(b) else None
         pieces.append(piece)
 
     # what to solve first: every requested frequency, or each piece's ends (solved whatever
@@ -855,7 +858,7 @@ def periodic_sweep(
                 # tolerance: near it, that sample's result may well be enough
                 margin = OVERLAP_MARGIN if flying else 1.0
                 busy = [(p, f) for p, f, _ in flying]
-                nxt = _next_sample(pieces, freqs, kk, busy, margin * tolerance, layered)
+                nxt = _next_sample(pieces, freqs, kk, busy, margin * tolerance)
                 if nxt is not None and started >= max_samples:
                     nxt = None
                     budget_hit = not flying
@@ -877,7 +880,7 @@ def periodic_sweep(
         if not interpolate:
             piece.error = np.zeros(len(piece.grid))
         elif piece.stale:
-            _refit(piece, freqs, kk, layered)
+            _refit(piece, freqs, kk)
     if interpolate:
         if budget_hit:
             log.warning(
@@ -904,22 +907,22 @@ def periodic_sweep(
         sampled += list(x)
         n = piece.n_orders * 2 * kk
         grid_f = freqs[piece.grid]
-        # in vacuum R alone is fitted: E_tan is continuous across the screen, so every
+        # R alone is fitted: E_tan is continuous across the screen, so in vacuum every
         # order's T is its R, plus the incident wave's TE/TM components for (0, 0) (the
-        # solver's too); on layers T is fitted too (zero over a ground plane)
-        width = 2 * n if layered else n
+        # solver's too); on layers T = a δ + b R, order by order (transmission_map)
         if len(x) >= 2:
-            fitted = _evaluate(_fit(piece.scale(x), v[:, :width]), piece.scale(grid_f))
+            fitted_r = _evaluate(_fit(piece.scale(x), v[:, :n]), piece.scale(grid_f))
         else:
-            fitted = np.repeat(v[:, :width], len(grid_f), axis=0)
-        fitted_r = fitted[:, :n]
-        if layered:
-            fitted_t = fitted[:, n:]
-        elif stack is not None:  # grounded
-            fitted_t = np.zeros_like(fitted_r)
-        else:
+            fitted_r = np.repeat(v[:, :n], len(grid_f), axis=0)
+        if stack is None:
             fitted_t = fitted_r.copy()
             fitted_t[:, : 2 * kk] += incident_components
+        else:
+            shape = (len(grid_f), piece.n_orders, 2, kk)
+            a, b = _transmission_maps(stack, vectors, direction, grid_f, orders[: piece.n_orders])
+            fitted_t = b[..., None] * fitted_r.reshape(shape)
+            fitted_t[:, 0] += a[:, 0, :, None] * incident_components.reshape(2, kk)
+            fitted_t = fitted_t.reshape(len(grid_f), -1)
         values = np.concatenate([fitted_r, fitted_t], axis=1)
         for j, f in enumerate(grid_f):  # exact values where solved
             if float(f) in piece.samples:
@@ -963,6 +966,30 @@ def periodic_sweep(
     return replace(
         result, resonances=found, resonance_kinds=kinds, quality_factors=q, warnings=notes
     )
+
+
+def _transmission_maps(
+    stack: Stack,
+    vectors: np.ndarray,
+    direction: np.ndarray,
+    frequencies: np.ndarray,
+    orders: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b), each (F, P, 2): T = a δ + b R of ``orders`` at each frequency (stack.py)."""
+    from .stack import transmission_map
+
+    recip = np.array(reciprocal_vectors(vectors[0], vectors[1]))
+    g = orders @ recip  # (P, 2)
+    f_count, p_count = len(frequencies), len(orders)
+    a = np.zeros((f_count, p_count, 2), dtype=np.complex128)
+    b = np.zeros((f_count, p_count, 2), dtype=np.complex128)
+    for i, f in enumerate(frequencies):
+        k = wavenumber(float(f))
+        kappa = k * direction[:2] + g
+        a[i], b[i] = transmission_map(
+            stack, k, np.einsum("ij,ij->i", kappa, kappa), from_above=bool(direction[2] < 0)
+        )
+    return a, b
 
 
 def _co_series(r00: np.ndarray, c: np.ndarray, k: int) -> np.ndarray:

@@ -276,7 +276,7 @@ class Stack:
                 out.append(Layer(**item))
             return out
 
-        return cls(layers("above"), layers("below"), data.get("ground", False))
+        return cls(tuple(layers("above")), tuple(layers("below")), data.get("ground", False))
 
     def replaced(self, path: str, value: float) -> Stack:
         """A copy with one value changed, by a path such as ``below[0].thickness``."""
@@ -298,9 +298,9 @@ class Stack:
         }
         values[name] = value
         layers[index] = Layer(**values)
-        return Stack(
-            **{"above": self.above, "below": self.below, "ground": self.ground, side: tuple(layers)}
-        )
+        if side == "above":
+            return Stack(tuple(layers), self.below, self.ground)
+        return Stack(self.above, tuple(layers), self.ground)
 
     # -- the background: the stack without the sheet --------------------------------------
 
@@ -617,3 +617,46 @@ def lit_side_loss(
             np.real(sheet[p] * np.conj(current)) - np.real(v_face * np.conj(i_face))
         )
     return lost
+
+
+def transmission_map(
+    stack: Stack, k0: float, kappa2: np.ndarray, from_above: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b), each (P, 2) complex: T = a δ + b R for each Floquet order, TE and TM.
+
+    The sheet has no thickness: the tangential field is the same on its two faces. On the
+    far side only outgoing waves run, so T = t_far V(sheet); on the lit side, for the
+    incident order (the first of ``kappa2``), V(sheet) follows from the incident and
+    reflected waves at the lit face through the lit layers' chain matrix M (face to
+    sheet, currents toward the sheet): V(sheet) = (M11 + M12 y0) δ + (M11 − M12 y0) R
+    (δ the incident component). Every other order runs outward on both sides, and
+    T = (t_far / t_lit) R. In vacuum a = δ and b = 1: T = δ + R. A sweep fits R and takes
+    T from it.
+    """
+    lit_layers, far_layers, grounded = stack.sides(from_above)
+    kappa2 = np.asarray(kappa2, dtype=np.float64)
+    far = side(far_layers, grounded, kappa2, k0)
+    lit = side(lit_layers, False, kappa2, k0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        b = np.where(lit.transfer != 0, far.transfer / lit.transfer, 0.0)
+    a = np.zeros_like(b)
+    # the incident order: the chain matrix of the lit layers, face to sheet
+    jk = 1j * k0
+    m = np.broadcast_to(np.eye(2, dtype=np.complex128), (2, 2, 2)).copy()
+    for layer in lit_layers[::-1]:  # outermost first, toward the sheet
+        d = layer.thickness * 1e-3
+        if d == 0.0:
+            continue
+        eps, mu = layer.epsilon, layer.mu_r
+        g = _gamma(np.array(kappa2[0]), k0 * k0 * eps * mu)
+        sg = _sinh_over_gamma(g, d)
+        ch = np.cosh(g * d)
+        z_sinh = np.array([jk * mu * sg, g * g * sg / (jk * eps)])
+        y_sinh = np.array([g * g * sg / (jk * mu), jk * eps * sg])
+        for p in range(2):
+            m[p] = np.array([[ch, -z_sinh[p]], [-y_sinh[p], ch]]) @ m[p]
+    y0 = vacuum_admittance(kappa2[:1], k0)[0]
+    t0 = far.transfer[0]
+    a[0] = t0 * (m[:, 0, 0] + m[:, 0, 1] * y0)
+    b[0] = t0 * (m[:, 0, 0] - m[:, 0, 1] * y0)
+    return a, b
