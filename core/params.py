@@ -266,10 +266,11 @@ class MeshParams:
                 "the slot must leave metal on both sides: use a narrower gap or larger radii",
             )
         if predicted > budget and not self.sized:  # sized: checked at the n chosen
+            graded = "a larger growth_ratio or min_edge, " if self.grading else ""
             raise ValueError(
                 f"these parameters would make {predicted:,} triangles, above the budget "
-                f"max_triangles={budget:,}; use a larger angle_step or patch_size, fewer "
-                f"subdivisions, or raise max_triangles"
+                f"max_triangles={budget:,}; use {graded}a larger angle_step or patch_size, "
+                "fewer subdivisions, or raise max_triangles"
             )
 
     # -- validation helpers -------------------------------------------------

@@ -25,7 +25,13 @@ import numpy as np
 
 from .kinds import DOUBLE_STRUCTURES
 from .quality import triangle_quality
-from .subdivision import PatchTemplate, graded_nodes, patch_template, tensor_template
+from .subdivision import (
+    PatchTemplate,
+    graded_cell_count,
+    graded_nodes,
+    patch_template,
+    tensor_template,
+)
 from .values import InvalidValue
 
 
@@ -326,15 +332,20 @@ def _plan_sectors(params: RingFields, arcs: tuple[_Arc, ...], m: int) -> SectorP
         return SectorPlan(arcs, chosen, m, template, None)
     # graded toward the slot's sides: the end sectors hold cells about min_edge long
     fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
-    bounds: dict[int, tuple[float, ...]] = {}
+    firsts: dict[int, float] = {}
     for group in groups:
         mid = math.sqrt(radii[group[0]] * (radii[group[-1]] + h))
         span = math.radians(arc[1] - arc[0] - 2 * float(slot_half_angle(params, mid)))
-        k = chosen[group[0]]
-        first = min(1.0 / k, fine * nv / (span * mid))
+        first = min(1.0 / chosen[group[0]], fine * nv / (span * mid))
         for i in group:
-            bounds[i] = graded_nodes(k, first, params.growth_ratio)
-    ends = tuple(bounds[i] for i in range(len(radii)))  # the groups cover every ring
+            firsts[i] = first
+    # counted before the nodes are made: a growth ratio next to 1 asks for millions
+    counts = tuple(
+        graded_cell_count(chosen[i], firsts[i], params.growth_ratio) for i in range(len(radii))
+    )
+    if sum(counts) * len(arcs) * len(template.triangles) > params.max_triangles:
+        return SectorPlan(arcs, counts, m, template, None)  # refused with its triangle count
+    ends = tuple(graded_nodes(chosen[i], firsts[i], params.growth_ratio) for i in range(len(radii)))
     return SectorPlan(arcs, tuple(len(b) - 1 for b in ends), m, template, None, ends)
 
 

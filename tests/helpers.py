@@ -1,7 +1,11 @@
 """Small shared checks for the core tests."""
 
 import functools
+import os
 import re
+import subprocess
+import sys
+import textwrap
 
 import numpy as np
 from hypothesis import strategies as st
@@ -137,3 +141,30 @@ def assert_clear_message(message):
     """A user's error message: short, and in the user's words, not Python's."""
     assert len(message) < MESSAGE_LIMIT, f"{len(message)} characters: {message[:200]}..."
     assert not PYTHON_TYPE_NAMES.search(message), message
+
+
+#: Address space of a Python process with barymesh, numpy and scipy imported (about
+#: 0.35 GiB with one BLAS thread), and room for a small mesh: a cap this much above
+#: what a check may allocate catches allocations of a few hundred MB.
+BASE_ADDRESS_SPACE = 1 << 30
+
+
+def run_capped(code, address_space=BASE_ADDRESS_SPACE, timeout=600):
+    """Run ``code`` in a new Python whose address space is capped (``RLIMIT_AS``).
+
+    A check that allocates before it refuses dies with MemoryError (exit 1, its
+    traceback in stderr) instead of eating the shared machine's memory. ``timeout`` is a
+    guard against a hang, not a measured time. Returns the CompletedProcess.
+    """
+    preamble = (
+        "import resource\n"
+        f"resource.setrlimit(resource.RLIMIT_AS, ({address_space}, {address_space}))\n"
+    )
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    return subprocess.run(
+        [sys.executable, "-c", preamble + textwrap.dedent(code)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=env,
+    )

@@ -215,3 +215,58 @@ def test_hostile_cell_documents_give_a_clear_error_or_a_sound_mesh(doc):
     event(f"built: {cell.mode}")
     assert cm.mesh.n_triangles == cell.predicted_triangles()
     assert_sound_cell(cm.mesh, cell.weld_tolerance)
+
+
+# -- issue 30: the overlap finder against all pairs -------------------------------------
+
+
+def separated_reference(a, b, tolerance):
+    """Plain-Python separating-axis test of two triangles ((3, 2) each)."""
+    for tri in (a, b):
+        for k in range(3):
+            (x0, y0), (x1, y1) = tri[k], tri[(k + 1) % 3]
+            nx, ny = -(y1 - y0), x1 - x0
+            norm = (nx * nx + ny * ny) ** 0.5
+            pa = [(nx * x + ny * y) / norm for x, y in a]
+            pb = [(nx * x + ny * y) / norm for x, y in b]
+            if max(pa) <= min(pb) + tolerance or max(pb) <= min(pa) + tolerance:
+                return True
+    return False
+
+
+@st.composite
+def triangle_soup(draw):
+    """(V, 2) points and (T, 3) triangles of mixed sizes: tiny, large, slivers, duplicates."""
+    n = draw(st.integers(1, 25))
+    rows = []
+    for _ in range(n):
+        x, y = draw(st.floats(-5, 5)), draw(st.floats(-5, 5))
+        size = draw(st.sampled_from([1e-3, 0.05, 0.5, 2.0, 8.0]))
+        thin = draw(st.sampled_from([1.0, 1.0, 1e-2, 1e-4]))
+        angle = draw(st.floats(0, 2 * np.pi))
+        c, s = np.cos(angle), np.sin(angle)
+        local = np.array([[0.0, 0.0], [size, 0.0], [size * 0.4, size * thin]])
+        rows.append(local @ np.array([[c, s], [-s, c]]) + [x, y])
+    xy = np.concatenate(rows)
+    tri = np.arange(3 * n).reshape(n, 3)
+    d1, d2 = xy[tri[:, 1]] - xy[tri[:, 0]], xy[tri[:, 2]] - xy[tri[:, 0]]
+    flat = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] != 0
+    return xy, tri[flat]
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(triangle_soup(), triangle_soup(), st.sampled_from([1e-9, 1e-3, 0.1]))
+def test_overlapping_triangles_equal_all_pairs(a, b, tolerance):
+    from barymesh.cell.contacts import overlapping_triangles
+
+    (xy_a, tri_a), (xy_b, tri_b) = a, b
+    want = [
+        [i, j]
+        for i in range(len(tri_a))
+        for j in range(len(tri_b))
+        if not separated_reference(xy_a[tri_a[i]], xy_b[tri_b[j]], tolerance)
+    ]
+    got = overlapping_triangles(xy_a, tri_a, xy_b, tri_b, tolerance)
+    assert got.tolist() == want
+    first = overlapping_triangles(xy_a, tri_a, xy_b, tri_b, tolerance, limit=1)
+    assert len(first) == min(1, len(want)) and all(p in want for p in first.tolist())
