@@ -12,7 +12,7 @@ import scipy.linalg as sla
 
 from ..mesh import TriMesh
 from . import geometry
-from .caveats import solve_warnings
+from .caveats import check_electrical_size, solve_warnings
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import FAR_ORDER, NEAR_FACTOR, NEAR_ORDER, MomGeometry, mom_geometry
 from .operator import gram_matrix, impedance_matrix, wavenumber
@@ -293,6 +293,11 @@ def _solve_at(
     v = excitation_vector(geom, k, excitation)
     i, cond, residual = dense_solve(z, v)
     del z
+    if not np.all(np.isfinite(i)):  # a guard: check_electrical_size refuses the known cause
+        raise FloatingPointError(
+            f"the solve at {frequency:.6g} Hz gave non-finite currents: its matrix or "
+            "right-hand side overflowed; no result"
+        )
     warnings = solve_warnings(mesh, k, cond)
     return Solution(
         geom, frequency, excitation, i, v, cond, float(residual), warnings, complex(sheet_impedance)
@@ -356,6 +361,7 @@ def solve(
     zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    check_electrical_size(mesh, frequency)
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
     solution = _solve_at(mesh, geom, frequency, excitation, zs)
@@ -530,6 +536,7 @@ def sweep(
     zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    check_electrical_size(mesh, float(freqs[0]), "frequencies")  # the lowest
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
     plane = isinstance(excitation, PlaneWave)
