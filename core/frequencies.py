@@ -14,6 +14,8 @@ import re
 
 #: Frequency units understood (case-insensitive); a bare number is in Hz.
 FREQUENCY_UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9, "thz": 1e12}
+#: Most frequencies of one sweep ``A:B:K``: each is a solve (a 1e9 list took 16 GB).
+MAX_FREQUENCIES = 100_000
 
 
 def parse_frequency(text: str, name: str = "--freq") -> float:
@@ -71,10 +73,15 @@ def parse_frequencies(text: str, name: str = "--freq") -> list[float]:
     if len(parts) != 3:
         raise ValueError(f"{name} {text!r} is invalid; expected F or A:B:K")
     a, b = parse_frequency(parts[0], name), parse_frequency(parts[1], name)
-    try:
-        k = int(parts[2])
-    except ValueError:
-        raise ValueError(f"{name} {text!r}: K={parts[2]!r} is not a whole number") from None
+    digits = parts[2].strip()
+    if not re.fullmatch(r"[+-]?\d{1,30}", digits):
+        raise ValueError(f"{name} {text[:60]!r}: K={digits[:30]!r} is not a whole number")
+    k = int(digits)
+    if k > MAX_FREQUENCIES:
+        raise ValueError(
+            f"{name} {text[:60]!r}: K={k:,} frequencies is more than a sweep takes "
+            f"({MAX_FREQUENCIES:,}); use fewer"
+        )
     if k < 2 or not b > a:
         raise ValueError(f"{name} {text!r} is invalid; expected A < B and K >= 2 frequencies")
     step = (b - a) / (k - 1)

@@ -69,6 +69,8 @@ def echo(value: Any) -> str:
     if isinstance(value, (list, tuple, dict, set, frozenset)):
         text = _ECHO.repr(value)
         return text if len(text) <= ECHO_LENGTH else f"{text[: ECHO_LENGTH - 3]}..."
+    if isinstance(value, int) and value.bit_length() > 14_000:  # past repr's 4,300 digits
+        return f"an integer of about {value.bit_length() * 0.30103:,.0f} digits"
     text = repr(value)
     if len(text) <= ECHO_LENGTH:
         return text

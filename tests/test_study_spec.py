@@ -175,6 +175,71 @@ def test_a_bad_spec_is_one_error_naming_the_key(changes, message):
     assert "\n" not in str(info.value)
 
 
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        # issue 30: sizes that blew up memory are refused with the key named
+        (
+            {"solve": {"kind": "free_space", "frequencies": "4GHz:9GHz:1000000000"}},
+            "solve.frequencies: solve.frequencies '4GHz:9GHz:1000000000': K=1,000,000,000 "
+            "frequencies is more than a sweep takes (100,000)",
+        ),
+        (
+            {"axes": {"patch_size": {"start": 10, "stop": 20, "num": 10**12}}},
+            "axes.patch_size.num: 1,000,000,000,000 values, more than a study takes (100,000)",
+        ),
+        (
+            {"sample": {"latin_hypercube": 10**12}, "axes": {"patch_size": [10, 20]}},
+            "sample.latin_hypercube: 1,000,000,000,000 points, more than a study takes",
+        ),
+        (
+            {
+                "axes": {
+                    "patch_size": [10 + i / 1e3 for i in range(400)],
+                    "patch_width": [10 + i / 1e3 for i in range(400)],
+                }
+            },
+            "axes: 400 x 400 = 160,000 points, more than a study takes (100,000)",
+        ),
+        (
+            {
+                "axes": {"patch_size": [10 + i / 1e4 for i in range(20_000)]},
+                "solve": {"kind": "free_space", "frequencies": "6GHz:12GHz:1000"},
+            },
+            "solve.frequencies: 1,000 frequencies at 20,000 points make 20,000,000 rows",
+        ),
+        # NaN passed and failed later as "Out of range float values are not JSON compliant"
+        ({"axes": {"patch_size": [14.0, float("nan")]}}, "axes.patch_size: nan in the list"),
+        ({"axes": {"patch_size": [14.0, float("inf")]}}, "axes.patch_size: inf in the list"),
+        ({"axes": {"patch_size": [10**5000]}}, "axes.patch_size: an integer of about 5,000"),
+    ],
+)
+def test_a_spec_too_large_or_not_finite_is_refused_naming_the_key(changes, message):
+    with pytest.raises(SpecError) as info:
+        parse_spec(spec(**changes))
+    assert message in str(info.value)
+    assert "\n" not in str(info.value) and len(str(info.value)) < 300
+
+
+def test_a_damaged_spec_file_is_one_clear_error_naming_the_file(tmp_path):
+    # issue 30: the raw codec message without the file (17 of 59 damaged specs), Python's
+    # set_int_max_str_digits hint, and a RecursionError at 100,000 levels
+    text = json.dumps(spec())
+    cases = {
+        "latin1.json": (text.replace("patch", "p\u00e4tch").encode("latin-1"), "byte "),
+        "digits.json": (text.replace("15.0", "1" * 5000, 1).encode(), "a number has more"),
+        "deep.json": (("[" * 100_000 + "]" * 100_000).encode(), "nested too deeply"),
+    }
+    for name, (data, fragment) in cases.items():
+        path = tmp_path / name
+        path.write_bytes(data)
+        with pytest.raises(SpecError) as info:
+            load_spec(path)
+        message = str(info.value)
+        assert message.startswith(str(path)) and fragment in message, message
+        assert "sys." not in message and "codec" not in message and len(message) < 300
+
+
 def test_a_spec_file_that_is_not_json_names_the_file(tmp_path):
     path = tmp_path / "s.json"
     path.write_text("{nope")

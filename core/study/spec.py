@@ -55,6 +55,11 @@ FIGURE_COLUMNS = {
 }
 #: Axis paths that vary the incidence rather than the geometry.
 INCIDENCE_KEYS = ("theta", "phi", "pol")
+#: Most points of a study (the product of its axes, or a Latin-hypercube sample): each is
+#: a solve, and the list of points is made up front.
+MAX_POINTS = 100_000
+#: Most rows of the per-frequency table: points times frequencies.
+MAX_ROWS = 10_000_000
 _TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]")
 
 
@@ -72,9 +77,18 @@ def _kind(value: Any) -> str:
     return kind(value)
 
 
+def _short(value: Any) -> str:
+    """``repr(value)`` cut to 40 characters (a 5,000-digit number, a deep list)."""
+    from ..values import echo
+
+    return echo(value)
+
+
 def _number(key: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise _fail(key, f"{_kind(value)} {value!r:.40}; expected a number")
+        raise _fail(key, f"{_kind(value)} {_short(value)}; expected a number")
+    if isinstance(value, int) and abs(value) > 1e300:  # float() would overflow
+        raise _fail(key, f"{_short(value)} is too large; expected a number up to 1e300")
     if not math.isfinite(value):
         raise _fail(key, f"{value!r} is not finite; expected a number")
     return float(value)
@@ -274,10 +288,22 @@ def load_spec(source: str | Path | dict[str, Any]) -> StudySpec:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise SpecError(f"cannot read the study spec {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SpecError(
+            f"{path} is not a study spec: byte {exc.start:,} (0x{exc.object[exc.start]:02x}) is "
+            "not UTF-8 text; expected a JSON file"
+        ) from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise SpecError(f"{path} is not JSON: {exc.msg} at line {exc.lineno}") from None
+    except RecursionError:
+        raise SpecError(f"{path}: the JSON is nested too deeply to be a study spec") from None
+    except ValueError:  # an integer of more digits than Python converts (4,300)
+        raise SpecError(
+            f"{path}: a number has more digits than a study spec can hold; expected "
+            "ordinary numbers (1e300 at most)"
+        ) from None
     return parse_spec(data, base_dir=path.parent)
 
 
@@ -296,6 +322,19 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     SpecError
         The first problem found, naming its key.
     """
+    try:
+        return _parse_spec(data, base_dir)
+    except RecursionError:
+        raise SpecError(
+            "study spec: nested too deeply (lists or objects inside each other)"
+        ) from None
+    except ValueError as exc:  # an integer too long to convert or show, anywhere in the spec
+        if isinstance(exc, SpecError) or "digits" not in str(exc):
+            raise
+        raise SpecError("study spec: a number has more digits than a spec can hold") from None
+
+
+def _parse_spec(data: Any, base_dir: str | Path | None) -> StudySpec:
     if not isinstance(data, dict):
         raise SpecError(f"study spec: expected a JSON object, got {_kind(data)}")
     unknown = sorted(set(data) - set(SPEC_KEYS))
@@ -308,6 +347,7 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     sample = _sample(data.get("sample", "product"))
     axes = _axes(data["axes"], sample)
     solve = _solve(data["solve"], axes)
+    _check_size(sample, axes, solve)
     derive = _derive(data.get("derive", ["resonance_frequency", "quality_factor"]), solve)
     output = data.get("output")
     if output is not None and (not isinstance(output, str) or not output.strip()):
@@ -329,6 +369,25 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     }
     document = json.loads(json.dumps(document))  # tuples to lists: the canonical form
     return StudySpec(base, axes, sample, solve, derive, output, document)
+
+
+def _check_size(sample: str | dict[str, int], axes: tuple[Axis, ...], solve: Solve) -> None:
+    """Refuse a study of more points, or rows, than :data:`MAX_POINTS` and :data:`MAX_ROWS`."""
+    if isinstance(sample, dict):
+        points, key = sample["latin_hypercube"], "sample.latin_hypercube"
+    else:
+        points, key = math.prod(len(a.values) for a in axes), "axes"
+    if points > MAX_POINTS:
+        sizes = " x ".join(f"{len(a.values):,}" for a in axes)
+        what = f"{points:,} points" if isinstance(sample, dict) else f"{sizes} = {points:,} points"
+        raise _fail(key, f"{what}, more than a study takes ({MAX_POINTS:,}); use fewer")
+    rows = points * len(solve.frequencies)
+    if rows > MAX_ROWS:
+        raise _fail(
+            "solve.frequencies",
+            f"{len(solve.frequencies):,} frequencies at {points:,} points make {rows:,} rows, "
+            f"more than a study's table takes ({MAX_ROWS:,}); use fewer",
+        )
 
 
 def _base(raw: Any, base_dir: str | Path | None) -> Base:
@@ -389,9 +448,13 @@ def _sample(raw: Any) -> str | dict[str, int]:
         if extra:
             raise _fail(f"sample.{extra[0]}", "unknown key; expected latin_hypercube, seed")
         n, seed = raw["latin_hypercube"], raw.get("seed", 0)
-        for key, v, low in (("latin_hypercube", n, 1), ("seed", seed, 0)):
+        for key, v, low, high in (("latin_hypercube", n, 1, MAX_POINTS), ("seed", seed, 0, None)):
             if isinstance(v, bool) or not isinstance(v, int) or v < low:
-                raise _fail(f"sample.{key}", f"{v!r}; expected a whole number >= {low}")
+                raise _fail(f"sample.{key}", f"{_short(v)}; expected a whole number >= {low}")
+            if high is not None and v > high:
+                raise _fail(
+                    f"sample.{key}", f"{v:,} points, more than a study takes ({high:,}); use fewer"
+                )
         return {"latin_hypercube": n, "seed": seed}
     raise _fail("sample", f'{raw!r:.60}; expected "product" or {{"latin_hypercube": N, "seed": S}}')
 
@@ -420,6 +483,10 @@ def _axes(raw: Any, sample: str | dict[str, int]) -> tuple[Axis, ...]:
         for v in values:
             if isinstance(v, dict | list) or v is None:
                 raise _fail(key, f"{_kind(v)} in the list; expected numbers or strings")
+            if isinstance(v, float) and not math.isfinite(v):
+                raise _fail(key, f"{v!r} in the list is not finite; expected numbers")
+            if isinstance(v, int) and not isinstance(v, bool) and abs(v) > 1e300:
+                raise _fail(key, f"{_short(v)} in the list is too large; expected numbers")
         if len({json.dumps(v) for v in values}) != len(values):
             raise _fail(key, "a value is listed twice")
         axes.append(Axis(path, tuple(values)))
@@ -432,7 +499,9 @@ def _range(key: str, raw: dict[str, Any]) -> list[float]:
     a, b = _number(f"{key}.start", raw["start"]), _number(f"{key}.stop", raw["stop"])
     k = raw["num"]
     if isinstance(k, bool) or not isinstance(k, int) or k < 1:
-        raise _fail(f"{key}.num", f"{k!r}; expected a whole number >= 1")
+        raise _fail(f"{key}.num", f"{_short(k)}; expected a whole number >= 1")
+    if k > MAX_POINTS:
+        raise _fail(f"{key}.num", f"{k:,} values, more than a study takes ({MAX_POINTS:,})")
     return [float(v) for v in np.linspace(a, b, k)]
 
 
