@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import math
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -131,9 +132,26 @@ def memory_allowance(memory_limit: float | None = None) -> tuple[float, str]:
         "the memory_limit of 2.00 GiB" or "the 20.1 GiB of memory available".
     """
     avail = available_memory()
-    if memory_limit is not None and memory_limit < avail:
-        return float(memory_limit), f"the memory_limit of {format_bytes(memory_limit)}"
+    if memory_limit is not None:
+        limit = check_memory_limit(memory_limit)
+        if limit < avail:
+            return limit, f"the memory_limit of {format_bytes(limit)}"
     return float(avail), f"the {format_bytes(avail)} of memory available"
+
+
+def check_memory_limit(memory_limit: object) -> float:
+    """``memory_limit`` as bytes, or a ValueError naming it: a number > 0 (NaN was ignored,
+    and -1 refused as "-0.0 MiB")."""
+    try:
+        limit = float(memory_limit)  # type: ignore[arg-type]  # any input: refused below
+    except (TypeError, ValueError):
+        limit = math.nan
+    if isinstance(memory_limit, bool) or not (math.isfinite(limit) and limit > 0):
+        raise ValueError(
+            f"memory_limit={memory_limit!r:.40} is invalid; expected a positive number of "
+            "bytes (e.g. 2e9), or None for the memory available"
+        )
+    return limit
 
 
 def _far_points(mesh: TriMesh, far_order: int) -> int:
