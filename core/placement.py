@@ -38,6 +38,8 @@ class PlacementFields(RingFields, Protocol):
 
 #: Above this many patches the count is estimated from above instead of placed.
 _EXACT_COUNT_LIMIT = 20_000_000
+#: Patches next to a slot tested at once when counting (bounded memory).
+_SLOT_CHUNK = 1 << 18
 
 
 def paper_ring_origins(
@@ -214,22 +216,28 @@ def _side_candidates(params: PlacementFields, k: int, at: Any, angle: float) -> 
 
 
 def _paper_slot_count(params: PlacementFields) -> int:
-    """Patches of a slotted paper-mode structure, counting only those next to a slot."""
+    """Patches of a slotted paper-mode structure, counting only those next to a slot.
+
+    The candidates are tested in chunks of :data:`_SLOT_CHUNK` (bounded memory; a slot
+    nearly as wide as the ring makes most patches candidates).
+    """
     square = params.structure == "square_split_double_ring"
     centre = np.asarray(params.origin)
     angle = params.gap_angle % 360.0
-    total = 0
+    rows: list[tuple[int, np.ndarray, Any]] = []  # (patches, candidate indices, origins of)
     for radius in ring_radii(params):
         if square:
             for k, at in _square_sides(params, radius):
-                total += k
                 near = _side_candidates(params, k, at, angle)
-                total -= int(_touching_slots(params, centre + at(near)).sum())
+                rows.append((k, near, lambda which, at=at: centre + at(which)))
         else:
-            total += count_steps(360.0, params.angle_step)
+            k = count_steps(360.0, params.angle_step)
             near = _slot_candidates(params, radius, angle)
-            origins = paper_ring_origins(params, radius, near)
-            total -= int(_touching_slots(params, origins).sum())
+            rows.append((k, near, lambda which, r=radius: paper_ring_origins(params, r, which)))
+    total = sum(k for k, _, _ in rows)
+    for _, near, origins_of in rows:
+        for lo in range(0, len(near), _SLOT_CHUNK):
+            total -= int(_touching_slots(params, origins_of(near[lo : lo + _SLOT_CHUNK])).sum())
     return total
 
 

@@ -1,11 +1,14 @@
 """The solver's API: inputs checked at the door, limits, sweeps, feeds and derived quantities."""
 
 import dataclasses
+import os
 import tracemalloc
 
 import numpy as np
 import pytest
-from helpers import run_capped
+from helpers import address_space_cap, assert_clear_message, run_capped
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.constants import SPEED_OF_LIGHT
@@ -487,3 +490,31 @@ def test_a_frequency_double_precision_cannot_form_the_matrix_is_refused(small_pl
     s = solve(small_plate, 3.4)  # just above: solved, with the breakdown warning
     assert np.all(np.isfinite(s.coefficients))
     assert s.warnings[0].startswith("low-frequency breakdown of the EFIE")
+
+
+FREQUENCY_FUZZ_EXAMPLES = max(30, int(os.environ.get("BARYMESH_FUZZ_EXAMPLES", "2000")) // 20)
+
+
+@settings(max_examples=FREQUENCY_FUZZ_EXAMPLES, deadline=None)
+@given(
+    st.builds(lambda m, e: m * 10.0**e, st.floats(1.0, 9.99), st.integers(-320, 16)),
+    st.sampled_from(["patch", "plate-with-fin"]),
+)
+def test_any_frequency_gives_a_clear_refusal_or_finite_results(frequency, which):
+    # issue 30: 1e-300 Hz gave NaN with exit 0, 1 THz hung in the far-field rule
+    mesh = {
+        "patch": lambda: build_mesh(MeshParams(structure="patch", patch_size=10.0)),
+        "plate-with-fin": lambda: t_junction(n=4),
+    }[which]()
+    try:
+        with address_space_cap(1 << 30):
+            s = solve(mesh, frequency)
+            extinction, scattering = s.extinction_cross_section, s.scattering_cross_section
+    except ValueError as err:
+        assert str(err).startswith("frequency="), str(err)
+        assert_clear_message(str(err))
+        return
+    assert np.all(np.isfinite(s.coefficients)) and np.isfinite(extinction)
+    assert np.isfinite(scattering) and scattering >= 0
+    coarse = mesh.edge_lengths.max() > SPEED_OF_LIGHT / frequency * 1e3 / 10
+    assert coarse == any(w.startswith("mesh too coarse") for w in s.warnings)
