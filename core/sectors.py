@@ -104,6 +104,8 @@ _SECTOR_CHECK_POINTS = 1 << 14
 _MAX_NARROWING = 12
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
+#: The most steps counted (an integer float64 still holds).
+_MAX_STEPS = 2**62
 
 
 def count_steps(span: float, step: float) -> int:
@@ -111,8 +113,11 @@ def count_steps(span: float, step: float) -> int:
 
     >>> count_steps(360.0, 1.0), count_steps(360.0, 7.0), count_steps(0.5, 1.0)
     (360, 52, 1)
+
+    A ratio past 2**62 (a step of 5e-324 mm gives inf) counts as 2**62, beyond any budget.
     """
-    return max(1, math.ceil(span / step - _COUNT_SLACK))
+    ratio = span / step - _COUNT_SLACK
+    return max(1, math.ceil(ratio)) if ratio < _MAX_STEPS else _MAX_STEPS
 
 
 def ring_radii(params: RingFields) -> list[float]:

@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 from helpers import address_space_cap, assert_clear_message
-from hypothesis import HealthCheck, event, given, settings
+from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy.spatial import cKDTree
@@ -273,6 +273,14 @@ def triangle_soup(draw):
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(triangle_soup(), triangle_soup(), st.sampled_from([1e-9, 1e-3, 0.1]))
+@example(  # found by the fuzz: a sliver 3e-153 above an edge at y = -1e-9, exactly 1e-9 deep
+    (np.array([[0.0, -1e-9], [2.0, -1e-9], [0.8, 2.0]]), np.array([[0, 1, 2]])),
+    (
+        np.array([[1.0, 2.99763294e-153], [0.999346356, -7.56802495e-4], [1.00049535, -9.56e-4]]),
+        np.array([[0, 1, 2]]),
+    ),
+    1e-9,
+)
 def test_overlapping_triangles_equal_all_pairs(a, b, tolerance):
     from barymesh.cell.contacts import overlapping_triangles
 

@@ -361,6 +361,38 @@ def assert_round_trip(mesh, ext):
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
 )
 @given(hostile(), st.sampled_from(WRITERS))
+@example(  # issue 30's second fuzz run: 5e-324 mm steps along a square ring's side overflowed
+    kw=dict(
+        structure="square_split_double_ring",
+        mode="conforming",
+        inner_radius=1.0,
+        outer_radius=2.0,
+        patch_size=5e-324,
+        angle_step=1e-320,
+        subdivisions=1,
+        gap_width=1.0,
+        max_triangles=4000,
+        tolerance=0.1,
+    ),
+    ext=".msh",
+)
+@example(  # issue 30: graded toward a slot with a ratio next to 1 (66 million sector ends)
+    kw=dict(
+        structure="split_double_ring",
+        mode="conforming",
+        inner_radius=29.18,
+        outer_radius=30.405,
+        patch_size=0.3169,
+        angle_step=18.82,
+        subdivisions=10,
+        gap_width=12.07,
+        gap_angle=540,
+        grading=True,
+        growth_ratio=1.0000001,
+        max_triangles=300000,
+    ),
+    ext=".msh",
+)
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:
         with address_space_cap(HOSTILE_MEMORY):  # a runaway is a MemoryError, not a swap

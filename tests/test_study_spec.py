@@ -472,7 +472,7 @@ def test_an_infinite_array_point_too_large_is_refused_by_the_periodic_memory_mod
 
 # -- issue 30: hostile specs, drawn at random ----------------------------------------------
 
-from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import HealthCheck, example, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from barymesh.study.spec import MAX_POINTS, MAX_ROWS  # noqa: E402
@@ -552,6 +552,7 @@ def put(doc, place, value):
     suppress_health_check=[HealthCheck.too_slow],
 )
 @given(st.lists(st.tuples(st.sampled_from(PLACES), HOSTILE), min_size=1, max_size=3))
+@example(changes=[(("derive", 0), "x" * 5000)])  # found by the fuzz: a 5,101-character line
 def test_hostile_specs_give_one_clear_line_or_a_spec_of_bounded_size(changes):
     doc = spec(
         sample={"latin_hypercube": 4} if ("sample",) in [c[0] for c in changes] else "product"

@@ -50,7 +50,8 @@ def box_pairs(
     lo_a, hi_a : (Ta, 2) float
     lo_b, hi_b : (Tb, 2) float
     depth : float
-        Boxes must overlap by more than this along both axes.
+        Boxes must overlap by more than this along both axes (give or take 1e-12 of the
+        largest coordinate: a superset of the pairs that overlap by more).
 
     Yields
     ------
@@ -61,6 +62,11 @@ def box_pairs(
         return
     centre_a, half_a = (lo_a + hi_a) / 2, (hi_a - lo_a) / 2
     centre_b, half_b = (lo_b + hi_b) / 2, (hi_b - lo_b) / 2
+    # rounding slack: a pair the separating-axis test (other arithmetic) calls overlapping
+    # is never dropped here, even at exactly ``depth`` (found by the fuzz)
+    scale = max(float(np.abs(lo_a).max()), float(np.abs(hi_a).max()))
+    scale = max(scale, float(np.abs(lo_b).max()), float(np.abs(hi_b).max()), depth)
+    slack = 1e-12 * scale
     smallest = max(float(min(half_a.max(axis=1).min(), half_b.max(axis=1).min())), 1e-300)
     class_a, class_b = _size_classes(half_a, smallest), _size_classes(half_b, smallest)
     groups_b = []
@@ -76,11 +82,14 @@ def box_pairs(
             tree_a = cKDTree(centre_a[chunk])
             for members_b, reach_b, tree_b in groups_b:
                 found = tree_a.sparse_distance_matrix(
-                    tree_b, reach_a + reach_b, p=np.inf, output_type="ndarray"
+                    tree_b, reach_a + reach_b + slack, p=np.inf, output_type="ndarray"
                 )
                 i = chunk[found["i"]]
                 j = members_b[found["j"]]
-                keep = np.all((hi_a[i] - lo_b[j] > depth) & (hi_b[j] - lo_a[i] > depth), axis=1)
+                keep = np.all(
+                    (hi_a[i] + slack > lo_b[j] + depth) & (hi_b[j] + slack > lo_a[i] + depth),
+                    axis=1,
+                )
                 if keep.any():
                     yield i[keep], j[keep]
 

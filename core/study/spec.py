@@ -90,7 +90,7 @@ def _number(key: str, value: Any) -> float:
     if isinstance(value, int) and abs(value) > 1e300:  # float() would overflow
         raise _fail(key, f"{_short(value)} is too large; expected a number up to 1e300")
     if not math.isfinite(value):
-        raise _fail(key, f"{value!r} is not finite; expected a number")
+        raise _fail(key, f"{_short(value)} is not finite; expected a number")
     return float(value)
 
 
@@ -135,7 +135,7 @@ def set_path(data: Any, path: tuple[str | int, ...], value: Any, where: str) -> 
                 raise _fail(where, f"{shown} has no item [{token}] ({size} items)")
         elif not isinstance(node, dict) or token not in node:
             names = ", ".join(sorted(node)) if isinstance(node, dict) else ""
-            raise _fail(where, f"{shown} has no {token!r}; it has: {names}")
+            raise _fail(where, f"{shown} has no {_short(token)}; it has: {names}")
         if last:
             node[token] = value
         else:
@@ -353,7 +353,7 @@ def _parse_spec(data: Any, base_dir: str | Path | None) -> StudySpec:
     if output is not None and (not isinstance(output, str) or not output.strip()):
         raise _fail("output", f"{_kind(output)}; expected a file name (.parquet or .csv)")
     if output is not None and Path(output).suffix.lower() not in (".parquet", ".csv"):
-        raise _fail("output", f"{output!r}: expected a .parquet or .csv file")
+        raise _fail("output", f"{_short(output)}: expected a .parquet or .csv file")
     if solve.kind == "infinite_array" and base.kind != "cell":
         raise _fail("solve.kind", "infinite_array needs a unit cell: base cell or cell_preset")
     for axis in axes:  # every geometry path must exist in the base
@@ -399,7 +399,7 @@ def _base(raw: Any, base_dir: str | Path | None) -> Base:
         from ..presets import load_preset, preset_names
 
         if value not in preset_names():
-            raise _fail(where, f"unknown preset {value!r}; expected one of {preset_names()}")
+            raise _fail(where, f"unknown preset {_short(value)}; expected one of {preset_names()}")
         return Base("params", load_preset(value)[0].to_dict())
     if key == "params":
         from ..params import MeshParams
@@ -425,7 +425,9 @@ def _base(raw: Any, base_dir: str | Path | None) -> Base:
         try:
             if key == "cell_preset":
                 if value not in cell_preset_names():
-                    raise _fail(where, f"unknown cell preset {value!r}: {cell_preset_names()}")
+                    raise _fail(
+                        where, f"unknown cell preset {_short(value)}: {cell_preset_names()}"
+                    )
                 cell = load_cell_preset(value)
             else:
                 path = Path(value)
@@ -484,7 +486,7 @@ def _axes(raw: Any, sample: str | dict[str, int]) -> tuple[Axis, ...]:
             if isinstance(v, dict | list) or v is None:
                 raise _fail(key, f"{_kind(v)} in the list; expected numbers or strings")
             if isinstance(v, float) and not math.isfinite(v):
-                raise _fail(key, f"{v!r} in the list is not finite; expected numbers")
+                raise _fail(key, f"{_short(v)} in the list is not finite; expected numbers")
             if isinstance(v, int) and not isinstance(v, bool) and abs(v) > 1e300:
                 raise _fail(key, f"{_short(v)} in the list is too large; expected numbers")
         if len({json.dumps(v) for v in values}) != len(values):
@@ -516,7 +518,7 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
         raise _fail("solve", f"{_kind(raw)}; expected an object with kind and frequencies")
     kind = raw.get("kind")
     if kind not in SOLVE_KINDS:
-        raise _fail("solve.kind", f"{kind!r}; expected one of {', '.join(SOLVE_KINDS)}")
+        raise _fail("solve.kind", f"{_short(kind)}; expected one of {', '.join(SOLVE_KINDS)}")
     known = {"kind", "frequencies", "memory_limit", *INCIDENCE_KEYS}
     if kind == "free_space":
         known |= {"direction", "polarization"}
@@ -548,10 +550,10 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
         raise _fail("solve.frequencies", "expected positive frequencies in increasing order")
     memory = raw.get("memory_limit")
     if memory is not None and not _number("solve.memory_limit", memory) > 0:
-        raise _fail("solve.memory_limit", f"{memory!r}; expected bytes > 0")
+        raise _fail("solve.memory_limit", f"{_short(memory)}; expected bytes > 0")
     interpolate = raw.get("interpolate", True)
     if not isinstance(interpolate, bool):
-        raise _fail("solve.interpolate", f"{interpolate!r}; expected true or false")
+        raise _fail("solve.interpolate", f"{_short(interpolate)}; expected true or false")
     angles = {k: raw[k] for k in INCIDENCE_KEYS if k in raw}
     vectors = {k: raw[k] for k in ("direction", "polarization") if k in raw}
     varied = [a for a in axes if a.incidence]
@@ -593,7 +595,7 @@ def incidence_angle(pol: Any, where: str) -> float:
     if isinstance(pol, str) and pol.upper() in ("TE", "TM"):
         return 90.0 if pol.upper() == "TE" else 0.0
     if isinstance(pol, bool) or not isinstance(pol, int | float) or not math.isfinite(pol):
-        raise _fail(where, f"pol={pol!r}; expected TE, TM or an angle in degrees")
+        raise _fail(where, f"pol={_short(pol)}; expected TE, TM or an angle in degrees")
     return float(pol)
 
 
@@ -625,7 +627,7 @@ def _derive(raw: Any, solve: Solve) -> tuple[Derive, ...]:
         key = f"derive[{i}]"
         if isinstance(item, str):
             if item not in FIGURES:
-                raise _fail(key, f"unknown figure {item!r}; expected {', '.join(FIGURES)}")
+                raise _fail(key, f"unknown figure {_short(item)}; expected {', '.join(FIGURES)}")
             out.append(Derive(item))
             continue
         if not isinstance(item, dict) or len(item) != 1 or next(iter(item)) not in FIGURES_AT:
