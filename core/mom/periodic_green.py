@@ -127,7 +127,7 @@ def _cutoffs(
 
 
 def _box_size(basis: np.ndarray, radius: float, centre: np.ndarray) -> int:
-    """Lattice points :func:`_lattice_points` searches for a disc: its bounding box's."""
+    """Lattice points :func:`lattice_points` searches for a disc: its bounding box's."""
     inverse = np.linalg.inv(basis)
     extent = (radius + float(np.linalg.norm(centre))) * np.linalg.norm(inverse, axis=0)
     return int(np.prod(2 * np.ceil(extent) + 1))
@@ -192,7 +192,7 @@ def default_splitting(area: float, k: complex, growth_bound: float = GROWTH_BOUN
     return max(math.sqrt(math.pi / area), abs(k) / (2.0 * growth_bound))
 
 
-def _lattice_points(
+def lattice_points(
     basis: np.ndarray, radius: float, centre: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Integer pairs (m, n) and points m b0 + n b1 (+ centre) within ``radius`` of 0.
@@ -313,8 +313,8 @@ class PeriodicGreen:
                     f"{np.linalg.norm(a1):.4g} and {np.linalg.norm(a2):.4g} m; use a lower "
                     "frequency or a smaller, less elongated cell"
                 )
-        images, _ = _lattice_points(lattice, r_images)
-        orders, kappa = _lattice_points(recip, k_cut, centre=kt)
+        images, _ = lattice_points(lattice, r_images)
+        orders, kappa = lattice_points(recip, k_cut, centre=kt)
         gamma = np.sqrt(np.einsum("ij,ij->i", kappa, kappa) - k * k + 0j)
         gamma = np.where(gamma.real < 0, -gamma, gamma)
         near = np.abs(gamma) < 1e-9 * abs(k)
