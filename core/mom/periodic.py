@@ -50,7 +50,7 @@ from .geometry import (
 )
 from .operator import ETA0, wavenumber
 from .periodic_caveats import periodic_warnings
-from .periodic_checks import as_lattice, check_copies_apart, check_green_terms
+from .periodic_checks import as_lattice, check_green_terms
 from .periodic_fill import FillPlan, fill, fill_plan
 from .periodic_green import PeriodicGreen
 from .periodic_layered import layer_orders, layered_kernel, sheet_field
@@ -362,12 +362,11 @@ def periodic_geometry(
 def _periodic_geometry(
     mesh: TriMesh, lattice: Any, vectors: np.ndarray, memory_limit: float | None
 ) -> PeriodicGeometry:
-    # before the geometry (a minute for a large cell): copies that overlap, and the memory
-    # of the unknowns (the interior ones and the pairs across the sides, counted cheaply)
+    # before the geometry (a minute for a large cell): the memory of the unknowns (the
+    # interior ones and the pairs across the sides, counted cheaply)
     from ..cell.periodic import periodic_pairs
 
     lat = lattice if lattice is not None else mesh.lattice
-    check_copies_apart(mesh, lat)
     pairs = periodic_pairs(mesh, lat, mesh.tolerance)
     check_periodic_memory(mesh.n_triangles, len(mesh.rwg) + len(pairs.edges), memory_limit)
     base = mom_geometry(mesh, near_factor=NEAR_FACTOR)  # its near pairs: those of σ = 0

@@ -1,16 +1,16 @@
 """What an infinite-array solve checks before it builds anything (issue 30).
 
-Each check is cheap (the mesh's own triangles, or formulas of the lattice and the
-frequency) and runs before the T² tables of :func:`barymesh.mom.periodic_geometry` or
-the terms of :class:`~barymesh.mom.periodic_green.PeriodicGreen` are made, so a problem
-that cannot be solved is refused in seconds, naming what is wrong:
+Each check is cheap (formulas of the lattice and the frequency) and runs before the T²
+tables of :func:`barymesh.mom.periodic_geometry` or the terms of
+:class:`~barymesh.mom.periodic_green.PeriodicGreen` are made, so a problem that cannot be
+solved is refused in seconds, naming what is wrong:
 
 * :func:`as_lattice`: a :class:`~barymesh.cell.Lattice`, or two lattice vectors in mm;
 * :func:`check_green_terms`: the terms the lattice sums would keep at the frequency and
-  the memory of evaluating them (a million Floquet orders for a 10 mm cell at 1 THz);
-* :func:`check_copies_apart`: the metal does not overlap its copies one or more lattice
-  vectors away (a 12 mm patch in a 10 mm lattice), as the command line's ``--period``
-  check refuses a structure larger than its period.
+  the memory of evaluating them (a million Floquet orders for a 10 mm cell at 1 THz).
+
+Metal beyond its cell (copies that overlap, a 12 mm patch in a 10 mm lattice) is solved
+with a warning (:func:`barymesh.mom.periodic_caveats.outside_warning`).
 
 The memory of the solve itself (T and N) is :func:`barymesh.mom.periodic.check_periodic_memory`.
 """
@@ -22,16 +22,10 @@ from typing import Any
 
 import numpy as np
 
-from ..mesh import TriMesh
 from .caveats import MIN_KD
-from .geometry import METRES_PER_MESH_UNIT
 from .operator import wavenumber
 from .periodic_green import MAX_LATTICE_BOX, PeriodicGreen, predicted_terms
 from .solve import ProblemTooLarge, format_bytes, memory_allowance
-
-#: Largest span of a cell's metal in lattice vectors: beyond it, its copies are not
-#: searched one by one for overlaps and the cell is refused.
-MAX_SPAN = 8
 
 
 def as_lattice(lattice: Any) -> Any:
@@ -133,71 +127,3 @@ def check_green_terms(
             "lower frequency or a smaller cell"
         )
     PeriodicGreen(a1, a2, k, kt)  # a Wood anomaly or a grazing order: refused by name
-
-
-def check_copies_apart(mesh: TriMesh, lattice: Any) -> None:
-    """Refuse metal that overlaps its copies one or more lattice vectors away.
-
-    Every shift i a1 + j a2 that brings the mesh's bounding box onto itself is tested
-    (half of them: an overlap at s is one at −s) with the cell overlap finder
-    (:func:`barymesh.cell.contacts.overlapping_triangles`, first overlap only). Metal
-    that touches its copies (a cell's metal across its sides) is not an overlap.
-
-    Parameters
-    ----------
-    mesh : TriMesh
-        The cell (mm).
-    lattice : Lattice
-        Its lattice (mm), ``a1`` and ``a2``.
-
-    Raises
-    ------
-    ValueError
-        Naming the lattice vector, the mesh's size and where the copies overlap.
-    """
-    from ..cell.contacts import overlapping_triangles
-
-    xy = np.asarray(mesh.points, dtype=np.float64)[:, :2]
-    tri = np.asarray(mesh.triangles)
-    if len(tri) == 0:
-        return
-    basis = np.array([lattice.a1, lattice.a2], dtype=np.float64)  # rows a1, a2 (mm)
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
-    corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [lo[0], hi[1]], [hi[0], hi[1]]])
-    frac = corners @ np.linalg.inv(basis)  # lattice coordinates of the box's corners
-    span = np.ceil(frac.max(axis=0) - frac.min(axis=0)).astype(int)  # shifts that can meet
-    size = f"{hi[0] - lo[0]:.6g} x {hi[1] - lo[1]:.6g} mm"
-    if span.max() > MAX_SPAN:
-        raise ValueError(
-            f"the metal ({size}) spans {int(span.max())} lattice vectors of its cell "
-            f"(a1 = {_vec(lattice.a1)}, a2 = {_vec(lattice.a2)} mm); expected metal within "
-            "about one cell, whose copies do not overlap"
-        )
-    reach = max(float(np.abs(xy).max()), *np.linalg.norm(basis, axis=1))
-    tolerance = max(float(getattr(mesh, "tolerance", 0.0) or 0.0), 1e-9 * reach)
-    for i in range(0, int(span[0]) + 1):
-        for j in range(-int(span[1]), int(span[1]) + 1):
-            if i == 0 and j <= 0:
-                continue  # the shift itself (0, 0), and the mirror of each tested one
-            shift = i * basis[0] + j * basis[1]
-            moved_lo, moved_hi = lo + shift, hi + shift
-            if np.any(moved_lo >= hi - tolerance) or np.any(lo >= moved_hi - tolerance):
-                continue
-            pair = overlapping_triangles(xy, tri, xy + shift, tri, tolerance, limit=1)
-            if len(pair):
-                at = xy[tri[pair[0, 0]]].mean(axis=0)
-                raise ValueError(
-                    f"the metal ({size}) overlaps its copy {_vec(shift)} mm away (lattice "
-                    f"a1 = {_vec(lattice.a1)}, a2 = {_vec(lattice.a2)} mm; first near "
-                    f"({at[0]:.4g}, {at[1]:.4g}) mm): neighbouring copies would overlap; use a "
-                    "larger lattice or smaller metal"
-                )
-
-
-def _vec(v: Any) -> str:
-    return f"({float(v[0]):g}, {float(v[1]):g})"
-
-
-def lattice_vectors_m(lattice: Any) -> np.ndarray:
-    """(2, 2) float: the rows a1, a2 of a Lattice, in metres."""
-    return np.array([lattice.a1, lattice.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
