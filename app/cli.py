@@ -201,7 +201,19 @@ def build_parser() -> argparse.ArgumentParser:
 # -- output ----------------------------------------------------------------
 
 
-def _summary(stats: dict[str, Any], title: str) -> str:
+def _aspect_text(largest: float, degenerate: int | None = None) -> str:
+    """The largest aspect ratio for a person: ``inf (triangle 7 has zero area)``, not nan.
+
+    The ratio is l_max × perimeter / (4√3 area): infinite for a flat triangle and 0/0 (NaN)
+    for one whose corners coincide; both are triangles of zero area.
+    """
+    if math.isfinite(largest):
+        return f"{largest:.4g}"
+    which = "a triangle has" if degenerate is None else f"triangle {degenerate:,} has"
+    return f"inf ({which} zero area)"
+
+
+def _summary(stats: dict[str, Any], title: str, degenerate: int | None = None) -> str:
     lines = [
         f"{title}",
         f"  {stats['triangles']:,} triangles, {stats['vertices']:,} vertices, "
@@ -210,7 +222,7 @@ def _summary(stats: dict[str, Any], title: str) -> str:
         f"{stats['boundary_edges']:,} boundary, {stats['junction_edges']:,} junction",
         f"  edge length {stats['min_edge']:.6g} .. {stats['max_edge']:.6g} mm, "
         f"min angle {stats['min_angle_deg']:.3g} deg, "
-        f"max aspect ratio {stats['max_aspect_ratio']:.4g}",
+        f"max aspect ratio {_aspect_text(stats['max_aspect_ratio'], degenerate)}",
         f"  area {stats['area']:.6g} mm^2, V - E + F = {stats['euler_characteristic']}",
     ]
     if stats.get("overlap_ratio") is not None:
@@ -703,7 +715,11 @@ def _cmd_info(args: argparse.Namespace) -> int:
         with progress(f"reading {args.file}"):
             mesh = read_mesh(args.file, unit=args.unit)
             stats = mesh.stats()
-        summary = _summary(stats, f"{args.file}: imported mesh")
+        import numpy as np
+
+        flat = np.flatnonzero(~np.isfinite(mesh.aspect_ratios))
+        degenerate = int(flat[0]) if len(flat) else None
+        summary = _summary(stats, f"{args.file}: imported mesh", degenerate)
     print(summary, file=say)
     report = _quality(mesh, wavelength)
     print(_quality_text(report), file=say)

@@ -455,11 +455,32 @@ def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
     return mesh, f"{args.preset or 'mesh'}: {params.structure}, {params.mode} mode"
 
 
+def _finite(values: dict[str, Any]) -> None:
+    """Refuse to report a result that is not a finite number (NaN is never a result)."""
+    import numpy as np
+
+    bad = [name for name, value in values.items() if not np.all(np.isfinite(value))]
+    if bad:
+        raise ArithmeticError(
+            f"the solve gave no finite {', '.join(bad)} (the matrix overflowed or is "
+            "singular); nothing is reported or written"
+        )
+
+
 def _report_single(s: Any) -> None:
     from barymesh.mom import PlaneWave
 
+    plane = isinstance(s.excitation, PlaneWave)
+    j = abs(s.current_density).max(axis=0)
+    values: dict[str, Any] = {"current": j, "residual": s.residual}
+    if plane:
+        values["extinction"] = s.extinction_cross_section
+        values["scattering"] = s.scattering_cross_section
+    else:
+        values["input impedance"] = s.input_impedance
+    _finite(values)
     print(f"  f = {s.frequency / 1e9:.6g} GHz")
-    if isinstance(s.excitation, PlaneWave):
+    if plane:
         print(
             f"  extinction {s.extinction_cross_section:.6g} m^2, scattering "
             f"{s.scattering_cross_section:.6g} m^2 (PEC: equal within the quadrature error)"
@@ -469,7 +490,6 @@ def _report_single(s: Any) -> None:
     else:
         z = s.input_impedance
         print(f"  input impedance {z.real:.6g} {'+-'[z.imag < 0]} j{abs(z.imag):.6g} ohm")
-    j = abs(s.current_density).max(axis=0)
     print(f"  largest |J| component {j.max():.6g} A/m")
     print(f"  condition number ~{s.condition_number:.3g}, residual {s.residual:.2g}")
     for text in s.warnings:
@@ -480,8 +500,12 @@ def _report_sweep(r: Any, excitation: Any) -> None:
     from barymesh.mom import PlaneWave
 
     f = r.frequencies
+    plane = isinstance(excitation, PlaneWave)
+    _finite({"coefficients": r.coefficients, "residuals": r.residuals})
+    if plane:
+        _finite({"extinction": r.extinction_cross_section})
     print(f"  {len(f)} frequencies, {f[0] / 1e9:.6g} to {f[-1] / 1e9:.6g} GHz")
-    if isinstance(excitation, PlaneWave):
+    if plane:
         peaks = r.resonances
         if len(peaks):
             print(

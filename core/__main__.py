@@ -2,6 +2,6 @@
 
 import sys
 
-from barymesh.app.cli import main
+from barymesh.app.launch import main
 
 sys.exit(main())

@@ -12,8 +12,12 @@ from __future__ import annotations
 
 import re
 
+from .values import echo
+
 #: Frequency units understood (case-insensitive); a bare number is in Hz.
 FREQUENCY_UNITS = {"hz": 1.0, "khz": 1e3, "mhz": 1e6, "ghz": 1e9, "thz": 1e12}
+#: Most frequencies of one sweep ``A:B:K``: each is a solve (a 1e9 list took 16 GB).
+MAX_FREQUENCIES = 100_000
 
 
 def parse_frequency(text: str, name: str = "--freq") -> float:
@@ -36,20 +40,20 @@ def parse_frequency(text: str, name: str = "--freq") -> float:
     (6190000000.0, 300000000.0, 1000000000.0)
     """
     if not isinstance(text, str):
-        raise ValueError(f"{name} {text!r} is invalid; expected a text such as 6.19GHz")
+        raise ValueError(f"{name} {echo(text)} is invalid; expected a text such as 6.19GHz")
     m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-zA-Z]*)\s*", text)
     unit = m.group(2).lower() if m else ""
     if not m or unit not in FREQUENCY_UNITS and unit != "":
         raise ValueError(
-            f"{name} {text!r} is invalid; expected a number with Hz, kHz, MHz, GHz "
+            f"{name} {echo(text)} is invalid; expected a number with Hz, kHz, MHz, GHz "
             "or THz, e.g. 6.19GHz"
         )
     try:
         value = float(m.group(1)) * FREQUENCY_UNITS.get(unit, 1.0)
     except ValueError:
-        raise ValueError(f"{name} {text!r} is not a number") from None
+        raise ValueError(f"{name} {echo(text)} is not a number") from None
     if not value > 0 or value == float("inf"):
-        raise ValueError(f"{name} {text!r} is invalid; expected a positive frequency")
+        raise ValueError(f"{name} {echo(text)} is invalid; expected a positive frequency")
     return value
 
 
@@ -64,18 +68,23 @@ def parse_frequencies(text: str, name: str = "--freq") -> list[float]:
     [6000000000.0]
     """
     if not isinstance(text, str):
-        raise ValueError(f"{name} {text!r} is invalid; expected a text F or A:B:K")
+        raise ValueError(f"{name} {echo(text)} is invalid; expected a text F or A:B:K")
     parts = text.split(":")
     if len(parts) == 1:
         return [parse_frequency(text, name)]
     if len(parts) != 3:
-        raise ValueError(f"{name} {text!r} is invalid; expected F or A:B:K")
+        raise ValueError(f"{name} {echo(text)} is invalid; expected F or A:B:K")
     a, b = parse_frequency(parts[0], name), parse_frequency(parts[1], name)
-    try:
-        k = int(parts[2])
-    except ValueError:
-        raise ValueError(f"{name} {text!r}: K={parts[2]!r} is not a whole number") from None
+    digits = parts[2].strip()
+    if not re.fullmatch(r"[+-]?\d{1,30}", digits):
+        raise ValueError(f"{name} {echo(text)}: K={echo(digits)} is not a whole number")
+    k = int(digits)
+    if k > MAX_FREQUENCIES:
+        raise ValueError(
+            f"{name} {echo(text)}: K={k:,} frequencies is more than a sweep takes "
+            f"({MAX_FREQUENCIES:,}); use fewer"
+        )
     if k < 2 or not b > a:
-        raise ValueError(f"{name} {text!r} is invalid; expected A < B and K >= 2 frequencies")
+        raise ValueError(f"{name} {echo(text)} is invalid; expected A < B and K >= 2 frequencies")
     step = (b - a) / (k - 1)
     return [a + i * step for i in range(k - 1)] + [b]

@@ -26,7 +26,7 @@ from .sectors import (
     slot_half_angle,
 )
 from .subdivision import edge_vectors
-from .values import InvalidValue
+from .values import InvalidValue, expected_names
 from .values import echo as _short
 from .values import finite as _finite
 from .values import number as _float
@@ -266,10 +266,11 @@ class MeshParams:
                 "the slot must leave metal on both sides: use a narrower gap or larger radii",
             )
         if predicted > budget and not self.sized:  # sized: checked at the n chosen
+            graded = "a larger growth_ratio or min_edge, " if self.grading else ""
             raise ValueError(
                 f"these parameters would make {predicted:,} triangles, above the budget "
-                f"max_triangles={budget:,}; use a larger angle_step or patch_size, fewer "
-                f"subdivisions, or raise max_triangles"
+                f"max_triangles={budget:,}; use {graded}a larger angle_step or patch_size, "
+                "fewer subdivisions, or raise max_triangles"
             )
 
     # -- validation helpers -------------------------------------------------
@@ -603,9 +604,8 @@ class MeshParams:
             raise InvalidValue(
                 name,
                 f"{name}={_short(getattr(self, name))} makes sub-triangle edges of {edge:.3g} mm "
-                f"at coordinates up to {extent:.3g} mm, too short for float64 to mesh: the "
-                f"shortest edge must be at least {floor:.3g} mm ({MIN_RELATIVE_EDGE:g} of the "
-                f"largest coordinate){limit}",
+                f"at coordinates up to {extent:.3g} mm; float64 needs edges of at least "
+                f"{floor:.3g} mm there ({MIN_RELATIVE_EDGE:g} of the largest coordinate){limit}",
             )
 
     def _check_slot_width(self) -> None:
@@ -652,15 +652,14 @@ class MeshParams:
                 "tolerance",
                 f"tolerance={_short(self.tolerance)} mm joins a chain of near points: {patches} "
                 f"are only {chord:.3g} mm apart (angle_step={_short(self.angle_step)}); "
-                "points farther apart than the tolerance are never merged: use a smaller "
-                f"tolerance (below {chord:.3g} mm) or a larger angle_step",
+                f"use a tolerance below {chord:.3g} mm or a larger angle_step",
             )
         raise InvalidValue(
             "inner_radius",
             f"inner_radius={_short(self.inner_radius)} mm and angle_step="
-            f"{_short(self.angle_step)} put {patches} within the welding "
-            f"tolerance {tol:.3g} mm of each other ({chord:.3g} mm apart): they would be welded "
-            "into a chain; use a larger inner_radius or angle_step",
+            f"{_short(self.angle_step)} put {patches} {chord:.3g} mm apart, within the "
+            f"welding tolerance {tol:.3g} mm: they would be welded into a chain; use a larger "
+            "inner_radius or angle_step",
         )
 
     @property
@@ -707,8 +706,7 @@ class MeshParams:
         unknown = sorted((k for k in data if k not in known), key=repr)
         if unknown:
             raise ValueError(
-                f"unknown parameter {_short(unknown[0])}; expected one of "
-                f"{', '.join(sorted(known))}"
+                f"unknown parameter {_short(unknown[0])}; {expected_names(unknown[0], known)}"
             )
         # lists (JSON) become tuples in __post_init__, where they are checked
         return cls(**data)

@@ -15,7 +15,7 @@ sits below them and reads only the fields of :class:`PlacementFields`.
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -38,14 +38,53 @@ class PlacementFields(RingFields, Protocol):
 
 #: Above this many patches the count is estimated from above instead of placed.
 _EXACT_COUNT_LIMIT = 20_000_000
+#: Patches next to a slot tested at once when counting (bounded memory).
+_SLOT_CHUNK = 1 << 18
 
 
-def paper_ring_origins(params: PlacementFields, radius: float) -> np.ndarray:
-    """Lower-left corners (r cos θ, r sin θ) + centre, θ = 0, Δθ, … < 360° (Eqs. 28–29)."""
+def paper_ring_origins(
+    params: PlacementFields, radius: float, which: np.ndarray | None = None
+) -> np.ndarray:
+    """Lower-left corners (r cos θ, r sin θ) + centre, θ = 0, Δθ, … < 360° (Eqs. 28–29).
+
+    ``which``: the indices of the patches wanted (default all), bit for bit as in the whole.
+    """
     k = count_steps(360.0, params.angle_step)
-    theta = np.radians(np.arange(k) * params.angle_step)
+    index = np.arange(k) if which is None else which
+    theta = np.radians(index * params.angle_step)
     centre = np.asarray(params.origin)
     return centre + radius * np.stack([np.cos(theta), np.sin(theta)], axis=1)
+
+
+def _spread(lo: float, hi: float, k: int, which: np.ndarray) -> np.ndarray:
+    """``np.linspace(lo, hi, k)[which]`` (``[lo]`` for k = 1) without the whole array."""
+    if k == 1:
+        return np.full(len(which), lo)
+    out = which * ((hi - lo) / (k - 1)) + lo  # linspace's own arithmetic
+    out[which == k - 1] = hi
+    return out
+
+
+def _square_sides(params: PlacementFields, half_side: float) -> list[tuple]:
+    """The four sides of a paper square track: (k, x(which), y(which)) each."""
+    r, h = half_side, params.patch_size
+    k_long = count_steps(2 * (r + h), h)
+    k_short = count_steps(2 * r, h)
+
+    def along(lo: float, hi: float, k: int, fixed: float, axis: int) -> tuple:
+        def at(which: np.ndarray) -> np.ndarray:
+            moving = _spread(lo, hi, k, which)
+            other = np.full_like(moving, fixed)
+            return np.stack([moving, other] if axis == 0 else [other, moving], axis=1)
+
+        return k, at
+
+    return [
+        along(-r - h, r, k_long, -r - h, 0),  # bottom
+        along(-r, r - h, k_short, r, 1),  # right
+        along(-r - h, r, k_long, r, 0),  # top
+        along(-r, r - h, k_short, -r - h, 1),  # left
+    ]
 
 
 def square_ring_origins(params: PlacementFields, half_side: float) -> np.ndarray:
@@ -56,20 +95,16 @@ def square_ring_origins(params: PlacementFields, half_side: float) -> np.ndarray
     it exactly when its length is a multiple of h and overlap slightly
     otherwise, as the paper's patches do.
     """
-    r, h = half_side, params.patch_size
-    k_long = count_steps(2 * (r + h), h)
-    k_short = count_steps(2 * r, h)
-    xs = np.linspace(-r - h, r, k_long) if k_long > 1 else np.array([-r - h])
-    ys = np.linspace(-r, r - h, k_short) if k_short > 1 else np.array([-r])
-    bottom = np.stack([xs, np.full_like(xs, -r - h)], axis=1)
-    top = np.stack([xs, np.full_like(xs, r)], axis=1)
-    left = np.stack([np.full_like(ys, -r - h), ys], axis=1)
-    right = np.stack([np.full_like(ys, r), ys], axis=1)
-    return np.asarray(params.origin) + np.concatenate([bottom, right, top, left])
+    sides = [at(np.arange(k)) for k, at in _square_sides(params, half_side)]
+    return np.asarray(params.origin) + np.concatenate(sides)
 
 
 def rects_touching_slots(
-    rects: np.ndarray, centre: tuple[float, float], directions: list[float], width: float
+    rects: np.ndarray,
+    centre: tuple[float, float],
+    directions: list[float],
+    width: float,
+    scale: float | None = None,
 ) -> np.ndarray:
     """Which axis-aligned rectangles share area with a slot (separating-axis test).
 
@@ -82,11 +117,17 @@ def rects_touching_slots(
     ----------
     rects : (P, 4) float64
         (x0, y0, x1, y1).
+    scale : float, optional
+        The distance (mm) from ``centre`` the rounding slack (1e-12 of it) is relative
+        to; default the farthest corner of ``rects``. Give it to test some of a
+        structure's rectangles exactly as all of them are.
     """
     rel = rects - np.array([centre[0], centre[1], centre[0], centre[1]])
     cx = rel[:, [0, 2, 2, 0]]
     cy = rel[:, [1, 1, 3, 3]]
-    eps = 1e-12 * max(1.0, float(np.abs(rel).max(initial=0.0)))
+    if scale is None:
+        scale = float(np.abs(rel).max(initial=0.0))
+    eps = 1e-12 * max(1.0, scale)
     half = width / 2
     hit = np.zeros(len(rects), dtype=bool)
     angles = [d % 360.0 for d in directions]
@@ -126,11 +167,78 @@ def paper_origins(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
     regions = np.concatenate(region_parts)
     directions = gap_directions(params)
     if directions:
-        h, w = params.patch_size, params.patch_height
-        rects = np.concatenate([origins, origins + [h, w]], axis=1)
-        keep = ~rects_touching_slots(rects, params.origin, directions, params.gap_width)
+        keep = ~_touching_slots(params, origins)
         origins, regions = origins[keep], regions[keep]
     return origins, regions
+
+
+def _touching_slots(params: PlacementFields, origins: np.ndarray) -> np.ndarray:
+    """Which patches at ``origins`` (P, 2) share area with the structure's slots."""
+    h, w = params.patch_size, params.patch_height
+    rects = np.concatenate([origins, origins + [h, w]], axis=1)
+    scale = max(ring_radii(params)) + max(h, w)  # every corner is within it of the centre
+    directions = gap_directions(params)
+    return rects_touching_slots(rects, params.origin, directions, params.gap_width, scale)
+
+
+def _slot_candidates(params: PlacementFields, radius: float, angle: float) -> np.ndarray:
+    """Indices of a paper ring's patches whose origin is near a slot axis (a superset).
+
+    A patch touches a slot only if its lower-left corner is within half the slot's width
+    plus the patch's diagonal of the slot's axis, the line through the centre at
+    ``angle``; on a ring of radius r that is within arcsin((g/2 + d) / r) of the axis.
+    """
+    k = count_steps(360.0, params.angle_step)
+    reach = params.gap_width / 2 + 2 * math.hypot(params.patch_size, params.patch_height)
+    if reach >= radius:
+        return np.arange(k)
+    half = math.degrees(math.asin(reach / radius)) + 2 * params.angle_step
+    found = []
+    for centre in (angle, angle + 180.0):
+        for turn in (-360.0, 0.0, 360.0, 720.0):
+            lo = math.floor((centre + turn - half) / params.angle_step)
+            hi = math.ceil((centre + turn + half) / params.angle_step)
+            found.append(np.arange(max(lo, 0), min(hi, k - 1) + 1))
+    return np.unique(np.concatenate(found))
+
+
+def _side_candidates(params: PlacementFields, k: int, at: Any, angle: float) -> np.ndarray:
+    """Indices of a straight row of patches whose origin is near the slot axis (a superset)."""
+    reach = params.gap_width / 2 + 2 * math.hypot(params.patch_size, params.patch_height)
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    ends = at(np.array([0, k - 1]))
+    d0, d1 = ends @ np.array([-s, c])  # distance across the axis, affine in the index
+    if k == 1 or abs(d1 - d0) <= 1e-12 * (abs(d0) + abs(d1)):
+        return np.arange(k) if min(abs(d0), abs(d1)) <= reach else np.arange(0)
+    slope = (d1 - d0) / (k - 1)
+    lo, hi = sorted(((-reach - d0) / slope, (reach - d0) / slope))
+    return np.arange(max(math.floor(lo) - 2, 0), min(math.ceil(hi) + 2, k - 1) + 1)
+
+
+def _paper_slot_count(params: PlacementFields) -> int:
+    """Patches of a slotted paper-mode structure, counting only those next to a slot.
+
+    The candidates are tested in chunks of :data:`_SLOT_CHUNK` (bounded memory; a slot
+    nearly as wide as the ring makes most patches candidates).
+    """
+    square = params.structure == "square_split_double_ring"
+    centre = np.asarray(params.origin)
+    angle = params.gap_angle % 360.0
+    rows: list[tuple[int, np.ndarray, Any]] = []  # (patches, candidate indices, origins of)
+    for radius in ring_radii(params):
+        if square:
+            for k, at in _square_sides(params, radius):
+                near = _side_candidates(params, k, at, angle)
+                rows.append((k, near, lambda which, at=at: centre + at(which)))
+        else:
+            k = count_steps(360.0, params.angle_step)
+            near = _slot_candidates(params, radius, angle)
+            rows.append((k, near, lambda which, r=radius: paper_ring_origins(params, r, which)))
+    total = sum(k for k, _, _ in rows)
+    for _, near, origins_of in rows:
+        for lo in range(0, len(near), _SLOT_CHUNK):
+            total -= int(_touching_slots(params, origins_of(near[lo : lo + _SLOT_CHUNK])).sum())
+    return total
 
 
 def conforming_square_rects(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
@@ -183,7 +291,7 @@ def predicted_patches(params: PlacementFields) -> int:
     if s == "square_split_double_ring" and params.mode == "conforming":
         return len(conforming_square_rects(params)[0])
     if gap_directions(params):
-        return len(paper_origins(params)[0])
+        return _paper_slot_count(params)
     return upper
 
 

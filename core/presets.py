@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from .params import MeshParams
-from .values import InvalidValue
+from .values import InvalidValue, echo, expected_names
 
 
 def _asset_dir() -> Path:
@@ -196,6 +196,5 @@ def _check_keys(data: dict[str, Any], source: str) -> None:
     unknown = sorted(set(data) - known)
     if unknown:
         raise ValueError(
-            f"{source}: unknown parameter {unknown[0]!r}; "
-            f"expected one of {', '.join(sorted(known))}"
+            f"{source}: unknown parameter {echo(unknown[0])}; {expected_names(unknown[0], known)}"
         )

@@ -410,7 +410,8 @@ def quality_report(
     top = min(_range_top(largest, 2.0 * ASPECT_RATIO_THRESHOLD, 1.0), ASPECT_RATIO_RANGE_CAP)
     out["aspect_ratio"] = {
         "max": (None if not finite.all() else _number(largest)) if n else None,
-        "median": _number(np.median(ratios)) if n and finite.all() else None,
+        # a zero-area triangle's ratio is inf (or 0/0): ranked above every other
+        "median": _number(np.median(np.where(np.isnan(ratios), np.inf, ratios))) if n else None,
         "threshold": ASPECT_RATIO_THRESHOLD,
         "above": int(np.count_nonzero(~(ratios <= ASPECT_RATIO_THRESHOLD))),
         "degenerate": int(np.count_nonzero(~finite)),
@@ -467,8 +468,8 @@ def quality_lines(report: dict[str, Any]) -> list[str]:
         f"  smallest angle {num(a['min'], '.3g')} deg (1%: {num(p['1'], '.3g')}, 5%: "
         f"{num(p['5'], '.3g')}, median {num(p['50'], '.3g')}); below {a['threshold']:g} deg: "
         f"{share(a['below'])}",
-        f"  aspect ratio max {num(r['max'], '.4g')}, median {num(r['median'], '.4g')}; "
-        f"above {r['threshold']:g}: {share(r['above'])}",
+        f"  aspect ratio max {'inf' if r['degenerate'] else num(r['max'], '.4g')}, median "
+        f"{num(r['median'], '.4g')}; above {r['threshold']:g}: {share(r['above'])}",
     ]
     if r["degenerate"]:
         lines.append(f"  degenerate (zero-area) triangles: {r['degenerate']:,}")

@@ -25,7 +25,13 @@ import numpy as np
 
 from .kinds import DOUBLE_STRUCTURES
 from .quality import triangle_quality
-from .subdivision import PatchTemplate, graded_nodes, patch_template, tensor_template
+from .subdivision import (
+    PatchTemplate,
+    graded_cell_count,
+    graded_nodes,
+    patch_template,
+    tensor_template,
+)
 from .values import InvalidValue
 
 
@@ -98,6 +104,8 @@ _SECTOR_CHECK_POINTS = 1 << 14
 _MAX_NARROWING = 12
 #: Slack below which floating-point counts such as 360 / Δθ are integers.
 _COUNT_SLACK = 1e-9
+#: The most steps counted (an integer float64 still holds).
+_MAX_STEPS = 2**62
 
 
 def count_steps(span: float, step: float) -> int:
@@ -105,8 +113,11 @@ def count_steps(span: float, step: float) -> int:
 
     >>> count_steps(360.0, 1.0), count_steps(360.0, 7.0), count_steps(0.5, 1.0)
     (360, 52, 1)
+
+    A ratio past 2**62 (a step of 5e-324 mm gives inf) counts as 2**62, beyond any budget.
     """
-    return max(1, math.ceil(span / step - _COUNT_SLACK))
+    ratio = span / step - _COUNT_SLACK
+    return max(1, math.ceil(ratio)) if ratio < _MAX_STEPS else _MAX_STEPS
 
 
 def ring_radii(params: RingFields) -> list[float]:
@@ -326,15 +337,20 @@ def _plan_sectors(params: RingFields, arcs: tuple[_Arc, ...], m: int) -> SectorP
         return SectorPlan(arcs, chosen, m, template, None)
     # graded toward the slot's sides: the end sectors hold cells about min_edge long
     fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
-    bounds: dict[int, tuple[float, ...]] = {}
+    firsts: dict[int, float] = {}
     for group in groups:
         mid = math.sqrt(radii[group[0]] * (radii[group[-1]] + h))
         span = math.radians(arc[1] - arc[0] - 2 * float(slot_half_angle(params, mid)))
-        k = chosen[group[0]]
-        first = min(1.0 / k, fine * nv / (span * mid))
+        first = min(1.0 / chosen[group[0]], fine * nv / (span * mid))
         for i in group:
-            bounds[i] = graded_nodes(k, first, params.growth_ratio)
-    ends = tuple(bounds[i] for i in range(len(radii)))  # the groups cover every ring
+            firsts[i] = first
+    # counted before the nodes are made: a growth ratio next to 1 asks for millions
+    counts = tuple(
+        graded_cell_count(chosen[i], firsts[i], params.growth_ratio) for i in range(len(radii))
+    )
+    if sum(counts) * len(arcs) * len(template.triangles) > params.max_triangles:
+        return SectorPlan(arcs, counts, m, template, None)  # refused with its triangle count
+    ends = tuple(graded_nodes(chosen[i], firsts[i], params.growth_ratio) for i in range(len(radii)))
     return SectorPlan(arcs, tuple(len(b) - 1 for b in ends), m, template, None, ends)
 
 

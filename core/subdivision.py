@@ -220,6 +220,28 @@ def patch_template(scheme: str, subdivisions: int, diagonal: str) -> PatchTempla
     return _template(uv, triangles, sides, segments, lattice=scheme == "uniform")
 
 
+def graded_cell_count(cells: int, fine: float, ratio: float) -> int:
+    """The number of cells :func:`graded_nodes` makes, computed in O(1) without making them.
+
+    From each end ``ceil(log(1 / (cells fine)) / log(ratio))`` cells grow geometrically
+    (their sum a geometric series), then uniform cells fill the middle. Rounding in the
+    repeated products of :func:`graded_nodes` can move a boundary case by one cell at
+    each end, so this is exact but for that: what a budget check needs before the nodes
+    (which can be millions for a ratio next to 1) are made.
+
+    >>> graded_cell_count(4, 0.125, 2.0), len(graded_nodes(4, 0.125, 2.0)) - 1
+    (5, 5)
+    >>> graded_cell_count(9, 0.00396, 1.0000001)  # the nodes would take gigabytes
+    66685738
+    """
+    coarse = 1.0 / cells
+    target = coarse * (1 - 1e-12)
+    side = 0 if not fine < target else math.ceil(math.log(target / fine) / math.log1p(ratio - 1))
+    graded = 2 * fine * math.expm1(side * math.log1p(ratio - 1)) / (ratio - 1)
+    middle = max(0, math.ceil((1.0 - graded) / coarse - 1e-9))
+    return 2 * side + middle
+
+
 def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
     """Nodes in [0, 1] fine at both ends, growing geometrically to the uniform 1 / cells.
 

@@ -16,6 +16,7 @@ Examples
 
 from __future__ import annotations
 
+import difflib
 import math
 import numbers
 import reprlib
@@ -69,10 +70,45 @@ def echo(value: Any) -> str:
     if isinstance(value, (list, tuple, dict, set, frozenset)):
         text = _ECHO.repr(value)
         return text if len(text) <= ECHO_LENGTH else f"{text[: ECHO_LENGTH - 3]}..."
+    if isinstance(value, int) and value.bit_length() > 14_000:  # past repr's 4,300 digits
+        return f"an integer of about {value.bit_length() * 0.30103:,.0f} digits"
     text = repr(value)
     if len(text) <= ECHO_LENGTH:
         return text
     return f"{text[:28]}...{text[-28:]} ({len(text)} characters)"
+
+
+#: Names listed in full when a name is unknown and none of them is close to it.
+LISTED_NAMES = 8
+
+
+def expected_names(given: Any, known: Any) -> str:
+    """``did you mean inner_radius?`` (difflib's closest names), else a short list.
+
+    What to say after "unknown parameter 'inner_radiu'": the closest known names, or all
+    of them when there are few, or the first few and how many there are: never all 23
+    field names of the parameters in one message.
+
+    >>> expected_names("inner_radiu", ["inner_radius", "outer_radius", "patch_size"])
+    'did you mean inner_radius or outer_radius?'
+    >>> expected_names("gap", ["gap_angle", "gap_width", "patch_size"])
+    'did you mean gap_angle or gap_width?'
+    >>> expected_names("x", ["a", "b"])
+    'expected one of a, b'
+    >>> expected_names("zzz", [f"name_{i}" for i in range(23)])
+    'expected one of 23 names (name_0, name_1, name_10, ...)'
+    """
+    names = sorted(str(k) for k in known)
+    close: list[str] = []
+    if isinstance(given, str) and given:
+        close = [n for n in names if n.startswith(given) or given.startswith(n)]
+        close += difflib.get_close_matches(given, names, n=3, cutoff=0.6)
+        close = list(dict.fromkeys(close))[:3]
+    if close:
+        return f"did you mean {' or '.join(close)}?"
+    if len(names) <= LISTED_NAMES:
+        return f"expected one of {', '.join(names)}"
+    return f"expected one of {len(names)} names ({', '.join(names[:3])}, ...)"
 
 
 def kind(value: Any) -> str:

@@ -361,8 +361,17 @@ def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monke
     assert len(direct.warnings) == 1 and "low-frequency breakdown" in direct.warnings[0]
     assert panel.solution.warnings == direct.warnings
     assert "warning: low-frequency breakdown of the EFIE: k·D = " in panel.summary.text()
-    choose(panel.unit, "GHz")  # 3 GHz: k·D = 8.9, no warning left on screen
-    assert panel.solution.frequency == 3e9 and panel.solution.warnings == ()
+    # 3 GHz: k·D = 8.9, but edges of 25 and 35 mm are over λ/10 = 10 mm (issue 30)
+    choose(panel.unit, "GHz")
+    assert panel.solution.frequency == 3e9
+    assert panel.solution.warnings == solve(mesh, 3e9).warnings
+    (coarse,) = panel.solution.warnings
+    assert coarse.startswith("mesh too coarse for the wavelength: at 3 GHz (λ = 99.93 mm)")
+    assert f"warning: {coarse}" in panel.summary.text()
+    assert "low-frequency" not in panel.summary.text()
+    type_into(panel.frequency, "300")  # 300 MHz: λ/10 = 100 mm, no warning left on screen
+    choose(panel.unit, "MHz")
+    assert panel.solution.frequency == 300e6 and panel.solution.warnings == ()
     assert "warning" not in panel.summary.text()
 
     # File > Open a plate with a fin: its 10 junction edges carry no unknown, and it says so
@@ -378,7 +387,7 @@ def test_solution_warnings_are_shown_in_the_panel(window, qtbot, tmp_path, monke
     assert "warning: 10 junction edges (shared by three or more triangles)" in (
         panel.summary.text()
     )
-    assert panel.solution.warnings == solve(opened, 3e9).warnings
+    assert panel.solution.warnings == solve(opened, 300e6).warnings
 
 
 def test_a_sweep_shows_its_warnings_under_the_resonances(window, qtbot):

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from helpers import assert_topology_matches_generic, signed_areas
+from helpers import assert_topology_matches_generic, run_capped, signed_areas
 
 from barymesh import MeshParams
 from barymesh.cell import (
@@ -360,3 +360,35 @@ def test_the_cell_mesh_carries_its_periodic_pairs():
     # the array's outer sides: 2 x 3 pixel rows on the left/right, 3 x 2 columns top/bottom
     assert pairs.matched and np.bincount(pairs.edge_shift).tolist() == [6 * 4, 6 * 4]
     assert build_mesh(MeshParams(structure="patch")).periodic_pairs is None
+
+
+def test_two_overlapping_graded_rings_are_refused_without_all_pairs():
+    # issue 30: two overlapping conforming double rings took 151 s in the overlap check: one
+    # radius (the largest triangle's) for every pair made the candidates ~ all T² pairs. A
+    # graded ring's cells span a factor of 90 in size; 42 million candidate pairs (1 GB)
+    # before, refused here at the first overlap under a 1 GiB address-space cap
+    out = run_capped(
+        """
+        from barymesh.cell import Element, Lattice, UnitCell, build_cell
+        from barymesh import MeshParams
+        ring = MeshParams(
+            structure="double_ring", mode="conforming", inner_radius=1, outer_radius=4,
+            patch_size=2, angle_step=120, subdivisions=16, grading=True, min_edge=1e-5,
+            growth_ratio=1.1,
+        )
+        print(ring.predicted_triangles())
+        cell = UnitCell(
+            Lattice.rectangular(20, 20),
+            (Element(ring, name="a"), Element(ring, (0.3, 0.0), name="b")),
+            mode="conforming",
+        )
+        try:
+            build_cell(cell)
+        except ValueError as exc:
+            print(exc)
+        """
+    )
+    assert out.returncode == 0, out.stderr[-1500:]
+    count, message = out.stdout.splitlines()
+    assert int(count) == 38_016
+    assert message.startswith("element 'a' (elements[0]) and element 'b' (elements[1]) overlap")

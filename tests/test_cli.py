@@ -451,3 +451,38 @@ def test_screenshot_removes_what_a_killed_render_left(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in tmp_path.iterdir() if p.name != "matplotlib") == ["shot.png"]
+
+
+#: Runs the ``barymesh`` entry point that pyproject.toml declares, as the console script
+#: does, with Ctrl-C arriving while the command line imports numpy.
+INTERRUPTED_WHILE_IMPORTING = """
+import importlib, importlib.abc, os, signal, sys, tomllib
+
+class CtrlC(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path=None, target=None):
+        if name == "numpy":
+            os.kill(os.getpid(), signal.SIGINT)
+        return None
+
+with open(sys.argv[1], "rb") as fh:
+    target = tomllib.load(fh)["project"]["scripts"]["barymesh"]
+module, function = target.split(":")
+sys.meta_path.insert(0, CtrlC())
+sys.argv = ["barymesh", "mesh", "--preset", "paper-fig10"]
+sys.exit(getattr(importlib.import_module(module), function)())
+"""
+
+
+def test_ctrl_c_while_the_command_starts_is_one_line_and_exit_130(tmp_path):
+    # issue 30: a SIGINT while `barymesh mesh` was still importing printed a
+    # KeyboardInterrupt traceback and the process died by the signal (exit -2)
+    r = subprocess.run(
+        [sys.executable, "-c", INTERRUPTED_WHILE_IMPORTING, str(ROOT / "pyproject.toml")],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert r.returncode == 130, r.stderr
+    assert r.stderr == "barymesh: interrupted\n"
+    assert r.stdout == ""

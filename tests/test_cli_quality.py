@@ -87,6 +87,22 @@ def test_degenerate_triangle_gives_null_not_nan(tmp_path):
     assert "degenerate (zero-area) triangles: 1" in r.stderr
 
 
+@pytest.mark.parametrize(
+    ("faces", "flat"),
+    # two proper triangles and one collinear, or one on a single point
+    [("f 1 2 4\nf 2 3 4\nf 1 2 3\n", 2), ("f 1 2 4\nf 2 3 4\nf 4 4 4\n", 2)],
+)
+def test_info_names_the_zero_area_triangle_instead_of_nan(tmp_path, faces, flat):
+    # issue 30: "max aspect ratio nan" for a degenerate triangle (0/0 when its corners
+    # coincide, inf when they are collinear)
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\n" + faces)
+    r = run("info", "flat.obj", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert f"max aspect ratio inf (triangle {flat} has zero area)" in r.stdout
+    assert "aspect ratio max inf, median " in r.stdout
+    assert "nan" not in r.stdout and "undefined" not in r.stdout
+
+
 def test_usage_errors(tmp_path):
     r = run(
         "mesh", "--preset", "paper-fig10", "--stats-json", "-", "--quality-json", "-", cwd=tmp_path

@@ -11,13 +11,18 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from helpers import assert_clear_message, signed_areas
+from helpers import assert_clear_message, run_capped, signed_areas
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 from scipy.spatial import cKDTree
+from test_core_properties import params
 
 from barymesh import MeshParams, build_mesh
 from barymesh.check import check_mesh
 from barymesh.invariants import MeshInvariantError, inverted_or_flat
 from barymesh.mesh import TriMesh
+from barymesh.placement import paper_origins, predicted_patches
+from barymesh.subdivision import graded_cell_count, graded_nodes
 from barymesh.topology import edge_topology
 from barymesh.weld import merge_pairs, weld_points
 
@@ -561,3 +566,76 @@ def test_a_900_deep_nested_value_gives_a_short_message_naming_the_parameter(name
         MeshParams(**kw)
     assert_clear_message(str(err.value))
     assert len(str(err.value)) < 200
+
+
+# -- issue 30: runaways while checking --------------------------------------------------
+
+
+def test_a_growth_ratio_next_to_one_is_refused_with_its_count_before_any_node_is_made():
+    # grading toward a slot with growth_ratio 1.0000001 made 66 million sector ends one by
+    # one (MemoryError after ~50 s at a 3 GiB cap); counted in O(1) now, under a 1 GiB cap
+    out = run_capped(
+        """
+        from barymesh import MeshParams
+        try:
+            MeshParams(structure="split_double_ring", mode="conforming", inner_radius=29.18,
+                outer_radius=30.405, patch_size=0.3169, angle_step=18.82, subdivisions=10,
+                gap_width=12.07, gap_angle=540, grading=True, growth_ratio=1.0000001,
+                max_triangles=300000)
+        except ValueError as exc:
+            print(exc)
+        """
+    )
+    assert out.returncode == 0, out.stderr[-1500:]
+    message = out.stdout.strip()
+    found = re.match(r"these parameters would make ([\d,]+) triangles, above the budget", message)
+    assert found, message
+    assert int(found.group(1).replace(",", "")) > 10**9  # two slots' graded ends, both rings
+    assert "max_triangles=300,000" in message and "growth_ratio" in message
+    assert_clear_message(message)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.integers(1, 64),
+    st.floats(1e-6, 1.0),
+    st.one_of(st.floats(1.001, 2.0), st.sampled_from([1.5, 2.0, 1.1, 1.01])),
+)
+def test_graded_cell_count_is_the_number_of_graded_nodes(cells, fine, ratio):
+    fine = min(fine, 1.0) / cells
+    assert graded_cell_count(cells, fine, ratio) == len(graded_nodes(cells, fine, ratio)) - 1
+
+
+def test_a_huge_paper_square_ring_is_counted_without_placing_its_patches():
+    # issue 30: a paper-mode square split double ring of inner radius 1e5 mm placed its 8.8
+    # million patches to count them (82 s, 4.4 GB before its refusal); the slot's patches
+    # are counted near the slot alone now, under a 1 GiB cap
+    out = run_capped(
+        """
+        from barymesh import MeshParams, build_mesh
+        p = MeshParams(structure="square_split_double_ring", mode="paper", inner_radius=1e5,
+            outer_radius=1e6, max_edge=5.57, max_triangles=300000)
+        print(p.replace(subdivisions=1).predicted_triangles())
+        try:
+            build_mesh(p)
+        except ValueError as exc:
+            print(exc)
+        """
+    )
+    assert out.returncode == 0, out.stderr[-1500:]
+    count, message = out.stdout.splitlines()
+    # a track of half side r holds 2 (2 r + 2) + 2 (2 r) patches of 1 mm (8,800,008 for
+    # r = 1e5 and 1e6); the 1 mm slot removes the two patches it crosses on each of two
+    # opposite sides of both rings (8); two triangles each at n = 1
+    assert int(count) == 2 * (2 * 200_002 + 2 * 200_000 + 2 * 2_000_002 + 2 * 2_000_000 - 8)
+    assert message == (
+        "max_edge=5.57 mm asks for edges <= 5.57 mm, but the coarsest mesh already has "
+        f"{int(count):,} triangles, above the budget max_triangles=300,000"
+    )
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(params(modes=("paper",)))
+def test_the_predicted_count_of_a_slotted_paper_ring_is_its_placed_patches(p):
+    assume(p.structure.startswith(("split", "square")))
+    assert predicted_patches(p) == len(paper_origins(p)[0])

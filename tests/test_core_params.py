@@ -109,6 +109,22 @@ def test_from_dict_rejects_unknown_keys():
         MeshParams.from_dict({"radius": 3})
 
 
+@pytest.mark.parametrize(
+    ("key", "said"),
+    [
+        ("inner_radiu", "did you mean inner_radius or outer_radius?"),
+        ("subdivision", "did you mean subdivisions?"),
+        ("gap", "did you mean gap_angle or gap_width?"),
+        ("colour", "expected one of 23 names (angle_step, cells_per_wavelength, diagonal, ...)"),
+    ],
+)
+def test_an_unknown_parameter_gets_the_closest_names_not_all_23(key, said):
+    # issue 30: "unknown parameter" messages ran to 330 characters, listing all 23 names
+    with pytest.raises(ValueError) as err:
+        MeshParams.from_dict({key: 3})
+    assert str(err.value) == f"unknown parameter {key!r}; {said}"
+
+
 def test_params_are_frozen():
     p = MeshParams()
     with pytest.raises(AttributeError):

@@ -11,7 +11,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import assert_clear_message, assert_topology_matches_generic, signed_areas
+from helpers import (
+    address_space_cap,
+    assert_clear_message,
+    assert_topology_matches_generic,
+    signed_areas,
+)
 from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
@@ -145,6 +150,9 @@ FUZZ_EXAMPLES = int(os.environ.get("BARYMESH_FUZZ_EXAMPLES", "2000"))
 FUZZ_BUDGET = 4_000
 #: Meshes up to this size also go through a writer and back.
 ROUND_TRIP_LIMIT = 1_000
+#: Memory one hostile case may take beyond the test process (issue 30: the runaways took
+#: 2 to 4.4 GB before their refusal); a budget of 4,000 triangles needs a few MB.
+HOSTILE_MEMORY = 1 << 30
 WRITERS = (".msh", ".vtu", ".vtp", ".vtk", ".stl", ".obj", ".mat")
 
 NASTY = [
@@ -241,6 +249,10 @@ ORIGIN = st.one_of(
 )
 TRIANGLE = st.lists(st.tuples(st.floats(-10, 10), st.floats(-10, 10)), min_size=3, max_size=3)
 WILD_NAMES = st.one_of(st.just(()), st.lists(st.sampled_from(sorted(EXTREMES)), max_size=2))
+#: Growth ratios of a graded mesh, with issue 30's ratios next to 1 (millions of sectors).
+GROWTH = st.one_of(
+    st.floats(1.01, 2.0), st.sampled_from([1 + 1e-9, 1 + 1e-7, 1.0000001, 1 + 1e-5, 1.001])
+)
 
 
 @st.composite
@@ -276,7 +288,7 @@ def hostile(draw):
         kw["patch_width"] = size * scale * draw(st.floats(0.1, 3.0))
     if draw(st.integers(0, 5)) == 0:  # graded toward the metal edges
         kw["grading"] = True
-        kw["growth_ratio"] = draw(st.floats(1.01, 2.0))
+        kw["growth_ratio"] = draw(GROWTH)
         if draw(st.booleans()):
             kw["min_edge"] = size * scale * draw(magnitude(-6, 0))
     if structure == "triangle" and draw(st.booleans()):
@@ -349,10 +361,43 @@ def assert_round_trip(mesh, ext):
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
 )
 @given(hostile(), st.sampled_from(WRITERS))
+@example(  # issue 30's second fuzz run: 5e-324 mm steps along a square ring's side overflowed
+    kw=dict(
+        structure="square_split_double_ring",
+        mode="conforming",
+        inner_radius=1.0,
+        outer_radius=2.0,
+        patch_size=5e-324,
+        angle_step=1e-320,
+        subdivisions=1,
+        gap_width=1.0,
+        max_triangles=4000,
+        tolerance=0.1,
+    ),
+    ext=".msh",
+)
+@example(  # issue 30: graded toward a slot with a ratio next to 1 (66 million sector ends)
+    kw=dict(
+        structure="split_double_ring",
+        mode="conforming",
+        inner_radius=29.18,
+        outer_radius=30.405,
+        patch_size=0.3169,
+        angle_step=18.82,
+        subdivisions=10,
+        gap_width=12.07,
+        gap_angle=540,
+        grading=True,
+        growth_ratio=1.0000001,
+        max_triangles=300000,
+    ),
+    ext=".msh",
+)
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:
-        p = MeshParams(**kw)
-        mesh = build_mesh(p)
+        with address_space_cap(HOSTILE_MEMORY):  # a runaway is a MemoryError, not a swap
+            p = MeshParams(**kw)
+            mesh = build_mesh(p)
     except ValueError as err:
         assert names_a_parameter(str(err)), str(err)
         assert_clear_message(str(err))

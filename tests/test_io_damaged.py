@@ -21,6 +21,7 @@ import meshio
 import numpy as np
 import pytest
 import scipy.io
+from helpers import run_capped
 
 from barymesh import MeshParams, build_mesh
 from barymesh.io import MeshFileError, read_mesh, write_mesh
@@ -410,6 +411,12 @@ def _stl_cases(tmp_path) -> dict[str, bytes]:
         cases[f"stl-ascii-{name}"] = text.replace(vertex, "      " + new, 1).encode()
     cases["stl-ascii-two-vertices"] = text.replace(vertex + "\n", "", 1).encode()
     cases["stl-ascii-no-facets"] = b"solid empty\nendsolid empty\n"
+    # issue 30: cut after a whole facet, meshio read the facets before the cut
+    last = text.rindex("endfacet") + len("endfacet")
+    cases["stl-ascii-cut-after-endfacet"] = (text[:last] + "\n").encode()
+    first = text.index("endfacet") + len("endfacet")
+    cases["stl-ascii-cut-after-the-first-facet"] = (text[:first] + "\n").encode()
+    cases.update(_truncations("stl-ascii", text.encode()))
     return cases
 
 
@@ -495,6 +502,7 @@ def corpus(tmp_path) -> dict[str, bytes]:
         files[f"garbage{ext}"] = garbage
         files[f"text{ext}"] = b"this is not a mesh file\n" * 10
         files[f"nul{ext}"] = bytes(4096)
+        files[f"nul-then-text{ext}"] = bytes(64) + b"this is not a mesh file\n" * 10
     return files
 
 
@@ -559,6 +567,11 @@ NAMED = {
     "bomb-lie.vtp": "inflates to more than the 216 bytes it declares",
     "bomb-count.vtu": "it declares 67,108,864 points",
     "stl-binary-count-1000000000.stl": "declares 1,000,000,000 triangles",
+    "stl-ascii-cut-after-endfacet.stl": "does not end with 'endsolid': the file is cut short",
+    "nul.obj": "not a readable Wavefront OBJ file (byte 0 is a NUL byte, in a text format)",
+    "nul.msh": "not a readable Gmsh MSH 2.2/4.1, ASCII or binary file (it does not start with",
+    "nul-then-text.vtk": "not a readable VTK legacy file (it does not start with '# vtk",
+    "text.vtu": "it is not valid XML (it does not start with '<')",
     "msh-elements-9.msh": "declares 9 elements",
     "msh-gmsh22-binary-element-node-0.msh": "element 1 refers to node 0, which the $Nodes",
     "msh-gmsh22-binary-element-node--3.msh": "element 1 refers to node -3, which the $Nodes",
@@ -686,3 +699,65 @@ def test_unreadable_file_is_named_as_such(tmp_path, monkeypatch):
     with pytest.raises(MeshFileError) as info:
         read_mesh(path)
     assert str(info.value) == f"{path}: cannot be read: Permission denied"
+
+
+# -- issue 30: huge files are refused from their size and first bytes ---------------------
+
+
+def sparse(path, size):
+    """A file of ``size`` NUL bytes that takes no disk space (a hole)."""
+    with open(path, "wb") as fh:
+        fh.truncate(size)
+    return path
+
+
+def test_huge_files_are_refused_from_their_size_and_first_bytes(tmp_path):
+    # issue 30: a 1 GiB sparse file of NUL bytes named .obj was refused after 111 s at
+    # 2.1 GB; 2-3 GiB .msh and .vtu files took over 30 s at 2-3.7 GB. Under a 1 GiB cap:
+    files = {
+        sparse(
+            tmp_path / "nul.obj", 2**30
+        ): "not a readable Wavefront OBJ file (byte 0 is a NUL byte",
+        sparse(tmp_path / "big.msh", 3 * 2**30): "the file is 3 GiB, more than the 2 GiB",
+        sparse(tmp_path / "big.vtu", 5 * 2**29): "the file is 2.5 GiB, more than the 2 GiB",
+    }
+    out = run_capped(
+        f"""
+        from barymesh.io import MeshFileError, read_mesh
+        for path in {[str(p) for p in files]!r}:
+            try:
+                read_mesh(path)
+            except MeshFileError as exc:
+                print(exc)
+        """
+    )
+    assert out.returncode == 0, out.stderr[-1500:]
+    lines = out.stdout.splitlines()
+    assert len(lines) == 3
+    for line, (path, fragment) in zip(lines, files.items(), strict=True):
+        assert line.startswith(f"{path}: {fragment}"), line
+    assert "read_mesh(max_bytes=...) or BARYMESH_MAX_FILE_BYTES" in lines[1]
+
+
+def test_the_file_size_limit_is_raised_by_the_environment_or_the_argument(tmp_path, monkeypatch):
+    big = sparse(tmp_path / "big.msh", 3 * 2**30)
+    monkeypatch.setenv("BARYMESH_MAX_FILE_BYTES", "4GiB")
+    with pytest.raises(MeshFileError, match=r"\(it does not start with \$MeshFormat\)"):
+        read_mesh(big)  # past the size check: refused from its first bytes
+    monkeypatch.setenv("BARYMESH_MAX_FILE_BYTES", "500")
+    small = write_mesh(MESH, tmp_path / "small.msh")
+    assert small.stat().st_size > 500
+    with pytest.raises(MeshFileError, match=r"more than the 500 bytes barymesh reads"):
+        read_mesh(small)
+    assert read_mesh(small, max_bytes=10**6).n_triangles == N_TRIANGLES
+    monkeypatch.setenv("BARYMESH_MAX_FILE_BYTES", "lots")
+    with pytest.raises(ValueError, match=r"BARYMESH_MAX_FILE_BYTES='lots' is not a size"):
+        read_mesh(small)
+
+
+def test_a_binary_stl_whose_header_says_solid_is_still_read(tmp_path):
+    out = tmp_path / "b.stl"
+    meshio.write(out, meshio.Mesh(MESH.points, [("triangle", MESH.triangles)]), binary=True)
+    data = out.read_bytes()
+    out.write_bytes(b"solid exported by a CAD tool".ljust(80) + data[80:])
+    assert read_mesh(out).n_triangles == N_TRIANGLES

@@ -1,10 +1,14 @@
 """The solver's API: inputs checked at the door, limits, sweeps, feeds and derived quantities."""
 
 import dataclasses
+import os
 import tracemalloc
 
 import numpy as np
 import pytest
+from helpers import address_space_cap, assert_clear_message, run_capped
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.constants import SPEED_OF_LIGHT
@@ -203,7 +207,7 @@ def test_overlapping_paper_mode_patches_carry_a_warning():
 
 
 def test_conforming_meshes_carry_no_warning(small_plate):
-    s = solve(small_plate, 1e9)
+    s = solve(small_plate, 0.8e9)  # edges up to 35.4 mm: under λ/10 = 37.5 mm
     assert s.warnings == ()
     assert 1 < s.condition_number < 1e8
     assert s.residual < 1e-12
@@ -239,19 +243,19 @@ def t_junction(n=10, size=100.0, fin=50.0):
 def test_junction_edges_get_a_warning():
     mesh = t_junction()
     assert len(mesh.junction_edges) == 10
-    s = solve(mesh, 1e9)
+    s = solve(mesh, 0.5e9)  # edges up to 51 mm: under λ/10 = 60 mm
     assert len(s.warnings) == 1
     assert s.warnings[0].startswith("10 junction edges (shared by three or more triangles)")
     assert "carry no RWG unknown" in s.warnings[0]
     # the edges really carry no unknown: none of the RWG edges is a junction edge
     assert not np.isin(mesh.rwg.edge, mesh.junction_edges).any()
-    r = sweep(mesh, [1e9, 2e9])
+    r = sweep(mesh, [0.5e9, 0.55e9])
     assert r.warnings == s.warnings  # once, not once per frequency
 
 
 def test_a_sweep_logs_each_warning_once(caplog):
     with caplog.at_level("WARNING", logger="barymesh.mom.solve"):
-        r = sweep(t_junction(), [1e9, 2e9, 3e9])
+        r = sweep(t_junction(), [0.4e9, 0.5e9, 0.55e9])  # under λ/10 at each
     logged = [rec.getMessage() for rec in caplog.records if rec.name == "barymesh.mom.solve"]
     assert logged == list(r.warnings) and len(logged) == 1
 
@@ -401,3 +405,116 @@ def test_dense_solve_matches_a_double_precision_lu(cond):
     assert residual < 10 * double_residual + 1e-15
     assert np.abs(current - exact).max() / np.abs(exact).max() < 100 * cond * 2.2e-16
     assert np.linalg.cond(z, 1) / 10 < estimate < 10 * np.linalg.cond(z, 1)
+
+
+# -- issue 30: extreme frequencies -----------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("frequency", "over", "longest"),
+    [
+        (8e9, 0, ""),  # λ/10 = 3.75 mm: every edge (2.5 mm sides, 3.536 mm diagonals) under
+        (10e9, 16, "3.536 mm (0.118 λ)"),  # λ/10 = 2.998 mm: the 16 diagonals over
+        (12e9, 56, "3.536 mm (0.142 λ)"),  # λ/10 = 2.498 mm: the 2.5 mm sides too
+        (1e12, 56, "3.536 mm (11.8 λ)"),
+    ],
+)
+def test_edges_over_a_tenth_of_the_wavelength_are_warned_about(frequency, over, longest):
+    # a 10 mm patch of 4 x 4 cells: 25 vertices, 32 triangles, 56 edges
+    mesh = build_mesh(MeshParams(structure="patch", patch_size=10.0, subdivisions=4))
+    assert len(mesh.edge_lengths) == 56
+    s = solve(mesh, frequency)
+    coarse = [w for w in s.warnings if w.startswith("mesh too coarse for the wavelength")]
+    if not over:
+        assert coarse == []
+        return
+    (text,) = coarse
+    wavelength = SPEED_OF_LIGHT / frequency * 1e3
+    assert f"at {frequency / 1e9:.6g} GHz (λ = {wavelength:.4g} mm) {over} of 56 edges" in text
+    assert f"are over λ/10, the longest {longest}" in text
+    r = sweep(mesh, [8e9, 10e9, 12e9], scattering=False)
+    assert [w for w in r.warnings if w.startswith("mesh too coarse")] == (
+        [w for w in solve(mesh, 10e9).warnings if w.startswith("mesh too coarse")]
+    )  # once, from the first frequency that is coarse
+
+
+@pytest.mark.parametrize("name", ["makarov-plate", "srr-openmodes"])
+def test_the_issues_coarse_solves_are_warned_about(name):
+    # issue 30: the plate at 300 GHz and srr-openmodes at 6.19 THz returned no warning
+    frequency = {"makarov-plate": 300e9, "srr-openmodes": 6.19e12}[name]
+    s = solve(build_mesh(load_preset(name)[0]), frequency)
+    assert any(w.startswith("mesh too coarse for the wavelength") for w in s.warnings)
+
+
+def test_the_scattered_power_in_closed_form_equals_a_finer_sphere_rule():
+    # the pair sum integrates the far field of the same point currents over the sphere
+    # exactly; the sphere rule of degree 2 k R + 12 converges to it as its degree grows
+    s = solve(build_mesh(load_preset("makarov-plate")[0]), 3e9)
+    pairs = s._radiated_power_pairs()
+    fine = s._radiated_power_sphere(s._sphere_degree() + 40)
+    assert pairs == pytest.approx(fine, rel=1e-10)
+    assert s._radiated_power_sphere() == pytest.approx(pairs, rel=1e-6)
+    assert s.radiated_power == pairs  # 3 GHz: 5,202 directions, more than 4 x 896 points
+
+
+def test_the_scattering_cross_section_at_1_thz_is_computed_within_a_memory_cap():
+    # issue 30: 1e12 Hz ran past 150 s in sphere_rule -> leggauss (degree 29,652: a
+    # 14,827² companion matrix, 1.8 GB) and would then have needed 4.4e8 directions
+    out = run_capped(
+        """
+        from barymesh import build_mesh
+        from barymesh.presets import load_preset
+        from barymesh.mom import solve
+        s = solve(build_mesh(load_preset("makarov-plate")[0]), 1e12)
+        print(s.scattering_cross_section, s.extinction_cross_section)
+        print(s.warnings[0])
+        """
+    )
+    assert out.returncode == 0, out.stderr[-1500:]
+    numbers, warning = out.stdout.splitlines()
+    scattering, extinction = (float(v) for v in numbers.split())
+    assert 0 < scattering < 1e-6 and np.isfinite(extinction)
+    assert warning.startswith("mesh too coarse for the wavelength: at 1000 GHz")
+
+
+def test_a_frequency_double_precision_cannot_form_the_matrix_is_refused(small_plate):
+    # issue 30: 1e-300 Hz gave NaN currents; below k·D = 1e-8 the vector potential is
+    # lost in rounding. The 100 mm patch: D = 141.4 mm, so f >= 1e-8 c / (2π D) = 3.37 Hz
+    lowest = 1e-8 * SPEED_OF_LIGHT / (2 * np.pi * 0.1 * np.sqrt(2))
+    for f in (1e-300, 3.3):
+        with pytest.raises(ValueError, match=rf"^frequency={f:.6g} Hz is too low") as err:
+            solve(small_plate, f)
+        assert f"expected frequency >= {lowest:.3g} Hz" in str(err.value)
+    with pytest.raises(ValueError, match=r"^frequencies=1e-300 Hz is too low"):
+        sweep(small_plate, [1e-300, 1e9])
+    s = solve(small_plate, 3.4)  # just above: solved, with the breakdown warning
+    assert np.all(np.isfinite(s.coefficients))
+    assert s.warnings[0].startswith("low-frequency breakdown of the EFIE")
+
+
+FREQUENCY_FUZZ_EXAMPLES = max(30, int(os.environ.get("BARYMESH_FUZZ_EXAMPLES", "2000")) // 20)
+
+
+@settings(max_examples=FREQUENCY_FUZZ_EXAMPLES, deadline=None)
+@given(
+    st.builds(lambda m, e: m * 10.0**e, st.floats(1.0, 9.99), st.integers(-320, 16)),
+    st.sampled_from(["patch", "plate-with-fin"]),
+)
+def test_any_frequency_gives_a_clear_refusal_or_finite_results(frequency, which):
+    # issue 30: 1e-300 Hz gave NaN with exit 0, 1 THz hung in the far-field rule
+    mesh = {
+        "patch": lambda: build_mesh(MeshParams(structure="patch", patch_size=10.0)),
+        "plate-with-fin": lambda: t_junction(n=4),
+    }[which]()
+    try:
+        with address_space_cap(1 << 30):
+            s = solve(mesh, frequency)
+            extinction, scattering = s.extinction_cross_section, s.scattering_cross_section
+    except ValueError as err:
+        assert str(err).startswith("frequency="), str(err)
+        assert_clear_message(str(err))
+        return
+    assert np.all(np.isfinite(s.coefficients)) and np.isfinite(extinction)
+    assert np.isfinite(scattering) and scattering >= 0
+    coarse = mesh.edge_lengths.max() > SPEED_OF_LIGHT / frequency * 1e3 / 10
+    assert coarse == any(w.startswith("mesh too coarse") for w in s.warnings)

@@ -257,8 +257,48 @@ def test_solution_warnings_are_printed(tmp_path, monkeypatch, capsys):
     out = capsys.readouterr()
     assert code == 0, out.err
     assert out.out.count("warning: low-frequency breakdown of the EFIE: k·D = 8.89e-05") == 1
-    # and a well-posed solve prints none
-    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "300MHz"])
+    # and a well-posed solve prints none: the fine plate's edges (88.4 mm) are under λ/10
+    # at 300 MHz; the coarse plate's (up to 176.8 mm) are not (issue 30)
+    code = cli.main(["solve", "--preset", "makarov-platefine", "--freq", "300MHz"])
     out = capsys.readouterr()
     assert code == 0, out.err
     assert "warning" not in out.out
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "300MHz"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert out.out.count("warning: ") == 1
+    assert (
+        "  warning: mesh too coarse for the wavelength: at 0.3 GHz (λ = 999.3 mm) 208 of 208 "
+        "edges are over λ/10, the longest 176.8 mm (0.177 λ)"
+    ) in out.out
+
+
+def test_a_frequency_double_precision_cannot_solve_is_refused_not_nan(capsys):
+    # issue 30: 1e-300 Hz printed extinction nan, |J| nan, residual nan and exited 0
+    in_process(
+        capsys,
+        1,
+        "--preset",
+        "makarov-plate",
+        "--freq",
+        "1e-300",
+        fragments=(
+            "frequency=1e-300 Hz is too low for this mesh: k·D = 2.96e-308",
+            "expected frequency >= 0.337 Hz",
+        ),
+    )
+
+
+def test_cross_sections_at_1_thz_are_printed_with_the_coarse_mesh_warning(capsys):
+    # issue 30: `barymesh solve --preset makarov-plate --freq 1THz` hung after printing the
+    # frequency (a sphere rule of 29,652 degrees for the scattered power)
+    from barymesh.app import cli
+
+    code = cli.main(["solve", "--preset", "makarov-plate", "--freq", "1THz"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    assert "nan" not in out.out
+    assert (
+        "warning: mesh too coarse for the wavelength: at 1000 GHz (λ = 0.2998 mm) 208 of 208"
+        in (out.out)
+    )

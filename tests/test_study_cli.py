@@ -82,6 +82,22 @@ def test_bad_usage_and_bad_specs_are_one_line(tmp_path, monkeypatch, capsys, arg
     one_line_error(result, capsys.readouterr().err, code, fragment)
 
 
+def test_an_output_that_cannot_be_written_is_one_line_before_any_worker_starts(
+    tmp_path, monkeypatch, capsys
+):
+    # issue 30: output "/proc/x.parquet" printed a multi-line Dask log ending in a raw
+    # [Errno 2]; the parts folder is made before the cluster starts
+    monkeypatch.chdir(tmp_path)
+    write_spec(tmp_path, output="/proc/x.parquet")
+    result = cli.main(["study", "s.json"])
+    one_line_error(
+        result,
+        capsys.readouterr().err,
+        1,
+        "cannot write the study to /proc/x.parquet: its parts folder /proc/x.parquet.parts/",
+    )
+
+
 def test_a_study_runs_on_a_local_cluster_and_a_rerun_solves_nothing(tmp_path):
     spec = write_spec(tmp_path)
     p = study(spec, "--workers", "2", "-o", "out.csv", cwd=tmp_path)

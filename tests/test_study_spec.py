@@ -5,12 +5,15 @@ No Dask here: tests/test_study_run.py runs studies on a LocalCluster.
 
 from __future__ import annotations
 
+import functools
 import json
+import os
 
 import grimp
 import numpy as np
 import pandas as pd
 import pytest
+from helpers import address_space_cap, assert_clear_message
 
 from barymesh.app import cli_solve
 from barymesh.frequencies import parse_frequencies
@@ -173,6 +176,71 @@ def test_a_bad_spec_is_one_error_naming_the_key(changes, message):
         parse_spec(spec(**changes))
     assert message in str(info.value)
     assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        # issue 30: sizes that blew up memory are refused with the key named
+        (
+            {"solve": {"kind": "free_space", "frequencies": "4GHz:9GHz:1000000000"}},
+            "solve.frequencies: solve.frequencies '4GHz:9GHz:1000000000': K=1,000,000,000 "
+            "frequencies is more than a sweep takes (100,000)",
+        ),
+        (
+            {"axes": {"patch_size": {"start": 10, "stop": 20, "num": 10**12}}},
+            "axes.patch_size.num: 1,000,000,000,000 values, more than a study takes (100,000)",
+        ),
+        (
+            {"sample": {"latin_hypercube": 10**12}, "axes": {"patch_size": [10, 20]}},
+            "sample.latin_hypercube: 1,000,000,000,000 points, more than a study takes",
+        ),
+        (
+            {
+                "axes": {
+                    "patch_size": [10 + i / 1e3 for i in range(400)],
+                    "patch_width": [10 + i / 1e3 for i in range(400)],
+                }
+            },
+            "axes: 400 x 400 = 160,000 points, more than a study takes (100,000)",
+        ),
+        (
+            {
+                "axes": {"patch_size": [10 + i / 1e4 for i in range(20_000)]},
+                "solve": {"kind": "free_space", "frequencies": "6GHz:12GHz:1000"},
+            },
+            "solve.frequencies: 1,000 frequencies at 20,000 points make 20,000,000 rows",
+        ),
+        # NaN passed and failed later as "Out of range float values are not JSON compliant"
+        ({"axes": {"patch_size": [14.0, float("nan")]}}, "axes.patch_size: nan in the list"),
+        ({"axes": {"patch_size": [14.0, float("inf")]}}, "axes.patch_size: inf in the list"),
+        ({"axes": {"patch_size": [10**5000]}}, "axes.patch_size: an integer of about 5,000"),
+    ],
+)
+def test_a_spec_too_large_or_not_finite_is_refused_naming_the_key(changes, message):
+    with pytest.raises(SpecError) as info:
+        parse_spec(spec(**changes))
+    assert message in str(info.value)
+    assert "\n" not in str(info.value) and len(str(info.value)) < 300
+
+
+def test_a_damaged_spec_file_is_one_clear_error_naming_the_file(tmp_path):
+    # issue 30: the raw codec message without the file (17 of 59 damaged specs), Python's
+    # set_int_max_str_digits hint, and a RecursionError at 100,000 levels
+    text = json.dumps(spec())
+    cases = {
+        "latin1.json": (text.replace("patch", "p\u00e4tch").encode("latin-1"), "byte "),
+        "digits.json": (text.replace("15.0", "1" * 5000, 1).encode(), "a number has more"),
+        "deep.json": (("[" * 100_000 + "]" * 100_000).encode(), "nested too deeply"),
+    }
+    for name, (data, fragment) in cases.items():
+        path = tmp_path / name
+        path.write_bytes(data)
+        with pytest.raises(SpecError) as info:
+            load_spec(path)
+        message = str(info.value)
+        assert message.startswith(str(path)) and fragment in message, message
+        assert "sys." not in message and "codec" not in message and len(message) < 300
 
 
 def test_a_spec_file_that_is_not_json_names_the_file(tmp_path):
@@ -441,3 +509,108 @@ def test_an_infinite_array_point_too_large_is_refused_by_the_periodic_memory_mod
         "at the peak of a solve, more than a worker's 0.195 GB; use a coarser mesh"
     )
     assert result.computed == 1 and result.meta["refused"] == 1
+
+
+# -- issue 30: hostile specs, drawn at random ----------------------------------------------
+
+from hypothesis import HealthCheck, example, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from barymesh.study.spec import MAX_POINTS, MAX_ROWS  # noqa: E402
+
+#: Hostile values anywhere in a spec: sizes, non-finite numbers, huge integers, nesting.
+HOSTILE = st.one_of(
+    st.sampled_from(
+        [
+            float("nan"),
+            float("inf"),
+            -float("inf"),
+            10**5000,
+            -(10**400),
+            10**12,
+            1e12,
+            0,
+            -1,
+            True,
+            None,
+            "",
+            "x" * 5000,
+            "4GHz:9GHz:1000000000",
+            "4GHz:9GHz:" + "9" * 5000,
+            "1e-300Hz",
+            [],
+            {},
+            [float("nan")],
+            {"num": 10**12},
+            {"start": 0, "stop": 1, "num": 10**12},
+            {"latin_hypercube": 10**12},
+            functools.reduce(lambda v, _: [v], range(2000), 1.0),
+        ]
+    ),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(-(10**20), 10**20),
+)
+PLACES = [
+    ("axes", "patch_size"),
+    ("axes", "patch_width"),
+    ("axes", "patch_size", 0),
+    ("axes", "patch_size", "num"),
+    ("sample",),
+    ("sample", "latin_hypercube"),
+    ("sample", "seed"),
+    ("solve", "frequencies"),
+    ("solve", "frequencies", 0),
+    ("solve", "theta"),
+    ("solve", "memory_limit"),
+    ("derive", 0),
+    ("output",),
+    ("base", "params", "patch_size"),
+]
+SPEC_FUZZ_EXAMPLES = max(50, int(os.environ.get("BARYMESH_FUZZ_EXAMPLES", "2000")) // 10)
+
+
+def put(doc, place, value):
+    node = doc
+    for key in place[:-1]:
+        if isinstance(node, dict):
+            node = node.setdefault(key, {})
+        elif isinstance(node, list) and isinstance(key, int) and -len(node) <= key < len(node):
+            node = node[key]
+        else:
+            return
+    last = place[-1]
+    if isinstance(node, dict) and not isinstance(last, int):
+        node[last] = value
+    elif isinstance(node, list) and isinstance(last, int) and -len(node) <= last < len(node):
+        node[last] = value
+    elif isinstance(node, dict) and isinstance(last, int) and node.get("num") is None:
+        node[str(last)] = value
+
+
+@settings(
+    max_examples=SPEC_FUZZ_EXAMPLES,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+@given(st.lists(st.tuples(st.sampled_from(PLACES), HOSTILE), min_size=1, max_size=3))
+@example(changes=[(("derive", 0), "x" * 5000)])  # found by the fuzz: a 5,101-character line
+def test_hostile_specs_give_one_clear_line_or_a_spec_of_bounded_size(changes):
+    doc = spec(
+        sample={"latin_hypercube": 4} if ("sample",) in [c[0] for c in changes] else "product"
+    )
+    if isinstance(doc["sample"], dict):
+        doc["axes"] = {"patch_size": [14.0, 15.0], "patch_width": [12.0, 14.0]}
+    for place, value in changes:
+        put(doc, place, value)
+    try:
+        with address_space_cap(1 << 30):  # sizes are refused, never allocated
+            s = parse_spec(doc)
+            n = len(s.points())
+    except SpecError as err:
+        message = str(err)
+        assert message.startswith("study spec: ") and "\n" not in message, message
+        assert_clear_message(message)
+        return
+    assert 1 <= n <= MAX_POINTS and n * len(s.solve.frequencies) <= MAX_ROWS
+    assert all(np.isfinite(f) and f > 0 for f in s.solve.frequencies)
+    json.loads(s.canonical())  # JSON, without NaN: what the results' metadata holds

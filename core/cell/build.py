@@ -204,7 +204,7 @@ def _check_overlaps(cell: UnitCell, parts: list[_Part]) -> None:
             if (a[:2] >= b[2:] - tol).any() or (b[:2] >= a[2:] - tol).any():
                 continue
             pairs = overlapping_triangles(
-                parts[k].xy, parts[k].triangles, parts[m].xy, parts[m].triangles, tol
+                parts[k].xy, parts[k].triangles, parts[m].xy, parts[m].triangles, tol, limit=1
             )
             if len(pairs):
                 tk, tm = pairs[0]

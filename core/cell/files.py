@@ -29,7 +29,7 @@ import numpy as np
 
 from ..params import MODES, MeshParams
 from ..presets import ASSET_DIR, read_json_file
-from ..values import InvalidValue, echo, kind
+from ..values import InvalidValue, echo, expected_names, kind
 from .model import Element, Lattice, PixelGrid, UnitCell
 
 FORMAT = "barymesh-cell"
@@ -67,7 +67,7 @@ def _unknown(data: dict[str, Any], known: tuple[str, ...] | set[str], where: str
         prefix = f"{where}." if where else ""
         raise _fail(
             f"{prefix}{extra[0] if len(extra[0]) <= 40 else echo(extra[0])}",
-            f"unknown key; expected one of {', '.join(sorted(known))}",
+            f"unknown key; {expected_names(extra[0], known)}",
         )
 
 

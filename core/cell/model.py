@@ -418,11 +418,10 @@ class UnitCell:
                 value = self.tolerance if self.tolerance is not None else shift
                 raise InvalidValue(
                     name,
-                    f"{name}={echo(value)}: metal up to {reach:.3g} mm from the cell's centre "
-                    f"is rounded by float64 by more than the welding tolerance {tol:.3g} mm, so "
-                    f"shared points would stay apart; expected the part within "
-                    f"{tol / MIN_RELATIVE_TOLERANCE:.3g} mm of the centre, or a tolerance of at "
-                    f"least {MIN_RELATIVE_TOLERANCE * reach:.3g} mm",
+                    f"{name}={echo(value)}: float64 rounds metal {reach:.3g} mm from the "
+                    f"cell's centre by more than the welding tolerance {tol:.3g} mm; expected "
+                    f"the part within {tol / MIN_RELATIVE_TOLERANCE:.3g} mm of the centre, or a "
+                    f"tolerance of at least {MIN_RELATIVE_TOLERANCE * reach:.3g} mm",
                 )
 
     def _part_reaches(self) -> list[tuple[str, tuple[float, float], float, float]]:

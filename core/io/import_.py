@@ -24,7 +24,8 @@ from ..mesh import TriMesh
 from ..topology import INDEX
 from .gmsh22 import msh2_kind, read_gmsh22
 from .gmsh41 import msh4_kind, read_gmsh41
-from .limits import Damaged
+from .headers import check_file
+from .limits import Damaged, max_file_bytes
 from .makarov import read_makarov
 from .meshio_checks import check_declared_counts
 from .obj import read_obj
@@ -53,7 +54,7 @@ class MeshFileError(ValueError):
     """A mesh file cannot be imported; the message names the file and the problem."""
 
 
-def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
+def read_mesh(path: str | Path, unit: str | None = None, max_bytes: int | None = None) -> TriMesh:
     """Import the triangles of a mesh file.
 
     Parameters
@@ -62,6 +63,10 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
         ``.msh``, ``.vtk``, ``.vtu``, ``.vtp``, ``.stl``, ``.obj`` or ``.mat``.
     unit : {"m", "mm", "um"}, optional
         Length unit of the file's coordinates; default mm, but m for ``.mat``.
+    max_bytes : int, optional
+        Largest file read (bytes); default :func:`barymesh.io.limits.max_file_bytes`
+        (2 GiB, or the ``BARYMESH_MAX_FILE_BYTES`` environment variable). The size and
+        the first bytes are checked before the file is read.
 
     Returns
     -------
@@ -89,6 +94,11 @@ def read_mesh(path: str | Path, unit: str | None = None) -> TriMesh:
     problem = file_problem(path)
     if problem:
         raise MeshFileError(f"{path}: {problem}")
+    try:
+        limit = max_file_bytes() if max_bytes is None else int(max_bytes)
+        check_file(path, ext, f"readable {name}", limit)
+    except Damaged as exc:
+        raise MeshFileError(f"{path}: {exc}") from None
     regions: np.ndarray | None
     patch_ids: np.ndarray | None
     ignored: dict[str, int]  # cell type -> cells of it that are not triangles

@@ -11,14 +11,21 @@ them and the command line and the window can show them as they are.
 * :func:`low_frequency_warning`: the EFIE's low-frequency breakdown, from
   k·D and the condition number.
 * :func:`overlap_warning`: overlapping paper-mode patches.
+* :func:`coarse_mesh_warning`: edges longer than a tenth of the wavelength.
+
+:func:`check_electrical_size` is not a caveat but a refusal: below
+:data:`MIN_KD` double precision cannot form the EFIE's matrix at all.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..constants import SPEED_OF_LIGHT
 from ..mesh import TriMesh
 from .geometry import METRES_PER_MESH_UNIT
+
+_C_OVER_2PI = SPEED_OF_LIGHT / (2.0 * np.pi)
 
 #: Below this k·D (D the diagonal of the mesh's bounding box) the EFIE's vector
 #: potential is (k D)² smaller than its scalar potential and the radiated power a
@@ -29,6 +36,13 @@ LOW_FREQUENCY_KD = 0.01
 #: Above this 1-norm condition number a double-precision solve keeps fewer than six
 #: digits, whatever k D is (e.g. a mesh far finer than the wavelength needs).
 CONDITION_LIMIT = 1e10
+#: Below this k·D the EFIE's vector potential, (k D)² of its scalar potential, is under
+#: double precision's rounding (1e-16) of the same entries: the matrix loses it entirely
+#: (and far below, 1/(ω ε0) overflows: 1e-300 Hz gave NaN currents). Refused.
+MIN_KD = 1e-8
+#: Edges per wavelength below which a mesh is coarse: edges over λ/10 (the sizing's default
+#: ``cells_per_wavelength``, and the usual rule for RWG meshes).
+CELLS_PER_WAVELENGTH = 10.0
 
 
 def junction_warning(mesh: TriMesh) -> tuple[str, ...]:
@@ -117,6 +131,43 @@ def overlap_warning(mesh: TriMesh, condition_number: float) -> tuple[str, ...]:
     )
 
 
+def check_electrical_size(mesh: TriMesh, frequency: float, name: str = "frequency") -> float:
+    """Refuse a frequency at which double precision cannot form the EFIE of ``mesh``.
+
+    Returns k·D (:func:`electrical_size`); raises ValueError naming ``name`` below
+    :data:`MIN_KD`, with the lowest frequency the mesh can be solved at.
+    """
+    vertices = np.asarray(mesh.points, dtype=float) * METRES_PER_MESH_UNIT
+    k = 2.0 * np.pi * frequency / SPEED_OF_LIGHT
+    kd = electrical_size(vertices, k)
+    if not kd >= MIN_KD:
+        lowest = MIN_KD * frequency / kd if kd > 0 else float("inf")
+        raise ValueError(
+            f"{name}={frequency:.6g} Hz is too low for this mesh: k·D = {kd:.3g}, and below "
+            f"{MIN_KD:g} double precision cannot form the EFIE (its vector potential is lost "
+            f"in rounding); expected {name} >= {lowest:.3g} Hz"
+        )
+    return kd
+
+
+def coarse_mesh_warning(mesh: TriMesh, k: float) -> tuple[str, ...]:
+    """A sentence when edges of ``mesh`` are longer than λ/10 at wavenumber ``k`` (rad/m)."""
+    lengths = mesh.edge_lengths  # mm
+    wavelength = 2.0 * np.pi / k / METRES_PER_MESH_UNIT  # mm
+    limit = wavelength / CELLS_PER_WAVELENGTH
+    over = int(np.count_nonzero(lengths > limit))
+    if not over:
+        return ()
+    longest = float(lengths.max())
+    ghz = k * _C_OVER_2PI / 1e9
+    return (
+        f"mesh too coarse for the wavelength: at {ghz:.6g} GHz (λ = {wavelength:.4g} mm) "
+        f"{over:,} of {len(lengths):,} edges are over λ/{CELLS_PER_WAVELENGTH:g}, the longest "
+        f"{longest:.4g} mm ({longest / wavelength:.3g} λ); the currents and cross-sections "
+        "are unreliable: refine the mesh",
+    )
+
+
 def solve_warnings(mesh: TriMesh, k: float, condition_number: float) -> tuple[str, ...]:
     """All caveats of a solve of ``mesh`` at wavenumber ``k`` (rad/m), in a fixed order.
 
@@ -127,4 +178,5 @@ def solve_warnings(mesh: TriMesh, k: float, condition_number: float) -> tuple[st
     overlap = overlap_warning(mesh, condition_number)
     kd = electrical_size(vertices, k)
     low = low_frequency_warning(kd, condition_number, use_condition=not overlap)
-    return overlap + junction_warning(mesh) + lattice_warning(mesh) + low
+    coarse = coarse_mesh_warning(mesh, k)
+    return overlap + junction_warning(mesh) + lattice_warning(mesh) + low + coarse

@@ -50,6 +50,7 @@ from .geometry import (
 )
 from .operator import ETA0, wavenumber
 from .periodic_caveats import periodic_warnings
+from .periodic_checks import as_lattice, check_green_terms
 from .periodic_fill import FillPlan, fill, fill_plan
 from .periodic_green import PeriodicGreen
 from .periodic_layered import layer_orders, layered_kernel, sheet_field
@@ -348,6 +349,7 @@ def periodic_geometry(
         A mesh off z = 0, triangles too large for the cell, metal across the cell's
         sides without matching periodic edges.
     """
+    lattice = as_lattice(lattice)  # a Lattice, or two vectors in mm
     vectors = _lattice_metres(mesh, lattice)
     key = tuple(vectors.ravel())
     per_mesh = _CACHE.setdefault(mesh, {})
@@ -360,6 +362,13 @@ def periodic_geometry(
 def _periodic_geometry(
     mesh: TriMesh, lattice: Any, vectors: np.ndarray, memory_limit: float | None
 ) -> PeriodicGeometry:
+    # before the geometry (a minute for a large cell): the memory of the unknowns (the
+    # interior ones and the pairs across the sides, counted cheaply)
+    from ..cell.periodic import periodic_pairs
+
+    lat = lattice if lattice is not None else mesh.lattice
+    pairs = periodic_pairs(mesh, lat, mesh.tolerance)
+    check_periodic_memory(mesh.n_triangles, len(mesh.rwg) + len(pairs.edges), memory_limit)
     base = mom_geometry(mesh, near_factor=NEAR_FACTOR)  # its near pairs: those of σ = 0
     if np.any(base.vertices[:, 2] != 0.0):
         raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
@@ -699,6 +708,9 @@ def periodic_solve_many(
                     f"incidences[{i}] comes from below, where the ground plane is: "
                     "a grounded stack is lit from above (direction_z < 0)"
                 )
+    lattice = as_lattice(lattice)
+    for wave in waves:  # the lattice sums' terms and memory, before the geometry is built
+        check_green_terms(_lattice_metres(mesh, lattice), frequency, wave.direction, memory_limit)
     pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
     check_periodic_memory(pg.base.n_triangles, pg.n_unknowns, memory_limit, geometry=False)
     k = wavenumber(frequency)

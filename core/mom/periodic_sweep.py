@@ -65,6 +65,7 @@ from .periodic import (
     solve_system,
 )
 from .periodic_caveats import onset_resonance_warning
+from .periodic_checks import as_lattice, check_green_terms
 from .periodic_green import reciprocal_vectors
 from .solve import SolveCancelled, check_sheet_impedance, memory_allowance
 from .stack import Stack
@@ -789,8 +790,10 @@ def periodic_sweep(
         raise ValueError(f"tolerance={tolerance!r}; expected a positive number")
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    lattice = as_lattice(lattice)
     vectors = _lattice_vectors(mesh, lattice)
-    # every check of the cell (boundary, size, memory) up front
+    # every check of the cell (boundary, size, memory) up front; the lattice sums' at the top
+    check_green_terms(vectors, float(freqs[-1]), direction, memory_limit, float(freqs[0]))
     periodic_geometry(mesh, lattice, memory_limit=memory_limit)
     basis = te_tm_polarizations(direction)
     pol = np.asarray(wave.polarization)

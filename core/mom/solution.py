@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+from scipy.special import roots_legendre
 
 from ..constants import ETA0, SPEED_OF_LIGHT
 from .excitation import PlaneWave, VoltageSource
@@ -129,10 +130,37 @@ class Solution:
 
     @cached_property
     def radiated_power(self) -> float:
-        """Power (W) of the scattered far field, integrated over the whole sphere."""
-        theta, phi, weights = sphere_rule(self._sphere_degree())
+        """Power (W) of the scattered far field, integrated over the whole sphere.
+
+        Either on a sphere rule exact for the far field's harmonics (degree 2 k R + 12,
+        :func:`sphere_rule`), or, when that rule would need more directions than the
+        currents have quadrature points (an electrically large mesh: (k R)² directions),
+        as the same integral done in closed form over pairs of points
+        (:func:`far_field_power_pairs`). Both integrate the far field of the same point
+        currents, exactly: they agree to rounding, and the work is bounded by
+        min(directions, points) × points either way.
+        """
+        degree = self._sphere_degree()
+        points = self.geometry.near.weights.size
+        if sphere_rule_size(degree) > PAIR_COST * points:
+            return self._radiated_power_pairs()
+        return self._radiated_power_sphere(degree)
+
+    def _radiated_power_sphere(self, degree: int | None = None) -> float:
+        """:attr:`radiated_power` on the sphere rule of ``degree`` (default the exact one)."""
+        theta, phi, weights = sphere_rule(self._sphere_degree() if degree is None else degree)
         e = self.far_field(theta, phi, radians=True)
         return float(np.sum(weights * np.sum(np.abs(e) ** 2, axis=-1)) / (2.0 * ETA0))
+
+    def _radiated_power_pairs(self) -> float:
+        """:attr:`radiated_power` in closed form over pairs of quadrature points."""
+        points, current = self.current_at_quadrature_points()
+        w = self.geometry.near.weights.reshape(-1)
+        moments = current.reshape(-1, 3) * w[:, None]
+        k = self.wavenumber
+        integral = far_field_power_pairs(points.reshape(-1, 3), moments, k)
+        # |E|² = (k η / 4π)² |F_⊥|², and P = ∫ |E|² dΩ / 2η
+        return float(k * k * ETA0 / (32.0 * np.pi**2) * integral)
 
     @property
     def scattering_cross_section(self) -> float:
@@ -253,10 +281,22 @@ class Solution:
         return source.voltage / self.feed_current
 
 
+#: The closed-form pair sum costs about this many far-field directions per point pair.
+PAIR_COST = 4
+#: Below this k R the pair kernel is summed as its Taylor series (its closed form cancels).
+_SERIES_BELOW = 1.0
+
+
+def sphere_rule_size(degree: int) -> int:
+    """Directions of :func:`sphere_rule` of ``degree``: (degree // 2 + 1) (degree + 1)."""
+    return (degree // 2 + 1) * (degree + 1)
+
+
 def sphere_rule(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A product rule on the unit sphere exact for spherical harmonics up to ``degree``.
 
-    Gauss–Legendre in cos θ, uniform in φ.
+    Gauss–Legendre in cos θ (:func:`scipy.special.roots_legendre`, O(n) for large n),
+    uniform in φ.
 
     Returns
     -------
@@ -267,9 +307,85 @@ def sphere_rule(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """
     n_theta = degree // 2 + 1
     n_phi = degree + 1
-    x, wx = np.polynomial.legendre.leggauss(n_theta)
+    x, wx = roots_legendre(n_theta)
     phi = 2.0 * np.pi * np.arange(n_phi) / n_phi
     theta = np.arccos(x)
     tt, pp = np.meshgrid(theta, phi, indexing="ij")
     weights = np.repeat(wx, n_phi) * (2.0 * np.pi / n_phi)
     return tt.ravel(), pp.ravel(), weights
+
+
+def _series(x2: np.ndarray, first: float, order: int) -> np.ndarray:
+    """Σ_k (−x²/2)^k / (k! (2 order + 2k + 1)!!) times the first term's denominator."""
+    term = np.ones_like(x2)
+    total = np.ones_like(x2)
+    double_factorial = 2 * order + 1
+    for k in range(1, 12):
+        double_factorial += 2
+        term = term * (-x2 / 2.0) / (k * double_factorial)
+        total = total + term
+    return first * total
+
+
+def transverse_kernel(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(f, h) with ∫ (I − r̂r̂) e^(j x r̂·û) dΩ / 4π = f(x) I + h(x) x² ûû.
+
+    f = j0 − j1/x and h = j2/x² (spherical Bessel functions, both finite at x = 0:
+    2/3 and 1/15); below x = 1 from their Taylor series, where the closed forms cancel.
+    """
+    x = np.asarray(x, dtype=np.float64)
+    small = x < _SERIES_BELOW
+    f = np.empty_like(x)
+    h = np.empty_like(x)
+    xs = x[small]
+    x2 = xs * xs
+    # j0 = Σ (−x²/2)^k / (k! (2k+1)!!), j1/x the same from 3!!, j2/x² from 5!!
+    f[small] = _series(x2, 1.0, 0) - _series(x2, 1.0 / 3.0, 1)
+    h[small] = _series(x2, 1.0 / 15.0, 2)
+    xl = x[~small]
+    inv = 1.0 / xl
+    inv2 = inv * inv
+    sin, cos = np.sin(xl) * inv, np.cos(xl) * inv2  # j0 = sin x / x; cos x / x²
+    f[~small] = sin * (1.0 - inv2) + cos  # j0 − j1/x, j1/x = sin x / x³ − cos x / x²
+    h[~small] = (
+        (3.0 * inv2 - 1.0) * sin - 3.0 * cos
+    ) * inv2  # j2/x², j2 = (3/x³ − 1/x) sin x − 3 cos x / x²
+    return f, h
+
+
+def far_field_power_pairs(points: np.ndarray, moments: np.ndarray, k: float) -> float:
+    """∫ |F_⊥(r̂)|² dΩ for F(r̂) = Σ_p a_p e^(jk r̂·r_p), summed over pairs in closed form.
+
+    ∫ (I − r̂r̂) e^(jk r̂·(r_q − r_p)) dΩ = 4π [f(x) I + h(x) k² d dᵀ] with d = r_q − r_p,
+    x = k|d| (:func:`transverse_kernel`), so the integral is
+    4π Σ_pq [f (a_p*·a_q) + h k² (a_p*·d)(d·a_q)]: no quadrature over directions, whose
+    number grows as (k R)².
+
+    Parameters
+    ----------
+    points : (P, 3) float
+        r_p (m).
+    moments : (P, 3) complex
+        a_p (A m, a current times its quadrature weight).
+    k : float
+        Wavenumber (rad/m).
+
+    Returns
+    -------
+    float
+        The integral (A² m²), ≥ 0.
+    """
+    points = np.asarray(points, dtype=np.float64)
+    a = np.asarray(moments, dtype=np.complex128)
+    total = 0.0
+    step = max(1, (1 << 20) // max(1, len(points)))
+    for lo in range(0, len(points), step):
+        d = points[None, :, :] - points[lo : lo + step, None, :]  # (B, P, 3): r_q − r_p
+        x = k * np.sqrt(np.einsum("bpc,bpc->bp", d, d))
+        f, h = transverse_kernel(x)
+        ap = np.conj(a[lo : lo + step])  # (B, 3)
+        dot = ap @ a.T  # a_p*·a_q, (B, P)
+        left = np.einsum("bc,bpc->bp", ap, d)  # a_p*·d
+        right = np.einsum("pc,bpc->bp", a, d)  # d·a_q
+        total += float(np.real(np.sum(f * dot + (k * k) * h * left * right)))
+    return 4.0 * np.pi * total

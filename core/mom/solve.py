@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import math
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -13,7 +14,7 @@ import scipy.linalg as sla
 
 from ..mesh import TriMesh
 from . import geometry
-from .caveats import solve_warnings
+from .caveats import check_electrical_size, solve_warnings
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .geometry import FAR_ORDER, NEAR_FACTOR, NEAR_ORDER, MomGeometry, mom_geometry
 from .operator import gram_matrix, impedance_matrix, wavenumber
@@ -132,9 +133,26 @@ def memory_allowance(memory_limit: float | None = None) -> tuple[float, str]:
         "the memory_limit of 2.00 GiB" or "the 20.1 GiB of memory available".
     """
     avail = available_memory()
-    if memory_limit is not None and memory_limit < avail:
-        return float(memory_limit), f"the memory_limit of {format_bytes(memory_limit)}"
+    if memory_limit is not None:
+        limit = check_memory_limit(memory_limit)
+        if limit < avail:
+            return limit, f"the memory_limit of {format_bytes(limit)}"
     return float(avail), f"the {format_bytes(avail)} of memory available"
+
+
+def check_memory_limit(memory_limit: object) -> float:
+    """``memory_limit`` as bytes, or a ValueError naming it: a number > 0 (NaN was ignored,
+    and -1 refused as "-0.0 MiB")."""
+    try:
+        limit = float(memory_limit)  # type: ignore[arg-type]  # any input: refused below
+    except (TypeError, ValueError):
+        limit = math.nan
+    if isinstance(memory_limit, bool) or not (math.isfinite(limit) and limit > 0):
+        raise ValueError(
+            f"memory_limit={memory_limit!r:.40} is invalid; expected a positive number of "
+            "bytes (e.g. 2e9), or None for the memory available"
+        )
+    return limit
 
 
 def _far_points(mesh: TriMesh, far_order: int) -> int:
@@ -294,6 +312,11 @@ def _solve_at(
     v = excitation_vector(geom, k, excitation)
     i, cond, residual = dense_solve(z, v)
     del z
+    if not np.all(np.isfinite(i)):  # a guard: check_electrical_size refuses the known cause
+        raise FloatingPointError(
+            f"the solve at {frequency:.6g} Hz gave non-finite currents: its matrix or "
+            "right-hand side overflowed; no result"
+        )
     warnings = solve_warnings(mesh, k, cond)
     return Solution(
         geom, frequency, excitation, i, v, cond, float(residual), warnings, complex(sheet_impedance)
@@ -357,6 +380,7 @@ def solve(
     zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    check_electrical_size(mesh, frequency)
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
     solution = _solve_at(mesh, geom, frequency, excitation, zs)
@@ -538,6 +562,7 @@ def sweep(
     zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
+    check_electrical_size(mesh, float(freqs[0]), "frequencies")  # the lowest
     check_memory(len(mesh.rwg), memory_limit, _far_points(mesh, far_order))
     geom = mom_geometry(mesh, order, far_order, near_factor)
     plane = isinstance(excitation, PlaneWave)

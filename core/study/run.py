@@ -125,6 +125,14 @@ class _Collector:
         self.spec = spec
         self.output = output
         self.folder = parts_folder(spec, output) if output is not None else None
+        if self.folder is not None:  # before any cluster starts: one clear error, no Dask log
+            try:
+                self.folder.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise OSError(
+                    f"cannot write the study to {output}: its parts folder {self.folder} cannot "
+                    f"be made ({exc.strerror or exc})"
+                ) from None
         self.points = spec.points()
         self.finished: dict[int, PointResult] = {}
         if self.folder is not None and resume:

@@ -65,6 +65,11 @@ PHASE_FIGURES = ("reflection_phase_at", "zero_phase_frequency")
 REFERENCE_PLANE_COLUMN = "reflection_reference_plane_mm"
 #: Axis paths that vary the incidence rather than the geometry.
 INCIDENCE_KEYS = ("theta", "phi", "pol")
+#: Most points of a study (the product of its axes, or a Latin-hypercube sample): each is
+#: a solve, and the list of points is made up front.
+MAX_POINTS = 100_000
+#: Most rows of the per-frequency table: points times frequencies.
+MAX_ROWS = 10_000_000
 _TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]")
 
 
@@ -82,11 +87,20 @@ def _kind(value: Any) -> str:
     return kind(value)
 
 
+def _short(value: Any) -> str:
+    """``repr(value)`` cut to 40 characters (a 5,000-digit number, a deep list)."""
+    from ..values import echo
+
+    return echo(value)
+
+
 def _number(key: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise _fail(key, f"{_kind(value)} {value!r:.40}; expected a number")
+        raise _fail(key, f"{_kind(value)} {_short(value)}; expected a number")
+    if isinstance(value, int) and abs(value) > 1e300:  # float() would overflow
+        raise _fail(key, f"{_short(value)} is too large; expected a number up to 1e300")
     if not math.isfinite(value):
-        raise _fail(key, f"{value!r} is not finite; expected a number")
+        raise _fail(key, f"{_short(value)} is not finite; expected a number")
     return float(value)
 
 
@@ -131,7 +145,7 @@ def set_path(data: Any, path: tuple[str | int, ...], value: Any, where: str) -> 
                 raise _fail(where, f"{shown} has no item [{token}] ({size} items)")
         elif not isinstance(node, dict) or token not in node:
             names = ", ".join(sorted(node)) if isinstance(node, dict) else ""
-            raise _fail(where, f"{shown} has no {token!r}; it has: {names}")
+            raise _fail(where, f"{shown} has no {_short(token)}; it has: {names}")
         if last:
             node[token] = value
         else:
@@ -303,10 +317,22 @@ def load_spec(source: str | Path | dict[str, Any]) -> StudySpec:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise SpecError(f"cannot read the study spec {path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SpecError(
+            f"{path} is not a study spec: byte {exc.start:,} (0x{exc.object[exc.start]:02x}) is "
+            "not UTF-8 text; expected a JSON file"
+        ) from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise SpecError(f"{path} is not JSON: {exc.msg} at line {exc.lineno}") from None
+    except RecursionError:
+        raise SpecError(f"{path}: the JSON is nested too deeply to be a study spec") from None
+    except ValueError:  # an integer of more digits than Python converts (4,300)
+        raise SpecError(
+            f"{path}: a number has more digits than a study spec can hold; expected "
+            "ordinary numbers (1e300 at most)"
+        ) from None
     return parse_spec(data, base_dir=path.parent)
 
 
@@ -325,6 +351,19 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     SpecError
         The first problem found, naming its key.
     """
+    try:
+        return _parse_spec(data, base_dir)
+    except RecursionError:
+        raise SpecError(
+            "study spec: nested too deeply (lists or objects inside each other)"
+        ) from None
+    except ValueError as exc:  # an integer too long to convert or show, anywhere in the spec
+        if isinstance(exc, SpecError) or "digits" not in str(exc):
+            raise
+        raise SpecError("study spec: a number has more digits than a spec can hold") from None
+
+
+def _parse_spec(data: Any, base_dir: str | Path | None) -> StudySpec:
     if not isinstance(data, dict):
         raise SpecError(f"study spec: expected a JSON object, got {_kind(data)}")
     unknown = sorted(set(data) - set(SPEC_KEYS))
@@ -337,6 +376,7 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     sample = _sample(data.get("sample", "product"))
     axes = _axes(data["axes"], sample)
     solve = _solve(data["solve"], axes)
+    _check_size(sample, axes, solve)
     stack = _stack(data["stack"], solve) if data.get("stack") is not None else None
     _stack_axes(axes, stack)
     derive = _derive(data.get("derive", ["resonance_frequency", "quality_factor"]), solve)
@@ -344,7 +384,7 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     if output is not None and (not isinstance(output, str) or not output.strip()):
         raise _fail("output", f"{_kind(output)}; expected a file name (.parquet or .csv)")
     if output is not None and Path(output).suffix.lower() not in (".parquet", ".csv"):
-        raise _fail("output", f"{output!r}: expected a .parquet or .csv file")
+        raise _fail("output", f"{_short(output)}: expected a .parquet or .csv file")
     if solve.kind == "infinite_array" and base.kind != "cell":
         raise _fail("solve.kind", "infinite_array needs a unit cell: base cell or cell_preset")
     for axis in axes:  # every geometry path must exist in the base
@@ -364,6 +404,25 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     return StudySpec(base, axes, sample, solve, derive, output, document, stack)
 
 
+def _check_size(sample: str | dict[str, int], axes: tuple[Axis, ...], solve: Solve) -> None:
+    """Refuse a study of more points, or rows, than :data:`MAX_POINTS` and :data:`MAX_ROWS`."""
+    if isinstance(sample, dict):
+        points, key = sample["latin_hypercube"], "sample.latin_hypercube"
+    else:
+        points, key = math.prod(len(a.values) for a in axes), "axes"
+    if points > MAX_POINTS:
+        sizes = " x ".join(f"{len(a.values):,}" for a in axes)
+        what = f"{points:,} points" if isinstance(sample, dict) else f"{sizes} = {points:,} points"
+        raise _fail(key, f"{what}, more than a study takes ({MAX_POINTS:,}); use fewer")
+    rows = points * len(solve.frequencies)
+    if rows > MAX_ROWS:
+        raise _fail(
+            "solve.frequencies",
+            f"{len(solve.frequencies):,} frequencies at {points:,} points make {rows:,} rows, "
+            f"more than a study's table takes ({MAX_ROWS:,}); use fewer",
+        )
+
+
 def _base(raw: Any, base_dir: str | Path | None) -> Base:
     if not isinstance(raw, dict) or len(raw) != 1:
         raise _fail("base", "expected an object with one key: preset, params, cell or cell_preset")
@@ -373,7 +432,7 @@ def _base(raw: Any, base_dir: str | Path | None) -> Base:
         from ..presets import load_preset, preset_names
 
         if value not in preset_names():
-            raise _fail(where, f"unknown preset {value!r}; expected one of {preset_names()}")
+            raise _fail(where, f"unknown preset {_short(value)}; expected one of {preset_names()}")
         return Base("params", load_preset(value)[0].to_dict())
     if key == "params":
         from ..params import MeshParams
@@ -399,7 +458,9 @@ def _base(raw: Any, base_dir: str | Path | None) -> Base:
         try:
             if key == "cell_preset":
                 if value not in cell_preset_names():
-                    raise _fail(where, f"unknown cell preset {value!r}: {cell_preset_names()}")
+                    raise _fail(
+                        where, f"unknown cell preset {_short(value)}: {cell_preset_names()}"
+                    )
                 cell = load_cell_preset(value)
             else:
                 path = Path(value)
@@ -422,9 +483,13 @@ def _sample(raw: Any) -> str | dict[str, int]:
         if extra:
             raise _fail(f"sample.{extra[0]}", "unknown key; expected latin_hypercube, seed")
         n, seed = raw["latin_hypercube"], raw.get("seed", 0)
-        for key, v, low in (("latin_hypercube", n, 1), ("seed", seed, 0)):
+        for key, v, low, high in (("latin_hypercube", n, 1, MAX_POINTS), ("seed", seed, 0, None)):
             if isinstance(v, bool) or not isinstance(v, int) or v < low:
-                raise _fail(f"sample.{key}", f"{v!r}; expected a whole number >= {low}")
+                raise _fail(f"sample.{key}", f"{_short(v)}; expected a whole number >= {low}")
+            if high is not None and v > high:
+                raise _fail(
+                    f"sample.{key}", f"{v:,} points, more than a study takes ({high:,}); use fewer"
+                )
         return {"latin_hypercube": n, "seed": seed}
     raise _fail("sample", f'{raw!r:.60}; expected "product" or {{"latin_hypercube": N, "seed": S}}')
 
@@ -453,6 +518,10 @@ def _axes(raw: Any, sample: str | dict[str, int]) -> tuple[Axis, ...]:
         for v in values:
             if isinstance(v, dict | list) or v is None:
                 raise _fail(key, f"{_kind(v)} in the list; expected numbers or strings")
+            if isinstance(v, float) and not math.isfinite(v):
+                raise _fail(key, f"{_short(v)} in the list is not finite; expected numbers")
+            if isinstance(v, int) and not isinstance(v, bool) and abs(v) > 1e300:
+                raise _fail(key, f"{_short(v)} in the list is too large; expected numbers")
         if len({json.dumps(v) for v in values}) != len(values):
             raise _fail(key, "a value is listed twice")
         axes.append(Axis(path, tuple(values)))
@@ -465,7 +534,9 @@ def _range(key: str, raw: dict[str, Any]) -> list[float]:
     a, b = _number(f"{key}.start", raw["start"]), _number(f"{key}.stop", raw["stop"])
     k = raw["num"]
     if isinstance(k, bool) or not isinstance(k, int) or k < 1:
-        raise _fail(f"{key}.num", f"{k!r}; expected a whole number >= 1")
+        raise _fail(f"{key}.num", f"{_short(k)}; expected a whole number >= 1")
+    if k > MAX_POINTS:
+        raise _fail(f"{key}.num", f"{k:,} values, more than a study takes ({MAX_POINTS:,})")
     return [float(v) for v in np.linspace(a, b, k)]
 
 
@@ -480,7 +551,7 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
         raise _fail("solve", f"{_kind(raw)}; expected an object with kind and frequencies")
     kind = raw.get("kind")
     if kind not in SOLVE_KINDS:
-        raise _fail("solve.kind", f"{kind!r}; expected one of {', '.join(SOLVE_KINDS)}")
+        raise _fail("solve.kind", f"{_short(kind)}; expected one of {', '.join(SOLVE_KINDS)}")
     known = {"kind", "frequencies", "memory_limit", *INCIDENCE_KEYS}
     if kind == "free_space":
         known |= {"direction", "polarization"}
@@ -512,10 +583,10 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
         raise _fail("solve.frequencies", "expected positive frequencies in increasing order")
     memory = raw.get("memory_limit")
     if memory is not None and not _number("solve.memory_limit", memory) > 0:
-        raise _fail("solve.memory_limit", f"{memory!r}; expected bytes > 0")
+        raise _fail("solve.memory_limit", f"{_short(memory)}; expected bytes > 0")
     interpolate = raw.get("interpolate", True)
     if not isinstance(interpolate, bool):
-        raise _fail("solve.interpolate", f"{interpolate!r}; expected true or false")
+        raise _fail("solve.interpolate", f"{_short(interpolate)}; expected true or false")
     angles = {k: raw[k] for k in INCIDENCE_KEYS if k in raw}
     vectors = {k: raw[k] for k in ("direction", "polarization") if k in raw}
     varied = [a for a in axes if a.incidence]
@@ -566,7 +637,7 @@ def _stack_axes(axes: tuple[Axis, ...], stack: Stack | None) -> None:
             try:
                 stack.replaced(f"{side}[{index}].{name}", value)
             except (TypeError, ValueError) as exc:
-                raise _fail(key, f"{value!r} makes the stack invalid: {exc}") from None
+                raise _fail(key, f"{_short(value)} makes the stack invalid: {exc}") from None
 
 
 def _solve_document(solve: Solve) -> dict[str, Any]:
@@ -588,7 +659,7 @@ def incidence_angle(pol: Any, where: str) -> float:
     if isinstance(pol, str) and pol.upper() in ("TE", "TM"):
         return 90.0 if pol.upper() == "TE" else 0.0
     if isinstance(pol, bool) or not isinstance(pol, int | float) or not math.isfinite(pol):
-        raise _fail(where, f"pol={pol!r}; expected TE, TM or an angle in degrees")
+        raise _fail(where, f"pol={_short(pol)}; expected TE, TM or an angle in degrees")
     return float(pol)
 
 
@@ -620,7 +691,7 @@ def _derive(raw: Any, solve: Solve) -> tuple[Derive, ...]:
         key = f"derive[{i}]"
         if isinstance(item, str):
             if item not in FIGURES:
-                raise _fail(key, f"unknown figure {item!r}; expected {', '.join(FIGURES)}")
+                raise _fail(key, f"unknown figure {_short(item)}; expected {', '.join(FIGURES)}")
             if item in INFINITE_ARRAY_FIGURES and solve.kind != "infinite_array":
                 raise _fail(key, f"{item} needs solve.kind infinite_array")
             out.append(Derive(item))

@@ -1,0 +1,129 @@
+"""What an infinite-array solve checks before it builds anything (issue 30).
+
+Each check is cheap (formulas of the lattice and the frequency) and runs before the T²
+tables of :func:`barymesh.mom.periodic_geometry` or the terms of
+:class:`~barymesh.mom.periodic_green.PeriodicGreen` are made, so a problem that cannot be
+solved is refused in seconds, naming what is wrong:
+
+* :func:`as_lattice`: a :class:`~barymesh.cell.Lattice`, or two lattice vectors in mm;
+* :func:`check_green_terms`: the terms the lattice sums would keep at the frequency and
+  the memory of evaluating them (a million Floquet orders for a 10 mm cell at 1 THz).
+
+Metal beyond its cell (copies that overlap, a 12 mm patch in a 10 mm lattice) is solved
+with a warning (:func:`barymesh.mom.periodic_caveats.outside_warning`).
+
+The memory of the solve itself (T and N) is :func:`barymesh.mom.periodic.check_periodic_memory`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .caveats import MIN_KD
+from .operator import wavenumber
+from .periodic_green import MAX_LATTICE_BOX, PeriodicGreen, predicted_terms
+from .solve import ProblemTooLarge, format_bytes, memory_allowance
+
+
+def as_lattice(lattice: Any) -> Any:
+    """``lattice`` as a :class:`~barymesh.cell.Lattice` (or None, the mesh's own).
+
+    Takes a Lattice (or anything with ``a1`` and ``a2``) as it is, and two lattice vectors
+    ``((ax, ay), (bx, by))`` in mm (``lattice=((3, 0), (0, 3))`` raised AttributeError).
+
+    Raises
+    ------
+    ValueError
+        Naming ``lattice`` and what it expected.
+    """
+    if lattice is None or (hasattr(lattice, "a1") and hasattr(lattice, "a2")):
+        return lattice
+    from ..cell.model import Lattice
+
+    try:
+        a1, a2 = (tuple(float(x) for x in v) for v in lattice)
+        if len(a1) != 2 or len(a2) != 2:
+            raise ValueError
+    except (TypeError, ValueError):
+        from ..values import echo
+
+        raise ValueError(
+            f"lattice={echo(lattice)} is invalid; expected a Lattice or two lattice vectors "
+            "((ax, ay), (bx, by)) in mm"
+        ) from None
+    return Lattice(a1, a2)
+
+
+def check_green_terms(
+    vectors: np.ndarray,
+    frequency: float,
+    direction: Any = (0.0, 0.0, -1.0),
+    memory_limit: float | None = None,
+    lowest: float | None = None,
+) -> None:
+    """Refuse a frequency whose lattice sums would not fit, then make them once (cheap).
+
+    The terms are predicted (:func:`~barymesh.mom.periodic_green.predicted_terms`) and one
+    block of their evaluation (:attr:`~barymesh.mom.periodic_green.GreenTerms.block_bytes`)
+    compared with the memory allowed; then the Green's function is made, which refuses a
+    Floquet order at or just past its onset. A frequency (or ``lowest``, the bottom of a
+    sweep) whose k·D is below :data:`~barymesh.mom.caveats.MIN_KD` (D the cell's diagonal)
+    is refused as the free-space solver refuses it: 1e-30 Hz gave NaN.
+
+    Parameters
+    ----------
+    vectors : (2, 2) float
+        Lattice vectors a1, a2 (m).
+    frequency : float
+        Hz.
+    direction : 3 floats
+        Of the incident wave (its transverse part sets k_t).
+    memory_limit : float, optional
+        Bytes, as for :func:`barymesh.mom.periodic_solve`.
+
+    Raises
+    ------
+    ProblemTooLarge
+        Naming the orders and images and the memory they need.
+    ValueError
+        A Floquet order at or within :data:`~barymesh.mom.periodic_green.GRAZING` of its
+        onset.
+    """
+    low = frequency if lowest is None else lowest
+    diagonal = float(
+        max(np.linalg.norm(vectors[0] + vectors[1]), np.linalg.norm(vectors[0] - vectors[1]))
+    )
+    kd = wavenumber(low) * diagonal
+    if not kd >= MIN_KD:
+        least = MIN_KD * low / kd if kd > 0 else float("inf")
+        raise ValueError(
+            f"frequency={low:.6g} Hz is too low for this cell: k·D = {kd:.3g} (D its "
+            f"diagonal), and below {MIN_KD:g} double precision cannot form the EFIE; expected "
+            f"frequency >= {least:.3g} Hz"
+        )
+    k = wavenumber(frequency)
+    d = np.asarray(direction, dtype=np.float64)
+    kt = (float(k * d[0]), float(k * d[1]))
+    a1 = (float(vectors[0][0]), float(vectors[0][1]))
+    a2 = (float(vectors[1][0]), float(vectors[1][1]))
+    terms = predicted_terms(a1, a2, k, kt)
+    cell = f"{math.hypot(*a1) * 1e3:.4g} x {math.hypot(*a2) * 1e3:.4g} mm"
+    where = f"at {frequency / 1e9:.6g} GHz the lattice sums of the {cell} cell"
+    box = max(terms.orders_box, terms.images_box)
+    if box > MAX_LATTICE_BOX:
+        raise ProblemTooLarge(
+            f"{where} would search {box:,} lattice points (at most {MAX_LATTICE_BOX:,}); use "
+            "a lower frequency or a smaller cell"
+        )
+    need = terms.block_bytes
+    allowed, source = memory_allowance(memory_limit)
+    if need > allowed:
+        raise ProblemTooLarge(
+            f"{where} keep about {terms.orders:,} Floquet orders and {terms.images:,} "
+            f"images: evaluating them needs {format_bytes(need)}, more than {source}; use a "
+            "lower frequency or a smaller cell"
+        )
+    PeriodicGreen(a1, a2, k, kt)  # a Wood anomaly or a grazing order: refused by name
