@@ -178,6 +178,24 @@ def patch_template_of(params: MeshParams) -> PatchTemplate:
     return patch_template(params.scheme, params.subdivisions, params.diagonal)
 
 
+def outline_rects(params: MeshParams) -> np.ndarray | None:
+    """(P, 4) rectangles (x0, y0, x1, y1) a graded structure is laid out on, or None.
+
+    A graded patch (or strip) and a graded conforming square ring meet their neighbours
+    side to side and grade toward the outline of their rectangles
+    (:func:`barymesh.grading.outline_sides`); everything else (ungraded, rings of
+    sectors or of overlapping paper patches, a triangle) is None.
+    """
+    if not params.grading or params.track_graded:
+        return None
+    if params.structure == "patch":
+        x, y = params.origin
+        return np.array([[x, y, x + params.patch_size, y + params.patch_height]])
+    if params.structure == "square_split_double_ring" and params.mode == "conforming":
+        return _corners(conforming_square_rects(params)[0])
+    return None
+
+
 def _outline_layout(
     params: MeshParams, rects: np.ndarray, neighbours: np.ndarray | None
 ) -> np.ndarray:
