@@ -593,6 +593,10 @@ class MeshParams:
             r, g = self.inner_radius, self.gap_width
             sides.append((h, (r - g / 2) / count_steps(r - g / 2, h), "gap_width"))
             sides.append((h, 2 * r / count_steps(2 * r, h), "inner_radius"))
+            if graded:  # its graded first cells make the outer ring's pieces count too
+                q = self.outer_radius
+                sides.append((h, (q - g / 2) / count_steps(q - g / 2, h), "gap_width"))
+                sides.append((h, 2 * q / count_steps(2 * q, h), "outer_radius"))
         best = (math.inf, "patch_size")
         for a, b, name in sides:
             edge = float(np.hypot(a * d[:, 0], b * d[:, 1]).min())
