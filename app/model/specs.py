@@ -327,6 +327,10 @@ CHOICES = {
     "mode": ("Mode", MODE_TITLES),
     "diagonal": ("Diagonal", {"BC": "BC (paper)", "AD": "AD (Makarov)"}),
     "scheme": ("Scheme", {"uniform": "Uniform n × n", "barycentric": "Barycentric levels"}),
+    "grading": (
+        "Grading",
+        {False: "Even nodes (the paper's)", True: "Graded toward the metal edges"},
+    ),
 }
 CHOICE_STRUCTURES = {"diagonal": NOT_TRIANGLE}
 #: Parameters typed as coordinates in the Advanced group: name -> (label, structures).
