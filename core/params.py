@@ -16,7 +16,13 @@ import numpy as np
 
 from .constants import wavelength
 from .grading import edge_nodes, first_cell
-from .kinds import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, SPLIT_STRUCTURES, STRUCTURES
+from .kinds import (
+    ANGULAR_STRUCTURES,
+    DOUBLE_STRUCTURES,
+    PATCH_STRUCTURES,
+    SPLIT_STRUCTURES,
+    STRUCTURES,
+)
 from .placement import predicted_triangles
 from .sectors import (
     MAX_SECTOR_DEG,
@@ -65,21 +71,28 @@ DEFAULT_SUBDIVISIONS = 4
 #: unknowns for a patch, within 0.005 in |R| and 0.5° of converged references from 5 to
 #: 35 GHz at 0°, 30° and 60° (``benchmarks/convergence.py``).
 GRADED_SUBDIVISIONS = 16
+#: The same for a graded cross (five patches of n x n cells: 640 triangles at n = 8).
+GRADED_CROSS_SUBDIVISIONS = 8
 #: Structures that are one graded patch or triangle (the accuracy default above).
 SINGLE_STRUCTURES = ("patch", "triangle")
+#: Arm width of a cross without ``patch_width``, as a fraction of its length.
+CROSS_WIDTH = 1.0 / 3.0
 
 
 def default_subdivisions(structure: Any, grading: bool) -> int:
     """The subdivisions a structure gets when none is given.
 
-    ``GRADED_SUBDIVISIONS`` for a graded patch or triangle (its accuracy default), else
-    ``DEFAULT_SUBDIVISIONS`` (rings keep it graded: they are many patches or sectors).
+    ``GRADED_SUBDIVISIONS`` for a graded patch or triangle and ``GRADED_CROSS_SUBDIVISIONS``
+    for a graded cross (their accuracy defaults), else ``DEFAULT_SUBDIVISIONS`` (rings keep
+    it graded: they are many patches or sectors).
 
     >>> default_subdivisions("patch", True), default_subdivisions("patch", False)
     (16, 4)
     """
     if grading and structure in SINGLE_STRUCTURES:
         return GRADED_SUBDIVISIONS
+    if grading and structure == "cross":
+        return GRADED_CROSS_SUBDIVISIONS
     return DEFAULT_SUBDIVISIONS
 
 
@@ -112,7 +125,9 @@ class MeshParams:
     Parameters
     ----------
     structure : str
-        One of ``STRUCTURES``.
+        One of ``STRUCTURES``. ``"cross"``: two arms ``patch_size`` long tip to tip and
+        ``patch_width`` wide, centred on ``origin``, laid out as five patches (the centre
+        square and four arms) that meet side to side, in either mode.
     mode : str
         ``"paper"``: independent axis-aligned patches placed at
         (r cos θ, r sin θ) and welded by distance, exactly as in the paper.
@@ -142,7 +157,8 @@ class MeshParams:
     tolerance : float or None
         Welding distance ε (mm); ``None`` is 1e-9 of the structure's size.
     patch_width : float or None
-        Height w of a rectangular patch (mm); ``None`` makes it square.
+        Height w of a rectangular patch (mm); ``None`` makes it square. For a cross, the
+        width of its arms; ``None`` is a third of ``patch_size`` (five equal squares).
     triangle_vertices : tuple or None
         Three (x, y) vertices of the ``triangle`` structure (mm); ``None`` is
         an equilateral triangle of side ``patch_size`` standing on ``origin``.
@@ -426,8 +442,13 @@ class MeshParams:
                 f"patch_size / subdivisions = {cell:.6g} mm; expected a smaller min_edge",
             )
         # cells added at each circle: log(cell / fine) / log(ratio), 2 by default (fine =
-        # cell / ratio²: written without the division, which underflows for cells of 0 mm)
-        steps = 2.0 if self.min_edge is None else math.log(cell / self.min_edge) / math.log(ratio)
+        # cell / ratio²); in logarithms, so that neither 0 mm cells nor a min_edge far
+        # below the cell (a ratio beyond float64) divide by zero or overflow
+        steps = (
+            2.0
+            if self.min_edge is None
+            else (math.log(cell) - math.log(self.min_edge)) / math.log(ratio)
+        )
         cells = self.subdivisions + 2 * math.ceil(steps)
         if cells > MAX_GRADED_CELLS:
             raise InvalidValue(
@@ -462,6 +483,13 @@ class MeshParams:
 
     def _check_geometry(self) -> None:
         s = self.structure
+        if s == "cross" and not self.patch_height < self.patch_size * (1 - 1e-9):
+            raise InvalidValue(
+                "patch_width",
+                f"patch_width={_short(self.patch_width)} mm leaves the cross no arms: its arms "
+                f"are patch_width wide and patch_size={_short(self.patch_size)} mm long tip to "
+                "tip; expected patch_width < patch_size (a square is the patch structure)",
+            )
         if s in DOUBLE_STRUCTURES and self.outer_radius <= self.inner_radius:
             raise InvalidValue(
                 "outer_radius",
@@ -512,8 +540,11 @@ class MeshParams:
 
     @property
     def patch_height(self) -> float:
-        """Height w of a patch (mm): ``patch_width`` or the square's side."""
-        return self.patch_size if self.patch_width is None else self.patch_width
+        """Height w of a patch (mm): ``patch_width`` or the square's side; a cross's arm
+        width (``patch_width`` or a third of ``patch_size``)."""
+        if self.patch_width is not None:
+            return self.patch_width
+        return self.patch_size * CROSS_WIDTH if self.structure == "cross" else self.patch_size
 
     @property
     def segments(self) -> int:
@@ -561,9 +592,14 @@ class MeshParams:
         # (length along u, length along v, name of the parameter that sets the shorter one)
         h, w = self.patch_size, self.patch_height
         sides = [(h, w, "patch_size" if h <= w else "patch_width")]
-        if graded and s == "square_split_double_ring" and self.mode == "conforming":
+        if graded and (
+            s == "cross" or (s == "square_split_double_ring" and self.mode == "conforming")
+        ):
             # pieces graded toward one end only have the finest cells (first_cell)
             d = d * (first_cell(self.subdivisions) / edge_nodes(self.subdivisions)[1])
+        if s == "cross":  # arms (L − w)/2 x w each way, and the w x w centre
+            arm = (h - w) / 2
+            sides = [(arm, w, "patch_width"), (w, arm, "patch_width"), (w, w, "patch_width")]
         if self.track_graded:  # graded cells: the narrowest across the track, instead of h / n
             h *= self.subdivisions * graded_track_nodes(self)[1]
             sides = [(h, w, "min_edge" if self.min_edge is not None else "patch_size")]
@@ -611,7 +647,7 @@ class MeshParams:
         shift = max(abs(self.origin[0]), abs(self.origin[1]))
         if s == "triangle" and self.triangle_vertices is not None:
             return max(abs(v) for p in self.triangle_vertices for v in p)
-        if s in ("patch", "triangle"):
+        if s in ("patch", "triangle", "cross"):
             return shift + max(self.patch_size, self.patch_height)
         radius = self.outer_radius if s in DOUBLE_STRUCTURES else self.inner_radius
         return shift + radius + max(self.patch_size, self.patch_height)
@@ -625,7 +661,7 @@ class MeshParams:
         out["patch_size"] = self.patch_size
         if self.patch_width is not None and s != "triangle":
             out["patch_width"] = self.patch_width
-        if s not in ("patch", "triangle"):
+        if s not in ("patch", "triangle", "cross"):
             out["inner_radius"] = self.inner_radius
         if s in DOUBLE_STRUCTURES:
             out["outer_radius"] = self.outer_radius
@@ -722,7 +758,7 @@ class MeshParams:
     def size(self) -> float:
         """Characteristic size of the structure (mm), the scale of the default tolerance."""
         s = self.structure
-        if s == "patch":
+        if s in PATCH_STRUCTURES:
             return max(self.patch_size, self.patch_height)
         if s == "triangle":
             if self.triangle_vertices is None:

@@ -28,12 +28,12 @@ import numpy as np
 
 from .constants import wavelength
 from .params import (
-    GRADED_SUBDIVISIONS,
     MAX_BARYCENTRIC_LEVELS,
     MAX_PATCH_COUNT,
     MAX_UNIFORM_SUBDIVISIONS,
     SINGLE_STRUCTURES,
     MeshParams,
+    default_subdivisions,
 )
 from .topology import BLOCK
 
@@ -190,14 +190,14 @@ def sizing_summary(stats: dict[str, Any]) -> str:
 
 
 def accuracy_floor(params: MeshParams) -> int:
-    """The smallest subdivisions sizing may choose: ``GRADED_SUBDIVISIONS`` for a graded
-    patch or triangle (its accuracy default), else 1.
+    """The smallest subdivisions sizing may choose: a graded patch's, triangle's or cross's
+    accuracy default (:func:`barymesh.params.default_subdivisions`), else 1.
 
     >>> accuracy_floor(MeshParams(structure="patch", grading=True, frequency=1e9))
     16
     """
-    if params.grading and params.structure in SINGLE_STRUCTURES:
-        return GRADED_SUBDIVISIONS
+    if params.grading and params.structure in (*SINGLE_STRUCTURES, "cross"):
+        return default_subdivisions(params.structure, True)
     return 1
 
 

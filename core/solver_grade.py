@@ -7,8 +7,9 @@ studies), a part that does not say ``grading`` itself is meshed solver-grade:
 * a patch (or strip) or a triangle is graded toward its edges (:mod:`barymesh.grading`)
   with at least :data:`~barymesh.params.GRADED_SUBDIVISIONS` (16) segments per primary
   edge: within 0.005 in |R| and 0.5° of converged references at 736 RWG unknowns
-  (``benchmarks/convergence.py``); a pixel grid is graded toward the outline of the
-  painted region, its subdivisions kept;
+  (``benchmarks/convergence.py``); a cross likewise with at least
+  :data:`~barymesh.params.GRADED_CROSS_SUBDIVISIONS` (8) per piece; a pixel grid is
+  graded toward the outline of the painted region, its subdivisions kept;
 * every part has its edges within λ/10 at the highest frequency solved, λ in the
   densest medium (``relative_permittivity``: εr μr of the densest layer; 1 in vacuum):
   the subdivisions are raised to the smallest n that meets it, never lowered.
@@ -32,17 +33,17 @@ from .build import build_mesh
 from .cell.model import Element, PixelGrid, UnitCell
 from .constants import wavelength
 from .params import (
-    GRADED_SUBDIVISIONS,
     MAX_BARYCENTRIC_LEVELS,
     MAX_UNIFORM_SUBDIVISIONS,
     SINGLE_STRUCTURES,
     MeshParams,
+    default_subdivisions,
 )
 from .sizing import RULE_CELLS_PER_WAVELENGTH
 from .subdivision import edge_vectors
 
-#: Structures the solver-grade default grades (one patch, strip or triangle).
-GRADED_BY_DEFAULT = SINGLE_STRUCTURES
+#: Structures the solver-grade default grades (a patch or strip, a triangle, a cross).
+GRADED_BY_DEFAULT = (*SINGLE_STRUCTURES, "cross")
 
 
 def lambda_subdivisions(
@@ -114,7 +115,8 @@ def solver_params(
     """
     out = params
     if grade and not out.grading and out.structure in GRADED_BY_DEFAULT and out.scheme == "uniform":
-        out = out.replace(grading=True, subdivisions=max(out.subdivisions, GRADED_SUBDIVISIONS))
+        floor = default_subdivisions(out.structure, True)
+        out = out.replace(grading=True, subdivisions=max(out.subdivisions, floor))
     if frequency is not None and not out.sized:
         n = lambda_subdivisions(out, frequency, relative_permittivity)
         if n > out.subdivisions:

@@ -21,7 +21,7 @@ import numpy as np
 
 from .grading import outline_sides
 from .params import RELATIVE_TOLERANCE, MeshParams
-from .placement import conforming_square_rects, paper_origins
+from .placement import conforming_square_rects, cross_rects, paper_origins
 from .repeat import sector_chain_vertices
 from .sectors import (
     arc_theta,
@@ -191,6 +191,8 @@ def outline_rects(params: MeshParams) -> np.ndarray | None:
     if params.structure == "patch":
         x, y = params.origin
         return np.array([[x, y, x + params.patch_size, y + params.patch_height]])
+    if params.structure == "cross":
+        return _corners(cross_rects(params))
     if params.structure == "square_split_double_ring" and params.mode == "conforming":
         return _corners(conforming_square_rects(params)[0])
     return None
@@ -239,6 +241,15 @@ def layout(params: MeshParams, neighbours: np.ndarray | None = None) -> Layout:
             xy = _rect_layout(template, rects)
         ids = np.arange(nv, dtype=np.int32)
         return Layout(template, xy, np.ones(1, dtype=np.int32), ids, ids, _corners(rects))
+    if s == "cross":  # five patches meeting side to side, in either mode
+        rects = cross_rects(params)
+        if outlined:
+            xy = _outline_layout(params, rects, neighbours)
+        else:
+            xy = _rect_layout(template, rects)
+        ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
+        rects_out = _corners(rects) if params.mode == "paper" else None
+        return Layout(template, xy, np.ones(5, dtype=np.int32), ids, rep, rects_out)
     if params.mode == "conforming":
         if s == "square_split_double_ring":
             rects, regions = conforming_square_rects(params)

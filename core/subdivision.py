@@ -285,6 +285,8 @@ def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
     >>> [round(x, 4) for x in graded_nodes(4, 0.125, 2.0)]
     [0.0, 0.125, 0.375, 0.625, 0.875, 1.0]
     """
+    if not 0.0 < fine < math.inf or not ratio > 1.0:
+        raise ValueError(f"fine={fine!r} and ratio={ratio!r}: expected fine > 0 and ratio > 1")
     coarse = 1.0 / cells
     side = []
     size = fine

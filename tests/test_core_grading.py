@@ -4,8 +4,8 @@ Checked here: with grading off every mesh is bit for bit what it was before grad
 (digests computed with that code, ``tests/data/ungraded_mesh_digests.json``); a graded mesh
 has the uniform mesh's triangles, edges and RWG table (only the points move); its nodes
 crowd toward the outer edges (and not toward sides that continue into metal); hypothesis
-property tests of the invariants; and the convergence the grading is for, against
-references measured by ``benchmarks/convergence.py``.
+property tests of the invariants. The convergence the grading is for:
+``tests/test_mom_convergence.py``.
 """
 
 from __future__ import annotations
@@ -349,29 +349,3 @@ def test_two_rectangles_sharing_a_side_grade_it_alike(rects):
         ):
             sides.setdefault(seg, set()).add(tuple(ends[r, k]))
     assert all(len(flags) == 1 for flags in sides.values())
-
-
-# -- the solver-grade convergence, at a modest size ---------------------------------------------
-
-#: |R| and ∠R of the 5 mm patch in a 10 mm cell at 20 GHz, normal incidence: Richardson
-#: extrapolation of the graded n = 24, 28, 32 (benchmarks/convergence.py, first_order, in
-#: benchmarks/results/convergence-*.json; the uniform series extrapolated at first order
-#: agrees within its own uncertainty).
-REFERENCE_ABS_R = 0.42333
-
-
-def test_a_graded_patch_converges_ahead_of_the_uniform_one():
-    from barymesh.mom import PlaneWave, periodic_solve
-
-    def r(n, graded):
-        params = MeshParams(structure="patch", patch_size=5.0, subdivisions=n, grading=graded)
-        cell = UnitCell(Lattice.rectangular(10.0), (Element(params, position=(-2.5, -2.5)),))
-        return abs(periodic_solve(build_cell(cell).mesh, 20e9, PlaneWave()).co_polar()[0])
-
-    uniform = [abs(r(n, False) - REFERENCE_ABS_R) for n in (6, 12)]
-    graded = [abs(r(n, True) - REFERENCE_ABS_R) for n in (6, 12)]
-    # uniform: first order (halving h halves the error), well off at 408 unknowns
-    assert 1.6 < uniform[0] / uniform[1] < 2.4 and uniform[1] > 0.01
-    # graded: within the issue's 0.005 at 408 unknowns, 5 times closer than uniform
-    assert graded[1] < 0.0025 and graded[1] < uniform[1] / 5
-    assert graded[0] < uniform[0] / 3

@@ -443,7 +443,71 @@ def sweep_accuracy(doc: dict[str, Any]) -> Table:
     return head, rows, note
 
 
+def convergence(doc: dict[str, Any]) -> Table:
+    head = [
+        "case",
+        "mesh",
+        "n",
+        "unknowns",
+        "largest |R| error",
+        "largest ∠R error °",
+        "within the targets",
+    ]
+    rows = []
+
+    def add(case: str, r: dict[str, Any], phase: bool = True) -> None:
+        met = r.get("meets_target")
+        rows.append(
+            [
+                case,
+                r["series"],
+                str(r["subdivisions"]),
+                _n(r["unknowns"]),
+                f"{r.get('max_abs_r_error', r.get('abs_r_error')):.4f}",
+                f"{r['max_phase_error_deg']:.2f}" if phase else "–",
+                "–" if met is None else ("yes" if met else "no"),
+            ]
+        )
+
+    if "patch" in doc:
+        for r in doc["patch"]["rows"]:
+            add(doc["patch"]["case"], r)
+    if "strips" in doc:
+        for r in doc["strips"]["rows"]:
+            add(doc["strips"]["case"], r)
+    if "first_order" in doc:
+        for r in doc["first_order"]["rows"]:
+            add("patch 5 mm, 20 GHz, normal", r, phase=False)
+    t = doc["targets"]
+    note = (
+        f"Targets: |R| within {t['abs_r']:g} and ∠R within {t['phase_deg']:g}° with at most "
+        f"{t['unknowns']:,} unknowns. "
+    )
+    if "patch" in doc:
+        p, ref = doc["patch"], doc["patch"]["reference"]
+        angles = ", ".join(f"{a:g}°" for a in p["angles_deg"])
+        freqs = p["frequencies_hz"]
+        note += (
+            f"{p['case'].capitalize()}: {freqs[0] / 1e9:g} to {freqs[-1] / 1e9:g} GHz "
+            f"({len(freqs)} frequencies) at {angles}, TE and TM, against the Richardson "
+            f"extrapolation of the {ref['from']} (orders {ref['orders'][0]:.1f} to "
+            f"{ref['orders'][1]:.1f}, largest correction {ref['uncertainty_abs']:.1e}). "
+        )
+    if "strips" in doc:
+        s = doc["strips"]
+        note += (
+            f"Strips: P/λ = {', '.join(f'{x:g}' for x in s['p_over_lambda'])} at "
+            f"{', '.join(f'{a:g}°' for a in s['angles_deg'])}, E along and across, against "
+            "the 1-D spectral-domain solution. "
+        )
+    if "first_order" in doc:
+        f = doc["first_order"]
+        note += f"The 5 mm patch: against |R| = {f['reference_abs_r']:.5f} (graded, extrapolated)."
+    return head, rows, note
+
+
 RENDERERS: dict[str, Callable[[dict[str, Any]], Table]] = {
+    "convergence": convergence,
     "array-live": array_live,
     "sweep-accuracy": sweep_accuracy,
     "periodic-sweep": periodic_sweep,
@@ -464,7 +528,7 @@ def table_data(name: str) -> tuple[list[str], list[list[str]], str] | None:
     doc = json.loads(path.read_text(encoding="utf-8"))
     head, rows, note = RENDERERS[name](doc)
     rel = path.relative_to(ROOT)
-    if name in ("quality", "grading"):  # counts, angles, errors: the same on any machine
+    if name in ("quality", "grading", "convergence"):  # accuracy: the same on any machine
         line = f"From {rel}, measured {_date(path, doc)}. {note}"
     else:
         line = f"From {rel}, measured {_date(path, doc)} on {_machine(doc.get('machine'))}. {note}"
