@@ -231,6 +231,7 @@ def patch_case(quick: bool) -> dict[str, Any]:
         "refused": refused,
         "reference": {
             "from": f"graded n = {', '.join(map(str, ref_n))}",
+            "subdivisions": ref_n,
             "orders": [min(orders), max(orders)],
             "uncertainty_abs": uncertainty,
             "values": [

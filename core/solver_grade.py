@@ -63,7 +63,9 @@ def lambda_subdivisions(
         cells_per_wavelength=float(RULE_CELLS_PER_WAVELENGTH),
         max_edge=None,
     )
-    return int(build_mesh(trial).params.subdivisions)
+    chosen = build_mesh(trial).params
+    assert chosen is not None  # a built mesh carries the parameters it was sized with
+    return int(chosen.subdivisions)
 
 
 def _pixel_lambda_subdivisions(
