@@ -163,16 +163,17 @@ def conforming_square_rects(params: PlacementFields) -> tuple[np.ndarray, np.nda
 
 
 def cross_rects(params: PlacementFields) -> np.ndarray:
-    """(5, 4) rectangles (x0, y0, wx, wy) of a cross centred on ``origin``: the centre
-    square, then the right, top, left and bottom arms::
+    """(5, 4) rectangles (x0, y0, wx, wy) of a cross centred on ``origin``.
 
-            +--+
-            |T |            arms (L − w)/2 long, w = patch_height wide
-        +---+--+---+
-        | L | C| R |        L = patch_size, tip to tip
-        +---+--+---+
-            |B |
-            +--+
+    The centre square C, then the right, top, left and bottom arms R, T, L, B::
+
+        arms        +--+
+                    |T |        (L - w) / 2 long, w = patch_height wide
+                +---+--+---+
+                | L | C| R |    L = patch_size, tip to tip
+                +---+--+---+
+                    |B |
+                    +--+
     """
     length, w = params.patch_size, params.patch_height
     arm = (length - w) / 2
