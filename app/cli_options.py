@@ -145,7 +145,10 @@ def add_mesh_grade_option(p: argparse.ArgumentParser) -> None:
 
 
 def solver_grade_structure(
-    args: argparse.Namespace, params: Any, top_frequency: float | None
+    args: argparse.Namespace,
+    params: Any,
+    top_frequency: float | None,
+    relative_permittivity: float = 1.0,
 ) -> tuple[Any, str]:
     """The solver-grade parameters of the structure of --preset/--params/--set, and a note
     ("" when nothing changed or ``--mesh-as-given``)."""
@@ -156,12 +159,17 @@ def solver_grade_structure(
 
     if "grading" in given_keys(args.preset, args.params, args.sets):
         return params, ""  # it says how it is to be meshed
-    out = solver_params(params, frequency=top_frequency)
+    out = solver_params(
+        params, frequency=top_frequency, relative_permittivity=relative_permittivity
+    )
     return out, _grade_note([("the structure", params, out)])
 
 
 def solver_grade_cell(
-    args: argparse.Namespace, cell: Any, top_frequency: float | None
+    args: argparse.Namespace,
+    cell: Any,
+    top_frequency: float | None,
+    relative_permittivity: float = 1.0,
 ) -> tuple[Any, str]:
     """The solver-grade cell of --cell/--cell-preset (parts that say 'grading' are taken
     as given), and a note ("" when nothing changed or ``--mesh-as-given``)."""
@@ -174,7 +182,13 @@ def solver_grade_cell(
     flags, pixels = document_grading(read_cell_document(path))
     if len(flags) != len(cell.elements):  # not the document's elements: grade them all
         flags = tuple(True for _ in cell.elements)
-    out = solver_cell(cell, frequency=top_frequency, grade=flags, grade_pixels=pixels)
+    out = solver_cell(
+        cell,
+        frequency=top_frequency,
+        relative_permittivity=relative_permittivity,
+        grade=flags,
+        grade_pixels=pixels,
+    )
     parts = [
         (repr(a.name), a.params, b.params) for a, b in zip(cell.elements, out.elements, strict=True)
     ]

@@ -1,7 +1,8 @@
 """What edge grading is for: |R| converging to references, on the infinite-array solver.
 
-References: the 1-D spectral-domain solution of the strip grating (``tests/strip_spectral.py``),
-checked here against Collin's table and Marcuvitz's quasi-static formulas; for patches the
+References: the 1-D spectral-domain solution of the strip grating (``tests/strip_spectral.py``,
+free-standing), checked here against Collin's table and Marcuvitz's quasi-static formulas;
+for patches the
 Richardson extrapolation measured by ``benchmarks/convergence.py`` (whose ``--quick`` run is
 checked here too).
 """
@@ -33,11 +34,18 @@ def frequency(p_over_lambda):
     return p_over_lambda * SPEED_OF_LIGHT / (P * 1e-3)
 
 
+def free_strips(f, polarization, theta=0.0, **options):
+    """The spectral solution for free-standing strips of width P/2 (εr = 1, no ground);
+    ``polarization`` "along" (TE) or "across" (TM) the strips."""
+    pol = {"along": "te", "across": "tm"}[polarization]
+    return strip_reflection(f, P, P / 2, 1.0, 1.0, False, pol, theta, **options)
+
+
 @pytest.mark.parametrize("ratio", sorted(COLLIN))
 def test_the_spectral_strip_solution_reproduces_collin_s_table(ratio):
     magnitude, phase, parallel = COLLIN[ratio]
-    across = strip_reflection(P, P / 2, frequency(ratio), "across")
-    along = strip_reflection(P, P / 2, frequency(ratio), "along")
+    across = free_strips(frequency(ratio), "across")
+    along = free_strips(frequency(ratio), "along")
     assert abs(abs(across) - magnitude) < 6e-5  # the table's four digits
     assert abs(np.degrees(np.angle(across)) - phase) < 0.05
     assert abs(abs(along) - parallel) < 6e-5
@@ -46,16 +54,16 @@ def test_the_spectral_strip_solution_reproduces_collin_s_table(ratio):
 def test_the_spectral_solution_has_converged_in_its_basis_and_harmonics():
     for theta in (0.0, 30.0, 60.0):
         for pol in ("along", "across"):
-            a = strip_reflection(P, P / 2, 20e9, pol, theta=theta)
-            b = strip_reflection(P, P / 2, 20e9, pol, theta=theta, basis=14, harmonics=20000)
+            a = free_strips(20e9, pol, theta)
+            b = free_strips(20e9, pol, theta, basis=14, terms=80_000)
             assert abs(a - b) < 1e-6
 
 
 @pytest.mark.parametrize("ratio", [0.02, 0.05, 0.1])
 def test_the_spectral_solution_meets_marcuvitz_in_the_quasi_static_range(ratio):
     for pol in ("along", "across"):
-        exact = strip_reflection(P, P / 2, frequency(ratio), pol)
-        quasi = marcuvitz_reflection(P, P / 2, frequency(ratio), pol)
+        exact = free_strips(frequency(ratio), pol)
+        quasi = marcuvitz_reflection(frequency(ratio), P, P / 2, {"along": "te"}.get(pol, "tm"))
         assert abs(abs(exact) - abs(quasi)) < 0.02 * abs(exact) * ratio / 0.1 + 1e-4
         assert abs(np.degrees(np.angle(exact / quasi))) < 1.0
 
@@ -80,7 +88,7 @@ def test_a_graded_strip_grating_meets_the_spectral_solution_where_uniform_strips
         for mesh, key in ((graded, True), (uniform, False)):
             s_te, s_tm = periodic_solve_many(mesh, f, [te, tm])
             for pol, s in (("along", s_te), ("across", s_tm)):
-                ref = strip_reflection(P, P / 2, f, pol, theta=30.0)
+                ref = free_strips(f, pol, 30.0)
                 worst[key] = max(worst[key], abs(abs(s.co_polar()[0]) - abs(ref)))
     assert worst[True] < 0.005 < worst[False]
     assert worst[True] < worst[False] / 3
