@@ -24,6 +24,7 @@ takes every part as given.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -42,6 +43,11 @@ from .params import (
 from .sizing import RULE_CELLS_PER_WAVELENGTH
 from .subdivision import edge_vectors
 
+#: The largest part the λ/10 rule may ask for (triangles): far beyond what the solvers'
+#: memory holds (the periodic solver's tables take 200 bytes per triangle pair: 80 GB at
+#: 20,000 triangles), so a frequency too high for
+#: it is refused at once, before any large mesh is built.
+SOLVER_TRIANGLES = 20_000
 #: Structures the solver-grade default grades (a patch or strip, a triangle, a cross).
 GRADED_BY_DEFAULT = (*SINGLE_STRUCTURES, "cross")
 
@@ -52,7 +58,9 @@ def lambda_subdivisions(
     """The smallest subdivisions of ``params`` whose edges are all within λ/10.
 
     λ = c0 / (f √εr) at ``frequency`` (Hz) in a medium of ``relative_permittivity`` (for a
-    magnetic layer pass εr μr). Measured on the meshes built (:mod:`barymesh.sizing`).
+    magnetic layer pass εr μr). Measured on the meshes built (:mod:`barymesh.sizing`);
+    a part that would need more than :data:`SOLVER_TRIANGLES` triangles (or its own
+    ``max_triangles``) is refused with a ``ValueError`` before it is built.
 
     >>> lambda_subdivisions(MeshParams(structure="patch", patch_size=8.0), 35e9)
     14
@@ -62,8 +70,20 @@ def lambda_subdivisions(
         relative_permittivity=relative_permittivity,
         cells_per_wavelength=float(RULE_CELLS_PER_WAVELENGTH),
         max_edge=None,
+        max_triangles=min(params.max_triangles, SOLVER_TRIANGLES),
     )
-    chosen = build_mesh(trial).params
+    try:
+        chosen = build_mesh(trial).params
+    except ValueError as exc:
+        target = wavelength(frequency, relative_permittivity) / RULE_CELLS_PER_WAVELENGTH
+        need = re.search(r"it would take (about )?n = \S+, (about )?([\d,]+) triangles", str(exc))
+        size = f"{need[2] or ''}{need[3]} triangles" if need else "more triangles"
+        raise ValueError(
+            f"the solver-grade mesh of the {params.structure}, with edges within λ/10 = "
+            f"{target:.4g} mm at {frequency / 1e9:g} GHz, would take {size}, more than the "
+            f"{trial.max_triangles:,} a solve can hold; solve lower frequencies, or the mesh "
+            "as given (barymesh solve --mesh-as-given)"
+        ) from None
     assert chosen is not None  # a built mesh carries the parameters it was sized with
     return int(chosen.subdivisions)
 

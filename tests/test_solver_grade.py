@@ -185,3 +185,14 @@ def test_solve_a_cell_file_grades_the_parts_it_leaves_unsaid(capsys, tmp_path):
     assert code == 0, err
     assert counts(out)[0] == 32 + 512
     assert "solver-grade mesh: 'right' graded toward its edges, n = 16 (was 4)" in out
+
+
+def test_a_frequency_too_high_for_the_lambda_10_rule_is_refused_at_once(capsys):
+    # issue 30: hexagonal-rings at 1 THz ran out of memory; the λ/10 rule now asks for
+    # 70,200 triangles (0.03 mm edges), which no solve can hold: one line, exit 1, no mesh
+    code, out, err = run(capsys, "--cell-preset", "hexagonal-rings", "--periodic", "--freq", "1THz")
+    assert code == 1
+    line = err.strip().splitlines()[-1]
+    assert "the solver-grade mesh of the ring, with edges within λ/10 = 0.02998 mm" in line
+    assert "would take 70,200 triangles, more than the 20,000 a solve can hold" in line
+    assert "--mesh-as-given" in line
