@@ -132,6 +132,91 @@ def load_cell_source(args: argparse.Namespace) -> tuple[Any, str]:
     return load_cell(path), str(path)  # CellFileError names the file and the place
 
 
+def add_mesh_grade_option(p: argparse.ArgumentParser) -> None:
+    """``--mesh-as-given``: solve the mesh as the parts describe it, not solver-grade."""
+    p.add_argument(
+        "--mesh-as-given",
+        action="store_true",
+        help="solve the mesh exactly as the preset, parameters or cell give it; by default "
+        "a part that does not say 'grading' is meshed solver-grade: a patch, strip or "
+        "triangle graded toward its edges (n >= 16), pixels toward the painted outline, "
+        "every part's edges within lambda/10 at the highest frequency",
+    )
+
+
+def solver_grade_structure(
+    args: argparse.Namespace,
+    params: Any,
+    top_frequency: float | None,
+    relative_permittivity: float = 1.0,
+) -> tuple[Any, str]:
+    """The solver-grade parameters of the structure of --preset/--params/--set, and a note
+    ("" when nothing changed or ``--mesh-as-given``)."""
+    if getattr(args, "mesh_as_given", False):
+        return params, ""
+    from barymesh.presets import given_keys
+    from barymesh.solver_grade import solver_params
+
+    if "grading" in given_keys(args.preset, args.params, args.sets):
+        return params, ""  # it says how it is to be meshed
+    out = solver_params(
+        params, frequency=top_frequency, relative_permittivity=relative_permittivity
+    )
+    return out, _grade_note([("the structure", params, out)])
+
+
+def solver_grade_cell(
+    args: argparse.Namespace,
+    cell: Any,
+    top_frequency: float | None,
+    relative_permittivity: float = 1.0,
+) -> tuple[Any, str]:
+    """The solver-grade cell of --cell/--cell-preset (parts that say 'grading' are taken
+    as given), and a note ("" when nothing changed or ``--mesh-as-given``)."""
+    if getattr(args, "mesh_as_given", False):
+        return cell, ""
+    from barymesh.cell import cell_preset_path, read_cell_document
+    from barymesh.solver_grade import document_grading, solver_cell
+
+    path = cell_preset_path(args.cell_preset) if args.cell_preset is not None else args.cell
+    flags, pixels = document_grading(read_cell_document(path))
+    if len(flags) != len(cell.elements):  # not the document's elements: grade them all
+        flags = tuple(True for _ in cell.elements)
+    out = solver_cell(
+        cell,
+        frequency=top_frequency,
+        relative_permittivity=relative_permittivity,
+        grade=flags,
+        grade_pixels=pixels,
+    )
+    parts = [
+        (repr(a.name), a.params, b.params) for a, b in zip(cell.elements, out.elements, strict=True)
+    ]
+    if cell.pixels is not None and out.pixels is not None:
+        parts.append(("the pixels", cell.pixels, out.pixels))
+    return out, _grade_note(parts)
+
+
+def _grade_note(parts: list[tuple[str, Any, Any]]) -> str:
+    """'solver-grade mesh: 'patch' graded toward its edges, n = 16; ...' or ''."""
+    said = []
+    for name, before, after in parts:
+        if after is before:
+            continue
+        what = []
+        if after.grading and not before.grading:
+            what.append("graded toward its edges" if name != "the pixels" else "graded")
+        if after.subdivisions != before.subdivisions:
+            what.append(f"n = {after.subdivisions} (was {before.subdivisions})")
+        elif what:
+            what.append(f"n = {after.subdivisions}")
+        if what:
+            said.append(f"{name} {', '.join(what)}")
+    if not said:
+        return ""
+    return "solver-grade mesh: " + "; ".join(said) + " (--mesh-as-given: as given)"
+
+
 def add_params_options(p: argparse.ArgumentParser) -> None:
     """``--preset``, ``--params`` and the repeatable ``--set name=value``."""
     g = p.add_argument_group("parameters (later sources win: preset, then file, then --set)")

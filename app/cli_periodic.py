@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from barymesh.app.cli_options import load_cell_source
+from barymesh.app.cli_options import load_cell_source, solver_grade_cell, solver_grade_structure
 
 #: Outputs of --periodic: the 4-port (a 2-port over a ground plane), every Floquet order,
 #: the cell's current.
@@ -207,12 +207,20 @@ def incidence(args: argparse.Namespace, vector: tuple[float, float, float] | Non
 # -- what is solved: a unit cell ------------------------------------------------------
 
 
-def cell_mesh(args: argparse.Namespace, structure_mesh: Any = None) -> tuple[Any, str, Any]:
+def cell_mesh(
+    args: argparse.Namespace,
+    structure_mesh: Any = None,
+    top_frequency: float | None = None,
+    relative_permittivity: float = 1.0,
+) -> tuple[Any, str, Any, str]:
     """The mesh of --cell, --cell-preset, or of a structure with --period, and its title.
 
-    Returns ``(mesh, title, lattice)``: ``lattice`` is None when the mesh carries its own
-    (a cell's), or the --period lattice of a mesh file (``structure_mesh`` read from
-    --mesh), which the periodic solver takes as ``lattice=``.
+    Returns ``(mesh, title, lattice, note)``: ``lattice`` is None when the mesh carries its
+    own (a cell's), or the --period lattice of a mesh file (``structure_mesh`` read from
+    --mesh), which the periodic solver takes as ``lattice=``. The cell or structure is
+    meshed solver-grade (:mod:`barymesh.solver_grade`, edges within λ/10 at
+    ``top_frequency`` in a medium of ``relative_permittivity``, εr μr of the densest
+    layer) unless ``--mesh-as-given``; ``note`` says what that changed ("": nothing).
     """
     from barymesh.cell import Element, Lattice, UnitCell, build_cell, tile
 
@@ -230,15 +238,17 @@ def cell_mesh(args: argparse.Namespace, structure_mesh: Any = None) -> tuple[Any
         if args.period is not None:
             raise PeriodicUsageError("--period: a cell (--cell, --cell-preset) has its own lattice")
         cell, label = _load_cell(args)
+        cell, note = solver_grade_cell(args, cell, top_frequency, relative_permittivity)
     else:
         if structure_mesh is not None:
             px, py = args.period
             _check_fits(structure_mesh, px, py, args.mesh)
-            return structure_mesh, args.mesh, Lattice.rectangular(px, py)
+            return structure_mesh, args.mesh, Lattice.rectangular(px, py), ""
         from barymesh import build_mesh
         from barymesh.presets import resolve_params
 
         params = resolve_params(args.preset, args.params, args.sets)
+        params, note = solver_grade_structure(args, params, top_frequency, relative_permittivity)
         mesh = build_mesh(params)
         label = args.preset or params.structure
         lo, hi = mesh.points[:, :2].min(axis=0), mesh.points[:, :2].max(axis=0)
@@ -259,7 +269,7 @@ def cell_mesh(args: argparse.Namespace, structure_mesh: Any = None) -> tuple[Any
     if args.array is not None:
         built = tile(built, *args.array)
         label = f"{label}, {args.array[0]} x {args.array[1]} copies"
-    return built.mesh, label, None
+    return built.mesh, label, None, note
 
 
 def _load_cell(args: argparse.Namespace) -> tuple[Any, str]:
@@ -309,8 +319,12 @@ def run_periodic(
         with progress(f"reading {args.mesh}"):
             structure = read_mesh(args.mesh, unit=args.unit)
     with progress("building the unit cell"):
-        mesh, title, lattice = cell_mesh(args, structure)
+        # solver-grade: edges within λ/10 in the densest layer of the stack
+        densest = 1.0 if stack is None else stack.max_index**2
+        mesh, title, lattice, note = cell_mesh(args, structure, max(frequencies), densest)
     print(f"{title}: {mesh.n_triangles:,} triangles, {len(mesh.rwg):,} interior RWG unknowns")
+    if note:
+        print(f"  {note}")
     both = any(Path(out).suffix.lower() in (".s4p", ".s2p") for out in args.outputs)
     below_too = both and stack is not None and not stack.ground
     _say_expected_time(

@@ -28,9 +28,11 @@ from typing import Any
 from barymesh import frequencies
 from barymesh.app.cli_options import (
     add_cell_options,
+    add_mesh_grade_option,
     add_params_options,
     check_folder,
     check_render_size,
+    solver_grade_structure,
     window_size,
 )
 from barymesh.app.cli_periodic import (
@@ -77,6 +79,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     add_params_options(p)
     add_cell_options(p)
     p.add_argument("--mesh", metavar="FILE", help="solve a mesh file instead of building one")
+    add_mesh_grade_option(p)
     from barymesh.io import UNITS
 
     p.add_argument(
@@ -344,9 +347,11 @@ def _run(args: argparse.Namespace) -> int:
 
     from barymesh.mom import solve, sweep
 
-    mesh, title = _mesh(args, progress)
+    mesh, title, note = _mesh(args, progress, max(freqs))
     n = len(mesh.rwg)
     print(f"{title}: {mesh.n_triangles:,} triangles, {n:,} RWG unknowns")
+    if note:
+        print(f"  {note}")
     options: dict[str, Any] = {"memory_limit": memory, "sheet_impedance": zs}
     if args.order is not None:
         options["order"] = args.order
@@ -430,7 +435,10 @@ def _excitation(args: argparse.Namespace) -> Any:
         raise SolveUsageError(f"--dir {args.dir} --pol {args.pol}: {exc}") from None
 
 
-def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
+def _mesh(args: argparse.Namespace, progress: Any, top_frequency: float) -> tuple[Any, str, str]:
+    """The mesh to solve, its title and what the solver grade changed ("": nothing): a
+    file as read, a structure or cell solver-grade (:mod:`barymesh.solver_grade`) unless
+    ``--mesh-as-given``."""
     from barymesh import build_mesh
     from barymesh.presets import preset_names, resolve_params
 
@@ -438,21 +446,23 @@ def _mesh(args: argparse.Namespace, progress: Any) -> tuple[Any, str]:
         from barymesh.io import read_mesh
 
         with progress(f"reading {args.mesh}"):
-            return read_mesh(args.mesh, unit=args.unit), args.mesh
+            return read_mesh(args.mesh, unit=args.unit), args.mesh, ""
     if args.unit:
         raise SolveUsageError("--unit applies to --mesh files only")
     if args.cell is not None or args.cell_preset is not None or args.array is not None:
         with progress("building the cell"):
-            mesh, title, _ = cell_mesh(args)
-        return mesh, title
+            mesh, title, _, note = cell_mesh(args, top_frequency=top_frequency)
+        return mesh, title, note
     if args.preset is not None and args.preset not in preset_names():
         raise SolveUsageError(
             f"unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
         )
     params = resolve_params(args.preset, args.params, args.sets)
+    with progress("choosing the solver-grade mesh"):
+        params, note = solver_grade_structure(args, params, top_frequency)
     with progress(f"building {params.predicted_triangles():,} triangles"):
         mesh = build_mesh(params)
-    return mesh, f"{args.preset or 'mesh'}: {params.structure}, {params.mode} mode"
+    return mesh, f"{args.preset or 'mesh'}: {params.structure}, {params.mode} mode", note
 
 
 def _finite(values: dict[str, Any]) -> None:

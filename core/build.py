@@ -30,6 +30,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .check import check_mesh
+from .grading import graded_barycentric
 from .mesh import TriMesh
 from .params import MeshParams
 from .repeat import Repetition, patch_triangles
@@ -44,7 +45,10 @@ class BuildCancelled(Exception):
 
 
 def build_mesh(
-    params: MeshParams | None = None, *, cancel: Callable[[], bool] | None = None
+    params: MeshParams | None = None,
+    *,
+    cancel: Callable[[], bool] | None = None,
+    neighbours: np.ndarray | None = None,
 ) -> TriMesh:
     """Mesh the structure described by ``params``.
 
@@ -56,6 +60,13 @@ def build_mesh(
         Called without arguments between the stages of the build (layout and weld,
         triangle assembly, finishing); when it returns True the build is abandoned
         with :class:`BuildCancelled`. A window uses it to drop a stale build.
+    neighbours : (K, 4) float64, optional
+        Rectangles (x0, y0, x1, y1, mm, in the structure's frame) of metal that continues
+        the structure beyond its sides: its copies in the neighbouring cells of a
+        periodic array (:func:`barymesh.cell.build_cell` passes them for a graded patch
+        that reaches across its cell, a strip). A graded patch or conforming square ring
+        does not crowd its nodes toward sides it shares with them (they are no metal
+        edges); nothing else uses them.
 
     Returns
     -------
@@ -95,8 +106,8 @@ def build_mesh(
             raise BuildCancelled("the build was cancelled")
 
     if params.sized:
-        return sized_mesh(params, lambda p: _assemble(p, checkpoint), _check_chosen)
-    mesh = _assemble(params, checkpoint)
+        return sized_mesh(params, lambda p: _assemble(p, checkpoint, neighbours), _check_chosen)
+    mesh = _assemble(params, checkpoint, neighbours)
     check_mesh(mesh, params)
     return mesh
 
@@ -106,13 +117,15 @@ def _check_chosen(mesh: TriMesh) -> None:
     check_mesh(mesh, mesh.params)
 
 
-def _assemble(params: MeshParams, checkpoint: Callable[[], None]) -> TriMesh:
+def _assemble(
+    params: MeshParams, checkpoint: Callable[[], None], neighbours: np.ndarray | None = None
+) -> TriMesh:
     """The mesh of ``params`` at its ``subdivisions``, unchecked."""
     checkpoint()
     tolerance = params.weld_tolerance  # (a property: the parameters are read first)
     if params.structure == "triangle":
         return _triangle(params, tolerance)
-    lay = layout(params)
+    lay = layout(params, neighbours)
     checkpoint()
     # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
     flat = np.ascontiguousarray(lay.xy).reshape(-1, 2).view(np.complex128).ravel()
@@ -160,6 +173,8 @@ def _triangle(params: MeshParams, tolerance: float) -> TriMesh:
     else:
         corners = np.asarray(params.triangle_vertices, dtype=np.float64)
     bary, tri = subdivide(params.scheme, params.subdivisions)
+    if params.grading:  # nodes crowded toward the three edges (uniform scheme)
+        bary = graded_barycentric(bary, params.subdivisions)
     p0, p1, p2 = corners
     xy = p0 + bary[:, :1] * (p1 - p0) + bary[:, 1:] * (p2 - p0)
     if (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]) < 0:

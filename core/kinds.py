@@ -9,6 +9,7 @@ from __future__ import annotations
 
 STRUCTURES = (
     "patch",
+    "cross",
     "triangle",
     "ring",
     "double_ring",
@@ -20,5 +21,7 @@ STRUCTURES = (
 DOUBLE_STRUCTURES = ("double_ring", "split_double_ring", "square_split_double_ring")
 #: Structures cut by slots (they use ``gap_width`` and ``gap_angle``).
 SPLIT_STRUCTURES = ("split_ring", "split_double_ring", "square_split_double_ring")
+#: Structures of patches that meet side to side (a patch, a cross): no rings, no radii.
+PATCH_STRUCTURES = ("patch", "cross")
 #: Structures laid out on circles (they use ``angle_step``).
 ANGULAR_STRUCTURES = ("ring", "double_ring", "split_ring", "split_double_ring")

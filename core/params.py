@@ -15,7 +15,14 @@ from typing import Any
 import numpy as np
 
 from .constants import wavelength
-from .kinds import ANGULAR_STRUCTURES, DOUBLE_STRUCTURES, SPLIT_STRUCTURES, STRUCTURES
+from .grading import edge_nodes, first_cell
+from .kinds import (
+    ANGULAR_STRUCTURES,
+    DOUBLE_STRUCTURES,
+    PATCH_STRUCTURES,
+    SPLIT_STRUCTURES,
+    STRUCTURES,
+)
 from .placement import predicted_triangles
 from .sectors import (
     MAX_SECTOR_DEG,
@@ -58,6 +65,35 @@ MIN_RELATIVE_TOLERANCE = 1e-12
 MAX_GAP_ANGLE = 1e6
 #: More patches than this is beyond any budget; counted without rounding to an integer.
 MAX_PATCH_COUNT = 1e15
+#: Subdivisions when none is given.
+DEFAULT_SUBDIVISIONS = 4
+#: Subdivisions of a graded patch (or strip, or triangle) when none is given: 736 RWG
+#: unknowns for a patch, within 0.005 in |R| and 0.5° of converged references from 5 to
+#: 35 GHz at 0°, 30° and 60° (``benchmarks/convergence.py``).
+GRADED_SUBDIVISIONS = 16
+#: The same for a graded cross (five patches of n x n cells: 640 triangles at n = 8).
+GRADED_CROSS_SUBDIVISIONS = 8
+#: Structures that are one graded patch or triangle (the accuracy default above).
+SINGLE_STRUCTURES = ("patch", "triangle")
+#: Arm width of a cross without ``patch_width``, as a fraction of its length.
+CROSS_WIDTH = 1.0 / 3.0
+
+
+def default_subdivisions(structure: Any, grading: bool) -> int:
+    """The subdivisions a structure gets when none is given.
+
+    ``GRADED_SUBDIVISIONS`` for a graded patch or triangle and ``GRADED_CROSS_SUBDIVISIONS``
+    for a graded cross (their accuracy defaults), else ``DEFAULT_SUBDIVISIONS`` (rings keep
+    it graded: they are many patches or sectors).
+
+    >>> default_subdivisions("patch", True), default_subdivisions("patch", False)
+    (16, 4)
+    """
+    if grading and structure in SINGLE_STRUCTURES:
+        return GRADED_SUBDIVISIONS
+    if grading and structure == "cross":
+        return GRADED_CROSS_SUBDIVISIONS
+    return DEFAULT_SUBDIVISIONS
 
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
@@ -89,7 +125,9 @@ class MeshParams:
     Parameters
     ----------
     structure : str
-        One of ``STRUCTURES``.
+        One of ``STRUCTURES``. ``"cross"``: two arms ``patch_size`` long tip to tip and
+        ``patch_width`` wide, centred on ``origin``, laid out as five patches (the centre
+        square and four arms) that meet side to side, in either mode.
     mode : str
         ``"paper"``: independent axis-aligned patches placed at
         (r cos θ, r sin θ) and welded by distance, exactly as in the paper.
@@ -119,7 +157,8 @@ class MeshParams:
     tolerance : float or None
         Welding distance ε (mm); ``None`` is 1e-9 of the structure's size.
     patch_width : float or None
-        Height w of a rectangular patch (mm); ``None`` makes it square.
+        Height w of a rectangular patch (mm); ``None`` makes it square. For a cross, the
+        width of its arms; ``None`` is a third of ``patch_size`` (five equal squares).
     triangle_vertices : tuple or None
         Three (x, y) vertices of the ``triangle`` structure (mm); ``None`` is
         an equilateral triangle of side ``patch_size`` standing on ``origin``.
@@ -168,7 +207,7 @@ class MeshParams:
     outer_radius: float = 9.0
     patch_size: float = 1.0
     angle_step: float = 1.0
-    subdivisions: int = 4
+    subdivisions: int = None  # type: ignore[assignment]  # None: chosen in __post_init__
     diagonal: str = "BC"
     gap_width: float = 1.0
     gap_angle: float = 0.0
@@ -277,6 +316,9 @@ class MeshParams:
 
     def _check_subdivisions(self) -> None:
         n: Any = self.subdivisions  # as given: not yet known to be an int
+        if n is None:  # not given: the default, or the accuracy default of a graded patch
+            n = default_subdivisions(self.structure, self.grading is True)
+            object.__setattr__(self, "subdivisions", n)
         if isinstance(n, float) and n.is_integer():
             n = int(n)
             object.__setattr__(self, "subdivisions", n)
@@ -342,6 +384,19 @@ class MeshParams:
                 )
 
     @property
+    def track_graded(self) -> bool:
+        """Graded by adding cells across the track (conforming circular rings, ``grading``).
+
+        Every other graded structure keeps its n x n grid per primary triangle and moves
+        its nodes (:mod:`barymesh.grading`).
+        """
+        return (
+            self.grading is True
+            and self.mode == "conforming"
+            and self.structure in ANGULAR_STRUCTURES
+        )
+
+    @property
     def sized(self) -> bool:
         """Whether the mesher chooses ``subdivisions`` (``max_edge`` or ``frequency`` set)."""
         return self.max_edge is not None or self.frequency is not None
@@ -364,16 +419,22 @@ class MeshParams:
             object.__setattr__(self, "min_edge", _positive("min_edge", self.min_edge))
         if not self.grading:
             return
-        if self.mode != "conforming" or self.structure not in ANGULAR_STRUCTURES:
-            raise InvalidValue(
-                "grading",
-                f"grading=True applies to conforming circular rings, not to the {self.mode} "
-                f"{self.structure}; expected mode='conforming' and a ring structure",
-            )
         if self.scheme != "uniform":
             raise InvalidValue(
-                "grading", "grading=True needs scheme='uniform' (graded cells across the track)"
+                "grading",
+                "grading=True needs scheme='uniform' (the n x n grid of a primary triangle, "
+                "its nodes moved toward the metal edges); the barycentric scheme is not graded",
             )
+        if not self.track_graded:
+            if self.min_edge is not None:
+                raise InvalidValue(
+                    "min_edge",
+                    f"min_edge={_short(self.min_edge)} mm sets the graded cells across the "
+                    f"track of conforming circular rings, not the {self.mode} "
+                    f"{self.structure}, whose graded nodes follow from subdivisions; leave "
+                    "min_edge unset",
+                )
+            return
         cell = self.patch_size / self.subdivisions
         if self.min_edge is not None and not self.min_edge < cell:
             raise InvalidValue(
@@ -381,8 +442,15 @@ class MeshParams:
                 f"min_edge={_short(self.min_edge)} mm is not below the uniform cell "
                 f"patch_size / subdivisions = {cell:.6g} mm; expected a smaller min_edge",
             )
-        fine = cell / ratio**2 if self.min_edge is None else self.min_edge
-        cells = self.subdivisions + 2 * math.ceil(math.log(cell / fine) / math.log(ratio))
+        # cells added at each circle: log(cell / fine) / log(ratio), 2 by default (fine =
+        # cell / ratio²); in logarithms, so that neither 0 mm cells nor a min_edge far
+        # below the cell (a ratio beyond float64) divide by zero or overflow
+        steps = (
+            2.0
+            if self.min_edge is None
+            else (math.log(cell) - math.log(self.min_edge)) / math.log(ratio)
+        )
+        cells = self.subdivisions + 2 * math.ceil(steps)
         if cells > MAX_GRADED_CELLS:
             raise InvalidValue(
                 "min_edge",
@@ -416,6 +484,13 @@ class MeshParams:
 
     def _check_geometry(self) -> None:
         s = self.structure
+        if s == "cross" and not self.patch_height < self.patch_size * (1 - 1e-9):
+            raise InvalidValue(
+                "patch_width",
+                f"patch_width={_short(self.patch_width)} mm leaves the cross no arms: its arms "
+                f"are patch_width wide and patch_size={_short(self.patch_size)} mm long tip to "
+                "tip; expected patch_width < patch_size (a square is the patch structure)",
+            )
         if s in DOUBLE_STRUCTURES and self.outer_radius <= self.inner_radius:
             raise InvalidValue(
                 "outer_radius",
@@ -466,8 +541,11 @@ class MeshParams:
 
     @property
     def patch_height(self) -> float:
-        """Height w of a patch (mm): ``patch_width`` or the square's side."""
-        return self.patch_size if self.patch_width is None else self.patch_width
+        """Height w of a patch (mm): ``patch_width`` or the square's side; a cross's arm
+        width (``patch_width`` or a third of ``patch_size``)."""
+        if self.patch_width is not None:
+            return self.patch_width
+        return self.patch_size * CROSS_WIDTH if self.structure == "cross" else self.patch_size
 
     @property
     def segments(self) -> int:
@@ -496,8 +574,9 @@ class MeshParams:
         folds (which needs the float64 checks to have passed).
         """
         s = self.structure
+        graded = self.grading is True and not self.track_graded
         if s == "triangle":
-            d = edge_vectors(self.scheme, self.subdivisions, None)
+            d = edge_vectors(self.scheme, self.subdivisions, None, graded)
             if self.triangle_vertices is None:
                 h = self.patch_size
                 p0, p1, p2 = (0.0, 0.0), (h, 0.0), (h / 2, h * math.sqrt(3) / 2)
@@ -510,13 +589,21 @@ class MeshParams:
             x = d[:, 0] * e1[0] + d[:, 1] * e2[0]
             y = d[:, 0] * e1[1] + d[:, 1] * e2[1]
             return float(np.hypot(x, y).min()), name
-        d = edge_vectors(self.scheme, self.subdivisions, self.diagonal)
+        d = edge_vectors(self.scheme, self.subdivisions, self.diagonal, graded)
         # (length along u, length along v, name of the parameter that sets the shorter one)
         h, w = self.patch_size, self.patch_height
         sides = [(h, w, "patch_size" if h <= w else "patch_width")]
-        if self.grading:  # graded cells: the narrowest across the track, instead of h / n
+        if graded and (
+            s == "cross" or (s == "square_split_double_ring" and self.mode == "conforming")
+        ):
+            # pieces graded toward one end only have the finest cells (first_cell)
+            d = d * (first_cell(self.subdivisions) / edge_nodes(self.subdivisions)[1])
+        if s == "cross":  # arms (L − w)/2 x w each way, and the w x w centre
+            arm = (h - w) / 2
+            sides = [(arm, w, "patch_width"), (w, arm, "patch_width"), (w, w, "patch_width")]
+        if self.track_graded:  # graded cells: the narrowest across the track, instead of h / n
             h *= self.subdivisions * graded_track_nodes(self)[1]
-            sides = [(h, w, "min_edge")]
+            sides = [(h, w, "min_edge" if self.min_edge is not None else "patch_size")]
         if self.mode == "conforming" and s in ANGULAR_STRUCTURES:
             r = self.inner_radius
             full = (
@@ -530,7 +617,7 @@ class MeshParams:
             else:
                 m = count_steps(max(span, 1e-300), min(self.angle_step, MAX_SECTOR_DEG))
             chord = 2 * r * math.sin(math.radians(span / m) / 2)
-            if final and self.grading:
+            if final and self.track_graded:
                 chord *= narrowest_sector(self)
             if s in SPLIT_STRUCTURES and span < 0.5 * full:
                 name = "gap_width"
@@ -543,6 +630,10 @@ class MeshParams:
             r, g = self.inner_radius, self.gap_width
             sides.append((h, (r - g / 2) / count_steps(r - g / 2, h), "gap_width"))
             sides.append((h, 2 * r / count_steps(2 * r, h), "inner_radius"))
+            if graded:  # its graded first cells make the outer ring's pieces count too
+                q = self.outer_radius
+                sides.append((h, (q - g / 2) / count_steps(q - g / 2, h), "gap_width"))
+                sides.append((h, 2 * q / count_steps(2 * q, h), "outer_radius"))
         best = (math.inf, "patch_size")
         for a, b, name in sides:
             edge = float(np.hypot(a * d[:, 0], b * d[:, 1]).min())
@@ -557,7 +648,7 @@ class MeshParams:
         shift = max(abs(self.origin[0]), abs(self.origin[1]))
         if s == "triangle" and self.triangle_vertices is not None:
             return max(abs(v) for p in self.triangle_vertices for v in p)
-        if s in ("patch", "triangle"):
+        if s in ("patch", "triangle", "cross"):
             return shift + max(self.patch_size, self.patch_height)
         radius = self.outer_radius if s in DOUBLE_STRUCTURES else self.inner_radius
         return shift + radius + max(self.patch_size, self.patch_height)
@@ -571,7 +662,7 @@ class MeshParams:
         out["patch_size"] = self.patch_size
         if self.patch_width is not None and s != "triangle":
             out["patch_width"] = self.patch_width
-        if s not in ("patch", "triangle"):
+        if s not in ("patch", "triangle", "cross"):
             out["inner_radius"] = self.inner_radius
         if s in DOUBLE_STRUCTURES:
             out["outer_radius"] = self.outer_radius
@@ -666,7 +757,7 @@ class MeshParams:
     def size(self) -> float:
         """Characteristic size of the structure (mm), the scale of the default tolerance."""
         s = self.structure
-        if s == "patch":
+        if s in PATCH_STRUCTURES:
             return max(self.patch_size, self.patch_height)
         if s == "triangle":
             if self.triangle_vertices is None:

@@ -270,11 +270,42 @@ def conforming_square_rects(params: PlacementFields) -> tuple[np.ndarray, np.nda
     return out, np.array(regions)
 
 
+def cross_rects(params: PlacementFields) -> np.ndarray:
+    """(5, 4) rectangles (x0, y0, wx, wy) of a cross centred on ``origin``.
+
+    The centre square C, then the right, top, left and bottom arms R, T, L, B::
+
+        arms        +--+
+                    |T |        (L - w) / 2 long, w = patch_height wide
+                +---+--+---+
+                | L | C| R |    L = patch_size, tip to tip
+                +---+--+---+
+                    |B |
+                    +--+
+    """
+    length, w = params.patch_size, params.patch_height
+    arm = (length - w) / 2
+    half = w / 2
+    rects = np.array(
+        [
+            (-half, -half, w, w),
+            (half, -half, arm, w),
+            (-half, half, w, arm),
+            (-length / 2, -half, arm, w),
+            (-half, -length / 2, w, arm),
+        ]
+    )
+    rects[:, :2] += np.asarray(params.origin)
+    return rects
+
+
 def predicted_patches(params: PlacementFields) -> int:
     """Number of patches (or sectors) of the structure, computed cheaply."""
     s = params.structure
     if s in ("patch", "triangle"):
         return 1
+    if s == "cross":
+        return 5
     if s == "square_split_double_ring":
         h = params.patch_size
         upper = sum(

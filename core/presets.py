@@ -191,6 +191,28 @@ def resolve_params(
         raise ValueError(f"{source}: {exc}") from None
 
 
+def given_keys(
+    preset: str | None = None,
+    params_file: str | Path | None = None,
+    sets: list[str] | tuple[str, ...] = (),
+) -> set[str]:
+    """The parameter names that the preset's file, the parameter file and the settings
+    write themselves (not the defaults :func:`resolve_params` fills in).
+
+    >>> sorted(given_keys("paper-fig11-8mm", None, ["subdivisions=8"]))[:4]
+    ['diagonal', 'grading', 'mode', 'patch_size']
+    """
+    keys: set[str] = set()
+    if preset is not None:
+        if preset not in preset_names():
+            raise ValueError(f"unknown preset {preset!r}; expected one of {preset_names()}")
+        keys |= set(_read_json(PRESET_DIR / f"{preset}.json")) - {"description"}
+    if params_file is not None:
+        keys |= set(_read_json(Path(params_file))) - {"description"}
+    keys |= {parse_assignment(text)[0] for text in sets}
+    return keys
+
+
 def _check_keys(data: dict[str, Any], source: str) -> None:
     known = set(MeshParams.__dataclass_fields__)
     unknown = sorted(set(data) - known)

@@ -223,8 +223,13 @@ def graded_track_nodes(params: RingFields) -> tuple[float, ...]:
     n, h = params.subdivisions, params.patch_size
     if not params.grading:
         return tuple(np.arange(n + 1) / n)
-    fine = params.min_edge if params.min_edge is not None else h / n / params.growth_ratio**2
-    return graded_nodes(n, fine / h, params.growth_ratio)
+    # relative to the track: 1 / (n ratio²) by default, written so that it cannot underflow
+    # to 0 for tracks of a few 1e-324 mm (graded_nodes needs a first cell > 0)
+    if params.min_edge is None:
+        first = 1.0 / n / params.growth_ratio**2
+    else:
+        first = params.min_edge / h
+    return graded_nodes(n, first, params.growth_ratio)
 
 
 def narrowest_sector(params: RingFields) -> float:

@@ -27,7 +27,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .constants import wavelength
-from .params import MAX_BARYCENTRIC_LEVELS, MAX_PATCH_COUNT, MAX_UNIFORM_SUBDIVISIONS, MeshParams
+from .params import (
+    MAX_BARYCENTRIC_LEVELS,
+    MAX_PATCH_COUNT,
+    MAX_UNIFORM_SUBDIVISIONS,
+    SINGLE_STRUCTURES,
+    MeshParams,
+    default_subdivisions,
+)
 from .topology import BLOCK
 
 if TYPE_CHECKING:
@@ -182,6 +189,18 @@ def sizing_summary(stats: dict[str, Any]) -> str:
     return line
 
 
+def accuracy_floor(params: MeshParams) -> int:
+    """The smallest subdivisions sizing may choose: a graded patch's, triangle's or cross's
+    accuracy default (:func:`barymesh.params.default_subdivisions`), else 1.
+
+    >>> accuracy_floor(MeshParams(structure="patch", grading=True, frequency=1e9))
+    16
+    """
+    if params.grading and params.structure in (*SINGLE_STRUCTURES, "cross"):
+        return default_subdivisions(params.structure, True)
+    return 1
+
+
 def _limit(scheme: str) -> int:
     return MAX_UNIFORM_SUBDIVISIONS if scheme == "uniform" else MAX_BARYCENTRIC_LEVELS
 
@@ -265,8 +284,10 @@ def sized_mesh(
                 f"{_what(params, name, target)}, which needs subdivisions={n}; there: {exc}"
             ) from None
 
-    bad, good = 0, None  # largest n known to miss the target, smallest known to meet it
-    n = 1
+    # a graded patch or triangle never goes below its accuracy default (params.py)
+    floor = accuracy_floor(params)
+    bad, good = floor - 1, None  # largest n known to miss (or not allowed), smallest to meet
+    n = floor
     while good is None or good - bad > 1:
         trial = candidate(n)
         if trial.predicted_triangles() > params.max_triangles:
@@ -306,8 +327,8 @@ def _refuse(
     scheme = params.scheme
     top = _limit(scheme)
     what = _what(params, name, target)
-    if bad == 0:  # not even n = 1 fits the budget
-        count: int | None = params.replace(subdivisions=1).predicted_triangles()
+    if bad not in edges:  # not even the smallest n allowed (1, or a graded patch's 16) fits
+        count: int | None = params.replace(subdivisions=bad + 1).predicted_triangles()
         raise ValueError(
             f"{what}, but the coarsest mesh already has {count:,} triangles, above the "
             f"budget max_triangles={params.max_triangles:,}"

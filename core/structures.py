@@ -19,8 +19,9 @@ from typing import Any
 
 import numpy as np
 
+from .grading import outline_sides
 from .params import RELATIVE_TOLERANCE, MeshParams
-from .placement import conforming_square_rects, paper_origins
+from .placement import conforming_square_rects, cross_rects, paper_origins
 from .repeat import sector_chain_vertices
 from .sectors import (
     arc_theta,
@@ -30,7 +31,7 @@ from .sectors import (
     sector_plan,
     slot_half_angle,
 )
-from .subdivision import PatchTemplate, patch_template
+from .subdivision import PatchTemplate, graded_patch_template, patch_template
 from .weld import NearPointChain, merge_pairs, weld_lattice_patches, weld_points
 
 
@@ -169,23 +170,93 @@ def _rect_layout(template: PatchTemplate, rects: np.ndarray) -> np.ndarray:
 # -- entry points ----------------------------------------------------------
 
 
-def layout(params: MeshParams) -> Layout:
-    """Place and weld the patches of ``params.structure`` (not ``triangle``)."""
+def patch_template_of(params: MeshParams) -> PatchTemplate:
+    """The template every patch of ``params`` is a copy of (its topology, and its points
+    unless the patches are graded toward an outline they share)."""
+    if params.grading and not params.track_graded:
+        return graded_patch_template(params.subdivisions, params.diagonal)
+    return patch_template(params.scheme, params.subdivisions, params.diagonal)
+
+
+def outline_rects(params: MeshParams) -> np.ndarray | None:
+    """(P, 4) rectangles (x0, y0, x1, y1) a graded structure is laid out on, or None.
+
+    A graded patch (or strip) and a graded conforming square ring meet their neighbours
+    side to side and grade toward the outline of their rectangles
+    (:func:`barymesh.grading.outline_sides`); everything else (ungraded, rings of
+    sectors or of overlapping paper patches, a triangle) is None.
+    """
+    if not params.grading or params.track_graded:
+        return None
+    if params.structure == "patch":
+        x, y = params.origin
+        return np.array([[x, y, x + params.patch_size, y + params.patch_height]])
+    if params.structure == "cross":
+        return _corners(cross_rects(params))
+    if params.structure == "square_split_double_ring" and params.mode == "conforming":
+        return _corners(conforming_square_rects(params)[0])
+    return None
+
+
+def _outline_layout(
+    params: MeshParams, rects: np.ndarray, neighbours: np.ndarray | None
+) -> np.ndarray:
+    """(P, Nv, 2) points of patches on the rectangles (x0, y0, wx, wy) that meet side to
+    side, each graded toward the outline of their union (:func:`barymesh.grading.outline_sides`).
+    """
+    corners = _corners(rects)
+    ends = outline_sides(corners, neighbours, params.weld_tolerance)
+    n, diagonal = params.subdivisions, params.diagonal
+    kinds, inverse = np.unique(ends.reshape(len(rects), 8), axis=0, return_inverse=True)
+    uv = np.stack(
+        [
+            graded_patch_template(n, diagonal, tuple(map(tuple, k.reshape(4, 2).tolist()))).uv
+            for k in kinds
+        ]
+    )[inverse.ravel()]  # (P, Nv, 2)
+    x = rects[:, :1] + uv[..., 0] * rects[:, 2:3]
+    y = rects[:, 1:2] + uv[..., 1] * rects[:, 3:4]
+    return np.stack([x, y], axis=-1)
+
+
+def layout(params: MeshParams, neighbours: np.ndarray | None = None) -> Layout:
+    """Place and weld the patches of ``params.structure`` (not ``triangle``).
+
+    ``neighbours`` (K, 4): rectangles (x0, y0, x1, y1) of metal beyond a graded patch or
+    conforming square ring (its copies in the neighbouring cells of an array), whose
+    shared sides are then no metal edges to grade toward.
+    """
     s = params.structure
     if s == "triangle":
         raise ValueError("the triangle structure has no patch layout")
-    template = patch_template(params.scheme, params.subdivisions, params.diagonal)
+    template = patch_template_of(params)
+    outlined = params.grading and not params.track_graded
     h, w = params.patch_size, params.patch_height
     nv = len(template.uv)
     if s == "patch":
         rects = np.array([[params.origin[0], params.origin[1], h, w]])
-        xy = _rect_layout(template, rects)
+        if outlined and neighbours is not None and len(neighbours):
+            xy = _outline_layout(params, rects, neighbours)
+        else:
+            xy = _rect_layout(template, rects)
         ids = np.arange(nv, dtype=np.int32)
         return Layout(template, xy, np.ones(1, dtype=np.int32), ids, ids, _corners(rects))
+    if s == "cross":  # five patches meeting side to side, in either mode
+        rects = cross_rects(params)
+        if outlined:
+            xy = _outline_layout(params, rects, neighbours)
+        else:
+            xy = _rect_layout(template, rects)
+        ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
+        rects_out = _corners(rects) if params.mode == "paper" else None
+        return Layout(template, xy, np.ones(5, dtype=np.int32), ids, rep, rects_out)
     if params.mode == "conforming":
         if s == "square_split_double_ring":
             rects, regions = conforming_square_rects(params)
-            xy = _rect_layout(template, rects)
+            if outlined:
+                xy = _outline_layout(params, rects, neighbours)
+            else:
+                xy = _rect_layout(template, rects)
             ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
             return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
         return _conforming_ring_layout(params)

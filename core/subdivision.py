@@ -24,6 +24,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .grading import ALL_ENDS, coons_uv, graded_barycentric
 from .topology import INDEX, edge_topology
 
 #: Sides of the parameter square, each as (fixed axis, fixed value, running axis).
@@ -242,6 +243,42 @@ def graded_cell_count(cells: int, fine: float, ratio: float) -> int:
     return 2 * side + middle
 
 
+@lru_cache(maxsize=256)
+def graded_patch_template(
+    subdivisions: int, diagonal: str, sides: tuple[tuple[bool, bool], ...] = ALL_ENDS
+) -> PatchTemplate:
+    """The uniform patch template with its points graded toward the sides' ends (cached).
+
+    The same vertices, triangles, edges and sides as
+    ``patch_template("uniform", subdivisions, diagonal)``, in the same order: only the
+    points move, to :func:`barymesh.grading.coons_uv` (``sides``: which ends of the
+    bottom, right, top and left side to crowd toward; all of them by default, the
+    tensor grid of :func:`barymesh.grading.edge_nodes` both ways). Each primary
+    triangle is still cut into n² sub-triangles.
+
+    Examples
+    --------
+    >>> g, t = graded_patch_template(4, "BC"), patch_template("uniform", 4, "BC")
+    >>> np.array_equal(g.triangles, t.triangles), g.lattice, g.uv[:5, 0].round(4).tolist()
+    (True, False, [0.0, 0.125, 0.5, 0.875, 1.0])
+    """
+    base = patch_template("uniform", subdivisions, diagonal)
+    u, v = coons_uv(subdivisions, tuple(tuple(map(bool, s)) for s in sides))
+    uv = np.stack([u, v], axis=1)
+    uv.flags.writeable = False
+    return PatchTemplate(
+        uv=uv,
+        triangles=base.triangles,
+        edges=base.edges,
+        triangle_edges=base.triangle_edges,
+        edge_triangles=base.edge_triangles,
+        valence=base.valence,
+        sides=base.sides,
+        segments=base.segments,
+        lattice=False,
+    )
+
+
 def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
     """Nodes in [0, 1] fine at both ends, growing geometrically to the uniform 1 / cells.
 
@@ -270,6 +307,8 @@ def graded_nodes(cells: int, fine: float, ratio: float) -> tuple[float, ...]:
     >>> [round(x, 4) for x in graded_nodes(4, 0.125, 2.0)]
     [0.0, 0.125, 0.375, 0.625, 0.875, 1.0]
     """
+    if not 0.0 < fine < math.inf or not ratio > 1.0:
+        raise ValueError(f"fine={fine!r} and ratio={ratio!r}: expected fine > 0 and ratio > 1")
     coarse = 1.0 / cells
     side = []
     size = fine
@@ -387,7 +426,9 @@ def _counter_clockwise(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 
 
 @lru_cache(maxsize=64)
-def edge_vectors(scheme: str, subdivisions: int, diagonal: str | None = None) -> np.ndarray:
+def edge_vectors(
+    scheme: str, subdivisions: int, diagonal: str | None = None, graded: bool = False
+) -> np.ndarray:
     """Distinct edge vectors of the sub-triangles, up to sign (cached).
 
     Parameters
@@ -397,6 +438,10 @@ def edge_vectors(scheme: str, subdivisions: int, diagonal: str | None = None) ->
         ``"BC"`` or ``"AD"``: edges of the patch template, in (u, v) of the unit
         square; ``None``: edges of one subdivided primary triangle, in its
         barycentric coordinates (s, t).
+    graded : bool
+        The edge-graded template (:func:`graded_patch_template`, every side graded at
+        both ends) or primary triangle (:func:`barymesh.grading.graded_barycentric`);
+        uniform scheme only.
 
     Returns
     -------
@@ -406,8 +451,14 @@ def edge_vectors(scheme: str, subdivisions: int, diagonal: str | None = None) ->
     """
     if diagonal is None:
         xy, tri = subdivide(scheme, subdivisions)
+        if graded:
+            xy = graded_barycentric(xy, subdivisions)
     else:
-        template = patch_template(scheme, subdivisions, diagonal)
+        template = (
+            graded_patch_template(subdivisions, diagonal)
+            if graded
+            else patch_template(scheme, subdivisions, diagonal)
+        )
         xy, tri = template.uv, template.triangles
     d = (xy[tri[:, [1, 2, 0]]] - xy[tri]).reshape(-1, 2)
     flip = (d[:, 0] < 0) | ((d[:, 0] == 0) & (d[:, 1] < 0))

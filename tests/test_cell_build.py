@@ -166,9 +166,11 @@ def test_per_element_statistics_of_the_double_ring_preset():
     rings, centre = cm.part_stats()
     assert rings["name"] == "rings" and centre["name"] == "centre patch"
     assert rings["triangles"] == 2 * 180 * 32  # two rings of 360 / 2 patches
-    assert (centre["triangles"], centre["vertices"], centre["area"]) == (32, 25, pytest.approx(9.0))
-    assert np.bincount(cm.mesh.regions).tolist() == [0, 2 * 180 * 32, 32]
-    assert cm.stats()["cell"]["triangles"] == 2 * 180 * 32 + 32
+    # the centre patch says "grading": true and no subdivisions: graded at n = 16
+    assert (centre["triangles"], centre["vertices"]) == (2 * 16**2, 17**2)
+    assert centre["area"] == pytest.approx(9.0)
+    assert np.bincount(cm.mesh.regions).tolist() == [0, 2 * 180 * 32, 2 * 16**2]
+    assert cm.stats()["cell"]["triangles"] == 2 * 180 * 32 + 2 * 16**2
     assert cm.notes == ()
 
 

@@ -70,6 +70,33 @@ def test_general_cell_round_trips(tmp_path):
     assert build_cell(again).mesh.n_triangles == build_cell(cell).mesh.n_triangles
 
 
+def test_grading_keys_of_elements_and_pixels():
+    doc = {
+        "format": "barymesh-cell",
+        "version": 1,
+        "lattice": {"rectangular": 20},
+        "elements": [
+            {"name": "graded", "structure": "patch", "patch_size": 3.0, "grading": True},
+            {"name": "as given", "structure": "patch", "patch_size": 3.0, "origin": [5, 5]},
+        ],
+        "pixels": {"rows": ["11"], "pixel_size": 0.5, "origin": [-9, -9], "grading": True},
+    }
+    cell = cell_from_dict(doc)
+    graded, plain = (el.params for el in cell.elements)
+    # a graded element without subdivisions takes the accuracy default, n = 16
+    assert (graded.grading, graded.subdivisions) == (True, 16)
+    assert (plain.grading, plain.subdivisions) == (False, 4)
+    assert cell.pixels.grading and cell.pixels.subdivisions == 4
+    written = cell_to_dict(cell)
+    assert written["pixels"]["grading"] is True
+    assert cell_from_dict(written) == cell
+    # an ungraded grid's document is as before grading existed: no "grading" key
+    assert (
+        "grading"
+        not in cell_to_dict(cell.replace(pixels=cell.pixels.replaced(grading=False)))["pixels"]
+    )
+
+
 def test_lattice_shorthands():
     base = cell_to_dict(load_cell_preset("hexagonal-rings"))
     assert base["lattice"] == {"hexagonal": 12.0}
@@ -125,6 +152,21 @@ def _error(doc, tmp_path):
             "outside",
         ),
         (lambda d: d.update(elements=[], pixels=None), "document", "no metal"),
+        (
+            lambda d: d.update(pixels={"rows": ["1"], "grading": "yes"}),
+            "pixels.grading",
+            "expected true or false",
+        ),
+        (
+            lambda d: d.update(pixels={"rows": ["1"], "grading": True, "scheme": "barycentric"}),
+            "pixels.grading",
+            "scheme='uniform'",
+        ),
+        (
+            lambda d: d["elements"][0].update(grading=True, scheme="barycentric"),
+            "elements[0].grading",
+            "scheme='uniform'",
+        ),
     ],
 )
 def test_errors_name_the_path_in_the_document(edit, where, what, tmp_path):
@@ -162,10 +204,18 @@ def _refusal(doc):
     return message
 
 
+def _uniform_patch_doc():
+    """The double-ring-patch cell with its centre patch uniform at n = 4 (as before it was
+    graded): edges of 0.75 mm."""
+    doc = _preset_doc("double-ring-patch")
+    doc["elements"][1].update(grading=False, subdivisions=4)
+    return doc
+
+
 def test_a_patch_far_from_the_cell_is_refused_naming_its_position():
     # the double-ring-patch cell with its patch at [1e16, 0] gave 16 triangles that repeat a
     # vertex (float64 spaces numbers near 1e16 by 2 mm; the patch's edges are 0.75 mm)
-    doc = _preset_doc("double-ring-patch")
+    doc = _uniform_patch_doc()
     doc["elements"][1]["position"] = [1e16, 0]
     message = _refusal(doc)
     assert message.startswith(
@@ -179,7 +229,7 @@ def test_a_patch_far_from_the_cell_is_refused_naming_its_position():
 def test_a_part_too_far_for_the_weld_tolerance_is_refused():
     # at 1e6 mm float64 rounds by ~1e-10 mm per operation: the default tolerance 2e-8 mm
     # (1e-9 of the 20 mm lattice) is below 1e-12 of the coordinates
-    doc = _preset_doc("double-ring-patch")
+    doc = _uniform_patch_doc()
     doc["elements"][1]["position"] = [1e6, 0]
     message = _refusal(doc)
     assert "float64 rounds metal 1e+06 mm from the cell's centre by more than the welding " in (
@@ -330,6 +380,6 @@ def test_an_element_with_its_own_huge_budget_is_held_to_the_cell_budget():
         inner_radius=1e3, outer_radius=2e3, angle_step=0.01, max_triangles=10**12
     )
     cell = cell_from_dict(doc)
-    assert cell.predicted_triangles() == 2 * 36_000 * 32 + 32
-    with pytest.raises(ValueError, match="would make 2,304,032 triangles"):
+    assert cell.predicted_triangles() == 2 * 36_000 * 32 + 2 * 16**2  # the graded patch
+    with pytest.raises(ValueError, match="would make 2,304,512 triangles"):
         build_cell(cell, max_triangles=1_000_000)

@@ -195,14 +195,16 @@ def test_coding_cell_counts(capsys):
 
 def test_element_cell_presets_counts(capsys):
     n = 4
-    # double ring and patch, paper mode: 2 rings x 360 / 2 degrees of patches + the patch
+    # double ring and patch, paper mode: 2 rings x 360 / 2 degrees of patches + the patch,
+    # graded toward its edges at n = 16 (it says "grading": true and no subdivisions)
     s = stats_of(capsys, "info", "--cell-preset", "double-ring-patch")
     assert [(p["name"], p["triangles"]) for p in s["parts"]] == [
         ("rings", 2 * 180 * 2 * n**2),
-        ("centre patch", 2 * n**2),
+        ("centre patch", 2 * 16**2),
     ]
-    assert s["cell"]["triangles"] == 361 * 32
-    assert s["cell"]["vertices"] == 361 * (n + 1) ** 2  # paper mode: patches are not merged
+    assert s["cell"]["triangles"] == 360 * 32 + 2 * 16**2
+    # paper mode: patches are not merged
+    assert s["cell"]["vertices"] == 360 * (n + 1) ** 2 + 17**2
     assert s["cell"]["regions"] == 2 and s["periodic_edge_pairs"] == 0
     # hexagonal rings, conforming: 43 sectors (≤ 10 degrees) of n x 2 cells glued side to
     # side, 86 cells round the circle (square-ish at the track's mean radius)
@@ -611,9 +613,10 @@ for _ in range(900):
     ("name", "edit", "fragments"),
     [
         # the patch at [1e16, 0]: 16 triangles that repeat a vertex were written to the file
+        # (the patch uniform at n = 4, as the preset had it before it was graded)
         (
             "double-ring-patch",
-            lambda d: d["elements"][1].update(position=[1e16, 0]),
+            lambda d: d["elements"][1].update(position=[1e16, 0], grading=False, subdivisions=4),
             [
                 "elements[1].position: elements[1].position=(1e+16, 0.0) places metal up to "
                 "1e+16 mm",

@@ -280,6 +280,25 @@ def test_weld_keeps_a_cluster_whose_diameter_is_just_below_the_tolerance():
         ({"origin": (10**400, 0)}, "origin"),
         ({"structure": "patch", "patch_size": 5e-324}, "patch_size"),  # was scipy in build_mesh
         ({"structure": "patch", "patch_size": 1e300}, "patch_size"),  # ditto
+        # issue 30: the graded track's cell patch_size / n underflowed to 0 in _check_grading
+        (
+            {
+                "structure": "double_ring",
+                "mode": "conforming",
+                "patch_size": 5e-324,
+                "grading": True,
+            },
+            "patch_size",
+        ),
+        (
+            {"structure": "ring", "mode": "conforming", "patch_size": 1e-320, "grading": True},
+            "patch_size",
+        ),
+        # the cells across the track counted as log(cell / min_edge): OverflowError
+        (
+            {"structure": "ring", "mode": "conforming", "min_edge": 1e-320, "grading": True},
+            "min_edge",
+        ),
     ],
 )
 def test_every_bad_parameter_is_a_value_error_naming_it(kw, name):

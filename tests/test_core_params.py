@@ -143,7 +143,7 @@ def test_params_are_frozen():
         ({"structure": "split_ring", "gap_width": 9}, "gap_width"),
         ({"tolerance": 0.5}, "tolerance"),
         ({"frequency": -1}, "frequency"),
-        ({"grading": True}, "grading"),
+        ({"grading": True, "scheme": "barycentric"}, "grading"),
         ({"outer_radius": 3}, "outer_radius"),
         (
             {"structure": "triangle", "triangle_vertices": [(0, 0), (1, 1), (2, 2)]},

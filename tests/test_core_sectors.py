@@ -304,7 +304,7 @@ def test_grading_refines_the_srr_toward_its_edges_and_slot():
         (dict(growth_ratio=2.5), "growth_ratio=2.5 is outside"),
         (dict(growth_ratio=1.0), "growth_ratio=1.0 is outside"),
         (dict(grading="yes"), "grading='yes' is invalid"),
-        (dict(grading=True), "applies to conforming circular rings"),
+        (dict(grading=True, min_edge=0.1), "min_edge=0.1 mm sets the graded cells"),
         (dict(grading=True, mode="conforming", min_edge=0.25), "min_edge=0.25 mm is not below"),
         (
             dict(grading=True, mode="conforming", scheme="barycentric", subdivisions=1),

@@ -298,9 +298,10 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     assert performance.count("<table") == 4  # mesher, quality, solver, window
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
-    # speed, sweep accuracy, infinite-array sweep and live infinite-array tables made at
-    # build time
-    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 7
+    # speed, sweep accuracy, infinite-array sweep, live infinite-array and convergence
+    # tables made at build time
+    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 8
+    assert "convergence-2026-12-03.json" in solving
     assert "sweep-accuracy-2026-12-02.json" in solving
     assert "periodic-2026-12-02.json" in solving
     assert "periodic-sweep-2026-12-02.json" in solving

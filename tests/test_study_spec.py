@@ -22,7 +22,14 @@ from barymesh.study.derive import bandwidth_3db, resonance
 from barymesh.study.point import FREE_SPACE_COLUMNS, StudyContext, solve_point
 from barymesh.study.spec import parse_path
 
-PATCH = {"structure": "patch", "patch_size": 15.0, "patch_width": 15.0, "subdivisions": 2}
+# says "grading": taken as given (a study makes the parts that do not solver-grade)
+PATCH = {
+    "structure": "patch",
+    "patch_size": 15.0,
+    "patch_width": 15.0,
+    "subdivisions": 2,
+    "grading": False,
+}
 
 
 def spec(**changes):
@@ -416,6 +423,7 @@ PATCH_ARRAY = {
             "structure": "patch",
             "patch_size": 6.0,
             "subdivisions": 5,
+            "grading": False,  # taken as given (not made solver-grade)
         }
     ],
     "pixels": None,
@@ -478,6 +486,35 @@ def test_an_infinite_array_study_is_periodic_sweep_per_point():
     assert r.resonance_frequency_hz[7.0] == f0 and 25e9 < f0 < 29e9
     at = np.interp(26.5e9, row["frequency_hz"], row["reflection_co_abs"])
     assert r["reflection_co_abs_at_26.5GHz"][7.0] == at
+
+
+def test_a_study_makes_the_parts_that_do_not_say_grading_solver_grade():
+    from barymesh.cell import cell_from_dict
+
+    # a patch without "grading": graded toward its edges at n = 16 (the accuracy default);
+    # the canonical spec says so, and reads back to itself
+    plain = {k: v for k, v in PATCH.items() if k != "grading"}
+    s = parse_spec(spec(base={"params": plain}))
+    base = json.loads(s.canonical())["base"]["params"]
+    assert (base["grading"], base["subdivisions"]) == (True, 16)
+    assert parse_spec(json.loads(s.canonical())).canonical() == s.canonical()
+    assert parse_spec(spec()).document["base"]["params"]["subdivisions"] == 2  # said: as given
+    # a cell: the element that says nothing is graded, the pixels too; up to 29 GHz the
+    # λ/10 rule (1.03 mm) leaves the graded 6 mm patch at n = 16 (core cells 0.56 mm)
+    element = {k: v for k, v in PATCH_ARRAY["elements"][0].items() if k != "grading"}
+    pixels = {"pixel_size": 1.0, "origin": [-5.0, 3.0], "rows": ["1"]}
+    cell_doc = dict(PATCH_ARRAY, elements=[element], pixels=pixels)
+    s = parse_spec(
+        {
+            "base": {"cell": cell_doc},
+            "axes": {"elements[0].patch_size": [6.5, 7.0]},
+            "solve": {"kind": "infinite_array", "frequencies": "24GHz:29GHz:6"},
+        }
+    )
+    cell = cell_from_dict(json.loads(s.canonical())["base"]["cell"])
+    assert cell.elements[0].params.grading and cell.elements[0].params.subdivisions == 16
+    assert cell.pixels.grading and cell.pixels.subdivisions == 4
+    assert parse_spec(json.loads(s.canonical())).canonical() == s.canonical()
 
 
 def test_an_infinite_array_needs_a_cell():

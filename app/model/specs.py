@@ -23,6 +23,7 @@ from barymesh.params import (
 
 STRUCTURE_TITLES = {
     "patch": "Square patch",
+    "cross": "Cross",
     "triangle": "Triangle",
     "ring": "Ring",
     "double_ring": "Double ring",
@@ -31,7 +32,7 @@ STRUCTURE_TITLES = {
     "square_split_double_ring": "Doubly split double ring (square)",
 }
 MODE_TITLES = {"paper": "Paper (overlapping patches)", "conforming": "Conforming (watertight)"}
-RING_STRUCTURES = tuple(s for s in STRUCTURES if s not in ("patch", "triangle"))
+RING_STRUCTURES = tuple(s for s in STRUCTURES if s not in ("patch", "cross", "triangle"))
 NOT_TRIANGLE = tuple(s for s in STRUCTURES if s != "triangle")
 
 
@@ -276,7 +277,8 @@ ADVANCED_SPECS = (
         empty_text="square",
         structures=NOT_TRIANGLE,
         **_LENGTH,
-        tooltip="Height of a rectangular patch; square (empty) = the patch size",
+        tooltip="Height of a rectangular patch; square (empty) = the patch size. For a "
+        "cross, the width of its arms (empty: a third of its length)",
     ),
     ParamSpec(
         "max_triangles",
@@ -327,6 +329,10 @@ CHOICES = {
     "mode": ("Mode", MODE_TITLES),
     "diagonal": ("Diagonal", {"BC": "BC (paper)", "AD": "AD (Makarov)"}),
     "scheme": ("Scheme", {"uniform": "Uniform n × n", "barycentric": "Barycentric levels"}),
+    "grading": (
+        "Grading",
+        {False: "Even nodes (the paper's)", True: "Graded toward the metal edges"},
+    ),
 }
 CHOICE_STRUCTURES = {"diagonal": NOT_TRIANGLE}
 #: Parameters typed as coordinates in the Advanced group: name -> (label, structures).

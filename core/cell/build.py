@@ -20,15 +20,17 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..build import build_mesh
+from ..grading import outline_sides
 from ..mesh import TriMesh
 from ..params import DEFAULT_MAX_TRIANGLES, MeshParams
 from ..repeat import Repetition
-from ..subdivision import PatchTemplate, patch_template
+from ..structures import outline_rects
+from ..subdivision import PatchTemplate, graded_patch_template, patch_template
 from ..topology import INDEX
 from ..values import echo
 from ..weld import merge_pairs, weld_points
 from .contacts import hanging_vertices, overlapping_triangles, pinch_vertices
-from .model import Lattice, PixelGrid, UnitCell
+from .model import Element, Lattice, PixelGrid, UnitCell
 from .periodic import PeriodicPairs, periodic_pairs, side_vertices
 
 log = logging.getLogger(__name__)
@@ -152,7 +154,12 @@ def _element_part(element, mesh: TriMesh) -> _Part:
 
 
 def _pixel_part(cell: UnitCell, grid: PixelGrid) -> _Part:
-    """One square patch per set pixel of ``grid`` (the cell's), on one exact grid of points."""
+    """One square patch per set pixel of ``grid`` (the cell's), on one exact grid of points.
+
+    A graded grid keeps that grid's numbering (which point is which vertex) and moves
+    each pixel's points toward the outline of the painted region
+    (:func:`pixel_outline_uv`); a point shared by pixels gets the same place from each.
+    """
     params = grid.patch_params()
     template = patch_template(grid.scheme, grid.subdivisions, grid.diagonal)
     rows, cols = np.nonzero(grid.mask)
@@ -166,9 +173,15 @@ def _pixel_part(cell: UnitCell, grid: PixelGrid) -> _Part:
         b = np.repeat(np.arange(n + 1), n + 1)
         gx = cols[:, None] * n + a[None, :]  # (K, Nv) grid column of every patch point
         gy = rows[:, None] * n + b[None, :]
-        keys, ids = np.unique((gy * ncol + gx).ravel(), return_inverse=True)
-        gy_u, gx_u = np.divmod(keys, ncol)
-        xy = np.asarray(grid.origin) + p * np.stack([gx_u, gy_u], axis=1) / n
+        keys, first, ids = np.unique(
+            (gy * ncol + gx).ravel(), return_index=True, return_inverse=True
+        )
+        if grid.grading:
+            local = (corner[:, None, :] + pixel_outline_uv(cell, grid)) * p
+            xy = np.asarray(grid.origin) + local.reshape(-1, 2)[first]
+        else:
+            gy_u, gx_u = np.divmod(keys, ncol)
+            xy = np.asarray(grid.origin) + p * np.stack([gx_u, gy_u], axis=1) / n
     else:
         local = (corner[:, None, :] + template.uv[None]) * p + np.asarray(grid.origin)
         ids, rep = weld_points(local.reshape(-1, 2), 0.25 * params.min_spacing)
@@ -192,6 +205,91 @@ def _pixel_part(cell: UnitCell, grid: PixelGrid) -> _Part:
         Repetition.of(template, ids, len(xy)),
     )
     return _Part(xy, triangles, patch_ids, n_pix, rects, template, mesh, params.min_spacing)
+
+
+def element_images(lattice: Lattice, element: Element) -> np.ndarray | None:
+    """(K, 4) rectangles of ``element``'s copies in the 8 neighbouring cells, in its frame.
+
+    For a graded element laid out on rectangles (a patch or strip, a conforming square
+    ring; :func:`barymesh.structures.outline_rects`) turned by a multiple of 90°: the
+    copies that touch it (x0, y0, x1, y1), so that :func:`barymesh.build.build_mesh`
+    does not grade toward sides where the metal runs on into the next cell. None
+    for anything else, or when no copy touches.
+    """
+    rects = outline_rects(element.params)
+    if rects is None or element.rotation % 90.0 != 0.0:
+        return None
+    a1, a2 = np.asarray(lattice.a1), np.asarray(lattice.a2)
+    lo = element.place(rects[:, :2])
+    hi = element.place(rects[:, 2:])
+    placed = np.concatenate([np.minimum(lo, hi), np.maximum(lo, hi)], axis=1)
+    tol = element.params.weld_tolerance
+    box = np.concatenate([placed[:, :2].min(axis=0) - tol, placed[:, 2:].max(axis=0) + tol])
+    images = []
+    for i in (-1, 0, 1):
+        for j in (-1, 0, 1):
+            if i or j:
+                shift = np.tile(i * a1 + j * a2, 2)
+                moved = placed + shift
+                touching = (moved[:, :2] <= box[2:]).all(axis=1) & (moved[:, 2:] >= box[:2]).all(
+                    axis=1
+                )
+                images.append(moved[touching])
+    found = np.concatenate(images)
+    if not len(found):
+        return None
+    # back into the element's frame: undo the translation, then the turn
+    turn = Element(element.params, (0.0, 0.0), -element.rotation, element.name)
+    back_lo = turn.place(found[:, :2] - np.asarray(element.position))
+    back_hi = turn.place(found[:, 2:] - np.asarray(element.position))
+    return np.concatenate([np.minimum(back_lo, back_hi), np.maximum(back_lo, back_hi)], axis=1)
+
+
+def pixel_outline_uv(cell: UnitCell, grid: PixelGrid) -> np.ndarray:
+    """(K, (n + 1)², 2) graded points of the K set pixels (row by row), in pixel units.
+
+    Each pixel's template points (:func:`barymesh.subdivision.graded_patch_template`)
+    graded toward the outline of the painted region
+    (:func:`barymesh.grading.outline_sides`, on the pixels' integer corners). When the
+    grid spans the cell exactly (a rectangular lattice whose periods are the grid's
+    sides, its corner on the cell's), the region continues into the neighbouring
+    cells: their pixels are the outline's neighbours, so pixels painted across the
+    cell's sides are not graded toward them and the two sides match for the periodic
+    pairs.
+    """
+    rows, cols = np.nonzero(grid.mask)
+    rects = np.stack([cols, rows, cols + 1, rows + 1], axis=1).astype(np.float64)
+    neighbours = None
+    if _spans_cell(cell, grid):
+        height, width = grid.shape
+        shifts = [(i * width, j * height) for i in (-1, 0, 1) for j in (-1, 0, 1) if i or j]
+        neighbours = np.concatenate([rects + np.array([dx, dy, dx, dy]) for dx, dy in shifts])
+    ends = outline_sides(rects, neighbours)
+    kinds, inverse = np.unique(ends.reshape(len(rects), 8), axis=0, return_inverse=True)
+    n, diagonal = grid.subdivisions, grid.diagonal
+    uv = np.stack(
+        [
+            graded_patch_template(n, diagonal, tuple(map(tuple, k.reshape(4, 2).tolist()))).uv
+            for k in kinds
+        ]
+    )
+    return uv[inverse.ravel()]
+
+
+def _spans_cell(cell: UnitCell, grid: PixelGrid) -> bool:
+    """Whether ``grid`` covers ``cell``'s rectangular lattice cell exactly (to its tolerance)."""
+    lat = cell.lattice
+    if lat.kind != "rectangular":
+        return False
+    tol = cell.weld_tolerance
+    height, width = grid.shape
+    px, py = lat.a1[0], lat.a2[1]
+    return (
+        abs(width * grid.pixel_size - px) <= tol
+        and abs(height * grid.pixel_size - py) <= tol
+        and abs(grid.origin[0] + px / 2) <= tol
+        and abs(grid.origin[1] + py / 2) <= tol
+    )
 
 
 def _check_overlaps(cell: UnitCell, parts: list[_Part]) -> None:
@@ -276,11 +374,19 @@ def build_cell(
     if not isinstance(cell, UnitCell):
         raise TypeError(f"cell must be a UnitCell, got {echo(cell)}")
     _check_budget(cell.predicted_triangles(), max_triangles, "the cell's parts")
-    built: dict[MeshParams, TriMesh] = {}  # elements alike in all but place are built once
+    # elements alike in all but place are built once (a graded one's images in the
+    # neighbouring cells, in its own frame, do not depend on where it is)
+    built: dict[tuple[MeshParams, bytes], TriMesh] = {}
+    keys = []
     for el in cell.elements:
-        if el.params not in built:
-            built[el.params] = build_mesh(el.params)
-    parts: list[_Part | None] = [_element_part(el, built[el.params]) for el in cell.elements]
+        images = element_images(cell.lattice, el)
+        key = (el.params, b"" if images is None else images.tobytes())
+        if key not in built:
+            built[key] = build_mesh(el.params, neighbours=images)
+        keys.append(key)
+    parts: list[_Part | None] = [
+        _element_part(el, built[key]) for el, key in zip(cell.elements, keys, strict=True)
+    ]
     if cell.pixels is not None and cell.pixels.mask.any():
         parts.append(_pixel_part(cell, cell.pixels))
     elif cell.pixels is not None:

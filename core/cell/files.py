@@ -39,7 +39,7 @@ SUFFIX = ".cell.json"
 CELL_PRESET_DIR = ASSET_DIR / "cells"
 
 _ELEMENT_KEYS = ("name", "position", "rotation")
-_PIXEL_KEYS = ("rows", "pixel_size", "origin", "subdivisions", "scheme", "diagonal")
+_PIXEL_KEYS = ("rows", "pixel_size", "origin", "subdivisions", "scheme", "diagonal", "grading")
 _TOP_KEYS = (
     "format",
     "version",
@@ -108,6 +108,8 @@ def cell_to_dict(cell: UnitCell) -> dict[str, Any]:
             "diagonal": g.diagonal,
             "rows": ["".join("1" if v else "0" for v in row) for row in g.mask[::-1]],
         }
+        if g.grading:  # written only when set: files of ungraded grids stay as they were
+            pixels["grading"] = True
     return {
         "format": FORMAT,
         "version": VERSION,
@@ -261,14 +263,23 @@ def save_cell(cell: UnitCell, path: str | Path) -> None:
     atomic_write_text(Path(path), json.dumps(cell_to_dict(cell), indent=2) + "\n")
 
 
-def load_cell(path: str | Path) -> UnitCell:
-    """Read and validate a cell file; errors name the file and the path in the document."""
+def read_cell_document(path: str | Path) -> Any:
+    """The JSON document of a cell file as written (not yet validated).
+
+    What a part says itself (for example ``grading``, which solving reads:
+    :func:`barymesh.solver_grade.document_grading`) is only there, not in the
+    :class:`UnitCell` made of it.
+    """
     path = Path(path)
     try:
-        data = read_json_file(path, "cell file", "JSON cell", article="a")
+        return read_json_file(path, "cell file", "JSON cell", article="a")
     except ValueError as exc:
         raise CellFileError(str(exc)) from None
-    return cell_from_dict(data, str(path))
+
+
+def load_cell(path: str | Path) -> UnitCell:
+    """Read and validate a cell file; errors name the file and the path in the document."""
+    return cell_from_dict(read_cell_document(path), str(Path(path)))
 
 
 def cell_preset_names() -> list[str]:
@@ -276,9 +287,14 @@ def cell_preset_names() -> list[str]:
     return sorted(p.name[: -len(SUFFIX)] for p in CELL_PRESET_DIR.glob(f"*{SUFFIX}"))
 
 
-def load_cell_preset(name: str) -> UnitCell:
-    """The shipped cell preset ``name`` (see :func:`cell_preset_names`)."""
+def cell_preset_path(name: str) -> Path:
+    """The file of the shipped cell preset ``name`` (see :func:`cell_preset_names`)."""
     names = cell_preset_names()
     if name not in names:
         raise ValueError(f"unknown cell preset {name!r}; expected one of {', '.join(names)}")
-    return load_cell(CELL_PRESET_DIR / f"{name}{SUFFIX}")
+    return CELL_PRESET_DIR / f"{name}{SUFFIX}"
+
+
+def load_cell_preset(name: str) -> UnitCell:
+    """The shipped cell preset ``name`` (see :func:`cell_preset_names`)."""
+    return load_cell(cell_preset_path(name))

@@ -199,6 +199,13 @@ class PixelGrid:
     subdivisions, scheme, diagonal
         How each pixel patch is meshed, as in :class:`barymesh.params.MeshParams`
         (n = 4: 32 triangles per pixel).
+    grading : bool
+        Crowd each pixel's nodes toward the outline of the painted region
+        (:func:`barymesh.grading.outline_sides`): a pixel side keeps its n segments, its
+        nodes clustered toward the ends where the outline runs across it; sides inside
+        the metal away from the outline stay even. Pixels that continue across the
+        cell's sides into the next cell (a grid that spans a rectangular cell exactly)
+        are not graded toward those sides. Uniform scheme only.
     """
 
     mask: np.ndarray
@@ -207,6 +214,7 @@ class PixelGrid:
     subdivisions: int = 4
     scheme: str = "uniform"
     diagonal: str = "BC"
+    grading: bool = False
 
     def __post_init__(self) -> None:
         try:
@@ -226,7 +234,8 @@ class PixelGrid:
         object.__setattr__(self, "mask", mask)
         object.__setattr__(self, "pixel_size", _positive("pixel_size", self.pixel_size))
         object.__setattr__(self, "origin", _vector("origin", self.origin))
-        self.patch_params()  # validates subdivisions, scheme and diagonal
+        self.patch_params()  # validates subdivisions, scheme, diagonal and grading
+        object.__setattr__(self, "grading", bool(self.grading))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PixelGrid):
@@ -237,7 +246,15 @@ class PixelGrid:
             self.subdivisions,
             self.scheme,
             self.diagonal,
-        ) == (other.pixel_size, other.origin, other.subdivisions, other.scheme, other.diagonal)
+            self.grading,
+        ) == (
+            other.pixel_size,
+            other.origin,
+            other.subdivisions,
+            other.scheme,
+            other.diagonal,
+            other.grading,
+        )
 
     __hash__ = None  # type: ignore[assignment]
 
@@ -246,7 +263,12 @@ class PixelGrid:
         return self.mask.shape
 
     def patch_params(self, origin: tuple[float, float] = (0.0, 0.0)) -> MeshParams:
-        """The square patch of one pixel as :class:`MeshParams` (validates the mesh settings)."""
+        """The square patch of one pixel as :class:`MeshParams` (validates the mesh settings).
+
+        A graded grid's pixel is a graded patch (every side graded at both ends): its
+        ``min_spacing`` bounds the finest cell of any pixel from below, within the
+        one-sided layers' factor (:func:`barymesh.grading.first_cell`).
+        """
         return MeshParams(
             structure="patch",
             patch_size=self.pixel_size,
@@ -254,6 +276,7 @@ class PixelGrid:
             scheme=self.scheme,
             diagonal=self.diagonal,
             origin=origin,
+            grading=self.grading,
         )
 
     def pixel_origins(self) -> np.ndarray:
@@ -284,6 +307,7 @@ class PixelGrid:
             "subdivisions": self.subdivisions,
             "scheme": self.scheme,
             "diagonal": self.diagonal,
+            "grading": self.grading,
         }
         data.update(changes)
         return PixelGrid(**data)

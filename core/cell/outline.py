@@ -70,7 +70,7 @@ def arc_angle_step(radius: float, chord_error: float) -> float:
 def _outline_element(el: Element, chord_error: float) -> Element:
     p = el.params
     changes = {"mode": "conforming", "subdivisions": 1, "scheme": "uniform"}
-    if p.structure not in ("patch", "triangle", "square_split_double_ring"):
+    if p.structure not in ("patch", "cross", "triangle", "square_split_double_ring"):
         outer = p.outer_radius if p.structure in DOUBLE_STRUCTURES else p.inner_radius
         changes["angle_step"] = arc_angle_step(outer + p.patch_size, chord_error)
     try:

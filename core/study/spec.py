@@ -379,6 +379,8 @@ def _parse_spec(data: Any, base_dir: str | Path | None) -> StudySpec:
     _check_size(sample, axes, solve)
     stack = _stack(data["stack"], solve) if data.get("stack") is not None else None
     _stack_axes(axes, stack)
+    densest = _densest(stack, axes)
+    base = _solver_grade(data["base"], base, max(solve.frequencies), base_dir, densest)
     derive = _derive(data.get("derive", ["resonance_frequency", "quality_factor"]), solve)
     output = data.get("output")
     if output is not None and (not isinstance(output, str) or not output.strip()):
@@ -473,6 +475,73 @@ def _base(raw: Any, base_dir: str | Path | None) -> Base:
             raise _fail(where, str(exc)) from None
         return Base("cell", cell_to_dict(cell))
     raise _fail(f"base.{key}", "unknown key; expected preset, params, cell or cell_preset")
+
+
+def _densest(stack: Stack | None, axes: tuple[Axis, ...]) -> float:
+    """εr μr of the densest layer any point of the study has (1 without a stack)."""
+    if stack is None:
+        return 1.0
+    stacks = [stack]
+    for axis in axes:
+        if axis.layer:
+            side, index, name = layer_field(parse_path(axis.path), stack)
+            if name in ("eps_r", "mu_r"):
+                stacks += [stack.replaced(f"{side}[{index}].{name}", v) for v in axis.values]
+    return max(s.max_index for s in stacks) ** 2
+
+
+def _solver_grade(
+    raw: dict[str, Any], base: Base, top: float, base_dir: Any, densest: float = 1.0
+) -> Base:
+    """The base made solver-grade (:mod:`barymesh.solver_grade`) for frequencies up to
+    ``top`` Hz in a medium of εr μr ``densest``: the parts that do not say ``grading``
+    themselves in ``raw`` (the spec's ``base``). The result says ``grading`` for every
+    part, so that the canonical spec reads back to itself."""
+    from ..solver_grade import document_grading, solver_cell, solver_params
+
+    ((key, value),) = raw.items()
+    where = f"base.{key}"
+    try:
+        if base.kind == "params":
+            from ..params import MeshParams
+            from ..presets import given_keys
+
+            said = given_keys(value) if key == "preset" else set(value)
+            if "grading" in said:
+                return base
+            params = MeshParams.from_dict(base.data)
+            graded = solver_params(params, frequency=top, relative_permittivity=densest)
+            return base if graded is params else Base("params", graded.to_dict())
+        from ..cell import cell_from_dict, cell_preset_path, cell_to_dict, read_cell_document
+
+        if isinstance(value, dict):
+            document = value
+        elif key == "cell_preset":
+            document = read_cell_document(cell_preset_path(value))
+        else:
+            path = Path(value)
+            if not path.is_absolute() and base_dir is not None:
+                path = Path(base_dir) / path
+            document = read_cell_document(path)
+        flags, pixels = document_grading(document)
+        cell = cell_from_dict(base.data, where)
+        if len(flags) != len(cell.elements):
+            flags = tuple(True for _ in cell.elements)
+        graded_cell = solver_cell(
+            cell,
+            frequency=top,
+            relative_permittivity=densest,
+            grade=flags,
+            grade_pixels=pixels,
+        )
+        data = cell_to_dict(graded_cell)
+        if graded_cell.pixels is not None:  # said, so that the canonical spec keeps it
+            data["pixels"]["grading"] = graded_cell.pixels.grading
+        return Base("cell", data)
+    except (OSError, TypeError, ValueError) as exc:
+        if isinstance(exc, SpecError):
+            raise
+        raise _fail(where, f"the solver-grade mesh: {exc}") from None
 
 
 def _sample(raw: Any) -> str | dict[str, int]:

@@ -444,6 +444,89 @@ def sweep_accuracy(doc: dict[str, Any]) -> Table:
     return head, rows, note
 
 
+def convergence(doc: dict[str, Any]) -> Table:
+    head = [
+        "case",
+        "mesh",
+        "n",
+        "unknowns",
+        "largest |R| error",
+        "largest ∠R error °",
+        "within the targets",
+    ]
+    rows = []
+
+    def add(case: str, r: dict[str, Any], phase: float | None = None) -> None:
+        met = r.get("meets_target")
+        if met is None:
+            met = r["unknowns"] <= doc["targets"]["unknowns"] and (
+                r["abs_r_error"] <= doc["targets"]["abs_r"]
+                and (phase or 0.0) <= doc["targets"]["phase_deg"]
+            )
+        rows.append(
+            [
+                case,
+                r["series"],
+                str(r["subdivisions"]),
+                _n(r["unknowns"]),
+                f"{r.get('max_abs_r_error', r.get('abs_r_error')):.4f}",
+                f"{r.get('max_phase_error_deg', phase):.2f}",
+                "yes" if met else "no",
+            ]
+        )
+
+    if "patch" in doc:
+        ref = doc["patch"]["reference"]
+        # the reference's own meshes (graded n = 24, 28, 32) are left out of the table
+        members = ref.get("subdivisions") or [int(x) for x in re.findall(r"\d+", ref["from"])]
+        for r in doc["patch"]["rows"]:
+            if not (r["series"] == "graded" and r["subdivisions"] in members):
+                add(doc["patch"]["case"], r)
+    if "strips" in doc:
+        for r in doc["strips"]["rows"]:
+            add(doc["strips"]["case"], r)
+    if "first_order" in doc:
+        f = doc["first_order"]
+        members = sorted(r["subdivisions"] for r in f["rows"] if r["series"] == "graded")[-3:]
+        for r in f["rows"]:
+            if not (r["series"] == "graded" and r["subdivisions"] in members):
+                add("patch 5 mm, 20 GHz, 0°", r, abs(r["phase_deg"] - f["reference_phase_deg"]))
+    t = doc["targets"]
+    note = (
+        f"Targets: |R| within {t['abs_r']:g} and ∠R within {t['phase_deg']:g}° with at most "
+        f"{t['unknowns']:,} unknowns. "
+    )
+    if "patch" in doc:
+        p, ref = doc["patch"], doc["patch"]["reference"]
+        angles = ", ".join(f"{a:g}°" for a in p["angles_deg"])
+        freqs = p["frequencies_hz"]
+        note += (
+            f"{p['case'].capitalize()}: {freqs[0] / 1e9:g} to {freqs[-1] / 1e9:g} GHz "
+            f"({len(freqs)} frequencies) at {angles}, TE and TM, against the Richardson "
+            f"extrapolation of the {ref['from']} (orders {ref['orders'][0]:.1f} to "
+            f"{ref['orders'][1]:.1f}, largest correction {ref['uncertainty_abs']:.1e}). "
+        )
+        for r in p.get("refused", []):
+            note += (
+                f"The {r['series']} n = {r['subdivisions']} is refused by the solver "
+                f"({r['refused'].split(';')[0]}). "
+            )
+    if "strips" in doc:
+        s = doc["strips"]
+        note += (
+            f"Strips: P/λ = {', '.join(f'{x:g}' for x in s['p_over_lambda'])} at "
+            f"{', '.join(f'{a:g}°' for a in s['angles_deg'])}, E along and across, against "
+            "the 1-D spectral-domain solution. "
+        )
+    if "first_order" in doc:
+        f = doc["first_order"]
+        note += (
+            f"The 5 mm patch: against R = {f['reference_abs_r']:.5f} at "
+            f"{f['reference_phase_deg']:.3f}° (graded n = 24, 28, 32 extrapolated)."
+        )
+    return head, rows, note
+
+
 def layered(doc: dict[str, Any]) -> Table:
     s, w = doc["speed"], doc["sweep"]
     head = ["what", "size", "ours", "beside it", "target"]
@@ -521,6 +604,7 @@ def layered_validation(doc: dict[str, Any]) -> Table:
 
 
 RENDERERS: dict[str, Callable[[dict[str, Any]], Table]] = {
+    "convergence": convergence,
     "layered": layered,
     "layered:convergence": layered_convergence,
     "layered:validation": layered_validation,
@@ -544,7 +628,7 @@ def table_data(name: str) -> tuple[list[str], list[list[str]], str] | None:
     doc = json.loads(path.read_text(encoding="utf-8"))
     head, rows, note = RENDERERS[name](doc)
     rel = path.relative_to(ROOT)
-    if name in ("quality", "grading"):  # counts, angles, errors: the same on any machine
+    if name in ("quality", "grading", "convergence"):  # accuracy: the same on any machine
         line = f"From {rel}, measured {_date(path, doc)}. {note}"
     else:
         line = f"From {rel}, measured {_date(path, doc)} on {_machine(doc.get('machine'))}. {note}"
