@@ -96,6 +96,16 @@ SCRIPTED_SIZE = (1400, 860)
 NARROW_WIDTH = 1200
 #: Keys that work from every window of the program (the teaching windows too).
 APPLICATION_KEYS = ("F1", "F7", "F8")
+#: The preset the window opens on when no parameters are given or saved: triangles,
+#: centroids and shared edges read at first sight. The paper's Fig. 12(a) (the core's
+#: defaults: 720 patches, 86 % overlap) reads as a texture at the start size.
+START_PRESET = "conforming-double-ring"
+#: Said on the status bar at the start, until the parameters change.
+START_MESSAGE = (
+    "Opened on the conforming double ring (the geometry of the paper's Fig. 12(a), "
+    "watertight). The paper's figures: Presets ▸ paper-fig10 … paper-fig12d "
+    "(Fig. 12(a): paper-fig12a or Edit ▸ Reset to defaults)"
+)
 #: MSAA samples of the 3D view on a GPU; Mesa's software llvmpipe gets none (4x MSAA there
 #: triples the frame time). ``BARYMESH_MSAA`` overrides both.
 MULTI_SAMPLES = 4
@@ -110,6 +120,19 @@ for the Method of Moments.</p>
 <p>After <i>Discretization of Continuous Spaces using Barycentric Subdivision Method with
 Metric Space Constraints on the Nearest Neighbour Edges</i>.</p>
 {shortcuts}"""
+
+
+def start_params() -> tuple[MeshParams, str]:
+    """The parameters the window opens on (:data:`START_PRESET`) and the note under the
+    view; the core's defaults (the paper's Fig. 12(a)) if the preset cannot be read."""
+    from barymesh.presets import load_preset
+
+    try:
+        params, description = load_preset(START_PRESET)
+    except (ValueError, OSError) as exc:
+        log.warning("start preset %s unavailable: %s", START_PRESET, exc)
+        return MeshParams(), "The paper's Fig. 12(a) (the defaults)"
+    return params, f"Preset {START_PRESET}: {description}"
 
 
 def app_settings() -> QSettings:
@@ -179,6 +202,10 @@ class MainWindow(QMainWindow):
         self.setWindowTitle("barymesh")
         if params is None and not scripted:
             params = self._saved_params()
+        self._start_preset: tuple[MeshParams, str] | None = None  # (params, note) at start
+        if params is None and cell is None:
+            self._start_preset = start_params()
+            params = self._start_preset[0]
         self.model = AppModel(params, cell)
         if not scripted:
             self.model.restore_view_state(self._saved_json("view"))
@@ -298,6 +325,9 @@ class MainWindow(QMainWindow):
             if self.model.cell_state is None:  # a saved layout had a cell open: not now
                 self.cell_tools.dock.hide()
             self.teaching.sync_with_docks()
+        if self._start_preset is not None:  # gone with the first change, as a preset's note
+            self._note_params = self._start_preset[0]
+            self.view_tools.set_note(self._start_preset[1])
         self.controller.request()
 
     # -- construction ------------------------------------------------------------------
@@ -689,7 +719,11 @@ class MainWindow(QMainWindow):
         self.setWindowTitle(f"barymesh – {title}")
         self.summary.setText(f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns")
         if self.model.error is None:
-            self.statusBar().clearMessage()
+            starting = self._start_preset is not None and self._note_params is not None
+            if starting and self._note_params == self._start_preset[0]:
+                self.statusBar().showMessage(START_MESSAGE)  # until the first change
+            else:
+                self.statusBar().clearMessage()
 
     def _bounds_jumped(self, bounds: np.ndarray) -> bool:
         old = getattr(self, "_camera_bounds", None)
@@ -850,6 +884,8 @@ class MainWindow(QMainWindow):
         if self._note_params is not None and params != self._note_params:
             self._note_params = None
             self.view_tools.set_note("")
+            if self.statusBar().currentMessage() == START_MESSAGE:
+                self.statusBar().clearMessage()
 
     def _history_changed(self) -> None:
         self.act_undo.setEnabled(self.model.can_undo)

@@ -688,3 +688,50 @@ def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
     # framed again: the rulers go back to the whole mesh, rounded out
     window.reset_camera()
     assert tuple(scene.axes.bounds[:4]) == (-10.0, 10.0, -10.0, 10.0)
+
+
+@pytest.mark.parametrize("scripted", [False, True])
+def test_the_start_screen_shows_triangles_centroids_and_shared_edges(qtbot, tmp_path, scripted):
+    """Issue 30, 1.5: the window opened on the paper's Fig. 12(a), 720 patches overlapping
+    by 86 %, which at the start size is a magenta and blue weave, not triangles. A first
+    start (no saved parameters; conftest points the settings at an empty folder) and a
+    ``--screenshot`` run open on the conforming double ring, and the status bar says how
+    to see the paper's figure."""
+    from barymesh.app.view.scene import COLORS, LIGHT_PX
+    from barymesh.presets import load_preset
+
+    win = MainWindow(scripted=scripted)
+    qtbot.addWidget(win)
+    win.resize(1400, 860)
+    win.show()
+    qtbot.waitExposed(win)
+    settle(win, qtbot)
+    qtbot.wait(50)
+    params, description = load_preset("conforming-double-ring")
+    assert win.model.params == params
+    stats = win.model.result.stats
+    assert win.stats.text("overlap_ratio") == "–"  # one watertight mesh: no overlap
+    assert stats["junction_edges"] == 0
+    assert stats["triangles"] == 764 and shown_counts(win)["triangles"] == 764
+    # every layer of the paper's drawing is drawn at this size, not left out for density
+    scene = win.scene
+    assert not scene.overlap_look and not scene.light and scene.overview is None
+    assert scene.edge_px >= 2 * LIGHT_PX, scene.edge_px
+    for layer in ("faces", "triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        assert scene.drawn(layer), layer
+    image = win.view_image()
+    iio.imwrite(tmp_path / "start.png", image)
+    win.grab().save(str(tmp_path / "start-window.png"))
+    # and they show: one centroid dot per triangle, the orange shared edges between them
+    assert colour_pixels(image, COLORS["centroids"], tol=30) >= 2 * 764
+    assert colour_pixels(image, COLORS["shared_edges"], tol=30) >= 3000
+    message = win.statusBar().currentMessage()
+    assert "Presets ▸ paper-fig10 … paper-fig12d" in message, message
+    assert "Fig. 12(a): paper-fig12a" in message, message
+    assert win.view_tools.note.text().startswith("Preset conforming-double-ring: ")
+    # the first change of the parameters takes the start note and message away
+    type_into(win.controls.rows["subdivisions"].field, "3")
+    settle(win, qtbot)
+    assert win.statusBar().currentMessage() != message
+    assert win.view_tools.note.text() == ""
+    win.close()
