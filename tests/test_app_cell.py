@@ -59,7 +59,7 @@ def assert_shows(window, cell):
     for key in ("patches", "vertices", "triangles", "edges", "interior_edges"):
         assert shown[key] == s[key], key
     table = window.stats.cell
-    assert table.table.rowCount() == len(expected.part_meshes)
+    assert table.part_count() == len(expected.part_meshes)
     for row, part in enumerate(expected.part_stats()):
         assert table.cell_text(row, "Part") == part["name"]
         assert table.cell_text(row, "Triangles") == f"{part['triangles']:,}"
@@ -960,3 +960,54 @@ def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window
             assert near(got, shade, tol=4), (c, got, shade)
     # and no darker than the cell's own faces
     assert sum(hex_rgb(shade)) >= sum(hex_rgb(COLORS["faces"]))
+
+
+def assert_stats_readable(window):
+    """Every value of the Statistics panel is inside the dock's view (visible, not pushed
+    off its right edge), and the per-part table shows every row whole."""
+    from PySide6.QtCore import QPoint
+
+    area = window.statistics_dock.widget()  # the dock's scroll area
+    viewport = area.viewport()
+    panel = window.stats
+    for key, label in panel.values.items():
+        right = label.mapTo(viewport, QPoint(label.width(), 0)).x()
+        assert right <= viewport.width(), (key, right, viewport.width())
+        inside = label.mapTo(panel, label.rect().center())
+        assert panel.rect().contains(inside), key
+    assert panel.text("triangles") == f"{window.model.result.mesh.n_triangles:,}"
+    # the table: no row cut, all parts reachable (beside each other, or by the scroll bar)
+    table = panel.cell.table
+    assert table.viewport().height() >= table.verticalHeader().length()
+    wide = table.horizontalHeader().length() > table.viewport().width()
+    assert table.horizontalScrollBar().isVisible() == wide
+    # shown on screen: the triangle count's label is drawn within the dock
+    area.ensureWidgetVisible(panel.values["triangles"])
+    assert not panel.values["triangles"].visibleRegion().isEmpty()
+
+
+def test_statistics_of_a_cell_show_their_values_and_the_whole_part_table(window, qtbot, tmp_path):
+    """Issue 30, 1.6: with a cell open the Statistics panel showed its labels but no
+    values (the per-part table and the cell's title, 444 px wide, pushed the value column
+    off the 306 px dock), and the table under it was squeezed and clipped."""
+    window.resize(1400, 860)
+    open_preset(window, qtbot, "split-ring-pair")
+    window.statistics_dock.raise_()
+    qtbot.wait(50)
+    assert_stats_readable(window)
+    assert window.stats.cell.cell_text(1, "Part") == "right ring"
+    window.statistics_dock.grab().save(str(tmp_path / "stats-2-parts.png"))
+    # four parts, wider than the dock: the table scrolls sideways, rows still whole
+    panel = window.cell_tools.elements
+    duplicate = panel.findChild(type(panel.add_button), "element_duplicate")
+    assert duplicate is not None
+    for _ in range(2):
+        QTest.mouseClick(duplicate, Qt.MouseButton.LeftButton)
+        settle(window, qtbot)
+    assert window.stats.cell.part_count() == 4
+    qtbot.wait(50)
+    assert_stats_readable(window)
+    assert window.stats.cell.table.horizontalScrollBar().isVisible()
+    area = window.statistics_dock.widget()
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())
+    window.statistics_dock.grab().save(str(tmp_path / "stats-4-parts.png"))
