@@ -735,3 +735,45 @@ def test_the_start_screen_shows_triangles_centroids_and_shared_edges(qtbot, tmp_
     assert win.statusBar().currentMessage() != message
     assert win.view_tools.note.text() == ""
     win.close()
+
+
+def preset_action(win, name):
+    """The Presets menu's action for ``name``."""
+    menu = next(a.menu() for a in win.menuBar().actions() if a.text() == "&Presets")
+    return next(a for a in menu.actions() if a.text() == name)
+
+
+def test_loading_a_preset_centres_the_sliders(window, qtbot):
+    """Issue 30, 1.7: after Fig. 12(d) (and a drag of its angle step), loading Fig. 12(a)
+    left the angle-step handle off-centre in the old window (82 of 96 in the issue), so
+    a drag to the right hit the window's end for most of its moves."""
+    row = window.controls.rows["angle_step"]
+    slider = row.slider
+    preset_action(window, "paper-fig12d").trigger()
+    settle(window, qtbot)
+    assert window.model.params.angle_step == 20.0
+    drag_slider(slider, row.slider_spec.to_slider(3.0))  # the user drags it down to ~3°
+    settle(window, qtbot)
+    dragged = window.model.params.angle_step
+    assert 2.5 < dragged < 3.5, dragged
+    assert row.slider_spec.holds(1.0)  # Fig. 12(a)'s 1° lies inside the new window
+    preset_action(window, "paper-fig12a").trigger()
+    settle(window, qtbot)
+    assert window.model.params.angle_step == 1.0
+    middle = slider.maximum() // 2
+    for name, r in window.controls.rows.items():  # every windowed slider with a value
+        if r.slider is not None and r.spec.windowed and r.slider.isEnabled():
+            if window.model.draft.get(name) is None:
+                continue  # an optional length that is off ("square") sits at 0
+            assert abs(r.slider.value() - r.slider.maximum() // 2) <= 1, (name, r.slider.value())
+    assert slider.value() == middle
+    assert row.slider_spec.from_slider(middle) == 1.0
+    # a drag of 12 moves to the right: a new angle at every move, none at the window's end
+    seen = []
+    slider.valueChanged.connect(lambda pos: seen.append(row.slider_spec.from_slider(pos)))
+    from app_user import drag_slider_by
+
+    drag_slider_by(slider, slider.width() // 3, steps=12)
+    settle(window, qtbot)
+    assert len(seen) == 12 and len(set(seen)) == 12, seen
+    assert max(seen) < row.slider_spec.maximum, (seen, row.slider_spec.maximum)
