@@ -378,6 +378,7 @@ class MainWindow(QMainWindow):
             area_widget.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
             bar = self.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent)
             area_widget.setMinimumWidth(widget.minimumSizeHint().width() + bar + 4)
+            WidthFollower(area_widget, widget, bar + 4)  # wider values widen the dock
             dock.setWidget(area_widget)
         else:
             dock.setWidget(widget)
@@ -1520,6 +1521,26 @@ class PaintCounter(QObject):
         if event.type() == QEvent.Type.Paint:
             self.paints += 1
             self.last = time.perf_counter()
+        return False
+
+
+class WidthFollower(QObject):
+    """Keeps a dock's scroll area at least as wide as its panel's minimum (plus ``extra``
+    for the scroll bar): panels whose values grow (the statistics of a cell, "0.001917 mm")
+    widen the dock instead of having their value column cut off by its right edge (the
+    area scrolls only up and down). It never narrows the dock, so values that come and
+    go do not make the 3D view jump."""
+
+    def __init__(self, area: QScrollArea, panel: QWidget, extra: int) -> None:
+        super().__init__(area)
+        self.area, self.panel, self.extra = area, panel, extra
+        panel.installEventFilter(self)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
+        if event.type() == QEvent.Type.LayoutRequest:
+            need = self.panel.minimumSizeHint().width() + self.extra
+            if need > self.area.minimumWidth():
+                self.area.setMinimumWidth(need)
         return False
 
 

@@ -1011,3 +1011,12 @@ def test_statistics_of_a_cell_show_their_values_and_the_whole_part_table(window,
     area = window.statistics_dock.widget()
     area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())
     window.statistics_dock.grab().save(str(tmp_path / "stats-4-parts.png"))
+    # long values ("0.001917 mm", "101.121") widen the dock rather than go off its edge
+    open_preset(window, qtbot, "hexagonal-rings")
+    type_into(window.controls.rows["inner_radius"].field, "0.011")
+    settle(window, qtbot)
+    qtbot.wait(50)
+    assert window.stats.text("min_edge").endswith(" mm")
+    assert len(window.stats.text("min_edge")) >= 11, window.stats.text("min_edge")
+    assert_stats_readable(window)
+    window.statistics_dock.grab().save(str(tmp_path / "stats-long-values.png"))
