@@ -556,8 +556,12 @@ class MainWindow(QMainWindow):
             from barymesh.app.dialogs.study_dialog import StudyDialog
 
             if getattr(self, "study_dialog", None) is None:
+                solve = self.solve_panel  # the dialog starts from the Solve dock's wave
                 self.study_dialog = StudyDialog(
-                    lambda: self.model.params, self.model.set_params, parent=self
+                    lambda: self.model.params,
+                    self.model.set_params,
+                    parent=self,
+                    incidence=(solve.direction.currentText(), solve.polarization.currentText()),
                 )
             self.study_dialog.show()
             self.study_dialog.raise_()
