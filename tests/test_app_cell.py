@@ -1020,3 +1020,92 @@ def test_statistics_of_a_cell_show_their_values_and_the_whole_part_table(window,
     assert len(window.stats.text("min_edge")) >= 11, window.stats.text("min_edge")
     assert_stats_readable(window)
     window.statistics_dock.grab().save(str(tmp_path / "stats-long-values.png"))
+
+
+def dark_share(window, box):
+    """Share of the 3D view's pixels inside ``box`` (x0, x1, y0, y1 mm) that are as dark
+    as the triangle numbers (#202020)."""
+    from gui_helpers import display_point, rendered
+
+    image = rendered(window.plotter)
+    h = image.shape[0]
+    (xa, ya), (xb, yb) = (display_point(window.plotter, (x, y, 0.0)) for x, y in box_corners(box))
+    rows = slice(max(int(h - 1 - max(ya, yb)), 0), int(h - 1 - min(ya, yb)) + 1)
+    cols = slice(max(int(min(xa, xb)), 0), int(max(xa, xb)) + 1)
+    part = image[rows, cols].astype(int)
+    dark = (np.abs(part - 0x20).max(axis=-1) <= 40).sum()
+    return dark / max(part.shape[0] * part.shape[1], 1)
+
+
+def box_corners(box):
+    x0, x1, y0, y1 = box
+    return (x0, y0), (x1, y1)
+
+
+def wheel_in(window, world, steps=1):
+    """Wheel steps forward (zoom in) with the pointer over ``world``, as a mouse does."""
+    from gui_helpers import widget_pos
+    from PySide6.QtCore import QPoint, QPointF
+    from PySide6.QtGui import QWheelEvent
+    from PySide6.QtWidgets import QApplication
+
+    plotter = window.plotter
+    pos = widget_pos(plotter, world)
+    for _ in range(steps):
+        event = QWheelEvent(
+            QPointF(pos),
+            QPointF(plotter.mapToGlobal(pos)),
+            QPoint(0, 0),
+            QPoint(0, 120),
+            Qt.MouseButton.NoButton,
+            Qt.KeyboardModifier.NoModifier,
+            Qt.ScrollPhase.NoScrollPhase,
+            False,
+        )
+        QApplication.sendEvent(plotter, event)
+
+
+def test_triangle_numbers_stay_off_until_they_can_be_read(window, qtbot, tmp_path):
+    """Issue 30, 1.8: after a live drag in the array preview took a cell's ring below 300
+    triangles, its triangle numbers came on by themselves and drew a black smudge (216
+    labels over a ring 70 px wide). They are drawn only where the triangles are large
+    enough on screen to hold them; the note says so; zooming in brings them."""
+    from app_user import drag_slider_by
+
+    from barymesh.app.view.layers import LABEL_LIMIT
+
+    window.resize(1400, 860)
+    open_preset(window, qtbot, "hexagonal-rings")
+    type_into(window.controls.rows["subdivisions"].field, "3")
+    settle(window, qtbot)
+    lattice = window.cell_tools.lattice
+    for box in (lattice.n1, lattice.n2):
+        type_into(box.lineEdit(), "3")
+    settle(window, qtbot)
+    assert window.cell_tools.preview.copies == (3, 3)
+    assert window.model.result.mesh.n_triangles > LABEL_LIMIT  # 390: no numbers asked
+    row = window.controls.rows["inner_radius"]
+    drag_slider_by(row.slider, -25)  # the ring's hole shrinks: fewer sectors
+    settle(window, qtbot)
+    qtbot.wait(50)
+    mesh = window.model.result.mesh
+    assert mesh.n_triangles <= LABEL_LIMIT, mesh.n_triangles
+    scene = window.scene
+    assert scene.visible["labels"]  # the layer is on (the default) ...
+    assert not scene.drawn("labels") and not scene.actors["labels"].GetVisibility()
+    assert "Triangle numbers hidden" in scene.note_text(), scene.note_text()
+    x0, y0 = mesh.points[:, :2].min(axis=0)
+    x1, y1 = mesh.points[:, :2].max(axis=0)
+    ring = (x0, x1, y0, y1)
+    assert dark_share(window, ring) < 0.05  # ... and no smudge over the ring
+    window.grab().save(str(tmp_path / "numbers-hidden.png"))
+    # zoomed in on the ring, its triangles get large enough: the numbers come
+    centre = (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.0)
+    for _ in range(60):
+        if scene.drawn("labels"):
+            break
+        wheel_in(window, centre)
+        qtbot.wait(10)
+    assert scene.drawn("labels") and scene.actors["labels"].GetVisibility()
+    assert "Triangle numbers hidden" not in scene.note_text()
+    window.grab().save(str(tmp_path / "numbers-shown.png"))
