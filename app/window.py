@@ -94,6 +94,9 @@ SCRIPTED_SIZE = (1400, 860)
 #: Below this window width the Statistics and Layers docks share the Parameters column
 #: (as tabs), so the 3D view keeps most of the width.
 NARROW_WIDTH = 1200
+#: The docks of a side area's tab bar are kept as wide as its tabs (whole titles) only
+#: while the 3D view keeps at least this many pixels of width.
+MIN_VIEW_WIDTH = 480
 #: Keys that work from every window of the program (the teaching windows too).
 APPLICATION_KEYS = ("F1", "F7", "F8")
 #: The preset the window opens on when no parameters are given or saved: triangles,
@@ -385,6 +388,7 @@ class MainWindow(QMainWindow):
         self.addDockWidget(area, dock)
         if tab_with is not None:
             self.tabifyDockWidget(tab_with, dock)
+        dock.visibilityChanged.connect(self._dock_tabs_changed)
         if name is None:
             setattr(self, f"{title.lower()}_dock", dock)
         return dock
@@ -517,7 +521,12 @@ class MainWindow(QMainWindow):
         self.clicks = ClickTools()
         # Teach: RWG basis inspector, connectivity matrix, presentation mode (issue 5)
         self.teaching = TeachingTools(
-            self, self.plotter, self.scene, self.clicks, beside=self.statistics_dock
+            self,
+            self.plotter,
+            self.scene,
+            self.clicks,
+            beside=self.statistics_dock,
+            refit=self.refit_if_framed,
         )
         # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
         self.teaching_windows = TeachingWindows(self, self.model)
@@ -991,11 +1000,13 @@ class MainWindow(QMainWindow):
         if self.scene.bounds is None:
             self.scene.top_view()
         else:
+            current_right, current_top = self.solve_panel.layer.reserved_px()
             frame_from_above(
                 self.plotter,
                 self.scene.bounds,
-                right_px=self.scene.legend_px(),
+                right_px=max(self.scene.legend_px(), current_right),
                 bottom_px=self.scene.note_px(),
+                top_px=max(self.teaching.inspector.overlay.top_px(), current_top),
             )
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
@@ -1421,13 +1432,47 @@ class MainWindow(QMainWindow):
     # -- dock layout -----------------------------------------------------------------------
 
     def tidy_dock_tabs(self) -> None:
-        """Tabbed docks keep their whole titles ("Statistics", not "S…"): a tab bar too
-        narrow for them scrolls instead of eliding them."""
+        """Tabbed docks keep their whole titles ("Statistics", not "S…" nor "stics"): the
+        docks of a side area's tab bar are kept at least as wide as all its tabs (the RWG
+        inspector and the matrix tabbed in made them wider than the area), so neither the
+        window nor a drag of the separator narrows them below it, while the 3D view keeps
+        :data:`MIN_VIEW_WIDTH` pixels; a tab bar still too narrow scrolls instead of
+        eliding the titles."""
+        docks = {d.windowTitle(): d for d in self.findChildren(QDockWidget) if not d.isHidden()}
+        view = self.centralWidget()
+        sides = (Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea)
+        wanted: dict[QDockWidget, int] = {}
+        grow: list[tuple[QDockWidget, int]] = []
         for bar in self.findChildren(QTabBar):
-            if isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars
-                bar.setElideMode(Qt.TextElideMode.ElideNone)
-                bar.setUsesScrollButtons(True)
-                bar.setExpanding(False)
+            if not isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars only
+                continue
+            bar.setElideMode(Qt.TextElideMode.ElideNone)
+            bar.setUsesScrollButtons(True)
+            bar.setExpanding(False)
+            group = [docks[t] for t in map(bar.tabText, range(bar.count())) if t in docks]
+            if not bar.isVisible() or view is None or not group:
+                continue
+            top = docks.get(bar.tabText(bar.currentIndex()), group[0])  # its width is true
+            if self.dockWidgetArea(top) not in sides:
+                continue
+            need = sum(bar.tabSizeHint(i).width() for i in range(bar.count())) + 2
+            if need > bar.width() + max(view.width() - MIN_VIEW_WIDTH, 0):
+                continue  # no room for them all (a narrow window): the bar scrolls
+            for dock in group:
+                wanted[dock] = need
+            if bar.width() < need:  # applied now: a minimum alone waits for the next layout
+                grow.append((top, need))
+        for dock in self.findChildren(QDockWidget):
+            width = wanted.get(dock, 0)
+            if dock.minimumWidth() != width:
+                dock.setMinimumWidth(width)
+        for dock, width in grow:
+            self.resizeDocks([dock], [width], Qt.Orientation.Horizontal)
+
+    def _dock_tabs_changed(self, *_args: Any) -> None:
+        """A dock came or went: its tab bar is tidied once the layout has settled."""
+        if not self._closed:
+            QTimer.singleShot(0, self.tidy_dock_tabs)
 
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().showEvent(event)
