@@ -94,8 +94,8 @@ SCRIPTED_SIZE = (1400, 860)
 #: Below this window width the Statistics and Layers docks share the Parameters column
 #: (as tabs), so the 3D view keeps most of the width.
 NARROW_WIDTH = 1200
-#: The docks of a side area's tab bar are kept as wide as its tabs (whole titles) only
-#: while the 3D view keeps at least this many pixels of width.
+#: A side dock area is kept wide enough for its whole tab titles only while the 3D view
+#: keeps at least this many pixels of width.
 MIN_VIEW_WIDTH = 480
 #: Keys that work from every window of the program (the teaching windows too).
 APPLICATION_KEYS = ("F1", "F7", "F8")
@@ -381,7 +381,6 @@ class MainWindow(QMainWindow):
             area_widget.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
             bar = self.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent)
             area_widget.setMinimumWidth(widget.minimumSizeHint().width() + bar + 4)
-            WidthFollower(area_widget, widget, bar + 4)  # wider values widen the dock
             dock.setWidget(area_widget)
         else:
             dock.setWidget(widget)
@@ -1432,12 +1431,15 @@ class MainWindow(QMainWindow):
     # -- dock layout -----------------------------------------------------------------------
 
     def tidy_dock_tabs(self) -> None:
-        """Tabbed docks keep their whole titles ("Statistics", not "S…" nor "stics"): the
-        docks of a side area's tab bar are kept at least as wide as all its tabs (the RWG
-        inspector and the matrix tabbed in made them wider than the area), so neither the
-        window nor a drag of the separator narrows them below it, while the 3D view keeps
-        :data:`MIN_VIEW_WIDTH` pixels; a tab bar still too narrow scrolls instead of
+        """Tabbed docks keep their whole titles ("Statistics", not "S…" nor "stics").
+
+        A side area's tab bar whose tabs need more than its docks' own minimum width (the
+        RWG inspector and the matrix tabbed in with the Statistics) gets that width as the
+        docks' minimum, so that neither the layout nor a drag of the separator narrows it
+        below its titles, as long as the 3D view keeps :data:`MIN_VIEW_WIDTH` pixels; the
+        minimum goes with those tabs. A tab bar still too narrow scrolls instead of
         eliding the titles."""
+        self._tidy_pending = False
         docks = {d.windowTitle(): d for d in self.findChildren(QDockWidget) if not d.isHidden()}
         view = self.centralWidget()
         sides = (Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea)
@@ -1450,14 +1452,15 @@ class MainWindow(QMainWindow):
             bar.setUsesScrollButtons(True)
             bar.setExpanding(False)
             group = [docks[t] for t in map(bar.tabText, range(bar.count())) if t in docks]
-            if not bar.isVisible() or view is None or not group:
+            top = docks.get(bar.tabText(bar.currentIndex()))  # on top: its width is true
+            if not bar.isVisible() or view is None or top is None or self._arranging:
                 continue
-            top = docks.get(bar.tabText(bar.currentIndex()), group[0])  # its width is true
-            if self.dockWidgetArea(top) not in sides:
+            if self.dockWidgetArea(top) not in sides or top.isFloating():
                 continue
             need = sum(bar.tabSizeHint(i).width() for i in range(bar.count())) + 2
-            if need > bar.width() + max(view.width() - MIN_VIEW_WIDTH, 0):
-                continue  # no room for them all (a narrow window): the bar scrolls
+            own = max(d.minimumSizeHint().width() for d in group)
+            if need <= own or need > bar.width() + max(view.width() - MIN_VIEW_WIDTH, 0):
+                continue  # their own minimum holds the titles, or there is no room for them
             for dock in group:
                 wanted[dock] = need
             if bar.width() < need:  # applied now: a minimum alone waits for the next layout
@@ -1470,8 +1473,10 @@ class MainWindow(QMainWindow):
             self.resizeDocks([dock], [width], Qt.Orientation.Horizontal)
 
     def _dock_tabs_changed(self, *_args: Any) -> None:
-        """A dock came or went: its tab bar is tidied once the layout has settled."""
-        if not self._closed:
+        """A dock came or went: its tab bar is tidied once the layout has settled (one
+        call however many docks changed)."""
+        if not self._closed and not getattr(self, "_tidy_pending", False):
+            self._tidy_pending = True
             QTimer.singleShot(0, self.tidy_dock_tabs)
 
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
@@ -1570,26 +1575,6 @@ class PaintCounter(QObject):
         if event.type() == QEvent.Type.Paint:
             self.paints += 1
             self.last = time.perf_counter()
-        return False
-
-
-class WidthFollower(QObject):
-    """Keeps a dock's scroll area at least as wide as its panel's minimum (plus ``extra``
-    for the scroll bar): panels whose values grow (the statistics of a cell, "0.001917 mm")
-    widen the dock instead of having their value column cut off by its right edge (the
-    area scrolls only up and down). It never narrows the dock, so values that come and
-    go do not make the 3D view jump."""
-
-    def __init__(self, area: QScrollArea, panel: QWidget, extra: int) -> None:
-        super().__init__(area)
-        self.area, self.panel, self.extra = area, panel, extra
-        panel.installEventFilter(self)
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if event.type() == QEvent.Type.LayoutRequest:
-            need = self.panel.minimumSizeHint().width() + self.extra
-            if need > self.area.minimumWidth():
-                self.area.setMinimumWidth(need)
         return False
 
 
