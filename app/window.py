@@ -94,8 +94,21 @@ SCRIPTED_SIZE = (1400, 860)
 #: Below this window width the Statistics and Layers docks share the Parameters column
 #: (as tabs), so the 3D view keeps most of the width.
 NARROW_WIDTH = 1200
+#: A side dock area is kept wide enough for its whole tab titles only while the 3D view
+#: keeps at least this many pixels of width.
+MIN_VIEW_WIDTH = 480
 #: Keys that work from every window of the program (the teaching windows too).
 APPLICATION_KEYS = ("F1", "F7", "F8")
+#: The preset the window opens on when no parameters are given or saved: triangles,
+#: centroids and shared edges read at first sight. The paper's Fig. 12(a) (the core's
+#: defaults: 720 patches, 86 % overlap) reads as a texture at the start size.
+START_PRESET = "conforming-double-ring"
+#: Said on the status bar at the start, until the parameters change.
+START_MESSAGE = (
+    "Opened on the conforming double ring (the geometry of the paper's Fig. 12(a), "
+    "watertight). The paper's figures: Presets ▸ paper-fig10 … paper-fig12d "
+    "(Fig. 12(a): paper-fig12a or Edit ▸ Reset to defaults)"
+)
 #: MSAA samples of the 3D view on a GPU; Mesa's software llvmpipe gets none (4x MSAA there
 #: triples the frame time). ``BARYMESH_MSAA`` overrides both.
 MULTI_SAMPLES = 4
@@ -110,6 +123,19 @@ for the Method of Moments.</p>
 <p>After <i>Discretization of Continuous Spaces using Barycentric Subdivision Method with
 Metric Space Constraints on the Nearest Neighbour Edges</i>.</p>
 {shortcuts}"""
+
+
+def start_params() -> tuple[MeshParams, str]:
+    """The parameters the window opens on (:data:`START_PRESET`) and the note under the
+    view; the core's defaults (the paper's Fig. 12(a)) if the preset cannot be read."""
+    from barymesh.presets import load_preset
+
+    try:
+        params, description = load_preset(START_PRESET)
+    except (ValueError, OSError) as exc:
+        log.warning("start preset %s unavailable: %s", START_PRESET, exc)
+        return MeshParams(), "The paper's Fig. 12(a) (the defaults)"
+    return params, f"Preset {START_PRESET}: {description}"
 
 
 def app_settings() -> QSettings:
@@ -179,6 +205,10 @@ class MainWindow(QMainWindow):
         self.setWindowTitle("barymesh")
         if params is None and not scripted:
             params = self._saved_params()
+        self._start_preset: tuple[MeshParams, str] | None = None  # (params, note) at start
+        if params is None and cell is None:
+            self._start_preset = start_params()
+            params = self._start_preset[0]
         self.model = AppModel(params, cell)
         if not scripted:
             self.model.restore_view_state(self._saved_json("view"))
@@ -302,6 +332,9 @@ class MainWindow(QMainWindow):
             if self.model.cell_state is None:  # a saved layout had a cell open: not now
                 self.cell_tools.dock.hide()
             self.teaching.sync_with_docks()
+        if self._start_preset is not None:  # gone with the first change, as a preset's note
+            self._note_params = self._start_preset[0]
+            self.view_tools.set_note(self._start_preset[1])
         self.controller.request()
 
     # -- construction ------------------------------------------------------------------
@@ -358,6 +391,7 @@ class MainWindow(QMainWindow):
         self.addDockWidget(area, dock)
         if tab_with is not None:
             self.tabifyDockWidget(tab_with, dock)
+        dock.visibilityChanged.connect(self._dock_tabs_changed)
         if name is None:
             setattr(self, f"{title.lower()}_dock", dock)
         return dock
@@ -490,7 +524,12 @@ class MainWindow(QMainWindow):
         self.clicks = ClickTools()
         # Teach: RWG basis inspector, connectivity matrix, presentation mode (issue 5)
         self.teaching = TeachingTools(
-            self, self.plotter, self.scene, self.clicks, beside=self.statistics_dock
+            self,
+            self.plotter,
+            self.scene,
+            self.clicks,
+            beside=self.statistics_dock,
+            refit=self.refit_if_framed,
         )
         # Teach: construction, paper vs conforming; File: sweep animation (issue 5)
         self.teaching_windows = TeachingWindows(self, self.model)
@@ -529,8 +568,12 @@ class MainWindow(QMainWindow):
             from barymesh.app.dialogs.study_dialog import StudyDialog
 
             if getattr(self, "study_dialog", None) is None:
+                solve = self.solve_panel  # the dialog starts from the Solve dock's wave
                 self.study_dialog = StudyDialog(
-                    lambda: self.model.params, self.model.set_params, parent=self
+                    lambda: self.model.params,
+                    self.model.set_params,
+                    parent=self,
+                    incidence=(solve.direction.currentText(), solve.polarization.currentText()),
                 )
             self.study_dialog.show()
             self.study_dialog.raise_()
@@ -693,7 +736,11 @@ class MainWindow(QMainWindow):
         self.setWindowTitle(f"barymesh – {title}")
         self.summary.setText(f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns")
         if self.model.error is None:
-            self.statusBar().clearMessage()
+            starting = self._start_preset is not None and self._note_params is not None
+            if starting and self._note_params == self._start_preset[0]:
+                self.statusBar().showMessage(START_MESSAGE)  # until the first change
+            else:
+                self.statusBar().clearMessage()
 
     def _bounds_jumped(self, bounds: np.ndarray) -> bool:
         old = getattr(self, "_camera_bounds", None)
@@ -854,6 +901,8 @@ class MainWindow(QMainWindow):
         if self._note_params is not None and params != self._note_params:
             self._note_params = None
             self.view_tools.set_note("")
+            if self.statusBar().currentMessage() == START_MESSAGE:
+                self.statusBar().clearMessage()
 
     def _history_changed(self) -> None:
         self.act_undo.setEnabled(self.model.can_undo)
@@ -954,11 +1003,13 @@ class MainWindow(QMainWindow):
         if self.scene.bounds is None:
             self.scene.top_view()
         else:
+            current_right, current_top = self.solve_panel.layer.reserved_px()
             frame_from_above(
                 self.plotter,
                 self.scene.bounds,
-                right_px=self.scene.legend_px(),
+                right_px=max(self.scene.legend_px(), current_right),
                 bottom_px=self.scene.note_px(),
+                top_px=max(self.teaching.inspector.overlay.top_px(), current_top),
             )
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
@@ -1384,13 +1435,53 @@ class MainWindow(QMainWindow):
     # -- dock layout -----------------------------------------------------------------------
 
     def tidy_dock_tabs(self) -> None:
-        """Tabbed docks keep their whole titles ("Statistics", not "S…"): a tab bar too
-        narrow for them scrolls instead of eliding them."""
+        """Tabbed docks keep their whole titles ("Statistics", not "S…" nor "stics").
+
+        A side area's tab bar whose tabs need more than its docks' own minimum width (the
+        RWG inspector and the matrix tabbed in with the Statistics) gets that width as the
+        docks' minimum, so that neither the layout nor a drag of the separator narrows it
+        below its titles, as long as the 3D view keeps :data:`MIN_VIEW_WIDTH` pixels; the
+        minimum goes with those tabs. A tab bar still too narrow scrolls instead of
+        eliding the titles."""
+        self._tidy_pending = False
+        docks = {d.windowTitle(): d for d in self.findChildren(QDockWidget) if not d.isHidden()}
+        view = self.centralWidget()
+        sides = (Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea)
+        wanted: dict[QDockWidget, int] = {}
+        grow: list[tuple[QDockWidget, int]] = []
         for bar in self.findChildren(QTabBar):
-            if isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars
-                bar.setElideMode(Qt.TextElideMode.ElideNone)
-                bar.setUsesScrollButtons(True)
-                bar.setExpanding(False)
+            if not isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars only
+                continue
+            bar.setElideMode(Qt.TextElideMode.ElideNone)
+            bar.setUsesScrollButtons(True)
+            bar.setExpanding(False)
+            group = [docks[t] for t in map(bar.tabText, range(bar.count())) if t in docks]
+            top = docks.get(bar.tabText(bar.currentIndex()))  # on top: its width is true
+            if not bar.isVisible() or view is None or top is None or self._arranging:
+                continue
+            if self.dockWidgetArea(top) not in sides or top.isFloating():
+                continue
+            need = sum(bar.tabSizeHint(i).width() for i in range(bar.count())) + 2
+            own = max(d.minimumSizeHint().width() for d in group)
+            if need <= own or need > bar.width() + max(view.width() - MIN_VIEW_WIDTH, 0):
+                continue  # their own minimum holds the titles, or there is no room for them
+            for dock in group:
+                wanted[dock] = need
+            if bar.width() < need:  # applied now: a minimum alone waits for the next layout
+                grow.append((top, need))
+        for dock in self.findChildren(QDockWidget):
+            width = wanted.get(dock, 0)
+            if dock.minimumWidth() != width:
+                dock.setMinimumWidth(width)
+        for dock, width in grow:
+            self.resizeDocks([dock], [width], Qt.Orientation.Horizontal)
+
+    def _dock_tabs_changed(self, *_args: Any) -> None:
+        """A dock came or went: its tab bar is tidied once the layout has settled (one
+        call however many docks changed)."""
+        if not self._closed and not getattr(self, "_tidy_pending", False):
+            self._tidy_pending = True
+            QTimer.singleShot(0, self.tidy_dock_tabs)
 
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().showEvent(event)

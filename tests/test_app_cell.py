@@ -59,7 +59,7 @@ def assert_shows(window, cell):
     for key in ("patches", "vertices", "triangles", "edges", "interior_edges"):
         assert shown[key] == s[key], key
     table = window.stats.cell
-    assert table.table.rowCount() == len(expected.part_meshes)
+    assert table.part_count() == len(expected.part_meshes)
     for row, part in enumerate(expected.part_stats()):
         assert table.cell_text(row, "Part") == part["name"]
         assert table.cell_text(row, "Triangles") == f"{part['triangles']:,}"
@@ -960,3 +960,152 @@ def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window
             assert near(got, shade, tol=4), (c, got, shade)
     # and no darker than the cell's own faces
     assert sum(hex_rgb(shade)) >= sum(hex_rgb(COLORS["faces"]))
+
+
+def assert_stats_readable(window):
+    """Every value of the Statistics panel is inside the dock's view (visible, not pushed
+    off its right edge), and the per-part table shows every row whole."""
+    from PySide6.QtCore import QPoint
+
+    area = window.statistics_dock.widget()  # the dock's scroll area
+    viewport = area.viewport()
+    panel = window.stats
+    for key, label in panel.values.items():
+        right = label.mapTo(viewport, QPoint(label.width(), 0)).x()
+        assert right <= viewport.width(), (key, right, viewport.width())
+        inside = label.mapTo(panel, label.rect().center())
+        assert panel.rect().contains(inside), key
+    assert panel.text("triangles") == f"{window.model.result.mesh.n_triangles:,}"
+    # the table: no row cut, all parts reachable (beside each other, or by the scroll bar)
+    table = panel.cell.table
+    assert table.viewport().height() >= table.verticalHeader().length()
+    wide = table.horizontalHeader().length() > table.viewport().width()
+    assert table.horizontalScrollBar().isVisible() == wide
+    # shown on screen: the triangle count's label is drawn within the dock
+    area.ensureWidgetVisible(panel.values["triangles"])
+    assert not panel.values["triangles"].visibleRegion().isEmpty()
+
+
+def test_statistics_of_a_cell_show_their_values_and_the_whole_part_table(window, qtbot, tmp_path):
+    """Issue 30, 1.6: with a cell open the Statistics panel showed its labels but no
+    values (the per-part table and the cell's title, 444 px wide, pushed the value column
+    off the 306 px dock), and the table under it was squeezed and clipped."""
+    window.resize(1400, 860)
+    open_preset(window, qtbot, "split-ring-pair")
+    window.statistics_dock.raise_()
+    qtbot.wait(50)
+    assert_stats_readable(window)
+    assert window.stats.cell.cell_text(1, "Part") == "right ring"
+    window.statistics_dock.grab().save(str(tmp_path / "stats-2-parts.png"))
+    # four parts, wider than the dock: the table scrolls sideways, rows still whole
+    panel = window.cell_tools.elements
+    duplicate = panel.findChild(type(panel.add_button), "element_duplicate")
+    assert duplicate is not None
+    for _ in range(2):
+        QTest.mouseClick(duplicate, Qt.MouseButton.LeftButton)
+        settle(window, qtbot)
+    assert window.stats.cell.part_count() == 4
+    qtbot.wait(50)
+    assert_stats_readable(window)
+    assert window.stats.cell.table.horizontalScrollBar().isVisible()
+    area = window.statistics_dock.widget()
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())
+    window.statistics_dock.grab().save(str(tmp_path / "stats-4-parts.png"))
+    # long values ("0.001917 mm", "101.121") widen the dock rather than go off its edge
+    open_preset(window, qtbot, "hexagonal-rings")
+    type_into(window.controls.rows["inner_radius"].field, "0.011")
+    settle(window, qtbot)
+    qtbot.wait(50)
+    assert window.stats.text("min_edge").endswith(" mm")
+    assert len(window.stats.text("min_edge")) >= 11, window.stats.text("min_edge")
+    assert_stats_readable(window)
+    window.statistics_dock.grab().save(str(tmp_path / "stats-long-values.png"))
+
+
+def dark_share(window, box):
+    """Share of the 3D view's pixels inside ``box`` (x0, x1, y0, y1 mm) that are as dark
+    as the triangle numbers (#202020)."""
+    from gui_helpers import display_point, rendered
+
+    image = rendered(window.plotter)
+    h = image.shape[0]
+    (xa, ya), (xb, yb) = (display_point(window.plotter, (x, y, 0.0)) for x, y in box_corners(box))
+    rows = slice(max(int(h - 1 - max(ya, yb)), 0), int(h - 1 - min(ya, yb)) + 1)
+    cols = slice(max(int(min(xa, xb)), 0), int(max(xa, xb)) + 1)
+    part = image[rows, cols].astype(int)
+    dark = (np.abs(part - 0x20).max(axis=-1) <= 40).sum()
+    return dark / max(part.shape[0] * part.shape[1], 1)
+
+
+def box_corners(box):
+    x0, x1, y0, y1 = box
+    return (x0, y0), (x1, y1)
+
+
+def wheel_in(window, world, steps=1):
+    """Wheel steps forward (zoom in) with the pointer over ``world``, as a mouse does."""
+    from gui_helpers import widget_pos
+    from PySide6.QtCore import QPoint, QPointF
+    from PySide6.QtGui import QWheelEvent
+    from PySide6.QtWidgets import QApplication
+
+    plotter = window.plotter
+    pos = widget_pos(plotter, world)
+    for _ in range(steps):
+        event = QWheelEvent(
+            QPointF(pos),
+            QPointF(plotter.mapToGlobal(pos)),
+            QPoint(0, 0),
+            QPoint(0, 120),
+            Qt.MouseButton.NoButton,
+            Qt.KeyboardModifier.NoModifier,
+            Qt.ScrollPhase.NoScrollPhase,
+            False,
+        )
+        QApplication.sendEvent(plotter, event)
+
+
+def test_triangle_numbers_stay_off_until_they_can_be_read(window, qtbot, tmp_path):
+    """Issue 30, 1.8: after a live drag in the array preview took a cell's ring below 300
+    triangles, its triangle numbers came on by themselves and drew a black smudge (216
+    labels over a ring 70 px wide). They are drawn only where the triangles are large
+    enough on screen to hold them; the note says so; zooming in brings them."""
+    from app_user import drag_slider_by
+
+    from barymesh.app.view.layers import LABEL_LIMIT
+
+    window.resize(1400, 860)
+    open_preset(window, qtbot, "hexagonal-rings")
+    type_into(window.controls.rows["subdivisions"].field, "3")
+    settle(window, qtbot)
+    lattice = window.cell_tools.lattice
+    for box in (lattice.n1, lattice.n2):
+        type_into(box.lineEdit(), "3")
+    settle(window, qtbot)
+    assert window.cell_tools.preview.copies == (3, 3)
+    assert window.model.result.mesh.n_triangles > LABEL_LIMIT  # 390: no numbers asked
+    row = window.controls.rows["inner_radius"]
+    drag_slider_by(row.slider, -25)  # the ring's hole shrinks: fewer sectors
+    settle(window, qtbot)
+    qtbot.wait(50)
+    mesh = window.model.result.mesh
+    assert mesh.n_triangles <= LABEL_LIMIT, mesh.n_triangles
+    scene = window.scene
+    assert scene.visible["labels"]  # the layer is on (the default) ...
+    assert not scene.drawn("labels") and not scene.actors["labels"].GetVisibility()
+    assert "Triangle numbers hidden" in scene.note_text(), scene.note_text()
+    x0, y0 = mesh.points[:, :2].min(axis=0)
+    x1, y1 = mesh.points[:, :2].max(axis=0)
+    ring = (x0, x1, y0, y1)
+    assert dark_share(window, ring) < 0.05  # ... and no smudge over the ring
+    window.grab().save(str(tmp_path / "numbers-hidden.png"))
+    # zoomed in on the ring, its triangles get large enough: the numbers come
+    centre = (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.0)
+    for _ in range(60):
+        if scene.drawn("labels"):
+            break
+        wheel_in(window, centre)
+        qtbot.wait(10)
+    assert scene.drawn("labels") and scene.actors["labels"].GetVisibility()
+    assert "Triangle numbers hidden" not in scene.note_text()
+    window.grab().save(str(tmp_path / "numbers-shown.png"))

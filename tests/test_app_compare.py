@@ -243,7 +243,91 @@ def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
     assert ((xs[:, 1] < c) & (xs[:, 1] > c - 20 * per_px)).all()
     assert ((ys[:, 0] < a) & (ys[:, 0] > a - 30 * per_px)).all()
     np.testing.assert_allclose(xs[:, 0], np.linspace(a, b, nx))
-    assert labels[-2:] == ["x (mm)", "y (mm)"]
+    assert labels[-1:] == ["x (mm)"]
+    assert list(view.y_title_point.point_data["label"]) == ["y (mm)"]  # its own, upright
+
+
+def text_box(prop, text, dpi, centre=None, corner=None):
+    """The display box (x0, x1, y0, y1) of ``text`` drawn with ``prop``: centred on
+    ``centre`` (a labelled point) or from the lower-left ``corner`` (a text actor)."""
+    from vtkmodules.vtkRenderingCore import vtkTextRenderer
+
+    box = [0, 0, 0, 0]
+    assert vtkTextRenderer().GetBoundingBox(prop, text, box, dpi)
+    w, h = box[1] - box[0], box[3] - box[2]  # the rotation is in the box
+    if centre is not None:
+        return centre[0] - w / 2, centre[0] + w / 2, centre[1] - h / 2, centre[1] + h / 2
+    return corner[0], corner[0] + w, corner[1], corner[1] + h
+
+
+def test_right_half_y_title_keeps_clear_of_its_half_title(view, tmp_path):
+    """Issue 30, 1.10: the right half's "y (mm)" sat over the top end of its ruler, on the
+    "Conforming mode" title. It is drawn upright left of the tick values, half-way up the
+    ruler, as VTK draws the left half's."""
+    from gui_helpers import display_point
+    from vtkmodules.vtkRenderingCore import vtkTextActor
+
+    from barymesh.app.teach.compare_view import TITLES
+
+    view.plotter.ren_win.Render()
+    renderer = view.plotter.renderers[1]
+    dpi = view.plotter.ren_win.GetDPI()
+    w, h = view.plotter.window_size
+    # where "y (mm)" is, in whichever labelled points hold it
+    found = []
+    for points, mapper in (
+        (view.tick_points, view.tick_mapper),
+        (getattr(view, "y_title_point", None), getattr(view, "y_title_mapper", None)),
+    ):
+        if points is None or points.n_points == 0:
+            continue
+        labels = list(points.point_data["label"])
+        if "y (mm)" in labels:
+            where = points.points[labels.index("y (mm)")]
+            centre = display_point(view.plotter, where, renderer)
+            found.append(text_box(mapper.GetLabelTextProperty(), "y (mm)", dpi, centre=centre))
+    (y_box,) = found
+    props = renderer.GetViewProps()
+    props.InitTraversal()
+    title = next(
+        a
+        for a in (props.GetNextProp() for _ in range(props.GetNumberOfItems()))
+        if isinstance(a, vtkTextActor) and a.GetInput() == TITLES["conforming"]
+    )
+    x_vp, y_vp = title.GetPosition()  # normalised in the half's viewport
+    v0, v1, v2, v3 = renderer.GetViewport()
+    corner = ((v0 + x_vp * (v2 - v0)) * w, (v1 + y_vp * (v3 - v1)) * h)
+    title_box = text_box(title.GetTextProperty(), title.GetInput(), dpi, corner=corner)
+    apart = (
+        y_box[1] < title_box[0]
+        or title_box[1] < y_box[0]
+        or y_box[3] < title_box[2]
+        or title_box[3] < y_box[2]
+    )
+    assert apart, (y_box, title_box)
+    # as on the left half: upright (taller than wide), left of the tick values, and
+    # half-way up the ruler
+    from barymesh.app.view.scene import nice_span
+
+    x0, x1, y0, y1 = view.scenes["conforming"].bounds
+    (a, _b, _nx), (c, d, _ny) = nice_span(x0, x1), nice_span(y0, y1)
+    assert y_box[3] - y_box[2] > y_box[1] - y_box[0]
+    labels = list(view.tick_points.point_data["label"])
+    ticks = [
+        text_box(
+            view.tick_mapper.GetLabelTextProperty(),
+            t,
+            dpi,
+            centre=display_point(view.plotter, p, renderer),
+        )
+        for t, p in zip(labels, view.tick_points.points, strict=True)
+        if t != "x (mm)"
+    ]
+    assert y_box[1] < min(t[0] for t in ticks)
+    bottom = display_point(view.plotter, (a, c, 0.0), renderer)[1]
+    top = display_point(view.plotter, (a, d, 0.0), renderer)[1]
+    assert bottom < 0.5 * (y_box[2] + y_box[3]) < top
+    assert view.grab().save(str(tmp_path / "compare.png"))
 
 
 def test_worker_meshes_at_a_lower_priority_and_a_slow_build_says_so(view, qtbot, monkeypatch):

@@ -362,3 +362,147 @@ def test_clicks_on_a_dense_mesh_select_the_edge_under_them(window, qtbot):
         assert len(holding) >= 1
         assert panel.edge in {nearest_edge(mesh, int(h), clicked) for h in holding}
         assert panel.info.sample is not None  # an interior edge: T+ and T- shown
+
+
+# -- issue 30, 1.11: the inspector's header and the dock tabs ----------------------------
+
+
+def drag_separator_right(qtbot, win, dock, dx):
+    """Drag the main window's separator at ``dock``'s left edge by ``dx`` pixels (positive:
+    to the right, the dock narrower), as a user drags it."""
+    left = dock.mapTo(win, QPoint(0, dock.height() // 2))
+    start = QPoint(left.x() - 3, left.y())  # on the separator, between view and dock
+    qtbot.mousePress(win, Qt.MouseButton.LeftButton, pos=start)
+    for k in range(1, 7):
+        qtbot.wait(10)  # the separator follows the moves as the event loop runs
+        qtbot.mouseMove(win, QPoint(start.x() + dx * k // 6, start.y()))
+    qtbot.wait(10)
+    qtbot.mouseRelease(win, Qt.MouseButton.LeftButton, pos=QPoint(start.x() + dx, start.y()))
+
+
+def dock_tab_bars(win):
+    from PySide6.QtWidgets import QMainWindow, QTabBar
+
+    return [
+        bar
+        for bar in win.findChildren(QTabBar)
+        if isinstance(bar.parent(), QMainWindow) and bar.isVisible()
+    ]
+
+
+def tab_titles(bar):
+    return [bar.tabText(i) for i in range(bar.count())]
+
+
+def click_tab(qtbot, bar, title):
+    qtbot.mouseClick(
+        bar, Qt.MouseButton.LeftButton, pos=bar.tabRect(tab_titles(bar).index(title)).center()
+    )
+
+
+def narrow_view_layout(win, qtbot):
+    """The issue's layout: the right docks at their narrowest, the 3D view wide (the
+    mesh then fills the view's height, up to its top)."""
+    qtbot.keyClick(win.plotter, Qt.Key.Key_I)  # off, to lay out the docks as before it
+    assert not win.teaching.inspector_active
+    win.resize(1400, 860)
+    qtbot.wait(50)
+    drag_separator_right(qtbot, win, win.statistics_dock, 120)
+    qtbot.wait(50)
+    assert win.statistics_dock.width() <= 320
+    win.plotter.setFocus()
+
+
+def test_the_inspector_header_stays_above_the_mesh(window, qtbot, tmp_path):
+    """The inspector's caption box covered the top of the mesh and its colour bar the
+    labels 16 and 18 (a wide view, the mesh framed to its full height): the mesh is framed
+    under the header while the inspector is on."""
+    narrow_view_layout(window, qtbot)
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)
+    assert window.teaching.inspector_active
+    qtbot.wait(50)
+    window.plotter.render()
+    overlay = window.teaching.inspector.overlay
+    from vtkmodules.vtkRenderingCore import vtkTextRenderer
+
+    text = overlay.caption.GetInput()
+    assert text.count("\n") == 2  # three lines: edge, T+, T−
+    box = [0, 0, 0, 0]
+    prop = overlay.caption.GetTextProperty()
+    assert vtkTextRenderer().GetBoundingBox(prop, text, box, window.plotter.ren_win.GetDPI())
+    h = window.plotter.window_size[1]
+    caption_bottom = overlay.caption.GetPosition()[1] * h - (box[3] - box[2])  # top-justified
+    bar_bottom = overlay.scalar_bar.GetPosition()[1] * h  # its numbers are above this
+    mesh = window.model.result.mesh
+    top = max(display_point(window, p)[1] for p in mesh.points)
+    assert top < caption_bottom and top < bar_bottom, (top, caption_bottom, bar_bottom)
+    # every triangle's number (at its centroid, 16 and 18 among them) under the bar
+    labels = [display_point(window, c)[1] for c in mesh.centroids]
+    assert max(labels) + 10 < bar_bottom
+    window.grab().save(str(tmp_path / "inspector-header.png"))
+    # off again: the mesh takes the whole height back
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)
+    qtbot.wait(50)
+    assert max(display_point(window, p)[1] for p in mesh.points) > top + 20
+
+
+def test_dock_tabs_keep_their_titles_with_the_inspector_and_matrix(window, qtbot, tmp_path):
+    """With the inspector's (or the matrix's) tab added to the Statistics' tab bar, the
+    right dock area could be narrowed below its tabs (a drag of the separator), and
+    "Statistics" showed as "stics" (the bar scrolled): the docks of a tab bar keep its
+    width."""
+    narrow_view_layout(window, qtbot)
+
+    def titles_whole():
+        return all(
+            0 <= bar.tabRect(i).left() and bar.tabRect(i).right() < bar.width()
+            for bar in dock_tab_bars(window)
+            for i in range(bar.count())
+        )
+
+    for key, dock in (
+        (Qt.Key.Key_I, window.teaching.inspector_dock),
+        (Qt.Key.Key_M, window.teaching.matrix_dock),
+    ):
+        qtbot.keyClick(window.plotter, key)
+        qtbot.waitUntil(titles_whole, timeout=3000)  # once the docks have moved
+        drag_separator_right(qtbot, window, dock, 200)  # the user narrows the area
+        qtbot.wait(300)
+        assert titles_whole(), [(tab_titles(b), b.tabRect(0)) for b in dock_tab_bars(window)]
+    bars = [b for b in dock_tab_bars(window) if "Statistics" in tab_titles(b)]
+    assert len(bars) == 1 and "Connectivity matrix" in tab_titles(bars[0])
+    assert window.centralWidget().width() >= 480
+    window.grab().save(str(tmp_path / "dock-tabs.png"))
+
+
+def test_closing_the_inspector_brings_back_the_users_tab(window, qtbot):
+    """Closing the inspector raised Quality (its neighbour) instead of the tab the user had."""
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # off (the fixture turned it on)
+    qtbot.wait(50)
+    (bar,) = [b for b in dock_tab_bars(window) if "Statistics" in tab_titles(b)]
+    for had in ("Statistics", "Solve"):
+        click_tab(qtbot, bar, had)
+        assert bar.tabText(bar.currentIndex()) == had
+        window.plotter.setFocus()
+        qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # on: its tab on top
+        qtbot.wait(50)
+        (bar,) = [b for b in dock_tab_bars(window) if "Statistics" in tab_titles(b)]
+        assert bar.tabText(bar.currentIndex()) == "RWG inspector"
+        qtbot.keyClick(window.plotter, Qt.Key.Key_I)  # off by its key
+        qtbot.wait(50)
+        (bar,) = [b for b in dock_tab_bars(window) if "Statistics" in tab_titles(b)]
+        assert bar.tabText(bar.currentIndex()) == had
+    # closed with the dock's own close button
+    from PySide6.QtWidgets import QAbstractButton
+
+    click_tab(qtbot, bar, "Statistics")
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_I)
+    qtbot.wait(50)
+    dock = window.teaching.inspector_dock
+    close = dock.findChild(QAbstractButton, "qt_dockwidget_closebutton")
+    qtbot.mouseClick(close, Qt.MouseButton.LeftButton)
+    qtbot.wait(50)
+    assert not window.teaching.inspector_active
+    (bar,) = [b for b in dock_tab_bars(window) if "Statistics" in tab_titles(b)]
+    assert bar.tabText(bar.currentIndex()) == "Statistics"

@@ -283,3 +283,18 @@ def test_mom_memory():
     assert format_bytes(16 * 28_800**2) == "12.4 GiB"
     assert SPECS["tolerance"].from_slider(0) is None
     assert SPECS["tolerance"].from_slider(32) == 0.0562  # the issue's position 32
+
+
+def test_a_whole_new_parameter_set_is_announced_apart_from_edits():
+    """``params_replaced`` comes with set_params (a preset, a file, Reset), after
+    ``params_changed``, and not with one value's edit: the sliders are centred on it."""
+    model = AppModel()
+    order = []
+    model.params_changed.connect(lambda p: order.append(("changed", p.angle_step)))
+    model.params_replaced.connect(lambda p: order.append(("replaced", p.angle_step)))
+    assert model.set_value("angle_step", 3.0)
+    assert order == [("changed", 3.0)]
+    model.set_params(load_preset("paper-fig12d")[0])
+    assert order[1:] == [("changed", 20.0), ("replaced", 20.0)]
+    model.reset()
+    assert order[3:] == [("changed", 1.0), ("replaced", 1.0)]

@@ -495,3 +495,99 @@ def test_auto_solve_while_a_slider_is_dragged_draws_each_new_mesh_in_the_same_ac
     assert (xy >= lo - 1e-6).all() and (xy <= hi + 1e-6).all()
     np.testing.assert_allclose(xy.mean(axis=0), mesh.centroids[:, :2].mean(axis=0), atol=2.0)
     assert BAR_TITLE in window.plotter.scalar_bars
+
+
+COARSE_MESHES = [
+    MeshParams(structure="patch", patch_size=100.0, subdivisions=1),  # 2 triangles
+    MeshParams(structure="patch", patch_size=100.0, subdivisions=2),  # 8 triangles
+    MeshParams(
+        structure="ring",
+        mode="conforming",
+        inner_radius=40.0,
+        patch_size=20.0,
+        angle_step=30.0,
+        subdivisions=1,
+    ),
+]
+
+
+def text_row_runs(image, rect):
+    """Runs (first, last) of the image rows inside ``rect`` (x0, x1, y0, y1, VTK display
+    pixels) that hold dark grey text pixels (the colour bar's numbers and title)."""
+    h = image.shape[0]
+    x0, x1, y0, y1 = (int(round(v)) for v in rect)
+    part = image[max(h - 1 - y1, 0) : h - y0, max(x0, 0) : x1 + 1].astype(int)
+    grey = (part.max(axis=-1) <= 110) & (part.max(axis=-1) - part.min(axis=-1) <= 30)
+    rows = np.flatnonzero(grey.any(axis=1))
+    runs, start = [], None
+    for a, b in zip(rows, [*rows[1:], None], strict=True):
+        start = a if start is None else start
+        if b is None or b != a + 1:
+            runs.append((int(start), int(a)))
+            start = None
+    return runs
+
+
+@pytest.mark.parametrize("window_params", COARSE_MESHES)
+def test_current_arrows_stay_in_their_triangles_and_off_the_colour_bar(window, qtbot, tmp_path):
+    """Issue 30, 1.9: on a coarse mesh the arrows (1.4 √(mean area) long, starting at the
+    centroid) stuck out past the patch and covered the colour bar, whose title touched
+    its numbers. Each arrow is now centred on its centroid and no longer than its own
+    triangle holds; the mesh is framed clear of the bar; a blank line parts the title
+    from the numbers."""
+    from gui_helpers import display_point
+
+    from barymesh.app.view.current_layer import arrow_room
+
+    window.resize(1300, 800)
+    panel = open_solve(window, qtbot)
+    type_into(panel.frequency, "1")  # GHz; a few unknowns: solved at once
+    layer = panel.layer
+    assert layer.shown and panel.solution is not None
+    mesh = window.model.result.mesh
+    qtbot.wait(50)
+    window.plotter.render()
+    # every arrow's points (shaft and barbs) inside its own triangle
+    pts = np.asarray(pv.wrap(layer._arrow_actor.GetMapper().GetInput()).points)
+    pts = pts.reshape(mesh.n_triangles, -1, 3)[..., :2]
+    corners = mesh.points[mesh.triangles][..., :2]  # (T, 3, 2)
+    a, b, c = corners[:, 0, None], corners[:, 1, None], corners[:, 2, None]
+    det = (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (
+        c[..., 0] - a[..., 0]
+    )
+    u = (
+        (pts[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+        - (pts[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+    ) / det
+    v = (
+        (b[..., 0] - a[..., 0]) * (pts[..., 1] - a[..., 1])
+        - (b[..., 1] - a[..., 1]) * (pts[..., 0] - a[..., 0])
+    ) / det
+    tol = 1e-9
+    assert (u >= -tol).all() and (v >= -tol).all() and (u + v <= 1 + tol).all()
+    # centred on the centroids, the longest as long as the typical triangle holds
+    d = layer.vectors[:, :2] / np.linalg.norm(layer.vectors[:, :2], axis=1, keepdims=True)
+    along = np.einsum("tnk,tk->tn", pts - mesh.centroids[:, None, :2], d)  # (T, points)
+    lengths = along.max(axis=1) - along.min(axis=1)
+    np.testing.assert_allclose(along.max(axis=1), -along.min(axis=1), atol=1e-4 * lengths.max())
+    room = arrow_room(mesh.points, mesh.triangles)
+    assert (lengths <= room * (1 + 1e-6)).all()
+    # proportional to Re(J e^{jφ}), |J|'s peak as long as the typical triangle holds
+    expected = np.linalg.norm(layer.vectors, axis=1) / layer.magnitude.max() * np.median(room)
+    np.testing.assert_allclose(lengths, np.minimum(expected, room), rtol=1e-4)
+    # the colour bar: nothing of the mesh or its arrows under it
+    bar = window.plotter.scalar_bars[BAR_TITLE]
+    w, h = window.plotter.window_size
+    (px, py), (pw, ph) = bar.GetPosition(), bar.GetPosition2()
+    rect = (px * w, (px + pw) * w, py * h, (py + ph) * h)
+    for world in (*mesh.points, *pts.reshape(-1, 2)):
+        x, y = display_point(window.plotter, (world[0], world[1], 0.0))
+        assert not (rect[0] <= x <= rect[1] and rect[2] <= y <= rect[3]), (x, y, rect)
+    # its title apart from its numbers: separate runs of text rows, blank rows between
+    image = np.asarray(window.plotter.screenshot(None, return_img=True))[..., :3]
+    if bar.GetOrientation() == 0:  # horizontal (this window's view is tall)
+        below = (rect[0], rect[1], rect[2], py * h + 0.6 * ph * h)  # under the gradient
+        runs = text_row_runs(image, below)
+        assert len(runs) == 2, runs  # the numbers' row, the title's row
+        assert runs[1][0] - runs[0][1] >= 3, runs
+    window.grab().save(str(tmp_path / "current.png"))

@@ -103,8 +103,9 @@ def test_compare_view_has_rulers_in_both_halves(active, qtbot):
     # as if the half began at the window's left edge): "4" under its bottom ruler
     ticks = view.tick_points
     labels = [str(t) for t in ticks.point_data["label"]]
-    assert labels[:-2] == ["0", "2", "4", "6", "8", "10"] * 2
-    assert labels[-2:] == ["x (mm)", "y (mm)"]  # and its axis titles
+    assert labels[:-1] == ["0", "2", "4", "6", "8", "10"] * 2
+    assert labels[-1:] == ["x (mm)"]  # and its axis titles, y upright in its own actor
+    assert list(view.y_title_point.point_data["label"]) == ["y (mm)"]
     image = view.view_image()
     renderer = view.plotter.renderers[1]
     where = ticks.points[labels.index("4")]

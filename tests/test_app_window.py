@@ -688,3 +688,92 @@ def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
     # framed again: the rulers go back to the whole mesh, rounded out
     window.reset_camera()
     assert tuple(scene.axes.bounds[:4]) == (-10.0, 10.0, -10.0, 10.0)
+
+
+@pytest.mark.parametrize("scripted", [False, True])
+def test_the_start_screen_shows_triangles_centroids_and_shared_edges(qtbot, tmp_path, scripted):
+    """Issue 30, 1.5: the window opened on the paper's Fig. 12(a), 720 patches overlapping
+    by 86 %, which at the start size is a magenta and blue weave, not triangles. A first
+    start (no saved parameters; conftest points the settings at an empty folder) and a
+    ``--screenshot`` run open on the conforming double ring, and the status bar says how
+    to see the paper's figure."""
+    from barymesh.app.view.scene import COLORS, LIGHT_PX
+    from barymesh.presets import load_preset
+
+    win = MainWindow(scripted=scripted)
+    qtbot.addWidget(win)
+    win.resize(1400, 860)
+    win.show()
+    qtbot.waitExposed(win)
+    settle(win, qtbot)
+    qtbot.wait(50)
+    params, description = load_preset("conforming-double-ring")
+    assert win.model.params == params
+    stats = win.model.result.stats
+    assert win.stats.text("overlap_ratio") == "–"  # one watertight mesh: no overlap
+    assert stats["junction_edges"] == 0
+    assert stats["triangles"] == 764 and shown_counts(win)["triangles"] == 764
+    # every layer of the paper's drawing is drawn at this size, not left out for density
+    scene = win.scene
+    assert not scene.overlap_look and not scene.light and scene.overview is None
+    assert scene.edge_px >= 2 * LIGHT_PX, scene.edge_px
+    for layer in ("faces", "triangle_edges", "shared_edges", "boundary_edges", "centroids"):
+        assert scene.drawn(layer), layer
+    image = win.view_image()
+    iio.imwrite(tmp_path / "start.png", image)
+    win.grab().save(str(tmp_path / "start-window.png"))
+    # and they show: one centroid dot per triangle, the orange shared edges between them
+    assert colour_pixels(image, COLORS["centroids"], tol=30) >= 2 * 764
+    assert colour_pixels(image, COLORS["shared_edges"], tol=30) >= 3000
+    message = win.statusBar().currentMessage()
+    assert "Presets ▸ paper-fig10 … paper-fig12d" in message, message
+    assert "Fig. 12(a): paper-fig12a" in message, message
+    assert win.view_tools.note.text().startswith("Preset conforming-double-ring: ")
+    # the first change of the parameters takes the start note and message away
+    type_into(win.controls.rows["subdivisions"].field, "3")
+    settle(win, qtbot)
+    assert win.statusBar().currentMessage() != message
+    assert win.view_tools.note.text() == ""
+    win.close()
+
+
+def preset_action(win, name):
+    """The Presets menu's action for ``name``."""
+    menu = next(a.menu() for a in win.menuBar().actions() if a.text() == "&Presets")
+    return next(a for a in menu.actions() if a.text() == name)
+
+
+def test_loading_a_preset_centres_the_sliders(window, qtbot):
+    """Issue 30, 1.7: after Fig. 12(d) (and a drag of its angle step), loading Fig. 12(a)
+    left the angle-step handle off-centre in the old window (82 of 96 in the issue), so
+    a drag to the right hit the window's end for most of its moves."""
+    row = window.controls.rows["angle_step"]
+    slider = row.slider
+    preset_action(window, "paper-fig12d").trigger()
+    settle(window, qtbot)
+    assert window.model.params.angle_step == 20.0
+    drag_slider(slider, row.slider_spec.to_slider(3.0))  # the user drags it down to ~3°
+    settle(window, qtbot)
+    dragged = window.model.params.angle_step
+    assert 2.5 < dragged < 3.5, dragged
+    assert row.slider_spec.holds(1.0)  # Fig. 12(a)'s 1° lies inside the new window
+    preset_action(window, "paper-fig12a").trigger()
+    settle(window, qtbot)
+    assert window.model.params.angle_step == 1.0
+    middle = slider.maximum() // 2
+    for name, r in window.controls.rows.items():  # every windowed slider with a value
+        if r.slider is not None and r.spec.windowed and r.slider.isEnabled():
+            if window.model.draft.get(name) is None:
+                continue  # an optional length that is off ("square") sits at 0
+            assert abs(r.slider.value() - r.slider.maximum() // 2) <= 1, (name, r.slider.value())
+    assert slider.value() == middle
+    assert row.slider_spec.from_slider(middle) == 1.0
+    # a drag of 12 moves to the right: a new angle at every move, none at the window's end
+    seen = []
+    slider.valueChanged.connect(lambda pos: seen.append(row.slider_spec.from_slider(pos)))
+    from app_user import drag_slider_by
+
+    drag_slider_by(slider, slider.width() // 3, steps=12)
+    settle(window, qtbot)
+    assert len(seen) == 12 and len(set(seen)) == 12, seen
+    assert max(seen) < row.slider_spec.maximum, (seen, row.slider_spec.maximum)

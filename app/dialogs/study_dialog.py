@@ -1,10 +1,16 @@
 """File → Design study: a small study of the current structure on a local Dask cluster.
 
 The dialog varies two parameters of the structure the window shows (each from, to, count),
-solves each point over a frequency range in free space (:func:`barymesh.study.run` on a
+solves each point over a frequency range in free space under a plane wave whose direction
+and polarisation are typed as in the Solve dock (:func:`barymesh.study.run` on a
 ``LocalCluster`` of worker processes), shows the progress as it comes and draws a heat
 map of a derived figure (resonance frequency, Q or −3 dB bandwidth) over the two axes.
 Clicking a cell of the map loads that design into the window.
+
+A point whose figure does not exist in the band (no peak of the extinction cross-section
+inside the sweep, a peak no Lorentzian fits, a half-power band that leaves the sweep) is
+drawn hatched and named in the legend; a failed point is cross-hatched. When no point has
+the figure, the map says so and why, and no colour bar is drawn.
 
 The study runs in a worker thread of the dialog, which only relays numbers: the progress,
 and at the end the derived figure as a numpy grid. Cancel stops it after the point that
@@ -32,12 +38,14 @@ from PySide6.QtWidgets import (
     QLabel,
     QLineEdit,
     QProgressBar,
+    QSizePolicy,
     QSpinBox,
     QVBoxLayout,
     QWidget,
 )
 
 from barymesh import MeshParams
+from barymesh.app.panels.solve_panel import DIRECTION_PRESETS, POLARIZATION_PRESETS, read_vector
 
 log = logging.getLogger(__name__)
 
@@ -59,19 +67,42 @@ FIGURES = {
 }
 #: Most points a study of this dialog may have (a larger one belongs to ``barymesh study``).
 MAX_POINTS = 400
+#: What a point without the figure (NaN, status ok) is called on the map, per figure.
+MISSING = {
+    "resonance_frequency": "no resonance in band",
+    "quality_factor": "no Q (no peak a Lorentzian fits)",
+    "bandwidth_3db": "no −3 dB band inside the sweep",
+}
+#: Hatches of the cells without a value: no figure in the band, and a failed point.
+MISSING_HATCH, FAILED_HATCH = "///", "xx"
+
+
+def missing_cells(grid: np.ndarray, statuses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(no figure, failed): boolean masks of the map's cells drawn hatched.
+
+    A cell has no figure when its point solved (status ``ok``) but the value is NaN; a
+    failed point is one whose status is an error message.
+
+    >>> g = np.array([[1.0, np.nan], [np.nan, 2.0]])
+    >>> s = np.array([["ok", "ok"], ["solver failed", "ok"]])
+    >>> [m.tolist() for m in missing_cells(g, s)]
+    [[[False, True], [False, False]], [[False, False], [True, False]]]
+    """
+    failed = np.asarray(statuses) != "ok"
+    return ~failed & ~np.isfinite(np.asarray(grid, dtype=float)), failed
 
 
 class _Signals(QObject):
     progress = Signal(int, int, int)  # done, failed, total
-    finished = Signal(object)  # (grid, statuses) on success, else the message
+    finished = Signal(object)  # ({column: grid}, statuses) on success, else the message
 
 
 class _StudyJob(QRunnable):
     """Runs the study (worker thread); emits numbers only."""
 
-    def __init__(self, spec: dict, workers: int, column: str, stop: threading.Event, signals):
+    def __init__(self, spec: dict, workers: int, stop: threading.Event, signals):
         super().__init__()
-        self.spec, self.workers, self.column = spec, workers, column
+        self.spec, self.workers = spec, workers
         self.stop, self.signals = stop, signals
         self.setAutoDelete(True)
 
@@ -87,9 +118,12 @@ class _StudyJob(QRunnable):
             spec = parse_spec(self.spec)
             result = run(spec, workers=self.workers, processes=True, progress=progress)
             shape = tuple(len(a.values) for a in spec.axes)
-            grid = result.derived[self.column].to_numpy(dtype=float).reshape(shape)
+            grids = {
+                column: result.derived[column].to_numpy(dtype=float).reshape(shape)
+                for column, *_ in FIGURES.values()
+            }
             statuses = result.derived["status"].to_numpy(dtype=str).reshape(shape)
-            outcome: object = (grid, statuses)
+            outcome: object = (grids, statuses)
         except KeyboardInterrupt:
             outcome = "cancelled"
         except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
@@ -108,6 +142,9 @@ class StudyDialog(QDialog):
     load : callable
         ``load(params)`` puts a design into the window (a click on the map).
     parent : QWidget, optional
+    incidence : (str, str), optional
+        The plane wave's direction and polarisation as first shown (the Solve dock's);
+        default ``("-z", "x")``.
     """
 
     finished_study = Signal(object)  # None when done, "cancelled" or the error message
@@ -117,6 +154,7 @@ class StudyDialog(QDialog):
         params: Callable[[], MeshParams],
         load: Callable[[MeshParams], None],
         parent: QWidget | None = None,
+        incidence: tuple[str, str] = ("-z", "x"),
     ) -> None:
         super().__init__(parent)
         self.setWindowTitle("Design study")
@@ -125,7 +163,8 @@ class StudyDialog(QDialog):
         self.pool.setMaxThreadCount(1)
         self.stop = threading.Event()
         self.running = False
-        self.grid: np.ndarray | None = None
+        self.grid: np.ndarray | None = None  # the shown figure's grid (rows: axis 1)
+        self.grids: dict[str, np.ndarray] = {}  # every figure's grid, by column
         self.statuses: np.ndarray | None = None
         self.values: list[list[float]] = []
         self.base: MeshParams | None = None
@@ -154,6 +193,19 @@ class StudyDialog(QDialog):
             name.currentIndexChanged.connect(lambda _i, k=k: self._suggest(k))
         self.frequencies = QLineEdit("4GHz:9GHz:21", self)
         form.addRow("&Frequencies", self.frequencies)
+        self.direction = self._vector_box(
+            DIRECTION_PRESETS,
+            incidence[0],
+            "Direction of travel of the plane wave: an axis (-z: from above) or x, y, z",
+        )
+        self.polarization = self._vector_box(
+            POLARIZATION_PRESETS,
+            incidence[1],
+            "Direction of E: an axis or x, y, z, perpendicular to the direction. A ring's "
+            "gap resonates with E across the gap",
+        )
+        form.addRow("&Direction", self.direction)
+        form.addRow("&Polarisation E", self.polarization)
         self.figure_choice = QComboBox(self)
         for key, (_, title, _, _) in FIGURES.items():
             self.figure_choice.addItem(title, key)
@@ -170,6 +222,8 @@ class StudyDialog(QDialog):
         self.message = QLabel(self)
         self.message.setWordWrap(True)
         self.message.setMinimumWidth(420)
+        # never squeezed below its wrapped lines by the map under it
+        self.message.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
         outer.addWidget(self.message)
 
         from matplotlib.figure import Figure
@@ -203,6 +257,28 @@ class StudyDialog(QDialog):
         self._draw()
 
     # -- inputs ----------------------------------------------------------------------------
+
+    def _vector_box(self, presets: tuple[str, ...], text: str, tip: str) -> QComboBox:
+        """An editable box of axis presets, as the Solve dock's direction and polarisation."""
+        box = QComboBox(self)
+        box.setEditable(True)
+        box.setInsertPolicy(QComboBox.InsertPolicy.NoInsert)
+        box.addItems(list(presets))
+        box.setCurrentText(text)
+        box.setToolTip(tip)
+        return box
+
+    def incidence(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """(direction, polarisation) vectors of the fields; ValueError naming the field."""
+        from barymesh.mom import PlaneWave
+
+        d = read_vector(self.direction.currentText(), "Direction")
+        p = read_vector(self.polarization.currentText(), "Polarisation")
+        try:
+            PlaneWave(direction=d, polarization=p)
+        except ValueError as exc:
+            raise ValueError(f"Polarisation: {exc}") from None
+        return d, p
 
     def _suggest(self, k: int) -> None:
         """From and to around the current value of axis ``k``'s parameter (±10 %)."""
@@ -240,11 +316,17 @@ class StudyDialog(QDialog):
         points = int(np.prod([len(v) for v in axes.values()]))
         if points > MAX_POINTS:
             raise ValueError(f"{points} points; at most {MAX_POINTS} here (use barymesh study)")
+        direction, polarization = self.incidence()
         base = self._params()
         return {
             "base": {"params": base.to_dict()},
             "axes": axes,
-            "solve": {"kind": "free_space", "frequencies": self.frequencies.text().strip()},
+            "solve": {
+                "kind": "free_space",
+                "frequencies": self.frequencies.text().strip(),
+                "direction": list(direction),
+                "polarization": list(polarization),
+            },
             "derive": list(FIGURES),
         }
 
@@ -268,6 +350,8 @@ class StudyDialog(QDialog):
         self.spec = spec
         self.base = self._params()
         self.values = [list(v) for v in spec["axes"].values()]
+        self.grids, self.statuses = {}, None  # the last map goes: its axes may differ
+        self._draw()
         self.stop.clear()
         self.running = True
         self._set_inputs_enabled(False)
@@ -275,9 +359,7 @@ class StudyDialog(QDialog):
         self.progress.setRange(0, total)
         self.progress.setValue(0)
         self._say(f"starting a local cluster of {self.workers.value()} workers…")
-        column = FIGURES[self.figure_choice.currentData()][0]
-        job = _StudyJob(spec, self.workers.value(), column, self.stop, self.signals)
-        self._column = column
+        job = _StudyJob(spec, self.workers.value(), self.stop, self.signals)
         self.pool.start(job)
         return True
 
@@ -295,9 +377,7 @@ class StudyDialog(QDialog):
         self.running = False
         self._set_inputs_enabled(True)
         if isinstance(outcome, tuple):
-            self.grid, self.statuses = outcome
-            bad = int((self.statuses != "ok").sum())
-            self._say(f"{self.grid.size} points, {bad} failed. Click a cell to load that design.")
+            self.grids, self.statuses = outcome
             self._draw()
             self.finished_study.emit(None)
             return
@@ -308,46 +388,140 @@ class StudyDialog(QDialog):
         for row in self.axis_rows:
             for w in row:
                 w.setEnabled(on)
-        for w in (self.frequencies, self.workers, self.run_button, self.close_button):
+        for w in (
+            self.frequencies,
+            self.direction,
+            self.polarization,
+            self.workers,
+            self.run_button,
+            self.close_button,
+        ):
             w.setEnabled(on)
         self.cancel_button.setEnabled(not on)
 
     # -- the heat map ----------------------------------------------------------------------
 
+    def _band(self) -> str:
+        """The swept band as typed, for messages ("4GHz:9GHz:11" -> "4–9 GHz")."""
+        try:
+            from barymesh.study import parse_spec
+
+            f = parse_spec(self.spec).solve.frequencies
+            return f"{f[0] / 1e9:.4g}–{f[-1] / 1e9:.4g} GHz"
+        except (ImportError, ValueError, KeyError, IndexError):
+            return "the band"
+
+    def summary(self) -> str:
+        """The finished study in one line: points, failed ones, those without the figure."""
+        key = self.figure_choice.currentData()
+        missing, failed = missing_cells(self.grid, self.statuses)
+        n, bad, none = self.grid.size, int(failed.sum()), int(missing.sum())
+        text = f"{n} points, {bad} failed"
+        if none:
+            text += f", {none} with {MISSING[key]}"
+        if none + bad == n:
+            return text + f": the map has no value ({self._why_empty()})."
+        return text + ". Click a cell to load that design."
+
+    def _why_empty(self) -> str:
+        """Why no point has the shown figure, and what to try."""
+        key = self.figure_choice.currentData()
+        missing, failed = missing_cells(self.grid, self.statuses)
+        if not missing.any():
+            return "every point failed; the failures are in the log"
+        d, p = self.direction.currentText(), self.polarization.currentText()
+        if (
+            key == "resonance_frequency"
+            or not np.isfinite(
+                self.grids.get(FIGURES["resonance_frequency"][0], np.array(np.nan))
+            ).any()
+        ):
+            return (
+                f"the extinction cross-section has no peak inside {self._band()} under "
+                f"E along {p} travelling {d}: try another polarisation (E across a "
+                "ring's gap) or a wider band"
+            )
+        return f"{MISSING[key]} at every point; choose Resonance frequency to see the peaks"
+
     def _draw(self, *_args: object) -> None:
         ax = self.axes
-        ax.clear()
-        if self.colorbar is not None:
+        if self.colorbar is not None:  # before the axes are cleared: it gives their room back
             self.colorbar.remove()
             self.colorbar = None
+        ax.clear()
         self.image = None
         names = [row[0].currentText() for row in self.axis_rows]
         ax.set_xlabel(names[1])
         ax.set_ylabel(names[0])
-        if self.grid is None or len(self.values) != 2:
+        if not self.grids or len(self.values) != 2:
+            self.grid = None
             ax.text(0.5, 0.5, "Run a study to see its map", ha="center", va="center")
             ax.set_xticks([])
             ax.set_yticks([])
             self.canvas.draw_idle()
             return
+        from matplotlib.patches import Patch, Rectangle
+
         key = self.figure_choice.currentData()
         column, title, scale, unit = FIGURES[key]
-        if column != self._column:
-            self._say(f"the map shows the figure of the last run; run again for {title}")
-            column, title, scale, unit = next(v for v in FIGURES.values() if v[0] == self._column)
+        self.grid = self.grids[column]
+        self._say(self.summary(), error=False)
         rows, cols = self.values
-        self.image = ax.imshow(
-            self.grid * scale,
-            origin="lower",
-            aspect="auto",
-            cmap="viridis",
-            extent=(-0.5, len(cols) - 0.5, -0.5, len(rows) - 0.5),
-        )
+        extent = (-0.5, len(cols) - 0.5, -0.5, len(rows) - 0.5)
+        missing, failed = missing_cells(self.grid, self.statuses)
+        values = np.ma.masked_invalid(self.grid * scale)
+        self.image = ax.imshow(values, origin="lower", aspect="auto", cmap="viridis", extent=extent)
+        ax.set_xlim(extent[0], extent[1])
+        ax.set_ylim(extent[2], extent[3])
         ax.set_xticks(range(len(cols)), [f"{v:.3g}" for v in cols])
         ax.set_yticks(range(len(rows)), [f"{v:.3g}" for v in rows])
-        self.colorbar = self.figure.colorbar(
-            self.image, ax=ax, label=f"{title} ({unit})".replace(" ()", "")
-        )
+        legend = []
+        for mask, hatch, text in (
+            (missing, MISSING_HATCH, MISSING[key]),
+            (failed, FAILED_HATCH, "failed (see the log)"),
+        ):
+            for i, j in zip(*np.nonzero(mask), strict=True):
+                ax.add_patch(
+                    Rectangle(
+                        (j - 0.5, i - 0.5),
+                        1,
+                        1,
+                        facecolor="#eeeeee",
+                        edgecolor="#555555",
+                        hatch=hatch,
+                        linewidth=0.5,
+                    )
+                )
+            if mask.any():
+                legend.append(
+                    Patch(facecolor="#eeeeee", edgecolor="#555555", hatch=hatch, label=text)
+                )
+        if legend:
+            ax.legend(
+                handles=legend,
+                loc="lower left",
+                bbox_to_anchor=(0.0, 1.01),
+                ncols=2,
+                fontsize="small",
+                frameon=False,
+                borderaxespad=0.0,
+            )
+        if missing.sum() + failed.sum() == self.grid.size:
+            ax.text(
+                0.5,
+                0.5,
+                "No point has a value:\n" + _wrapped(self._why_empty(), 44),
+                ha="center",
+                va="center",
+                transform=ax.transAxes,
+                fontsize="small",
+                bbox={"facecolor": "white", "edgecolor": "#b00020", "alpha": 0.95},
+            )
+            self._say(self.summary(), error=True)
+        else:
+            self.colorbar = self.figure.colorbar(
+                self.image, ax=ax, label=f"{title} ({unit})".replace(" ()", "")
+            )
         self.canvas.draw_idle()
 
     def cell_params(self, i: int, j: int) -> MeshParams:
@@ -390,3 +564,9 @@ class StudyDialog(QDialog):
             event.ignore()
             return
         super().closeEvent(event)
+
+
+def _wrapped(text: str, width: int) -> str:
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, width))

@@ -64,7 +64,8 @@ class AppModel:
     Other changes meanwhile are taken on their own. ``notes`` say how a value was read or
     carried over (a decimal comma, a scheme change).
 
-    Events (callbacks): ``params_changed(params)``, ``draft_changed(draft)``,
+    Events (callbacks): ``params_changed(params)``, ``params_replaced(params)`` (a whole
+    new set: :meth:`set_params`, after ``params_changed``), ``draft_changed(draft)``,
     ``error_changed(error or None)``, ``history_changed()``, ``result_changed(result)``,
     ``layer_changed(name, visible)``, ``color_by_changed(key)``,
     ``detail_changed(mode)``, ``build_failed(message)``.
@@ -99,6 +100,7 @@ class AppModel:
         self.color_by = "none"
         self.detail = "auto"  # level of detail, a key of DETAIL_MODES
         self.params_changed = Event()
+        self.params_replaced = Event()
         self.draft_changed = Event()
         self.error_changed = Event()
         self.history_changed = Event()
@@ -242,6 +244,7 @@ class AppModel:
             raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
         self._forget_refusals()
         self._commit(params, merge_name=None, force=True)
+        self.params_replaced.emit(self.params)
 
     def reset(self) -> None:
         """Back to the defaults (the paper's Fig. 12(a)); undoable."""

@@ -12,8 +12,9 @@ without saying so.
 
 A length's or an angle step's slider spans a decade each side of the value
 (:meth:`barymesh.app.model.ParamSpec.around`), not 0.01 mm to 10 m: a drag of a few pixels is a
-small change. It is centred again when the drag ends, when a key steps it to an end, or
-when a typed value (or Undo, a preset) lies outside it.
+small change. It is centred again when the drag ends, when a key steps it to an end, when
+a typed value (or Undo) lies outside it, and whenever a whole new set of parameters comes
+(a preset, a parameter file, Reset).
 """
 
 from __future__ import annotations
@@ -317,6 +318,7 @@ class ControlsPanel(QWidget):
         layout.addStretch(1)
 
         model.draft_changed.connect(self.show_draft)
+        model.params_replaced.connect(self.recentre_sliders)
         model.error_changed.connect(self.show_error)
         model.result_changed.connect(self.show_source)
         model.result_changed.connect(self._show_chosen)
@@ -404,6 +406,18 @@ class ControlsPanel(QWidget):
         self.model.set_text(row.name, text, decimal_point())
 
     # -- model -> widgets ----------------------------------------------------------------
+
+    def recentre_sliders(self, _params: Any = None) -> None:
+        """A whole new set of parameters (a preset, a parameter file, Reset, a study's
+        design): every windowed slider is centred on its value, so that a drag has the
+        same room both ways (a value inside the last window used to keep its off-centre
+        handle: 82 of 96 after Fig. 12(d) then Fig. 12(a), and a drag hit the end)."""
+        draft = self.model.draft
+        for name, row in self.rows.items():
+            if row.slider is None or row.slider.isSliderDown() or name in self.model.refused:
+                continue
+            value = draft.get(name)
+            row.recentre(value if value is not None else draft.get("patch_size"))
 
     def show_draft(self, draft: dict[str, Any]) -> None:
         structure = draft.get("structure")

@@ -279,9 +279,15 @@ class SolvePanel(QWidget):
         self.window_ = window
         self.model = window.model
         scene = getattr(window, "scene", None)
-        self.layer = CurrentLayer(
-            window.plotter, window.request_render, scene.set_covered if scene is not None else None
-        )
+
+        def shown_changed(shown: bool) -> None:
+            if scene is not None:
+                scene.set_covered(shown)
+            refit = getattr(window, "refit_if_framed", None)
+            if refit is not None:
+                refit(render=False)  # the mesh beside its colour bar (the layer renders)
+
+        self.layer = CurrentLayer(window.plotter, window.request_render, shown_changed)
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS

@@ -7,7 +7,7 @@ wavelengths, the largest area in λ² and whether every edge is within λ/10.
 from __future__ import annotations
 
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QFormLayout, QLabel, QWidget
+from PySide6.QtWidgets import QGridLayout, QLabel, QWidget
 
 from barymesh.app.edit.cell_stats import CellStats
 from barymesh.app.model import STAT_LABELS, AppModel, MeshResult, stats_texts
@@ -55,26 +55,37 @@ class StatsPanel(QWidget):
 
     def __init__(self, model: AppModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)
-        form = QFormLayout(self)
-        form.setContentsMargins(8, 6, 8, 6)
-        form.setLabelAlignment(Qt.AlignmentFlag.AlignLeft)
+        # a grid, not a form: a name wraps onto a second line when the dock is narrow and
+        # its value is long (0.001917 mm, 101.121), so a value is never pushed off the
+        # dock's edge and the dock never has to widen (which would resize the 3D view)
+        grid = QGridLayout(self)
+        grid.setContentsMargins(8, 6, 8, 6)
+        grid.setHorizontalSpacing(10)
+        grid.setVerticalSpacing(6)
+        grid.setColumnStretch(0, 1)
         self.values: dict[str, QLabel] = {}
-        for key, label in {**STAT_LABELS, **SIZING_LABELS}.items():
+        self.names: dict[str, QLabel] = {}
+        rows = {**STAT_LABELS, **SIZING_LABELS}
+        for row, (key, label) in enumerate(rows.items()):
             value = QLabel("–", self)
             value.setObjectName(f"stat_{key}")
             value.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
             value.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
             name = QLabel(label, self)
+            name.setWordWrap(True)
             for w in (name, value):
                 w.setToolTip(TOOLTIPS.get(key, ""))
-            form.addRow(name, value)
+            grid.addWidget(name, row, 0)
+            grid.addWidget(value, row, 1)
             self.values[key] = value
+            self.names[key] = name
         self.source = QLabel(self)
         self.source.setWordWrap(True)
         self.source.setStyleSheet("color: #555;")
-        form.addRow(self.source)
+        grid.addWidget(self.source, len(rows), 0, 1, 2)
         self.cell = CellStats(self)  # a unit cell: each element's rows
-        form.addRow(self.cell)
+        grid.addWidget(self.cell, len(rows) + 1, 0, 1, 2)
+        grid.setRowStretch(len(rows) + 2, 1)
         model.result_changed.connect(self.show_result)
         self.show_result(model.result)
 

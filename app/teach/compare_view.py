@@ -287,6 +287,14 @@ class CompareView(FollowingView):
         self.tick_mapper, self.tick_actor = add_text_labels(
             self.plotter, self.tick_points, "#303030", font_size=12, background_opacity=0.0
         )
+        # its y title upright beside the ruler, as VTK draws the left half's: placed over
+        # the ruler's top end, it ran into the half's title ("Conforming mode")
+        self.y_title_point = pv.PolyData()
+        self.y_title_mapper, self.y_title_actor = add_text_labels(
+            self.plotter, self.y_title_point, "#303030", font_size=12, background_opacity=0.0
+        )
+        self.y_title_mapper.GetLabelTextProperty().SetOrientation(90.0)
+        self.y_title_mapper.GetLabelTextProperty().SetBold(False)
         self.plotter.subplot(0, 0)
         self.plotter.enable_parallel_projection()
         self.plotter.view_xy(render=False)
@@ -444,11 +452,14 @@ class CompareView(FollowingView):
 
     def place_tick_labels(self) -> None:
         """The conforming half's tick values, just outside its bottom and left rulers (at
-        the rulers' rounded-out span, where their lines are), and its axis titles."""
+        the rulers' rounded-out span, where their lines are), and its axis titles: x under
+        the values, y upright left of them, half-way up (as VTK draws the left half's)."""
         half = self.halves.get("conforming")
         if half is None or half.error is not None:
             self.tick_points.copy_from(pv.PolyData(), deep=True)
             self.tick_mapper.Modified()
+            self.y_title_point.copy_from(pv.PolyData(), deep=True)
+            self.y_title_mapper.Modified()
             return
         x0, x1, y0, y1 = self.scenes["conforming"].bounds
         (a, b, nx), (c, d, ny) = nice_span(x0, x1), nice_span(y0, y1)
@@ -459,15 +470,19 @@ class CompareView(FollowingView):
             [
                 np.column_stack([xs, np.full(nx, c - 14 * per_px), np.zeros(nx)]),
                 np.column_stack([np.full(ny, a - 22 * per_px), ys, np.zeros(ny)]),
-                [[0.5 * (a + b), c - 40 * per_px, 0.0], [a - 30 * per_px, d + 22 * per_px, 0.0]],
+                [[0.5 * (a + b), c - 32 * per_px, 0.0]],  # as far down as the left half's
             ]
         )
         labels = pv.PolyData(pts)
-        labels.point_data["label"] = np.array(
-            [*(f"{v:.4g}" for v in (*xs, *ys)), "x (mm)", "y (mm)"]
-        )
+        labels.point_data["label"] = np.array([*(f"{v:.4g}" for v in (*xs, *ys)), "x (mm)"])
         self.tick_points.copy_from(labels, deep=True)
         self.tick_mapper.Modified()
+        # left of the widest tick value (its centre at 22 px), half-way up the ruler
+        widest = max(len(f"{v:.4g}") for v in ys)
+        title = pv.PolyData(np.array([[a - (34 + 4 * widest) * per_px, 0.5 * (c + d), 0.0]]))
+        title.point_data["label"] = np.array(["y (mm)"])
+        self.y_title_point.copy_from(title, deep=True)
+        self.y_title_mapper.Modified()
 
     def _camera_moved(self, *_args: Any) -> None:
         if self._closed:

@@ -456,6 +456,17 @@ class InspectorOverlay:
         self.bar_title = title
         self.set_scale(1.0)
 
+    def top_px(self) -> float:
+        """Pixels at the top of the view the overlay's header takes while it is shown:
+        its caption (three lines) at the left, the colour bar with its title and numbers
+        at the right. The window frames the mesh under it (it covered the mesh's top)."""
+        if not self.visible:
+            return 0.0
+        h = float(self.plotter.window_size[1])
+        caption = 3 * 1.3 * self.caption.GetTextProperty().GetFontSize() + 0.025 * h
+        bar = (1.0 - self.scalar_bar.GetPosition()[1]) * h
+        return max(caption, bar) + 8.0
+
     def set_scale(self, scale: float) -> None:
         """Line widths, dot sizes and fonts times ``scale`` (presentation mode)."""
         self.scale = float(scale)

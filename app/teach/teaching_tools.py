@@ -15,6 +15,7 @@ View tools (made after these).
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -57,6 +58,9 @@ class TeachingTools:
         The view's click tools: the inspector and the matrix are two of them.
     beside : QDockWidget, optional
         The docks are tabbed with this one (the Statistics dock).
+    refit : callable, optional
+        Frames the mesh again if it is framed (the window's ``refit_if_framed``): the
+        inspector's header comes and goes with it, and the mesh is framed under it.
 
     Events: ``zoom_to_selection_requested()`` (the inspector's Zoom) and
     ``zoom_to_points_requested(points)`` ((k, 3) mm, the matrix cell's Zoom).
@@ -69,8 +73,11 @@ class TeachingTools:
         scene: Any,
         clicks: ClickTools,
         beside: QDockWidget | None = None,
+        refit: Callable[[], None] | None = None,
     ) -> None:
         self.host = host
+        self.refit = refit
+        self._return_to: dict[QDockWidget, QDockWidget | None] = {}
         self.clicks = clicks
         self.plotter, self.scene = plotter, scene
         self.beside = beside
@@ -129,6 +136,7 @@ class TeachingTools:
         )
         dock.hide()
         dock.visibilityChanged.connect(lambda _v, d=dock: self._dock_visibility(d))
+        dock.visibilityChanged.connect(lambda v, d=dock: self._tab_left(d, v))
         return dock
 
     def add_to_menu(self, menu: QMenu) -> None:
@@ -161,10 +169,13 @@ class TeachingTools:
             self._show_dock(self.inspector_dock)
         elif not self.presentation.active:
             self.inspector_dock.hide()
+            self._dock_closed(self.inspector_dock)
         self.inspector.set_active(on)
         # over T+ and T- the matrix marks are outlines: the divergence colours stay true
         self.highlight.set_outline_only(on)
         self._sync_picking()
+        if self.refit is not None:
+            self.refit()  # the mesh under the inspector's header, or the whole view again
 
     def set_matrix_active(self, on: bool) -> None:
         on = bool(on)
@@ -176,6 +187,7 @@ class TeachingTools:
         else:
             if not self.presentation.active:
                 self.matrix_dock.hide()
+                self._dock_closed(self.matrix_dock)
             self.highlight.show(None, None)
             self.host.request_render()
         self._sync_picking()
@@ -183,8 +195,31 @@ class TeachingTools:
     def _show_dock(self, dock: QDockWidget) -> None:
         if self.presentation.active:
             return
+        before = self._current_tab(dock)
         dock.show()
         dock.raise_()
+        self._return_to[dock] = before  # the tab the user had, raised again on close
+
+    def _current_tab(self, dock: QDockWidget) -> QDockWidget | None:
+        """The dock on top of the tab group ``dock`` joins (beside the Statistics)."""
+        if self.beside is None:
+            return None
+        group = [self.beside, *self.host.widget.tabifiedDockWidgets(self.beside)]
+        # a tab under another still says isVisible(); only the one on top is painted
+        return next((d for d in group if d is not dock and not d.visibleRegion().isEmpty()), None)
+
+    def _tab_left(self, dock: QDockWidget, visible: bool) -> None:
+        """Another tab was raised over ``dock`` (it is not closed): closing it later
+        leaves the tabs as they are."""
+        if not visible and not dock.isHidden():
+            self._return_to.pop(dock, None)
+
+    def _dock_closed(self, dock: QDockWidget) -> None:
+        """``dock`` was closed while on top: the tab the user had before it comes back
+        (Qt raised its neighbour, the Quality tab, instead)."""
+        before = self._return_to.pop(dock, None)
+        if before is not None and not before.isHidden() and dock.isHidden():
+            before.raise_()
 
     def _dock_visibility(self, dock: QDockWidget) -> None:
         """A dock closed with its own button turns its tool off, a dock shown (a restored

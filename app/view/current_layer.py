@@ -36,8 +36,40 @@ ARROW_COLOR = "#10206b"
 SCALES = ("linear", "log")
 #: On the log scale the colour map spans this many decades below the largest |J|.
 LOG_DECADES = 3.0
-#: The longest arrow, as a fraction of the mean triangle size (√ of the mean area).
-ARROW_LENGTH = 1.4
+#: The longest arrow, as a fraction of the median triangle's room (see :func:`arrow_room`).
+ARROW_LENGTH = 1.0
+#: The arrow glyph: tip length and radius, shaft radius, as fractions of its length.
+ARROW_TIP, ARROW_TIP_RADIUS, ARROW_SHAFT = 0.4, 0.2, 0.07
+
+
+def arrow_room(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """The longest arrow each triangle holds: centred on its centroid, at any angle, tip
+    included, it stays inside the triangle.
+
+    The centroid lies ``h / 3`` from each side (``h`` that side's height), so a disc of
+    radius ``r = 2 A / (3 ℓmax)`` about it is inside the triangle. A centred arrow of
+    length ``L`` reaches ``L √(1/4 + tip radius²)`` from its centre (the barbs at the
+    tip), so it fits in that disc for ``L = r / √(1/4 + tip radius²)``.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    triangles : (m, 3) int
+
+    Returns
+    -------
+    (m,) float64
+        Lengths in the points' units.
+
+    >>> tri = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    >>> round(float(arrow_room(tri, np.array([[0, 1, 2]]))[0]), 4)  # r = 1 / (3 √2)
+    0.4377
+    """
+    p = np.asarray(points, dtype=np.float64)[np.asarray(triangles, dtype=np.int64)]
+    sides = np.linalg.norm(p[:, [1, 2, 0]] - p, axis=2)  # (m, 3)
+    area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    radius = 2.0 * area / (3.0 * np.maximum(sides.max(axis=1), 1e-300))
+    return radius / np.sqrt(0.25 + ARROW_TIP_RADIUS**2)
 
 
 def arrow_vectors(current: np.ndarray, phase_deg: float) -> np.ndarray:
@@ -99,6 +131,8 @@ class CurrentLayer:
         self._arrow_actor: Any = None
         self._bar_title: str | None = None
         self._arrow: Any = None  # the glyph's arrow (pyvista.PolyData), made once
+        self._room = np.ones(0)  # (T,) the longest arrow each triangle holds (mm)
+        self._arrow_scale = 1.0  # the longest arrow (mm)
 
     @property
     def shown(self) -> bool:
@@ -138,8 +172,11 @@ class CurrentLayer:
             tri = np.asarray(mesh.triangles, dtype=np.int64)
             faces = np.column_stack([np.full(len(tri), 3, dtype=np.int64), tri]).ravel()
             surface = pv.PolyData(np.asarray(mesh.points, dtype=float), faces)
-            area = float(np.mean(mesh.areas)) if len(tri) else 1.0
-            self._arrow_scale = ARROW_LENGTH * np.sqrt(max(area, 1e-300))
+            # the longest arrow: the typical triangle's room; each arrow is kept to its own
+            # triangle's (a graded mesh's small triangles), so none leaves its triangle
+            self._room = arrow_room(mesh.points, tri) if len(tri) else np.ones(0)
+            typical = float(np.median(self._room)) if len(tri) else 1.0
+            self._arrow_scale = ARROW_LENGTH * max(typical, 1e-300)
             if drawn:  # the dataset the mapper reads takes the new mesh
                 self.surface.copy_from(surface)
             else:
@@ -237,6 +274,19 @@ class CurrentLayer:
         self._announce()
         self.request_render()
 
+    def reserved_px(self) -> tuple[float, float]:
+        """(right, top): pixels of the view the colour bar takes while a current is shown
+        (a vertical bar at the right, a horizontal one at the top), for the framing to
+        keep free, so that the mesh and its arrows stay clear of the bar."""
+        if not self.shown or self._bar_title not in self.plotter.scalar_bars:
+            return 0.0, 0.0
+        bar = self.plotter.scalar_bars[self._bar_title]
+        w, h = self.plotter.window_size
+        x, y = bar.GetPosition()
+        if bar.GetOrientation() == 1:  # vertical: its numbers and title left of x
+            return (1.0 - x) * w + 0.04 * w, 0.0
+        return 0.0, (1.0 - y) * h + 14.0  # horizontal: the numbers and title under it
+
     def _announce(self) -> None:
         if self.shown_changed is not None:
             self.shown_changed(self.shown)
@@ -249,13 +299,21 @@ class CurrentLayer:
 
         vectors = self.vectors = arrow_vectors(self.current, self.phase)
         peak = float(self.magnitude.max()) if self.magnitude.size else 0.0
+        drawn = vectors * (self._arrow_scale / peak if peak > 0 else 0.0)
+        length = np.linalg.norm(drawn, axis=1)
+        over = length > self._room
+        drawn[over] *= (self._room[over] / length[over])[:, None]
+        # each arrow centred on its centroid (a glyph starts at its point)
         cloud = pv.PolyData(
             np.asarray(self.mesh.centroids, dtype=float)
+            - 0.5 * drawn
             + np.array([0.0, 0.0, 1e-3 * self._arrow_scale])
         )
-        cloud["J"] = vectors * (self._arrow_scale / peak if peak > 0 else 0.0)
+        cloud["J"] = drawn
         if self._arrow is None:  # one arrow shape for every step
-            self._arrow = pv.Arrow(tip_length=0.4, tip_radius=0.2, shaft_radius=0.07)
+            self._arrow = pv.Arrow(
+                tip_length=ARROW_TIP, tip_radius=ARROW_TIP_RADIUS, shaft_radius=ARROW_SHAFT
+            )
         return cloud.glyph(orient="J", scale="J", factor=1.0, geom=self._arrow)
 
     def _remove_actors(self) -> None:
@@ -318,6 +376,10 @@ class CurrentLayer:
         # the next render take new values
         bar = self.plotter.scalar_bars[self._bar_title]
         bar.SetTextPositionToPrecedeScalarBar()  # numbers under (left of) the bar
+        # VTK sets the title against the numbers (under them on a horizontal bar, over the
+        # top one on a vertical bar): a blank line between them keeps them apart
+        vertical = bar.GetOrientation() == 1
+        bar.SetTitle(f"{self._bar_title}\n " if vertical else f" \n{self._bar_title}")
         # drawn just in front of the scene's faces, which lie in the same plane
         mapper = self._surface_actor.GetMapper()
         mapper.SetResolveCoincidentTopologyToPolygonOffset()

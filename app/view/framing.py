@@ -60,6 +60,7 @@ def frame_from_above(
     top: float = 0.0,
     right_px: float = 0.0,
     bottom_px: float = 0.0,
+    top_px: float = 0.0,
 ) -> None:
     """Look down the z axis at the rectangle ``bounds`` = (x0, x1, y0, y1) in mm, all of it
     in view whatever the view's aspect ratio.
@@ -81,6 +82,9 @@ def frame_from_above(
     bottom_px : float
         Pixels at the bottom kept free (for the view's note,
         :meth:`barymesh.app.view.scene.MeshScene.note_px`), likewise.
+    top_px : float
+        Pixels at the top kept free (for a header drawn there: the RWG inspector's caption
+        and colour bar, the surface current's horizontal colour bar), likewise.
     """
     x0, x1, y0, y1 = (float(v) for v in bounds)
     if rulers:
@@ -98,12 +102,14 @@ def frame_from_above(
     camera.up = (0.0, 1.0, 0.0)
     w, h = view_size(plotter)
     free = max(float(w) - max(float(right_px), 0.0), 0.25 * w)
-    free_h = max(float(h) - max(float(bottom_px), 0.0), 0.25 * h)
+    below, above = max(float(bottom_px), 0.0), max(float(top_px), 0.0)
+    free_h = max(float(h) - below - above, 0.25 * h)
     scale = max(0.5 * (y1 - y0) * h / free_h, 0.5 * (x1 - x0) * h / free)
     camera.parallel_scale = scale
     if free < w or free_h < h:  # centred in the free part (left of a legend, over a note)
         cx += 0.5 * (w - free) * (2.0 * scale / h)
-        cy -= 0.5 * (h - free_h) * (2.0 * scale / h)
+        if below + above > 0:  # between the note and the header, in their proportion
+            cy -= 0.5 * (h - free_h) * (below - above) / (below + above) * (2.0 * scale / h)
         camera.focal_point = (cx, cy, 0.0)
         camera.position = (cx, cy, 10.0 * size)
     plotter.renderer.ResetCameraClippingRange()

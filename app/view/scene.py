@@ -77,6 +77,12 @@ REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
 #: the mesh is drawn the way the paper draws it. Detail "always full" (:data:`DETAIL_MODES`)
 #: draws them at any size.
 LIGHT_PX = 4.0
+#: Triangle numbers (up to :data:`~barymesh.app.view.layers.LABEL_LIMIT` triangles) are
+#: drawn from this many pixels per typical edge (times the presentation emphasis), in
+#: Detail "auto": below it a label of three digits is wider than the gap between two
+#: centroids, and a few hundred of them were a black smudge (the array preview, a ring
+#: dragged small).
+LABEL_PX = 40.0
 #: Detail "always full" of more triangles than this gets a warning: every frame draws them
 #: all (seconds per frame on a software renderer).
 FULL_DETAIL_WARN = 1_000_000
@@ -720,6 +726,7 @@ class MeshScene:
         self.detail_rect: tuple[float, float, float, float] | None = None
         self.detail_triangles = 0
         self.light = False  # triangles under LIGHT_PX: edges and centroids not drawn
+        self.crowded = False  # triangles under LABEL_PX: their numbers not drawn
         self.covered = False  # a layer over the faces (surface current): see set_covered
         self.edge_px = np.inf
         self.emphasis = 1.0  # presentation mode: thicker lines, larger fonts
@@ -1093,8 +1100,9 @@ class MeshScene:
 
     @property
     def labels_shown(self) -> bool:
-        """Whether index labels are drawn (asked for, and the mesh is small enough)."""
-        return self.visible["labels"] and 0 < self.n_triangles <= LABEL_LIMIT
+        """Whether index labels are drawn (asked for, the mesh small enough, and its
+        triangles large enough on screen to hold their numbers)."""
+        return self.visible["labels"] and 0 < self.n_triangles <= LABEL_LIMIT and not self.crowded
 
     def drawn(self, name: str) -> bool:
         """Whether layer ``name`` is drawn now (asked for, and not left out for density)."""
@@ -1203,6 +1211,11 @@ class MeshScene:
                 f"Triangle edges, centroids{borders} hidden: triangles are "
                 f"{self.edge_px:.1f} px on screen (shown from {LIGHT_PX:g} px; "
                 "zoom in or set Detail: always full)"
+            )
+        if self.crowded and self.visible["labels"] and 0 < self.n_triangles <= LABEL_LIMIT:
+            parts.append(
+                f"Triangle numbers hidden: triangles are {self.edge_px:.0f} px on screen "
+                f"(numbered from {LABEL_PX * self.emphasis:g} px; zoom in)"
             )
         shown = [n for n in COVERED_HIDES if self.visible[n] and n != "labels"]
         if self.covered and shown:
@@ -1400,9 +1413,10 @@ class MeshScene:
         self.edge_px = float(edge_px)
         self._place_rulers()  # zoomed in: along the part in view
         light = bool(self.detail == "auto" and edge_px < LIGHT_PX)
+        crowded = bool(self.detail == "auto" and edge_px < LABEL_PX * self.emphasis)
         stride_changed = self._fit_outlines(height, camera)
-        if light != self.light or stride_changed:
-            self.light = light
+        if light != self.light or crowded != self.crowded or stride_changed:
+            self.light, self.crowded = light, crowded
             self._apply_visibility()
         else:
             self._show_note()
