@@ -367,9 +367,7 @@ class ViewTools(QObject):
             parts.append("(finding elements…)")
         if self.selected is not None and self.locator is not None and not self.measure.active:
             parts.append(
-                "selected: "
-                + self.locator.describe(self.selected, decimals).split(" (")[0].split(" at ")[0]
-                + " (Z: zoom to it)"
+                f"selected: {self.locator.summary(self.selected, decimals)} (Z: zoom to it)"
             )
         text = "  ·  ".join(parts)
         self.readout.setText(text)
