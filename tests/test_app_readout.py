@@ -8,7 +8,7 @@ import pytest
 
 pytest.importorskip("pyvistaqt")
 
-from gui_helpers import click_world, display_point, hover_world, widget_pos  # noqa: E402
+from gui_helpers import click_world, hover_world, widget_pos  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 
@@ -66,3 +66,60 @@ def test_the_selection_readout_keeps_the_coordinates(active, qtbot):
     assert f"selected: triangle {t}, centroid {_xy(mesh.centroids[t], decimals)}" in text
     # the readout a user sees
     window.grab().save("/tmp/wb/shots/readout_selected_triangle.png")
+
+
+@pytest.mark.parametrize("goes_to", ["select", "picker"])
+def test_a_click_while_the_elements_are_still_being_found_is_answered(
+    active, qtbot, monkeypatch, goes_to
+):
+    """On a big mesh the locator is built in a worker when the pointer first comes over
+    the view; a click made meanwhile (moving and clicking at once) selected nothing while
+    the readout said "(finding elements…)". It is kept and answered when the locator is
+    ready. (SYNC_LOCATOR is lowered so that 32 triangles count as big; the worker waits
+    until the click is in, as a 200k or 1M mesh's locator does.)"""
+    window = active
+    tools = window.view_tools
+    monkeypatch.setattr(view_tools, "SYNC_LOCATOR", 10)
+    gate = threading.Event()
+    real = view_tools._build_locator
+
+    def slow_build(mesh):
+        gate.wait(30)
+        return real(mesh)
+
+    monkeypatch.setattr(view_tools, "_build_locator", slow_build)
+    window.controls.rows["subdivisions"].field.setFocus()
+    # a new mesh (n = 3, 18 triangles) whose locator is left to the worker
+    from app_user import type_into
+
+    type_into(window.controls.rows["subdivisions"].field, "3")
+    window.controller.flush()
+    qtbot.waitUntil(lambda: window.model.result.mesh.n_triangles == 18)
+    mesh = window.model.result.mesh
+    assert tools.mesh is mesh and tools.locator is None
+    if goes_to == "picker":  # Teach → RWG basis inspector takes the clicks
+        window.plotter.setFocus()
+        qtbot.keyClick(window.plotter, Qt.Key.Key_I)
+        qtbot.waitUntil(lambda: window.teaching.inspector_dock.isVisible())
+        QApplication.processEvents()
+        window.plotter.render()
+    t = 7
+    target = mesh.centroids[t]
+    hover_world(qtbot, window.plotter, target + np.array([0.3, 0.2, 0.0]))  # moving…
+    qtbot.mouseClick(
+        window.plotter, Qt.MouseButton.LeftButton, pos=widget_pos(window.plotter, target)
+    )
+    assert tools.locator is None
+    if goes_to == "select":
+        qtbot.waitUntil(lambda: "(finding elements…)" in tools.readout.text())
+        assert tools.selected is None
+    gate.set()  # the locator is ready now
+    if goes_to == "select":
+        qtbot.waitUntil(lambda: tools.selected is not None, timeout=10_000)
+        assert tools.selected.kind == "triangle" and tools.selected.index == t
+        qtbot.waitUntil(lambda: f"selected: triangle {t}, centroid" in tools.readout.text())
+    else:
+        panel = window.teaching.inspector
+        qtbot.waitUntil(lambda: panel.edge is not None, timeout=10_000)
+        assert panel.edge in set(mesh.triangle_edges[t])
+    window.grab().save(f"/tmp/wb/shots/queued_click_{goes_to}.png")

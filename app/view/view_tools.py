@@ -119,6 +119,9 @@ class ViewTools(QObject):
         self._pos: QPointF | None = None
         self._press: QPointF | None = None
         self._pending_pick: np.ndarray | None = None  # a click waiting for the locator
+        #: a selecting click made before the locator was ready: (point, triangle picked,
+        #: snap tolerance in mm at the click's zoom), answered by _locator_ready
+        self._pending_select: tuple[np.ndarray, int | None, float] | None = None
 
         # two lines of a fixed height (a new text never resizes, so never repaints, the
         # 3D view): the note, then the readout; text too long is elided, whole in the tip
@@ -183,6 +186,7 @@ class ViewTools(QObject):
         self.mesh = mesh
         self.locator = None
         self._pending_pick = None
+        self._pending_select = None
         self.hit = None
         self.selection.clear()
         self.measure.set_active(self.measure.active)  # forget the points
@@ -226,6 +230,10 @@ class ViewTools(QObject):
                 triangle = locator.triangle_at(pending)
                 if triangle is not None:
                     self.picker.triangle_picked.emit(triangle, pending)
+            clicked, self._pending_select = self._pending_select, None
+            if clicked is not None:
+                point, triangle, tol = clicked
+                self._select(locator.hit(point, tol, triangle))
             return
         if locator is not None and locator.mesh.n_triangles > 200_000:
             # the locator of a mesh no longer on screen (built while the user moved on)
@@ -365,7 +373,9 @@ class ViewTools(QObject):
             parts.append(self.locator.describe(self.hit, decimals))
         elif self.cursor is not None and self.mesh is not None and self.locator is None:
             parts.append("(finding elements…)")
-        if self.selected is not None and self.locator is not None and not self.measure.active:
+        if self._pending_select is not None and not self.measure.active:
+            parts.append("selecting the element clicked (finding elements…)")
+        elif self.selected is not None and self.locator is not None and not self.measure.active:
             parts.append(
                 f"selected: {self.locator.summary(self.selected, decimals)} (Z: zoom to it)"
             )
@@ -405,9 +415,23 @@ class ViewTools(QObject):
             self.measure.add_point(point)
             self.host.request_render()
         elif goes_to == "select":
-            self.selection.click(hit)
-            self.highlight.show(self.mesh, None if hit is None else hit.triangle)
-            self.host.request_render()
+            if self.locator is None and self.mesh is not None and self.mesh.n_triangles:
+                # a big mesh's elements are still being found (the pointer has only just
+                # come over the view): the click is kept and answered when they are
+                tol = SNAP_PIXELS / pixels_per_mm(self.plotter)
+                self._pending_select = (np.asarray(point, dtype=np.float64), triangle, tol)
+                self._ensure_locator()
+            else:
+                self._pending_select = None
+                self._select(hit)
+                return
+        self._show_readout()
+
+    def _select(self, hit: Hit | None) -> None:
+        """A click selected ``hit`` (None: nothing): mark it and say so."""
+        self.selection.click(hit)
+        self.highlight.show(self.mesh, None if hit is None else hit.triangle)
+        self.host.request_render()
         self._show_readout()
 
     def selection_points(self) -> np.ndarray | None:
