@@ -72,6 +72,7 @@ from barymesh.app.panels.stats_panel import StatsPanel
 from barymesh.app.teach.teaching_tools import TeachingTools
 from barymesh.app.teach.teaching_windows import TeachingWindows
 from barymesh.app.view.framing import (
+    CameraWatch,
     FramedCamera,
     frame_from_above,
     look_from_above,
@@ -206,6 +207,9 @@ class MainWindow(QMainWindow):
         self._rest_timer.setInterval(250)
         self._rest_timer.timeout.connect(self._camera_rested)
         self._detail_token: tuple[int, tuple[float, ...]] | None = None
+        # any camera change drawn (a key, Zoom to selection, a tool's zoom), not only the
+        # mouse's: the detail is asked for once it rests
+        self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
         self._closed = False
         self._arranging = False  # arrange_docks is moving the docks
         self._tuned = False
@@ -869,6 +873,10 @@ class MainWindow(QMainWindow):
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
         if self.scene.reduced:
+            self._rest_timer.start()
+
+    def _camera_drawn(self) -> None:
+        if not self._closed and self.scene.reduced:
             self._rest_timer.start()
 
     def _camera_rested(self) -> None:
