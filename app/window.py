@@ -54,7 +54,8 @@ from barymesh import MeshParams, TriMesh
 from barymesh.app.cli_options import build_window_parser
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
-from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog
+from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog, png_steps, write_png
+from barymesh.app.dialogs.step_progress import run_in_steps
 from barymesh.app.edit.cell_tools import CellTools
 from barymesh.app.model import (
     AppModel,
@@ -980,22 +981,23 @@ class MainWindow(QMainWindow):
             if render:
                 self.request_render()
 
-    def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
+    def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray | None:
         """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
 
         At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
-        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`); VTK's tiled
-        magnification cut and misplaced the rulers and titles."""
-        from barymesh.app.view.scaled_shot import MAX_SCALE, scaled_view_image
+        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`), one render at a
+        time under a progress dialog with Cancel (the window answers between them); None
+        when cancelled."""
+        from barymesh.app.view.scaled_shot import MAX_SCALE, ScaledShot
 
         if not 1 <= int(scale) <= MAX_SCALE:
             raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
-        if int(scale) > 1:  # about 1.5 s at 2x, 3 s at 4x (three off-screen renders)
-            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
-            try:
-                return scaled_view_image(self.scene, int(scale), transparent)
-            finally:
-                QApplication.restoreOverrideCursor()
+        if int(scale) > 1:
+            shot = ScaledShot(self.scene, int(scale), transparent)
+            w, h = shot.size
+            if not run_in_steps(self, "Export screenshot", f"Drawing {w} × {h} px", shot.steps()):
+                return None
+            return shot.image
         self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
         image = self.plotter.screenshot(None, transparent_background=transparent, return_img=True)
         self.plotter.render()
@@ -1004,22 +1006,41 @@ class MainWindow(QMainWindow):
     def save_view_png(
         self, path: str | os.PathLike[str], scale: int = 1, transparent: bool = False
     ) -> bool:
-        """Write the 3D view to a PNG; errors go to the status bar. Returns success."""
-        try:
-            import imageio.v3 as iio
+        """Write the 3D view to a PNG; errors go to the status bar. Returns success.
 
-            iio.imwrite(Path(path), self.view_image(scale, transparent), extension=".png")
+        At 2× to 4× it is drawn in steps and written in a worker thread, under a progress
+        dialog whose Cancel leaves no file (:meth:`view_image`)."""
+        from barymesh.app.view.scaled_shot import ScaledShot
+
+        name = Path(path).name
+        try:
+            if int(scale) > 1:
+                shot = ScaledShot(self.scene, int(scale), transparent)
+                w, h = shot.size
+                if not run_in_steps(
+                    self,
+                    "Export screenshot",
+                    f"Saving {name} ({w} × {h} px)",
+                    png_steps(shot, path, self),
+                ):
+                    self.statusBar().showMessage(
+                        f"Screenshot {name} cancelled: no file written", 5000
+                    )
+                    return False
+            else:
+                write_png(path, self.view_image(1, transparent))
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
-            self.statusBar().showMessage(
-                file_error_sentence(f"Could not save {Path(path).name}", exc, path)
-            )
+            self.statusBar().showMessage(file_error_sentence(f"Could not save {name}", exc, path))
             return False
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
 
     def copy_view_to_clipboard(self, scale: int = 1, transparent: bool = False) -> None:
         image = self.view_image(scale, transparent)
+        if image is None:
+            self.statusBar().showMessage("Copy of the view cancelled", 5000)
+            return
         h, w, c = image.shape
         fmt = QImage.Format.Format_RGBA8888 if c == 4 else QImage.Format.Format_RGB888
         qimage = QImage(image.data, w, h, c * w, fmt).copy()
