@@ -8,6 +8,8 @@ screenshot above 1024 x 768 is that picture too, its text scaled with its size.
 """
 
 import os
+import subprocess
+import sys
 from types import SimpleNamespace
 
 import imageio.v3 as iio
@@ -20,7 +22,7 @@ from app_user import answer_file_dialogs, type_into  # noqa: E402
 from PySide6.QtCore import Qt, QTimer  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from PySide6.QtWidgets import QApplication, QProgressDialog, QPushButton  # noqa: E402
-from test_app_files import _export_screenshot  # noqa: E402
+from test_app_files import _export_screenshot, _grow, _shrunk  # noqa: E402
 
 import barymesh.app.dialogs.step_progress as step_progress  # noqa: E402
 import barymesh.app.view.scaled_shot as scaled_shot  # noqa: E402
@@ -213,3 +215,80 @@ def test_cancel_stops_a_scaled_export_and_leaves_no_file(
     assert window.statusBar().currentMessage() == "Screenshot big.png cancelled: no file written"
     assert kept[0].isVisible()  # not saved: the dialog stays
     kept[0].close()
+
+
+def _cli_screenshot(tmp_path, name, size):
+    """``barymesh mesh --preset paper-fig12c --screenshot NAME --window-size W H`` with no
+    display (the off-screen path), as an (h, w, 3) image."""
+    out = tmp_path / name
+    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
+    env.pop("DISPLAY", None)
+    args = ["mesh", "--preset", "paper-fig12c", "--screenshot", str(out), "--window-size"]
+    proc = subprocess.run(
+        [sys.executable, "-m", "barymesh.app.cli", *args, *map(str, size)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr
+    image = iio.imread(out)[..., :3]
+    assert image.shape[:2] == (size[1], size[0])
+    return image
+
+
+def _dark(image):
+    """Where ``image`` is grey ink: the rulers, their labels and titles (not the blue
+    boundary edges, which the export tests' ink counts too, nor the blue-grey
+    triangle edges)."""
+    rgb = image[..., :3].astype(int)
+    return (rgb.max(axis=-1) < 200) & (rgb.max(axis=-1) - rgb.min(axis=-1) < 25)
+
+
+def _x_ruler(ink):
+    """The image row of the x ruler's line: the row of the lower half with most ink."""
+    h = ink.shape[0]
+    return h // 2 + int(np.argmax(ink[h // 2 :].sum(axis=1)))
+
+
+def _label_rows(ink, ruler):
+    """(first, last) rows of the x ruler's tick labels: the first band of ink rows
+    below the ruler's line and its ticks."""
+    below = ink[ruler:].any(axis=1)
+    rows = np.flatnonzero(below)
+    gaps = np.flatnonzero(~below)
+    start = rows[rows > gaps[0]][0] if len(gaps) else rows[0]  # past the line and ticks
+    end = gaps[gaps > start][0] - 1
+    return ruler + int(start), ruler + int(end)
+
+
+def test_the_command_lines_big_screenshot_scales_its_text(tmp_path):
+    """``barymesh mesh --window-size 3072 2304`` drew tick labels about 12 px tall on a
+    3072 px image (the text of a 1024 px one). Now the image is the 1024 x 768 picture
+    at 3 times the pixels, as File → Export screenshot draws the view at 3x: labels three
+    times as tall, and its ink at 1x is the 1024 x 768 image's."""
+    small = _cli_screenshot(tmp_path, "small.png", (1024, 768))
+    big = _cli_screenshot(tmp_path, "big.png", (3072, 2304))
+    _keep("cli_1024.png", small)
+    _keep("cli_3072.png", big)
+    ink_small, ink_big = _dark(small), _dark(big)
+    ruler_small, ruler_big = _x_ruler(ink_small), _x_ruler(ink_big)
+    assert abs(ruler_big - 3 * ruler_small) <= 4  # the same picture, 3 times the pixels
+    lo, hi = _label_rows(ink_small, ruler_small)
+    big_lo, big_hi = _label_rows(ink_big, ruler_big)
+    ratio = (big_hi - big_lo + 1) / (hi - lo + 1)
+    assert 2.6 < ratio < 3.4, (lo, hi, big_lo, big_hi)
+    # below the x ruler (its labels and title) the ink is where the small image has it
+    a = ink_small[ruler_small + 3 :]
+    b = _shrunk(ink_big, 3)[ruler_small + 3 :]
+    assert a.sum() > 100
+    missing = (a & ~_grow(b)).sum() / a.sum()
+    stray = (b & ~_grow(a)).sum() / max(b.sum(), 1)
+    assert missing < 0.15 and stray < 0.25, (missing, stray)
+
+
+def test_screenshot_scale_follows_the_smaller_side():
+    assert scaled_shot.screenshot_scale(3072, 2304) == 3.0
+    assert scaled_shot.screenshot_scale(2048, 2304) == 2.0  # as wide as two bases
+    assert scaled_shot.screenshot_scale(1024, 768) == 1.0
+    assert scaled_shot.screenshot_scale(320, 240) == 1.0  # never below 1: readable text

@@ -307,9 +307,7 @@ def test_progress_only_on_a_terminal_and_after_the_delay(monkeypatch):
 @pytest.mark.parametrize("transparent", [False, True])
 def test_screenshot_without_display(tmp_path, transparent):
     pytest.importorskip("pyvista")
-    scene = pytest.importorskip("barymesh.app.view.scene")
-    if not hasattr(scene, "render_screenshot"):
-        pytest.skip("barymesh.app.view.scene.render_screenshot is not there yet")
+    pytest.importorskip("barymesh.app.view.scaled_shot")
     iio = pytest.importorskip("imageio.v3")
     args = [
         "mesh",

@@ -17,7 +17,7 @@ then lays the annotation over the tiles. Each render is one step (:meth:`ScaledS
 and costs about what a frame of the view costs, so the window can run its event loop,
 show progress and offer Cancel between them (File → Export screenshot); the command
 line's ``--window-size`` above 1024 × 768 draws the same way
-(:func:`barymesh.app.view.scene.render_screenshot`).
+(:func:`render_screenshot`).
 
 All of it runs on the GUI thread (it creates and frees VTK objects).
 """
@@ -25,13 +25,16 @@ All of it runs on the GUI thread (it creates and frees VTK objects).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pyvista as pv
 
+from barymesh import TriMesh
 from barymesh.app.view.layers import LAYERS
-from barymesh.app.view.scene import MeshScene
+from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, scene_data
 
 #: The largest magnification offered (File → Export screenshot).
 MAX_SCALE = 4
@@ -270,9 +273,10 @@ class ScaledShot:
 
     Examples
     --------
+    The steps one at a time (an event loop may run between them), then the picture:
+
     >>> shot = ScaledShot(scene, 3)  # doctest: +SKIP
-    >>> for done, text in shot.steps():  # one render each; an event loop may run between
-    ...     pass
+    >>> progress = [fraction for fraction, _text in shot.steps()]  # doctest: +SKIP
     >>> shot.image.shape  # (3 h, 3 w, 3)  # doctest: +SKIP
     """
 
@@ -449,3 +453,82 @@ def scaled_view_image(
         pass
     assert shot.image is not None  # the steps ran to their end
     return shot.image
+
+
+#: The size (px) a screenshot is drawn at as the window draws its view; a larger one is
+#: that picture at more pixels, its text, lines and dots scaled along
+#: (:func:`screenshot_scale`).
+SCREENSHOT_BASE = (1024, 768)
+
+
+def screenshot_scale(width: int, height: int) -> float:
+    """How many times :data:`SCREENSHOT_BASE` the picture of a ``width`` x ``height``
+    screenshot is: the smaller of the two ratios, at least 1 (a smaller image is drawn at
+    its own size, text at its normal size).
+
+    >>> screenshot_scale(3072, 2304), screenshot_scale(1600, 1200), screenshot_scale(200, 150)
+    (3.0, 1.5625, 1.0)
+    """
+    base_w, base_h = SCREENSHOT_BASE
+    return max(1.0, min(width / base_w, height / base_h))
+
+
+def render_screenshot(
+    mesh: TriMesh,
+    path: str | os.PathLike[str],
+    window_size: tuple[int, int] = (1024, 768),
+    transparent: bool = False,
+    *,
+    visible: dict[str, bool] | None = None,
+    color_by: str = "none",
+) -> None:
+    """Render ``mesh`` off-screen from above and save a PNG of exactly ``window_size``.
+
+    Parallel projection, rulers in mm, triangles with their edges, centroids, shared
+    and boundary edges (and junction edges, if any) in distinct colours. Works without
+    an X display (VTK's EGL render window, Mesa's llvmpipe as the software driver).
+    Above :data:`SCREENSHOT_BASE` the image is the picture at that size drawn with
+    :func:`screenshot_scale` times the pixels, as File → Export screenshot draws the
+    view at 2x to 4x (:class:`ScaledShot`): text, rulers, lines and dots
+    grow with the image (tick labels about 12 px tall at 1024 x 768, 36 px at
+    3072 x 2304), and what is drawn (the light look of small triangles) is decided at
+    the base size.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+    path : path-like
+        Output PNG file.
+    window_size : (int, int)
+        Width and height in pixels.
+    transparent : bool
+        Transparent background instead of white.
+    visible : dict of str to bool, optional
+        Layer visibility overrides (see :data:`barymesh.app.view.layers.LAYERS`).
+    color_by : str
+        Face colouring, a key of :data:`barymesh.app.view.layers.COLOR_BY`.
+    """
+    width, height = (int(v) for v in window_size)
+    if width < 1 or height < 1:
+        raise ValueError(f"window_size={window_size!r} is invalid; expected two positive ints")
+    path = Path(path)
+    prepare_headless()
+    scale = screenshot_scale(width, height)
+    base = (max(1, round(width / scale)), max(1, round(height / scale)))
+    plotter = pv.Plotter(off_screen=True, window_size=base)
+    try:
+        scene = MeshScene(plotter, visible=visible, color_by=color_by)
+        scene.update(scene_data(mesh, pixels=(width, height)))
+        scene.top_view()
+        if scale > 1.0:
+            image = scaled_view_image(scene, scale, transparent, size=(width, height))
+        else:
+            image = plotter.screenshot(None, transparent_background=transparent, return_img=True)
+    finally:
+        plotter.close()
+    image = np.asarray(image)
+    if image.shape[:2] != (height, width):  # high-DPI or a window manager resized it
+        image = resized_image(image, width, height)
+    import imageio.v3 as iio
+
+    iio.imwrite(path, image, extension=".png")

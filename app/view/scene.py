@@ -13,7 +13,8 @@ Two halves, so that the expensive part can run in a worker thread:
   renders), copies them into the existing datasets (``copy_from``) and the caller renders
   once.
 
-:func:`render_screenshot` is the headless entry point the command line uses.
+:func:`barymesh.app.view.scaled_shot.render_screenshot` is the headless entry point the
+command line uses (it draws a :class:`MeshScene` off screen).
 """
 
 from __future__ import annotations
@@ -22,7 +23,6 @@ import logging
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pyvista as pv
@@ -1551,56 +1551,6 @@ def prepare_headless() -> None:
     """Without an X display, have VTK render through EGL instead of trying X first."""
     if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-
-
-def render_screenshot(
-    mesh: TriMesh,
-    path: str | os.PathLike[str],
-    window_size: tuple[int, int] = (1024, 768),
-    transparent: bool = False,
-    *,
-    visible: dict[str, bool] | None = None,
-    color_by: str = "none",
-) -> None:
-    """Render ``mesh`` off-screen from above and save a PNG of exactly ``window_size``.
-
-    Parallel projection, rulers in mm, triangles with their edges, centroids, shared
-    and boundary edges (and junction edges, if any) in distinct colours. Works without
-    an X display (VTK's EGL render window, Mesa's llvmpipe as the software driver).
-
-    Parameters
-    ----------
-    mesh : TriMesh
-    path : path-like
-        Output PNG file.
-    window_size : (int, int)
-        Width and height in pixels.
-    transparent : bool
-        Transparent background instead of white.
-    visible : dict of str to bool, optional
-        Layer visibility overrides (see :data:`LAYERS`).
-    color_by : str
-        Face colouring, a key of :data:`COLOR_BY`.
-    """
-    width, height = (int(v) for v in window_size)
-    if width < 1 or height < 1:
-        raise ValueError(f"window_size={window_size!r} is invalid; expected two positive ints")
-    path = Path(path)
-    prepare_headless()
-    plotter = pv.Plotter(off_screen=True, window_size=(width, height))
-    try:
-        scene = MeshScene(plotter, visible=visible, color_by=color_by)
-        scene.update(scene_data(mesh))
-        scene.top_view()
-        image = plotter.screenshot(None, transparent_background=transparent, return_img=True)
-    finally:
-        plotter.close()
-    image = np.asarray(image)
-    if image.shape[:2] != (height, width):  # high-DPI or a window manager resized it
-        image = resized_image(image, width, height)
-    import imageio.v3 as iio
-
-    iio.imwrite(path, image, extension=".png")
 
 
 def resized_image(image: np.ndarray, width: int, height: int) -> np.ndarray:
