@@ -166,9 +166,8 @@ class MainWindow(QMainWindow):
         cell: Any = None,
     ) -> None:
         super().__init__()
-        from pyvistaqt import QtInteractor
-
         from barymesh.app.gui_gc import collect_in_gui_thread
+        from barymesh.app.view.interactor import ViewInteractor
 
         collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
 
@@ -186,7 +185,8 @@ class MainWindow(QMainWindow):
             self.model.restore_view_state(self._saved_json("view"))
 
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
-        self.plotter = QtInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
+        # (one render a frame: VTK's interaction renders only ask for the next paint)
+        self.plotter = ViewInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
         self.plotter.setMinimumSize(320, 240)
         disable_view_keys(self.plotter)
         self.scene = MeshScene(
@@ -194,9 +194,10 @@ class MainWindow(QMainWindow):
         )
         self.scene.top_view()
         self.framing = FramedCamera(self.plotter)  # the camera a mesh was last framed with
-        self.plotter.iren.add_observer("EndInteractionEvent", self._camera_moved)
-        self.plotter.iren.add_observer("MouseWheelForwardEvent", self._camera_moved)
-        self.plotter.iren.add_observer("MouseWheelBackwardEvent", self._camera_moved)
+        # the mouse moved the camera (a drag ended, a wheel step: VTK's style ends each
+        # step's interaction too); the rulers and the note follow when it rests
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
+            self.plotter.iren.add_observer(event, self._camera_moved)
         self._camera_key: tuple[Any, ...] | None = None
         self.last_frame_seconds = 0.0
         self.paint_counter = PaintCounter(self.plotter)  # one paint per new mesh
@@ -871,19 +872,25 @@ class MainWindow(QMainWindow):
         )
 
     def _camera_moved(self, *_args: Any) -> None:
-        self.scene.fit_marker_sizes()
+        """The mouse moved the camera: line widths, dot sizes and what is drawn follow at
+        once, the rulers and the note when it rests (:meth:`_camera_rested`)."""
+        self.scene.fit_marker_sizes(settled=False)
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
-        if self.scene.reduced:
-            self._rest_timer.start()
+        self._rest_timer.start()
 
     def _camera_drawn(self) -> None:
-        if not self._closed and self.scene.reduced:
+        if not self._closed:
             self._rest_timer.start()
 
     def _camera_rested(self) -> None:
-        """Ask for the full detail of the part in view of a dense mesh (in a thread)."""
+        """The camera rests: the rulers follow the view, and the full detail of the part
+        in view of a dense mesh is asked for (in a thread)."""
+        if self._closed:
+            return
+        if self.scene.settle():
+            self.request_render()
         result = self.model.result
-        if self._closed or result is None or result.mesh is None or not self.scene.reduced:
+        if result is None or result.mesh is None or not self.scene.reduced:
             return
         rect = self.scene.wanted_detail()
         if rect is None:

@@ -1384,13 +1384,18 @@ class MeshScene:
         p.reset_camera(render=False, bounds=(x0, x1, y0, y1, 0.0, 0.0))
         self.fit_marker_sizes()
 
-    def fit_marker_sizes(self) -> None:
+    def fit_marker_sizes(self, settled: bool = True) -> None:
         """Thin the lines and shrink the dots when triangles are a few pixels wide on screen.
 
         Fixed sizes would bury a dense mesh (the paper's Fig. 12(a) zoomed out): lines
         keep their full width from 12 px per typical edge up and thin to 1 px below, and a
         dot is at most a quarter of a typical edge. Below :data:`LIGHT_PX` (Detail "auto")
         triangle edges, shared edges and centroids are left out (the light look).
+
+        ``settled=False`` (a wheel step, the camera still moving) leaves the rulers and
+        the note as they are until :meth:`settle`: rebuilding the rulers' labels took
+        about 100 ms of the GUI thread per wheel step under load, and rulers in mm zoom
+        along with the mesh meanwhile, still true.
         """
         camera = self.plotter.camera
         height = self.plotter.window_size[1] if self.plotter.window_size else 0
@@ -1398,13 +1403,14 @@ class MeshScene:
         if self.typical_edge > 0 and camera.parallel_projection and height > 0:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
-        self._place_rulers()  # zoomed in: along the part in view
+        if settled:
+            self._place_rulers()  # zoomed in: along the part in view
         light = bool(self.detail == "auto" and edge_px < LIGHT_PX)
         stride_changed = self._fit_outlines(height, camera)
         if light != self.light or stride_changed:
             self.light = light
             self._apply_visibility()
-        else:
+        elif settled:
             self._show_note()
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
@@ -1413,6 +1419,16 @@ class MeshScene:
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
                 prop.line_width = thin * self.emphasis
+
+    def settle(self) -> bool:
+        """The camera rests: the rulers along the part in view and the note for the zoom
+        (what :meth:`fit_marker_sizes` left while it moved). Whether either changed."""
+        before = (tuple(self.axes.bounds), self.axes.n_xlabels, self.axes.n_ylabels)
+        note = self.note.GetInput()
+        self._place_rulers()
+        self._show_note()
+        after = (tuple(self.axes.bounds), self.axes.n_xlabels, self.axes.n_ylabels)
+        return before != after or note != self.note.GetInput()
 
     def _fit_outlines(self, height: int, camera: object) -> bool:
         """In the overlap look, outline every k-th patch for the zoom (see
