@@ -27,8 +27,9 @@ import numpy as np
 
 from barymesh.app.cli_options import load_cell_source
 
-#: Outputs of --periodic: the 4-port, every Floquet order, the cell's current.
-PERIODIC_OUTPUTS = (".s4p", ".csv", ".vtu")
+#: Outputs of --periodic: the 4-port (a 2-port over a ground plane), every Floquet order,
+#: the cell's current.
+PERIODIC_OUTPUTS = (".s4p", ".s2p", ".csv", ".vtu")
 
 __all__ = [
     "PERIODIC_OUTPUTS",
@@ -37,6 +38,7 @@ __all__ = [
     "check_periodic_usage",
     "incidence",
     "parse_impedance",
+    "parse_stack_option",
     "run_periodic",
 ]
 
@@ -64,6 +66,32 @@ def parse_impedance(text: str | None) -> complex:
     return value
 
 
+def parse_stack_option(text: str | None) -> Any:
+    """``--stack``: the layers' syntax (:func:`barymesh.mom.parse_stack`) or a JSON file.
+
+    >>> parse_stack_option("30mil eps=2.2; ground").describe()
+    '0.762mm eps=2.2; ground'
+    """
+    from barymesh.mom import Stack, parse_stack
+
+    if text is None:
+        return None
+    if text.strip().lower().endswith(".json"):
+        import json
+
+        try:
+            data = json.loads(Path(text).read_text(encoding="utf-8"))
+            return Stack.from_dict(data)
+        except OSError as exc:
+            raise PeriodicUsageError(f"--stack {text}: cannot read it ({exc.strerror})") from None
+        except (ValueError, TypeError) as exc:
+            raise PeriodicUsageError(f"--stack {text}: {exc}") from None
+    try:
+        return parse_stack(text)
+    except (ValueError, TypeError) as exc:
+        raise PeriodicUsageError(f"--stack: {exc}") from None
+
+
 def _has_cell(args: argparse.Namespace) -> bool:
     return args.cell is not None or args.cell_preset is not None
 
@@ -76,8 +104,9 @@ def check_periodic_usage(args: argparse.Namespace, n_frequencies: int) -> None:
         ("--no-interpolate", args.no_interpolate),
         ("--tolerance", args.tolerance is not None),
         ("--current-at", args.current_at is not None),
+        ("--stack", getattr(args, "stack", None) is not None),
     ]
-    s4p = [out for out in args.outputs if Path(out).suffix.lower() == ".s4p"]
+    s4p = [out for out in args.outputs if Path(out).suffix.lower() in (".s4p", ".s2p")]
     if not args.periodic:
         for option, given in periodic_only:
             if given:
@@ -138,6 +167,19 @@ def check_periodic_usage(args: argparse.Namespace, n_frequencies: int) -> None:
         )
     if args.current_at is not None and not vtu:
         raise PeriodicUsageError("--current-at sets the frequency of -o FILE.vtu: add one")
+    stack = parse_stack_option(getattr(args, "stack", None))
+    grounded = stack is not None and stack.ground
+    for out in args.outputs:
+        suffix = Path(out).suffix.lower()
+        if suffix == ".s4p" and grounded:
+            raise PeriodicUsageError(
+                f"-o {out}: over a ground plane the array has one side: write a 2-port, .s2p"
+            )
+        if suffix == ".s2p" and not grounded:
+            raise PeriodicUsageError(
+                f"-o {out}: a 2-port is for a sheet over a ground plane (--stack '...; "
+                "ground'); without one write the 4-port, .s4p"
+            )
 
 
 def incidence(args: argparse.Namespace, vector: tuple[float, float, float] | None = None) -> Any:
@@ -258,6 +300,7 @@ def run_periodic(
     from barymesh.mom import periodic_sweep
 
     wave = incidence(args, vector)
+    stack = parse_stack_option(getattr(args, "stack", None))
     structure = None
     if args.mesh:
         from barymesh.io import read_mesh
@@ -267,13 +310,14 @@ def run_periodic(
     with progress("building the unit cell"):
         mesh, title, lattice = cell_mesh(args, structure)
     print(f"{title}: {mesh.n_triangles:,} triangles, {len(mesh.rwg):,} interior RWG unknowns")
-    both = any(Path(out).suffix.lower() == ".s4p" for out in args.outputs)
+    both = any(Path(out).suffix.lower() in (".s4p", ".s2p") for out in args.outputs)
     options: dict[str, Any] = {
         "interpolate": not args.no_interpolate,
         "polarizations": "both" if both else "incident",
         "lattice": lattice,
         "sheet_impedance": sheet_impedance,
         "memory_limit": memory_limit,
+        "stack": stack,
     }
     if args.tolerance is not None:
         options["tolerance"] = args.tolerance
@@ -281,16 +325,23 @@ def run_periodic(
     what = f"solving the infinite array at {n} frequenc{'ies' if n > 1 else 'y'}"
     with progress(what):
         sweep = periodic_sweep(mesh, frequencies, wave, **options)
+    below = None
+    if both and stack is not None and not stack.ground:
+        # the stack is not its own mirror image: the lower ports need the wave from below
+        with progress(f"solving the wave from below at {n} frequenc{'ies' if n > 1 else 'y'}"):
+            below = periodic_sweep(mesh, frequencies, _mirrored(wave), **options)
     _describe_incidence(args, sweep)
     if n == 1:
         _report_orders(sweep)
         _report_next_onset(sweep, lattice if lattice is not None else mesh.lattice, wave)
     else:
         _report_sweep(sweep)
+    for text in sweep.warnings:
+        print(f"  warning: {text}")
     for out in args.outputs:
         suffix = Path(out).suffix.lower()
-        if suffix == ".s4p":
-            sweep.to_touchstone(out)
+        if suffix in (".s4p", ".s2p"):
+            sweep.to_touchstone(out, from_below=below)
         elif suffix == ".csv":
             sweep.to_csv(out)
         else:
@@ -307,6 +358,18 @@ def run_periodic(
     return 0
 
 
+def _mirrored(wave: Any) -> Any:
+    """The wave from below with the same transverse wavevector and TE/TM components."""
+    from barymesh.mom import PlaneWave, te_tm_polarizations
+
+    d = np.asarray(wave.direction, dtype=float)
+    up = np.array([d[0], d[1], -d[2]])
+    te, tm = te_tm_polarizations(d)
+    te_up, tm_up = te_tm_polarizations(up)
+    pol = np.asarray(wave.polarization)
+    return PlaneWave(up, (pol @ te) * te_up + (pol @ tm) * tm_up, wave.amplitude)
+
+
 def _describe_incidence(args: argparse.Namespace, sweep: Any) -> None:
     theta = 0.0 if args.theta is None else args.theta
     phi = 0.0 if args.phi is None else args.phi
@@ -319,6 +382,17 @@ def _describe_incidence(args: argparse.Namespace, sweep: Any) -> None:
         else f", sheet impedance {zs.real:.6g} {'+-'[zs.imag < 0]} j{abs(zs.imag):.6g} ohm/sq"
     )
     print(f"  incidence from above: theta = {theta:g} deg, phi = {phi:g} deg, {name}{sheet}")
+    if sweep.stack is not None:
+        top, bottom = sweep.reference_planes
+        print(f"  stack: {sweep.stack.describe()}")
+        far = (
+            "T = 0 (ground plane)"
+            if sweep.stack.ground
+            else f"T at its bottom face, z = {bottom:g} mm"
+        )
+        print(
+            f"  reference planes: R at the stack's top face, z = {top:g} mm over the sheet; {far}"
+        )
 
 
 def _polar(z: complex) -> str:
@@ -342,7 +416,8 @@ def _report_orders(sweep: Any) -> None:
     rc, tc = (complex(x[0]) for x in sweep.co_polar())
     print(f"  co-polar (0, 0): R = {_polar(rc).strip()} deg, T = {_polar(tc).strip()} deg")
     absorbed = float(sweep.absorption[0])
-    if sweep.sheet_impedance == 0:
+    lossless = sweep.stack is None or not sweep.stack.lossy
+    if sweep.sheet_impedance == 0 and lossless:
         print(f"  power balance: reflected + transmitted = {rp.sum() + tp.sum():.6f} (lossless: 1)")
     else:
         print(
@@ -387,7 +462,7 @@ def _report_sweep(sweep: Any) -> None:
         f"at {f[k] / 1e9:.6g} GHz"
     )
     a = sweep.absorption
-    if sweep.sheet_impedance == 0:
+    if sweep.sheet_impedance == 0 and (sweep.stack is None or not sweep.stack.lossy):
         print(f"  largest power-balance error {float(np.max(np.abs(a))):.2g}")
     else:
         j = int(np.argmax(a))

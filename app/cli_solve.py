@@ -151,6 +151,15 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "--phi", type=float, default=None, metavar="DEG", help="azimuth of incidence (degrees)"
     )
     per.add_argument(
+        "--stack",
+        metavar="LAYERS | FILE.json",
+        help="dielectric layers around the sheet, top first, separated by ';': a thickness "
+        "with its unit and eps=, tand=, mu= (e.g. '1.575mm eps=2.2 tand=0.0009; ground'); "
+        "'sheet' marks where the sheet lies (default: on top), 'ground' puts a ground "
+        "plane under the last layer; or a JSON file of barymesh.mom.Stack.to_dict. R is "
+        "then referred to the stack's top face, T to its bottom face",
+    )
+    per.add_argument(
         "--no-interpolate",
         action="store_true",
         help="solve at every frequency of the sweep instead of fitting the curve (AAA) "
@@ -178,7 +187,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         default=[],
         help="results: .csv (cross-sections per frequency), .npz (arrays), .vtu (one "
         "frequency: J_abs, J_real, J_imag per triangle for ParaView); with --periodic: "
-        ".s4p (the (0, 0) order as a Touchstone 4-port, TE/TM above and below), .csv (R "
+        ".s4p (the (0, 0) order as a Touchstone 4-port, TE/TM above and below; .s2p, TE/TM "
+        "above, with a grounded --stack), .csv (R "
         "and T of every propagating order per frequency), .vtu (the cell's current) "
         "(repeatable)",
     )

@@ -82,6 +82,8 @@ def run(args: argparse.Namespace) -> int:
     logging.getLogger("distributed").setLevel(logging.ERROR)
     bar = ProgressBar(sys.stderr)
     print(f"study {Path(args.spec).name}: {len(spec.points())} points, digest {spec.digest()}")
+    if spec.stack is not None:
+        print(f"  on the stack {spec.stack.describe() or '(no layers)'}")
     try:
         result = run_study(
             spec,
@@ -112,11 +114,42 @@ def run(args: argparse.Namespace) -> int:
     )
     for index, row in result.failed.head(3).iterrows():
         print(f"  point {index}: {row['status']}")
+    for line in warning_lines(result):
+        print(line)
     from barymesh.study.results import output_paths
 
     for path in output_paths(output):
         print(f"wrote {path}")
     return 0
+
+
+def warning_lines(result: Any, shown: int = 8) -> list[str]:
+    """The CLI's summary of the points' warnings: one line per kind, with the points that
+    have it and the first one's sentence.
+
+    ::
+
+          warnings on 3 of 6 points (the derived table's warnings column):
+            coarse mesh (points 1, 3, 5): edges up to 1.89 mm, over a tenth of … (point 1)
+    """
+    kinds = result.warning_kinds()
+    if not kinds:
+        return []
+    column = result.derived["warnings"]
+    flagged = int((column.str.len() > 0).sum())
+    lines = [
+        f"  warnings on {flagged} of {len(column)} points (the derived table's warnings column):"
+    ]
+    for kind, points in kinds.items():
+        listed = ", ".join(str(p) for p in points[:shown])
+        if len(points) > shown:
+            listed += f", … ({len(points) - shown} more)"
+        first = next(w for w in str(column[points[0]]).splitlines() if w.split(":", 1)[0] == kind)
+        text = first.split(":", 1)[1].strip() if ":" in first else first
+        lines.append(
+            f"    {kind} (point{'s' * (len(points) > 1)} {listed}): {text} (point {points[0]})"
+        )
+    return lines
 
 
 class ProgressBar:

@@ -53,9 +53,9 @@ def _counting(monkeypatch):
     fills = []
     real = periodic_module.periodic_impedance_matrix
 
-    def counted(pg, k, kt=(0.0, 0.0)):
+    def counted(pg, k, kt=(0.0, 0.0), stack=None):
         fills.append((k, tuple(kt)))
-        return real(pg, k, kt)
+        return real(pg, k, kt, stack)
 
     monkeypatch.setattr(periodic_module, "periodic_impedance_matrix", counted)
     return fills

@@ -243,6 +243,7 @@ def test_a_serial_run_writes_csv_that_reads_back_exactly(tmp_path):
         "status",
         "resonance_frequency_hz",
         "quality_factor",
+        "warnings",
     ]
     assert list(result.derived.status[[0, 2]]) == ["ok", "ok"]
     assert result.derived.status[1].startswith("patch_size=-1.0 is invalid")

@@ -4,9 +4,10 @@ The writers take a :class:`barymesh.mom.PeriodicSweep` (they read its arrays onl
 import nothing of the solver).
 
 - :func:`write_touchstone`: the (0, 0) order as a 4-port, TE and TM above the screen
-  (ports 1, 2) and below it (ports 3, 4), Touchstone version 1, real and imaginary parts
-  (``# Hz S RI R 1``), the conventions in its ``!`` comment lines; scikit-rf reads it
-  (``skrf.Network(path)``).
+  (ports 1, 2) and below it (ports 3, 4), or as a 2-port (TE and TM above) over a ground
+  plane, Touchstone version 1, real and imaginary parts (``# Hz S RI R 1``), the
+  conventions, the reference planes and the stack in its ``!`` comment lines; scikit-rf
+  reads it (``skrf.Network(path)``).
 - :func:`write_orders_csv`: one row per frequency, propagating order (p, q) and scattered
   polarisation: R and T, their power fractions, whether the frequency was solved.
 """
@@ -46,18 +47,21 @@ ORDER_COLUMNS = (
 __all__ = ["ORDER_COLUMNS", "scattering_matrices", "write_orders_csv", "write_touchstone"]
 
 
-def scattering_matrices(sweep: Any) -> np.ndarray:
-    """(F, 4, 4) complex S of the (0, 0) order: ports TE/TM above (1, 2) and below (3, 4).
+def scattering_matrices(sweep: Any, from_below: Any = None) -> np.ndarray:
+    """(F, 4, 4) complex S of the (0, 0) order: ports TE/TM above (1, 2) and below (3, 4);
+    (F, 2, 2) over a ground plane (ports TE/TM above).
 
     S[:2, :2] is the reflection of a wave from above (rows: scattered TE, TM; columns:
     incident TE, TM), S[2:, :2] its transmission (incident wave included); from below,
     by the mirror symmetry of a zero-thickness screen in free space, the same blocks
-    swapped: S = [[R, T], [T, R]].
+    swapped: S = [[R, T], [T, R]]. A sheet on layers is not its own mirror image:
+    ``from_below``, the sweep of the mirrored wave from below, gives S[2:, 2:] and S[:2, 2:].
 
     Raises
     ------
     ValueError
-        When the sweep solved one incident polarisation only.
+        When the sweep solved one incident polarisation only, or a sweep on layers (no
+        ground plane) comes without ``from_below``.
     """
     if not sweep.both_polarizations:
         raise ValueError(
@@ -66,8 +70,27 @@ def scattering_matrices(sweep: Any) -> np.ndarray:
         )
     r = sweep.order_reflection[:, 0]  # (F, 2, 2): scattered TE/TM, incident TE/TM
     t = sweep.order_transmission[:, 0]
-    top = np.concatenate([r, t], axis=2)  # rows above: [R | T]
-    bottom = np.concatenate([t, r], axis=2)
+    stack = getattr(sweep, "stack", None)
+    if stack is not None and stack.ground:
+        return r.copy()
+    r_below, t_below = r, t
+    if stack is not None:
+        if from_below is None:
+            raise ValueError(
+                "a sheet on layers is not its own mirror image: the 4-port needs the sweep "
+                "of the wave from below too (from_below=)"
+            )
+        if not from_below.both_polarizations or not np.array_equal(
+            from_below.frequencies, sweep.frequencies
+        ):
+            raise ValueError(
+                "from_below must be the sweep from below at the same frequencies, with "
+                "polarizations='both'"
+            )
+        r_below = from_below.order_reflection[:, 0]
+        t_below = from_below.order_transmission[:, 0]
+    top = np.concatenate([r, t_below], axis=2)  # rows above: [R | T from below]
+    bottom = np.concatenate([t, r_below], axis=2)
     return np.concatenate([top, bottom], axis=1)
 
 
@@ -85,16 +108,24 @@ def _number(x: float) -> str:
     return f"{x:.12g}"
 
 
-def write_touchstone(path: str | Path, sweep: Any) -> None:
-    """Write the (0, 0) order's 4-port S-parameters of ``sweep`` to a Touchstone v1 file.
+def write_touchstone(path: str | Path, sweep: Any, from_below: Any = None) -> None:
+    """Write the (0, 0) order's S-parameters of ``sweep`` to a Touchstone v1 file.
 
     Parameters
     ----------
     path : str or Path
-        Usually ending in ``.s4p``; written atomically.
+        Usually ending in ``.s4p`` (``.s2p`` over a ground plane); written atomically.
     sweep : PeriodicSweep
         Solved with ``polarizations='both'``.
+    from_below : PeriodicSweep, optional
+        On layers without a ground plane: the mirrored wave's sweep from below
+        (:func:`scattering_matrices`).
     """
+    stack = getattr(sweep, "stack", None)
+    if stack is not None:
+        s = scattering_matrices(sweep, from_below)
+        _write_layered(path, sweep, s)
+        return
     s = scattering_matrices(sweep)
     d = np.asarray(sweep.incidence.direction, dtype=np.float64)
     theta, phi = _angles(d)
@@ -183,3 +214,54 @@ def write_orders_csv(path: str | Path, sweep: Any) -> None:
                     ]
                 )
     atomic_write_text(path, buf.getvalue())
+
+
+def _write_layered(path: str | Path, sweep: Any, s: np.ndarray) -> None:
+    """:func:`write_touchstone` of a sheet on layers: the reference planes and the stack."""
+    stack = sweep.stack
+    d = np.asarray(sweep.incidence.direction, dtype=np.float64)
+    theta, phi = _angles(d)
+    top, bottom = stack.reference_planes
+    ports = s.shape[1]
+    zs = complex(sweep.sheet_impedance)
+    lines = [
+        f"! barymesh periodic_sweep: the (0, 0) Floquet order of an infinite array on layers "
+        f"as a {ports}-port",
+        "! The stack, top first (mm; 'sheet' where the metal lies): "
+        + (
+            "; ".join([layer.describe() for layer in stack.above] + ["sheet"])
+            + ("; " if stack.below or stack.ground else "")
+            + "; ".join(
+                [layer.describe() for layer in stack.below] + (["ground"] if stack.ground else [])
+            )
+        ),
+        "! Time convention exp(+j w t). Vacuum outside the stack.",
+    ]
+    if ports == 2:
+        lines += [
+            "! Ports: 1 = TE above, 2 = TM above. A ground plane closes the stack below:",
+            "!   no transmission, and |S|^2 sums to 1 less what the layers and the sheet absorb.",
+        ]
+    else:
+        lines += [
+            "! Ports: 1 = TE above, 2 = TM above, 3 = TE below, 4 = TM below; S(:, 3:4) from a",
+            "!   second sweep of the mirrored wave from below (the stack is not its own mirror).",
+        ]
+    lines += [
+        f"! Reference planes: ports 1, 2 at the stack's top face, z = {top:.6g} mm over the "
+        "sheet" + ("" if ports == 2 else f"; ports 3, 4 at its bottom face, z = {bottom:.6g} mm."),
+        "!   A reflection phase means nothing without its reference plane: shift it to the",
+        "!   sheet by exp(+2j beta z) (beta = k cos theta in vacuum) only where vacuum is between.",
+        f"! Incidence: theta = {theta:.6g} deg, phi = {phi:.6g} deg; the same transverse "
+        "wavevector at every port.",
+        "! TE = z x kappa/|kappa| (y at normal incidence), TM = TE x d travelling down, -TE x d",
+        "!   travelling up. Reference impedance: each port's mode's wave impedance in vacuum;",
+        "!   'R 1' below: the data are normalised to them.",
+        f"! Sheet impedance Z_s = {zs.real:.6g} {'+-'[zs.imag < 0]} j{abs(zs.imag):.6g} ohm/sq.",
+        "# Hz S RI R 1",
+    ]
+    for f, m in zip(sweep.frequencies, s, strict=True):
+        for i in range(ports):
+            pairs = " ".join(f"{_number(v.real)} {_number(v.imag)}" for v in m[i])
+            lines.append(f"{_number(f) if i == 0 else ' ' * 8} {pairs}")
+    atomic_write_text(path, "\n".join(lines) + "\n")

@@ -1,4 +1,5 @@
-"""Method of Moments on RWG meshes: the EFIE for perfect conductors in free space.
+"""Method of Moments on RWG meshes: the EFIE for perfect conductors in free space and,
+for infinite arrays, on dielectric layers.
 
 Time convention e^(jωt); meshes in mm, everything else in SI units.
 
@@ -17,7 +18,9 @@ kernel as a power series in k), :mod:`.excitation`,
 for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
 :mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),
 :mod:`.periodic_fill` (how its matrix is filled),
-:mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating).
+:mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating);
+:mod:`.stack` (dielectric layers and a ground plane around the sheet, as transmission
+lines) and :mod:`.periodic_layered` (the layered kernel the fill integrates).
 """
 
 from .excitation import PlaneWave, VoltageSource, excitation_vector
@@ -43,8 +46,10 @@ from .solve import (
     solve,
     sweep,
 )
+from .stack import Layer, Stack, parse_stack
 
 __all__ = [
+    "Layer",
     "MomGeometry",
     "PeriodicGreen",
     "PeriodicSolution",
@@ -53,6 +58,7 @@ __all__ = [
     "ProblemTooLarge",
     "Solution",
     "SolveCancelled",
+    "Stack",
     "SweepResult",
     "VoltageSource",
     "check_memory",
@@ -63,6 +69,7 @@ __all__ = [
     "impedance_matrix",
     "lorentzian_peaks",
     "mom_geometry",
+    "parse_stack",
     "periodic_geometry",
     "periodic_solve",
     "periodic_solve_many",

@@ -78,13 +78,13 @@ def power_tables(geom: MomGeometry, count: int) -> np.ndarray:
     return out
 
 
-def near_moments_series(geom: MomGeometry, k: float) -> np.ndarray | None:
+def near_moments_series(geom: MomGeometry, k: complex) -> np.ndarray | None:
     """(K, 8) complex moments of G over the near pairs, as
     :func:`~barymesh.mom.operator.near_moments`; None when the series does not apply
     (k R_max > :data:`SERIES_MAX_PHASE`, or its tables would exceed
     :data:`SERIES_MAX_BYTES`)."""
     dist = geom.near_distances
-    terms = series_terms(k * float(dist.max()) if dist.size else 0.0)
+    terms = series_terms(abs(k) * float(dist.max()) if dist.size else 0.0)
     if terms is None or terms * dist.shape[0] * 128 > SERIES_MAX_BYTES:
         return None
     tables = power_tables(geom, terms)  # M_m for m = n − 1

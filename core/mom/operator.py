@@ -45,8 +45,10 @@ def active_axes(geom: MomGeometry) -> tuple[int, ...]:
     return tuple(int(c) for c in range(3) if span[c] > 0 or np.any(geom.vertices[:, c]))
 
 
-def near_moments(geom: MomGeometry, k: float, single: bool = False) -> np.ndarray:
+def near_moments(geom: MomGeometry, k: complex, single: bool = False) -> np.ndarray:
     """(K, 8) complex moments of G over the near pairs, at wavenumber ``k``.
+
+    ``k`` may be complex, Im k < 0 (a lossy medium; ``single`` is then ignored).
 
     The smooth kernel is evaluated on one of each mirrored pair (a, b), (b, a)
     only: with L = [w, w ρ] on each triangle, the 4 × 4 moments of (b, a) are
@@ -59,15 +61,19 @@ def near_moments(geom: MomGeometry, k: float, single: bool = False) -> np.ndarra
     upper = geom.near_upper
     obs, src = geom.near_pairs[upper, 0], geom.near_pairs[upper, 1]
     dist = geom.near_distances
-    x = k * dist
-    if single:
-        x = x.astype(np.float32)
-    smooth = np.empty(dist.shape, dtype=np.complex128)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / dist
-        half = np.sin(0.5 * x)
-        smooth.real = (0.5 * x * x - 2.0 * half * half) * inv
-        smooth.imag = -np.sin(x) * inv
+    if np.imag(k):  # a lossy medium (the layered periodic fill): the kernel as it is
+        with np.errstate(divide="ignore", invalid="ignore"):
+            smooth = (np.exp(-1j * k * dist) - 1.0 + 0.5 * (k * dist) ** 2) / dist
+    else:
+        x = k * dist
+        if single:
+            x = x.astype(np.float32)
+        smooth = np.empty(dist.shape, dtype=np.complex128)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / dist
+            half = np.sin(0.5 * x)
+            smooth.real = (0.5 * x * x - 2.0 * half * half) * inv
+            smooth.imag = -np.sin(x) * inv
     at_zero = dist == 0.0
     smooth[at_zero] = -1j * k
     w = geom.near.weights[:, :, None]
@@ -76,7 +82,7 @@ def near_moments(geom: MomGeometry, k: float, single: bool = False) -> np.ndarra
     return near_moments_from_half(geom, m4, k)
 
 
-def near_moments_from_half(geom: MomGeometry, m4: np.ndarray, k: float) -> np.ndarray:
+def near_moments_from_half(geom: MomGeometry, m4: np.ndarray, k: complex) -> np.ndarray:
     """(K, 8) complex moments of G over the near pairs from the smooth kernel's moments.
 
     ``m4`` is (H, 4, 4) complex: the frame [w, w ρ] moments of the smooth kernel over the

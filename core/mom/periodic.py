@@ -31,7 +31,7 @@ import contextlib
 import math
 import weakref
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cache, cached_property
 from typing import Any
 
@@ -49,8 +49,10 @@ from .geometry import (
     static_moments,
 )
 from .operator import ETA0, wavenumber
+from .periodic_caveats import periodic_warnings
 from .periodic_fill import FillPlan, fill, fill_plan
 from .periodic_green import PeriodicGreen
+from .periodic_layered import layer_orders, layered_kernel, sheet_field
 from .solve import (
     ProblemTooLarge,
     check_sheet_impedance,
@@ -58,6 +60,7 @@ from .solve import (
     format_bytes,
     memory_allowance,
 )
+from .stack import Stack, background, lit_side_loss, side, vacuum_admittance
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
@@ -426,16 +429,24 @@ def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> n
 
 
 def periodic_impedance_matrix(
-    pg: PeriodicGeometry, k: complex, kt: tuple[float, float] | np.ndarray = (0.0, 0.0)
+    pg: PeriodicGeometry,
+    k: complex,
+    kt: tuple[float, float] | np.ndarray = (0.0, 0.0),
+    stack: Stack | None = None,
 ) -> np.ndarray:
     """The (N, N) complex EFIE matrix of the array at wavenumber ``k``, Floquet phase ``kt``.
 
     ``kt`` is the incident wave's transverse wavevector (rad/m). Reciprocity:
-    Z(k_t)ᵀ = Z(−k_t).
+    Z(k_t)ᵀ = Z(−k_t). ``k`` is the vacuum's; ``stack`` (:class:`~barymesh.mom.stack.Stack`)
+    puts the sheet on layers (None, or a stack with no layer and no ground: in vacuum).
     """
     if complex(k).imag != 0:
         raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
-    return fill(pg, float(np.real(k)), np.asarray(kt, dtype=np.float64))
+    kt = np.asarray(kt, dtype=np.float64)
+    k = float(np.real(k))
+    if stack is None or stack.is_free_standing:
+        return fill(pg, k, kt)
+    return fill(pg, k, kt, layered_kernel(stack, pg.lattice, k, kt))
 
 
 def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:
@@ -483,7 +494,17 @@ class PeriodicSolution:
     sheet_impedance : complex
         Z_s of the screen (Ω per square).
     absorption : float
-        Power dissipated in the sheet over the incident power through the cell.
+        Power dissipated in the sheet and in the layers over the incident power through
+        the cell (:attr:`sheet_absorption` + :attr:`layer_absorption`).
+    stack : Stack or None
+        The layers around the sheet (None: free-standing in vacuum).
+    sheet_absorption, layer_absorption : float
+        The two parts of :attr:`absorption`: in the sheet impedance, in the layers' loss.
+    layer_orders : (L, 2) int
+        Floquet orders (p, q) that propagate in some layer of the stack but not in vacuum:
+        guided inside the stack, they carry no power out (not grating lobes).
+    warnings : tuple of str
+        When the result should not be trusted as it is (see :mod:`barymesh.mom.caveats`).
     """
 
     geometry: PeriodicGeometry
@@ -500,6 +521,24 @@ class PeriodicSolution:
     residual: float
     sheet_impedance: complex = 0j
     absorption: float = 0.0
+    stack: Stack | None = None
+    sheet_absorption: float = 0.0
+    layer_absorption: float = 0.0
+    layer_orders: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=int))
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def reference_planes(self) -> tuple[float, float]:
+        """Heights (mm) over the sheet of the planes R and T are referred to.
+
+        (the face the wave falls on, the far face): the stack's top and bottom faces
+        for a wave from above, the other way round from below; (0, 0) free-standing.
+        A reflection phase means nothing without its reference plane.
+        """
+        if self.stack is None:
+            return (0.0, 0.0)
+        top, bottom = self.stack.reference_planes
+        return (top, bottom) if np.asarray(self.incidence.direction)[2] < 0 else (bottom, top)
 
     @property
     def power_fractions(self) -> tuple[np.ndarray, np.ndarray]:
@@ -540,6 +579,7 @@ def periodic_solve(
     lattice: Any = None,
     sheet_impedance: complex = 0.0,
     memory_limit: float | None = None,
+    stack: Stack | None = None,
 ) -> PeriodicSolution:
     """Reflection and transmission of the infinite array of ``mesh`` at one frequency.
 
@@ -562,6 +602,11 @@ def periodic_solve(
         A cap in bytes (in addition to the memory available now); a cell that would
         need more raises :class:`~barymesh.mom.ProblemTooLarge` before allocating
         (:func:`check_periodic_memory`).
+    stack : Stack, optional
+        Dielectric layers above and below the sheet and a ground plane
+        (:class:`~barymesh.mom.stack.Stack`); R is then referred to the stack's top face
+        and T to its bottom face (:attr:`PeriodicSolution.reference_planes`). None: the
+        sheet in vacuum.
 
     Returns
     -------
@@ -581,6 +626,7 @@ def periodic_solve(
         lattice=lattice,
         sheet_impedance=sheet_impedance,
         memory_limit=memory_limit,
+        stack=stack,
     )[0]
 
 
@@ -592,6 +638,7 @@ def periodic_solve_many(
     lattice: Any = None,
     sheet_impedance: complex = 0.0,
     memory_limit: float | None = None,
+    stack: Stack | None = None,
 ) -> tuple[PeriodicSolution, ...]:
     """:func:`periodic_solve` for several incident waves at one frequency.
 
@@ -615,6 +662,8 @@ def periodic_solve_many(
         Ω per square, as for :func:`periodic_solve`.
     memory_limit : float, optional
         Bytes, as for :func:`periodic_solve`.
+    stack : Stack, optional
+        The layers, as for :func:`periodic_solve`.
 
     Returns
     -------
@@ -642,6 +691,14 @@ def periodic_solve_many(
                 else "the incident wave travels along the screen (direction_z = 0)"
             )
     zs = check_sheet_impedance(sheet_impedance)
+    stack = check_stack(stack)
+    if stack is not None and stack.ground:
+        for i, wave in enumerate(waves):
+            if np.asarray(wave.direction)[2] > 0:
+                raise ValueError(
+                    f"incidences[{i}] comes from below, where the ground plane is: "
+                    "a grounded stack is lit from above (direction_z < 0)"
+                )
     pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
     check_periodic_memory(pg.base.n_triangles, pg.n_unknowns, memory_limit, geometry=False)
     k = wavenumber(frequency)
@@ -652,7 +709,7 @@ def periodic_solve_many(
     out: list[PeriodicSolution | None] = [None] * len(waves)
     for kt, members in groups.items():
         with blas_threads(pg.n_unknowns):
-            system = fill_system(pg, frequency, kt, zs)
+            system = fill_system(pg, frequency, kt, zs, stack)
             solved = solve_system(system, [waves[i] for i in members])
         for i, s in zip(members, solved, strict=True):
             out[i] = s
@@ -701,6 +758,8 @@ class FilledSystem:
         The Gram matrix, when Z_s ≠ 0.
     sheet_impedance : complex
         Ω per square.
+    stack : Stack or None
+        The layers (None: vacuum).
     """
 
     geometry: PeriodicGeometry
@@ -709,6 +768,16 @@ class FilledSystem:
     matrix: np.ndarray
     gram: sp.csr_matrix | None
     sheet_impedance: complex
+    stack: Stack | None = None
+
+
+def check_stack(stack: Any) -> Stack | None:
+    """``stack`` as the solver takes it: None for the sheet in vacuum, else a Stack."""
+    if stack is None:
+        return None
+    if not isinstance(stack, Stack):
+        raise TypeError(f"stack must be a barymesh.mom.Stack (or None), got {type(stack).__name__}")
+    return None if stack.is_free_standing else stack
 
 
 def fill_system(
@@ -716,16 +785,18 @@ def fill_system(
     frequency: float,
     kt: Sequence[float] | np.ndarray,
     sheet_impedance: complex = 0.0,
+    stack: Stack | None = None,
 ) -> FilledSystem:
     """The filled EFIE of ``pg`` at ``frequency`` (Hz) and Floquet phase ``kt`` (rad/m)."""
     key = (float(kt[0]), float(kt[1]))
     k = wavenumber(frequency)
-    z = periodic_impedance_matrix(pg, k, key)
+    stack = check_stack(stack)
+    z = periodic_impedance_matrix(pg, k, key, stack)
     gram = None
     if sheet_impedance != 0:
         gram = gram_matrix(pg, np.asarray(key))
         z += sheet_impedance * gram.toarray()
-    return FilledSystem(pg, float(frequency), key, z, gram, complex(sheet_impedance))
+    return FilledSystem(pg, float(frequency), key, z, gram, complex(sheet_impedance), stack)
 
 
 def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[PeriodicSolution]:
@@ -735,13 +806,17 @@ def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[Perio
     use the matrix itself, which is left as it is.
     """
     pg, frequency, kt = system.geometry, system.frequency, system.kt
-    zs, gram, z = system.sheet_impedance, system.gram, system.matrix
+    zs, gram, z, stack = system.sheet_impedance, system.gram, system.matrix, system.stack
     k = wavenumber(frequency)
     rule = pg.base.near
     _, test = pg.basis_maps(np.asarray(kt))
     columns = []
     for wave in waves:
-        e = wave.field(rule.points, k)
+        e = (
+            wave.field(rule.points, k)
+            if stack is None
+            else sheet_field(stack, k, wave, rule.points)
+        )
         e0 = np.einsum("tq,tqc->tc", rule.weights, e)
         e1 = np.einsum("tq,tqc->t", rule.weights, rule.rho * e)
         columns.append(test @ np.concatenate([e1, e0[:, 0], e0[:, 1]]))
@@ -754,17 +829,34 @@ def solve_system(system: FilledSystem, waves: Sequence[PlaneWave]) -> list[Perio
     solutions = []
     for j, wave in enumerate(waves):
         current = np.ascontiguousarray(currents[:, j])
-        solution = _floquet_amplitudes(
-            pg, frequency, wave, k, kt, current, cond, float(residuals[j])
-        )
-        absorbed = 0.0
+        if stack is None:
+            solution = _floquet_amplitudes(
+                pg, frequency, wave, k, kt, current, cond, float(residuals[j])
+            )
+        dissipated = 0.0
         if gram is not None:
-            # ½ Re(Z_s) ∫ |J|² over the cell, against the incident power through it
+            # ½ Re(Z_s) ∫ |J|² over the cell
             dissipated = 0.5 * zs.real * float(np.real(np.vdot(current, gram @ current)))
-            d = np.asarray(wave.direction)
-            incident = wave.amplitude**2 / (2.0 * ETA0) * pg.area * abs(float(d[2]))
-            absorbed = dissipated / incident
-        solutions.append(replace(solution, sheet_impedance=zs, absorption=absorbed))
+        if stack is not None:
+            given = 0.0
+            if stack.lossy:
+                given = 0.5 * float(np.real(np.vdot(current, z @ current))) - dissipated
+            solution = _layered_amplitudes(
+                pg, frequency, wave, k, kt, current, cond, float(residuals[j]), stack, given
+            )
+        # against the incident power through the cell
+        d = np.asarray(wave.direction)
+        incident = wave.amplitude**2 / (2.0 * ETA0) * pg.area * abs(float(d[2]))
+        absorbed = dissipated / incident
+        solutions.append(
+            replace(
+                solution,
+                sheet_impedance=zs,
+                sheet_absorption=absorbed,
+                absorption=absorbed + solution.layer_absorption,
+                warnings=periodic_warnings(pg, stack, frequency, d, cond),
+            )
+        )
     return solutions
 
 
@@ -793,7 +885,21 @@ def _current(pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.
     return alpha[:, None, None] * rho + beta[:, None, :]
 
 
-def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
+@dataclass(frozen=True, eq=False)
+class _Harmonics:
+    """The propagating Floquet orders of a solve, (0, 0) first, and the currents' J̃ there."""
+
+    orders: np.ndarray  # (P, 2) int
+    kappa: np.ndarray  # (P, 2) rad/m
+    beta: np.ndarray  # (P,) rad/m
+    jt: np.ndarray  # (P, 3) complex J̃(κ_pq) = ∫ J e^(+jκ·ρ) dS over the cell
+    te: np.ndarray  # (P, 3) unit TE, and TM going up and down
+    tm_up: np.ndarray
+    tm_down: np.ndarray
+    phi: float  # the incidence plane's azimuth (rad)
+
+
+def _harmonics(pg, wave, k, kt, current) -> _Harmonics:
     green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
     prop = green.propagating()
     orders, kappa = green.orders[prop], green.kappa[prop]
@@ -801,14 +907,21 @@ def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> 
     order = np.concatenate([first, np.setdiff1d(np.arange(len(orders)), first)])
     orders, kappa = orders[order], kappa[order]
     beta = np.sqrt(k * k - np.einsum("ij,ij->i", kappa, kappa))
-    base = pg.base
-    rule = base.near
+    rule = pg.base.near
     j = _current(pg, kt, current, rule.rho)  # (T, Q, 3)
     phase = np.exp(1j * (rule.points[:, :, :2] @ kappa.T))  # (T, Q, P)
     jt = np.einsum("tq,tqc,tqp->pc", rule.weights, j, phase)  # J̃(κ_pq), (P, 3)
     d = np.asarray(wave.direction)
     phi = math.atan2(d[1], d[0]) if np.hypot(d[0], d[1]) > 1e-12 else 0.0
     te, tm_up, tm_down = _floquet_basis(kappa, beta, k, phi)
+    return _Harmonics(orders, kappa, beta, jt, te, tm_up, tm_down, phi)
+
+
+def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
+    h = _harmonics(pg, wave, k, kt, current)
+    orders, kappa, beta, jt = h.orders, h.kappa, h.beta, h.jt
+    te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
+    d = np.asarray(wave.direction)
     scale = -k * ETA0 / (2.0 * pg.area * beta)  # E_pq = scale · J̃_⊥
     up = scale[:, None] * np.stack(
         [np.einsum("pc,pc->p", jt, te), np.einsum("pc,pc->p", jt, tm_up)], axis=1
@@ -837,3 +950,119 @@ def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> 
         condition_number=cond,
         residual=residual,
     )
+
+
+def _layered_amplitudes(
+    pg, frequency, wave, k, kt, current, cond, residual, stack: Stack, power_given: float = 0.0
+) -> PeriodicSolution:
+    """:func:`_floquet_amplitudes` on layers: each order's sheet voltage through the line.
+
+    The sheet current's harmonic J̃(κ) drives the line of each order: the tangential
+    field at the sheet is V = −η0 J̃ / (A (y_up + y_down)) (TE along ẑ × κ̂, TM along κ̂),
+    carried to the stack's faces by the sides' transfers; the background (the stack lit
+    without the sheet) adds to the (0, 0) order.
+
+    ``power_given`` is ½ Re(I^H Z I) less the sheet impedance's loss (W per cell): with
+    lossy layers, the power the currents lose in them is that less what they radiate.
+    """
+    h = _harmonics(pg, wave, k, kt, current)
+    orders, kappa, beta, jt, phi = h.orders, h.kappa, h.beta, h.jt, h.phi
+    te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
+    d = np.asarray(wave.direction)
+    kappa2 = np.einsum("ij,ij->i", kappa, kappa)
+    norm = np.sqrt(kappa2)
+    plane = np.array([math.cos(phi), math.sin(phi), 0.0])
+    safe = np.where(norm > 1e-9 * k, norm, 1.0)[:, None]
+    along = np.where(
+        norm[:, None] > 1e-9 * k,
+        np.concatenate([kappa / safe, np.zeros((len(kappa), 1))], 1),
+        plane,
+    )
+    up = side(tuple(reversed(stack.above)), False, kappa2, k)
+    down = side(stack.below, stack.ground, kappa2, k)
+    drive = np.stack([np.einsum("pc,pc->p", jt, te), np.einsum("pc,pc->p", jt, along)], axis=1)
+    sheet = -ETA0 / pg.area * drive / (up.admittance + down.admittance)  # (P, 2) V at the sheet
+    # full amplitudes at the faces: TE is tangential; TM's tangential part is along κ̂
+    tm_up_t = np.einsum("pc,pc->p", tm_up, along)
+    tm_down_t = np.einsum("pc,pc->p", tm_down, along)
+    at_top = sheet * up.transfer / np.stack([np.ones(len(kappa)), tm_up_t], axis=1)
+    at_bottom = sheet * down.transfer / np.stack([np.ones(len(kappa)), tm_down_t], axis=1)
+    pol = np.asarray(wave.polarization) * wave.amplitude
+    going_down = d[2] < 0
+    tm_inc = tm_down[0] if going_down else tm_up[0]
+    incident = np.array([pol @ te[0], pol @ tm_inc]) / wave.amplitude
+    line = background(stack, k, float(np.hypot(kt[0], kt[1])), from_above=bool(going_down))
+    reflected, transmitted = (at_top, at_bottom) if going_down else (at_bottom, at_top)
+    reflected = reflected / wave.amplitude
+    transmitted = transmitted / wave.amplitude
+    reflected[0] += line.reflection * incident
+    transmitted[0] += line.transmission * incident
+    absorbed = 0.0
+    if stack.lossy:
+        v_inc = (
+            wave.amplitude * incident * np.array([1.0, (tm_down_t if going_down else tm_up_t)[0]])
+        )
+        lit_side, far_side = (up, down) if going_down else (down, up)
+        lost = _layers_loss(
+            stack, bool(going_down), k, kappa2, sheet, line.sheet * v_inc, v_inc, lit_side, far_side
+        )
+        given = power_given / (pg.area / ETA0)  # W per m², over 1/η0
+        absorbed = (given + lost) / (0.5 * wave.amplitude**2 * abs(float(d[2])))
+    return PeriodicSolution(
+        geometry=pg,
+        frequency=frequency,
+        incidence=wave,
+        coefficients=current,
+        orders=orders,
+        kappa=kappa,
+        beta=beta,
+        reflection=reflected,
+        transmission=transmitted,
+        incident_te_tm=incident,
+        condition_number=cond,
+        residual=residual,
+        stack=stack,
+        layer_orders=layer_orders(stack, pg.lattice, k, np.asarray(kt)),
+        layer_absorption=absorbed,
+        absorption=absorbed,
+    )
+
+
+def _layers_loss(
+    stack: Stack,
+    from_above: bool,
+    k: float,
+    kappa2: np.ndarray,
+    sheet: np.ndarray,
+    background_field: np.ndarray,
+    incoming: np.ndarray,
+    lit: Any,
+    far: Any,
+) -> float:
+    """What to add to ½ Re(I^H Z I) (per m², over 1/η0) for the power lost in the layers.
+
+    ½ Re(I^H Z I) is what the currents give the fields: radiated into the propagating
+    orders, or lost in the layers under their own field. So take off what ``sheet`` (the
+    currents' voltages at the sheet, (P, 2), propagating orders) radiates through the two
+    sides, and add what the stack's own field ``background_field`` (the (0, 0) order's
+    voltages at the sheet; ``incoming`` on the lit face) adds to the (0, 0) order's loss.
+    """
+    y0 = vacuum_admittance(kappa2, k).real
+
+    def outward_loss(v: np.ndarray, line: Any) -> float:  # into the side, less out of it
+        return 0.5 * float(
+            np.sum(
+                np.abs(v) ** 2 * (line.admittance[0].real - np.abs(line.transfer[0]) ** 2 * y0[0])
+            )
+        )
+
+    radiated = 0.5 * float(
+        np.sum(np.abs(sheet) ** 2 * (np.abs(lit.transfer) ** 2 + np.abs(far.transfer) ** 2) * y0)
+    )
+    own, both = sheet[0], sheet[0] + background_field
+    extra = outward_loss(both, far) - outward_loss(own, far)
+    lit_layers = stack.sides(from_above)[0]
+    if any(layer.lossy for layer in lit_layers):
+        extra += lit_side_loss(lit_layers, float(kappa2[0]), k, both, incoming)
+        extra -= outward_loss(own, lit)
+    return extra - radiated

@@ -33,6 +33,7 @@ the (3T, N) right factor R of Z = [C | D_x | D_y] R, one sparse product at the e
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING
@@ -49,6 +50,7 @@ from .periodic_green import PeriodicGreen, reciprocal_vectors
 
 if TYPE_CHECKING:
     from .periodic import PeriodicGeometry
+    from .periodic_layered import LayeredKernel
 
 #: Pairs at least this many times the larger triangle's longest edge apart (centroid to
 #: the nearest image's centroid) have G expanded like G_reg; closer ones take the far rule.
@@ -346,14 +348,20 @@ def slow_orders(green: PeriodicGreen, lattice: np.ndarray) -> tuple[np.ndarray, 
 
 
 def slow_order_terms(
-    pg: PeriodicGeometry, k: float, kt: np.ndarray, kappa: np.ndarray, c: np.ndarray
+    pg: PeriodicGeometry,
+    k: float,
+    kt: np.ndarray,
+    kappa: np.ndarray,
+    c: np.ndarray,
+    c_phi: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(N, 3S) U and V with U Vᵀ the part of Z from G = Σ c e^(−jκ·(r − r')) (SI, Ω).
 
     The kernel is separable: with E0 = ∫ e^(−jκ·r) dS and E1 = ∫ ρ e^(−jκ·r) dS per
     triangle (the near rule), the testing functions' Fourier moments are P_c = C E1_c +
     D_c E0 and Q = C E0, the basis functions' the same with e^(+jκ·r'), and the term is
-    jkη/4π c (Σ_c P_c P̃_cᵀ − 4/k² Q Q̃ᵀ).
+    jkη/4π c (Σ_c P_c P̃_cᵀ − 4/k² Q Q̃ᵀ). With ``c_phi`` (on layers), G_A's coefficients
+    are ``c`` and G_Φ's ``c_phi``: jkη/4π (c Σ_c P_c P̃_cᵀ − 4/k² c_Φ Q Q̃ᵀ).
     """
     rule = pg.base.near
     t = pg.base.n_triangles
@@ -369,7 +377,8 @@ def slow_order_terms(
     p = moments(test, e0, e1)
     q = moments(basis, np.conj(e0), np.conj(e1))
     scale = 1j * k * ETA0 / (4.0 * np.pi) * c
-    u = np.concatenate([p[0] * scale, p[1] * scale, p[2] * (scale * (-4.0 / (k * k)))], axis=1)
+    scale_phi = scale if c_phi is None else 1j * k * ETA0 / (4.0 * np.pi) * c_phi
+    u = np.concatenate([p[0] * scale, p[1] * scale, p[2] * (scale_phi * (-4.0 / (k * k)))], axis=1)
     v = np.concatenate(q, axis=1)
     return u, v
 
@@ -429,7 +438,7 @@ def _phase(distance: np.ndarray, k: float, max_phase: float) -> np.ndarray:
     return x.astype(np.float32)
 
 
-def cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+def cross_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     """(K, 8) moments of G over the near pairs across the cell's sides (closed-form 1/R, R)."""
     rule = pg.base.near
     obs, src = pg.cross[:, 0], pg.cross[:, 1]
@@ -450,8 +459,10 @@ def cross_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
     return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
 
 
-def special_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
+def special_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     """(6, 2, M) float32 flat moments of G over the near and close pairs, re and im.
+
+    ``k`` may be complex (Im k < 0, a lossy medium).
 
     In the order of ``pg.plan.special``: the near pairs by the free-space solver's
     closed forms, those across the cell's sides likewise against the shifted source,
@@ -461,9 +472,11 @@ def special_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
     """
     plan = pg.plan
     h = plan.scale
-    kh = k * h
+    kh = float(np.real(k)) * h
     x = _phase(plan.close_distance, kh, kh * plan.reach)
     inverse = np.divide(np.float32(1.0), plan.close_distance, dtype=np.float32)
+    if np.imag(k):  # a lossy medium (the layered fill): e^(Im k R) on the close pairs
+        inverse *= np.exp(np.float32(np.imag(k) * h) * plan.close_distance)
     kernel = np.stack([np.cos(x) * inverse, -np.sin(x) * inverse])  # (2, Q², K)
     close = np.einsum("ipk,rpk->irk", plan.close_weights, kernel).reshape(12, -1)
     own = near_moments_series(pg.base, k)  # the smooth kernel's power series, when it applies
@@ -485,9 +498,19 @@ def special_moments(pg: PeriodicGeometry, k: float) -> np.ndarray:
 
 
 def _taylor_moments(
-    plan: FillPlan, tables: np.ndarray, k: float, max_phase: float, lo: int, hi: int
+    plan: FillPlan,
+    tables: np.ndarray,
+    k: complex,
+    max_phase: float,
+    lo: int,
+    hi: int,
+    charge_only: bool = False,
 ) -> np.ndarray:
     """(6, 2, T, B) float32 flat moments of G + G_reg's expansions, observers lo..hi.
+
+    ``k`` may be complex (a lossy medium, Im k < 0: the layered fill's averaged media);
+    with ``charge_only`` only the first moment, ∫∫ 1, is returned ((1, 2, T, B)): what
+    the scalar potential needs.
 
     With the expansion about c (G) or about the grid node n (G_reg, e = c − n the
     remainder), both written about c as f + ∇f·w + ½ wᵀHw with w = ρ − ρ'::
@@ -528,23 +551,36 @@ def _taylor_moments(
     # G = e^(−jkR)/R about c: G' = −(1/R + jk) G, G'' = (2/R² − k² + 2jk/R) G, and
     # ∇G = G' ĉ, H = (G'' − G'/R) ĉĉᵀ + (G'/R) I
     inv = plan.inverse[:, lo:hi]
-    x = _phase(plan.distance[:, lo:hi], k, max_phase)
-    kk = np.float32(k)
+    kr, ki = float(np.real(k)), float(np.imag(k))
+    x = _phase(plan.distance[:, lo:hi], kr, max_phase)
+    kk = np.float32(kr)
     gr = np.cos(x)
     gr *= inv
     gi = np.sin(x)
     gi *= inv
     np.negative(gi, out=gi)
+    if ki:  # e^(−jkR) = e^(−j Re k R) e^(Im k R): a lossy medium's decay
+        decay = np.exp(np.float32(ki) * plan.distance[:, lo:hi])
+        gr *= decay
+        gi *= decay
+        shifted = inv - np.float32(ki)  # 1/R + jk = (1/R − Im k) + j Re k
+    else:
+        shifted = inv
     g1 = np.empty_like(g)  # G'
     np.multiply(gi, kk, out=g1[0])
-    g1[0] -= inv * gr
+    g1[0] -= shifted * gr
     np.multiply(gr, kk, out=g1[1])
-    g1[1] += inv * gi
+    g1[1] += shifted * gi
     np.negative(g1[1], out=g1[1])
     a2 = inv * inv
     a2 *= 2.0
-    a2 -= kk * kk
-    b2 = inv * (2.0 * kk)
+    if ki:  # 2/R² − k² + 2jk/R: real part 2/R² − Re k² − 2 Im k/R, imaginary 2 Re k (1/R − Im k)
+        a2 -= np.float32(kr * kr - ki * ki)
+        a2 -= inv * np.float32(2.0 * ki)
+        b2 = shifted * np.float32(2.0 * kr)
+    else:
+        a2 -= kk * kk
+        b2 = inv * (2.0 * kk)
     p = np.empty_like(g)  # G'' − G'/R
     np.multiply(a2, gr, out=p[0])
     p[0] -= b2 * gi
@@ -555,8 +591,9 @@ def _taylor_moments(
     value[0] += gr
     value[1] += gi
     ux, uy = plan.unit[0][:, lo:hi], plan.unit[1][:, lo:hi]
-    mac(dx, g1, ux)
-    mac(dy, g1, uy)
+    if not charge_only:
+        mac(dx, g1, ux)
+        mac(dy, g1, uy)
     hxx += q
     hyy += q
     uu = ux * ux
@@ -569,7 +606,7 @@ def _taylor_moments(
     a_s, a_o = plan.areas[:, None], plan.areas[lo:hi]
     i_s, i_o = plan.second[:, None], plan.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
     j_s, j_o = plan.third[:, None], plan.third[lo:hi]
-    out = np.empty((6, 2, t, b), dtype=np.float32)
+    out = np.empty((1 if charge_only else 6, 2, t, b), dtype=np.float32)
 
     def hessian(acc: np.ndarray, wxx, wxy, wyy) -> None:  # acc += H:w (wxy both halves)
         mac(acc, hxx, wxx)
@@ -586,6 +623,8 @@ def _taylor_moments(
     mac(acc, hyy, 0.5 * i_s[..., 1, 1])
     acc *= a_o
     acc += value
+    if charge_only:
+        return out
     for c in range(2):
         # A' (I ∇f + ½ J:H), then A (−I' ∇f + ½ J':H)
         acc = out[1 + c]
@@ -619,13 +658,20 @@ def _block_phases(pg: PeriodicGeometry, kt: np.ndarray) -> np.ndarray | None:
     return np.stack([phase.real, phase.imag]).astype(np.float32)
 
 
-def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
+def fill(
+    pg: PeriodicGeometry, k: float, kt: np.ndarray, layered: LayeredKernel | None = None
+) -> np.ndarray:
     """The (N, N) complex128 EFIE matrix of the array at real ``k`` and Floquet phase ``kt``.
 
     See :func:`barymesh.mom.periodic.periodic_impedance_matrix`, which checks the input.
+    With ``layered`` (:func:`barymesh.mom.periodic_layered.layered_kernel`), the sheet lies
+    on dielectric layers: G_A and G_Φ are the homogeneous limits μ̃ G_p(k_A) and
+    G_p(k_Φ)/ε̄, each integrated as G_p is in vacuum, plus their spectral rest in the
+    Taylor tables, plus the exact harmonics.
     """
+    if layered is not None:
+        return _fill_layered(pg, k, kt, layered)
     plan = pg.plan
-    t, n = pg.base.n_triangles, pg.n_unknowns
     h = plan.scale  # every length below in units of h: G and its derivatives times h, h², h³
     green = PeriodicGreen(
         tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (float(kt[0]), float(kt[1]))
@@ -636,31 +682,64 @@ def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
     tables = np.ascontiguousarray(tables.T)  # (G², 12)
     special = special_moments(pg, k)  # (6, 2, M)
     phases = _block_phases(pg, kt)
+    kh = k * h
+    max_phase = kh * plan.reach
+    scale = np.float32(4.0 / (kh * kh))
+
+    def block_moments(lo: int, hi: int) -> np.ndarray:
+        m = _taylor_moments(plan, tables, kh, max_phase, lo, hi)  # (6, 2, T, B)
+        _add_special(plan, m, special, lo, hi)
+        _apply_phases(plan, m, phases, lo, hi)
+        m[5] -= scale * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+        return m
+
+    z = _assemble(pg, k, kt, block_moments)
+    if len(slow_c):  # the orders taken out of G_reg, exactly
+        u, v = slow_order_terms(pg, k, kt, slow_kappa, slow_c)
+        # z += u vᵀ in place, as zᵀ (Fortran order) += v uᵀ: no N² temporary
+        blas.zgemm(1.0, v, u, beta=1.0, c=z.T, trans_b=1, overwrite_c=1)
+    return z
+
+
+def _add_special(plan: FillPlan, m: np.ndarray, special: np.ndarray, lo: int, hi: int) -> None:
+    """Add the near and close pairs' moments of the block's observers to ``m`` in place."""
+    first, last = plan.special_starts[lo], plan.special_starts[hi]
+    obs, src = plan.special[first:last, 0] - lo, plan.special[first:last, 1]
+    m[:, :, src, obs] += special[:, :, first:last]
+
+
+def _apply_phases(
+    plan: FillPlan, m: np.ndarray, phases: np.ndarray | None, lo: int, hi: int
+) -> None:
+    """Multiply each pair's moments by its image's Floquet phase e^(−j k_t·ρ_σ), in place."""
+    if phases is None:
+        return
+    code = plan.sigma_code[:, lo:hi]
+    pr, pi = phases[0][code], phases[1][code]
+    re = m[:, 0] * pr
+    re -= m[:, 1] * pi
+    m[:, 1] *= pr
+    m[:, 1] += m[:, 0] * pi
+    m[:, 0] = re
+
+
+def _assemble(
+    pg: PeriodicGeometry, k: float, kt: np.ndarray, block_moments: Callable[[int, int], np.ndarray]
+) -> np.ndarray:
+    """Z from each block's (6, 2, T, B) moments, as C S Cᵀ through the RWG maps (SI, Ω)."""
+    plan = pg.plan
+    t, n = pg.base.n_triangles, pg.n_unknowns
+    h = plan.scale
     crossing = plan.crossing_rows
     unknown_phase = np.exp(-1j * (pg.crossing[crossing] @ kt))
     ph = [part.astype(np.float32)[:, None] for part in (unknown_phase.real, unknown_phase.imag)]
     parts = [plan.maps[:, c * t : (c + 1) * t] for c in range(3)]
     folded = [plan.folded[:, c * t : (c + 1) * t] for c in range(3)]
     right = np.zeros((3 * t, 2 * n), dtype=np.float32)  # R, re | im
-    kh = k * h
-    max_phase = kh * plan.reach
     block = max(1, min(t, TAYLOR_BLOCK // max(1, t)))
-    scale = np.float32(4.0 / (kh * kh))
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        m = _taylor_moments(plan, tables, kh, max_phase, lo, hi)  # (6, 2, T, B)
-        first, last = plan.special_starts[lo], plan.special_starts[hi]
-        obs, src = plan.special[first:last, 0] - lo, plan.special[first:last, 1]
-        m[:, :, src, obs] += special[:, :, first:last]
-        if phases is not None:
-            code = plan.sigma_code[:, lo:hi]
-            pr, pi = phases[0][code], phases[1][code]
-            re = m[:, 0] * pr
-            re -= m[:, 1] * pi
-            m[:, 1] *= pr
-            m[:, 1] += m[:, 0] * pi
-            m[:, 0] = re
-        m[5] -= scale * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+        m = block_moments(lo, hi)
         for a, pairs in enumerate(TERMS):
             # R_a = Σ_b S_abᵀ C_bᵀ on the block's rows: (C_b S_ab)ᵀ, re and im
             re = sum(parts[b] @ m[i, 0] for b, i in pairs)
@@ -680,8 +759,79 @@ def fill(pg: PeriodicGeometry, k: float, kt: np.ndarray) -> np.ndarray:
         extra = plan.folded @ right
         z[crossing] += np.conj(unknown_phase)[:, None] * (extra[:, :n] + 1j * extra[:, n:])
     z *= 1j * k * ETA0 / (4.0 * np.pi) * h**3  # C/h S/k C/h in SI: h³ times the scaled sum
-    if len(slow_c):  # the orders taken out of G_reg, exactly
-        u, v = slow_order_terms(pg, k, kt, slow_kappa, slow_c)
-        # z += u vᵀ in place, as zᵀ (Fortran order) += v uᵀ: no N² temporary
+    return z
+
+
+def _scaled_tables(tables: np.ndarray, h: float) -> np.ndarray:
+    tables *= (h ** np.repeat([1, 2, 2, 3, 3, 3], 2))[:, None].astype(np.float32)
+    return np.ascontiguousarray(tables.T)  # (G², 12)
+
+
+def _times(m: np.ndarray, c: complex) -> None:
+    """Multiply (…, 2, T, B) re/im moments by the complex ``c`` in place."""
+    if c.imag == 0.0:
+        m *= np.float32(c.real)
+        return
+    re = m[..., 0, :, :] * np.float32(c.real)
+    re -= m[..., 1, :, :] * np.float32(c.imag)
+    m[..., 1, :, :] *= np.float32(c.real)
+    m[..., 1, :, :] += m[..., 0, :, :] * np.float32(c.imag)
+    m[..., 0, :, :] = re
+
+
+def _split(values: np.ndarray) -> np.ndarray:
+    """(6, G, G) complex → (12, G²) float32, rows re, im per derivative (as the tables)."""
+    flat = values.reshape(6, -1)
+    return np.stack([flat.real, flat.imag], axis=1).reshape(12, -1).astype(np.float32)
+
+
+def _fill_layered(
+    pg: PeriodicGeometry, k: float, kt: np.ndarray, layered: LayeredKernel
+) -> np.ndarray:
+    """:func:`fill` on layers: G_A = μ̃ G_p(k_A) + rest, G_Φ = G_p(k_Φ)/ε̄ + rest, + exact."""
+    plan = pg.plan
+    h = plan.scale
+    kt2 = (float(kt[0]), float(kt[1]))
+    a1, a2 = tuple(pg.lattice[0]), tuple(pg.lattice[1])
+    medium = layered.medium
+    green_a = PeriodicGreen(a1, a2, medium.k_a, kt2)
+    green_phi = PeriodicGreen(a1, a2, medium.k_phi, kt2)
+    kappa = layered.exact_kappa
+    step = 1.0 / TAYLOR_NODES
+    half = TAYLOR_NODES // 2 + 2
+    grid = step * np.arange(-half, half + 1)
+    tables_a = _scaled_tables(
+        regular_tables(pg.lattice, green_a, kappa, layered.taken_a)
+        + _split(layered.rest_tables(grid, "a")),
+        h,
+    )
+    tables_phi = _scaled_tables(
+        regular_tables(pg.lattice, green_phi, kappa, layered.taken_phi)
+        + _split(layered.rest_tables(grid, "phi")),
+        h,
+    )
+    special_a = special_moments(pg, medium.k_a)
+    special_phi = special_moments(pg, medium.k_phi)
+    phases = _block_phases(pg, kt)
+    k_ah, k_phih = medium.k_a * h, medium.k_phi * h
+    scale = np.float32(4.0 / (k * h) ** 2)
+
+    def block_moments(lo: int, hi: int) -> np.ndarray:
+        m = _taylor_moments(plan, tables_a, k_ah, abs(k_ah) * plan.reach, lo, hi)
+        _add_special(plan, m, special_a, lo, hi)
+        _apply_phases(plan, m, phases, lo, hi)
+        _times(m, complex(medium.mu))
+        charge = _taylor_moments(
+            plan, tables_phi, k_phih, abs(k_phih) * plan.reach, lo, hi, charge_only=True
+        )
+        _add_special(plan, charge, special_phi[:1], lo, hi)
+        _apply_phases(plan, charge, phases, lo, hi)
+        _times(charge, 1.0 / medium.eps)
+        m[5] -= scale * charge[0]  # ρ·ρ' G_A − 4/k0² G_Φ
+        return m
+
+    z = _assemble(pg, k, kt, block_moments)
+    if len(kappa):
+        u, v = slow_order_terms(pg, k, kt, kappa, layered.exact_a, layered.exact_phi)
         blas.zgemm(1.0, v, u, beta=1.0, c=z.T, trans_b=1, overwrite_c=1)
     return z

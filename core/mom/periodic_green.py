@@ -81,7 +81,7 @@ def default_splitting(area: float, k: complex, growth_bound: float = GROWTH_BOUN
     return max(math.sqrt(math.pi / area), abs(k) / (2.0 * growth_bound))
 
 
-def _lattice_points(
+def lattice_points(
     basis: np.ndarray, radius: float, centre: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Integer pairs (m, n) and points m b0 + n b1 (+ centre) within ``radius`` of 0.
@@ -191,13 +191,13 @@ class PeriodicGreen:
         growth = (abs(k) / (2.0 * E)) ** 2  # the spatial terms' factor e^((k/2E)²)
         # spatial terms fall like e^(−(R E)² + (k/2E)²): keep R E <= sqrt(ln(1/tol) + growth)
         r_cut = math.sqrt(log_tol + growth + 2.0) / E
-        images, _ = _lattice_points(lattice, r_cut + reach)
+        images, _ = lattice_points(lattice, r_cut + reach)
         # spectral terms fall like e^(−(γ/2E)² + (zE)²) / γ, γ ≈ |κ| − k: keep
         # |κ| <= |k| + 2E sqrt(ln(1/tol) + 2) about k_t (z stays within the cell's reach)
         b1, b2 = reciprocal_vectors(a1, a2)
         recip = np.array([b1, b2])
         k_cut = abs(k) + 2.0 * E * math.sqrt(log_tol + 2.0 + (reach * E) ** 2)
-        orders, kappa = _lattice_points(recip, k_cut, centre=kt)
+        orders, kappa = lattice_points(recip, k_cut, centre=kt)
         gamma = np.sqrt(np.einsum("ij,ij->i", kappa, kappa) - k * k + 0j)
         gamma = np.where(gamma.real < 0, -gamma, gamma)
         near = np.abs(gamma) < 1e-9 * abs(k)

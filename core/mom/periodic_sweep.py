@@ -57,14 +57,17 @@ from .periodic import (
     PeriodicSolution,
     blas_threads,
     check_periodic_memory,
+    check_stack,
     fill_system,
     one_blas_thread,
     periodic_geometry,
     periodic_solve,
     solve_system,
 )
+from .periodic_caveats import onset_resonance_warning
 from .periodic_green import reciprocal_vectors
 from .solve import SolveCancelled, check_sheet_impedance, memory_allowance
+from .stack import Stack
 
 log = logging.getLogger(__name__)
 
@@ -139,26 +142,28 @@ def _lattice_vectors(mesh: TriMesh, lattice: Any) -> np.ndarray:
     return np.array([lat.a1, lat.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
 
 
-def _order_onsets(vectors: np.ndarray, direction: np.ndarray, f_max: float) -> tuple:
+def _order_onsets(
+    vectors: np.ndarray, direction: np.ndarray, f_max: float, index: float = 1.0
+) -> tuple:
     """Orders (p, q) that propagate somewhere below ``f_max`` and their onsets (Hz).
 
-    κ_pq = k u + G_pq with u the incident direction's in-plane part; |κ_pq| = k at
-    k = (u·G + sqrt((u·G)² + (1 − |u|²) |G|²)) / (1 − |u|²), and above it the order
-    propagates. Sorted by onset, (0, 0) first (onset 0).
+    κ_pq = k u + G_pq with u the incident direction's in-plane part; |κ_pq| = n k (n the
+    medium's ``index``, 1 in vacuum) at k = (u·G + sqrt((u·G)² + (n² − |u|²) |G|²)) /
+    (n² − |u|²), and above it the order propagates. Sorted by onset, (0, 0) first.
     """
     b1, b2 = reciprocal_vectors(vectors[0], vectors[1])
     recip = np.array([b1, b2])
     u = direction[:2]
     k_max = 2.0 * np.pi * f_max / SPEED_OF_LIGHT
-    # an order propagates only if |G| <= |κ| + k|u| < k (1 + |u|)
-    radius = k_max * (1.0 + np.linalg.norm(u))
+    # an order propagates only if |G| <= |κ| + k|u| < k (n + |u|)
+    radius = k_max * (index + np.linalg.norm(u))
     reach = np.ceil(radius * np.linalg.norm(np.linalg.inv(recip), axis=0)).astype(int)
     p, q = np.meshgrid(np.arange(-reach[0], reach[0] + 1), np.arange(-reach[1], reach[1] + 1))
     orders = np.stack([p.ravel(), q.ravel()], axis=1)
     g = orders @ recip
     ug = g @ u
     g2 = np.einsum("ij,ij->i", g, g)
-    one = 1.0 - u @ u
+    one = index * index - u @ u
     k_on = (ug + np.sqrt(ug * ug + one * g2)) / one
     onset = k_on * SPEED_OF_LIGHT / (2.0 * np.pi)
     keep = onset < f_max
@@ -265,6 +270,11 @@ class PeriodicSweep:
         The cell, for :meth:`solution`.
     lattice_source : object
         The ``lattice=`` given (None: the mesh's own), for :meth:`solution`.
+    stack : Stack or None
+        The layers around the sheet (None: in vacuum); R and T are referred to its faces
+        (:attr:`reference_planes`).
+    warnings : tuple of str
+        When the curve should not be trusted as it is (see :mod:`barymesh.mom.caveats`).
     """
 
     frequencies: np.ndarray
@@ -285,6 +295,40 @@ class PeriodicSweep:
     quality_factors: np.ndarray
     mesh: TriMesh
     lattice_source: Any = None
+    stack: Stack | None = None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def reference_planes(self) -> tuple[float, float]:
+        """Heights (mm) over the sheet of the planes R and T are referred to (as
+        :attr:`barymesh.mom.PeriodicSolution.reference_planes`)."""
+        if self.stack is None:
+            return (0.0, 0.0)
+        top, bottom = self.stack.reference_planes
+        return (top, bottom) if np.asarray(self.incidence.direction)[2] < 0 else (bottom, top)
+
+    @cached_property
+    def layer_onsets(self) -> tuple[tuple[float, tuple[int, int], int], ...]:
+        """Onsets inside the band of orders that propagate in a layer but not in vacuum.
+
+        (frequency in Hz, order (p, q), index of the layer in ``stack.layers``) for each,
+        by frequency: above it that order is guided inside the stack (it carries no power
+        out; :attr:`grating_lobe_onsets` are the vacuum's). Empty in vacuum.
+        """
+        if self.stack is None:
+            return ()
+        direction = np.asarray(self.incidence.direction, dtype=np.float64)
+        f0, f1 = float(self.frequencies[0]), float(self.frequencies[-1])
+        found = []
+        for i, layer in enumerate(self.stack.layers):
+            index = math.sqrt(layer.eps_r * layer.mu_r)
+            if layer.thickness <= 0 or index <= 1.0:
+                continue
+            orders, onsets = _order_onsets(self.lattice, direction, f1, index)
+            for order, onset in zip(orders, onsets, strict=True):
+                if f0 < onset < f1 and np.any(order != 0):
+                    found.append((float(onset), (int(order[0]), int(order[1])), i))
+        return tuple(sorted(found))
 
     @property
     def n_solves(self) -> int:
@@ -363,10 +407,11 @@ class PeriodicSweep:
 
     @property
     def absorption(self) -> np.ndarray:
-        """(F,) float: 1 − reflected − transmitted power, what a sheet impedance absorbs.
+        """(F,) float: 1 − reflected − transmitted power, what a sheet impedance and lossy
+        layers absorb.
 
-        From the coefficients, so on a perfect conductor it measures the power balance
-        error (discretisation, fit).
+        From the coefficients, so on a perfect conductor over lossless layers it measures
+        the power balance error (discretisation, fit).
         """
         r, t = self.power_fractions
         return 1.0 - r.sum(axis=1) - t.sum(axis=1)
@@ -379,14 +424,17 @@ class PeriodicSweep:
             self.incidence,
             lattice=self.lattice_source,
             sheet_impedance=self.sheet_impedance,
+            stack=self.stack,
         )
 
-    def to_touchstone(self, path: Any) -> None:
+    def to_touchstone(self, path: Any, from_below: PeriodicSweep | None = None) -> None:
         """Write the (0, 0) order's 4-port S-parameters (TE/TM above, TE/TM below) to
-        ``path`` (.s4p); see :func:`barymesh.io.floquet.write_touchstone`."""
+        ``path`` (.s4p), a 2-port (.s2p) over a ground plane; on layers without one the
+        lower ports need ``from_below``, the mirrored wave's sweep. See
+        :func:`barymesh.io.floquet.write_touchstone`."""
         from ..io.floquet import write_touchstone
 
-        write_touchstone(path, self)
+        write_touchstone(path, self, from_below)
 
     def to_csv(self, path: Any) -> None:
         """Write every propagating order at every frequency to ``path`` (CSV); see
@@ -428,6 +476,7 @@ class _Piece:
     branch_lo: float | None = None  # the onset at its lower end (a branch point), if any
     branch_hi: float | None = None
     error: np.ndarray = field(default_factory=lambda: np.zeros(0))  # (len(grid),)
+    gain: np.ndarray | None = None  # (len(grid),) max(1, |b|) of T = a δ + b R on layers
     stale: bool = True  # samples were added since ``error`` was estimated
 
     def scale(self, f: np.ndarray) -> np.ndarray:
@@ -478,8 +527,9 @@ def _headline(piece: _Piece, k: int) -> np.ndarray:
     """Columns of the (0, 0) order's R among a piece's flattened values (TE, TM per wave).
 
     Its T needs no fit of its own: E_tan is continuous across a zero-thickness screen
-    (perfect or a sheet impedance), so T_00 = δ + R_00 component by component, to
-    rounding, and a fit of R is as good for T.
+    (perfect or a sheet impedance), so T_00 = δ + R_00 component by component in vacuum,
+    to rounding, and T = a δ + b R on layers (:func:`barymesh.mom.stack.transmission_map`):
+    a fit of R is as good for T, but for the factor |b| (``_Piece.gain``).
     """
     return np.arange(2 * k)
 
@@ -503,6 +553,8 @@ def _refit(piece: _Piece, frequencies: np.ndarray, k: int) -> None:
         other = _evaluate(_fit(xs[keep], vh[keep], clean_up=False), xg)
         with np.errstate(invalid="ignore"):
             diff = np.maximum(diff, np.nan_to_num(np.abs(full - other), nan=np.inf).max(axis=1))
+    if piece.gain is not None:  # on layers T's error is R's times |b|
+        diff = diff * piece.gain
     piece.error = np.where(solved, 0.0, diff)
 
 
@@ -531,6 +583,7 @@ class _Samples:
         zs: complex,
         orders: np.ndarray,
         memory_limit: float | None,
+        stack: Stack | None = None,
     ) -> None:
         self.pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
         t, n = self.pg.base.n_triangles, self.pg.n_unknowns
@@ -541,7 +594,8 @@ class _Samples:
             and _usable_cores() >= 2
             and need + OVERLAP_BYTES_PER_N2 * float(n) ** 2 <= allowed
         )
-        self.waves, self.zs, self.orders = waves, zs, orders
+        self.waves, self.zs, self.orders, self.stack = waves, zs, orders, stack
+        self.warnings: dict[str, str] = {}  # one per kind, the first met
         self.direction = np.asarray(waves[0].direction, dtype=np.float64)[:2]
         self._pool: ThreadPoolExecutor | None = None
         self._stack = contextlib.ExitStack()
@@ -560,11 +614,11 @@ class _Samples:
         """A future of R and T (n_orders, 2, K) of the first ``n_orders`` orders per wave."""
         kt = wavenumber(frequency) * self.direction
         if self._pool is not None:
-            system = fill_system(self.pg, frequency, kt, self.zs)
+            system = fill_system(self.pg, frequency, kt, self.zs, self.stack)
             return self._pool.submit(self._finish, system, n_orders)
         done: Future = Future()
         with blas_threads(self.pg.n_unknowns):
-            system = fill_system(self.pg, frequency, kt, self.zs)
+            system = fill_system(self.pg, frequency, kt, self.zs, self.stack)
             done.set_result(self._finish(system, n_orders))
         return done
 
@@ -576,6 +630,10 @@ class _Samples:
         index = {tuple(o): i for i, o in enumerate(expected)}
         # the waves share k_t (one direction): one LU, a right-hand side each
         for j, s in enumerate(solve_system(system, self.waves)):
+            for text in s.warnings:  # the samples next to onsets are there on purpose
+                kind = text.split(":")[0]
+                if kind != "near an onset":
+                    self.warnings.setdefault(kind, text)
             rows = np.array([index.get(tuple(o), -1) for o in s.orders.tolist()])
             if np.any(rows < 0) or len(rows) != n_orders:
                 raise RuntimeError(
@@ -640,6 +698,7 @@ def periodic_sweep(
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
     memory_limit: float | None = None,
+    stack: Stack | None = None,
 ) -> PeriodicSweep:
     """Reflection and transmission of the infinite array of ``mesh`` over frequency.
 
@@ -683,6 +742,10 @@ def periodic_sweep(
         A cap in bytes (in addition to the memory available now): a cell whose solve
         would need more raises :class:`~barymesh.mom.ProblemTooLarge` before anything
         is allocated (:func:`~barymesh.mom.periodic.check_periodic_memory`).
+    stack : Stack, optional
+        Dielectric layers and a ground plane, as for :func:`~barymesh.mom.periodic_solve`.
+        The band is still cut at the vacuum's onsets only: inside a layer of finite
+        thickness an order's onset is no branch point.
 
     Returns
     -------
@@ -705,6 +768,12 @@ def periodic_sweep(
     if polarizations not in ("both", "incident"):
         raise ValueError(f"polarizations={polarizations!r}; expected 'both' or 'incident'")
     zs = check_sheet_impedance(sheet_impedance)
+    stack = check_stack(stack)
+    if stack is not None and stack.ground and direction[2] > 0:
+        raise ValueError(
+            "the incident wave comes from below, where the ground plane is: a grounded "
+            "stack is lit from above (direction_z < 0)"
+        )
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise ValueError(f"tolerance={tolerance!r}; expected a positive number")
@@ -745,6 +814,11 @@ def periodic_sweep(
         piece = _Piece(lo, hi, np.flatnonzero(which == i), n_orders, {})
         piece.branch_lo = float(edges[i]) if i > 0 else None
         piece.branch_hi = float(edges[i + 1]) if i < len(edges) - 2 else None
+        if stack is not None:  # T's error is R's times |b| (T = a δ + b R)
+            _, b = _transmission_maps(
+                stack, vectors, direction, freqs[piece.grid], orders[:n_orders]
+            )
+            piece.gain = np.maximum(1.0, np.abs(b[:, 0]).max(axis=1)) if len(b) else None
         pieces.append(piece)
 
     # what to solve first: every requested frequency, or each piece's ends (solved whatever
@@ -767,7 +841,7 @@ def periodic_sweep(
     done = started = 0
     budget_hit = False
     flying: deque[tuple[_Piece, float, Future]] = deque()
-    with _Samples(mesh, waves, lattice, zs, orders, memory_limit) as samples:
+    with _Samples(mesh, waves, lattice, zs, orders, memory_limit, stack) as samples:
         depth = 1 if samples.overlapping else 0  # samples solved while the next is chosen
         while True:
             if cancel is not None and cancel():  # before the next choice (a refit) too
@@ -833,14 +907,22 @@ def periodic_sweep(
         sampled += list(x)
         n = piece.n_orders * 2 * kk
         grid_f = freqs[piece.grid]
-        # R alone is fitted: E_tan is continuous across the screen, so every order's T is
-        # its R, plus the incident wave's TE/TM components for (0, 0) (the solver's too)
+        # R alone is fitted: E_tan is continuous across the screen, so in vacuum every
+        # order's T is its R, plus the incident wave's TE/TM components for (0, 0) (the
+        # solver's too); on layers T = a δ + b R, order by order (transmission_map)
         if len(x) >= 2:
             fitted_r = _evaluate(_fit(piece.scale(x), v[:, :n]), piece.scale(grid_f))
         else:
             fitted_r = np.repeat(v[:, :n], len(grid_f), axis=0)
-        fitted_t = fitted_r.copy()
-        fitted_t[:, : 2 * kk] += incident_components
+        if stack is None:
+            fitted_t = fitted_r.copy()
+            fitted_t[:, : 2 * kk] += incident_components
+        else:
+            shape = (len(grid_f), piece.n_orders, 2, kk)
+            a, b = _transmission_maps(stack, vectors, direction, grid_f, orders[: piece.n_orders])
+            fitted_t = b[..., None] * fitted_r.reshape(shape)
+            fitted_t[:, 0] += a[:, 0, :, None] * incident_components.reshape(2, kk)
+            fitted_t = fitted_t.reshape(len(grid_f), -1)
         values = np.concatenate([fitted_r, fitted_t], axis=1)
         for j, f in enumerate(grid_f):  # exact values where solved
             if float(f) in piece.samples:
@@ -871,9 +953,43 @@ def periodic_sweep(
         quality_factors=np.zeros(0),
         mesh=mesh,
         lattice_source=lattice,
+        stack=stack,
     )
     found, kinds, q = _resonances(result, co_fits)
-    return replace(result, resonances=found, resonance_kinds=kinds, quality_factors=q)
+    notes = tuple(samples.warnings.values())
+    if len(found):
+        r_co, t_co = result.co_polar()
+        at = np.clip(np.searchsorted(freqs, found), 0, nf - 1)
+        notes += onset_resonance_warning(
+            found, kinds, result.grating_lobe_onsets, np.abs(r_co[at]), np.abs(t_co[at])
+        )
+    return replace(
+        result, resonances=found, resonance_kinds=kinds, quality_factors=q, warnings=notes
+    )
+
+
+def _transmission_maps(
+    stack: Stack,
+    vectors: np.ndarray,
+    direction: np.ndarray,
+    frequencies: np.ndarray,
+    orders: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b), each (F, P, 2): T = a δ + b R of ``orders`` at each frequency (stack.py)."""
+    from .stack import transmission_map
+
+    recip = np.array(reciprocal_vectors(vectors[0], vectors[1]))
+    g = orders @ recip  # (P, 2)
+    f_count, p_count = len(frequencies), len(orders)
+    a = np.zeros((f_count, p_count, 2), dtype=np.complex128)
+    b = np.zeros((f_count, p_count, 2), dtype=np.complex128)
+    for i, f in enumerate(frequencies):
+        k = wavenumber(float(f))
+        kappa = k * direction[:2] + g
+        a[i], b[i] = transmission_map(
+            stack, k, np.einsum("ij,ij->i", kappa, kappa), from_above=bool(direction[2] < 0)
+        )
+    return a, b
 
 
 def _co_series(r00: np.ndarray, c: np.ndarray, k: int) -> np.ndarray:

@@ -17,7 +17,7 @@ pyarrow, xarray, and bokeh for the Dask dashboard); nothing else in barymesh imp
 ...                    "solve": {"kind": "free_space", "frequencies": "6GHz:11GHz:11"}})
 >>> result = run_serial(spec)
 >>> list(result.derived.columns)
-['patch_size', 'status', 'resonance_frequency_hz', 'quality_factor']
+['patch_size', 'status', 'resonance_frequency_hz', 'quality_factor', 'warnings']
 >>> bool(result.derived.resonance_frequency_hz.is_monotonic_decreasing)
 True
 """

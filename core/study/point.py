@@ -21,8 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from ..mom.stack import Stack
 from .derive import derived_figures
-from .spec import Base, Derive, Solve, StudySpec, plane_wave
+from .layers import is_stack_path, point_stack
+from .spec import Base, Derive, Solve, StudySpec, figure_columns, plane_wave
 
 #: The per-frequency columns of a free-space point, as ``barymesh solve -o x.csv`` names
 #: them (:data:`barymesh.app.cli_solve.CSV_COLUMNS`).
@@ -40,8 +42,10 @@ FREE_SPACE_COLUMNS = (
 #: The per-frequency columns of an infinite-array point: the (0, 0) order's TE and TM
 #: reflection and transmission (real and imaginary parts, incident amplitude 1;
 #: transmission includes the incident wave), their co-polar magnitudes along the incident
-#: polarisation, and the power not reflected nor transmitted in any propagating order
-#: (what a sheet impedance absorbs; the power-balance error on a perfect conductor).
+#: polarisation and the co-polar reflection's phase (degrees, in (−180, 180], referred to
+#: the stack's top face), and the power not reflected nor transmitted in any propagating
+#: order (what a sheet impedance and lossy layers absorb; the power-balance error on a
+#: perfect conductor over lossless layers).
 INFINITE_ARRAY_COLUMNS = (
     "frequency_hz",
     "reflection_te_real",
@@ -53,6 +57,7 @@ INFINITE_ARRAY_COLUMNS = (
     "transmission_tm_real",
     "transmission_tm_imag",
     "reflection_co_abs",
+    "reflection_co_phase_deg",
     "transmission_co_abs",
     "absorption",
 )
@@ -66,15 +71,16 @@ def solve_columns(kind: str) -> tuple[str, ...]:
 @dataclass(frozen=True)
 class StudyContext:
     """What every task of a study shares (scattered to the workers once): the base
-    design, the solve settings and the figures to derive."""
+    design, the solve settings, the figures to derive and the layers (None: vacuum)."""
 
     base: Base
     solve: Solve
     derive: tuple[Derive, ...]
+    stack: Stack | None = None
 
     @classmethod
     def of(cls, spec: StudySpec) -> StudyContext:
-        return cls(spec.base, spec.solve, spec.derive)
+        return cls(spec.base, spec.solve, spec.derive, spec.stack)
 
 
 @dataclass(frozen=True)
@@ -95,6 +101,10 @@ class PointResult:
         The derived figures (NaN for an error row).
     unknowns : int
         RWG unknowns of its mesh (0 when it was not built).
+    warnings : tuple of str
+        Sentences "kind: text": the solve's warnings (``SweepResult.warnings``,
+        :attr:`barymesh.mom.PeriodicSweep.warnings`), then the notes of derived figures
+        that are NaN for a reason (:func:`barymesh.study.derive.derived_figures`).
     """
 
     index: int
@@ -103,6 +113,7 @@ class PointResult:
     table: dict[str, np.ndarray] = field(default_factory=dict)
     derived: dict[str, float] = field(default_factory=dict)
     unknowns: int = 0
+    warnings: tuple[str, ...] = ()
 
 
 def one_line(exc: BaseException) -> str:
@@ -112,8 +123,11 @@ def one_line(exc: BaseException) -> str:
 
 
 def split_values(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
-    """A point's values: (geometry paths, incidence keys)."""
-    geometry = {k: v for k, v in values.items() if not k.startswith("incidence.")}
+    """A point's values: (geometry paths, incidence keys); the stack's are in neither
+    (:func:`barymesh.study.layers.point_stack` reads them)."""
+    geometry = {
+        k: v for k, v in values.items() if not k.startswith("incidence.") and not is_stack_path(k)
+    }
     incidence = {k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("incidence.")}
     return geometry, incidence
 
@@ -141,7 +155,7 @@ def incidence_wave(context: StudyContext, values: dict[str, Any]) -> Any:
 
 def error_point(context: StudyContext, index: int, values: dict[str, Any], status: str):
     """An error row: the status and NaN figures."""
-    columns = [c for d in context.derive for c in d.columns]
+    columns = figure_columns(context.derive)
     return PointResult(index, dict(values), status, {}, dict.fromkeys(columns, float("nan")))
 
 
@@ -167,6 +181,7 @@ def solve_point(
     try:
         item = design(context, values)
         wave = incidence_wave(context, values)
+        stack = point_stack(context.stack, values)
         mesh = _mesh(item)
     except (ValueError, TypeError) as exc:
         return error_point(context, index, values, one_line(exc))
@@ -175,12 +190,14 @@ def solve_point(
         limit = memory_limit if limit is None else min(limit, memory_limit)
     try:
         solve = _free_space if context.solve.kind == "free_space" else _infinite_array
-        table, response = solve(mesh, context.solve, wave, limit)
+        table, response, warnings, plane = solve(mesh, context.solve, wave, limit, stack)
     except (ValueError, TypeError, MemoryError, ArithmeticError) as exc:
         point = error_point(context, index, values, one_line(exc))
         return PointResult(**{**point.__dict__, "unknowns": len(mesh.rwg)})
-    derived = derived_figures(context.derive, table, response)
-    return PointResult(index, dict(values), "ok", table, derived, len(mesh.rwg))
+    derived, notes = derived_figures(context.derive, table, response, plane)
+    return PointResult(
+        index, dict(values), "ok", table, derived, len(mesh.rwg), tuple(warnings) + notes
+    )
 
 
 def _mesh(item: Any) -> Any:
@@ -194,7 +211,12 @@ def _mesh(item: Any) -> Any:
     return build_cell(item).mesh
 
 
-def _free_space(mesh: Any, solve: Solve, wave: Any, limit: float | None):
+def _free_space(
+    mesh: Any, solve: Solve, wave: Any, limit: float | None, stack: Stack | None = None
+):
+    """σ_ext and the rest over frequency (:func:`barymesh.mom.sweep`): (table, σ_ext, the
+    sweep's warnings, 0.0: no reference plane). ``stack`` is None (the spec refuses
+    layers in free space)."""
     from ..mom import sweep
 
     r = sweep(mesh, np.asarray(solve.frequencies), wave, memory_limit=limit)
@@ -213,12 +235,13 @@ def _free_space(mesh: Any, solve: Solve, wave: Any, limit: float | None):
         name: np.ascontiguousarray(c, dtype=float)
         for name, c in zip(FREE_SPACE_COLUMNS, columns, strict=True)
     }
-    return table, ext
+    return table, ext, r.warnings, 0.0
 
 
-def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None):
-    """The (0, 0) order over frequency (:func:`barymesh.mom.periodic_sweep`); the response
-    the figures are derived from is the reflected power |R_co|²."""
+def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None, stack: Stack | None):
+    """The (0, 0) order over frequency (:func:`barymesh.mom.periodic_sweep`) on ``stack``:
+    (table, the reflected power |R_co|² the figures are derived from, the sweep's
+    warnings, the height (mm) over the sheet of the plane R is referred to)."""
     from ..mom import periodic_sweep
 
     r = periodic_sweep(
@@ -228,6 +251,7 @@ def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None):
         interpolate=solve.interpolate,
         polarizations="incident",
         memory_limit=limit,
+        stack=stack,
     )
     refl, trans = r.reflection, r.transmission  # (F, 2): TE, TM
     r_co, t_co = r.co_polar()
@@ -242,6 +266,7 @@ def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None):
         trans[:, 1].real,
         trans[:, 1].imag,
         np.abs(r_co),
+        np.degrees(np.angle(r_co)),
         np.abs(t_co),
         r.absorption,
     )
@@ -249,4 +274,4 @@ def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None):
         name: np.ascontiguousarray(c, dtype=float)
         for name, c in zip(INFINITE_ARRAY_COLUMNS, columns, strict=True)
     }
-    return table, np.abs(r_co) ** 2
+    return table, np.abs(r_co) ** 2, r.warnings, r.reference_planes[0]

@@ -3,7 +3,8 @@
 The per-frequency table has one row per point and frequency: one column per axis, then
 ``frequency_hz``, then the solve's columns as ``barymesh solve -o x.csv`` names them.
 The derived table has one row per point: the axes, ``status`` (``ok`` or the one-line
-error) and one column per derived figure. Both are indexed by ``point`` (the point's
+error), one column per derived figure and ``warnings`` (the point's warnings, one
+"kind: text" sentence a line; "" when there are none). Both are indexed by ``point`` (the point's
 number in :meth:`barymesh.study.spec.StudySpec.points`), which the files keep.
 
 Files: ``study.parquet`` (or ``.csv``) and ``study.derived.parquet`` beside it, and
@@ -29,6 +30,8 @@ from .spec import StudySpec
 
 #: Schema metadata key of a part file that holds the point's derived row (JSON).
 PART_KEY = b"barymesh.study.point"
+#: The derived table's column of each point's warnings: one sentence a line.
+WARNINGS_COLUMN = "warnings"
 
 
 @dataclass(frozen=True, eq=False)
@@ -41,7 +44,7 @@ class StudyResult:
     table : DataFrame
         One row per point and frequency (ok points only).
     derived : DataFrame
-        One row per point: axes, ``status``, figures.
+        One row per point: axes, ``status``, figures, ``warnings``.
     meta : dict
         Spec, digest, package versions, machine, and the run's counts: ``computed``
         (points solved by this run), ``resumed`` (read back from the parts of an earlier
@@ -63,6 +66,15 @@ class StudyResult:
         """The error rows of :attr:`derived`."""
         return self.derived[self.derived["status"] != "ok"]
 
+    def warning_kinds(self) -> dict[str, list[int]]:
+        """The points of each kind of warning ("near an onset", "coarse mesh", "zero
+        phase", …: the text before the first colon), kinds in order of first appearance."""
+        out: dict[str, list[int]] = {}
+        for point, text in self.derived[WARNINGS_COLUMN].items():
+            for kind in dict.fromkeys(w.split(":", 1)[0] for w in str(text).splitlines()):
+                out.setdefault(kind, []).append(int(point))
+        return out
+
     def to_xarray(self) -> Any:
         """An xarray Dataset: the per-frequency columns and the derived figures.
 
@@ -81,6 +93,7 @@ class StudyResult:
         index = pd.RangeIndex(len(points), name="point")
         per_point = derived.reindex(index)
         per_point["status"] = per_point["status"].fillna("not run")
+        per_point[WARNINGS_COLUMN] = per_point[WARNINGS_COLUMN].fillna("")
         full = pd.MultiIndex.from_product([index, freqs], names=["point", "frequency_hz"])
         per_freq = table.set_index("frequency_hz", append=True).reindex(full)
         ds = xr.Dataset(
@@ -196,13 +209,16 @@ def tables(spec: StudySpec, points: list[PointResult]) -> tuple[pd.DataFrame, pd
         table = table.astype(dict.fromkeys(columns, float))
     derived = pd.DataFrame(
         [
-            [p.values[a] for a in axes] + [p.status] + [float(p.derived[c]) for c in figures]
+            [p.values[a] for a in axes]
+            + [p.status]
+            + [float(p.derived[c]) for c in figures]
+            + ["\n".join(p.warnings)]
             for p in points
         ],
-        columns=axes + ["status"] + figures,
+        columns=axes + ["status"] + figures + [WARNINGS_COLUMN],
         index=pd.Index([p.index for p in points], name="point", dtype="int64"),
     )
-    derived = derived.astype({"status": str, **dict.fromkeys(figures, float)})
+    derived = derived.astype({"status": str, **dict.fromkeys(figures, float), WARNINGS_COLUMN: str})
     return table, derived
 
 
@@ -266,6 +282,7 @@ def write_part(folder: Path, point: PointResult) -> Path:
         "status": point.status,
         "derived": point.derived,
         "unknowns": point.unknowns,
+        "warnings": list(point.warnings),
     }
     table = table.replace_schema_metadata({PART_KEY: json.dumps(record).encode()})
     path = folder / f"point-{point.index:07d}.parquet"
@@ -275,8 +292,13 @@ def write_part(folder: Path, point: PointResult) -> Path:
     return path
 
 
-def read_parts(folder: Path) -> dict[int, PointResult]:
-    """The finished points in ``folder`` by index (unreadable files are ignored: redone)."""
+def read_parts(folder: Path, columns: tuple[str, ...] = ()) -> dict[int, PointResult]:
+    """The finished points in ``folder`` by index.
+
+    Unreadable files are ignored (redone), and so are solved points that lack one of the
+    per-frequency ``columns`` (written by an older barymesh: solving them again gives
+    the column). A part written before points kept their warnings has none.
+    """
     import pyarrow.parquet as pq
 
     out: dict[int, PointResult] = {}
@@ -288,13 +310,15 @@ def read_parts(folder: Path) -> dict[int, PointResult]:
             record = json.loads(table.schema.metadata[PART_KEY])
         except (OSError, KeyError, ValueError, TypeError):
             continue
-        columns = {name: table.column(name).to_numpy() for name in table.column_names}
+        if record["status"] == "ok" and not set(columns) <= set(table.column_names):
+            continue
         out[int(record["index"])] = PointResult(
             int(record["index"]),
             record["values"],
             record["status"],
-            columns,
+            {name: table.column(name).to_numpy() for name in table.column_names},
             {k: float("nan") if v is None else float(v) for k, v in record["derived"].items()},
             int(record["unknowns"]),
+            tuple(record.get("warnings", ())),
         )
     return out

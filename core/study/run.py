@@ -30,7 +30,15 @@ from typing import Any
 
 from ..mom.periodic import periodic_memory_needed
 from ..mom.solve import ProblemTooLarge, memory_needed
-from .point import PointResult, StudyContext, design, error_point, one_line, predicted_unknowns
+from .point import (
+    PointResult,
+    StudyContext,
+    design,
+    error_point,
+    one_line,
+    predicted_unknowns,
+    solve_columns,
+)
 from .point import solve_point as _solve_point
 from .results import (
     StudyResult,
@@ -120,7 +128,9 @@ class _Collector:
         self.finished: dict[int, PointResult] = {}
         if self.folder is not None and resume:
             self.finished = {
-                i: p for i, p in read_parts(self.folder).items() if i < len(self.points)
+                i: p
+                for i, p in read_parts(self.folder, solve_columns(spec.solve.kind)).items()
+                if i < len(self.points)
             }
         self.resumed = len(self.finished)
         self.computed = 0

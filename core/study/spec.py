@@ -38,21 +38,31 @@ from typing import Any
 import numpy as np
 
 from ..frequencies import parse_frequencies, parse_frequency
+from ..mom.stack import Stack
+from .layers import is_stack_path, layer_field, study_stack
 
 #: Keys of a spec.
-SPEC_KEYS = ("base", "axes", "sample", "solve", "derive", "output")
+SPEC_KEYS = ("base", "axes", "sample", "solve", "stack", "derive", "output")
 #: Kinds of solve.
 SOLVE_KINDS = ("free_space", "infinite_array")
 #: Derived figures named by a string (column names in :data:`FIGURE_COLUMNS`).
-FIGURES = ("resonance_frequency", "quality_factor", "bandwidth_3db")
+FIGURES = ("resonance_frequency", "quality_factor", "bandwidth_3db", "zero_phase_frequency")
 #: Derived figures that take a list of frequencies: {"extinction_cross_section_at": [...]}.
-FIGURES_AT = ("extinction_cross_section_at", "reflection_at")
+FIGURES_AT = ("extinction_cross_section_at", "reflection_at", "reflection_phase_at")
 #: Column of each derived figure named by a string.
 FIGURE_COLUMNS = {
     "resonance_frequency": "resonance_frequency_hz",
     "quality_factor": "quality_factor",
     "bandwidth_3db": "bandwidth_3db_hz",
+    "zero_phase_frequency": "zero_phase_frequency_hz",
 }
+#: Figures of the infinite array alone.
+INFINITE_ARRAY_FIGURES = ("reflection_at", "reflection_phase_at", "zero_phase_frequency")
+#: Figures that depend on where R is referred: with any of them the derived table also has
+#: :data:`REFERENCE_PLANE_COLUMN`.
+PHASE_FIGURES = ("reflection_phase_at", "zero_phase_frequency")
+#: The derived table's column of the plane R is referred to: its height over the sheet (mm).
+REFERENCE_PLANE_COLUMN = "reflection_reference_plane_mm"
 #: Axis paths that vary the incidence rather than the geometry.
 INCIDENCE_KEYS = ("theta", "phi", "pol")
 _TOKEN = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]")
@@ -168,6 +178,11 @@ class Axis:
         """True for ``incidence.theta`` and the like."""
         return self.path.startswith("incidence.")
 
+    @property
+    def layer(self) -> bool:
+        """True for a value of a layer of the stack, ``stack.below[0].thickness``."""
+        return is_stack_path(self.path)
+
 
 @dataclass(frozen=True)
 class Solve:
@@ -204,13 +219,26 @@ class Derive:
         quantity = {
             "extinction_cross_section_at": "extinction_cross_section_m2",
             "reflection_at": "reflection_co_abs",
+            "reflection_phase_at": "reflection_co_phase_deg",
         }[self.name]
         return tuple(f"{quantity}_at_{f / 1e9:.6g}GHz" for f in self.at)
 
 
+def figure_columns(derive: tuple[Derive, ...]) -> tuple[str, ...]:
+    """The derived table's figure columns of ``derive``, in order: each figure's, then
+    :data:`REFERENCE_PLANE_COLUMN` when a figure depends on the reference plane."""
+    columns = tuple(c for d in derive for c in d.columns)
+    if any(d.name in PHASE_FIGURES for d in derive):
+        columns += (REFERENCE_PLANE_COLUMN,)
+    return columns
+
+
 @dataclass(frozen=True)
 class StudySpec:
-    """A checked study spec (see :func:`parse_spec`); ``points()`` lists its points."""
+    """A checked study spec (see :func:`parse_spec`); ``points()`` lists its points.
+
+    ``stack`` is the spec's :class:`~barymesh.mom.Stack` (None: the sheet in vacuum).
+    """
 
     base: Base
     axes: tuple[Axis, ...]
@@ -219,6 +247,7 @@ class StudySpec:
     derive: tuple[Derive, ...]
     output: str | None
     document: dict[str, Any] = field(repr=False, compare=False, default_factory=dict)
+    stack: Stack | None = None
 
     @property
     def axis_names(self) -> tuple[str, ...]:
@@ -226,7 +255,7 @@ class StudySpec:
 
     @property
     def derived_columns(self) -> tuple[str, ...]:
-        return tuple(c for d in self.derive for c in d.columns)
+        return figure_columns(self.derive)
 
     @property
     def latin_hypercube(self) -> bool:
@@ -308,6 +337,8 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     sample = _sample(data.get("sample", "product"))
     axes = _axes(data["axes"], sample)
     solve = _solve(data["solve"], axes)
+    stack = _stack(data["stack"], solve) if data.get("stack") is not None else None
+    _stack_axes(axes, stack)
     derive = _derive(data.get("derive", ["resonance_frequency", "quality_factor"]), solve)
     output = data.get("output")
     if output is not None and (not isinstance(output, str) or not output.strip()):
@@ -317,7 +348,7 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
     if solve.kind == "infinite_array" and base.kind != "cell":
         raise _fail("solve.kind", "infinite_array needs a unit cell: base cell or cell_preset")
     for axis in axes:  # every geometry path must exist in the base
-        if not axis.incidence:
+        if not axis.incidence and not axis.layer:
             base.design({axis.path: axis.values[0]})
     document = {
         "base": {"params" if base.kind == "params" else "cell": base.data},
@@ -327,8 +358,10 @@ def parse_spec(data: Any, base_dir: str | Path | None = None) -> StudySpec:
         "derive": [{d.name: list(d.at)} if d.at else d.name for d in derive],
         "output": output,
     }
+    if stack is not None:  # only when given: a spec without one keeps its digest
+        document["stack"] = stack.to_dict()
     document = json.loads(json.dumps(document))  # tuples to lists: the canonical form
-    return StudySpec(base, axes, sample, solve, derive, output, document)
+    return StudySpec(base, axes, sample, solve, derive, output, document, stack)
 
 
 def _base(raw: Any, base_dir: str | Path | None) -> Base:
@@ -505,6 +538,37 @@ def _solve(raw: Any, axes: tuple[Axis, ...]) -> Solve:
     return Solve(kind, tuple(values), direction, polarization, incidence, memory, interpolate)
 
 
+def _stack(raw: Any, solve: Solve) -> Stack:
+    """The spec's ``stack``: the command line's text or :meth:`Stack.to_dict`'s mapping."""
+    if solve.kind != "infinite_array":
+        raise _fail("stack", "layers need solve.kind infinite_array (free space has none)")
+    try:
+        return study_stack(raw)
+    except (TypeError, ValueError) as exc:
+        raise _fail("stack", str(exc)) from None
+
+
+def _stack_axes(axes: tuple[Axis, ...], stack: Stack | None) -> None:
+    """Check each ``stack.…`` axis: its layer and field exist and each value (a product's
+    values, a Latin hypercube's ends) makes a valid stack."""
+    for axis in axes:
+        if not axis.layer:
+            continue
+        key = f"axes.{axis.path}"
+        try:
+            side, index, name = layer_field(parse_path(axis.path), stack)
+        except ValueError as exc:
+            raise _fail(key, str(exc)) from None
+        assert stack is not None  # layer_field refuses a path into no stack
+        for value in axis.values:
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise _fail(key, f"{_kind(value)} {value!r:.40}; expected a number")
+            try:
+                stack.replaced(f"{side}[{index}].{name}", value)
+            except (TypeError, ValueError) as exc:
+                raise _fail(key, f"{value!r} makes the stack invalid: {exc}") from None
+
+
 def _solve_document(solve: Solve) -> dict[str, Any]:
     """The solve settings as the spec writes them (what ``_solve`` reads back)."""
     doc: dict[str, Any] = {"kind": solve.kind, "frequencies": list(solve.frequencies)}
@@ -557,13 +621,15 @@ def _derive(raw: Any, solve: Solve) -> tuple[Derive, ...]:
         if isinstance(item, str):
             if item not in FIGURES:
                 raise _fail(key, f"unknown figure {item!r}; expected {', '.join(FIGURES)}")
+            if item in INFINITE_ARRAY_FIGURES and solve.kind != "infinite_array":
+                raise _fail(key, f"{item} needs solve.kind infinite_array")
             out.append(Derive(item))
             continue
         if not isinstance(item, dict) or len(item) != 1 or next(iter(item)) not in FIGURES_AT:
             raise _fail(key, f'expected a figure name or {{"{FIGURES_AT[0]}": [frequencies]}}')
         ((name, freqs),) = item.items()
-        if name == "reflection_at" and solve.kind != "infinite_array":
-            raise _fail(key, "reflection_at needs solve.kind infinite_array")
+        if name in INFINITE_ARRAY_FIGURES and solve.kind != "infinite_array":
+            raise _fail(key, f"{name} needs solve.kind infinite_array")
         if name == "extinction_cross_section_at" and solve.kind != "free_space":
             raise _fail(key, "extinction_cross_section_at needs solve.kind free_space")
         if not isinstance(freqs, list) or not freqs:
