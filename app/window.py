@@ -209,6 +209,11 @@ class MainWindow(QMainWindow):
         self._rest_timer.setInterval(250)
         self._rest_timer.timeout.connect(self._camera_rested)
         self._detail_token: tuple[int, tuple[float, ...]] | None = None
+        self._paint_timer = QTimer(self)  # a new mesh's first paint (see _show_result)
+        self._paint_timer.setSingleShot(True)
+        self._paint_timer.setInterval(1)
+        self._paint_timer.timeout.connect(self._paint_new_mesh)
+        self._painted_before = 0
         # any camera change drawn (a key, Zoom to selection, a tool's zoom), not only the
         # mouse's: the detail is asked for once it rests
         self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
@@ -674,7 +679,10 @@ class MainWindow(QMainWindow):
             for _ in range(6):  # label -> panel -> dock -> window: one level per round
                 QApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest)
             if self.paint_counter.paints == painted:  # a resize may have painted it already
-                self.request_render()
+                # painted from a timer: the event loop gets a turn between the new
+                # datasets and their first render (two blocks, not one of both)
+                self._painted_before = painted
+                self._paint_timer.start()
             # after a large mesh its arrays are free now: hand the pages back (off this
             # thread; trimming after every small mesh would only cost time)
             big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
@@ -696,6 +704,10 @@ class MainWindow(QMainWindow):
         self.summary.setText(f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns")
         if self.model.error is None:
             self.statusBar().clearMessage()
+
+    def _paint_new_mesh(self) -> None:
+        if not self._closed and self.paint_counter.paints == self._painted_before:
+            self.request_render()
 
     def _bounds_jumped(self, bounds: np.ndarray) -> bool:
         old = getattr(self, "_camera_bounds", None)
