@@ -27,7 +27,7 @@ from PySide6.QtGui import QGuiApplication
 
 #: How often the GUI thread looks at the allocation counts (ms).
 INTERVAL_MS = 100
-#: A full collection waits for a drag's end at most this long after the last one (s).
+#: A full collection that is due waits for a drag's end at most this long (s).
 MAX_POSTPONE_S = 30.0
 
 
@@ -39,7 +39,7 @@ def due_generation(
 ) -> int:
     """The generation to collect (-1: none): the oldest one past its threshold with the
     younger ones, as CPython's collector picks it, but 1 instead of 2 while ``dragging``
-    unless the last full collection is :data:`MAX_POSTPONE_S` or more ago (``postponed_s``).
+    unless the full collection has waited :data:`MAX_POSTPONE_S` or more (``postponed_s``).
 
     >>> due_generation((701, 11, 11), (700, 10, 10), dragging=True, postponed_s=5.0)
     1
@@ -74,7 +74,7 @@ class GuiThreadCollector(QObject):
         self.thresholds = gc.get_threshold()
         self.collections = 0
         self.dragging = dragging  # whether a mouse button is held now
-        self.last_full = time.monotonic()
+        self.postponed_since: float | None = None  # when a due full collection first waited
         self.timer = QTimer(self)
         self.timer.setInterval(INTERVAL_MS)
         self.timer.timeout.connect(self.collect)
@@ -88,12 +88,15 @@ class GuiThreadCollector(QObject):
         if counts[0] <= self.thresholds[0]:
             return  # (nothing due: the common case, without asking about the mouse)
         now = time.monotonic()
-        generation = due_generation(counts, self.thresholds, self.dragging(), now - self.last_full)
+        waited = 0.0 if self.postponed_since is None else now - self.postponed_since
+        generation = due_generation(counts, self.thresholds, self.dragging(), waited)
+        if generation == 1 and counts[2] > self.thresholds[2] and self.postponed_since is None:
+            self.postponed_since = now  # a full collection was due: it waits
         if generation >= 0:
             gc.collect(generation)
             self.collections += 1
             if generation == 2:
-                self.last_full = now
+                self.postponed_since = None
 
 
 def collect_in_gui_thread() -> GuiThreadCollector:

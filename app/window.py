@@ -213,7 +213,7 @@ class MainWindow(QMainWindow):
         self._paint_timer.setSingleShot(True)
         self._paint_timer.setInterval(1)
         self._paint_timer.timeout.connect(self._paint_new_mesh)
-        self._painted_before = 0
+        self._painted_before: int | None = None  # paints when a new mesh came
         # any camera change drawn (a key, Zoom to selection, a tool's zoom), not only the
         # mouse's: the detail is asked for once it rests
         self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
@@ -709,6 +709,12 @@ class MainWindow(QMainWindow):
         if not self._closed and self.paint_counter.paints == self._painted_before:
             self.request_render()
 
+    @property
+    def paint_pending(self) -> bool:
+        """Whether the mesh on screen still waits for its first paint (asked for by a
+        1 ms timer after it came, see :meth:`_show_result`)."""
+        return self.paint_counter.paints == self._painted_before
+
     def _bounds_jumped(self, bounds: np.ndarray) -> bool:
         old = getattr(self, "_camera_bounds", None)
         if old is None:
@@ -1011,6 +1017,7 @@ class MainWindow(QMainWindow):
 
         if not 1 <= int(scale) <= MAX_SCALE:
             raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
+        self._settle_for_export()
         if int(scale) > 1:
             shot = ScaledShot(self.scene, int(scale), transparent)
             w, h = shot.size
@@ -1033,6 +1040,7 @@ class MainWindow(QMainWindow):
 
         name = Path(path).name
         try:
+            self._settle_for_export()
             if int(scale) > 1:
                 shot = ScaledShot(self.scene, int(scale), transparent)
                 w, h = shot.size
@@ -1054,6 +1062,12 @@ class MainWindow(QMainWindow):
             return False
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
+
+    def _settle_for_export(self) -> None:
+        """An export shows the view as it is at rest: rulers and note laid out for the
+        camera now (they wait for the rest while the camera moves)."""
+        if self.scene.settle():
+            self.request_render()
 
     def copy_view_to_clipboard(self, scale: int = 1, transparent: bool = False) -> None:
         image = self.view_image(scale, transparent)

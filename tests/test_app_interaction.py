@@ -228,24 +228,32 @@ def test_a_full_collection_waits_for_the_end_of_a_drag(shown, qtbot, monkeypatch
     import gc
 
     from app_user import _handle_rect
+    from PySide6.QtGui import QGuiApplication
     from PySide6.QtTest import QTest
 
     from barymesh.app import gui_gc
 
     collector = gui_gc.collect_in_gui_thread()
     collector.timer.stop()  # (its own timer would collect in between)
+    collector.postponed_since = None  # no full collection waiting yet
     collected = []
     monkeypatch.setattr(gc, "get_count", lambda: (701, 11, 11))  # every generation due
     monkeypatch.setattr(gc, "collect", lambda generation=2: collected.append(generation))
     slider = shown.controls.rows["inner_radius"].slider
     handle, _groove = _handle_rect(slider)
+    # pressed through the window system (the top-level QWindow), as a mouse does, so
+    # that Qt's own record of the held buttons follows
+    window = shown.windowHandle()
+    at = slider.mapTo(shown, handle.center())
     left, plain = Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier
     try:
-        QTest.mousePress(slider, left, plain, handle.center())
+        QTest.mousePress(window, left, plain, at)
         try:
+            assert QGuiApplication.mouseButtons() == left
             collector.collect()
         finally:
-            QTest.mouseRelease(slider, left, plain, handle.center())
+            QTest.mouseRelease(window, left, plain, at)
+        assert QGuiApplication.mouseButtons() == Qt.MouseButton.NoButton
         collector.collect()
     finally:
         collector.timer.start()
