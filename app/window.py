@@ -233,8 +233,12 @@ class MainWindow(QMainWindow):
         self.add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
         self.solve_panel = SolvePanel(self)
+        # the side columns keep the window's height: the bottom area (the Infinite array's
+        # curve) lies under the 3D view only
+        self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.setCorner(Qt.Corner.BottomRightCorner, Qt.DockWidgetArea.RightDockWidgetArea)
         self.array_panel = InfiniteArrayPanel(
-            self.model, self.solve_panel.show_array_current, self.solve_panel
+            self.model, self.solve_panel.show_array_current, self.solve_panel, host=self
         )
         self.solve_panel.add_page(self.array_panel, "&Infinite array")
         self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)

@@ -7,7 +7,11 @@ the sweep or the solve, into an RGBA array (:class:`Picture`); the GUI thread on
 it. A picture keeps what a click needs: the frequency axis' span in pixels.
 
 :func:`draw_curve` draws |R| and |T| (dB) and their phase against frequency, the
-grating-lobe onsets (dotted, labelled) and the resonances (dashed, labelled in GHz).
+grating-lobe onsets (dotted, labelled), the onsets of orders guided inside a layer
+(dash-dotted) and the resonances (dashed, labelled in GHz). The phase axis names the
+plane ∠R is referred to (the stack's top face, or the sheet): a reflection phase means
+nothing without it. ∠T, referred to the bottom face, is drawn when the planes differ with
+its own plane in the legend, and not at all over a ground plane (T = 0).
 :func:`draw_orders` draws the propagating Floquet orders as arrows leaving the screen.
 """
 
@@ -19,9 +23,15 @@ from typing import Any
 
 import numpy as np
 
+from barymesh.app.model.stack_rows import reference_plane_names
+
 #: Colours of |R| and |T|, of the grating-lobe onsets and of the resonances.
 R_COLOR, T_COLOR = "#1f77b4", "#2ca02c"
 ONSET_COLOR, RESONANCE_COLOR = "#7f3fbf", "#d62728"
+GUIDED_COLOR = "#8c564b"
+#: The magnitude axis spans at least this many dB (a flat |R| = 1 over a ground plane
+#: would otherwise be drawn as noise magnified around 0 dB).
+MIN_DB_SPAN = 1.0
 DPI = 90
 
 
@@ -85,17 +95,37 @@ def _rgba(canvas: Any) -> np.ndarray:
     return np.asarray(canvas.buffer_rgba()).copy()
 
 
+def phase_label(stack: Any) -> tuple[str, str | None]:
+    """The phase axis' label and ∠T's legend (None: ∠T not drawn, or on the same plane).
+
+    >>> phase_label(None)
+    ('∠R, ∠T (°) at the sheet,\\nz = 0 mm', None)
+    """
+    r_plane, t_plane = reference_plane_names(stack)
+    wrapped = r_plane.replace(", z", ",\nz")  # two lines: the axis is short
+    if t_plane == r_plane:
+        return "∠R, ∠T (°) at " + wrapped, None
+    r = "∠R (°) at " + wrapped
+    return r, (None if t_plane is None else f"∠T at {t_plane}")
+
+
 def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Picture:
     """|R|, |T| (dB) and their phase against frequency of an ``ArraySweep`` (None: empty
     axes), ``size`` widget pixels (w, h) at ``ratio`` device pixels per pixel."""
     fig, canvas = _figure(size, ratio)
-    fig.subplots_adjust(left=0.2, right=0.96, top=0.97, bottom=0.12, hspace=0.1)
+    w, h = max(size[0], 50), max(size[1], 50)
+    left = min(0.3, 64.0 / w)  # 64 px: two lines of label and the ticks
+    bottom = min(0.3, 38.0 / h)  # the ticks' labels and the axis' name
+    fig.subplots_adjust(left=left, right=0.97, top=1.0 - 8.0 / h, bottom=bottom, hspace=0.1)
     mag, ph = fig.subplots(2, 1, sharex=True)
     for ax in (mag, ph):
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=7)
-    mag.set_ylabel("magnitude (dB)", fontsize=8)
-    ph.set_ylabel("phase (°)", fontsize=8)
+    stack = None if result is None else result.inputs.stack
+    grounded = stack is not None and stack.ground
+    label, t_legend = phase_label(stack)
+    mag.set_ylabel("|R|, |T| (dB)" if not grounded else "|R| (dB)", fontsize=8)
+    ph.set_ylabel(label, fontsize=8)
     ph.set_xlabel("frequency (GHz)", fontsize=8)
     ph.set_ylim(-180, 180)
     ph.set_yticks([-180, -90, 0, 90, 180])
@@ -105,10 +135,30 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
             r_db = 20 * np.log10(np.abs(result.reflection))
             t_db = 20 * np.log10(np.abs(result.transmission))
         mag.plot(f, r_db, color=R_COLOR, marker=".", label="|R|")
-        mag.plot(f, t_db, color=T_COLOR, marker=".", label="|T|")
-        ph.plot(f, np.degrees(np.angle(result.reflection)), color=R_COLOR, marker=".")
-        ph.plot(f, np.degrees(np.angle(result.transmission)), color=T_COLOR, marker=".")
-        mag.legend(fontsize=7, loc="best")
+        if not grounded:
+            mag.plot(f, t_db, color=T_COLOR, marker=".", label="|T|")
+        ph.plot(f, np.degrees(np.angle(result.reflection)), color=R_COLOR, marker=".", label="∠R")
+        if not grounded:
+            ph.plot(
+                f,
+                np.degrees(np.angle(result.transmission)),
+                color=T_COLOR,
+                marker=".",
+                label=t_legend or "∠T",
+            )
+        if t_legend is not None:
+            ph.legend(fontsize=6, loc="lower left")
+        shown = np.concatenate([r_db, t_db if not grounded else []])
+        shown = shown[np.isfinite(shown)]
+        if len(shown) and np.ptp(shown) < MIN_DB_SPAN:
+            top = max(float(shown.max()), 0.0) + 0.1 * MIN_DB_SPAN
+            mag.set_ylim(top - 1.1 * MIN_DB_SPAN, top)
+        mag.legend(
+            fontsize=7,
+            loc="best",
+            title="T = 0: ground plane" if grounded else None,
+            title_fontsize=6,
+        )
         for n, (hz, orders) in enumerate(result.grating_lobe_onsets):
             for ax in (mag, ph):
                 ax.axvline(hz / 1e9, color=ONSET_COLOR, lw=1.0, ls=":")
@@ -122,6 +172,31 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
                 va="bottom",
                 fontsize=6,
                 color=ONSET_COLOR,
+            )
+        for n, (hz, orders, layers) in enumerate(getattr(result, "guided_onsets", ())):
+            for ax in (mag, ph):
+                ax.axvline(hz / 1e9, color=GUIDED_COLOR, lw=1.0, ls="-.")
+            first = orders[0]
+            more = f" +{len(orders) - 1}" if len(orders) > 1 else ""
+            where = ", ".join(str(i + 1) for i in layers)
+            mag.annotate(  # at the bottom of the magnitude axes, staggered
+                f"guided in layer {where}\n({first[0]},{first[1]}){more} {hz / 1e9:.4g}",
+                (hz / 1e9, 0.03 + 0.22 * (n % 3)),
+                xycoords=("data", "axes fraction"),
+                ha="right",
+                va="bottom",
+                fontsize=6,
+                color=GUIDED_COLOR,
+            )
+        for hz in getattr(result, "zero_phase", ()):
+            ph.plot([hz / 1e9], [0.0], marker="D", ms=5, color="black", ls="none")
+            ph.annotate(
+                f"∠R = 0\n{hz / 1e9:.4g}",
+                (hz / 1e9, 0.0),
+                xytext=(3, 3),
+                textcoords="offset points",
+                fontsize=6,
+                va="bottom",
             )
         for n, hz in enumerate(result.resonances):
             mag.axvline(hz / 1e9, color=RESONANCE_COLOR, lw=1.0, ls="--")

@@ -6,7 +6,11 @@
 :func:`barymesh.mom.periodic_solve`, where a fit would cost more solves than it saves),
 reduced to what the tab plots (the co-polar (0, 0)
 reflection and transmission), the grating-lobe onsets with the orders that start there,
-and the resonances. It stops before its next solve when ``cancel()`` says so.
+the onsets of orders guided inside a dielectric layer (:func:`guided_onsets`: not grating
+lobes, they carry no power out), the resonances and the solver's warnings. With a
+:class:`barymesh.mom.Stack` in the inputs the sheet lies on layers and perhaps a ground
+plane; R and T are then referred to the stack's faces (:attr:`ArraySweep.reference_planes`).
+It stops before its next solve when ``cancel()`` says so.
 
 :func:`orders_rows` turns one :class:`barymesh.mom.PeriodicSolution` into the rows of the
 tab's table of propagating Floquet orders.
@@ -45,6 +49,8 @@ METRES = 1e-3
 #: Bands of at least this many frequencies are swept by rational interpolation (21 cost
 #: 27 solves on a ring cell with three grating-lobe onsets in the band: no saving).
 INTERPOLATE_POINTS = 41
+#: Over a ground plane a dip of |R| is listed as a resonance only below 1 minus this.
+DIP_DEPTH = 0.01
 #: Floquet orders |p|, |q| <= this are searched for grating-lobe onsets.
 ORDER_RANGE = 4
 
@@ -63,6 +69,8 @@ class ArrayInputs:
         ``"TE"`` or ``"TM"``.
     sheet_impedance : complex
         Ω per square (0: a perfect conductor).
+    stack : barymesh.mom.Stack or None
+        The layers around the sheet and the ground plane (None: the sheet in vacuum).
     """
 
     frequencies: tuple[float, ...]
@@ -70,6 +78,7 @@ class ArrayInputs:
     phi: float
     polarization: str
     sheet_impedance: complex = 0j
+    stack: Any = None
 
     def incidence(self) -> Any:
         """The incident :class:`barymesh.mom.PlaneWave` (unit amplitude)."""
@@ -98,6 +107,14 @@ class ArraySweep:
         The frequencies solved (Hz); the others come from the rational fit.
     error_estimate : (F,) float
         The fit's estimated absolute error (0 where solved).
+    warnings : tuple of str
+        When the curve should not be trusted as it is, one sentence per kind ("kind:
+        text", :mod:`barymesh.mom.periodic_caveats`).
+    guided_onsets : tuple of (float, tuple of (int, int), tuple of int)
+        Onsets inside the band of orders guided inside a layer (:func:`guided_onsets`).
+    zero_phase : (Z,) float
+        Over a ground plane: the frequencies (Hz) where ∠R crosses 0 at the top face,
+        the in-phase reflection of a high-impedance surface (:func:`zero_phase_frequencies`).
     """
 
     frequencies: np.ndarray
@@ -108,11 +125,26 @@ class ArraySweep:
     inputs: ArrayInputs
     sampled: np.ndarray = field(default_factory=lambda: np.zeros(0))
     error_estimate: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    warnings: tuple[str, ...] = ()
+    guided_onsets: tuple[tuple[float, tuple[tuple[int, int], ...], tuple[int, ...]], ...] = ()
+    zero_phase: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def interpolated(self) -> bool:
         """Whether some frequencies come from the fit, not from a solve."""
         return len(self.sampled) < len(self.frequencies)
+
+    @property
+    def stack(self) -> Any:
+        """The inputs' :class:`barymesh.mom.Stack` (None: the sheet in vacuum)."""
+        return self.inputs.stack
+
+    @property
+    def reference_planes(self) -> tuple[float, float]:
+        """Heights (mm) over the sheet of the planes R and T are referred to (the wave
+        comes from above: the stack's top and bottom faces; (0, 0) in vacuum)."""
+        stack = self.inputs.stack
+        return (0.0, 0.0) if stack is None else stack.reference_planes
 
 
 def lattice_vectors(mesh: TriMesh) -> np.ndarray:
@@ -130,13 +162,19 @@ def lattice_vectors(mesh: TriMesh) -> np.ndarray:
 
 
 def grating_lobe_onsets(
-    vectors: np.ndarray, theta: float, phi: float, band: tuple[float, float]
+    vectors: np.ndarray,
+    theta: float,
+    phi: float,
+    band: tuple[float, float],
+    index: float = 1.0,
 ) -> tuple[tuple[float, tuple[tuple[int, int], ...]], ...]:
     """Frequencies in ``band`` (Hz) at which a Floquet order (p, q) ≠ (0, 0) starts to
-    propagate, for a wave from (θ, φ) (degrees) on the lattice ``vectors`` ((2, 2), m).
+    propagate, for a wave from (θ, φ) (degrees, in vacuum) on the lattice ``vectors``
+    ((2, 2), m), in vacuum or (``index`` = sqrt(εr μr)) inside a layer.
 
     Order (p, q) has κ = k u + p b1 + q b2 (u = the incident direction's transverse part);
-    it propagates once |κ| <= k, so its onset solves (1 − |u|²) k² − 2 (u·G) k − |G|² = 0.
+    it propagates once |κ| <= n k, so its onset solves
+    (n² − |u|²) k² − 2 (u·G) k − |G|² = 0.
 
     >>> a = np.eye(2) * 0.012  # a 12 mm square lattice
     >>> [(round(f / 1e9, 3), orders) for f, orders in grating_lobe_onsets(a, 0, 0, (1e9, 26e9))]
@@ -145,13 +183,21 @@ def grating_lobe_onsets(
     recip = 2.0 * np.pi * np.linalg.inv(np.asarray(vectors, dtype=np.float64)).T  # rows b1, b2
     t, f = math.radians(theta), math.radians(phi)
     u = -math.sin(t) * np.array([math.cos(f), math.sin(f)])
-    n = np.arange(-ORDER_RANGE, ORDER_RANGE + 1)
-    pq = np.stack(np.meshgrid(n, n, indexing="ij"), axis=-1).reshape(-1, 2)
+    # every order whose onset can lie in the band: |G| <= n k (1 + |u|) at the band's top
+    radius = index * (1.0 + math.hypot(*u)) * 2.0 * np.pi * band[1] / SPEED_OF_LIGHT
+    span = np.ceil(radius * np.linalg.norm(np.linalg.inv(recip), axis=0)).astype(int)
+    span = np.maximum(span, ORDER_RANGE)
+    pq = np.stack(
+        np.meshgrid(
+            np.arange(-span[0], span[0] + 1), np.arange(-span[1], span[1] + 1), indexing="ij"
+        ),
+        axis=-1,
+    ).reshape(-1, 2)
     pq = pq[np.any(pq != 0, axis=1)]
     g = pq @ recip  # (M, 2)
     ug = g @ u
     gg = np.einsum("ij,ij->i", g, g)
-    a = 1.0 - u @ u
+    a = index * index - u @ u
     k = (ug + np.sqrt(ug * ug + a * gg)) / a
     hz = k * SPEED_OF_LIGHT / (2.0 * np.pi)
     inside = (hz >= band[0]) & (hz <= band[1])
@@ -164,6 +210,42 @@ def grating_lobe_onsets(
         else:
             out.append((float(hz[i]), (order,)))
     return tuple(out)
+
+
+def guided_onsets(
+    vectors: np.ndarray, theta: float, phi: float, band: tuple[float, float], stack: Any
+) -> tuple[tuple[float, tuple[tuple[int, int], ...], tuple[int, ...]], ...]:
+    """Onsets in ``band`` (Hz) of Floquet orders that propagate inside a layer of
+    ``stack`` but not (yet) in vacuum: (frequency, orders, layers) by frequency, the
+    layers as indices into ``stack.layers`` (top first).
+
+    Above such an onset the order is guided inside the stack: it carries no power out
+    and is no grating lobe, but the sheet's response changes there (a kink or a
+    resonance of the slab). Layers of zero thickness or of index 1 have none.
+
+    >>> from barymesh.mom import Layer, Stack
+    >>> slab = Stack(below=(Layer(1.575, 2.2),), ground=True)
+    >>> a = np.eye(2) * 0.012  # 12 mm: at normal incidence c / (P sqrt(2.2)) = 16.84 GHz
+    >>> [(round(f / 1e9, 2), o, i) for f, o, i in guided_onsets(a, 0, 0, (5e9, 20e9), slab)]
+    [(16.84, ((-1, 0), (0, -1), (0, 1), (1, 0)), (0,))]
+    """
+    if stack is None:
+        return ()
+    # an order reaches n k before k: each onset in a layer is below the order's in vacuum
+    found: dict[float, tuple[set[tuple[int, int]], set[int]]] = {}
+    for i, layer in enumerate(stack.layers):
+        index = math.sqrt(layer.eps_r * layer.mu_r)
+        if layer.thickness <= 0 or index <= 1.0:
+            continue
+        for hz, orders in grating_lobe_onsets(vectors, theta, phi, band, index):
+            key = next((f for f in found if abs(f - hz) <= 1e-9 * hz), hz)
+            entry = found.setdefault(key, (set(), set()))
+            entry[0].update(orders)
+            entry[1].add(i)
+    return tuple(
+        (hz, tuple(sorted(orders)), tuple(sorted(layers)))
+        for hz, (orders, layers) in sorted(found.items())
+    )
 
 
 def resonance_frequencies(frequencies: np.ndarray, magnitude: np.ndarray) -> np.ndarray:
@@ -185,11 +267,45 @@ def resonance_frequencies(frequencies: np.ndarray, magnitude: np.ndarray) -> np.
     return f[i] + np.clip(shift, -0.5, 0.5) * step
 
 
+def zero_phase_frequencies(frequencies: np.ndarray, reflection: np.ndarray) -> np.ndarray:
+    """(Z,) frequencies where the phase of ``reflection`` crosses 0 (linear between two
+    samples; a jump through ±180° is no crossing).
+
+    >>> f = np.array([1.0, 2.0, 3.0, 4.0])
+    >>> zero_phase_frequencies(f, np.exp(1j * np.radians([90, 30, -30, -170]))).tolist()
+    [2.5]
+    """
+    f = np.asarray(frequencies, dtype=float)
+    ph = np.angle(np.asarray(reflection))
+    a, b = ph[:-1], ph[1:]
+    crossing = (((a <= 0) & (b > 0)) | ((a >= 0) & (b < 0))) & (np.abs(b - a) < np.pi)
+    i = np.flatnonzero(crossing)
+    return f[i] + (f[i + 1] - f[i]) * a[i] / (a[i] - b[i])
+
+
+def reflector_resonances(
+    frequencies: np.ndarray, reflection: np.ndarray, candidates: np.ndarray
+) -> np.ndarray:
+    """The ``candidates`` (Hz) that are dips of |R| at least :data:`DIP_DEPTH` deep.
+
+    Over a ground plane every watt comes back (|R| = 1 without loss): a peak of |R| is
+    no resonance there, and a dip is one only where the layers or the sheet absorb.
+    """
+    f = np.asarray(frequencies, dtype=float)
+    candidates = np.asarray(candidates, dtype=float)
+    if not len(candidates):
+        return candidates
+    magnitude = np.interp(candidates, f, np.abs(reflection))
+    return candidates[magnitude <= 1.0 - DIP_DEPTH]
+
+
 def solve_point(mesh: TriMesh, hz: float, inputs: ArrayInputs) -> Any:
     """:func:`barymesh.mom.periodic_solve` of ``mesh`` at ``hz`` with the tab's inputs."""
     from barymesh.mom import periodic_solve
 
-    return periodic_solve(mesh, hz, inputs.incidence(), sheet_impedance=inputs.sheet_impedance)
+    return periodic_solve(
+        mesh, hz, inputs.incidence(), sheet_impedance=inputs.sheet_impedance, stack=inputs.stack
+    )
 
 
 class _Shared:
@@ -256,28 +372,41 @@ def _sweep(
 
     freqs = np.asarray(inputs.frequencies, dtype=np.float64)
     band = (float(freqs[0]), float(freqs[-1]))
-    onsets = grating_lobe_onsets(lattice_vectors(mesh), inputs.theta, inputs.phi, band)
+    vectors = lattice_vectors(mesh)
+    onsets = grating_lobe_onsets(vectors, inputs.theta, inputs.phi, band)
+    guided = guided_onsets(vectors, inputs.theta, inputs.phi, band, inputs.stack)
+    grounded = inputs.stack is not None and inputs.stack.ground
     if len(freqs) < INTERPOLATE_POINTS:
         # point by point here: periodic_sweep(interpolate=False) refuses a band with an
         # onset-to-onset piece that holds no requested frequency ("need at least one
         # array to stack"), and a short band costs fewer solves than a fit would
         r = np.empty(len(freqs), dtype=complex)
         t = np.empty(len(freqs), dtype=complex)
+        notes: dict[str, str] = {}  # one warning per kind, the first met
         for i, hz in enumerate(freqs):
             if cancel is not None and cancel():
                 raise SolveCancelled(f"the array sweep was cancelled after {i} of {len(freqs)}")
-            r[i], t[i] = solve_point(mesh, float(hz), inputs).co_polar()
+            solution = solve_point(mesh, float(hz), inputs)
+            r[i], t[i] = solution.co_polar()
+            for text in solution.warnings:
+                notes.setdefault(text.split(":")[0], text)
             if progress is not None:
                 progress(i + 1, len(freqs))
+        resonances = resonance_frequencies(freqs, np.abs(r))
+        if grounded:  # the dips, where something absorbs
+            resonances = reflector_resonances(freqs, r, resonance_frequencies(freqs, -np.abs(r)))
         return ArraySweep(
             freqs,
             r,
             t,
             onsets,
-            resonance_frequencies(freqs, np.abs(r)),
+            resonances,
             inputs,
             freqs.copy(),
             np.zeros(len(freqs)),
+            tuple(notes.values()),
+            guided,
+            zero_phase_frequencies(freqs, r) if grounded else np.zeros(0),
         )
     sweep = periodic_sweep(
         mesh,
@@ -288,17 +417,27 @@ def _sweep(
         sheet_impedance=inputs.sheet_impedance,
         progress=progress,
         cancel=cancel,
+        stack=inputs.stack,
     )
     r, t = sweep.co_polar()
+    resonances = np.asarray(sweep.resonances, dtype=float)
+    if grounded:
+        dips = [
+            f for f, kind in zip(resonances, sweep.resonance_kinds, strict=True) if kind == "dip"
+        ]
+        resonances = reflector_resonances(freqs, r, np.asarray(dips, dtype=float))
     return ArraySweep(
         frequencies=freqs,
         reflection=np.asarray(r),
         transmission=np.asarray(t),
         grating_lobe_onsets=onsets,
-        resonances=np.asarray(sweep.resonances, dtype=float),
+        resonances=resonances,
         inputs=inputs,
         sampled=np.asarray(sweep.sampled, dtype=float),
         error_estimate=np.asarray(sweep.error_estimate, dtype=float),
+        warnings=tuple(sweep.warnings),
+        guided_onsets=guided,
+        zero_phase=zero_phase_frequencies(freqs, r) if grounded else np.zeros(0),
     )
 
 

@@ -2,14 +2,27 @@
 
 When the mesh on screen is a unit cell (it carries a lattice: a cell preset, a cell file,
 the cell editor), the tab takes a band (start, stop, points), the angle the wave comes
-from (θ, φ in degrees), TE or TM, and an optional sheet impedance (Ω/sq), and shows the
-co-polar (0, 0) |R| and |T| in dB and their phase against frequency, the grating-lobe
-onsets marked and the resonances labelled. The sweep
+from (θ, φ in degrees), TE or TM, an optional sheet impedance (Ω/sq) and the dielectric
+layers around the sheet with an optional ground plane
+(:class:`~barymesh.app.panels.stack_editor.StackEditor`: a table and a side view to
+scale), and shows the co-polar (0, 0) |R| and |T| in dB and ∠R against frequency, ∠R's
+reference plane named on its axis, the grating-lobe onsets and the onsets of orders
+guided inside a layer marked and the resonances labelled. The sweep
 (:func:`barymesh.app.panels.array_sweep.sweep_array`) runs in the solver process, waited
 for by a worker thread, which then draws the figure
 (:func:`barymesh.app.panels.array_figures.draw_curve`, Agg) into an image; the GUI thread
 only shows it (:class:`PictureView`). With **Live** on, every new mesh (a slider, the cell
-editor) cancels the running sweep and starts the next one.
+editor) and every good edit of the stack cancels the running sweep and starts the next
+one. The solver's warnings (``PeriodicSweep.warnings``: an ill-conditioned solve, a
+frequency at an onset, a mesh coarse for the densest layer, metal beyond the cell…) are
+shown in an orange note in the tab and named over the curve; a bad value in the stack is
+said under its table and the last good curve stays.
+
+The curve and the orders' drawing need more room than the Solve dock has beside the 3D
+view (at the window's default size the dock is about 300 × 480 pixels, and the curve
+was below its fold), so in the window they live in a dock of their own, **Array curve**,
+under the 3D view, opened when the tab is first shown or **Run** is clicked (**Show
+curve** opens it again once closed).
 
 A click on the curve solves the array at that frequency (in the worker): the cell's
 current goes into the Solve tab's "Surface current" layer (the cell editor's ghost copies
@@ -22,6 +35,7 @@ incidence). Without a lattice the tab says why in one line and its inputs are di
 from __future__ import annotations
 
 import cmath
+import html
 import logging
 import math
 import threading
@@ -35,7 +49,9 @@ from PySide6.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
     QComboBox,
+    QDockWidget,
     QFormLayout,
+    QGroupBox,
     QHBoxLayout,
     QHeaderView,
     QLabel,
@@ -43,6 +59,7 @@ from PySide6.QtWidgets import (
     QPushButton,
     QSizePolicy,
     QSpinBox,
+    QSplitter,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -50,6 +67,7 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.model.stack_rows import reference_plane_names
 from barymesh.app.panels.array_figures import Picture, draw_curve, draw_orders
 from barymesh.app.panels.array_sweep import (
     POLARIZATIONS,
@@ -61,9 +79,13 @@ from barymesh.app.panels.array_sweep import (
     sweep_array,
 )
 from barymesh.app.panels.solve_panel import PANEL_WIDTH, UNITS, read_frequency, run_job
+from barymesh.app.panels.stack_editor import StackEditor
 from barymesh.app.worker import Job
 
 log = logging.getLogger(__name__)
+
+#: Height of the Array curve dock when it first opens (pixels).
+CURVE_DOCK_HEIGHT = 300
 
 #: The orders table's columns.
 ORDER_COLUMNS = ("p", "q", "|R|", "|T|", "P_R", "P_T", "θ°", "φ°")
@@ -137,10 +159,11 @@ class PictureView(QWidget):
     clicked = Signal(float)
     resized = Signal()
 
-    def __init__(self, height: int, parent: QWidget | None = None) -> None:
+    def __init__(self, height: int, parent: QWidget | None = None, grow: bool = False) -> None:
         super().__init__(parent)
         self.setMinimumHeight(height)
-        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+        vertical = QSizePolicy.Policy.Expanding if grow else QSizePolicy.Policy.Fixed
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, vertical)
         self._height = height
         self.picture: Picture | None = None
         self.marked: float | None = None
@@ -165,6 +188,11 @@ class PictureView(QWidget):
         image.setDevicePixelRatio(picture.ratio)
         self._image = image
         self.update()
+        # drawn for a size the view no longer has (it was laid out, or resized, while the
+        # picture was being drawn, before there was a picture to redraw): draw it again
+        (want_w, want_h), _ratio = self.request_size()
+        if abs(w / picture.ratio - want_w) > 2 or abs(h / picture.ratio - want_h) > 2:
+            self._resize_timer.start()
 
     def mark(self, hz: float | None) -> None:
         self.marked = hz
@@ -221,6 +249,11 @@ class InfiniteArrayPanel(QWidget):
     show_current : callable
         ``show_current(mesh, current)`` puts a (T, 3) complex current into the Surface
         current layer (the Solve tab's), ``show_current(None, None)`` takes it away.
+    parent : QWidget, optional
+    host : ToolHost, optional
+        The window (:class:`barymesh.app.tool_host.ToolHost`): the curve and the orders'
+        drawing go into a dock of their own (:attr:`curve_dock`). Without one they stay
+        in the tab, under its inputs.
     """
 
     _job_done = Signal(object)
@@ -233,10 +266,15 @@ class InfiniteArrayPanel(QWidget):
         model: Any,
         show_current: Callable[[TriMesh | None, Any], None],
         parent: QWidget | None = None,
+        host: Any = None,
     ) -> None:
         super().__init__(parent)
         self.model = model
         self.show_current = show_current
+        self.host = host  # a barymesh.app.tool_host.ToolHost: the curve gets a dock
+        self.curve_dock: QDockWidget | None = None
+        self._curve_sized = False
+        self._shown_once = False
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.result: ArraySweep | None = None
@@ -309,10 +347,12 @@ class InfiniteArrayPanel(QWidget):
         form.addRow("Sheet &impedance (Ω/sq)", self.sheet)
         self.live = QCheckBox("&Live: follow the mesh", self)
         self.live.setChecked(True)
-        self.live.setToolTip("Sweep again whenever the mesh changes (a slider, the cell editor)")
+        self.live.setToolTip(
+            "Sweep again whenever the mesh changes (a slider, the cell editor) or the stack"
+        )
         self.run_button = QPushButton("&Run", self)
         self.run_button.setToolTip("Sweep R and T of the infinite array over the band")
-        self.run_button.clicked.connect(self.run)
+        self.run_button.clicked.connect(self._run_clicked)
         row = QHBoxLayout()
         row.addWidget(self.run_button)
         row.addWidget(self.live, 1)
@@ -325,14 +365,63 @@ class InfiniteArrayPanel(QWidget):
         self.status = QLabel(self)
         self.status.setWordWrap(True)
         col.addWidget(self.status)
+        self.warnings = QLabel(self)  # the solver's warnings: visible, not modal
+        self.warnings.setWordWrap(True)
+        self.warnings.setTextFormat(Qt.TextFormat.RichText)
+        self.warnings.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.warnings.setStyleSheet(
+            "QLabel { background: #fff4e0; border: 1px solid #e0a040; padding: 4px; }"
+        )
+        self.warnings.hide()
+        col.addWidget(self.warnings)
+        # the stack under Run and the messages: those stay above the dock's fold
+        self.stack_box = QGroupBox("Layers and ground plane", self)
+        self.stack_box.setToolTip(
+            "Dielectric layers around the sheet, top first, and a ground plane under them"
+        )
+        box = QVBoxLayout(self.stack_box)
+        box.setContentsMargins(4, 4, 4, 4)
+        self.stack_editor = StackEditor(self.stack_box)
+        self.stack_editor.changed.connect(self._stack_changed)
+        # a good stack again: a refusal of it under Run goes (a bad one is said in the box)
+        self.stack_editor.edited.connect(lambda: self.stack_editor.error or self._edited())
+        box.addWidget(self.stack_editor)
+        col.addWidget(self.stack_box)
         self.note = QLabel("No curve yet.", self)
         self.note.setWordWrap(True)
         col.addWidget(self.note)
-        self.plot = PictureView(330, self)
+        self.show_curve_button = QPushButton("Show the &curve", self)
+        self.show_curve_button.setToolTip("Open the Array curve dock again")
+        self.show_curve_button.clicked.connect(self.show_curve)
+        col.addWidget(self.show_curve_button)
+        self.curve_area = QWidget()
+        area = QVBoxLayout(self.curve_area)
+        area.setContentsMargins(2, 2, 2, 2)
+        # one line over the curve: what it is, or its warnings' kinds (always there, so
+        # that the curve does not move when a warning comes or goes)
+        self.curve_line = QLabel("No curve yet: Run in the Infinite array tab.", self.curve_area)
+        self.curve_line.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
+        self.curve_line.setStyleSheet("color: #555555;")
+        area.addWidget(self.curve_line)
+        grow = self.host is not None
+        self.plot = PictureView(230 if grow else 330, self.curve_area, grow=grow)
         self.plot.setToolTip("Click a frequency: the current and the Floquet orders there")
         self.plot.clicked.connect(self.solve_at)
         self.plot.resized.connect(lambda: self._redraw("curve"))
-        col.addWidget(self.plot)
+        self.drawing = PictureView(200, self.curve_area, grow=grow)
+        self.drawing.resized.connect(lambda: self._redraw("orders"))
+        if grow:  # side by side in the dock under the 3D view, the splitter between
+            split = QSplitter(Qt.Orientation.Horizontal, self.curve_area)
+            split.addWidget(self.plot)
+            split.addWidget(self.drawing)
+            split.setStretchFactor(0, 3)
+            split.setStretchFactor(1, 1)
+            split.setChildrenCollapsible(False)
+            self.plot.setMinimumWidth(260)
+            self.drawing.setMinimumWidth(160)
+            area.addWidget(split, 1)
+        else:
+            area.addWidget(self.plot)
         self.summary = QLabel(self)
         self.summary.setWordWrap(True)
         self.summary.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
@@ -350,10 +439,22 @@ class InfiniteArrayPanel(QWidget):
         font.setPointSizeF(font.pointSizeF() * 0.85)
         self.table.setFont(font)
         self.table.setMinimumHeight(110)
-        col.addWidget(self.table)
-        self.drawing = PictureView(200, self)
-        self.drawing.resized.connect(lambda: self._redraw("orders"))
-        col.addWidget(self.drawing)
+        if self.host is None:  # everything in the tab, the curve under the inputs
+            self.show_curve_button.hide()
+            col.insertWidget(col.indexOf(self.summary), self.curve_area)
+            col.addWidget(self.table)
+            col.addWidget(self.drawing)
+        else:
+            col.addWidget(self.table)
+            self.curve_dock = self.host.add_dock(
+                "Array curve",
+                self.curve_area,
+                Qt.DockWidgetArea.BottomDockWidgetArea,
+                name="dock_array_curve",
+            )
+            self.curve_dock.hide()  # until the tab is shown (a saved layout may say else)
+            self.curve_dock.visibilityChanged.connect(lambda _v: self._update_curve_button())
+        col.addStretch(1)
         for edit in (self.band_start, self.band_stop, self.theta, self.phi, self.sheet):
             edit.returnPressed.connect(self._edited)
 
@@ -383,8 +484,11 @@ class InfiniteArrayPanel(QWidget):
         theta = read_angle(self.theta.text(), "θ", 0.0, 90.0)
         phi = read_angle(self.phi.text(), "φ", -360.0, 360.0)
         zs = read_impedance(self.sheet.text())
+        if self.stack_editor.error:
+            raise ValueError(self.stack_editor.error)
         freqs = tuple(float(f) for f in np.linspace(a, b, self.points.value()))
-        return ArrayInputs(freqs, theta, phi, self.polarization.currentData(), zs)
+        stack = self.stack_editor.stack
+        return ArrayInputs(freqs, theta, phi, self.polarization.currentData(), zs, stack)
 
     def _reason(self, mesh: TriMesh | None) -> str:
         """Why the tab cannot sweep ``mesh`` ("" if it can)."""
@@ -403,6 +507,7 @@ class InfiniteArrayPanel(QWidget):
         self.reason.setText(reason)
         self.reason.setVisible(bool(reason))
         self.inputs_box.setEnabled(not reason)
+        self.stack_box.setEnabled(not reason)
 
     def _edited(self) -> None:
         try:
@@ -411,6 +516,53 @@ class InfiniteArrayPanel(QWidget):
             self.error.setText(str(exc))
             return
         self.error.clear()
+
+    def _stack_changed(self, stack: Any) -> None:
+        """A good new stack: Live sweeps again (as for a new mesh); otherwise the curve
+        says it is for the previous stack."""
+        live = self.engaged and self.live.isChecked() and self.mesh is not None
+        if self.result is not None and self.result.inputs.stack != stack:
+            self._stale(
+                "Updating for the new stack…" if live else "This curve is for the previous stack."
+            )
+        if live and not self._reason(self.mesh):
+            self.run()
+
+    def _stale(self, text: str) -> None:
+        """Say (in the tab and over the curve) that the curve shown is not for the inputs."""
+        self.note.setText(text)
+        self.curve_line.setStyleSheet("color: #555555;")
+        self.curve_line.setText(text)
+
+    # -- the curve's dock ------------------------------------------------------------
+
+    def show_curve(self) -> None:
+        """Open (and raise) the Array curve dock; the first time at a readable height."""
+        dock = self.curve_dock
+        if dock is None:
+            return
+        dock.show()
+        dock.raise_()
+        if not self._curve_sized and self.host is not None:
+            self._curve_sized = True
+            window = self.host.widget
+            if window.dockWidgetArea(dock) == Qt.DockWidgetArea.BottomDockWidgetArea:
+                window.resizeDocks([dock], [CURVE_DOCK_HEIGHT], Qt.Orientation.Vertical)
+        self._update_curve_button()
+
+    def _update_curve_button(self) -> None:
+        dock = self.curve_dock
+        self.show_curve_button.setVisible(dock is not None and not dock.isVisible())
+
+    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
+        super().showEvent(event)
+        if not self._shown_once:  # the tab is looked at: its curve comes with it
+            self._shown_once = True
+            self.show_curve()
+
+    def _run_clicked(self) -> None:
+        self.show_curve()
+        self.run()
 
     # -- jobs ------------------------------------------------------------------------
 
@@ -531,6 +683,7 @@ class InfiniteArrayPanel(QWidget):
             self._tokens["curve"] += 1  # a redraw asked for before is older than this
             self.plot.show_picture(picture)
             self._describe(data)
+            self._show_warnings()
             self.swept.emit(data)
         else:
             self._tokens["orders"] += 1
@@ -542,6 +695,7 @@ class InfiniteArrayPanel(QWidget):
         self.note.setText(
             f"{i.polarization}, θ {i.theta:g}°, φ {i.phi:g}°"
             + (f", Z_s {i.sheet_impedance:g} Ω/sq" if i.sheet_impedance else "")
+            + (f", on {i.stack.describe()}" if i.stack is not None else ", in vacuum")
             + ": click the curve for the orders"
         )
         lines = []
@@ -550,9 +704,56 @@ class InfiniteArrayPanel(QWidget):
         for hz, orders in r.grating_lobe_onsets:
             names = ", ".join(f"({p},{q})" for p, q in orders)
             lines.append(f"Grating lobe {names} from {hz / 1e9:.4g} GHz")
+        if len(r.zero_phase):
+            lines.append(
+                "In-phase reflection (∠R = 0): "
+                + ", ".join(f"{f / 1e9:.4g} GHz" for f in r.zero_phase)
+            )
+        for hz, orders, layers in r.guided_onsets:
+            names = ", ".join(f"({p},{q})" for p, q in orders)
+            where = ", ".join(str(k + 1) for k in layers)
+            lines.append(
+                f"Guided in layer {where} (not a grating lobe): {names} from {hz / 1e9:.4g} GHz"
+            )
         if not lines:
             lines.append("No resonance and no grating lobe in this band.")
+        r_plane, t_plane = reference_plane_names(i.stack)
+        lines.append(
+            f"R is referred to {r_plane}"
+            + (f", T to {t_plane}." if t_plane is not None else "; T = 0 (ground plane).")
+        )
         self.summary.setText("\n".join(lines))
+
+    def _show_warnings(self) -> None:
+        """The solver's warnings of the curve (and of the solve at the clicked
+        frequency), one per line, in the tab; their kinds over the curve."""
+        found: dict[str, str] = {}  # kind -> sentence, one of each
+        if self.result is not None:
+            for text in self.result.warnings:
+                found.setdefault(text.split(":")[0], text)
+        if self.point is not None and self.point_mesh is self.result_mesh:
+            at = f"at {self.point.frequency / 1e9:.5g} GHz, "
+            for text in self.point.warnings:
+                found.setdefault(text.split(":")[0], at + text)
+        if not found:
+            self.warnings.clear()
+            self.warnings.hide()
+            self.curve_line.setStyleSheet("color: #555555;")
+            self.curve_line.setText(self.note.text())
+            self.curve_line.setToolTip(self.summary.text())
+            return
+        lines = []
+        for kind, text in found.items():
+            head, _sep, rest = text.partition(kind)
+            lines.append(f"⚠ {html.escape(head)}<b>{html.escape(kind)}</b>{html.escape(rest)}")
+        self.warnings.setText("<br>".join(lines))
+        self.warnings.show()
+        self.curve_line.setStyleSheet("color: #a05000;")
+        self.curve_line.setText(
+            f"⚠ Do not trust this curve blindly: {'; '.join(found)} (the Infinite array tab "
+            "says why)"
+        )
+        self.curve_line.setToolTip("\n".join(found.values()))
 
     def _show_point(self, solution: Any, mesh: TriMesh) -> None:
         self.point, self.point_mesh = solution, mesh
@@ -581,6 +782,7 @@ class InfiniteArrayPanel(QWidget):
             f"power balance {total:.5f}"
         )
         self.plot.mark(solution.frequency)
+        self._show_warnings()
         self.show_current(mesh, solution.current_density)
 
     # -- the mesh changed ------------------------------------------------------------
@@ -597,7 +799,7 @@ class InfiniteArrayPanel(QWidget):
         live = self.engaged and self.live.isChecked() and mesh is not None
         if self.result is not None and self.result_mesh is not mesh:
             self.result_mesh = None
-            self.note.setText(
+            self._stale(
                 "Updating for the new mesh…" if live else "This curve is for the previous mesh."
             )
         if live:

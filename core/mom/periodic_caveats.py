@@ -137,10 +137,12 @@ def periodic_warnings(
     """
     index, where = 1.0, "vacuum"
     if stack is not None:
-        for i, layer in enumerate(stack.layers):
+        named = [(f"above[{i}]", x) for i, x in enumerate(stack.above)]
+        named += [(f"below[{i}]", x) for i, x in enumerate(stack.below)]
+        for name, layer in named:
             n = math.sqrt(layer.eps_r * layer.mu_r)
             if layer.thickness > 0 and n > index:
-                index, where = n, f"layer {i} (eps_r {layer.eps_r:g})"
+                index, where = n, f"the layer {name} (eps_r {layer.eps_r:g})"
     longest = float(pg.base.sizes.max())
     return (
         condition_warning(condition_number)

@@ -459,10 +459,11 @@ def cross_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
 
 
-def special_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
+def special_moments(pg: PeriodicGeometry, k: complex, charge_only: bool = False) -> np.ndarray:
     """(6, 2, M) float32 flat moments of G over the near and close pairs, re and im.
 
-    ``k`` may be complex (Im k < 0, a lossy medium).
+    ``k`` may be complex (Im k < 0, a lossy medium); with ``charge_only`` only the first
+    moment, ∫∫ 1, is returned ((1, 2, M)), as the layered fill's scalar potential needs.
 
     In the order of ``pg.plan.special``: the near pairs by the free-space solver's
     closed forms, those across the cell's sides likewise against the shifted source,
@@ -478,7 +479,9 @@ def special_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     if np.imag(k):  # a lossy medium (the layered fill): e^(Im k R) on the close pairs
         inverse *= np.exp(np.float32(np.imag(k) * h) * plan.close_distance)
     kernel = np.stack([np.cos(x) * inverse, -np.sin(x) * inverse])  # (2, Q², K)
-    close = np.einsum("ipk,rpk->irk", plan.close_weights, kernel).reshape(12, -1)
+    count = 1 if charge_only else 6
+    weights = plan.close_weights[:count]
+    close = np.einsum("ipk,rpk->irk", weights, kernel).reshape(2 * count, -1)
     own = near_moments_series(pg.base, k)  # the smooth kernel's power series, when it applies
     if own is None:
         own = near_moments(pg.base, k, single=True)
@@ -486,15 +489,16 @@ def special_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     if len(pg.cross):
         closed.append(cross_moments(pg, k)[:, FLAT_MOMENTS])
     near = np.concatenate(closed).T / (h ** np.array([3, 4, 4, 4, 4, 5]))[:, None]  # (6, K)
-    values = np.empty((6, 2, len(plan.special)), dtype=np.float32)
+    near = near[:count]
+    values = np.empty((count, 2, len(plan.special)), dtype=np.float32)
     n_near, n_close = near.shape[1], close.shape[1]
     values[:, 0, :n_near] = near.real
     values[:, 1, :n_near] = near.imag
-    flat = values.reshape(12, -1)
+    flat = values.reshape(2 * count, -1)
     flat[:, n_near : n_near + n_close] = close
-    mirrored = np.array([[2 * i, 2 * i + 1] for i in MIRRORED]).ravel()
+    mirrored = np.array([[2 * i, 2 * i + 1] for i in MIRRORED[:count]]).ravel()
     flat[:, n_near + n_close :] = close[mirrored]
-    return np.take(flat, plan.special_order, axis=1).reshape(6, 2, -1)
+    return np.take(flat, plan.special_order, axis=1).reshape(count, 2, -1)
 
 
 def _taylor_moments(
@@ -811,7 +815,7 @@ def _fill_layered(
         h,
     )
     special_a = special_moments(pg, medium.k_a)
-    special_phi = special_moments(pg, medium.k_phi)
+    special_phi = special_moments(pg, medium.k_phi, charge_only=True)
     phases = _block_phases(pg, kt)
     k_ah, k_phih = medium.k_a * h, medium.k_phi * h
     scale = np.float32(4.0 / (k * h) ** 2)
@@ -824,7 +828,7 @@ def _fill_layered(
         charge = _taylor_moments(
             plan, tables_phi, k_phih, abs(k_phih) * plan.reach, lo, hi, charge_only=True
         )
-        _add_special(plan, charge, special_phi[:1], lo, hi)
+        _add_special(plan, charge, special_phi, lo, hi)
         _apply_phases(plan, charge, phases, lo, hi)
         _times(charge, 1.0 / medium.eps)
         m[5] -= scale * charge[0]  # ρ·ρ' G_A − 4/k0² G_Φ

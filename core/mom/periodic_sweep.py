@@ -999,7 +999,11 @@ def _co_series(r00: np.ndarray, c: np.ndarray, k: int) -> np.ndarray:
 
 
 def _resonances(sweep: PeriodicSweep, co_fits: list) -> tuple[np.ndarray, tuple, np.ndarray]:
-    """Peaks and dips of |R_co| on the sweep's curve, refined on the fits, with Q."""
+    """Peaks and dips of |R_co| on the sweep's curve, refined on the fits, with Q.
+
+    Over a ground plane nothing is transmitted and |R| is 1 but for loss: only its dips
+    (absorption) are resonances; its peaks would be noise.
+    """
     f = sweep.frequencies
     r = np.abs(sweep.co_polar()[0])
     if len(f) < 3 or not np.all(np.isfinite(r)):
@@ -1007,7 +1011,10 @@ def _resonances(sweep: PeriodicSweep, co_fits: list) -> tuple[np.ndarray, tuple,
     found, kinds, qs = [], [], []
     onsets = sweep.grating_lobe_onsets
     step = np.min(np.diff(f))
-    for kind, y in (("peak", r), ("dip", -r)):
+    shapes = [("peak", r), ("dip", -r)]
+    if sweep.stack is not None and sweep.stack.ground:
+        shapes = shapes[1:]
+    for kind, y in shapes:
         idx, _ = find_peaks(y, prominence=RESONANCE_PROMINENCE)
         for i in idx:
             if len(onsets) and np.min(np.abs(onsets - f[i])) < 1.5 * max(step, f[i] - f[i - 1]):
