@@ -781,7 +781,7 @@ def _wheel(window, steps: int, beat: Heartbeat, rest: float = 1.5) -> dict:
     x, y, _ = renderer.GetDisplayPoint()
     ratio = plotter.devicePixelRatioF()
     at = QPoint(round(x / ratio), round(plotter.height() - 1 - y / ratio))
-    blocks, details = [], []
+    blocks, details, busiest = [], [], []
     for _ in range(steps):
         beat.reset()
         event = QWheelEvent(
@@ -798,10 +798,12 @@ def _wheel(window, steps: int, beat: Heartbeat, rest: float = 1.5) -> dict:
         wait_until(lambda: False, rest)
         wall, cpu, _end = beat.longest_block()
         blocks.append((wall, cpu, beat.longest_block_process()))
+        busiest.append(beat.longest_cpu)
         details.append(window.scene.detail_triangles if window.scene.detail_rect else 0)
     doc = _case_doc(beat, blocks)
     worst = max(blocks)
     doc["longest_block"], doc["longest_block_cpu"], doc["longest_block_process_cpu"] = worst
+    doc["longest_cpu"] = max(busiest)
     doc["detail_triangles"] = details
     return doc
 
@@ -814,7 +816,7 @@ def _rotate_drag(window, moves: int, beat: Heartbeat, dx: int = 6) -> dict:
     plotter = window.plotter
     x, y = plotter.width() // 2, plotter.height() // 2
     left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
-    blocks = []
+    blocks, busiest = [], []  # per move: its longest block; the busiest gap's CPU
     beat.reset()
     mouse(plotter, QEvent.Type.MouseButtonPress, x, y, left, left)
     for i in range(1, moves + 1):
@@ -823,13 +825,16 @@ def _rotate_drag(window, moves: int, beat: Heartbeat, dx: int = 6) -> dict:
         wait_until(lambda: False, 0.016)
         wall, cpu, _end = beat.longest_block()
         blocks.append((wall, cpu, beat.longest_block_process()))
+        busiest.append(beat.longest_cpu)
     beat.reset()
     mouse(plotter, QEvent.Type.MouseButtonRelease, x + dx * moves, y, left, none)
     wait_until(lambda: False, 0.5)
     blocks.append((*beat.longest_block()[:2], beat.longest_block_process()))
+    busiest.append(beat.longest_cpu)
     doc = _case_doc(beat, blocks)
     worst = max(blocks)
     doc["longest_block"], doc["longest_block_cpu"], doc["longest_block_process_cpu"] = worst
+    doc["longest_cpu"] = max(busiest)
     doc["moves"] = moves
     window.top_view()
     window.reset_camera()
