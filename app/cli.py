@@ -664,7 +664,7 @@ def _resolve(args: argparse.Namespace) -> Any:
 
 def _screenshot(mesh: Any, path: str, size: tuple[int, int], transparent: bool) -> None:
     try:
-        from barymesh.app.view.scene import render_screenshot
+        from barymesh.app.view.scaled_shot import render_screenshot
     except ImportError as exc:
         raise InputError(
             f"screenshots need the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"

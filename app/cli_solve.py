@@ -655,7 +655,7 @@ SCREENSHOT_LAYERS = {
 def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, int]) -> None:
     """Render |J| of ``current`` ((T, 3) complex, A/m) on ``mesh`` off-screen to a PNG of
     exactly ``window_size`` pixels: the mesh as
-    :func:`barymesh.app.view.scene.render_screenshot` draws it, under the window's Surface
+    :func:`barymesh.app.view.scaled_shot.render_screenshot` draws it, under the window's Surface
     current layer (:class:`barymesh.app.view.current_layer.CurrentLayer`:
     colour map, scale bar, arrows of Re J). Works without an X display."""
     try:

@@ -54,7 +54,8 @@ from barymesh import MeshParams, TriMesh
 from barymesh.app.cli_options import build_window_parser
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
-from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog
+from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog, png_steps, write_png
+from barymesh.app.dialogs.step_progress import run_in_steps
 from barymesh.app.edit.cell_tools import CellTools
 from barymesh.app.model import (
     AppModel,
@@ -72,6 +73,7 @@ from barymesh.app.panels.stats_panel import StatsPanel
 from barymesh.app.teach.teaching_tools import TeachingTools
 from barymesh.app.teach.teaching_windows import TeachingWindows
 from barymesh.app.view.framing import (
+    CameraWatch,
     FramedCamera,
     frame_from_above,
     look_from_above,
@@ -190,9 +192,8 @@ class MainWindow(QMainWindow):
         cell: Any = None,
     ) -> None:
         super().__init__()
-        from pyvistaqt import QtInteractor
-
         from barymesh.app.gui_gc import collect_in_gui_thread
+        from barymesh.app.view.interactor import ViewInteractor
 
         collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
 
@@ -214,7 +215,8 @@ class MainWindow(QMainWindow):
             self.model.restore_view_state(self._saved_json("view"))
 
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
-        self.plotter = QtInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
+        # (one render a frame: VTK's interaction renders only ask for the next paint)
+        self.plotter = ViewInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
         self.plotter.setMinimumSize(320, 240)
         disable_view_keys(self.plotter)
         self.scene = MeshScene(
@@ -222,9 +224,10 @@ class MainWindow(QMainWindow):
         )
         self.scene.top_view()
         self.framing = FramedCamera(self.plotter)  # the camera a mesh was last framed with
-        self.plotter.iren.add_observer("EndInteractionEvent", self._camera_moved)
-        self.plotter.iren.add_observer("MouseWheelForwardEvent", self._camera_moved)
-        self.plotter.iren.add_observer("MouseWheelBackwardEvent", self._camera_moved)
+        # the mouse moved the camera (a drag ended, a wheel step: VTK's style ends each
+        # step's interaction too); the rulers and the note follow when it rests
+        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
+            self.plotter.iren.add_observer(event, self._camera_moved)
         self._camera_key: tuple[Any, ...] | None = None
         self.last_frame_seconds = 0.0
         self.paint_counter = PaintCounter(self.plotter)  # one paint per new mesh
@@ -236,6 +239,14 @@ class MainWindow(QMainWindow):
         self._rest_timer.setInterval(250)
         self._rest_timer.timeout.connect(self._camera_rested)
         self._detail_token: tuple[int, tuple[float, ...]] | None = None
+        self._paint_timer = QTimer(self)  # a new mesh's first paint (see _show_result)
+        self._paint_timer.setSingleShot(True)
+        self._paint_timer.setInterval(1)
+        self._paint_timer.timeout.connect(self._paint_new_mesh)
+        self._painted_before: int | None = None  # paints when a new mesh came
+        # any camera change drawn (a key, Zoom to selection, a tool's zoom), not only the
+        # mouse's: the detail is asked for once it rests
+        self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
         self._closed = False
         self._arranging = False  # arrange_docks is moving the docks
         self._tuned = False
@@ -715,7 +726,10 @@ class MainWindow(QMainWindow):
             for _ in range(6):  # label -> panel -> dock -> window: one level per round
                 QApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest)
             if self.paint_counter.paints == painted:  # a resize may have painted it already
-                self.request_render()
+                # painted from a timer: the event loop gets a turn between the new
+                # datasets and their first render (two blocks, not one of both)
+                self._painted_before = painted
+                self._paint_timer.start()
             # after a large mesh its arrays are free now: hand the pages back (off this
             # thread; trimming after every small mesh would only cost time)
             big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
@@ -741,6 +755,16 @@ class MainWindow(QMainWindow):
                 self.statusBar().showMessage(START_MESSAGE)  # until the first change
             else:
                 self.statusBar().clearMessage()
+
+    def _paint_new_mesh(self) -> None:
+        if not self._closed and self.paint_counter.paints == self._painted_before:
+            self.request_render()
+
+    @property
+    def paint_pending(self) -> bool:
+        """Whether the mesh on screen still waits for its first paint (asked for by a
+        1 ms timer after it came, see :meth:`_show_result`)."""
+        return self.paint_counter.paints == self._painted_before
 
     def _bounds_jumped(self, bounds: np.ndarray) -> bool:
         old = getattr(self, "_camera_bounds", None)
@@ -919,15 +943,25 @@ class MainWindow(QMainWindow):
         )
 
     def _camera_moved(self, *_args: Any) -> None:
-        self.scene.fit_marker_sizes()
+        """The mouse moved the camera: line widths, dot sizes and what is drawn follow at
+        once, the rulers and the note when it rests (:meth:`_camera_rested`)."""
+        self.scene.fit_marker_sizes(settled=False)
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
-        if self.scene.reduced:
+        self._rest_timer.start()
+
+    def _camera_drawn(self) -> None:
+        if not self._closed:
             self._rest_timer.start()
 
     def _camera_rested(self) -> None:
-        """Ask for the full detail of the part in view of a dense mesh (in a thread)."""
+        """The camera rests: the rulers follow the view, and the full detail of the part
+        in view of a dense mesh is asked for (in a thread)."""
+        if self._closed:
+            return
+        if self.scene.settle():
+            self.request_render()
         result = self.model.result
-        if self._closed or result is None or result.mesh is None or not self.scene.reduced:
+        if result is None or result.mesh is None or not self.scene.reduced:
             return
         rect = self.scene.wanted_detail()
         if rect is None:
@@ -1027,22 +1061,24 @@ class MainWindow(QMainWindow):
             if render:
                 self.request_render()
 
-    def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray:
+    def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray | None:
         """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
 
         At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
-        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`); VTK's tiled
-        magnification cut and misplaced the rulers and titles."""
-        from barymesh.app.view.scaled_shot import MAX_SCALE, scaled_view_image
+        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`), one render at a
+        time under a progress dialog with Cancel (the window answers between them); None
+        when cancelled."""
+        from barymesh.app.view.scaled_shot import MAX_SCALE, ScaledShot
 
         if not 1 <= int(scale) <= MAX_SCALE:
             raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
-        if int(scale) > 1:  # about 1.5 s at 2x, 3 s at 4x (three off-screen renders)
-            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
-            try:
-                return scaled_view_image(self.scene, int(scale), transparent)
-            finally:
-                QApplication.restoreOverrideCursor()
+        self._settle_for_export()
+        if int(scale) > 1:
+            shot = ScaledShot(self.scene, int(scale), transparent)
+            w, h = shot.size
+            if not run_in_steps(self, "Export screenshot", f"Drawing {w} × {h} px", shot.steps()):
+                return None
+            return shot.image
         self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
         image = self.plotter.screenshot(None, transparent_background=transparent, return_img=True)
         self.plotter.render()
@@ -1051,22 +1087,48 @@ class MainWindow(QMainWindow):
     def save_view_png(
         self, path: str | os.PathLike[str], scale: int = 1, transparent: bool = False
     ) -> bool:
-        """Write the 3D view to a PNG; errors go to the status bar. Returns success."""
-        try:
-            import imageio.v3 as iio
+        """Write the 3D view to a PNG; errors go to the status bar. Returns success.
 
-            iio.imwrite(Path(path), self.view_image(scale, transparent), extension=".png")
+        At 2× to 4× it is drawn in steps and written in a worker thread, under a progress
+        dialog whose Cancel leaves no file (:meth:`view_image`)."""
+        from barymesh.app.view.scaled_shot import ScaledShot
+
+        name = Path(path).name
+        try:
+            self._settle_for_export()
+            if int(scale) > 1:
+                shot = ScaledShot(self.scene, int(scale), transparent)
+                w, h = shot.size
+                if not run_in_steps(
+                    self,
+                    "Export screenshot",
+                    f"Saving {name} ({w} × {h} px)",
+                    png_steps(shot, path, self),
+                ):
+                    self.statusBar().showMessage(
+                        f"Screenshot {name} cancelled: no file written", 5000
+                    )
+                    return False
+            else:
+                write_png(path, self.view_image(1, transparent))
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
-            self.statusBar().showMessage(
-                file_error_sentence(f"Could not save {Path(path).name}", exc, path)
-            )
+            self.statusBar().showMessage(file_error_sentence(f"Could not save {name}", exc, path))
             return False
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
 
+    def _settle_for_export(self) -> None:
+        """An export shows the view as it is at rest: rulers and note laid out for the
+        camera now (they wait for the rest while the camera moves)."""
+        if self.scene.settle():
+            self.request_render()
+
     def copy_view_to_clipboard(self, scale: int = 1, transparent: bool = False) -> None:
         image = self.view_image(scale, transparent)
+        if image is None:
+            self.statusBar().showMessage("Copy of the view cancelled", 5000)
+            return
         h, w, c = image.shape
         fmt = QImage.Format.Format_RGBA8888 if c == 4 else QImage.Format.Format_RGB888
         qimage = QImage(image.data, w, h, c * w, fmt).copy()

@@ -32,6 +32,15 @@ the event loop's longest block, in wall time and in the GUI thread's CPU time (a
 machine stretches the first, hardly the second); ``--profile DIR`` writes a cProfile
 file per case.
 
+The ``--interaction`` round (issue 30) times a hand on the mouse in the main view: a
+mouse drag of Fig. 12(a)'s inner-radius slider and of Fig. 12(d)'s angle-step slider,
+wheel steps into a 207,360-triangle mesh (each followed by its rest, when the detail of
+the part in view comes) and a rotating mouse drag over 1,049,760 triangles. Each case
+reports the longest block with the GUI thread's CPU time and the whole process's in that
+same gap (Mesa's render threads and the workers), per step where there are steps, and the
+load average, so that a loaded machine's stretched wall times can be told from the
+window's own work.
+
 Usage::
 
     python benchmarks/latency.py                    # 50 frames, drag, 3 big rounds
@@ -39,6 +48,7 @@ Usage::
     python benchmarks/latency.py --quick            # 6 frames, 0.5 s drag (tests)
     python benchmarks/latency.py --big-only --big 3 # only the 1M and 4.8M rounds
     python benchmarks/latency.py --teaching --load "2 test runs" --json out.json
+    python benchmarks/latency.py --interaction --load "quiet" --json out.json
 
 Without ``DISPLAY`` the script re-runs itself under ``xvfb-run``.
 """
@@ -59,7 +69,8 @@ import weakref
 from collections.abc import Callable
 from pathlib import Path
 
-from window_tools import Heartbeat, rss, wait_until
+from machine import machine
+from window_tools import Heartbeat, mouse, rss, wait_until
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -731,6 +742,208 @@ def measure_teaching(repeats: int = 3, profile: Path | None = None, big: bool = 
     }
 
 
+# -- drags, wheel and rotation on the main view (--interaction, issue 30 item 13) ---------
+
+
+def _case_doc(beat: Heartbeat, blocks: list[tuple[float, float]] | None = None) -> dict:
+    """The longest event-loop block since ``beat.reset()``: wall seconds, the GUI thread's
+    CPU seconds in that same gap, and the busiest gap's CPU; ``blocks``: per step (wall,
+    CPU) of each step's longest gap."""
+    wall, cpu, _end = beat.longest_block()
+    doc = {
+        "longest_block": wall,
+        "longest_block_cpu": cpu,
+        "longest_block_process_cpu": beat.longest_block_process(),
+        "longest_cpu": beat.longest_cpu,
+    }
+    if blocks:
+        walls = [b[0] for b in blocks]
+        doc["steps"] = [{"longest_block": b[0], "cpu": b[1], "process_cpu": b[2]} for b in blocks]
+        doc["median_step_block"] = statistics.median(walls)
+        doc["median_step_cpu"] = statistics.median(b[1] for b in blocks)
+        doc["median_step_process_cpu"] = statistics.median(b[2] for b in blocks)
+    doc["loadavg"] = list(os.getloadavg())
+    return doc
+
+
+def _wheel(window, steps: int, beat: Heartbeat, rest: float = 1.5) -> dict:
+    """``steps`` wheel steps (one notch each, 120 units) into the view over the inner ring,
+    each followed by ``rest`` seconds (the rest timer, the detail of the part in view);
+    the longest block of each step."""
+    from PySide6.QtCore import QPoint, QPointF, Qt
+    from PySide6.QtGui import QWheelEvent
+    from PySide6.QtWidgets import QApplication
+
+    plotter = window.plotter
+    renderer = plotter.renderer
+    renderer.SetWorldPoint(4.5, 0.0, 0.0, 1.0)  # on the inner ring (radius 4 to 5 mm)
+    renderer.WorldToDisplay()
+    x, y, _ = renderer.GetDisplayPoint()
+    ratio = plotter.devicePixelRatioF()
+    at = QPoint(round(x / ratio), round(plotter.height() - 1 - y / ratio))
+    blocks, details, busiest = [], [], []
+    for _ in range(steps):
+        beat.reset()
+        event = QWheelEvent(
+            QPointF(at),
+            QPointF(plotter.mapToGlobal(at)),
+            QPoint(0, 0),
+            QPoint(0, 120),
+            Qt.MouseButton.NoButton,
+            Qt.KeyboardModifier.NoModifier,
+            Qt.ScrollPhase.NoScrollPhase,
+            False,
+        )
+        QApplication.sendEvent(plotter, event)
+        wait_until(lambda: False, rest)
+        wall, cpu, _end = beat.longest_block()
+        blocks.append((wall, cpu, beat.longest_block_process()))
+        busiest.append(beat.longest_cpu)
+        details.append(window.scene.detail_triangles if window.scene.detail_rect else 0)
+    doc = _case_doc(beat, blocks)
+    worst = max(blocks)
+    doc["longest_block"], doc["longest_block_cpu"], doc["longest_block_process_cpu"] = worst
+    doc["longest_cpu"] = max(busiest)
+    doc["detail_triangles"] = details
+    return doc
+
+
+def _rotate_drag(window, moves: int, beat: Heartbeat, dx: int = 6) -> dict:
+    """A left-button mouse drag on the view (the camera turns), ``moves`` moves of ``dx``
+    pixels about 16 ms apart; the longest block of each move."""
+    from PySide6.QtCore import QEvent, Qt
+
+    plotter = window.plotter
+    x, y = plotter.width() // 2, plotter.height() // 2
+    left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
+    blocks, busiest = [], []  # per move: its longest block; the busiest gap's CPU
+    beat.reset()
+    mouse(plotter, QEvent.Type.MouseButtonPress, x, y, left, left)
+    for i in range(1, moves + 1):
+        beat.reset()
+        mouse(plotter, QEvent.Type.MouseMove, x + dx * i, y + dx * i // 3, none, left)
+        wait_until(lambda: False, 0.016)
+        wall, cpu, _end = beat.longest_block()
+        blocks.append((wall, cpu, beat.longest_block_process()))
+        busiest.append(beat.longest_cpu)
+    beat.reset()
+    mouse(plotter, QEvent.Type.MouseButtonRelease, x + dx * moves, y, left, none)
+    wait_until(lambda: False, 0.5)
+    blocks.append((*beat.longest_block()[:2], beat.longest_block_process()))
+    busiest.append(beat.longest_cpu)
+    doc = _case_doc(beat, blocks)
+    worst = max(blocks)
+    doc["longest_block"], doc["longest_block_cpu"], doc["longest_block_process_cpu"] = worst
+    doc["longest_cpu"] = max(busiest)
+    doc["moves"] = moves
+    window.top_view()
+    window.reset_camera()
+    wait_until(lambda: False, 0.5)
+    return doc
+
+
+def measure_interaction(profile: Path | None = None, seconds: float = 3.0) -> dict:
+    """The four cases of issue 30, item 13 in the real window (1400 x 860): a mouse drag
+    of Fig. 12(a)'s inner-radius slider, of Fig. 12(d)'s angle-step slider, wheel steps
+    into a 207,360-triangle mesh and a rotating mouse drag over a 1,049,760-triangle
+    one; for each the event loop's longest block, in wall time and in the GUI thread's
+    CPU time in that same gap (a loaded machine stretches the first, not the second)."""
+    os.environ.setdefault("QT_QPA_PLATFORM", "xcb")
+    from PySide6.QtCore import QSettings
+    from PySide6.QtWidgets import QApplication
+
+    from barymesh import MeshParams
+    from barymesh.app.window import MainWindow
+    from barymesh.presets import load_preset
+
+    app_ = QApplication.instance() or QApplication([sys.argv[0]])
+    settings_dir = tempfile.mkdtemp(prefix="barymesh-latency-")
+    settings = QSettings(str(Path(settings_dir) / "settings.ini"), QSettings.Format.IniFormat)
+    fig12a = MeshParams()
+    window = MainWindow(fig12a, settings=settings, scripted=True)
+    window.resize(*WINDOW_SIZE)
+    window.show()
+    wait_until(lambda: window.plotter.isVisible(), 30)
+    window.activateWindow()
+    window.controller.flush()
+    wait_until(lambda: window.model.result is not None, 30)
+    wait_until(lambda: False, 1.0)
+    beat = Heartbeat()
+    prof = _Profiles(profile)
+    out: dict[str, dict] = {}
+
+    def show(params) -> None:
+        if window.model.result is None or window.model.result.params != params:
+            _show(app_, window, params, beat)
+        wait_until(lambda: False, 1.0)
+
+    for case, params, name, span in (
+        ("slider_drag_fig12a", fig12a, "inner_radius", None),
+        ("slider_drag_fig12d", load_preset("paper-fig12d")[0], "angle_step", -40),
+    ):
+        show(params)
+        window.controls.rows[name].slider.setFocus()
+        prof.start()
+        drag = _drag(app_, window, name, seconds, beat, span_px=span)
+        prof.stop(case)
+        out[case] = _case_doc(beat) | {
+            "meshes": drag["meshes"],
+            "moves": drag["moves"],
+            "seconds": drag["seconds"],
+            "triangles_last": window.model.result.mesh.n_triangles,
+        }
+        wait_until(lambda: False, 0.5)
+
+    dense = MeshParams(subdivisions=12)  # Fig. 12(a) at n = 12: 207,360 triangles
+    show(dense)
+    window.plotter.setFocus()
+    prof.start()
+    out["wheel_zoom_200k"] = _wheel(window, 8, beat) | {"triangles": 207_360}
+    prof.stop("wheel_zoom_200k")
+    window.reset_camera()
+    wait_until(lambda: False, 0.5)
+
+    big = MeshParams(subdivisions=27)  # Fig. 12(a) at n = 27: 1,049,760 triangles
+    show(big)
+    prof.start()
+    out["rotate_1M"] = _rotate_drag(window, 30, beat) | {"triangles": 1_049_760}
+    prof.stop("rotate_1M")
+    beat.timer.stop()
+    size = tuple(window.plotter.ren_win.GetSize())
+    renderer = _renderer(window)
+    window.close()
+    wait_until(lambda: False, 0.3)
+    shutil.rmtree(settings_dir, ignore_errors=True)
+    return {
+        "round": "interaction",
+        "window_size": list(WINDOW_SIZE),
+        "view_size": list(size),
+        "renderer": renderer,
+        "cases": out,
+    }
+
+
+def interaction_table(doc: dict) -> str:
+    """The --interaction round: each case's longest block (target <= 100 ms)."""
+    lines = [
+        f"drags, wheel and rotation, view {doc['view_size'][0]}x{doc['view_size'][1]}, "
+        f"renderer {doc['renderer']}, load average {doc['load']['loadavg_before'][0]:.1f} "
+        f"before, {doc['load']['loadavg_after'][0]:.1f} after ({doc['load']['cores']} cores)",
+        "longest event-loop block per case (target <= 100 ms): wall time, the GUI thread's "
+        "CPU time and the process's in that gap (llvmpipe renders in threads of its own), "
+        "and the median step's",
+        f"{'case':22} {'wall ms':>8} {'gui cpu':>8} {'all cpu':>8} {'step ms':>8} "
+        f"{'gui cpu':>8} {'all cpu':>8} {'load':>5}",
+    ]
+    for case, c in doc["cases"].items():
+        row = [c["longest_block"], c["longest_block_cpu"], c.get("longest_block_process_cpu")]
+        row += [c.get("median_step_block"), c.get("median_step_cpu")]
+        row += [c.get("median_step_process_cpu")]
+        cells = " ".join("       –" if v is None else f"{v * 1e3:8.0f}" for v in row)
+        lines.append(f"{case:22} {cells} {c['loadavg'][0]:5.1f}")
+    return "\n".join(lines)
+
+
 def _renderer(window) -> str:
     info = window.plotter.ren_win.ReportCapabilities() or ""
     found = re.search(r"OpenGL renderer string:\s*(.+)", info)
@@ -758,6 +971,8 @@ def teaching_table(doc: dict) -> str:
 def table(doc: dict) -> str:
     if doc.get("round") == "teaching":
         return teaching_table(doc)
+    if doc.get("round") == "interaction":
+        return interaction_table(doc)
     if doc["frames"] == 0:
         lines = [f"view {doc['view_size'][0]}x{doc['view_size'][1]}, renderer {doc['renderer']}"]
         return "\n".join(lines + _big_lines(doc.get("big")))
@@ -868,7 +1083,16 @@ def main(argv: list[str] | None = None) -> int:
         default="",
         help="what else loaded the machine meanwhile (written into the --teaching JSON)",
     )
-    ap.add_argument("--profile", type=Path, help="--teaching: a cProfile file per case here")
+    ap.add_argument(
+        "--interaction",
+        action="store_true",
+        help="only the main view's drags: Fig. 12(a)'s and Fig. 12(d)'s sliders, wheel steps "
+        "at 200k and a rotating drag at 1M triangles, the longest event-loop block of each "
+        "with the GUI thread's CPU time",
+    )
+    ap.add_argument(
+        "--profile", type=Path, help="--teaching, --interaction: a cProfile file per case here"
+    )
     ap.add_argument("--json", type=Path, help="also write the results here")
     args = ap.parse_args(argv)
     frames = 6 if args.quick else args.frames
@@ -887,6 +1111,20 @@ def main(argv: list[str] | None = None) -> int:
             cmd += [str(Path(__file__).resolve()), *(sys.argv[1:] if argv is None else argv)]
             return subprocess.call(cmd, env=env)
         ap.error("no display: run under Xvfb (xvfb-run -a python benchmarks/latency.py)")
+    if args.interaction:
+        before = list(os.getloadavg())
+        doc = measure_interaction(args.profile, seconds=args.drag if args.drag > 0 else 3.0)
+        doc["machine"] = machine()
+        doc["load"] = {
+            "note": args.load,
+            "cores": os.cpu_count(),
+            "loadavg_before": before,
+            "loadavg_after": list(os.getloadavg()),
+        }
+        print(table(doc))
+        if args.json:
+            args.json.write_text(json.dumps(doc, indent=2))
+        return 0
     if args.teaching:
         if args.repeats < 1:
             ap.error(f"--repeats={args.repeats}: expected at least 1")

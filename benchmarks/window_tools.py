@@ -64,7 +64,9 @@ class Heartbeat:
     ``thread_gaps`` are the GUI thread's CPU seconds in each gap (``time.thread_time``):
     on a loaded machine a block's wall time grows with the other processes' share of the
     cores, its CPU time does not (what llvmpipe's own threads render is not in it).
-    ``ends`` are the ``time.perf_counter()`` of each beat.
+    ``process_gaps`` are the whole process's CPU seconds in each gap
+    (``time.process_time``: the GUI thread, llvmpipe's render threads, and any worker
+    thread busy meanwhile). ``ends`` are the ``time.perf_counter()`` of each beat.
     """
 
     def __init__(self) -> None:
@@ -77,17 +79,20 @@ class Heartbeat:
         self.timer.start()
 
     def _beat(self) -> None:
-        now, cpu = time.perf_counter(), time.thread_time()
+        now, cpu, process = time.perf_counter(), time.thread_time(), time.process_time()
         self.gaps.append(now - self.last)
         self.thread_gaps.append(cpu - self.last_cpu)
+        self.process_gaps.append(process - self.last_process)
         self.ends.append(now)
-        self.last, self.last_cpu = now, cpu
+        self.last, self.last_cpu, self.last_process = now, cpu, process
 
     def reset(self) -> None:
         self.gaps: list[float] = []
         self.thread_gaps: list[float] = []
+        self.process_gaps: list[float] = []
         self.ends: list[float] = []
         self.last, self.last_cpu = time.perf_counter(), time.thread_time()
+        self.last_process = time.process_time()
 
     @property
     def longest(self) -> float:
@@ -98,6 +103,13 @@ class Heartbeat:
     def longest_cpu(self) -> float:
         """The GUI thread's CPU seconds in its busiest gap."""
         return max(self.thread_gaps, default=0.0)
+
+    def longest_block_process(self) -> float:
+        """The whole process's CPU seconds in the longest gap since the last reset."""
+        if not self.gaps:
+            return 0.0
+        i = max(range(len(self.gaps)), key=self.gaps.__getitem__)
+        return self.process_gaps[i]
 
     def longest_block(self) -> tuple[float, float, float]:
         """(wall, GUI-thread CPU) seconds of the longest gap since the last reset, and the

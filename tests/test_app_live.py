@@ -100,6 +100,7 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
 
     monkeypatch.setattr(barymesh.app.worker, "compute", compute)
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    qtbot.waitUntil(lambda: not window.paint_pending)  # its paint (a 1 ms timer) is done
     old = weakref.ref(window.model.result.mesh)
     beat = Heartbeat()
     paints = window.paint_counter.paints

@@ -675,10 +675,15 @@ def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
     fx, fy, fz = camera.focal_point
     camera.focal_point = (8.0, 0.0, fz)
     camera.position = (8.0, 0.0, camera.position[2])
-    window._camera_moved()
+    window._camera_moved()  # (the rulers follow once the camera rests)
     rect = scene.view_rect()
+
+    def in_view():
+        ax0, ax1, ay0, ay1 = scene.axes.bounds[:4]
+        return rect[0] < ax0 < ax1 < rect[1] and rect[2] < ay0 < ay1 < rect[3]
+
+    qtbot.waitUntil(in_view, timeout=5_000)
     ax0, ax1, ay0, ay1 = scene.axes.bounds[:4]
-    assert rect[0] < ax0 < ax1 < rect[1] and rect[2] < ay0 < ay1 < rect[3]
     for axis, (lo, hi) in enumerate(((ax0, ax1), (ay0, ay1))):
         labels = scene.axes.GetAxisLabels(axis)
         texts = [labels.GetValue(i) for i in range(labels.GetNumberOfValues())]

@@ -161,6 +161,52 @@ def test_latency_teaching_round_reports_each_case(tmp_path: Path) -> None:
     assert "compare_open" in proc.stdout
 
 
+def test_latency_interaction_round_reports_each_case(tmp_path: Path) -> None:
+    """``latency.py --interaction`` (issue 30, item 13): for each of the four cases the
+    longest block with the GUI thread's CPU time in that gap, per step for the wheel and
+    the rotation, and the load average (no timing is asserted)."""
+    pytest.importorskip("pyvistaqt")
+    out = tmp_path / "interaction.json"
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "latency.py"), "--interaction"]
+    cmd += ["--drag", "0.5", "--load", "test", "--json", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900, check=False)
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    cases = doc["cases"]
+    assert list(cases) == [
+        "slider_drag_fig12a",
+        "slider_drag_fig12d",
+        "wheel_zoom_200k",
+        "rotate_1M",
+    ]
+    for case in cases.values():
+        assert case["longest_block"] > 0
+        assert 0 <= case["longest_block_cpu"] <= case["longest_cpu"]
+        assert len(case["loadavg"]) == 3
+    assert cases["slider_drag_fig12a"]["meshes"] >= 1
+    assert cases["wheel_zoom_200k"]["triangles"] == 720 * 2 * 12**2
+    assert len(cases["wheel_zoom_200k"]["steps"]) == 8
+    assert len(cases["rotate_1M"]["steps"]) == 30 + 1  # the moves and the release
+    assert doc["load"]["note"] == "test" and doc["load"]["cores"] >= 1
+    assert "wheel_zoom_200k" in proc.stdout
+
+
+def test_the_performance_page_renders_the_stored_window_results() -> None:
+    """The Performance page's window tables read the files they were written for: the
+    dense rounds (``latency-big``; the name "latency" picked the teaching round's file and
+    rendered an empty table) and the interaction round."""
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import benchmark_tables
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    head, rows, note = benchmark_tables.table_data("latency-big")
+    assert "latency-big-" in note and len(rows) >= 3
+    head, rows, note = benchmark_tables.table_data("latency-interaction")
+    assert "latency-interaction-" in note and len(rows) == 4
+    assert "GUI thread CPU ms" in head and "load average" in head.pop()
+
+
 def _interior_edge_count(triangles) -> int:
     """Edges on exactly two triangles, counted from the triangles alone."""
     import numpy as np

@@ -343,9 +343,7 @@ def test_progress_off_a_terminal_writes_log_lines_with_the_steps(monkeypatch):
 @pytest.mark.parametrize("transparent", [False, True])
 def test_screenshot_without_display(tmp_path, transparent):
     pytest.importorskip("pyvista")
-    scene = pytest.importorskip("barymesh.app.view.scene")
-    if not hasattr(scene, "render_screenshot"):
-        pytest.skip("barymesh.app.view.scene.render_screenshot is not there yet")
+    pytest.importorskip("barymesh.app.view.scaled_shot")
     iio = pytest.importorskip("imageio.v3")
     args = [
         "mesh",

@@ -293,9 +293,16 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
         assert (html / f"{page}.html").is_file()
     # the performance tables are made from the result files at build time
     performance = (html / "performance.html").read_text(encoding="utf-8")
-    for result in ("mesher-2026-12-02.json", "solver.json", "quality-2026-12-02.json"):
+    for result in (
+        "mesher-2026-12-02.json",
+        "solver.json",
+        "quality-2026-12-02.json",
+        "latency-big-2026-12-02.json",
+        "latency-interaction-2026-12-03.json",
+    ):
         assert result in performance
-    assert performance.count("<table") == 4  # mesher, quality, solver, window
+    # mesher, quality, solver, the window's dense rounds and its drags, wheel and rotation
+    assert performance.count("<table") == 5
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
     # speed, sweep accuracy, infinite-array sweep, live infinite-array and convergence

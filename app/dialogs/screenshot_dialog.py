@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import os
+import threading
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
 
-from PySide6.QtCore import QSettings
+import numpy as np
+from PySide6.QtCore import QObject, QSettings
 from PySide6.QtWidgets import (
     QCheckBox,
     QDialog,
@@ -15,6 +20,49 @@ from PySide6.QtWidgets import (
     QSpinBox,
     QWidget,
 )
+
+from barymesh.app.dialogs.step_progress import thread_steps
+
+
+class ScreenshotCancelled(Exception):
+    """A screenshot's writing was cancelled: no file was left."""
+
+
+def write_png(
+    path: str | os.PathLike[str],
+    image: np.ndarray,
+    cancelled: Callable[[], bool] | None = None,
+) -> None:
+    """Encode ``image`` (h, w, 3 or 4) uint8 as a PNG and write it to ``path`` at once
+    (through a temporary file): never a partial file. Numpy and files only, so a worker
+    thread may call it; when ``cancelled()`` turns true before the file is in place,
+    :class:`ScreenshotCancelled` is raised and nothing is written."""
+    import imageio.v3 as iio
+
+    from barymesh.io import atomic_path
+
+    data = iio.imwrite("<bytes>", np.ascontiguousarray(image), extension=".png")
+    if cancelled is not None and cancelled():
+        raise ScreenshotCancelled(f"{path}: cancelled")
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(data)
+        if cancelled is not None and cancelled():
+            raise ScreenshotCancelled(f"{path}: cancelled")
+
+
+def png_steps(shot: Any, path: str | os.PathLike[str], owner: QObject) -> Iterator[Any]:
+    """Steps of :func:`~barymesh.app.dialogs.step_progress.run_in_steps`: ``shot`` (a
+    :class:`~barymesh.app.view.scaled_shot.ScaledShot`) drawn, one render a step, then
+    written to ``path`` as a PNG in a worker thread (:func:`write_png`); closed early
+    (Cancel), they leave no file."""
+    yield from shot.steps()
+    cancelled = threading.Event()
+    yield 1.0, f"writing {Path(path).name}"
+    try:
+        yield from thread_steps(lambda: write_png(path, shot.image, cancelled.is_set), owner)
+    except GeneratorExit:
+        cancelled.set()
+        raise
 
 
 class ScreenshotDialog(QDialog):

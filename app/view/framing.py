@@ -200,3 +200,37 @@ class FramedCamera:
         if exact:
             return now == self.framed
         return bool(np.allclose(now, self.framed, rtol=1e-9, atol=1e-12))
+
+
+class CameraWatch:
+    """Calls ``moved()`` after each frame of ``plotter`` drawn with a camera other than the
+    last frame's, however it was moved (the mouse, a key, a zoom to a selection, a tool).
+
+    The window restarts its rest timer with it: a dense mesh's view asks for the full
+    detail of the part in view once the camera rests (a zoom by a key or a button asked
+    for nothing before; only the mouse's interaction events did). GUI thread only.
+    """
+
+    def __init__(self, plotter: Any, moved: Any) -> None:
+        self.plotter = plotter
+        self.moved = moved
+        self.last: tuple[float, ...] | None = None
+        plotter.ren_win.AddObserver("EndEvent", self._drawn)
+
+    def state(self) -> tuple[float, ...]:
+        """Position, focal point, view up, parallel scale, view angle, projection."""
+        c = self.plotter.renderer.GetActiveCamera()
+        return (
+            *c.GetPosition(),
+            *c.GetFocalPoint(),
+            *c.GetViewUp(),
+            float(c.GetParallelScale()),
+            float(c.GetViewAngle()),
+            float(c.GetParallelProjection()),
+        )
+
+    def _drawn(self, *_args: Any) -> None:
+        now = self.state()
+        if now != self.last:
+            self.last = now
+            self.moved()

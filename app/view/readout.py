@@ -203,6 +203,22 @@ class MeshLocator:
             f"A = {float(m.areas[t]):.4g} mm², centroid {fmt_point(centroid, decimals, z)}"
         )
 
+    def summary(self, hit: Hit, decimals: int = 3) -> str:
+        """A short line for a selected element: what it is and where, in mm.
+
+        ``"vertex 7 at (2.50, 5.00) mm"``, ``"edge 12 (3–4), midpoint (1.25, 0.00) mm"``,
+        ``"triangle 21, centroid (3.33, 1.67) mm"`` (z too for a curved mesh).
+        """
+        z = not self.planar
+        if hit.kind == "vertex":
+            return f"vertex {hit.index} at {fmt_point(self.points[hit.index], decimals, z)}"
+        if hit.kind == "edge":
+            a, b = (int(v) for v in self.edges[hit.index])
+            middle = 0.5 * (self.points[a] + self.points[b])
+            return f"edge {hit.index} ({a}–{b}), midpoint {fmt_point(middle, decimals, z)}"
+        centroid = np.asarray(self.mesh.centroids[hit.index])
+        return f"triangle {hit.index}, centroid {fmt_point(centroid, decimals, z)}"
+
 
 def distance_text(a: np.ndarray, b: np.ndarray, decimals: int = 3) -> str:
     """``"|AB| = 2.500 mm (Δx = 2.500, Δy = 0.000 mm)"`` for the measure tool."""

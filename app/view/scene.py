@@ -13,7 +13,8 @@ Two halves, so that the expensive part can run in a worker thread:
   renders), copies them into the existing datasets (``copy_from``) and the caller renders
   once.
 
-:func:`render_screenshot` is the headless entry point the command line uses.
+:func:`barymesh.app.view.scaled_shot.render_screenshot` is the headless entry point the
+command line uses (it draws a :class:`MeshScene` off screen).
 """
 
 from __future__ import annotations
@@ -22,7 +23,6 @@ import logging
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pyvista as pv
@@ -1397,13 +1397,18 @@ class MeshScene:
         p.reset_camera(render=False, bounds=(x0, x1, y0, y1, 0.0, 0.0))
         self.fit_marker_sizes()
 
-    def fit_marker_sizes(self) -> None:
+    def fit_marker_sizes(self, settled: bool = True) -> None:
         """Thin the lines and shrink the dots when triangles are a few pixels wide on screen.
 
         Fixed sizes would bury a dense mesh (the paper's Fig. 12(a) zoomed out): lines
         keep their full width from 12 px per typical edge up and thin to 1 px below, and a
         dot is at most a quarter of a typical edge. Below :data:`LIGHT_PX` (Detail "auto")
         triangle edges, shared edges and centroids are left out (the light look).
+
+        ``settled=False`` (a wheel step, the camera still moving) leaves the rulers and
+        the note as they are until :meth:`settle`: rebuilding the rulers' labels took
+        about 100 ms of the GUI thread per wheel step under load, and rulers in mm zoom
+        along with the mesh meanwhile, still true.
         """
         camera = self.plotter.camera
         height = self.plotter.window_size[1] if self.plotter.window_size else 0
@@ -1411,14 +1416,15 @@ class MeshScene:
         if self.typical_edge > 0 and camera.parallel_projection and height > 0:
             edge_px = self.typical_edge * height / max(2.0 * camera.parallel_scale, 1e-12)
         self.edge_px = float(edge_px)
-        self._place_rulers()  # zoomed in: along the part in view
+        if settled:
+            self._place_rulers()  # zoomed in: along the part in view
         light = bool(self.detail == "auto" and edge_px < LIGHT_PX)
         crowded = bool(self.detail == "auto" and edge_px < LABEL_PX * self.emphasis)
         stride_changed = self._fit_outlines(height, camera)
         if light != self.light or crowded != self.crowded or stride_changed:
             self.light, self.crowded = light, crowded
             self._apply_visibility()
-        else:
+        elif settled:
             self._show_note()
         for name, width in WIDTHS.items():
             prop = self.actors[name].prop
@@ -1427,6 +1433,16 @@ class MeshScene:
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
                 prop.line_width = thin * self.emphasis
+
+    def settle(self) -> bool:
+        """The camera rests: the rulers along the part in view and the note for the zoom
+        (what :meth:`fit_marker_sizes` left while it moved). Whether either changed."""
+        before = (tuple(self.axes.bounds), self.axes.n_xlabels, self.axes.n_ylabels)
+        note = self.note.GetInput()
+        self._place_rulers()
+        self._show_note()
+        after = (tuple(self.axes.bounds), self.axes.n_xlabels, self.axes.n_ylabels)
+        return before != after or note != self.note.GetInput()
 
     def _fit_outlines(self, height: int, camera: object) -> bool:
         """In the overlap look, outline every k-th patch for the zoom (see
@@ -1565,56 +1581,6 @@ def prepare_headless() -> None:
     """Without an X display, have VTK render through EGL instead of trying X first."""
     if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-
-
-def render_screenshot(
-    mesh: TriMesh,
-    path: str | os.PathLike[str],
-    window_size: tuple[int, int] = (1024, 768),
-    transparent: bool = False,
-    *,
-    visible: dict[str, bool] | None = None,
-    color_by: str = "none",
-) -> None:
-    """Render ``mesh`` off-screen from above and save a PNG of exactly ``window_size``.
-
-    Parallel projection, rulers in mm, triangles with their edges, centroids, shared
-    and boundary edges (and junction edges, if any) in distinct colours. Works without
-    an X display (VTK's EGL render window, Mesa's llvmpipe as the software driver).
-
-    Parameters
-    ----------
-    mesh : TriMesh
-    path : path-like
-        Output PNG file.
-    window_size : (int, int)
-        Width and height in pixels.
-    transparent : bool
-        Transparent background instead of white.
-    visible : dict of str to bool, optional
-        Layer visibility overrides (see :data:`LAYERS`).
-    color_by : str
-        Face colouring, a key of :data:`COLOR_BY`.
-    """
-    width, height = (int(v) for v in window_size)
-    if width < 1 or height < 1:
-        raise ValueError(f"window_size={window_size!r} is invalid; expected two positive ints")
-    path = Path(path)
-    prepare_headless()
-    plotter = pv.Plotter(off_screen=True, window_size=(width, height))
-    try:
-        scene = MeshScene(plotter, visible=visible, color_by=color_by)
-        scene.update(scene_data(mesh))
-        scene.top_view()
-        image = plotter.screenshot(None, transparent_background=transparent, return_img=True)
-    finally:
-        plotter.close()
-    image = np.asarray(image)
-    if image.shape[:2] != (height, width):  # high-DPI or a window manager resized it
-        image = resized_image(image, width, height)
-    import imageio.v3 as iio
-
-    iio.imwrite(path, image, extension=".png")
 
 
 def resized_image(image: np.ndarray, width: int, height: int) -> np.ndarray:

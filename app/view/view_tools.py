@@ -36,8 +36,9 @@ from barymesh.app.worker import Job, release_memory
 
 log = logging.getLogger(__name__)
 
-#: Meshes with more triangles get their locator built in a worker thread, when the
-#: pointer first comes over the view.
+#: A mesh's locator is built when the pointer first comes over the view (or a click or a
+#: tool asks where something is): at once for up to this many triangles, in a worker
+#: thread above. A mesh only passed through (a slider drag) never builds one.
 SYNC_LOCATOR = 50_000
 #: A press and release closer than this (px) is a click, farther a drag (rotate, pan).
 CLICK_SLOP = 4
@@ -119,6 +120,9 @@ class ViewTools(QObject):
         self._pos: QPointF | None = None
         self._press: QPointF | None = None
         self._pending_pick: np.ndarray | None = None  # a click waiting for the locator
+        #: a selecting click made before the locator was ready: (point, triangle picked,
+        #: snap tolerance in mm at the click's zoom), answered by _locator_ready
+        self._pending_select: tuple[np.ndarray, int | None, float] | None = None
 
         # two lines of a fixed height (a new text never resizes, so never repaints, the
         # 3D view): the note, then the readout; text too long is elided, whole in the tip
@@ -183,6 +187,7 @@ class ViewTools(QObject):
         self.mesh = mesh
         self.locator = None
         self._pending_pick = None
+        self._pending_select = None
         self.hit = None
         self.selection.clear()
         self.measure.set_active(self.measure.active)  # forget the points
@@ -196,16 +201,16 @@ class ViewTools(QObject):
                 pts = np.asarray(mesh.points)
                 span = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
             self.measure.set_lift(8e-4 * max(span, 1e-9))
-            if mesh.n_triangles <= SYNC_LOCATOR:
-                self.locator = MeshLocator(mesh)
-            # a big mesh's locator is built in a worker when the pointer first comes over
-            # the view (_ensure_locator): a mesh only passed through (a drag, a return to
-            # the last one) never builds one, nor keeps its memory alive while it does
+            # the locator is built when the pointer first comes over the view
+            # (_ensure_locator): a mesh only passed through (a slider drag, a return to
+            # the last one) never builds one (30-70 ms of the GUI thread at 23k triangles),
+            # nor keeps its memory alive while it does
         self._locator_started = None
         self._show_readout()
 
     def _ensure_locator(self) -> None:
-        """Start building the locator of the mesh on screen, once, if it has none."""
+        """Build the locator of the mesh on screen, once, if it has none: at once for a
+        small mesh, in a worker thread for a big one."""
         mesh = self.mesh
         if (
             mesh is None
@@ -213,6 +218,9 @@ class ViewTools(QObject):
             or self.locator is not None
             or self._locator_started is mesh
         ):
+            return
+        if mesh.n_triangles <= SYNC_LOCATOR:
+            self.locator = MeshLocator(mesh)
             return
         self._locator_started = mesh
         self.pool.start(Job(partial(_build_locator, mesh), self._relay.done, self._relay))
@@ -226,6 +234,10 @@ class ViewTools(QObject):
                 triangle = locator.triangle_at(pending)
                 if triangle is not None:
                     self.picker.triangle_picked.emit(triangle, pending)
+            clicked, self._pending_select = self._pending_select, None
+            if clicked is not None:
+                point, triangle, tol = clicked
+                self._select(locator.hit(point, tol, triangle))
             return
         if locator is not None and locator.mesh.n_triangles > 200_000:
             # the locator of a mesh no longer on screen (built while the user moved on)
@@ -311,6 +323,8 @@ class ViewTools(QObject):
         mesh = self.mesh
         if mesh is None or not mesh.n_triangles:
             return None
+        if mesh.n_triangles <= SYNC_LOCATOR:
+            self._ensure_locator()
         locator = self.locator
         if locator is not None:
             if not locator.planar:
@@ -365,11 +379,11 @@ class ViewTools(QObject):
             parts.append(self.locator.describe(self.hit, decimals))
         elif self.cursor is not None and self.mesh is not None and self.locator is None:
             parts.append("(finding elements…)")
-        if self.selected is not None and self.locator is not None and not self.measure.active:
+        if self._pending_select is not None and not self.measure.active:
+            parts.append("selecting the element clicked (finding elements…)")
+        elif self.selected is not None and self.locator is not None and not self.measure.active:
             parts.append(
-                "selected: "
-                + self.locator.describe(self.selected, decimals).split(" (")[0].split(" at ")[0]
-                + " (Z: zoom to it)"
+                f"selected: {self.locator.summary(self.selected, decimals)} (Z: zoom to it)"
             )
         text = "  ·  ".join(parts)
         self.readout.setText(text)
@@ -407,9 +421,23 @@ class ViewTools(QObject):
             self.measure.add_point(point)
             self.host.request_render()
         elif goes_to == "select":
-            self.selection.click(hit)
-            self.highlight.show(self.mesh, None if hit is None else hit.triangle)
-            self.host.request_render()
+            if self.locator is None and self.mesh is not None and self.mesh.n_triangles:
+                # a big mesh's elements are still being found (the pointer has only just
+                # come over the view): the click is kept and answered when they are
+                tol = SNAP_PIXELS / pixels_per_mm(self.plotter)
+                self._pending_select = (np.asarray(point, dtype=np.float64), triangle, tol)
+                self._ensure_locator()
+            else:
+                self._pending_select = None
+                self._select(hit)
+                return
+        self._show_readout()
+
+    def _select(self, hit: Hit | None) -> None:
+        """A click selected ``hit`` (None: nothing): mark it and say so."""
+        self.selection.click(hit)
+        self.highlight.show(self.mesh, None if hit is None else hit.triangle)
+        self.host.request_render()
         self._show_readout()
 
     def selection_points(self) -> np.ndarray | None:
