@@ -352,11 +352,21 @@ def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):
     image = rendered(painter.plotter)
     iio.imwrite(tmp_path / "painter.png", image)
     mask = painter.mask
+    # the metal is graded toward the painted outline: in each metal pixel the incentre of its
+    # fattest triangle is the point furthest from the drawn edges
+    mesh = painter.cell_mesh.mesh
+    corners = mesh.points[mesh.triangles][:, :, :2]
+    sides = np.linalg.norm(np.roll(corners, -1, axis=1) - np.roll(corners, 1, axis=1), axis=2)
+    incentres = np.einsum("ti,tij->tj", sides, corners) / sides.sum(axis=1, keepdims=True)
+    inradius = 2 * mesh.areas / sides.sum(axis=1)
+    half = 0.5 * painter.cell().pixels.pixel_size
     for r in range(16):
         for c in range(16):
-            # a point inside a triangle of the pixel, off its edges
             x, y, _ = painter.pixel_centre(r, c)
-            p = (x + 0.03, y - 0.07, 0.0)
+            p = (x + 0.03, y - 0.07, 0.0)  # background: off the grid lines
+            if mask[r, c]:
+                inside = np.flatnonzero(np.all(np.abs(incentres - (x, y)) < half, axis=1))
+                p = (*incentres[inside[np.argmax(inradius[inside])]], 0.0)
             rgb = pixel(image, painter.plotter, p)
             assert near(rgb, COLORS["metal"] if mask[r, c] else COLORS["background"], 30), (
                 r,

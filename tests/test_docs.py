@@ -115,7 +115,7 @@ def named_files(page: Path) -> dict[str, str]:
 
 def test_the_python_blocks_and_the_files_they_read_are_found():
     blocks = {p.name: python_blocks(p) for p in DOC_PAGES}
-    assert len(blocks["solving.md"]) == 4 and len(blocks["study.rst"]) == 2
+    assert len(blocks["solving.md"]) == 5 and len(blocks["study.rst"]) == 2
     assert len(blocks["cells.md"]) == 1 and len(blocks["getting-started.md"]) == 1
     assert blocks["study.rst"][0][1].startswith("from barymesh.study import run\n")
     assert json.loads(named_files(ROOT / "docs" / "study.rst")["srr.json"])["base"] == {
@@ -306,8 +306,9 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
     # speed, sweep accuracy, infinite-array sweep, live infinite-array and convergence
-    # tables made at build time
-    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 8
+    # tables made at build time, and the layered media's validation, convergence and speed
+    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 11
+    assert "layered-2026-12-03.json" in solving
     assert "convergence-2026-12-03.json" in solving
     assert "sweep-accuracy-2026-12-02.json" in solving
     assert "periodic-2026-12-02.json" in solving

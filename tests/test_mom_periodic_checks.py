@@ -112,8 +112,9 @@ def test_a_one_kilometre_period_is_refused_before_its_lattice_points_are_made():
 
 
 def test_a_cell_too_large_is_refused_before_its_geometry_is_built():
-    # issue 30: double-ring-patch (11,552 triangles) was refused only after 65-69 s and
-    # 1.1 GB spent on the free-space geometry; the interior unknowns alone decide it now
+    # issue 30: double-ring-patch (11,552 triangles then; 12,032 since its centre patch is
+    # graded) was refused only after 65-69 s and 1.1 GB spent on the free-space geometry;
+    # the interior unknowns alone decide it now
     out = run_capped(
         """
         from barymesh.cell import build_cell, load_cell_preset
@@ -127,7 +128,7 @@ def test_a_cell_too_large_is_refused_before_its_geometry_is_built():
     )
     assert out.returncode == 0, out.stderr[-1500:]
     assert out.stdout.startswith(
-        "the infinite array of T = 11,552 triangles, N = 14,440 unknowns needs 25.01 GiB at "
+        "the infinite array of T = 12,032 triangles, N = 15,136 unknowns needs 27.12 GiB at "
         "its peak"
     ), out.stdout
     assert "more than the memory_limit of 3.73 GiB" in out.stdout
@@ -199,7 +200,12 @@ def test_the_command_line_refuses_the_issues_periodic_runaways_in_one_line(capsy
     from barymesh.app import cli
 
     cases = [
-        (["--cell-preset", "hexagonal-rings", "--freq", "1THz"], "Floquet orders"),
+        # as given: the solver-grade mesh would be refused first, for its λ/10 size
+        (
+            ["--cell-preset", "hexagonal-rings", "--freq", "1THz", "--mesh-as-given"],
+            "Floquet orders",
+        ),
+        (["--cell-preset", "hexagonal-rings", "--freq", "1THz"], "more than the 20,000 a solve"),
         (
             ["--preset", "paper-fig11-8mm", "--period", "10,1e6", "--freq", "20GHz"],
             "would search 96,557,437,661,575 lattice points",

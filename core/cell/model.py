@@ -430,12 +430,12 @@ class UnitCell:
         for where, shift, reach, edge in self._part_reaches():
             if not edge >= MIN_RELATIVE_EDGE * reach:
                 far = edge / MIN_RELATIVE_EDGE
+                name = where.rsplit(".", 1)[-1]  # the caller names the whole path
                 raise InvalidValue(
                     where,
-                    f"{where}={echo(shift)} places metal up to {reach:.3g} mm from the cell's "
-                    f"centre, where float64 cannot resolve its sub-triangle edges of {edge:.3g} "
-                    f"mm (at least {MIN_RELATIVE_EDGE:g} of the largest coordinate); expected "
-                    f"the part within about {far:.3g} mm of the centre",
+                    f"{name}={echo(shift)} puts metal {reach:.3g} mm from the cell's centre, too "
+                    f"far for float64 to resolve its {edge:.3g} mm sub-triangle edges; keep it "
+                    f"within {far:.3g} mm",
                 )
             if not tol >= MIN_RELATIVE_TOLERANCE * reach:
                 name = "tolerance" if self.tolerance is not None else where

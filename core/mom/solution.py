@@ -133,10 +133,10 @@ class Solution:
         """Power (W) of the scattered far field, integrated over the whole sphere.
 
         Either on a sphere rule exact for the far field's harmonics (degree 2 k R + 12,
-        :func:`sphere_rule`), or, when that rule would need more directions than the
+        ``sphere_rule``), or, when that rule would need more directions than the
         currents have quadrature points (an electrically large mesh: (k R)² directions),
         as the same integral done in closed form over pairs of points
-        (:func:`far_field_power_pairs`). Both integrate the far field of the same point
+        (``far_field_power_pairs``). Both integrate the far field of the same point
         currents, exactly: they agree to rounding, and the work is bounded by
         min(directions, points) × points either way.
         """
