@@ -32,11 +32,18 @@ def window_params():
     return MeshParams(structure="patch", patch_size=100.0, subdivisions=4)
 
 
-def open_solve(window, qtbot):
+def open_solve(window, qtbot, as_drawn=True):
+    """The Solve dock raised; ``as_drawn``: its Solver-grade mesh box clicked off, as these
+    tests are of the dock's workings on the mesh on screen, checked against direct solves
+    of that mesh (tests/test_app_solve_grade.py has the solver-grade default)."""
     settle(window, qtbot)
     window.solve_dock.raise_()  # the dock's tab, as a user clicks it
     qtbot.waitUntil(window.solve_panel.isVisible)
-    return window.solve_panel
+    panel = window.solve_panel
+    if as_drawn:
+        click_check_box(panel.solver_grade)
+        assert not panel.solver_grade.isChecked()
+    return panel
 
 
 def largest_j(solution):

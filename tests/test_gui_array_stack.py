@@ -90,6 +90,10 @@ def assert_curve_is_the_direct_solve(tab, mesh, stack):
 
 def test_typed_layers_and_a_clicked_ground_plane_drive_the_live_curve(window, qtbot):
     tab = open_array_tab(window, qtbot)
+    # the mesh as drawn: its coarse-mesh warning in the slab is part of what is checked
+    # (the solver-grade mesh would be within λ/10 there)
+    click_check_box(tab.solver_grade)
+    assert not tab.solver_grade.isChecked()
     editor = tab.stack_editor
     mesh = window.model.result.mesh
     type_band(qtbot, tab, "10", "20", 3)
@@ -234,7 +238,9 @@ def test_a_stack_edit_sweeps_live_and_the_event_loop_keeps_ticking(window, qtbot
         timer.stop()
     gaps = np.diff(beats)
     assert len(gaps) > 10 and gaps.max() < HEARTBEAT_GAP, gaps.max()
-    r, t = periodic_solve(window.model.result.mesh, 15e9, TE, stack=fr4).co_polar()
+    # the solver-grade mesh, the ring's edges within λ/10 at 20 GHz in the FR-4
+    assert tab.solved.graded and tab.solved.shown is window.model.result.mesh
+    r, t = periodic_solve(tab.solved.mesh, 15e9, TE, stack=fr4).co_polar()
     assert abs(tab.result.reflection[1] - r) < 1e-6 and abs(tab.result.transmission[1] - t) < 1e-6
 
 

@@ -441,17 +441,23 @@ def _sweep(
     )
 
 
+def array_unknowns(mesh: TriMesh) -> int:
+    """The periodic solver's unknowns of a cell's ``mesh``: its interior RWG functions and
+    the pairs of boundary edges matched across the cell's sides."""
+    from barymesh.cell.periodic import periodic_pairs
+
+    pairs = periodic_pairs(mesh, mesh.lattice, mesh.tolerance)
+    return len(mesh.rwg) + (len(pairs.edges) if pairs.matched else 0)
+
+
 def check_array_memory(mesh: TriMesh) -> None:
     """Raise ``barymesh.mom.ProblemTooLarge`` when the array of ``mesh`` would not fit in
     memory (:func:`barymesh.mom.check_periodic_memory`), from its triangles and unknowns
-    (the interior edges and the pairs across the cell's sides): in the worker thread, in
-    a second, rather than after the solver process has built the cell's geometry."""
-    from barymesh.cell.periodic import periodic_pairs
+    (:func:`array_unknowns`): in the worker thread, in a second, rather than after the
+    solver process has built the cell's geometry."""
     from barymesh.mom import check_periodic_memory
 
-    pairs = periodic_pairs(mesh, mesh.lattice, mesh.tolerance)
-    crossing = len(pairs.edges) if pairs.matched else 0
-    check_periodic_memory(mesh.n_triangles, len(mesh.rwg) + crossing)
+    check_periodic_memory(mesh.n_triangles, array_unknowns(mesh))
 
 
 def sweep_array(

@@ -30,6 +30,15 @@ stay drawn around it), and the propagating Floquet orders into a table and a dra
 (:func:`~barymesh.app.panels.array_figures.draw_orders`: the screen, the incident wave,
 and an arrow per order above (reflected) and below (transmitted), in the plane of
 incidence). Without a lattice the tab says why in one line and its inputs are disabled.
+
+With **Solver-grade mesh** on (the default, as ``barymesh periodic`` without
+``--mesh-as-given``) the sweep and the solve at a clicked frequency are of the cell's
+solver-grade mesh (:mod:`barymesh.app.model.solver_mesh`: graded toward the metal's edges,
+every edge within λ/10 at the band's top in the densest layer of the stack), built in the
+worker (and kept, so that Live does not build it again for a stack or band it has seen);
+the status line says which mesh was solved, with its unknowns and the drawn mesh's, and
+the current is drawn on the mesh solved. A band too high for the λ/10 rule is refused in
+one line and the last good curve stays. Off, the cell is solved as drawn.
 """
 
 from __future__ import annotations
@@ -67,18 +76,26 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.model.solver_mesh import SolvedMesh, solver_mesh
 from barymesh.app.model.stack_rows import reference_plane_names
 from barymesh.app.panels.array_figures import Picture, draw_curve, draw_orders
 from barymesh.app.panels.array_sweep import (
     POLARIZATIONS,
     ArrayInputs,
     ArraySweep,
+    array_unknowns,
     lattice_vectors,
     orders_rows,
     solve_point,
     sweep_array,
 )
-from barymesh.app.panels.solve_panel import PANEL_WIDTH, UNITS, read_frequency, run_job
+from barymesh.app.panels.solve_panel import (
+    PANEL_WIDTH,
+    SOLVER_GRADE_TIP,
+    UNITS,
+    read_frequency,
+    run_job,
+)
 from barymesh.app.panels.stack_editor import StackEditor
 from barymesh.app.worker import Job
 
@@ -239,6 +256,14 @@ class PictureView(QWidget):
             self._resize_timer.start()
 
 
+def said(solved: SolvedMesh) -> str:
+    """Which mesh an array was solved on, its unknowns beside the drawn mesh's (the
+    periodic solver's: interior RWG functions and the pairs matched across the sides).
+    In the worker: the pairs of a big cell take a while to match."""
+    shown = array_unknowns(solved.shown) if solved.graded else None
+    return solved.describe(array_unknowns(solved.mesh), shown)
+
+
 class InfiniteArrayPanel(QWidget):
     """The "Infinite array" tab (see module docstring).
 
@@ -278,7 +303,9 @@ class InfiniteArrayPanel(QWidget):
         self.pool = QThreadPool(self)
         self.pool.setMaxThreadCount(1)
         self.result: ArraySweep | None = None
-        self.result_mesh: TriMesh | None = None
+        self.result_mesh: TriMesh | None = None  # the mesh on screen the curve is for
+        self.solved: SolvedMesh | None = None  # the mesh the curve was solved on
+        self.said = ""  # which mesh that was, in words (:func:`said`)
         self.point: Any = None  # the PeriodicSolution at the clicked frequency
         self.point_mesh: TriMesh | None = None
         self.engaged = False  # set by the first Run: from then on Live follows the mesh
@@ -345,6 +372,11 @@ class InfiniteArrayPanel(QWidget):
         self.sheet.setPlaceholderText("0 (perfect conductor)")
         self.sheet.setToolTip("Sheet impedance Z_s of the screen, Ω/sq, e.g. 50 or 10-5j")
         form.addRow("Sheet &impedance (Ω/sq)", self.sheet)
+        self.solver_grade = QCheckBox("Solver-&grade mesh", self)
+        self.solver_grade.setChecked(True)
+        self.solver_grade.setToolTip(SOLVER_GRADE_TIP)
+        self.solver_grade.toggled.connect(self._grade_toggled)
+        form.addRow(self.solver_grade)
         self.live = QCheckBox("&Live: follow the mesh", self)
         self.live.setChecked(True)
         self.live.setToolTip(
@@ -528,6 +560,17 @@ class InfiniteArrayPanel(QWidget):
         if live and not self._reason(self.mesh):
             self.run()
 
+    def _grade_toggled(self, _on: bool) -> None:
+        """Live sweeps the other mesh at once; otherwise the curve says it is of the
+        other one (its status line names the mesh solved)."""
+        live = self.engaged and self.live.isChecked() and self.mesh is not None
+        if self.result is not None:
+            self._stale(
+                "Updating for the other mesh…" if live else "This curve is for the other mesh."
+            )
+        if live and not self._reason(self.mesh):
+            self.run()
+
     def _stale(self, text: str) -> None:
         """Say (in the tab and over the curve) that the curve shown is not for the inputs."""
         self.note.setText(text)
@@ -586,15 +629,23 @@ class InfiniteArrayPanel(QWidget):
         stop = self._cancel[token] = threading.Event()
 
         size, ratio = self.plot.request_size()
+        result, graded = self.model.result, self.solver_grade.isChecked()
+        # the λ/10 rule at the band's top, λ in the densest layer (εr μr)
+        densest = 1.0 if inputs.stack is None else inputs.stack.max_index**2
 
-        def work() -> tuple[ArraySweep, Picture]:  # worker thread: numpy and Agg only
+        def work() -> tuple[ArraySweep, Picture, SolvedMesh, str]:  # worker: numpy, Agg
+            solved = (
+                solver_mesh(result, inputs.frequencies[-1], densest)
+                if graded
+                else SolvedMesh(mesh, mesh)
+            )
             sweep = sweep_array(
-                mesh,
+                solved.mesh,
                 inputs,
                 progress=lambda done, total: self._job_progress.emit(token, done, total),
                 cancel=stop.is_set,
             )
-            return sweep, draw_curve(sweep, size, ratio)
+            return sweep, draw_curve(sweep, size, ratio), solved, said(solved)
 
         n = len(inputs.frequencies)
         self.status.setText(f"Sweeping {n} frequencies…")
@@ -603,9 +654,10 @@ class InfiniteArrayPanel(QWidget):
 
     def solve_at(self, hz: float) -> bool:
         """Solve the array at ``hz`` (a worker): the current, the orders table and drawing."""
-        mesh = self.result_mesh
-        if self.result is None or mesh is None or mesh is not self.mesh:
+        if self.result is None or self.result_mesh is None or self.result_mesh is not self.mesh:
             return False
+        assert self.solved is not None  # set with the curve
+        mesh, solved = self.result_mesh, self.solved.mesh  # the curve's: solved on ``solved``
         inputs = self.result.inputs
         self.plot.mark(hz)
         self._tokens["point"] += 1
@@ -613,7 +665,7 @@ class InfiniteArrayPanel(QWidget):
         size, ratio = self.drawing.request_size()
 
         def work() -> tuple[Any, Picture]:  # worker thread
-            solution = solve_point(mesh, hz, inputs)
+            solution = solve_point(solved, hz, inputs)
             return solution, draw_orders(solution, size, ratio)
 
         self.status.setText(f"Solving at {hz / 1e9:.4g} GHz…")
@@ -676,8 +728,10 @@ class InfiniteArrayPanel(QWidget):
         if outcome.mesh is not self.mesh:
             self.status.setText("The result was for a previous mesh: dropped.")
             return
-        self.status.setText(f"Done in {outcome.seconds:.2f} s.")
-        data, picture = outcome.result
+        data, picture, *solved = outcome.result
+        if outcome.kind == "array":
+            self.solved, self.said = solved
+        self.status.setText(f"Done in {outcome.seconds:.2f} s, {self.said}.")
         if outcome.kind == "array":
             self.result, self.result_mesh = data, outcome.mesh
             self._tokens["curve"] += 1  # a redraw asked for before is older than this
@@ -783,7 +837,9 @@ class InfiniteArrayPanel(QWidget):
         )
         self.plot.mark(solution.frequency)
         self._show_warnings()
-        self.show_current(mesh, solution.current_density)
+        # drawn on the mesh it was solved on (the solver-grade one, perhaps), not ``mesh``
+        solved = self.solved.mesh if self.solved is not None else mesh
+        self.show_current(solved, solution.current_density)
 
     # -- the mesh changed ------------------------------------------------------------
 

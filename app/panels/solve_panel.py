@@ -10,12 +10,20 @@ animation; :class:`barymesh.app.view.current_layer.CurrentLayer` draws it).
 cross-section against frequency (matplotlib), the resonances marked; a click on the
 plot sets the frequency and solves there.
 
-Meshes with at most :data:`AUTO_SOLVE_UNKNOWNS` RWG unknowns are solved on the GUI thread,
-and, once a user has asked for a solve, again whenever the mesh or a solve input changes
-(auto-solve). Larger ones are solved
-when asked, in a ``QThreadPool`` worker with a busy bar (a sweep: progress per frequency)
-and Cancel. A result that no longer matches the mesh or the inputs is cleared from the
-view and the panel says so.
+With **Solver-grade mesh** on (the default, as ``barymesh solve`` without
+``--mesh-as-given``), the solve and the sweep are of the solver-grade mesh of the
+structure or cell on screen (:mod:`barymesh.app.model.solver_mesh`: graded toward the
+metal's edges, every edge within λ/10 at the highest frequency), built in the worker; the
+result says which mesh was solved and with how many unknowns beside the drawn mesh's, and
+the Surface current layer draws the current on the mesh solved. Off, the mesh is solved
+as drawn.
+
+Meshes solved as drawn with at most :data:`AUTO_SOLVE_UNKNOWNS` RWG unknowns are solved on
+the GUI thread, and, once a user has asked for a solve, again whenever the mesh or a solve
+input changes (auto-solve). Larger ones, and every solver-grade mesh, are solved when
+asked, in a ``QThreadPool`` worker with a busy bar (a sweep: progress per frequency) and
+Cancel. A result that no longer matches the mesh or the inputs is cleared from the view
+and the panel says so.
 """
 
 from __future__ import annotations
@@ -58,6 +66,12 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.model.solver_mesh import (
+    SolvedMesh,
+    SolverGradeRefused,
+    gradable,
+    solver_mesh,
+)
 from barymesh.app.view.current_layer import SCALES, CurrentLayer
 
 log = logging.getLogger(__name__)
@@ -82,6 +96,12 @@ POLARIZATION_PRESETS = ("x", "y", "z")
 #: Phase step (degrees) of the animation, and its period (ms per step).
 ANIMATION_STEP = 10
 ANIMATION_MS = 60
+#: The check box's tooltip (the Infinite array tab says the same of its layers).
+SOLVER_GRADE_TIP = (
+    "Solve the solver-grade mesh of the structure or cell on screen, as barymesh solve "
+    "does: graded toward the metal's edges, every edge within λ/10 at the highest "
+    "frequency (in the densest layer). Off: solve the mesh as drawn."
+)
 
 
 def read_frequency(text: str, unit: str) -> float:
@@ -149,6 +169,32 @@ def format_frequency(hz: float) -> tuple[str, str]:
     return f"{hz:.6g}", "Hz"
 
 
+@dataclass(frozen=True)
+class Solved:
+    """What a solve or sweep job of the dock returns: the result, the mesh it is of, and
+    the sentence saying which mesh that was (:meth:`SolvedMesh.describe`)."""
+
+    result: Any  # barymesh.mom.Solution or SweepResult
+    mesh: SolvedMesh
+    said: str
+
+
+def solve_graded(
+    result: Any,
+    top_frequency: float,
+    graded: bool,
+    then: Callable[[TriMesh], Any],
+) -> Solved:
+    """``then(mesh)`` on the solver-grade mesh of ``result`` (``graded``; else on the mesh
+    drawn): the worker's whole job, the mesh built there, never on the GUI thread. The
+    unknowns said are the RWG functions of each mesh (the free-space solver's)."""
+    shown = result.mesh
+    solved = solver_mesh(result, top_frequency) if graded else SolvedMesh(shown, shown)
+    value = then(solved.mesh)
+    shown_unknowns = (result.stats or {}).get("interior_edges")
+    return Solved(value, solved, solved.describe(len(solved.mesh.rwg), shown_unknowns))
+
+
 @dataclass
 class Outcome:
     """What a solve or sweep job delivers to the GUI thread."""
@@ -172,7 +218,7 @@ def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Ou
         result = work()
     except SolveCancelled as exc:
         return Outcome(token, mesh, kind, error=str(exc), cancelled=True)
-    except ProblemTooLarge as exc:  # a refusal with its reason, not a fault: no traceback
+    except (ProblemTooLarge, SolverGradeRefused) as exc:  # a refusal, not a fault
         log.info("the %s was refused: %s", kind, exc)
         return Outcome(token, mesh, kind, error=str(exc))
     except Exception as exc:  # noqa: BLE001 - shown in the panel, never a crash
@@ -295,7 +341,8 @@ class SolvePanel(QWidget):
         #: are solved whenever they change (the window opens without a current).
         self.engaged = False
         self.solution: Any = None
-        self.solution_mesh: TriMesh | None = None
+        self.solution_mesh: TriMesh | None = None  # the mesh on screen it is for
+        self.solved_mesh: TriMesh | None = None  # the mesh it was solved on
         self.solution_inputs: tuple[Any, ...] | None = None
         self.sweep_result: Any = None
         self.sweep_mesh: TriMesh | None = None
@@ -396,11 +443,18 @@ class SolvePanel(QWidget):
         form.addRow("Feed sta&rt (mm)", self.feed_start)
         form.addRow("Feed &end (mm)", self.feed_end)
         self.form = form
+        self.solver_grade = QCheckBox("Solver-&grade mesh", page)
+        self.solver_grade.setChecked(True)
+        self.solver_grade.setToolTip(SOLVER_GRADE_TIP)
+        # once solved, another mesh is another input (a window not yet solved stays so)
+        self.solver_grade.toggled.connect(lambda _on: self.engaged and self._inputs_edited())
+        form.addRow(self.solver_grade)
         self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
         self.auto.setChecked(True)
         self.auto.setToolTip(
             f"Solve meshes of at most {AUTO_SOLVE_UNKNOWNS} RWG unknowns at "
-            "once whenever the mesh or an input changes"
+            "once whenever the mesh or an input changes (the mesh as drawn: a "
+            "solver-grade mesh is solved when asked)"
         )
         form.addRow(self.auto)
         self.solve_button = QPushButton("Solve", page)
@@ -567,9 +621,16 @@ class SolvePanel(QWidget):
             hz, wave = self.inputs()
         except ValueError:
             return None
+        graded = self.graded()
         if isinstance(wave, VoltageSource):
-            return hz, "feed", tuple(wave.start), tuple(wave.end)
-        return hz, "plane", tuple(wave.direction), tuple(np.asarray(wave.polarization))
+            return hz, "feed", tuple(wave.start), tuple(wave.end), graded
+        return hz, "plane", tuple(wave.direction), tuple(np.asarray(wave.polarization)), graded
+
+    def graded(self) -> bool:
+        """Whether a solve now is of the solver-grade mesh: the box is on and the mesh on
+        screen was built from parameters or a cell (an imported file, a published preset
+        are solved as they are: :func:`barymesh.app.model.solver_mesh.gradable`)."""
+        return self.solver_grade.isChecked() and gradable(self.model.result)
 
     def _inputs_edited(self) -> None:
         self.engaged = True
@@ -593,6 +654,8 @@ class SolvePanel(QWidget):
         result = self.model.result
         if not (self.engaged and self.auto.isChecked()) or result is None or result.mesh is None:
             return False
+        if self.graded():  # its size is known once built, in the worker: solved when asked
+            return False
         # N from the statistics the worker computed: never the RWG table of a big mesh here
         unknowns = (result.stats or {}).get("interior_edges")
         if unknowns is None:
@@ -614,19 +677,21 @@ class SolvePanel(QWidget):
             self.unit.setCurrentText(unit)
             self.unit.blockSignals(False)
             self.frequency.setText(number)
-        mesh = self.mesh
+        mesh, result, graded = self.mesh, self.model.result, self.graded()
         try:
             frequency, wave = self.inputs()
             if mesh is None:
                 raise ValueError("No mesh on screen to solve.")
-            n = len(mesh.rwg)
-            if n == 0:
+            # the solver-grade mesh is built in the worker: its checks are the solver's there
+            n = 0 if graded else len(mesh.rwg)
+            if not graded and n == 0:
                 raise ValueError("The mesh has no interior edges: no RWG unknowns to solve for.")
             from barymesh.mom import VoltageSource, check_memory, mom_geometry
 
-            check_memory(n)
-            if isinstance(wave, VoltageSource):  # a line off the mesh edges: say so now
-                wave.feed_signs(mom_geometry(mesh))
+            if not graded:
+                check_memory(n)
+                if isinstance(wave, VoltageSource):  # a line off the mesh edges: say so now
+                    wave.feed_signs(mom_geometry(mesh))
         except ValueError as exc:
             self.error.setText(str(exc))
             return False
@@ -634,15 +699,23 @@ class SolvePanel(QWidget):
         key = self._inputs_key()
         from barymesh.mom import solve
 
-        work = lambda: solve(mesh, frequency, wave)  # noqa: E731
+        def work() -> Solved:
+            return solve_graded(
+                result,
+                frequency,
+                graded,
+                lambda m: solve(m, frequency, wave),
+            )
+
         self._tokens["solve"] += 1
         self._running.discard("solve")  # a running solve's result is now stale
-        if n <= self.auto_unknowns:
+        if not graded and n <= self.auto_unknowns:
             outcome = run_job(self._tokens["solve"], mesh, "solve", work)
             outcome.inputs = key  # type: ignore[attr-defined]
             self._finished(outcome)
             return True
-        self._start(mesh, "solve", work, key, f"Solving {n:,} unknowns…")
+        message = "Solving the solver-grade mesh…" if graded else f"Solving {n:,} unknowns…"
+        self._start(mesh, "solve", work, key, message)
         return True
 
     def run_sweep(self) -> bool:
@@ -664,7 +737,8 @@ class SolvePanel(QWidget):
                     "wave: choose Excitation: plane wave (barymesh solve --feed "
                     "sweeps the input impedance)"
                 )
-            if mesh is None or len(mesh.rwg) == 0:
+            graded, result = self.graded(), self.model.result
+            if mesh is None or (not graded and len(mesh.rwg) == 0):
                 raise ValueError("The mesh on screen has no RWG unknowns to solve for.")
         except ValueError as exc:
             self.error.setText(str(exc))
@@ -677,14 +751,19 @@ class SolvePanel(QWidget):
         token = self._tokens["sweep"]
         self._cancel.clear()
 
-        def work() -> Any:
-            return sweep(
-                mesh,
-                freqs,
-                wave,
-                scattering=False,
-                progress=lambda done, total: self._job_progress.emit(token, done, total),
-                cancel=self._cancel.is_set,
+        def work() -> Solved:
+            return solve_graded(
+                result,
+                b,  # the λ/10 rule at the sweep's top
+                graded,
+                lambda m: sweep(
+                    m,
+                    freqs,
+                    wave,
+                    scattering=False,
+                    progress=lambda done, total: self._job_progress.emit(token, done, total),
+                    cancel=self._cancel.is_set,
+                ),
             )
 
         self._start(mesh, "sweep", work, None, f"Sweeping {len(freqs)} frequencies…")
@@ -750,19 +829,23 @@ class SolvePanel(QWidget):
             self.status.setText(f"The {outcome.kind} was for a previous mesh: dropped.")
             return
         self.status.clear()
+        self.error.clear()
         if outcome.kind == "sweep":
             self._show_sweep(outcome)
         else:
             self._show_solution(outcome)
 
     def _show_solution(self, outcome: Outcome) -> None:
-        s = outcome.result
+        solved: Solved = outcome.result
+        s = solved.result
         self.solution, self.solution_mesh = s, outcome.mesh
+        self.solved_mesh = solved.mesh.mesh
         self.solution_inputs = getattr(outcome, "inputs", None)
         self.stale.hide()
         self.layer.set_phase(self.phase.value())
         self.layer.visible = self.show_current.isChecked()
-        self.layer.set_current(outcome.mesh, s.current_density, s.charge_density)
+        # the current is drawn on the mesh it was solved on (the solver-grade one, perhaps)
+        self.layer.set_current(self.solved_mesh, s.current_density, s.charge_density)
         number, unit = format_frequency(s.frequency)
         jmax = float(self.layer.magnitude.max())
         from barymesh.mom import VoltageSource
@@ -775,6 +858,7 @@ class SolvePanel(QWidget):
         lines = [
             f"<b>{len(s.coefficients):,} unknowns at {number} {unit}</b> "
             f"({outcome.seconds * 1e3:.0f} ms)",
+            html.escape(solved.said[:1].upper() + solved.said[1:]),
             f"largest |J| {jmax:.5g} A/m",
             driven,
             f"condition number {s.condition_number:.3g}, residual {s.residual:.1e}",
@@ -802,7 +886,7 @@ class SolvePanel(QWidget):
             if self.layer.current is not None and self.solution is None:
                 self.layer.clear()
             return
-        self.solution = self.solution_mesh = self.solution_inputs = None
+        self.solution = self.solution_mesh = self.solved_mesh = self.solution_inputs = None
         self.stale.hide()
         self.layer.set_phase(self.phase.value())
         self.layer.visible = self.show_current.isChecked()
@@ -834,6 +918,8 @@ class SolvePanel(QWidget):
             return ""
         if self.solution is None or self.solution_mesh is not mesh:
             return "I_n: no current for this mesh (Solve dock)."
+        if self.solved_mesh is not mesh:
+            return "I_n: the current was solved on the solver-grade mesh, not on the one drawn."
         rows = np.asarray(mesh.rwg.edge)
         n = int(np.searchsorted(rows, edge))
         if n >= len(rows) or rows[n] != edge:
@@ -855,7 +941,8 @@ class SolvePanel(QWidget):
         self.coefficient_label.setText(self.coefficient_text(int(edge), inspector.mesh))
 
     def _show_sweep(self, outcome: Outcome) -> None:
-        r = outcome.result
+        solved: Solved = outcome.result
+        r = solved.result
         self.sweep_result, self.sweep_mesh = r, outcome.mesh
         self.plot.show_result(r)
         res = ", ".join(f"{f / 1e9:.4g} GHz" for f in r.resonances)
@@ -864,13 +951,16 @@ class SolvePanel(QWidget):
             if res
             else "No resonance in this range."
         )
-        self.resonance_label.setText("\n".join([text] + [f"warning: {w}" for w in r.warnings]))
+        said = solved.said[:1].upper() + solved.said[1:] + "."
+        self.resonance_label.setText(
+            "\n".join([text, said] + [f"warning: {w}" for w in r.warnings])
+        )
         self.tabs.setCurrentIndex(1)
 
     # -- invalidation ----------------------------------------------------------------
 
     def _invalidate(self, message: str) -> None:
-        self.solution = self.solution_mesh = self.solution_inputs = None
+        self.solution = self.solution_mesh = self.solved_mesh = self.solution_inputs = None
         self.layer.clear()
         self.stale.setText(message)
         self.stale.show()
