@@ -696,7 +696,7 @@ class MeshParams:
                 name,
                 f"{name}={_short(getattr(self, name))} makes sub-triangle edges of {edge:.3g} mm "
                 f"at coordinates up to {extent:.3g} mm; float64 needs edges of at least "
-                f"{floor:.3g} mm there ({MIN_RELATIVE_EDGE:g} of the largest coordinate){limit}",
+                f"{floor:.3g} mm there ({MIN_RELATIVE_EDGE:g} of that){limit}",
             )
 
     def _check_slot_width(self) -> None:

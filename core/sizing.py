@@ -227,8 +227,8 @@ def _what(params: MeshParams, name: str, target: float) -> str:
             else (f" in εr = {params.relative_permittivity:g}")
         )
         return (
-            f"frequency={params.frequency!r} Hz asks for edges <= {target:.6g} mm "
-            f"(λ/{params.cells_per_wavelength:g} of λ = {lam:.6g} mm{medium})"
+            f"frequency={params.frequency:.6g} Hz asks for edges <= {target:.6g} mm "
+            f"(λ/{params.cells_per_wavelength:g} of {lam:.6g} mm{medium})"
         )
     return f"max_edge={params.max_edge!r} mm asks for edges <= {target:.6g} mm"
 

@@ -393,6 +393,23 @@ def assert_round_trip(mesh, ext):
     ),
     ext=".msh",
 )
+@example(  # issue 30's second fuzz run: the frequency's refusal ran to 305 characters
+    kw=dict(
+        structure="ring",
+        mode="conforming",
+        inner_radius=3.625,
+        outer_radius=3.6250000725,
+        patch_size=7.250000000000001e-08,
+        angle_step=5.0,
+        subdivisions=1,
+        gap_width=7.25,
+        max_triangles=4000,
+        tolerance=1e-08,
+        patch_width=7.250000000000001e-08,
+        frequency=1e11,
+    ),
+    ext=".msh",
+)
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:
         with address_space_cap(HOSTILE_MEMORY):  # a runaway is a MemoryError, not a swap

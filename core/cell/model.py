@@ -466,11 +466,17 @@ class UnitCell:
         """Triangles of the cell's mesh, computed without building it (the parts' sum).
 
         An element that chooses its own subdivisions (``max_edge`` or ``frequency``)
-        counts with n = 1, a lower bound (its own ``max_triangles`` bounds the rest).
+        counts with the smallest n sizing may choose (1, or a graded patch's accuracy
+        default: :func:`barymesh.sizing.accuracy_floor`), a lower bound (its own
+        ``max_triangles`` bounds the rest).
         """
+        from ..sizing import accuracy_floor
+
         total = sum(
             (
-                el.params.replace(subdivisions=1) if el.params.sized else el.params
+                el.params.replace(subdivisions=accuracy_floor(el.params))
+                if el.params.sized
+                else el.params
             ).predicted_triangles()
             for el in self.elements
         )
