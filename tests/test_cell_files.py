@@ -382,3 +382,15 @@ def test_an_element_with_its_own_huge_budget_is_held_to_the_cell_budget():
     assert cell.predicted_triangles() == 2 * 36_000 * 32 + 2 * 16**2  # the graded patch
     with pytest.raises(ValueError, match="would make 2,304,512 triangles"):
         build_cell(cell, max_triangles=1_000_000)
+
+
+@pytest.mark.parametrize("n", [1.0, 3.0])
+def test_a_pixel_grid_s_whole_float_subdivisions_are_its_integer(n):
+    # issue 30's third fuzz run: "subdivisions": 10.0 under pixels was kept a float, and the
+    # build raised TypeError ('float' object cannot be interpreted as an integer)
+    doc = _preset_doc("coding-16x16")
+    doc["pixels"]["subdivisions"] = n
+    cell = cell_from_dict(doc)
+    assert type(cell.pixels.subdivisions) is int and cell.pixels.subdivisions == n
+    per_pixel = 2 * int(n) ** 2
+    assert build_cell(cell).mesh.n_triangles == int(cell.pixels.mask.sum()) * per_pixel

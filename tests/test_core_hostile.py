@@ -21,7 +21,7 @@ from barymesh import MeshParams, build_mesh
 from barymesh.check import check_mesh
 from barymesh.invariants import MeshInvariantError, inverted_or_flat
 from barymesh.mesh import TriMesh
-from barymesh.placement import paper_origins, predicted_patches
+from barymesh.placement import conforming_square_rects, paper_origins, predicted_patches
 from barymesh.subdivision import graded_cell_count, graded_nodes
 from barymesh.topology import edge_topology
 from barymesh.weld import merge_pairs, weld_points
@@ -658,3 +658,49 @@ def test_a_huge_paper_square_ring_is_counted_without_placing_its_patches():
 def test_the_predicted_count_of_a_slotted_paper_ring_is_its_placed_patches(p):
     assume(p.structure.startswith(("split", "square")))
     assert predicted_patches(p) == len(paper_origins(p)[0])
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    st.floats(0.8, 6.0),
+    st.floats(0.2, 2.0),
+    st.floats(0.0, 3.0),
+    st.floats(0.05, 1.5),
+    st.sampled_from([0.0, 90.0, 180.0, 270.0]),
+)
+def test_the_predicted_count_of_a_conforming_square_ring_is_its_placed_rectangles(
+    inner, size, spacing, gap, angle
+):
+    # issue 30's third fuzz run: the count placed every rectangle (MemoryError at 1e-6 mm
+    # steps round a 1 mm ring); it is arithmetic now, and must stay the placed count
+    try:
+        p = MeshParams(
+            structure="square_split_double_ring",
+            mode="conforming",
+            inner_radius=inner,
+            outer_radius=inner + size + spacing,
+            patch_size=size,
+            gap_width=gap,
+            gap_angle=angle,
+        )
+    except ValueError:
+        assume(False)
+    assert predicted_patches(p) == len(conforming_square_rects(p)[0])
+
+
+def test_a_conforming_square_ring_of_micron_steps_is_refused_without_placing_it():
+    # issue 30's third fuzz run: 1e-6 mm steps round a 1 mm ring, 16 million rectangles
+    # (2 rings x 4 sides x 2 million) placed as Python tuples to be counted
+    out, peak = peak_bytes(
+        lambda: MeshParams(
+            structure="square_split_double_ring",
+            mode="conforming",
+            inner_radius=1.0,
+            outer_radius=1.000003,
+            patch_size=1e-06,
+            gap_width=0.5,
+            max_triangles=4000,
+        )
+    )
+    assert isinstance(out, ValueError) and "max_triangles=4,000" in str(out), out
+    assert peak < 50e6, peak

@@ -234,7 +234,9 @@ class PixelGrid:
         object.__setattr__(self, "mask", mask)
         object.__setattr__(self, "pixel_size", _positive("pixel_size", self.pixel_size))
         object.__setattr__(self, "origin", _vector("origin", self.origin))
-        self.patch_params()  # validates subdivisions, scheme, diagonal and grading
+        params = self.patch_params()  # validates subdivisions, scheme, diagonal and grading
+        # as the patch has it: a whole float (10.0 in a JSON file) becomes the int 10
+        object.__setattr__(self, "subdivisions", params.subdivisions)
         object.__setattr__(self, "grading", bool(self.grading))
 
     def __eq__(self, other: object) -> bool:
