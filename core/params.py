@@ -32,7 +32,7 @@ from .sectors import (
     sector_plan,
     slot_half_angle,
 )
-from .subdivision import edge_vectors
+from .subdivision import closest_vertices, edge_vectors
 from .values import InvalidValue, expected_names
 from .values import echo as _short
 from .values import finite as _finite
@@ -279,12 +279,22 @@ class MeshParams:
             tol = _positive("tolerance", self.tolerance)
             put(self, "tolerance", tol)
             limit = 0.5 * self.min_spacing
+            what = "the smallest sub-triangle edge"
+            if self.structure == "triangle" and self.triangle_vertices is not None:
+                # an obtuse triangle has vertices closer than its shortest edge
+                closest = closest_vertices(
+                    self.scheme,
+                    self.subdivisions,
+                    self.grading is True,
+                    self.triangle_vertices,
+                )
+                if 0.5 * closest < limit:
+                    limit, what = 0.5 * closest, "the smallest distance between its vertices"
             if tol >= limit:
                 raise InvalidValue(
                     "tolerance",
                     f"tolerance={_short(self.tolerance)} mm is too large: it must be below half "
-                    f"the smallest sub-triangle edge, {limit:.6g} mm, or it would collapse "
-                    "triangles",
+                    f"{what}, {limit:.6g} mm, or it would collapse triangles",
                 )
             floor = MIN_RELATIVE_TOLERANCE * self.extent
             if tol < floor:
@@ -473,8 +483,11 @@ class MeshParams:
         pts = tuple(_point("triangle_vertices", p, given) for p in items)
         (ax, ay), (bx, by), (cx, cy) = pts
         twice_area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-        scale = max(abs(v) for p in pts for v in p) or 1.0
-        if abs(twice_area) <= 1e-12 * scale * scale:
+        sides = ((bx - ax, by - ay), (cx - bx, cy - by), (ax - cx, ay - cy))
+        longest = max(x * x + y * y for x, y in sides)  # inf, never OverflowError, when huge
+        # as the mesh check has it (invariants.FLAT): the area against the longest edge
+        # squared, which every sub-triangle of a uniform subdivision shares
+        if not 0.5 * abs(twice_area) > 1e-12 * longest:
             raise InvalidValue(
                 "triangle_vertices",
                 f"triangle_vertices={_short(given)} are collinear; "

@@ -174,7 +174,8 @@ def mutated_cell(draw):
                 el["min_edge"] = draw(st.sampled_from([1e-5, 1e-3, None]))
             shift = draw(st.sampled_from([0.0, 1e-9, 0.3, 2.0, 7.5]))
             position = el.get("position", [0.0, 0.0])
-            if isinstance(position, list) and len(position) == 2:
+            numeric = isinstance(position, list) and len(position) == 2
+            if numeric and all(isinstance(v, (int, float)) for v in position):
                 el["position"] = [position[0] + shift, position[1]]
             el["name"] = "overlapping copy"
             doc["elements"] = [*doc["elements"], el]

@@ -410,6 +410,25 @@ def assert_round_trip(mesh, ext):
     ),
     ext=".msh",
 )
+@example(  # issue 30's fourth fuzz run: an obtuse triangle's vertices 0.2 mm apart (no edge
+    # between them) stayed apart at a tolerance of 0.2 mm, as its edges (>= 0.6 mm) allowed
+    kw=dict(
+        structure="triangle",
+        subdivisions=5,
+        tolerance=0.2,
+        triangle_vertices=[(0.0, 0.0), (0.0, 3.0), (1.0, -3.0)],
+    ),
+    ext=".msh",
+)
+@example(  # issue 30's fourth fuzz run: a sliver flat for the mesh check (area 3.8e-11 mm²
+    # against 49 mm² of its longest edge squared) passed the parameters' own check
+    kw=dict(
+        structure="triangle",
+        subdivisions=1,
+        triangle_vertices=[(0.0, 0.0), (0.0, 2.0), (3.7751805944196904e-11, 7.0)],
+    ),
+    ext=".msh",
+)
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:
         with address_space_cap(HOSTILE_MEMORY):  # a runaway is a MemoryError, not a swap
