@@ -456,6 +456,10 @@ def test_screenshot_removes_what_a_killed_render_left(tmp_path):
 INTERRUPTED_WHILE_IMPORTING = """
 import importlib, importlib.abc, os, signal, sys, tomllib
 
+# as a terminal starts it: a run started in the background (nohup, CI) has SIGINT ignored,
+# which a child inherits, and Python then raises no KeyboardInterrupt for it
+signal.signal(signal.SIGINT, signal.default_int_handler)
+
 class CtrlC(importlib.abc.MetaPathFinder):
     def find_spec(self, name, path=None, target=None):
         if name == "numpy":
