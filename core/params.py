@@ -304,6 +304,22 @@ class MeshParams:
                     f"coordinates of {self.extent:.6g} mm by more, so shared points would stay "
                     f"apart; expected tolerance >= {floor:.6g} mm",
                 )
+        elif self.structure not in ("patch", "triangle") and self.weld_tolerance < 4 * math.ulp(
+            self.extent
+        ):
+            # the default tolerance (1e-9 of the size) within float64's rounding out there:
+            # points computed from two patches may round apart by more (a paper ring at
+            # y = 7e7 mm, where float64 spaces numbers 1.5e-8 mm apart, left two pairs
+            # unwelded at 9.1e-9 mm); a lone patch or triangle has no points from two patches
+            lengths = self._lengths()
+            name = max(lengths, key=lengths.__getitem__)
+            raise InvalidValue(
+                name,
+                f"{name}={_short(getattr(self, name))} puts metal {self.extent:.3g} mm out, where "
+                f"float64 rounds by more than the default welding tolerance "
+                f"{self.weld_tolerance:.3g} mm; set a tolerance of at least "
+                f"{MIN_RELATIVE_TOLERANCE * self.extent:.3g} mm, or place it nearer",
+            )
         self._check_slot_width()
         self._check_paper_chain()
         budget = self.max_triangles

@@ -283,9 +283,9 @@ def _welded(
         if params.tolerance is not None:
             raise
         raise ValueError(
-            f"{err.finding}, with the default tolerance ({RELATIVE_TOLERANCE:g} of the structure's "
-            "size): patches nearly, but not exactly, coincide; move them apart with "
-            "angle_step, patch_size or the radii, or set a tolerance"
+            f"{err.finding}, with the default tolerance ({RELATIVE_TOLERANCE:g} of the size): "
+            "patches nearly coincide; move them apart (angle_step, patch_size, the radii) or "
+            "set a tolerance"
         ) from None
 
 

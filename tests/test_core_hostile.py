@@ -176,6 +176,25 @@ def test_a_patch_far_from_the_origin_meshes_while_float64_resolves_it():
     assert far.n_triangles == 32 and (signed_areas(far) > 0.0299).all()  # 1/32 mm² each
     with pytest.raises(ValueError, match="origin="):
         MeshParams(structure="patch", origin=(1e8, 0))
+    # a lone patch welds no points of two patches: 24 km out (float64 spacing 3.7e-9 mm,
+    # above its default tolerance of 1e-9 mm) it still meshes, as the method page says
+    assert build_mesh(MeshParams(structure="patch", origin=(2.4e7, 0))).n_triangles == 32
+
+
+def test_a_ring_far_out_at_the_default_tolerance_is_refused_naming_its_origin():
+    # issue 30's sixth fuzz run: at y = 7e7 mm float64 spaces numbers 1.49e-8 mm apart, and
+    # two pairs of points of neighbouring patches stayed apart at the default 9.1e-9 mm
+    kw = dict(
+        structure="double_ring",
+        inner_radius=1.0,
+        outer_radius=2.78,
+        patch_size=1.78,
+        subdivisions=1,
+    )
+    with pytest.raises(ValueError, match=r"^origin=\(1.0, 70000000.0\) puts metal 7e\+07 mm out"):
+        MeshParams(**kw, origin=(1.0, 7e7))
+    set_tolerance = build_mesh(MeshParams(**kw, origin=(1.0, 7e7), tolerance=1e-4))
+    assert set_tolerance.n_triangles == build_mesh(MeshParams(**kw)).n_triangles
 
 
 def test_tolerance_below_float64_rounding_is_refused():

@@ -429,6 +429,20 @@ def assert_round_trip(mesh, ext):
     ),
     ext=".msh",
 )
+@example(  # issue 30's sixth fuzz run: a paper ring 7e7 mm out, where float64 spaces numbers
+    # 1.5e-8 mm apart, kept two pairs unwelded at the default tolerance of 9.1e-9 mm
+    kw=dict(
+        structure="double_ring",
+        inner_radius=1.0,
+        outer_radius=2.7793676905776676,
+        patch_size=1.7793676905776679,
+        angle_step=2.0,
+        subdivisions=1,
+        gap_width=2.0,
+        origin=(1.0, 70000000.0),
+    ),
+    ext=".msh",
+)
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:
         with address_space_cap(HOSTILE_MEMORY):  # a runaway is a MemoryError, not a swap
