@@ -489,5 +489,5 @@ def closest_vertices(
         st = graded_barycentric(st, subdivisions)
     p0, p1, p2 = (np.asarray(c, dtype=np.float64) for c in corners)
     xy = p0 + st[:, :1] * (p1 - p0) + st[:, 1:2] * (p2 - p0)
-    distance, _ = cKDTree(xy).query(xy, k=2)
+    distance = np.asarray(cKDTree(xy).query(xy, k=2)[0])  # (N, 2): itself, the nearest other
     return float(distance[:, 1].min())
