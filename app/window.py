@@ -308,6 +308,8 @@ class MainWindow(QMainWindow):
 
         self.controller = MeshController(self.model, self)
         self.controller.view_size = lambda: tuple(self.plotter.renderer.GetSize())
+        self.controller.paint_pending = lambda: self.paint_pending
+        self.paint_counter.after_paint = self._view_painted
         self.controller.busy_changed.connect(self._busy_changed)
         self.controller.job_changed.connect(self._job_changed)
         self.controller.detail_ready.connect(self._detail_ready)
@@ -760,11 +762,15 @@ class MainWindow(QMainWindow):
         if not self._closed and self.paint_counter.paints == self._painted_before:
             self.request_render()
 
+    def _view_painted(self) -> None:
+        if not self._closed:
+            self.controller.painted()  # a build's result may wait for this paint
+
     @property
     def paint_pending(self) -> bool:
         """Whether the mesh on screen still waits for its first paint (asked for by a
         1 ms timer after it came, see :meth:`_show_result`)."""
-        return self.paint_counter.paints == self._painted_before
+        return self.paint_counter.paints == self._painted_before and self.plotter.isVisible()
 
     def _bounds_jumped(self, bounds: np.ndarray) -> bool:
         old = getattr(self, "_camera_bounds", None)
@@ -1629,18 +1635,22 @@ class MainWindow(QMainWindow):
 
 
 class PaintCounter(QObject):
-    """Counts the paint events of a widget (``paints``) and when the last one came."""
+    """Counts the paint events of a widget (``paints``) and when the last one came;
+    ``after_paint`` is called once each paint is done (from the event loop)."""
 
-    def __init__(self, widget: QWidget) -> None:
+    def __init__(self, widget: QWidget, after_paint: Callable[[], None] | None = None) -> None:
         super().__init__(widget)
         self.paints = 0
         self.last = 0.0
+        self.after_paint = after_paint
         widget.installEventFilter(self)
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         if event.type() == QEvent.Type.Paint:
             self.paints += 1
             self.last = time.perf_counter()
+            if self.after_paint is not None:
+                QTimer.singleShot(0, self, self.after_paint)  # after the paint itself
         return False
 
 

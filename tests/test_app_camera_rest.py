@@ -56,7 +56,7 @@ def test_zoom_to_selection_on_a_dense_mesh_brings_the_full_detail(dense, qtbot):
     ids = np.asarray(window.scene.datasets["faces"].cell_data["triangle"])
     assert 0 < len(ids) <= DETAIL_TRIANGLES and t in set(ids.tolist())
     for layer in ("faces", "triangle_edges", "shared_edges", "centroids"):
-        assert window.scene.actors[layer].GetVisibility(), layer
+        assert window.scene.shows(layer), layer
     window.plotter.render()
     window.grab().save("/tmp/wb/shots/zoom_to_selection_200k.png")
 

@@ -904,7 +904,7 @@ def test_the_cell_looks_the_same_whichever_element_is_selected(window, qtbot):
 
     def look():
         return (
-            {n: bool(a.GetVisibility()) for n, a in scene.actors.items()},
+            {n: scene.shows(n) for n in scene.actors},
             scene.shown_color_by,
             scene.light,
             scene.note.GetInput(),

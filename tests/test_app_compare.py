@@ -182,7 +182,7 @@ def test_both_halves_show_triangle_edges_at_the_default_size(qtbot, preset):
             assert scene.edge_px >= 4.0, (mode, scene.edge_px)
             assert not scene.light, mode
             for layer in ("triangle_edges", "shared_edges"):
-                assert scene.actors[layer].GetVisibility(), (mode, layer)
+                assert scene.shows(layer), (mode, layer)
             assert scene.datasets["triangle_edges"].n_cells == len(mesh.edges)
             assert scene.datasets["shared_edges"].n_cells == len(mesh.interior_edges)
             assert "hidden" not in scene.note.GetInput(), mode

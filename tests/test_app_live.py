@@ -242,6 +242,33 @@ def test_esc_cancels_a_long_build_and_keeps_the_mesh_on_screen(window, qtbot):
     assert shown_triangles(window) == 23_040
 
 
+def test_a_result_waits_for_the_paint_of_the_mesh_before_it(window, qtbot, monkeypatch):
+    """A drag's next result is handed on after the paint already asked for, not in the
+    same turn of the event loop (one long block of both); without a paint it waits
+    PAINT_WAIT_MS at most."""
+    qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
+    controller = window.controller
+    pending = {"paint": True}
+    monkeypatch.setattr(controller, "paint_pending", lambda: pending["paint"])
+    type_value(qtbot, window, "inner_radius", "4.5")
+    qtbot.waitUntil(lambda: controller._held is not None, timeout=10_000)
+    held_job, held = controller._held
+    assert held.params.inner_radius == 4.5 and controller.busy  # built, not yet shown
+    assert window.model.result.mesh.n_triangles == 23_040
+    assert window.model.result.params.inner_radius != 4.5
+    controller.painted()  # the paint came: the result is shown at once
+    assert controller._held is None and window.model.result.params.inner_radius == 4.5
+    qtbot.waitUntil(lambda: not controller.busy, timeout=5_000)
+    # no paint at all (a hidden view): shown after PAINT_WAIT_MS
+    type_value(qtbot, window, "inner_radius", "4.8")
+    qtbot.waitUntil(lambda: controller._held is not None, timeout=10_000)
+    held_at = time.perf_counter()
+    qtbot.waitUntil(lambda: window.model.result.params.inner_radius == 4.8, timeout=5_000)
+    waited = time.perf_counter() - held_at
+    assert waited >= 0.8 * barymesh.app.worker.PAINT_WAIT_MS / 1000
+    assert not controller.busy
+
+
 def test_undo_during_a_build_returns_at_once_without_building(window, qtbot):
     qtbot.waitUntil(lambda: shown_triangles(window) == 23_040, timeout=10_000)
     shown = window.model.result
@@ -360,13 +387,13 @@ def test_small_triangles_on_screen_get_the_light_look_with_a_note(window, qtbot)
     window.plotter.camera.parallel_scale = 20 * full_scale  # zoomed far out
     window._camera_moved()
     assert scene.light
-    assert not scene.actors["triangle_edges"].GetVisibility()
+    assert not scene.shows("triangle_edges")
     assert not scene.actors["centroids"].GetVisibility()
     assert "hidden" in scene.note.GetInput()
     window.plotter.camera.parallel_scale = full_scale / 20  # zoomed far in
     window._camera_moved()
     assert not scene.light
-    assert scene.actors["triangle_edges"].GetVisibility()
+    assert scene.shows("triangle_edges")
     assert scene.note.GetInput() == ""
 
 
@@ -493,7 +520,7 @@ def _assert_paper_drawing(scene, mesh) -> None:
     """The paper's drawing: triangle edges, centroids, shared edges told apart from the
     boundary edges, each layer drawn and holding the mesh's own count of cells."""
     for layer in ("faces", "triangle_edges", "shared_edges", "boundary_edges", "centroids"):
-        assert scene.actors[layer].GetVisibility(), layer
+        assert scene.shows(layer), layer
     assert not scene.light and not scene.overlap_look
     sets = scene.datasets
     assert sets["faces"].n_cells == mesh.n_triangles
@@ -534,7 +561,7 @@ def test_the_light_look_follows_the_size_on_screen(window, qtbot):
         window._camera_moved()
         assert scene.edge_px == pytest.approx(px)
         assert scene.light is light
-        assert bool(scene.actors["triangle_edges"].GetVisibility()) is not light
+        assert bool(scene.shows("triangle_edges")) is not light
         assert bool(scene.actors["centroids"].GetVisibility()) is not light
 
 
@@ -573,7 +600,7 @@ def test_overlap_colouring_is_picked_from_the_menu(window, qtbot):
     window._camera_moved()
     assert scene.outline_stride == 1
     assert scene.datasets["patch_outlines"].n_cells == 4 * 720
-    assert not scene.actors["triangle_edges"].GetVisibility()
+    assert not scene.shows("triangle_edges")
     assert "all outlined" in scene.note.GetInput()
     # another colouring in the Layers panel (keys in its combo) ends the look: its own
     # legend, the mesh's triangle edges, no outlines (that layer is off by default)
@@ -583,7 +610,7 @@ def test_overlap_colouring_is_picked_from_the_menu(window, qtbot):
     assert window.model.color_by == "none"
     assert not scene.overlap_look and scene.shown_color_by == "none"
     assert not scene.actors["patch_outlines"].GetVisibility()
-    assert scene.actors["triangle_edges"].GetVisibility()
+    assert scene.shows("triangle_edges")
     assert "Overlapping patches" not in scene.note.GetInput()
 
 

@@ -427,7 +427,7 @@ def test_surface_current_hides_shared_edges_and_centroids_for_its_arrows(window,
         assert window.model.layers[layer] and not scene.actors[layer].GetVisibility(), layer
     assert not scene.scalar_bar.GetVisibility()
     assert BAR_TITLE in window.plotter.scalar_bars
-    assert scene.actors["triangle_edges"].GetVisibility()
+    assert scene.shows("triangle_edges")
     assert scene.actors["boundary_edges"].GetVisibility()
     assert "Surface current shown" in scene.note.GetInput()
     click_check_box(panel.show_current)  # unticked: the mesh's own drawing is back

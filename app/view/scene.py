@@ -72,6 +72,9 @@ WIDTHS = {
 _CATEGORIES = 10  # patches are coloured cyclically with a 10-colour qualitative map
 REGION_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b"]
 REGION_NAMES = {1: "inner ring / patch", 2: "outer ring", 3: "region 3"}
+#: Lines thinned to less than this many pixels are drawn 1 px wide: a line wider than
+#: 1 px is drawn as two triangles, and doubled a software-rendered frame's line cost.
+WIDE_FROM = 1.5
 #: Below this many pixels per typical triangle edge, triangle edges, shared edges and
 #: centroids are not drawn (they would only paint a texture over the faces); from it up
 #: the mesh is drawn the way the paper draws it. Detail "always full" (:data:`DETAIL_MODES`)
@@ -1125,9 +1128,28 @@ class MeshScene:
 
         return bool(on)
 
+    def edges_covered(self) -> bool:
+        """Whether the shared, boundary and junction edges drawn cover every triangle
+        edge: each edge is one of the three, and they are drawn over the triangle edges
+        at least as wide. The triangle edges' own lines are then left out (unseen, they
+        were a fifth of a software-rendered frame)."""
+        return self.drawn("triangle_edges") and all(
+            self.drawn(name) or self.datasets[name].n_cells == 0
+            for name in ("shared_edges", "boundary_edges", "junction_edges")
+        )
+
+    def shows(self, name: str) -> bool:
+        """Whether layer ``name`` can be seen: its actor is drawn, or (the triangle edges)
+        the lines drawn over them cover every one (:meth:`edges_covered`)."""
+        if name == "triangle_edges" and self.edges_covered():
+            return True
+        return bool(self.actors[name].GetVisibility())
+
     def _apply_visibility(self) -> None:
+        covered = self.edges_covered()
         for name in LAYERS:
-            self.actors[name].SetVisibility(self.drawn(name))
+            drawn = self.drawn(name) and not (name == "triangle_edges" and covered)
+            self.actors[name].SetVisibility(drawn)
         self.actors_overview.SetVisibility(bool(self.visible["faces"]))
         self.actors_zoom.SetVisibility(bool(self.visible["faces"] and self.zoom is not None))
         legend = bool(
@@ -1432,6 +1454,8 @@ class MeshScene:
                 prop.point_size = float(np.clip(0.25 * edge_px, 1.5, width)) * self.emphasis
             else:
                 thin = float(np.clip(width * edge_px / 12.0, 1.0, width))
+                if thin < WIDE_FROM:
+                    thin = 1.0  # a wider line costs a software renderer twice as much
                 prop.line_width = thin * self.emphasis
 
     def settle(self) -> bool:
