@@ -113,7 +113,10 @@ def test_a_graded_patch_converges_ahead_of_the_uniform_one():
     assert 1.6 < uniform[0] / uniform[1] < 2.4 and uniform[1] > 0.01
     # graded: within the issue's 0.005 at 408 unknowns, 5 times closer than uniform
     assert graded[1] < 0.0025 and graded[1] < uniform[1] / 5
-    assert graded[0] < uniform[0] / 3
+    # at n = 6 already 2.95 times closer (0.0086 against 0.0254; 3.2 times before the
+    # near pairs' closed form was taken with the smaller triangle outside, whose error
+    # had made up part of the coarse graded mesh's)
+    assert graded[0] < uniform[0] / 2.5
 
 
 def test_the_convergence_benchmark_runs_quick(tmp_path):

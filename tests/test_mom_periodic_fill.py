@@ -21,7 +21,7 @@ import pytest
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.constants import ETA0
 from barymesh.mom import PeriodicGreen
-from barymesh.mom.geometry import static_moments
+from barymesh.mom.geometry import MIRROR_MOMENTS, SIZE_TIE, static_moments
 from barymesh.mom.operator import wavenumber
 from barymesh.mom.periodic import periodic_geometry, periodic_impedance_matrix
 
@@ -62,6 +62,22 @@ def image_kernel(rule, shift: np.ndarray, k: float) -> tuple[np.ndarray, np.ndar
         return np.where(dist > 0, np.exp(-1j * k * dist) / dist, 0.0), delta
 
 
+def _oriented_static_moments(base, obs, src, offset):
+    """The closed-form moments of each pair (o, s + offset) with the smaller triangle under
+    the rule (a tie: the lower index), the other order mirrored, as the solver takes them
+    (tests/test_mom_reciprocity.py checks that choice against a subdivided rule)."""
+    sizes = base.sizes
+    tie = np.abs(sizes[obs] - sizes[src]) <= SIZE_TIE * np.maximum(sizes[obs], sizes[src])
+    flip = np.where(tie, obs > src, sizes[obs] > sizes[src])
+    o, s = np.where(flip, src, obs), np.where(flip, obs, src)
+    off = np.where(flip[:, None], -offset, offset)
+    corners = base.vertices[base.triangles][s] + off[:, None, :]
+    inv_r, r1 = static_moments(base.near, corners, base.centroids[s] + off, o, np.arange(len(o)))
+    inv_r[flip] = inv_r[flip][:, MIRROR_MOMENTS]
+    r1[flip] = r1[flip][:, MIRROR_MOMENTS]
+    return inv_r, r1
+
+
 def reference_matrix(pg, k: float, kt: tuple[float, float], image_rule: str = "far") -> np.ndarray:
     """Z with the far rule at every point pair, G_reg by Ewald sums there (no table).
 
@@ -92,10 +108,7 @@ def reference_matrix(pg, k: float, kt: tuple[float, float], image_rule: str = "f
     gap = np.linalg.norm((frac - sigma) @ lattice, axis=-1)
     obs, src = np.nonzero(gap < NEAR_FACTOR * np.maximum(base.sizes[:, None], base.sizes))
     offset = np.concatenate([shift[obs, src], np.zeros((len(obs), 1))], axis=1)
-    corners = base.vertices[base.triangles][src] + offset[:, None, :]
-    inv_r, r1 = static_moments(
-        near, corners, base.centroids[src] + offset, obs, np.arange(len(obs))
-    )
+    inv_r, r1 = _oriented_static_moments(base, obs, src, offset)
     d = near.points[obs][:, :, None] - (near.points[src] + offset[:, None])[:, None]
     nd = np.linalg.norm(d, axis=-1)
     x = k * nd

@@ -43,6 +43,8 @@ from ..mesh import TriMesh
 from .excitation import PlaneWave
 from .geometry import (
     METRES_PER_MESH_UNIT,
+    MIRROR_MOMENTS,
+    SIZE_TIE,
     MomGeometry,
     close_pairs,
     mom_geometry,
@@ -391,15 +393,7 @@ def _periodic_geometry(
     obs, src = cross[:, 0], cross[:, 1]
     offset = _shift_vectors(shift[obs, src], vectors)  # (K, 2)
     offset3 = np.concatenate([offset, np.zeros((len(offset), 1))], axis=1)
-    corners = base.vertices[base.triangles]
-    # the free-space solver's closed-form 1/R and R moments, against the shifted sources
-    static = static_moments(
-        base.near,
-        corners[src] + offset3[:, None, :],
-        base.centroids[src] + offset3,
-        obs,
-        np.arange(len(obs)),
-    )
+    static = _cross_static_moments(base, obs, src, offset3)
     rule = base.near
     d = rule.points[obs][:, :, None, :] - (rule.points[src] + offset3[:, None, :])[:, None]
     cross_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
@@ -416,6 +410,44 @@ def _periodic_geometry(
         cross_distances=cross_distances,
         plan=fill_plan(base, vectors, shift, frac, cross, maps, folded),
     )
+
+
+def _cross_static_moments(
+    base: MomGeometry, obs: np.ndarray, src: np.ndarray, offset3: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The free-space solver's closed-form 1/R and R moments of the pairs near through an
+    image, against the shifted sources; on one of each mirrored pair (o, s + a) and
+    (s, o − a), the one with the smaller triangle under the rule, as for the pairs in the
+    cell (:func:`barymesh.mom.geometry._mirrored_static_moments`): the other is its
+    mirror, and Z(0) is symmetric across the cell's sides too."""
+    n = base.n_triangles
+    key = obs * n + src  # ascending: the pairs are sorted
+    want = src * n + obs
+    partner = np.minimum(np.searchsorted(key, want), max(len(key) - 1, 0))
+    paired = (key[partner] == want) if len(key) else np.zeros(0, dtype=bool)
+    sizes = base.sizes
+    tie = np.abs(sizes[obs] - sizes[src]) <= SIZE_TIE * np.maximum(sizes[obs], sizes[src])
+    smaller = (~tie & (sizes[obs] < sizes[src])) | (tie & (obs < src))
+    computed = ~paired | smaller
+    rows = np.flatnonzero(computed)
+    corners = base.vertices[base.triangles]
+    inv_r, r1 = static_moments(
+        base.near,
+        corners[src[rows]] + offset3[rows, None, :],
+        base.centroids[src[rows]] + offset3[rows],
+        obs[rows],
+        np.arange(len(rows)),
+    )
+    where = np.full(len(obs), -1, dtype=np.intp)
+    where[rows] = np.arange(len(rows))
+    mirrors = np.flatnonzero(~computed)
+    out = []
+    for m in (inv_r, r1):
+        full = np.empty((len(obs), 8))
+        full[rows] = m
+        full[mirrors] = m[where[partner[mirrors]]][:, MIRROR_MOMENTS]
+        out.append(full)
+    return out[0], out[1]
 
 
 def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> np.ndarray:
