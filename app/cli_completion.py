@@ -14,6 +14,7 @@ subcommand and option of this version. Options that name files complete file nam
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 #: Metavars of the arguments that name a file (completed with the shell's file names).
 FILE_METAVARS = frozenset(
@@ -21,6 +22,9 @@ FILE_METAVARS = frozenset(
 )
 #: The shells shtab writes for.
 SHELLS = ("bash", "zsh", "tcsh", "fish")
+#: What ``--print-completion`` accepts: ``shtab.SUPPORTED_SHELLS``, named here so that shtab
+#: is imported only when a script is asked for (tests/test_cli_completion.py compares them).
+COMPLETION_SHELLS = (*SHELLS, "powershell")
 
 
 def _walk(parser: argparse.ArgumentParser) -> list[argparse.Action]:
@@ -49,10 +53,37 @@ def _preamble(presets: list[str], cells: list[str]) -> dict[str, str]:
 
 
 def add_completion(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    """Mark the file and preset arguments of ``parser`` and add ``--print-completion``.
+    """Add ``--print-completion SHELL`` to ``parser``; returns ``parser``.
 
-    Returns ``parser``.
+    shtab and the preset names are looked up only when the option is given
+    (:func:`completion_script`): ``barymesh --help`` and every command start without them.
     """
+    parser.add_argument(
+        "--print-completion",
+        choices=COMPLETION_SHELLS,
+        default=None,
+        action=_PrintCompletion,
+        help=f"print the shell completion script for {', '.join(SHELLS)} and exit",
+    )
+    return parser
+
+
+class _PrintCompletion(argparse.Action):
+    """``--print-completion SHELL``: print the script of the parser that has it and exit."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        print(completion_script(parser, str(values)))
+        parser.exit(0)
+
+
+def completion_script(parser: argparse.ArgumentParser, shell: str) -> str:
+    """shtab's completion script of ``parser`` for ``shell``, file and preset arguments marked."""
     import shtab
 
     from barymesh.cell import cell_preset_names
@@ -67,10 +98,9 @@ def add_completion(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
             action.complete = cells  # type: ignore[attr-defined]
         elif action.metavar in FILE_METAVARS:
             action.complete = shtab.FILE  # type: ignore[attr-defined]
-    shtab.add_argument_to(
-        parser,
-        "--print-completion",
-        help=f"print the shell completion script for {', '.join(SHELLS)} and exit",
-        preamble=_preamble(preset_names(), cell_preset_names()),
-    )
-    return parser
+        elif isinstance(action, _PrintCompletion):
+            # as shtab's own action: nothing is completed after it
+            action.__class__ = type(
+                "_PrintCompletionMarked", (_PrintCompletion, shtab._ShtabPrintCompletionAction), {}
+            )
+    return shtab.complete(parser, shell, preamble=_preamble(preset_names(), cell_preset_names()))

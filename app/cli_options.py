@@ -15,8 +15,6 @@ import re
 from pathlib import Path
 from typing import Any, NoReturn
 
-from barymesh.app.edit.cell_document import MAX_COPIES
-
 
 class UsageError(Exception):
     """Bad command-line usage (exit code 2)."""
@@ -259,6 +257,9 @@ def parse_copies(text: str) -> tuple[int, int]:
     >>> parse_copies("3x2"), parse_copies(" 4 × 1 ")
     ((3, 2), (4, 1))
     """
+    # the cell document imports the unit cells' code: not for ``barymesh --help``
+    from barymesh.app.edit.cell_document import MAX_COPIES
+
     match = re.fullmatch(r"\s*(\d{1,6})\s*[xX×]\s*(\d{1,6})\s*", text)
     if not match or not all(1 <= int(g) <= MAX_COPIES for g in match.groups()):
         raise argparse.ArgumentTypeError(

@@ -8,7 +8,6 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import scipy.sparse as sp
 
 from .overlap import union_area
 from .quality import TriangleQuality, cell_figures, triangle_quality
@@ -28,6 +27,7 @@ from .topology import (
 
 if TYPE_CHECKING:
     import meshio
+    import scipy.sparse as sp
 
     from .params import MeshParams
 

@@ -8,9 +8,12 @@ three or more a junction, which is reported and never dropped.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: The one integer dtype for vertex, triangle and edge indices.
 INDEX = np.int32
@@ -252,6 +255,8 @@ def triangle_adjacency(n_triangles: int, topo: EdgeTopology) -> sp.csr_matrix:
 
     Triangles meeting at a junction edge are all connected to each other.
     """
+    import scipy.sparse as sp  # here, not at the top: ``import barymesh`` stays light
+
     if len(topo.junction_incidence) == 0:
         direct = adjacency_without_junctions(n_triangles, topo)
         if direct is not None:
@@ -279,6 +284,8 @@ def adjacency_without_junctions(n_triangles: int, topo: EdgeTopology) -> sp.csr_
     Returns None when two triangles share more than one edge (a degenerate
     mesh), which the general path handles by summing duplicates.
     """
+    import scipy.sparse as sp
+
     et = topo.edge_triangles
     # across an interior edge, the other triangle is (sum of both) - this one
     across = np.where(topo.valence == 2, et[:, 0] + et[:, 1], -1).astype(INDEX)
@@ -330,6 +337,8 @@ def _pairs_within_groups(group: np.ndarray, value: np.ndarray) -> np.ndarray:
 
 def vertex_adjacency(n_vertices: int, edges: np.ndarray) -> sp.csr_matrix:
     """V x V symmetric matrix with 1 where two vertices are joined by an edge."""
+    import scipy.sparse as sp
+
     r = np.concatenate([edges[:, 0], edges[:, 1]])
     c = np.concatenate([edges[:, 1], edges[:, 0]])
     return sp.coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n_vertices,) * 2).tocsr()

@@ -9,9 +9,6 @@ farther than ε apart is refused with an error instead of being merged.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .topology import INDEX
 
@@ -85,6 +82,10 @@ def merge_pairs(
         return np.arange(n_points, dtype=INDEX), np.arange(n_points, dtype=INDEX)
     label = np.arange(n_points, dtype=np.int64)
     if len(pairs):
+        # scipy here, not at the top: ``import barymesh`` stays light
+        import scipy.sparse as sp
+        from scipy.sparse.csgraph import connected_components
+
         nodes, inverse = np.unique(pairs, return_inverse=True)
         inverse = inverse.reshape(-1, 2)
         graph = sp.coo_matrix(
@@ -155,6 +156,8 @@ _DIRECTIONS = 64
 def _diameter(points: np.ndarray) -> float:
     """Largest distance between two of the (N, 2) points, in bounded memory."""
     if len(points) > 64:
+        from scipy.spatial import ConvexHull, QhullError
+
         try:
             points = points[ConvexHull(points).vertices]
         except QhullError:  # collinear or coincident: the extreme points along the line
@@ -183,6 +186,8 @@ def weld_points(coords: np.ndarray, tolerance: float) -> tuple[np.ndarray, np.nd
     -------
     The ``(vertex_of_point, representative)`` pair of :func:`merge_pairs`.
     """
+    from scipy.spatial import cKDTree
+
     coords = np.asarray(coords, dtype=np.float64)
     # an unbalanced tree builds about twice as fast and finds the same pairs
     tree = cKDTree(coords, balanced_tree=False, compact_nodes=False)
@@ -274,6 +279,8 @@ def _lattice_candidates(
     pairs = _window_candidates(frac, scaled, radius * 1.000001)
     if pairs is not None:
         return pairs
+    from scipy.spatial import cKDTree
+
     span = float(scaled.max(initial=0.0))
     box = np.array([1.0 + 1e-300, 1.0 + 1e-300, 3 * span + 1.0, 3 * span + 1.0])
     # an unbalanced tree builds faster; the pairs found are the same

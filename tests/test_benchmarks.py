@@ -429,3 +429,34 @@ def test_array_live_benchmark_sweeps_the_cell_after_a_mouse_drag(tmp_path: Path)
     assert row["longest_block_drag_s"] > 0 and row["longest_block_after_release_s"] > 0
     assert doc["memory"]["window_rss_after"] > 0 and doc["memory"]["solver_rss_after"] > 0
     assert "round" in proc.stdout and "unknowns" in proc.stdout
+
+
+def test_startup_benchmark_times_each_case_and_its_baseline(tmp_path: Path) -> None:
+    """benchmarks/startup.py (one run a case, HEAD as the baseline) and its Performance
+    table: every case has its times, the load average beside them and the baseline's."""
+    out = tmp_path / "startup.json"
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "startup.py"), "--repeats", "1"]
+    cmd += ["--baseline", "HEAD", "--json", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, check=False)
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    assert doc["repeats"] == 1 and len(doc["baseline"]["commit"]) == 40
+    assert list(doc["cases"]) == [
+        "import numpy",
+        "import barymesh",
+        "from barymesh import build_mesh",
+        "barymesh --help",
+        "barymesh mesh --preset paper-fig10 --stats-json -",
+    ]
+    for case in doc["cases"].values():
+        for row in (case, case["baseline"]):
+            assert len(row["times"]) == len(row["cpu_times"]) == 1
+            assert row["median"] > 0 and row["cpu_median"] >= 0
+        assert len(case["loadavg"]) == 2
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import benchmark_tables
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    head, rows, note = benchmark_tables.startup(doc)
+    assert len(rows) == 5 and "load average" in head and "Before: the same case on HEAD" in note

@@ -76,3 +76,12 @@ def test_zsh_script_and_bad_shell(capsys):
     assert "_barymesh_presets" in zsh and "--msh-version" in zsh
     assert main(["--print-completion", "cmd.exe"]) == 2
     assert "invalid choice: 'cmd.exe'" in capsys.readouterr().err
+
+
+def test_the_option_accepts_the_shells_shtab_writes_for():
+    # named in barymesh.app.cli_completion so that shtab is imported only for a script
+    import shtab
+
+    from barymesh.app.cli_completion import COMPLETION_SHELLS
+
+    assert list(COMPLETION_SHELLS) == list(shtab.SUPPORTED_SHELLS)

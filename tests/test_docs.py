@@ -299,10 +299,12 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
         "quality-2026-12-02.json",
         "latency-big-2026-12-02.json",
         "latency-interaction-2026-12-03.json",
+        "startup-2026-12-04.json",
     ):
         assert result in performance
-    # mesher, quality, solver, the window's dense rounds and its drags, wheel and rotation
-    assert performance.count("<table") == 5
+    # mesher, quality, solver, the window's dense rounds and its drags, wheel and rotation,
+    # start-up
+    assert performance.count("<table") == 6
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
     # speed, sweep accuracy, infinite-array sweep, live infinite-array and convergence

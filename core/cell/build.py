@@ -17,7 +17,6 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..build import build_mesh
 from ..grading import outline_sides
@@ -609,6 +608,8 @@ def tile(
         candidates = (np.flatnonzero(near)[None, :] + (np.arange(copies) * v)[:, None]).ravel()
     else:
         candidates = np.arange(len(xy))
+    from scipy.spatial import cKDTree  # here: ``barymesh --help`` stays quick
+
     found = cKDTree(xy[candidates]).query_pairs(tol, output_type="ndarray")
     ids, rep = merge_pairs(len(xy), candidates[found], xy, tol)
     offsets = (np.arange(copies) * v).astype(INDEX)

@@ -10,7 +10,6 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..topology import BLOCK, EdgeTopology
 
@@ -60,6 +59,8 @@ def box_pairs(
     """
     if not len(lo_a) or not len(lo_b):
         return
+    from scipy.spatial import cKDTree  # here: ``barymesh --help`` stays quick
+
     centre_a, half_a = (lo_a + hi_a) / 2, (hi_a - lo_a) / 2
     centre_b, half_b = (lo_b + hi_b) / 2, (hi_b - lo_b) / 2
     # rounding slack: a pair the separating-axis test (other arithmetic) calls overlapping
@@ -189,6 +190,8 @@ def hanging_vertices(
     mid = (p0 + p1) / 2
     half = np.linalg.norm(p1 - p0, axis=1).max() / 2
     candidates = np.unique(ends)
+    from scipy.spatial import cKDTree
+
     pairs = cKDTree(mid).sparse_distance_matrix(
         cKDTree(xy[candidates]), half + tolerance, output_type="ndarray"
     )

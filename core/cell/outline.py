@@ -20,8 +20,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from ..mesh import TriMesh
 from ..params import DOUBLE_STRUCTURES
@@ -150,6 +148,8 @@ def mesh_outline(mesh: TriMesh, size: float) -> list[OutlinePolygon]:
         return []
     nxt = _next_half_edge(xy, start, end)
     loops = _loops(nxt)
+    from scipy.sparse.csgraph import connected_components  # here: ``barymesh --help`` stays quick
+
     piece = connected_components(mesh.connectivity, directed=False)[1]
     loop_piece = piece[tri[[loop[0] for loop in loops]]]
     eps = 1e-9 * size
@@ -219,6 +219,9 @@ def _next_half_edge(xy: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.nd
 
 def _loops(nxt: np.ndarray) -> list[np.ndarray]:
     """Cycles of the permutation ``nxt`` (B,), each in walking order from its smallest member."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
     n = len(nxt)
     graph = sp.coo_matrix((np.ones(n, dtype=np.int8), (np.arange(n), nxt)), shape=(n, n))
     n_loops, label = connected_components(graph, directed=True, connection="strong")

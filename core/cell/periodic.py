@@ -14,7 +14,6 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..topology import edge_keys
 from .model import Lattice
@@ -117,6 +116,8 @@ def periodic_pairs(mesh: EdgedMesh, lattice: Lattice, tolerance: float) -> Perio
     xy = np.asarray(mesh.points[:, :2])
     edges = mesh.edges
     boundary = mesh.boundary_edges.astype(np.int64)
+    from scipy.spatial import cKDTree  # here: ``barymesh --help`` stays quick
+
     side = side_vertices(xy, lattice, tolerance)
     vert, vshift, epairs, eshift, unmatched = [], [], [], [], []
     for k, shift in enumerate((lattice.a1, lattice.a2)):

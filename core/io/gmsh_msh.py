@@ -29,15 +29,15 @@ import contextlib
 import io
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import meshio
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import maximum_bipartite_matching
 
 from ..mesh import TriMesh
 from .atomic import atomic_path
+
+if TYPE_CHECKING:
+    import meshio
 
 #: The MSH versions written; the first is the default.
 MSH_VERSIONS = ("2.2", "4.1")
@@ -151,6 +151,10 @@ def _node_entities(n_points: int, blocks: list[tuple[int, int, np.ndarray]]) -> 
     if np.any(owner < 0):
         raise ValueError("a vertex is used by no element; the mesh cannot be written")
     if len(np.unique(owner)) < len(blocks):
+        # scipy and meshio are imported where they are used: ``barymesh --help`` stays quick
+        import scipy.sparse as sp
+        from scipy.sparse.csgraph import maximum_bipartite_matching
+
         graph = sp.csr_matrix(
             (np.ones(sum(map(len, rows))), (np.concatenate(rows), np.concatenate(cols))),
             shape=(len(blocks), n_points),
@@ -188,6 +192,8 @@ def gmsh_mesh(
         The matched sides of a unit cell and its lattice: adds the side curves and
         ``gmsh_periodic``.
     """
+    import meshio
+
     version = check_msh_version(msh_version)
     points = np.asarray(mesh.points, dtype=np.float64) * per_mm
     triangles = np.asarray(mesh.triangles, dtype=np.int64)
@@ -232,6 +238,8 @@ def gmsh_mesh(
 
 def write_gmsh(path: str | Path, mesh: meshio.Mesh, msh_version: str = "2.2") -> None:
     """Write a mesh of :func:`gmsh_mesh` to ``path`` as ASCII MSH (not atomically)."""
+    import meshio
+
     version = check_msh_version(msh_version)
     with contextlib.redirect_stderr(io.StringIO()):  # meshio prints warnings with rich
         meshio.write(path, mesh, file_format=MESHIO_FORMAT[version], binary=False)

@@ -11,7 +11,6 @@ import struct
 from pathlib import Path
 
 import numpy as np
-import scipy.io
 
 from ..mesh import TriMesh
 from .limits import MAX_CELLS, MAX_POINTS, Damaged, check_count
@@ -41,6 +40,8 @@ def makarov_arrays(mesh: TriMesh, per_mm: float) -> dict[str, np.ndarray]:
 
 def write_makarov(mesh: TriMesh, path: Path, per_mm: float) -> None:
     """Write ``p`` and ``t`` as a MATLAB v5 file."""
+    import scipy.io  # here, not at the top: ``barymesh --help`` stays quick
+
     with open(path, "wb") as fh:
         # savemat writes to an open binary file too (its docs); the stubs name paths only
         scipy.io.savemat(fh, makarov_arrays(mesh, per_mm), format="5", oned_as="column")  # type: ignore[arg-type]
@@ -54,6 +55,8 @@ def read_makarov(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     :class:`~barymesh.io.limits.Damaged` naming the problem when ``p`` or ``t`` is
     missing or malformed.
     """
+    import scipy.io
+
     _check_v4_headers(path)
     try:
         found = {name: (shape, kind) for name, shape, kind in scipy.io.whosmat(path)}

@@ -15,13 +15,16 @@ from __future__ import annotations
 import contextlib
 import io
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import meshio
 import numpy as np
 
 from ..mesh import TriMesh
 from ..quality import cell_figures
 from .gmsh_msh import check_msh_version, gmsh_mesh, region_names, write_gmsh
+
+if TYPE_CHECKING:
+    import meshio
 
 #: Extension -> meshio's format name, for the formats meshio writes (.msh: see
 #: :mod:`barymesh.io.gmsh_msh`, 2.2 or 4.1).
@@ -51,6 +54,8 @@ def to_meshio(
     """
     if ext == ".msh":
         return gmsh_mesh(mesh, per_mm, msh_version)
+    import meshio  # here, not at the top: ``barymesh --help`` stays quick
+
     points = np.asarray(mesh.points, dtype=np.float64) * per_mm
     cells = [("triangle", np.asarray(mesh.triangles, dtype=np.int64))]
     if ext in (".vtu", ".vtk"):
@@ -73,6 +78,8 @@ def write_meshio(
         version = check_msh_version(msh_version)
         write_gmsh(path, to_meshio(mesh, ext, per_mm, wavelength, version), version)
         return
+    import meshio
+
     fmt = MESHIO_WRITE[ext]
     m = to_meshio(mesh, ext, per_mm, wavelength)
     kwargs = {"binary": False} if fmt == "stl" else {}

@@ -16,7 +16,6 @@ VTK's ``String`` arrays store them: each string's bytes as numbers, ended by a 0
 from __future__ import annotations
 
 from collections.abc import Sequence
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -36,6 +35,9 @@ def data_array(name: str, data: np.ndarray, components: int = 1, field: bool = F
     ``field``: an array of ``FieldData``, which says its number of tuples (point and cell
     arrays have one tuple per point or cell).
     """
+    # xml.sax imports urllib and http.client: here, not at the top (``barymesh --help``)
+    from xml.sax.saxutils import quoteattr
+
     data = np.asarray(data)
     tuples = f' NumberOfTuples="{data.size // components}"' if field else ""
     fmt = "%.17g" if data.dtype.kind == "f" else "%d"
@@ -49,6 +51,8 @@ def data_array(name: str, data: np.ndarray, components: int = 1, field: bool = F
 
 def string_array(name: str, values: Sequence[str]) -> str:
     """One ASCII ``String`` ``DataArray`` (UTF-8 bytes of each value, each ended by 0)."""
+    from xml.sax.saxutils import quoteattr
+
     codes = []
     for value in values:
         codes += list(str(value).encode("utf-8")) + [0]

@@ -35,15 +35,17 @@ one another, their vertices, triangles and edges numbered on. The results equal
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..subdivision import PatchTemplate
 from ..topology import INDEX, EdgeTopology, RWGTable, segment_lengths
 from .copies import fill_tiled
 from .patches import patch_edge_counts, patch_topology
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: Sectors in the short chain whose topology a long chain repeats: two first, the middle
 #: one (``MIDDLE``), two last. A sector's edges reach the vertices of the sector after
@@ -407,6 +409,8 @@ def chain_adjacency(shorts: list[sp.csr_matrix], ms: list[int], n_tri: int) -> s
     :func:`chain_topology`: a shift keeps each row's neighbours in ascending
     order, so the result is the matrix of the whole mesh, array for array.
     """
+    import scipy.sparse as sp
+
     tri_cut = np.arange(CHAIN + 1) * n_tri
     n_rows = sum(ms) * n_tri
     counts = np.empty(n_rows, dtype=INDEX)

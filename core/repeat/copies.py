@@ -26,15 +26,17 @@ aggregates to 1e-13) in ``tests/test_core_chain_paths.py`` and
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..quality import triangle_quality
 from ..subdivision import PatchTemplate
 from ..topology import BLOCK, INDEX, EdgeTopology, RWGTable, segment_lengths
 from .patches import patch_topology
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: Translated copies stand in for the full computation only when every patch's vertices,
 #: relative to its first, are within this fraction of the shortest side of where the
@@ -176,6 +178,8 @@ def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
     shifted by the patch's triangles; the same matrix as
     :func:`barymesh.topology.triangle_adjacency` on the whole mesh, array for array.
     """
+    import scipy.sparse as sp
+
     n_tri = local.shape[0]
     counts = np.diff(local.indptr).astype(INDEX)
     indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)

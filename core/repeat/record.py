@@ -10,10 +10,9 @@ paths of :mod:`barymesh.topology`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..subdivision import PatchTemplate
 from ..topology import INDEX, EdgeTopology, RWGTable, adjacency_without_junctions
@@ -26,6 +25,9 @@ from .copies import (
     template_topology,
 )
 from .patches import patch_topology, patch_triangles
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: The kinds of repetition: see :class:`Repetition`.
 Kind = Literal["copies", "chains", "patches"]

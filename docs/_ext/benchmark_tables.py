@@ -327,6 +327,38 @@ def latency_interaction(doc: dict[str, Any]) -> Table:
     return head, rows, note
 
 
+def startup(doc: dict[str, Any]) -> Table:
+    head = ["case", "median s", "min s", "CPU s", "target s", "before: median s", "load average"]
+    rows = []
+    for name, c in doc["cases"].items():
+        before = c.get("baseline")
+        target = c.get("target")
+        met = "" if target is None else (" (met)" if c["median"] <= target else " (not met)")
+        rows.append(
+            [
+                name,
+                _s(c["median"]),
+                _s(c["min"]),
+                _s(c.get("cpu_median")),
+                "–" if target is None else f"{target:.2f}{met}",
+                "–" if before is None else _s(before["median"]),
+                "–".join(f"{x:.1f}" for x in c["loadavg"]),
+            ]
+        )
+    note = (
+        f"Median of {doc['repeats']} runs of each case in a new process, wall time from start "
+        "to exit, with the bytecode caches written (as after an install); CPU is user + "
+        "system time, which a loaded machine stretches less than the wall time."
+    )
+    base = doc.get("baseline")
+    if base:
+        note += (
+            f" Before: the same case on {base['revision']} ({base['commit'][:10]}), each run "
+            "right after this tree's, under the same load."
+        )
+    return head, rows, note
+
+
 def _pct(x: float | None) -> str:
     return "–" if x is None else f"{100 * x:.2f} %"
 
@@ -672,6 +704,7 @@ RENDERERS: dict[str, Callable[[dict[str, Any]], Table]] = {
     "latency-big": latency,  # the dense rounds (--big-only), not the teaching round's file
     "latency-interaction": latency_interaction,
     "periodic": periodic,
+    "startup": startup,
 }
 
 

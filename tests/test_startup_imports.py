@@ -1,0 +1,131 @@
+"""Start-up stays light: what ``import barymesh`` and the command load, in fresh processes.
+
+Issue "Start-up", part 2: scipy's submodules, meshio, shtab and the window's libraries are
+imported where they are used, not at module level, so that the mesher, ``barymesh --help``
+and ``barymesh mesh`` start in a fraction of a second. Timings are not asserted here (the
+machines are shared); ``benchmarks/startup.py`` measures them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+#: Top-level packages none of the cases below may import (scipy counts by its submodules:
+#: ``scipy`` itself is light, ``scipy.sparse``, ``scipy.spatial`` or ``scipy.constants`` are not).
+HEAVY = (
+    "scipy.sparse",
+    "scipy.spatial",
+    "scipy.constants",
+    "scipy.linalg",
+    "scipy.special",
+    "scipy.io",
+    "scipy.interpolate",
+    "meshio",
+    "shtab",
+    "PySide6",
+    "pyvista",
+    "pyvistaqt",
+    "vtk",
+    "vtkmodules",
+    "matplotlib",
+    "dask",
+    "distributed",
+    "xarray",
+    "pandas",
+)
+
+#: Prints the heavy modules loaded after running the code it is given (as JSON, on stdout).
+REPORT = """
+import json, sys
+heavy = {heavy!r}
+found = sorted(m for m in sys.modules if any(m == h or m.startswith(h + ".") for h in heavy))
+sys.stdout = sys.__stdout__
+print(json.dumps(found))
+"""
+
+
+def heavy_modules(code: str) -> list[str]:
+    """The modules of :data:`HEAVY` that a fresh Python has loaded after running ``code``."""
+    env = dict(os.environ)
+    env.pop("DISPLAY", None)
+    script = f"{code}\n{REPORT.format(heavy=HEAVY)}"
+    out = subprocess.run(
+        [sys.executable, "-c", script],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def command(*args: str) -> str:
+    """Code that runs ``barymesh ARGS`` in-process, its output swallowed, its exit caught."""
+    return (
+        "import io, sys\n"
+        "from barymesh.app.launch import main\n"
+        "sys.stdout = io.StringIO()\n"
+        "try:\n"
+        f"    code = main({list(args)!r})\n"
+        "except SystemExit as stop:\n"
+        "    code = stop.code\n"
+        "assert code in (0, None), code\n"
+    )
+
+
+def test_import_barymesh_loads_no_heavy_module():
+    assert heavy_modules("import barymesh") == []
+
+
+def test_the_mesher_api_loads_no_heavy_module():
+    # the names of barymesh.__all__ (imported when asked for) and the constants
+    code = (
+        "from barymesh import MeshParams, TriMesh, build_mesh, EdgeTopology, RWGTable\n"
+        "from barymesh.constants import SPEED_OF_LIGHT, wavelength\n"
+    )
+    assert heavy_modules(code) == []
+
+
+def test_a_small_mesh_and_its_statistics_load_no_heavy_module():
+    code = (
+        "from barymesh import MeshParams, build_mesh\n"
+        "mesh = build_mesh(MeshParams(structure='patch'))\n"
+        "assert mesh.stats()['triangles'] == 32\n"
+    )
+    assert heavy_modules(code) == []
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("--help",),
+        ("mesh", "--help"),
+        ("solve", "--help"),
+        ("study", "--help"),
+        ("--version",),
+        ("presets",),
+        ("mesh", "--preset", "paper-fig10", "--stats-json", "-"),
+    ],
+    ids=" ".join,
+)
+def test_the_command_loads_no_heavy_module(args):
+    assert heavy_modules(command(*args)) == []
+
+
+def test_the_heavy_modules_still_come_when_used():
+    # the guard sees imports made inside functions: the connectivity matrix is scipy's
+    code = (
+        "from barymesh import MeshParams, build_mesh\n"
+        "build_mesh(MeshParams(structure='patch')).connectivity\n"
+        "from barymesh.constants import ETA0\n"
+    )
+    found = heavy_modules(code)
+    assert "scipy.sparse" in found and "scipy.constants" in found
+    assert heavy_modules(command("--print-completion", "bash")) == ["shtab"]
