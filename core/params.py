@@ -33,6 +33,7 @@ from .sectors import (
     slot_half_angle,
 )
 from .subdivision import closest_vertices, edge_vectors
+from .topology import INDEX
 from .values import InvalidValue, expected_names
 from .values import echo as _short
 from .values import finite as _finite
@@ -48,6 +49,12 @@ MAX_UNIFORM_SUBDIVISIONS = 64
 MAX_GRADED_CELLS = 256
 MAX_BARYCENTRIC_LEVELS = 6
 DEFAULT_MAX_TRIANGLES = 5_000_000
+#: Largest triangle budget, 715,827,882: vertices, triangles and edges are numbered in int32
+#: (:data:`barymesh.topology.INDEX`) and a mesh holds up to three of each per triangle
+#: (corners, half-edges, unwelded vertices), so no larger mesh can be indexed. Any integer
+#: was taken before: 10**400 let a 320-million-triangle ring through every count to the
+#: build, which allocated until MemoryError (issue 30's seventh fuzz run).
+MAX_BUDGET = int(np.iinfo(INDEX).max) // 3
 #: Default welding tolerance, relative to the structure's size.
 RELATIVE_TOLERANCE = 1e-9
 #: Largest coordinate (mm) of a structure: fourth powers of lengths (quality measures) stay finite.
@@ -94,6 +101,25 @@ def default_subdivisions(structure: Any, grading: bool) -> int:
     if grading and structure == "cross":
         return GRADED_CROSS_SUBDIVISIONS
     return DEFAULT_SUBDIVISIONS
+
+
+def budget_too_large(budget: int) -> str:
+    """The refusal of a triangle budget above :data:`MAX_BUDGET` (shared with the cell build).
+
+    The budget is refused itself, whatever the structure: a budget past what int32
+    indices number can only have been meant as "no limit", and then every count up to it
+    (hundreds of millions of triangles, tens of GB) would reach the build and end in a
+    MemoryError instead of a refusal naming the parameter.
+
+    >>> for part in budget_too_large(2**31).split("; "):
+    ...     print(part)
+    max_triangles=2147483648 is above 715,827,882, the most triangles int32 indices can number
+    expected an integer from 1 to 715,827,882
+    """
+    return (
+        f"max_triangles={_short(budget)} is above {MAX_BUDGET:,}, the most triangles int32 "
+        f"indices can number; expected an integer from 1 to {MAX_BUDGET:,}"
+    )
 
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
@@ -166,7 +192,8 @@ class MeshParams:
         ``"uniform"`` (n x n, the paper's 16 for n = 4) or ``"barycentric"``
         (centroid and edge midpoints, 6 per level).
     max_triangles : int
-        Triangle budget; larger meshes are refused before they are built.
+        Triangle budget; larger meshes are refused before they are built. At most
+        :data:`MAX_BUDGET` (715,827,882), the most triangles int32 indices can number.
     max_edge : float or None
         Longest edge allowed (mm); ``None``: no limit. With it (or ``frequency``) the
         mesher chooses ``subdivisions`` itself (see *Sizing* below).
@@ -267,6 +294,8 @@ class MeshParams:
                 "max_triangles",
                 f"max_triangles={_short(budget)} is invalid; expected an integer >= 1",
             )
+        if budget > MAX_BUDGET:
+            raise InvalidValue("max_triangles", budget_too_large(budget))
         if self.triangle_vertices is not None:
             self._check_triangle_vertices()
         if self.tolerance is not None:  # a number before the sector plan (keyed on it) is made

@@ -42,6 +42,8 @@ if TYPE_CHECKING:
 
 #: The rule of thumb the statistics check: every edge at most a tenth of the wavelength.
 RULE_CELLS_PER_WAVELENGTH = 10
+#: A refusal is shorter than this (a user's one line; the suite's ``assert_clear_message``).
+MESSAGE_LIMIT = 300
 
 
 def params_wavelength(params: MeshParams) -> float | None:
@@ -233,6 +235,23 @@ def _what(params: MeshParams, name: str, target: float) -> str:
     return f"max_edge={params.max_edge!r} mm asks for edges <= {target:.6g} mm"
 
 
+def _needs(params: MeshParams, name: str, target: float, n: int, refusal: str) -> str:
+    """Why the target's subdivisions ``n`` is refused: the target, then the refusal.
+
+    Two messages in one can pass :data:`MESSAGE_LIMIT` (issue 30's seventh fuzz run: a
+    wavelength of 2.7e111 mm made it 300 characters), so the target is said ever shorter
+    (without its wavelength, then not at all); the refusal itself names its parameter.
+    """
+    for what in (
+        f"{_what(params, name, target)}, which needs subdivisions={n}; there: ",
+        f"{name} asks for edges <= {target:.6g} mm, which needs subdivisions={n}: ",
+        "",
+    ):
+        if len(what) + len(refusal) < MESSAGE_LIMIT:
+            break
+    return what + refusal
+
+
 def sized_mesh(
     params: MeshParams,
     build: Callable[[MeshParams], TriMesh],
@@ -280,9 +299,7 @@ def sized_mesh(
         try:
             return params.replace(subdivisions=n)
         except ValueError as exc:
-            raise ValueError(
-                f"{_what(params, name, target)}, which needs subdivisions={n}; there: {exc}"
-            ) from None
+            raise ValueError(_needs(params, name, target, n, str(exc))) from None
 
     # a graded patch or triangle never goes below its accuracy default (params.py)
     floor = accuracy_floor(params)

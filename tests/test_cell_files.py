@@ -17,6 +17,7 @@ from barymesh.cell.files import (
     load_cell_preset,
     save_cell,
 )
+from barymesh.params import MAX_BUDGET
 
 
 def test_presets_are_the_four_classic_cells():
@@ -373,10 +374,20 @@ def test_a_cell_over_the_budget_is_refused_before_any_part_is_built():
         tile(small, 3, 2, max_triangles=200_000)
 
 
+def test_a_budget_past_what_int32_indices_number_is_refused_naming_it():
+    # issue 30's seventh fuzz run: a budget of 10**400 passed every count; no mesh past
+    # 715,827,882 triangles (three int32 indices each) can be built
+    small = cell_from_dict(_many(_preset_doc("double-ring-patch"), 1))
+    with pytest.raises(ValueError, match=r"^max_triangles=1000.* is above 715,827,882"):
+        build_cell(small, max_triangles=10**400)
+    with pytest.raises(ValueError, match=r"^max_triangles=2147483648 is above 715,827,882"):
+        tile(small, 2, 2, max_triangles=2**31)
+
+
 def test_an_element_with_its_own_huge_budget_is_held_to_the_cell_budget():
     doc = _preset_doc("double-ring-patch")
     doc["elements"][0].update(
-        inner_radius=1e3, outer_radius=2e3, angle_step=0.01, max_triangles=10**12
+        inner_radius=1e3, outer_radius=2e3, angle_step=0.01, max_triangles=MAX_BUDGET
     )
     cell = cell_from_dict(doc)
     assert cell.predicted_triangles() == 2 * 36_000 * 32 + 2 * 16**2  # the graded patch

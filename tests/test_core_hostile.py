@@ -297,6 +297,10 @@ def test_weld_keeps_a_cluster_whose_diameter_is_just_below_the_tolerance():
         ({"structure": np.array(["ring", "patch"])}, "structure"),  # was "truth value ambiguous"
         ({"subdivisions": 10**400}, "subdivisions"),
         ({"origin": (10**400, 0)}, "origin"),
+        # issue 30's seventh fuzz run: any budget was taken, so 10**400 let a 320-million-
+        # triangle ring through to the build (MemoryError); int32 indices end at 2**31 - 1
+        ({"max_triangles": 10**400}, "max_triangles"),
+        ({"max_triangles": 2**31}, "max_triangles"),
         ({"structure": "patch", "patch_size": 5e-324}, "patch_size"),  # was scipy in build_mesh
         ({"structure": "patch", "patch_size": 1e300}, "patch_size"),  # ditto
         # issue 30: the graded track's cell patch_size / n underflowed to 0 in _check_grading

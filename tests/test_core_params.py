@@ -6,7 +6,7 @@ import math
 import pytest
 
 from barymesh import MeshParams
-from barymesh.params import STRUCTURES
+from barymesh.params import MAX_BUDGET, STRUCTURES
 
 
 def test_defaults_draw_fig12a():
@@ -102,6 +102,14 @@ def test_budget_refuses_before_building_and_names_the_count():
     assert p.predicted_triangles() == 2304
     with pytest.raises(ValueError, match="2,304 triangles, above the budget max_triangles=2,303"):
         MeshParams(angle_step=10, max_triangles=2303)
+
+
+def test_the_budget_ends_where_int32_indices_do():
+    # issue 30's seventh fuzz run: a budget of 10**400 let 320 million triangles through
+    assert MAX_BUDGET == 715_827_882 == (2**31 - 1) // 3
+    assert MeshParams(max_triangles=MAX_BUDGET).max_triangles == MAX_BUDGET
+    with pytest.raises(ValueError, match=r"^max_triangles=715827883 is above 715,827,882, "):
+        MeshParams(max_triangles=MAX_BUDGET + 1)
 
 
 def test_from_dict_rejects_unknown_keys():

@@ -443,6 +443,37 @@ def assert_round_trip(mesh, ext):
     ),
     ext=".msh",
 )
+@example(  # issue 30's seventh fuzz run: a budget of 10**400 let 320 million triangles
+    # through to the build, which allocated until MemoryError (each failing case kept its
+    # arrays while Hypothesis shrank it: 22 GB); no mesh can be indexed past 715,827,882
+    kw=dict(
+        structure="square_split_double_ring",
+        inner_radius=5.0,
+        outer_radius=5.0000005,
+        patch_size=5e-7,
+        angle_step=2.0,
+        subdivisions=1,
+        gap_width=0.1,
+        max_triangles=10**400,
+    ),
+    ext=".msh",
+)
+@example(  # issue 30's seventh fuzz run: the sizing's refusal of subdivisions=6 (a patch
+    # 10 mm out) after a wavelength of 2.7e111 mm ran to 300 characters
+    kw=dict(
+        structure="patch",
+        scheme="barycentric",
+        inner_radius=1.0,
+        outer_radius=1.0001,
+        patch_size=0.0001,
+        subdivisions=1,
+        origin=(-10.0, -2.56618974881814e-187),
+        max_triangles=4000,
+        cells_per_wavelength=1.4687500000000002e117,
+        frequency=1.09375e-100,
+    ),
+    ext=".msh",
+)
 def test_hostile_parameters_give_a_named_error_or_a_sound_mesh(kw, ext):
     try:
         with address_space_cap(HOSTILE_MEMORY):  # a runaway is a MemoryError, not a swap

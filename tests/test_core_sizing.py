@@ -10,6 +10,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from barymesh import MeshParams, build_mesh
+from barymesh.params import MAX_BUDGET
 from barymesh.presets import load_params_file, resolve_params, save_params_file
 from barymesh.sizing import largest_area, longest_edge, target_edge, wavelength
 
@@ -32,7 +33,7 @@ def predicted(params, n):
     """Triangles of ``params`` at n, whatever the budget (infinite where n is refused)."""
     try:
         return params.replace(
-            frequency=None, max_edge=None, subdivisions=n, max_triangles=10**15
+            frequency=None, max_edge=None, subdivisions=n, max_triangles=MAX_BUDGET
         ).predicted_triangles()
     except ValueError:
         return math.inf

@@ -21,7 +21,7 @@ import numpy as np
 from ..build import build_mesh
 from ..grading import outline_sides
 from ..mesh import TriMesh
-from ..params import DEFAULT_MAX_TRIANGLES, MeshParams
+from ..params import DEFAULT_MAX_TRIANGLES, MAX_BUDGET, MeshParams, budget_too_large
 from ..repeat import Repetition
 from ..structures import outline_rects
 from ..subdivision import PatchTemplate, graded_patch_template, patch_template
@@ -350,7 +350,8 @@ def build_cell(
     max_triangles : int
         Triangle budget of the whole cell: a cell whose parts together would
         have more (:meth:`UnitCell.predicted_triangles`) is refused before any
-        part is built.
+        part is built. At most :data:`barymesh.params.MAX_BUDGET` (715,827,882,
+        what int32 indices number); a larger one is refused itself.
 
     Returns
     -------
@@ -428,6 +429,8 @@ def _check_budget(predicted: int, max_triangles: int, what: str) -> None:
         raise ValueError(
             f"max_triangles={echo(max_triangles)} is invalid; expected an integer >= 1"
         )
+    if max_triangles > MAX_BUDGET:  # refused itself: below it, every count would pass
+        raise ValueError(budget_too_large(int(max_triangles)))
     if predicted > max_triangles:
         raise ValueError(
             f"{what} would make {predicted:,} triangles, above the budget max_triangles="
@@ -568,7 +571,8 @@ def tile(
     n1, n2 : int
         Copies along a1 and a2, >= 1.
     max_triangles : int
-        Triangle budget of the array (and of the cell when it is built here).
+        Triangle budget of the array (and of the cell when it is built here), at
+        most :data:`barymesh.params.MAX_BUDGET`.
 
     Returns
     -------
