@@ -32,11 +32,12 @@ test: $(STAMP)
 # The hostile-input fuzz at 50,000 examples (make test runs 2,000): parameters, then a
 # tenth as many cell documents and study specs, a twentieth of frequencies for the
 # free-space solver and a fortieth for the infinite array (each test scales its own count).
+# Fresh examples on every run (the "fuzz" profile); FUZZ_ARGS=--hypothesis-seed=N repeats one.
 fuzz: $(STAMP)
-	BARYMESH_FUZZ_EXAMPLES=50000 $(BIN)/python -m pytest -p no:xvfb -q \
+	HYPOTHESIS_PROFILE=fuzz BARYMESH_FUZZ_EXAMPLES=50000 $(BIN)/python -m pytest -p no:xvfb -q \
 		tests/test_core_properties.py tests/test_cell_properties.py tests/test_study_spec.py \
 		tests/test_mom_api.py tests/test_mom_periodic_checks.py -k "hostile or any_frequency" \
-		--hypothesis-show-statistics
+		--hypothesis-show-statistics $(FUZZ_ARGS)
 
 bench: $(STAMP)
 	@bash scripts/system-deps.sh $(GMSH_DEPS)
