@@ -235,9 +235,11 @@ class MeshController(QObject):
         self._flush()
 
     def painted(self) -> None:
-        """The view painted: a result held for that paint is handed on now."""
+        """The view painted: a result held for that paint is handed on at the event loop's
+        next turn for timers (a zero timer, not a posted call: Qt handles posted calls
+        before timers, and the result's handling joined the paint's block)."""
         if self._held is not None:
-            self._release()
+            self._paint_wait.start(0)
 
     def _release(self) -> None:
         self._paint_wait.stop()
@@ -372,7 +374,7 @@ class MeshController(QObject):
             and self.paint_pending()
         ):
             self._held = payload  # after the paint of the mesh before it (module docstring)
-            self._paint_wait.start()
+            self._paint_wait.start(PAINT_WAIT_MS)
             return
         was_current = job is self.current
         if was_current:

@@ -256,8 +256,10 @@ def test_a_result_waits_for_the_paint_of_the_mesh_before_it(window, qtbot, monke
     assert held.params.inner_radius == 4.5 and controller.busy  # built, not yet shown
     assert window.model.result.mesh.n_triangles == 23_040
     assert window.model.result.params.inner_radius != 4.5
-    controller.painted()  # the paint came: the result is shown at once
-    assert controller._held is None and window.model.result.params.inner_radius == 4.5
+    controller.painted()  # the paint came: the result is shown at the next timers' turn
+    assert controller._paint_wait.interval() == 0
+    qtbot.waitUntil(lambda: window.model.result.params.inner_radius == 4.5, timeout=5_000)
+    assert controller._held is None
     qtbot.waitUntil(lambda: not controller.busy, timeout=5_000)
     # no paint at all (a hidden view): shown after PAINT_WAIT_MS
     type_value(qtbot, window, "inner_radius", "4.8")
