@@ -86,7 +86,8 @@ SOLVE_BYTES_PER_N2 = 45.0
 PERIODIC_FIXED_BYTES = 160 * 2**20
 
 
-def _lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
+def lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
+    """The lattice vectors (2, 2) in metres: ``lattice``'s, or else the mesh's own."""
     lat = lattice if lattice is not None else getattr(mesh, "lattice", None)
     if lat is None:
         raise ValueError(
@@ -352,7 +353,7 @@ def periodic_geometry(
         sides without matching periodic edges.
     """
     lattice = as_lattice(lattice)  # a Lattice, or two vectors in mm
-    vectors = _lattice_metres(mesh, lattice)
+    vectors = lattice_metres(mesh, lattice)
     key = tuple(vectors.ravel())
     per_mesh = _CACHE.setdefault(mesh, {})
     if key not in per_mesh:
@@ -742,7 +743,7 @@ def periodic_solve_many(
                 )
     lattice = as_lattice(lattice)
     for wave in waves:  # the lattice sums' terms and memory, before the geometry is built
-        check_green_terms(_lattice_metres(mesh, lattice), frequency, wave.direction, memory_limit)
+        check_green_terms(lattice_metres(mesh, lattice), frequency, wave.direction, memory_limit)
     pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
     check_periodic_memory(pg.base.n_triangles, pg.n_unknowns, memory_limit, geometry=False)
     k = wavenumber(frequency)

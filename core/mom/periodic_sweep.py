@@ -59,6 +59,7 @@ from .periodic import (
     check_periodic_memory,
     check_stack,
     fill_system,
+    lattice_metres,
     one_blas_thread,
     periodic_geometry,
     periodic_solve,
@@ -67,7 +68,7 @@ from .periodic import (
 from .periodic_caveats import onset_resonance_warning
 from .periodic_checks import as_lattice, check_green_terms
 from .periodic_green import reciprocal_vectors
-from .solve import SolveCancelled, check_sheet_impedance, memory_allowance
+from .solve import SolveCancelled, check_frequencies, check_sheet_impedance, memory_allowance
 from .stack import Stack
 
 log = logging.getLogger(__name__)
@@ -131,16 +132,6 @@ def te_tm_polarizations(direction: Sequence[float] | np.ndarray) -> np.ndarray:
     te = np.array([-along[1], along[0], 0.0])
     tm = np.cross(te, d) if d[2] < 0 else -np.cross(te, d)
     return np.stack([te, tm])
-
-
-def _lattice_vectors(mesh: TriMesh, lattice: Any) -> np.ndarray:
-    lat = lattice if lattice is not None else getattr(mesh, "lattice", None)
-    if lat is None:
-        raise ValueError(
-            "the mesh carries no lattice: an infinite array needs a unit cell "
-            "(mesh a cell, or pass lattice=Lattice(...))"
-        )
-    return np.array([lat.a1, lat.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
 
 
 def _order_onsets(
@@ -771,7 +762,7 @@ def periodic_sweep(
         periodic edges (from :func:`~barymesh.mom.periodic.periodic_geometry`), a
         frequency at a grating-lobe onset with ``interpolate=False``.
     """
-    freqs = _check_frequencies(frequencies)
+    freqs = check_frequencies(frequencies)
     wave = PlaneWave() if incidence is None else incidence
     if not isinstance(wave, PlaneWave):
         raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
@@ -791,7 +782,7 @@ def periodic_sweep(
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     lattice = as_lattice(lattice)
-    vectors = _lattice_vectors(mesh, lattice)
+    vectors = lattice_metres(mesh, lattice)
     # every check of the cell (boundary, size, memory) up front; the lattice sums' at the top
     check_green_terms(vectors, float(freqs[-1]), direction, memory_limit, float(freqs[0]))
     periodic_geometry(mesh, lattice, memory_limit=memory_limit)
@@ -1059,23 +1050,3 @@ def _resonances(sweep: PeriodicSweep, co_fits: list) -> tuple[np.ndarray, tuple,
         tuple(kinds[j] for j in order),
         np.array(qs)[order],
     )
-
-
-def _check_frequencies(frequencies: Any) -> np.ndarray:
-    try:
-        freqs = np.asarray(frequencies, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"frequencies={frequencies!r} is not a list of numbers (Hz)") from None
-    if len(freqs) == 0:
-        raise ValueError("frequencies is empty; expected at least one frequency in Hz")
-    bad = ~(np.isfinite(freqs) & (freqs > 0))
-    if np.any(bad):
-        raise ValueError(
-            f"frequencies[{int(np.argmax(bad))}]={freqs[bad][0]!r} is invalid; "
-            "expected positive frequencies in Hz"
-        )
-    if np.any(np.diff(freqs) <= 0):
-        raise ValueError("frequencies must be strictly increasing")
-    freqs = freqs.copy()
-    freqs.flags.writeable = False
-    return freqs

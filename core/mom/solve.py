@@ -8,6 +8,7 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import scipy.linalg as sla
@@ -166,6 +167,29 @@ def _far_points(mesh: TriMesh, far_order: int) -> int:
 def format_bytes(b: float) -> str:
     """Bytes as GiB (from a quarter GiB) or MiB, for error messages: "9.47 GiB"."""
     return f"{b / 2**30:.2f} GiB" if b >= 2**28 else f"{b / 2**20:.1f} MiB"
+
+
+def check_frequencies(frequencies: Any) -> np.ndarray:
+    """``frequencies`` (Hz) as a read-only float array: numbers, at least one, each finite
+    and positive, strictly increasing (the sweeps' common check; the message names the
+    first bad one)."""
+    try:
+        freqs = np.asarray(frequencies, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"frequencies={frequencies!r} is not a list of numbers (Hz)") from None
+    if len(freqs) == 0:
+        raise ValueError("frequencies is empty; expected at least one frequency in Hz")
+    bad = ~(np.isfinite(freqs) & (freqs > 0))
+    if np.any(bad):
+        raise ValueError(
+            f"frequencies[{int(np.argmax(bad))}]={freqs[bad][0]!r} is invalid; "
+            "expected positive frequencies in Hz"
+        )
+    if np.any(np.diff(freqs) <= 0):
+        raise ValueError("frequencies must be strictly increasing")
+    freqs = freqs.copy()
+    freqs.flags.writeable = False
+    return freqs
 
 
 def _check_frequency(frequency: float, name: str = "frequency") -> float:
@@ -548,16 +572,7 @@ def sweep(
     -------
     SweepResult
     """
-    try:
-        freqs = np.asarray(frequencies, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ValueError(f"frequencies={frequencies!r} is not a list of numbers (Hz)") from None
-    if len(freqs) == 0:
-        raise ValueError("frequencies is empty; expected at least one frequency in Hz")
-    for f in freqs:
-        _check_frequency(f, "frequencies")
-    if np.any(np.diff(freqs) <= 0):
-        raise ValueError("frequencies must be strictly increasing")
+    freqs = check_frequencies(frequencies)
     excitation = _default_excitation(excitation)
     zs = check_sheet_impedance(sheet_impedance)
     if not isinstance(mesh, TriMesh):
