@@ -298,7 +298,7 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
         "solver.json",
         "quality-2026-12-02.json",
         "latency-big-2026-12-02.json",
-        "latency-interaction-2026-12-03.json",
+        "latency-interaction-2026-12-04.json",
         "startup-2026-12-04.json",
     ):
         assert result in performance
