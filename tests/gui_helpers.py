@@ -23,6 +23,14 @@ def display_point(plotter, world, renderer=None):
     return x, y
 
 
+def text_display_box(actor, renderer):
+    """Where a text actor's text is drawn: (x0, x1, y0, y1) in display pixels."""
+    box = [0.0] * 4
+    actor.GetBoundingBox(renderer, box)  # about its position
+    x, y = actor.GetPositionCoordinate().GetComputedDoubleDisplayValue(renderer)
+    return box[0] + x, box[1] + x, box[2] + y, box[3] + y
+
+
 def widget_pos(plotter, world, renderer=None):
     """The Qt widget position of a world point."""
     x, y = display_point(plotter, world, renderer)

@@ -228,23 +228,39 @@ def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
 
 
 def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
+    """The right half's tick values sit at its ruler lines (the cube axes placed 2D
+    labels as if every viewport began at the window's left edge)."""
+    from gui_helpers import display_point, text_display_box
+
     from barymesh.app.view.scene import nice_span
 
     x0, x1, y0, y1 = view.scenes["conforming"].bounds
-    (a, b, nx), (c, _d, ny) = nice_span(x0, x1), nice_span(y0, y1)
+    (a, b, nx), (c, d, ny) = nice_span(x0, x1), nice_span(y0, y1)
     axes = view.scenes["conforming"].axes
     assert axes.bounds[0] == a and axes.bounds[2] == c  # where the ruler lines are
-    height = view.plotter.window_size[1]
-    per_px = 2.0 * view.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
-    pts = np.asarray(view.tick_points.points)
-    labels = list(view.tick_points.point_data["label"])
-    xs, ys = pts[:nx], pts[nx : nx + ny]
-    # x values just under the bottom ruler (within 20 px), y values just left of the left one
-    assert ((xs[:, 1] < c) & (xs[:, 1] > c - 20 * per_px)).all()
-    assert ((ys[:, 0] < a) & (ys[:, 0] > a - 30 * per_px)).all()
-    np.testing.assert_allclose(xs[:, 0], np.linspace(a, b, nx))
-    assert labels[-1:] == ["x (mm)"]
-    assert list(view.y_title_point.point_data["label"]) == ["y (mm)"]  # its own, upright
+    view.plotter.ren_win.Render()
+    renderer = view.plotter.renderers[1]
+    xs, ys = np.linspace(a, b, nx), np.linspace(c, d, ny)
+    x_labels, y_labels = axes.label_actors(0), axes.label_actors(1)
+    assert [t.GetInput() for t in x_labels] == [f"{v:.4g}" for v in xs]
+    assert [t.GetInput() for t in y_labels] == [f"{v:.4g}" for v in ys]
+    # x values centred under their ticks, within 25 px under the bottom ruler (the box
+    # holds the font's descent too); y values centred on theirs, within 30 px left of
+    # the left one
+    for actor, x in zip(x_labels, xs, strict=True):
+        px, py = display_point(view.plotter, (x, c, 0.0), renderer)
+        box = text_display_box(actor, renderer)
+        assert abs(0.5 * (box[0] + box[1]) - px) < 2 and py - 25 < box[2] < box[3] < py
+    for actor, y in zip(y_labels, ys, strict=True):
+        px, py = display_point(view.plotter, (a, y, 0.0), renderer)
+        box = text_display_box(actor, renderer)
+        assert abs(0.5 * (box[2] + box[3]) - py) < 2 and px - 30 < box[0] < box[1] < px
+    # the titles: "x (mm)" under the x values, "y (mm)" left of the y values
+    assert axes.x_title == "x (mm)" and axes.y_title == "y (mm)"
+    x_title = text_display_box(axes.title_actor(0), renderer)
+    assert x_title[3] < min(text_display_box(t, renderer)[2] for t in x_labels)
+    y_title = text_display_box(axes.title_actor(1), renderer)
+    assert y_title[1] < min(text_display_box(t, renderer)[0] for t in y_labels)
 
 
 def text_box(prop, text, dpi, centre=None, corner=None):
@@ -263,8 +279,8 @@ def text_box(prop, text, dpi, centre=None, corner=None):
 def test_right_half_y_title_keeps_clear_of_its_half_title(view, tmp_path):
     """Issue 30, 1.10: the right half's "y (mm)" sat over the top end of its ruler, on the
     "Conforming mode" title. It is drawn upright left of the tick values, half-way up the
-    ruler, as VTK draws the left half's."""
-    from gui_helpers import display_point
+    ruler, as on the left half."""
+    from gui_helpers import display_point, text_display_box
     from vtkmodules.vtkRenderingCore import vtkTextActor
 
     from barymesh.app.teach.compare_view import TITLES
@@ -273,20 +289,8 @@ def test_right_half_y_title_keeps_clear_of_its_half_title(view, tmp_path):
     renderer = view.plotter.renderers[1]
     dpi = view.plotter.ren_win.GetDPI()
     w, h = view.plotter.window_size
-    # where "y (mm)" is, in whichever labelled points hold it
-    found = []
-    for points, mapper in (
-        (view.tick_points, view.tick_mapper),
-        (getattr(view, "y_title_point", None), getattr(view, "y_title_mapper", None)),
-    ):
-        if points is None or points.n_points == 0:
-            continue
-        labels = list(points.point_data["label"])
-        if "y (mm)" in labels:
-            where = points.points[labels.index("y (mm)")]
-            centre = display_point(view.plotter, where, renderer)
-            found.append(text_box(mapper.GetLabelTextProperty(), "y (mm)", dpi, centre=centre))
-    (y_box,) = found
+    axes = view.scenes["conforming"].axes
+    y_box = text_display_box(axes.title_actor(1), renderer)
     props = renderer.GetViewProps()
     props.InitTraversal()
     title = next(
@@ -312,17 +316,7 @@ def test_right_half_y_title_keeps_clear_of_its_half_title(view, tmp_path):
     x0, x1, y0, y1 = view.scenes["conforming"].bounds
     (a, _b, _nx), (c, d, _ny) = nice_span(x0, x1), nice_span(y0, y1)
     assert y_box[3] - y_box[2] > y_box[1] - y_box[0]
-    labels = list(view.tick_points.point_data["label"])
-    ticks = [
-        text_box(
-            view.tick_mapper.GetLabelTextProperty(),
-            t,
-            dpi,
-            centre=display_point(view.plotter, p, renderer),
-        )
-        for t, p in zip(labels, view.tick_points.points, strict=True)
-        if t != "x (mm)"
-    ]
+    ticks = [text_display_box(t, renderer) for t in axes.label_actors(1)]
     assert y_box[1] < min(t[0] for t in ticks)
     bottom = display_point(view.plotter, (a, c, 0.0), renderer)[1]
     top = display_point(view.plotter, (a, d, 0.0), renderer)[1]

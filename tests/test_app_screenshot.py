@@ -1,9 +1,9 @@
 """Screenshots at 2x to 4x and at the command line's sizes (issue 30, section 1, items 12
 and 14), in the real window (Xvfb) and through ``barymesh mesh --window-size``.
 
-A scaled export is drawn one render at a time (title probes, the annotation, tiles of the
-mesh) under a progress dialog with Cancel, the event loop running between the renders;
-what it writes is the picture of the view at k times the pixels. The command line's
+A scaled export is drawn one render at a time (the annotation, then tiles of the mesh)
+under a progress dialog with Cancel, the event loop running between the renders; what
+it writes is the picture of the view at k times the pixels. The command line's
 screenshot above 1024 x 768 is that picture too, its text scaled with its size.
 """
 
@@ -113,8 +113,8 @@ def test_a_3x_export_is_drawn_in_steps_while_the_window_answers(
     window, qtbot, tmp_path, file_dialog, shots
 ):
     """File → Export screenshot at 3x froze the window for 7–12 s (three renders at 3x,
-    no progress). Now: a progress dialog with Cancel, one render a step (two title probes,
-    the annotation, 3 x 3 tiles of the view's size), the event loop running between
+    no progress). Now: a progress dialog with Cancel, one render a step (the annotation,
+    3 x 3 tiles of the view's size), the event loop running between
     them; the image is the view's picture at three times the pixels."""
     qtbot.waitUntil(lambda: window.model.result is not None, timeout=30_000)
     window.model.set_color_by("min_angle")  # a colour bar, its title and ticks
@@ -128,11 +128,11 @@ def test_a_3x_export_is_drawn_in_steps_while_the_window_answers(
     _keep("export_3x.png", big)
     h, w = one.shape[:2]
     assert big.shape[:2] == (3 * h, 3 * w)
-    # drawn in steps: 2 probes, the annotation and 9 tiles the view's size...
+    # drawn in steps: the annotation and 9 tiles the view's size...
     (shot,) = shots.shots
     assert shot.view == (w, h) and len(shot.tiles) == 9
     (marks,) = shots.marks
-    assert len(marks) == shot.total == 2 + 1 + 9
+    assert len(marks) == shot.total == 1 + 9
     # ...with the event loop running between them (the 10 ms heartbeat beat in most of
     # the gaps; one render at 3x blocked it from the click to the end) and after them
     # while the PNG was written in a worker thread
@@ -161,7 +161,7 @@ def test_a_3x_export_is_drawn_in_steps_while_the_window_answers(
         within = np.abs(big[row + 2].astype(int) - big[row + 1].astype(int)).max(axis=-1)
         assert (across > 60).mean() <= (within > 60).mean() + 0.02
     # the tiles' mesh is the one k times larger render the export was before, pixel for
-    # pixel (a single render of the same copy at 3x, without the titles' probes)
+    # pixel (a single render of the same copy at 3x)
     plotter, copy = scaled_shot._scene_copy(window.scene, 3)
     try:
         plotter.render()

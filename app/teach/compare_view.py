@@ -31,7 +31,7 @@ from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
-from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span, scene_data
+from barymesh.app.view.scene import MeshScene, scene_data
 from barymesh.app.worker import Job
 
 log = logging.getLogger(__name__)
@@ -277,24 +277,6 @@ class CompareView(FollowingView):
                 actor.mapper.SetScalarVisibility(True)
                 self.overlay_actor = actor
         self.plotter.link_views()
-        for col, mode in enumerate(MODES):  # the rulers follow the shared camera
-            self.scenes[mode].axes.SetCamera(self.plotter.renderers[col].GetActiveCamera())
-        # VTK's 2D ruler labels are placed in window pixels as if every viewport began at
-        # the window's left edge, so the right half's fall outside it: that half gets its
-        # tick labels from a labelled-points actor, which knows its viewport
-        self.plotter.subplot(0, 1)
-        self.tick_points = pv.PolyData()
-        self.tick_mapper, self.tick_actor = add_text_labels(
-            self.plotter, self.tick_points, "#303030", font_size=12, background_opacity=0.0
-        )
-        # its y title upright beside the ruler, as VTK draws the left half's: placed over
-        # the ruler's top end, it ran into the half's title ("Conforming mode")
-        self.y_title_point = pv.PolyData()
-        self.y_title_mapper, self.y_title_actor = add_text_labels(
-            self.plotter, self.y_title_point, "#303030", font_size=12, background_opacity=0.0
-        )
-        self.y_title_mapper.GetLabelTextProperty().SetOrientation(90.0)
-        self.y_title_mapper.GetLabelTextProperty().SetBold(False)
         self.plotter.subplot(0, 0)
         self.plotter.enable_parallel_projection()
         self.plotter.view_xy(render=False)
@@ -450,44 +432,9 @@ class CompareView(FollowingView):
             self.frame(self._frame_bounds)
             self._camera_moved()
 
-    def place_tick_labels(self) -> None:
-        """The conforming half's tick values, just outside its bottom and left rulers (at
-        the rulers' rounded-out span, where their lines are), and its axis titles: x under
-        the values, y upright left of them, half-way up (as VTK draws the left half's)."""
-        half = self.halves.get("conforming")
-        if half is None or half.error is not None:
-            self.tick_points.copy_from(pv.PolyData(), deep=True)
-            self.tick_mapper.Modified()
-            self.y_title_point.copy_from(pv.PolyData(), deep=True)
-            self.y_title_mapper.Modified()
-            return
-        x0, x1, y0, y1 = self.scenes["conforming"].bounds
-        (a, b, nx), (c, d, ny) = nice_span(x0, x1), nice_span(y0, y1)
-        height = max(self.plotter.window_size[1], 1)
-        per_px = 2.0 * self.plotter.renderers[1].GetActiveCamera().GetParallelScale() / height
-        xs, ys = np.linspace(a, b, nx), np.linspace(c, d, ny)
-        pts = np.vstack(
-            [
-                np.column_stack([xs, np.full(nx, c - 14 * per_px), np.zeros(nx)]),
-                np.column_stack([np.full(ny, a - 22 * per_px), ys, np.zeros(ny)]),
-                [[0.5 * (a + b), c - 32 * per_px, 0.0]],  # as far down as the left half's
-            ]
-        )
-        labels = pv.PolyData(pts)
-        labels.point_data["label"] = np.array([*(f"{v:.4g}" for v in (*xs, *ys)), "x (mm)"])
-        self.tick_points.copy_from(labels, deep=True)
-        self.tick_mapper.Modified()
-        # left of the widest tick value (its centre at 22 px), half-way up the ruler
-        widest = max(len(f"{v:.4g}") for v in ys)
-        title = pv.PolyData(np.array([[a - (34 + 4 * widest) * per_px, 0.5 * (c + d), 0.0]]))
-        title.point_data["label"] = np.array(["y (mm)"])
-        self.y_title_point.copy_from(title, deep=True)
-        self.y_title_mapper.Modified()
-
     def _camera_moved(self, *_args: Any) -> None:
         if self._closed:
             return
-        self.place_tick_labels()
         for col, mode in enumerate(MODES):
             self.plotter.subplot(0, col)
             if self.halves.get(mode) is not None and self.halves[mode].error is None:

@@ -38,11 +38,6 @@ from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, 
 
 #: The largest magnification offered (File → Export screenshot).
 MAX_SCALE = 4
-#: Pixels a title moves per unit of its text's line offset (measured: half a pixel; down
-#: for the x ruler's title, right for the y ruler's turned one).
-_PX_PER_LINE_OFFSET = 0.5
-#: Colours the titles are drawn in to find them in a probe render (nothing else is).
-_PROBE = {0: (1.0, 0.0, 0.0), 1: (0.0, 0.0, 1.0)}
 #: Extra pixels around a tile (beyond half the widest dot or line), cut off after.
 _MARGIN_PX = 4
 
@@ -63,12 +58,7 @@ def _text_props(scene: MeshScene) -> list[object]:
 
 
 def _axes_line_props(scene: MeshScene) -> list[object]:
-    axes = scene.axes
-    return [
-        axes.GetXAxesLinesProperty(),
-        axes.GetYAxesLinesProperty(),
-        axes.GetZAxesLinesProperty(),
-    ]
+    return [scene.axes.line_property()]
 
 
 def _annotation(scene: MeshScene) -> list[object]:
@@ -116,7 +106,7 @@ def _copy_scaled(shown: MeshScene, copy: MeshScene, scale: float) -> None:
 
 def _show_as(shown: MeshScene, copy: MeshScene) -> None:
     """Show and hide ``copy``'s props as ``shown``'s are, its rulers' titles in their
-    colours (a probe of :func:`_title_spans` hides everything else and colours them)."""
+    colours."""
     for name in LAYERS:
         copy.actors[name].SetVisibility(shown.actors[name].GetVisibility())
     for name in ("actors_overview", "actors_zoom", "scalar_bar", "legend_title", "note", "axes"):
@@ -170,6 +160,9 @@ def _scene_copy(
         copy.n_triangles, copy.overview, copy.zoom = (scene.n_triangles, scene.overview, scene.zoom)
         copy.paper, copy.overlap_ratio = scene.paper, scene.overlap_ratio
         copy.axes.n_xlabels, copy.axes.n_ylabels = scene.axes.n_xlabels, scene.axes.n_ylabels
+        copy.axes.x_label_format = scene.axes.x_label_format
+        copy.axes.y_label_format = scene.axes.y_label_format
+        copy.axes.x_title, copy.axes.y_title = scene.axes.x_title, scene.axes.y_title
         copy.axes.bounds = scene.axes.bounds
         faces, mine = scene.actors["faces"].mapper, copy.actors["faces"].mapper
         copy.datasets["faces"].copy_from(scene.datasets["faces"], deep=False)
@@ -193,58 +186,6 @@ def _scene_copy(
         plotter.close()
         raise
     return plotter, copy
-
-
-def _title_spans(plotter: pv.Plotter, copy: MeshScene) -> dict[int, tuple[float, float]]:
-    """Where the rulers' titles are, in display pixels: the x title's rows (key 0) and the
-    y title's columns (key 1), each as (first, last + 1). Found in one render of the
-    titles alone, each in a colour of its own (:func:`_show_as` undoes that).
-    """
-    if not copy.axes.GetVisibility():
-        return {}
-    props = plotter.renderer.GetViewProps()
-    for prop in [props.GetItemAsObject(i) for i in range(props.GetNumberOfItems())]:
-        if prop is not copy.axes:
-            prop.SetVisibility(False)  # (a throw-away copy: nothing to restore)
-    for axis, colour in _PROBE.items():
-        copy.axes.GetTitleTextProperty(axis).SetColor(colour)
-    plotter.render()  # (none before the first screenshot, which renders)
-    image = np.asarray(plotter.screenshot(None, return_img=True))[..., :3].astype(int)
-    red = (image[..., 0] > 160) & (image[..., 1] < 90) & (image[..., 2] < 90)
-    blue = (image[..., 2] > 160) & (image[..., 0] < 90) & (image[..., 1] < 90)
-    spans = {}
-    rows = np.nonzero(red.any(axis=1))[0]
-    if len(rows):  # display y grows upwards
-        spans[0] = (float(image.shape[0] - 1 - rows.max()), float(image.shape[0] - rows.min()))
-    cols = np.nonzero(blue.any(axis=0))[0]
-    if len(cols):
-        spans[1] = (float(cols.min()), float(cols.max() + 1))
-    return spans
-
-
-def _title_offsets(at_one: dict, have: dict, scale: float) -> dict[int, float]:
-    """Line offsets that put the rulers' titles of a ``scale`` times larger copy of the
-    view where the view has them, k times as far from its lower-left corner, from the
-    titles' places at 1× (``at_one``) and in a copy at k× (``have``), see
-    :func:`_title_spans`.
-
-    VTK places a ruler's 2D title a fixed number of pixels (40 below the x ruler, 50 left
-    of the y ruler, at least 10 from the window's edge) from where its 3D position
-    projects: in a k times larger image the projected part grows k times, the fixed part
-    does not, so the titles crept onto the labels. The titles' text line offset moves
-    them.
-    """
-    offsets = {}
-    for axis, (lo, hi) in at_one.items():
-        if axis not in have:
-            continue
-        k_lo, k_hi = have[axis]
-        # the middle of the title, k times as far out; a title cut by the window's lower
-        # or left edge is measured from its other side
-        middle = 0.5 * (k_lo + k_hi) if k_lo > 0 else k_hi - 0.5 * scale * (hi - lo)
-        units = (0.5 * scale * (lo + hi) - middle) / _PX_PER_LINE_OFFSET  # up, right
-        offsets[axis] = -units if axis == 0 else units
-    return offsets
 
 
 def _check_scale(scale: object, limit: float | None = MAX_SCALE) -> float:
@@ -297,9 +238,8 @@ class ScaledShot:
         tile_w, tile_h = self.view
         #: lower-left corners (display pixels, y up) of the tiles covering the image
         self.tiles = [(x, y) for y in range(0, height, tile_h) for x in range(0, width, tile_w)]
-        self.probes = 2 if self.scale != 1 and scene.axes.GetVisibility() else 0
-        #: renders in all: the title probes, the annotation, the tiles
-        self.total = self.probes + 1 + len(self.tiles)
+        #: renders in all: the annotation, the tiles
+        self.total = 1 + len(self.tiles)
         self.image: np.ndarray | None = None
 
     def _margin(self) -> int:
@@ -321,19 +261,14 @@ class ScaledShot:
         def progress(text: str) -> tuple[float, str]:
             return done / self.total, text
 
-        # the tiles' plotter, at first the view's size: where the rulers' titles are at 1x
         width, height = self.size
         tile_w, tile_h = self.view
         margin = self._margin()
+        annotation = self._annotation()
+        done += 1
+        yield progress(f"drawing the mesh: tile 1 of {len(self.tiles)}")
         plotter, copy = _scene_copy(self.scene, 1.0, self.view)
         try:
-            at_one = _title_spans(plotter, copy) if self.probes else {}
-            if self.probes:
-                done += 1
-                yield progress("placing the rulers' titles")
-            annotation = yield from self._annotation(at_one)
-            done += 1 + (1 if self.probes else 0)
-            yield progress(f"drawing the mesh: tile 1 of {len(self.tiles)}")
             # the tiles: the view's size and a margin, lines and dots k times as wide
             plotter.window_size = (tile_w + 2 * margin, tile_h + 2 * margin)
             _show_as(self.scene, copy)
@@ -375,24 +310,15 @@ class ScaledShot:
             plotter.close()
         self.image = _over(annotation, mesh, self.scene.plotter.background_color.float_rgb)
 
-    def _annotation(self, at_one: dict) -> Iterator[tuple[float, str]]:
+    def _annotation(self) -> np.ndarray:
         """The annotation alone at the image's size, (h, w, 4) uint8 over a transparent
-        background (its colour left in the colour channels, as VTK blends), its rulers'
-        titles k times as far out as in the view (``at_one``: their places at 1x, see
-        :func:`_title_spans`); a generator that yields once, between the probe at k x and
-        the render, and returns the image."""
+        background (its colour left in the colour channels, as VTK blends). The rulers
+        measure their ticks, gaps and titles' distances in multiples of their font size,
+        so at k times the fonts they are k times as far out, as in a k times larger view."""
         plotter, copy = _scene_copy(self.scene, self.scale, self.size)
         try:
-            offsets: dict[int, float] = {}
-            if self.probes:
-                offsets = _title_offsets(at_one, _title_spans(plotter, copy), self.scale)
-                yield (self.probes / self.total, "drawing the rulers and legend")
-                _show_as(self.scene, copy)
             for prop in _mesh_props(copy):
                 prop.SetVisibility(False)
-            for axis, offset in offsets.items():
-                prop = copy.axes.GetTitleTextProperty(axis)
-                prop.SetLineOffset(prop.GetLineOffset() + offset)
             plotter.render()
             shot = plotter.screenshot(None, transparent_background=True, return_img=True)
         finally:

@@ -46,6 +46,7 @@ from barymesh.app.view.overview import (
     triangles_in_rect,
 )
 from barymesh.app.view.polydata import Layer
+from barymesh.app.view.rulers import Rulers
 
 log = logging.getLogger(__name__)
 
@@ -847,22 +848,7 @@ class MeshScene:
         self._set_overview_quad()
 
         # Axes in mm with "nice" tick values along the bottom and left of the mesh.
-        self.axes = p.show_bounds(
-            bounds=(0.0, 1.0, 0.0, 1.0, 0.0, 0.0),
-            show_zaxis=False,
-            xtitle="x (mm)",
-            ytitle="y (mm)",
-            location="outer",
-            ticks="outside",
-            color="#303030",
-            bold=False,
-            font_size=12,
-            n_xlabels=5,
-            n_ylabels=5,
-            use_2d=True,
-            render=False,
-            fmt="%.4g",
-        )
+        self.axes = Rulers(p.renderer, color="#303030", font_size=12)
         self.axes.SetPickable(False)
         self._apply_visibility()
         self._apply_color_by()
@@ -1543,7 +1529,8 @@ def readable_ticks(lo: float, hi: float, count: int = 5) -> tuple[np.ndarray, st
 
 
 def _vtk_step(span: float) -> float:
-    """The major tick spacing ``vtkCubeAxesActor`` chooses for an axis of length ``span``."""
+    """The rulers' tick spacing for an axis of length ``span`` (the step VTK's cube-axes
+    actor chose, which the view's rulers kept when they replaced it)."""
     power = np.log10(span)
     if power != 0.0:
         power = np.copysign(abs(power) + 1e-9, power)
@@ -1557,8 +1544,8 @@ def _vtk_step(span: float) -> float:
 def nice_span(lo: float, hi: float, ticks: int = 5) -> tuple[float, float, int]:
     """Widen [lo, hi] to multiples of the step the rulers tick at; return it and the count.
 
-    The step is the one ``vtkCubeAxesActor`` puts its ticks at (1, 2 or 5 times a power
-    of ten, from the span), so every label sits on its tick line.
+    The step is the one the rulers put their ticks at (1, 2 or 5 times a power of ten,
+    from the span, :func:`_vtk_step`), so every label sits on its tick line.
 
     >>> nice_span(-9.7, 9.7)
     (-10.0, 10.0, 5)
