@@ -52,6 +52,34 @@ def test_every_folder_is_listed():
     assert all(name == "barymesh" or name.startswith("barymesh.") for name in listed)
 
 
+def _layout_rows() -> dict[str, str]:
+    """CONTRIBUTING's layout table: folder -> the name it imports as."""
+    text = (ROOT / "CONTRIBUTING.md").read_text()
+    table = text.split("## The layout", 1)[1].split("\n\n")[2]
+    rows = {}
+    for line in table.splitlines()[2:]:
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        rows[cells[0].strip("`")] = cells[1].strip("`")
+    return rows
+
+
+def test_the_layout_table_names_every_package_folder_and_only_those():
+    """CONTRIBUTING's map of the folders: every subpackage of ``core/`` and the top-level
+    folders have a row, each row's folder exists, and it imports as the table says."""
+    rows = _layout_rows()
+    core = {
+        f"core/{p.parent.name}/"
+        for p in (ROOT / "core").glob("*/__init__.py")
+        if "__pycache__" not in p.parts
+    }
+    assert core <= set(rows), sorted(core - set(rows))
+    assert {"core/", "app/", "assets/", "tests/", "benchmarks/", "docs/"} <= set(rows)
+    for folder, name in rows.items():
+        assert (ROOT / folder).is_dir(), folder
+        if folder.startswith("core/") and folder != "core/":
+            assert name == "barymesh." + folder.split("/")[1], (folder, name)
+
+
 def test_version_is_one():
     assert barymesh.__version__ == PYPROJECT["project"]["version"] == "0.2.0"
     assert "[0.2.0]" in (ROOT / "CHANGELOG.md").read_text()

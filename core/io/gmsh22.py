@@ -16,33 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .limits import MAX_CELLS, MAX_POINTS, Damaged, parse_count
-
-#: Element type -> (name, nodes per element), from the MSH 2.2 specification.
-ELEMENT_TYPES = {
-    1: ("line", 2),
-    2: ("triangle", 3),
-    3: ("quad", 4),
-    4: ("tetra", 4),
-    5: ("hexahedron", 8),
-    6: ("wedge", 6),
-    7: ("pyramid", 5),
-    8: ("line3", 3),
-    9: ("triangle6", 6),
-    10: ("quad9", 9),
-    11: ("tetra10", 10),
-    12: ("hexahedron27", 27),
-    13: ("wedge18", 18),
-    14: ("pyramid14", 14),
-    15: ("vertex", 1),
-    16: ("quad8", 8),
-    17: ("hexahedron20", 20),
-    18: ("wedge15", 15),
-    19: ("pyramid13", 13),
-    20: ("triangle9", 9),
-    21: ("triangle10", 10),
-    26: ("line4", 4),
-}
-TRIANGLE = 2
+from .msh_sections import ELEMENT_TYPES, TRIANGLE, node_indices, section, tags_valid
 
 
 def msh2_kind(head: bytes) -> str | None:
@@ -51,17 +25,6 @@ def msh2_kind(head: bytes) -> str | None:
     if not match or not match.group(1).startswith(b"2"):
         return None
     return {b"0": "ascii", b"1": "binary"}.get(match.group(2))
-
-
-def _section(text: str, name: str) -> str | None:
-    """The body of ``$name`` … ``$Endname``, or None when absent."""
-    start = re.search(rf"^\${name}[ \t\r]*$", text, flags=re.MULTILINE)
-    if start is None:
-        return None
-    end = re.compile(rf"^\$End{name}[ \t\r]*$", flags=re.MULTILINE).search(text, start.end())
-    if end is None:
-        raise Damaged(f"its ${name} section has no $End{name} (the file is truncated)")
-    return text[start.end() : end.start()]
 
 
 def _integers(body: str, what: str) -> np.ndarray:
@@ -80,7 +43,7 @@ def _split_count(body: str, what: str, limit: int) -> tuple[int, str]:
 
 def _nodes(text: str) -> tuple[np.ndarray, np.ndarray]:
     """``(tags (V,), points (V, 3))`` of the ``$Nodes`` section."""
-    body = _section(text, "Nodes")
+    body = section(text, "Nodes")
     if body is None:
         raise Damaged("it has no $Nodes section")
     count, rest = _split_count(body, "nodes", MAX_POINTS)
@@ -99,7 +62,7 @@ def _nodes(text: str) -> tuple[np.ndarray, np.ndarray]:
             f"{len(values) / 4:,.4g} (4 numbers per node)"
         )
     values = values.reshape(-1, 4)
-    return _tags_valid(values[:, 0]), values[:, 1:]
+    return tags_valid(values[:, 0]), values[:, 1:]
 
 
 def read_gmsh22(path: Path):
@@ -109,7 +72,7 @@ def read_gmsh22(path: Path):
         return _read_binary(data)
     text = data.decode("latin-1")
     tags, points = _nodes(text)
-    body = _section(text, "Elements")
+    body = section(text, "Elements")
     if body is None:
         raise Damaged("it has no $Elements section")
     count, rest = _split_count(body, "elements", MAX_CELLS)
@@ -156,45 +119,10 @@ def read_gmsh22(path: Path):
             f"its $Elements section declares {count:,} elements but its numbers do "
             "not match that many element lines"
         )
-    _node_indices(tags, np.asarray(other, dtype=np.int64), np.asarray(other_numbers))
+    node_indices(tags, np.asarray(other, dtype=np.int64), np.asarray(other_numbers))
     tri = np.asarray(tri_nodes, dtype=np.int64).reshape(-1, 3)
-    triangles = _node_indices(tags, tri, np.repeat(np.asarray(numbers, dtype=np.int64), 3))
+    triangles = node_indices(tags, tri, np.repeat(np.asarray(numbers, dtype=np.int64), 3))
     return points, triangles, np.asarray(physical), np.asarray(elementary), ignored
-
-
-def _node_indices(tags: np.ndarray, refs: np.ndarray, elements: np.ndarray) -> np.ndarray:
-    """Row indices in ``$Nodes`` of node tags ``refs``; Damaged for tags not defined.
-
-    ``elements`` holds the element number of each entry of ``refs`` (flattened), for the
-    message.
-    """
-    order = np.argsort(tags, kind="stable")
-    sorted_tags = tags[order]
-    where = np.searchsorted(sorted_tags, refs)
-    where = np.minimum(where, max(len(tags) - 1, 0))
-    found = (sorted_tags[where] == refs) if len(tags) else np.zeros(refs.shape, dtype=bool)
-    if not np.all(found):
-        first = int(np.flatnonzero(~found.reshape(-1))[0])
-        bad, element = int(refs.reshape(-1)[first]), int(elements.reshape(-1)[first])
-        raise Damaged(
-            f"element {element} refers to node {bad}, which the $Nodes section does not define"
-        )
-    return order[where]
-
-
-def _tags_valid(tags: np.ndarray) -> np.ndarray:
-    """``tags`` as int64 after checking they are positive, whole and defined once."""
-    tags = np.asarray(tags, dtype=np.float64)
-    bad = (tags % 1 != 0) | (tags < 1) | (tags > 2**62)
-    if np.any(bad):
-        raise Damaged(
-            f"node tag {tags[bad][0]:g} is invalid; Gmsh node tags are positive whole numbers"
-        )
-    tags = tags.astype(np.int64)
-    unique, counts = np.unique(tags, return_counts=True)
-    if np.any(counts > 1):
-        raise Damaged(f"node tag {int(unique[counts > 1][0])} is defined twice")
-    return tags
 
 
 def _binary_section(data: bytes, name: bytes, start: int, limit: int, what: str):
@@ -224,7 +152,7 @@ def _read_binary(data: bytes):
         most = (len(data) - at) // node.itemsize
         raise Damaged(f"its $Nodes section declares {count:,} nodes but holds at most {most:,}")
     nodes = np.frombuffer(data, dtype=node, count=count, offset=at)
-    tags, points = _tags_valid(nodes["tag"]), nodes["x"].astype(np.float64)
+    tags, points = tags_valid(nodes["tag"]), nodes["x"].astype(np.float64)
     end = at + count * node.itemsize
     if not data[end : end + 12].lstrip().startswith(b"$EndNodes"):
         raise Damaged(f"its $Nodes section does not end after {count:,} nodes")
@@ -274,6 +202,6 @@ def _read_binary(data: bytes):
     def joined(parts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
         return np.concatenate(parts) if parts else np.empty(shape, dtype=np.int64)
 
-    _node_indices(tags, joined(other, (0,)), joined(other_numbers, (0,)))
-    triangles = _node_indices(tags, joined(tri, (0, 3)), joined(numbers, (0,)))
+    node_indices(tags, joined(other, (0,)), joined(other_numbers, (0,)))
+    triangles = node_indices(tags, joined(tri, (0, 3)), joined(numbers, (0,)))
     return points, triangles, joined(physical, (0,)), joined(elementary, (0,)), ignored

@@ -16,8 +16,8 @@ import warnings
 
 import numpy as np
 
-from .gmsh22 import ELEMENT_TYPES, TRIANGLE, _node_indices, _section, _tags_valid
 from .limits import MAX_CELLS, MAX_POINTS, Damaged, check_count
+from .msh_sections import ELEMENT_TYPES, TRIANGLE, node_indices, section, tags_valid
 
 
 def msh4_kind(head: bytes) -> str | None:
@@ -152,7 +152,7 @@ def read_gmsh41(data: bytes):
         if binary:
             found, end = _binary_body(data, name, start)
             return (found if end >= 0 else None), end
-        text = _section(data.decode("latin-1"), name)
+        text = section(data.decode("latin-1"), name)
         return (None if text is None else text.encode("latin-1")), 0
 
     entities, _ = body("Entities")
@@ -176,7 +176,7 @@ def read_gmsh41(data: bytes):
         tags.append(numbers.ints(count, size_t=True))
         coords.append(numbers.floats(count * width).reshape(count, width)[:, :3])
     numbers.check_end()
-    node_tags = _tags_valid(np.concatenate(tags) if tags else np.empty(0))
+    node_tags = tags_valid(np.concatenate(tags) if tags else np.empty(0))
     if len(node_tags) != n_nodes:
         raise Damaged(f"its $Nodes section declares {n_nodes:,} nodes but holds {len(node_tags):,}")
     points = np.concatenate(coords) if coords else np.empty((0, 3))
@@ -217,6 +217,6 @@ def read_gmsh41(data: bytes):
     def joined(parts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
         return np.concatenate(parts) if parts else np.empty(shape, dtype=np.int64)
 
-    _node_indices(node_tags, joined(other, (0,)), joined(other_numbers, (0,)))
-    triangles = _node_indices(node_tags, joined(tri, (0, 3)), joined(numbers_of, (0,)))
+    node_indices(node_tags, joined(other, (0,)), joined(other_numbers, (0,)))
+    triangles = node_indices(node_tags, joined(tri, (0, 3)), joined(numbers_of, (0,)))
     return points, triangles, joined(regions, (0,)), joined(patches, (0,)), ignored
