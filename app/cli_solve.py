@@ -688,7 +688,8 @@ def render_current(mesh: Any, current: Any, path: str, window_size: tuple[int, i
         import pyvista as pv
 
         from barymesh.app.view.current_layer import CurrentLayer
-        from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, scene_data
+        from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image
+        from barymesh.app.view.scene_data import scene_data
     except ImportError as exc:
         raise ValueError(
             f"--screenshot needs the desktop extras (pyvista): pip install 'barymesh[app]' ({exc})"

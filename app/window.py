@@ -83,7 +83,8 @@ from barymesh.app.view.framing import (
 )
 from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from barymesh.app.view.overview import DETAIL_TRIANGLES
-from barymesh.app.view.scene import MeshScene, needs_triangles, scene_data
+from barymesh.app.view.scene import MeshScene
+from barymesh.app.view.scene_data import needs_triangles, scene_data
 from barymesh.app.view.view_tools import ViewTools
 from barymesh.app.worker import BuildJob, MeshController, release_memory, run_in_thread
 
@@ -978,7 +979,7 @@ class MainWindow(QMainWindow):
 
     def _complete_scene(self, result: MeshResult) -> None:
         """A dense paper mesh's image is made without per-triangle values while it is
-        shown solid or by patch count (:func:`barymesh.app.view.scene.scene_data`): a colouring
+        shown solid or by patch count (:func:`barymesh.app.view.scene_data.scene_data`): a colouring
         that needs them has the worker make the scene again (plain until it comes)."""
         key = self.model.color_by
         if result.mesh is None or not needs_triangles(self.scene.overview, key):

@@ -4,7 +4,7 @@
 burst (a slider drag) are coalesced by a zero-delay timer: the latest parameters win.
 Small meshes (up to :data:`SYNC_TRIANGLES`) are built on the GUI thread, faster than a
 thread hop; larger ones in a worker thread that also computes the statistics and the
-scene arrays (:func:`barymesh.app.view.scene.scene_data`), while the window keeps answering.
+scene arrays (:func:`barymesh.app.view.scene_data.scene_data`), while the window keeps answering.
 
 A newer request (for a build of :data:`CANCEL_TRIANGLES` or more; a shorter one
 finishes and is shown first), Undo or :meth:`MeshController.cancel` abandons the running
@@ -42,7 +42,7 @@ from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
 
 from barymesh import MeshParams
 from barymesh.app.model import AppModel, MeshResult, compute
-from barymesh.app.view.scene import detail_data, scene_data
+from barymesh.app.view.scene_data import detail_data, scene_data
 
 log = logging.getLogger(__name__)
 
@@ -138,7 +138,8 @@ def _kept_scene(scene: object, _mesh: object) -> object:
 
 
 def _scene_or_none(mesh: object, **kwargs: object) -> object:
-    """:func:`barymesh.app.view.scene.scene_data`, or None if it fails (logged; never raises)."""
+    """:func:`barymesh.app.view.scene_data.scene_data`, or None if it fails (logged;
+    never raises)."""
     try:
         return scene_data(mesh, **kwargs)
     except Exception:  # noqa: BLE001 - the colouring stays plain, the window lives on
@@ -399,7 +400,7 @@ class MeshController(QObject):
     def request_detail(
         self, mesh: object, rect: tuple[float, float, float, float], token: object
     ) -> None:
-        """Build :func:`barymesh.app.view.scene.detail_data` of ``rect`` in a thread.
+        """Build :func:`barymesh.app.view.scene_data.detail_data` of ``rect`` in a thread.
 
         Emits ``detail_ready``.
         """

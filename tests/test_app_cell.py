@@ -932,7 +932,7 @@ def test_array_copies_are_one_pale_shade_not_darker_where_patches_overlap(window
 
     from barymesh.app.edit.array_preview import ghost_shade
     from barymesh.app.view.overview import overlap_counts_at
-    from barymesh.app.view.scene import COLORS
+    from barymesh.app.view.scene_data import COLORS
 
     open_preset(window, qtbot, "double-ring-patch")
     mesh = window.model.result.mesh

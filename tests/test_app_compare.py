@@ -109,7 +109,7 @@ def test_screenshot_shows_faces_and_background_where_they_are(view, tmp_path):
     import imageio.v3 as iio
 
     from barymesh.app.teach.compare_view import COVERAGE_COLORS
-    from barymesh.app.view.scene import COLORS
+    from barymesh.app.view.scene_data import COLORS
 
     # triangles of about 8 px get their edges drawn (from 4 px; in paper mode the patch
     # borders too): this test is about the faces, so those lines are switched off
@@ -195,7 +195,7 @@ def test_shading_legend_counts_each_shade_and_edges_show_on_it(qtbot):
     from gui_helpers import colour_pixels
 
     from barymesh.app.teach.compare_view import COVERAGE_COLORS
-    from barymesh.app.view.scene import COLORS
+    from barymesh.app.view.scene_data import COLORS
     from barymesh.presets import load_preset
 
     params, _ = load_preset("srr-openmodes")
@@ -232,7 +232,7 @@ def test_right_half_tick_labels_sit_on_its_rulers_with_axis_titles(view):
     labels as if every viewport began at the window's left edge)."""
     from gui_helpers import display_point, text_display_box
 
-    from barymesh.app.view.scene import nice_span
+    from barymesh.app.view.rulers import nice_span
 
     x0, x1, y0, y1 = view.scenes["conforming"].bounds
     (a, b, nx), (c, d, ny) = nice_span(x0, x1), nice_span(y0, y1)
@@ -311,7 +311,7 @@ def test_right_half_y_title_keeps_clear_of_its_half_title(view, tmp_path):
     assert apart, (y_box, title_box)
     # as on the left half: upright (taller than wide), left of the tick values, and
     # half-way up the ruler
-    from barymesh.app.view.scene import nice_span
+    from barymesh.app.view.rulers import nice_span
 
     x0, x1, y0, y1 = view.scenes["conforming"].bounds
     (a, _b, _nx), (c, d, _ny) = nice_span(x0, x1), nice_span(y0, y1)

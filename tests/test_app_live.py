@@ -21,6 +21,7 @@ from PySide6.QtCore import Qt, QTimer  # noqa: E402
 from PySide6.QtWidgets import QToolBar  # noqa: E402
 
 import barymesh.app.view.scene  # noqa: E402
+import barymesh.app.view.scene_data  # noqa: E402
 import barymesh.app.worker  # noqa: E402
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.app.view.overview import (  # noqa: E402
@@ -33,7 +34,9 @@ from barymesh.app.view.overview import (  # noqa: E402
     overlap_count_raster,
     triangle_raster,
 )
-from barymesh.app.view.scene import ZOOM_TEXEL_PX, _vtk_step, outline_stride, readable_ticks  # noqa: E402
+from barymesh.app.view.rulers import _vtk_step  # noqa: E402
+from barymesh.app.view.scene import readable_ticks  # noqa: E402
+from barymesh.app.view.scene_data import ZOOM_TEXEL_PX, outline_stride  # noqa: E402
 
 FIG12A = MeshParams()  # the paper's Fig. 12(a): 720 patches, 23,040 triangles at n = 4
 DENSE_N = 32  # Fig. 12(a) at n = 32: 720 * 2 * 32**2 = 1,474,560 triangles
@@ -90,12 +93,13 @@ def test_a_dense_mesh_is_built_off_the_gui_thread_painted_once_and_drawn_reduced
         return real_compute(*args, **kwargs)
 
     colouring = []  # the overview image's colours are made off the GUI thread
-    real_rgba = barymesh.app.view.scene.overview_rgba
+    real_rgba = barymesh.app.view.scene_data.overview_rgba
 
     def overview_rgba(*args, **kwargs):
         colouring.append(threading.current_thread())
         return real_rgba(*args, **kwargs)
 
+    monkeypatch.setattr(barymesh.app.view.scene_data, "overview_rgba", overview_rgba)
     monkeypatch.setattr(barymesh.app.view.scene, "overview_rgba", overview_rgba)
 
     monkeypatch.setattr(barymesh.app.worker, "compute", compute)
@@ -544,7 +548,7 @@ def test_fig12a_start_screen_shows_triangles_centroids_and_shared_edges(window, 
     # Fig. 12(a): 720 overlapping squares (ratio 0.86), triangles of a few pixels: drawn
     # the way the paper draws them, not coloured by a count
     assert result.stats["overlap_ratio"] > 0.8
-    assert scene.edge_px >= barymesh.app.view.scene.LIGHT_PX
+    assert scene.edge_px >= barymesh.app.view.scene_data.LIGHT_PX
     assert scene.shown_color_by == "none" and not scene.scalar_bar.GetVisibility()
     _assert_paper_drawing(scene, result.mesh)
     assert result.stats["interior_edges"] == len(result.mesh.interior_edges) > 0
@@ -673,7 +677,7 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
     from barymesh.app.view.layers import COLOR_BY
-    from barymesh.app.view.scene import Overview, lut_settings, overview_rgba
+    from barymesh.app.view.scene_data import Overview, lut_settings, overview_rgba
 
     array = COLOR_BY[key][0]
     lo, hi = span
@@ -695,8 +699,8 @@ def test_a_dense_paper_mesh_finds_its_triangles_only_for_a_colouring_that_needs_
     patches' exact coverage and no triangle is looked up under each texel; a colouring per
     triangle picked in the Layers panel has the worker make the image again with it."""
     mesh = build_mesh(FIG12A.replace(subdivisions=8))  # 92,160 triangles: an overview
-    solid = barymesh.app.view.scene.scene_data(mesh, pixels=(900, 700))
-    by_area = barymesh.app.view.scene.scene_data(mesh, pixels=(900, 700), color_by="area")
+    solid = barymesh.app.view.scene_data.scene_data(mesh, pixels=(900, 700))
+    by_area = barymesh.app.view.scene_data.scene_data(mesh, pixels=(900, 700), color_by="area")
     assert set(solid.overview.values) == {"overlap"}
     assert {"area", "overlap", "patch"} <= set(by_area.overview.values)
     np.testing.assert_array_equal(solid.overview.covered, by_area.overview.covered)

@@ -26,7 +26,7 @@ from barymesh.app.edit.painter import build_preview  # noqa: E402
 from barymesh.app.model import compute  # noqa: E402
 from barymesh.app.teach.compare_view import compute_halves  # noqa: E402
 from barymesh.app.view.polydata import Layer  # noqa: E402
-from barymesh.app.view.scene import detail_data, scene_data  # noqa: E402
+from barymesh.app.view.scene_data import detail_data, scene_data  # noqa: E402
 from barymesh.cell import load_cell_preset  # noqa: E402
 
 DENSE = MeshParams(subdivisions=6)  # Fig. 12(a) at n = 6: 51,840 triangles, an overview

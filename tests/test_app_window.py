@@ -447,7 +447,7 @@ def test_every_paper_preset_is_drawn_as_the_paper_draws_it(window, qtbot, name):
 
 
 def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, qtbot, monkeypatch):
-    import barymesh.app.view.scene as scene_module
+    import barymesh.app.view.scene_data as scene_module
 
     scene = window.scene
     window.reset_camera()
@@ -476,7 +476,7 @@ def test_detail_always_full_draws_small_triangles_and_warns_of_its_cost(window, 
 
 
 def test_full_detail_warning_starts_above_a_million_triangles():
-    from barymesh.app.view.scene import full_detail_warning
+    from barymesh.app.view.scene_data import full_detail_warning
 
     assert full_detail_warning(1_000_000, "full") == ""
     assert "1,000,001 triangles" in full_detail_warning(1_000_001, "full")
@@ -539,7 +539,7 @@ def test_command_line_screenshot_of_fig12c_shows_its_edges_by_its_own_size(tmp_p
     # paper-fig12c, 2,304 triangles: about 10 px a triangle at 1024 x 768 (drawn as the
     # paper draws them: shared edges orange, centroids magenta), about 2 px at 200 x 150
     # (the light look, as in the window)
-    from barymesh.app.view.scene import COLORS
+    from barymesh.app.view.scene_data import COLORS
 
     out = tmp_path / "fig12c.png"
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
@@ -666,7 +666,7 @@ def test_detail_note_stays_under_the_x_title_at_1000_by_700(qtbot):
 
 
 def test_zoomed_in_the_rulers_stay_in_view_with_their_labels(window, qtbot):
-    from barymesh.app.view.scene import _vtk_step
+    from barymesh.app.view.rulers import _vtk_step
 
     scene = window.scene
     window.reset_camera()
@@ -702,7 +702,7 @@ def test_the_start_screen_shows_triangles_centroids_and_shared_edges(qtbot, tmp_
     start (no saved parameters; conftest points the settings at an empty folder) and a
     ``--screenshot`` run open on the conforming double ring, and the status bar says how
     to see the paper's figure."""
-    from barymesh.app.view.scene import COLORS, LIGHT_PX
+    from barymesh.app.view.scene_data import COLORS, LIGHT_PX
     from barymesh.presets import load_preset
 
     win = MainWindow(scripted=scripted)

@@ -129,3 +129,18 @@ def test_the_heavy_modules_still_come_when_used():
     found = heavy_modules(code)
     assert "scipy.sparse" in found and "scipy.constants" in found
     assert heavy_modules(command("--print-completion", "bash")) == ["shtab"]
+
+
+def test_the_scene_data_that_worker_threads_make_imports_no_vtk():
+    """Worker threads make the view's layers (``barymesh.app.view.scene_data``); VTK
+    objects made or freed off the GUI thread corrupt the heap, so that module (and what
+    it imports) must not even import VTK or pyvista."""
+    code = (
+        "import sys, barymesh.app.view.scene_data as s, barymesh.app.worker;"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('vtk', 'vtkmodules',"
+        " 'pyvista', 'pyvistaqt')))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert out.stdout.strip() == "[]", out.stdout

@@ -182,7 +182,7 @@ def test_sweep_frames_draw_triangle_edges_and_centroids(tmp_path):
     pytest.importorskip("pyvista")
     from gui_helpers import colour_pixels
 
-    from barymesh.app.view.scene import COLORS
+    from barymesh.app.view.scene_data import COLORS
     from barymesh.presets import load_preset
 
     base, _ = load_preset("paper-fig12c")

@@ -25,7 +25,7 @@ class MeshResult:
     mesh: TriMesh | None = None
     stats: dict[str, Any] = field(default_factory=dict)
     seconds: float = 0.0
-    scene: Any = None  # barymesh.app.view.scene.SceneData, prepared off the GUI thread
+    scene: Any = None  # barymesh.app.view.scene_data.SceneData, prepared off the GUI thread
     error: str | None = None
     source: str = "parameters"  # or the path of an imported mesh file
     cancelled: bool = False  # abandoned because a newer request or Cancel came

@@ -22,7 +22,7 @@ from barymesh.app.view.layers import (
     LAYER_TITLES,
     LAYERS,
 )
-from barymesh.app.view.scene import COLORS, full_detail_warning
+from barymesh.app.view.scene_data import COLORS, full_detail_warning
 
 
 def swatch(color: str, size: int = 11) -> QIcon:

@@ -31,7 +31,8 @@ from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
-from barymesh.app.view.scene import MeshScene, scene_data
+from barymesh.app.view.scene import MeshScene
+from barymesh.app.view.scene_data import scene_data
 from barymesh.app.worker import Job
 
 log = logging.getLogger(__name__)

@@ -36,7 +36,8 @@ from barymesh import MeshParams
 from barymesh.app.model import AppModel
 from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
 from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
-from barymesh.app.view.scene import MeshScene, add_text_labels, nice_span
+from barymesh.app.view.rulers import nice_span
+from barymesh.app.view.scene import MeshScene, add_text_labels
 from barymesh.construction import ConstructionStep, construction_steps
 
 log = logging.getLogger(__name__)

@@ -124,7 +124,7 @@ class ViewPicker(QObject):
         if cell < 0:
             return None
         # the faces of a dense mesh's detail are a part of it: the "triangle" cell array
-        # holds each cell's triangle in the mesh (barymesh.app.view.scene.detail_data)
+        # holds each cell's triangle in the mesh (barymesh.app.view.scene_data.detail_data)
         data = self.picker.GetDataSet()
         ids = data.GetCellData().GetArray("triangle") if data is not None else None
         if ids is not None and cell < ids.GetNumberOfTuples():

@@ -15,7 +15,8 @@ import numpy as np
 import pyvista as pv
 
 from barymesh import MeshParams, build_mesh
-from barymesh.app.view.scene import MeshScene, prepare_headless, scene_data
+from barymesh.app.view.scene import MeshScene, prepare_headless
+from barymesh.app.view.scene_data import scene_data
 from barymesh.io import atomic_write
 from barymesh.sweep import check_sweep_size, sweep_params
 

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from barymesh.app.view.scene import nice_span
+from barymesh.app.view.rulers import nice_span
 
 #: Room around the mesh for the ruler labels (left and bottom) and a margin (right, top),
 #: as fractions of the mesh's larger side.
@@ -71,7 +71,7 @@ def frame_from_above(
     bounds : (4,) float
     rulers : bool
         Leave room for the rulers' tick labels (the span is first rounded out to the
-        rulers' nice ticks, see :func:`barymesh.app.view.scene.nice_span`).
+        rulers' nice ticks, see :func:`barymesh.app.view.rulers.nice_span`).
     margin : float
         Extra room on every side, as a fraction of the larger side.
     top : float

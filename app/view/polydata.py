@@ -10,9 +10,12 @@ turns each into a ``pyvista.PolyData`` (:meth:`Layer.polydata`) when it shows it
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pyvista as pv
+
+if TYPE_CHECKING:
+    import pyvista as pv
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,6 +62,8 @@ class Layer:
 
     def polydata(self) -> pv.PolyData:
         """The layer as a pyvista dataset (GUI thread only; shares the arrays)."""
+        import pyvista as pv  # (here: a worker imports this module, never VTK)
+
         if self.n_points == 0 or self.n_cells == 0:
             return pv.PolyData()
         points = np.ascontiguousarray(self.points, dtype=np.float64)

@@ -427,3 +427,63 @@ class Rulers:
     def _before_render(self, *_args: object) -> None:
         if self._visible:
             self._place()
+
+
+def _vtk_step(span: float) -> float:
+    """The rulers' tick spacing for an axis of length ``span`` (the step VTK's cube-axes
+    actor chose, which the view's rulers kept when they replaced it)."""
+    power = np.log10(span)
+    if power != 0.0:
+        power = np.copysign(abs(power) + 1e-9, power)
+    if power < 0.0:
+        power -= 1.0
+    decade = 10.0 ** int(power)
+    ticks = int(span / decade) + 1
+    return decade / (5.0 if ticks <= 2 else 2.0 if ticks < 5 else 1.0)
+
+
+def nice_span(lo: float, hi: float, ticks: int = 5) -> tuple[float, float, int]:
+    """Widen [lo, hi] to multiples of the step the rulers tick at; return it and the count.
+
+    The step is the one the rulers put their ticks at (1, 2 or 5 times a power of ten,
+    from the span, :func:`_vtk_step`), so every label sits on its tick line.
+
+    >>> nice_span(-9.7, 9.7)
+    (-10.0, 10.0, 5)
+    >>> nice_span(0.0, 10.0)
+    (0.0, 10.0, 6)
+    """
+    a, b = float(lo), float(hi)
+    for _ in range(4):
+        step = _vtk_step(max(b - a, 1e-12))
+        a2 = float(np.floor(lo / step + 1e-9) * step)
+        b2 = float(np.ceil(hi / step - 1e-9) * step)
+        if (a2, b2) == (a, b):
+            break
+        a, b = a2, b2
+    step = _vtk_step(max(b - a, 1e-12))
+    return a, b, int(round((b - a) / step)) + 1
+
+
+def nice_inside(lo: float, hi: float) -> tuple[float, float, int]:
+    """The widest span on the rulers' tick step inside [lo, hi] (a part of a zoomed-in
+    mesh): its ends and the count of ticks, every label on its tick line.
+
+    >>> nice_inside(0.13, 0.91)
+    (0.2, 0.9, 8)
+    """
+    step = _vtk_step(max(hi - lo, 1e-12))
+    a = b = float(lo)
+    for _ in range(6):
+        a = float(np.ceil(lo / step - 1e-9) * step)
+        b = float(np.floor(hi / step + 1e-9) * step)
+        if b - a < step * (1 - 1e-9):  # one tick at most: a finer step
+            step /= 2.0
+            continue
+        following = _vtk_step(b - a)
+        if np.isclose(following, step, rtol=1e-9):
+            break
+        step = following
+    if b <= a:
+        return float(lo), float(hi), 2
+    return a, b, int(round((b - a) / step)) + 1

@@ -34,7 +34,8 @@ import pyvista as pv
 
 from barymesh import TriMesh
 from barymesh.app.view.layers import LAYERS
-from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image, scene_data
+from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image
+from barymesh.app.view.scene_data import scene_data
 
 #: The largest magnification offered (File → Export screenshot).
 MAX_SCALE = 4
