@@ -40,7 +40,9 @@ from barymesh.app.cli_options import (
     add_quality_option,
     add_stats_option,
     build_window_parser,
+    check_cell_usage,
     check_folder,
+    check_preset,
     check_render_size,
     finite,
     load_cell_source,
@@ -325,8 +327,8 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
     """Checks of ``mesh`` before any work: usage (exit code 2), then folders and writers (1)."""
     from barymesh.io import export_format
 
-    _check_preset(args, "mesh")
-    _check_cell_usage(args, "mesh")
+    check_preset(args, "mesh")
+    check_cell_usage(args, "mesh")
     for out in args.outputs:
         if Path(out).suffix.lower() in OUTLINE_EXTENSIONS:
             continue
@@ -367,20 +369,6 @@ def _check_mesh_usage(args: argparse.Namespace) -> None:
         _check_outline_writer(out)
 
 
-def _check_preset(args: argparse.Namespace, verb: str) -> None:
-    from barymesh.cell import cell_preset_names
-    from barymesh.presets import preset_names
-
-    if args.preset is not None and args.preset not in preset_names():
-        if args.preset in cell_preset_names():
-            raise UsageError(
-                f"{verb}: {args.preset!r} is a unit-cell preset; use --cell-preset {args.preset}"
-            )
-        raise UsageError(
-            f"{verb}: unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
-        )
-
-
 # -- what a command meshes: one structure, or a unit cell / an array ----------
 
 #: Outline extensions of -o: (format name, the module that writes it).
@@ -400,45 +388,6 @@ class _Built:
     cell: Any = None  # UnitCell, or None for a plain structure
     cell_mesh: Any = None  # CellMesh
     copies: tuple[int, int] = (1, 1)
-
-
-def _check_cell_usage(args: argparse.Namespace, verb: str) -> None:
-    """A cell replaces the structure options; its preset must exist (exit code 2)."""
-    from barymesh.cell import cell_preset_names
-    from barymesh.presets import preset_names
-
-    cell_option = "--cell" if args.cell is not None else "--cell-preset"
-    if args.cell is not None and args.cell_preset is not None:
-        raise UsageError(f"{verb}: --cell and --cell-preset both name a cell; give one")
-    if args.cell is not None or args.cell_preset is not None:
-        given = [
-            option
-            for option, value in (
-                ("--preset", getattr(args, "preset", None)),
-                ("--params", getattr(args, "params", None)),
-                ("--set", getattr(args, "sets", None)),
-            )
-            if value
-        ]
-        if given:
-            raise UsageError(
-                f"{verb}: {given[0]} sets the parameters of one structure; a cell "
-                f"({cell_option}) holds its own elements: edit its file instead"
-            )
-        if getattr(args, "period", None) is not None:
-            raise UsageError(
-                f"{verb}: --period makes a structure into a cell; a cell ({cell_option}) "
-                "has its own lattice"
-            )
-    name = args.cell_preset
-    if name is not None and name not in cell_preset_names():
-        hint = ""
-        if name in preset_names():
-            hint = f"; {name!r} is a structure preset: use --preset {name}"
-        raise UsageError(
-            f"{verb}: unknown cell preset {name!r}; expected one of "
-            f"{', '.join(cell_preset_names())}{hint}"
-        )
 
 
 def _build(args: argparse.Namespace) -> _Built:
@@ -694,7 +643,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
         raise UsageError("info: --array needs a cell (--cell or --cell-preset)")
     if args.unit is not None and cell_given:
         raise UsageError("info: --unit is for mesh files; a cell is in mm")
-    _check_cell_usage(args, "info")
+    check_cell_usage(args, "info")
     _check_json_targets(args, "info")
     from barymesh.quality import wavelength_mm
 
@@ -749,7 +698,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 "parameter of one structure, and a cell's elements each have their own; "
                 "sweep the structure (--preset, --params, --set)"
             )
-    _check_preset(args, "sweep")
+    check_preset(args, "sweep")
     from barymesh.sweep import check_sweep_size
 
     if args.frames < 2:

@@ -344,3 +344,61 @@ def check_folder(target: str) -> None:
     if not folder.is_dir():
         what = "is not a folder" if folder.exists() else "does not exist"
         raise InputError(f"cannot write {target}: the folder {folder} {what}")
+
+
+def check_preset(args: argparse.Namespace, verb: str | None) -> None:
+    """``--preset`` names a shipped structure preset (a cell preset gets a hint);
+    UsageError (exit code 2) if not. ``verb`` starts the message (None: the window)."""
+    from barymesh.cell import cell_preset_names
+    from barymesh.presets import preset_names
+
+    lead = f"{verb}: " if verb else ""
+    if args.preset is not None and args.preset not in preset_names():
+        if args.preset in cell_preset_names():
+            raise UsageError(
+                f"{lead}{args.preset!r} is a unit-cell preset; use --cell-preset {args.preset}"
+            )
+        raise UsageError(
+            f"{lead}unknown preset {args.preset!r}; expected one of {', '.join(preset_names())}"
+        )
+
+
+def check_cell_usage(args: argparse.Namespace, verb: str | None) -> None:
+    """A cell replaces the structure options; its preset must exist. UsageError (exit
+    code 2) if not; ``verb`` starts the message (None: the window)."""
+    from barymesh.cell import cell_preset_names
+    from barymesh.presets import preset_names
+
+    lead = f"{verb}: " if verb else ""
+    cell_option = "--cell" if args.cell is not None else "--cell-preset"
+    if args.cell is not None and args.cell_preset is not None:
+        raise UsageError(f"{lead}--cell and --cell-preset both name a cell; give one")
+    if args.cell is not None or args.cell_preset is not None:
+        given = [
+            option
+            for option, value in (
+                ("--preset", getattr(args, "preset", None)),
+                ("--params", getattr(args, "params", None)),
+                ("--set", getattr(args, "sets", None)),
+            )
+            if value
+        ]
+        if given:
+            raise UsageError(
+                f"{lead}{given[0]} sets the parameters of one structure; a cell "
+                f"({cell_option}) holds its own elements: edit its file instead"
+            )
+        if getattr(args, "period", None) is not None:
+            raise UsageError(
+                f"{lead}--period makes a structure into a cell; a cell ({cell_option}) "
+                "has its own lattice"
+            )
+    name = args.cell_preset
+    if name is not None and name not in cell_preset_names():
+        hint = ""
+        if name in preset_names():
+            hint = f"; {name!r} is a structure preset: use --preset {name}"
+        raise UsageError(
+            f"{lead}unknown cell preset {name!r}; expected one of "
+            f"{', '.join(cell_preset_names())}{hint}"
+        )

@@ -51,7 +51,7 @@ from PySide6.QtWidgets import (
 
 import barymesh
 from barymesh import MeshParams, TriMesh
-from barymesh.app.cli_options import build_window_parser
+from barymesh.app.cli_options import UsageError, build_window_parser, check_cell_usage, check_preset
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
 from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog, png_steps, write_png
@@ -1726,27 +1726,13 @@ def main(argv: list[str] | None = None) -> int:
         return int(exc.code or 0)
     params = None
     cell = None
+    try:  # the command line's checks, in its words
+        check_preset(args, None)
+        check_cell_usage(args, None)
+    except UsageError as exc:
+        print(f"barymesh: error: {exc} (see barymesh --help)", file=sys.stderr)
+        return 2
     if args.cell is not None or args.cell_preset is not None:
-        given = [
-            o
-            for o, v in (
-                ("--cell-preset", args.cell_preset),
-                ("--preset", args.preset),
-                ("--params", args.params),
-                ("--set", args.sets),
-            )
-            if v
-        ]
-        if args.cell is None:
-            given = given[1:]
-        if given:
-            option = "--cell" if args.cell is not None else "--cell-preset"
-            print(
-                f"barymesh: error: {given[0]} cannot go with {option}: a cell holds its own "
-                "elements and their parameters (see barymesh --help)",
-                file=sys.stderr,
-            )
-            return 2
         from barymesh.cell import load_cell, load_cell_preset
 
         try:

@@ -214,8 +214,8 @@ def test_command_line_opens_the_window_on_a_cell(tmp_path):
     )
     assert bad.returncode == 2
     assert bad.stderr.strip().splitlines() == [
-        "barymesh: error: --preset cannot go with --cell-preset: a cell holds its own "
-        "elements and their parameters (see barymesh --help)"
+        "barymesh: error: --preset sets the parameters of one structure; a cell "
+        "(--cell-preset) holds its own elements: edit its file instead (see barymesh --help)"
     ]
     nofile = subprocess.run(
         [sys.executable, "-m", "barymesh.app", "--cell", str(tmp_path / "no.cell.json"), "--quit"],
