@@ -53,9 +53,10 @@ from .geometry import (
 from .operator import ETA0, wavenumber
 from .periodic_caveats import periodic_warnings
 from .periodic_checks import as_lattice, check_green_terms
-from .periodic_fill import FillPlan, fill, fill_plan
+from .periodic_fill import fill
 from .periodic_green import PeriodicGreen
 from .periodic_layered import layer_orders, layered_kernel, sheet_field
+from .periodic_plan import FillPlan, fill_plan
 from .solve import (
     ProblemTooLarge,
     check_sheet_impedance,
