@@ -52,19 +52,53 @@ from .geometry import (
 )
 from .operator import ETA0, wavenumber
 from .periodic_caveats import periodic_warnings
-from .periodic_checks import as_lattice, check_green_terms
+from .periodic_checks import (
+    GEOMETRY_BYTES_PER_T2,
+    GEOMETRY_PEAK_BYTES_PER_T2,
+    PERIODIC_FIXED_BYTES,
+    SOLVE_BYTES_PER_N2,
+    as_lattice,
+    check_green_terms,
+    check_periodic_memory,
+    periodic_memory_needed,
+)
 from .periodic_fill import fill
 from .periodic_green import PeriodicGreen
 from .periodic_layered import layer_orders, layered_kernel, sheet_field
 from .periodic_plan import FillPlan, fill_plan
 from .solve import (
-    ProblemTooLarge,
     check_sheet_impedance,
     dense_solve,
-    format_bytes,
-    memory_allowance,
 )
 from .stack import Stack, background, lit_side_loss, side, vacuum_admittance
+
+#: What this module defines, and what it re-exports from the modules it was split into
+#: (the geometry's memory model lives in :mod:`barymesh.mom.periodic_checks`).
+__all__ = [
+    "GEOMETRY_BYTES_PER_T2",
+    "GEOMETRY_PEAK_BYTES_PER_T2",
+    "MAX_TRIANGLE",
+    "NEAR_FACTOR",
+    "PERIODIC_FIXED_BYTES",
+    "SERIAL_BLAS_UNKNOWNS",
+    "SOLVE_BYTES_PER_N2",
+    "FilledSystem",
+    "PeriodicGeometry",
+    "PeriodicSolution",
+    "blas_threads",
+    "check_periodic_memory",
+    "check_stack",
+    "fill_system",
+    "gram_matrix",
+    "lattice_metres",
+    "one_blas_thread",
+    "periodic_geometry",
+    "periodic_impedance_matrix",
+    "periodic_memory_needed",
+    "periodic_solve",
+    "periodic_solve_many",
+    "solve_system",
+]
 
 #: Near triples: centroids closer than this many times the larger triangle's longest edge.
 NEAR_FACTOR = 1.5
@@ -73,18 +107,6 @@ MAX_TRIANGLE = 0.2
 #: Largest solve (unknowns) run with one BLAS thread (:func:`blas_threads`): on a shared
 #: 2-core machine the threaded LU of 1,680 unknowns took 0.41-0.55 s, one thread 0.24 s.
 SERIAL_BLAS_UNKNOWNS = 2000
-
-#: Peak bytes per triangle pair (T²) while :func:`periodic_geometry` builds its tables
-#: (the fill plan's offsets, distances, σ codes and their temporaries), measured with
-#: tracemalloc: 189-192 at T = 2,048-4,608 above a fixed ~0.1 GiB, plus a margin.
-GEOMETRY_PEAK_BYTES_PER_T2 = 200.0
-#: Bytes per triangle pair the built geometry keeps (measured 39-48 at T = 2,048-4,608).
-GEOMETRY_BYTES_PER_T2 = 42.0
-#: Peak bytes per N² of one periodic solve beyond the geometry: Z, the fill's float32
-#: Taylor blocks and right factor, and the LU (measured 41.2-42.7 at N = 3,008-6,816).
-SOLVE_BYTES_PER_N2 = 45.0
-#: Bytes whatever the size (the O(T) tables, Taylor blocks of TAYLOR_BLOCK pairs, BLAS).
-PERIODIC_FIXED_BYTES = 160 * 2**20
 
 
 def lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
@@ -251,81 +273,6 @@ def _rwg_maps(
 
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool = True) -> int:
-    """Peak bytes of a periodic solve of T triangles and N unknowns (a measured model).
-
-    Parameters
-    ----------
-    n_triangles, n_unknowns : int
-        T and N of the cell.
-    geometry : bool
-        Whether :func:`periodic_geometry` is still to be built (its T² tables count);
-        False counts only what one solve allocates beyond a cached geometry.
-
-    Returns
-    -------
-    int
-        ``max(200 T², 42 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
-        beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``.
-
-    Examples
-    --------
-    >>> periodic_memory_needed(1000, 1500) == 200 * 1000**2 + 160 * 2**20
-    True
-    """
-    t2, n2 = float(n_triangles) ** 2, float(n_unknowns) ** 2
-    solve = SOLVE_BYTES_PER_N2 * n2
-    if geometry:
-        solve = max(GEOMETRY_PEAK_BYTES_PER_T2 * t2, GEOMETRY_BYTES_PER_T2 * t2 + solve)
-    return int(solve) + PERIODIC_FIXED_BYTES
-
-
-def check_periodic_memory(
-    n_triangles: int,
-    n_unknowns: int,
-    memory_limit: float | None = None,
-    *,
-    geometry: bool = True,
-) -> int:
-    """Refuse a periodic cell whose solve would need more memory than allowed.
-
-    Parameters
-    ----------
-    n_triangles, n_unknowns : int
-        T and N of the cell.
-    memory_limit : float, optional
-        A cap in bytes (in addition to the memory available now).
-    geometry : bool
-        As for :func:`periodic_memory_needed`.
-
-    Returns
-    -------
-    int
-        The bytes needed.
-
-    Raises
-    ------
-    ProblemTooLarge
-        Naming T, N, the memory needed and the memory allowed, before anything of
-        that size is allocated.
-    """
-    need = periodic_memory_needed(n_triangles, n_unknowns, geometry=geometry)
-    allowed, source = memory_allowance(memory_limit)
-    if need > allowed:
-        what = f"about {SOLVE_BYTES_PER_N2:g} N² bytes for the dense matrix and its LU"
-        if geometry:
-            what = (
-                f"about {GEOMETRY_PEAK_BYTES_PER_T2:g} bytes per triangle pair while its "
-                f"tables are built, and {what}"
-            )
-        raise ProblemTooLarge(
-            f"the infinite array of T = {n_triangles:,} triangles, N = {n_unknowns:,} "
-            f"unknowns needs {format_bytes(need)} at its peak ({what}), more than "
-            f"{source}; use a coarser mesh"
-        )
-    return need
 
 
 def periodic_geometry(
