@@ -15,9 +15,11 @@ potential integrals), :mod:`.geometry` (the per-mesh cache),
 :mod:`.operator` (the impedance matrix), :mod:`.near_series` (its near pairs' smooth
 kernel as a power series in k), :mod:`.excitation`,
 :mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep);
-for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
+for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function),
+:mod:`.periodic_geometry` (a cell's frequency-independent data, cached per mesh),
+:mod:`.periodic_plan` (the fill's per-mesh tables, kept by the geometry),
+:mod:`.periodic_fill` (how the matrix is filled at each frequency),
 :mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),
-:mod:`.periodic_fill` (how its matrix is filled),
 :mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating);
 :mod:`.stack` (dielectric layers and a ground plane around the sheet, as transmission
 lines) and :mod:`.periodic_layered` (the layered kernel the fill integrates).

@@ -7,7 +7,7 @@ Green's function split as G_p = G + G_reg there: G = e^(−jkR)/R of that image,
 the smooth rest. With c the offset from that image's centroid to o's, the pairs fall
 in three kinds by |c| against the larger triangle's longest edge h:
 
-- **near** (|c| < 1.5 h, :data:`barymesh.mom.periodic.NEAR_FACTOR`): G by the
+- **near** (|c| < 1.5 h, :data:`barymesh.mom.periodic_geometry.NEAR_FACTOR`): G by the
   free-space solver's closed-form 1/R and R parts plus the near rule on the rest;
 - **close** (|c| < :data:`IMAGE_TAYLOR_FACTOR` h): G by the free-space far rule
   (every point with every point, one of each mirrored pair);
@@ -45,6 +45,7 @@ from scipy.linalg import blas
 
 from .near_series import near_moments_series
 from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
+from .periodic_geometry import PeriodicGeometry
 from .periodic_green import PeriodicGreen, reciprocal_vectors
 from .periodic_plan import IMAGE_TAYLOR_FACTOR as IMAGE_TAYLOR_FACTOR
 from .periodic_plan import TAYLOR_NODES as TAYLOR_NODES
@@ -52,7 +53,6 @@ from .periodic_plan import FillPlan as FillPlan
 from .periodic_plan import fill_plan as fill_plan
 
 if TYPE_CHECKING:
-    from .periodic import PeriodicGeometry
     from .periodic_layered import LayeredKernel
 
 #: Floquet orders with |γ_pq| under this times the smallest reciprocal vector are taken

@@ -127,7 +127,7 @@ def fill_plan(
     cross : (K, 2) int
         The near pairs across the cell's sides (σ ≠ 0), (observation, source).
     maps, folded : (N, 3T) sparse float
-        The RWG maps (see :class:`barymesh.mom.periodic.PeriodicGeometry`).
+        The RWG maps (see :class:`barymesh.mom.periodic_geometry.PeriodicGeometry`).
     """
     t = base.n_triangles
     single = np.float32

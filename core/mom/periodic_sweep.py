@@ -56,17 +56,15 @@ from .periodic import (
     FilledSystem,
     PeriodicSolution,
     blas_threads,
-    check_periodic_memory,
     check_stack,
     fill_system,
-    lattice_metres,
     one_blas_thread,
-    periodic_geometry,
     periodic_solve,
     solve_system,
 )
 from .periodic_caveats import onset_resonance_warning
-from .periodic_checks import as_lattice, check_green_terms
+from .periodic_checks import as_lattice, check_green_terms, check_periodic_memory
+from .periodic_geometry import lattice_metres, periodic_geometry
 from .periodic_green import reciprocal_vectors
 from .solve import SolveCancelled, check_frequencies, check_sheet_impedance, memory_allowance
 from .stack import Stack
