@@ -40,6 +40,7 @@ from threadpoolctl import ThreadpoolController
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
+from .floquet import harmonics
 from .operator import ETA0, wavenumber
 from .periodic_caveats import periodic_warnings
 from .periodic_checks import (
@@ -57,10 +58,10 @@ from .periodic_geometry import (
     MAX_TRIANGLE,
     NEAR_FACTOR,
     PeriodicGeometry,
+    cell_current,
     lattice_metres,
     periodic_geometry,
 )
-from .periodic_green import PeriodicGreen
 from .periodic_layered import layer_orders, layered_kernel, sheet_field
 from .solve import check_sheet_impedance, dense_solve
 from .stack import Stack, background, lit_side_loss, side, vacuum_admittance
@@ -118,22 +119,6 @@ def periodic_impedance_matrix(
     if stack is None or stack.is_free_standing:
         return fill(pg, k, kt)
     return fill(pg, k, kt, layered_kernel(stack, pg.lattice, k, kt))
-
-
-def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:
-    """Unit TE and TM vectors (P, 3) of the waves going up and down of each order."""
-    norm = np.linalg.norm(kappa, axis=1)
-    plane = np.array([math.cos(phi), math.sin(phi)])  # the incidence plane, for κ = 0
-    safe = np.where(norm > 1e-9 * k, norm, 1.0)[:, None]
-    along = np.where(norm[:, None] > 1e-9 * k, kappa / safe, plane)
-    # along is κ̂ (or the incidence plane's direction for κ = 0); TE = ẑ × κ̂
-    te = np.stack([-along[:, 1], along[:, 0], np.zeros(len(along))], axis=1)
-    kz = np.real_if_close(beta)
-    up = np.concatenate([kappa, kz[:, None]], axis=1) / k
-    down = np.concatenate([kappa, -kz[:, None]], axis=1) / k
-    tm_down = np.cross(te, down)
-    tm_up = -np.cross(te, up)
-    return te, tm_up, tm_down
 
 
 @dataclass(frozen=True, eq=False)
@@ -239,7 +224,7 @@ class PeriodicSolution:
         """(T, 3) complex J (A/m) at the centroids of cell (0, 0)."""
         t = self.geometry.base.n_triangles
         kt = self.kappa[0]
-        return _current(self.geometry, kt, self.coefficients, np.zeros((t, 1, 3)))[:, 0]
+        return cell_current(self.geometry, kt, self.coefficients, np.zeros((t, 1, 3)))[:, 0]
 
 
 def periodic_solve(
@@ -549,50 +534,8 @@ def gram_matrix(pg: PeriodicGeometry, kt: np.ndarray) -> sp.csr_matrix:
     return (test @ sp.diags(weights) @ basis.T).tocsr()
 
 
-def _current(pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.ndarray):
-    """(T, Q, 3) J of cell (0, 0) at points ρ (T, Q, 3) from their triangles' centroids."""
-    t = pg.base.n_triangles
-    basis, _ = pg.basis_maps(kt)
-    linear = basis.T @ current  # (3T,): C, D_x, D_y per triangle
-    alpha = linear[:t]
-    beta = np.stack([linear[t : 2 * t], linear[2 * t :], np.zeros(t)], axis=1)
-    return alpha[:, None, None] * rho + beta[:, None, :]
-
-
-@dataclass(frozen=True, eq=False)
-class _Harmonics:
-    """The propagating Floquet orders of a solve, (0, 0) first, and the currents' J̃ there."""
-
-    orders: np.ndarray  # (P, 2) int
-    kappa: np.ndarray  # (P, 2) rad/m
-    beta: np.ndarray  # (P,) rad/m
-    jt: np.ndarray  # (P, 3) complex J̃(κ_pq) = ∫ J e^(+jκ·ρ) dS over the cell
-    te: np.ndarray  # (P, 3) unit TE, and TM going up and down
-    tm_up: np.ndarray
-    tm_down: np.ndarray
-    phi: float  # the incidence plane's azimuth (rad)
-
-
-def _harmonics(pg, wave, k, kt, current) -> _Harmonics:
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
-    prop = green.propagating()
-    orders, kappa = green.orders[prop], green.kappa[prop]
-    first = np.flatnonzero(np.all(orders == 0, axis=1))
-    order = np.concatenate([first, np.setdiff1d(np.arange(len(orders)), first)])
-    orders, kappa = orders[order], kappa[order]
-    beta = np.sqrt(k * k - np.einsum("ij,ij->i", kappa, kappa))
-    rule = pg.base.near
-    j = _current(pg, kt, current, rule.rho)  # (T, Q, 3)
-    phase = np.exp(1j * (rule.points[:, :, :2] @ kappa.T))  # (T, Q, P)
-    jt = np.einsum("tq,tqc,tqp->pc", rule.weights, j, phase)  # J̃(κ_pq), (P, 3)
-    d = np.asarray(wave.direction)
-    phi = math.atan2(d[1], d[0]) if np.hypot(d[0], d[1]) > 1e-12 else 0.0
-    te, tm_up, tm_down = _floquet_basis(kappa, beta, k, phi)
-    return _Harmonics(orders, kappa, beta, jt, te, tm_up, tm_down, phi)
-
-
 def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
-    h = _harmonics(pg, wave, k, kt, current)
+    h = harmonics(pg, wave, k, kt, current)
     orders, kappa, beta, jt = h.orders, h.kappa, h.beta, h.jt
     te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
     d = np.asarray(wave.direction)
@@ -639,7 +582,7 @@ def _layered_amplitudes(
     ``power_given`` is ½ Re(I^H Z I) less the sheet impedance's loss (W per cell): with
     lossy layers, the power the currents lose in them is that less what they radiate.
     """
-    h = _harmonics(pg, wave, k, kt, current)
+    h = harmonics(pg, wave, k, kt, current)
     orders, kappa, beta, jt, phi = h.orders, h.kappa, h.beta, h.jt, h.phi
     te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
     d = np.asarray(wave.direction)

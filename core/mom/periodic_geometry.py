@@ -348,3 +348,15 @@ def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> n
             found.append(hits[keep])
     pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.intp)
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
+
+def cell_current(
+    pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.ndarray
+) -> np.ndarray:
+    """(T, Q, 3) J of cell (0, 0) at points ρ (T, Q, 3) from their triangles' centroids."""
+    t = pg.base.n_triangles
+    basis, _ = pg.basis_maps(kt)
+    linear = basis.T @ current  # (3T,): C, D_x, D_y per triangle
+    alpha = linear[:t]
+    beta = np.stack([linear[t : 2 * t], linear[2 * t :], np.zeros(t)], axis=1)
+    return alpha[:, None, None] * rho + beta[:, None, :]

@@ -50,7 +50,13 @@ from scipy.signal import find_peaks
 from ..constants import SPEED_OF_LIGHT
 from ..mesh import TriMesh
 from .excitation import PlaneWave
-from .geometry import METRES_PER_MESH_UNIT
+from .floquet import (
+    grating_lobe_onsets,
+    incidence_direction,
+    merged_onsets,
+    order_onsets,
+    te_tm_polarizations,
+)
 from .operator import wavenumber
 from .periodic import (
     FilledSystem,
@@ -99,117 +105,6 @@ __all__ = [
     "periodic_sweep",
     "te_tm_polarizations",
 ]
-
-
-def _direction(incidence: PlaneWave) -> np.ndarray:
-    d = np.asarray(incidence.direction, dtype=np.float64)
-    if abs(d[2]) < 1e-9:
-        raise ValueError("the incident wave travels along the screen (direction_z = 0)")
-    return d
-
-
-def te_tm_polarizations(direction: Sequence[float] | np.ndarray) -> np.ndarray:
-    """(2, 3) float: the unit TE and TM electric fields of a wave travelling along ``direction``.
-
-    The convention of :mod:`barymesh.mom.periodic`: TE = ẑ × κ̂ (κ̂ the wave's in-plane
-    direction, or x̂ at normal incidence), TM = TE × d̂ for a wave going down
-    (−TE × d̂ going up), so that a :class:`PlaneWave` with E along row 0 has TE/TM
-    components (1, 0) and one along row 1 has (0, 1).
-
-    Examples
-    --------
-    >>> te_tm_polarizations((0, 0, -1)).round(12) + 0.0  # normal incidence from above
-    array([[ 0.,  1.,  0.],
-           [-1.,  0.,  0.]])
-    """
-    d = np.asarray(direction, dtype=np.float64)
-    d = d / np.linalg.norm(d)
-    along = d[:2]
-    norm = float(np.hypot(*along))
-    along = along / norm if norm > 1e-12 else np.array([1.0, 0.0])
-    te = np.array([-along[1], along[0], 0.0])
-    tm = np.cross(te, d) if d[2] < 0 else -np.cross(te, d)
-    return np.stack([te, tm])
-
-
-def _order_onsets(
-    vectors: np.ndarray, direction: np.ndarray, f_max: float, index: float = 1.0
-) -> tuple:
-    """Orders (p, q) that propagate somewhere below ``f_max`` and their onsets (Hz).
-
-    κ_pq = k u + G_pq with u the incident direction's in-plane part; |κ_pq| = n k (n the
-    medium's ``index``, 1 in vacuum) at k = (u·G + sqrt((u·G)² + (n² − |u|²) |G|²)) /
-    (n² − |u|²), and above it the order propagates. Sorted by onset, (0, 0) first.
-    """
-    b1, b2 = reciprocal_vectors(vectors[0], vectors[1])
-    recip = np.array([b1, b2])
-    u = direction[:2]
-    k_max = 2.0 * np.pi * f_max / SPEED_OF_LIGHT
-    # an order propagates only if |G| <= |κ| + k|u| < k (n + |u|)
-    radius = k_max * (index + np.linalg.norm(u))
-    reach = np.ceil(radius * np.linalg.norm(np.linalg.inv(recip), axis=0)).astype(int)
-    p, q = np.meshgrid(np.arange(-reach[0], reach[0] + 1), np.arange(-reach[1], reach[1] + 1))
-    orders = np.stack([p.ravel(), q.ravel()], axis=1)
-    g = orders @ recip
-    ug = g @ u
-    g2 = np.einsum("ij,ij->i", g, g)
-    one = index * index - u @ u
-    k_on = (ug + np.sqrt(ug * ug + one * g2)) / one
-    onset = k_on * SPEED_OF_LIGHT / (2.0 * np.pi)
-    keep = onset < f_max
-    orders, onset = orders[keep], onset[keep]
-    order = np.lexsort((orders[:, 1], orders[:, 0], onset))
-    return orders[order], onset[order]
-
-
-def grating_lobe_onsets(
-    lattice: Any,
-    incidence: PlaneWave | None = None,
-    f_max: float = 1e12,
-    f_min: float = 0.0,
-) -> np.ndarray:
-    """Frequencies (Hz) in (f_min, f_max) at which a Floquet order (p, q) ≠ (0, 0) starts
-    to propagate, for a fixed incidence direction.
-
-    Parameters
-    ----------
-    lattice : Lattice
-        The array's lattice (mm), e.g. ``mesh.lattice`` of a unit cell.
-    incidence : PlaneWave, optional
-        Only its direction matters; default normal incidence.
-    f_max, f_min : float
-        Hz.
-
-    Returns
-    -------
-    (G,) float
-        Increasing; orders with the same onset count once.
-
-    Examples
-    --------
-    A square lattice of 10 mm: c/P at normal incidence; at θ = 30° in the xz plane,
-    c/(P (1 + sin θ)) for (1, 0), then (1, ±1), then c/(P cos θ) for (0, ±1).
-
-    >>> from barymesh.cell import Lattice
-    >>> (grating_lobe_onsets(Lattice.rectangular(10.0), f_max=40e9) / 1e9).round(3)
-    array([29.979])
-    >>> wave = PlaneWave.from_angles(30, 0)
-    >>> (grating_lobe_onsets(Lattice.rectangular(10.0), wave, 35e9) / 1e9).round(3)
-    array([19.986, 32.892, 34.617])
-    """
-    wave = PlaneWave() if incidence is None else incidence
-    vectors = np.array([lattice.a1, lattice.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
-    _, onset = _order_onsets(vectors, _direction(wave), float(f_max))
-    onset = onset[(onset > f_min) & (onset > 0)]
-    return _merged(onset)
-
-
-def _merged(onsets: np.ndarray, rtol: float = 1e-9) -> np.ndarray:
-    onsets = np.sort(onsets)
-    if len(onsets) == 0:
-        return onsets
-    keep = np.concatenate([[True], np.diff(onsets) > rtol * onsets[1:]])
-    return onsets[keep]
 
 
 @dataclass(frozen=True, eq=False)
@@ -314,7 +209,7 @@ class PeriodicSweep:
             index = math.sqrt(layer.eps_r * layer.mu_r)
             if layer.thickness <= 0 or index <= 1.0:
                 continue
-            orders, onsets = _order_onsets(self.lattice, direction, f1, index)
+            orders, onsets = order_onsets(self.lattice, direction, f1, index)
             for order, onset in zip(orders, onsets, strict=True):
                 if f0 < onset < f1 and np.any(order != 0):
                     found.append((float(onset), (int(order[0]), int(order[1])), i))
@@ -335,7 +230,7 @@ class PeriodicSweep:
         """(G,) float: the onsets (Hz) inside the band, increasing, each once."""
         f = self.frequencies
         inside = self.onsets[(self.onsets > f[0]) & (self.onsets < f[-1])]
-        return _merged(inside)
+        return merged_onsets(inside)
 
     @property
     def propagating(self) -> np.ndarray:
@@ -764,7 +659,7 @@ def periodic_sweep(
     wave = PlaneWave() if incidence is None else incidence
     if not isinstance(wave, PlaneWave):
         raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
-    direction = _direction(wave)
+    direction = incidence_direction(wave)
     if polarizations not in ("both", "incident"):
         raise ValueError(f"polarizations={polarizations!r}; expected 'both' or 'incident'")
     zs = check_sheet_impedance(sheet_impedance)
@@ -795,8 +690,8 @@ def periodic_sweep(
         waves = [wave]
     kk = len(waves)
     incident_components = (basis @ fields.T).ravel()  # (2, K): TE/TM of each wave, as R[0]
-    orders, onsets = _order_onsets(vectors, direction, float(freqs[-1]))
-    inside = _merged(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
+    orders, onsets = order_onsets(vectors, direction, float(freqs[-1]))
+    inside = merged_onsets(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
     nf = len(freqs)
     if max_samples is None:
         max_samples = nf + 2 * len(inside)
