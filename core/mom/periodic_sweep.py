@@ -656,29 +656,134 @@ def periodic_sweep(
         frequency at a grating-lobe onset with ``interpolate=False``.
     """
     freqs = check_frequencies(frequencies)
+    wave, direction = _checked_incidence(incidence, polarizations)
+    zs = check_sheet_impedance(sheet_impedance)
+    stack = _checked_stack(stack, direction)
+    tolerance = _checked_tolerance(tolerance)
+    lattice, vectors = _checked_cell(mesh, lattice, freqs, direction, memory_limit)
+    fields, waves, incident_te_tm, incident_components = _incident_fields(
+        wave, direction, polarizations
+    )
+    kk = len(waves)
+    orders, onsets = order_onsets(vectors, direction, float(freqs[-1]))
+    inside = merged_onsets(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
+    max_samples = _checked_max_samples(max_samples, len(freqs), inside)
+    total = len(freqs) if not interpolate else max_samples
+    pieces = _pieces(freqs, inside, onsets, orders, stack, vectors, direction)
+    queue = _first_samples(pieces, freqs, interpolate)
+    with _Samples(mesh, waves, lattice, zs, orders, memory_limit, stack) as samples:
+        done, budget_hit = _solve_samples(
+            samples,
+            pieces,
+            queue,
+            freqs,
+            kk,
+            interpolate=interpolate,
+            tolerance=tolerance,
+            max_samples=max_samples,
+            total=total,
+            progress=progress,
+            cancel=cancel,
+        )
+    _final_errors(pieces, freqs, kk, interpolate)
+    if interpolate:
+        _report_end(pieces, budget_hit, max_samples, tolerance, progress, done, total)
+    refl, trans, error, sampled, co_fits = _curves(
+        pieces, freqs, orders, kk, stack, vectors, direction, incident_te_tm, incident_components
+    )
+    result = PeriodicSweep(
+        frequencies=freqs,
+        incidence=wave,
+        polarizations=fields,
+        incident_te_tm=incident_te_tm,
+        orders=orders,
+        onsets=onsets,
+        order_reflection=refl,
+        order_transmission=trans,
+        lattice=vectors,
+        sampled=np.array(sorted(sampled)),
+        error_estimate=error,
+        interpolated=bool(interpolate),
+        sheet_impedance=zs,
+        resonances=np.zeros(0),
+        resonance_kinds=(),
+        quality_factors=np.zeros(0),
+        mesh=mesh,
+        lattice_source=lattice,
+        stack=stack,
+    )
+    return _with_resonances(result, co_fits, tuple(samples.warnings.values()))
+
+
+# -- the sweep's steps, in the order periodic_sweep takes them ---------------------------
+
+
+def _checked_incidence(incidence: PlaneWave | None, polarizations: str) -> tuple:
+    """The incident wave (default: normal incidence from above) and its direction (3,).
+
+    Checked before anything is built: a wrong type, a wave along the screen or an unknown
+    ``polarizations`` is refused by name.
+    """
     wave = PlaneWave() if incidence is None else incidence
     if not isinstance(wave, PlaneWave):
         raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
     direction = incidence_direction(wave)
     if polarizations not in ("both", "incident"):
         raise ValueError(f"polarizations={polarizations!r}; expected 'both' or 'incident'")
-    zs = check_sheet_impedance(sheet_impedance)
+    return wave, direction
+
+
+def _checked_stack(stack: Any, direction: np.ndarray) -> Stack | None:
+    """The stack as the solver takes it; a grounded one must be lit from above, the side
+    without the ground plane."""
     stack = check_stack(stack)
     if stack is not None and stack.ground and direction[2] > 0:
         raise ValueError(
             "the incident wave comes from below, where the ground plane is: a grounded "
             "stack is lit from above (direction_z < 0)"
         )
+    return stack
+
+
+def _checked_tolerance(tolerance: Any) -> float:
+    """``tolerance`` as a positive float: the greedy sampling stops below it."""
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise ValueError(f"tolerance={tolerance!r}; expected a positive number")
+    return tolerance
+
+
+def _checked_cell(
+    mesh: Any,
+    lattice: Any,
+    frequencies: np.ndarray,
+    direction: np.ndarray,
+    memory_limit: float | None,
+) -> tuple[Any, np.ndarray]:
+    """The lattice as given (a Lattice or None) and its vectors (2, 2) in metres.
+
+    Every check of the cell (boundary, size, memory) runs here, before the first solve, so
+    that a sweep that cannot run fails at once and not after minutes of solves; the lattice
+    sums' at the top of the band. The geometry it builds is cached for the solves.
+    """
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     lattice = as_lattice(lattice)
     vectors = lattice_metres(mesh, lattice)
-    # every check of the cell (boundary, size, memory) up front; the lattice sums' at the top
-    check_green_terms(vectors, float(freqs[-1]), direction, memory_limit, float(freqs[0]))
+    check_green_terms(
+        vectors, float(frequencies[-1]), direction, memory_limit, float(frequencies[0])
+    )
     periodic_geometry(mesh, lattice, memory_limit=memory_limit)
+    return lattice, vectors
+
+
+def _incident_fields(wave: PlaneWave, direction: np.ndarray, polarizations: str) -> tuple:
+    """What is solved at each frequency: (fields (K, 3), waves (K,), the incidence's TE/TM
+    components (2,), and each wave's TE/TM components flattened (2 K,), as R[0] is).
+
+    "both" solves TE and TM from the incidence's direction (K = 2), so that every order's
+    full 2 × 2 is known; "incident" the incidence alone (K = 1).
+    """
     basis = te_tm_polarizations(direction)
     pol = np.asarray(wave.polarization)
     incident_te_tm = basis @ pol
@@ -688,19 +793,37 @@ def periodic_sweep(
     else:
         fields = np.real_if_close(pol)[None, :]
         waves = [wave]
-    kk = len(waves)
     incident_components = (basis @ fields.T).ravel()  # (2, K): TE/TM of each wave, as R[0]
-    orders, onsets = order_onsets(vectors, direction, float(freqs[-1]))
-    inside = merged_onsets(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
-    nf = len(freqs)
+    return fields, waves, incident_te_tm, incident_components
+
+
+def _checked_max_samples(max_samples: int | None, n_frequencies: int, inside: np.ndarray) -> int:
+    """The most frequencies solved: by default as many as asked for, plus two per onset
+    inside the band (the samples on either side of it)."""
     if max_samples is None:
-        max_samples = nf + 2 * len(inside)
+        max_samples = n_frequencies + 2 * len(inside)
     max_samples = int(max_samples)
     if max_samples < 1:
         raise ValueError(f"max_samples={max_samples!r}; expected a positive number")
-    total = nf if not interpolate else max_samples
+    return max_samples
 
-    # the pieces between onsets; a requested frequency at an onset belongs to the lower one
+
+def _pieces(
+    freqs: np.ndarray,
+    inside: np.ndarray,
+    onsets: np.ndarray,
+    orders: np.ndarray,
+    stack: Stack | None,
+    vectors: np.ndarray,
+    direction: np.ndarray,
+) -> list[_Piece]:
+    """The band cut at every onset ``inside`` it, each piece fitted on its own.
+
+    The coefficients have a square-root branch point at an onset, so a piece ends
+    :data:`ONSET_OFFSET` short of it and its fit's variable is made analytic there
+    (:meth:`_Piece.scale`); a requested frequency at an onset belongs to the lower piece.
+    On layers T's error is R's times |b| (T = a δ + b R): each piece keeps that factor.
+    """
     edges = np.concatenate([[freqs[0]], inside, [freqs[-1]]])
     which = np.clip(np.searchsorted(inside, freqs, side="left"), 0, len(inside))
     pieces = []
@@ -717,9 +840,19 @@ def periodic_sweep(
             )
             piece.gain = np.maximum(1.0, np.abs(b[:, 0]).max(axis=1)) if len(b) else None
         pieces.append(piece)
+    return pieces
 
-    # what to solve first: every requested frequency, or each piece's ends (solved whatever
-    # max_samples) and a few evenly spread requested frequencies
+
+def _first_samples(
+    pieces: list[_Piece], freqs: np.ndarray, interpolate: bool
+) -> list[tuple[_Piece, float, bool]]:
+    """What to solve first, as a stack popped from the end: (piece, frequency, always).
+
+    Point by point, every requested frequency. Interpolating, each piece's two ends
+    (``always``: solved whatever ``max_samples``, a fit needs them) and a few evenly spread
+    requested frequencies (:data:`INITIAL_SAMPLES` in all), so that every piece has a fit
+    and an error estimate before the greedy choice starts.
+    """
     queue: list[tuple[_Piece, float, bool]] = []
     for piece in pieces:
         grid_f = freqs[piece.grid]
@@ -734,63 +867,125 @@ def periodic_sweep(
         ordered = sorted(set(starts), key=lambda f: f not in (piece.lo, piece.hi))
         queue += [(piece, float(f), j < 2) for j, f in enumerate(ordered)]
     queue.reverse()  # popped from the end
+    return queue
 
+
+def _solve_samples(
+    samples: _Samples,
+    pieces: list[_Piece],
+    queue: list[tuple[_Piece, float, bool]],
+    freqs: np.ndarray,
+    kk: int,
+    *,
+    interpolate: bool,
+    tolerance: float,
+    max_samples: int,
+    total: int,
+    progress: Callable[[int, int], None] | None,
+    cancel: Callable[[], bool] | None,
+) -> tuple[int, bool]:
+    """Solve the ``queue``, then (interpolating) the greedy samples, into ``pieces``.
+
+    The next sample is chosen where the estimated error is largest (:func:`_next_sample`)
+    until it is below ``tolerance`` everywhere or ``max_samples`` are solved. With a
+    worker thread one sample is in flight while the next is chosen and filled, and the
+    next is chosen beside it only where the estimate is :data:`OVERLAP_MARGIN` times the
+    tolerance. Returns (frequencies solved, whether ``max_samples`` stopped the sweep).
+    """
     done = started = 0
     budget_hit = False
     flying: deque[tuple[_Piece, float, Future]] = deque()
-    with _Samples(mesh, waves, lattice, zs, orders, memory_limit, stack) as samples:
-        depth = 1 if samples.overlapping else 0  # samples solved while the next is chosen
-        while True:
-            if cancel is not None and cancel():  # before the next choice (a refit) too
-                raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
-            nxt = None
-            while queue and nxt is None:
-                piece, f, always = queue.pop()
-                if always or started < max_samples:
-                    nxt = piece, f
-                else:
-                    budget_hit = True
-            if nxt is None and interpolate and not budget_hit:
-                # beside a sample being solved, only where the estimate is well above the
-                # tolerance: near it, that sample's result may well be enough
-                margin = OVERLAP_MARGIN if flying else 1.0
-                busy = [(p, f) for p, f, _ in flying]
-                nxt = _next_sample(pieces, freqs, kk, busy, margin * tolerance)
-                if nxt is not None and started >= max_samples:
-                    nxt = None
-                    budget_hit = not flying
-            if nxt is not None:
-                piece, f = nxt
-                flying.append((piece, f, samples.start(f, piece.n_orders)))
-                started += 1
-                if len(flying) <= depth:
-                    continue
-            elif not flying:
-                break
-            piece, f, future = flying.popleft()
-            piece.samples[f] = future.result()
-            piece.stale = True
-            done += 1
-            if progress is not None:
-                progress(done, total)
+    depth = 1 if samples.overlapping else 0  # samples solved while the next is chosen
+    while True:
+        if cancel is not None and cancel():  # before the next choice (a refit) too
+            raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
+        nxt = None
+        while queue and nxt is None:
+            piece, f, always = queue.pop()
+            if always or started < max_samples:
+                nxt = piece, f
+            else:
+                budget_hit = True
+        if nxt is None and interpolate and not budget_hit:
+            # beside a sample being solved, only where the estimate is well above the
+            # tolerance: near it, that sample's result may well be enough
+            margin = OVERLAP_MARGIN if flying else 1.0
+            busy = [(p, f) for p, f, _ in flying]
+            nxt = _next_sample(pieces, freqs, kk, busy, margin * tolerance)
+            if nxt is not None and started >= max_samples:
+                nxt = None
+                budget_hit = not flying
+        if nxt is not None:
+            piece, f = nxt
+            flying.append((piece, f, samples.start(f, piece.n_orders)))
+            started += 1
+            if len(flying) <= depth:
+                continue
+        elif not flying:
+            break
+        piece, f, future = flying.popleft()
+        piece.samples[f] = future.result()
+        piece.stale = True
+        done += 1
+        if progress is not None:
+            progress(done, total)
+    return done, budget_hit
+
+
+def _final_errors(pieces: list[_Piece], freqs: np.ndarray, kk: int, interpolate: bool) -> None:
+    """Each piece's error estimate for the samples it ended with (0 point by point: every
+    requested frequency was solved)."""
     for piece in pieces:
         if not interpolate:
             piece.error = np.zeros(len(piece.grid))
         elif piece.stale:
             _refit(piece, freqs, kk)
-    if interpolate:
-        if budget_hit:
-            log.warning(
-                "the interpolating sweep stopped at max_samples=%d with an estimated error "
-                "of %.3g (tolerance %.3g)",
-                max_samples,
-                max(p.error.max() if len(p.error) else 0.0 for p in pieces),
-                tolerance,
-            )
-        if progress is not None and done < total:
-            progress(done, done)
 
-    # fill the (F, P, 2, K) arrays: solved values where solved, the fits elsewhere
+
+def _report_end(
+    pieces: list[_Piece],
+    budget_hit: bool,
+    max_samples: int,
+    tolerance: float,
+    progress: Callable[[int, int], None] | None,
+    done: int,
+    total: int,
+) -> None:
+    """An interpolating sweep's last word: in the log when ``max_samples`` stopped it above
+    the tolerance, and ``progress(done, done)`` when it needed fewer than ``total``, so that
+    a progress bar ends full."""
+    if budget_hit:
+        log.warning(
+            "the interpolating sweep stopped at max_samples=%d with an estimated error "
+            "of %.3g (tolerance %.3g)",
+            max_samples,
+            max(p.error.max() if len(p.error) else 0.0 for p in pieces),
+            tolerance,
+        )
+    if progress is not None and done < total:
+        progress(done, done)
+
+
+def _curves(
+    pieces: list[_Piece],
+    freqs: np.ndarray,
+    orders: np.ndarray,
+    kk: int,
+    stack: Stack | None,
+    vectors: np.ndarray,
+    direction: np.ndarray,
+    incident_te_tm: np.ndarray,
+    incident_components: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[float], list[tuple[_Piece, AAA | None]]]:
+    """The (F, P, 2, K) reflection and transmission: solved values where solved, the fits
+    elsewhere, NaN where an order is evanescent; with the (F,) error estimate, the
+    frequencies solved and each piece's fit of R_co (for the resonances).
+
+    R alone is fitted: E_tan is continuous across the screen, so in vacuum every order's T
+    is its R, plus the incident wave's TE/TM components for (0, 0) (the solver's too); on
+    layers T = a δ + b R, order by order (:func:`barymesh.mom.stack.transmission_map`).
+    """
+    nf = len(freqs)
     n_all = len(orders)
     refl = np.full((nf, n_all, 2, kk), np.nan, dtype=np.complex128)
     trans = np.full((nf, n_all, 2, kk), np.nan, dtype=np.complex128)
@@ -804,10 +999,7 @@ def periodic_sweep(
         sampled += list(x)
         n = piece.n_orders * 2 * kk
         grid_f = freqs[piece.grid]
-        # R alone is fitted: E_tan is continuous across the screen, so in vacuum every
-        # order's T is its R, plus the incident wave's TE/TM components for (0, 0) (the
-        # solver's too); on layers T = a δ + b R, order by order (transmission_map)
-        if len(x) >= 2:
+        if len(x) >= 2:  # R alone is fitted (see above)
             fitted_r = _evaluate(_fit(piece.scale(x), v[:, :n]), piece.scale(grid_f))
         else:
             fitted_r = np.repeat(v[:, :n], len(grid_f), axis=0)
@@ -831,32 +1023,19 @@ def periodic_sweep(
         error[piece.grid] = piece.error
         co = _co_series(v[:, : 2 * kk].reshape(-1, 2, kk), incident_te_tm, kk)
         co_fits.append((piece, _fit(piece.scale(x), co[:, None])[0] if len(x) >= 3 else None))
-    result = PeriodicSweep(
-        frequencies=freqs,
-        incidence=wave,
-        polarizations=fields,
-        incident_te_tm=incident_te_tm,
-        orders=orders,
-        onsets=onsets,
-        order_reflection=refl,
-        order_transmission=trans,
-        lattice=vectors,
-        sampled=np.array(sorted(sampled)),
-        error_estimate=error,
-        interpolated=bool(interpolate),
-        sheet_impedance=zs,
-        resonances=np.zeros(0),
-        resonance_kinds=(),
-        quality_factors=np.zeros(0),
-        mesh=mesh,
-        lattice_source=lattice,
-        stack=stack,
-    )
+    return refl, trans, error, sampled, co_fits
+
+
+def _with_resonances(
+    result: PeriodicSweep, co_fits: list[tuple[_Piece, AAA | None]], notes: tuple[str, ...]
+) -> PeriodicSweep:
+    """``result`` with its resonances (peaks and dips of |R_co|, refined on the fits, with
+    Q) and its warnings: the solves' ``notes``, and a resonance next to an onset."""
+    freqs = result.frequencies
     found, kinds, q = _resonances(result, co_fits)
-    notes = tuple(samples.warnings.values())
     if len(found):
         r_co, t_co = result.co_polar()
-        at = np.clip(np.searchsorted(freqs, found), 0, nf - 1)
+        at = np.clip(np.searchsorted(freqs, found), 0, len(freqs) - 1)
         notes += onset_resonance_warning(
             found, kinds, result.grating_lobe_onsets, np.abs(r_co[at]), np.abs(t_co[at])
         )
