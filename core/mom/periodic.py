@@ -23,6 +23,10 @@ the wave's triad with a tangential part that is the same above and below
 convention the co-polar (0, 0) coefficients of a zero-thickness screen obey
 T = 1 + R, and power balance reads Σ (|R|² + |T|²) β_pq / β_00 = 1 over the
 propagating orders.
+
+Below this module: the cell's frequency-independent data,
+:mod:`barymesh.mom.periodic_geometry`; the fill, :mod:`barymesh.mom.periodic_fill`; the
+orders, their onsets and their TE/TM basis, :mod:`barymesh.mom.floquet`.
 """
 
 from __future__ import annotations

@@ -652,7 +652,7 @@ def periodic_sweep(
         The cell would not fit in memory (checked before the first solve).
     ValueError
         Bad frequencies, no lattice, metal across the cell boundary without matching
-        periodic edges (from :func:`~barymesh.mom.periodic.periodic_geometry`), a
+        periodic edges (from :func:`~barymesh.mom.periodic_geometry`), a
         frequency at a grating-lobe onset with ``interpolate=False``.
     """
     freqs = check_frequencies(frequencies)
