@@ -36,10 +36,10 @@ from barymesh.mom import (
     periodic_sweep,
     te_tm_polarizations,
 )
-from barymesh.mom import periodic as periodic_module
 from barymesh.mom.operator import wavenumber
 from barymesh.mom.periodic import periodic_geometry, periodic_impedance_matrix
 from barymesh.mom.periodic_fill import fill
+from barymesh.mom.periodic_geometry import cell_current
 from barymesh.mom.periodic_green import reciprocal_vectors
 from barymesh.mom.periodic_layered import (
     extraction,
@@ -317,7 +317,7 @@ def test_the_layers_loss_is_the_poynting_flux_into_them_harmonic_by_harmonic():
     kappa = np.stack([p.ravel(), q.ravel()], 1) @ b + s.kappa[0]
     kappa = kappa[np.linalg.norm(kappa, axis=1) <= 6.0 / h]
     zero = int(np.argmin(np.linalg.norm(kappa - s.kappa[0], axis=1)))
-    j = periodic_module._current(pg, s.kappa[0], s.coefficients, rule.rho)
+    j = cell_current(pg, s.kappa[0], s.coefficients, rule.rho)
     jt = np.einsum(
         "tq,tqc,tqp->pc", rule.weights, j[:, :, :2], np.exp(1j * (rule.points[:, :, :2] @ kappa.T))
     )

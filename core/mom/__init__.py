@@ -15,15 +15,19 @@ potential integrals), :mod:`.geometry` (the per-mesh cache),
 :mod:`.operator` (the impedance matrix), :mod:`.near_series` (its near pairs' smooth
 kernel as a power series in k), :mod:`.excitation`,
 :mod:`.solution` (post-processing), :mod:`.solve` (solve and sweep);
-for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function) and
+for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's function),
+:mod:`.periodic_geometry` (a cell's frequency-independent data, cached per mesh),
+:mod:`.periodic_plan` (the fill's per-mesh tables, kept by the geometry),
+:mod:`.periodic_fill` (how the matrix is filled at each frequency),
+:mod:`.floquet` (the Floquet orders, their onsets and their TE/TM fields),
 :mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),
-:mod:`.periodic_fill` (how its matrix is filled),
 :mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating);
 :mod:`.stack` (dielectric layers and a ground plane around the sheet, as transmission
 lines) and :mod:`.periodic_layered` (the layered kernel the fill integrates).
 """
 
 from .excitation import PlaneWave, VoltageSource, excitation_vector
+from .floquet import grating_lobe_onsets, te_tm_polarizations
 from .geometry import MomGeometry, mom_geometry
 from .operator import impedance_matrix, wavenumber
 from .periodic import (
@@ -34,7 +38,7 @@ from .periodic import (
     periodic_solve_many,
 )
 from .periodic_green import PeriodicGreen
-from .periodic_sweep import PeriodicSweep, grating_lobe_onsets, periodic_sweep, te_tm_polarizations
+from .periodic_sweep import PeriodicSweep, periodic_sweep
 from .solution import Solution
 from .solve import (
     ProblemTooLarge,

@@ -23,16 +23,19 @@ the wave's triad with a tangential part that is the same above and below
 convention the co-polar (0, 0) coefficients of a zero-thickness screen obey
 T = 1 + R, and power balance reads Σ (|R|² + |T|²) β_pq / β_00 = 1 over the
 propagating orders.
+
+Below this module: the cell's frequency-independent data,
+:mod:`barymesh.mom.periodic_geometry`; the fill, :mod:`barymesh.mom.periodic_fill`; the
+orders, their onsets and their TE/TM basis, :mod:`barymesh.mom.floquet`.
 """
 
 from __future__ import annotations
 
 import contextlib
 import math
-import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from functools import cache, cached_property
+from functools import cache
 from typing import Any
 
 import numpy as np
@@ -41,433 +44,64 @@ from threadpoolctl import ThreadpoolController
 
 from ..mesh import TriMesh
 from .excitation import PlaneWave
-from .geometry import (
-    METRES_PER_MESH_UNIT,
-    MIRROR_MOMENTS,
-    SIZE_TIE,
-    MomGeometry,
-    close_pairs,
-    mom_geometry,
-    static_moments,
-)
+from .floquet import harmonics
 from .operator import ETA0, wavenumber
 from .periodic_caveats import periodic_warnings
-from .periodic_checks import as_lattice, check_green_terms
-from .periodic_fill import FillPlan, fill, fill_plan
-from .periodic_green import PeriodicGreen
-from .periodic_layered import layer_orders, layered_kernel, sheet_field
-from .solve import (
-    ProblemTooLarge,
-    check_sheet_impedance,
-    dense_solve,
-    format_bytes,
-    memory_allowance,
+from .periodic_checks import (
+    GEOMETRY_BYTES_PER_T2,
+    GEOMETRY_PEAK_BYTES_PER_T2,
+    PERIODIC_FIXED_BYTES,
+    SOLVE_BYTES_PER_N2,
+    as_lattice,
+    check_green_terms,
+    check_periodic_memory,
+    periodic_memory_needed,
 )
+from .periodic_fill import fill
+from .periodic_geometry import (
+    MAX_TRIANGLE,
+    NEAR_FACTOR,
+    PeriodicGeometry,
+    cell_current,
+    lattice_metres,
+    periodic_geometry,
+)
+from .periodic_layered import layer_orders, layered_kernel, sheet_field
+from .solve import check_sheet_impedance, dense_solve
 from .stack import Stack, background, lit_side_loss, side, vacuum_admittance
 
-#: Near triples: centroids closer than this many times the larger triangle's longest edge.
-NEAR_FACTOR = 1.5
-#: Largest triangle, as a fraction of the cell's smallest height.
-MAX_TRIANGLE = 0.2
+#: What this module defines, and what it re-exports from the modules it was split into:
+#: the geometry (:mod:`barymesh.mom.periodic_geometry`) and its memory model
+#: (:mod:`barymesh.mom.periodic_checks`).
+__all__ = [
+    "GEOMETRY_BYTES_PER_T2",
+    "GEOMETRY_PEAK_BYTES_PER_T2",
+    "MAX_TRIANGLE",
+    "NEAR_FACTOR",
+    "PERIODIC_FIXED_BYTES",
+    "SERIAL_BLAS_UNKNOWNS",
+    "SOLVE_BYTES_PER_N2",
+    "FilledSystem",
+    "PeriodicGeometry",
+    "PeriodicSolution",
+    "blas_threads",
+    "check_periodic_memory",
+    "check_stack",
+    "fill_system",
+    "gram_matrix",
+    "lattice_metres",
+    "one_blas_thread",
+    "periodic_geometry",
+    "periodic_impedance_matrix",
+    "periodic_memory_needed",
+    "periodic_solve",
+    "periodic_solve_many",
+    "solve_system",
+]
+
 #: Largest solve (unknowns) run with one BLAS thread (:func:`blas_threads`): on a shared
 #: 2-core machine the threaded LU of 1,680 unknowns took 0.41-0.55 s, one thread 0.24 s.
 SERIAL_BLAS_UNKNOWNS = 2000
-
-#: Peak bytes per triangle pair (T²) while :func:`periodic_geometry` builds its tables
-#: (the fill plan's offsets, distances, σ codes and their temporaries), measured with
-#: tracemalloc: 189-192 at T = 2,048-4,608 above a fixed ~0.1 GiB, plus a margin.
-GEOMETRY_PEAK_BYTES_PER_T2 = 200.0
-#: Bytes per triangle pair the built geometry keeps (measured 39-48 at T = 2,048-4,608).
-GEOMETRY_BYTES_PER_T2 = 42.0
-#: Peak bytes per N² of one periodic solve beyond the geometry: Z, the fill's float32
-#: Taylor blocks and right factor, and the LU (measured 41.2-42.7 at N = 3,008-6,816).
-SOLVE_BYTES_PER_N2 = 45.0
-#: Bytes whatever the size (the O(T) tables, Taylor blocks of TAYLOR_BLOCK pairs, BLAS).
-PERIODIC_FIXED_BYTES = 160 * 2**20
-
-
-def lattice_metres(mesh: TriMesh, lattice: Any) -> np.ndarray:
-    """The lattice vectors (2, 2) in metres: ``lattice``'s, or else the mesh's own."""
-    lat = lattice if lattice is not None else getattr(mesh, "lattice", None)
-    if lat is None:
-        raise ValueError(
-            "the mesh carries no lattice: an infinite array needs a unit cell "
-            "(mesh a cell, or pass lattice=Lattice(...))"
-        )
-    vectors = np.array([lat.a1, lat.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
-    return vectors
-
-
-@dataclass(frozen=True, eq=False)
-class PeriodicGeometry:
-    """The frequency-independent part of an infinite-array solve (metres).
-
-    Attributes
-    ----------
-    base : MomGeometry
-        The mesh's free-space geometry (rules, its interior RWG maps, its near pairs:
-        those of the periodic fill whose nearest image is the triangle itself).
-    lattice : (2, 2) float
-        Rows a1, a2 (m).
-    maps : (N, 3T) sparse float
-        The RWG functions of cell (0, 0) as [C | D_x | D_y] (see
-        :mod:`barymesh.mom.geometry`): the interior ones, then one per pair of matching
-        edges on opposite sides of the cell, whose T+ lies inside the cell at the minus
-        side and whose T− is the triangle at the plus side, seen from the next cell.
-        ``maps`` holds every half but those T−, which are in ``folded``.
-    folded : (N, 3T) sparse float
-        The T− halves of the unknowns across the cell's sides, at their place in cell
-        (0, 0); they carry the Floquet phase e^(−j k_t·a) of the lattice vector a they
-        are moved by (``crossing``).
-    crossing : (N, 2) float
-        That lattice vector (m), zero for the interior unknowns.
-    shift : (T, T, 2) int8
-        σ of each pair (observation, source): the source image used; σ(s, o) = −σ(o, s).
-    cross : (K, 2) int
-        (observation, source) pairs whose image σ ≠ 0 touches the observation triangle
-        (near across the cell's sides), sorted by observation.
-    cross_static_inv_r, cross_static_r : (K, 8) float
-        The eight moments of 1/R and R over those pairs (near rule outside, closed form
-        inside), against the shifted source.
-    cross_distances : (K, Qn, Qn) float
-        |r − r' − ρ_σ| between their near rule's points.
-    plan : FillPlan
-        How the matrix is filled (:mod:`barymesh.mom.periodic_fill`).
-    """
-
-    base: MomGeometry
-    lattice: np.ndarray
-    maps: sp.csr_matrix
-    folded: sp.csr_matrix
-    crossing: np.ndarray
-    shift: np.ndarray
-    cross: np.ndarray
-    cross_static_inv_r: np.ndarray
-    cross_static_r: np.ndarray
-    cross_distances: np.ndarray
-    plan: FillPlan
-
-    @property
-    def area(self) -> float:
-        return float(abs(np.linalg.det(self.lattice)))
-
-    @property
-    def n_unknowns(self) -> int:
-        return self.maps.shape[0]
-
-    @property
-    def n_crossing(self) -> int:
-        """Unknowns across the cell's sides."""
-        return int(np.count_nonzero(np.any(self.crossing != 0, axis=1)))
-
-    @cached_property
-    def near(self) -> np.ndarray:
-        """(K, 2) int: every near (observation, source) pair, sorted by observation."""
-        pairs = np.concatenate([self.base.near_pairs, self.cross])
-        return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
-
-    def basis_maps(self, kt: np.ndarray) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-        """The (N, 3T) complex maps of the basis functions and of the testing functions.
-
-        Basis halves moved by a carry e^(−j k_t·a), testing halves its conjugate. The last
-        k_t's pair is kept: a solve asks for it three times (the right-hand side, the
-        orders taken out of G_reg, the current). Read only.
-        """
-        kt = np.asarray(kt, dtype=np.float64)
-        key = (float(kt[0]), float(kt[1]))
-        last = self.__dict__.get("_last_basis_maps")
-        if last is not None and last[0] == key:
-            return last[1]
-        phase = np.exp(-1j * (self.crossing @ kt))
-        basis = self.maps + sp.diags(phase) @ self.folded
-        test = self.maps + sp.diags(np.conj(phase)) @ self.folded
-        maps = (basis.tocsr(), test.tocsr())
-        self.__dict__["_last_basis_maps"] = (key, maps)  # a frozen dataclass: not setattr
-        return maps
-
-
-def _shift_vectors(shift: np.ndarray, lattice: np.ndarray) -> np.ndarray:
-    """ρ_σ = σ_1 a1 + σ_2 a2 (..., 2), elementwise so that ρ_(−σ) = −ρ_σ bit for bit."""
-    s = shift.astype(np.float64)
-    return s[..., :1] * lattice[0] + s[..., 1:] * lattice[1]
-
-
-def _rwg_maps(
-    mesh: TriMesh, base: MomGeometry, lattice: Any, vectors: np.ndarray
-) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
-    """[C | D_x | D_y] of the interior unknowns and of those across the cell's sides."""
-    from ..cell.periodic import periodic_pairs
-
-    lat = lattice if lattice is not None else mesh.lattice
-    pairs = periodic_pairs(mesh, lat, mesh.tolerance)
-    if not pairs.matched:
-        raise ValueError(
-            f"{len(pairs.unmatched_edges)} boundary edge(s) of the metal lie on a side of the "
-            "cell with no matching edge on the opposite side: the metal crosses the cell "
-            "boundary, but its mesh is not periodic there (mesh the cell with a lattice)"
-        )
-    t = base.n_triangles
-    interior = [base.coef_matrix] + list(base.offset_matrices[:2])
-    n_int = base.n_unknowns
-    topo = mesh.topology
-    minus, plus = pairs.edges[:, 0], pairs.edges[:, 1]
-    m = len(minus)
-    points = base.vertices
-    rows: list[np.ndarray] = []
-    cols: list[np.ndarray] = []
-    values: list[np.ndarray] = []
-    rows_b: list[np.ndarray] = []
-    cols_b: list[np.ndarray] = []
-    values_b: list[np.ndarray] = []
-    if m:
-        ends = topo.edges[minus]
-        length = np.linalg.norm(points[ends[:, 0]] - points[ends[:, 1]], axis=1)
-        for side, (edge, sign) in enumerate(((minus, 1.0), (plus, -1.0))):
-            tri = topo.edge_triangles[edge, 0]
-            corners = base.triangles[tri]
-            on_edge = (corners[:, :, None] == topo.edges[edge][:, None, :]).any(axis=2)
-            free = corners[np.arange(m), np.argmin(on_edge, axis=1)]
-            coef = sign * length / (2.0 * base.areas[tri])
-            offset = base.centroids[tri] - points[free]
-            row = n_int + np.arange(m)
-            for c, value in enumerate((coef, coef * offset[:, 0], coef * offset[:, 1])):
-                (rows_b if side else rows).append(row)
-                (cols_b if side else cols).append(tri + c * t)
-                (values_b if side else values).append(value)
-    n = n_int + m
-    head = sp.vstack([sp.hstack(interior, "csr"), sp.csr_matrix((m, 3 * t))], "csr")
-
-    def matrix(r: list, c: list, v: list) -> sp.csr_matrix:
-        if not r:
-            return sp.csr_matrix((n, 3 * t))
-        return sp.csr_matrix(
-            (np.concatenate(v), (np.concatenate(r), np.concatenate(c))), shape=(n, 3 * t)
-        )
-
-    crossing = np.zeros((n, 2))
-    crossing[n_int:] = vectors[pairs.edge_shift] if m else 0.0
-    return (head + matrix(rows, cols, values)).tocsr(), matrix(rows_b, cols_b, values_b), crossing
-
-
-_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool = True) -> int:
-    """Peak bytes of a periodic solve of T triangles and N unknowns (a measured model).
-
-    Parameters
-    ----------
-    n_triangles, n_unknowns : int
-        T and N of the cell.
-    geometry : bool
-        Whether :func:`periodic_geometry` is still to be built (its T² tables count);
-        False counts only what one solve allocates beyond a cached geometry.
-
-    Returns
-    -------
-    int
-        ``max(200 T², 42 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
-        beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``.
-
-    Examples
-    --------
-    >>> periodic_memory_needed(1000, 1500) == 200 * 1000**2 + 160 * 2**20
-    True
-    """
-    t2, n2 = float(n_triangles) ** 2, float(n_unknowns) ** 2
-    solve = SOLVE_BYTES_PER_N2 * n2
-    if geometry:
-        solve = max(GEOMETRY_PEAK_BYTES_PER_T2 * t2, GEOMETRY_BYTES_PER_T2 * t2 + solve)
-    return int(solve) + PERIODIC_FIXED_BYTES
-
-
-def check_periodic_memory(
-    n_triangles: int,
-    n_unknowns: int,
-    memory_limit: float | None = None,
-    *,
-    geometry: bool = True,
-) -> int:
-    """Refuse a periodic cell whose solve would need more memory than allowed.
-
-    Parameters
-    ----------
-    n_triangles, n_unknowns : int
-        T and N of the cell.
-    memory_limit : float, optional
-        A cap in bytes (in addition to the memory available now).
-    geometry : bool
-        As for :func:`periodic_memory_needed`.
-
-    Returns
-    -------
-    int
-        The bytes needed.
-
-    Raises
-    ------
-    ProblemTooLarge
-        Naming T, N, the memory needed and the memory allowed, before anything of
-        that size is allocated.
-    """
-    need = periodic_memory_needed(n_triangles, n_unknowns, geometry=geometry)
-    allowed, source = memory_allowance(memory_limit)
-    if need > allowed:
-        what = f"about {SOLVE_BYTES_PER_N2:g} N² bytes for the dense matrix and its LU"
-        if geometry:
-            what = (
-                f"about {GEOMETRY_PEAK_BYTES_PER_T2:g} bytes per triangle pair while its "
-                f"tables are built, and {what}"
-            )
-        raise ProblemTooLarge(
-            f"the infinite array of T = {n_triangles:,} triangles, N = {n_unknowns:,} "
-            f"unknowns needs {format_bytes(need)} at its peak ({what}), more than "
-            f"{source}; use a coarser mesh"
-        )
-    return need
-
-
-def periodic_geometry(
-    mesh: TriMesh, lattice: Any = None, *, memory_limit: float | None = None
-) -> PeriodicGeometry:
-    """The frequency-independent data of the array of ``mesh`` on ``lattice`` (or its own).
-
-    Cached per mesh and lattice: a sweep over frequency or angle computes it once.
-
-    Parameters
-    ----------
-    mesh : TriMesh
-        One cell of the screen (mm).
-    lattice : Lattice, optional
-        Default: the mesh's own.
-    memory_limit : float, optional
-        A cap in bytes for building it and one solve beside it
-        (:func:`check_periodic_memory`, checked before the T² tables are allocated).
-
-    Raises
-    ------
-    ProblemTooLarge
-        When the geometry and a solve would not fit in memory.
-    ValueError
-        A mesh off z = 0, triangles too large for the cell, metal across the cell's
-        sides without matching periodic edges.
-    """
-    lattice = as_lattice(lattice)  # a Lattice, or two vectors in mm
-    vectors = lattice_metres(mesh, lattice)
-    key = tuple(vectors.ravel())
-    per_mesh = _CACHE.setdefault(mesh, {})
-    if key not in per_mesh:
-        per_mesh.clear()  # one lattice per mesh at a time; keeps memory bounded
-        per_mesh[key] = _periodic_geometry(mesh, lattice, vectors, memory_limit)
-    return per_mesh[key]
-
-
-def _periodic_geometry(
-    mesh: TriMesh, lattice: Any, vectors: np.ndarray, memory_limit: float | None
-) -> PeriodicGeometry:
-    # before the geometry (a minute for a large cell): the memory of the unknowns (the
-    # interior ones and the pairs across the sides, counted cheaply)
-    from ..cell.periodic import periodic_pairs
-
-    lat = lattice if lattice is not None else mesh.lattice
-    pairs = periodic_pairs(mesh, lat, mesh.tolerance)
-    check_periodic_memory(mesh.n_triangles, len(mesh.rwg) + len(pairs.edges), memory_limit)
-    base = mom_geometry(mesh, near_factor=NEAR_FACTOR)  # its near pairs: those of σ = 0
-    if np.any(base.vertices[:, 2] != 0.0):
-        raise ValueError("the periodic solver takes flat screens only: the mesh is not in z = 0")
-    heights = abs(np.linalg.det(vectors)) / np.linalg.norm(vectors, axis=1)
-    if base.sizes.max() > MAX_TRIANGLE * heights.min():
-        raise ValueError(
-            f"triangles of up to {base.sizes.max() * 1e3:.4g} mm are too large for a cell of "
-            f"height {heights.min() * 1e3:.4g} mm; refine the mesh (at most "
-            f"{MAX_TRIANGLE:g} of the cell's height)"
-        )
-    maps, folded, crossing = _rwg_maps(mesh, base, lattice, vectors)
-    check_periodic_memory(base.n_triangles, maps.shape[0], memory_limit)
-    centroids = base.centroids[:, :2]
-    lat = centroids @ np.linalg.inv(vectors)  # lattice coordinates of the centroids
-    frac = lat[:, None, :] - lat[None, :, :]  # (T, T, 2), antisymmetric bit for bit
-    shift = np.rint(frac)  # rint is odd (ties to even), so σ(s, o) = −σ(o, s)
-    frac -= shift  # the reduced centroid offsets, in [−½, ½]²
-    shift = shift.astype(np.int8)
-    cross = _cross_pairs(base, vectors, shift)
-    obs, src = cross[:, 0], cross[:, 1]
-    offset = _shift_vectors(shift[obs, src], vectors)  # (K, 2)
-    offset3 = np.concatenate([offset, np.zeros((len(offset), 1))], axis=1)
-    static = _cross_static_moments(base, obs, src, offset3)
-    rule = base.near
-    d = rule.points[obs][:, :, None, :] - (rule.points[src] + offset3[:, None, :])[:, None]
-    cross_distances = np.sqrt(np.einsum("kabc,kabc->kab", d, d))
-    return PeriodicGeometry(
-        base=base,
-        lattice=vectors,
-        maps=maps,
-        folded=folded,
-        crossing=crossing,
-        shift=shift,
-        cross=cross,
-        cross_static_inv_r=static[0],
-        cross_static_r=static[1],
-        cross_distances=cross_distances,
-        plan=fill_plan(base, vectors, shift, frac, cross, maps, folded),
-    )
-
-
-def _cross_static_moments(
-    base: MomGeometry, obs: np.ndarray, src: np.ndarray, offset3: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """The free-space solver's closed-form 1/R and R moments of the pairs near through an
-    image, against the shifted sources; on one of each mirrored pair (o, s + a) and
-    (s, o − a), the one with the smaller triangle under the rule, as for the pairs in the
-    cell (:func:`barymesh.mom.geometry._mirrored_static_moments`): the other is its
-    mirror, and Z(0) is symmetric across the cell's sides too."""
-    n = base.n_triangles
-    key = obs * n + src  # ascending: the pairs are sorted
-    want = src * n + obs
-    partner = np.minimum(np.searchsorted(key, want), max(len(key) - 1, 0))
-    paired = (key[partner] == want) if len(key) else np.zeros(0, dtype=bool)
-    sizes = base.sizes
-    tie = np.abs(sizes[obs] - sizes[src]) <= SIZE_TIE * np.maximum(sizes[obs], sizes[src])
-    smaller = (~tie & (sizes[obs] < sizes[src])) | (tie & (obs < src))
-    computed = ~paired | smaller
-    rows = np.flatnonzero(computed)
-    corners = base.vertices[base.triangles]
-    inv_r, r1 = static_moments(
-        base.near,
-        corners[src[rows]] + offset3[rows, None, :],
-        base.centroids[src[rows]] + offset3[rows],
-        obs[rows],
-        np.arange(len(rows)),
-    )
-    where = np.full(len(obs), -1, dtype=np.intp)
-    where[rows] = np.arange(len(rows))
-    mirrors = np.flatnonzero(~computed)
-    out = []
-    for m in (inv_r, r1):
-        full = np.empty((len(obs), 8))
-        full[rows] = m
-        full[mirrors] = m[where[partner[mirrors]]][:, MIRROR_MOMENTS]
-        out.append(full)
-    return out[0], out[1]
-
-
-def _cross_pairs(base: MomGeometry, vectors: np.ndarray, shift: np.ndarray) -> np.ndarray:
-    """(K, 2) pairs (o, s) near through an image σ ≠ 0, sorted (the σ = 0 ones: ``base``)."""
-    centroids = base.centroids[:, :2]
-    sizes = base.sizes
-    low, high = shift.reshape(-1, 2).min(axis=0), shift.reshape(-1, 2).max(axis=0)
-    found = []
-    for s1 in range(int(low[0]), int(high[0]) + 1):
-        for s2 in range(int(low[1]), int(high[1]) + 1):
-            if s1 == 0 and s2 == 0:
-                continue
-            image = centroids + s1 * vectors[0] + s2 * vectors[1]
-            hits = close_pairs(centroids, image, sizes, sizes, NEAR_FACTOR)
-            o, s = hits[:, 0], hits[:, 1]
-            keep = np.all(shift[o, s] == (s1, s2), axis=1)
-            found.append(hits[keep])
-    pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.intp)
-    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
 
 def periodic_impedance_matrix(
@@ -489,22 +123,6 @@ def periodic_impedance_matrix(
     if stack is None or stack.is_free_standing:
         return fill(pg, k, kt)
     return fill(pg, k, kt, layered_kernel(stack, pg.lattice, k, kt))
-
-
-def _floquet_basis(kappa: np.ndarray, beta: np.ndarray, k: float, phi: float) -> tuple:
-    """Unit TE and TM vectors (P, 3) of the waves going up and down of each order."""
-    norm = np.linalg.norm(kappa, axis=1)
-    plane = np.array([math.cos(phi), math.sin(phi)])  # the incidence plane, for κ = 0
-    safe = np.where(norm > 1e-9 * k, norm, 1.0)[:, None]
-    along = np.where(norm[:, None] > 1e-9 * k, kappa / safe, plane)
-    # along is κ̂ (or the incidence plane's direction for κ = 0); TE = ẑ × κ̂
-    te = np.stack([-along[:, 1], along[:, 0], np.zeros(len(along))], axis=1)
-    kz = np.real_if_close(beta)
-    up = np.concatenate([kappa, kz[:, None]], axis=1) / k
-    down = np.concatenate([kappa, -kz[:, None]], axis=1) / k
-    tm_down = np.cross(te, down)
-    tm_up = -np.cross(te, up)
-    return te, tm_up, tm_down
 
 
 @dataclass(frozen=True, eq=False)
@@ -610,7 +228,7 @@ class PeriodicSolution:
         """(T, 3) complex J (A/m) at the centroids of cell (0, 0)."""
         t = self.geometry.base.n_triangles
         kt = self.kappa[0]
-        return _current(self.geometry, kt, self.coefficients, np.zeros((t, 1, 3)))[:, 0]
+        return cell_current(self.geometry, kt, self.coefficients, np.zeros((t, 1, 3)))[:, 0]
 
 
 def periodic_solve(
@@ -920,50 +538,8 @@ def gram_matrix(pg: PeriodicGeometry, kt: np.ndarray) -> sp.csr_matrix:
     return (test @ sp.diags(weights) @ basis.T).tocsr()
 
 
-def _current(pg: PeriodicGeometry, kt: np.ndarray, current: np.ndarray, rho: np.ndarray):
-    """(T, Q, 3) J of cell (0, 0) at points ρ (T, Q, 3) from their triangles' centroids."""
-    t = pg.base.n_triangles
-    basis, _ = pg.basis_maps(kt)
-    linear = basis.T @ current  # (3T,): C, D_x, D_y per triangle
-    alpha = linear[:t]
-    beta = np.stack([linear[t : 2 * t], linear[2 * t :], np.zeros(t)], axis=1)
-    return alpha[:, None, None] * rho + beta[:, None, :]
-
-
-@dataclass(frozen=True, eq=False)
-class _Harmonics:
-    """The propagating Floquet orders of a solve, (0, 0) first, and the currents' J̃ there."""
-
-    orders: np.ndarray  # (P, 2) int
-    kappa: np.ndarray  # (P, 2) rad/m
-    beta: np.ndarray  # (P,) rad/m
-    jt: np.ndarray  # (P, 3) complex J̃(κ_pq) = ∫ J e^(+jκ·ρ) dS over the cell
-    te: np.ndarray  # (P, 3) unit TE, and TM going up and down
-    tm_up: np.ndarray
-    tm_down: np.ndarray
-    phi: float  # the incidence plane's azimuth (rad)
-
-
-def _harmonics(pg, wave, k, kt, current) -> _Harmonics:
-    green = PeriodicGreen(tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, kt)
-    prop = green.propagating()
-    orders, kappa = green.orders[prop], green.kappa[prop]
-    first = np.flatnonzero(np.all(orders == 0, axis=1))
-    order = np.concatenate([first, np.setdiff1d(np.arange(len(orders)), first)])
-    orders, kappa = orders[order], kappa[order]
-    beta = np.sqrt(k * k - np.einsum("ij,ij->i", kappa, kappa))
-    rule = pg.base.near
-    j = _current(pg, kt, current, rule.rho)  # (T, Q, 3)
-    phase = np.exp(1j * (rule.points[:, :, :2] @ kappa.T))  # (T, Q, P)
-    jt = np.einsum("tq,tqc,tqp->pc", rule.weights, j, phase)  # J̃(κ_pq), (P, 3)
-    d = np.asarray(wave.direction)
-    phi = math.atan2(d[1], d[0]) if np.hypot(d[0], d[1]) > 1e-12 else 0.0
-    te, tm_up, tm_down = _floquet_basis(kappa, beta, k, phi)
-    return _Harmonics(orders, kappa, beta, jt, te, tm_up, tm_down, phi)
-
-
 def _floquet_amplitudes(pg, frequency, wave, k, kt, current, cond, residual) -> PeriodicSolution:
-    h = _harmonics(pg, wave, k, kt, current)
+    h = harmonics(pg, wave, k, kt, current)
     orders, kappa, beta, jt = h.orders, h.kappa, h.beta, h.jt
     te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
     d = np.asarray(wave.direction)
@@ -1010,7 +586,7 @@ def _layered_amplitudes(
     ``power_given`` is ½ Re(I^H Z I) less the sheet impedance's loss (W per cell): with
     lossy layers, the power the currents lose in them is that less what they radiate.
     """
-    h = _harmonics(pg, wave, k, kt, current)
+    h = harmonics(pg, wave, k, kt, current)
     orders, kappa, beta, jt, phi = h.orders, h.kappa, h.beta, h.jt, h.phi
     te, tm_up, tm_down = h.te, h.tm_up, h.tm_down
     d = np.asarray(wave.direction)

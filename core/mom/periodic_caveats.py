@@ -132,7 +132,7 @@ def periodic_warnings(
 ) -> tuple[str, ...]:
     """Every caveat of one periodic solve, in a fixed order.
 
-    ``pg`` is the solve's :class:`~barymesh.mom.periodic.PeriodicGeometry` and ``stack``
+    ``pg`` is the solve's :class:`~barymesh.mom.periodic_geometry.PeriodicGeometry` and ``stack``
     its :class:`~barymesh.mom.stack.Stack` or None.
     """
     index, where = 1.0, "vacuum"

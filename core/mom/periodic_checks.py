@@ -12,7 +12,9 @@ solved is refused in seconds, naming what is wrong:
 Metal beyond its cell (copies that overlap, a 12 mm patch in a 10 mm lattice) is solved
 with a warning (:func:`barymesh.mom.periodic_caveats.outside_warning`).
 
-The memory of the solve itself (T and N) is :func:`barymesh.mom.periodic.check_periodic_memory`.
+* :func:`check_periodic_memory`: the memory of the geometry's T² tables and of a solve's
+  N² matrix, from a model measured with tracemalloc (:func:`periodic_memory_needed`),
+  checked by the geometry before it builds its tables and by every solve.
 """
 
 from __future__ import annotations
@@ -26,6 +28,18 @@ from .caveats import MIN_KD
 from .operator import wavenumber
 from .periodic_green import MAX_LATTICE_BOX, PeriodicGreen, predicted_terms
 from .solve import ProblemTooLarge, format_bytes, memory_allowance
+
+#: Peak bytes per triangle pair (T²) while :func:`~barymesh.mom.periodic_geometry` builds
+#: its tables (the fill plan's offsets, distances, σ codes and their temporaries), measured
+#: with tracemalloc: 189-192 at T = 2,048-4,608 above a fixed ~0.1 GiB, plus a margin.
+GEOMETRY_PEAK_BYTES_PER_T2 = 200.0
+#: Bytes per triangle pair the built geometry keeps (measured 39-48 at T = 2,048-4,608).
+GEOMETRY_BYTES_PER_T2 = 42.0
+#: Peak bytes per N² of one periodic solve beyond the geometry: Z, the fill's float32
+#: Taylor blocks and right factor, and the LU (measured 41.2-42.7 at N = 3,008-6,816).
+SOLVE_BYTES_PER_N2 = 45.0
+#: Bytes whatever the size (the O(T) tables, Taylor blocks of TAYLOR_BLOCK pairs, BLAS).
+PERIODIC_FIXED_BYTES = 160 * 2**20
 
 
 def as_lattice(lattice: Any) -> Any:
@@ -127,3 +141,78 @@ def check_green_terms(
             "lower frequency or a smaller cell"
         )
     PeriodicGreen(a1, a2, k, kt)  # a Wood anomaly or a grazing order: refused by name
+
+
+def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool = True) -> int:
+    """Peak bytes of a periodic solve of T triangles and N unknowns (a measured model).
+
+    Parameters
+    ----------
+    n_triangles, n_unknowns : int
+        T and N of the cell.
+    geometry : bool
+        Whether :func:`~barymesh.mom.periodic_geometry` is still to be built (its T² tables
+        count); False counts only what one solve allocates beyond a cached geometry.
+
+    Returns
+    -------
+    int
+        ``max(200 T², 42 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
+        beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``.
+
+    Examples
+    --------
+    >>> periodic_memory_needed(1000, 1500) == 200 * 1000**2 + 160 * 2**20
+    True
+    """
+    t2, n2 = float(n_triangles) ** 2, float(n_unknowns) ** 2
+    solve = SOLVE_BYTES_PER_N2 * n2
+    if geometry:
+        solve = max(GEOMETRY_PEAK_BYTES_PER_T2 * t2, GEOMETRY_BYTES_PER_T2 * t2 + solve)
+    return int(solve) + PERIODIC_FIXED_BYTES
+
+
+def check_periodic_memory(
+    n_triangles: int,
+    n_unknowns: int,
+    memory_limit: float | None = None,
+    *,
+    geometry: bool = True,
+) -> int:
+    """Refuse a periodic cell whose solve would need more memory than allowed.
+
+    Parameters
+    ----------
+    n_triangles, n_unknowns : int
+        T and N of the cell.
+    memory_limit : float, optional
+        A cap in bytes (in addition to the memory available now).
+    geometry : bool
+        As for :func:`periodic_memory_needed`.
+
+    Returns
+    -------
+    int
+        The bytes needed.
+
+    Raises
+    ------
+    ProblemTooLarge
+        Naming T, N, the memory needed and the memory allowed, before anything of
+        that size is allocated.
+    """
+    need = periodic_memory_needed(n_triangles, n_unknowns, geometry=geometry)
+    allowed, source = memory_allowance(memory_limit)
+    if need > allowed:
+        what = f"about {SOLVE_BYTES_PER_N2:g} N² bytes for the dense matrix and its LU"
+        if geometry:
+            what = (
+                f"about {GEOMETRY_PEAK_BYTES_PER_T2:g} bytes per triangle pair while its "
+                f"tables are built, and {what}"
+            )
+        raise ProblemTooLarge(
+            f"the infinite array of T = {n_triangles:,} triangles, N = {n_unknowns:,} "
+            f"unknowns needs {format_bytes(need)} at its peak ({what}), more than "
+            f"{source}; use a coarser mesh"
+        )
+    return need

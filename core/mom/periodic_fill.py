@@ -1,4 +1,5 @@
-"""How the EFIE matrix of an infinite array is filled: a plan per mesh, a fill per frequency.
+"""How the EFIE matrix of an infinite array is filled: a plan per mesh
+(:mod:`barymesh.mom.periodic_plan`), a fill per frequency (here).
 
 Each triangle pair (observation o, source s) is integrated against the image of s
 nearest to o, shifted by ρ_σ (see :mod:`barymesh.mom.periodic`), with the periodic
@@ -6,7 +7,7 @@ Green's function split as G_p = G + G_reg there: G = e^(−jkR)/R of that image,
 the smooth rest. With c the offset from that image's centroid to o's, the pairs fall
 in three kinds by |c| against the larger triangle's longest edge h:
 
-- **near** (|c| < 1.5 h, :data:`barymesh.mom.periodic.NEAR_FACTOR`): G by the
+- **near** (|c| < 1.5 h, :data:`barymesh.mom.periodic_geometry.NEAR_FACTOR`): G by the
   free-space solver's closed-form 1/R and R parts plus the near rule on the rest;
 - **close** (|c| < :data:`IMAGE_TAYLOR_FACTOR` h): G by the free-space far rule
   (every point with every point, one of each mirrored pair);
@@ -34,7 +35,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING
 
@@ -43,18 +43,18 @@ import scipy.sparse as sp
 from numpy.polynomial import chebyshev
 from scipy.linalg import blas
 
-from .geometry import MomGeometry
 from .near_series import near_moments_series
 from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
+from .periodic_geometry import PeriodicGeometry
 from .periodic_green import PeriodicGreen, reciprocal_vectors
+from .periodic_plan import IMAGE_TAYLOR_FACTOR as IMAGE_TAYLOR_FACTOR
+from .periodic_plan import TAYLOR_NODES as TAYLOR_NODES
+from .periodic_plan import FillPlan as FillPlan
+from .periodic_plan import fill_plan as fill_plan
 
 if TYPE_CHECKING:
-    from .periodic import PeriodicGeometry
     from .periodic_layered import LayeredKernel
 
-#: Pairs at least this many times the larger triangle's longest edge apart (centroid to
-#: the nearest image's centroid) have G expanded like G_reg; closer ones take the far rule.
-IMAGE_TAYLOR_FACTOR = 4.0
 #: Floquet orders with |γ_pq| under this times the smallest reciprocal vector are taken
 #: out of G_reg and integrated exactly (:func:`slow_orders`); from there to twice it, a
 #: fraction going smoothly to 0, so that the matrix is smooth in frequency.
@@ -62,8 +62,6 @@ SLOW_ORDERS = 0.5
 #: Fewest Chebyshev nodes per lattice direction through which G_reg is interpolated (per
 #: frequency); more at high frequency: 8 + k |a| (the matrix moves by 4e-6 or less).
 CHEBYSHEV_NODES = 12
-#: Grid nodes per cell length at which G_reg's Taylor coefficients are tabulated.
-TAYLOR_NODES = 128
 #: Source-observation pairs per block of the Taylor pass (its ~20 temporaries stay in cache).
 TAYLOR_BLOCK = 1 << 15
 #: The six moments of a pair kept on a flat screen, as rows of
@@ -80,227 +78,6 @@ TERMS = (
 )
 #: The entries xx, xy, yy of a symmetric 2 × 2 matrix.
 UPPER = ((0, 0), (0, 1), (1, 1))
-
-
-@dataclass(frozen=True, eq=False)
-class FillPlan:
-    """The frequency-independent data of the periodic fill; pairs as [source, observation].
-
-    Lengths are in units of ``scale`` (a typical triangle's size), so that the single
-    precision moments (areas, I, J and their products) stay far from float32's
-    underflow on any mesh.
-
-    Attributes
-    ----------
-    scale : float
-        The unit of length (m).
-    node : (T, T) int32
-        Flat index (G × G grid) of the Taylor node nearest each pair's reduced centroid
-        offset.
-    offset : (2, T, T) float32
-        That offset minus the node, x and y.
-    distance : (T, T) float32
-        |c|, c = c_o − c_s − ρ_σ the offset from the source image's centroid.
-    inverse : (T, T) float32
-        1/|c| on the distant pairs, 0 on the near and close ones (G is not expanded there).
-    unit : (2, T, T) float32
-        c/|c| on the distant pairs, x and y; 0 elsewhere.
-    sigma_code : (T, T) int16
-        Row of ``sigmas`` holding each pair's σ.
-    sigmas : (S, 2) int
-        The distinct σ.
-    close_distance : (Q², K) float32
-        Far-rule point distances |r − r' − ρ_σ| of the close pairs, one of each mirrored
-        pair (observation o < source s, in ``special`` after the near ones), [a Q + b, pair].
-    close_weights : (6, Q², K) float32
-        The flat moments' point weights: moment i = Σ_p W[i, p] G_p.
-    special : (M, 2) int
-        (observation, source) of every near and close pair, sorted by observation: the
-        near pairs of σ = 0, those across the cell's sides, the close pairs and their
-        mirrors, permuted by ``special_order``.
-    special_order : (M,) int
-        Their order in the concatenation of those four lists.
-    special_starts : (T + 1,) int
-        Where each observation triangle's pairs start in ``special``.
-    areas : (T,) float32
-    second : (T, 2, 2) float32
-    third : (T, 2, 2, 2) float32
-    reach : float
-        A bound on |r − r' − ρ_σ| over every point pair.
-    maps : (N, 3T) csr float32
-        The real RWG maps [C | D_x | D_y] of the unknowns (their T− halves across the
-        cell's sides excluded), C in units of 1/``scale``.
-    folded : (C, 3T) csr float32
-        The T− halves of the C unknowns across the sides (``crossing_rows``).
-    crossing_rows : (C,) int
-    """
-
-    scale: float
-    node: np.ndarray
-    offset: np.ndarray
-    distance: np.ndarray
-    inverse: np.ndarray
-    unit: np.ndarray
-    sigma_code: np.ndarray
-    sigmas: np.ndarray
-    close_distance: np.ndarray
-    close_weights: np.ndarray
-    special: np.ndarray
-    special_order: np.ndarray
-    special_starts: np.ndarray
-    areas: np.ndarray
-    second: np.ndarray
-    third: np.ndarray
-    reach: float
-    maps: sp.csr_matrix
-    folded: sp.csr_matrix
-    crossing_rows: np.ndarray
-
-
-def fill_plan(
-    base: MomGeometry,
-    lattice: np.ndarray,
-    shift: np.ndarray,
-    reduced: np.ndarray,
-    cross: np.ndarray,
-    maps: sp.csr_matrix,
-    folded: sp.csr_matrix,
-) -> FillPlan:
-    """The :class:`FillPlan` of a cell.
-
-    Parameters
-    ----------
-    base : MomGeometry
-        The cell's free-space geometry (its near pairs are those of σ = 0).
-    lattice : (2, 2) float
-        Rows a1, a2 (m).
-    shift : (T, T, 2) int8
-        σ of each pair, [observation, source].
-    reduced : (T, T, 2) float
-        The reduced centroid offsets in lattice coordinates, [observation, source].
-    cross : (K, 2) int
-        The near pairs across the cell's sides (σ ≠ 0), (observation, source).
-    maps, folded : (N, 3T) sparse float
-        The RWG maps (see :class:`barymesh.mom.periodic.PeriodicGeometry`).
-    """
-    t = base.n_triangles
-    single = np.float32
-    sizes = base.sizes
-    h = float(np.median(sizes))  # the unit of length of the plan
-    # the reduced offsets [s, o], one contiguous plane per lattice coordinate
-    u, v = (np.ascontiguousarray(reduced[..., c].T) for c in range(2))
-    # G_reg's Taylor nodes
-    step = 1.0 / TAYLOR_NODES
-    half = TAYLOR_NODES // 2 + 2  # the grid spans [−e, e]², e = half · step, just over ½
-    nu, nv = np.rint(u * TAYLOR_NODES), np.rint(v * TAYLOR_NODES)  # odd, like σ
-    node = (nu + half) * (2 * half + 1)
-    node += nv + half
-    nu *= step
-    nv *= step
-    np.subtract(u, nu, out=nu)  # the offset from the node, lattice coordinates
-    np.subtract(v, nv, out=nv)
-    offset = np.empty((2, t, t), dtype=single)  # in units of h
-    for c in range(2):  # elementwise: a threaded BLAS call stalls on a busy machine
-        np.multiply(nu, lattice[0, c] / h, out=offset[c], casting="same_kind")
-        offset[c] += nv * (lattice[1, c] / h)
-    del nu, nv
-    # the offset c from the source image's centroid, [s, o]
-    cx = u * lattice[0, 0]
-    cx += v * lattice[1, 0]
-    cy = u * lattice[0, 1]
-    cy += v * lattice[1, 1]
-    del u, v
-    distance = np.hypot(cx, cy)
-    larger = np.maximum(sizes[:, None], sizes[None, :])
-    larger *= IMAGE_TAYLOR_FACTOR
-    near = np.zeros((t, t), dtype=bool)  # [s, o]
-    near[base.near_pairs[:, 1], base.near_pairs[:, 0]] = True
-    near[cross[:, 1], cross[:, 0]] = True
-    expanded = distance >= larger
-    expanded &= ~near
-    del larger
-    inverse = np.zeros((t, t))
-    np.divide(1.0, distance, out=inverse, where=expanded)
-    unit = np.empty((2, t, t), dtype=single)
-    np.multiply(cx, inverse, out=unit[0], casting="same_kind")
-    np.multiply(cy, inverse, out=unit[1], casting="same_kind")
-    del cx, cy
-    # σ as a small code per pair, [s, o]
-    s0, s1 = (np.ascontiguousarray(shift[..., c].T, dtype=np.int32) for c in range(2))
-    low = (int(s0.min()), int(s1.min()))
-    span = int(s1.max()) - low[1] + 1
-    s0 -= low[0]
-    s0 *= span
-    s0 += s1
-    s0 -= low[1]
-    flat = s0.ravel()
-    del s1
-    present = np.flatnonzero(np.bincount(flat))
-    sigmas = np.stack([present // span + low[0], present % span + low[1]], axis=1)
-    lookup = np.zeros(present[-1] + 1, dtype=np.int16)
-    lookup[present] = np.arange(len(present))
-    code = lookup[flat]
-    # close pairs, one of each mirrored pair (observation o < source s), with their points
-    obs, src = np.nonzero((~expanded & ~near).T & np.triu(np.ones((t, t), dtype=bool), 1))
-    close = np.stack([obs, src], axis=1)
-    far = base.far
-    q = far.size
-    moved = far.points[src, :, :2] + (shift[obs, src].astype(np.float64) @ lattice)[:, None, :]
-    delta = far.points[obs, :, None, :2] - moved[:, None, :, :]  # (K, a, b, 2)
-    close_distance = np.sqrt(np.einsum("kabc,kabc->kab", delta, delta)).reshape(-1, q * q).T
-    w, rho = far.weights / h**2, far.rho[:, :, :2] / h
-    left = [w[obs], w[obs] * rho[obs, :, 0], w[obs] * rho[obs, :, 1]]  # (K, a)
-    right = [w[src], w[src] * rho[src, :, 0], w[src] * rho[src, :, 1]]  # (K, b)
-
-    def weights(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-        return (u[:, :, None] * v[:, None, :]).reshape(-1, q * q).T.astype(single)
-
-    close_weights = np.stack(
-        [
-            weights(left[0], right[0]),
-            weights(left[1], right[0]),
-            weights(left[2], right[0]),
-            weights(left[0], right[1]),
-            weights(left[0], right[2]),
-            weights(left[1], right[1]) + weights(left[2], right[2]),
-        ]
-    )
-    special = np.concatenate([base.near_pairs, cross, close, close[:, ::-1]])
-    special_order = np.lexsort((special[:, 1], special[:, 0]))
-    special = special[special_order]
-    special_starts = np.searchsorted(special[:, 0], np.arange(t + 1))
-    rule = base.near
-    w_near, rho_near = rule.weights, rule.rho[:, :, :2]
-    second = np.einsum("tq,tqi,tqj->tij", w_near, rho_near, rho_near)
-    third = np.einsum("tq,tqi,tqj,tqk->tijk", w_near, rho_near, rho_near, rho_near)
-    crossing_rows = np.flatnonzero(np.diff(folded.tocsr().indptr))
-    column = np.concatenate([np.full(t, h), np.ones(2 * t)])  # C in 1/h: times h
-
-    def scaled(matrix: sp.csr_matrix) -> sp.csr_matrix:
-        return sp.csr_matrix(matrix @ sp.diags(column), dtype=single)
-
-    return FillPlan(
-        scale=h,
-        node=node.astype(np.int32),
-        offset=offset,
-        distance=np.multiply(distance, 1.0 / h, dtype=single),
-        inverse=np.multiply(inverse, h, dtype=single),
-        unit=unit,
-        sigma_code=code.reshape(t, t).astype(np.int16),
-        sigmas=sigmas,
-        close_distance=(close_distance / h).astype(single),
-        close_weights=close_weights,
-        special=special,
-        special_order=special_order,
-        special_starts=special_starts,
-        areas=(base.areas / h**2).astype(single),
-        second=(second / h**4).astype(single),
-        third=(third / h**5).astype(single),
-        reach=float(distance.max() + 2.0 * sizes.max()) / h,
-        maps=scaled(maps),
-        folded=scaled(folded.tocsr()[crossing_rows]),
-        crossing_rows=crossing_rows,
-    )
 
 
 @cache

@@ -50,23 +50,27 @@ from scipy.signal import find_peaks
 from ..constants import SPEED_OF_LIGHT
 from ..mesh import TriMesh
 from .excitation import PlaneWave
-from .geometry import METRES_PER_MESH_UNIT
+from .floquet import (
+    grating_lobe_onsets,
+    incidence_direction,
+    merged_onsets,
+    order_onsets,
+    te_tm_polarizations,
+)
 from .operator import wavenumber
 from .periodic import (
     FilledSystem,
     PeriodicSolution,
     blas_threads,
-    check_periodic_memory,
     check_stack,
     fill_system,
-    lattice_metres,
     one_blas_thread,
-    periodic_geometry,
     periodic_solve,
     solve_system,
 )
 from .periodic_caveats import onset_resonance_warning
-from .periodic_checks import as_lattice, check_green_terms
+from .periodic_checks import as_lattice, check_green_terms, check_periodic_memory
+from .periodic_geometry import lattice_metres, periodic_geometry
 from .periodic_green import reciprocal_vectors
 from .solve import SolveCancelled, check_frequencies, check_sheet_impedance, memory_allowance
 from .stack import Stack
@@ -101,117 +105,6 @@ __all__ = [
     "periodic_sweep",
     "te_tm_polarizations",
 ]
-
-
-def _direction(incidence: PlaneWave) -> np.ndarray:
-    d = np.asarray(incidence.direction, dtype=np.float64)
-    if abs(d[2]) < 1e-9:
-        raise ValueError("the incident wave travels along the screen (direction_z = 0)")
-    return d
-
-
-def te_tm_polarizations(direction: Sequence[float] | np.ndarray) -> np.ndarray:
-    """(2, 3) float: the unit TE and TM electric fields of a wave travelling along ``direction``.
-
-    The convention of :mod:`barymesh.mom.periodic`: TE = ẑ × κ̂ (κ̂ the wave's in-plane
-    direction, or x̂ at normal incidence), TM = TE × d̂ for a wave going down
-    (−TE × d̂ going up), so that a :class:`PlaneWave` with E along row 0 has TE/TM
-    components (1, 0) and one along row 1 has (0, 1).
-
-    Examples
-    --------
-    >>> te_tm_polarizations((0, 0, -1)).round(12) + 0.0  # normal incidence from above
-    array([[ 0.,  1.,  0.],
-           [-1.,  0.,  0.]])
-    """
-    d = np.asarray(direction, dtype=np.float64)
-    d = d / np.linalg.norm(d)
-    along = d[:2]
-    norm = float(np.hypot(*along))
-    along = along / norm if norm > 1e-12 else np.array([1.0, 0.0])
-    te = np.array([-along[1], along[0], 0.0])
-    tm = np.cross(te, d) if d[2] < 0 else -np.cross(te, d)
-    return np.stack([te, tm])
-
-
-def _order_onsets(
-    vectors: np.ndarray, direction: np.ndarray, f_max: float, index: float = 1.0
-) -> tuple:
-    """Orders (p, q) that propagate somewhere below ``f_max`` and their onsets (Hz).
-
-    κ_pq = k u + G_pq with u the incident direction's in-plane part; |κ_pq| = n k (n the
-    medium's ``index``, 1 in vacuum) at k = (u·G + sqrt((u·G)² + (n² − |u|²) |G|²)) /
-    (n² − |u|²), and above it the order propagates. Sorted by onset, (0, 0) first.
-    """
-    b1, b2 = reciprocal_vectors(vectors[0], vectors[1])
-    recip = np.array([b1, b2])
-    u = direction[:2]
-    k_max = 2.0 * np.pi * f_max / SPEED_OF_LIGHT
-    # an order propagates only if |G| <= |κ| + k|u| < k (n + |u|)
-    radius = k_max * (index + np.linalg.norm(u))
-    reach = np.ceil(radius * np.linalg.norm(np.linalg.inv(recip), axis=0)).astype(int)
-    p, q = np.meshgrid(np.arange(-reach[0], reach[0] + 1), np.arange(-reach[1], reach[1] + 1))
-    orders = np.stack([p.ravel(), q.ravel()], axis=1)
-    g = orders @ recip
-    ug = g @ u
-    g2 = np.einsum("ij,ij->i", g, g)
-    one = index * index - u @ u
-    k_on = (ug + np.sqrt(ug * ug + one * g2)) / one
-    onset = k_on * SPEED_OF_LIGHT / (2.0 * np.pi)
-    keep = onset < f_max
-    orders, onset = orders[keep], onset[keep]
-    order = np.lexsort((orders[:, 1], orders[:, 0], onset))
-    return orders[order], onset[order]
-
-
-def grating_lobe_onsets(
-    lattice: Any,
-    incidence: PlaneWave | None = None,
-    f_max: float = 1e12,
-    f_min: float = 0.0,
-) -> np.ndarray:
-    """Frequencies (Hz) in (f_min, f_max) at which a Floquet order (p, q) ≠ (0, 0) starts
-    to propagate, for a fixed incidence direction.
-
-    Parameters
-    ----------
-    lattice : Lattice
-        The array's lattice (mm), e.g. ``mesh.lattice`` of a unit cell.
-    incidence : PlaneWave, optional
-        Only its direction matters; default normal incidence.
-    f_max, f_min : float
-        Hz.
-
-    Returns
-    -------
-    (G,) float
-        Increasing; orders with the same onset count once.
-
-    Examples
-    --------
-    A square lattice of 10 mm: c/P at normal incidence; at θ = 30° in the xz plane,
-    c/(P (1 + sin θ)) for (1, 0), then (1, ±1), then c/(P cos θ) for (0, ±1).
-
-    >>> from barymesh.cell import Lattice
-    >>> (grating_lobe_onsets(Lattice.rectangular(10.0), f_max=40e9) / 1e9).round(3)
-    array([29.979])
-    >>> wave = PlaneWave.from_angles(30, 0)
-    >>> (grating_lobe_onsets(Lattice.rectangular(10.0), wave, 35e9) / 1e9).round(3)
-    array([19.986, 32.892, 34.617])
-    """
-    wave = PlaneWave() if incidence is None else incidence
-    vectors = np.array([lattice.a1, lattice.a2], dtype=np.float64) * METRES_PER_MESH_UNIT
-    _, onset = _order_onsets(vectors, _direction(wave), float(f_max))
-    onset = onset[(onset > f_min) & (onset > 0)]
-    return _merged(onset)
-
-
-def _merged(onsets: np.ndarray, rtol: float = 1e-9) -> np.ndarray:
-    onsets = np.sort(onsets)
-    if len(onsets) == 0:
-        return onsets
-    keep = np.concatenate([[True], np.diff(onsets) > rtol * onsets[1:]])
-    return onsets[keep]
 
 
 @dataclass(frozen=True, eq=False)
@@ -316,7 +209,7 @@ class PeriodicSweep:
             index = math.sqrt(layer.eps_r * layer.mu_r)
             if layer.thickness <= 0 or index <= 1.0:
                 continue
-            orders, onsets = _order_onsets(self.lattice, direction, f1, index)
+            orders, onsets = order_onsets(self.lattice, direction, f1, index)
             for order, onset in zip(orders, onsets, strict=True):
                 if f0 < onset < f1 and np.any(order != 0):
                     found.append((float(onset), (int(order[0]), int(order[1])), i))
@@ -337,7 +230,7 @@ class PeriodicSweep:
         """(G,) float: the onsets (Hz) inside the band, increasing, each once."""
         f = self.frequencies
         inside = self.onsets[(self.onsets > f[0]) & (self.onsets < f[-1])]
-        return _merged(inside)
+        return merged_onsets(inside)
 
     @property
     def propagating(self) -> np.ndarray:
@@ -759,33 +652,138 @@ def periodic_sweep(
         The cell would not fit in memory (checked before the first solve).
     ValueError
         Bad frequencies, no lattice, metal across the cell boundary without matching
-        periodic edges (from :func:`~barymesh.mom.periodic.periodic_geometry`), a
+        periodic edges (from :func:`~barymesh.mom.periodic_geometry`), a
         frequency at a grating-lobe onset with ``interpolate=False``.
     """
     freqs = check_frequencies(frequencies)
+    wave, direction = _checked_incidence(incidence, polarizations)
+    zs = check_sheet_impedance(sheet_impedance)
+    stack = _checked_stack(stack, direction)
+    tolerance = _checked_tolerance(tolerance)
+    lattice, vectors = _checked_cell(mesh, lattice, freqs, direction, memory_limit)
+    fields, waves, incident_te_tm, incident_components = _incident_fields(
+        wave, direction, polarizations
+    )
+    kk = len(waves)
+    orders, onsets = order_onsets(vectors, direction, float(freqs[-1]))
+    inside = merged_onsets(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
+    max_samples = _checked_max_samples(max_samples, len(freqs), inside)
+    total = len(freqs) if not interpolate else max_samples
+    pieces = _pieces(freqs, inside, onsets, orders, stack, vectors, direction)
+    queue = _first_samples(pieces, freqs, interpolate)
+    with _Samples(mesh, waves, lattice, zs, orders, memory_limit, stack) as samples:
+        done, budget_hit = _solve_samples(
+            samples,
+            pieces,
+            queue,
+            freqs,
+            kk,
+            interpolate=interpolate,
+            tolerance=tolerance,
+            max_samples=max_samples,
+            total=total,
+            progress=progress,
+            cancel=cancel,
+        )
+    _final_errors(pieces, freqs, kk, interpolate)
+    if interpolate:
+        _report_end(pieces, budget_hit, max_samples, tolerance, progress, done, total)
+    refl, trans, error, sampled, co_fits = _curves(
+        pieces, freqs, orders, kk, stack, vectors, direction, incident_te_tm, incident_components
+    )
+    result = PeriodicSweep(
+        frequencies=freqs,
+        incidence=wave,
+        polarizations=fields,
+        incident_te_tm=incident_te_tm,
+        orders=orders,
+        onsets=onsets,
+        order_reflection=refl,
+        order_transmission=trans,
+        lattice=vectors,
+        sampled=np.array(sorted(sampled)),
+        error_estimate=error,
+        interpolated=bool(interpolate),
+        sheet_impedance=zs,
+        resonances=np.zeros(0),
+        resonance_kinds=(),
+        quality_factors=np.zeros(0),
+        mesh=mesh,
+        lattice_source=lattice,
+        stack=stack,
+    )
+    return _with_resonances(result, co_fits, tuple(samples.warnings.values()))
+
+
+# -- the sweep's steps, in the order periodic_sweep takes them ---------------------------
+
+
+def _checked_incidence(incidence: PlaneWave | None, polarizations: str) -> tuple:
+    """The incident wave (default: normal incidence from above) and its direction (3,).
+
+    Checked before anything is built: a wrong type, a wave along the screen or an unknown
+    ``polarizations`` is refused by name.
+    """
     wave = PlaneWave() if incidence is None else incidence
     if not isinstance(wave, PlaneWave):
         raise TypeError(f"incidence must be a PlaneWave, got {type(wave).__name__}")
-    direction = _direction(wave)
+    direction = incidence_direction(wave)
     if polarizations not in ("both", "incident"):
         raise ValueError(f"polarizations={polarizations!r}; expected 'both' or 'incident'")
-    zs = check_sheet_impedance(sheet_impedance)
+    return wave, direction
+
+
+def _checked_stack(stack: Any, direction: np.ndarray) -> Stack | None:
+    """The stack as the solver takes it; a grounded one must be lit from above, the side
+    without the ground plane."""
     stack = check_stack(stack)
     if stack is not None and stack.ground and direction[2] > 0:
         raise ValueError(
             "the incident wave comes from below, where the ground plane is: a grounded "
             "stack is lit from above (direction_z < 0)"
         )
+    return stack
+
+
+def _checked_tolerance(tolerance: Any) -> float:
+    """``tolerance`` as a positive float: the greedy sampling stops below it."""
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise ValueError(f"tolerance={tolerance!r}; expected a positive number")
+    return tolerance
+
+
+def _checked_cell(
+    mesh: Any,
+    lattice: Any,
+    frequencies: np.ndarray,
+    direction: np.ndarray,
+    memory_limit: float | None,
+) -> tuple[Any, np.ndarray]:
+    """The lattice as given (a Lattice or None) and its vectors (2, 2) in metres.
+
+    Every check of the cell (boundary, size, memory) runs here, before the first solve, so
+    that a sweep that cannot run fails at once and not after minutes of solves; the lattice
+    sums' at the top of the band. The geometry it builds is cached for the solves.
+    """
     if not isinstance(mesh, TriMesh):
         raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     lattice = as_lattice(lattice)
     vectors = lattice_metres(mesh, lattice)
-    # every check of the cell (boundary, size, memory) up front; the lattice sums' at the top
-    check_green_terms(vectors, float(freqs[-1]), direction, memory_limit, float(freqs[0]))
+    check_green_terms(
+        vectors, float(frequencies[-1]), direction, memory_limit, float(frequencies[0])
+    )
     periodic_geometry(mesh, lattice, memory_limit=memory_limit)
+    return lattice, vectors
+
+
+def _incident_fields(wave: PlaneWave, direction: np.ndarray, polarizations: str) -> tuple:
+    """What is solved at each frequency: (fields (K, 3), waves (K,), the incidence's TE/TM
+    components (2,), and each wave's TE/TM components flattened (2 K,), as R[0] is).
+
+    "both" solves TE and TM from the incidence's direction (K = 2), so that every order's
+    full 2 × 2 is known; "incident" the incidence alone (K = 1).
+    """
     basis = te_tm_polarizations(direction)
     pol = np.asarray(wave.polarization)
     incident_te_tm = basis @ pol
@@ -795,19 +793,37 @@ def periodic_sweep(
     else:
         fields = np.real_if_close(pol)[None, :]
         waves = [wave]
-    kk = len(waves)
     incident_components = (basis @ fields.T).ravel()  # (2, K): TE/TM of each wave, as R[0]
-    orders, onsets = _order_onsets(vectors, direction, float(freqs[-1]))
-    inside = _merged(onsets[(onsets > freqs[0]) & (onsets < freqs[-1])])
-    nf = len(freqs)
+    return fields, waves, incident_te_tm, incident_components
+
+
+def _checked_max_samples(max_samples: int | None, n_frequencies: int, inside: np.ndarray) -> int:
+    """The most frequencies solved: by default as many as asked for, plus two per onset
+    inside the band (the samples on either side of it)."""
     if max_samples is None:
-        max_samples = nf + 2 * len(inside)
+        max_samples = n_frequencies + 2 * len(inside)
     max_samples = int(max_samples)
     if max_samples < 1:
         raise ValueError(f"max_samples={max_samples!r}; expected a positive number")
-    total = nf if not interpolate else max_samples
+    return max_samples
 
-    # the pieces between onsets; a requested frequency at an onset belongs to the lower one
+
+def _pieces(
+    freqs: np.ndarray,
+    inside: np.ndarray,
+    onsets: np.ndarray,
+    orders: np.ndarray,
+    stack: Stack | None,
+    vectors: np.ndarray,
+    direction: np.ndarray,
+) -> list[_Piece]:
+    """The band cut at every onset ``inside`` it, each piece fitted on its own.
+
+    The coefficients have a square-root branch point at an onset, so a piece ends
+    :data:`ONSET_OFFSET` short of it and its fit's variable is made analytic there
+    (:meth:`_Piece.scale`); a requested frequency at an onset belongs to the lower piece.
+    On layers T's error is R's times |b| (T = a δ + b R): each piece keeps that factor.
+    """
     edges = np.concatenate([[freqs[0]], inside, [freqs[-1]]])
     which = np.clip(np.searchsorted(inside, freqs, side="left"), 0, len(inside))
     pieces = []
@@ -824,9 +840,19 @@ def periodic_sweep(
             )
             piece.gain = np.maximum(1.0, np.abs(b[:, 0]).max(axis=1)) if len(b) else None
         pieces.append(piece)
+    return pieces
 
-    # what to solve first: every requested frequency, or each piece's ends (solved whatever
-    # max_samples) and a few evenly spread requested frequencies
+
+def _first_samples(
+    pieces: list[_Piece], freqs: np.ndarray, interpolate: bool
+) -> list[tuple[_Piece, float, bool]]:
+    """What to solve first, as a stack popped from the end: (piece, frequency, always).
+
+    Point by point, every requested frequency. Interpolating, each piece's two ends
+    (``always``: solved whatever ``max_samples``, a fit needs them) and a few evenly spread
+    requested frequencies (:data:`INITIAL_SAMPLES` in all), so that every piece has a fit
+    and an error estimate before the greedy choice starts.
+    """
     queue: list[tuple[_Piece, float, bool]] = []
     for piece in pieces:
         grid_f = freqs[piece.grid]
@@ -841,63 +867,125 @@ def periodic_sweep(
         ordered = sorted(set(starts), key=lambda f: f not in (piece.lo, piece.hi))
         queue += [(piece, float(f), j < 2) for j, f in enumerate(ordered)]
     queue.reverse()  # popped from the end
+    return queue
 
+
+def _solve_samples(
+    samples: _Samples,
+    pieces: list[_Piece],
+    queue: list[tuple[_Piece, float, bool]],
+    freqs: np.ndarray,
+    kk: int,
+    *,
+    interpolate: bool,
+    tolerance: float,
+    max_samples: int,
+    total: int,
+    progress: Callable[[int, int], None] | None,
+    cancel: Callable[[], bool] | None,
+) -> tuple[int, bool]:
+    """Solve the ``queue``, then (interpolating) the greedy samples, into ``pieces``.
+
+    The next sample is chosen where the estimated error is largest (:func:`_next_sample`)
+    until it is below ``tolerance`` everywhere or ``max_samples`` are solved. With a
+    worker thread one sample is in flight while the next is chosen and filled, and the
+    next is chosen beside it only where the estimate is :data:`OVERLAP_MARGIN` times the
+    tolerance. Returns (frequencies solved, whether ``max_samples`` stopped the sweep).
+    """
     done = started = 0
     budget_hit = False
     flying: deque[tuple[_Piece, float, Future]] = deque()
-    with _Samples(mesh, waves, lattice, zs, orders, memory_limit, stack) as samples:
-        depth = 1 if samples.overlapping else 0  # samples solved while the next is chosen
-        while True:
-            if cancel is not None and cancel():  # before the next choice (a refit) too
-                raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
-            nxt = None
-            while queue and nxt is None:
-                piece, f, always = queue.pop()
-                if always or started < max_samples:
-                    nxt = piece, f
-                else:
-                    budget_hit = True
-            if nxt is None and interpolate and not budget_hit:
-                # beside a sample being solved, only where the estimate is well above the
-                # tolerance: near it, that sample's result may well be enough
-                margin = OVERLAP_MARGIN if flying else 1.0
-                busy = [(p, f) for p, f, _ in flying]
-                nxt = _next_sample(pieces, freqs, kk, busy, margin * tolerance)
-                if nxt is not None and started >= max_samples:
-                    nxt = None
-                    budget_hit = not flying
-            if nxt is not None:
-                piece, f = nxt
-                flying.append((piece, f, samples.start(f, piece.n_orders)))
-                started += 1
-                if len(flying) <= depth:
-                    continue
-            elif not flying:
-                break
-            piece, f, future = flying.popleft()
-            piece.samples[f] = future.result()
-            piece.stale = True
-            done += 1
-            if progress is not None:
-                progress(done, total)
+    depth = 1 if samples.overlapping else 0  # samples solved while the next is chosen
+    while True:
+        if cancel is not None and cancel():  # before the next choice (a refit) too
+            raise SolveCancelled(f"the sweep was cancelled after {done} frequencies")
+        nxt = None
+        while queue and nxt is None:
+            piece, f, always = queue.pop()
+            if always or started < max_samples:
+                nxt = piece, f
+            else:
+                budget_hit = True
+        if nxt is None and interpolate and not budget_hit:
+            # beside a sample being solved, only where the estimate is well above the
+            # tolerance: near it, that sample's result may well be enough
+            margin = OVERLAP_MARGIN if flying else 1.0
+            busy = [(p, f) for p, f, _ in flying]
+            nxt = _next_sample(pieces, freqs, kk, busy, margin * tolerance)
+            if nxt is not None and started >= max_samples:
+                nxt = None
+                budget_hit = not flying
+        if nxt is not None:
+            piece, f = nxt
+            flying.append((piece, f, samples.start(f, piece.n_orders)))
+            started += 1
+            if len(flying) <= depth:
+                continue
+        elif not flying:
+            break
+        piece, f, future = flying.popleft()
+        piece.samples[f] = future.result()
+        piece.stale = True
+        done += 1
+        if progress is not None:
+            progress(done, total)
+    return done, budget_hit
+
+
+def _final_errors(pieces: list[_Piece], freqs: np.ndarray, kk: int, interpolate: bool) -> None:
+    """Each piece's error estimate for the samples it ended with (0 point by point: every
+    requested frequency was solved)."""
     for piece in pieces:
         if not interpolate:
             piece.error = np.zeros(len(piece.grid))
         elif piece.stale:
             _refit(piece, freqs, kk)
-    if interpolate:
-        if budget_hit:
-            log.warning(
-                "the interpolating sweep stopped at max_samples=%d with an estimated error "
-                "of %.3g (tolerance %.3g)",
-                max_samples,
-                max(p.error.max() if len(p.error) else 0.0 for p in pieces),
-                tolerance,
-            )
-        if progress is not None and done < total:
-            progress(done, done)
 
-    # fill the (F, P, 2, K) arrays: solved values where solved, the fits elsewhere
+
+def _report_end(
+    pieces: list[_Piece],
+    budget_hit: bool,
+    max_samples: int,
+    tolerance: float,
+    progress: Callable[[int, int], None] | None,
+    done: int,
+    total: int,
+) -> None:
+    """An interpolating sweep's last word: in the log when ``max_samples`` stopped it above
+    the tolerance, and ``progress(done, done)`` when it needed fewer than ``total``, so that
+    a progress bar ends full."""
+    if budget_hit:
+        log.warning(
+            "the interpolating sweep stopped at max_samples=%d with an estimated error "
+            "of %.3g (tolerance %.3g)",
+            max_samples,
+            max(p.error.max() if len(p.error) else 0.0 for p in pieces),
+            tolerance,
+        )
+    if progress is not None and done < total:
+        progress(done, done)
+
+
+def _curves(
+    pieces: list[_Piece],
+    freqs: np.ndarray,
+    orders: np.ndarray,
+    kk: int,
+    stack: Stack | None,
+    vectors: np.ndarray,
+    direction: np.ndarray,
+    incident_te_tm: np.ndarray,
+    incident_components: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[float], list[tuple[_Piece, AAA | None]]]:
+    """The (F, P, 2, K) reflection and transmission: solved values where solved, the fits
+    elsewhere, NaN where an order is evanescent; with the (F,) error estimate, the
+    frequencies solved and each piece's fit of R_co (for the resonances).
+
+    R alone is fitted: E_tan is continuous across the screen, so in vacuum every order's T
+    is its R, plus the incident wave's TE/TM components for (0, 0) (the solver's too); on
+    layers T = a δ + b R, order by order (:func:`barymesh.mom.stack.transmission_map`).
+    """
+    nf = len(freqs)
     n_all = len(orders)
     refl = np.full((nf, n_all, 2, kk), np.nan, dtype=np.complex128)
     trans = np.full((nf, n_all, 2, kk), np.nan, dtype=np.complex128)
@@ -911,10 +999,7 @@ def periodic_sweep(
         sampled += list(x)
         n = piece.n_orders * 2 * kk
         grid_f = freqs[piece.grid]
-        # R alone is fitted: E_tan is continuous across the screen, so in vacuum every
-        # order's T is its R, plus the incident wave's TE/TM components for (0, 0) (the
-        # solver's too); on layers T = a δ + b R, order by order (transmission_map)
-        if len(x) >= 2:
+        if len(x) >= 2:  # R alone is fitted (see above)
             fitted_r = _evaluate(_fit(piece.scale(x), v[:, :n]), piece.scale(grid_f))
         else:
             fitted_r = np.repeat(v[:, :n], len(grid_f), axis=0)
@@ -938,32 +1023,19 @@ def periodic_sweep(
         error[piece.grid] = piece.error
         co = _co_series(v[:, : 2 * kk].reshape(-1, 2, kk), incident_te_tm, kk)
         co_fits.append((piece, _fit(piece.scale(x), co[:, None])[0] if len(x) >= 3 else None))
-    result = PeriodicSweep(
-        frequencies=freqs,
-        incidence=wave,
-        polarizations=fields,
-        incident_te_tm=incident_te_tm,
-        orders=orders,
-        onsets=onsets,
-        order_reflection=refl,
-        order_transmission=trans,
-        lattice=vectors,
-        sampled=np.array(sorted(sampled)),
-        error_estimate=error,
-        interpolated=bool(interpolate),
-        sheet_impedance=zs,
-        resonances=np.zeros(0),
-        resonance_kinds=(),
-        quality_factors=np.zeros(0),
-        mesh=mesh,
-        lattice_source=lattice,
-        stack=stack,
-    )
+    return refl, trans, error, sampled, co_fits
+
+
+def _with_resonances(
+    result: PeriodicSweep, co_fits: list[tuple[_Piece, AAA | None]], notes: tuple[str, ...]
+) -> PeriodicSweep:
+    """``result`` with its resonances (peaks and dips of |R_co|, refined on the fits, with
+    Q) and its warnings: the solves' ``notes``, and a resonance next to an onset."""
+    freqs = result.frequencies
     found, kinds, q = _resonances(result, co_fits)
-    notes = tuple(samples.warnings.values())
     if len(found):
         r_co, t_co = result.co_polar()
-        at = np.clip(np.searchsorted(freqs, found), 0, nf - 1)
+        at = np.clip(np.searchsorted(freqs, found), 0, len(freqs) - 1)
         notes += onset_resonance_warning(
             found, kinds, result.grating_lobe_onsets, np.abs(r_co[at]), np.abs(t_co[at])
         )

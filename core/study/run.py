@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..mom.periodic import periodic_memory_needed
+from ..mom.periodic_checks import periodic_memory_needed
 from ..mom.solve import ProblemTooLarge, memory_needed
 from .point import (
     PointResult,
