@@ -785,8 +785,6 @@ def main(argv: list[str] | None = None) -> int:
         if not argv or (argv[0].startswith("-") and argv[0].split("=")[0] not in own):
             return _open_window(argv)
         parser = build_parser()
-        if argv[0] == "solve":
-            argv = cli_solve.join_dash_values(argv)
         try:
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help and --version

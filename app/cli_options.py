@@ -27,12 +27,50 @@ class InputError(Exception):
 # -- argument types and groups ------------------------------------------------
 
 
+#: A value that starts with "-" and is not an option: an axis (``-z``) or a number or
+#: vector (``-1,0,0``, ``-.5``).
+_DASH_VALUE = re.compile(r"^-([xyzXYZ]$|\d|\.\d)")
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse with usage errors raised as :class:`UsageError`, not printed mid-way."""
+    """argparse with usage errors raised as :class:`UsageError`, not printed mid-way.
+
+    ``dash_value_options``: options whose value may start with "-" (``--dir -z``,
+    ``--pol -1,0,0``); argparse takes such a value only when joined (``--dir=-z``), so
+    they are joined before parsing.
+    """
+
+    dash_value_options: tuple[str, ...] = ()
 
     def error(self, message: str) -> NoReturn:
         """Raise :class:`UsageError` with the program's name and ``message``."""
         raise UsageError(f"{self.prog}: {message}")
+
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        if args is not None and self.dash_value_options:
+            args = join_dash_values(list(args), self.dash_value_options)
+        return super().parse_known_args(args, namespace)
+
+
+def join_dash_values(argv: list[str], options: tuple[str, ...]) -> list[str]:
+    """``--dir -z`` as ``--dir=-z`` for each option of ``options`` followed by a value
+    that starts with "-" (an axis letter, a digit or ".digit").
+
+    >>> join_dash_values(["x.json", "--dir", "-z", "--pol", "-1,0,0", "--theta", "-5"],
+    ...                  ("--dir", "--pol"))
+    ['x.json', '--dir=-z', '--pol=-1,0,0', '--theta', '-5']
+    """
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        arg = argv[i]
+        if arg in options and i + 1 < len(argv) and _DASH_VALUE.match(argv[i + 1]):
+            out.append(f"{arg}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(arg)
+        i += 1
+    return out
 
 
 def window_size(text: str) -> int:

@@ -63,33 +63,6 @@ class SolveUsageError(ValueError):
     """Bad usage of ``barymesh solve``; :func:`run` reports it through the parser (exit 2)."""
 
 
-#: Options of ``barymesh solve`` whose value may start with "-": an axis (``-z``) or a
-#: vector (``-1,0,0``).
-DASH_VALUE_OPTIONS = ("--dir", "--pol")
-_DASH_VALUE = re.compile(r"^-([xyzXYZ]$|\d|\.\d)")
-
-
-def join_dash_values(argv: list[str]) -> list[str]:
-    """``--dir -z`` as ``--dir=-z`` (and ``--pol -1,0,0`` as ``--pol=-1,0,0``): argparse
-    takes a value that starts with "-" only in the joined form, or when it is a plain
-    negative number.
-
-    >>> join_dash_values(["solve", "x.json", "--dir", "-z", "--pol", "-1,0,0", "--theta", "-5"])
-    ['solve', 'x.json', '--dir=-z', '--pol=-1,0,0', '--theta', '-5']
-    """
-    out: list[str] = []
-    i = 0
-    while i < len(argv):
-        arg = argv[i]
-        if arg in DASH_VALUE_OPTIONS and i + 1 < len(argv) and _DASH_VALUE.match(argv[i + 1]):
-            out.append(f"{arg}={argv[i + 1]}")
-            i += 2
-            continue
-        out.append(arg)
-        i += 1
-    return out
-
-
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     """Add the ``solve`` subcommand to ``subparsers`` (of :func:`barymesh.app.cli.build_parser`)."""
     p = subparsers.add_parser(
@@ -232,6 +205,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         default=(1024, 768),
         help="screenshot size in pixels (default 1024 768)",
     )
+    p.dash_value_options = ("--dir", "--pol")  # `--dir -z`, `--pol -1,0,0`
     # usage errors go through this parser, which raises the running cli's UsageError
     p.set_defaults(solve_parser=p)
     return p
