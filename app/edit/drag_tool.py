@@ -83,7 +83,7 @@ class ElementDragger(QObject):
     world_at : callable
         ``world_at(pos) -> (point or None, triangle or None)``: the View tools' mesh point
         under a widget position.
-    picker : barymesh.app.teach.inspector_panel.ViewPicker
+    picker : barymesh.app.view.picker.ViewPicker
         The view's picker: which triangle (so which element) is under the pointer.
     snap_grid : callable
         ``snap_grid() -> float or None``: the Elements panel's grid (mm) positions snap to.

@@ -1,10 +1,6 @@
-"""The RWG inspector's panel and the click picking of the 3D view.
+"""The RWG inspector's panel (the view's click picking is
+:class:`barymesh.app.view.picker.ViewPicker`).
 
-:class:`ViewPicker` turns a click (press and release within a few pixels, so a drag still
-rotates the view) on the 3D view into the triangle under the mouse. A flat mesh is picked
-from the core's arrays (its ``locate`` hook: the camera ray meets the mesh's plane and a
-point-in-triangle search finds the triangle, at any mesh size, whatever is drawn); a
-curved imported mesh with VTK's ``vtkCellPicker`` restricted to the faces actor.
 :class:`InspectorPanel` keeps the selected edge, drives
 :class:`barymesh.app.teach.inspector.InspectorOverlay` and shows the info box.
 """
@@ -12,11 +8,10 @@ curved imported mesh with VTK's ``vtkCellPicker`` restricted to the faces actor.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt, Signal
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (
     QFormLayout,
     QHBoxLayout,
@@ -26,7 +21,6 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
     QWidget,
 )
-from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 from barymesh import TriMesh
 from barymesh.app.teach.inspector import (
@@ -42,118 +36,6 @@ from barymesh.app.teach.inspector import (
 )
 
 log = logging.getLogger(__name__)
-
-#: A press and release closer than this (px) is a click; farther is a drag (rotate/pan).
-CLICK_SLOP = 4
-
-
-class ViewPicker(QObject):
-    """Clicks on the 3D view → ``triangle_picked(triangle, world_point)``.
-
-    Parameters
-    ----------
-    plotter : pyvistaqt.QtInteractor
-    faces_actor : vtkActor
-        The actor whose cells are the mesh's triangles, in order.
-
-    Attributes
-    ----------
-    locate : callable or None
-        ``locate(x, y, defer) -> (triangle or None, point) or None``: the triangle of the
-        mesh's own arrays under display point (x, y) and the point on the mesh, or None
-        when it cannot tell (no mesh, a curved mesh): then VTK picks what is drawn. With
-        ``defer`` a click that comes before the mesh's search structure is ready is
-        answered (``triangle_picked``) once it is.
-    """
-
-    triangle_picked = Signal(int, object)
-
-    def __init__(self, plotter: Any, faces_actor: Any, parent: QObject | None = None) -> None:
-        super().__init__(parent)
-        self.plotter = plotter
-        self.enabled = False
-        self.suspended = False  # the measure tool takes the clicks
-        self.faces_actor = faces_actor
-        self.locate: (
-            Callable[[float, float, bool], tuple[int | None, np.ndarray | None] | None] | None
-        ) = None
-        self.picker = vtkCellPicker()
-        self.picker.SetTolerance(1e-4)
-        self.picker.PickFromListOn()
-        self.picker.AddPickList(faces_actor)
-        self._press: QPointF | None = None
-        plotter.installEventFilter(self)
-
-    def pick_display(self, x: float, y: float, emit: bool = True) -> tuple[int, np.ndarray] | None:
-        """Pick at VTK display coordinates (pixels, origin bottom left).
-
-        Returns the triangle and the picked world point, or None off the mesh. Emits
-        ``triangle_picked`` on a hit (unless ``emit`` is false). A flat mesh is searched
-        in its arrays (:attr:`locate`), so a dense mesh drawn reduced is picked as
-        exactly as a small one. Otherwise the triangles are picked by VTK, even while
-        the Triangles layer is hidden (VTK skips invisible actors, so the faces are made
-        visible for the pick, which draws nothing); a flat mesh's click that neither
-        finds (its locator still being built) is answered when the locator is ready.
-        """
-        located = self.locate(float(x), float(y), False) if self.locate is not None else None
-        if located is not None and located[0] is not None:
-            triangle, point = int(located[0]), located[1]
-            if emit:
-                self.triangle_picked.emit(triangle, point)
-            return triangle, point
-        hit = self._vtk_pick(x, y, emit)
-        if hit is None and located is not None and emit:
-            self.locate(float(x), float(y), True)  # a big mesh's locator not ready: later
-        return hit
-
-    def _vtk_pick(self, x: float, y: float, emit: bool) -> tuple[int, np.ndarray] | None:
-        """VTK's pick of what is drawn (a curved mesh; a flat one before its locator)."""
-        renderer = self.plotter.renderer
-        actor = self.faces_actor
-        hidden = not actor.GetVisibility()
-        if hidden:
-            actor.SetVisibility(True)
-        try:
-            found = self.picker.Pick(float(x), float(y), 0.0, renderer)
-        finally:
-            if hidden:
-                actor.SetVisibility(False)
-        if not found:
-            return None
-        cell = int(self.picker.GetCellId())
-        if cell < 0:
-            return None
-        # the faces of a dense mesh's detail are a part of it: the "triangle" cell array
-        # holds each cell's triangle in the mesh (barymesh.app.view.scene_data.detail_data)
-        data = self.picker.GetDataSet()
-        ids = data.GetCellData().GetArray("triangle") if data is not None else None
-        if ids is not None and cell < ids.GetNumberOfTuples():
-            cell = int(ids.GetValue(cell))
-        point = np.array(self.picker.GetPickPosition(), dtype=np.float64)
-        if emit:
-            self.triangle_picked.emit(cell, point)
-        return cell, point
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        kind = event.type()
-        if kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
-            self._press = event.position()
-        elif (
-            kind == QEvent.Type.MouseButtonRelease
-            and event.button() == Qt.MouseButton.LeftButton
-            and self._press is not None
-        ):
-            moved = (event.position() - self._press).manhattanLength()
-            self._press = None
-            if self.enabled and not self.suspended and moved <= CLICK_SLOP:
-                try:
-                    ratio = self.plotter.devicePixelRatioF()
-                    pos = event.position()
-                    height = self.plotter.height()
-                    self.pick_display(pos.x() * ratio, (height - 1 - pos.y()) * ratio)
-                except Exception:  # noqa: BLE001 - a failed pick must never crash the window
-                    log.exception("picking failed")
-        return False  # the view still gets every event (rotate, zoom)
 
 
 class InspectorPanel(QWidget):

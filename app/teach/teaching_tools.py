@@ -24,12 +24,13 @@ from PySide6.QtWidgets import QDockWidget, QMenu
 
 from barymesh import TriMesh
 from barymesh.app.model import ClickTools, Event
-from barymesh.app.teach.inspector_panel import InspectorPanel, ViewPicker
+from barymesh.app.teach.inspector_panel import InspectorPanel
 from barymesh.app.teach.matrix_view import MatrixView
 from barymesh.app.teach.presentation import EMPHASIS, PresentationMode
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
 from barymesh.app.view.highlight import TriangleHighlight
+from barymesh.app.view.picker import ViewPicker
 
 log = logging.getLogger(__name__)
 

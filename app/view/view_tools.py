@@ -31,6 +31,7 @@ from barymesh.app.model import ClickTools, ViewSelection
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_points, pixels_per_mm
 from barymesh.app.view.measure import MeasureTool
+from barymesh.app.view.picker import ClickWatch
 from barymesh.app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
 from barymesh.app.worker import Job, release_memory
 
@@ -40,8 +41,6 @@ log = logging.getLogger(__name__)
 #: tool asks where something is): at once for up to this many triangles, in a worker
 #: thread above. A mesh only passed through (a slider drag) never builds one.
 SYNC_LOCATOR = 50_000
-#: A press and release closer than this (px) is a click, farther a drag (rotate, pan).
-CLICK_SLOP = 4
 
 
 class ElidedLabel(QLabel):
@@ -80,7 +79,7 @@ class ViewTools(QObject):
         Its bounds and marker sizes.
     clicks : ClickTools
         The view's click tools: measuring is one of them; a click with none on selects.
-    picker : barymesh.app.teach.inspector_panel.ViewPicker
+    picker : barymesh.app.view.picker.ViewPicker
         The Teach tools' click picker: clicks go to it while one of them is on, and it
         asks :meth:`locate_display` where a click is.
     highlight : barymesh.app.view.highlight.TriangleHighlight
@@ -118,7 +117,7 @@ class ViewTools(QObject):
         self.selection = ViewSelection()  # a click's, when no click tool takes it
         self.cursor: np.ndarray | None = None
         self._pos: QPointF | None = None
-        self._press: QPointF | None = None
+        self._clicks = ClickWatch()  # a click, not a drag
         self._pending_pick: np.ndarray | None = None  # a click waiting for the locator
         #: a selecting click made before the locator was ready: (point, triangle picked,
         #: snap tolerance in mm at the click's zoom), answered by _locator_ready
@@ -270,19 +269,12 @@ class ViewTools(QObject):
             self._show_readout()
         elif kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
             self._ensure_locator()
-            self._press = event.position()
-        elif (
-            kind == QEvent.Type.MouseButtonRelease
-            and event.button() == Qt.MouseButton.LeftButton
-            and self._press is not None
-        ):
-            moved = (event.position() - self._press).manhattanLength()
-            self._press = None
-            if moved <= CLICK_SLOP:
-                try:
-                    self._clicked(event.position())
-                except Exception:  # noqa: BLE001 - a click must never take the window down
-                    log.exception("click in the view failed")
+            self._clicks.press(event)
+        elif kind == QEvent.Type.MouseButtonRelease and self._clicks.is_click(event):
+            try:
+                self._clicked(event.position())
+            except Exception:  # noqa: BLE001 - a click must never take the window down
+                log.exception("click in the view failed")
         return False
 
     def world_at(self, pos: QPointF) -> tuple[np.ndarray | None, int | None]:
@@ -313,7 +305,7 @@ class ViewTools(QObject):
     ) -> tuple[int | None, np.ndarray | None] | None:
         """The triangle of the mesh's arrays under display pixel (x, y), and the point.
 
-        The :class:`barymesh.app.teach.inspector_panel.ViewPicker`'s ``locate`` hook: for a flat
+        The :class:`barymesh.app.view.picker.ViewPicker`'s ``locate`` hook: for a flat
         mesh the camera ray meets its plane and the locator's point-in-triangle search
         finds the triangle, at any size and whatever the scene draws (a dense mesh is
         drawn reduced). None for a curved mesh (VTK picks it). While a big mesh's locator
