@@ -144,3 +144,13 @@ def test_the_scene_data_that_worker_threads_make_imports_no_vtk():
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
     )
     assert out.stdout.strip() == "[]", out.stdout
+
+
+def test_importing_the_window_leaves_matplotlib_for_later():
+    """The connectivity matrix (matplotlib) is made when its dock is first shown: the
+    window's import, on the way to its first frame, does not pay for matplotlib."""
+    code = "import sys, barymesh.app.window; print('matplotlib' in sys.modules)"
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+    )
+    assert out.stdout.strip() == "False", out.stdout

@@ -16,21 +16,23 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
-from PySide6.QtWidgets import QDockWidget, QMenu
+from PySide6.QtWidgets import QDockWidget, QMenu, QWidget
 
 from barymesh import TriMesh
 from barymesh.app.model import ClickTools, Event
 from barymesh.app.teach.inspector_panel import InspectorPanel
-from barymesh.app.teach.matrix_view import MatrixView
 from barymesh.app.teach.presentation import EMPHASIS, PresentationMode
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import pixels_per_mm
 from barymesh.app.view.highlight import TriangleHighlight
 from barymesh.app.view.picker import ViewPicker
+
+if TYPE_CHECKING:
+    from barymesh.app.teach.matrix_view import MatrixView
 
 log = logging.getLogger(__name__)
 
@@ -86,14 +88,12 @@ class TeachingTools:
         self.zoom_to_selection_requested = Event()
         self.zoom_to_points_requested = Event()
         self.inspector = InspectorPanel(plotter)
-        self.matrix = MatrixView()
+        self._matrix: MatrixView | None = None  # made when first needed (see matrix)
+        self._matrix_scale = 1.0
         self.highlight = TriangleHighlight(plotter)
         self.picker = ViewPicker(plotter, scene.actors["faces"], host.widget)
         self.picker.triangle_picked.connect(self._triangle_picked)
         self.inspector.zoom_requested.connect(self.zoom_to_edge)
-        self.matrix.cell_hovered.connect(self._cell_hovered)
-        self.matrix.cell_clicked.connect(self._cell_clicked)
-        self.matrix.zoom_requested.connect(self.zoom_to_cell)
         self.presentation = PresentationMode(host.widget, self._emphasize)
         # a hover marks the triangles at once but repaints the 3D view only when the
         # pointer rests: a sweep across the spy plot costs one paint, not one per cell
@@ -103,7 +103,8 @@ class TeachingTools:
         self._repaint.timeout.connect(host.request_render)
 
         self.inspector_dock = self._dock("RWG inspector", "dock_inspector", self.inspector)
-        self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", self.matrix)
+        self.matrix_dock = self._dock("Connectivity matrix", "dock_matrix", QWidget())
+        self.matrix_dock.visibilityChanged.connect(self._matrix_shown)
 
         a = host.add_action
         self.act_inspector = a(
@@ -139,6 +140,32 @@ class TeachingTools:
         dock.visibilityChanged.connect(lambda _v, d=dock: self._dock_visibility(d))
         dock.visibilityChanged.connect(lambda v, d=dock: self._tab_left(d, v))
         return dock
+
+    @property
+    def matrix(self) -> MatrixView:
+        """The connectivity-matrix view, made the first time it is needed (its dock
+        shown): it draws with matplotlib, whose import (about 0.6 s) the window's first
+        frame does not wait for."""
+        if self._matrix is None:
+            from barymesh.app.teach import matrix_view
+
+            view = matrix_view.MatrixView()
+            view.cell_hovered.connect(self._cell_hovered)
+            view.cell_clicked.connect(self._cell_clicked)
+            view.zoom_requested.connect(self.zoom_to_cell)
+            view.set_font_scale(self._matrix_scale)
+            if self.mesh is not None:
+                view.set_mesh(self.mesh)
+            self._matrix = view
+            placeholder = self.matrix_dock.widget()
+            self.matrix_dock.setWidget(view)
+            if placeholder is not None:
+                placeholder.deleteLater()
+        return self._matrix
+
+    def _matrix_shown(self, visible: bool) -> None:
+        if visible:
+            self.matrix  # noqa: B018 - made now, in its dock
 
     def add_to_menu(self, menu: QMenu) -> None:
         """Add the actions to the window's Teach (or View) menu."""
@@ -257,7 +284,8 @@ class TeachingTools:
         self.mesh = mesh
         try:
             self.inspector.set_mesh(mesh)
-            self.matrix.set_mesh(mesh)
+            if self._matrix is not None:
+                self._matrix.set_mesh(mesh)
             self.highlight.show(None, None)
         except Exception:  # noqa: BLE001 - a teaching view must never take the window down
             log.exception("updating the teaching tools failed")
@@ -330,7 +358,9 @@ class TeachingTools:
         overlay = 1.0 if scale == 1.0 else 0.8 * EMPHASIS
         self.inspector.overlay.set_scale(overlay)
         self.highlight.set_scale(overlay)
-        self.matrix.set_font_scale(scale)
+        self._matrix_scale = scale
+        if self._matrix is not None:
+            self._matrix.set_font_scale(scale)
         if self.act_presentation.isChecked() != self.presentation.active:
             self.act_presentation.setChecked(self.presentation.active)
         self.plotter.render()
