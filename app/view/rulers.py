@@ -108,7 +108,6 @@ class Rulers:
         self._formats = ["{:.4g}", "{:.4g}"]
         self._visible = True
         self._pickable = False
-        self._camera = None
         self._texts: list[list[str]] = [[], []]
         self._labels: list[list[vtkTextActor]] = [[], []]
         self._anchors: list[list[vtkCoordinate]] = [[], []]
@@ -217,14 +216,6 @@ class Rulers:
         self._pickable = bool(pickable)
         for prop in self.props():
             prop.SetPickable(self._pickable)
-
-    def SetCamera(self, camera: object) -> None:  # noqa: N802
-        """Kept for the cube axes' interface: the rulers always draw in the camera of
-        the renderer they are in."""
-        self._camera = camera
-
-    def GetCamera(self) -> object:  # noqa: N802
-        return self._camera if self._camera is not None else self.renderer.GetActiveCamera()
 
     def GetTitleTextProperty(self, axis: int) -> vtkTextProperty:  # noqa: N802
         return self._title_props[axis]
