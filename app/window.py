@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer, Signal
+from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer
 from PySide6.QtGui import (
     QAction,
     QActionGroup,
@@ -57,6 +57,7 @@ from barymesh.app.dialogs.help_dialog import HelpDialog
 from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog, png_steps, write_png
 from barymesh.app.dialogs.step_progress import run_in_steps
 from barymesh.app.edit.cell_tools import CellTools
+from barymesh.app.jobs import Jobs
 from barymesh.app.model import (
     AppModel,
     ClickTools,
@@ -86,7 +87,7 @@ from barymesh.app.view.overview import DETAIL_TRIANGLES
 from barymesh.app.view.scene import MeshScene
 from barymesh.app.view.scene_data import needs_triangles, scene_data
 from barymesh.app.view.view_tools import ViewTools
-from barymesh.app.worker import BuildJob, MeshController, release_memory, run_in_thread
+from barymesh.app.worker import BuildJob, MeshController, release_memory
 
 log = logging.getLogger(__name__)
 
@@ -183,7 +184,6 @@ class MainWindow(QMainWindow):
     """
 
     #: (ExportJob, exception or None) from an export's worker thread.
-    _export_done = Signal(object)
 
     def __init__(
         self,
@@ -199,7 +199,7 @@ class MainWindow(QMainWindow):
         collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
 
         self.export_job: ExportJob | None = None  # the export being written, if any
-        self._export_done.connect(self._export_finished)
+        self.file_jobs = Jobs(self, name="barymesh-export")  # one export at a time
 
         self.settings = settings if settings is not None else app_settings()
         self.scripted = scripted
@@ -1360,7 +1360,7 @@ class MainWindow(QMainWindow):
                 return exc
             return None
 
-        run_in_thread(work, self._export_done, job)
+        self.file_jobs.submit(work, self._export_finished, job)
         return True
 
     def _cancel_export(self, job: ExportJob) -> None:
@@ -1368,10 +1368,9 @@ class MainWindow(QMainWindow):
         if job.progress is not None:
             job.progress.setLabelText(f"Cancelling {Path(job.path).name}…")
 
-    def _export_finished(self, payload: tuple) -> None:
+    def _export_finished(self, job: ExportJob, error: BaseException | None) -> None:
         from barymesh.io import ExportCancelled
 
-        job, error = payload
         if job.progress is not None:
             job.progress.canceled.disconnect()  # closing a progress dialog emits canceled
             job.progress.close()

@@ -32,15 +32,14 @@ import ctypes
 import dataclasses
 import functools
 import logging
-import threading
 import time
 from collections.abc import Callable
 from functools import partial
 
-import shiboken6
-from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
+from PySide6.QtCore import QObject, QTimer, Signal
 
 from barymesh import MeshParams
+from barymesh.app.jobs import Jobs
 from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.view.scene_data import detail_data, scene_data
 
@@ -91,47 +90,6 @@ def release_memory() -> None:
         trim(0)
 
 
-class Job(QRunnable):
-    """Run ``work()`` on a thread-pool thread and emit its return value with ``done``.
-
-    ``done`` is a signal of ``owner``, a QObject living on the GUI thread, so the result
-    is delivered there (a queued connection). When the owner is destroyed meanwhile (its
-    window or panel closed while the job ran), the result is dropped; an error emitting
-    to a live owner is raised as ever.
-    """
-
-    def __init__(self, work: Callable[[], object], done: Signal, owner: QObject) -> None:
-        super().__init__()
-        self.work, self.done = work, done
-        self.owner = owner  # its Python side stays alive; its C++ side may go
-        self.setAutoDelete(True)
-
-    def run(self) -> None:  # worker thread
-        result = self.work()
-        try:
-            self.done.emit(result)
-        except (RuntimeError, TypeError):  # "Signal source has been deleted", and kin
-            if shiboken6.isValid(self.owner):
-                raise
-
-
-def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) -> None:
-    """Run ``work()`` in a daemon thread and emit ``done((*payload, result))``.
-
-    ``done`` belongs to a QObject of the GUI thread, so the result is delivered there
-    (a queued connection). A window closed meanwhile simply drops it.
-    """
-
-    def run() -> None:
-        result = work()
-        try:
-            done.emit((*payload, result))
-        except RuntimeError:  # the receiver is gone (window closed)
-            pass
-
-    threading.Thread(target=run, daemon=True, name="barymesh-worker").start()
-
-
 def _kept_scene(scene: object, _mesh: object) -> object:
     """``prepare`` of a rebuild whose scene arrays were kept (the build is deterministic)."""
     return scene
@@ -147,18 +105,6 @@ def _scene_or_none(mesh: object, **kwargs: object) -> object:
         return None
 
 
-class _Gate:
-    """``emit`` of a controller's signal from a build thread, dropped once it is stopped."""
-
-    def __init__(self, controller: MeshController, signal: Signal) -> None:
-        self.controller, self.signal = controller, signal
-
-    def emit(self, payload: object) -> None:
-        with self.controller._emit_lock:
-            if not self.controller._stopped:
-                self.signal.emit(payload)
-
-
 class MeshController(QObject):
     """Turns parameter changes into mesh results for the model (see module docstring)."""
 
@@ -169,17 +115,14 @@ class MeshController(QObject):
     detail_ready = Signal(object)
     #: (token, SceneData or None) from :meth:`request_scene`.
     scene_ready = Signal(object)
-    _job_done = Signal(object)
 
     def __init__(
         self, model: AppModel, parent: QObject | None = None, sync_triangles: int = SYNC_TRIANGLES
     ) -> None:
         super().__init__(parent)
-        # a build thread emits its result under this lock unless stop() came first: the
-        # window deletes the controller after stop(), and a signal emitted into a QObject
-        # being deleted crashed the process (seen in the live tests' teardown)
-        self._emit_lock = threading.Lock()
-        self._stopped = False
+        # builds, detail and scene requests in threads of their own: an abandoned build
+        # winds down beside the next; after stop() nothing is delivered (app/jobs.py)
+        self.jobs = Jobs(self, threads=None, name="barymesh-build")
         self.model = model
         self.sync_triangles = sync_triangles
         self._pending: tuple[MeshParams, int] | None = None
@@ -205,7 +148,6 @@ class MeshController(QObject):
         self._paint_wait.setSingleShot(True)
         self._paint_wait.setInterval(PAINT_WAIT_MS)
         self._paint_wait.timeout.connect(self._release)
-        self._job_done.connect(self._finished)
         model.params_changed.connect(self._on_params_changed)
 
     @property
@@ -302,9 +244,9 @@ class MeshController(QObject):
         if not was_busy:
             self.busy_changed.emit(True)
         self.job_changed.emit(job)
-        run_in_thread(
+        self.jobs.submit(
             partial(compute, params, generation, prepare=prepare, cancel=cancelled),
-            _Gate(self, self._job_done),
+            self._built,
             job,
         )
 
@@ -366,6 +308,9 @@ class MeshController(QObject):
         key = self._recent_key(target)
         return next((s for k, s in reversed(self._recent) if k == key), None)
 
+    def _built(self, job: BuildJob, result: MeshResult) -> None:
+        self._finished((job, result))
+
     def _finished(self, payload: tuple[BuildJob, MeshResult], held: bool = False) -> None:
         job, result = payload
         if (
@@ -416,22 +361,24 @@ class MeshController(QObject):
                 "pixels": self.view_size() if self.view_size else None,
             }
         )
-        run_in_thread(
-            partial(detail_data, mesh, rect, **extra), _Gate(self, self.detail_ready), token
+        self.jobs.submit(
+            partial(detail_data, mesh, rect, **extra),
+            lambda token, data: self.detail_ready.emit((token, data)),
+            token,
         )
 
     def request_scene(self, mesh: object, token: object) -> None:
         """Make the scene of ``mesh`` again in a thread, for the model's colouring (a dense
         paper mesh's image gets the per-triangle values it was made without); emits
         ``scene_ready`` with (token, SceneData or None if it failed)."""
-        run_in_thread(
+        self.jobs.submit(
             partial(
                 _scene_or_none,
                 mesh,
                 color_by=self.model.color_by,
                 pixels=self.view_size() if self.view_size else None,
             ),
-            _Gate(self, self.scene_ready),
+            lambda token, scene: self.scene_ready.emit((token, scene)),
             token,
         )
 
@@ -441,8 +388,7 @@ class MeshController(QObject):
         Returns at once: an abandoned build stops at its next checkpoint in its own
         (daemon) thread and its result goes nowhere.
         """
-        with self._emit_lock:  # no thread emits into this controller after this
-            self._stopped = True
+        self.jobs.close()  # no thread delivers into this controller after this
         self._timer.stop()
         self._paint_wait.stop()
         self._held = None

@@ -239,7 +239,7 @@ def test_cancel_drops_a_running_solve(window, qtbot):
     click(qtbot, panel.cancel_button)
     assert "cancelled" in panel.status.text()
     assert not panel.progress.isVisible()
-    assert panel.pool.waitForDone(120_000)
+    assert panel.jobs.wait(120_000)
     qtbot.wait(50)  # the dropped result arrives through the event loop
     assert panel.solution is None and panel.layer.current is None
 
@@ -275,7 +275,7 @@ def test_closing_the_window_during_a_solve_waits_for_it(window, qtbot):
     click(qtbot, panel.solve_button)
     assert panel.cancel_button.isEnabled()
     window.close()  # no crash, no traceback: the job is cancelled and waited for
-    assert panel.pool.activeThreadCount() == 0
+    assert panel.jobs.active == 0
     qtbot.wait(50)
     assert panel.solution is None
 
@@ -292,7 +292,7 @@ def test_cancel_stops_a_sweep_between_frequencies(window, qtbot):
     assert panel.progress.maximum() == 46
     click(qtbot, panel.cancel_button)
     assert "sweep was cancelled" in panel.status.text()
-    assert panel.pool.waitForDone(60_000)
+    assert panel.jobs.wait(60_000)
     qtbot.waitUntil(lambda: panel.last_outcome is not None)
     outcome = panel.last_outcome
     assert outcome.kind == "sweep" and outcome.cancelled

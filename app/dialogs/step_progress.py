@@ -13,10 +13,10 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from typing import Any
 
-from PySide6.QtCore import QEventLoop, QObject, Qt, QTimer, Signal
+from PySide6.QtCore import QEventLoop, QObject, Qt, QTimer
 from PySide6.QtWidgets import QProgressDialog, QWidget
 
-from barymesh.app.worker import run_in_thread
+from barymesh.app.jobs import Jobs
 
 #: A job shows its dialog only when it lasts longer than this (ms): a quick one flashes none.
 SHOW_AFTER_MS = 300
@@ -119,31 +119,24 @@ def run_in_steps(
     return bool(state["ok"])
 
 
-class _Relay(QObject):
-    done = Signal(object)
-
-
 def thread_steps(work: Callable[[], Any], owner: QObject) -> Iterator[None]:
     """Steps of :func:`run_in_steps` that run ``work()`` (no VTK, no Qt widgets) in a
     worker thread and yield ``None`` until it has finished; ``yield from`` them returns its
     result, or raises what it raised. ``owner`` (a QObject of the GUI thread) receives the
     result."""
-    relay = _Relay(owner)
+    jobs = Jobs(owner, name="barymesh-steps")
     box: dict[str, Any] = {}
-
-    def run() -> tuple[bool, Any]:
-        try:
-            return True, work()
-        except BaseException as exc:  # noqa: BLE001 - raised on the GUI thread
-            return False, exc
-
-    relay.done.connect(lambda payload: box.setdefault("result", payload[-1]))
-    run_in_thread(run, relay.done)
+    jobs.submit(
+        work,
+        lambda result: box.setdefault("result", (True, result)),
+        on_error=lambda exc: box.setdefault("result", (False, exc)),
+    )
     try:
         while "result" not in box:
             yield None
     finally:
-        relay.deleteLater()
+        jobs.close()  # cancelled (the dialog's Cancel): the work's result goes nowhere
+        jobs.deleteLater()
     ok, value = box["result"]
     if not ok:
         raise value

@@ -24,10 +24,11 @@ import logging
 import os
 import threading
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
+from PySide6.QtCore import Signal
 from PySide6.QtGui import QCloseEvent
 from PySide6.QtWidgets import (
     QComboBox,
@@ -45,6 +46,7 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import MeshParams
+from barymesh.app.jobs import Jobs, Task
 from barymesh.app.panels.solve_panel import DIRECTION_PRESETS, POLARIZATION_PRESETS, read_vector
 
 log = logging.getLogger(__name__)
@@ -92,44 +94,31 @@ def missing_cells(grid: np.ndarray, statuses: np.ndarray) -> tuple[np.ndarray, n
     return ~failed & ~np.isfinite(np.asarray(grid, dtype=float)), failed
 
 
-class _Signals(QObject):
-    progress = Signal(int, int, int)  # done, failed, total
-    finished = Signal(object)  # ({column: grid}, statuses) on success, else the message
+def _run_study(spec: dict, workers: int, stop: threading.Event, task: Task) -> object:
+    """Run the study (worker thread): ({column: grid}, statuses), "cancelled" or the
+    error message; progress goes out as (done, failed, total)."""
+    from barymesh.study import parse_spec, run
 
+    def progress(p: Any) -> None:
+        task.report(p.done, p.failed, p.total)
+        if stop.is_set():
+            raise KeyboardInterrupt  # run() cancels the tasks and keeps what finished
 
-class _StudyJob(QRunnable):
-    """Runs the study (worker thread); emits numbers only."""
-
-    def __init__(self, spec: dict, workers: int, stop: threading.Event, signals):
-        super().__init__()
-        self.spec, self.workers = spec, workers
-        self.stop, self.signals = stop, signals
-        self.setAutoDelete(True)
-
-    def run(self) -> None:  # worker thread
-        from barymesh.study import parse_spec, run
-
-        def progress(p: Any) -> None:
-            self.signals.progress.emit(p.done, p.failed, p.total)
-            if self.stop.is_set():
-                raise KeyboardInterrupt  # run() cancels the tasks and keeps what finished
-
-        try:
-            spec = parse_spec(self.spec)
-            result = run(spec, workers=self.workers, processes=True, progress=progress)
-            shape = tuple(len(a.values) for a in spec.axes)
-            grids = {
-                column: result.derived[column].to_numpy(dtype=float).reshape(shape)
-                for column, *_ in FIGURES.values()
-            }
-            statuses = result.derived["status"].to_numpy(dtype=str).reshape(shape)
-            outcome: object = (grids, statuses)
-        except KeyboardInterrupt:
-            outcome = "cancelled"
-        except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
-            log.exception("design study failed")
-            outcome = " ".join(str(exc).split()) or type(exc).__name__
-        self.signals.finished.emit(outcome)
+    try:
+        parsed = parse_spec(spec)
+        result = run(parsed, workers=workers, processes=True, progress=progress)
+        shape = tuple(len(a.values) for a in parsed.axes)
+        grids = {
+            column: result.derived[column].to_numpy(dtype=float).reshape(shape)
+            for column, *_ in FIGURES.values()
+        }
+        statuses = result.derived["status"].to_numpy(dtype=str).reshape(shape)
+        return grids, statuses
+    except KeyboardInterrupt:
+        return "cancelled"
+    except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
+        log.exception("design study failed")
+        return " ".join(str(exc).split()) or type(exc).__name__
 
 
 class StudyDialog(QDialog):
@@ -159,8 +148,7 @@ class StudyDialog(QDialog):
         super().__init__(parent)
         self.setWindowTitle("Design study")
         self._params, self._load = params, load
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
+        self.jobs = Jobs(self, name="barymesh-study")
         self.stop = threading.Event()
         self.running = False
         self.grid: np.ndarray | None = None  # the shown figure's grid (rows: axis 1)
@@ -249,9 +237,6 @@ class StudyDialog(QDialog):
         self.cancel_button.setEnabled(False)
         outer.addWidget(self.buttons)
 
-        self.signals = _Signals(self)
-        self.signals.progress.connect(self._progress)
-        self.signals.finished.connect(self._finished)
         for k in range(len(self.axis_rows)):
             self._suggest(k)
         self._draw()
@@ -359,8 +344,12 @@ class StudyDialog(QDialog):
         self.progress.setRange(0, total)
         self.progress.setValue(0)
         self._say(f"starting a local cluster of {self.workers.value()} workers…")
-        job = _StudyJob(spec, self.workers.value(), self.stop, self.signals)
-        self.pool.start(job)
+        self.jobs.submit(
+            partial(_run_study, spec, self.workers.value(), self.stop),
+            self._finished,
+            with_task=True,
+            on_progress=self._progress,
+        )
         return True
 
     def cancel(self) -> None:

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QComboBox,
@@ -45,11 +45,11 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh.app.edit import pixels
+from barymesh.app.jobs import Jobs
 from barymesh.app.model import UndoHistory
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
-from barymesh.app.worker import Job
 from barymesh.cell import (
     SYMMETRIES,
     CellMesh,
@@ -199,10 +199,6 @@ def _segments(a: np.ndarray, b: np.ndarray, z: float) -> Layer:
     return Layer(pts, lines=np.arange(2 * len(a), dtype=np.int64).reshape(-1, 2))
 
 
-class _Relay(QObject):
-    done = Signal(object)
-
-
 class PixelPainterWindow(QMainWindow):
     """The pixel painter (see the module docstring).
 
@@ -267,10 +263,7 @@ class PixelPainterWindow(QMainWindow):
         column.addWidget(self.stats_label)
         self.setCentralWidget(central)
 
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
-        self._relay = _Relay(self)
-        self._relay.done.connect(self._finished)
+        self.jobs = Jobs(self, name="barymesh-painter")  # one build at a time
         self._running = False
         self._pending: tuple[UnitCell | None, np.ndarray, float, int] | None = None
         self._render_timer = QTimer(self)
@@ -676,9 +669,7 @@ class PixelPainterWindow(QMainWindow):
         cell, mask, dz, generation = self._pending
         self._pending = None
         self._running = True
-        self.pool.start(
-            Job(partial(build_preview, cell, mask, dz, generation), self._relay.done, self._relay)
-        )
+        self.jobs.submit(partial(build_preview, cell, mask, dz, generation), self._finished)
 
     def _finished(self, built: Built) -> None:
         self._running = False
@@ -1163,7 +1154,7 @@ class PixelPainterWindow(QMainWindow):
         self._pending = None
         self._render_timer.stop()
         self._camera_timer.stop()
-        self.pool.waitForDone(30_000)
+        self.jobs.close()  # a running build winds down in its thread; its result goes nowhere
         self.plotter.close()
 
 

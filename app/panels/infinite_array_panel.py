@@ -49,10 +49,11 @@ import logging
 import math
 import threading
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QPoint, QSize, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtCore import QPoint, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QImage, QPainter, QPen
 from PySide6.QtWidgets import (
     QAbstractItemView,
@@ -76,6 +77,7 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.jobs import Jobs, Task
 from barymesh.app.model.solver_mesh import SolvedMesh, solver_mesh
 from barymesh.app.model.stack_rows import reference_plane_names
 from barymesh.app.panels.array_figures import Picture, draw_curve, draw_orders
@@ -97,7 +99,6 @@ from barymesh.app.panels.solve_panel import (
     run_job,
 )
 from barymesh.app.panels.stack_editor import StackEditor
-from barymesh.app.worker import Job
 
 log = logging.getLogger(__name__)
 
@@ -281,8 +282,6 @@ class InfiniteArrayPanel(QWidget):
         in the tab, under its inputs.
     """
 
-    _job_done = Signal(object)
-    _job_progress = Signal(int, int, int)
     #: an ArraySweep shown (tests, the docs' screenshot)
     swept = Signal(object)
 
@@ -300,8 +299,7 @@ class InfiniteArrayPanel(QWidget):
         self.curve_dock: QDockWidget | None = None
         self._curve_sized = False
         self._shown_once = False
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
+        self.jobs = Jobs(self, name="barymesh-array")  # one sweep, point or drawing at a time
         self.result: ArraySweep | None = None
         self.result_mesh: TriMesh | None = None  # the mesh on screen the curve is for
         self.solved: SolvedMesh | None = None  # the mesh the curve was solved on
@@ -316,8 +314,6 @@ class InfiniteArrayPanel(QWidget):
         #: the curve or of the orders (a resize); an older job's result is dropped
         self._tokens = {"array": 0, "point": 0, "curve": 0, "orders": 0}
         self._cancel: dict[int, threading.Event] = {}
-        self._job_done.connect(self._finished)
-        self._job_progress.connect(self._progress)
         self._build()
         model.result_changed.connect(self._mesh_changed)
         self._update_enabled()
@@ -633,7 +629,7 @@ class InfiniteArrayPanel(QWidget):
         # the λ/10 rule at the band's top, λ in the densest layer (εr μr)
         densest = 1.0 if inputs.stack is None else inputs.stack.max_index**2
 
-        def work() -> tuple[ArraySweep, Picture, SolvedMesh, str]:  # worker: numpy, Agg
+        def work(task: Task) -> tuple[ArraySweep, Picture, SolvedMesh, str]:  # numpy, Agg
             solved = (
                 solver_mesh(result, inputs.frequencies[-1], densest)
                 if graded
@@ -642,14 +638,19 @@ class InfiniteArrayPanel(QWidget):
             sweep = sweep_array(
                 solved.mesh,
                 inputs,
-                progress=lambda done, total: self._job_progress.emit(token, done, total),
+                progress=task.report,
                 cancel=stop.is_set,
             )
             return sweep, draw_curve(sweep, size, ratio), solved, said(solved)
 
         n = len(inputs.frequencies)
         self.status.setText(f"Sweeping {n} frequencies…")
-        self.pool.start(Job(lambda: run_job(token, mesh, "array", work), self._job_done, self))
+        self.jobs.submit(
+            lambda task: run_job(token, mesh, "array", partial(work, task)),
+            self._finished,
+            with_task=True,
+            on_progress=partial(self._progress, token),
+        )
         return True
 
     def solve_at(self, hz: float) -> bool:
@@ -669,7 +670,7 @@ class InfiniteArrayPanel(QWidget):
             return solution, draw_orders(solution, size, ratio)
 
         self.status.setText(f"Solving at {hz / 1e9:.4g} GHz…")
-        self.pool.start(Job(lambda: run_job(token, mesh, "point", work), self._job_done, self))
+        self.jobs.submit(lambda: run_job(token, mesh, "point", work), self._finished)
         return True
 
     def _redraw(self, kind: str) -> None:
@@ -680,12 +681,8 @@ class InfiniteArrayPanel(QWidget):
         size, ratio = view.request_size()
         self._tokens[kind] += 1
         token = self._tokens[kind]
-        self.pool.start(
-            Job(
-                lambda: run_job(token, None, kind, lambda: draw(data, size, ratio)),
-                self._job_done,
-                self,
-            )
+        self.jobs.submit(
+            lambda: run_job(token, None, kind, lambda: draw(data, size, ratio)), self._finished
         )
 
     def _cancel_running(self, kind: str) -> None:
@@ -875,4 +872,4 @@ class InfiniteArrayPanel(QWidget):
             self.model.result_changed.disconnect(self._mesh_changed)
         except (RuntimeError, ValueError):
             pass
-        return self.pool.waitForDone(msecs)
+        return self.jobs.wait(msecs)

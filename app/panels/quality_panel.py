@@ -9,7 +9,7 @@ toggled by the check box here or View → Worst triangles).
 The report is :func:`barymesh.quality.quality_report`, measured when the panel is seen (its
 dock's ``visibilityChanged`` calls :meth:`QualityPanel.set_seen`) or the red layer is on:
 on the GUI thread up to :data:`SYNC_TRIANGLES` triangles (about a millisecond), else in a
-worker thread (:func:`barymesh.app.worker.run_in_thread`) while the window keeps answering; only
+worker thread (:class:`barymesh.app.jobs.Jobs`) while the window keeps answering; only
 the small report comes back.
 """
 
@@ -33,8 +33,9 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.jobs import Jobs
 from barymesh.app.view.quality_layer import WorstTrianglesLayer
-from barymesh.app.worker import SYNC_TRIANGLES, run_in_thread
+from barymesh.app.worker import SYNC_TRIANGLES
 from barymesh.quality import params_wavelength, quality_report
 
 log = logging.getLogger(__name__)
@@ -186,7 +187,6 @@ class QualityPanel(QWidget):
     """
 
     #: (token, mesh, report or error text) from a worker thread.
-    _ready = Signal(object)
     #: A report is on show (tests, the window).
     report_changed = Signal(object)
 
@@ -237,7 +237,7 @@ class QualityPanel(QWidget):
         self.act_layer.setStatusTip("Draw the quality report's worst triangles in red")
         self.act_layer.toggled.connect(self.show_layer.setChecked)
 
-        self._ready.connect(self._on_ready)
+        self.jobs = Jobs(self, threads=None, name="barymesh-quality")
         window.model.result_changed.connect(self.mesh_changed)
         self.mesh_changed(window.model.result)
 
@@ -320,10 +320,9 @@ class QualityPanel(QWidget):
         self._token = token
         self.measuring = True
         self.figures.setText(f"Measuring {mesh.n_triangles:,} triangles…")
-        run_in_thread(partial(measure, mesh, wavelength), self._ready, token, mesh)
+        self.jobs.submit(partial(measure, mesh, wavelength), self._on_ready, token, mesh)
 
-    def _on_ready(self, payload: tuple[object, TriMesh, Any]) -> None:
-        token, mesh, report = payload
+    def _on_ready(self, token: object, mesh: TriMesh, report: Any) -> None:
         if token is not self._token:  # a newer mesh came meanwhile
             return
         self._token = None

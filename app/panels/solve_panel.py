@@ -21,9 +21,9 @@ as drawn.
 Meshes solved as drawn with at most :data:`AUTO_SOLVE_UNKNOWNS` RWG unknowns are solved on
 the GUI thread, and, once a user has asked for a solve, again whenever the mesh or a solve
 input changes (auto-solve). Larger ones, and every solver-grade mesh, are solved when
-asked, in a ``QThreadPool`` worker with a busy bar (a sweep: progress per frequency) and
-Cancel. A result that no longer matches the mesh or the inputs is cleared from the view
-and the panel says so.
+asked, in a worker thread (:class:`barymesh.app.jobs.Jobs`) with a busy bar (a sweep:
+progress per frequency) and Cancel. A result that no longer matches the mesh or the
+inputs is cleared from the view and the panel says so.
 """
 
 from __future__ import annotations
@@ -35,16 +35,15 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
 from PySide6.QtCore import (
     QEvent,
     QObject,
-    QRunnable,
     QSize,
     Qt,
-    QThreadPool,
     QTimer,
     Signal,
 )
@@ -66,6 +65,7 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.jobs import Jobs, Task
 from barymesh.app.model.solver_mesh import (
     SolvedMesh,
     SolverGradeRefused,
@@ -227,16 +227,6 @@ def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Ou
     return Outcome(token, mesh, kind, result, seconds=time.perf_counter() - start)
 
 
-class _Task(QRunnable):
-    def __init__(self, work: Callable[[], Outcome], done: Any) -> None:
-        super().__init__()
-        self.work, self.done = work, done
-        self.setAutoDelete(True)
-
-    def run(self) -> None:  # worker thread
-        self.done.emit(self.work())
-
-
 class SweepPlot(QWidget):
     """Extinction cross-section against frequency; a click reports a frequency (Hz)."""
 
@@ -317,8 +307,6 @@ class SolvePanel(QWidget):
     """The Solve dock's widget (see module docstring); ``window`` is the MainWindow."""
 
     solved = Signal(object)  # the Solution now on screen
-    _job_done = Signal(object)
-    _job_progress = Signal(int, int, int)  # token, done, total
 
     def __init__(self, window: Any) -> None:
         super().__init__(window)
@@ -334,8 +322,7 @@ class SolvePanel(QWidget):
                 refit(render=False)  # the mesh beside its colour bar (the layer renders)
 
         self.layer = CurrentLayer(window.plotter, window.request_render, shown_changed)
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
+        self.jobs = Jobs(self, name="barymesh-solve")  # one solve or sweep at a time
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
         #: Set by the first Solve, sweep click or typed input: from then on small meshes
         #: are solved whenever they change (the window opens without a current).
@@ -353,8 +340,6 @@ class SolvePanel(QWidget):
         self._running: set[str] = set()
         self._cancel = threading.Event()
         self._pages: list[QWidget] = []  # tabs added by add_page
-        self._job_done.connect(self._finished)
-        self._job_progress.connect(self._progress)
 
         self.tabs = QTabWidget(self)
         self.tabs.addTab(self._solve_page(), "&Solve")
@@ -699,7 +684,7 @@ class SolvePanel(QWidget):
         key = self._inputs_key()
         from barymesh.mom import solve
 
-        def work() -> Solved:
+        def work(report: Callable[..., None] | None = None) -> Solved:
             return solve_graded(
                 result,
                 frequency,
@@ -748,10 +733,9 @@ class SolvePanel(QWidget):
 
         freqs = np.linspace(a, b, self.sweep_count.value())
         self._tokens["sweep"] += 1
-        token = self._tokens["sweep"]
         self._cancel.clear()
 
-        def work() -> Solved:
+        def work(report: Callable[..., None]) -> Solved:
             return solve_graded(
                 result,
                 b,  # the λ/10 rule at the sweep's top
@@ -761,7 +745,7 @@ class SolvePanel(QWidget):
                     freqs,
                     wave,
                     scattering=False,
-                    progress=lambda done, total: self._job_progress.emit(token, done, total),
+                    progress=report,
                     cancel=self._cancel.is_set,
                 ),
             )
@@ -773,7 +757,7 @@ class SolvePanel(QWidget):
         self,
         mesh: TriMesh,
         kind: str,
-        work: Callable[[], Any],
+        work: Callable[[Callable[..., None]], Any],
         key: tuple[Any, ...] | None,
         message: str,
     ) -> None:
@@ -786,12 +770,14 @@ class SolvePanel(QWidget):
         self.cancel_button.setEnabled(True)
         self.status.setText(message)
 
-        def job() -> Outcome:
-            outcome = run_job(token, mesh, kind, work)
+        def job(task: Task) -> Outcome:
+            outcome = run_job(token, mesh, kind, partial(work, task.report))
             outcome.inputs = key  # type: ignore[attr-defined]
             return outcome
 
-        self.pool.start(_Task(job, self._job_done))
+        self.jobs.submit(
+            job, self._finished, with_task=True, on_progress=partial(self._progress, token)
+        )
 
     def cancel(self) -> None:
         """Stop the running job: a sweep stops before its next frequency; a single solve
@@ -1038,4 +1024,4 @@ class SolvePanel(QWidget):
         except ValueError:
             pass
         done = [page.stop(msecs) for page in self._pages if hasattr(page, "stop")]
-        return self.pool.waitForDone(msecs) and all(done)
+        return self.jobs.wait(msecs) and all(done)

@@ -23,17 +23,17 @@ from typing import Any
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QObject, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
 from barymesh import MeshParams, TriMesh
+from barymesh.app.jobs import Jobs
 from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.polydata import Layer
 from barymesh.app.view.scene import MeshScene
 from barymesh.app.view.scene_data import scene_data
-from barymesh.app.worker import Job
 
 log = logging.getLogger(__name__)
 
@@ -160,10 +160,6 @@ def compute_halves(params: MeshParams, generation: int) -> tuple[int, list[Half]
     tagged with ``generation``."""
     background_priority()
     return generation, [compute_half(params, mode) for mode in MODES]
-
-
-class _Relay(QObject):
-    done = Signal(object)
 
 
 def stats_html(half: Half) -> str:
@@ -311,10 +307,7 @@ class CompareView(FollowingView):
         col_layout.addLayout(row)
         col_layout.addWidget(self.status)
 
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
-        self._relay = _Relay(self)
-        self._relay.done.connect(self._finished)
+        self.jobs = Jobs(self, name="barymesh-compare")  # one pair of meshes at a time
         self._running = False
         self._pending: MeshParams | None = None
         self._frame_bounds: tuple[float, float, float, float] | None = None
@@ -343,9 +336,7 @@ class CompareView(FollowingView):
             return
         params, self._pending = self._pending, None
         self._running = True
-        self.pool.start(
-            Job(partial(compute_halves, params, self.generation), self._relay.done, self._relay)
-        )
+        self.jobs.submit(partial(compute_halves, params, self.generation), self._finished)
 
     def _finished(self, payload: tuple[int, list[Half]]) -> None:
         self._running = False
@@ -451,7 +442,7 @@ class CompareView(FollowingView):
     def _stop(self) -> None:
         self._busy_note.stop()
         self._pending = self._shown_later = None
-        self.pool.waitForDone(30_000)
+        self.jobs.close()  # a running pair winds down in its thread; its result goes nowhere
 
 
 #: The rows of a paper half's statistics: five counts, the overlap ratio and the three

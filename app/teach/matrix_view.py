@@ -38,7 +38,6 @@ from matplotlib.patches import Rectangle
 from PySide6.QtCore import (
     QAbstractTableModel,
     QModelIndex,
-    QObject,
     QPersistentModelIndex,
     Qt,
     Signal,
@@ -57,8 +56,8 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import TriMesh
+from barymesh.app.jobs import Jobs
 from barymesh.app.view.canvas import ShownCanvas
-from barymesh.app.worker import run_in_thread
 
 log = logging.getLogger(__name__)
 
@@ -128,10 +127,6 @@ def _picture_or_error(mesh: TriMesh) -> MatrixPicture | BaseException:
         return matrix_picture(mesh)
     except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
         return exc
-
-
-class _Relay(QObject):
-    ready = Signal(object)
 
 
 class ConnectivityTableModel(QAbstractTableModel):
@@ -210,8 +205,7 @@ class MatrixView(QWidget):
 
         self.picture: MatrixPicture | None = None
         self._token: object | None = None  # the picture being computed in a worker
-        self._relay = _Relay(self)
-        self._relay.ready.connect(self._picture_ready)
+        self.jobs = Jobs(self, threads=None, name="barymesh-matrix")
 
         self.figure = Figure(figsize=(4, 4), dpi=100)
         self.canvas = ShownCanvas(self.figure)
@@ -333,10 +327,9 @@ class MatrixView(QWidget):
             return
         token = self._token = object()
         self.caption.setText(f"Computing the {mesh.n_triangles:,} × {mesh.n_triangles:,} matrix…")
-        run_in_thread(partial(_picture_or_error, mesh), self._relay.ready, token, mesh)
+        self.jobs.submit(partial(_picture_or_error, mesh), self._picture_ready, token, mesh)
 
-    def _picture_ready(self, payload: tuple[object, TriMesh, Any]) -> None:
-        token, mesh, picture = payload
+    def _picture_ready(self, token: object, mesh: TriMesh, picture: Any) -> None:
         if token is not self._token or mesh is not self.mesh:
             return  # a newer mesh came meanwhile
         self._token = None

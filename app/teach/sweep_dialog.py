@@ -17,9 +17,10 @@ import logging
 import multiprocessing
 import queue
 import threading
+from functools import partial
 from pathlib import Path
 
-from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
+from PySide6.QtCore import Signal
 from PySide6.QtGui import QCloseEvent
 from PySide6.QtWidgets import (
     QComboBox,
@@ -38,6 +39,7 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import MeshParams
+from barymesh.app.jobs import Jobs, Task
 from barymesh.app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
 from barymesh.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 
@@ -66,11 +68,6 @@ SIZES = {
 }
 
 
-class _Signals(QObject):
-    progress = Signal(int, int)
-    finished = Signal(object)  # None on success, else the message (or "cancelled")
-
-
 def _render_in_child(kwargs: dict, events: multiprocessing.Queue, stop: threading.Event) -> None:
     """The child process: render the sweep, reporting through ``events``."""
     try:
@@ -86,51 +83,45 @@ def _render_in_child(kwargs: dict, events: multiprocessing.Queue, stop: threadin
         events.put(("finished", frames))
 
 
-class _SweepJob(QRunnable):
-    """Runs the sweep in a child process and relays its progress (no VTK in this thread)."""
-
-    def __init__(self, kwargs: dict, stop: threading.Event, signals: _Signals) -> None:
-        super().__init__()
-        self.kwargs, self.stop, self.signals = kwargs, stop, signals
-        self.setAutoDelete(True)
-
-    def run(self) -> None:  # worker thread
-        context = multiprocessing.get_context("spawn")  # a fresh VTK, not a fork of ours
-        events = context.Queue()
-        stop = context.Event()
-        child = context.Process(
-            target=_render_in_child,
-            args=(self.kwargs, events, stop),
-            daemon=True,
-            name="barymesh-sweep",
-        )
-        outcome: object = None
-        try:
-            child.start()
-            while outcome is None:
-                if self.stop.is_set():
-                    stop.set()
-                try:
-                    event = events.get(timeout=0.1)
-                except queue.Empty:
-                    if not child.is_alive():
-                        code = child.exitcode
-                        outcome = f"the sweep renderer stopped unexpectedly (exit code {code})"
-                    continue
-                if event[0] == "progress":
-                    self.signals.progress.emit(event[1], event[2])
-                else:
-                    outcome = event[1]
-        except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
-            log.exception("sweep export failed")
-            outcome = f"{exc}" or "the sweep export failed"
-        finally:
-            child.join(30)
-            if child.is_alive():
-                child.kill()
-                child.join()
-            events.close()
-        self.signals.finished.emit(outcome)
+def _run_sweep(kwargs: dict, stop_asked: threading.Event, task: Task) -> object:
+    """Run the sweep in a child process and relay its progress (worker thread, no VTK
+    here): None on success, else the message (or "cancelled")."""
+    context = multiprocessing.get_context("spawn")  # a fresh VTK, not a fork of ours
+    events = context.Queue()
+    stop = context.Event()
+    child = context.Process(
+        target=_render_in_child,
+        args=(kwargs, events, stop),
+        daemon=True,
+        name="barymesh-sweep",
+    )
+    outcome: object = None
+    try:
+        child.start()
+        while outcome is None:
+            if stop_asked.is_set():
+                stop.set()
+            try:
+                event = events.get(timeout=0.1)
+            except queue.Empty:
+                if not child.is_alive():
+                    code = child.exitcode
+                    outcome = f"the sweep renderer stopped unexpectedly (exit code {code})"
+                continue
+            if event[0] == "progress":
+                task.report(event[1], event[2])
+            else:
+                outcome = event[1]
+    except Exception as exc:  # noqa: BLE001 - shown in the dialog, never raised
+        log.exception("sweep export failed")
+        outcome = f"{exc}" or "the sweep export failed"
+    finally:
+        child.join(30)
+        if child.is_alive():
+            child.kill()
+            child.join()
+        events.close()
+    return outcome
 
 
 class SweepDialog(QDialog):
@@ -158,8 +149,7 @@ class SweepDialog(QDialog):
         self._params = params
         self.folder = Path(start_dir).expanduser() if start_dir else Path.home()
         self.folder = self.folder.absolute()
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
+        self.jobs = Jobs(self, name="barymesh-sweep")
         self.stop = threading.Event()
         self.running = False
         self.result: object = None
@@ -224,9 +214,6 @@ class SweepDialog(QDialog):
         self.cancel_button.setEnabled(False)
         form.addRow(self.buttons)
 
-        self.signals = _Signals(self)
-        self.signals.progress.connect(self._progress)
-        self.signals.finished.connect(self._finished)
         self.param.currentIndexChanged.connect(self._param_changed)
         self.param.setCurrentIndex(self.param.findData("angle_step"))
         self._param_changed()
@@ -313,7 +300,12 @@ class SweepDialog(QDialog):
         self.progress.setValue(0)
         self._set_inputs_enabled(False)
         self._say(f"Rendering {kwargs['frames']} frames…")
-        self.pool.start(_SweepJob(kwargs, self.stop, self.signals))
+        self.jobs.submit(
+            partial(_run_sweep, kwargs, self.stop),
+            self._finished,
+            with_task=True,
+            on_progress=self._progress,
+        )
         return True
 
     def cancel(self) -> None:
@@ -358,11 +350,11 @@ class SweepDialog(QDialog):
         """Escape or Close: cancel a running export first, then close."""
         if self.running:
             self.cancel()
-            self.pool.waitForDone(60_000)
+            self.jobs.wait(60_000)
         super().reject()
 
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
         if self.running:
             self.cancel()
-            self.pool.waitForDone(60_000)
+            self.jobs.wait(60_000)
         super().closeEvent(event)

@@ -22,18 +22,19 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer
 from PySide6.QtGui import QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
 from barymesh import TriMesh
+from barymesh.app.jobs import Jobs
 from barymesh.app.model import ClickTools, ViewSelection
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_points, pixels_per_mm
 from barymesh.app.view.measure import MeasureTool
 from barymesh.app.view.picker import ClickWatch
 from barymesh.app.view.readout import SNAP_PIXELS, Hit, MeshLocator, decimals_for, ray_plane_point
-from barymesh.app.worker import Job, release_memory
+from barymesh.app.worker import release_memory
 
 log = logging.getLogger(__name__)
 
@@ -57,10 +58,6 @@ class ElidedLabel(QLabel):
         )
         painter.setPen(self.palette().color(self.foregroundRole()))
         painter.drawText(self.contentsRect(), int(self.alignment()), shown)
-
-
-class _Relay(QObject):
-    done = Signal(object)
 
 
 class ViewTools(QObject):
@@ -141,10 +138,7 @@ class ViewTools(QObject):
         self.strip.setFixedHeight(2 * line + 8)
 
         self.measure = MeasureTool(self.plotter)
-        self.pool = QThreadPool(self)
-        self.pool.setMaxThreadCount(1)
-        self._relay = _Relay(self)
-        self._relay.done.connect(self._locator_ready)
+        self.jobs = Jobs(self, name="barymesh-locator")
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(0)
@@ -222,7 +216,7 @@ class ViewTools(QObject):
             self.locator = MeshLocator(mesh)
             return
         self._locator_started = mesh
-        self.pool.start(Job(partial(_build_locator, mesh), self._relay.done, self._relay))
+        self.jobs.submit(partial(_build_locator, mesh), self._locator_ready)
 
     def _locator_ready(self, locator: MeshLocator | None) -> None:
         if locator is not None and locator.mesh is self.mesh:
