@@ -14,6 +14,16 @@ collection runs in the GUI thread, between events. A full collection (generation
 300,000 objects in the window, 100-200 ms) waits while a mouse button is held (a slider
 or the view being dragged, where it was a block of the drag), for up to
 :data:`MAX_POSTPONE_S`; a younger generation is collected meanwhile.
+
+No OpenGL context is current while it collects (:func:`collect`). The garbage can hold
+VTK objects of a window closed a while ago (a window's actors, mappers and renderers are
+in reference cycles with its Python objects, so they die at a collection, not at the
+window's deletion); whatever graphics resource one of them still frees would otherwise be
+freed in the context that happens to be current between events, another window's: the
+driver then deletes that window's buffers or textures (pyvistaqt's notes call it heap
+corruption that crashes at a distance; seen as segfaults in the painter tests, the first
+GL window after a run of tests without one). With no context current the call does
+nothing (libglvnd's no-op dispatch); every render makes its own context current first.
 """
 
 from __future__ import annotations
@@ -23,7 +33,7 @@ import time
 from collections.abc import Callable
 
 from PySide6.QtCore import QCoreApplication, QObject, Qt, QThread, QTimer
-from PySide6.QtGui import QGuiApplication
+from PySide6.QtGui import QGuiApplication, QOpenGLContext
 
 #: How often the GUI thread looks at the allocation counts (ms).
 INTERVAL_MS = 100
@@ -57,6 +67,15 @@ def due_generation(
     if generation == 2 and dragging and postponed_s < MAX_POSTPONE_S:
         return 1
     return generation
+
+
+def collect(generation: int = 2) -> int:
+    """``gc.collect(generation)`` with no OpenGL context current (see the module docstring);
+    returns what ``gc.collect`` returns."""
+    context = QOpenGLContext.currentContext()
+    if context is not None:
+        context.doneCurrent()
+    return gc.collect(generation)
 
 
 def _mouse_held() -> bool:
@@ -93,7 +112,7 @@ class GuiThreadCollector(QObject):
         if generation == 1 and counts[2] > self.thresholds[2] and self.postponed_since is None:
             self.postponed_since = now  # a full collection was due: it waits
         if generation >= 0:
-            gc.collect(generation)
+            collect(generation)
             self.collections += 1
             if generation == 2:
                 self.postponed_since = None

@@ -6,7 +6,6 @@ into Qt's GLX context with Mesa's software rasteriser (llvmpipe). The Debian pac
 needs are installed by scripts/system-deps.sh (run by `make test`).
 """
 
-import gc
 import os
 import sys
 import tempfile
@@ -185,7 +184,9 @@ def release_gui():
         import pyvista
 
         pyvista.close_all()  # off-screen plotters a test left open
-    gc.collect()
+    from barymesh.app.gui_gc import collect
+
+    collect()  # with no GL context current (see barymesh.app.gui_gc)
 
 
 def pytest_sessionfinish(session, exitstatus):

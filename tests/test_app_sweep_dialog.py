@@ -63,7 +63,7 @@ def test_writes_an_mp4(dialog, qtbot, tmp_path):
 
 def test_cancel_leaves_no_file(dialog, qtbot, tmp_path):
     out = tmp_path / "cancelled.gif"
-    dialog.signals.progress.connect(lambda *_: dialog.cancel())  # cancel after frame one
+    dialog.progressed.connect(lambda *_: dialog.cancel())  # cancel after frame one
     assert run(qtbot, dialog, param="angle_step", path=out, start=30.0, stop_value=5.0, frames=6)
     assert dialog.result == "cancelled"
     assert not out.exists() and not list(tmp_path.glob("*.gif*"))

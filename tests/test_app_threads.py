@@ -217,3 +217,49 @@ def test_garbage_made_in_a_worker_is_collected_in_the_gui_thread(window, qtbot):
     assert set(died_in) == {threading.get_ident()}  # all in the GUI thread
     assert collector.collections > before
     kept.clear()
+
+
+def test_the_gui_collector_collects_with_no_gl_context_current(qtbot):
+    # VTK objects of a closed window die at a collection; whatever GL resource one still
+    # frees must not be freed in another window's context (barymesh.app.gui_gc)
+    import gc
+
+    from PySide6.QtGui import QOffscreenSurface, QOpenGLContext
+
+    from barymesh.app import gui_gc
+
+    surface = QOffscreenSurface()
+    surface.create()
+    context = QOpenGLContext()
+    assert context.create()
+    seen: list = []
+
+    class Node:
+        def __init__(self) -> None:
+            self.me = self  # a cycle: only a collection frees it
+
+        def __del__(self) -> None:
+            seen.append(QOpenGLContext.currentContext())
+
+    enabled = gc.isenabled()
+    gc.disable()  # no automatic collection between the steps below
+    try:
+        gc.collect()
+        assert context.makeCurrent(surface)
+        assert QOpenGLContext.currentContext() is context
+        Node()
+        assert gui_gc.collect() >= 1
+        assert seen == [None]  # what the garbage freed, it freed with no context current
+        assert QOpenGLContext.currentContext() is None
+        # the timer's collections go the same way
+        collector = gui_gc.GuiThreadCollector(None, dragging=lambda: False)
+        collector.timer.stop()
+        collector.thresholds = (0, 0, 0)
+        assert context.makeCurrent(surface)
+        Node()
+        collector.collect()
+        assert collector.collections == 1
+        assert seen == [None, None]
+    finally:
+        if enabled:
+            gc.enable()

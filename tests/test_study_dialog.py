@@ -55,7 +55,7 @@ def test_a_study_from_the_file_menu_maps_the_resonance_and_loads_a_cell(window, 
     type_into(qtbot, d.frequencies, "6GHz:12GHz:11")
     d.workers.setValue(2)
     steps = []
-    d.signals.progress.connect(lambda done, failed, total: steps.append((done, total)))
+    d.progressed.connect(lambda done, failed, total: steps.append((done, total)))
     assert d.start()
     assert not d.run_button.isEnabled() and d.cancel_button.isEnabled()
     qtbot.waitUntil(lambda: not d.running, timeout=180_000)

@@ -137,6 +137,8 @@ class StudyDialog(QDialog):
     """
 
     finished_study = Signal(object)  # None when done, "cancelled" or the error message
+    #: (points done, failed, points in all) as the study goes
+    progressed = Signal(int, int, int)
 
     def __init__(
         self,
@@ -361,6 +363,7 @@ class StudyDialog(QDialog):
         self.progress.setRange(0, total)
         self.progress.setValue(done)
         self._say(f"{done} of {total} points, {failed} failed")
+        self.progressed.emit(done, failed, total)
 
     def _finished(self, outcome: object) -> None:
         self.running = False

@@ -140,6 +140,8 @@ class SweepDialog(QDialog):
     """
 
     finished_export = Signal(object)  # frame count, "cancelled" or an error message
+    #: (frames done, frames in all) as the sweep goes
+    progressed = Signal(int, int)
 
     def __init__(
         self, params: MeshParams, parent: QWidget | None = None, start_dir: str = ""
@@ -316,6 +318,7 @@ class SweepDialog(QDialog):
     def _progress(self, done: int, total: int) -> None:
         self.progress.setRange(0, total)
         self.progress.setValue(done)
+        self.progressed.emit(done, total)
 
     def _finished(self, outcome: object) -> None:
         self.running = False
