@@ -82,6 +82,7 @@ from barymesh.app.view.framing import (
     rect_inside,
     visible_rect,
 )
+from barymesh.app.view.gl_info import multi_samples
 from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from barymesh.app.view.overview import DETAIL_TRIANGLES
 from barymesh.app.view.scene import MeshScene
@@ -113,9 +114,6 @@ START_MESSAGE = (
     "watertight). The paper's figures: Presets ▸ paper-fig10 … paper-fig12d "
     "(Fig. 12(a): paper-fig12a or Edit ▸ Reset to defaults)"
 )
-#: MSAA samples of the 3D view on a GPU; Mesa's software llvmpipe gets none (4x MSAA there
-#: triples the frame time). ``BARYMESH_MSAA`` overrides both.
-MULTI_SAMPLES = 4
 
 ABOUT = """<h3>barymesh {version}</h3>
 <p>A square patch is split along its diagonal into two primary triangles, each subdivided
@@ -217,7 +215,7 @@ class MainWindow(QMainWindow):
 
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
         # (one render a frame: VTK's interaction renders only ask for the next paint)
-        self.plotter = ViewInteractor(self, auto_update=False, multi_samples=MULTI_SAMPLES)
+        self.plotter = ViewInteractor(self, auto_update=False, multi_samples=multi_samples())
         self.plotter.setMinimumSize(320, 240)
         disable_view_keys(self.plotter)
         self.scene = MeshScene(
@@ -250,7 +248,6 @@ class MainWindow(QMainWindow):
         self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
         self._closed = False
         self._arranging = False  # arrange_docks is moving the docks
-        self._tuned = False
 
         self.controls = ControlsPanel(self.model, self)
         self.stats = StatsPanel(self.model, self)
@@ -678,28 +675,9 @@ class MainWindow(QMainWindow):
 
     # -- model -> view -------------------------------------------------------------------
 
-    def _tune_for_renderer(self) -> None:
-        """Once the GL context exists: no MSAA on a software rasteriser (unless asked for)."""
-        if self._tuned:
-            return
-        self._tuned = True
-        wanted = os.environ.get("BARYMESH_MSAA")
-        if wanted is None:
-            try:
-                info = self.plotter.ren_win.ReportCapabilities() or ""
-            except Exception:  # noqa: BLE001 - a report is a nicety
-                info = ""
-            wanted = "0" if "llvmpipe" in info or "softpipe" in info else str(MULTI_SAMPLES)
-        try:
-            self.plotter.ren_win.SetMultiSamples(max(0, int(wanted)))
-        except ValueError:
-            log.warning("BARYMESH_MSAA=%r is not a whole number", wanted)
-
     def _show_result(self, result: MeshResult) -> None:
         if self._closed:
             return
-        if self.isVisible():
-            self._tune_for_renderer()
         start = time.perf_counter()
         if result.scene is None:
             result.scene = scene_data(result.mesh)

@@ -49,6 +49,7 @@ from barymesh.app.jobs import Jobs
 from barymesh.app.model import UndoHistory
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_from_above
+from barymesh.app.view.gl_info import tune_multi_samples
 from barymesh.app.view.polydata import Layer
 from barymesh.cell import (
     SYMMETRIES,
@@ -240,6 +241,7 @@ class PixelPainterWindow(QMainWindow):
         self.path: Path | None = None
 
         self.plotter = QtInteractor(self, auto_update=False)
+        tune_multi_samples(self.plotter)  # before its first frame (app/view/gl_info.py)
         self.plotter.theme.allow_empty_mesh = True  # datasets start empty, filled later
         self.plotter.set_background(COLORS["background"])
         self.plotter.enable_parallel_projection()
@@ -1120,25 +1122,7 @@ class PixelPainterWindow(QMainWindow):
     def _first_frame(self) -> None:
         if not self._closed and not self._framed:
             self._framed = True
-            self._tune_for_renderer()
             self.reset_view()
-
-    def _tune_for_renderer(self) -> None:
-        """No multi-sampling on a software rasteriser (llvmpipe: it triples a frame's time),
-        as the main window does; ``BARYMESH_MSAA`` overrides."""
-        import os
-
-        wanted = os.environ.get("BARYMESH_MSAA")
-        if wanted is None:
-            try:
-                info = self.plotter.ren_win.ReportCapabilities() or ""
-            except Exception:  # noqa: BLE001 - a report is a nicety
-                info = ""
-            wanted = "0" if "llvmpipe" in info or "softpipe" in info else "4"
-        try:
-            self.plotter.ren_win.SetMultiSamples(max(0, int(wanted)))
-        except ValueError:
-            log.warning("BARYMESH_MSAA=%r is not a whole number", wanted)
 
     _framed = False
 

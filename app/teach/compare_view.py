@@ -29,8 +29,9 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QVBoxLayout, QWidget
 from barymesh import MeshParams, TriMesh
 from barymesh.app.jobs import Jobs
 from barymesh.app.model import AppModel, MeshResult, compute
-from barymesh.app.teach.following_view import FollowingView, tune_multi_samples
+from barymesh.app.teach.following_view import FollowingView
 from barymesh.app.view.framing import frame_from_above
+from barymesh.app.view.gl_info import tune_multi_samples
 from barymesh.app.view.polydata import Layer
 from barymesh.app.view.scene import MeshScene
 from barymesh.app.view.scene_data import scene_data

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import os
 from typing import Any
 
 import numpy as np
@@ -15,32 +14,6 @@ log = logging.getLogger(__name__)
 
 #: The window's own fonts grow by this factor in presentation mode (F5).
 FONT_FACTOR = 1.5
-#: MSAA samples of a teaching window's 3D view on a GPU. Mesa's software llvmpipe gets
-#: none, as the main window's view (4x MSAA cost 140 ms of a construction step's 160 ms
-#: there, against 17 ms without); ``BARYMESH_MSAA`` overrides both.
-MULTI_SAMPLES = 4
-
-
-def tune_multi_samples(plotter: Any) -> int:
-    """Set ``plotter``'s MSAA samples for the renderer it runs on; returns them.
-
-    None on a software rasteriser (llvmpipe, softpipe), :data:`MULTI_SAMPLES` on a GPU,
-    or the whole number in ``BARYMESH_MSAA``.
-    """
-    wanted = os.environ.get("BARYMESH_MSAA")
-    if wanted is None:
-        try:
-            info = plotter.ren_win.ReportCapabilities() or ""
-        except Exception:  # noqa: BLE001 - a report is a nicety
-            info = ""
-        wanted = "0" if "llvmpipe" in info or "softpipe" in info else str(MULTI_SAMPLES)
-    try:
-        samples = max(0, int(wanted))
-    except ValueError:
-        log.warning("BARYMESH_MSAA=%r is not a whole number", wanted)
-        samples = MULTI_SAMPLES
-    plotter.ren_win.SetMultiSamples(samples)
-    return samples
 
 
 class _AfterNextPaint(QObject):
