@@ -306,7 +306,7 @@ def test_voltage_feed_typed_into_the_panel_gives_the_input_impedance(
     from app_user import answer_file_dialogs
     from test_mom_api import strip
 
-    from barymesh.app.panels.solve_panel import format_impedance
+    from barymesh.app.model.solve_inputs import format_impedance
     from barymesh.io import write_mesh
     from barymesh.mom import VoltageSource
 

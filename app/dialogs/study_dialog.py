@@ -47,7 +47,7 @@ from PySide6.QtWidgets import (
 
 from barymesh import MeshParams
 from barymesh.app.jobs import Jobs, Task
-from barymesh.app.panels.solve_panel import DIRECTION_PRESETS, POLARIZATION_PRESETS, read_vector
+from barymesh.app.model.solve_inputs import DIRECTION_PRESETS, POLARIZATION_PRESETS, read_vector
 
 log = logging.getLogger(__name__)
 

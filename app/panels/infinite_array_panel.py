@@ -91,11 +91,10 @@ from barymesh.app.panels.array_sweep import (
     solve_point,
     sweep_array,
 )
+from barymesh.app.panels.frequency_band import FrequencyBand
 from barymesh.app.panels.solve_panel import (
     PANEL_WIDTH,
     SOLVER_GRADE_TIP,
-    UNITS,
-    read_frequency,
     run_job,
 )
 from barymesh.app.panels.stack_editor import StackEditor
@@ -332,18 +331,13 @@ class InfiniteArrayPanel(QWidget):
         form = QFormLayout(self.inputs_box)
         form.setContentsMargins(0, 0, 0, 0)
         form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
-        self.band_start = QLineEdit("10", self)
-        self.band_stop = QLineEdit("30", self)
-        self.unit = QComboBox(self)
-        for u in UNITS:
-            self.unit.addItem(u, u)
-        self.unit.setCurrentText("GHz")
-        row = QHBoxLayout()
-        row.addWidget(self.band_start, 1)
-        row.addWidget(QLabel("to", self))
-        row.addWidget(self.band_stop, 1)
-        row.addWidget(self.unit)
-        form.addRow(self._label("&Band", self.band_start), row)
+        self.band = FrequencyBand("10", "30", "Band", self)
+        self.band_start, self.band_stop, self.unit = (
+            self.band.start,
+            self.band.stop,
+            self.band.unit,
+        )
+        form.addRow(self._label("&Band", self.band_start), self.band)
         self.points = QSpinBox(self)
         self.points.setRange(2, 1001)
         self.points.setValue(21)
@@ -501,14 +495,7 @@ class InfiniteArrayPanel(QWidget):
 
     def inputs(self) -> ArrayInputs:
         """The fields as :class:`ArrayInputs`; ValueError naming the field if invalid."""
-        unit = self.unit.currentText()
-        a = read_frequency(self.band_start.text(), unit)
-        b = read_frequency(self.band_stop.text(), unit)
-        if not b > a:
-            raise ValueError(
-                f"Band {self.band_start.text()} to {self.band_stop.text()} {unit}: "
-                "the end must be above the start"
-            )
+        a, b = self.band.band()
         theta = read_angle(self.theta.text(), "θ", 0.0, 90.0)
         phi = read_angle(self.phi.text(), "φ", -360.0, 360.0)
         zs = read_impedance(self.sheet.text())

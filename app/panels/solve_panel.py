@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import html
 import logging
-import math
 import threading
 import time
 from collections.abc import Callable
@@ -66,12 +65,23 @@ from PySide6.QtWidgets import (
 
 from barymesh import TriMesh
 from barymesh.app.jobs import Jobs, Task
+from barymesh.app.model.solve_inputs import (
+    DIRECTION_PRESETS,
+    POLARIZATION_PRESETS,
+    UNITS,
+    format_frequency,
+    format_impedance,
+    read_frequency,
+    read_point,
+    read_vector,
+)
 from barymesh.app.model.solver_mesh import (
     SolvedMesh,
     SolverGradeRefused,
     gradable,
     solver_mesh,
 )
+from barymesh.app.panels.frequency_band import FrequencyBand
 from barymesh.app.view.current_layer import SCALES, CurrentLayer
 
 log = logging.getLogger(__name__)
@@ -83,16 +93,6 @@ log = logging.getLogger(__name__)
 AUTO_SOLVE_UNKNOWNS = 80
 #: The widest the panel asks to be (px).
 PANEL_WIDTH = 300
-#: Frequency units of the unit boxes.
-UNITS = {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6, "GHz": 1e9}
-#: Named directions (the direction boxes' presets and what they accept besides X, Y, Z).
-AXES = {
-    "x": (1.0, 0.0, 0.0),
-    "y": (0.0, 1.0, 0.0),
-    "z": (0.0, 0.0, 1.0),
-}
-DIRECTION_PRESETS = ("-z", "+z", "-x", "+x", "-y", "+y")
-POLARIZATION_PRESETS = ("x", "y", "z")
 #: Phase step (degrees) of the animation, and its period (ms per step).
 ANIMATION_STEP = 10
 ANIMATION_MS = 60
@@ -102,71 +102,6 @@ SOLVER_GRADE_TIP = (
     "does: graded toward the metal's edges, every edge within λ/10 at the highest "
     "frequency (in the densest layer). Off: solve the mesh as drawn."
 )
-
-
-def read_frequency(text: str, unit: str) -> float:
-    """``("300", "MHz")`` -> 3e8 Hz; ValueError naming the field otherwise.
-
-    >>> read_frequency("6.19", "GHz")
-    6190000000.0
-    """
-    try:
-        value = float(text.strip()) * UNITS[unit]
-    except (ValueError, KeyError):
-        raise ValueError(f"Frequency {text!r} is not a number; type e.g. 300") from None
-    if not math.isfinite(value) or value <= 0:
-        raise ValueError(f"Frequency {text!r} {unit} is invalid; expected a positive number")
-    return value
-
-
-def read_vector(text: str, name: str) -> tuple[float, float, float]:
-    """``"-z"`` -> (0, 0, -1); ``"1, 1, 0"`` -> (1, 1, 0); ValueError naming ``name``.
-
-    >>> read_vector("-z", "Direction"), read_vector("0, 1, 0", "Polarisation")
-    ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
-    """
-    t = text.strip().lower().replace("−", "-")
-    name_ = t.lstrip("+-")
-    if name_ in AXES:
-        sign = -1.0 if t.startswith("-") else 1.0
-        return tuple(sign * c + 0.0 for c in AXES[name_])  # type: ignore[return-value]
-    try:
-        values = tuple(float(v) for v in t.replace(";", ",").split(","))
-    except ValueError:
-        values = ()
-    if len(values) != 3 or not all(math.isfinite(v) for v in values):
-        raise ValueError(
-            f"{name} {text!r} is invalid; expected an axis (x, -z, …) or three numbers x, y, z"
-        )
-    return values  # type: ignore[return-value]
-
-
-def read_point(text: str, name: str) -> tuple[float, ...]:
-    """``"0, -10"`` -> (0.0, -10.0) (mm; two or three numbers); ValueError naming ``name``.
-
-    >>> read_point("0, -10", "Feed start"), read_point("1 2 3", "Feed end")
-    ((0.0, -10.0), (1.0, 2.0, 3.0))
-    """
-    try:
-        values = tuple(float(v) for v in text.replace(";", ",").replace(",", " ").split())
-    except ValueError:
-        values = ()
-    if len(values) not in (2, 3) or not all(math.isfinite(v) for v in values):
-        raise ValueError(f"{name} {text!r} is invalid; expected a point x, y in mm (e.g. 0, -10)")
-    return values
-
-
-def format_impedance(z: complex) -> str:
-    """``"73.1 + j42.5 Ω"`` (5 significant digits)."""
-    return f"{z.real:.5g} {'+-'[z.imag < 0]} j{abs(z.imag):.5g} Ω"
-
-
-def format_frequency(hz: float) -> tuple[str, str]:
-    """A frequency as (number, unit) for the fields: 6.19e9 -> ("6.19", "GHz")."""
-    for unit in ("GHz", "MHz", "kHz"):
-        if hz >= UNITS[unit]:
-            return f"{hz / UNITS[unit]:.6g}", unit
-    return f"{hz:.6g}", "Hz"
 
 
 @dataclass(frozen=True)
@@ -539,18 +474,10 @@ class SolvePanel(QWidget):
         col = QVBoxLayout(page)
         form = QFormLayout()
         form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
-        self.sweep_from = QLineEdit("3", page)
-        self.sweep_to = QLineEdit("12", page)
-        self.sweep_unit = QComboBox(page)
-        for u in UNITS:
-            self.sweep_unit.addItem(u, u)
-        self.sweep_unit.setCurrentText("GHz")
-        row = QHBoxLayout()
-        row.addWidget(self.sweep_from, 1)
-        row.addWidget(QLabel("to", page))
-        row.addWidget(self.sweep_to, 1)
-        row.addWidget(self.sweep_unit)
-        form.addRow("Range", row)
+        self.sweep_band = FrequencyBand("3", "12", "Sweep range", page)
+        band = self.sweep_band
+        self.sweep_from, self.sweep_to, self.sweep_unit = band.start, band.stop, band.unit
+        form.addRow("Range", band)
         self.sweep_count = QSpinBox(page)
         self.sweep_count.setRange(3, 1001)
         self.sweep_count.setValue(46)
@@ -707,14 +634,7 @@ class SolvePanel(QWidget):
         """Sweep the extinction cross-section over the Sweep tab's range (a worker)."""
         mesh = self.mesh
         try:
-            unit = self.sweep_unit.currentText()
-            a = read_frequency(self.sweep_from.text(), unit)
-            b = read_frequency(self.sweep_to.text(), unit)
-            if not b > a:
-                raise ValueError(
-                    f"Sweep range {self.sweep_from.text()} to "
-                    f"{self.sweep_to.text()} {unit}: the end must be above the start"
-                )
+            a, b = self.sweep_band.band()
             _hz, wave = self.inputs()
             if self.excitation.currentData() == "feed":
                 raise ValueError(
