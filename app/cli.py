@@ -153,7 +153,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_stats_option(info)
     add_quality_option(info)
 
-    from barymesh.sweep import MAX_FRAMES, SWEEPABLE
+    from barymesh.teach.sweep import MAX_FRAMES, SWEEPABLE
 
     sweep = verbs.add_parser(
         "sweep",
@@ -699,7 +699,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                 "sweep the structure (--preset, --params, --set)"
             )
     check_preset(args, "sweep")
-    from barymesh.sweep import check_sweep_size
+    from barymesh.teach.sweep import check_sweep_size
 
     if args.frames < 2:
         raise UsageError(f"sweep: --frames {args.frames} is invalid; expected 2 or more")

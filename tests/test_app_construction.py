@@ -18,7 +18,7 @@ from barymesh.app.teach.construction_view import (  # noqa: E402
     shown_labels,
 )
 from barymesh.app.window import MainWindow  # noqa: E402
-from barymesh.construction import construction_steps  # noqa: E402
+from barymesh.teach.construction import construction_steps  # noqa: E402
 
 PATCH = MeshParams(structure="patch", patch_size=10.0, subdivisions=4)
 #: The paper's n = 4: what each step adds, by the title's first words.

@@ -204,7 +204,7 @@ def test_boundary_edge_says_why_it_has_no_rwg_function(window, qtbot):
 
 def test_junction_edge_message():
     from barymesh.mesh import TriMesh
-    from barymesh.rwg_basis import edge_status
+    from barymesh.teach.rwg_basis import edge_status
 
     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1.0]])
     tris = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])

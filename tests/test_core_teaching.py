@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from barymesh import MeshParams, build_mesh
-from barymesh.construction import construction_steps
-from barymesh.rwg_basis import edge_status, quadrature_points, sample_rwg
+from barymesh.teach.construction import construction_steps
+from barymesh.teach.rwg_basis import edge_status, quadrature_points, sample_rwg
 
 
 @pytest.fixture(scope="module")
@@ -111,7 +111,7 @@ def test_construction_of_one_triangle():
 
 
 def test_sweep_of_angle_step_and_subdivisions():
-    from barymesh.sweep import sweep_params
+    from barymesh.teach.sweep import sweep_params
 
     angles = [p.angle_step for p in sweep_params(MeshParams(), "angle_step", 20, 1, 20)]
     assert angles[0] == 20 and angles[-1] == 1 and len(angles) == 20
@@ -120,7 +120,7 @@ def test_sweep_of_angle_step_and_subdivisions():
 
 
 def test_sweep_errors_name_the_frame():
-    from barymesh.sweep import sweep_params
+    from barymesh.teach.sweep import sweep_params
 
     with pytest.raises(ValueError, match=r"sweep frame 2 of 3 \(patch_size=0.0\): patch_size=0"):
         sweep_params(MeshParams(), "patch_size", 1, -1, 3)
@@ -128,3 +128,22 @@ def test_sweep_errors_name_the_frame():
         sweep_params(MeshParams(), "mode", 1, 2, 3)
     with pytest.raises(ValueError, match="frames=1 is invalid"):
         sweep_params(MeshParams(), "patch_size", 1, 2, 1)
+
+
+def test_the_teaching_helpers_keep_their_old_names():
+    # moved into barymesh.teach (issue 31); scripts importing the old names get the same
+    # modules, not copies
+    import importlib
+
+    for name in ("construction", "rwg_basis", "sweep"):
+        old = importlib.import_module(f"barymesh.{name}")
+        assert old is importlib.import_module(f"barymesh.teach.{name}")
+    from barymesh.sweep import sweep_params as old_sweep_params
+
+    assert old_sweep_params is sweep_params_of_teach()
+
+
+def sweep_params_of_teach():
+    from barymesh.teach.sweep import sweep_params
+
+    return sweep_params

@@ -2,7 +2,7 @@
 
 A window of its own (its own ``QtInteractor``) next to the main window, following the main
 window's parameters (patch size and width, subdivisions n, diagonal, origin; or the
-triangle structure). The steps come from :func:`barymesh.construction.construction_steps`;
+triangle structure). The steps come from :func:`barymesh.teach.construction.construction_steps`;
 this module only draws them: the actors of every layer are created once and each step
 copies its data into them (``copy_from``), then renders once.
 
@@ -39,7 +39,7 @@ from barymesh.app.view.gl_info import tune_multi_samples
 from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
 from barymesh.app.view.rulers import nice_span
 from barymesh.app.view.scene import MeshScene, add_text_labels
-from barymesh.construction import ConstructionStep, construction_steps
+from barymesh.teach.construction import ConstructionStep, construction_steps
 
 log = logging.getLogger(__name__)
 

@@ -25,7 +25,7 @@ from vtkmodules.vtkRenderingCore import vtkTextActor
 
 from barymesh import TriMesh
 from barymesh.app.view.scene import add_text_labels
-from barymesh.rwg_basis import BasisSample, edge_status, sample_rwg
+from barymesh.teach.rwg_basis import BasisSample, edge_status, sample_rwg
 
 #: Overlay colours: the selected edge, the quadrature arrows of f_n, the vectors ρ±, the
 #: free vertices; T± take the divergence colour map (red +, blue −).

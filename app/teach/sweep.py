@@ -18,7 +18,7 @@ from barymesh import MeshParams, build_mesh
 from barymesh.app.view.scene import MeshScene, prepare_headless
 from barymesh.app.view.scene_data import scene_data
 from barymesh.io import atomic_write
-from barymesh.sweep import check_sweep_size, sweep_params
+from barymesh.teach.sweep import check_sweep_size, sweep_params
 
 #: Encodings by extension.
 ANIMATION_EXTENSIONS = (".gif", ".mp4")
@@ -69,7 +69,7 @@ def render_sweep(
     base : MeshParams
         The other parameters.
     name, start, stop, frames
-        See :func:`barymesh.sweep.sweep_params`.
+        See :func:`barymesh.teach.sweep.sweep_params`.
     path : path-like
         ``.gif`` or ``.mp4``; written atomically.
     window_size : (int, int)

@@ -1,8 +1,8 @@
 """File → Export sweep animation: a GIF or MP4 of one parameter varied over K frames.
 
-The dialog collects the parameter (one of :data:`barymesh.sweep.SWEEPABLE`), from, to,
+The dialog collects the parameter (one of :data:`barymesh.teach.sweep.SWEEPABLE`), from, to,
 frames, frames per second, frame size and output file, checks them with
-:func:`barymesh.sweep.sweep_params` before anything runs, and then runs
+:func:`barymesh.teach.sweep.sweep_params` before anything runs, and then runs
 :func:`barymesh.app.teach.sweep.render_sweep` (the function behind ``barymesh sweep``) in a child
 process: it renders off-screen with VTK, and VTK objects are not thread-safe, so no
 render may run in a thread of the window's process beside the window's own. A worker
@@ -41,7 +41,7 @@ from PySide6.QtWidgets import (
 from barymesh import MeshParams
 from barymesh.app.jobs import Jobs, Task
 from barymesh.app.teach.sweep import ANIMATION_EXTENSIONS, UNITS, SweepCancelled, render_sweep
-from barymesh.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
+from barymesh.teach.sweep import MAX_FRAMES, SWEEPABLE, check_sweep_size, sweep_params
 
 log = logging.getLogger(__name__)
 
