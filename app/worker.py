@@ -38,7 +38,7 @@ from collections.abc import Callable
 from functools import partial
 
 import shiboken6
-from PySide6.QtCore import QObject, QRunnable, QTimer, Signal
+from PySide6.QtCore import QObject, QRunnable, QTimer, Signal, SignalInstance
 
 from barymesh import MeshParams
 from barymesh.app.model import AppModel, MeshResult, compute
@@ -100,7 +100,7 @@ class Job(QRunnable):
     to a live owner is raised as ever.
     """
 
-    def __init__(self, work: Callable[[], object], done: Signal, owner: QObject) -> None:
+    def __init__(self, work: Callable[[], object], done: SignalInstance, owner: QObject) -> None:
         super().__init__()
         self.work, self.done = work, done
         self.owner = owner  # its Python side stays alive; its C++ side may go
@@ -115,7 +115,9 @@ class Job(QRunnable):
                 raise
 
 
-def run_in_thread(work: Callable[[], object], done: Signal, *payload: object) -> None:
+def run_in_thread(
+    work: Callable[[], object], done: SignalInstance | _Gate, *payload: object
+) -> None:
     """Run ``work()`` in a daemon thread and emit ``done((*payload, result))``.
 
     ``done`` belongs to a QObject of the GUI thread, so the result is delivered there
@@ -150,7 +152,7 @@ def _scene_or_none(mesh: object, **kwargs: object) -> object:
 class _Gate:
     """``emit`` of a controller's signal from a build thread, dropped once it is stopped."""
 
-    def __init__(self, controller: MeshController, signal: Signal) -> None:
+    def __init__(self, controller: MeshController, signal: SignalInstance) -> None:
         self.controller, self.signal = controller, signal
 
     def emit(self, payload: object) -> None:
