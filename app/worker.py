@@ -36,11 +36,13 @@ import threading
 import time
 from collections.abc import Callable
 from functools import partial
+from typing import Any
 
 import shiboken6
 from PySide6.QtCore import QObject, QRunnable, QTimer, Signal, SignalInstance
 
-from barymesh import MeshParams
+from barymesh import MeshParams, TriMesh
+from barymesh.app.edit.cell_document import CellTarget
 from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.view.scene_data import detail_data, scene_data
 
@@ -139,7 +141,7 @@ def _kept_scene(scene: object, _mesh: object) -> object:
     return scene
 
 
-def _scene_or_none(mesh: object, **kwargs: object) -> object:
+def _scene_or_none(mesh: TriMesh, **kwargs: Any) -> object:
     """:func:`barymesh.app.view.scene_data.scene_data`, or None if it fails (logged;
     never raises)."""
     try:
@@ -184,7 +186,7 @@ class MeshController(QObject):
         self._stopped = False
         self.model = model
         self.sync_triangles = sync_triangles
-        self._pending: tuple[MeshParams, int] | None = None
+        self._pending: tuple[MeshParams | CellTarget, int] | None = None
         self.current: BuildJob | None = None
         self._stale: list[BuildJob] = []
         self.rate: float | None = None  # triangles per second of recent large builds
@@ -272,12 +274,13 @@ class MeshController(QObject):
             return
         was_busy = self.current is not None
         if was_busy:
+            assert self.current is not None  # was_busy
             if not self.current.cancelled or self._stale:
                 return  # a short build finishes first / one is already winding down
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
-        prepare = partial(
+        prepare: Callable[..., object] = partial(
             scene_data,
             color_by=self.model.color_by,
             pixels=self.view_size() if self.view_size else None,
@@ -335,6 +338,7 @@ class MeshController(QObject):
             return
         if (
             result.error is None
+            and result.mesh is not None
             and result.params is not None
             and result.params.predicted_triangles() >= _RATE_MIN_TRIANGLES
         ):
@@ -400,7 +404,7 @@ class MeshController(QObject):
             self.job_changed.emit(None)
 
     def request_detail(
-        self, mesh: object, rect: tuple[float, float, float, float], token: object
+        self, mesh: TriMesh, rect: tuple[float, float, float, float], token: object
     ) -> None:
         """Build :func:`barymesh.app.view.scene_data.detail_data` of ``rect`` in a thread.
 
@@ -422,7 +426,7 @@ class MeshController(QObject):
             partial(detail_data, mesh, rect, **extra), _Gate(self, self.detail_ready), token
         )
 
-    def request_scene(self, mesh: object, token: object) -> None:
+    def request_scene(self, mesh: TriMesh, token: object) -> None:
         """Make the scene of ``mesh`` again in a thread, for the model's colouring (a dense
         paper mesh's image gets the per-triangle values it was made without); emits
         ``scene_ready`` with (token, SceneData or None if it failed)."""

@@ -528,9 +528,8 @@ class StudyDialog(QDialog):
         """The design of the map's cell at row ``i`` (axis 1) and column ``j`` (axis 2)."""
         assert self.base is not None
         names = list(self.spec["axes"])
-        return dataclasses.replace(
-            self.base, **{names[0]: self.values[0][i], names[1]: self.values[1][j]}
-        )
+        changes: dict[str, Any] = {names[0]: self.values[0][i], names[1]: self.values[1][j]}
+        return dataclasses.replace(self.base, **changes)
 
     def load_cell(self, i: int, j: int) -> None:
         """Load the design of a cell into the window (a click on the map)."""

@@ -15,11 +15,12 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
+from PySide6.QtGui import QMouseEvent
 
 from barymesh.app.model import AppModel, ClickTools
 from barymesh.app.tool_host import ToolHost
@@ -154,18 +155,19 @@ class ElementDragger(QObject):
         if not self.active:
             return False
         kind = event.type()
+        mouse = cast(QMouseEvent, event)  # read in the mouse events' branches only
         try:
-            if kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
-                return self._press(event.position())
+            if kind == QEvent.Type.MouseButtonPress and mouse.button() == Qt.MouseButton.LeftButton:
+                return self._press(mouse.position())
             if kind == QEvent.Type.MouseMove and self.dragging is not None:
-                self._move(event.position())
+                self._move(mouse.position())
                 return True
             if (
                 kind == QEvent.Type.MouseButtonRelease
                 and self.dragging is not None
-                and event.button() == Qt.MouseButton.LeftButton
+                and mouse.button() == Qt.MouseButton.LeftButton
             ):
-                self._release(event.position())
+                self._release(mouse.position())
                 return True
         except Exception:  # noqa: BLE001 - a drag must never take the window down
             log.exception("dragging an element failed")

@@ -10,10 +10,10 @@ under the list; the cell and its mesh stay as they were.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, cast
 
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
-from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtGui import QAction, QKeyEvent, QKeySequence
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QFormLayout,
@@ -175,6 +175,7 @@ class ElementsPanel(QWidget):
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         """Keys typed into the list: Del deletes, Alt+↑/↓ move the selected element."""
         if watched is self.list and event.type() == QEvent.Type.KeyPress:
+            event = cast(QKeyEvent, event)
             alt = event.modifiers() == Qt.KeyboardModifier.AltModifier
             if event.key() == Qt.Key.Key_Delete and not event.modifiers():
                 self.delete()

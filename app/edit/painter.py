@@ -25,12 +25,12 @@ import logging
 import time
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QThreadPool, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence, QMouseEvent
 from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
@@ -570,19 +570,20 @@ class PixelPainterWindow(QMainWindow):
         if watched is not self.plotter or self._closed:
             return False
         kind = event.type()
+        mouse = cast(QMouseEvent, event)  # read in the mouse events' branches only
         if kind in (QEvent.Type.MouseButtonPress, QEvent.Type.MouseButtonDblClick):
-            if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
-                self._press(event.position(), event.button() == Qt.MouseButton.RightButton)
+            if mouse.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
+                self._press(mouse.position(), mouse.button() == Qt.MouseButton.RightButton)
                 return True
         elif kind == QEvent.Type.MouseMove:
             if self._stroke is not None:
-                self._move(event.position())
+                self._move(mouse.position())
                 return True
-            self._hover(self.pixel_at(event.position()))
+            self._hover(self.pixel_at(mouse.position()))
         elif kind == QEvent.Type.Leave:
             self._hover(None)
         elif kind == QEvent.Type.MouseButtonRelease:
-            if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
+            if mouse.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
                 self._release()
                 return True
         elif kind == QEvent.Type.KeyPress:

@@ -20,7 +20,7 @@ a typed value (or Undo) lies outside it, and whenever a whole new set of paramet
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from PySide6.QtCore import QEvent, QLocale, Qt, Signal
 from PySide6.QtGui import QKeyEvent
@@ -104,7 +104,7 @@ class ValueField(QLineEdit):
         # window shortcut (such as cancelling a build).
         if (
             event.type() == QEvent.Type.ShortcutOverride
-            and event.key() == Qt.Key.Key_Escape
+            and cast(QKeyEvent, event).key() == Qt.Key.Key_Escape
             and (self.property("refused") or self.text() != self._shown)
         ):
             event.accept()
@@ -114,7 +114,7 @@ class ValueField(QLineEdit):
         # the value, and submitted nothing); with an edit under way it undoes typing
         if (
             event.type() == QEvent.Type.ShortcutOverride
-            and _is_undo_key(event)
+            and _is_undo_key(cast(QKeyEvent, event))
             and self.text() == self._shown
             and not self.property("refused")
         ):

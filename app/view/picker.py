@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, Signal
+from PySide6.QtGui import QMouseEvent
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 log = logging.getLogger(__name__)
@@ -146,7 +147,7 @@ class ViewPicker(QObject):
             if self.enabled and not self.suspended:
                 try:
                     ratio = self.plotter.devicePixelRatioF()
-                    pos = event.position()
+                    pos = cast(QMouseEvent, event).position()  # a click: a mouse release
                     height = self.plotter.height()
                     self.pick_display(pos.x() * ratio, (height - 1 - pos.y()) * ratio)
                 except Exception:  # noqa: BLE001 - a failed pick must never crash the window

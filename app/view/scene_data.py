@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -386,7 +387,11 @@ def scene_data(
     typical = float(np.mean(mesh.edge_lengths)) if n else 0.0
     rects = _paper_rects(mesh)
     ratio = mesh.overlap_ratio if rects is not None else None
-    paper = {"paper": mesh.mode == "paper", "overlap_ratio": ratio, "patch_rects": rects}
+    paper: dict[str, Any] = {
+        "paper": mesh.mode == "paper",
+        "overlap_ratio": ratio,
+        "patch_rects": rects,
+    }
     dense = n > detail_limit
     arrays = _face_arrays(mesh, None, overlap=not dense) if n else {}
     ranges = _ranges(mesh, arrays) if n else {}
