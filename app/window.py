@@ -22,7 +22,16 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer, Signal
+from PySide6.QtCore import (
+    QByteArray,
+    QCoreApplication,
+    QEvent,
+    QObject,
+    QSettings,
+    Qt,
+    QTimer,
+    Signal,
+)
 from PySide6.QtGui import (
     QAction,
     QActionGroup,
@@ -142,6 +151,13 @@ def start_params() -> tuple[MeshParams, str]:
     return params, f"Preset {START_PRESET}: {description}"
 
 
+def _application() -> QCoreApplication:
+    """The running application (a window lives in one)."""
+    app = QApplication.instance()
+    assert app is not None
+    return app
+
+
 def app_settings() -> QSettings:
     """The window's settings: an INI file in the user's configuration folder.
 
@@ -182,6 +198,14 @@ class MainWindow(QMainWindow):
     cell : barymesh.cell.UnitCell, optional
         Open this unit cell (its first element's parameters in the Parameters panel).
     """
+
+    # the window's own docks, set by add_dock as "<title>_dock"
+    parameters_dock: QDockWidget
+    statistics_dock: QDockWidget
+    layers_dock: QDockWidget
+    solve_dock: QDockWidget
+    quality_dock: QDockWidget
+    scripted_run: _ScriptedRun  # a --screenshot/--quit run's driver, kept alive by the window
 
     #: (ExportJob, exception or None) from an export's worker thread.
     _export_done = Signal(object)
@@ -701,6 +725,7 @@ class MainWindow(QMainWindow):
             return
         if self.isVisible():
             self._tune_for_renderer()
+        assert result.mesh is not None  # a result shown holds its mesh
         start = time.perf_counter()
         if result.scene is None:
             result.scene = scene_data(result.mesh)
@@ -749,13 +774,19 @@ class MainWindow(QMainWindow):
         title = (
             Path(result.source).name
             if result.source != "parameters"
-            else (f"cell {result.cell.name}" if result.cell is not None else p.structure)
+            else (
+                f"cell {result.cell.name}" if result.cell is not None else p.structure if p else ""
+            )
         )
         self.setWindowTitle(f"barymesh – {title}")
         self.summary.setText(f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns")
         if self.model.error is None:
-            starting = self._start_preset is not None and self._note_params is not None
-            if starting and self._note_params == self._start_preset[0]:
+            preset = self._start_preset
+            if (
+                preset is not None
+                and self._note_params is not None
+                and self._note_params == preset[0]
+            ):
                 self.statusBar().showMessage(START_MESSAGE)  # until the first change
             else:
                 self.statusBar().clearMessage()
@@ -806,10 +837,10 @@ class MainWindow(QMainWindow):
         self.act_cancel.setEnabled(busy)
         if busy:
             self._progress_timer.start()
-            QApplication.instance().installEventFilter(self._escape)
+            _application().installEventFilter(self._escape)
         else:
             self._progress_timer.stop()
-            QApplication.instance().removeEventFilter(self._escape)
+            _application().removeEventFilter(self._escape)
             self._end_progress()
 
     def _end_progress(self) -> None:
@@ -896,6 +927,7 @@ class MainWindow(QMainWindow):
         every triangle (built here, on the GUI thread: the choice warns of its cost);
         "auto" goes back to the image of a mesh built so."""
         scene, mesh = result.scene, result.mesh
+        assert mesh is not None  # a result shown holds its mesh
         if self.model.detail == "full" and scene.overview is not None:
             return scene_data(
                 mesh, detail_limit=max(mesh.n_triangles, 1), color_by=self.model.color_by
@@ -1092,9 +1124,7 @@ class MainWindow(QMainWindow):
         self.plotter.render()
         return np.ascontiguousarray(image)
 
-    def save_view_png(
-        self, path: str | os.PathLike[str], scale: int = 1, transparent: bool = False
-    ) -> bool:
+    def save_view_png(self, path: str | Path, scale: int = 1, transparent: bool = False) -> bool:
         """Write the 3D view to a PNG; errors go to the status bar. Returns success.
 
         At 2× to 4× it is drawn in steps and written in a worker thread, under a progress
@@ -1118,7 +1148,9 @@ class MainWindow(QMainWindow):
                     )
                     return False
             else:
-                write_png(path, self.view_image(1, transparent))
+                image = self.view_image(1, transparent)
+                assert image is not None  # only a drawing in steps (2× to 4×) is cancelled
+                write_png(path, image)
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
             self.statusBar().showMessage(file_error_sentence(f"Could not save {name}", exc, path))
@@ -1171,7 +1203,7 @@ class MainWindow(QMainWindow):
             self.settings.setValue("paths/mesh", path)
             self.open_mesh_file(path)
 
-    def open_mesh_file(self, path: str | os.PathLike[str]) -> bool:
+    def open_mesh_file(self, path: str | Path) -> bool:
         """Show a mesh read from ``path`` until the next parameter change."""
         from barymesh.io import read_mesh
 
@@ -1201,7 +1233,7 @@ class MainWindow(QMainWindow):
             self.settings.setValue("paths/params", path)
             self.load_params_file(path)
 
-    def load_params_file(self, path: str | os.PathLike[str]) -> bool:
+    def load_params_file(self, path: str | Path) -> bool:
         from barymesh.presets import load_params_file
 
         try:
@@ -1225,7 +1257,7 @@ class MainWindow(QMainWindow):
             self.settings.setValue("paths/params", path)
             self.save_params_file(path)
 
-    def save_params_file(self, path: str | os.PathLike[str]) -> bool:
+    def save_params_file(self, path: str | Path) -> bool:
         from barymesh.presets import save_params_file
 
         if self.model.file_source is not None:
@@ -1256,7 +1288,7 @@ class MainWindow(QMainWindow):
         self.export_dialog = dialog
         return dialog
 
-    def export_mesh(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
+    def export_mesh(self, path: str | Path, unit: str | None = None) -> bool:
         from barymesh.io import describe_export, write_mesh
         from barymesh.quality import params_wavelength
 
@@ -1276,7 +1308,7 @@ class MainWindow(QMainWindow):
 
     def start_export(
         self,
-        path: str | os.PathLike[str],
+        path: str | Path,
         unit: str | None = None,
         done: Callable[[bool], None] | None = None,
     ) -> bool:
@@ -1306,7 +1338,7 @@ class MainWindow(QMainWindow):
 
     def run_export(
         self,
-        path: str | os.PathLike[str],
+        path: str | Path,
         unit: str | None,
         make_mesh: Callable[[], TriMesh],
         what: str,
@@ -1342,10 +1374,13 @@ class MainWindow(QMainWindow):
         progress.hide()
         job.progress = progress
         self.export_job = job
+
         # a quick write shows no dialog at all; a longer one shows it after a moment
-        QTimer.singleShot(
-            EXPORT_PROGRESS_MS, lambda: job.progress is not None and job.progress.show()
-        )
+        def show_progress() -> None:
+            if job.progress is not None:
+                job.progress.show()
+
+        QTimer.singleShot(EXPORT_PROGRESS_MS, show_progress)
 
         def work() -> BaseException | None:  # worker thread: numpy and files only
             try:
@@ -1771,7 +1806,10 @@ def main(argv: list[str] | None = None) -> int:
     if os.environ.get("DISPLAY") and sys.platform == "linux":
         os.environ.setdefault("QT_QPA_PLATFORM", "xcb")  # VTK's GL widget needs X, not Wayland
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
-    app = QApplication.instance() or QApplication([sys.argv[0] if sys.argv else "barymesh"])
+    # a window's application, when there is one, is a QApplication (instance() says less)
+    app = cast("QApplication | None", QApplication.instance()) or QApplication(
+        [sys.argv[0] if sys.argv else "barymesh"]
+    )
     app.setOrganizationName(ORGANIZATION)
     app.setApplicationName(APPLICATION)
     app.setWindowIcon(QIcon(str(ICON)))
@@ -1819,4 +1857,4 @@ class _ScriptedRun:
                 code = 1
         if self.quit_after or code:
             w.close()
-            QApplication.instance().exit(code)
+            _application().exit(code)

@@ -232,8 +232,9 @@ class ScaledShot:
         self.scene = scene
         self.scale = _check_scale(scale, None if size is not None else MAX_SCALE)
         self.transparent = bool(transparent)
-        self.size = tuple(int(v) for v in size) if size is not None else None
-        self.size = self.size or _scaled_size(scene, self.scale)
+        self.size: tuple[int, int] = (
+            (int(size[0]), int(size[1])) if size else _scaled_size(scene, self.scale)
+        )
         self.view = _view_size(scene)
         width, height = self.size
         tile_w, tile_h = self.view
