@@ -27,6 +27,8 @@ from vtkmodules.vtkRenderingCore import (
     vtkActor,
     vtkCoordinate,
     vtkPolyDataMapper,
+    vtkProp,
+    vtkProperty,
     vtkRenderer,
     vtkTextActor,
     vtkTextProperty,
@@ -238,11 +240,11 @@ class Rulers:
         """The text actor of ruler ``axis``'s title."""
         return self._titles[axis]
 
-    def line_property(self) -> object:
+    def line_property(self) -> vtkProperty:
         """The rules' and ticks' ``vtkProperty`` (colour, line width)."""
         return self._lines.GetProperty()
 
-    def props(self) -> list[object]:
+    def props(self) -> list[vtkProp]:
         """Every VTK prop the rulers put in their renderer."""
         return [self._lines, *self._titles, *self._labels[0], *self._labels[1]]
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 import os
+from typing import Any
 
 import numpy as np
 import pyvista as pv
@@ -127,7 +128,7 @@ class MeshScene:
         self.visible.update(visible or {})
         self.color_by = color_by if color_by in COLOR_BY else "none"
         self.datasets: dict[str, pv.PolyData] = {name: pv.PolyData() for name in LAYERS}
-        self.actors: dict[str, object] = {}
+        self.actors: dict[str, Any] = {}  # pyvista actors and VTK 2D props
         self.bounds: tuple[float, float, float, float] | None = None
         self.ranges: dict[str, tuple[float, float]] = {}
         self.n_triangles = 0
