@@ -21,7 +21,7 @@ k times larger too, titles included.
 from __future__ import annotations
 
 import numpy as np
-from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
+from vtkmodules.vtkCommonCore import vtkCommand, vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
@@ -105,7 +105,7 @@ class Rulers:
             _text_property(rgb, font_size, "Centered", "Centered"),
         ]
         self._title_props[1].SetOrientation(90.0)  # read bottom to top, left of the rule
-        self._bounds = (0.0, 1.0, 0.0, 1.0, 0.0, 0.0)
+        self._bounds: tuple[float, ...] = (0.0, 1.0, 0.0, 1.0, 0.0, 0.0)
         self._counts = [5, 5]
         self._formats = ["{:.4g}", "{:.4g}"]
         self._visible = True
@@ -139,7 +139,7 @@ class Rulers:
         for actor in self._titles:
             renderer.AddViewProp(actor)
         # offsets follow the zoom and the font sizes: refreshed before each render
-        self._observer = renderer.AddObserver("StartEvent", self._before_render)
+        self._observer = renderer.AddObserver(vtkCommand.StartEvent, self._before_render)
         self._rebuild()
 
     # -- the interface of vtkCubeAxesActor / pyvista's CubeAxesActor the view uses ----

@@ -77,7 +77,7 @@ def _annotation(scene: MeshScene) -> list[vtkProp]:
     ]
 
 
-def _mesh_props(scene: MeshScene) -> list[object]:
+def _mesh_props(scene: MeshScene) -> list[vtkProp]:
     """The scene's 3D props: what the tiles draw and the annotation layer leaves out."""
     props = [scene.actors[name] for name in LAYERS if name != "labels"]
     return [*props, scene.actors_overview, scene.actors_zoom]

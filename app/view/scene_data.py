@@ -247,7 +247,7 @@ def _paper_rects(mesh: TriMesh) -> np.ndarray | None:
 
 def lut_settings(
     array: str, ranges: dict[str, tuple[float, float]]
-) -> tuple[object, int, float, float]:
+) -> tuple[str | list[str], int, float, float]:
     """(colour map, number of colours, low, high) of the face colouring ``array``."""
     lo, hi = ranges.get(array, (0.0, 1.0))
     if array == "patch":
