@@ -103,15 +103,16 @@ class ViewPicker(QObject):
         visible for the pick, which draws nothing); a flat mesh's click that neither
         finds (its locator still being built) is answered when the locator is ready.
         """
-        located = self.locate(float(x), float(y), False) if self.locate is not None else None
-        if located is not None and located[0] is not None:
+        locate = self.locate
+        located = locate(float(x), float(y), False) if locate is not None else None
+        if located is not None and located[0] is not None and located[1] is not None:
             triangle, point = int(located[0]), located[1]
             if emit:
                 self.triangle_picked.emit(triangle, point)
             return triangle, point
         hit = self._vtk_pick(x, y, emit)
-        if hit is None and located is not None and emit:
-            self.locate(float(x), float(y), True)  # a big mesh's locator not ready: later
+        if hit is None and located is not None and locate is not None and emit:
+            locate(float(x), float(y), True)  # a big mesh's locator not ready: later
         return hit
 
     def _vtk_pick(self, x: float, y: float, emit: bool) -> tuple[int, np.ndarray] | None:

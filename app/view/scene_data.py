@@ -463,6 +463,7 @@ def _image_values(
     """
     rows, cols = shape
     if raster is None:  # paper patches by their count only (see scene_data)
+        assert rects is not None  # a paper mesh's
         count = overlap_count_raster(rects, bounds, shape)
         covered = count > 0
         return covered, {"overlap": np.where(covered, count, np.nan).astype(np.float32)}

@@ -410,6 +410,7 @@ class ViewTools(QObject):
         goes_to = self.clicks.click_goes_to()
         if goes_to == "measure":
             if hit is not None and hit.kind == "vertex":
+                assert self.locator is not None  # it found the vertex
                 point = self.locator.points[hit.index]  # snap to the vertex
             self.measure.add_point(point)
             self.host.request_render()
