@@ -332,7 +332,7 @@ ADVANCED_SPECS = (
 )
 SPECS = {s.name: s for s in PARAM_SPECS + ADVANCED_SPECS}
 #: Choice parameters: name -> (label, {value: title}).
-CHOICES = {
+CHOICES: dict[str, tuple[str, dict[Any, str]]] = {
     "structure": ("Structure", STRUCTURE_TITLES),
     "mode": ("Mode", MODE_TITLES),
     "diagonal": ("Diagonal", {"BC": "BC (paper)", "AD": "AD (Makarov)"}),
