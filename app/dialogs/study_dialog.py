@@ -275,7 +275,7 @@ class StudyDialog(QDialog):
         d = read_vector(self.direction.currentText(), "Direction")
         p = read_vector(self.polarization.currentText(), "Polarisation")
         try:
-            PlaneWave(direction=d, polarization=p)
+            PlaneWave(direction=d, polarization=p)  # type: ignore[arg-type]  # numbers in, an array kept
         except ValueError as exc:
             raise ValueError(f"Polarisation: {exc}") from None
         return d, p

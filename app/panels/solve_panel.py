@@ -138,7 +138,7 @@ def read_vector(text: str, name: str) -> tuple[float, float, float]:
         raise ValueError(
             f"{name} {text!r} is invalid; expected an axis (x, -z, …) or three numbers x, y, z"
         )
-    return values  # type: ignore[return-value]
+    return values
 
 
 def read_point(text: str, name: str) -> tuple[float, ...]:
@@ -605,14 +605,14 @@ class SolvePanel(QWidget):
             if len(start) != len(end):
                 raise ValueError("Feed start and end: give both as x, y or both as x, y, z")
             try:
-                return hz, VoltageSource(start, end)
+                return hz, VoltageSource(start, end)  # type: ignore[arg-type]  # numbers in, an array kept
             except ValueError as exc:
                 raise ValueError(
                     f"Feed {self.feed_start.text()!r} to {self.feed_end.text()!r}: {exc}"
                 ) from None
         d = read_vector(self.direction.currentText(), "Direction")
         p = read_vector(self.polarization.currentText(), "Polarisation")
-        return hz, PlaneWave(direction=d, polarization=p)
+        return hz, PlaneWave(direction=d, polarization=p)  # type: ignore[arg-type]  # numbers in, an array kept
 
     def _inputs_key(self) -> tuple[Any, ...] | None:
         from barymesh.mom import VoltageSource
