@@ -388,7 +388,7 @@ class StudyDialog(QDialog):
         for row in self.axis_rows:
             for w in row:
                 w.setEnabled(on)
-        for w in (
+        for widget in (
             self.frequencies,
             self.direction,
             self.polarization,
@@ -396,7 +396,7 @@ class StudyDialog(QDialog):
             self.run_button,
             self.close_button,
         ):
-            w.setEnabled(on)
+            widget.setEnabled(on)
         self.cancel_button.setEnabled(not on)
 
     # -- the heat map ----------------------------------------------------------------------
@@ -414,6 +414,7 @@ class StudyDialog(QDialog):
     def summary(self) -> str:
         """The finished study in one line: points, failed ones, those without the figure."""
         key = self.figure_choice.currentData()
+        assert self.grid is not None and self.statuses is not None  # a study's map is shown
         missing, failed = missing_cells(self.grid, self.statuses)
         n, bad, none = self.grid.size, int(failed.sum()), int(missing.sum())
         text = f"{n} points, {bad} failed"
@@ -426,6 +427,7 @@ class StudyDialog(QDialog):
     def _why_empty(self) -> str:
         """Why no point has the shown figure, and what to try."""
         key = self.figure_choice.currentData()
+        assert self.grid is not None and self.statuses is not None  # a study's map is shown
         missing, failed = missing_cells(self.grid, self.statuses)
         if not missing.any():
             return "every point failed; the failures are in the log"
@@ -465,6 +467,7 @@ class StudyDialog(QDialog):
         key = self.figure_choice.currentData()
         column, title, scale, unit = FIGURES[key]
         self.grid = self.grids[column]
+        assert self.statuses is not None  # they come with the grids
         self._say(self.summary(), error=False)
         rows, cols = self.values
         extent = (-0.5, len(cols) - 0.5, -0.5, len(rows) - 0.5)

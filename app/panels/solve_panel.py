@@ -301,7 +301,7 @@ class SweepPlot(QWidget):
 
     def data_to_widget(self, hz: float) -> tuple[int, int]:
         """Widget pixel (x, y) of frequency ``hz`` half way up the axes (tests click there)."""
-        ymid = np.mean(self.axes.get_ylim())
+        ymid = float(np.mean(self.axes.get_ylim()))
         x, y = self.axes.transData.transform((hz / 1e9, ymid))
         ratio = self.canvas.device_pixel_ratio or 1.0
         return round(x / ratio), round(self.canvas.height() - y / ratio)
@@ -446,8 +446,13 @@ class SolvePanel(QWidget):
         self.solver_grade = QCheckBox("Solver-&grade mesh", page)
         self.solver_grade.setChecked(True)
         self.solver_grade.setToolTip(SOLVER_GRADE_TIP)
+
         # once solved, another mesh is another input (a window not yet solved stays so)
-        self.solver_grade.toggled.connect(lambda _on: self.engaged and self._inputs_edited())
+        def grade_toggled(_on: bool) -> None:
+            if self.engaged:
+                self._inputs_edited()
+
+        self.solver_grade.toggled.connect(grade_toggled)
         form.addRow(self.solver_grade)
         self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
         self.auto.setChecked(True)
@@ -514,15 +519,16 @@ class SolvePanel(QWidget):
         label.setBuddy(self.phase)
         form.addRow(label, row)
 
-        for edit in (
+        for line in (
             self.frequency,
             self.direction.lineEdit(),
             self.polarization.lineEdit(),
             self.feed_start,
             self.feed_end,
         ):
-            edit.returnPressed.connect(self._inputs_edited)
-            edit.editingFinished.connect(self._inputs_edited)
+            assert line is not None  # the direction boxes are editable
+            line.returnPressed.connect(self._inputs_edited)
+            line.editingFinished.connect(self._inputs_edited)
         self.unit.currentIndexChanged.connect(lambda _i: self._inputs_edited())
         self.direction.activated.connect(lambda _i: self._inputs_edited())
         self.polarization.activated.connect(lambda _i: self._inputs_edited())
@@ -534,8 +540,8 @@ class SolvePanel(QWidget):
         feed = self.excitation.currentData() == "feed"
         for widget in (self.direction, self.polarization):
             self.form.setRowVisible(widget, not feed)
-        for widget in (self.feed_start, self.feed_end):
-            self.form.setRowVisible(widget, feed)
+        for feed_field in (self.feed_start, self.feed_end):
+            self.form.setRowVisible(feed_field, feed)
 
     def _excitation_changed(self, _index: int) -> None:
         self._show_excitation_rows()
@@ -847,6 +853,7 @@ class SolvePanel(QWidget):
         # the current is drawn on the mesh it was solved on (the solver-grade one, perhaps)
         self.layer.set_current(self.solved_mesh, s.current_density, s.charge_density)
         number, unit = format_frequency(s.frequency)
+        assert self.layer.magnitude is not None  # set_current made it
         jmax = float(self.layer.magnitude.max())
         from barymesh.mom import VoltageSource
 
@@ -934,7 +941,7 @@ class SolvePanel(QWidget):
 
     def _show_coefficient(self, edge: int | None = None) -> None:
         inspector = self._inspector()
-        if inspector is None:
+        if inspector is None or self.coefficient_label is None:  # made with the inspector
             return
         if edge is None:
             edge = -1 if inspector.edge is None else inspector.edge
