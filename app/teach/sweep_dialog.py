@@ -17,6 +17,7 @@ import logging
 import multiprocessing
 import queue
 import threading
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
@@ -149,9 +150,15 @@ class SweepDialog(QDialog):
     """
 
     finished_export = Signal(object)  # frame count, "cancelled" or an error message
+    # attributes named over QWidget.size() and QDialog.result() (the tests use them)
+    size: QComboBox  # type: ignore[assignment]
+    result: object  # type: ignore[assignment]
 
     def __init__(
-        self, params: MeshParams, parent: QWidget | None = None, start_dir: str = ""
+        self,
+        params: MeshParams | Callable[[], MeshParams],
+        parent: QWidget | None = None,
+        start_dir: str = "",
     ) -> None:
         super().__init__(parent)
         self.setWindowTitle("Export sweep animation")
@@ -162,7 +169,7 @@ class SweepDialog(QDialog):
         self.pool.setMaxThreadCount(1)
         self.stop = threading.Event()
         self.running = False
-        self.result: object = None
+        self.result = None
         self.result_path: Path | None = None
 
         form = QFormLayout(self)
