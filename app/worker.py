@@ -71,7 +71,7 @@ PAINT_WAIT_MS = 250
 class BuildJob:
     """One build in a worker thread."""
 
-    params: MeshParams
+    params: MeshParams | CellTarget
     generation: int
     triangles: int
     started: float

@@ -200,7 +200,7 @@ class Outcome:
     """What a solve or sweep job delivers to the GUI thread."""
 
     token: int
-    mesh: TriMesh
+    mesh: TriMesh | None  # None: a redraw's
     kind: str  # "solve" or "sweep"
     result: Any = None  # barymesh.mom.Solution or SweepResult
     error: str | None = None
@@ -209,7 +209,7 @@ class Outcome:
     thread: int = field(default_factory=threading.get_ident)
 
 
-def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Outcome:
+def run_job(token: int, mesh: TriMesh | None, kind: str, work: Callable[[], Any]) -> Outcome:
     """Call ``work()`` and wrap what it returns or raises (never raises)."""
     from barymesh.mom import ProblemTooLarge, SolveCancelled
 
