@@ -68,7 +68,7 @@ docs: $(STAMP) system-deps
 
 # The code is formatted by `ruff format` (line length 100, pyproject.toml); `make format` applies it.
 # Then: no import circle in the core (tests/import_graph.py, grimp's graph) and mypy over
-# core/ ([tool.mypy] in pyproject.toml).
+# core/ and app/ as barymesh and barymesh.app ([tool.mypy] in pyproject.toml, typecheck/).
 lint: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .

@@ -762,7 +762,7 @@ def _open_window(argv: list[str]) -> int:
     def one_line(message: str) -> NoReturn:
         raise UsageError(f"{message} (see barymesh --help)")
 
-    parser.error = one_line
+    parser.error = one_line  # type: ignore[method-assign]  # this parser's errors: one line
     try:
         parser.parse_args(argv)
     except SystemExit as exc:  # --help

@@ -103,4 +103,5 @@ def completion_script(parser: argparse.ArgumentParser, shell: str) -> str:
             action.__class__ = type(
                 "_PrintCompletionMarked", (_PrintCompletion, shtab._ShtabPrintCompletionAction), {}
             )
-    return shtab.complete(parser, shell, preamble=_preamble(preset_names(), cell_preset_names()))
+    preamble = _preamble(preset_names(), cell_preset_names())  # per shell, as shtab takes it
+    return shtab.complete(parser, shell, preamble=preamble)  # type: ignore[arg-type]

@@ -46,7 +46,7 @@ class Parser(argparse.ArgumentParser):
         """Raise :class:`UsageError` with the program's name and ``message``."""
         raise UsageError(f"{self.prog}: {message}")
 
-    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+    def parse_known_args(self, args=None, namespace=None):
         if args is not None and self.dash_value_options:
             args = join_dash_values(list(args), self.dash_value_options)
         return super().parse_known_args(args, namespace)
@@ -225,7 +225,7 @@ def solver_grade_cell(
         grade=flags,
         grade_pixels=pixels,
     )
-    parts = [
+    parts: list[tuple[str, Any, Any]] = [
         (repr(a.name), a.params, b.params) for a, b in zip(cell.elements, out.elements, strict=True)
     ]
     if cell.pixels is not None and out.pixels is not None:
@@ -269,7 +269,7 @@ def add_params_options(p: argparse.ArgumentParser) -> None:
     )
 
 
-def add_stats_option(p: argparse.ArgumentParser) -> None:
+def add_stats_option(p: argparse._ActionsContainer) -> None:
     """``--stats-json PATH|-``."""
     p.add_argument(
         "--stats-json",
@@ -279,7 +279,7 @@ def add_stats_option(p: argparse.ArgumentParser) -> None:
     )
 
 
-def add_quality_option(p: argparse.ArgumentParser) -> None:
+def add_quality_option(p: argparse._ActionsContainer) -> None:
     """``--quality-json PATH|-``."""
     p.add_argument(
         "--quality-json",

@@ -257,7 +257,7 @@ def parse_vector(text: str, option: str) -> tuple[float, float, float]:
         raise SolveUsageError(
             f"{option} {text!r} is invalid; expected an axis (x, -z, ...) or X,Y,Z"
         )
-    return values  # type: ignore[return-value]
+    return values
 
 
 def parse_feed(text: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
@@ -422,13 +422,13 @@ def _excitation(args: argparse.Namespace) -> Any:
             raise SolveUsageError("--feed replaces the plane wave; drop --dir and --pol")
         start, end = parse_feed(args.feed)
         try:
-            return VoltageSource(start, end, voltage=args.volts)
+            return VoltageSource(start, end, voltage=args.volts)  # type: ignore[arg-type]  # numbers in, an array kept
         except ValueError as exc:
             raise SolveUsageError(f"--feed {args.feed!r}: {exc}") from None
     direction = parse_vector(args.dir or "-z", "--dir")
     polarization = parse_vector(args.pol or "x", "--pol")
     try:
-        return PlaneWave(direction, polarization, args.amplitude)
+        return PlaneWave(direction, polarization, args.amplitude)  # type: ignore[arg-type]  # numbers in, an array kept
     except ValueError as exc:
         raise SolveUsageError(f"--dir {args.dir} --pol {args.pol}: {exc}") from None
 

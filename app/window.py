@@ -19,10 +19,18 @@ import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
-from PySide6.QtCore import QByteArray, QEvent, QObject, QSettings, Qt, QTimer
+from PySide6.QtCore import (
+    QByteArray,
+    QCoreApplication,
+    QEvent,
+    QObject,
+    QSettings,
+    Qt,
+    QTimer,
+)
 from PySide6.QtGui import (
     QAction,
     QActionGroup,
@@ -30,6 +38,7 @@ from PySide6.QtGui import (
     QGuiApplication,
     QIcon,
     QImage,
+    QKeyEvent,
     QKeySequence,
 )
 from PySide6.QtWidgets import (
@@ -140,6 +149,13 @@ def start_params() -> tuple[MeshParams, str]:
     return params, f"Preset {START_PRESET}: {description}"
 
 
+def _application() -> QCoreApplication:
+    """The running application (a window lives in one)."""
+    app = QApplication.instance()
+    assert app is not None
+    return app
+
+
 def app_settings() -> QSettings:
     """The window's settings: an INI file in the user's configuration folder.
 
@@ -180,6 +196,14 @@ class MainWindow(QMainWindow):
     cell : barymesh.cell.UnitCell, optional
         Open this unit cell (its first element's parameters in the Parameters panel).
     """
+
+    # the window's own docks, set by add_dock as "<title>_dock"
+    parameters_dock: QDockWidget
+    statistics_dock: QDockWidget
+    layers_dock: QDockWidget
+    solve_dock: QDockWidget
+    quality_dock: QDockWidget
+    scripted_run: _ScriptedRun  # a --screenshot/--quit run's driver, kept alive by the window
 
     #: (ExportJob, exception or None) from an export's worker thread.
 
@@ -678,6 +702,7 @@ class MainWindow(QMainWindow):
     def _show_result(self, result: MeshResult) -> None:
         if self._closed:
             return
+        assert result.mesh is not None  # a result shown holds its mesh
         start = time.perf_counter()
         if result.scene is None:
             result.scene = scene_data(result.mesh)
@@ -726,13 +751,19 @@ class MainWindow(QMainWindow):
         title = (
             Path(result.source).name
             if result.source != "parameters"
-            else (f"cell {result.cell.name}" if result.cell is not None else p.structure)
+            else (
+                f"cell {result.cell.name}" if result.cell is not None else p.structure if p else ""
+            )
         )
         self.setWindowTitle(f"barymesh – {title}")
         self.summary.setText(f"{s['triangles']:,} triangles · {s['interior_edges']:,} RWG unknowns")
         if self.model.error is None:
-            starting = self._start_preset is not None and self._note_params is not None
-            if starting and self._note_params == self._start_preset[0]:
+            preset = self._start_preset
+            if (
+                preset is not None
+                and self._note_params is not None
+                and self._note_params == preset[0]
+            ):
                 self.statusBar().showMessage(START_MESSAGE)  # until the first change
             else:
                 self.statusBar().clearMessage()
@@ -783,10 +814,10 @@ class MainWindow(QMainWindow):
         self.act_cancel.setEnabled(busy)
         if busy:
             self._progress_timer.start()
-            QApplication.instance().installEventFilter(self._escape)
+            _application().installEventFilter(self._escape)
         else:
             self._progress_timer.stop()
-            QApplication.instance().removeEventFilter(self._escape)
+            _application().removeEventFilter(self._escape)
             self._end_progress()
 
     def _end_progress(self) -> None:
@@ -873,6 +904,7 @@ class MainWindow(QMainWindow):
         every triangle (built here, on the GUI thread: the choice warns of its cost);
         "auto" goes back to the image of a mesh built so."""
         scene, mesh = result.scene, result.mesh
+        assert mesh is not None  # a result shown holds its mesh
         if self.model.detail == "full" and scene.overview is not None:
             return scene_data(
                 mesh, detail_limit=max(mesh.n_triangles, 1), color_by=self.model.color_by
@@ -1069,9 +1101,7 @@ class MainWindow(QMainWindow):
         self.plotter.render()
         return np.ascontiguousarray(image)
 
-    def save_view_png(
-        self, path: str | os.PathLike[str], scale: int = 1, transparent: bool = False
-    ) -> bool:
+    def save_view_png(self, path: str | Path, scale: int = 1, transparent: bool = False) -> bool:
         """Write the 3D view to a PNG; errors go to the status bar. Returns success.
 
         At 2× to 4× it is drawn in steps and written in a worker thread, under a progress
@@ -1095,7 +1125,9 @@ class MainWindow(QMainWindow):
                     )
                     return False
             else:
-                write_png(path, self.view_image(1, transparent))
+                image = self.view_image(1, transparent)
+                assert image is not None  # only a drawing in steps (2× to 4×) is cancelled
+                write_png(path, image)
         except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
             log.exception("screenshot failed")
             self.statusBar().showMessage(file_error_sentence(f"Could not save {name}", exc, path))
@@ -1148,7 +1180,7 @@ class MainWindow(QMainWindow):
             self.settings.setValue("paths/mesh", path)
             self.open_mesh_file(path)
 
-    def open_mesh_file(self, path: str | os.PathLike[str]) -> bool:
+    def open_mesh_file(self, path: str | Path) -> bool:
         """Show a mesh read from ``path`` until the next parameter change."""
         from barymesh.io import read_mesh
 
@@ -1178,7 +1210,7 @@ class MainWindow(QMainWindow):
             self.settings.setValue("paths/params", path)
             self.load_params_file(path)
 
-    def load_params_file(self, path: str | os.PathLike[str]) -> bool:
+    def load_params_file(self, path: str | Path) -> bool:
         from barymesh.presets import load_params_file
 
         try:
@@ -1202,7 +1234,7 @@ class MainWindow(QMainWindow):
             self.settings.setValue("paths/params", path)
             self.save_params_file(path)
 
-    def save_params_file(self, path: str | os.PathLike[str]) -> bool:
+    def save_params_file(self, path: str | Path) -> bool:
         from barymesh.presets import save_params_file
 
         if self.model.file_source is not None:
@@ -1233,7 +1265,7 @@ class MainWindow(QMainWindow):
         self.export_dialog = dialog
         return dialog
 
-    def export_mesh(self, path: str | os.PathLike[str], unit: str | None = None) -> bool:
+    def export_mesh(self, path: str | Path, unit: str | None = None) -> bool:
         from barymesh.io import describe_export, write_mesh
         from barymesh.quality import params_wavelength
 
@@ -1253,7 +1285,7 @@ class MainWindow(QMainWindow):
 
     def start_export(
         self,
-        path: str | os.PathLike[str],
+        path: str | Path,
         unit: str | None = None,
         done: Callable[[bool], None] | None = None,
     ) -> bool:
@@ -1283,7 +1315,7 @@ class MainWindow(QMainWindow):
 
     def run_export(
         self,
-        path: str | os.PathLike[str],
+        path: str | Path,
         unit: str | None,
         make_mesh: Callable[[], TriMesh],
         what: str,
@@ -1319,10 +1351,13 @@ class MainWindow(QMainWindow):
         progress.hide()
         job.progress = progress
         self.export_job = job
+
         # a quick write shows no dialog at all; a longer one shows it after a moment
-        QTimer.singleShot(
-            EXPORT_PROGRESS_MS, lambda: job.progress is not None and job.progress.show()
-        )
+        def show_progress() -> None:
+            if job.progress is not None:
+                job.progress.show()
+
+        QTimer.singleShot(EXPORT_PROGRESS_MS, show_progress)
 
         def work() -> BaseException | None:  # worker thread: numpy and files only
             try:
@@ -1366,6 +1401,7 @@ class MainWindow(QMainWindow):
                 log.error("export failed", exc_info=error)
             self.file_error(f"Could not export {Path(job.path).name}", error, job.path)
         else:
+            assert job.mesh is not None  # the write succeeded: the work made the mesh
             wrote = job.wrote(job.mesh, job.what) if job.wrote is not None else f"Wrote {job.what}"
             if job.cancelled:  # Cancel came after the file was complete and in place
                 wrote += " (complete before Cancel)"
@@ -1643,8 +1679,8 @@ class EscapeCancels(QObject):
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         if (
             event.type() == QEvent.Type.KeyPress
-            and event.key() == Qt.Key.Key_Escape
-            and not event.modifiers()
+            and cast(QKeyEvent, event).key() == Qt.Key.Key_Escape
+            and not cast(QKeyEvent, event).modifiers()
             and self.window_.controller.busy
         ):
             self.window_.cancel_build()
@@ -1747,7 +1783,10 @@ def main(argv: list[str] | None = None) -> int:
     if os.environ.get("DISPLAY") and sys.platform == "linux":
         os.environ.setdefault("QT_QPA_PLATFORM", "xcb")  # VTK's GL widget needs X, not Wayland
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
-    app = QApplication.instance() or QApplication([sys.argv[0] if sys.argv else "barymesh"])
+    # a window's application, when there is one, is a QApplication (instance() says less)
+    app = cast("QApplication | None", QApplication.instance()) or QApplication(
+        [sys.argv[0] if sys.argv else "barymesh"]
+    )
     app.setOrganizationName(ORGANIZATION)
     app.setApplicationName(APPLICATION)
     app.setWindowIcon(QIcon(str(ICON)))
@@ -1795,4 +1834,4 @@ class _ScriptedRun:
                 code = 1
         if self.quit_after or code:
             w.close()
-            QApplication.instance().exit(code)
+            _application().exit(code)

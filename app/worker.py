@@ -35,10 +35,12 @@ import logging
 import time
 from collections.abc import Callable
 from functools import partial
+from typing import Any
 
 from PySide6.QtCore import QObject, QTimer, Signal
 
-from barymesh import MeshParams
+from barymesh import MeshParams, TriMesh
+from barymesh.app.edit.cell_document import CellTarget
 from barymesh.app.jobs import Jobs
 from barymesh.app.model import AppModel, MeshResult, compute
 from barymesh.app.view.scene_data import detail_data, scene_data
@@ -68,7 +70,7 @@ PAINT_WAIT_MS = 250
 class BuildJob:
     """One build in a worker thread."""
 
-    params: MeshParams
+    params: MeshParams | CellTarget
     generation: int
     triangles: int
     started: float
@@ -95,7 +97,7 @@ def _kept_scene(scene: object, _mesh: object) -> object:
     return scene
 
 
-def _scene_or_none(mesh: object, **kwargs: object) -> object:
+def _scene_or_none(mesh: TriMesh, **kwargs: Any) -> object:
     """:func:`barymesh.app.view.scene_data.scene_data`, or None if it fails (logged;
     never raises)."""
     try:
@@ -125,7 +127,7 @@ class MeshController(QObject):
         self.jobs = Jobs(self, threads=None, name="barymesh-build")
         self.model = model
         self.sync_triangles = sync_triangles
-        self._pending: tuple[MeshParams, int] | None = None
+        self._pending: tuple[MeshParams | CellTarget, int] | None = None
         self.current: BuildJob | None = None
         self._stale: list[BuildJob] = []
         self.rate: float | None = None  # triangles per second of recent large builds
@@ -212,12 +214,13 @@ class MeshController(QObject):
             return
         was_busy = self.current is not None
         if was_busy:
+            assert self.current is not None  # was_busy
             if not self.current.cancelled or self._stale:
                 return  # a short build finishes first / one is already winding down
             self._abandon_current(announce=False)
         self._pending = None
         triangles = params.predicted_triangles()
-        prepare = partial(
+        prepare: Callable[..., object] = partial(
             scene_data,
             color_by=self.model.color_by,
             pixels=self.view_size() if self.view_size else None,
@@ -275,6 +278,7 @@ class MeshController(QObject):
             return
         if (
             result.error is None
+            and result.mesh is not None
             and result.params is not None
             and result.params.predicted_triangles() >= _RATE_MIN_TRIANGLES
         ):
@@ -343,7 +347,7 @@ class MeshController(QObject):
             self.job_changed.emit(None)
 
     def request_detail(
-        self, mesh: object, rect: tuple[float, float, float, float], token: object
+        self, mesh: TriMesh, rect: tuple[float, float, float, float], token: object
     ) -> None:
         """Build :func:`barymesh.app.view.scene_data.detail_data` of ``rect`` in a thread.
 
@@ -367,7 +371,7 @@ class MeshController(QObject):
             token,
         )
 
-    def request_scene(self, mesh: object, token: object) -> None:
+    def request_scene(self, mesh: TriMesh, token: object) -> None:
         """Make the scene of ``mesh`` again in a thread, for the model's colouring (a dense
         paper mesh's image gets the per-triangle values it was made without); emits
         ``scene_ready`` with (token, SceneData or None if it failed)."""

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import os
 import threading
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from PySide6.QtCore import QObject, QSettings
@@ -29,7 +28,7 @@ class ScreenshotCancelled(Exception):
 
 
 def write_png(
-    path: str | os.PathLike[str],
+    path: str | Path,
     image: np.ndarray,
     cancelled: Callable[[], bool] | None = None,
 ) -> None:
@@ -50,7 +49,7 @@ def write_png(
             raise ScreenshotCancelled(f"{path}: cancelled")
 
 
-def png_steps(shot: Any, path: str | os.PathLike[str], owner: QObject) -> Iterator[Any]:
+def png_steps(shot: Any, path: str | Path, owner: QObject) -> Iterator[Any]:
     """Steps of :func:`~barymesh.app.dialogs.step_progress.run_in_steps`: ``shot`` (a
     :class:`~barymesh.app.view.scaled_shot.ScaledShot`) drawn, one render a step, then
     written to ``path`` as a PNG in a worker thread (:func:`write_png`); closed early
@@ -97,7 +96,7 @@ class ScreenshotDialog(QDialog):
         self.scale = QSpinBox(self)
         self.scale.setRange(1, 4)
         self.scale.setSuffix(" ×")
-        self.scale.setValue(int(settings.value("screenshot/scale", 2)))
+        self.scale.setValue(int(cast("int | str", settings.value("screenshot/scale", 2))))
         self.transparent = QCheckBox("Transparent background", self)
         self.transparent.setChecked(
             settings.value("screenshot/transparent", "false") in (True, "true")
@@ -110,11 +109,11 @@ class ScreenshotDialog(QDialog):
         form.addRow("Size", self.size_label)
         form.addRow(self.transparent)
         buttons = QDialogButtonBox(self)
-        save = buttons.addButton("Save PNG…", QDialogButtonBox.ButtonRole.AcceptRole)
-        copy = buttons.addButton("Copy to clipboard", QDialogButtonBox.ButtonRole.ActionRole)
+        save_button = buttons.addButton("Save PNG…", QDialogButtonBox.ButtonRole.AcceptRole)
+        copy_button = buttons.addButton("Copy to clipboard", QDialogButtonBox.ButtonRole.ActionRole)
         buttons.addButton(QDialogButtonBox.StandardButton.Close)
-        save.clicked.connect(self._save)
-        copy.clicked.connect(self._copy)
+        save_button.clicked.connect(self._save)
+        copy_button.clicked.connect(self._copy)
         buttons.rejected.connect(self.reject)
         form.addRow(buttons)
 

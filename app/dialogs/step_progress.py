@@ -72,7 +72,7 @@ def run_in_steps(
     state: dict[str, Any] = {"ended": False, "ok": False, "error": None}
     show = QTimer()
     show.setSingleShot(True)
-    show.timeout.connect(lambda: state["ended"] or progress.show())
+    show.timeout.connect(lambda: None if state["ended"] else progress.show())
     show.start(SHOW_AFTER_MS)
     step = QTimer()
     step.setSingleShot(True)

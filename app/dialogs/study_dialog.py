@@ -262,7 +262,7 @@ class StudyDialog(QDialog):
         d = read_vector(self.direction.currentText(), "Direction")
         p = read_vector(self.polarization.currentText(), "Polarisation")
         try:
-            PlaneWave(direction=d, polarization=p)
+            PlaneWave(direction=d, polarization=p)  # type: ignore[arg-type]  # numbers in, an array kept
         except ValueError as exc:
             raise ValueError(f"Polarisation: {exc}") from None
         return d, p
@@ -380,7 +380,7 @@ class StudyDialog(QDialog):
         for row in self.axis_rows:
             for w in row:
                 w.setEnabled(on)
-        for w in (
+        for widget in (
             self.frequencies,
             self.direction,
             self.polarization,
@@ -388,7 +388,7 @@ class StudyDialog(QDialog):
             self.run_button,
             self.close_button,
         ):
-            w.setEnabled(on)
+            widget.setEnabled(on)
         self.cancel_button.setEnabled(not on)
 
     # -- the heat map ----------------------------------------------------------------------
@@ -406,6 +406,7 @@ class StudyDialog(QDialog):
     def summary(self) -> str:
         """The finished study in one line: points, failed ones, those without the figure."""
         key = self.figure_choice.currentData()
+        assert self.grid is not None and self.statuses is not None  # a study's map is shown
         missing, failed = missing_cells(self.grid, self.statuses)
         n, bad, none = self.grid.size, int(failed.sum()), int(missing.sum())
         text = f"{n} points, {bad} failed"
@@ -418,6 +419,7 @@ class StudyDialog(QDialog):
     def _why_empty(self) -> str:
         """Why no point has the shown figure, and what to try."""
         key = self.figure_choice.currentData()
+        assert self.grid is not None and self.statuses is not None  # a study's map is shown
         missing, failed = missing_cells(self.grid, self.statuses)
         if not missing.any():
             return "every point failed; the failures are in the log"
@@ -457,6 +459,7 @@ class StudyDialog(QDialog):
         key = self.figure_choice.currentData()
         column, title, scale, unit = FIGURES[key]
         self.grid = self.grids[column]
+        assert self.statuses is not None  # they come with the grids
         self._say(self.summary(), error=False)
         rows, cols = self.values
         extent = (-0.5, len(cols) - 0.5, -0.5, len(rows) - 0.5)
@@ -520,9 +523,8 @@ class StudyDialog(QDialog):
         """The design of the map's cell at row ``i`` (axis 1) and column ``j`` (axis 2)."""
         assert self.base is not None
         names = list(self.spec["axes"])
-        return dataclasses.replace(
-            self.base, **{names[0]: self.values[0][i], names[1]: self.values[1][j]}
-        )
+        changes: dict[str, Any] = {names[0]: self.values[0][i], names[1]: self.values[1][j]}
+        return dataclasses.replace(self.base, **changes)
 
     def load_cell(self, i: int, j: int) -> None:
         """Load the design of a cell into the window (a click on the map)."""

@@ -72,9 +72,10 @@ class CellStats(QWidget):
     def show_result(self, result: MeshResult | None) -> None:
         stats = result.cell_stats if result is not None else {}
         self.setVisible(bool(stats))
-        if not stats:
+        if not stats or result is None:
             return
         cell = result.cell
+        assert cell is not None  # a cell's mesh has cell_stats
         self.title.setText(
             f"<b>Cell {cell.name}</b>: {cell.lattice.kind} lattice, "
             f"{cell.mode} mode; each part alone:"
@@ -120,5 +121,8 @@ class CellStats(QWidget):
         """The text shown for part ``row`` under ``column`` (a title of :data:`COLUMNS`):
         tests, copy."""
         if COLUMNS[column] == "name":
-            return self.table.horizontalHeaderItem(row).text()
-        return self.table.item(list(QUANTITIES).index(column), row).text()
+            item = self.table.horizontalHeaderItem(row)
+        else:
+            item = self.table.item(list(QUANTITIES).index(column), row)
+        assert item is not None, (row, column)
+        return item.text()

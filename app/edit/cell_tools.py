@@ -9,7 +9,6 @@ to its File and Cell menus.
 from __future__ import annotations
 
 import logging
-import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -130,7 +129,8 @@ class CellTools:
         Cell."""
         anchor = next((act for act in file.actions() if act is after), None)
         after = file.actions()[file.actions().index(anchor) + 1] if anchor else None
-        file.insertActions(after, [self.act_open, self.act_save])
+        # None inserts at the end (Qt's nullptr), which PySide6's stub leaves out
+        file.insertActions(after, [self.act_open, self.act_save])  # type: ignore[arg-type]
         presets = cell.addMenu("Cell &presets")
         try:
             from barymesh.cell import cell_preset_names
@@ -170,7 +170,7 @@ class CellTools:
             self.host.set_setting("paths/cell", path)
             self.open_cell_file(path)
 
-    def open_cell_file(self, path: str | os.PathLike[str]) -> bool:
+    def open_cell_file(self, path: str | Path) -> bool:
         """Open a cell file; an invalid one is one sentence naming the file and the place
         in it (``elements[1].inner_radius``), and the window keeps what it shows."""
         from barymesh.cell import load_cell
@@ -212,7 +212,7 @@ class CellTools:
             self.host.set_setting("paths/cell", path)
             self.save_cell_file(path)
 
-    def save_cell_file(self, path: str | os.PathLike[str]) -> bool:
+    def save_cell_file(self, path: str | Path) -> bool:
         from barymesh.cell import save_cell
 
         cell = self.model.cell
@@ -257,11 +257,12 @@ class CellTools:
     # -- the array -------------------------------------------------------------------------
 
     def export_array_dialog(self) -> None:
-        if self.model.cell_state is None:
+        state = self.model.cell_state
+        if state is None:
             self.host.show_status("No unit cell is open: no array to export")
             return
         n1, n2 = self.lattice.copies
-        start = str(self.host.setting("paths/array", f"{self.model.cell.name}-{n1}x{n2}.msh"))
+        start = str(self.host.setting("paths/array", f"{state.cell.name}-{n1}x{n2}.msh"))
         from barymesh.io import export_filters, filter_extension
 
         # only what write_mesh writes (it offered .nas and .ply, then "cannot write .nas")
@@ -276,7 +277,7 @@ class CellTools:
 
     def export_array(
         self,
-        path: str | os.PathLike[str],
+        path: str | Path,
         unit: str | None = None,
         done: Callable[[bool], None] | None = None,
     ) -> bool:
@@ -340,6 +341,7 @@ class CellTools:
             if self.preview.clear():
                 self.host.request_render()
             return
+        assert result is not None  # it holds the cell
         # a freshly framed mesh (not a camera the user moved) is framed with its copies
         was_framed = self.framing.holds(exact=True)
         self.preview.show(result.mesh, cell.lattice, *self.lattice.copies)

@@ -15,11 +15,12 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt
+from PySide6.QtGui import QMouseEvent
 
 from barymesh.app.model import AppModel, ClickTools
 from barymesh.app.tool_host import ToolHost
@@ -138,7 +139,13 @@ class ElementDragger(QObject):
     def element_at(self, pos: QPointF) -> int | None:
         """The element (index in the whole cell) whose metal is under ``pos``, or None."""
         result, state = self.model.result, self.model.cell_state
-        if result is None or result.cell is None or state is None or state.visible != result.cell:
+        if (
+            result is None
+            or result.cell is None
+            or result.mesh is None
+            or state is None
+            or state.visible != result.cell
+        ):
             return None
         ratio = self.plotter.devicePixelRatioF()
         hit = self.picker.pick_display(
@@ -154,18 +161,19 @@ class ElementDragger(QObject):
         if not self.active:
             return False
         kind = event.type()
+        mouse = cast(QMouseEvent, event)  # read in the mouse events' branches only
         try:
-            if kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
-                return self._press(event.position())
+            if kind == QEvent.Type.MouseButtonPress and mouse.button() == Qt.MouseButton.LeftButton:
+                return self._press(mouse.position())
             if kind == QEvent.Type.MouseMove and self.dragging is not None:
-                self._move(event.position())
+                self._move(mouse.position())
                 return True
             if (
                 kind == QEvent.Type.MouseButtonRelease
                 and self.dragging is not None
-                and event.button() == Qt.MouseButton.LeftButton
+                and mouse.button() == Qt.MouseButton.LeftButton
             ):
-                self._release(event.position())
+                self._release(mouse.position())
                 return True
         except Exception:  # noqa: BLE001 - a drag must never take the window down
             log.exception("dragging an element failed")
@@ -180,6 +188,7 @@ class ElementDragger(QObject):
         model = self.model
         model.select_element(k)
         self.dragging, self._start = k, start
+        assert model.cell_state is not None  # an element was found
         self._origin = model.cell_state.elements[k].position
         self.target = self._origin
         boxes = self._boxes()
@@ -191,6 +200,7 @@ class ElementDragger(QObject):
     def _boxes(self) -> dict[int, np.ndarray]:
         """Bounding box (x0, y0, x1, y1) of every shown element as placed, by its index."""
         result, state = self.model.result, self.model.cell_state
+        assert result is not None and state is not None  # a cell's mesh is on screen
         shown = [k for k, hidden in enumerate(state.hidden) if not hidden]
         boxes = {}
         for k, mesh in zip(shown, result.cell_mesh.part_meshes, strict=False):
@@ -230,7 +240,7 @@ class ElementDragger(QObject):
             math.isclose(a, b, abs_tol=1e-12) for a, b in zip(target, self._origin, strict=True)
         )
         self._cancel()
-        if moved:
+        if moved and k is not None:  # k: a drag was under way
             self.model.edit_cell(lambda s: s.placed(k, position=target))
 
     def _cancel(self) -> None:
@@ -244,6 +254,7 @@ class ElementDragger(QObject):
     def _draw_part(self, k: int) -> None:
         """The element's own mesh as a wireframe that follows the pointer."""
         result, state = self.model.result, self.model.cell_state
+        assert result is not None and state is not None  # a cell's mesh is on screen
         part = [j for j, hidden in enumerate(state.hidden) if not hidden].index(k)
         mesh = result.cell_mesh.part_meshes[part]
         if not mesh.n_triangles:

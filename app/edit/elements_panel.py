@@ -10,10 +10,10 @@ under the list; the cell and its mesh stay as they were.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, cast
 
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
-from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtGui import QAction, QKeyEvent, QKeySequence
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QFormLayout,
@@ -175,6 +175,7 @@ class ElementsPanel(QWidget):
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         """Keys typed into the list: Del deletes, Alt+↑/↓ move the selected element."""
         if watched is self.list and event.type() == QEvent.Type.KeyPress:
+            event = cast(QKeyEvent, event)
             alt = event.modifiers() == Qt.KeyboardModifier.AltModifier
             if event.key() == Qt.Key.Key_Delete and not event.modifiers():
                 self.delete()
@@ -215,7 +216,7 @@ class ElementsPanel(QWidget):
         k = self._selected()
         return k is not None and self.model.edit_cell(lambda s: s.deleted(k))
 
-    def move(self, step: int) -> bool:
+    def move(self, step: int) -> bool:  # type: ignore[override]  # over QWidget.move(), its own
         k = self._selected()
         return k is not None and self.model.edit_cell(lambda s: s.moved(k, step))
 
@@ -319,16 +320,20 @@ class ElementsPanel(QWidget):
             self._rows = rows
             self._fill(state)
         if state is not None and state.selected is not None:
-            self.list.setCurrentItem(self.list.topLevelItem(state.selected))
+            item = self.list.topLevelItem(state.selected)
+            assert item is not None  # _fill made a row per element
+            self.list.setCurrentItem(item)
         self.list.blockSignals(False)
         has = state is not None
-        selected = has and state.selected is not None
+        index = state.selected if state is not None else None
+        count = len(state.elements) if state is not None else 0
+        selected = index is not None
         for w in (self.list, self.add_button):
             w.setEnabled(has)
         for act in (self.act_duplicate, self.act_delete):
             act.setEnabled(selected)
-        self.act_up.setEnabled(selected and state.selected > 0)
-        self.act_down.setEnabled(selected and state.selected < len(state.elements) - 1)
+        self.act_up.setEnabled(index is not None and index > 0)
+        self.act_down.setEnabled(index is not None and index < count - 1)
         self.position.setEnabled(selected)
         self.rotation.setEnabled(selected)
         self._show_selected()

@@ -25,12 +25,12 @@ import logging
 import time
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence, QMouseEvent
 from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
@@ -124,14 +124,15 @@ def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float, generation
     if cell is None:
         return Built(generation, mask, faces=Layer(), edges=Layer(), stats=None)
     grid = cell.pixels
+    assert grid is not None  # the painter's cells hold a pixel grid
     per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
-    triangles = per_pixel * int(mask.sum())
-    if triangles > DEFAULT_MAX_TRIANGLES:
+    count = per_pixel * int(mask.sum())
+    if count > DEFAULT_MAX_TRIANGLES:
         return Built(
             generation,
             mask,
             error=(
-                f"{int(mask.sum()):,} pixels make {triangles:,} triangles, more than the budget "
+                f"{int(mask.sum()):,} pixels make {count:,} triangles, more than the budget "
                 f"of {DEFAULT_MAX_TRIANGLES:,}"
             ),
         )
@@ -273,7 +274,7 @@ class PixelPainterWindow(QMainWindow):
         self._render_timer.setInterval(0)
         self._render_timer.timeout.connect(self._render)
 
-        self.undo_history: UndoHistory[PainterState] | None = None  # made by open_cell
+        self.undo_history: UndoHistory[PainterState]  # made by open_cell
         self.open_cell(cell if cell is not None else _start_cell())
         self.resize(1100, 860)
 
@@ -298,7 +299,7 @@ class PixelPainterWindow(QMainWindow):
         return self.state.grid
 
     @property
-    def mask(self) -> np.ndarray:
+    def mask(self) -> np.ndarray:  # type: ignore[override]  # shadows QWidget.mask()
         """(R, C) bool: the grid's mask (row 0 at the bottom)."""
         return self.state.grid.mask
 
@@ -344,7 +345,9 @@ class PixelPainterWindow(QMainWindow):
         if state.grid == self.grid and state.lattice == self.state.lattice:
             return False
         self.undo_history.push(state)
-        before = self.undo_history.previous.grid
+        previous = self.undo_history.previous
+        assert previous is not None  # the state just left
+        before = previous.grid
         reframe = grid.shape != before.shape or grid.pixel_size != before.pixel_size
         self._state_changed(reframe=reframe)
         return True
@@ -373,7 +376,7 @@ class PixelPainterWindow(QMainWindow):
         self.size_box.setValue(grid.pixel_size)
         self.size_box.blockSignals(False)
         if grid.shape[0] != grid.shape[1] and self.symmetry in ("4-fold", "8-fold"):
-            self._square_symmetry = self.symmetry  # back when the grid is square again
+            self._square_symmetry: str | None = self.symmetry  # back when square again
             self._set_symmetry_box("none")
             self.statusBar().showMessage(self.NOT_SQUARE, 8000)
         elif grid.shape[0] == grid.shape[1]:
@@ -467,7 +470,7 @@ class PixelPainterWindow(QMainWindow):
             self._set_symmetry_box(self._last_symmetry)
             self.statusBar().showMessage(str(exc), 8000)
             return
-        self._last_symmetry = mode
+        self._last_symmetry: str = mode
         self._square_symmetry = None
         self._refresh_hover()
         if not pixels.is_invariant(self.mask, mode):
@@ -565,19 +568,20 @@ class PixelPainterWindow(QMainWindow):
         if watched is not self.plotter or self._closed:
             return False
         kind = event.type()
+        mouse = cast(QMouseEvent, event)  # read in the mouse events' branches only
         if kind in (QEvent.Type.MouseButtonPress, QEvent.Type.MouseButtonDblClick):
-            if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
-                self._press(event.position(), event.button() == Qt.MouseButton.RightButton)
+            if mouse.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
+                self._press(mouse.position(), mouse.button() == Qt.MouseButton.RightButton)
                 return True
         elif kind == QEvent.Type.MouseMove:
             if self._stroke is not None:
-                self._move(event.position())
+                self._move(mouse.position())
                 return True
-            self._hover(self.pixel_at(event.position()))
+            self._hover(self.pixel_at(mouse.position()))
         elif kind == QEvent.Type.Leave:
             self._hover(None)
         elif kind == QEvent.Type.MouseButtonRelease:
-            if event.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
+            if mouse.button() in (Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton):
                 self._release()
                 return True
         elif kind == QEvent.Type.KeyPress:
@@ -604,7 +608,7 @@ class PixelPainterWindow(QMainWindow):
 
     def _move(self, pos: QPointF) -> None:
         pixel = self.pixel_at(pos)
-        if pixel is not None and pixel != self._stroke["last"]:
+        if pixel is not None and self._stroke is not None and pixel != self._stroke["last"]:
             self._add_to_stroke(pixel)
 
     def _hover(self, pixel: tuple[int, int] | None) -> None:
@@ -636,6 +640,7 @@ class PixelPainterWindow(QMainWindow):
 
     def _add_to_stroke(self, pixel: tuple[int, int]) -> None:
         stroke = self._stroke
+        assert stroke is not None  # a stroke under way
         last = stroke["last"]
         new = pixels.pixel_line(last, pixel) if last is not None else np.array([pixel])
         stroke["pixels"].extend(map(tuple, new.tolist()))
@@ -884,6 +889,7 @@ class PixelPainterWindow(QMainWindow):
             and built.error is None
         )
         if current:
+            assert built is not None and built.stats is not None  # current
             s = built.stats
             parts += [
                 f"Triangles <b>{s['triangles']:,}</b>",
@@ -924,7 +930,7 @@ class PixelPainterWindow(QMainWindow):
         )
         self._schedule_render()
 
-    _edges_view: tuple[float, ...] | None = None
+    _edges_view: tuple[object, ...] | None = None
 
     def _edges_in_view(self) -> None:
         """The triangle edges to draw: all of them, or on a large mesh those whose midpoint
@@ -946,6 +952,7 @@ class PixelPainterWindow(QMainWindow):
         if self._edges_view == key:
             return
         m = built.midpoints
+        assert m is not None and built.lifted is not None and built.edge_pairs is not None
         keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
         self._set("edges", _lines(built.lifted, built.edge_pairs[keep]), deep=False)
         self._edges_view = key
@@ -1049,7 +1056,7 @@ class PixelPainterWindow(QMainWindow):
             "Symmetry of every edit about the grid's centre (keys 0, X, Y, 4, 8)"
         )
         self._last_symmetry = "none"
-        self._square_symmetry: str | None = None
+        self._square_symmetry = None
         self.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
         for mode, key in SYMMETRY_KEYS.items():
             a(
@@ -1070,14 +1077,14 @@ class PixelPainterWindow(QMainWindow):
         self.density_box.setValue(50)
         self.density_box.setSuffix(" %")
         self.density_box.setToolTip("Share of metal in the random fill")
-        self.rows_box = QSpinBox(self)
-        self.cols_box = QSpinBox(self)
+        self.rows_box: QSpinBox = QSpinBox(self)
+        self.cols_box: QSpinBox = QSpinBox(self)
         for box, what in ((self.rows_box, "Rows"), (self.cols_box, "Columns")):
             box.setRange(1, pixels.MAX_SIDE)
             box.setKeyboardTracking(False)
             box.setToolTip(f"{what} of the grid (resized about its centre)")
             box.editingFinished.connect(self._shape_edited)
-        self.size_box = QDoubleSpinBox(self)
+        self.size_box: QDoubleSpinBox = QDoubleSpinBox(self)
         self.size_box.setDecimals(4)
         self.size_box.setRange(1e-4, 1e4)
         self.size_box.setSuffix(" mm")

@@ -28,6 +28,7 @@ nothing, so painting and then erasing a pixel restores the mask.
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 from scipy import ndimage
 
 from barymesh.cell import SYMMETRIES, symmetrized
@@ -128,7 +129,7 @@ def _index(mask: np.ndarray, row: int, col: int) -> tuple[int, int]:
 
 
 def painted(
-    mask: np.ndarray, pixels: np.ndarray, symmetry: str = "none", value: bool = True
+    mask: np.ndarray, pixels: npt.ArrayLike, symmetry: str = "none", value: bool = True
 ) -> np.ndarray:
     """Set (``value`` True) or clear every pixel of ``pixels`` and all their images.
 

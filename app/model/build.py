@@ -112,7 +112,7 @@ def _timed_build(
     mesh and the cell mesh it belongs to (or ``None``), then the statistics, the cell's
     statistics and ``prepare``, timed, with ``cancel`` checked between the stages."""
     timings: dict[str, float] = {}
-    known = {"cell": origin.cell}
+    known: dict[str, Any] = {"cell": origin.cell}
 
     def check() -> None:
         if cancel is not None and cancel():

@@ -51,7 +51,7 @@ class ViewSelection:
     def points(
         self,
         mesh: Any,
-        measured: Sequence[Sequence[float]] | None = None,
+        measured: Sequence[Sequence[float] | np.ndarray] | None = None,
         taught: Sequence[int] | None = None,
     ) -> np.ndarray | None:
         """The corners Zoom to selection frames, (k, 3) float mm, or None.

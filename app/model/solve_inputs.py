@@ -52,7 +52,7 @@ def read_vector(text: str, name: str) -> tuple[float, float, float]:
         raise ValueError(
             f"{name} {text!r} is invalid; expected an axis (x, -z, …) or three numbers x, y, z"
         )
-    return values  # type: ignore[return-value]
+    return values
 
 
 def read_point(text: str, name: str) -> tuple[float, ...]:

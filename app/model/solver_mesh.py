@@ -21,6 +21,7 @@ from __future__ import annotations
 import functools
 import threading
 from collections import OrderedDict
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -148,13 +149,17 @@ def solver_mesh(
     shown = result.mesh
     if result.cell is not None:
         target: Any = result.cell
-        grade = solver_cell
+        grade: Callable[..., Any] = solver_cell
         build = lambda graded: build_cell(graded).mesh  # noqa: E731
     elif gradable(result):
         target, grade, build = result.params, solver_params, build_mesh
     else:
         return SolvedMesh(shown, shown)
-    key = (target, top_frequency, float(relative_permittivity))
+    key: tuple[Any, float | None, float] | None = (
+        target,
+        top_frequency,
+        float(relative_permittivity),
+    )
     try:
         hash(key)
     except TypeError:  # a part that cannot be a key: built every time

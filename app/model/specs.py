@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, TypedDict
 
 from barymesh import MeshParams
 from barymesh.params import (
@@ -174,7 +174,15 @@ class ParamSpec:
 
 #: Lengths span what the presets use (0.5 mm split-ring tracks to Makarov's 1000 mm plate)
 #: with room on both sides, so their sliders are logarithmic.
-_LENGTH = {
+class _Scale(TypedDict):
+    unit: str
+    minimum: float
+    maximum: float
+    per_decade: int
+    follows_value: bool
+
+
+_LENGTH: _Scale = {
     "unit": "mm",
     "minimum": 0.01,
     "maximum": 10_000.0,
@@ -324,7 +332,7 @@ ADVANCED_SPECS = (
 )
 SPECS = {s.name: s for s in PARAM_SPECS + ADVANCED_SPECS}
 #: Choice parameters: name -> (label, {value: title}).
-CHOICES = {
+CHOICES: dict[str, tuple[str, dict[Any, str]]] = {
     "structure": ("Structure", STRUCTURE_TITLES),
     "mode": ("Mode", MODE_TITLES),
     "diagonal": ("Diagonal", {"BC": "BC (paper)", "AD": "AD (Makarov)"}),

@@ -222,7 +222,7 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
         fig,
         (float(box_m.x0), float(box_m.x1)),
         (height - float(box_m.y1), height - float(box_p.y0)),
-        tuple(float(v) for v in mag.get_xlim()),
+        (float(mag.get_xlim()[0]), float(mag.get_xlim()[1])),
     )
 
 

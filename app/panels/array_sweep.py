@@ -341,6 +341,7 @@ def solver_process() -> tuple[ProcessPoolExecutor, _Shared]:
                 max_workers=1, mp_context=context, initializer=_child_start, initargs=(_SHARED,)
             )
             atexit.register(_PROCESS.shutdown, wait=False, cancel_futures=True)
+        assert _SHARED is not None  # made with the process
         return _PROCESS, _SHARED
 
 

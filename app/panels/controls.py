@@ -20,7 +20,7 @@ a typed value (or Undo) lies outside it, and whenever a whole new set of paramet
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from PySide6.QtCore import QEvent, QLocale, Qt, Signal
 from PySide6.QtGui import QKeyEvent
@@ -104,7 +104,7 @@ class ValueField(QLineEdit):
         # window shortcut (such as cancelling a build).
         if (
             event.type() == QEvent.Type.ShortcutOverride
-            and event.key() == Qt.Key.Key_Escape
+            and cast(QKeyEvent, event).key() == Qt.Key.Key_Escape
             and (self.property("refused") or self.text() != self._shown)
         ):
             event.accept()
@@ -114,7 +114,7 @@ class ValueField(QLineEdit):
         # the value, and submitted nothing); with an edit under way it undoes typing
         if (
             event.type() == QEvent.Type.ShortcutOverride
-            and _is_undo_key(event)
+            and _is_undo_key(cast(QKeyEvent, event))
             and self.text() == self._shown
             and not self.property("refused")
         ):
@@ -123,7 +123,7 @@ class ValueField(QLineEdit):
         return super().event(event)
 
     def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 - Qt's name
-        steps = {
+        steps: dict[int, int] = {  # by key code (event.key() is an int)
             Qt.Key.Key_Up: 1,
             Qt.Key.Key_Down: -1,
             Qt.Key.Key_PageUp: 10,
@@ -220,7 +220,7 @@ class FieldRow:
 
     def recentre(self, value: Any) -> None:
         """Centre a windowed slider on ``value`` (its range and the handle follow)."""
-        if self.slider is None or not self.spec.windowed:
+        if self.slider is None or self.spec is None or not self.spec.windowed:
             return
         spec = self.spec.around(value)
         if spec == self.slider_spec:
@@ -241,8 +241,11 @@ class FieldRow:
         shown = value
         if self.spec is not None and self.spec.scale != 1 and isinstance(value, (int, float)):
             shown = value / self.spec.scale  # Hz shown in GHz
-        self.field.show_text(self.typed if typed else format_value(shown))
+        self.field.show_text(
+            self.typed if typed and self.typed is not None else format_value(shown)
+        )
         if self.slider is not None:  # a refused typed value leaves the slider where it was
+            assert self.spec is not None and self.slider_spec is not None  # a slider's
             on_slider = fallback if typed else value
             if self.spec.windowed and not self.slider.isSliderDown():
                 target = on_slider if on_slider is not None else centre
@@ -390,6 +393,7 @@ class ControlsPanel(QWidget):
 
     def _slider_moved(self, row: FieldRow, pos: int) -> None:
         row.typed = None
+        assert row.slider is not None and row.slider_spec is not None  # it moved
         down = row.slider.isSliderDown()
         self.model.set_value(row.name, row.slider_spec.from_slider(pos), merge=down)
         if not down and pos in (row.slider.minimum(), row.slider.maximum()):
@@ -420,7 +424,7 @@ class ControlsPanel(QWidget):
             row.recentre(value if value is not None else draft.get("patch_size"))
 
     def show_draft(self, draft: dict[str, Any]) -> None:
-        structure = draft.get("structure")
+        structure: str = draft.get("structure", "")  # "" as None: applies to nothing
         for name, combo in self.combos.items():
             index = combo.findData(draft.get(name))
             combo.blockSignals(True)
@@ -430,6 +434,7 @@ class ControlsPanel(QWidget):
             combo.setEnabled(applies(name, structure))
         scheme = draft.get("scheme", "uniform")
         sub = self.rows["subdivisions"].slider
+        assert sub is not None  # the subdivisions have a slider
         top = subdivisions_limit(scheme if scheme in ("uniform", "barycentric") else "uniform")
         if sub.maximum() != top - 1:
             sub.blockSignals(True)
@@ -456,7 +461,7 @@ class ControlsPanel(QWidget):
         """Under the greyed subdivisions: the n the sizing chose for the mesh on screen."""
         result = self.model.result
         chosen = None if result is None else result.stats.get("subdivisions_chosen")
-        if chosen is None or result.params != self.model.params:
+        if result is None or chosen is None or result.params != self.model.params:
             return "chosen by the mesher from the frequency or the largest edge"
         what = "levels" if self.model.params.scheme == "barycentric" else "n"
         return (
@@ -478,7 +483,8 @@ class ControlsPanel(QWidget):
         """A mesh file on screen: say which, and keep the parameters out of reach."""
         path = self.model.file_source
         in_file = path is not None
-        if in_file:
+        if path is not None:
+            assert result is not None  # the file's mesh is on screen
             s = result.stats
             self.file_label.setText(
                 f"<b>{Path(path).name}</b><br>{s['triangles']:,} triangles · "

@@ -223,6 +223,7 @@ class PictureView(QWidget):
     def data_to_widget(self, hz: float) -> QPoint:
         """Widget pixel of frequency ``hz`` half way down the curve's axes (tests click)."""
         p = self.picture
+        assert p is not None  # a curve is drawn
         return QPoint(round(p.widget_x(hz)), round(p.widget_y_middle()))
 
     def paintEvent(self, _event: Any) -> None:  # noqa: N802 - Qt's name
@@ -406,7 +407,9 @@ class InfiniteArrayPanel(QWidget):
         self.stack_editor = StackEditor(self.stack_box)
         self.stack_editor.changed.connect(self._stack_changed)
         # a good stack again: a refusal of it under Run goes (a bad one is said in the box)
-        self.stack_editor.edited.connect(lambda: self.stack_editor.error or self._edited())
+        self.stack_editor.edited.connect(
+            lambda: None if self.stack_editor.error else self._edited()
+        )
         box.addWidget(self.stack_editor)
         col.addWidget(self.stack_box)
         self.note = QLabel("No curve yet.", self)
@@ -451,7 +454,9 @@ class InfiniteArrayPanel(QWidget):
         self.table = QTableWidget(0, len(ORDER_COLUMNS), self)
         self.table.setHorizontalHeaderLabels(list(ORDER_COLUMNS))
         for column, tip in enumerate(ORDER_TIPS):
-            self.table.horizontalHeaderItem(column).setToolTip(tip)
+            header_item = self.table.horizontalHeaderItem(column)
+            assert header_item is not None  # made by the labels above
+            header_item.setToolTip(tip)
         self.table.verticalHeader().hide()
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
@@ -604,6 +609,7 @@ class InfiniteArrayPanel(QWidget):
         except ValueError as exc:
             self.error.setText(str(exc))
             return False
+        assert mesh is not None  # _reason refuses no mesh
         self.error.clear()
         self.engaged = True
         self._cancel_running("array")
@@ -793,7 +799,7 @@ class InfiniteArrayPanel(QWidget):
         )
         self.curve_line.setToolTip("\n".join(found.values()))
 
-    def _show_point(self, solution: Any, mesh: TriMesh) -> None:
+    def _show_point(self, solution: Any, mesh: TriMesh | None) -> None:
         self.point, self.point_mesh = solution, mesh
         rows = orders_rows(solution)
         self.table.setRowCount(len(rows))

@@ -126,6 +126,7 @@ class LayersPanel(QWidget):
         self.warning.setVisible(bool(text))
 
     def _result_changed(self, result: MeshResult) -> None:
+        assert result.mesh is not None  # result_changed brings a mesh (AppModel.set_result)
         self._show_warning()
         small = result.mesh is not None and result.mesh.n_triangles <= LABEL_LIMIT
         box = self.boxes["labels"]

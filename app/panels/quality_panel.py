@@ -186,6 +186,8 @@ class QualityPanel(QWidget):
         Its model (results), plotter (the red layer) and view tools (zoom to a triangle).
     """
 
+    window: Any  # the main window, named over QWidget.window()
+
     #: (token, mesh, report or error text) from a worker thread.
     #: A report is on show (tests, the window).
     report_changed = Signal(object)

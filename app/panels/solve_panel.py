@@ -135,7 +135,7 @@ class Outcome:
     """What a solve or sweep job delivers to the GUI thread."""
 
     token: int
-    mesh: TriMesh
+    mesh: TriMesh | None  # None: a redraw's
     kind: str  # "solve" or "sweep"
     result: Any = None  # barymesh.mom.Solution or SweepResult
     error: str | None = None
@@ -144,7 +144,7 @@ class Outcome:
     thread: int = field(default_factory=threading.get_ident)
 
 
-def run_job(token: int, mesh: TriMesh, kind: str, work: Callable[[], Any]) -> Outcome:
+def run_job(token: int, mesh: TriMesh | None, kind: str, work: Callable[[], Any]) -> Outcome:
     """Call ``work()`` and wrap what it returns or raises (never raises)."""
     from barymesh.mom import ProblemTooLarge, SolveCancelled
 
@@ -226,7 +226,7 @@ class SweepPlot(QWidget):
 
     def data_to_widget(self, hz: float) -> tuple[int, int]:
         """Widget pixel (x, y) of frequency ``hz`` half way up the axes (tests click there)."""
-        ymid = np.mean(self.axes.get_ylim())
+        ymid = float(np.mean(self.axes.get_ylim()))
         x, y = self.axes.transData.transform((hz / 1e9, ymid))
         ratio = self.canvas.device_pixel_ratio or 1.0
         return round(x / ratio), round(self.canvas.height() - y / ratio)
@@ -366,8 +366,13 @@ class SolvePanel(QWidget):
         self.solver_grade = QCheckBox("Solver-&grade mesh", page)
         self.solver_grade.setChecked(True)
         self.solver_grade.setToolTip(SOLVER_GRADE_TIP)
+
         # once solved, another mesh is another input (a window not yet solved stays so)
-        self.solver_grade.toggled.connect(lambda _on: self.engaged and self._inputs_edited())
+        def grade_toggled(_on: bool) -> None:
+            if self.engaged:
+                self._inputs_edited()
+
+        self.solver_grade.toggled.connect(grade_toggled)
         form.addRow(self.solver_grade)
         self.auto = QCheckBox(f"Auto-solve N ≤ {AUTO_SOLVE_UNKNOWNS}", page)
         self.auto.setChecked(True)
@@ -434,15 +439,16 @@ class SolvePanel(QWidget):
         label.setBuddy(self.phase)
         form.addRow(label, row)
 
-        for edit in (
+        for line in (
             self.frequency,
             self.direction.lineEdit(),
             self.polarization.lineEdit(),
             self.feed_start,
             self.feed_end,
         ):
-            edit.returnPressed.connect(self._inputs_edited)
-            edit.editingFinished.connect(self._inputs_edited)
+            assert line is not None  # the direction boxes are editable
+            line.returnPressed.connect(self._inputs_edited)
+            line.editingFinished.connect(self._inputs_edited)
         self.unit.currentIndexChanged.connect(lambda _i: self._inputs_edited())
         self.direction.activated.connect(lambda _i: self._inputs_edited())
         self.polarization.activated.connect(lambda _i: self._inputs_edited())
@@ -454,8 +460,8 @@ class SolvePanel(QWidget):
         feed = self.excitation.currentData() == "feed"
         for widget in (self.direction, self.polarization):
             self.form.setRowVisible(widget, not feed)
-        for widget in (self.feed_start, self.feed_end):
-            self.form.setRowVisible(widget, feed)
+        for feed_field in (self.feed_start, self.feed_end):
+            self.form.setRowVisible(feed_field, feed)
 
     def _excitation_changed(self, _index: int) -> None:
         self._show_excitation_rows()
@@ -517,14 +523,14 @@ class SolvePanel(QWidget):
             if len(start) != len(end):
                 raise ValueError("Feed start and end: give both as x, y or both as x, y, z")
             try:
-                return hz, VoltageSource(start, end)
+                return hz, VoltageSource(start, end)  # type: ignore[arg-type]  # numbers in, an array kept
             except ValueError as exc:
                 raise ValueError(
                     f"Feed {self.feed_start.text()!r} to {self.feed_end.text()!r}: {exc}"
                 ) from None
         d = read_vector(self.direction.currentText(), "Direction")
         p = read_vector(self.polarization.currentText(), "Polarisation")
-        return hz, PlaneWave(direction=d, polarization=p)
+        return hz, PlaneWave(direction=d, polarization=p)  # type: ignore[arg-type]  # numbers in, an array kept
 
     def _inputs_key(self) -> tuple[Any, ...] | None:
         from barymesh.mom import VoltageSource
@@ -753,6 +759,7 @@ class SolvePanel(QWidget):
         # the current is drawn on the mesh it was solved on (the solver-grade one, perhaps)
         self.layer.set_current(self.solved_mesh, s.current_density, s.charge_density)
         number, unit = format_frequency(s.frequency)
+        assert self.layer.magnitude is not None  # set_current made it
         jmax = float(self.layer.magnitude.max())
         from barymesh.mom import VoltageSource
 
@@ -840,7 +847,7 @@ class SolvePanel(QWidget):
 
     def _show_coefficient(self, edge: int | None = None) -> None:
         inspector = self._inspector()
-        if inspector is None:
+        if inspector is None or self.coefficient_label is None:  # made with the inspector
             return
         if edge is None:
             edge = -1 if inspector.edge is None else inspector.edge

@@ -205,7 +205,9 @@ class StackEditor(QWidget):
         self.table = QTableWidget(0, len(HEADERS), self)
         self.table.setHorizontalHeaderLabels(list(HEADERS))
         for column, tip in enumerate(HEADER_TIPS):
-            self.table.horizontalHeaderItem(column).setToolTip(tip)
+            header_item = self.table.horizontalHeaderItem(column)
+            assert header_item is not None  # made by the labels above
+            header_item.setToolTip(tip)
         header = self.table.horizontalHeader()
         header.setSectionResizeMode(0, QHeaderView.ResizeMode.ResizeToContents)
         for column in range(1, len(HEADERS)):
@@ -334,8 +336,9 @@ class StackEditor(QWidget):
             item.setBackground(SHEET_CELL)
             table.setItem(i, j, item)
         for j in range(2, len(HEADERS)):
-            table.setItem(i, j, QTableWidgetItem(""))
-            table.item(i, j).setFlags(Qt.ItemFlag.ItemIsEnabled)
+            blank = QTableWidgetItem("")
+            table.setItem(i, j, blank)
+            blank.setFlags(Qt.ItemFlag.ItemIsEnabled)
         table.setSpan(i, 1, 1, len(HEADERS) - 1)
 
     def cell_rect(self, row: int, column: str) -> Any:
@@ -381,7 +384,7 @@ class StackEditor(QWidget):
         self.table.setCurrentCell(min(i, len(self.rows) - 1), 1)
         self._apply()
 
-    def move(self, step: int) -> None:
+    def move(self, step: int) -> None:  # type: ignore[override]  # over QWidget.move(), its own
         """Move the selected row ``step`` (±1) rows; a layer moved past the sheet row
         changes sides."""
         i = self.table.currentRow()
@@ -413,11 +416,11 @@ class StackEditor(QWidget):
         self.error = ""
         self.message.clear()
         self.message.hide()
-        stack = None if stack.is_free_standing else stack
-        if stack != self.stack:
-            self.stack = stack
-            self.sketch.set_stack(stack)
-            self.changed.emit(stack)
+        kept = None if stack.is_free_standing else stack
+        if kept != self.stack:
+            self.stack = kept
+            self.sketch.set_stack(kept)
+            self.changed.emit(kept)
         self.edited.emit()
 
     def _mark_bad_cells(self, sheet: int) -> None:

@@ -101,7 +101,9 @@ class StatsPanel(QWidget):
             "color: #d0021b; font-weight: bold;" if junctions else ""
         )
         imported = result is not None and result.source != "parameters"
-        self.source.setText(f"Mesh file: {result.source}" if imported else "")
+        self.source.setText(
+            f"Mesh file: {result.source}" if result is not None and imported else ""
+        )
         self.cell.show_result(result)
 
     def text(self, key: str) -> str:

@@ -119,6 +119,7 @@ def compute_half(params: MeshParams, mode: str) -> Half:
     result = compute(p, prepare=scene_data)
     if result.error is not None:
         return Half(mode, error=result.error)
+    assert result.mesh is not None  # no error: a mesh
     half = Half(mode, result)
     if mode == "paper":
         coverage = patch_coverage(result.mesh)
@@ -167,6 +168,7 @@ def stats_html(half: Half) -> str:
     """The statistics under one half, as rich text."""
     if half.error is not None:
         return f"<span style='color:#d0021b'>{half.error}</span>"
+    assert half.result is not None  # no error: a result
     s = half.result.stats
     t, n = s["triangles"], s["interior_edges"]
     rows = [
@@ -392,6 +394,7 @@ class CompareView(FollowingView):
                 if half.mode in self.overlays:
                     self.overlays[half.mode].copy_from(pv.PolyData(), deep=True)
             else:
+                assert half.result is not None  # no error: a result
                 message.SetVisibility(False)
                 scene.update(half.result.scene)  # each half with its rulers in mm
                 bounds.append(half.result.scene.bounds)

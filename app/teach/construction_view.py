@@ -498,6 +498,7 @@ class ConstructionView(FollowingView):
         return [str(s) for s in data.point_data["label"]]
 
     def _draw(self, step: ConstructionStep, index: int) -> None:
+        assert self.params is not None  # set with the steps
         pts = np.asarray(self.steps[-1].points).reshape(-1, 2)
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         size = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-9))

@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import logging
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtGui import QCloseEvent, QKeySequence, QShortcut
 from PySide6.QtWidgets import QWidget
+
+if TYPE_CHECKING:
+    from barymesh import MeshParams
+    from barymesh.app.model import AppModel
 
 log = logging.getLogger(__name__)
 
@@ -43,6 +48,10 @@ class FollowingView(QWidget):
     _closed = False
     presenting = False
     _unrevealed: list[Any] | None = None
+    # set by the subclasses
+    model: AppModel
+    plotter: Any  # a pyvistaqt QtInteractor
+    _params_changed: Callable[[MeshParams], None]
 
     @property
     def closed(self) -> bool:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import html
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pyvista as pv
@@ -355,7 +356,7 @@ class InspectorOverlay:
     def __init__(self, plotter: pv.Plotter) -> None:
         self.plotter = plotter
         self.datasets = {name: pv.PolyData() for name in OVERLAY_PARTS}
-        self.actors: dict[str, object] = {}
+        self.actors: dict[str, Any] = {}  # pyvista actors and VTK 2D props
         self.visible = False
         self.scale = 1.0
         self._create_actors()

@@ -77,7 +77,7 @@ TITLE_FONT = 10
 MARGIN_PX = 6
 
 
-def occupancy_image(matrix: sp.spmatrix, bins: int) -> np.ndarray:
+def occupancy_image(matrix: sp.csr_matrix, bins: int) -> np.ndarray:
     """(b, b) bool: whether each block of a square sparse matrix holds a nonzero.
 
     >>> occupancy_image(sp.eye(4, format="csr"), 2).astype(int).tolist()
@@ -392,7 +392,9 @@ class MatrixView(QWidget):
         if self.matrix is None:
             return 0
         if self.matrix.shape[0] <= DENSE_LIMIT:
-            return int(np.count_nonzero(self.image.get_array()))
+            image = self.image.get_array()
+            assert image is not None  # drawn with the matrix
+            return int(np.count_nonzero(image))
         return int(self.matrix.nnz)
 
     def table_nonzeros(self) -> int:
@@ -520,7 +522,7 @@ class MatrixView(QWidget):
         side = max(min(width - left - right, height - top - bottom), 4.0)
         x0 = left + 0.5 * (width - left - right - side)
         y0 = bottom + 0.5 * (height - top - bottom - side)
-        self.axes.set_position([x0 / width, y0 / height, side / width, side / height])
+        self.axes.set_position((x0 / width, y0 / height, side / width, side / height))
         self.axes.set_title(
             self.axes.get_title(), fontsize=TITLE_FONT * s, y=1.0, pad=top_of_axes / pt + 6.0
         )
@@ -540,6 +542,7 @@ class MatrixView(QWidget):
     def _snapped(self, row: int, col: int) -> tuple[int, int]:
         """On a big matrix, a zero cell next to a one (within a few pixels) means the one."""
         m = self.matrix
+        assert m is not None  # a click on a drawn matrix
         cols = m.indices[m.indptr[row] : m.indptr[row + 1]]
         if len(cols) == 0 or col in cols:
             return row, col

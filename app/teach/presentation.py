@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QFont
 from PySide6.QtWidgets import QDockWidget, QMainWindow, QToolBar, QWidget
 
 #: Lines, dots and 3D-view fonts are this many times larger in presentation mode.
@@ -37,8 +38,8 @@ class PresentationMode:
         self.emphasize = emphasize
         self.active = False
         self._hidden: list[QWidget] = []
-        self._font = None
-        self._state = None
+        self._font: QFont | None = None
+        self._state: Qt.WindowState | None = None
 
     def panels(self) -> list[QWidget]:
         """Docks and toolbars of the window (what presentation mode hides)."""

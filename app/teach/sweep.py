@@ -12,6 +12,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 import pyvista as pv
 
 from barymesh import MeshParams, build_mesh
@@ -124,7 +125,7 @@ def render_sweep(
     width, height = (int(v) for v in window_size)
     prepare_headless()
     plotter = pv.Plotter(off_screen=True, window_size=(width, height))
-    images = []
+    images: list[npt.ArrayLike] = []
     try:
         scene = MeshScene(plotter)
         caption = plotter.add_text("", position="upper_left", font_size=11, color="#202020")
@@ -142,7 +143,7 @@ def render_sweep(
     return len(images)
 
 
-def _encode(images: list[np.ndarray], path: Path, fps: float) -> None:
+def _encode(images: list[npt.ArrayLike], path: Path, fps: float) -> None:
     import imageio.v2 as imageio
 
     suffix = path.suffix.lower()

@@ -17,6 +17,7 @@ import logging
 import multiprocessing
 import queue
 import threading
+from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 
@@ -142,9 +143,15 @@ class SweepDialog(QDialog):
     finished_export = Signal(object)  # frame count, "cancelled" or an error message
     #: (frames done, frames in all) as the sweep goes
     progressed = Signal(int, int)
+    # attributes named over QWidget.size() and QDialog.result() (the tests use them)
+    size: QComboBox  # type: ignore[assignment]
+    result: object  # type: ignore[assignment]
 
     def __init__(
-        self, params: MeshParams, parent: QWidget | None = None, start_dir: str = ""
+        self,
+        params: MeshParams | Callable[[], MeshParams],
+        parent: QWidget | None = None,
+        start_dir: str = "",
     ) -> None:
         super().__init__(parent)
         self.setWindowTitle("Export sweep animation")
@@ -154,7 +161,7 @@ class SweepDialog(QDialog):
         self.jobs = Jobs(self, name="barymesh-sweep")
         self.stop = threading.Event()
         self.running = False
-        self.result: object = None
+        self.result = None
         self.result_path: Path | None = None
 
         form = QFormLayout(self)

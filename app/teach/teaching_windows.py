@@ -78,7 +78,8 @@ class TeachingWindows(QObject):
             try:
                 self.construction = ConstructionView(self.model, self.host.widget)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
-                return self._failed("construction view", exc)
+                self._failed("construction view", exc)
+                return None
         self._raise(self.construction)
         return self.construction
 
@@ -89,7 +90,8 @@ class TeachingWindows(QObject):
             try:
                 self.compare = CompareView(self.model, self.host.widget)
             except Exception as exc:  # noqa: BLE001 - reported, never a crash
-                return self._failed("paper vs conforming view", exc)
+                self._failed("paper vs conforming view", exc)
+                return None
         self._raise(self.compare)
         return self.compare
 
@@ -103,7 +105,8 @@ class TeachingWindows(QObject):
         try:
             self.sweep = SweepDialog(lambda: self.model.params, self.host.widget, start_dir=start)
         except Exception as exc:  # noqa: BLE001 - reported, never a crash
-            return self._failed("sweep dialog", exc)
+            self._failed("sweep dialog", exc)
+            return None
         self.sweep.finished_export.connect(self._sweep_done)
         self._raise(self.sweep)
         return self.sweep

@@ -235,12 +235,14 @@ class CurrentLayer:
 
     def _charge_values(self) -> np.ndarray:
         """(T,) Re(ρ_s e^{jφ}) (zeros without a charge density)."""
+        assert self.current is not None  # a current is shown
         if self.charge is None:
             return np.zeros(len(self.current))
         return np.real(self.charge * np.exp(1j * np.deg2rad(self.phase)))
 
     def _colouring(self) -> tuple[str, list[float], bool, str, str]:
         """(array, clim, log scale, colour map, bar title) of the current quantity."""
+        assert self.magnitude is not None  # a current is shown
         if self.quantity == "charge":
             peak = float(np.abs(self.charge).max()) if self.charge is not None else 0.0
             peak = peak if peak > 0 else 1.0
@@ -296,6 +298,8 @@ class CurrentLayer:
     def _glyphs(self) -> Any:
         """The arrows: ``pyvista.Arrow`` glyphs at the centroids, longest = the scale."""
         import pyvista as pv
+
+        assert self.mesh is not None and self.current is not None and self.magnitude is not None
 
         vectors = self.vectors = arrow_vectors(self.current, self.phase)
         peak = float(self.magnitude.max()) if self.magnitude.size else 0.0

@@ -202,6 +202,7 @@ def triangle_raster(
                 value = a_ * dx + b_ * dy
                 value += a_ * ox + b_ * oy + ec[t, None]
                 inside = value >= 0 if inside is None else inside & (value >= 0)
+            assert inside is not None  # a triangle has three edges
             rows_, cols_ = np.nonzero(inside)
             hit = t[rows_]
             out[j0[hit] + (cols_ // gw), i0[hit] + (cols_ % gw)] = many[hit]
@@ -304,8 +305,8 @@ def overlap_count_raster(
     diff = np.zeros((rows + 1) * (cols + 1), dtype=np.int32)
     for jj, ii, sign in ((j0, i0, 1), (j0, i1, -1), (j1, i0, -1), (j1, i1, 1)):
         np.add.at(diff, jj * (cols + 1) + ii, sign)
-    diff = diff.reshape(rows + 1, cols + 1)
-    return np.cumsum(np.cumsum(diff, axis=0), axis=1)[:rows, :cols].astype(np.int32)
+    grid = diff.reshape(rows + 1, cols + 1)
+    return np.cumsum(np.cumsum(grid, axis=0), axis=1)[:rows, :cols].astype(np.int32)
 
 
 def overlap_counts_at(rects: np.ndarray, xy: np.ndarray) -> np.ndarray:

@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, Signal
+from PySide6.QtGui import QMouseEvent
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 log = logging.getLogger(__name__)
@@ -102,15 +103,16 @@ class ViewPicker(QObject):
         visible for the pick, which draws nothing); a flat mesh's click that neither
         finds (its locator still being built) is answered when the locator is ready.
         """
-        located = self.locate(float(x), float(y), False) if self.locate is not None else None
-        if located is not None and located[0] is not None:
+        locate = self.locate
+        located = locate(float(x), float(y), False) if locate is not None else None
+        if located is not None and located[0] is not None and located[1] is not None:
             triangle, point = int(located[0]), located[1]
             if emit:
                 self.triangle_picked.emit(triangle, point)
             return triangle, point
         hit = self._vtk_pick(x, y, emit)
-        if hit is None and located is not None and emit:
-            self.locate(float(x), float(y), True)  # a big mesh's locator not ready: later
+        if hit is None and located is not None and locate is not None and emit:
+            locate(float(x), float(y), True)  # a big mesh's locator not ready: later
         return hit
 
     def _vtk_pick(self, x: float, y: float, emit: bool) -> tuple[int, np.ndarray] | None:
@@ -146,7 +148,7 @@ class ViewPicker(QObject):
             if self.enabled and not self.suspended:
                 try:
                     ratio = self.plotter.devicePixelRatioF()
-                    pos = event.position()
+                    pos = cast(QMouseEvent, event).position()  # a click: a mouse release
                     height = self.plotter.height()
                     self.pick_display(pos.x() * ratio, (height - 1 - pos.y()) * ratio)
                 except Exception:  # noqa: BLE001 - a failed pick must never crash the window

@@ -93,6 +93,7 @@ class WorstTrianglesLayer:
         self._mesh, self.triangles, self.chosen = mesh, tris, None
         fill, markers = pv.PolyData(), pv.PolyData()
         if len(tris):
+            assert mesh is not None  # no triangles without one
             dz = self._lift(mesh)
             corners = np.asarray(mesh.points)[mesh.triangles[tris]].reshape(-1, 3).copy()
             corners[:, 2] += dz

@@ -21,12 +21,14 @@ k times larger too, titles included.
 from __future__ import annotations
 
 import numpy as np
-from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
+from vtkmodules.vtkCommonCore import vtkCommand, vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
     vtkCoordinate,
     vtkPolyDataMapper,
+    vtkProp,
+    vtkProperty,
     vtkRenderer,
     vtkTextActor,
     vtkTextProperty,
@@ -103,7 +105,7 @@ class Rulers:
             _text_property(rgb, font_size, "Centered", "Centered"),
         ]
         self._title_props[1].SetOrientation(90.0)  # read bottom to top, left of the rule
-        self._bounds = (0.0, 1.0, 0.0, 1.0, 0.0, 0.0)
+        self._bounds: tuple[float, ...] = (0.0, 1.0, 0.0, 1.0, 0.0, 0.0)
         self._counts = [5, 5]
         self._formats = ["{:.4g}", "{:.4g}"]
         self._visible = True
@@ -137,7 +139,7 @@ class Rulers:
         for actor in self._titles:
             renderer.AddViewProp(actor)
         # offsets follow the zoom and the font sizes: refreshed before each render
-        self._observer = renderer.AddObserver("StartEvent", self._before_render)
+        self._observer = renderer.AddObserver(vtkCommand.StartEvent, self._before_render)
         self._rebuild()
 
     # -- the interface of vtkCubeAxesActor / pyvista's CubeAxesActor the view uses ----
@@ -238,11 +240,11 @@ class Rulers:
         """The text actor of ruler ``axis``'s title."""
         return self._titles[axis]
 
-    def line_property(self) -> object:
+    def line_property(self) -> vtkProperty:
         """The rules' and ticks' ``vtkProperty`` (colour, line width)."""
         return self._lines.GetProperty()
 
-    def props(self) -> list[object]:
+    def props(self) -> list[vtkProp]:
         """Every VTK prop the rulers put in their renderer."""
         return [self._lines, *self._titles, *self._labels[0], *self._labels[1]]
 

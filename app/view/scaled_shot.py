@@ -28,6 +28,7 @@ import math
 import os
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pyvista as pv
@@ -37,13 +38,16 @@ from barymesh.app.view.layers import LAYERS
 from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image
 from barymesh.app.view.scene_data import scene_data
 
+if TYPE_CHECKING:
+    from vtkmodules.vtkRenderingCore import vtkProp, vtkProperty, vtkTextProperty
+
 #: The largest magnification offered (File → Export screenshot).
 MAX_SCALE = 4
 #: Extra pixels around a tile (beyond half the widest dot or line), cut off after.
 _MARGIN_PX = 4
 
 
-def _text_props(scene: MeshScene) -> list[object]:
+def _text_props(scene: MeshScene) -> list[vtkTextProperty]:
     """Every text property of the scene's 2D annotation, in a fixed order."""
     props = [
         scene.actors["labels"].GetMapper().GetLabelTextProperty(),
@@ -58,11 +62,11 @@ def _text_props(scene: MeshScene) -> list[object]:
     return props
 
 
-def _axes_line_props(scene: MeshScene) -> list[object]:
+def _axes_line_props(scene: MeshScene) -> list[vtkProperty]:
     return [scene.axes.line_property()]
 
 
-def _annotation(scene: MeshScene) -> list[object]:
+def _annotation(scene: MeshScene) -> list[vtkProp]:
     """The scene's 2D props: what the annotation layer draws and the tiles leave out."""
     return [
         scene.actors["labels"],
@@ -73,7 +77,7 @@ def _annotation(scene: MeshScene) -> list[object]:
     ]
 
 
-def _mesh_props(scene: MeshScene) -> list[object]:
+def _mesh_props(scene: MeshScene) -> list[vtkProp]:
     """The scene's 3D props: what the tiles draw and the annotation layer leaves out."""
     props = [scene.actors[name] for name in LAYERS if name != "labels"]
     return [*props, scene.actors_overview, scene.actors_zoom]
@@ -232,8 +236,9 @@ class ScaledShot:
         self.scene = scene
         self.scale = _check_scale(scale, None if size is not None else MAX_SCALE)
         self.transparent = bool(transparent)
-        self.size = tuple(int(v) for v in size) if size is not None else None
-        self.size = self.size or _scaled_size(scene, self.scale)
+        self.size: tuple[int, int] = (
+            (int(size[0]), int(size[1])) if size else _scaled_size(scene, self.scale)
+        )
         self.view = _view_size(scene)
         width, height = self.size
         tile_w, tile_h = self.view

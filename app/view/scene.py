@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 import os
+from typing import Any
 
 import numpy as np
 import pyvista as pv
@@ -127,7 +128,7 @@ class MeshScene:
         self.visible.update(visible or {})
         self.color_by = color_by if color_by in COLOR_BY else "none"
         self.datasets: dict[str, pv.PolyData] = {name: pv.PolyData() for name in LAYERS}
-        self.actors: dict[str, object] = {}
+        self.actors: dict[str, Any] = {}  # pyvista actors and VTK 2D props
         self.bounds: tuple[float, float, float, float] | None = None
         self.ranges: dict[str, tuple[float, float]] = {}
         self.n_triangles = 0
@@ -393,6 +394,7 @@ class MeshScene:
         if _inside(rect, self.detail_rect):
             return None
         ov = self.overview
+        assert ov.centroid_counts is not None  # scene_data gives every overview its counts
         inside = count_in_rect(ov.centroid_counts, ov.bounds, rect)
         if inside <= limit // 4:  # the detail grows the rectangle 2 x 2 times
             return rect
@@ -592,7 +594,7 @@ class MeshScene:
         if not self.n_triangles:
             return ""
         parts = []
-        if self.overlap_look:
+        if self.overlap_look and self.patch_rects is not None:
             patches = len(self.patch_rects)
             which = (
                 "all outlined"
@@ -727,7 +729,8 @@ class MeshScene:
 
     def show_rulers(self, bounds: tuple[float, float, float, float]) -> None:
         """Rulers in mm around ``bounds`` = (x0, x1, y0, y1) without a mesh (teaching views)."""
-        self.bounds = tuple(float(v) for v in bounds)
+        x0, x1, y0, y1 = bounds
+        self.bounds = (float(x0), float(x1), float(y0), float(y1))
         self._place_rulers()
         self.axes.SetVisibility(True)
 
@@ -869,11 +872,11 @@ class MeshScene:
         after = (tuple(self.axes.bounds), self.axes.n_xlabels, self.axes.n_ylabels)
         return before != after or note != self.note.GetInput()
 
-    def _fit_outlines(self, height: int, camera: object) -> bool:
+    def _fit_outlines(self, height: int, camera: Any) -> bool:
         """In the overlap look, outline every k-th patch for the zoom (see
         :func:`outline_stride`); else the layer's own outlines. True if that changed."""
         stride = 0
-        if self.overlap_look and self.patch_rects is not None:
+        if self.overlap_look and self.patch_rects is not None and self.overlap_ratio is not None:
             px_per_mm = (
                 height / max(2.0 * camera.parallel_scale, 1e-12)
                 if camera.parallel_projection and height > 0
@@ -886,6 +889,7 @@ class MeshScene:
         if stride == 0:
             self.datasets["patch_outlines"].copy_from(self._outlines, deep=False)
         else:
+            assert self.bounds is not None and self.patch_rects is not None  # see the stride
             x0, x1, y0, y1 = self.bounds
             z = 2e-4 * max(x1 - x0, y1 - y0, 1e-9)
             pts, pairs = rect_outlines(self.patch_rects[::stride], z)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -246,7 +247,7 @@ def _paper_rects(mesh: TriMesh) -> np.ndarray | None:
 
 def lut_settings(
     array: str, ranges: dict[str, tuple[float, float]]
-) -> tuple[object, int, float, float]:
+) -> tuple[str | list[str], int, float, float]:
     """(colour map, number of colours, low, high) of the face colouring ``array``."""
     lo, hi = ranges.get(array, (0.0, 1.0))
     if array == "patch":
@@ -386,7 +387,11 @@ def scene_data(
     typical = float(np.mean(mesh.edge_lengths)) if n else 0.0
     rects = _paper_rects(mesh)
     ratio = mesh.overlap_ratio if rects is not None else None
-    paper = {"paper": mesh.mode == "paper", "overlap_ratio": ratio, "patch_rects": rects}
+    paper: dict[str, Any] = {
+        "paper": mesh.mode == "paper",
+        "overlap_ratio": ratio,
+        "patch_rects": rects,
+    }
     dense = n > detail_limit
     arrays = _face_arrays(mesh, None, overlap=not dense) if n else {}
     ranges = _ranges(mesh, arrays) if n else {}
@@ -458,6 +463,7 @@ def _image_values(
     """
     rows, cols = shape
     if raster is None:  # paper patches by their count only (see scene_data)
+        assert rects is not None  # a paper mesh's
         count = overlap_count_raster(rects, bounds, shape)
         covered = count > 0
         return covered, {"overlap": np.where(covered, count, np.nan).astype(np.float32)}

@@ -19,11 +19,11 @@ import logging
 import threading
 from collections.abc import Callable, Sequence
 from functools import partial
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer
-from PySide6.QtGui import QPainter
+from PySide6.QtGui import QMouseEvent, QPainter
 from PySide6.QtWidgets import QLabel, QSizePolicy, QVBoxLayout, QWidget
 
 from barymesh import TriMesh
@@ -248,25 +248,26 @@ class ViewTools(QObject):
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
         kind = event.type()
+        mouse = cast(QMouseEvent, event)  # read in the mouse events' branches only
         if kind == QEvent.Type.Resize:
             # at once, before the paint this resize brings: the refit then costs no paint
             self.refit(render=False)
         elif kind == QEvent.Type.MouseMove:
             self._ensure_locator()
-            if not event.buttons():
-                self._pos = event.position()
+            if not mouse.buttons():
+                self._pos = mouse.position()
                 self._timer.start()
         elif kind == QEvent.Type.Leave:
             self._pos = None
             self.hit = None
             self.cursor = None
             self._show_readout()
-        elif kind == QEvent.Type.MouseButtonPress and event.button() == Qt.MouseButton.LeftButton:
+        elif kind == QEvent.Type.MouseButtonPress and mouse.button() == Qt.MouseButton.LeftButton:
             self._ensure_locator()
             self._clicks.press(event)
         elif kind == QEvent.Type.MouseButtonRelease and self._clicks.is_click(event):
             try:
-                self._clicked(event.position())
+                self._clicked(mouse.position())
             except Exception:  # noqa: BLE001 - a click must never take the window down
                 log.exception("click in the view failed")
         return False
@@ -403,6 +404,7 @@ class ViewTools(QObject):
         goes_to = self.clicks.click_goes_to()
         if goes_to == "measure":
             if hit is not None and hit.kind == "vertex":
+                assert self.locator is not None  # it found the vertex
                 point = self.locator.points[hit.index]  # snap to the vertex
             self.measure.add_point(point)
             self.host.request_render()

@@ -90,7 +90,9 @@ def export_unit(path: str | Path, unit: str | None = None) -> str:
     return unit
 
 
-def describe_export(path: str | Path, unit: str | None = None, msh_version: str = "2.2") -> str:
+def describe_export(
+    path: str | Path, unit: str | None = None, msh_version: str | None = "2.2"
+) -> str:
     """``"out.msh (Gmsh MSH 2.2 ASCII, mm)"`` for messages (``msh_version`` of a .msh).
 
     >>> describe_export("cell.msh", msh_version="4.1")
@@ -109,7 +111,7 @@ def write_mesh(
     wavelength: float | None = None,
     *,
     cancelled: Callable[[], bool] | None = None,
-    msh_version: str = "2.2",
+    msh_version: str | None = "2.2",
 ) -> Path:
     """Write ``mesh`` to ``path``; the extension picks the format (see ``EXPORT_FORMATS``).
 

@@ -246,7 +246,7 @@ def write_gmsh(path: str | Path, mesh: meshio.Mesh, msh_version: str = "2.2") ->
 
 
 def write_periodic_msh(
-    cell_mesh: Any, path: str | Path, per_mm: float = 1.0, msh_version: str = "2.2"
+    cell_mesh: Any, path: str | Path, per_mm: float = 1.0, msh_version: str | None = "2.2"
 ) -> None:
     """Write a :class:`barymesh.cell.CellMesh` as MSH with ``$Periodic`` (atomically).
 
