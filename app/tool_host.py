@@ -1,7 +1,8 @@
 """The small interface a window tool gets instead of the whole main window (STYLE 14).
 
 A tool (the Cell tools, the drag tool, the pixel painter's opener, the Teach tools and
-windows, the View tools) adds its actions and docks, says things on the status bar, asks
+windows, the View tools) and a dock's panel (the Solve and Quality docks) adds its actions
+and docks, says things on the status bar, asks
 for a render, reads and writes settings and reports a file it could not read or write,
 all through a :class:`ToolHost`, which :class:`barymesh.app.window.MainWindow`
 implements. Anything else a tool needs (the model, the plotter, another tool's picker)

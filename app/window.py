@@ -284,7 +284,7 @@ class MainWindow(QMainWindow):
         self.add_dock("Statistics", self.stats, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self.add_dock("Layers", self.layers, Qt.DockWidgetArea.RightDockWidgetArea)
         # Solve: an RWG MoM solve of the mesh on screen and its "Surface current" layer
-        self.solve_panel = SolvePanel(self)
+        self.solve_panel = SolvePanel(self, self.model, self.plotter, self._current_shown)
         # the side columns keep the window's height: the bottom area (the Infinite array's
         # curve) lies under the 3D view only
         self.setCorner(Qt.Corner.BottomLeftCorner, Qt.DockWidgetArea.LeftDockWidgetArea)
@@ -296,7 +296,13 @@ class MainWindow(QMainWindow):
         self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
         # Quality: the quality report, its histograms and worst triangles (red layer)
-        self.quality_panel = QualityPanel(self)
+        self.quality_panel = QualityPanel(
+            self,
+            self.model,
+            self.plotter,
+            view_bounds=lambda: self.scene.bounds,
+            zoom_to_points=lambda points: self.view_tools.zoom_to_points(points),
+        )
         self.add_dock(
             "Quality", self.quality_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True
         )
@@ -579,6 +585,7 @@ class MainWindow(QMainWindow):
             selected_triangles=self.teaching.selected_triangles,
             refit=self.refit_if_framed,
         )
+        self.solve_panel.attach_inspector(self.teaching.inspector)  # I_n of its edge
         self.teaching.zoom_to_selection_requested.connect(self.view_tools.zoom_to_selection)
         self.teaching.zoom_to_points_requested.connect(self.view_tools.zoom_to_points)
         # Cell: unit-cell files and presets, the Elements dock, the array preview (issue 13)
@@ -1065,6 +1072,12 @@ class MainWindow(QMainWindow):
         self.scene.fit_marker_sizes()
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
         self.framing.remember()
+
+    def _current_shown(self, shown: bool) -> None:
+        """The Surface current's colour bar came or went: the mesh is fitted beside it
+        (the current layer renders next)."""
+        self.scene.set_covered(shown)
+        self.refit_if_framed(render=False)
 
     def refit_if_framed(self, render: bool = True) -> None:
         """After the view changed size: keep a framed mesh framed (not a moved camera).

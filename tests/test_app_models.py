@@ -41,6 +41,14 @@ TOOL_MODULES = (
     "dialogs/screenshot_dialog.py",
     "dialogs/help_dialog.py",
 )
+#: Panels and dialogs get a narrow interface too (issue 31): the host and what else they
+#: need, passed in, never the window.
+PANEL_MODULES = tuple(
+    str(p.relative_to(APP))
+    for folder in ("panels", "dialogs")
+    for p in sorted((APP / folder).glob("*.py"))
+    if p.name != "__init__.py"
+)
 GUI_MODULES = ("PySide6", "vtk", "vtkmodules", "pyvista", "pyvistaqt")
 #: The paper's square patch at n = 4: 2 primary triangles x 4² = 32 sub-triangles.
 PATCH = MeshParams(structure="patch", subdivisions=4)
@@ -255,7 +263,7 @@ def test_the_window_options_are_parsed_by_one_parser():
 # -- module boundaries ----------------------------------------------------------------
 
 
-@pytest.mark.parametrize("relative", TOOL_MODULES)
+@pytest.mark.parametrize("relative", sorted(set(TOOL_MODULES + PANEL_MODULES)))
 def test_no_tool_imports_the_main_window_or_reaches_into_another_object(relative):
     tree = _tree(relative)
     imported = [
@@ -265,6 +273,14 @@ def test_no_tool_imports_the_main_window_or_reaches_into_another_object(relative
     ]
     assert imported == []
     assert _others_private_members(tree) == []
+    # and none is handed the window itself: a parameter named window is one
+    given_window = [
+        f"line {node.lineno}: {node.name}"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+        and any(a.arg in ("window", "main_window") for a in node.args.args + node.args.kwonlyargs)
+    ]
+    assert given_window == []
 
 
 def test_no_app_module_imports_a_private_name_of_another():

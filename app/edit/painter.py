@@ -1235,9 +1235,9 @@ class PainterOpener(QObject):
         return False
 
 
-def cell_menu(window: QMainWindow) -> QMenu:
+def cell_menu(main: QMainWindow) -> QMenu:
     """The main window's "&Cell" menu, made (before Help) when no one has made it yet."""
-    bar = window.menuBar()
+    bar = main.menuBar()
     for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
         if menu.title() == "&Cell":
             return menu

@@ -16,8 +16,9 @@ the small report comes back.
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, QSize, Qt, QTimer, Signal
@@ -37,6 +38,10 @@ from barymesh.app.jobs import Jobs
 from barymesh.app.view.quality_layer import WorstTrianglesLayer
 from barymesh.app.worker import SYNC_TRIANGLES
 from barymesh.quality import params_wavelength, quality_report
+
+if TYPE_CHECKING:
+    from barymesh.app.model import AppModel
+    from barymesh.app.tool_host import ToolHost
 
 log = logging.getLogger(__name__)
 
@@ -182,20 +187,37 @@ class QualityPanel(QWidget):
 
     Parameters
     ----------
-    window : barymesh.app.window.MainWindow
-        Its model (results), plotter (the red layer) and view tools (zoom to a triangle).
+    host : ToolHost
+        The window (:class:`barymesh.app.tool_host.ToolHost`): render requests.
+    model : AppModel
+        Its results (the mesh measured).
+    plotter : pyvista plotter
+        The 3D view: the red layer goes there.
+    view_bounds : callable
+        ``view_bounds()``: the bounds of what the view shows, (xmin, xmax, ymin, ymax, …),
+        or None (the red layer's outline widths follow them).
+    zoom_to_points : callable
+        ``zoom_to_points(points)``: frame the view on some points (a chosen triangle).
+    parent : QWidget, optional
     """
-
-    window: Any  # the main window, named over QWidget.window()
 
     #: (token, mesh, report or error text) from a worker thread.
     #: A report is on show (tests, the window).
     report_changed = Signal(object)
 
-    def __init__(self, window: Any, parent: QWidget | None = None) -> None:
+    def __init__(
+        self,
+        host: ToolHost,
+        model: AppModel,
+        plotter: Any,
+        view_bounds: Callable[[], Any],
+        zoom_to_points: Callable[[np.ndarray], None],
+        parent: QWidget | None = None,
+    ) -> None:
         super().__init__(parent)
-        self.window = window
-        self.layer = WorstTrianglesLayer(window.plotter)
+        self.host, self.model = host, model
+        self._view_bounds, self._zoom_to_points = view_bounds, zoom_to_points
+        self.layer = WorstTrianglesLayer(plotter)
         self.layer.set_visible(False)
         self.report: dict[str, Any] | None = None
         self.mesh: TriMesh | None = None
@@ -240,8 +262,8 @@ class QualityPanel(QWidget):
         self.act_layer.toggled.connect(self.show_layer.setChecked)
 
         self.jobs = Jobs(self, threads=None, name="barymesh-quality")
-        window.model.result_changed.connect(self.mesh_changed)
-        self.mesh_changed(window.model.result)
+        model.result_changed.connect(self.mesh_changed)
+        self.mesh_changed(model.result)
 
     # -- measuring ---------------------------------------------------------------------
 
@@ -355,7 +377,7 @@ class QualityPanel(QWidget):
             item.setData(Qt.ItemDataRole.UserRole, row["triangle"])
             x, y, _ = row["centroid"]
             item.setToolTip(f"Triangle {row['triangle']:,}, centroid ({x:.6g}, {y:.6g}) mm")
-        bounds = getattr(getattr(self.window, "scene", None), "bounds", None)
+        bounds = self._view_bounds()
         span = None if bounds is None else max(bounds[1] - bounds[0], bounds[3] - bounds[2])
         self.layer.show(mesh, [row["triangle"] for row in report["worst"]], span)
         if self.layer.visible:  # else the view has nothing new to draw
@@ -363,9 +385,7 @@ class QualityPanel(QWidget):
         self.report_changed.emit(report)
 
     def _render(self) -> None:
-        request = getattr(self.window, "request_render", None)
-        if request is not None:
-            request()
+        self.host.request_render()
 
     def set_layer_visible(self, on: bool) -> None:
         """Show or hide the red worst triangles (measuring first if need be)."""
@@ -390,7 +410,7 @@ class QualityPanel(QWidget):
         self.set_layer_visible(True)
         self.layer.choose(triangle)
         corners = np.asarray(mesh.points)[mesh.triangles[triangle]]
-        self.window.view_tools.zoom_to_points(corners)
+        self._zoom_to_points(corners)
 
 
 def figures_text(report: dict[str, Any]) -> str:

@@ -35,7 +35,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from PySide6.QtCore import (
@@ -83,6 +83,10 @@ from barymesh.app.model.solver_mesh import (
 )
 from barymesh.app.panels.frequency_band import FrequencyBand
 from barymesh.app.view.current_layer import SCALES, CurrentLayer
+
+if TYPE_CHECKING:
+    from barymesh.app.model import AppModel
+    from barymesh.app.tool_host import ToolHost
 
 log = logging.getLogger(__name__)
 
@@ -239,24 +243,31 @@ class SweepPlot(QWidget):
 
 
 class SolvePanel(QWidget):
-    """The Solve dock's widget (see module docstring); ``window`` is the MainWindow."""
+    """The Solve dock's widget (see module docstring).
+
+    Parameters
+    ----------
+    host : ToolHost
+        The window (:class:`barymesh.app.tool_host.ToolHost`): render requests; its
+        closing stops a running job.
+    model : AppModel
+        The mesh on screen and its changes.
+    plotter : pyvista plotter
+        The 3D view: the Surface current layer goes there.
+    covered : callable
+        ``covered(shown)``: the current layer's colour bar was shown or hidden (the
+        window fits the mesh beside it); the layer renders afterwards.
+    """
 
     solved = Signal(object)  # the Solution now on screen
 
-    def __init__(self, window: Any) -> None:
-        super().__init__(window)
-        self.window_ = window
-        self.model = window.model
-        scene = getattr(window, "scene", None)
-
-        def shown_changed(shown: bool) -> None:
-            if scene is not None:
-                scene.set_covered(shown)
-            refit = getattr(window, "refit_if_framed", None)
-            if refit is not None:
-                refit(render=False)  # the mesh beside its colour bar (the layer renders)
-
-        self.layer = CurrentLayer(window.plotter, window.request_render, shown_changed)
+    def __init__(
+        self, host: ToolHost, model: AppModel, plotter: Any, covered: Callable[[bool], None]
+    ) -> None:
+        super().__init__(host.widget)
+        self.host = host
+        self.model = model
+        self.layer = CurrentLayer(plotter, host.request_render, covered)
         self.jobs = Jobs(self, name="barymesh-solve")  # one solve or sweep at a time
         self.auto_unknowns = AUTO_SOLVE_UNKNOWNS
         #: Set by the first Solve, sweep click or typed input: from then on small meshes
@@ -269,7 +280,8 @@ class SolvePanel(QWidget):
         self.sweep_result: Any = None
         self.sweep_mesh: TriMesh | None = None
         self.last_outcome: Outcome | None = None
-        self.coefficient_label: QLabel | None = None  # put into the RWG inspector
+        self.coefficient_label: QLabel | None = None  # a line of the RWG inspector's
+        self._inspector: Any = None  # the RWG inspector it tells I_n (attach_inspector)
         #: The latest job of each kind; a result whose token is older is dropped.
         self._tokens = {"solve": 0, "sweep": 0}
         self._running: set[str] = set()
@@ -302,7 +314,7 @@ class SolvePanel(QWidget):
         self.timer.setInterval(ANIMATION_MS)
         self.timer.timeout.connect(self._step_phase)
         self.model.result_changed.connect(self._mesh_changed)
-        window.installEventFilter(self)
+        host.widget.installEventFilter(self)
 
     def _narrow_combos(self) -> None:
         """Combo boxes that do not widen the dock to their longest item."""
@@ -809,21 +821,13 @@ class SolvePanel(QWidget):
 
     # -- the RWG inspector's I_n -------------------------------------------------------
 
-    def _inspector(self) -> Any:
-        """The window's RWG inspector, given a line for I_n the first time (or None)."""
-        inspector = getattr(getattr(self.window_, "teaching", None), "inspector", None)
-        if inspector is None:
-            return None
-        if self.coefficient_label is None:
-            self.coefficient_label = QLabel(inspector)
-            self.coefficient_label.setWordWrap(True)
-            self.coefficient_label.setTextInteractionFlags(
-                Qt.TextInteractionFlag.TextSelectableByMouse
-            )
-            layout = inspector.layout()
-            layout.insertWidget(layout.indexOf(inspector.info_label) + 1, self.coefficient_label)
-            inspector.edge_selected.connect(self._show_coefficient)
-        return inspector
+    def attach_inspector(self, inspector: Any) -> None:
+        """Tell ``inspector`` (the RWG inspector) I_n of its edge: a line of its own
+        (``add_line``) that follows its edge (``edge_selected``) and the solutions here."""
+        self._inspector = inspector
+        self.coefficient_label = inspector.add_line()
+        inspector.edge_selected.connect(self._show_coefficient)
+        self._show_coefficient()
 
     def coefficient_text(self, edge: int, mesh: TriMesh | None) -> str:
         """The inspector's line for ``edge`` of ``mesh``: I_n of the solution, or why not."""
@@ -846,7 +850,7 @@ class SolvePanel(QWidget):
         )
 
     def _show_coefficient(self, edge: int | None = None) -> None:
-        inspector = self._inspector()
+        inspector = self._inspector
         if inspector is None or self.coefficient_label is None:  # made with the inspector
             return
         if edge is None:
@@ -934,7 +938,7 @@ class SolvePanel(QWidget):
     # -- closing ---------------------------------------------------------------------
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if watched is self.window_ and event.type() == QEvent.Type.Close:
+        if watched is self.host.widget and event.type() == QEvent.Type.Close:
             self.stop()
         if watched is self.stale and event.type() in (QEvent.Type.Resize, QEvent.Type.Show):
             self._fit_stale()  # (the stale-result warning, see _fit_stale)

@@ -98,6 +98,7 @@ class InspectorPanel(QWidget):
         self.info_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.info_label.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
         layout.addWidget(self.info_label)
+        self.lines: list[QLabel] = []  # lines added by add_line, under the info
         legend = QLabel(
             "<small><span style='color:#b40426'>■</span> T+ (∇·f = +l/A+) &nbsp; "
             "<span style='color:#3b4cc0'>■</span> T− (∇·f = −l/A−)<br>"
@@ -110,6 +111,18 @@ class InspectorPanel(QWidget):
         layout.addWidget(legend)
         layout.addStretch(1)
         self._show_info()
+
+    def add_line(self) -> QLabel:
+        """A line of text under the edge's description, for another part of the window
+        to fill (the Solve dock's I_n of the edge); selectable, wrapped."""
+        line = QLabel(self)
+        line.setWordWrap(True)
+        line.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        layout = self.layout()
+        assert isinstance(layout, QVBoxLayout)  # made in __init__
+        layout.insertWidget(layout.indexOf(self.info_label) + 1 + len(self.lines), line)
+        self.lines.append(line)
+        return line
 
     # -- selection ----------------------------------------------------------------------
 
