@@ -2,6 +2,6 @@
 
 import sys
 
-from barymesh.app.window import main
+from barymesh.app.window_main import main
 
 sys.exit(main())

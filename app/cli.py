@@ -747,9 +747,9 @@ VERBS["study"] = cli_study.run
 
 def _open_window(argv: list[str]) -> int:
     try:
-        from barymesh.app.window import main as window_main
+        from barymesh.app.window_main import main as window_main
     except ModuleNotFoundError as exc:
-        if exc.name not in ("barymesh.app.window", "barymesh.app"):
+        if exc.name not in ("barymesh.app.window", "barymesh.app.window_main", "barymesh.app"):
             raise InputError(
                 f"the desktop window needs the app extras: pip install 'barymesh[app]' "
                 f"(missing module {exc.name})"

@@ -1,7 +1,7 @@
 """The command line's options and their checks, shared by :mod:`barymesh.app.cli`,
 :mod:`barymesh.app.cli_solve` and the window
 (:func:`~barymesh.app.cli_options.build_window_parser` is the one parser of ``barymesh``
-without a command, for :func:`barymesh.app.cli.main` and :func:`barymesh.app.window.main`
+without a command, for :func:`barymesh.app.cli.main` and :func:`barymesh.app.window_main.main`
 alike).
 
 Qt-free: the command line works without the app extras.
@@ -312,7 +312,7 @@ def parse_copies(text: str) -> tuple[int, int]:
 def build_window_parser() -> argparse.ArgumentParser:
     """The parser of ``barymesh`` without a command: the window's options.
 
-    Errors print the usage and exit 2 (:func:`barymesh.app.window.main`);
+    Errors print the usage and exit 2 (:func:`barymesh.app.window_main.main`);
     :func:`barymesh.app.cli.main` makes them one line first.
     """
     parser = argparse.ArgumentParser(

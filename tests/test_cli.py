@@ -241,9 +241,9 @@ def test_no_verb_opens_window(monkeypatch):
     import types
 
     calls = []
-    fake = types.ModuleType("barymesh.app.window")
+    fake = types.ModuleType("barymesh.app.window_main")
     fake.main = lambda argv: calls.append(argv) or 0
-    monkeypatch.setitem(sys.modules, "barymesh.app.window", fake)
+    monkeypatch.setitem(sys.modules, "barymesh.app.window_main", fake)
     assert cli.main([]) == 0
     assert cli.main(["--preset", "paper-fig10", "--set", "subdivisions=2", "--quit"]) == 0
     assert calls == [[], ["--preset", "paper-fig10", "--set", "subdivisions=2", "--quit"]]
@@ -259,13 +259,13 @@ def test_no_verb_without_window_prints_usage(monkeypatch, capsys):
 def test_window_failure_is_one_line(monkeypatch, capsys):
     import types
 
-    fake = types.ModuleType("barymesh.app.window")
+    fake = types.ModuleType("barymesh.app.window_main")
 
     def boom(argv):
         raise RuntimeError("no OpenGL")
 
     fake.main = boom
-    monkeypatch.setitem(sys.modules, "barymesh.app.window", fake)
+    monkeypatch.setitem(sys.modules, "barymesh.app.window_main", fake)
     assert cli.main(["--quit"]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no OpenGL" in err
