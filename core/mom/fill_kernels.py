@@ -97,9 +97,10 @@ def far_block(
 
     One job is one observation triangle against :data:`SOURCE_CHUNK` sources. Per pair
     of points, the kernel goes into a row of the job's own scratch (a loop of loads and
-    arithmetic only, which the compiler vectorises four wide), then into the job's 16
-    accumulator rows; a single loop doing both was not vectorised (its 16 output rows
-    and 7 inputs are too many possible aliases to check) and ran 2.5 times slower.
+    arithmetic only, which the compiler vectorises four wide), then into 8 rows summed
+    over the source points, which go into the 16 moments once per observation point; a
+    single loop doing it all was not vectorised (its 16 output rows and 7 inputs are too
+    many possible aliases to check) and ran 2.5 times slower.
     """
     q, t = w.shape
     tb = hi - lo
@@ -112,10 +113,12 @@ def far_block(
         p = lo + o
         acc = np.zeros((16, SOURCE_CHUNK))
         g = np.empty((2, SOURCE_CHUNK))
+        h = np.empty((8, SOURCE_CHUNK))  # Σ_b w' G and Σ_b w' ρ' G, re and im
         for a in range(q):
             xa, ya, za = px[a, p], py[a, p], pz[a, p]
             wa = w[a, p]
             ax, ay, az = rx[a, p], ry[a, p], rz[a, p]
+            h[:, :n] = 0.0
             for b in range(q):
                 sx = px[b, first : first + n]
                 sy = py[b, first : first + n]
@@ -128,7 +131,7 @@ def far_block(
                     r = np.sqrt(dx * dx + dy * dy + dz * dz)
                     r = r if r > 0.0 else 1.0
                     sin_x, cos_x = sincos(k * r)
-                    scale = wa * sw[j] / r
+                    scale = sw[j] / r
                     g[0, j] = cos_x * scale
                     g[1, j] = -sin_x * scale
                 bx = rx[b, first : first + n]
@@ -137,23 +140,40 @@ def far_block(
                 for j in range(n):
                     gr = g[0, j]
                     gi = g[1, j]
-                    dot = ax * bx[j] + ay * by[j] + az * bz[j]
-                    acc[0, j] += gr
-                    acc[1, j] += gi
-                    acc[2, j] += gr * ax
-                    acc[3, j] += gi * ax
-                    acc[4, j] += gr * ay
-                    acc[5, j] += gi * ay
-                    acc[6, j] += gr * az
-                    acc[7, j] += gi * az
-                    acc[8, j] += gr * bx[j]
-                    acc[9, j] += gi * bx[j]
-                    acc[10, j] += gr * by[j]
-                    acc[11, j] += gi * by[j]
-                    acc[12, j] += gr * bz[j]
-                    acc[13, j] += gi * bz[j]
-                    acc[14, j] += gr * dot
-                    acc[15, j] += gi * dot
+                    h[0, j] += gr
+                    h[1, j] += gi
+                    h[2, j] += gr * bx[j]
+                    h[3, j] += gi * bx[j]
+                    h[4, j] += gr * by[j]
+                    h[5, j] += gi * by[j]
+                    h[6, j] += gr * bz[j]
+                    h[7, j] += gi * bz[j]
+            # the observation point's weight and ρ, once per point
+            for j in range(n):
+                h0r = wa * h[0, j]
+                h0i = wa * h[1, j]
+                hxr = wa * h[2, j]
+                hxi = wa * h[3, j]
+                hyr = wa * h[4, j]
+                hyi = wa * h[5, j]
+                hzr = wa * h[6, j]
+                hzi = wa * h[7, j]
+                acc[0, j] += h0r
+                acc[1, j] += h0i
+                acc[2, j] += h0r * ax
+                acc[3, j] += h0i * ax
+                acc[4, j] += h0r * ay
+                acc[5, j] += h0i * ay
+                acc[6, j] += h0r * az
+                acc[7, j] += h0i * az
+                acc[8, j] += hxr
+                acc[9, j] += hxi
+                acc[10, j] += hyr
+                acc[11, j] += hyi
+                acc[12, j] += hzr
+                acc[13, j] += hzi
+                acc[14, j] += ax * hxr + ay * hyr + az * hzr
+                acc[15, j] += ax * hxi + ay * hyi + az * hzi
         offset = first - lo
         for i in range(16):
             for j in range(n):
