@@ -153,6 +153,21 @@ def test_backend_is_chosen_by_argument_variable_and_availability(monkeypatch):
         compiled_fill.resolve_backend("numba")
 
 
+def test_fill_threads_follow_numba_then_omp_num_threads(monkeypatch):
+    monkeypatch.delenv("NUMBA_NUM_THREADS", raising=False)
+    monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
+    assert compiled_fill.fill_threads(8) == 8
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")  # a Dask worker's, one thread each
+    assert compiled_fill.fill_threads(8) == 1
+    monkeypatch.setenv("OMP_NUM_THREADS", "16")
+    assert compiled_fill.fill_threads(8) == 8
+    monkeypatch.setenv("OMP_NUM_THREADS", "lots")
+    assert compiled_fill.fill_threads(8) == 8
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    monkeypatch.setenv("NUMBA_NUM_THREADS", "8")  # numba's own setting wins
+    assert compiled_fill.fill_threads(8) == 8
+
+
 def test_without_numba_the_numpy_fill_runs():
     # a fresh process in which numba cannot be imported (as if it were not installed)
     code = (

@@ -89,11 +89,32 @@ def kernels() -> ModuleType:
     global _KERNELS
     if _KERNELS is None:
         start = time.perf_counter()
+        # OpenMP threads that wait at the end of a parallel loop sleep instead of spinning
+        # (unless the user chose): on a shared 2-core machine a spinning thread takes the
+        # core the other one needs, and the 9,976-unknown fill took 20 s against 12 s
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
         from . import fill_kernels
 
         _KERNELS = fill_kernels
         log.debug("numba and the fill kernels imported in %.2f s", time.perf_counter() - start)
     return _KERNELS
+
+
+def fill_threads(cores: int) -> int:
+    """Threads of the compiled fill: ``cores`` (numba's), fewer when OMP_NUM_THREADS says so.
+
+    numba reads NUMBA_NUM_THREADS only (its ``cores`` here); process pools that give each
+    worker one thread set OMP_NUM_THREADS=1 and the like (Dask's nanny does, for
+    ``barymesh study``), and two fills of two threads each on two cores run slower than two
+    of one: the threads wait for each other at every block.
+    """
+    if os.environ.get("NUMBA_NUM_THREADS"):
+        return cores
+    try:
+        limit = int(os.environ.get("OMP_NUM_THREADS", ""))
+    except ValueError:
+        return cores
+    return max(1, min(cores, limit))
 
 
 def cache_folders() -> list[Path]:
@@ -264,6 +285,11 @@ def compiled_impedance_matrix(geom: MomGeometry, k: float, near: np.ndarray) -> 
     if _KERNELS is None:
         warm_up()  # the cache's warning, if it has to compile
     kern = kernels()
+    import numba  # imported by the kernels' module already
+
+    # per calling thread in numba: set here, so that a solve in a worker thread has it too
+    cores = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]  # set at import
+    numba.set_num_threads(fill_threads(cores))
     tables = compiled_tables(geom)
     t = geom.n_triangles
     n = geom.n_unknowns
