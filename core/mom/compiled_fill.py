@@ -19,8 +19,8 @@ symmetry; what changes is how the far pairs are integrated and assembled:
   Z + Zᵀ at the end: the Galerkin matrix of a reciprocal operator is symmetric.
 
 numba is imported on the first fill only (:func:`kernels`); its compiled code is cached
-on disk, so that only the first fill on a machine pays the compilation (a few seconds,
-logged; :func:`warm_up` does it ahead of time).
+on disk, so that only the first fill on a machine pays the compilation (about 16 s here,
+with a warning logged first; :func:`warm_up` does it ahead of time, and ``make`` runs it).
 """
 
 from __future__ import annotations

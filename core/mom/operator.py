@@ -265,9 +265,9 @@ def impedance_matrix(
 ) -> np.ndarray:
     """The (N, N) complex EFIE matrix at wavenumber ``k`` (rad/m).
 
-    Two fills compute it: the compiled one (:mod:`barymesh.mom.compiled_fill`,
+    Two fills compute it: the compiled one (``barymesh.mom.compiled_fill``,
     multi-threaded, double precision), when numba is installed, and the numpy one
-    (:func:`numpy_impedance_matrix`), the reference. They agree to 1e-12 of the
+    (``numpy_impedance_matrix`` here), the reference. They agree to 1e-12 of the
     largest entry (the numpy one with ``double``; by default its far kernel is in
     single precision, about 1e-7 of |G|, far under the far rule's own error).
 
