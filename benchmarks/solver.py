@@ -12,16 +12,23 @@ converged solve of the same mesh (barymesh.mom with its highest rules).
 Workloads (each solver on the same machine in the same run, the two alternating):
 
 * ``plate 736``: Makarov's platefine, 736 unknowns, 300 MHz: fill + solve, cold.
-* ``plate 1408``, ``plate 5985``: the same 1 m plate at n = 22 and 45 (968 and 4,050
-  triangles), 300 MHz, with our time split into the per-mesh geometry, the fill and
-  the LU (a second cold run).
+* ``plate 1408``, ``plate 3008``, ``plate 5985``: the same 1 m plate at n = 22, 32 and 45
+  (968, 2,048 and 4,050 triangles), 300 MHz, with our time split into the per-mesh
+  geometry, the fill and the LU (a second cold run), the fill both compiled (numba, the
+  default) and numpy (the reference), in wall and CPU time.
+* ``plate 9976`` (n = 58): our geometry, compiled fill and LU only (the Makarov-style
+  solver would take most of an hour): the fill against the LU.
 * ``ring 1976``: the split ring of srr-openmodes at n = 4 (1,976 unknowns on the nearly
   square conforming sectors; 3,076 on the earlier n x n sectors).
 * ``sweep 50 x 698``: srr-openmodes (n = 2, 698 unknowns), 50 frequencies
   3–12 GHz, first resonance found by each.
 
-bempp-cl is timed too when it is installed (it is optional; it is not in
-our dependencies), else reported as skipped.
+The file also records the compiled fill's first-call cost in fresh processes (numba's
+compilation with an empty cache, and the load from a warm one), the rate of the LU
+against the machine's single-precision rate measured by a complex64 matrix product, and
+the numba threads.
+
+bempp-cl is not wired in (it is optional, not in our dependencies): reported as skipped.
 
 Usage::
 
@@ -37,7 +44,9 @@ import importlib.util
 import json
 import os
 import platform
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -187,21 +196,89 @@ def bempp_available() -> bool:
 # -- workloads ------------------------------------------------------------------------
 
 
-def split_times(mesh: TriMesh, freq: float, wave: PlaneWave) -> dict:
-    """Our cold solve in its three steps: per-mesh geometry, fill, LU (seconds)."""
+def _timed(func):
+    """(result, wall s, CPU s of the process: all its threads) of ``func()``."""
+    start, cpu = time.perf_counter(), time.process_time()
+    out = func()
+    return out, time.perf_counter() - start, time.process_time() - cpu
+
+
+def split_times(mesh: TriMesh, freq: float, wave: PlaneWave, numpy_fill: bool = True) -> dict:
+    """Our cold solve in its three steps: per-mesh geometry, fill, LU (seconds, wall and CPU).
+
+    The fill is timed compiled (the default) and, with ``numpy_fill``, by the numpy path.
+    """
     cold = fresh(mesh)
-    start = time.perf_counter()
-    geom = mom_geometry(cold)
-    t_geom = time.perf_counter() - start
+    geom, t_geom, _ = _timed(lambda: mom_geometry(cold))
     k = wavenumber(freq)
-    start = time.perf_counter()
-    z = impedance_matrix(geom, k)
-    t_fill = time.perf_counter() - start
+    z, t_fill, c_fill = _timed(lambda: impedance_matrix(geom, k, backend="numba"))
+    row = {"ours_geometry_s": t_geom, "ours_fill_s": t_fill, "ours_fill_cpu_s": c_fill}
+    if numpy_fill:
+        del z
+        z, t_np, c_np = _timed(lambda: impedance_matrix(geom, k, backend="numpy"))
+        row.update(ours_fill_numpy_s=t_np, ours_fill_numpy_cpu_s=c_np)
     v = excitation_vector(geom, k, wave)
-    start = time.perf_counter()
-    dense_solve(z, v)
-    t_lu = time.perf_counter() - start
-    return {"ours_geometry_s": t_geom, "ours_fill_s": t_fill, "ours_lu_s": t_lu}
+    _, t_lu, c_lu = _timed(lambda: dense_solve(z, v))
+    n = len(v)
+    row.update(
+        ours_lu_s=t_lu,
+        ours_lu_cpu_s=c_lu,
+        fill_over_lu=t_fill / t_lu,
+        lu_gflops=8.0 / 3.0 * n**3 / t_lu / 1e9,  # complex64 getrf: 8/3 N³ real flops
+    )
+    return row
+
+
+def compile_cost() -> dict:
+    """The first compiled fill of a fresh process (176 unknowns): cold cache and warm one.
+
+    Each in its own interpreter; the cold one with NUMBA_CACHE_DIR set to an empty folder,
+    so that numba compiles the kernels (and leaves the project's cache as it was).
+    """
+    code = (
+        "import time\n"
+        "from barymesh import build_mesh\n"
+        "from barymesh.presets import load_preset\n"
+        "from barymesh.mom import mom_geometry, wavenumber\n"
+        "from barymesh.mom.operator import impedance_matrix\n"
+        "geom = mom_geometry(build_mesh(load_preset('makarov-plate')[0]))\n"
+        "t, c = time.perf_counter(), time.process_time()\n"
+        "impedance_matrix(geom, wavenumber(300e6), backend='numba')\n"
+        "print(time.perf_counter() - t, time.process_time() - c)\n"
+    )
+    out = {}
+    with tempfile.TemporaryDirectory() as empty:
+        for name, extra in (("cold", {"NUMBA_CACHE_DIR": empty}), ("cached", {})):
+            env = {**os.environ, **extra}
+            if name == "cached":
+                env.pop("NUMBA_CACHE_DIR", None)
+                subprocess.run(
+                    [sys.executable, "-c", code], env=env, check=True, capture_output=True
+                )
+            res = subprocess.run(
+                [sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True
+            )
+            wall, cpu = (float(x) for x in res.stdout.split()[-2:])
+            out[f"first_fill_{name}_s"] = wall
+            out[f"first_fill_{name}_cpu_s"] = cpu
+    return out
+
+
+def single_precision_rate(n: int = 2000) -> float:
+    """GFLOP/s of a complex64 (n, n) matrix product: the machine's practical SP peak."""
+    rng = np.random.default_rng(0)
+    a = (rng.standard_normal((n, n)) + 1j * rng.standard_normal((n, n))).astype(np.complex64)
+    b = a.T.copy()
+    a @ b
+    best = min(_timed(lambda: a @ b)[1] for _ in range(3))
+    return 8.0 * n**3 / best / 1e9
+
+
+def fill_only(name: str, mesh: TriMesh, freq: float, wave: PlaneWave, numpy_fill: bool) -> dict:
+    """A size the Makarov-style solver is not run at: our geometry, fill and LU."""
+    row = {"name": name, "unknowns": len(mesh.rwg), "frequency_hz": freq}
+    row.update(split_times(mesh, freq, wave, numpy_fill=numpy_fill))
+    return row
 
 
 def single(
@@ -279,6 +356,24 @@ def machine() -> dict:
         "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
         "openblas_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
         "platform": platform.platform(),
+        **numba_threads(),
+    }
+
+
+def numba_threads() -> dict:
+    """numba's thread count and threading layer (after a compiled fill has run)."""
+    try:
+        import numba
+    except ImportError:
+        return {"numba": None}
+    try:
+        layer = numba.threading_layer()
+    except ValueError:  # no parallel region has run yet
+        layer = None
+    return {
+        "numba": numba.__version__,
+        "numba_threads": numba.get_num_threads(),
+        "numba_threading_layer": layer,
     }
 
 
@@ -301,16 +396,24 @@ def table(rows: list[dict]) -> str:
                 + (f", converged {ref / 1e9:.4f} GHz" if ref else "")
             )
         else:
-            acc = f"max |J| ours {r['ours_max_j']:.5g}, Makarov-style {r['makarov_max_j']:.5g} A/m"
+            acc = (
+                f"max |J| ours {r['ours_max_j']:.5g}, Makarov-style {r['makarov_max_j']:.5g} A/m"
+                if "makarov_s" in r
+                else ""
+            )
         if "ours_geometry_s" in r:
             acc += (
                 f"; ours split: geometry {r['ours_geometry_s']:.3f} s, fill "
-                f"{r['ours_fill_s']:.3f} s, LU {r['ours_lu_s']:.3f} s"
+                f"{r['ours_fill_s']:.3f} s (CPU {r['ours_fill_cpu_s']:.3f} s"
+                + (f"; numpy {r['ours_fill_numpy_s']:.3f} s" if "ours_fill_numpy_s" in r else "")
+                + f"), LU {r['ours_lu_s']:.3f} s (fill/LU {r['fill_over_lu']:.2f})"
             )
-        lines.append(
-            f"{r['name']:<18} {r['unknowns']:>6} {r['ours_s']:>8.3f} {r['makarov_s']:>16.3f} "
-            f"{r['speedup']:>8.1f}x  {acc}"
-        )
+        if "makarov_s" in r:
+            times = f"{r['ours_s']:>8.3f} {r['makarov_s']:>16.3f} {r['speedup']:>8.1f}x"
+        else:
+            times = f"{'-':>8} {'-':>16} {'-':>9}"
+            acc = acc.lstrip("; ")
+        lines.append(f"{r['name']:<18} {r['unknowns']:>6} {times}  {acc}")
     return "\n".join(lines)
 
 
@@ -324,6 +427,11 @@ def main(argv: list[str] | None = None) -> int:
     wave_x = PlaneWave(direction=(0, 0, -1), polarization=(1, 0, 0))
     wave_y = PlaneWave(direction=(0, 0, -1), polarization=(0, 1, 0))
     rows = []
+    # numba imported and its kernels loaded before any timing (the first-call cost is
+    # measured on its own, in fresh processes: compile_cost)
+    from barymesh.mom.compiled_fill import warm_up
+
+    warm_up()
     if args.quick:
         plate = build_mesh(load_preset("makarov-plate")[0])
         rows.append(single("plate 176", plate, 300e6, wave_x, 1, accuracy=True, split=True))
@@ -333,16 +441,20 @@ def main(argv: list[str] | None = None) -> int:
         plate = build_mesh(load_preset("makarov-platefine")[0])
         if "plate" not in args.skip:
             rows.append(single("plate 736", plate, 300e6, wave_x, args.reps, accuracy=True))
-        for sub in (22, 45):
+        for sub in (22, 32, 45):
             name = f"plate {3 * sub * sub - 2 * sub}"
             if name.replace(" ", "") not in args.skip and "plates" not in args.skip:
                 big_plate = build_mesh(
                     resolve_params("makarov-platefine", None, [f"subdivisions={sub}"])
                 )
-                reps = args.reps if sub < 40 else 1
+                reps = args.reps if sub < 30 else 1
                 rows.append(
                     single(name, big_plate, 300e6, wave_x, reps, accuracy=False, split=True)
                 )
+        if "plate9976" not in args.skip:
+            huge = build_mesh(resolve_params("makarov-platefine", None, ["subdivisions=58"]))
+            numpy_fill = "numpy9976" not in args.skip
+            rows.append(fill_only("plate 9976", huge, 300e6, wave_x, numpy_fill))
         if "ring" not in args.skip:
             big = build_mesh(resolve_params("srr-openmodes", None, ["subdivisions=4"]))
             rows.append(single(f"ring {len(big.rwg)}", big, 6.19e9, wave_y, 1, accuracy=False))
@@ -351,10 +463,21 @@ def main(argv: list[str] | None = None) -> int:
             freqs = np.linspace(3e9, 12e9, 50)
             rows.append(sweep_workload(ring, freqs, wave_y, accuracy=True))
     print(table(rows))
+    extra = {}
+    if not args.quick and "compile" not in args.skip:
+        extra["compile"] = compile_cost()
+        print(
+            "compiled fill, first call in a fresh process: "
+            f"{extra['compile']['first_fill_cold_s']:.1f} s compiling (empty cache), "
+            f"{extra['compile']['first_fill_cached_s']:.2f} s from the cache"
+        )
+    if not args.quick:
+        extra["single_precision_gflops"] = single_precision_rate()
+        print(f"complex64 matrix product: {extra['single_precision_gflops']:.1f} GFLOP/s")
     bempp = "installed but not wired in this script" if bempp_available() else "not installed"
     print(f"bempp-cl: {bempp} (skipped)")
     if args.json:
-        doc = {"machine": machine(), "workloads": rows, "bempp": bempp}
+        doc = {"machine": machine(), "workloads": rows, "bempp": bempp, **extra}
         Path(args.json).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
     return 0
 

@@ -22,6 +22,9 @@ PACKAGES=(
     libglib2.0-0 libdbus-1-3 libfontconfig1 libfreetype6
     # some font, or Qt and VTK draw no text
     fonts-dejavu-core
+    # GNU OpenMP: the threading layer of the solver's compiled fill (numba); without it
+    # numba falls back to its workqueue layer
+    libgomp1
 )
 # Extra packages a make target needs beyond these, e.g. `make bench` (the gmsh wheel).
 PACKAGES+=("$@")

@@ -196,7 +196,7 @@ def test_readme_headline_figures_are_those_of_the_result_files():
     assert f"smallest angle {split['min_angle_deg']:.1f}°" in row
     assert f"largest aspect ratio {split['max_aspect_ratio']:.2f}" in row
 
-    plate = _result("solver.json")["workloads"][0]
+    plate = _result("solver-2026-12-04.json")["workloads"][0]
     assert plate["name"] == "plate 736"
     row = _row(text, "RWG solve")
     assert f"{plate['unknowns']} unknowns" in row
@@ -295,7 +295,7 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     performance = (html / "performance.html").read_text(encoding="utf-8")
     for result in (
         "mesher-2026-12-02.json",
-        "solver.json",
+        "solver-2026-12-04.json",
         "quality-2026-12-02.json",
         "latency-big-2026-12-02.json",
         "latency-interaction-2026-12-04.json",

@@ -37,6 +37,8 @@ HEAVY = (
     "distributed",
     "xarray",
     "pandas",
+    "numba",  # the solver's compiled fill imports it on the first fill only
+    "llvmlite",
 )
 
 #: Prints the heavy modules loaded after running the code it is given (as JSON, on stdout).

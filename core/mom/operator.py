@@ -26,6 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..constants import ETA0, SPEED_OF_LIGHT
+from .compiled_fill import compiled_impedance_matrix, resolve_backend
 from .geometry import MomGeometry, far_point_distances
 
 #: Complex numbers held by one block of the far-pair kernel.
@@ -106,7 +107,9 @@ def near_moments_from_half(geom: MomGeometry, m4: np.ndarray, k: complex) -> np.
 SINGLE_PRECISION_PHASE = 50.0
 
 
-def far_kernel(dist: np.ndarray, k: float, max_phase: float | None = None) -> np.ndarray:
+def far_kernel(
+    dist: np.ndarray, k: float, max_phase: float | None = None, double: bool = False
+) -> np.ndarray:
     """e^(−jkR)/R for far pairs, with the phase's cosine and sine in single precision.
 
     When k R can exceed :data:`SINGLE_PRECISION_PHASE` (``max_phase``, default
@@ -114,7 +117,14 @@ def far_kernel(dist: np.ndarray, k: float, max_phase: float | None = None) -> np
     either way the error is below 1e-7 of |G| or so, far under the far rule's
     own error (about 1e-3). Single-precision cos and sin are vectorised and
     about ten times faster, and they are most of the fill time.
+
+    With ``double``, the kernel is computed in double precision throughout: the
+    reference the compiled fill (:mod:`barymesh.mom.compiled_fill`) is tested against.
     """
+    if double:
+        x = k * dist
+        with np.errstate(divide="ignore"):
+            return (np.cos(x) - 1j * np.sin(x)) / dist
     if max_phase is None:
         max_phase = k * float(dist.max()) if dist.size else 0.0
     if max_phase <= SINGLE_PRECISION_PHASE:
@@ -133,7 +143,13 @@ def far_kernel(dist: np.ndarray, k: float, max_phase: float | None = None) -> np
 
 
 def far_moments(
-    geom: MomGeometry, k: float, lo: int, hi: int, axes: tuple[int, ...], src_lo: int = 0
+    geom: MomGeometry,
+    k: float,
+    lo: int,
+    hi: int,
+    axes: tuple[int, ...],
+    src_lo: int = 0,
+    double: bool = False,
 ) -> np.ndarray:
     """(8, T − src_lo, hi − lo) complex far-rule moments of G, source triangle first.
 
@@ -142,7 +158,8 @@ def far_moments(
     (observation lo + o, source src_lo + s). The kernel is laid out source
     point by observation point, so the contraction over the source points is
     one batched real matrix product per source triangle (its weights w and
-    w ρ' against the real and imaginary parts of the kernel).
+    w ρ' against the real and imaginary parts of the kernel). ``double``: see
+    :func:`far_kernel`.
     """
     far = geom.far
     q = far.size
@@ -153,7 +170,8 @@ def far_moments(
     else:
         dist = far_point_distances(far, src_lo, geom.n_triangles, lo, hi)
     span = np.ptp(geom.vertices, axis=0)
-    kernel = far_kernel(dist, k, k * float(np.linalg.norm(span))).reshape(ts, q, tb * q)
+    kernel = far_kernel(dist, k, k * float(np.linalg.norm(span)), double)
+    kernel = kernel.reshape(ts, q, tb * q)
     # source side: (Ts, 1 + len(axes), Qf) weights w, w ρ'_c against (Ts, Qf, 2 Tb Qf) reals
     w = far.weights[src_lo:, None, :]
     src_weights = np.concatenate([w] + [w * far.rho[src_lo:, None, :, c] for c in axes], axis=1)
@@ -242,21 +260,27 @@ def fill_blocks(geom: MomGeometry) -> list[FillBlock]:
     return out
 
 
-def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
+def impedance_matrix(
+    geom: MomGeometry, k: float, backend: str | None = None, double: bool = False
+) -> np.ndarray:
     """The (N, N) complex EFIE matrix at wavenumber ``k`` (rad/m).
 
-    Blocks of observation triangles are integrated against themselves and
-    the triangles after them only; the pairs before them are the transposes
-    of pairs already done (the Galerkin integrals are symmetric, swapping
-    the moments of ρ and ρ'): half the kernel work. Only near pairs inside
-    one block are integrated both ways, so Z is symmetric up to the near
-    rule's error (about 1e-4 of its largest entry).
+    Two fills compute it: the compiled one (``barymesh.mom.compiled_fill``,
+    multi-threaded, double precision), when numba is installed, and the numpy one
+    (``numpy_impedance_matrix`` here), the reference. They agree to 1e-12 of the
+    largest entry (the numpy one with ``double``; by default its far kernel is in
+    single precision, about 1e-7 of |G|, far under the far rule's own error).
 
     Parameters
     ----------
     geom : MomGeometry
     k : float
         Free-space wavenumber, > 0.
+    backend : {"numba", "numpy"}, optional
+        Which fill; by default the environment variable ``BARYMESH_FILL``, else numba
+        when it is installed.
+    double : bool
+        The numpy fill's far kernel in double precision (the compiled fill always is).
 
     Returns
     -------
@@ -266,6 +290,22 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     k = float(k)
     if not np.isfinite(k) or k <= 0:
         raise ValueError(f"wavenumber k={k} is invalid; expected a positive number")
+    if resolve_backend(backend) == "numba":
+        return compiled_impedance_matrix(geom, k, near_moments(geom, k))
+    return numpy_impedance_matrix(geom, k, double)
+
+
+def numpy_impedance_matrix(geom: MomGeometry, k: float, double: bool = False) -> np.ndarray:
+    """The EFIE matrix by the numpy fill (:func:`impedance_matrix` checks ``k``).
+
+    Blocks of observation triangles are integrated against themselves and
+    the triangles after them only; the pairs before them are the transposes
+    of pairs already done (the Galerkin integrals are symmetric, swapping
+    the moments of ρ and ρ'): half the kernel work. Only near pairs inside
+    one block are integrated both ways; their static parts are computed once
+    per mirrored pair, so Z is symmetric to rounding. ``double``: the far kernel
+    in double precision (:func:`far_kernel`).
+    """
     axes = active_axes(geom)
     t = geom.n_triangles
     n = geom.n_unknowns
@@ -274,7 +314,7 @@ def impedance_matrix(geom: MomGeometry, k: float) -> np.ndarray:
     z = np.zeros((n, n), dtype=np.complex128)
     for blk in fill_blocks(geom):
         lo, hi = blk.lo, blk.hi
-        m = far_moments(geom, k, lo, hi, axes, src_lo=lo)
+        m = far_moments(geom, k, lo, hi, axes, src_lo=lo, double=double)
         span = slice(starts[lo], starts[hi])
         keep = geom.near_pairs[span, 1] >= lo
         rows = geom.near_pairs[span, 0][keep] - lo

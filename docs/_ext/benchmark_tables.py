@@ -149,7 +149,17 @@ def mesher(doc: dict[str, Any]) -> Table:
 
 
 def solver(doc: dict[str, Any]) -> Table:
-    head = ["workload", "N", "frequency", "ours s", "Makarov-style s", "speed-up", "largest |J|"]
+    head = [
+        "workload",
+        "N",
+        "frequency",
+        "ours s",
+        "Makarov-style s",
+        "speed-up",
+        "fill s: compiled (CPU) / numpy",
+        "LU s",
+        "largest |J|",
+    ]
     rows = []
     for w in doc["workloads"]:
         if "frequencies" in w:
@@ -160,20 +170,45 @@ def solver(doc: dict[str, Any]) -> Table:
             )
         else:
             freq = f"{w['frequency_hz'] / 1e6:g} MHz"
-            extra = f"{w['ours_max_j']:.5g} vs {w['makarov_max_j']:.5g} A/m"
+            extra = (
+                f"{w['ours_max_j']:.5g} vs {w['makarov_max_j']:.5g} A/m"
+                if "ours_max_j" in w
+                else "–"
+            )
+        fill = "–"
+        if "ours_fill_s" in w:
+            fill = f"{w['ours_fill_s']:.3f}"
+            if "ours_fill_cpu_s" in w:
+                fill += f" ({w['ours_fill_cpu_s']:.3f})"
+            if "ours_fill_numpy_s" in w:
+                fill += f" / {w['ours_fill_numpy_s']:.3f}"
         rows.append(
             [
                 w["name"],
                 _n(w["unknowns"]),
                 freq,
-                _s(w["ours_s"]),
-                _s(w["makarov_s"]),
-                f"{w['speedup']:.1f}×",
+                _s(w.get("ours_s")),
+                _s(w.get("makarov_s")),
+                f"{w['speedup']:.1f}×" if "speedup" in w else "–",
+                fill,
+                _s(w.get("ours_lu_s")),
                 extra,
             ]
         )
-    bempp = doc.get("bempp")
     note = "Fill + solve, cold, best of the repetitions; ours against the Makarov-style solver."
+    compiled = doc.get("compile")
+    if compiled:
+        note += (
+            " The compiled fill's first call in a fresh process: "
+            f"{compiled['first_fill_cold_s']:.1f} s compiling with an empty cache, "
+            f"{compiled['first_fill_cached_s']:.2f} s loading from the cache."
+        )
+    if doc.get("single_precision_gflops"):
+        note += (
+            " A complex64 matrix product runs at "
+            f"{doc['single_precision_gflops']:.0f} GFLOP/s on this machine."
+        )
+    bempp = doc.get("bempp")
     if bempp:
         note += f" bempp-cl: {bempp}."
     return head, rows, note
