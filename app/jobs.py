@@ -45,7 +45,7 @@ class Task:
     """One submitted job: its cancellation flag and its progress channel.
 
     Work submitted with ``with_task=True`` is called as ``work(task)`` and may poll
-    :attr:`cancelled` and call :meth:`report` from its thread.
+    ``cancelled`` and call :meth:`report` from its thread.
     """
 
     def __init__(self, jobs: Jobs, payload: tuple[Any, ...]) -> None:
@@ -55,7 +55,7 @@ class Task:
         self.done = threading.Event()  # set when the work has returned or raised
 
     def cancel(self) -> None:
-        """Drop the result (work that takes the task sees :attr:`cancelled` and may stop)."""
+        """Drop the result (work that takes the task sees ``cancelled`` and may stop)."""
         self.cancelled = True
 
     def report(self, *values: Any) -> None:

@@ -229,11 +229,11 @@ def test_command_line_opens_the_window_on_a_cell(tmp_path):
 
 
 def test_main_cli_passes_cell_options_to_the_window(monkeypatch):
-    import barymesh.app.window
+    import barymesh.app.window_main
     from barymesh.app import cli
 
     seen = []
-    monkeypatch.setattr(barymesh.app.window, "main", lambda argv: seen.append(argv) or 0)
+    monkeypatch.setattr(barymesh.app.window_main, "main", lambda argv: seen.append(argv) or 0)
     assert cli.main(["--cell-preset", "coding-16x16"]) == 0
     assert seen == [["--cell-preset", "coding-16x16"]]
 
