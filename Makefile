@@ -39,7 +39,7 @@ fuzz: $(STAMP)
 	HYPOTHESIS_PROFILE=fuzz BARYMESH_FUZZ_EXAMPLES=50000 $(BIN)/python -m pytest -p no:xvfb -q \
 		tests/test_core_properties.py tests/test_cell_properties.py tests/test_study_spec.py \
 		tests/test_mom_api.py tests/test_mom_periodic_checks.py -k "hostile or any_frequency" \
-		--hypothesis-show-statistics $(FUZZ_ARGS)
+		--hypothesis-show-statistics --timeout=0 $(FUZZ_ARGS)
 
 bench: $(STAMP)
 	@bash scripts/system-deps.sh $(GMSH_DEPS)

@@ -250,7 +250,7 @@ def test_no_verb_opens_window(monkeypatch):
 
 
 def test_no_verb_without_window_prints_usage(monkeypatch, capsys):
-    monkeypatch.setitem(sys.modules, "barymesh.app.window", None)  # import fails as if absent
+    monkeypatch.setitem(sys.modules, "barymesh.app.window_main", None)  # import fails as if absent
     assert cli.main([]) == 0
     out = capsys.readouterr().out
     assert "mesh" in out and "info" in out and "presets" in out
