@@ -447,7 +447,10 @@ def test_startup_benchmark_times_each_case_and_its_baseline(tmp_path: Path) -> N
         "from barymesh import build_mesh",
         "barymesh --help",
         "barymesh mesh --preset paper-fig10 --stats-json -",
+        "barymesh window: first frame",
     ]
+    window = doc["cases"]["barymesh window: first frame"]
+    assert window["target"] == 2.0 and window["cpu_median"] > 0  # the window ran
     for case in doc["cases"].values():
         for row in (case, case["baseline"]):
             assert len(row["times"]) == len(row["cpu_times"]) == 1
@@ -459,4 +462,4 @@ def test_startup_benchmark_times_each_case_and_its_baseline(tmp_path: Path) -> N
     finally:
         sys.path.remove(str(ROOT / "docs" / "_ext"))
     head, rows, note = benchmark_tables.startup(doc)
-    assert len(rows) == 5 and "load average" in head and "Before: the same case on HEAD" in note
+    assert len(rows) == 6 and "load average" in head and "Before: the same case on HEAD" in note

@@ -25,6 +25,7 @@ HEAVY = (
     "scipy.special",
     "scipy.io",
     "scipy.interpolate",
+    "scipy.ndimage",
     "meshio",
     "shtab",
     "PySide6",
@@ -156,3 +157,12 @@ def test_importing_the_window_leaves_matplotlib_for_later():
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
     )
     assert out.stdout.strip() == "False", out.stdout
+
+
+def test_importing_the_window_loads_no_scipy_submodule():
+    """The window's first frame needs none of scipy: the element lookup's k-d tree and the
+    pixel painter's region labels import theirs when first used (a third of a second of a
+    start-up whose target is two)."""
+    found = heavy_modules("import barymesh.app.window_main")
+    assert [m for m in found if m.startswith("scipy.")] == []
+    assert "PySide6" in found  # the guard sees what the window does import

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
 
 from barymesh.cell import SYMMETRIES, symmetrized
 
@@ -199,6 +198,8 @@ def flood_filled(
     ids = orbit_ids(m.shape, symmetry)
     seeds = ids == ids[r, c]
     same = closed == closed[r, c]  # an invariant mask: equal on the whole orbit
+    from scipy import ndimage  # here: scipy.ndimage (and scipy.special) off the start-up
+
     labels, _ = ndimage.label(same)  # default structure: 4-neighbours
     region = np.isin(labels, np.unique(labels[seeds]))
     out = closed.copy()

@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from barymesh import TriMesh
 
@@ -96,6 +95,10 @@ class MeshLocator:
         #: a flat mesh (every point at one height): queries may come from a ray–plane cut
         self.planar = bool(hi[2] - lo[2] <= 1e-9 * self.size)
         self.z0 = float(lo[2])
+        # imported here, off the window's start-up: scipy.spatial pulls in scipy.special
+        # and scipy.sparse (a third of a second), and the first lookup runs in a worker
+        from scipy.spatial import cKDTree
+
         self.tree = cKDTree(np.asarray(mesh.centroids)[:, :2]) if n else None
         self.triangle_edges = np.asarray(mesh.triangle_edges) if n else np.empty((0, 3), int)
         self.edges = np.asarray(mesh.edges) if n else np.empty((0, 2), int)

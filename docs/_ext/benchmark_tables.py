@@ -382,8 +382,9 @@ def startup(doc: dict[str, Any]) -> Table:
         )
     note = (
         f"Median of {doc['repeats']} runs of each case in a new process, wall time from start "
-        "to exit, with the bytecode caches written (as after an install); CPU is user + "
-        "system time, which a loaded machine stretches less than the wall time."
+        "to exit (the window: to its first frame showing the mesh), with the bytecode caches "
+        "written (as after an install); CPU is user + system time, which a loaded machine "
+        "stretches less than the wall time."
     )
     base = doc.get("baseline")
     if base:
