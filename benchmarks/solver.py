@@ -28,18 +28,28 @@ compilation with an empty cache, and the load from a warm one), the rate of the 
 against the machine's single-precision rate measured by a complex64 matrix product, and
 the numba threads.
 
-bempp-cl is not wired in (it is optional, not in our dependencies): reported as skipped.
+``--bempp`` runs the comparison with bempp-cl instead (``pip install -e '.[bench]'``
+installs it): the EFIE matrix of the same plates (176 and 736 unknowns; ``--bempp-sizes``
+adds more) assembled by bempp-cl 0.4 (its numba backend, double precision: RWG trial and
+test space with the SNC dual, ``operators.boundary.maxwell.electric_field(...).weak_form()``)
+and by barymesh (per-mesh geometry and compiled fill, from a fresh mesh), the two
+alternating, best of ``--reps``; bempp-cl's first assembly in the process (its numba
+compilation; it keeps no cache) is recorded on its own. Only times are compared: bempp-cl
+scales its RWG functions and the operator differently, so the matrices are not equal
+entry by entry; the unknown counts are checked to agree.
 
 Usage::
 
     python benchmarks/solver.py                 # all workloads, table on stdout
     python benchmarks/solver.py --json out.json
     python benchmarks/solver.py --quick         # tiny sizes (the test suite)
+    python benchmarks/solver.py --bempp --json benchmarks/results/solver-bempp-DATE.json
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.metadata
 import importlib.util
 import json
 import os
@@ -187,10 +197,84 @@ def current_error(j: np.ndarray, ref: np.ndarray) -> float:
 
 
 def bempp_available() -> bool:
-    return (
-        importlib.util.find_spec("bempp") is not None
-        or importlib.util.find_spec("bempp_cl") is not None
-    )
+    return importlib.util.find_spec("bempp_cl") is not None
+
+
+def bempp_efie(mesh: TriMesh, freq: float) -> tuple[int, float, float]:
+    """bempp-cl's dense EFIE matrix of ``mesh`` at ``freq``: (unknowns, wall s, CPU s),
+    from the grid to the assembled matrix."""
+    import bempp_cl.api as bempp
+
+    bempp.DEFAULT_DEVICE_INTERFACE = "numba"
+
+    def assemble() -> int:
+        grid = bempp.Grid(
+            np.asarray(mesh.points, float).T * 1e-3, np.asarray(mesh.triangles).T.copy()
+        )
+        rwg = bempp.function_space(grid, "RWG", 0)
+        snc = bempp.function_space(grid, "SNC", 0)
+        op = bempp.operators.boundary.maxwell.electric_field(rwg, rwg, snc, wavenumber(freq))
+        matrix = op.weak_form().to_dense()
+        return int(matrix.shape[0])
+
+    n, wall, cpu = _timed(assemble)
+    return n, wall, cpu
+
+
+def bempp_rows(extra_sizes: list[int], reps: int) -> dict:
+    """Our EFIE matrix (geometry + compiled fill) against bempp-cl's, same plates."""
+    import bempp_cl
+
+    meshes = [
+        ("plate 176", build_mesh(load_preset("makarov-plate")[0])),
+        ("plate 736", build_mesh(load_preset("makarov-platefine")[0])),
+    ]
+    for sub in extra_sizes:
+        mesh = build_mesh(resolve_params("makarov-platefine", None, [f"subdivisions={sub}"]))
+        meshes.append((f"plate {len(mesh.rwg)}", mesh))
+    # bempp-cl compiles its kernels on the first assembly of a process (no cache)
+    _n, first, first_cpu = bempp_efie(meshes[0][1], 300e6)
+    rows = []
+    for name, mesh in meshes:
+        k = wavenumber(300e6)
+        best = {"ours": (np.inf, np.inf), "bempp": (np.inf, np.inf)}
+        for _ in range(reps):  # alternating: both see the same load
+            cold = fresh(mesh)
+            _, wall, cpu = _timed(
+                lambda cold=cold, k=k: impedance_matrix(mom_geometry(cold), k, backend="numba")
+            )
+            best["ours"] = min(best["ours"], (wall, cpu))
+            n, wall, cpu = bempp_efie(mesh, 300e6)
+            best["bempp"] = min(best["bempp"], (wall, cpu))
+            if n != len(mesh.rwg):
+                raise SystemExit(f"{name}: bempp-cl has {n} unknowns, barymesh {len(mesh.rwg)}")
+        rows.append(
+            {
+                "name": name,
+                "unknowns": len(mesh.rwg),
+                "ours_matrix_s": best["ours"][0],
+                "ours_matrix_cpu_s": best["ours"][1],
+                "bempp_matrix_s": best["bempp"][0],
+                "bempp_matrix_cpu_s": best["bempp"][1],
+                "speedup": best["bempp"][0] / best["ours"][0],
+                "speedup_cpu": best["bempp"][1] / best["ours"][1],
+            }
+        )
+        r = rows[-1]
+        print(
+            f"{name:<12} {r['unknowns']:>6}  ours {r['ours_matrix_s']:8.3f} s "
+            f"(CPU {r['ours_matrix_cpu_s']:.3f})  bempp-cl {r['bempp_matrix_s']:8.3f} s "
+            f"(CPU {r['bempp_matrix_cpu_s']:.3f})  {r['speedup']:.1f}x",
+            flush=True,
+        )
+    return {
+        "bempp_version": getattr(bempp_cl, "__version__", None)
+        or importlib.metadata.version("bempp-cl"),
+        "bempp_first_assembly_s": first,
+        "bempp_first_assembly_cpu_s": first_cpu,
+        "reps": reps,
+        "rows": rows,
+    }
 
 
 # -- workloads ------------------------------------------------------------------------
@@ -423,7 +507,27 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--reps", type=int, default=3, help="repetitions (best time is kept)")
     ap.add_argument("--json", metavar="PATH", help="also write the results as JSON")
     ap.add_argument("--skip", action="append", default=[], help="skip a workload by name")
+    ap.add_argument("--bempp", action="store_true", help="only the comparison with bempp-cl")
+    ap.add_argument(
+        "--bempp-sizes",
+        type=int,
+        nargs="*",
+        default=[],
+        metavar="n",
+        help="with --bempp: also the plate at these subdivisions (22: 1,408 unknowns)",
+    )
     args = ap.parse_args(argv)
+    if args.bempp:
+        if not bempp_available():
+            raise SystemExit("bempp-cl is not installed: pip install -e '.[bench]'")
+        from barymesh.mom.compiled_fill import warm_up
+
+        warm_up()
+        doc = {"machine": machine(), **bempp_rows(args.bempp_sizes, args.reps)}
+        print(f"bempp-cl's first assembly (its compilation): {doc['bempp_first_assembly_s']:.1f} s")
+        if args.json:
+            Path(args.json).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+        return 0
     wave_x = PlaneWave(direction=(0, 0, -1), polarization=(1, 0, 0))
     wave_y = PlaneWave(direction=(0, 0, -1), polarization=(0, 1, 0))
     rows = []
@@ -474,8 +578,8 @@ def main(argv: list[str] | None = None) -> int:
     if not args.quick:
         extra["single_precision_gflops"] = single_precision_rate()
         print(f"complex64 matrix product: {extra['single_precision_gflops']:.1f} GFLOP/s")
-    bempp = "installed but not wired in this script" if bempp_available() else "not installed"
-    print(f"bempp-cl: {bempp} (skipped)")
+    bempp = "installed: --bempp compares" if bempp_available() else "not installed"
+    print(f"bempp-cl: {bempp}")
     if args.json:
         doc = {"machine": machine(), "workloads": rows, "bempp": bempp, **extra}
         Path(args.json).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")

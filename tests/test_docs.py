@@ -296,15 +296,16 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     for result in (
         "mesher-2026-12-02.json",
         "solver-2026-12-04.json",
+        "solver-bempp-2026-12-04.json",
         "quality-2026-12-02.json",
         "latency-big-2026-12-02.json",
         "latency-interaction-2026-12-04.json",
         "startup-2026-12-04.json",
     ):
         assert result in performance
-    # mesher, quality, solver, the window's dense rounds and its drags, wheel and rotation,
-    # start-up
-    assert performance.count("<table") == 6
+    # mesher, quality, solver, bempp-cl's, the window's dense rounds and its drags, wheel
+    # and rotation, start-up
+    assert performance.count("<table") == 7
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
     # speed, sweep accuracy, infinite-array sweep, live infinite-array and convergence
