@@ -16,7 +16,6 @@ import os
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, cast
 
@@ -34,20 +33,16 @@ from PySide6.QtGui import (
     QAction,
     QActionGroup,
     QCloseEvent,
-    QGuiApplication,
-    QImage,
     QKeyEvent,
     QKeySequence,
 )
 from PySide6.QtWidgets import (
     QApplication,
     QDockWidget,
-    QFileDialog,
     QLabel,
     QMainWindow,
     QMessageBox,
     QProgressBar,
-    QProgressDialog,
     QScrollArea,
     QStyle,
     QTabBar,
@@ -57,13 +52,11 @@ from PySide6.QtWidgets import (
 )
 
 import barymesh
-from barymesh import MeshParams, TriMesh
+from barymesh import MeshParams
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
-from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog, png_steps, write_png
-from barymesh.app.dialogs.step_progress import run_in_steps
 from barymesh.app.edit.cell_tools import CellTools
-from barymesh.app.jobs import Jobs
+from barymesh.app.file_actions import ExportJob, FileActions
 from barymesh.app.model import (
     AppModel,
     ClickTools,
@@ -163,23 +156,6 @@ def app_settings() -> QSettings:
     )
 
 
-#: An export still writing after this many ms shows its progress dialog (with Cancel).
-EXPORT_PROGRESS_MS = 300
-
-
-@dataclass(eq=False)
-class ExportJob:
-    """One mesh export in a worker thread (:meth:`MainWindow.start_export`)."""
-
-    path: str
-    what: str  # "out.msh (Gmsh MSH 2.2 ASCII, mm)"
-    done: Callable[[bool], None] | None = None
-    cancelled: bool = False
-    progress: QProgressDialog | None = None
-    wrote: Callable[[TriMesh, str], str] | None = None  # the status line once written
-    mesh: TriMesh | None = None  # what was (or is being) written
-
-
 class MainWindow(QMainWindow):
     """The barymesh window.
 
@@ -217,9 +193,6 @@ class MainWindow(QMainWindow):
 
         collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
 
-        self.export_job: ExportJob | None = None  # the export being written, if any
-        self.file_jobs = Jobs(self, name="barymesh-export")  # one export at a time
-
         self.settings = settings if settings is not None else app_settings()
         self.scripted = scripted
         self.setObjectName("barymesh")
@@ -243,6 +216,8 @@ class MainWindow(QMainWindow):
             self.plotter, visible=self.model.layers, color_by=self.model.color_by
         )
         self.scene.top_view()
+        # File: open, save, export and screenshots (barymesh.app.file_actions)
+        self.files = FileActions(self, self.settings, self.model, self.plotter, self.scene)
         self.framing = FramedCamera(self.plotter)  # the camera a mesh was last framed with
         # the mouse moved the camera (a drag ended, a wheel step: VTK's style ends each
         # step's interaction too); the rulers and the note follow when it rests
@@ -461,34 +436,37 @@ class MainWindow(QMainWindow):
         a = self.add_action
         self.act_open = a(
             "&Open mesh file…",
-            self.open_mesh_dialog,
+            self.files.open_mesh_dialog,
             QKeySequence.StandardKey.Open,
             "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it",
         )
         self.act_load = a(
-            "&Load parameters…", self.load_params_dialog, "Ctrl+L", "Load a JSON parameter file"
+            "&Load parameters…",
+            self.files.load_params_dialog,
+            "Ctrl+L",
+            "Load a JSON parameter file",
         )
         self.act_save = a(
             "&Save parameters…",
-            self.save_params_dialog,
+            self.files.save_params_dialog,
             QKeySequence.StandardKey.Save,
             "Save the parameters as a JSON file",
         )
         self.act_export = a(
             "&Export mesh…",
-            self.export_mesh_dialog,
+            self.files.export_mesh_dialog,
             "Ctrl+E",
             "Write the mesh in a solver's format",
         )
         self.act_shot = a(
             "Export &screenshot…",
-            self.screenshot_dialog,
+            self.files.screenshot_dialog,
             "Ctrl+Shift+E",
             "Save a PNG of the 3D view (1–4×, optionally transparent)",
         )
         self.act_copy = a(
             "&Copy screenshot",
-            lambda: self.copy_view_to_clipboard(),
+            lambda: self.files.copy_view_to_clipboard(),
             "Ctrl+Shift+C",
             "Copy the 3D view to the clipboard",
         )
@@ -595,7 +573,7 @@ class MainWindow(QMainWindow):
             self.clicks,
             controls=self.controls,
             parameters_dock=self.parameters_dock,
-            run_export=self.run_export,
+            run_export=self.files.run_export,
             world_at=self.view_tools.world_at,
             picker=self.teaching.picker,
         )
@@ -1088,210 +1066,45 @@ class MainWindow(QMainWindow):
             if render:
                 self.request_render()
 
+    # -- files: barymesh.app.file_actions.FileActions, under their old names ----------------
+
+    @property
+    def export_job(self) -> ExportJob | None:
+        """The mesh export being written, if any (one at a time)."""
+        return self.files.export_job
+
+    @property
+    def export_dialog(self) -> ExportDialog | None:
+        """The last File → Export mesh dialog (None before the first)."""
+        return self.files.export_dialog
+
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray | None:
-        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
-
-        At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
-        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`), one render at a
-        time under a progress dialog with Cancel (the window answers between them); None
-        when cancelled."""
-        from barymesh.app.view.scaled_shot import MAX_SCALE, ScaledShot
-
-        if not 1 <= int(scale) <= MAX_SCALE:
-            raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
-        self._settle_for_export()
-        if int(scale) > 1:
-            shot = ScaledShot(self.scene, int(scale), transparent)
-            w, h = shot.size
-            if not run_in_steps(self, "Export screenshot", f"Drawing {w} × {h} px", shot.steps()):
-                return None
-            return shot.image
-        self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
-        image = self.plotter.screenshot(None, transparent_background=transparent, return_img=True)
-        self.plotter.render()
-        return np.ascontiguousarray(image)
+        """The 3D view as an image (:meth:`.FileActions.view_image`)."""
+        return self.files.view_image(scale, transparent)
 
     def save_view_png(self, path: str | Path, scale: int = 1, transparent: bool = False) -> bool:
-        """Write the 3D view to a PNG; errors go to the status bar. Returns success.
-
-        At 2× to 4× it is drawn in steps and written in a worker thread, under a progress
-        dialog whose Cancel leaves no file (:meth:`view_image`)."""
-        from barymesh.app.view.scaled_shot import ScaledShot
-
-        name = Path(path).name
-        try:
-            self._settle_for_export()
-            if int(scale) > 1:
-                shot = ScaledShot(self.scene, int(scale), transparent)
-                w, h = shot.size
-                if not run_in_steps(
-                    self,
-                    "Export screenshot",
-                    f"Saving {name} ({w} × {h} px)",
-                    png_steps(shot, path, self),
-                ):
-                    self.statusBar().showMessage(
-                        f"Screenshot {name} cancelled: no file written", 5000
-                    )
-                    return False
-            else:
-                image = self.view_image(1, transparent)
-                assert image is not None  # only a drawing in steps (2× to 4×) is cancelled
-                write_png(path, image)
-        except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
-            log.exception("screenshot failed")
-            self.statusBar().showMessage(file_error_sentence(f"Could not save {name}", exc, path))
-            return False
-        self.statusBar().showMessage(f"Saved {path}", 5000)
-        return True
-
-    def _settle_for_export(self) -> None:
-        """An export shows the view as it is at rest: rulers and note laid out for the
-        camera now (they wait for the rest while the camera moves)."""
-        if self.scene.settle():
-            self.request_render()
+        """Write the 3D view to a PNG (:meth:`.FileActions.save_view_png`)."""
+        return self.files.save_view_png(path, scale, transparent)
 
     def copy_view_to_clipboard(self, scale: int = 1, transparent: bool = False) -> None:
-        image = self.view_image(scale, transparent)
-        if image is None:
-            self.statusBar().showMessage("Copy of the view cancelled", 5000)
-            return
-        h, w, c = image.shape
-        fmt = QImage.Format.Format_RGBA8888 if c == 4 else QImage.Format.Format_RGB888
-        qimage = QImage(image.data, w, h, c * w, fmt).copy()
-        QGuiApplication.clipboard().setImage(qimage)
-        self.statusBar().showMessage(f"Copied a {w} × {h} px image of the view", 5000)
-
-    # -- files ---------------------------------------------------------------------------
-
-    def _path_setting(self, key: str, default: str) -> str:
-        return str(self.settings.value(f"paths/{key}", default))
-
-    def screenshot_dialog(self) -> None:
-        ScreenshotDialog(
-            self,
-            self.settings,
-            (self.plotter.width(), self.plotter.height()),
-            self.save_view_png,
-            self.copy_view_to_clipboard,
-        ).exec()
-
-    def open_mesh_dialog(self) -> None:
-        from barymesh.io import IMPORT_EXTENSIONS
-
-        patterns = " ".join(f"*{e}" for e in IMPORT_EXTENSIONS)
-        path, _ = QFileDialog.getOpenFileName(
-            self,
-            "Open mesh file",
-            self._path_setting("mesh", ""),
-            f"Mesh files ({patterns});;All files (*)",
-        )
-        if path:
-            self.settings.setValue("paths/mesh", path)
-            self.open_mesh_file(path)
+        """Copy the 3D view (:meth:`.FileActions.copy_view_to_clipboard`)."""
+        self.files.copy_view_to_clipboard(scale, transparent)
 
     def open_mesh_file(self, path: str | Path) -> bool:
-        """Show a mesh read from ``path`` until the next parameter change."""
-        from barymesh.io import read_mesh
-
-        try:
-            mesh: TriMesh = read_mesh(path)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not open {Path(path).name}", exc, path)
-            return False
-        result = self.model.show_imported(mesh, str(path))
-        if not self.model.set_result(result):
-            return False
-        self.statusBar().showMessage(
-            f"Opened {Path(path).name}: {mesh.n_triangles:,} triangles. The parameters apply "
-            "again with Back to the parametric mesh (Parameters panel).",
-            8000,
-        )
-        return True
-
-    def load_params_dialog(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(
-            self,
-            "Load parameters",
-            self._path_setting("params", ""),
-            "Parameter files (*.json);;All files (*)",
-        )
-        if path:
-            self.settings.setValue("paths/params", path)
-            self.load_params_file(path)
+        """Show a mesh file (:meth:`.FileActions.open_mesh_file`)."""
+        return self.files.open_mesh_file(path)
 
     def load_params_file(self, path: str | Path) -> bool:
-        from barymesh.presets import load_params_file
-
-        try:
-            params = load_params_file(path)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not load {Path(path).name}", exc, path)
-            return False
-        self.model.set_params(params)
-        return True
-
-    def save_params_dialog(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(
-            self,
-            "Save parameters",
-            self._path_setting("params", "barymesh-params.json"),
-            "Parameter files (*.json)",
-        )
-        if path:
-            if not path.lower().endswith(".json"):
-                path += ".json"
-            self.settings.setValue("paths/params", path)
-            self.save_params_file(path)
+        """Load parameters (:meth:`.FileActions.load_params_file`)."""
+        return self.files.load_params_file(path)
 
     def save_params_file(self, path: str | Path) -> bool:
-        from barymesh.presets import save_params_file
-
-        if self.model.file_source is not None:
-            self.statusBar().showMessage(
-                f"Not saved: the view holds {Path(self.model.file_source).name}, which has no "
-                "parameters; go back to the parametric mesh first"
-            )
-            return False
-        result = self.model.result  # the parameters of the mesh on screen, as exported
-        params = result.params if result is not None and result.params else self.model.params
-        try:
-            save_params_file(params, path)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not save {Path(path).name}", exc, path)
-            return False
-        newer = " (those of the mesh on screen; newer ones are being meshed)"
-        self.statusBar().showMessage(
-            f"Saved {path}{newer if params != self.model.params else ''}", 5000
-        )
-        return True
-
-    def export_mesh_dialog(self) -> ExportDialog:
-        """File → Export mesh: a file, its format and the length unit (window-modal)."""
-        dialog = ExportDialog(
-            self, self.settings, self.start_export, self.statusBar().currentMessage
-        )
-        dialog.open()
-        self.export_dialog = dialog
-        return dialog
+        """Save the parameters on screen (:meth:`.FileActions.save_params_file`)."""
+        return self.files.save_params_file(path)
 
     def export_mesh(self, path: str | Path, unit: str | None = None) -> bool:
-        from barymesh.io import describe_export, write_mesh
-        from barymesh.quality import params_wavelength
-
-        result = self.model.result
-        if result is None or result.mesh is None:
-            self.statusBar().showMessage("No mesh to export yet")
-            return False
-        try:
-            params = result.params if result.source == "parameters" else None
-            write_mesh(result.mesh, path, unit=unit, wavelength=params_wavelength(params))
-            what = describe_export(path, unit)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not export {Path(path).name}", exc, path)
-            return False
-        self.statusBar().showMessage(f"Wrote {what}", 5000)
-        return True
+        """Write the mesh on screen now (:meth:`.FileActions.export_mesh`)."""
+        return self.files.export_mesh(path, unit)
 
     def start_export(
         self,
@@ -1299,125 +1112,8 @@ class MainWindow(QMainWindow):
         unit: str | None = None,
         done: Callable[[bool], None] | None = None,
     ) -> bool:
-        """Write the mesh on screen to ``path`` in a worker thread; the window answers.
-
-        A progress dialog (after a moment) shows what is written and has Cancel: a
-        cancelled export leaves no file and no temporary file. ``done(ok)`` follows on
-        the GUI thread. Returns whether the export started (False: nothing to export, an
-        export still running or an unknown extension or unit, said in the status bar).
-        """
-        from barymesh.quality import params_wavelength
-
-        result = self.model.result
-        if result is None or result.mesh is None:
-            self.statusBar().showMessage("No mesh to export yet")
-            return False
-        mesh = result.mesh
-        params = result.params if result.source == "parameters" else None
-        return self.run_export(
-            path,
-            unit,
-            lambda: mesh,
-            f"{mesh.n_triangles:,} triangles",
-            done,
-            wavelength=params_wavelength(params),
-        )
-
-    def run_export(
-        self,
-        path: str | Path,
-        unit: str | None,
-        make_mesh: Callable[[], TriMesh],
-        what: str,
-        done: Callable[[bool], None] | None = None,
-        *,
-        wavelength: float | None = None,
-        wrote: Callable[[TriMesh, str], str] | None = None,
-    ) -> bool:
-        """Make a mesh and write it to ``path`` in a worker thread (see :meth:`start_export`).
-
-        ``make_mesh()`` runs in the thread too (numpy only, no VTK); ``what`` says what is
-        written in the progress dialog; ``wrote(mesh, described_path)`` the status line.
-        """
-        from barymesh.io import describe_export, write_mesh
-
-        if self.export_job is not None:
-            self.statusBar().showMessage(
-                f"Still writing {Path(self.export_job.path).name}; wait or cancel it first"
-            )
-            return False
-        try:
-            described = describe_export(path, unit)
-        except ValueError as exc:
-            self.file_error(f"Could not export {Path(path).name}", exc, path)
-            return False
-        job = ExportJob(str(path), described, done, wrote=wrote)
-        progress = QProgressDialog(f"Writing {Path(path).name}: {what}…", "Cancel", 0, 0, self)
-        progress.setWindowTitle("Export mesh")
-        progress.setWindowModality(Qt.WindowModality.WindowModal)
-        progress.setAutoClose(False)
-        progress.setAutoReset(False)
-        progress.canceled.connect(lambda: self._cancel_export(job))
-        progress.hide()
-        job.progress = progress
-        self.export_job = job
-
-        # a quick write shows no dialog at all; a longer one shows it after a moment
-        def show_progress() -> None:
-            if job.progress is not None:
-                job.progress.show()
-
-        QTimer.singleShot(EXPORT_PROGRESS_MS, show_progress)
-
-        def work() -> BaseException | None:  # worker thread: numpy and files only
-            try:
-                job.mesh = make_mesh()
-                write_mesh(
-                    job.mesh,
-                    path,
-                    unit=unit,
-                    wavelength=wavelength,
-                    cancelled=lambda: job.cancelled,
-                )
-            except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
-                return exc
-            return None
-
-        self.file_jobs.submit(work, self._export_finished, job)
-        return True
-
-    def _cancel_export(self, job: ExportJob) -> None:
-        job.cancelled = True
-        if job.progress is not None:
-            job.progress.setLabelText(f"Cancelling {Path(job.path).name}…")
-
-    def _export_finished(self, job: ExportJob, error: BaseException | None) -> None:
-        from barymesh.io import ExportCancelled
-
-        if job.progress is not None:
-            job.progress.canceled.disconnect()  # closing a progress dialog emits canceled
-            job.progress.close()
-            job.progress.deleteLater()
-            job.progress = None
-        if self.export_job is job:
-            self.export_job = None
-        ok = error is None
-        if isinstance(error, ExportCancelled):
-            self.statusBar().showMessage(
-                f"Export of {Path(job.path).name} cancelled: no file written", 5000
-            )
-        elif error is not None:
-            if not isinstance(error, ValueError | OSError):
-                log.error("export failed", exc_info=error)
-            self.file_error(f"Could not export {Path(job.path).name}", error, job.path)
-        else:
-            assert job.mesh is not None  # the write succeeded: the work made the mesh
-            wrote = job.wrote(job.mesh, job.what) if job.wrote is not None else f"Wrote {job.what}"
-            if job.cancelled:  # Cancel came after the file was complete and in place
-                wrote += " (complete before Cancel)"
-            self.statusBar().showMessage(wrote, 8000)
-        if job.done is not None:
-            job.done(ok)
+        """Write the mesh on screen in a worker thread (:meth:`.FileActions.start_export`)."""
+        return self.files.start_export(path, unit, done)
 
     def load_preset(self, name: str) -> bool:
         from barymesh.presets import load_preset
