@@ -2,7 +2,10 @@
 
 The state lives in :class:`barymesh.app.model.AppModel` (no Qt); this module wires the panels,
 the pyvistaqt view (:class:`barymesh.app.view.scene.MeshScene`), the meshing controller
-(:class:`barymesh.app.worker.MeshController`), menus and settings around it.
+(:class:`barymesh.app.worker.MeshController`), menus and settings around it. What a mesh
+result becomes in the view is the scene presenter's
+(:class:`barymesh.app.view.scene_presenter.ScenePresenter`); open, save and export are the
+File actions' (:class:`barymesh.app.file_actions.FileActions`).
 
 Run ``barymesh`` or ``python -m barymesh.app``; :func:`barymesh.app.window_main.main` reads the
 options and opens it.
@@ -13,7 +16,6 @@ from __future__ import annotations
 import json
 import logging
 import os
-import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -52,7 +54,7 @@ from PySide6.QtWidgets import (
 )
 
 import barymesh
-from barymesh import MeshParams
+from barymesh import MeshParams, TriMesh
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
 from barymesh.app.edit.cell_tools import CellTools
@@ -73,21 +75,17 @@ from barymesh.app.panels.stats_panel import StatsPanel
 from barymesh.app.teach.teaching_tools import TeachingTools
 from barymesh.app.teach.teaching_windows import TeachingWindows
 from barymesh.app.view.framing import (
-    CameraWatch,
     FramedCamera,
     frame_from_above,
     look_from_above,
     pixels_per_mm,
-    rect_inside,
-    visible_rect,
 )
 from barymesh.app.view.gl_info import multi_samples
 from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
-from barymesh.app.view.overview import DETAIL_TRIANGLES
 from barymesh.app.view.scene import MeshScene
-from barymesh.app.view.scene_data import needs_triangles, scene_data
+from barymesh.app.view.scene_presenter import ScenePresenter
 from barymesh.app.view.view_tools import ViewTools
-from barymesh.app.worker import BuildJob, MeshController, release_memory
+from barymesh.app.worker import BuildJob, MeshController
 
 log = logging.getLogger(__name__)
 
@@ -223,25 +221,16 @@ class MainWindow(QMainWindow):
         # step's interaction too); the rulers and the note follow when it rests
         for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
             self.plotter.iren.add_observer(event, self._camera_moved)
-        self._camera_key: tuple[Any, ...] | None = None
-        self.last_frame_seconds = 0.0
-        self.paint_counter = PaintCounter(self.plotter)  # one paint per new mesh
-        self._shown_scene: Any = None
-        self._last_triangles = 0
-        # once the camera rests, the part in view of a dense mesh gets its full detail
-        self._rest_timer = QTimer(self)
-        self._rest_timer.setSingleShot(True)
-        self._rest_timer.setInterval(250)
-        self._rest_timer.timeout.connect(self._camera_rested)
-        self._detail_token: tuple[int, tuple[float, ...]] | None = None
-        self._paint_timer = QTimer(self)  # a new mesh's first paint (see _show_result)
-        self._paint_timer.setSingleShot(True)
-        self._paint_timer.setInterval(1)
-        self._paint_timer.timeout.connect(self._paint_new_mesh)
-        self._painted_before: int | None = None  # paints when a new mesh came
-        # any camera change drawn (a key, Zoom to selection, a tool's zoom), not only the
-        # mouse's: the detail is asked for once it rests
-        self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
+        # the scene data, its requests and the view's paints (barymesh.app.view.scene_presenter)
+        self.presenter = ScenePresenter(
+            self.plotter,
+            self.scene,
+            self.model,
+            mesh_changed=self._mesh_changed,
+            frame=self.frame_mesh,
+            parent=self,
+        )
+        self.paint_counter = self.presenter.paint_counter  # one paint per new mesh
         self._closed = False
         self._arranging = False  # arrange_docks is moving the docks
 
@@ -308,19 +297,15 @@ class MainWindow(QMainWindow):
 
         self.controller = MeshController(self.model, self)
         self.controller.view_size = lambda: tuple(self.plotter.renderer.GetSize())
-        self.controller.paint_pending = lambda: self.paint_pending
-        self.paint_counter.after_paint = self._view_painted
         self.controller.busy_changed.connect(self._busy_changed)
         self.controller.job_changed.connect(self._job_changed)
-        self.controller.detail_ready.connect(self._detail_ready)
-        self.controller.scene_ready.connect(self._scene_ready)
-        self._scene_token: tuple[int, str] | None = None
+        self.presenter.attach_controller(self.controller)
         self.model.result_changed.connect(self._show_result)
         self.model.error_changed.connect(self._show_error)
         self.model.build_failed.connect(self._build_failed)
         self.model.layer_changed.connect(self._layer_changed)
         self.model.color_by_changed.connect(self._color_by_changed)
-        self.model.detail_changed.connect(self._detail_changed)
+        self.model.detail_changed.connect(self.presenter.set_detail)
         self.model.history_changed.connect(self._history_changed)
         self._make_actions()
         self._make_menus()
@@ -684,51 +669,8 @@ class MainWindow(QMainWindow):
     def _show_result(self, result: MeshResult) -> None:
         if self._closed:
             return
-        assert result.mesh is not None  # a result shown holds its mesh
-        start = time.perf_counter()
-        if result.scene is None:
-            result.scene = scene_data(result.mesh)
-        result.scene = self._scene_for_detail(result)
-        same = result.scene is self._shown_scene  # Undo back to the mesh on screen
-        self._shown_scene = result.scene
-        self._detail_token = None
-        if not same:
-            self.scene.update(result.scene)
-            self._complete_scene(result)
-            self.teaching.mesh_changed(result.mesh)
-            self.view_tools.mesh_changed(result.mesh)
+        self.presenter.show(result)
         p = result.params
-        key = (
-            result.source,
-            p.structure if p else None,
-            result.cell.name if result.cell is not None else None,
-        )
-        bounds = np.asarray(result.scene.bounds)
-        if key != self._camera_key or self._bounds_jumped(bounds) or self._left_view(bounds):
-            self.frame_mesh()
-        self._camera_key, self._camera_bounds = key, bounds
-        if not same:
-            # panels that grew with the new numbers relayout now, not after the paint:
-            # then the view is painted once, at its final size
-            painted = self.paint_counter.paints
-            for _ in range(6):  # label -> panel -> dock -> window: one level per round
-                QApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest)
-            if self.paint_counter.paints == painted:  # a resize may have painted it already
-                # painted from a timer: the event loop gets a turn between the new
-                # datasets and their first render (two blocks, not one of both)
-                self._painted_before = painted
-                self._paint_timer.start()
-            # after a large mesh its arrays are free now: hand the pages back (off this
-            # thread; trimming after every small mesh would only cost time)
-            big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
-            self._last_triangles = result.mesh.n_triangles
-            if big:
-                QTimer.singleShot(
-                    0, lambda: threading.Thread(target=release_memory, daemon=True).start()
-                )
-            if self.scene.reduced:
-                self._rest_timer.start()
-        self.last_frame_seconds = time.perf_counter() - start
         s = result.stats
         title = (
             Path(result.source).name
@@ -750,36 +692,16 @@ class MainWindow(QMainWindow):
             else:
                 self.statusBar().clearMessage()
 
-    def _paint_new_mesh(self) -> None:
-        if not self._closed and self.paint_counter.paints == self._painted_before:
-            self.request_render()
-
-    def _view_painted(self) -> None:
-        if not self._closed:
-            self.controller.painted()  # a build's result may wait for this paint
+    def _mesh_changed(self, mesh: TriMesh) -> None:
+        """A new mesh is in the scene: the tools that pick and highlight in it follow."""
+        self.teaching.mesh_changed(mesh)
+        self.view_tools.mesh_changed(mesh)
 
     @property
     def paint_pending(self) -> bool:
-        """Whether the mesh on screen still waits for its first paint (asked for by a
-        1 ms timer after it came, see :meth:`_show_result`)."""
-        return self.paint_counter.paints == self._painted_before and self.plotter.isVisible()
-
-    def _bounds_jumped(self, bounds: np.ndarray) -> bool:
-        old = getattr(self, "_camera_bounds", None)
-        if old is None:
-            return True
-        size_old = max(old[1] - old[0], old[3] - old[2], 1e-12)
-        size_new = max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-12)
-        return not 0.8 <= size_new / size_old <= 1.25
-
-    def _left_view(self, bounds: np.ndarray) -> bool:
-        """Whether the new mesh leaves the view the old one was wholly inside (a patch
-        grown past the view's edge): then the view frames it again."""
-        old = getattr(self, "_camera_bounds", None)
-        if old is None:
-            return False
-        view = visible_rect(self.plotter)
-        return rect_inside(old, view) and not rect_inside(bounds, view)
+        """Whether the mesh on screen still waits for its first paint
+        (:attr:`.ScenePresenter.paint_pending`)."""
+        return self.presenter.paint_pending
 
     def _show_error(self, error: ParamError | None) -> None:
         if error is None:
@@ -874,45 +796,9 @@ class MainWindow(QMainWindow):
     def _color_by_changed(self, key: str) -> None:
         if self._closed:
             return
-        self.scene.set_color_by(key)
-        if self.model.result is not None:
-            self._complete_scene(self.model.result)
+        self.presenter.set_color_by(key)
         self.color_actions[key].setChecked(True)
         self.refit_if_framed(render=False)  # a legend came or went: room for it
-        self.request_render()
-
-    def _scene_for_detail(self, result: MeshResult) -> Any:
-        """The scene data of ``result`` for the Detail choice: "full" draws a dense mesh's
-        every triangle (built here, on the GUI thread: the choice warns of its cost);
-        "auto" goes back to the image of a mesh built so."""
-        scene, mesh = result.scene, result.mesh
-        assert mesh is not None  # a result shown holds its mesh
-        if self.model.detail == "full" and scene.overview is not None:
-            return scene_data(
-                mesh, detail_limit=max(mesh.n_triangles, 1), color_by=self.model.color_by
-            )
-        if (
-            self.model.detail == "auto"
-            and scene.overview is None
-            and mesh.n_triangles > DETAIL_TRIANGLES
-        ):
-            return scene_data(
-                mesh, color_by=self.model.color_by, pixels=tuple(self.plotter.window_size)
-            )
-        return scene
-
-    def _detail_changed(self, mode: str) -> None:
-        if self._closed:
-            return
-        self.scene.set_detail(mode)
-        result = self.model.result
-        if result is not None and result.mesh is not None and result.scene is not None:
-            scene = self._scene_for_detail(result)
-            if scene is not result.scene:
-                result.scene = scene
-                self._shown_scene = scene
-                self._detail_token = None
-                self.scene.update(scene)
         self.request_render()
 
     def _status_message_changed(self, message: str) -> None:
@@ -943,71 +829,11 @@ class MainWindow(QMainWindow):
 
     def _camera_moved(self, *_args: Any) -> None:
         """The mouse moved the camera: line widths, dot sizes and what is drawn follow at
-        once, the rulers and the note when it rests (:meth:`_camera_rested`)."""
+        once, the rulers and the note when it rests
+        (:meth:`.ScenePresenter.camera_rested`)."""
         self.scene.fit_marker_sizes(settled=False)
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
-        self._rest_timer.start()
-
-    def _camera_drawn(self) -> None:
-        if not self._closed:
-            self._rest_timer.start()
-
-    def _camera_rested(self) -> None:
-        """The camera rests: the rulers follow the view, and the full detail of the part
-        in view of a dense mesh is asked for (in a thread)."""
-        if self._closed:
-            return
-        if self.scene.settle():
-            self.request_render()
-        result = self.model.result
-        if result is None or result.mesh is None or not self.scene.reduced:
-            return
-        rect = self.scene.wanted_detail()
-        if rect is None:
-            return
-        token = (result.generation, rect)
-        self._detail_token = token
-        self.controller.request_detail(result.mesh, rect, token)
-
-    def _complete_scene(self, result: MeshResult) -> None:
-        """A dense paper mesh's image is made without per-triangle values while it is
-        shown solid or by patch count (:func:`barymesh.app.view.scene_data.scene_data`): a colouring
-        that needs them has the worker make the scene again (plain until it comes)."""
-        key = self.model.color_by
-        if result.mesh is None or not needs_triangles(self.scene.overview, key):
-            return
-        token = (result.generation, key)
-        if token != self._scene_token:
-            self._scene_token = token
-            self.controller.request_scene(result.mesh, token)
-
-    def _scene_ready(self, payload: tuple[Any, Any]) -> None:
-        token, data = payload
-        if token != self._scene_token:
-            return  # a newer request is out
-        self._scene_token = None
-        result = self.model.result
-        if (
-            self._closed
-            or data is None
-            or result is None
-            or (result.generation, self.model.color_by) != token
-        ):
-            return
-        result.scene = data
-        self._shown_scene = data
-        self._detail_token = None
-        self.scene.update(data)
-        if self.scene.reduced:
-            self._rest_timer.start()  # the detail of the part in view, coloured so
-        self.request_render()
-
-    def _detail_ready(self, payload: tuple[Any, Any]) -> None:
-        token, data = payload
-        if self._closed or token != self._detail_token or data is None:
-            return
-        self.scene.show_detail(data)
-        self.request_render()
+        self.presenter.camera_moved()
 
     # -- view ----------------------------------------------------------------------------
 
@@ -1017,7 +843,7 @@ class MainWindow(QMainWindow):
         pyvistaqt's widget renders the scene in its paintGL anyway; calling
         ``plotter.render()`` as well would draw every frame twice.
         """
-        self.plotter.update()
+        self.presenter.request_render()
 
     def reset_camera(self) -> None:
         """R: the whole mesh and its rulers from straight above, fitted to the view."""
@@ -1344,7 +1170,7 @@ class MainWindow(QMainWindow):
             if not self.scripted:
                 self.save_settings()
             self.controller.stop()  # returns at once; a running build is abandoned
-            self._rest_timer.stop()
+            self.presenter.close()
             self._progress_timer.stop()
             # Release VTK's render window and GL context while the widget still exists.
             self.plotter.close()
@@ -1352,26 +1178,6 @@ class MainWindow(QMainWindow):
 
 
 # -- helpers of the window -----------------------------------------------------------------
-
-
-class PaintCounter(QObject):
-    """Counts the paint events of a widget (``paints``) and when the last one came;
-    ``after_paint`` is called once each paint is done (from the event loop)."""
-
-    def __init__(self, widget: QWidget, after_paint: Callable[[], None] | None = None) -> None:
-        super().__init__(widget)
-        self.paints = 0
-        self.last = 0.0
-        self.after_paint = after_paint
-        widget.installEventFilter(self)
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if event.type() == QEvent.Type.Paint:
-            self.paints += 1
-            self.last = time.perf_counter()
-            if self.after_paint is not None:
-                QTimer.singleShot(0, self, self.after_paint)  # after the paint itself
-        return False
 
 
 class EscapeCancels(QObject):

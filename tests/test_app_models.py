@@ -41,9 +41,10 @@ TOOL_MODULES = (
     "dialogs/screenshot_dialog.py",
     "dialogs/help_dialog.py",
 )
-#: What left window.py (issue 31, point 2): the File actions get the model, the plotter,
-#: the scene and the tool host, never the window.
-WINDOW_ROOMS = ("file_actions.py",)
+#: What left window.py (issue 31, point 2): the scene presenter and the File actions get
+#: the plotter, the scene and the model (the File actions the tool host too), never the
+#: window.
+WINDOW_ROOMS = ("view/scene_presenter.py", "file_actions.py")
 #: Panels and dialogs get a narrow interface too (issue 31): the host and what else they
 #: need, passed in, never the window.
 PANEL_MODULES = tuple(
