@@ -2,7 +2,10 @@
 
 The state lives in :class:`barymesh.app.model.AppModel` (no Qt); this module wires the panels,
 the pyvistaqt view (:class:`barymesh.app.view.scene.MeshScene`), the meshing controller
-(:class:`barymesh.app.worker.MeshController`), menus and settings around it.
+(:class:`barymesh.app.worker.MeshController`), menus and settings around it. What a mesh
+result becomes in the view is the scene presenter's
+(:class:`barymesh.app.view.scene_presenter.ScenePresenter`); open, save and export are the
+File actions' (:class:`barymesh.app.file_actions.FileActions`).
 
 Run ``barymesh`` or ``python -m barymesh.app``; :func:`barymesh.app.window_main.main` reads the
 options and opens it.
@@ -13,10 +16,8 @@ from __future__ import annotations
 import json
 import logging
 import os
-import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, cast
 
@@ -34,20 +35,16 @@ from PySide6.QtGui import (
     QAction,
     QActionGroup,
     QCloseEvent,
-    QGuiApplication,
-    QImage,
     QKeyEvent,
     QKeySequence,
 )
 from PySide6.QtWidgets import (
     QApplication,
     QDockWidget,
-    QFileDialog,
     QLabel,
     QMainWindow,
     QMessageBox,
     QProgressBar,
-    QProgressDialog,
     QScrollArea,
     QStyle,
     QTabBar,
@@ -60,10 +57,8 @@ import barymesh
 from barymesh import MeshParams, TriMesh
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
-from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog, png_steps, write_png
-from barymesh.app.dialogs.step_progress import run_in_steps
 from barymesh.app.edit.cell_tools import CellTools
-from barymesh.app.jobs import Jobs
+from barymesh.app.file_actions import ExportJob, FileActions
 from barymesh.app.model import (
     AppModel,
     ClickTools,
@@ -80,21 +75,17 @@ from barymesh.app.panels.stats_panel import StatsPanel
 from barymesh.app.teach.teaching_tools import TeachingTools
 from barymesh.app.teach.teaching_windows import TeachingWindows
 from barymesh.app.view.framing import (
-    CameraWatch,
     FramedCamera,
     frame_from_above,
     look_from_above,
     pixels_per_mm,
-    rect_inside,
-    visible_rect,
 )
 from barymesh.app.view.gl_info import multi_samples
 from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
-from barymesh.app.view.overview import DETAIL_TRIANGLES
 from barymesh.app.view.scene import MeshScene
-from barymesh.app.view.scene_data import needs_triangles, scene_data
+from barymesh.app.view.scene_presenter import ScenePresenter
 from barymesh.app.view.view_tools import ViewTools
-from barymesh.app.worker import BuildJob, MeshController, release_memory
+from barymesh.app.worker import BuildJob, MeshController
 
 log = logging.getLogger(__name__)
 
@@ -163,23 +154,6 @@ def app_settings() -> QSettings:
     )
 
 
-#: An export still writing after this many ms shows its progress dialog (with Cancel).
-EXPORT_PROGRESS_MS = 300
-
-
-@dataclass(eq=False)
-class ExportJob:
-    """One mesh export in a worker thread (:meth:`MainWindow.start_export`)."""
-
-    path: str
-    what: str  # "out.msh (Gmsh MSH 2.2 ASCII, mm)"
-    done: Callable[[bool], None] | None = None
-    cancelled: bool = False
-    progress: QProgressDialog | None = None
-    wrote: Callable[[TriMesh, str], str] | None = None  # the status line once written
-    mesh: TriMesh | None = None  # what was (or is being) written
-
-
 class MainWindow(QMainWindow):
     """The barymesh window.
 
@@ -217,9 +191,6 @@ class MainWindow(QMainWindow):
 
         collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
 
-        self.export_job: ExportJob | None = None  # the export being written, if any
-        self.file_jobs = Jobs(self, name="barymesh-export")  # one export at a time
-
         self.settings = settings if settings is not None else app_settings()
         self.scripted = scripted
         self.setObjectName("barymesh")
@@ -243,30 +214,23 @@ class MainWindow(QMainWindow):
             self.plotter, visible=self.model.layers, color_by=self.model.color_by
         )
         self.scene.top_view()
+        # File: open, save, export and screenshots (barymesh.app.file_actions)
+        self.files = FileActions(self, self.settings, self.model, self.plotter, self.scene)
         self.framing = FramedCamera(self.plotter)  # the camera a mesh was last framed with
         # the mouse moved the camera (a drag ended, a wheel step: VTK's style ends each
         # step's interaction too); the rulers and the note follow when it rests
         for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
             self.plotter.iren.add_observer(event, self._camera_moved)
-        self._camera_key: tuple[Any, ...] | None = None
-        self.last_frame_seconds = 0.0
-        self.paint_counter = PaintCounter(self.plotter)  # one paint per new mesh
-        self._shown_scene: Any = None
-        self._last_triangles = 0
-        # once the camera rests, the part in view of a dense mesh gets its full detail
-        self._rest_timer = QTimer(self)
-        self._rest_timer.setSingleShot(True)
-        self._rest_timer.setInterval(250)
-        self._rest_timer.timeout.connect(self._camera_rested)
-        self._detail_token: tuple[int, tuple[float, ...]] | None = None
-        self._paint_timer = QTimer(self)  # a new mesh's first paint (see _show_result)
-        self._paint_timer.setSingleShot(True)
-        self._paint_timer.setInterval(1)
-        self._paint_timer.timeout.connect(self._paint_new_mesh)
-        self._painted_before: int | None = None  # paints when a new mesh came
-        # any camera change drawn (a key, Zoom to selection, a tool's zoom), not only the
-        # mouse's: the detail is asked for once it rests
-        self.camera_watch = CameraWatch(self.plotter, self._camera_drawn)
+        # the scene data, its requests and the view's paints (barymesh.app.view.scene_presenter)
+        self.presenter = ScenePresenter(
+            self.plotter,
+            self.scene,
+            self.model,
+            mesh_changed=self._mesh_changed,
+            frame=self.frame_mesh,
+            parent=self,
+        )
+        self.paint_counter = self.presenter.paint_counter  # one paint per new mesh
         self._closed = False
         self._arranging = False  # arrange_docks is moving the docks
 
@@ -333,19 +297,15 @@ class MainWindow(QMainWindow):
 
         self.controller = MeshController(self.model, self)
         self.controller.view_size = lambda: tuple(self.plotter.renderer.GetSize())
-        self.controller.paint_pending = lambda: self.paint_pending
-        self.paint_counter.after_paint = self._view_painted
         self.controller.busy_changed.connect(self._busy_changed)
         self.controller.job_changed.connect(self._job_changed)
-        self.controller.detail_ready.connect(self._detail_ready)
-        self.controller.scene_ready.connect(self._scene_ready)
-        self._scene_token: tuple[int, str] | None = None
+        self.presenter.attach_controller(self.controller)
         self.model.result_changed.connect(self._show_result)
         self.model.error_changed.connect(self._show_error)
         self.model.build_failed.connect(self._build_failed)
         self.model.layer_changed.connect(self._layer_changed)
         self.model.color_by_changed.connect(self._color_by_changed)
-        self.model.detail_changed.connect(self._detail_changed)
+        self.model.detail_changed.connect(self.presenter.set_detail)
         self.model.history_changed.connect(self._history_changed)
         self._make_actions()
         self._make_menus()
@@ -461,34 +421,37 @@ class MainWindow(QMainWindow):
         a = self.add_action
         self.act_open = a(
             "&Open mesh file…",
-            self.open_mesh_dialog,
+            self.files.open_mesh_dialog,
             QKeySequence.StandardKey.Open,
             "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it",
         )
         self.act_load = a(
-            "&Load parameters…", self.load_params_dialog, "Ctrl+L", "Load a JSON parameter file"
+            "&Load parameters…",
+            self.files.load_params_dialog,
+            "Ctrl+L",
+            "Load a JSON parameter file",
         )
         self.act_save = a(
             "&Save parameters…",
-            self.save_params_dialog,
+            self.files.save_params_dialog,
             QKeySequence.StandardKey.Save,
             "Save the parameters as a JSON file",
         )
         self.act_export = a(
             "&Export mesh…",
-            self.export_mesh_dialog,
+            self.files.export_mesh_dialog,
             "Ctrl+E",
             "Write the mesh in a solver's format",
         )
         self.act_shot = a(
             "Export &screenshot…",
-            self.screenshot_dialog,
+            self.files.screenshot_dialog,
             "Ctrl+Shift+E",
             "Save a PNG of the 3D view (1–4×, optionally transparent)",
         )
         self.act_copy = a(
             "&Copy screenshot",
-            lambda: self.copy_view_to_clipboard(),
+            lambda: self.files.copy_view_to_clipboard(),
             "Ctrl+Shift+C",
             "Copy the 3D view to the clipboard",
         )
@@ -595,7 +558,7 @@ class MainWindow(QMainWindow):
             self.clicks,
             controls=self.controls,
             parameters_dock=self.parameters_dock,
-            run_export=self.run_export,
+            run_export=self.files.run_export,
             world_at=self.view_tools.world_at,
             picker=self.teaching.picker,
         )
@@ -706,51 +669,8 @@ class MainWindow(QMainWindow):
     def _show_result(self, result: MeshResult) -> None:
         if self._closed:
             return
-        assert result.mesh is not None  # a result shown holds its mesh
-        start = time.perf_counter()
-        if result.scene is None:
-            result.scene = scene_data(result.mesh)
-        result.scene = self._scene_for_detail(result)
-        same = result.scene is self._shown_scene  # Undo back to the mesh on screen
-        self._shown_scene = result.scene
-        self._detail_token = None
-        if not same:
-            self.scene.update(result.scene)
-            self._complete_scene(result)
-            self.teaching.mesh_changed(result.mesh)
-            self.view_tools.mesh_changed(result.mesh)
+        self.presenter.show(result)
         p = result.params
-        key = (
-            result.source,
-            p.structure if p else None,
-            result.cell.name if result.cell is not None else None,
-        )
-        bounds = np.asarray(result.scene.bounds)
-        if key != self._camera_key or self._bounds_jumped(bounds) or self._left_view(bounds):
-            self.frame_mesh()
-        self._camera_key, self._camera_bounds = key, bounds
-        if not same:
-            # panels that grew with the new numbers relayout now, not after the paint:
-            # then the view is painted once, at its final size
-            painted = self.paint_counter.paints
-            for _ in range(6):  # label -> panel -> dock -> window: one level per round
-                QApplication.sendPostedEvents(None, QEvent.Type.LayoutRequest)
-            if self.paint_counter.paints == painted:  # a resize may have painted it already
-                # painted from a timer: the event loop gets a turn between the new
-                # datasets and their first render (two blocks, not one of both)
-                self._painted_before = painted
-                self._paint_timer.start()
-            # after a large mesh its arrays are free now: hand the pages back (off this
-            # thread; trimming after every small mesh would only cost time)
-            big = max(result.mesh.n_triangles, self._last_triangles) > 200_000
-            self._last_triangles = result.mesh.n_triangles
-            if big:
-                QTimer.singleShot(
-                    0, lambda: threading.Thread(target=release_memory, daemon=True).start()
-                )
-            if self.scene.reduced:
-                self._rest_timer.start()
-        self.last_frame_seconds = time.perf_counter() - start
         s = result.stats
         title = (
             Path(result.source).name
@@ -772,36 +692,16 @@ class MainWindow(QMainWindow):
             else:
                 self.statusBar().clearMessage()
 
-    def _paint_new_mesh(self) -> None:
-        if not self._closed and self.paint_counter.paints == self._painted_before:
-            self.request_render()
-
-    def _view_painted(self) -> None:
-        if not self._closed:
-            self.controller.painted()  # a build's result may wait for this paint
+    def _mesh_changed(self, mesh: TriMesh) -> None:
+        """A new mesh is in the scene: the tools that pick and highlight in it follow."""
+        self.teaching.mesh_changed(mesh)
+        self.view_tools.mesh_changed(mesh)
 
     @property
     def paint_pending(self) -> bool:
-        """Whether the mesh on screen still waits for its first paint (asked for by a
-        1 ms timer after it came, see :meth:`_show_result`)."""
-        return self.paint_counter.paints == self._painted_before and self.plotter.isVisible()
-
-    def _bounds_jumped(self, bounds: np.ndarray) -> bool:
-        old = getattr(self, "_camera_bounds", None)
-        if old is None:
-            return True
-        size_old = max(old[1] - old[0], old[3] - old[2], 1e-12)
-        size_new = max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-12)
-        return not 0.8 <= size_new / size_old <= 1.25
-
-    def _left_view(self, bounds: np.ndarray) -> bool:
-        """Whether the new mesh leaves the view the old one was wholly inside (a patch
-        grown past the view's edge): then the view frames it again."""
-        old = getattr(self, "_camera_bounds", None)
-        if old is None:
-            return False
-        view = visible_rect(self.plotter)
-        return rect_inside(old, view) and not rect_inside(bounds, view)
+        """Whether the mesh on screen still waits for its first paint
+        (:attr:`.ScenePresenter.paint_pending`)."""
+        return self.presenter.paint_pending
 
     def _show_error(self, error: ParamError | None) -> None:
         if error is None:
@@ -896,45 +796,9 @@ class MainWindow(QMainWindow):
     def _color_by_changed(self, key: str) -> None:
         if self._closed:
             return
-        self.scene.set_color_by(key)
-        if self.model.result is not None:
-            self._complete_scene(self.model.result)
+        self.presenter.set_color_by(key)
         self.color_actions[key].setChecked(True)
         self.refit_if_framed(render=False)  # a legend came or went: room for it
-        self.request_render()
-
-    def _scene_for_detail(self, result: MeshResult) -> Any:
-        """The scene data of ``result`` for the Detail choice: "full" draws a dense mesh's
-        every triangle (built here, on the GUI thread: the choice warns of its cost);
-        "auto" goes back to the image of a mesh built so."""
-        scene, mesh = result.scene, result.mesh
-        assert mesh is not None  # a result shown holds its mesh
-        if self.model.detail == "full" and scene.overview is not None:
-            return scene_data(
-                mesh, detail_limit=max(mesh.n_triangles, 1), color_by=self.model.color_by
-            )
-        if (
-            self.model.detail == "auto"
-            and scene.overview is None
-            and mesh.n_triangles > DETAIL_TRIANGLES
-        ):
-            return scene_data(
-                mesh, color_by=self.model.color_by, pixels=tuple(self.plotter.window_size)
-            )
-        return scene
-
-    def _detail_changed(self, mode: str) -> None:
-        if self._closed:
-            return
-        self.scene.set_detail(mode)
-        result = self.model.result
-        if result is not None and result.mesh is not None and result.scene is not None:
-            scene = self._scene_for_detail(result)
-            if scene is not result.scene:
-                result.scene = scene
-                self._shown_scene = scene
-                self._detail_token = None
-                self.scene.update(scene)
         self.request_render()
 
     def _status_message_changed(self, message: str) -> None:
@@ -965,71 +829,11 @@ class MainWindow(QMainWindow):
 
     def _camera_moved(self, *_args: Any) -> None:
         """The mouse moved the camera: line widths, dot sizes and what is drawn follow at
-        once, the rulers and the note when it rests (:meth:`_camera_rested`)."""
+        once, the rulers and the note when it rests
+        (:meth:`.ScenePresenter.camera_rested`)."""
         self.scene.fit_marker_sizes(settled=False)
         self.teaching.highlight.fit(pixels_per_mm(self.plotter))
-        self._rest_timer.start()
-
-    def _camera_drawn(self) -> None:
-        if not self._closed:
-            self._rest_timer.start()
-
-    def _camera_rested(self) -> None:
-        """The camera rests: the rulers follow the view, and the full detail of the part
-        in view of a dense mesh is asked for (in a thread)."""
-        if self._closed:
-            return
-        if self.scene.settle():
-            self.request_render()
-        result = self.model.result
-        if result is None or result.mesh is None or not self.scene.reduced:
-            return
-        rect = self.scene.wanted_detail()
-        if rect is None:
-            return
-        token = (result.generation, rect)
-        self._detail_token = token
-        self.controller.request_detail(result.mesh, rect, token)
-
-    def _complete_scene(self, result: MeshResult) -> None:
-        """A dense paper mesh's image is made without per-triangle values while it is
-        shown solid or by patch count (:func:`barymesh.app.view.scene_data.scene_data`): a colouring
-        that needs them has the worker make the scene again (plain until it comes)."""
-        key = self.model.color_by
-        if result.mesh is None or not needs_triangles(self.scene.overview, key):
-            return
-        token = (result.generation, key)
-        if token != self._scene_token:
-            self._scene_token = token
-            self.controller.request_scene(result.mesh, token)
-
-    def _scene_ready(self, payload: tuple[Any, Any]) -> None:
-        token, data = payload
-        if token != self._scene_token:
-            return  # a newer request is out
-        self._scene_token = None
-        result = self.model.result
-        if (
-            self._closed
-            or data is None
-            or result is None
-            or (result.generation, self.model.color_by) != token
-        ):
-            return
-        result.scene = data
-        self._shown_scene = data
-        self._detail_token = None
-        self.scene.update(data)
-        if self.scene.reduced:
-            self._rest_timer.start()  # the detail of the part in view, coloured so
-        self.request_render()
-
-    def _detail_ready(self, payload: tuple[Any, Any]) -> None:
-        token, data = payload
-        if self._closed or token != self._detail_token or data is None:
-            return
-        self.scene.show_detail(data)
-        self.request_render()
+        self.presenter.camera_moved()
 
     # -- view ----------------------------------------------------------------------------
 
@@ -1039,7 +843,7 @@ class MainWindow(QMainWindow):
         pyvistaqt's widget renders the scene in its paintGL anyway; calling
         ``plotter.render()`` as well would draw every frame twice.
         """
-        self.plotter.update()
+        self.presenter.request_render()
 
     def reset_camera(self) -> None:
         """R: the whole mesh and its rulers from straight above, fitted to the view."""
@@ -1088,210 +892,45 @@ class MainWindow(QMainWindow):
             if render:
                 self.request_render()
 
+    # -- files: barymesh.app.file_actions.FileActions, under their old names ----------------
+
+    @property
+    def export_job(self) -> ExportJob | None:
+        """The mesh export being written, if any (one at a time)."""
+        return self.files.export_job
+
+    @property
+    def export_dialog(self) -> ExportDialog | None:
+        """The last File → Export mesh dialog (None before the first)."""
+        return self.files.export_dialog
+
     def view_image(self, scale: int = 1, transparent: bool = False) -> np.ndarray | None:
-        """The 3D view as an (h·scale, w·scale, 3 or 4) uint8 array that looks like the view.
-
-        At 2× to 4× the scene is drawn again off screen at that size, fonts, ruler offsets,
-        lines and dots scaled along (:mod:`barymesh.app.view.scaled_shot`), one render at a
-        time under a progress dialog with Cancel (the window answers between them); None
-        when cancelled."""
-        from barymesh.app.view.scaled_shot import MAX_SCALE, ScaledShot
-
-        if not 1 <= int(scale) <= MAX_SCALE:
-            raise ValueError(f"scale={scale!r} is outside 1..{MAX_SCALE}")
-        self._settle_for_export()
-        if int(scale) > 1:
-            shot = ScaledShot(self.scene, int(scale), transparent)
-            w, h = shot.size
-            if not run_in_steps(self, "Export screenshot", f"Drawing {w} × {h} px", shot.steps()):
-                return None
-            return shot.image
-        self.plotter.ren_win.Render()  # the scene as it is now, not the last frame shown
-        image = self.plotter.screenshot(None, transparent_background=transparent, return_img=True)
-        self.plotter.render()
-        return np.ascontiguousarray(image)
+        """The 3D view as an image (:meth:`.FileActions.view_image`)."""
+        return self.files.view_image(scale, transparent)
 
     def save_view_png(self, path: str | Path, scale: int = 1, transparent: bool = False) -> bool:
-        """Write the 3D view to a PNG; errors go to the status bar. Returns success.
-
-        At 2× to 4× it is drawn in steps and written in a worker thread, under a progress
-        dialog whose Cancel leaves no file (:meth:`view_image`)."""
-        from barymesh.app.view.scaled_shot import ScaledShot
-
-        name = Path(path).name
-        try:
-            self._settle_for_export()
-            if int(scale) > 1:
-                shot = ScaledShot(self.scene, int(scale), transparent)
-                w, h = shot.size
-                if not run_in_steps(
-                    self,
-                    "Export screenshot",
-                    f"Saving {name} ({w} × {h} px)",
-                    png_steps(shot, path, self),
-                ):
-                    self.statusBar().showMessage(
-                        f"Screenshot {name} cancelled: no file written", 5000
-                    )
-                    return False
-            else:
-                image = self.view_image(1, transparent)
-                assert image is not None  # only a drawing in steps (2× to 4×) is cancelled
-                write_png(path, image)
-        except Exception as exc:  # noqa: BLE001 - shown, never raised to the user
-            log.exception("screenshot failed")
-            self.statusBar().showMessage(file_error_sentence(f"Could not save {name}", exc, path))
-            return False
-        self.statusBar().showMessage(f"Saved {path}", 5000)
-        return True
-
-    def _settle_for_export(self) -> None:
-        """An export shows the view as it is at rest: rulers and note laid out for the
-        camera now (they wait for the rest while the camera moves)."""
-        if self.scene.settle():
-            self.request_render()
+        """Write the 3D view to a PNG (:meth:`.FileActions.save_view_png`)."""
+        return self.files.save_view_png(path, scale, transparent)
 
     def copy_view_to_clipboard(self, scale: int = 1, transparent: bool = False) -> None:
-        image = self.view_image(scale, transparent)
-        if image is None:
-            self.statusBar().showMessage("Copy of the view cancelled", 5000)
-            return
-        h, w, c = image.shape
-        fmt = QImage.Format.Format_RGBA8888 if c == 4 else QImage.Format.Format_RGB888
-        qimage = QImage(image.data, w, h, c * w, fmt).copy()
-        QGuiApplication.clipboard().setImage(qimage)
-        self.statusBar().showMessage(f"Copied a {w} × {h} px image of the view", 5000)
-
-    # -- files ---------------------------------------------------------------------------
-
-    def _path_setting(self, key: str, default: str) -> str:
-        return str(self.settings.value(f"paths/{key}", default))
-
-    def screenshot_dialog(self) -> None:
-        ScreenshotDialog(
-            self,
-            self.settings,
-            (self.plotter.width(), self.plotter.height()),
-            self.save_view_png,
-            self.copy_view_to_clipboard,
-        ).exec()
-
-    def open_mesh_dialog(self) -> None:
-        from barymesh.io import IMPORT_EXTENSIONS
-
-        patterns = " ".join(f"*{e}" for e in IMPORT_EXTENSIONS)
-        path, _ = QFileDialog.getOpenFileName(
-            self,
-            "Open mesh file",
-            self._path_setting("mesh", ""),
-            f"Mesh files ({patterns});;All files (*)",
-        )
-        if path:
-            self.settings.setValue("paths/mesh", path)
-            self.open_mesh_file(path)
+        """Copy the 3D view (:meth:`.FileActions.copy_view_to_clipboard`)."""
+        self.files.copy_view_to_clipboard(scale, transparent)
 
     def open_mesh_file(self, path: str | Path) -> bool:
-        """Show a mesh read from ``path`` until the next parameter change."""
-        from barymesh.io import read_mesh
-
-        try:
-            mesh: TriMesh = read_mesh(path)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not open {Path(path).name}", exc, path)
-            return False
-        result = self.model.show_imported(mesh, str(path))
-        if not self.model.set_result(result):
-            return False
-        self.statusBar().showMessage(
-            f"Opened {Path(path).name}: {mesh.n_triangles:,} triangles. The parameters apply "
-            "again with Back to the parametric mesh (Parameters panel).",
-            8000,
-        )
-        return True
-
-    def load_params_dialog(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(
-            self,
-            "Load parameters",
-            self._path_setting("params", ""),
-            "Parameter files (*.json);;All files (*)",
-        )
-        if path:
-            self.settings.setValue("paths/params", path)
-            self.load_params_file(path)
+        """Show a mesh file (:meth:`.FileActions.open_mesh_file`)."""
+        return self.files.open_mesh_file(path)
 
     def load_params_file(self, path: str | Path) -> bool:
-        from barymesh.presets import load_params_file
-
-        try:
-            params = load_params_file(path)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not load {Path(path).name}", exc, path)
-            return False
-        self.model.set_params(params)
-        return True
-
-    def save_params_dialog(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(
-            self,
-            "Save parameters",
-            self._path_setting("params", "barymesh-params.json"),
-            "Parameter files (*.json)",
-        )
-        if path:
-            if not path.lower().endswith(".json"):
-                path += ".json"
-            self.settings.setValue("paths/params", path)
-            self.save_params_file(path)
+        """Load parameters (:meth:`.FileActions.load_params_file`)."""
+        return self.files.load_params_file(path)
 
     def save_params_file(self, path: str | Path) -> bool:
-        from barymesh.presets import save_params_file
-
-        if self.model.file_source is not None:
-            self.statusBar().showMessage(
-                f"Not saved: the view holds {Path(self.model.file_source).name}, which has no "
-                "parameters; go back to the parametric mesh first"
-            )
-            return False
-        result = self.model.result  # the parameters of the mesh on screen, as exported
-        params = result.params if result is not None and result.params else self.model.params
-        try:
-            save_params_file(params, path)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not save {Path(path).name}", exc, path)
-            return False
-        newer = " (those of the mesh on screen; newer ones are being meshed)"
-        self.statusBar().showMessage(
-            f"Saved {path}{newer if params != self.model.params else ''}", 5000
-        )
-        return True
-
-    def export_mesh_dialog(self) -> ExportDialog:
-        """File → Export mesh: a file, its format and the length unit (window-modal)."""
-        dialog = ExportDialog(
-            self, self.settings, self.start_export, self.statusBar().currentMessage
-        )
-        dialog.open()
-        self.export_dialog = dialog
-        return dialog
+        """Save the parameters on screen (:meth:`.FileActions.save_params_file`)."""
+        return self.files.save_params_file(path)
 
     def export_mesh(self, path: str | Path, unit: str | None = None) -> bool:
-        from barymesh.io import describe_export, write_mesh
-        from barymesh.quality import params_wavelength
-
-        result = self.model.result
-        if result is None or result.mesh is None:
-            self.statusBar().showMessage("No mesh to export yet")
-            return False
-        try:
-            params = result.params if result.source == "parameters" else None
-            write_mesh(result.mesh, path, unit=unit, wavelength=params_wavelength(params))
-            what = describe_export(path, unit)
-        except (ValueError, OSError) as exc:
-            self.file_error(f"Could not export {Path(path).name}", exc, path)
-            return False
-        self.statusBar().showMessage(f"Wrote {what}", 5000)
-        return True
+        """Write the mesh on screen now (:meth:`.FileActions.export_mesh`)."""
+        return self.files.export_mesh(path, unit)
 
     def start_export(
         self,
@@ -1299,125 +938,8 @@ class MainWindow(QMainWindow):
         unit: str | None = None,
         done: Callable[[bool], None] | None = None,
     ) -> bool:
-        """Write the mesh on screen to ``path`` in a worker thread; the window answers.
-
-        A progress dialog (after a moment) shows what is written and has Cancel: a
-        cancelled export leaves no file and no temporary file. ``done(ok)`` follows on
-        the GUI thread. Returns whether the export started (False: nothing to export, an
-        export still running or an unknown extension or unit, said in the status bar).
-        """
-        from barymesh.quality import params_wavelength
-
-        result = self.model.result
-        if result is None or result.mesh is None:
-            self.statusBar().showMessage("No mesh to export yet")
-            return False
-        mesh = result.mesh
-        params = result.params if result.source == "parameters" else None
-        return self.run_export(
-            path,
-            unit,
-            lambda: mesh,
-            f"{mesh.n_triangles:,} triangles",
-            done,
-            wavelength=params_wavelength(params),
-        )
-
-    def run_export(
-        self,
-        path: str | Path,
-        unit: str | None,
-        make_mesh: Callable[[], TriMesh],
-        what: str,
-        done: Callable[[bool], None] | None = None,
-        *,
-        wavelength: float | None = None,
-        wrote: Callable[[TriMesh, str], str] | None = None,
-    ) -> bool:
-        """Make a mesh and write it to ``path`` in a worker thread (see :meth:`start_export`).
-
-        ``make_mesh()`` runs in the thread too (numpy only, no VTK); ``what`` says what is
-        written in the progress dialog; ``wrote(mesh, described_path)`` the status line.
-        """
-        from barymesh.io import describe_export, write_mesh
-
-        if self.export_job is not None:
-            self.statusBar().showMessage(
-                f"Still writing {Path(self.export_job.path).name}; wait or cancel it first"
-            )
-            return False
-        try:
-            described = describe_export(path, unit)
-        except ValueError as exc:
-            self.file_error(f"Could not export {Path(path).name}", exc, path)
-            return False
-        job = ExportJob(str(path), described, done, wrote=wrote)
-        progress = QProgressDialog(f"Writing {Path(path).name}: {what}…", "Cancel", 0, 0, self)
-        progress.setWindowTitle("Export mesh")
-        progress.setWindowModality(Qt.WindowModality.WindowModal)
-        progress.setAutoClose(False)
-        progress.setAutoReset(False)
-        progress.canceled.connect(lambda: self._cancel_export(job))
-        progress.hide()
-        job.progress = progress
-        self.export_job = job
-
-        # a quick write shows no dialog at all; a longer one shows it after a moment
-        def show_progress() -> None:
-            if job.progress is not None:
-                job.progress.show()
-
-        QTimer.singleShot(EXPORT_PROGRESS_MS, show_progress)
-
-        def work() -> BaseException | None:  # worker thread: numpy and files only
-            try:
-                job.mesh = make_mesh()
-                write_mesh(
-                    job.mesh,
-                    path,
-                    unit=unit,
-                    wavelength=wavelength,
-                    cancelled=lambda: job.cancelled,
-                )
-            except Exception as exc:  # noqa: BLE001 - reported on the GUI thread
-                return exc
-            return None
-
-        self.file_jobs.submit(work, self._export_finished, job)
-        return True
-
-    def _cancel_export(self, job: ExportJob) -> None:
-        job.cancelled = True
-        if job.progress is not None:
-            job.progress.setLabelText(f"Cancelling {Path(job.path).name}…")
-
-    def _export_finished(self, job: ExportJob, error: BaseException | None) -> None:
-        from barymesh.io import ExportCancelled
-
-        if job.progress is not None:
-            job.progress.canceled.disconnect()  # closing a progress dialog emits canceled
-            job.progress.close()
-            job.progress.deleteLater()
-            job.progress = None
-        if self.export_job is job:
-            self.export_job = None
-        ok = error is None
-        if isinstance(error, ExportCancelled):
-            self.statusBar().showMessage(
-                f"Export of {Path(job.path).name} cancelled: no file written", 5000
-            )
-        elif error is not None:
-            if not isinstance(error, ValueError | OSError):
-                log.error("export failed", exc_info=error)
-            self.file_error(f"Could not export {Path(job.path).name}", error, job.path)
-        else:
-            assert job.mesh is not None  # the write succeeded: the work made the mesh
-            wrote = job.wrote(job.mesh, job.what) if job.wrote is not None else f"Wrote {job.what}"
-            if job.cancelled:  # Cancel came after the file was complete and in place
-                wrote += " (complete before Cancel)"
-            self.statusBar().showMessage(wrote, 8000)
-        if job.done is not None:
-            job.done(ok)
+        """Write the mesh on screen in a worker thread (:meth:`.FileActions.start_export`)."""
+        return self.files.start_export(path, unit, done)
 
     def load_preset(self, name: str) -> bool:
         from barymesh.presets import load_preset
@@ -1648,7 +1170,7 @@ class MainWindow(QMainWindow):
             if not self.scripted:
                 self.save_settings()
             self.controller.stop()  # returns at once; a running build is abandoned
-            self._rest_timer.stop()
+            self.presenter.close()
             self._progress_timer.stop()
             # Release VTK's render window and GL context while the widget still exists.
             self.plotter.close()
@@ -1656,26 +1178,6 @@ class MainWindow(QMainWindow):
 
 
 # -- helpers of the window -----------------------------------------------------------------
-
-
-class PaintCounter(QObject):
-    """Counts the paint events of a widget (``paints``) and when the last one came;
-    ``after_paint`` is called once each paint is done (from the event loop)."""
-
-    def __init__(self, widget: QWidget, after_paint: Callable[[], None] | None = None) -> None:
-        super().__init__(widget)
-        self.paints = 0
-        self.last = 0.0
-        self.after_paint = after_paint
-        widget.installEventFilter(self)
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if event.type() == QEvent.Type.Paint:
-            self.paints += 1
-            self.last = time.perf_counter()
-            if self.after_paint is not None:
-                QTimer.singleShot(0, self, self.after_paint)  # after the paint itself
-        return False
 
 
 class EscapeCancels(QObject):

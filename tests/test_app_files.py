@@ -177,7 +177,7 @@ def _export_screenshot(window, qtbot, file_dialog, path, scale):
     """File → Export screenshot as a user does it: type the scale, Save PNG…, a file."""
     from PySide6.QtWidgets import QPushButton
 
-    from barymesh.app.window import ScreenshotDialog
+    from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog
 
     shown = []
     original = ScreenshotDialog.exec

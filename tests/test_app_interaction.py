@@ -94,7 +94,7 @@ def test_a_wheel_step_is_drawn_once_and_the_rulers_follow_at_rest(shown, qtbot):
     scene.settle = settle
     # (a rest 2 s after the camera's last move, not 0.25 s: a loaded machine's slow
     # paints would let it come between the steps)
-    window._rest_timer.setInterval(2000)
+    window.presenter.rest_timer.setInterval(2000)
     try:
         before = tuple(scene.axes.bounds)
         scale = plotter.camera.parallel_scale

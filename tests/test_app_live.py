@@ -725,4 +725,4 @@ def test_a_dense_paper_mesh_finds_its_triangles_only_for_a_colouring_that_needs_
     assert np.nanmin(shown) >= mesh.areas.min() - 1e-9
     assert np.nanmax(shown) <= mesh.areas.max() + 1e-9
     assert scene.scalar_bar.GetVisibility()
-    assert window._shown_scene is window.model.result.scene
+    assert window.presenter.shown_scene is window.model.result.scene

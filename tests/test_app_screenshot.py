@@ -179,7 +179,7 @@ def test_cancel_stops_a_scaled_export_and_leaves_no_file(
     """Cancel in the progress dialog, after a few of the renders: no file and no
     temporary file, the off-screen renders are given up, the status bar says so and the
     Export screenshot dialog stays for another try."""
-    from barymesh.app.window import ScreenshotDialog
+    from barymesh.app.dialogs.screenshot_dialog import ScreenshotDialog
 
     monkeypatch.setattr(step_progress, "SHOW_AFTER_MS", 0)  # the dialog at once
     qtbot.waitUntil(lambda: window.model.result is not None, timeout=30_000)
