@@ -30,7 +30,7 @@ class TimedWindow(window_main.MainWindow):
     def _first_frame(self) -> None:
         if self._window_painted is not None:
             self._window_painted()
-        if self.first_frame is None and self._shown_scene is not None:
+        if self.first_frame is None and self.presenter.shown_scene is not None:
             self.first_frame = time.monotonic()
             print(f"first-frame {self.first_frame:.6f}", flush=True)
             self.close()
