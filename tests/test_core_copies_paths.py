@@ -227,3 +227,33 @@ def test_a_record_of_copies_rebuilt_from_triangles_takes_the_same_paths():
     rep = Repetition.of_triangles(mesh.repetition.template, mesh.triangles, mesh.n_vertices)
     assert rep.kind == "copies"
     assert np.array_equal(rep.vertex_map, mesh.repetition.vertex_map)
+
+
+@pytest.mark.parametrize("copies", [1, 7, 300, 5000])
+@pytest.mark.parametrize("k", [1, 3, 40, 112])
+def test_fill_tiled_equals_the_plain_broadcast_on_both_sides_of_a_block(copies, k):
+    from barymesh.repeat.copies import fill_tiled
+    from barymesh.topology import INDEX
+
+    a = np.arange(k, dtype=INDEX) * 3
+    a[::4] = -1  # "none" entries stay -1
+    want = a[None, :] + (np.arange(copies, dtype=INDEX) * 25 + 2)[:, None]
+    want[:, a < 0] = -1
+    out = np.full(copies * k + 3, 99, dtype=INDEX)
+    fill_tiled(out, a, copies, 25, 2)
+    assert np.array_equal(out[: copies * k], want.ravel())
+    assert (out[copies * k :] == 99).all()  # nothing written past the copies
+
+
+def test_template_topology_and_adjacency_are_kept_read_only():
+    from barymesh.repeat.copies import template_adjacency, template_topology
+    from barymesh.topology import adjacency_without_junctions
+
+    template = build_mesh(PAPER[0]).repetition.template
+    topo = template_topology(template)
+    assert template_topology(template) is topo and not topo.edges.flags.writeable
+    local = template_adjacency(template)
+    assert template_adjacency(template) is local and not local.indices.flags.writeable
+    want = adjacency_without_junctions(len(template.triangles), topo)
+    for name in ("data", "indices", "indptr"):
+        assert np.array_equal(getattr(local, name), getattr(want, name))

@@ -33,7 +33,14 @@ import numpy as np
 from ..invariants import FLAT
 from ..quality import triangle_quality
 from ..subdivision import PatchTemplate
-from ..topology import BLOCK, INDEX, EdgeTopology, RWGTable, segment_lengths
+from ..topology import (
+    BLOCK,
+    INDEX,
+    EdgeTopology,
+    RWGTable,
+    adjacency_without_junctions,
+    segment_lengths,
+)
 from .patches import patch_topology
 
 if TYPE_CHECKING:
@@ -44,6 +51,11 @@ if TYPE_CHECKING:
 #: first patch has them (rounding included). On random paper rings the aggregates then
 #: differ from the full computation by at most a quarter of this (below 1e-13).
 COPY_TOLERANCE = 2.5e-13
+
+#: Topologies of the templates seen last, by identity (templates are cached, so the
+#: same object recurs; the topology, RWG table and connectivity of a build all need it).
+_TEMPLATE_TOPOLOGIES: dict[int, tuple[PatchTemplate, EdgeTopology]] = {}
+_TEMPLATE_ADJACENCY: dict[int, tuple[PatchTemplate, sp.csr_matrix | None]] = {}
 
 
 def is_unwelded_copies(vertex_map: np.ndarray) -> bool:
@@ -64,9 +76,44 @@ def is_unwelded_copies(vertex_map: np.ndarray) -> bool:
 
 
 def template_topology(template: PatchTemplate) -> EdgeTopology:
-    """The topology of one copy of ``template`` (vertices 0 … Nv − 1), free vertices included."""
+    """The topology of one copy of ``template`` (vertices 0 … Nv − 1), free vertices included.
+
+    Kept for the last few templates (by identity): a build asks for it three times
+    (topology, RWG table, connectivity), and at small sizes making it was a third of
+    the build. Its arrays are read-only, shared by every caller.
+    """
+    found = _TEMPLATE_TOPOLOGIES.get(id(template))
+    if found is not None and found[0] is template:
+        return found[1]
     nv = len(template.uv)
-    return patch_topology(template, np.arange(nv, dtype=INDEX)[None], nv)
+    topo = patch_topology(template, np.arange(nv, dtype=INDEX)[None], nv)
+    for name in ("edges", "triangle_edges", "edge_triangles", "valence", "free_vertices"):
+        array = getattr(topo, name)
+        if array is not None:
+            array.flags.writeable = False
+    if len(_TEMPLATE_TOPOLOGIES) >= 16:
+        _TEMPLATE_TOPOLOGIES.pop(next(iter(_TEMPLATE_TOPOLOGIES)))
+    _TEMPLATE_TOPOLOGIES[id(template)] = (template, topo)
+    return topo
+
+
+def template_adjacency(template: PatchTemplate) -> sp.csr_matrix | None:
+    """The connectivity matrix of one copy of ``template``, kept as its topology is.
+
+    :func:`barymesh.topology.adjacency_without_junctions` of :func:`template_topology`;
+    None when two of its triangles share two edges. Read-only: shared by every caller.
+    """
+    found = _TEMPLATE_ADJACENCY.get(id(template))
+    if found is not None and found[0] is template:
+        return found[1]
+    local = adjacency_without_junctions(len(template.triangles), template_topology(template))
+    if local is not None:
+        for array in (local.data, local.indices, local.indptr):
+            array.flags.writeable = False
+    if len(_TEMPLATE_ADJACENCY) >= 16:
+        _TEMPLATE_ADJACENCY.pop(next(iter(_TEMPLATE_ADJACENCY)))
+    _TEMPLATE_ADJACENCY[id(template)] = (template, local)
+    return local
 
 
 def copies_topology(
@@ -114,17 +161,30 @@ def tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
 def fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int) -> None:
     """Write ``copies`` copies of ``a`` into the flat ``out``, copy k's ids plus k ``step`` + base.
 
-    Entries of -1 (none) stay -1. Block by block over a pattern of whole copies:
-    long, contiguous adds even when ``a`` is a handful of values (a broadcast add
-    over (copies, len(a)) would run one short inner loop per copy).
+    Entries of -1 (none) stay -1. Within one block (at most :data:`BLOCK` values
+    in all), ``out`` seen as (copies, len(a)) rows is ``a`` plus each row's shift,
+    then the -1 columns put back: no pattern to build, which at small sizes cost
+    as much as the copies. Beyond a block a pattern of whole copies is made once
+    and added block by block: long, contiguous adds of one shift each, faster
+    than a broadcast whose every row is a short inner loop.
     """
     flat = np.ascontiguousarray(a, dtype=INDEX).reshape(-1)
     k = len(flat)
     if copies == 0 or k == 0:
         return
+    missing = flat < 0
+    if copies * k <= BLOCK:
+        rows = out[: copies * k].reshape(copies, k)
+        rows[...] = flat
+        shift = np.arange(copies, dtype=INDEX)
+        shift *= INDEX(step)
+        shift += INDEX(base)
+        rows += shift[:, None]
+        if missing.any():
+            rows[:, np.flatnonzero(missing)] = -1
+        return
     per = max(1, min(copies, BLOCK // k))  # copies per block
     ramp = np.repeat(np.arange(per, dtype=INDEX) * INDEX(step), k)
-    missing = flat < 0
     if missing.any():
         keep = np.tile(~missing, per).astype(INDEX)  # 0 where -1 must stay
         pattern = np.tile(flat, per) + ramp * keep + INDEX(base) * keep
