@@ -18,6 +18,14 @@ The paper double ring is also run at the paper's own n = 4 at 1M and 4M
 ("paper double ring n=4": tens of thousands of small patches, where the weld,
 the layout and the per-patch work dominate instead of the template copy).
 
+The memory-bandwidth bound is measured in the same run, alternating with ours: a numpy
+write (``fill``) of as many bytes as the whole build's outputs hold (points, triangles,
+centroids, the edge topology, the RWG table, the connectivity matrix), into a buffer
+written before ("warm": the machine's write bandwidth, the bound of issue 32) and into a
+fresh one ("fresh": with the page faults that allocating new outputs costs, which the
+build cannot avoid either). "ours / bound" is our median over the warm write's median.
+The machine's load average is recorded before and after every workload.
+
 For every workload the statistics are timed too: ``TriMesh.stats()`` (counts,
 edge lengths, triangle quality and, in paper mode, the overlap ratio) on a
 freshly built mesh, beside ``build_mesh`` alone, alternating.
@@ -47,6 +55,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import gc
 import json
 import math
@@ -255,6 +264,46 @@ def _status_kib(key: str) -> int:
     raise KeyError(key)
 
 
+def output_bytes(mesh) -> int:
+    """Bytes held by the whole build's outputs: what a write at full bandwidth must cover.
+
+    Points, triangles, centroids, the edge topology (every array of
+    :class:`barymesh.topology.EdgeTopology`), the RWG table (every array of
+    :class:`barymesh.topology.RWGTable`) and the connectivity matrix (data,
+    indices, row pointers). Patch ids and regions are left out (the issue's list).
+    """
+    arrays = [mesh.points, mesh.triangles, mesh.centroids]
+    for part in (mesh.topology, mesh.rwg):
+        arrays += [getattr(part, f.name) for f in dataclasses.fields(part)]
+    conn = mesh.connectivity
+    arrays += [conn.data, conn.indices, conn.indptr]
+    return int(sum(np.asarray(a).nbytes for a in arrays))
+
+
+def bound_runners(nbytes: int) -> dict[str, Callable[[], object]]:
+    """The two bandwidth bounds: ``nbytes`` written into a warm buffer, and into a fresh one.
+
+    The warm buffer is written once here, so that its pages exist and the timed
+    write is the machine's bandwidth alone; the fresh one is allocated for each
+    write, page faults and all, as the build's outputs are.
+    """
+    warm = np.empty(nbytes, dtype=np.uint8)
+    warm.fill(1)
+
+    def fresh() -> None:
+        np.empty(nbytes, dtype=np.uint8).fill(1)
+
+    return {"bound-warm": lambda: warm.fill(1), "bound-fresh": fresh}
+
+
+def load() -> list[float] | None:
+    """The 1, 5 and 15 minute load averages, or None where the system does not say."""
+    try:
+        return [round(x, 2) for x in os.getloadavg()]
+    except OSError:
+        return None
+
+
 def peak_traced_mib(func: Callable[[], object]) -> float:
     """Peak of Python and numpy allocations (MiB) while ``func`` runs (tracemalloc).
 
@@ -291,11 +340,12 @@ def peak_rss_mib(func: Callable[[], object]) -> float | None:
     return peak / 1024
 
 
-def timed(func: Callable[[], object]) -> float:
+def timed(func: Callable[[], object]) -> tuple[float, float]:
+    """Wall and CPU seconds of one call (CPU time is what a loaded machine distorts least)."""
     gc.collect()
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     func()
-    return time.perf_counter() - t0
+    return time.perf_counter() - t0, time.process_time() - c0
 
 
 def time_stats(params: MeshParams, reps: int) -> tuple[dict, dict]:
@@ -315,20 +365,27 @@ def time_stats(params: MeshParams, reps: int) -> tuple[dict, dict]:
     return summary(builds), summary(stats)
 
 
-def summary(times: list[float]) -> dict:
-    return {
+def summary(times: list[float], cpu: list[float] | None = None) -> dict:
+    out = {
         "median": statistics.median(times),
         "min": min(times),
         "max": max(times),
         "times": times,
     }
+    if cpu:
+        out["cpu_median"] = statistics.median(cpu)
+        out["cpu_times"] = cpu
+    return out
 
 
 def run_workload(w: Workload, reps: int) -> None:
     p = w.params
+    w.results["load_before"] = load()
     runners: dict[str, Callable[[], object]] = {"ours": lambda: ours(p)}
     check = ours(p)
     mesh = check.pop("mesh")
+    nbytes = output_bytes(mesh)
+    bounds = bound_runners(nbytes)
     w.results["triangles"] = check["triangles"]
     w.results["vertices"] = check["vertices"]
     w.results["shared_edges"] = check["shared_edges"]
@@ -355,16 +412,31 @@ def run_workload(w: Workload, reps: int) -> None:
             runners[peer] = g.run
             peer_reps[peer] = min(reps, SLOW_REPS) if len(tris) > 200_000 else reps
     del mesh, check
-    times: dict[str, list[float]] = {name: [] for name in runners}
-    for name, func in runners.items():  # warm-up
+    timers = {**runners, **bounds}
+    for name in bounds:
+        peer_reps[name] = reps
+    times: dict[str, list[float]] = {name: [] for name in timers}
+    cpu: dict[str, list[float]] = {name: [] for name in timers}
+    for name, func in timers.items():  # warm-up
         if name != "gmsh":
             func()
-    for rep in range(reps):  # alternate: ours, peer, ours, peer ...
-        for name, func in runners.items():
+    for rep in range(reps):  # alternate: ours, peer, bounds, ours, peer, bounds ...
+        for name, func in timers.items():
             if name == "ours" or rep < peer_reps[name]:
-                times[name].append(timed(func))
-    for name, t in times.items():
-        w.results[name] = summary(t)
+                wall, used = timed(func)
+                times[name].append(wall)
+                cpu[name].append(used)
+    for name in runners:
+        w.results[name] = summary(times[name], cpu[name])
+    warm, fresh = (summary(times[k], cpu[k]) for k in bounds)
+    w.results["bound"] = {
+        "bytes": nbytes,
+        "warm": warm,
+        "fresh": fresh,
+        "warm_gb_per_s": nbytes / warm["median"] / 1e9,
+        "ours_over_warm": w.results["ours"]["median"] / warm["median"],
+        "ours_over_fresh": w.results["ours"]["median"] / fresh["median"],
+    }
     w.results["build_mesh"], w.results["stats"] = time_stats(p, reps)
     for name in w.peers:
         w.results[name]["ratio"] = w.results[name]["median"] / w.results["ours"]["median"]
@@ -373,6 +445,7 @@ def run_workload(w: Workload, reps: int) -> None:
     w.results["ours"]["bytes_per_triangle"] = mib * 2**20 / w.results["triangles"]
     for name, func in runners.items():  # gmsh's memory is not of interest here
         w.results[name]["peak_rss_mib"] = None if name == "gmsh" else peak_rss_mib(func)
+    w.results["load_after"] = load()
 
 
 # -- output ------------------------------------------------------------------------
@@ -385,18 +458,25 @@ def _span(s: dict) -> str:
 def table(ws: list[Workload]) -> str:
     head = (
         f"{'workload':23} {'size':>4} {'triangles':>9} {'ours s (min-max)':>23} "
-        f"{'MiB':>6} {'B/tri':>5}  {'peer':7} {'peer s (min-max)':>25} {'ratio':>6}  note"
+        f"{'MiB':>6} {'B/tri':>5} {'bound s':>7} {'/bound':>6}  "
+        f"{'peer':7} {'peer s (min-max)':>25} {'ratio':>6}  note"
     )
     lines = [head, "-" * len(head)]
     for w in ws:
         r = w.results
         o = r["ours"]
+        b = r["bound"]
         ours_cols = (
             f"{w.name:23} {w.size:>4} {r['triangles']:>9} {_span(o):>23} "
-            f"{o['peak_mib']:6.1f} {o['bytes_per_triangle']:5.0f}"
+            f"{o['peak_mib']:6.1f} {o['bytes_per_triangle']:5.0f} "
+            f"{b['warm']['median']:7.4f} {b['ours_over_warm']:6.1f}"
+        )
+        bound_note = (
+            f"{b['bytes'] / 1e6:.0f} MB at {b['warm_gb_per_s']:.1f} GB/s, fresh "
+            f"{b['fresh']['median']:.4f} s; load {r['load_before']} -> {r['load_after']}"
         )
         if not w.peers:  # the conforming ring's n x n_v sectors: no peer (a) builds them
-            lines.append(f"{ours_cols}  {'-':7} {'-':>25} {'-':>6}  no peer")
+            lines.append(f"{ours_cols}  {'-':7} {'-':>25} {'-':>6}  no peer; {bound_note}")
         for i, peer in enumerate(w.peers):
             s = r[peer]
             note = ""
@@ -409,6 +489,8 @@ def table(ws: list[Workload]) -> str:
                 )
             left = ours_cols if i == 0 else " " * len(ours_cols)
             note = note.removeprefix("; ")
+            if i == 0:
+                note = f"{note}; {bound_note}".removeprefix("; ")
             lines.append(f"{left}  {peer:7} {_span(s):>25} {s['ratio']:6.1f}  {note}")
     return "\n".join(lines)
 
@@ -440,6 +522,7 @@ def machine() -> dict:
     return {
         "cpu": cpu,
         "cores": os.cpu_count(),
+        "load_average": (load() or [None])[0],
         "python": platform.python_version(),
         "numpy": np.__version__,
     }
@@ -482,6 +565,7 @@ def main(argv: list[str] | None = None) -> int:
             print("gmsh is not installed: skipping peer (b)", file=sys.stderr)
             gmsh_sizes = []
     ws = workloads(sizes, gmsh_sizes)
+    load_at_start = load()
     if args.stats_only:
         for w in ws:
             print(f"timing stats() of {w.name} {w.size} ...", file=sys.stderr, flush=True)
@@ -500,6 +584,9 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\n{info['cores']} cores, {info['cpu']}, Python {info['python']}, numpy {info['numpy']}")
     if args.json:
         doc = {
+            "date": time.strftime("%Y-%m-%d", time.gmtime()),
+            "load_at_start": load_at_start,
+            "load_at_end": load(),
             "machine": info,
             "reps": reps,
             "workloads": [

@@ -16,7 +16,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .invariants import FLAT, MeshInvariantError, duplicate_vertices, inverted_or_flat
-from .repeat import chain_valence, glued_edge_valence, inverted_or_flat_patches
+from .repeat import (
+    chain_valence,
+    glued_edge_valence,
+    inverted_or_flat_patches,
+    translated_copies_sound,
+)
 
 if TYPE_CHECKING:
     from .mesh import TriMesh
@@ -38,7 +43,13 @@ def check_mesh(mesh: TriMesh, params: Any) -> None:
     rep = mesh.repetition
     if not np.isfinite(points).all():
         _fail(params, "has coordinates that are not finite")
-    if rep is not None:
+    if rep is not None and translated_copies_sound(
+        rep.template, mesh.columns, mesh.translation_slack
+    ):
+        # translations of a first patch whose triangles clear the test by more than the
+        # copies can differ: the pass below would flag nothing
+        bad = np.empty(0, dtype=np.intp)
+    elif rep is not None:
         # the mesh's own x and y columns, which centroids, lengths and quality reuse
         bad = inverted_or_flat_patches(points, rep.vertex_map, rep.template.triangles, mesh.columns)
     else:

@@ -11,7 +11,14 @@ import numpy as np
 
 from .overlap import union_area
 from .quality import TriangleQuality, cell_figures, triangle_quality
-from .repeat import Repetition, repeated_connectivity, repeated_rwg, repeated_topology
+from .repeat import (
+    Repetition,
+    copy_slack,
+    patch_centroids,
+    repeated_connectivity,
+    repeated_rwg,
+    repeated_topology,
+)
 from .stats import mesh_stats
 from .topology import (
     BLOCK,
@@ -162,8 +169,30 @@ class TriMesh:
         return columns
 
     @cached_property
+    def translation_slack(self) -> float | None:
+        """For unwelded copies of one patch (repetition kind ``"copies"``): how far
+        they are from translations of the first (:func:`barymesh.repeat.copies.copy_slack`).
+
+        One pass over the points, found once and shared by the invariant check
+        (:func:`barymesh.check.check_mesh`, which then need not read every
+        triangle) and :meth:`stats` (which then measures one patch); None for
+        other meshes.
+        """
+        rep = self.repetition
+        if rep is None or rep.kind != "copies":
+            return None
+        return copy_slack(len(rep.template.uv), self.columns)
+
+    @cached_property
     def centroids(self) -> np.ndarray:
         """(T, 3) float64 barycentres (Eqs. 25–26): the RWG quadrature points."""
+        rep = self.repetition
+        if rep is not None:  # patch by patch: each patch's vertices read once, same sums
+            return _frozen(
+                patch_centroids(
+                    self.columns, rep.vertex_map, rep.template.triangles, rep.kind == "copies"
+                )
+            )
         # block by block, coordinate by coordinate, corner by corner: no (T, 3, 3)
         # temporary, same rounding; a coordinate that is zero everywhere (z) stays zero
         out = np.zeros((self.n_triangles, 3))

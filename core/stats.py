@@ -135,7 +135,9 @@ def repeated_measures(mesh: TriMesh) -> dict[str, Any]:
     """
     rep = mesh.repetition
     if rep is not None and rep.kind == "copies":
-        measured = translated_copy_measures(rep.template, mesh.points, mesh.columns)
+        measured = translated_copy_measures(
+            rep.template, mesh.points, mesh.columns, mesh.translation_slack
+        )
         if measured is not None:
             return measured
     return counted_measures(mesh)

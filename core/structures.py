@@ -32,6 +32,7 @@ from .sectors import (
     slot_half_angle,
 )
 from .subdivision import PatchTemplate, graded_patch_template, patch_template
+from .topology import BLOCK
 from .weld import NearPointChain, merge_pairs, weld_lattice_patches, weld_points
 
 
@@ -160,11 +161,23 @@ def _sides_in_rows(template: PatchTemplate) -> bool:
 
 
 def _rect_layout(template: PatchTemplate, rects: np.ndarray) -> np.ndarray:
-    """(P, Nv, 2) template points on the axis-aligned rectangles (x0, y0, wx, wy)."""
-    u, v = template.uv[:, 0], template.uv[:, 1]
-    x = rects[:, :1] + u[None, :] * rects[:, 2:3]
-    y = rects[:, 1:2] + v[None, :] * rects[:, 3:4]
-    return np.stack([x, y], axis=-1)
+    """(P, Nv, 2) template points on the axis-aligned rectangles (x0, y0, wx, wy).
+
+    x0 + u wx and y0 + v wy, written straight into the interleaved output block by
+    block (the same products and sums, so the same points as computing x and y
+    whole and stacking them, without those two temporaries and their copy).
+    """
+    u, v = template.uv[None, :, 0], template.uv[None, :, 1]
+    out = np.empty((len(rects), len(template.uv), 2))
+    rows = max(1, BLOCK // max(len(template.uv), 1))
+    for lo in range(0, len(rects), rows):
+        r = rects[lo : lo + rows]
+        x, y = out[lo : lo + rows, :, 0], out[lo : lo + rows, :, 1]
+        np.multiply(u, r[:, 2:3], out=x)
+        x += r[:, :1]
+        np.multiply(v, r[:, 3:4], out=y)
+        y += r[:, 1:2]
+    return out
 
 
 # -- entry points ----------------------------------------------------------

@@ -24,11 +24,12 @@ aggregates of quality to rounding, as documented), and the tests
 """
 
 from .chains import CHAIN, MIDDLE, chain_valence, sector_chain_vertices, sector_edge_counts
-from .copies import translated_copy_measures
+from .copies import copy_slack, translated_copies_sound, translated_copy_measures
 from .lattice import lattice_diagonal, lattice_quality_summary
 from .patches import (
     glued_edge_valence,
     inverted_or_flat_patches,
+    patch_centroids,
     patch_edge_counts,
     patch_topology,
     patch_triangles,
@@ -41,10 +42,12 @@ __all__ = [
     "Kind",
     "Repetition",
     "chain_valence",
+    "copy_slack",
     "glued_edge_valence",
     "inverted_or_flat_patches",
     "lattice_diagonal",
     "lattice_quality_summary",
+    "patch_centroids",
     "patch_edge_counts",
     "patch_topology",
     "patch_triangles",
@@ -53,5 +56,6 @@ __all__ = [
     "repeated_topology",
     "sector_chain_vertices",
     "sector_edge_counts",
+    "translated_copies_sound",
     "translated_copy_measures",
 ]

@@ -30,9 +30,17 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..invariants import FLAT
 from ..quality import triangle_quality
 from ..subdivision import PatchTemplate
-from ..topology import BLOCK, INDEX, EdgeTopology, RWGTable, segment_lengths
+from ..topology import (
+    BLOCK,
+    INDEX,
+    EdgeTopology,
+    RWGTable,
+    adjacency_without_junctions,
+    segment_lengths,
+)
 from .patches import patch_topology
 
 if TYPE_CHECKING:
@@ -43,6 +51,11 @@ if TYPE_CHECKING:
 #: first patch has them (rounding included). On random paper rings the aggregates then
 #: differ from the full computation by at most a quarter of this (below 1e-13).
 COPY_TOLERANCE = 2.5e-13
+
+#: Topologies of the templates seen last, by identity (templates are cached, so the
+#: same object recurs; the topology, RWG table and connectivity of a build all need it).
+_TEMPLATE_TOPOLOGIES: dict[int, tuple[PatchTemplate, EdgeTopology]] = {}
+_TEMPLATE_ADJACENCY: dict[int, tuple[PatchTemplate, sp.csr_matrix | None]] = {}
 
 
 def is_unwelded_copies(vertex_map: np.ndarray) -> bool:
@@ -63,9 +76,44 @@ def is_unwelded_copies(vertex_map: np.ndarray) -> bool:
 
 
 def template_topology(template: PatchTemplate) -> EdgeTopology:
-    """The topology of one copy of ``template`` (vertices 0 … Nv − 1), free vertices included."""
+    """The topology of one copy of ``template`` (vertices 0 … Nv − 1), free vertices included.
+
+    Kept for the last few templates (by identity): a build asks for it three times
+    (topology, RWG table, connectivity), and at small sizes making it was a third of
+    the build. Its arrays are read-only, shared by every caller.
+    """
+    found = _TEMPLATE_TOPOLOGIES.get(id(template))
+    if found is not None and found[0] is template:
+        return found[1]
     nv = len(template.uv)
-    return patch_topology(template, np.arange(nv, dtype=INDEX)[None], nv)
+    topo = patch_topology(template, np.arange(nv, dtype=INDEX)[None], nv)
+    for name in ("edges", "triangle_edges", "edge_triangles", "valence", "free_vertices"):
+        array = getattr(topo, name)
+        if array is not None:
+            array.flags.writeable = False
+    if len(_TEMPLATE_TOPOLOGIES) >= 16:
+        _TEMPLATE_TOPOLOGIES.pop(next(iter(_TEMPLATE_TOPOLOGIES)))
+    _TEMPLATE_TOPOLOGIES[id(template)] = (template, topo)
+    return topo
+
+
+def template_adjacency(template: PatchTemplate) -> sp.csr_matrix | None:
+    """The connectivity matrix of one copy of ``template``, kept as its topology is.
+
+    :func:`barymesh.topology.adjacency_without_junctions` of :func:`template_topology`;
+    None when two of its triangles share two edges. Read-only: shared by every caller.
+    """
+    found = _TEMPLATE_ADJACENCY.get(id(template))
+    if found is not None and found[0] is template:
+        return found[1]
+    local = adjacency_without_junctions(len(template.triangles), template_topology(template))
+    if local is not None:
+        for array in (local.data, local.indices, local.indptr):
+            array.flags.writeable = False
+    if len(_TEMPLATE_ADJACENCY) >= 16:
+        _TEMPLATE_ADJACENCY.pop(next(iter(_TEMPLATE_ADJACENCY)))
+    _TEMPLATE_ADJACENCY[id(template)] = (template, local)
+    return local
 
 
 def copies_topology(
@@ -113,17 +161,30 @@ def tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
 def fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int) -> None:
     """Write ``copies`` copies of ``a`` into the flat ``out``, copy k's ids plus k ``step`` + base.
 
-    Entries of -1 (none) stay -1. Block by block over a pattern of whole copies:
-    long, contiguous adds even when ``a`` is a handful of values (a broadcast add
-    over (copies, len(a)) would run one short inner loop per copy).
+    Entries of -1 (none) stay -1. Within one block (at most :data:`BLOCK` values
+    in all), ``out`` seen as (copies, len(a)) rows is ``a`` plus each row's shift,
+    then the -1 columns put back: no pattern to build, which at small sizes cost
+    as much as the copies. Beyond a block a pattern of whole copies is made once
+    and added block by block: long, contiguous adds of one shift each, faster
+    than a broadcast whose every row is a short inner loop.
     """
     flat = np.ascontiguousarray(a, dtype=INDEX).reshape(-1)
     k = len(flat)
     if copies == 0 or k == 0:
         return
+    missing = flat < 0
+    if copies * k <= BLOCK:
+        rows = out[: copies * k].reshape(copies, k)
+        rows[...] = flat
+        shift = np.arange(copies, dtype=INDEX)
+        shift *= INDEX(step)
+        shift += INDEX(base)
+        rows += shift[:, None]
+        if missing.any():
+            rows[:, np.flatnonzero(missing)] = -1
+        return
     per = max(1, min(copies, BLOCK // k))  # copies per block
     ramp = np.repeat(np.arange(per, dtype=INDEX) * INDEX(step), k)
-    missing = flat < 0
     if missing.any():
         keep = np.tile(~missing, per).astype(INDEX)  # 0 where -1 must stay
         pattern = np.tile(flat, per) + ramp * keep + INDEX(base) * keep
@@ -166,8 +227,61 @@ def copies_rwg(
         t_minus=tiled(local.edge_triangles[rows, 1], n_patches, n_tri),
         free_vertex_plus=tiled(local.free_vertices[rows, 0], n_patches, n_vertices),
         free_vertex_minus=tiled(local.free_vertices[rows, 1], n_patches, n_vertices),
-        length=segment_lengths(points, vertices, columns),
+        length=copies_lengths(local.edges[rows], n_patches, n_vertices, points, columns),
     )
+
+
+def copies_lengths(
+    pairs: np.ndarray,
+    n_patches: int,
+    n_vertices: int,
+    points: np.ndarray,
+    columns: list[np.ndarray] | None = None,
+) -> np.ndarray:
+    """Lengths of the template segments ``pairs`` in each of ``n_patches`` unwelded copies.
+
+    :func:`barymesh.topology.segment_lengths` of ``tiled(pairs, n_patches, n_vertices)``,
+    bit for bit (the same differences, squares and sums in the same order), without
+    that tiled index: copy p's vertices are rows p of each coordinate column seen as
+    (P, Nv), so a block of copies is read by slicing and its segments' ends taken
+    along the rows with the template's (K,) pairs. The general path gathers through
+    two index arrays of the mesh's size, converted to ``intp`` first; this reads
+    each coordinate once per block, from cache.
+
+    Parameters
+    ----------
+    pairs : (K, 2) int
+        Local vertex pairs of the template's segments.
+    n_patches : int
+    n_vertices : int
+        Vertices of one copy (Nv).
+    points : (P Nv, 2 or 3) float64
+        The mesh's points, copy p's from p Nv.
+    columns : list of (P Nv,) float64, optional
+        Contiguous coordinate columns of ``points`` (all-zero ones may be left out).
+
+    Returns
+    -------
+    (P K,) float64
+        Copy after copy, segment k of copy p at p K + k.
+    """
+    if columns is None:
+        columns = [np.ascontiguousarray(points[:, axis]) for axis in range(points.shape[1])]
+    start = np.ascontiguousarray(pairs[:, 0], dtype=np.intp)
+    end = np.ascontiguousarray(pairs[:, 1], dtype=np.intp)
+    k = len(start)
+    total = np.zeros((n_patches, k))
+    axes = [x.reshape(n_patches, n_vertices) for x in columns if x.any()]
+    rows = max(1, BLOCK // max(k, 1))
+    for lo in range(0, n_patches, rows):
+        acc = total[lo : lo + rows]
+        for x in axes:
+            block = x[lo : lo + rows]
+            d = block.take(end, axis=1)
+            d -= block.take(start, axis=1)
+            d *= d
+            acc += d
+    return np.sqrt(total, out=total).reshape(-1)
 
 
 def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
@@ -181,18 +295,112 @@ def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
     import scipy.sparse as sp
 
     n_tri = local.shape[0]
-    counts = np.diff(local.indptr).astype(INDEX)
+    # row pointers tiled too: copy p's rows start p nnz after the template's
     indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)
-    per_row = np.empty((n_patches, n_tri), dtype=INDEX)
-    per_row[...] = counts
-    np.cumsum(per_row.reshape(-1), out=indptr[1:])
+    fill_tiled(indptr[1:], local.indptr[1:], n_patches, local.nnz, 0)
     indices = tiled(local.indices.astype(INDEX), n_patches, n_tri)
     data = np.ones(len(indices), dtype=np.int8)
     return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
 
 
+def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
+    """How far unwelded copies are from translations of the first one, rounding included.
+
+    For every patch p and local vertex l, the coordinates of l relative to the
+    patch's vertex 0 are compared with the first patch's; the largest difference,
+    plus the rounding of the two subtractions that found it (twice the machine
+    epsilon times the largest coordinate), bounds how far the exact relative
+    positions of any patch are from the first patch's. Reading every coordinate
+    once, block by block, this is the one pass over the points that
+    :func:`translated_copy_measures` and :func:`translated_copies_sound` need.
+
+    Parameters
+    ----------
+    n_vertices : int
+        Vertices of one patch (Nv).
+    columns : list of (P Nv,) float64
+        Contiguous x, y (and z unless all zero) columns of the points, patch p's
+        from p Nv (:func:`is_unwelded_copies`).
+
+    Returns
+    -------
+    float or None
+        The bound (mm), NaN when a coordinate is not finite; None when the
+        points are not whole patches of ``n_vertices``.
+    """
+    nv = n_vertices
+    n_p = len(columns[0]) // nv if nv else 0
+    if n_p == 0 or n_p * nv != len(columns[0]):
+        return None
+    rows = max(1, BLOCK // nv)
+    # reductions gathered into arrays, so that a NaN anywhere makes the bound NaN
+    extent = np.max([[x.max(), -x.min()] for x in columns])
+    deviations = []
+    blocks = [x.reshape(n_p, nv) for x in columns]
+    firsts = [x[0] - x[0, 0] for x in blocks]
+    for lo in range(0, n_p, rows):
+        for x, first in zip(blocks, firsts, strict=True):
+            block = x[lo : lo + rows]
+            rel = block - block[:, :1]
+            rel -= first
+            deviations += [rel.max(), -rel.min()]
+    return float(np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent)
+
+
+def translated_copies_sound(
+    template: PatchTemplate, columns: list[np.ndarray], slack: float | None
+) -> bool:
+    """Whether no triangle of translated copies can be clockwise or flat: the first
+    patch's triangles clear the test by more than the copies can differ.
+
+    :func:`barymesh.invariants.inverted_or_flat` flags a triangle whose twice
+    area (cross product of two sides, as computed) is not at least ``2 FLAT``
+    times its longest side squared. In every copy, each exact vertex position
+    relative to the patch's vertex 0 is within ``slack`` (:func:`copy_slack`) of
+    the first patch's, so a side differs by at most 2√2 ``slack`` and the cross
+    product by at most 12 L ``slack`` + 8 ``slack``² (L the longest side); the
+    computed cross product adds the rounding of differences of coordinates up
+    to the largest one (``extent``) and of two products: a few ε (extent + L) L.
+    When each of the first patch's triangles clears the test by 64 L (``slack``
+    + ε (extent + L)), well above the sum of those, no triangle of any copy can
+    be flagged, and the per-triangle pass (:func:`barymesh.repeat.inverted_or_flat_patches`)
+    would find nothing: the answer is known without it. False (run the pass)
+    when the copies are not translations to :data:`COPY_TOLERANCE`, when
+    something is not finite, or when a triangle is too near the limit to tell.
+
+    Parameters
+    ----------
+    template : PatchTemplate
+    columns : list of (P Nv,) float64
+        x and y (planar meshes only: with a z column this returns False).
+    slack : float or None
+        :func:`copy_slack` of the same columns.
+    """
+    nv = len(template.uv)
+    if slack is None or len(columns) != 2 or not len(template.triangles):
+        return False
+    x, y = (c[:nv] for c in columns)
+    tri = template.triangles
+    ux, uy = x[tri[:, 1]] - x[tri[:, 0]], y[tri[:, 1]] - y[tri[:, 0]]
+    vx, vy = x[tri[:, 2]] - x[tri[:, 0]], y[tri[:, 2]] - y[tri[:, 0]]
+    wx, wy = vx - ux, vy - uy
+    sides = np.stack([ux * ux + uy * uy, vx * vx + vy * vy, wx * wx + wy * wy])
+    longest = sides.max(axis=0)
+    shortest = float(np.sqrt(sides.min()))
+    if not (shortest > 0 and slack <= COPY_TOLERANCE * shortest):
+        return False
+    side = float(np.sqrt(longest.max()))
+    extent = float(np.max([[c.max(), -c.min()] for c in columns]))
+    eps = float(np.finfo(np.float64).eps)
+    margin = ux * vy - uy * vx - 2.0 * FLAT * longest
+    return bool(margin.min() > 64.0 * side * (slack + eps * (extent + side)))
+
+
 def translated_copy_measures(
-    template: PatchTemplate, points: np.ndarray, columns: list[np.ndarray]
+    template: PatchTemplate,
+    points: np.ndarray,
+    columns: list[np.ndarray],
+    slack: float | None = None,
 ) -> dict[str, Any] | None:
     """Topology counts and quality aggregates of unwelded copies that are translations.
 
@@ -210,6 +418,9 @@ def translated_copy_measures(
         The mesh's points, patch p's from p Nv (:func:`is_unwelded_copies`).
     columns : list of (P Nv,) float64
         Contiguous x, y (and z unless all zero) columns of ``points``.
+    slack : float, optional
+        :func:`copy_slack` of ``columns``, when already found (the mesh keeps
+        the one its check found); found here otherwise.
 
     Returns
     -------
@@ -222,22 +433,13 @@ def translated_copy_measures(
     n_p = len(points) // nv if nv else 0
     if n_p == 0 or n_p * nv != len(points):
         return None
-    rows = max(1, BLOCK // nv)
-    # reductions gathered into arrays, so that a NaN anywhere makes the check fail
-    extent = np.max([[x.max(), -x.min()] for x in columns])
-    deviations = []
-    blocks = [x.reshape(n_p, nv) for x in columns]
-    firsts = [x[0] - x[0, 0] for x in blocks]
-    for lo in range(0, n_p, rows):
-        for x, first in zip(blocks, firsts, strict=True):
-            block = x[lo : lo + rows]
-            rel = block - block[:, :1]
-            rel -= first
-            deviations += [rel.max(), -rel.min()]
+    if slack is None:
+        slack = copy_slack(nv, columns)
+    if slack is None:
+        return None
     pts = points[:nv]
     lengths = segment_lengths(pts, template.edges)
     shortest = float(lengths.min()) if len(lengths) else 0.0
-    slack = np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent
     if not (shortest > 0 and slack <= COPY_TOLERANCE * shortest):
         return None
     q = triangle_quality(pts, template.triangles)

@@ -22,6 +22,7 @@ from .copies import (
     copies_rwg,
     copies_topology,
     is_unwelded_copies,
+    template_adjacency,
     template_topology,
 )
 from .patches import patch_topology, patch_triangles
@@ -174,7 +175,7 @@ def repeated_connectivity(rep: Repetition) -> sp.csr_matrix | None:
     t = rep.template
     nt = len(t.triangles)
     if rep.kind == "copies":
-        local = adjacency_without_junctions(nt, template_topology(t))
+        local = template_adjacency(t)
         return None if local is None else copies_adjacency(local, rep.n_patches)
     if rep.kind == "chains":
         parts = chain_parts(t, rep.sectors, rep.closed)

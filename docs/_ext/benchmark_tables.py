@@ -109,6 +109,8 @@ def mesher(doc: dict[str, Any]) -> Table:
         "triangles",
         "ours s",
         "MiB (B/tri)",
+        "bound s (GB/s)",
+        "ours / bound",
         "peer",
         "peer s",
         "ratio",
@@ -117,6 +119,15 @@ def mesher(doc: dict[str, Any]) -> Table:
     rows = []
     for w in doc["workloads"]:
         ours = w.get("ours", {})
+        bound = w.get("bound")
+        bound_cells = (
+            [
+                f"{bound['warm']['median']:.4f} ({bound['warm_gb_per_s']:.1f})",
+                f"{bound['ours_over_warm']:.1f}×",
+            ]
+            if bound
+            else ["–", "–"]
+        )
         stats = w.get("stats", {}).get("median")
         build = w.get("build_mesh", {}).get("median")
         ratio = f"{stats / build:.2f}" if stats and build else "–"
@@ -133,6 +144,7 @@ def mesher(doc: dict[str, Any]) -> Table:
                     f"{ours['peak_mib']:.0f} ({ours['bytes_per_triangle']:.0f})"
                     if first and "peak_mib" in ours
                     else "",
+                    *(bound_cells if first else ["", ""]),
                     {"a-exact": "(a) exact", "a-tol": "(a) tolerance", "gmsh": "(b) gmsh"}.get(
                         peer, "none"
                     ),
@@ -143,8 +155,12 @@ def mesher(doc: dict[str, Any]) -> Table:
             )
     note = (
         f"Times in seconds, median (min–max) of {doc.get('reps', '?')} repetitions, ours and "
-        "the peer alternating; ratio = peer median / our median."
+        "the peer alternating; ratio = peer median / our median. Bound: a numpy write of as "
+        "many bytes as the build's outputs hold (points, triangles, centroids, topology, RWG "
+        "table, connectivity) into a written buffer, timed in the same run."
     )
+    if doc.get("load_at_start") is not None:
+        note += f" Load average {doc['load_at_start'][0]:.1f} at the start of the run."
     return head, rows, note
 
 

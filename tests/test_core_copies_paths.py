@@ -1,0 +1,259 @@
+"""The shortcuts taken for unwelded copies of one patch give what the general paths give.
+
+A paper ring is its template copied patch after patch, nothing welded
+(``barymesh.repeat.copies``). Its RWG lengths are taken along rows of the
+coordinates seen as (P, Nv), its centroids patch by patch, its connectivity's
+row pointers tiled, and its invariant check skips the per-triangle pass when
+the copies are translations whose first patch clears the test by a margin.
+Each is compared with the general path (integers exactly, floats bit for bit
+where the sums are the same), and defects planted in such a mesh must still be
+refused.
+"""
+
+import numpy as np
+import pytest
+
+from barymesh import MeshParams, TriMesh, build_mesh
+from barymesh.check import check_mesh
+from barymesh.invariants import MeshInvariantError, inverted_or_flat
+from barymesh.repeat import (
+    Repetition,
+    copy_slack,
+    patch_centroids,
+    translated_copies_sound,
+)
+from barymesh.repeat.copies import copies_lengths, template_topology, tiled
+from barymesh.topology import segment_lengths, triangle_adjacency
+
+PAPER = [
+    MeshParams(structure="double_ring", mode="paper", subdivisions=4, angle_step=2.5),
+    MeshParams(structure="ring", mode="paper", subdivisions=3, angle_step=7.0, diagonal="AD"),
+    MeshParams(structure="double_ring", mode="paper", subdivisions=2, scheme="barycentric"),
+    MeshParams(structure="split_ring", mode="paper", subdivisions=5, angle_step=4.0),
+]
+#: Meshes of other repetition kinds (chains, welded patches), for the centroids.
+OTHERS = [
+    MeshParams(structure="double_ring", mode="conforming", subdivisions=3),
+    MeshParams(structure="square_split_double_ring", mode="paper", subdivisions=2),
+    MeshParams(structure="cross", mode="conforming", subdivisions=3),
+]
+
+
+def general_centroids(mesh):
+    """The general path of ``TriMesh.centroids`` (the same mesh without its record)."""
+    return plain(mesh).centroids
+
+
+def plain(mesh, points=None):
+    """The mesh without its repetition record, optionally with other points."""
+    return TriMesh(
+        mesh.points if points is None else points,
+        mesh.triangles,
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        mesh.patch_rects,
+    )
+
+
+def with_points(mesh, points):
+    """The mesh with other points, same record (nothing cached)."""
+    return TriMesh(
+        points,
+        mesh.triangles,
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        mesh.patch_rects,
+        repetition=mesh.repetition,
+    )
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_paper_rings_are_copies(params):
+    assert build_mesh(params).repetition.kind == "copies"
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+@pytest.mark.parametrize("z", [False, True])
+def test_copies_lengths_equal_the_general_lengths_bit_for_bit(params, z):
+    mesh = build_mesh(params)
+    points = mesh.points.copy()
+    if z:  # a coordinate that is not zero everywhere is measured too
+        points[:, 2] = np.sin(points[:, 0])
+    rep = mesh.repetition
+    nv, n_p = len(rep.template.uv), rep.n_patches
+    local = template_topology(rep.template)
+    for pairs in (local.edges, local.edges[local.valence == 2]):
+        want = segment_lengths(points, tiled(pairs, n_p, nv))
+        got = copies_lengths(pairs, n_p, nv, points)
+        assert got.dtype == want.dtype and got.shape == want.shape
+        assert np.array_equal(got, want)
+        got = copies_lengths(pairs, n_p, nv, points, with_points(mesh, points).columns)
+        assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("params", PAPER + OTHERS, ids=lambda p: f"{p.structure}-{p.mode}")
+def test_patch_centroids_equal_the_general_centroids_bit_for_bit(params):
+    mesh = build_mesh(params)
+    got = mesh.centroids
+    want = general_centroids(mesh)
+    assert got.dtype == want.dtype and got.shape == want.shape and got.flags.c_contiguous
+    assert np.array_equal(got, want)
+    moved = mesh.points.copy()
+    moved[:, 2] = 0.25 * moved[:, 0] - 1.0  # a z that is not zero everywhere
+    assert np.array_equal(with_points(mesh, moved).centroids, plain(mesh, moved).centroids)
+    rep = mesh.repetition
+    direct = patch_centroids(mesh.columns, rep.vertex_map, rep.template.triangles)
+    assert np.array_equal(direct, want)  # the gathered path also for unwelded copies
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_copies_connectivity_equals_the_general_one(params):
+    mesh = build_mesh(params)
+    got = mesh.connectivity
+    want = triangle_adjacency(mesh.n_triangles, plain(mesh).topology)
+    for name in ("data", "indices", "indptr"):
+        a, b = getattr(got, name), getattr(want, name)
+        assert a.dtype == b.dtype and np.array_equal(a, b), name
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_translated_paper_rings_skip_the_per_triangle_pass(params):
+    mesh = build_mesh(params)
+    rep = mesh.repetition
+    slack = copy_slack(len(rep.template.uv), mesh.columns)
+    assert slack is not None and slack == mesh.translation_slack
+    assert translated_copies_sound(rep.template, mesh.columns, slack)
+    assert len(inverted_or_flat(mesh.points, mesh.triangles)) == 0  # what the skip stands for
+
+
+def test_a_folded_copy_is_still_refused():
+    mesh = build_mesh(PAPER[0])
+    rep = mesh.repetition
+    nv = len(rep.template.uv)
+    moved = mesh.points.copy()
+    moved[7 * nv + 6, :2] += [0.4, 0.3]  # an interior vertex of patch 7 across its neighbours
+    assert len(inverted_or_flat(moved, mesh.triangles)) > 0
+    bad = with_points(mesh, moved)
+    assert not translated_copies_sound(rep.template, bad.columns, bad.translation_slack)
+    with pytest.raises(MeshInvariantError, match="clockwise or flat"):
+        check_mesh(bad, PAPER[0])
+
+
+def test_the_same_fold_in_every_copy_is_still_refused():
+    """Every copy the same (translations), each with one triangle clockwise: refused."""
+    mesh = build_mesh(PAPER[0])
+    rep = mesh.repetition
+    nv, n_p = len(rep.template.uv), rep.n_patches
+    moved = mesh.points.copy().reshape(n_p, nv, 3)
+    moved[:, 6, :2] = moved[:, 0, :2] - [0.05, 0.05]  # the same fold in every patch
+    moved = moved.reshape(-1, 3)
+    bad = with_points(mesh, moved)
+    assert bad.translation_slack <= 1e-12  # still translations of one another
+    assert not translated_copies_sound(rep.template, bad.columns, bad.translation_slack)
+    want = inverted_or_flat(moved, mesh.triangles)
+    assert len(want) >= n_p
+    with pytest.raises(MeshInvariantError, match=f"has {len(want):,} of"):
+        check_mesh(bad, PAPER[0])
+
+
+def test_flat_triangles_in_every_copy_are_still_refused():
+    mesh = build_mesh(PAPER[0])
+    rep = mesh.repetition
+    nv, n_p = len(rep.template.uv), rep.n_patches
+    a, b, c = rep.template.triangles[0]
+    moved = mesh.points.copy().reshape(n_p, nv, 3)
+    moved[:, c, :2] = 0.5 * (moved[:, a, :2] + moved[:, b, :2])  # on its opposite side
+    moved = moved.reshape(-1, 3)
+    bad = with_points(mesh, moved)
+    assert not translated_copies_sound(rep.template, bad.columns, bad.translation_slack)
+    with pytest.raises(MeshInvariantError, match="clockwise or flat"):
+        check_mesh(bad, PAPER[0])
+
+
+def test_a_triangle_near_the_flat_limit_takes_the_per_triangle_pass():
+    """Translations whose first patch is within the margin of the limit are not skipped."""
+    mesh = build_mesh(PAPER[0])
+    rep = mesh.repetition
+    columns = mesh.columns
+    slack = mesh.translation_slack
+    x, y = (c.copy() for c in columns)
+    nv, n_p = len(rep.template.uv), rep.n_patches
+    a, b, c = rep.template.triangles[0]
+    xs, ys = x.reshape(n_p, nv), y.reshape(n_p, nv)
+    # corner c pulled onto line a-b but for a sliver a little above 2 FLAT longest²:
+    # the general test passes it, the margin does not
+    ux, uy = xs[:, b] - xs[:, a], ys[:, b] - ys[:, a]
+    length = np.hypot(ux[0], uy[0])
+    lift = 3e-12 * length  # twice area 3e-12 L², limit 2e-12 L² (of L² = |a-b|² here)
+    xs[:, c] = xs[:, a] + 0.5 * ux - uy / length * lift
+    ys[:, c] = ys[:, a] + 0.5 * uy + ux / length * lift
+    assert not translated_copies_sound(rep.template, [x, y], copy_slack(nv, [x, y]))
+    assert translated_copies_sound(rep.template, columns, slack)
+
+
+def test_the_check_skip_declines_what_is_not_translations_or_not_planar():
+    mesh = build_mesh(PAPER[0])
+    rep = mesh.repetition
+    x, y = mesh.columns
+    assert not translated_copies_sound(rep.template, [x, y], None)
+    assert not translated_copies_sound(rep.template, [x, y, x], mesh.translation_slack)
+    stretched = x.copy()
+    stretched[len(rep.template.uv) :] *= 1.001  # copies scaled about the origin
+    slack = copy_slack(len(rep.template.uv), [stretched, y])
+    assert not translated_copies_sound(rep.template, [stretched, y], slack)
+    nan = x.copy()
+    nan[-1] = np.nan
+    assert np.isnan(copy_slack(len(rep.template.uv), [nan, y]))
+    assert not translated_copies_sound(rep.template, [nan, y], np.nan)
+    assert build_mesh(OTHERS[0]).translation_slack is None  # chains: no such record
+    assert copy_slack(len(rep.template.uv), [x[:-1], y[:-1]]) is None  # not whole patches
+
+
+def test_stats_share_the_checks_slack():
+    mesh = build_mesh(PAPER[0])
+    assert "translation_slack" in mesh.__dict__  # found by the check, kept
+    fresh = with_points(mesh, mesh.points)
+    assert fresh.stats() == mesh.stats()
+
+
+def test_a_record_of_copies_rebuilt_from_triangles_takes_the_same_paths():
+    mesh = build_mesh(PAPER[1])
+    rep = Repetition.of_triangles(mesh.repetition.template, mesh.triangles, mesh.n_vertices)
+    assert rep.kind == "copies"
+    assert np.array_equal(rep.vertex_map, mesh.repetition.vertex_map)
+
+
+@pytest.mark.parametrize("copies", [1, 7, 300, 5000])
+@pytest.mark.parametrize("k", [1, 3, 40, 112])
+def test_fill_tiled_equals_the_plain_broadcast_on_both_sides_of_a_block(copies, k):
+    from barymesh.repeat.copies import fill_tiled
+    from barymesh.topology import INDEX
+
+    a = np.arange(k, dtype=INDEX) * 3
+    a[::4] = -1  # "none" entries stay -1
+    want = a[None, :] + (np.arange(copies, dtype=INDEX) * 25 + 2)[:, None]
+    want[:, a < 0] = -1
+    out = np.full(copies * k + 3, 99, dtype=INDEX)
+    fill_tiled(out, a, copies, 25, 2)
+    assert np.array_equal(out[: copies * k], want.ravel())
+    assert (out[copies * k :] == 99).all()  # nothing written past the copies
+
+
+def test_template_topology_and_adjacency_are_kept_read_only():
+    from barymesh.repeat.copies import template_adjacency, template_topology
+    from barymesh.topology import adjacency_without_junctions
+
+    template = build_mesh(PAPER[0]).repetition.template
+    topo = template_topology(template)
+    assert template_topology(template) is topo and not topo.edges.flags.writeable
+    local = template_adjacency(template)
+    assert template_adjacency(template) is local and not local.indices.flags.writeable
+    want = adjacency_without_junctions(len(template.triangles), topo)
+    for name in ("data", "indices", "indptr"):
+        assert np.array_equal(getattr(local, name), getattr(want, name))
