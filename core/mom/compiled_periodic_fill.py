@@ -135,6 +135,24 @@ def slots(plan: FillPlan, n: int, t: int) -> Slots:
     return out
 
 
+def triangle_moments(plan: FillPlan) -> np.ndarray:
+    """(T, 11) float64 A, I_00, I_01, I_10, I_11, J_000, J_001, J_011, J_100, J_101, J_111
+    of each triangle (the plan's, widened): what a pair's expansion reads of its two."""
+    third = plan.third
+    return np.column_stack(
+        [
+            plan.areas,
+            plan.second.reshape(-1, 4),
+            third[:, 0, 0, 0],
+            third[:, 0, 0, 1],
+            third[:, 0, 1, 1],
+            third[:, 1, 0, 0],
+            third[:, 1, 0, 1],
+            third[:, 1, 1, 1],
+        ]
+    ).astype(np.float64)
+
+
 @dataclass(frozen=True)
 class Medium:
     """What the compiled loops need of one Green's function's per-frequency tables.
@@ -217,9 +235,7 @@ def _compiled_periodic_matrix(
     crossed = table.crossing >= 0
     in_phase[crossed] = unknown_phase[table.crossing[crossed]]
     by_t, by_u = table.by_triangle, table.by_unknown
-    areas = plan.areas.astype(np.float64)
-    second = plan.second.astype(np.float64)
-    third = plan.third.astype(np.float64)
+    moments = triangle_moments(plan)
     layered = scalar is not None
     phi = scalar if scalar is not None else vector
     z = np.zeros((n, n), dtype=np.complex128)
@@ -237,9 +253,7 @@ def _compiled_periodic_matrix(
             plan.inverse,
             plan.unit,
             plan.sigma_code,
-            areas,
-            second,
-            third,
+            moments,
             plan.special,
             plan.special_starts,
             vector.tables,
@@ -310,9 +324,7 @@ def warm_up() -> float:
             plane,
             np.zeros((2, t, t), dtype=f32),
             np.zeros((t, t), dtype=np.int16),
-            np.ones(t),
-            np.zeros((t, 2, 2)),
-            np.zeros((t, 2, 2, 2)),
+            np.ones((t, 11)),
             np.zeros((1, 2), dtype=np.intp),
             np.array([0, 1, 1], dtype=np.intp),
             tables,

@@ -35,7 +35,8 @@ OBSERVER_CHUNK = 16
 
 @njit(cache=True, inline="always")
 def taylor_pair(
-    row: np.ndarray,
+    table: np.ndarray,
+    r: int,
     ex: float,
     ey: float,
     dist: float,
@@ -44,39 +45,39 @@ def taylor_pair(
     uy: float,
     kr: float,
     ki: float,
-    a_s: float,
-    a_o: float,
-    i_s: np.ndarray,
-    i_o: np.ndarray,
-    j_s: np.ndarray,
-    j_o: np.ndarray,
-    out: np.ndarray,
-    charge_only: bool,
-) -> None:  # pragma: no cover - compiled
-    """One pair's flat moments of G + G_reg's expansions into ``out`` (6,) complex.
+    src: np.ndarray,
+    s: int,
+    obs: np.ndarray,
+    o: int,
+) -> tuple[
+    float, float, float, float, float, float, float, float, float, float, float, float
+]:  # pragma: no cover
+    """One pair's six flat moments of G + G_reg's expansions, re and im (12 floats).
 
-    The formulas and their order are those of ``periodic_fill._taylor_moments``
-    (see its docstring), on complex numbers instead of split planes: ``row`` (12,) is
-    G_reg's value, gradient and Hessian at the pair's node (re, im per derivative),
-    (ex, ey) the offset from the node, ``inv`` 1/|c| (0 on near and close pairs, where
-    G's terms vanish), (ux, uy) ĉ, k = kr + j ki in units of the plan's scale. The
-    caller widens the plan's single-precision values to double first: in numba a float32
-    times a float32 stays float32 (ĉ_x² so rounded put 3e-11 of max |Z| between the
-    paths).
+    The formulas and their order are those of ``periodic_fill._taylor_moments`` (see
+    its docstring), written out on real and imaginary parts so that the loop over
+    observers that calls this is a straight line of arithmetic: ``table[r]`` (12,) is
+    G_reg's value, gradient and Hessian at the pair's node (re, im per derivative), (ex,
+    ey) the offset from the node, ``inv`` 1/|c| (0 on near and close pairs, where G's
+    terms vanish), (ux, uy) ĉ, k = kr + j ki in units of the plan's scale; ``src[s]``
+    and ``obs[o]`` the triangles' (A, I_00, I_01, I_10, I_11, J_000, J_001, J_011, J_100,
+    J_101, J_111). The caller widens the plan's single-precision values to double
+    first: in numba a float32 times a float32 stays float32 (ĉ_x² so rounded put 3e-11
+    of max |Z| between the paths).
     """
-    g = complex(row[0], row[1])
-    gx = complex(row[2], row[3])
-    gy = complex(row[4], row[5])
-    hxx = complex(row[6], row[7])
-    hxy = complex(row[8], row[9])
-    hyy = complex(row[10], row[11])
-    dx = hxx * ex + gx + hxy * ey
-    dy = hyy * ey + gy + hxy * ex
-    value = ((gx + dx) * ex + (gy + dy) * ey) * 0.5 + g
+    t0, t1, t2, t3 = table[r, 0], table[r, 1], table[r, 2], table[r, 3]
+    t4, t5, t6, t7 = table[r, 4], table[r, 5], table[r, 6], table[r, 7]
+    t8, t9, t10, t11 = table[r, 8], table[r, 9], table[r, 10], table[r, 11]
+    dxr = t6 * ex + t2 + t8 * ey
+    dxi = t7 * ex + t3 + t9 * ey
+    dyr = t10 * ey + t4 + t8 * ex
+    dyi = t11 * ey + t5 + t9 * ex
+    vr = ((t2 + dxr) * ex + (t4 + dyr) * ey) * 0.5 + t0
+    vi = ((t3 + dxi) * ex + (t5 + dyi) * ey) * 0.5 + t1
     # G = e^(−jkR)/R about c
-    s, c = sincos(kr * dist)
-    gr = c * inv
-    gi = -(s * inv)
+    sn, cs = sincos(kr * dist)
+    gr = cs * inv
+    gi = -(sn * inv)
     if ki != 0.0:
         decay = np.exp(ki * dist)
         gr *= decay
@@ -88,36 +89,57 @@ def taylor_pair(
         shifted = inv
         a2 = 2.0 * inv * inv - kr * kr
         b2 = inv * (2.0 * kr)
-    g1 = complex(gi * kr - shifted * gr, -(gr * kr + shifted * gi))
-    q = g1 * inv
-    p = complex(a2 * gr - b2 * gi, a2 * gi + b2 * gr) - q
-    value += complex(gr, gi)
-    if not charge_only:
-        dx += g1 * ux
-        dy += g1 * uy
-    hxx += q + p * (ux * ux)
-    hxy += p * (ux * uy)
-    hyy += q + p * (uy * uy)
-    value *= a_o
-    value += hxx * (0.5 * i_o[0, 0]) + hxy * i_o[0, 1] + hyy * (0.5 * i_o[1, 1])
-    value *= a_s
-    acc = hxx * (0.5 * i_s[0, 0]) + hxy * i_s[0, 1] + hyy * (0.5 * i_s[1, 1])
-    out[0] = acc * a_o + value
-    if charge_only:
-        return
-    for c in range(2):
-        acc = dx * i_o[c, 0] + dy * i_o[c, 1]
-        acc += hxx * (0.5 * j_o[c, 0, 0]) + hxy * j_o[c, 0, 1] + hyy * (0.5 * j_o[c, 1, 1])
-        out[1 + c] = acc * a_s
-        acc = dx * -i_s[c, 0] + dy * -i_s[c, 1]
-        acc += hxx * (0.5 * j_s[c, 0, 0]) + hxy * j_s[c, 0, 1] + hyy * (0.5 * j_s[c, 1, 1])
-        out[3 + c] = acc * a_o
-    # −tr(I H I') = −Σ_pq H_pq Σ_i I_qi I'_ip
-    o00 = -(i_s[0, 0] * i_o[0, 0] + i_s[0, 1] * i_o[1, 0])
-    o01 = -(i_s[1, 0] * i_o[0, 0] + i_s[1, 1] * i_o[1, 0])
-    o10 = -(i_s[0, 0] * i_o[0, 1] + i_s[0, 1] * i_o[1, 1])
-    o11 = -(i_s[1, 0] * i_o[0, 1] + i_s[1, 1] * i_o[1, 1])
-    out[5] = hxx * o00 + hxy * (o01 + o10) + hyy * o11
+    g1r = gi * kr - shifted * gr
+    g1i = -(gr * kr + shifted * gi)
+    qr = g1r * inv
+    qi = g1i * inv
+    pr = (a2 * gr - b2 * gi) - qr
+    pi = (a2 * gi + b2 * gr) - qi
+    vr += gr
+    vi += gi
+    dxr += g1r * ux
+    dxi += g1i * ux
+    dyr += g1r * uy
+    dyi += g1i * uy
+    uu, uv, vv = ux * ux, ux * uy, uy * uy
+    hxxr = t6 + (qr + pr * uu)
+    hxxi = t7 + (qi + pi * uu)
+    hxyr = t8 + pr * uv
+    hxyi = t9 + pi * uv
+    hyyr = t10 + (qr + pr * vv)
+    hyyi = t11 + (qi + pi * vv)
+    a_s, s00, s01, s10, s11 = src[s, 0], src[s, 1], src[s, 2], src[s, 3], src[s, 4]
+    a_o, o00, o01, o10, o11 = obs[o, 0], obs[o, 1], obs[o, 2], obs[o, 3], obs[o, 4]
+    # ∫∫ 1
+    w0, w1, w2 = 0.5 * o00, o01, 0.5 * o11
+    vr = (vr * a_o + (hxxr * w0 + hxyr * w1 + hyyr * w2)) * a_s
+    vi = (vi * a_o + (hxxi * w0 + hxyi * w1 + hyyi * w2)) * a_s
+    w0, w1, w2 = 0.5 * s00, s01, 0.5 * s11
+    m0r = (hxxr * w0 + hxyr * w1 + hyyr * w2) * a_o + vr
+    m0i = (hxxi * w0 + hxyi * w1 + hyyi * w2) * a_o + vi
+    # ∫∫ ρ_x, ∫∫ ρ_y: A' (I ∇f + ½ J:H)
+    w0, w1, w2 = 0.5 * obs[o, 5], obs[o, 6], 0.5 * obs[o, 7]
+    m1r = ((dxr * o00 + dyr * o01) + (hxxr * w0 + hxyr * w1 + hyyr * w2)) * a_s
+    m1i = ((dxi * o00 + dyi * o01) + (hxxi * w0 + hxyi * w1 + hyyi * w2)) * a_s
+    w0, w1, w2 = 0.5 * obs[o, 8], obs[o, 9], 0.5 * obs[o, 10]
+    m2r = ((dxr * o10 + dyr * o11) + (hxxr * w0 + hxyr * w1 + hyyr * w2)) * a_s
+    m2i = ((dxi * o10 + dyi * o11) + (hxxi * w0 + hxyi * w1 + hyyi * w2)) * a_s
+    # ∫∫ ρ'_x, ∫∫ ρ'_y: A (−I' ∇f + ½ J':H)
+    w0, w1, w2 = 0.5 * src[s, 5], src[s, 6], 0.5 * src[s, 7]
+    m3r = ((dxr * -s00 + dyr * -s01) + (hxxr * w0 + hxyr * w1 + hyyr * w2)) * a_o
+    m3i = ((dxi * -s00 + dyi * -s01) + (hxxi * w0 + hxyi * w1 + hyyi * w2)) * a_o
+    w0, w1, w2 = 0.5 * src[s, 8], src[s, 9], 0.5 * src[s, 10]
+    m4r = ((dxr * -s10 + dyr * -s11) + (hxxr * w0 + hxyr * w1 + hyyr * w2)) * a_o
+    m4i = ((dxi * -s10 + dyi * -s11) + (hxxi * w0 + hxyi * w1 + hyyi * w2)) * a_o
+    # ∫∫ ρ·ρ' = −tr(I H I') = −Σ_pq H_pq Σ_i I_qi I'_ip
+    c00 = -(s00 * o00 + s01 * o10)
+    c01 = -(s10 * o00 + s11 * o10)
+    c10 = -(s00 * o01 + s01 * o11)
+    c11 = -(s10 * o01 + s11 * o11)
+    w1 = c01 + c10
+    m5r = hxxr * c00 + hxyr * w1 + hyyr * c11
+    m5i = hxxi * c00 + hxyi * w1 + hyyi * c11
+    return m0r, m0i, m1r, m1i, m2r, m2i, m3r, m3i, m4r, m4i, m5r, m5i
 
 
 @njit(parallel=True, cache=True)
@@ -128,9 +150,7 @@ def right_block(
     inverse: np.ndarray,
     unit: np.ndarray,
     sigma_code: np.ndarray,
-    areas: np.ndarray,
-    second: np.ndarray,
-    third: np.ndarray,
+    moments: np.ndarray,
     special: np.ndarray,
     special_starts: np.ndarray,
     tables_a: np.ndarray,
@@ -156,98 +176,97 @@ def right_block(
     """The rows of R of observation triangles lo..hi, added to ``out`` (3, hi − lo, N).
 
     Plan arrays as in :class:`~barymesh.mom.periodic_plan.FillPlan` ([source,
-    observation]), ``areas``, ``second`` and ``third`` in double precision;
-    ``tables_a`` (G², 12) G_reg's Taylor table at ``k_a`` (units of the plan's
-    scale), ``special_a`` (6, 2, M) the near and close pairs' moments. With
-    ``layered``, the charge moment comes from ``tables_phi`` at ``k_phi`` and
-    ``special_phi`` (1, 2, M), and the moments are μ̃ G_A and G_Φ/ε̄. ``phases`` (S,)
-    complex: e^(−j k_t·ρ_σ) per σ code. ``src_*``: each source triangle's unknowns
+    observation]); ``moments`` (T, 11) each triangle's A, I and J in double precision
+    (see :func:`taylor_pair`); ``tables_a`` (G², 12) G_reg's Taylor table at ``k_a``
+    (units of the plan's scale), ``special_a`` (6, 2, M) the near and close pairs'
+    moments. With ``layered``, the charge moment comes from ``tables_phi`` at ``k_phi``
+    and ``special_phi`` (1, 2, M), and the moments are μ̃ G_A and G_Φ/ε̄. ``phases``
+    (S,) complex: e^(−j k_t·ρ_σ) per σ code. ``src_*``: each source triangle's unknowns
     (CSR by triangle) with their [C, D_x, D_y] coefficients and Floquet phase. Every
     entry is multiplied by ``factor`` (jkη/4π h³ in the vacuum fill).
+
+    One job is :data:`OBSERVER_CHUNK` observers: for each source, the loop over them
+    reads the plan's rows in order and writes the moments to the job's (12, T, C)
+    scratch; then, per observer, the near and close pairs are added and every pair's
+    moments go through the source's RWG coefficients into R.
     """
-    t = areas.shape[0]
+    t = moments.shape[0]
     width = hi - lo
     chunks = (width + OBSERVER_CHUNK - 1) // OBSERVER_CHUNK
+    kar, kai = k_a.real, k_a.imag
+    kpr, kpi = k_phi.real, k_phi.imag
     for chunk in prange(chunks):
         first = lo + chunk * OBSERVER_CHUNK
         last = min(hi, first + OBSERVER_CHUNK)
-        m = np.empty((last - first, 6, t), dtype=np.complex128)
-        charge = np.empty((last - first, t), dtype=np.complex128)
-        pair = np.empty(6, dtype=np.complex128)
+        m = np.empty((12, t, OBSERVER_CHUNK))
+        charge = np.empty((2, t, OBSERVER_CHUNK))
         # sources outside, observers inside: the plan's [s, o] rows are read in order
         for s in range(t):
-            a_s, i_s, j_s = areas[s], second[s], third[s]
             for o in range(first, last):
-                taylor_pair(
-                    tables_a[node[s, o]],
-                    np.float64(offset[0, s, o]),
-                    np.float64(offset[1, s, o]),
-                    np.float64(distance[s, o]),
-                    np.float64(inverse[s, o]),
-                    np.float64(unit[0, s, o]),
-                    np.float64(unit[1, s, o]),
-                    k_a.real,
-                    k_a.imag,
-                    a_s,
-                    areas[o],
-                    i_s,
-                    second[o],
-                    j_s,
-                    third[o],
-                    pair,
-                    False,
+                ex = np.float64(offset[0, s, o])
+                ey = np.float64(offset[1, s, o])
+                dist = np.float64(distance[s, o])
+                inv = np.float64(inverse[s, o])
+                ux = np.float64(unit[0, s, o])
+                uy = np.float64(unit[1, s, o])
+                r = node[s, o]
+                v = taylor_pair(
+                    tables_a, r, ex, ey, dist, inv, ux, uy, kar, kai, moments, s, moments, o
                 )
                 ph = phases[sigma_code[s, o]]
+                pr, pi = ph.real, ph.imag
+                c = o - first
                 for i in range(6):
-                    m[o - first, i, s] = pair[i] * ph
+                    m[2 * i, s, c] = v[2 * i] * pr - v[2 * i + 1] * pi
+                    m[2 * i + 1, s, c] = v[2 * i + 1] * pr + v[2 * i] * pi
                 if layered:
-                    taylor_pair(
-                        tables_phi[node[s, o]],
-                        np.float64(offset[0, s, o]),
-                        np.float64(offset[1, s, o]),
-                        np.float64(distance[s, o]),
-                        np.float64(inverse[s, o]),
-                        np.float64(unit[0, s, o]),
-                        np.float64(unit[1, s, o]),
-                        k_phi.real,
-                        k_phi.imag,
-                        a_s,
-                        areas[o],
-                        i_s,
-                        second[o],
-                        j_s,
-                        third[o],
-                        pair,
-                        True,
+                    w = taylor_pair(
+                        tables_phi, r, ex, ey, dist, inv, ux, uy, kpr, kpi, moments, s, moments, o
                     )
-                    charge[o - first, s] = pair[0] * ph
+                    charge[0, s, c] = w[0] * pr - w[1] * pi
+                    charge[1, s, c] = w[1] * pr + w[0] * pi
         for o in range(first, last):
-            mo, co = m[o - first], charge[o - first]
+            c = o - first
             for idx in range(special_starts[o], special_starts[o + 1]):
                 s = special[idx, 1]
                 ph = phases[sigma_code[s, o]]
+                pr, pi = ph.real, ph.imag
                 for i in range(6):
-                    value = complex(np.float64(special_a[i, 0, idx]), special_a[i, 1, idx])
-                    mo[i, s] += value * ph
+                    re, im = np.float64(special_a[i, 0, idx]), np.float64(special_a[i, 1, idx])
+                    m[2 * i, s, c] += re * pr - im * pi
+                    m[2 * i + 1, s, c] += im * pr + re * pi
                 if layered:
-                    value = complex(np.float64(special_phi[0, 0, idx]), special_phi[0, 1, idx])
-                    co[s] += value * ph
+                    re, im = np.float64(special_phi[0, 0, idx]), np.float64(special_phi[0, 1, idx])
+                    charge[0, s, c] += re * pr - im * pi
+                    charge[1, s, c] += im * pr + re * pi
             row = o - lo
             for s in range(t):
+                f0 = complex(m[0, s, c], m[1, s, c])
+                f1 = complex(m[2, s, c], m[3, s, c])
+                f2 = complex(m[4, s, c], m[5, s, c])
+                f3 = complex(m[6, s, c], m[7, s, c])
+                f4 = complex(m[8, s, c], m[9, s, c])
+                f5 = complex(m[10, s, c], m[11, s, c])
                 if layered:
-                    for i in range(6):
-                        mo[i, s] *= mu
-                    q = co[s] * inv_eps
+                    f0, f1, f2, f3, f4, f5 = f0 * mu, f1 * mu, f2 * mu, f3 * mu, f4 * mu, f5 * mu
+                    q = complex(charge[0, s, c], charge[1, s, c]) * inv_eps
                 else:
-                    q = mo[0, s]
-                s00 = mo[5, s] - scale * q
+                    q = f0
+                s00 = factor * (f5 - scale * q)
+                s0x, s0y = factor * f1, factor * f2
+                sx0, sy0, sxx = factor * f3, factor * f4, factor * f0
                 for slot in range(src_starts[s], src_starts[s + 1]):
                     n = src_unknown[slot]
                     c0, c1, c2 = src_coef[slot, 0], src_coef[slot, 1], src_coef[slot, 2]
-                    w = factor * src_phase[slot]
-                    out[0, row, n] += w * (c0 * s00 + c1 * mo[1, s] + c2 * mo[2, s])
-                    out[1, row, n] += w * (c0 * mo[3, s] + c1 * mo[0, s])
-                    out[2, row, n] += w * (c0 * mo[4, s] + c2 * mo[0, s])
+                    r0 = c0 * s00 + c1 * s0x + c2 * s0y
+                    r1 = c0 * sx0 + c1 * sxx
+                    r2 = c0 * sy0 + c2 * sxx
+                    w = src_phase[slot]
+                    if w.real != 1.0 or w.imag != 0.0:  # a T− half across the sides
+                        r0, r1, r2 = r0 * w, r1 * w, r2 * w
+                    out[0, row, n] += r0
+                    out[1, row, n] += r1
+                    out[2, row, n] += r2
 
 
 @njit(parallel=True, cache=True)
