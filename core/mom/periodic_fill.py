@@ -29,6 +29,11 @@ The expansion runs in single precision on split real and imaginary parts (its
 coefficients are real), in blocks of :data:`TAYLOR_BLOCK` observation triangles that
 stay in cache; each block's moments go at once through the sparse RWG maps into
 the (3T, N) right factor R of Z = [C | D_x | D_y] R, one sparse product at the end.
+
+That assembly is the reference; by default (numba installed) the pairs' expansion,
+phases and RWG products run compiled instead, in double precision on both cores
+(:mod:`barymesh.mom.compiled_periodic_fill`), on the same tables. ``double=True`` runs
+this module's assembly in double precision, which the compiled one equals to rounding.
 """
 
 from __future__ import annotations
