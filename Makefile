@@ -10,8 +10,8 @@ $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[app,test,docs,study]'
-	# the solver's compiled fill, compiled once here and cached (else the first solve pays ~20 s)
-	$(BIN)/python -c "from barymesh.mom.compiled_fill import warm_up; warm_up()"
+	# the solvers' compiled fills (free space and periodic), compiled once here and cached (else the first solve pays ~20-40 s)
+	$(BIN)/python -c "from barymesh.mom.compiled_periodic_fill import warm_up; warm_up()"
 	touch $(STAMP)
 
 # Debian packages the desktop window and its tests need (a virtual X server and Mesa's

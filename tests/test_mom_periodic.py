@@ -310,6 +310,7 @@ def test_the_benchmark_runs_and_reports_both_solvers(tmp_path):
     assert row["triangles"] == 32  # a 4 x 4 pixel patch, 2 triangles per pixel at n = 1
     assert row["unknowns"] == row["free_space_unknowns"]  # the patch is off the cell's sides
     assert row["periodic_fill_s"] > 0 and row["free_space_fill_s"] > 0
+    assert row["periodic_fill_numpy_s"] > 0 and row["periodic_fill_cpu_s"] > 0
 
 
 # -- sheet impedance -----------------------------------------------------------------------

@@ -60,7 +60,7 @@ _KERNELS: ModuleType | None = None
 #: process when two threads launch into it at once, which the window's solve and array
 #: panels, or a study's threads, would do. A second fill waits for the first, each still
 #: on every core.
-_FILL_LOCK = threading.Lock()
+FILL_LOCK = threading.Lock()
 
 
 def numba_available() -> bool:
@@ -122,6 +122,18 @@ def fill_threads(cores: int) -> int:
     except ValueError:
         return cores
     return max(1, min(cores, limit))
+
+
+def use_fill_threads() -> None:
+    """Give this thread's compiled loops :func:`fill_threads` threads (numba imported).
+
+    numba's thread count is per calling thread: set at each fill, so that a solve in a
+    worker thread has it too.
+    """
+    import numba  # imported by the kernels' module already
+
+    cores = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]  # set at import
+    numba.set_num_threads(fill_threads(cores))
 
 
 def cache_folders() -> list[Path]:
@@ -273,8 +285,8 @@ def block_size(n_triangles: int) -> int:
 
 
 def compiled_impedance_matrix(geom: MomGeometry, k: float, near: np.ndarray) -> np.ndarray:
-    """:func:`_compiled_impedance_matrix`, one fill at a time (:data:`_FILL_LOCK`)."""
-    with _FILL_LOCK:
+    """:func:`_compiled_impedance_matrix`, one fill at a time (:data:`FILL_LOCK`)."""
+    with FILL_LOCK:
         return _compiled_impedance_matrix(geom, k, near)
 
 
@@ -298,11 +310,7 @@ def _compiled_impedance_matrix(geom: MomGeometry, k: float, near: np.ndarray) ->
     if _KERNELS is None:
         warm_up()  # the cache's warning, if it has to compile
     kern = kernels()
-    import numba  # imported by the kernels' module already
-
-    # per calling thread in numba: set here, so that a solve in a worker thread has it too
-    cores = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]  # set at import
-    numba.set_num_threads(fill_threads(cores))
+    use_fill_threads()
     tables = compiled_tables(geom)
     t = geom.n_triangles
     n = geom.n_unknowns

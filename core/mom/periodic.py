@@ -109,20 +109,25 @@ def periodic_impedance_matrix(
     k: complex,
     kt: tuple[float, float] | np.ndarray = (0.0, 0.0),
     stack: Stack | None = None,
+    backend: str | None = None,
+    double: bool = False,
 ) -> np.ndarray:
     """The (N, N) complex EFIE matrix of the array at wavenumber ``k``, Floquet phase ``kt``.
 
     ``kt`` is the incident wave's transverse wavevector (rad/m). Reciprocity:
     Z(k_t)ᵀ = Z(−k_t). ``k`` is the vacuum's; ``stack`` (:class:`~barymesh.mom.stack.Stack`)
     puts the sheet on layers (None, or a stack with no layer and no ground: in vacuum).
+    ``backend`` ("numba", "numpy", or None: ``BARYMESH_FILL``, else numba when installed)
+    and ``double`` (the numpy path in double precision, the compiled one's reference)
+    pick the assembly, as in :func:`barymesh.mom.operator.impedance_matrix`.
     """
     if complex(k).imag != 0:
         raise ValueError(f"k={k!r}: the periodic fill takes a real wavenumber (lossless medium)")
     kt = np.asarray(kt, dtype=np.float64)
     k = float(np.real(k))
     if stack is None or stack.is_free_standing:
-        return fill(pg, k, kt)
-    return fill(pg, k, kt, layered_kernel(stack, pg.lattice, k, kt))
+        return fill(pg, k, kt, backend=backend, double=double)
+    return fill(pg, k, kt, layered_kernel(stack, pg.lattice, k, kt), backend, double)
 
 
 @dataclass(frozen=True, eq=False)

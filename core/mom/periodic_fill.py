@@ -29,6 +29,11 @@ The expansion runs in single precision on split real and imaginary parts (its
 coefficients are real), in blocks of :data:`TAYLOR_BLOCK` observation triangles that
 stay in cache; each block's moments go at once through the sparse RWG maps into
 the (3T, N) right factor R of Z = [C | D_x | D_y] R, one sparse product at the end.
+
+That assembly is the reference; by default (numba installed) the pairs' expansion,
+phases and RWG products run compiled instead, in double precision on both cores
+(:mod:`barymesh.mom.compiled_periodic_fill`), on the same tables. ``double=True`` runs
+this module's assembly in double precision, which the compiled one equals to rounding.
 """
 
 from __future__ import annotations
@@ -36,13 +41,15 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from functools import cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.polynomial import chebyshev
 from scipy.linalg import blas
 
+from .compiled_fill import resolve_backend
+from .compiled_periodic_fill import Medium, compiled_periodic_matrix
 from .near_series import near_moments_series
 from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
 from .periodic_geometry import PeriodicGeometry
@@ -206,8 +213,11 @@ def regular_tables(
     return np.stack([flat.real, flat.imag], axis=1).reshape(12, -1).astype(np.float32)
 
 
-def _phase(distance: np.ndarray, k: float, max_phase: float) -> np.ndarray:
-    """k R in float32, reduced to [−π, π] in double precision first when it can be large."""
+def _phase(distance: np.ndarray, k: float, max_phase: float, double: bool = False) -> np.ndarray:
+    """k R in float32, reduced to [−π, π] in double precision first when it can be large
+    (with ``double``, k R in double precision, unreduced: the reference fill's)."""
+    if double:
+        return k * distance.astype(np.float64)
     if max_phase <= SINGLE_PRECISION_PHASE:
         return np.multiply(distance, np.float32(k), dtype=np.float32)
     x = k * distance.astype(np.float64)
@@ -286,8 +296,13 @@ def _taylor_moments(
     lo: int,
     hi: int,
     charge_only: bool = False,
+    double: bool = False,
 ) -> np.ndarray:
     """(6, 2, T, B) float32 flat moments of G + G_reg's expansions, observers lo..hi.
+
+    With ``double``, the same formulas in double precision on the same single-precision
+    plan and tables: the reference of the compiled fill
+    (:mod:`barymesh.mom.periodic_fill_kernels`), which computes them so.
 
     ``k`` may be complex (a lossy medium, Im k < 0: the layered fill's averaged media);
     with ``charge_only`` only the first moment, ∫∫ 1, is returned ((1, 2, T, B)): what
@@ -305,10 +320,12 @@ def _taylor_moments(
     zero on the near and close pairs (``plan.inverse`` is 0 there).
     """
     t, b = plan.node.shape[0], hi - lo
+    real: Any = np.float64 if double else np.float32  # the numpy type of the arithmetic
     # a row of 12 per pair (one cache line), then planes
     rows = np.take(tables, plan.node[:, lo:hi], axis=0)  # (T, B, 12)
-    g, gx, gy, hxx, hxy, hyy = np.ascontiguousarray(rows.transpose(2, 0, 1)).reshape(6, 2, t, b)
-    ex, ey = plan.offset[0][:, lo:hi], plan.offset[1][:, lo:hi]
+    planes = np.ascontiguousarray(rows.transpose(2, 0, 1), dtype=real)
+    g, gx, gy, hxx, hxy, hyy = planes.reshape(6, 2, t, b)
+    ex, ey = (plan.offset[c][:, lo:hi].astype(real) for c in range(2))
     tmp = np.empty_like(g)
 
     def mac(acc: np.ndarray, a: np.ndarray, w: np.ndarray | float) -> None:  # acc += a w
@@ -331,20 +348,21 @@ def _taylor_moments(
     value += g
     # G = e^(−jkR)/R about c: G' = −(1/R + jk) G, G'' = (2/R² − k² + 2jk/R) G, and
     # ∇G = G' ĉ, H = (G'' − G'/R) ĉĉᵀ + (G'/R) I
-    inv = plan.inverse[:, lo:hi]
+    inv = plan.inverse[:, lo:hi].astype(real)
+    distance = plan.distance[:, lo:hi].astype(real)
     kr, ki = float(np.real(k)), float(np.imag(k))
-    x = _phase(plan.distance[:, lo:hi], kr, max_phase)
-    kk = np.float32(kr)
+    x = _phase(distance, kr, max_phase, double)
+    kk = real(kr)
     gr = np.cos(x)
     gr *= inv
     gi = np.sin(x)
     gi *= inv
     np.negative(gi, out=gi)
     if ki:  # e^(−jkR) = e^(−j Re k R) e^(Im k R): a lossy medium's decay
-        decay = np.exp(np.float32(ki) * plan.distance[:, lo:hi])
+        decay = np.exp(real(ki) * distance)
         gr *= decay
         gi *= decay
-        shifted = inv - np.float32(ki)  # 1/R + jk = (1/R − Im k) + j Re k
+        shifted = inv - real(ki)  # 1/R + jk = (1/R − Im k) + j Re k
     else:
         shifted = inv
     g1 = np.empty_like(g)  # G'
@@ -356,9 +374,9 @@ def _taylor_moments(
     a2 = inv * inv
     a2 *= 2.0
     if ki:  # 2/R² − k² + 2jk/R: real part 2/R² − Re k² − 2 Im k/R, imaginary 2 Re k (1/R − Im k)
-        a2 -= np.float32(kr * kr - ki * ki)
-        a2 -= inv * np.float32(2.0 * ki)
-        b2 = shifted * np.float32(2.0 * kr)
+        a2 -= real(kr * kr - ki * ki)
+        a2 -= inv * real(2.0 * ki)
+        b2 = shifted * real(2.0 * kr)
     else:
         a2 -= kk * kk
         b2 = inv * (2.0 * kk)
@@ -371,7 +389,7 @@ def _taylor_moments(
     p -= q
     value[0] += gr
     value[1] += gi
-    ux, uy = plan.unit[0][:, lo:hi], plan.unit[1][:, lo:hi]
+    ux, uy = (plan.unit[c][:, lo:hi].astype(real) for c in range(2))
     if not charge_only:
         mac(dx, g1, ux)
         mac(dy, g1, uy)
@@ -384,10 +402,11 @@ def _taylor_moments(
     np.multiply(uy, uy, out=uu)
     mac(hyy, p, uu)
 
-    a_s, a_o = plan.areas[:, None], plan.areas[lo:hi]
-    i_s, i_o = plan.second[:, None], plan.second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
-    j_s, j_o = plan.third[:, None], plan.third[lo:hi]
-    out = np.empty((1 if charge_only else 6, 2, t, b), dtype=np.float32)
+    areas, second, third = (a.astype(real) for a in (plan.areas, plan.second, plan.third))
+    a_s, a_o = areas[:, None], areas[lo:hi]
+    i_s, i_o = second[:, None], second[lo:hi]  # (T, 1, 2, 2), (B, 2, 2)
+    j_s, j_o = third[:, None], third[lo:hi]
+    out = np.empty((1 if charge_only else 6, 2, t, b), dtype=real)
 
     def hessian(acc: np.ndarray, wxx, wxy, wyy) -> None:  # acc += H:w (wxy both halves)
         mac(acc, hxx, wxx)
@@ -429,18 +448,36 @@ def _taylor_moments(
     return out
 
 
-def _block_phases(pg: PeriodicGeometry, kt: np.ndarray) -> np.ndarray | None:
-    """(2, S) float32 e^(−j k_t·ρ_σ) of each distinct σ, re and im; None when all are 1."""
+def _sigma_phases(pg: PeriodicGeometry, kt: np.ndarray) -> np.ndarray | None:
+    """(S,) complex e^(−j k_t·ρ_σ) of each distinct σ; None when all are 1."""
     plan = pg.plan
     if not np.any(kt) or not np.any(plan.sigmas):
         return None
     rho = plan.sigmas.astype(np.float64) @ pg.lattice
-    phase = np.exp(-1j * (rho @ kt))
-    return np.stack([phase.real, phase.imag]).astype(np.float32)
+    return np.exp(-1j * (rho @ kt))
+
+
+def _block_phases(pg: PeriodicGeometry, kt: np.ndarray, double: bool = False) -> np.ndarray | None:
+    """(2, S) float32 e^(−j k_t·ρ_σ) of each distinct σ, re and im; None when all are 1
+    (float64 with ``double``)."""
+    phase = _sigma_phases(pg, kt)
+    if phase is None:
+        return None
+    return np.stack([phase.real, phase.imag]).astype(np.float64 if double else np.float32)
+
+
+def _unknown_phase(pg: PeriodicGeometry, kt: np.ndarray) -> np.ndarray:
+    """(C,) complex e^(−j k_t·a) of the T− halves across the sides (``plan.crossing_rows``)."""
+    return np.exp(-1j * (pg.crossing[pg.plan.crossing_rows] @ kt))
 
 
 def fill(
-    pg: PeriodicGeometry, k: float, kt: np.ndarray, layered: LayeredKernel | None = None
+    pg: PeriodicGeometry,
+    k: float,
+    kt: np.ndarray,
+    layered: LayeredKernel | None = None,
+    backend: str | None = None,
+    double: bool = False,
 ) -> np.ndarray:
     """The (N, N) complex128 EFIE matrix of the array at real ``k`` and Floquet phase ``kt``.
 
@@ -449,37 +486,65 @@ def fill(
     on dielectric layers: G_A and G_Φ are the homogeneous limits μ̃ G_p(k_A) and
     G_p(k_Φ)/ε̄, each integrated as G_p is in vacuum, plus their spectral rest in the
     Taylor tables, plus the exact harmonics.
+
+    ``backend`` picks the assembly of the pairs' expansions (as
+    :func:`barymesh.mom.operator.impedance_matrix` does): "numba" the compiled one
+    (:mod:`barymesh.mom.compiled_periodic_fill`, double precision), "numpy" this module's
+    (single precision, or double with ``double``: the compiled one's reference); by
+    default the environment variable ``BARYMESH_FILL``, else numba when installed.
     """
+    compiled = resolve_backend(backend) == "numba"
     if layered is not None:
-        return _fill_layered(pg, k, kt, layered)
+        return _fill_layered(pg, k, kt, layered, compiled, double)
     plan = pg.plan
     h = plan.scale  # every length below in units of h: G and its derivatives times h, h², h³
     green = PeriodicGreen(
         tuple(pg.lattice[0]), tuple(pg.lattice[1]), k, (float(kt[0]), float(kt[1]))
     )
     slow_kappa, slow_c = slow_orders(green, pg.lattice)
-    tables = regular_tables(pg.lattice, green, slow_kappa, slow_c)
-    tables *= (h ** np.repeat([1, 2, 2, 3, 3, 3], 2))[:, None].astype(np.float32)
-    tables = np.ascontiguousarray(tables.T)  # (G², 12)
+    tables = _scaled_tables(regular_tables(pg.lattice, green, slow_kappa, slow_c), h)
     special = special_moments(pg, k)  # (6, 2, M)
-    phases = _block_phases(pg, kt)
     kh = k * h
     max_phase = kh * plan.reach
-    scale = np.float32(4.0 / (kh * kh))
+    if compiled:
+        z = compiled_periodic_matrix(
+            plan,
+            pg.n_unknowns,
+            _unknown_phase(pg, kt),
+            Medium(tables.astype(np.float64), kh, special),
+            _all_phases(pg, kt),
+            4.0 / (kh * kh),
+            _factor(k, h),
+        )
+    else:
+        real: Any = np.float64 if double else np.float32  # the numpy type of the arithmetic
+        phases = _block_phases(pg, kt, double)
+        scale = real(4.0 / (kh * kh))
 
-    def block_moments(lo: int, hi: int) -> np.ndarray:
-        m = _taylor_moments(plan, tables, kh, max_phase, lo, hi)  # (6, 2, T, B)
-        _add_special(plan, m, special, lo, hi)
-        _apply_phases(plan, m, phases, lo, hi)
-        m[5] -= scale * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
-        return m
+        def block_moments(lo: int, hi: int) -> np.ndarray:
+            m = _taylor_moments(plan, tables, kh, max_phase, lo, hi, double=double)
+            _add_special(plan, m, special, lo, hi)
+            _apply_phases(plan, m, phases, lo, hi)
+            m[5] -= scale * m[0]  # ρ·ρ' − 4/k² part of S_00 (over k)
+            return m
 
-    z = _assemble(pg, k, kt, block_moments)
+        z = _assemble(pg, k, kt, block_moments, double)
     if len(slow_c):  # the orders taken out of G_reg, exactly
         u, v = slow_order_terms(pg, k, kt, slow_kappa, slow_c)
         # z += u vᵀ in place, as zᵀ (Fortran order) += v uᵀ: no N² temporary
         blas.zgemm(1.0, v, u, beta=1.0, c=z.T, trans_b=1, overwrite_c=1)
     return z
+
+
+def _all_phases(pg: PeriodicGeometry, kt: np.ndarray) -> np.ndarray:
+    """(S,) complex e^(−j k_t·ρ_σ), ones when there is no phase (the compiled loops')."""
+    phase = _sigma_phases(pg, kt)
+    return np.ones(len(pg.plan.sigmas), dtype=np.complex128) if phase is None else phase
+
+
+def _factor(k: float, h: float) -> complex:
+    """jkη/4π h³: Z in ohms from the moments in units of h (C/h S/k C/h)."""
+    return complex(1j * k * ETA0 / (4.0 * np.pi) * h**3)
 
 
 def _add_special(plan: FillPlan, m: np.ndarray, special: np.ndarray, lo: int, hi: int) -> None:
@@ -505,18 +570,25 @@ def _apply_phases(
 
 
 def _assemble(
-    pg: PeriodicGeometry, k: float, kt: np.ndarray, block_moments: Callable[[int, int], np.ndarray]
+    pg: PeriodicGeometry,
+    k: float,
+    kt: np.ndarray,
+    block_moments: Callable[[int, int], np.ndarray],
+    double: bool = False,
 ) -> np.ndarray:
     """Z from each block's (6, 2, T, B) moments, as C S Cᵀ through the RWG maps (SI, Ω)."""
     plan = pg.plan
     t, n = pg.base.n_triangles, pg.n_unknowns
     h = plan.scale
+    real: Any = np.float64 if double else np.float32  # the numpy type of the arithmetic
+    maps = plan.maps.astype(real)
     crossing = plan.crossing_rows
-    unknown_phase = np.exp(-1j * (pg.crossing[crossing] @ kt))
-    ph = [part.astype(np.float32)[:, None] for part in (unknown_phase.real, unknown_phase.imag)]
-    parts = [plan.maps[:, c * t : (c + 1) * t] for c in range(3)]
-    folded = [plan.folded[:, c * t : (c + 1) * t] for c in range(3)]
-    right = np.zeros((3 * t, 2 * n), dtype=np.float32)  # R, re | im
+    unknown_phase = _unknown_phase(pg, kt)
+    ph = [part.astype(real)[:, None] for part in (unknown_phase.real, unknown_phase.imag)]
+    parts = [maps[:, c * t : (c + 1) * t] for c in range(3)]
+    folded_all = plan.folded.astype(real)
+    folded = [folded_all[:, c * t : (c + 1) * t] for c in range(3)]
+    right = np.zeros((3 * t, 2 * n), dtype=real)  # R, re | im
     block = max(1, min(t, TAYLOR_BLOCK // max(1, t)))
     for lo in range(0, t, block):
         hi = min(t, lo + block)
@@ -532,31 +604,33 @@ def _assemble(
                 im[crossing] += ph[0] * fi + ph[1] * fr
             right[a * t + lo : a * t + hi, :n] = re.T
             right[a * t + lo : a * t + hi, n:] = im.T
-    product = plan.maps @ right  # (N, 2N)
+    product = maps @ right  # (N, 2N)
     z = np.empty((n, n), dtype=np.complex128)
     z.real = product[:, :n]
     z.imag = product[:, n:]
     if len(crossing):  # the testing halves across the sides carry e^(+j k_t·a)
-        extra = plan.folded @ right
+        extra = folded_all @ right
         z[crossing] += np.conj(unknown_phase)[:, None] * (extra[:, :n] + 1j * extra[:, n:])
-    z *= 1j * k * ETA0 / (4.0 * np.pi) * h**3  # C/h S/k C/h in SI: h³ times the scaled sum
+    z *= _factor(k, h)  # C/h S/k C/h in SI: h³ times the scaled sum
     return z
 
 
 def _scaled_tables(tables: np.ndarray, h: float) -> np.ndarray:
+    """(12, G²) tables in SI → (G², 12) in units of h (G times h, ∇G h², H h³), in place."""
     tables *= (h ** np.repeat([1, 2, 2, 3, 3, 3], 2))[:, None].astype(np.float32)
     return np.ascontiguousarray(tables.T)  # (G², 12)
 
 
 def _times(m: np.ndarray, c: complex) -> None:
     """Multiply (…, 2, T, B) re/im moments by the complex ``c`` in place."""
+    real = m.dtype.type
     if c.imag == 0.0:
-        m *= np.float32(c.real)
+        m *= real(c.real)
         return
-    re = m[..., 0, :, :] * np.float32(c.real)
-    re -= m[..., 1, :, :] * np.float32(c.imag)
-    m[..., 1, :, :] *= np.float32(c.real)
-    m[..., 1, :, :] += m[..., 0, :, :] * np.float32(c.imag)
+    re = m[..., 0, :, :] * real(c.real)
+    re -= m[..., 1, :, :] * real(c.imag)
+    m[..., 1, :, :] *= real(c.real)
+    m[..., 1, :, :] += m[..., 0, :, :] * real(c.imag)
     m[..., 0, :, :] = re
 
 
@@ -567,7 +641,12 @@ def _split(values: np.ndarray) -> np.ndarray:
 
 
 def _fill_layered(
-    pg: PeriodicGeometry, k: float, kt: np.ndarray, layered: LayeredKernel
+    pg: PeriodicGeometry,
+    k: float,
+    kt: np.ndarray,
+    layered: LayeredKernel,
+    compiled: bool = False,
+    double: bool = False,
 ) -> np.ndarray:
     """:func:`fill` on layers: G_A = μ̃ G_p(k_A) + rest, G_Φ = G_p(k_Φ)/ε̄ + rest, + exact."""
     plan = pg.plan
@@ -593,25 +672,46 @@ def _fill_layered(
     )
     special_a = special_moments(pg, medium.k_a)
     special_phi = special_moments(pg, medium.k_phi, charge_only=True)
-    phases = _block_phases(pg, kt)
     k_ah, k_phih = medium.k_a * h, medium.k_phi * h
-    scale = np.float32(4.0 / (k * h) ** 2)
-
-    def block_moments(lo: int, hi: int) -> np.ndarray:
-        m = _taylor_moments(plan, tables_a, k_ah, abs(k_ah) * plan.reach, lo, hi)
-        _add_special(plan, m, special_a, lo, hi)
-        _apply_phases(plan, m, phases, lo, hi)
-        _times(m, complex(medium.mu))
-        charge = _taylor_moments(
-            plan, tables_phi, k_phih, abs(k_phih) * plan.reach, lo, hi, charge_only=True
+    if compiled:
+        z = compiled_periodic_matrix(
+            plan,
+            pg.n_unknowns,
+            _unknown_phase(pg, kt),
+            Medium(tables_a.astype(np.float64), k_ah, special_a),
+            _all_phases(pg, kt),
+            4.0 / (k * h) ** 2,
+            _factor(k, h),
+            scalar=Medium(tables_phi.astype(np.float64), k_phih, special_phi),
+            mu=complex(medium.mu),
+            inv_eps=complex(1.0 / medium.eps),
         )
-        _add_special(plan, charge, special_phi, lo, hi)
-        _apply_phases(plan, charge, phases, lo, hi)
-        _times(charge, 1.0 / medium.eps)
-        m[5] -= scale * charge[0]  # ρ·ρ' G_A − 4/k0² G_Φ
-        return m
+    else:
+        phases = _block_phases(pg, kt, double)
+        scale = (np.float64 if double else np.float32)(4.0 / (k * h) ** 2)
 
-    z = _assemble(pg, k, kt, block_moments)
+        def block_moments(lo: int, hi: int) -> np.ndarray:
+            m = _taylor_moments(plan, tables_a, k_ah, abs(k_ah) * plan.reach, lo, hi, double=double)
+            _add_special(plan, m, special_a, lo, hi)
+            _apply_phases(plan, m, phases, lo, hi)
+            _times(m, complex(medium.mu))
+            charge = _taylor_moments(
+                plan,
+                tables_phi,
+                k_phih,
+                abs(k_phih) * plan.reach,
+                lo,
+                hi,
+                charge_only=True,
+                double=double,
+            )
+            _add_special(plan, charge, special_phi, lo, hi)
+            _apply_phases(plan, charge, phases, lo, hi)
+            _times(charge, 1.0 / medium.eps)
+            m[5] -= scale * charge[0]  # ρ·ρ' G_A − 4/k0² G_Φ
+            return m
+
+        z = _assemble(pg, k, kt, block_moments, double)
     if len(kappa):
         u, v = slow_order_terms(pg, k, kt, kappa, layered.exact_a, layered.exact_phi)
         blas.zgemm(1.0, v, u, beta=1.0, c=z.T, trans_b=1, overwrite_c=1)

@@ -1,0 +1,353 @@
+"""The periodic EFIE matrix assembled by compiled, multi-threaded loops (numba).
+
+The fast path beside the numpy assembly of :mod:`barymesh.mom.periodic_fill`, which stays
+the reference: the tests hold the two to 1e-12 of the largest entry, the numpy path run
+in double precision (``double=True``; by default it computes the Taylor expansion, the
+phases and the RWG products in single precision, about 1e-7 of the entries). What is
+shared is every per-frequency table (G_reg's Taylor table, the near and close pairs'
+moments, the exact Floquet orders) and the plan; what is compiled is the part that
+grows as T² and N²: the expansion of every pair, its Floquet phase, and the products
+with the RWG maps (:mod:`barymesh.mom.periodic_fill_kernels`).
+
+Each block of observation triangles fills its (3, B, N) rows of the right factor R
+(one triangle per thread), then adds them into the rows of Z of the unknowns on those
+triangles (one row per thread): no sparse product, no (6, 2, T, B) planes in memory,
+and R never held whole, so that the memory beside Z stays one block's 8 MB.
+
+Like :mod:`barymesh.mom.compiled_fill`, whose lock and thread count it shares (one
+compiled fill at a time per process), it imports numba on the first fill; the kernels
+are cached on disk, and :func:`warm_up` (which ``make`` runs) compiles them ahead.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+import weakref
+from dataclasses import dataclass
+from types import ModuleType
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import compiled_fill
+from .periodic_plan import FillPlan
+
+log = logging.getLogger(__name__)
+
+#: Bytes of one block of R (3 rows of N complex per observation triangle).
+BLOCK_BYTES = 8 << 20
+
+_KERNELS: ModuleType | None = None
+
+
+def kernels() -> ModuleType:
+    """The periodic kernels' module, imported on first use (numba and the free-space
+    kernels with it, whose sine and cosine it uses)."""
+    global _KERNELS
+    if _KERNELS is None:
+        compiled_fill.kernels()  # sets the OpenMP wait policy before numba loads
+        from . import periodic_fill_kernels
+
+        _KERNELS = periodic_fill_kernels
+    return _KERNELS
+
+
+def is_cached() -> bool:
+    """Whether the periodic kernels were compiled and cached before (by file name)."""
+    names = ("right_block", "rows_block")
+    return all(
+        any(
+            any(folder.glob(f"periodic_fill_kernels.{name}-*.nbi"))
+            for folder in compiled_fill.cache_folders()
+        )
+        for name in names
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class Slots:
+    """Each unknown's triangles with its coefficients, as the compiled loops read them.
+
+    One slot is one (unknown, triangle) pair of the RWG maps [C | D_x | D_y]; the T−
+    halves across the cell's sides (the plan's ``folded`` rows) are slots of their own,
+    carrying their unknown's Floquet phase.
+
+    Attributes
+    ----------
+    unknown : (K,) intp
+    triangle : (K,) intp
+    coef : (K, 3) float64
+        C, D_x, D_y of the slot (the plan's scaled single-precision maps).
+    crossing : (K,) intp
+        Row of ``plan.crossing_rows`` whose phase the slot carries, −1 for none.
+    by_triangle : (K,) intp
+        The slots sorted by triangle; ``triangle_starts`` (T + 1,) where each begins.
+    by_unknown : (K,) intp
+        The slots sorted by unknown; ``unknown_starts`` (N + 1,) where each begins.
+    """
+
+    unknown: np.ndarray
+    triangle: np.ndarray
+    coef: np.ndarray
+    crossing: np.ndarray
+    by_triangle: np.ndarray
+    triangle_starts: np.ndarray
+    by_unknown: np.ndarray
+    unknown_starts: np.ndarray
+
+
+_SLOTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _entries(matrix: sp.csr_matrix, t: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(row, triangle, (., 3) coefficients) of each distinct (row, triangle) of ``matrix``."""
+    coo = sp.coo_matrix(matrix)
+    key = coo.row.astype(np.int64) * t + coo.col % t
+    unique, where = np.unique(key, return_inverse=True)
+    coef = np.zeros((len(unique), 3))
+    np.add.at(coef, (where, coo.col // t), coo.data.astype(np.float64))
+    return (unique // t).astype(np.intp), (unique % t).astype(np.intp), coef
+
+
+def slots(plan: FillPlan, n: int, t: int) -> Slots:
+    """The :class:`Slots` of ``plan`` (cached per plan: a sweep builds them once)."""
+    if plan in _SLOTS:
+        return _SLOTS[plan]
+    rows, tri, coef = _entries(plan.maps, t)
+    f_rows, f_tri, f_coef = _entries(plan.folded, t)
+    unknown = np.concatenate([rows, np.asarray(plan.crossing_rows, dtype=np.intp)[f_rows]])
+    triangle = np.concatenate([tri, f_tri])
+    crossing = np.concatenate([np.full(len(rows), -1, dtype=np.intp), f_rows])
+    by_triangle = np.argsort(triangle, kind="stable")
+    by_unknown = np.argsort(unknown, kind="stable")
+    out = Slots(
+        unknown=unknown,
+        triangle=triangle,
+        coef=np.concatenate([coef, f_coef]),
+        crossing=crossing,
+        by_triangle=by_triangle,
+        triangle_starts=np.searchsorted(triangle[by_triangle], np.arange(t + 1)),
+        by_unknown=by_unknown,
+        unknown_starts=np.searchsorted(unknown[by_unknown], np.arange(n + 1)),
+    )
+    _SLOTS[plan] = out
+    return out
+
+
+def triangle_moments(plan: FillPlan) -> np.ndarray:
+    """(T, 11) float64 A, I_00, I_01, I_10, I_11, J_000, J_001, J_011, J_100, J_101, J_111
+    of each triangle (the plan's, widened): what a pair's expansion reads of its two."""
+    third = plan.third
+    return np.column_stack(
+        [
+            plan.areas,
+            plan.second.reshape(-1, 4),
+            third[:, 0, 0, 0],
+            third[:, 0, 0, 1],
+            third[:, 0, 1, 1],
+            third[:, 1, 0, 0],
+            third[:, 1, 0, 1],
+            third[:, 1, 1, 1],
+        ]
+    ).astype(np.float64)
+
+
+@dataclass(frozen=True)
+class Medium:
+    """What the compiled loops need of one Green's function's per-frequency tables.
+
+    Attributes
+    ----------
+    tables : (G², 12) float64
+        G_reg's Taylor table in units of the plan's scale.
+    k : complex
+        The wavenumber times the plan's scale.
+    special : (6, 2, M) or (1, 2, M) float32
+        The near and close pairs' moments.
+    """
+
+    tables: np.ndarray
+    k: complex
+    special: np.ndarray
+
+
+def compiled_periodic_matrix(
+    plan: FillPlan,
+    n: int,
+    unknown_phase: np.ndarray,
+    vector: Medium,
+    phases: np.ndarray,
+    scale: float,
+    factor: complex,
+    scalar: Medium | None = None,
+    mu: complex = 1.0,
+    inv_eps: complex = 1.0,
+) -> np.ndarray:
+    """:func:`_compiled_periodic_matrix`, one compiled fill at a time (``FILL_LOCK``)."""
+    with compiled_fill.FILL_LOCK:
+        return _compiled_periodic_matrix(
+            plan, n, unknown_phase, vector, phases, scale, factor, scalar, mu, inv_eps
+        )
+
+
+def _compiled_periodic_matrix(
+    plan: FillPlan,
+    n: int,
+    unknown_phase: np.ndarray,
+    vector: Medium,
+    phases: np.ndarray,
+    scale: float,
+    factor: complex,
+    scalar: Medium | None,
+    mu: complex,
+    inv_eps: complex,
+) -> np.ndarray:
+    """The (N, N) periodic EFIE matrix without its exact Floquet orders (SI, Ω).
+
+    Parameters
+    ----------
+    plan : FillPlan
+    n : int
+        Number of unknowns.
+    unknown_phase : (C,) complex
+        e^(−j k_t·a) of the unknowns across the cell's sides (``plan.crossing_rows``).
+    vector : Medium
+        G_A's tables (in vacuum, G_p's; the charge moment from them too).
+    phases : (S,) complex
+        e^(−j k_t·ρ_σ) of each σ code of the plan.
+    scale : float
+        4/(k h)², the charge term's weight against ρ·ρ'.
+    factor : complex
+        jkη/4π h³: Z in ohms from the scaled moments.
+    scalar : Medium, optional
+        G_Φ's tables on layers (its ``special`` the charge moment only).
+    mu, inv_eps : complex
+        μ̃ and 1/ε̄ of the layered kernel's homogeneous limits.
+    """
+    if _KERNELS is None:
+        warm_up()  # the cache's warning, if it has to compile
+    kern = kernels()
+    compiled_fill.use_fill_threads()
+    t = plan.areas.shape[0]
+    table = slots(plan, n, t)
+    in_phase = np.ones(len(table.unknown), dtype=np.complex128)
+    crossed = table.crossing >= 0
+    in_phase[crossed] = unknown_phase[table.crossing[crossed]]
+    by_t, by_u = table.by_triangle, table.by_unknown
+    moments = triangle_moments(plan)
+    layered = scalar is not None
+    phi = scalar if scalar is not None else vector
+    z = np.zeros((n, n), dtype=np.complex128)
+    block = max(4, min(t, BLOCK_BYTES // (48 * max(1, n))))
+    scratch = np.empty(3 * block * n, dtype=np.complex128)
+    tst_triangle = table.triangle[by_u]
+    for lo in range(0, t, block):
+        hi = min(t, lo + block)
+        right = scratch[: 3 * (hi - lo) * n].reshape(3, hi - lo, n)
+        right[:] = 0.0
+        kern.right_block(
+            plan.node,
+            plan.offset,
+            plan.distance,
+            plan.inverse,
+            plan.unit,
+            plan.sigma_code,
+            moments,
+            plan.special,
+            plan.special_starts,
+            vector.tables,
+            complex(vector.k),
+            vector.special,
+            layered,
+            phi.tables,
+            complex(phi.k),
+            phi.special,
+            complex(mu),
+            complex(inv_eps),
+            phases,
+            float(scale),
+            table.triangle_starts,
+            table.unknown[by_t],
+            table.coef[by_t],
+            in_phase[by_t],
+            complex(factor),
+            lo,
+            hi,
+            right,
+        )
+        inside = (tst_triangle >= lo) & (tst_triangle < hi)
+        rows = np.unique(table.unknown[by_u][inside])
+        kern.rows_block(
+            rows,
+            table.unknown_starts,
+            tst_triangle,
+            table.coef[by_u],
+            np.conj(in_phase[by_u]),
+            lo,
+            hi,
+            right,
+            z,
+        )
+    return z
+
+
+def warm_up() -> float:
+    """Compile (or load from the cache) the free-space and periodic kernels; the seconds.
+
+    The periodic kernels take about as long as the free-space ones to compile, once per
+    installation (``make`` runs this); a fill that finds no cache logs a warning first.
+    """
+    start = time.perf_counter()
+    compiled_fill.warm_up()
+    if not is_cached():
+        log.warning(
+            "compiling the periodic solver's fill kernels with numba: once per "
+            "installation, about 15-25 s; later runs load them from the cache"
+        )
+    kern = kernels()
+    t, n = 2, 2
+    f32 = np.float32
+    plane = np.ones((t, t), dtype=f32)
+    tables = np.zeros((1, 12))
+    special = np.zeros((6, 2, 1), dtype=f32)
+    right = np.zeros((3, t, n), dtype=np.complex128)
+    starts = np.array([0, 1, 2], dtype=np.intp)
+    unknowns = np.array([0, 1], dtype=np.intp)
+    coef = np.ones((2, 3))
+    ones = np.ones(2, dtype=np.complex128)
+    for layered in (False, True):
+        kern.right_block(
+            np.zeros((t, t), dtype=np.int32),
+            np.zeros((2, t, t), dtype=f32),
+            plane,
+            plane,
+            np.zeros((2, t, t), dtype=f32),
+            np.zeros((t, t), dtype=np.int16),
+            np.ones((t, 11)),
+            np.zeros((1, 2), dtype=np.intp),
+            np.array([0, 1, 1], dtype=np.intp),
+            tables,
+            1.0 + 0j,
+            special,
+            layered,
+            tables,
+            1.0 + 0j,
+            special[:1],
+            1.0 + 0j,
+            1.0 + 0j,
+            ones[:1],
+            1.0,
+            starts,
+            unknowns,
+            coef,
+            ones,
+            1.0 + 0j,
+            0,
+            t,
+            right,
+        )
+    kern.rows_block(
+        unknowns, starts, unknowns, coef, ones, 0, t, right, np.zeros((n, n), dtype=np.complex128)
+    )
+    return time.perf_counter() - start
