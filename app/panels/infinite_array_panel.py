@@ -256,11 +256,6 @@ class PictureView(QWidget):
         if self.picture is not None:
             self._resize_timer.start()
 
-    def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
-        super().showEvent(event)
-        if self.picture is None:  # the empty axes, drawn when first seen (not at start-up,
-            self._resize_timer.start()  # where the worker's matplotlib would slow the window)
-
 
 def said(solved: SolvedMesh) -> str:
     """Which mesh an array was solved on, its unknowns beside the drawn mesh's (the
@@ -322,7 +317,8 @@ class InfiniteArrayPanel(QWidget):
         self._build()
         model.result_changed.connect(self._mesh_changed)
         self._update_enabled()
-        # the empty axes are drawn when their views are first shown (PictureView.showEvent)
+        self._redraw("curve")
+        self._redraw("orders")
 
     # -- layout ----------------------------------------------------------------------
 
