@@ -1165,7 +1165,11 @@ class MainWindow(QMainWindow):
         s.sync()
 
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
-        if not self._closed:
+        if not hasattr(self, "controller"):
+            # A constructor that raised left this window half made: free only its view.
+            if (plotter := getattr(self, "plotter", None)) is not None:
+                plotter.close()
+        elif not self._closed:
             self._closed = True
             if not self.scripted:
                 self.save_settings()

@@ -347,11 +347,11 @@ class SolvePanel(QWidget):
         label = QLabel("&Frequency", page)
         label.setBuddy(self.frequency)
         form.addRow(label, row)
-        self.direction = self._vector_box(
+        self.direction, self.direction_edit = self._vector_box(
             DIRECTION_PRESETS,
             "Direction of travel of the plane wave: an axis (-z: from above) or x, y, z",
         )
-        self.polarization = self._vector_box(
+        self.polarization, self.polarization_edit = self._vector_box(
             POLARIZATION_PRESETS,
             "Direction of E: an axis or x, y, z, perpendicular to the direction",
         )
@@ -453,12 +453,11 @@ class SolvePanel(QWidget):
 
         for line in (
             self.frequency,
-            self.direction.lineEdit(),
-            self.polarization.lineEdit(),
+            self.direction_edit,
+            self.polarization_edit,
             self.feed_start,
             self.feed_end,
         ):
-            assert line is not None  # the direction boxes are editable
             line.returnPressed.connect(self._inputs_edited)
             line.editingFinished.connect(self._inputs_edited)
         self.unit.currentIndexChanged.connect(lambda _i: self._inputs_edited())
@@ -479,13 +478,18 @@ class SolvePanel(QWidget):
         self._show_excitation_rows()
         self._inputs_edited()
 
-    def _vector_box(self, presets: tuple[str, ...], tip: str) -> QComboBox:
+    def _vector_box(self, presets: tuple[str, ...], tip: str) -> tuple[QComboBox, QLineEdit]:
         box = QComboBox(self)
         box.setEditable(True)
+        # The box's field is made here and kept, not fetched with ``lineEdit()``: a lookup of
+        # a C++-made child can return a stale wrapper of another type left at the same
+        # address (CI: a ``QSurface`` that pyvistaqt kept of a closed view).
+        edit = QLineEdit(box)
+        box.setLineEdit(edit)
         box.setInsertPolicy(QComboBox.InsertPolicy.NoInsert)
         box.addItems(list(presets))
         box.setToolTip(tip)
-        return box
+        return box, edit
 
     def _sweep_page(self) -> QWidget:
         page = QWidget(self)
