@@ -16,47 +16,37 @@ from __future__ import annotations
 import json
 import logging
 import os
-import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from PySide6.QtCore import (
     QByteArray,
-    QCoreApplication,
-    QEvent,
-    QObject,
     QSettings,
     Qt,
-    QTimer,
 )
 from PySide6.QtGui import (
     QAction,
     QActionGroup,
     QCloseEvent,
-    QKeyEvent,
     QKeySequence,
 )
 from PySide6.QtWidgets import (
-    QApplication,
     QDockWidget,
     QLabel,
     QMainWindow,
     QMessageBox,
-    QProgressBar,
-    QScrollArea,
-    QStyle,
-    QTabBar,
     QToolBar,
-    QToolButton,
     QWidget,
 )
 
 import barymesh
 from barymesh import MeshParams, TriMesh
+from barymesh.app.build_progress import BuildProgress
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog
+from barymesh.app.dock_layout import DockLayout
 from barymesh.app.edit.cell_tools import CellTools
 from barymesh.app.file_actions import ExportJob, FileActions
 from barymesh.app.model import (
@@ -85,7 +75,7 @@ from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from barymesh.app.view.scene import MeshScene
 from barymesh.app.view.scene_presenter import ScenePresenter
 from barymesh.app.view.view_tools import ViewTools
-from barymesh.app.worker import BuildJob, MeshController
+from barymesh.app.worker import MeshController
 
 log = logging.getLogger(__name__)
 
@@ -93,12 +83,6 @@ log = logging.getLogger(__name__)
 ICON = Path(__file__).resolve().parent / "icons" / "barymesh.svg"
 ORGANIZATION = APPLICATION = "barymesh"
 SCRIPTED_SIZE = (1400, 860)
-#: Below this window width the Statistics and Layers docks share the Parameters column
-#: (as tabs), so the 3D view keeps most of the width.
-NARROW_WIDTH = 1200
-#: A side dock area is kept wide enough for its whole tab titles only while the 3D view
-#: keeps at least this many pixels of width.
-MIN_VIEW_WIDTH = 480
 #: Keys that work from every window of the program (the teaching windows too).
 APPLICATION_KEYS = ("F1", "F7", "F8")
 #: The preset the window opens on when no parameters are given or saved: triangles,
@@ -135,13 +119,6 @@ def start_params() -> tuple[MeshParams, str]:
         log.warning("start preset %s unavailable: %s", START_PRESET, exc)
         return MeshParams(), "The paper's Fig. 12(a) (the defaults)"
     return params, f"Preset {START_PRESET}: {description}"
-
-
-def _application() -> QCoreApplication:
-    """The running application (a window lives in one)."""
-    app = QApplication.instance()
-    assert app is not None
-    return app
 
 
 def app_settings() -> QSettings:
@@ -232,7 +209,8 @@ class MainWindow(QMainWindow):
         )
         self.paint_counter = self.presenter.paint_counter  # one paint per new mesh
         self._closed = False
-        self._arranging = False  # arrange_docks is moving the docks
+        # the docks, their narrow or wide layout and their tabs (barymesh.app.dock_layout)
+        self.dock_layout = DockLayout(self, closed=lambda: self._closed)
 
         self.controls = ControlsPanel(self.model, self)
         self.stats = StatsPanel(self.model, self)
@@ -271,34 +249,8 @@ class MainWindow(QMainWindow):
         self.quality_dock.visibilityChanged.connect(self.quality_panel.set_seen)
         self.statistics_dock.raise_()
 
-        self.busy = QProgressBar(self)
-        self.busy.setRange(0, 0)
-        self.busy.setMaximumWidth(160)
-        self.busy.setTextVisible(True)
-        self.busy.hide()
-        self.cancel_button = QToolButton(self)
-        self.cancel_button.setText("Cancel")
-        self.cancel_button.setToolTip("Abandon this build; the mesh on screen stays (Esc)")
-        self.cancel_button.clicked.connect(self.cancel_build)
-        self.cancel_button.hide()
-        self.summary = QLabel(self)
-        self.statusBar().addPermanentWidget(self.busy)
-        self.statusBar().addPermanentWidget(self.cancel_button)
-        self.statusBar().addPermanentWidget(self.summary)
-        # the status bar keeps the height it has with the progress bar shown, so showing
-        # or hiding it never resizes (and repaints) the 3D view
-        bar_height = max(self.busy.sizeHint().height(), self.cancel_button.sizeHint().height())
-        self.statusBar().setMinimumHeight(bar_height + 6)
-        self._escape = EscapeCancels(self)
-        self._progress_text: str | None = None  # the progress message on the status bar
-        self._progress_timer = QTimer(self)
-        self._progress_timer.setInterval(100)
-        self._progress_timer.timeout.connect(self._show_progress)
-
         self.controller = MeshController(self.model, self)
         self.controller.view_size = lambda: tuple(self.plotter.renderer.GetSize())
-        self.controller.busy_changed.connect(self._busy_changed)
-        self.controller.job_changed.connect(self._job_changed)
         self.presenter.attach_controller(self.controller)
         self.model.result_changed.connect(self._show_result)
         self.model.error_changed.connect(self._show_error)
@@ -308,6 +260,18 @@ class MainWindow(QMainWindow):
         self.model.detail_changed.connect(self.presenter.set_detail)
         self.model.history_changed.connect(self._history_changed)
         self._make_actions()
+        # a build's progress and its Cancel on the status bar (barymesh.app.build_progress)
+        self.progress = BuildProgress(
+            self.statusBar(),
+            self.model,
+            self.controller,
+            self.act_cancel,
+            self._show_error,
+            parent=self,
+        )
+        self.busy, self.cancel_button = self.progress.bar, self.progress.cancel_button
+        self.summary = QLabel(self)
+        self.statusBar().addPermanentWidget(self.summary)
         self._make_menus()
         self._history_changed()
         self.model.result_changed.connect(self._source_changed)
@@ -317,16 +281,22 @@ class MainWindow(QMainWindow):
         self._note_params: MeshParams | None = None
         self.model.params_changed.connect(self._params_changed_note)
 
-        self._auto_docks = True  # narrow/wide dock layout follows the width until moved
-        self._narrow = False
-        for dock in (self.parameters_dock, self.statistics_dock, self.layers_dock):
-            dock.dockLocationChanged.connect(self._dock_moved)
-            dock.topLevelChanged.connect(self._dock_moved)
+        self.dock_layout.follow(
+            self.parameters_dock,
+            self.statistics_dock,
+            self.layers_dock,
+            tabbed=lambda: [
+                self.teaching.inspector_dock,
+                self.teaching.matrix_dock,
+                self.solve_dock,
+                self.quality_dock,
+            ],
+        )
         if scripted:
             self.resize(*SCRIPTED_SIZE)
         else:
             self.resize(1400, 860)
-            self._restore_layout()
+            self.dock_layout.restore(self.settings)
             if self.model.cell_state is None:  # a saved layout had a cell open: not now
                 self.cell_tools.dock.hide()
             self.teaching.sync_with_docks()
@@ -349,7 +319,7 @@ class MainWindow(QMainWindow):
 
     @property
     def arranging_docks(self) -> bool:
-        return self._arranging
+        return self.dock_layout.arranging
 
     def show_status(self, message: str, timeout_ms: int = 0) -> None:
         self.statusBar().showMessage(message, timeout_ms)
@@ -373,23 +343,7 @@ class MainWindow(QMainWindow):
         tab_with: QDockWidget | None = None,
     ) -> QDockWidget:
         """A dock of ``widget``; the window's own (no ``name``) is also ``<title>_dock``."""
-        dock = QDockWidget(title, self)
-        dock.setObjectName(name or f"dock_{title.lower()}")
-        if scroll:
-            area_widget = QScrollArea(dock)
-            area_widget.setWidget(widget)
-            area_widget.setWidgetResizable(True)
-            area_widget.setFrameShape(QScrollArea.Shape.NoFrame)
-            area_widget.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-            bar = self.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent)
-            area_widget.setMinimumWidth(widget.minimumSizeHint().width() + bar + 4)
-            dock.setWidget(area_widget)
-        else:
-            dock.setWidget(widget)
-        self.addDockWidget(area, dock)
-        if tab_with is not None:
-            self.tabifyDockWidget(tab_with, dock)
-        dock.visibilityChanged.connect(self._dock_tabs_changed)
+        dock = self.dock_layout.add(title, widget, area, scroll, name, tab_with)
         if name is None:
             setattr(self, f"{title.lower()}_dock", dock)
         return dock
@@ -712,77 +666,9 @@ class MainWindow(QMainWindow):
     def _build_failed(self, message: str) -> None:
         self.statusBar().showMessage(f"{message} (the last good mesh stays on screen)")
 
-    def _busy_changed(self, busy: bool) -> None:
-        self.busy.setVisible(busy)
-        self.cancel_button.setVisible(busy)
-        self.act_cancel.setEnabled(busy)
-        if busy:
-            self._progress_timer.start()
-            _application().installEventFilter(self._escape)
-        else:
-            self._progress_timer.stop()
-            _application().removeEventFilter(self._escape)
-            self._end_progress()
-
-    def _end_progress(self) -> None:
-        """No build runs: its progress message goes. A value still refused (an inner radius
-        dragged too far while another slider drives the builds) says so again; the status
-        bar never keeps "Meshing … · Esc cancels" for a mesh already on screen."""
-        shown = self.statusBar().currentMessage()
-        if self.model.error is None:
-            self.statusBar().clearMessage()
-        elif shown == self._progress_text or not shown:
-            self._show_error(self.model.error)
-        self._progress_text = None
-
-    def _job_changed(self, job: BuildJob | None) -> None:
-        if job is not None:
-            self._show_progress()
-
-    def _show_progress(self) -> None:
-        """'Meshing 4,844,160 triangles: 1.2 s of about 4 s' and the bar."""
-        job = self.controller.current
-        if job is None:
-            return
-        elapsed = time.perf_counter() - job.started
-        expected = self.controller.estimate(job.triangles)
-        text = f"Meshing {job.triangles:,} triangles: {elapsed:.1f} s"
-        if expected is not None and elapsed <= expected:
-            text += f" of about {expected:.1f} s"
-            self.busy.setRange(0, 100)
-            self.busy.setValue(int(min(99, 100 * elapsed / max(expected, 1e-3))))
-        elif expected is not None:  # never "4.3 s of about 0.2 s": say why it is longer
-            why = (
-                "; a cancelled build is still stopping beside it"
-                if self.controller.stopping
-                else ""
-            )
-            text += f" (longer than the {expected:.1f} s estimated{why})"
-            self.busy.setRange(0, 0)
-        else:
-            text += " (no estimate yet: the first large build measures this machine)"
-            self.busy.setRange(0, 0)
-        self._progress_text = text + " · Esc cancels"
-        self.statusBar().showMessage(self._progress_text)
-
     def cancel_build(self) -> None:
         """Abandon the running build; the parameters go back to the mesh on screen."""
-        if not self.controller.cancel():
-            return
-        shown = self.model.result
-        good = self.model.shown_state  # a unit cell on screen: back to it
-        if shown is not None and shown.cell is not None and good is not None:
-            if self.model.cell_state != good:
-                if self.model.undo_stack and self.model.undo_stack[-1] == good:
-                    self.model.undo()
-                else:
-                    self.model.set_cell(good.cell)
-        elif shown is not None and shown.params is not None and self.model.params != shown.params:
-            if self.model.undo_stack and self.model.undo_stack[-1] == shown.params:
-                self.model.undo()
-            else:
-                self.model.set_params(shown.params)
-        self.statusBar().showMessage("Meshing cancelled; the mesh on screen stays", 5000)
+        self.progress.cancel()
 
     def _layer_changed(self, name: str, visible: bool) -> None:
         if self._closed:
@@ -1031,135 +917,19 @@ class MainWindow(QMainWindow):
             log.warning("ignoring the saved parameters: %s", exc)
             return None
 
-    def _restore_layout(self) -> None:
-        geometry = self.settings.value("window/geometry")
-        if isinstance(geometry, QByteArray):
-            self.restoreGeometry(geometry)
-        state = self.settings.value("window/state")
-        if isinstance(state, QByteArray):
-            self._arranging = True
-            self.restoreState(state)
-            self._arranging = False
-            auto = self.settings.value("window/auto_docks", "true")
-            self._auto_docks = auto in (True, "true")
-            self._narrow = (
-                self.dockWidgetArea(self.statistics_dock) == Qt.DockWidgetArea.LeftDockWidgetArea
-            )
-
-    # -- dock layout -----------------------------------------------------------------------
-
-    def tidy_dock_tabs(self) -> None:
-        """Tabbed docks keep their whole titles ("Statistics", not "S…" nor "stics").
-
-        A side area's tab bar whose tabs need more than its docks' own minimum width (the
-        RWG inspector and the matrix tabbed in with the Statistics) gets that width as the
-        docks' minimum, so that neither the layout nor a drag of the separator narrows it
-        below its titles, as long as the 3D view keeps :data:`MIN_VIEW_WIDTH` pixels; the
-        minimum goes with those tabs. A tab bar still too narrow scrolls instead of
-        eliding the titles."""
-        self._tidy_pending = False
-        docks = {d.windowTitle(): d for d in self.findChildren(QDockWidget) if not d.isHidden()}
-        view = self.centralWidget()
-        sides = (Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea)
-        wanted: dict[QDockWidget, int] = {}
-        grow: list[tuple[QDockWidget, int]] = []
-        for bar in self.findChildren(QTabBar):
-            if not isinstance(bar.parent(), QMainWindow):  # the dock areas' tab bars only
-                continue
-            bar.setElideMode(Qt.TextElideMode.ElideNone)
-            bar.setUsesScrollButtons(True)
-            bar.setExpanding(False)
-            group = [docks[t] for t in map(bar.tabText, range(bar.count())) if t in docks]
-            top = docks.get(bar.tabText(bar.currentIndex()))  # on top: its width is true
-            if not bar.isVisible() or view is None or top is None or self._arranging:
-                continue
-            if self.dockWidgetArea(top) not in sides or top.isFloating():
-                continue
-            need = sum(bar.tabSizeHint(i).width() for i in range(bar.count())) + 2
-            own = max(d.minimumSizeHint().width() for d in group)
-            if need <= own or need > bar.width() + max(view.width() - MIN_VIEW_WIDTH, 0):
-                continue  # their own minimum holds the titles, or there is no room for them
-            for dock in group:
-                wanted[dock] = need
-            if bar.width() < need:  # applied now: a minimum alone waits for the next layout
-                grow.append((top, need))
-        for dock in self.findChildren(QDockWidget):
-            width = wanted.get(dock, 0)
-            if dock.minimumWidth() != width:
-                dock.setMinimumWidth(width)
-        for dock, width in grow:
-            self.resizeDocks([dock], [width], Qt.Orientation.Horizontal)
-
-    def _dock_tabs_changed(self, *_args: Any) -> None:
-        """A dock came or went: its tab bar is tidied once the layout has settled (one
-        call however many docks changed)."""
-        if not self._closed and not getattr(self, "_tidy_pending", False):
-            self._tidy_pending = True
-            QTimer.singleShot(0, self.tidy_dock_tabs)
+    # -- dock layout ---------------------------------------------------------------------
 
     def showEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().showEvent(event)
-        QTimer.singleShot(0, self.tidy_dock_tabs)
-        if not getattr(self, "_shown_once", False):
-            self._shown_once = True
-            # dock tabs exist once shown: Statistics on top of the docks tabbed with it,
-            # unless a saved layout says otherwise
-            if not isinstance(self.settings.value("window/state"), QByteArray):
-                QTimer.singleShot(0, self.statistics_dock.raise_)
+        self.dock_layout.shown(isinstance(self.settings.value("window/state"), QByteArray))
 
     def resizeEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         super().resizeEvent(event)
-        if self._auto_docks and not self._arranging:
-            narrow = self.width() < NARROW_WIDTH
-            if narrow != self._narrow:
-                self.arrange_docks(narrow)
-
-    def arrange_docks(self, narrow: bool) -> None:
-        """Wide: Parameters left, Statistics over Layers right. Narrow: all three as tabs of
-        one column on the left, so the 3D view keeps most of the width. The teaching docks
-        stay tabbed with Statistics; hidden docks stay hidden."""
-        left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
-        extra = [
-            self.teaching.inspector_dock,
-            self.teaching.matrix_dock,
-            self.solve_dock,
-            self.quality_dock,
-        ]
-        hidden = {
-            d: d.isHidden()
-            for d in (self.parameters_dock, self.statistics_dock, self.layers_dock, *extra)
-        }
-        self._arranging = True
-        try:
-            if narrow:
-                self.addDockWidget(left, self.statistics_dock)
-                self.addDockWidget(left, self.layers_dock)
-                self.tabifyDockWidget(self.parameters_dock, self.statistics_dock)
-                self.tabifyDockWidget(self.parameters_dock, self.layers_dock)
-            else:
-                self.addDockWidget(right, self.statistics_dock)
-                self.addDockWidget(right, self.layers_dock, Qt.Orientation.Vertical)
-            for dock in extra:
-                self.tabifyDockWidget(self.statistics_dock, dock)
-            for dock, was_hidden in hidden.items():
-                dock.setHidden(was_hidden)
-            if not narrow:  # the statistics, not the last dock tabbed with them, on top
-                self.statistics_dock.raise_()
-            self.parameters_dock.raise_()
-        finally:
-            self._arranging = False
-        self._narrow = narrow
-        self.tidy_dock_tabs()
-
-    def _dock_moved(self, *_args: Any) -> None:
-        if not self._arranging:
-            self._auto_docks = False  # the user arranged the docks: leave them be
+        self.dock_layout.resized()
 
     def save_settings(self) -> None:
         s = self.settings
-        s.setValue("window/geometry", self.saveGeometry())
-        s.setValue("window/state", self.saveState())
-        s.setValue("window/auto_docks", self._auto_docks)
+        self.dock_layout.save(s)
         s.setValue("params", json.dumps(self.model.params.to_dict()))
         s.setValue("view", json.dumps(self.model.view_state()))
         s.sync()
@@ -1175,33 +945,13 @@ class MainWindow(QMainWindow):
                 self.save_settings()
             self.controller.stop()  # returns at once; a running build is abandoned
             self.presenter.close()
-            self._progress_timer.stop()
+            self.progress.stop()
             # Release VTK's render window and GL context while the widget still exists.
             self.plotter.close()
         super().closeEvent(event)
 
 
 # -- helpers of the window -----------------------------------------------------------------
-
-
-class EscapeCancels(QObject):
-    """While installed on the application: Esc anywhere in the window cancels the build,
-    also when a text field has the focus (it would take Esc for itself)."""
-
-    def __init__(self, window: MainWindow) -> None:
-        super().__init__(window)
-        self.window_ = window
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if (
-            event.type() == QEvent.Type.KeyPress
-            and cast(QKeyEvent, event).key() == Qt.Key.Key_Escape
-            and not cast(QKeyEvent, event).modifiers()
-            and self.window_.controller.busy
-        ):
-            self.window_.cancel_build()
-            return True
-        return False
 
 
 def disable_view_keys(plotter: Any) -> None:

@@ -154,12 +154,12 @@ def test_small_mesh_measured_at_once_and_layer_toggles(small, qtbot, monkeypatch
 def test_quality_dock_follows_the_narrow_and_wide_layouts(small, qtbot):
     window = small
     window.resize(1100, 760)
-    qtbot.waitUntil(lambda: window._narrow, timeout=5_000)
+    qtbot.waitUntil(lambda: window.dock_layout.narrow, timeout=5_000)
     left = Qt.DockWidgetArea.LeftDockWidgetArea
     assert window.dockWidgetArea(window.quality_dock) == left
     assert window.quality_dock in window.tabifiedDockWidgets(window.parameters_dock)
     window.resize(1400, 860)
-    qtbot.waitUntil(lambda: not window._narrow, timeout=5_000)
+    qtbot.waitUntil(lambda: not window.dock_layout.narrow, timeout=5_000)
     right = Qt.DockWidgetArea.RightDockWidgetArea
     assert window.dockWidgetArea(window.quality_dock) == right
     assert window.quality_dock in window.tabifiedDockWidgets(window.statistics_dock)
