@@ -45,7 +45,7 @@ import barymesh
 from barymesh import MeshParams, TriMesh
 from barymesh.app.build_progress import BuildProgress
 from barymesh.app.dialogs.export_dialog import ExportDialog
-from barymesh.app.dialogs.help_dialog import HelpDialog
+from barymesh.app.dialogs.help_dialog import HelpDialog, about_html
 from barymesh.app.dock_layout import DockLayout
 from barymesh.app.edit.cell_tools import CellTools
 from barymesh.app.file_actions import ExportJob, FileActions
@@ -75,60 +75,22 @@ from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from barymesh.app.view.scene import MeshScene
 from barymesh.app.view.scene_presenter import ScenePresenter
 from barymesh.app.view.view_tools import ViewTools
+from barymesh.app.window_settings import (
+    START_MESSAGE,
+    app_settings,
+    saved_json,
+    saved_params,
+    start_params,
+)
 from barymesh.app.worker import MeshController
 
 log = logging.getLogger(__name__)
 
 #: The window icon (shipped in the wheel as package data).
 ICON = Path(__file__).resolve().parent / "icons" / "barymesh.svg"
-ORGANIZATION = APPLICATION = "barymesh"
 SCRIPTED_SIZE = (1400, 860)
 #: Keys that work from every window of the program (the teaching windows too).
 APPLICATION_KEYS = ("F1", "F7", "F8")
-#: The preset the window opens on when no parameters are given or saved: triangles,
-#: centroids and shared edges read at first sight. The paper's Fig. 12(a) (the core's
-#: defaults: 720 patches, 86 % overlap) reads as a texture at the start size.
-START_PRESET = "conforming-double-ring"
-#: Said on the status bar at the start, until the parameters change.
-START_MESSAGE = (
-    "Opened on the conforming double ring (the geometry of the paper's Fig. 12(a), "
-    "watertight). The paper's figures: Presets ▸ paper-fig10 … paper-fig12d "
-    "(Fig. 12(a): paper-fig12a or Edit ▸ Reset to defaults)"
-)
-
-ABOUT = """<h3>barymesh {version}</h3>
-<p>A square patch is split along its diagonal into two primary triangles, each subdivided
-uniformly into n² sub-triangles, and vertices closer than a tolerance ε are merged into one
-(the paper's metric-space constraint), so that neighbouring triangles share edges.
-Rings and split rings are assembled from such patches placed at (r cos θ, r sin θ), and
-every edge shared by exactly two triangles carries one Rao–Wilton–Glisson basis function
-for the Method of Moments.</p>
-<p>After <i>Discretization of Continuous Spaces using Barycentric Subdivision Method with
-Metric Space Constraints on the Nearest Neighbour Edges</i>.</p>
-{shortcuts}"""
-
-
-def start_params() -> tuple[MeshParams, str]:
-    """The parameters the window opens on (:data:`START_PRESET`) and the note under the
-    view; the core's defaults (the paper's Fig. 12(a)) if the preset cannot be read."""
-    from barymesh.presets import load_preset
-
-    try:
-        params, description = load_preset(START_PRESET)
-    except (ValueError, OSError) as exc:
-        log.warning("start preset %s unavailable: %s", START_PRESET, exc)
-        return MeshParams(), "The paper's Fig. 12(a) (the defaults)"
-    return params, f"Preset {START_PRESET}: {description}"
-
-
-def app_settings() -> QSettings:
-    """The window's settings: an INI file in the user's configuration folder.
-
-    Tests point it elsewhere with ``QSettings.setPath(IniFormat, UserScope, folder)``.
-    """
-    return QSettings(
-        QSettings.Format.IniFormat, QSettings.Scope.UserScope, ORGANIZATION, APPLICATION
-    )
 
 
 class MainWindow(QMainWindow):
@@ -164,7 +126,7 @@ class MainWindow(QMainWindow):
     ) -> None:
         super().__init__()
         from barymesh.app.gui_gc import collect_in_gui_thread
-        from barymesh.app.view.interactor import ViewInteractor
+        from barymesh.app.view.interactor import ViewInteractor, disable_view_keys
 
         collect_in_gui_thread()  # no cyclic collection in a worker thread (a VTK deadlock)
 
@@ -173,14 +135,14 @@ class MainWindow(QMainWindow):
         self.setObjectName("barymesh")
         self.setWindowTitle("barymesh")
         if params is None and not scripted:
-            params = self._saved_params()
+            params = saved_params(self.settings)
         self._start_preset: tuple[MeshParams, str] | None = None  # (params, note) at start
         if params is None and cell is None:
             self._start_preset = start_params()
             params = self._start_preset[0]
         self.model = AppModel(params, cell)
         if not scripted:
-            self.model.restore_view_state(self._saved_json("view"))
+            self.model.restore_view_state(saved_json(self.settings, "view"))
 
         # auto_update=False: no 5 Hz re-render timer; we render once per change ourselves.
         # (one render a frame: VTK's interaction renders only ask for the next paint)
@@ -861,61 +823,17 @@ class MainWindow(QMainWindow):
 
     # -- help ----------------------------------------------------------------------------
 
-    def shortcuts_html(self) -> str:
-        rows = []
-        for act in self.findChildren(QAction):
-            keys = ", ".join(
-                k.toString(QKeySequence.SequenceFormat.NativeText) for k in act.shortcuts()
-            )
-            if keys:
-                rows.append(
-                    f"<tr><td>{act.text().replace('&', '')}</td><td><b>{keys}</b></td></tr>"
-                )
-        rows.append(
-            "<tr><td>Rotate / pan / zoom the view</td>"
-            "<td><b>left / middle drag, wheel</b></td></tr>"
-        )
-        rows.append("<tr><td>Move a slider</td><td><b>←/→, PgUp/PgDn, Home/End</b></td></tr>")
-        rows.append(
-            "<tr><td>What is under the cursor (strip under the view)</td><td><b>hover</b></td></tr>"
-        )
-        rows.append(
-            "<tr><td>Select a triangle, edge or vertex (then Z)</td><td><b>click</b></td></tr>"
-        )
-        return "<h4>Keyboard shortcuts</h4><table cellspacing='6'>" + "".join(rows) + "</table>"
-
     def show_about(self) -> HelpDialog:
         """About and the keyboard shortcuts (F1): a scrolling dialog that fits the screen."""
         dialog = getattr(self, "help_dialog", None)
         if dialog is None:
             dialog = self.help_dialog = HelpDialog(
-                ABOUT.format(version=barymesh.__version__, shortcuts=self.shortcuts_html()), self
+                about_html(barymesh.__version__, self.findChildren(QAction)), self
             )
         dialog.show()
         dialog.raise_()
         dialog.activateWindow()
         return dialog
-
-    # -- settings ------------------------------------------------------------------------
-
-    def _saved_json(self, key: str) -> Any:
-        text = self.settings.value(key)
-        if not isinstance(text, str):
-            return None
-        try:
-            return json.loads(text)
-        except json.JSONDecodeError:
-            return None
-
-    def _saved_params(self) -> MeshParams | None:
-        data = self._saved_json("params")
-        if data is None:
-            return None
-        try:
-            return MeshParams.from_dict(data)
-        except (ValueError, TypeError) as exc:
-            log.warning("ignoring the saved parameters: %s", exc)
-            return None
 
     # -- dock layout ---------------------------------------------------------------------
 
@@ -949,21 +867,3 @@ class MainWindow(QMainWindow):
             # Release VTK's render window and GL context while the widget still exists.
             self.plotter.close()
         super().closeEvent(event)
-
-
-# -- helpers of the window -----------------------------------------------------------------
-
-
-def disable_view_keys(plotter: Any) -> None:
-    """Keys typed into the 3D view do nothing of VTK's or pyvista's own.
-
-    VTK's interactor style would switch to red-blue stereo on "3", to wireframe on "w",
-    fly on "f", exit on "q"/"e"…, and pyvista adds "v" (isometric view) and others; none
-    is a documented action of the window, whose own shortcuts (R, T, Ctrl+1…) are
-    QActions and keep working. An observer of the style's CharEvent replaces its OnChar.
-    """
-    for key in list(getattr(plotter, "_key_press_event_callbacks", {})):
-        plotter.clear_events_for_key(key, raise_on_missing=False)
-    style = plotter.iren.interactor.GetInteractorStyle()
-    if style is not None:
-        style.AddObserver("CharEvent", lambda *_: None)

@@ -26,7 +26,8 @@ from barymesh.app.cli_options import (
     check_cell_usage,
     check_preset,
 )
-from barymesh.app.window import APPLICATION, ICON, ORGANIZATION, MainWindow
+from barymesh.app.window import ICON, MainWindow
+from barymesh.app.window_settings import APPLICATION, ORGANIZATION
 
 log = logging.getLogger(__name__)
 

@@ -53,3 +53,18 @@ class ViewInteractor(QtInteractor):
         finally:
             interactor.EnableRenderOff()
             self._painting = False
+
+
+def disable_view_keys(plotter: Any) -> None:
+    """Keys typed into the 3D view do nothing of VTK's or pyvista's own.
+
+    VTK's interactor style would switch to red-blue stereo on "3", to wireframe on "w",
+    fly on "f", exit on "q"/"e"…, and pyvista adds "v" (isometric view) and others; none
+    is a documented action of the window, whose own shortcuts (R, T, Ctrl+1…) are
+    QActions and keep working. An observer of the style's CharEvent replaces its OnChar.
+    """
+    for key in list(getattr(plotter, "_key_press_event_callbacks", {})):
+        plotter.clear_events_for_key(key, raise_on_missing=False)
+    style = plotter.iren.interactor.GetInteractorStyle()
+    if style is not None:
+        style.AddObserver("CharEvent", lambda *_: None)
