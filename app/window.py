@@ -43,6 +43,7 @@ from PySide6.QtWidgets import (
 
 import barymesh
 from barymesh import MeshParams, TriMesh
+from barymesh.app.actions import make_action
 from barymesh.app.build_progress import BuildProgress
 from barymesh.app.dialogs.export_dialog import ExportDialog
 from barymesh.app.dialogs.help_dialog import HelpDialog, about_html
@@ -313,19 +314,9 @@ class MainWindow(QMainWindow):
     def add_action(
         self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
     ) -> QAction:
-        action = QAction(text, self)
-        if shortcut is not None:
-            keys = shortcut if isinstance(shortcut, list) else [shortcut]
-            action.setShortcuts([QKeySequence(k) for k in keys])
-        if tip:
-            action.setStatusTip(tip)
-            action.setToolTip(tip)
-        action.setCheckable(checkable)
-        if shortcut in APPLICATION_KEYS:  # also from the construction and compare windows
-            action.setShortcutContext(Qt.ShortcutContext.ApplicationShortcut)
-        action.triggered.connect(slot)
-        self.addAction(action)  # shortcuts work even when the menu bar is hidden
-        return action
+        return make_action(
+            self, text, slot, shortcut, tip, checkable, application_keys=APPLICATION_KEYS
+        )
 
     def _make_actions(self) -> None:
         try:

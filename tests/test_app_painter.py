@@ -478,7 +478,7 @@ def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
     import doctest
 
     from barymesh import MeshParams
-    from barymesh.app.edit import painter as module
+    from barymesh.app.model import painter_document as module
     from barymesh.cell import Element, Lattice, UnitCell
 
     finder = doctest.DocTestFinder()

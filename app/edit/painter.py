@@ -11,11 +11,12 @@ the drag and the release are one stroke and one undo step. The middle button pan
 wheel zooms; nothing rotates. A mouse position is turned into a pixel by casting its
 ray through the camera onto the plane z = 0 (exact for the parallel projection).
 
-The edits themselves are :mod:`barymesh.app.edit.pixels` (no Qt); this window keeps the undo
-history (a :class:`barymesh.app.model.UndoHistory`) of (pixel grid, lattice) states, draws,
-and rebuilds the mesh in a worker thread after every stroke, so the window keeps answering
-on large grids (a 64 x 64 grid is 131,072 triangles). While the build runs, pixels painted
-or erased since the mesh on screen are drawn as flat squares over it.
+The document (the grid and lattice under undo, the symmetry, the edits) is
+:class:`barymesh.app.model.painter_document.PainterDocument` (no Qt); this window draws it,
+turns the mouse and its fields into its edits, and rebuilds the mesh in a worker thread
+after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
+131,072 triangles). While the build runs, pixels painted or erased since the mesh on
+screen are drawn as flat squares over it.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import time
+from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from typing import Any, cast
@@ -30,7 +32,7 @@ from typing import Any, cast
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence, QMouseEvent
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QMouseEvent
 from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
@@ -44,9 +46,17 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from barymesh.app.actions import make_action
 from barymesh.app.edit import pixels
 from barymesh.app.jobs import Jobs
-from barymesh.app.model import UndoHistory
+from barymesh.app.model.painter_document import (
+    NOT_SQUARE,
+    SUFFIX,
+    NothingToSave,
+    PainterDocument,
+    PainterState,
+    reframes,
+)
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import frame_from_above
 from barymesh.app.view.gl_info import tune_multi_samples
@@ -58,18 +68,12 @@ from barymesh.cell import (
     PixelGrid,
     UnitCell,
     build_cell,
-    load_cell,
-    load_cell_preset,
-    save_cell,
 )
 from barymesh.params import DEFAULT_MAX_TRIANGLES
 from barymesh.subdivision import patch_template
 
 log = logging.getLogger(__name__)
 
-#: The cell the painter opens on.
-START_PRESET = "coding-16x16"
-SUFFIX = ".cell.json"
 COLORS = {
     "background": "#ffffff",
     "metal": "#e2b65c",
@@ -89,14 +93,6 @@ FACES_AS_TRIANGLES = 40_000
 EDGES_ALL = 150_000
 #: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
 SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
-
-
-@dataclasses.dataclass(frozen=True)
-class PainterState:
-    """One undo step: the pixel grid and the lattice (the lattice follows a resize)."""
-
-    grid: PixelGrid
-    lattice: Lattice
 
 
 @dataclasses.dataclass
@@ -209,7 +205,7 @@ class PixelPainterWindow(QMainWindow):
     cell : UnitCell, optional
         The cell to edit; its elements stay as they are (drawn and meshed with the
         pixels). A cell without a grid gets an empty one over the cell
-        (:func:`blank_grid`).
+        (:func:`barymesh.app.model.painter_document.blank_grid`).
         Default: the 16 x 16 coding cell preset.
     parent : QWidget, optional
     """
@@ -217,10 +213,7 @@ class PixelPainterWindow(QMainWindow):
     #: A mesh was drawn for the latest edit.
     built = Signal()
     #: Shown while a 4- or 8-fold symmetry waits for the grid to be square again.
-    NOT_SQUARE = (
-        "The grid is not square: symmetry none until it is square again (4- and "
-        "8-fold need a square grid)"
-    )
+    NOT_SQUARE = NOT_SQUARE
 
     @property
     def closed(self) -> bool:
@@ -239,7 +232,6 @@ class PixelPainterWindow(QMainWindow):
         self.last_built: Built | None = None
         self._built_mask: np.ndarray | None = None
         self._stroke: dict[str, Any] | None = None
-        self.path: Path | None = None
 
         self.plotter = QtInteractor(self, auto_update=False)
         tune_multi_samples(self.plotter)  # before its first frame (app/view/gl_info.py)
@@ -274,97 +266,75 @@ class PixelPainterWindow(QMainWindow):
         self._render_timer.setInterval(0)
         self._render_timer.timeout.connect(self._render)
 
-        self.undo_history: UndoHistory[PainterState]  # made by open_cell
-        self.open_cell(cell if cell is not None else _start_cell())
+        #: The edited cell, its undo history and symmetry (no Qt: app/model).
+        self.document = PainterDocument(cell)
+        self._show_document(reframe=True)
         self.resize(1100, 860)
 
-    # -- the document ----------------------------------------------------------------------
+    # -- the document (barymesh.app.model.painter_document) ------------------------------------
 
     @property
     def state(self) -> PainterState:
-        return self.undo_history.current
+        return self.document.state
 
     @property
     def history(self) -> list[PainterState]:
         """Every state of the undo history, the current one at :attr:`position`."""
-        return self.undo_history.states
+        return self.document.history.states
 
     @property
     def position(self) -> int:
-        return self.undo_history.position
+        return self.document.history.position
 
     @property
     def grid(self) -> PixelGrid:
         """The pixel grid being painted."""
-        return self.state.grid
+        return self.document.grid
 
     @property
     def mask(self) -> np.ndarray:  # type: ignore[override]  # shadows QWidget.mask()
         """(R, C) bool: the grid's mask (row 0 at the bottom)."""
-        return self.state.grid.mask
+        return self.document.mask
 
     @property
     def symmetry(self) -> str:
-        return str(self.symmetry_box.currentData())
+        return self.document.symmetry
+
+    @property
+    def path(self) -> Path | None:
+        return self.document.path
 
     def cell(self) -> UnitCell | None:
         """The edited cell (None when it would have no metal: no element, no pixel)."""
-        st = self.state
-        if not self._elements and not st.grid.mask.any():
-            return None
-        return UnitCell(
-            st.lattice,
-            self._elements,
-            st.grid,
-            self._mode,
-            self._tolerance,
-            self._name,
-            self._description,
-        )
+        return self.document.cell()
 
     def open_cell(self, cell: UnitCell) -> None:
         """Edit ``cell`` (a new history)."""
-        grid = cell.pixels if cell.pixels is not None else blank_grid(cell.lattice)
-        self._elements = cell.elements
-        self._mode, self._tolerance = cell.mode, cell.tolerance
-        self._name, self._description = cell.name, cell.description
-        self.undo_history = UndoHistory(PainterState(grid, cell.lattice))
-        self.setWindowTitle(f"barymesh – paint pixels – {cell.name}")
-        if grid.mask.any():  # start in the largest symmetry the cell has
-            fits = [
-                m
-                for m in ("8-fold", "4-fold", "mirror_x", "mirror_y")
-                if _square_or_mirror(m, grid.shape) and pixels.is_invariant(grid.mask, m)
-            ]
-            self._set_symmetry_box(fits[0] if fits else "none")
-        self._state_changed(reframe=True)
+        self.document.open(cell)
+        self._show_document(reframe=True)
+
+    def _show_document(self, reframe: bool) -> None:
+        self.setWindowTitle(f"barymesh – paint pixels – {self.document.name}")
+        self._set_symmetry_box(self.document.symmetry)
+        self._state_changed(reframe=reframe)
 
     def push(self, grid: PixelGrid, lattice: Lattice | None = None) -> bool:
         """Make (grid, lattice) the current state, one undo step (False when unchanged)."""
-        state = PainterState(grid, lattice or self.state.lattice)
-        if state.grid == self.grid and state.lattice == self.state.lattice:
+        old = self.grid
+        if not self.document.push(grid, lattice):
             return False
-        self.undo_history.push(state)
-        previous = self.undo_history.previous
-        assert previous is not None  # the state just left
-        before = previous.grid
-        reframe = grid.shape != before.shape or grid.pixel_size != before.pixel_size
-        self._state_changed(reframe=reframe)
+        self._state_changed(reframe=reframes(old, self.grid))
         return True
 
     def undo(self) -> None:
         old = self.grid
-        if self.undo_history.undo() is not None:
-            self._moved_from(old)
+        if self.document.undo():
+            self._state_changed(reframe=reframes(old, self.grid))
 
     def redo(self) -> None:
         old = self.grid
-        if self.undo_history.redo() is not None:
-            self._moved_from(old)
-
-    def _moved_from(self, old: PixelGrid) -> None:
-        new = self.grid
-        self._state_changed(reframe=old.shape != new.shape or old.pixel_size != new.pixel_size)
+        if self.document.redo():
+            self._state_changed(reframe=reframes(old, self.grid))
 
     def _state_changed(self, reframe: bool = False) -> None:
         grid = self.grid
@@ -375,24 +345,14 @@ class PixelPainterWindow(QMainWindow):
         self.size_box.blockSignals(True)
         self.size_box.setValue(grid.pixel_size)
         self.size_box.blockSignals(False)
-        if grid.shape[0] != grid.shape[1] and self.symmetry in ("4-fold", "8-fold"):
-            self._square_symmetry: str | None = self.symmetry  # back when square again
-            self._set_symmetry_box("none")
-            self.statusBar().showMessage(self.NOT_SQUARE, 8000)
-        elif grid.shape[0] == grid.shape[1]:
-            if self.statusBar().currentMessage() == self.NOT_SQUARE:
-                self.statusBar().clearMessage()  # it no longer holds
-            if self._square_symmetry:
-                if self.symmetry == "none":
-                    self._set_symmetry_box(self._square_symmetry)
-                    self.statusBar().showMessage(
-                        "The grid is square again: symmetry "
-                        f"{pixels.SYMMETRY_TITLES[self._square_symmetry]} is back",
-                        5000,
-                    )
-                self._square_symmetry = None
-        self.act_undo.setEnabled(self.undo_history.can_undo)
-        self.act_redo.setEnabled(self.undo_history.can_redo)
+        note = self.document.follow_shape()
+        self._set_symmetry_box(self.document.symmetry)
+        if note is not None:
+            self.statusBar().showMessage(note, 8000 if note == NOT_SQUARE else 5000)
+        elif grid.shape[0] == grid.shape[1] and self.statusBar().currentMessage() == NOT_SQUARE:
+            self.statusBar().clearMessage()  # it no longer holds
+        self.act_undo.setEnabled(self.document.history.can_undo)
+        self.act_redo.setEnabled(self.document.history.can_redo)
         self._draw_grid()
         if reframe:
             self.reset_view()
@@ -402,54 +362,46 @@ class PixelPainterWindow(QMainWindow):
 
     # -- edits (each one undo step) ----------------------------------------------------------
 
-    def _edit(self, make_mask: Any) -> bool:
+    def _edit(self, edit: Callable[[], bool]) -> bool:
+        old = self.grid
         try:
-            mask = make_mask()
+            changed = edit()
         except ValueError as exc:
             self.statusBar().showMessage(str(exc), 8000)
             return False
-        return self.push(self.grid.replaced(mask=mask))
+        if changed:
+            self._state_changed(reframe=reframes(old, self.grid))
+        return changed
 
     def invert(self) -> bool:
         """The Babinet complement of the grid."""
-        return self._edit(lambda: pixels.inverted(self.mask))
+        return self._edit(self.document.invert)
 
     def clear(self) -> bool:
-        return self._edit(lambda: np.zeros_like(self.mask))
+        return self._edit(self.document.clear)
 
     def random_fill(self) -> bool:
         """A random mask under the symmetry mode, from the seed and metal % fields."""
-        return self._edit(
-            lambda: pixels.random_mask(
-                self.mask.shape,
-                self.seed_box.value(),
-                self.symmetry,
-                self.density_box.value() / 100.0,
-            )
-        )
+        seed, density = self.seed_box.value(), self.density_box.value() / 100.0
+        return self._edit(lambda: self.document.random_fill(seed, density))
 
     def fill_at(self, row: int, col: int, value: bool) -> bool:
         """Flood fill the 4-connected region of (row, col) (and its images) with ``value``."""
-        return self._edit(lambda: pixels.flood_filled(self.mask, row, col, self.symmetry, value))
+        return self._edit(lambda: self.document.fill_at(row, col, value))
 
     def set_grid_size(self, rows: int, cols: int, pixel_size: float) -> bool:
         """Resize the grid (centred) and/or change the pixel size; the grid keeps its centre,
         and a lattice that was the grid's extent follows it."""
-        grid, lattice = self.grid, self.state.lattice
+        old = self.grid
         try:
-            mask = pixels.resized(grid.mask, rows, cols)
-            centre = np.asarray(grid.origin) + 0.5 * grid.pixel_size * np.array(
-                [grid.shape[1], grid.shape[0]]
-            )
-            origin = centre - 0.5 * pixel_size * np.array([cols, rows])
-            new = grid.replaced(mask=mask, pixel_size=pixel_size, origin=tuple(origin))
-            if _fits(grid, lattice):
-                lattice = Lattice.rectangular(cols * pixel_size, rows * pixel_size)
+            changed = self.document.set_grid_size(rows, cols, pixel_size)
         except ValueError as exc:
             self.statusBar().showMessage(str(exc), 8000)
             self._state_changed()
             return False
-        return self.push(new, lattice)
+        if changed:
+            self._state_changed(reframe=reframes(old, self.grid))
+        return changed
 
     def _shape_edited(self) -> None:
         rows, cols = self.rows_box.value(), self.cols_box.value()
@@ -463,55 +415,39 @@ class PixelPainterWindow(QMainWindow):
             self.set_grid_size(*grid.shape, size)
 
     def _symmetry_chosen(self) -> None:
-        mode = self.symmetry
         try:
-            pixels.check_symmetry(mode, self.mask.shape)
+            note = self.document.choose_symmetry(str(self.symmetry_box.currentData()))
         except ValueError as exc:
-            self._set_symmetry_box(self._last_symmetry)
+            self._set_symmetry_box(self.document.symmetry)
             self.statusBar().showMessage(str(exc), 8000)
             return
-        self._last_symmetry: str = mode
-        self._square_symmetry = None
         self._refresh_hover()
-        if not pixels.is_invariant(self.mask, mode):
-            self.statusBar().showMessage(
-                f"The grid is not {pixels.SYMMETRY_TITLES[mode]} symmetric: the next stroke or "
-                "fill adds the images of its metal",
-                8000,
-            )
-        else:
-            self.statusBar().showMessage(f"Symmetry: {pixels.SYMMETRY_TITLES[mode]}", 4000)
+        self.statusBar().showMessage(note, 4000 if note.startswith("Symmetry:") else 8000)
 
     def _set_symmetry_box(self, mode: str) -> None:
         self.symmetry_box.blockSignals(True)
         self.symmetry_box.setCurrentIndex(self.symmetry_box.findData(mode))
         self.symmetry_box.blockSignals(False)
-        self._last_symmetry = mode
 
     # -- files -------------------------------------------------------------------------------
 
     def save_dialog(self) -> None:
         """Save cell…: a ``*.cell.json`` file."""
-        start = str(self.path or Path.cwd() / f"{self._name}{SUFFIX}")
+        start = str(self.path or Path.cwd() / f"{self.document.name}{SUFFIX}")
         path, _ = QFileDialog.getSaveFileName(self, "Save cell", start, f"Cell files (*{SUFFIX})")
         if path:
             self.save(path)
 
     def save(self, path: str | Path) -> bool:
-        path = Path(path)
-        if not path.name.endswith(SUFFIX):
-            path = path.with_name(path.name.removesuffix(".json") + SUFFIX)
-        cell = self.cell()
-        if cell is None:
-            self.statusBar().showMessage("Nothing to save: the cell has no metal", 8000)
-            return False
         try:
-            save_cell(cell, path)
+            written = self.document.save(path)
+        except NothingToSave as exc:
+            self.statusBar().showMessage(str(exc), 8000)
+            return False
         except (OSError, ValueError) as exc:
             self.statusBar().showMessage(f"Could not save {path}: {exc}", 10000)
             return False
-        self.path = path
-        self.statusBar().showMessage(f"Saved {path}", 6000)
+        self.statusBar().showMessage(f"Saved {written}", 6000)
         return True
 
     def open_dialog(self) -> None:
@@ -525,12 +461,11 @@ class PixelPainterWindow(QMainWindow):
         if not path:
             return
         try:
-            cell = load_cell(path)
+            self.document.open_file(path)
         except (OSError, ValueError) as exc:
             self.statusBar().showMessage(str(exc), 10000)
             return
-        self.path = Path(path)
-        self.open_cell(cell)
+        self._show_document(reframe=True)
 
     # -- mouse -------------------------------------------------------------------------------
 
@@ -618,11 +553,7 @@ class PixelPainterWindow(QMainWindow):
         self._hovered = pixel
         cells = np.empty((0, 2), dtype=np.int64)
         if pixel is not None:
-            try:
-                ids = pixels.orbit_ids(self.mask.shape, self.symmetry)
-                cells = np.argwhere(ids == ids[pixel])
-            except ValueError:
-                cells = np.array([pixel])
+            cells = self.document.orbit(pixel)
         self._set(
             "hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells, 5 * self._dz)
         )
@@ -645,9 +576,7 @@ class PixelPainterWindow(QMainWindow):
         new = pixels.pixel_line(last, pixel) if last is not None else np.array([pixel])
         stroke["pixels"].extend(map(tuple, new.tolist()))
         stroke["last"] = pixel
-        stroke["mask"] = pixels.painted(
-            stroke["start"], stroke["pixels"], self.symmetry, stroke["value"]
-        )
+        stroke["mask"] = self.document.painted(stroke["start"], stroke["pixels"], stroke["value"])
         self._draw_pending(stroke["mask"])
 
     def _release(self) -> None:
@@ -896,7 +825,7 @@ class PixelPainterWindow(QMainWindow):
                 f"Vertices {s['vertices']:,}",
                 f"RWG unknowns {s['interior_edges']:,}",
             ]
-        elif set_pixels == 0 and not self._elements:
+        elif set_pixels == 0 and not self.document.has_elements:
             parts.append("no metal")
         else:
             parts.append("meshing…")
@@ -1001,17 +930,7 @@ class PixelPainterWindow(QMainWindow):
     def _action(
         self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
     ) -> QAction:
-        action = QAction(text, self)
-        if shortcut is not None:
-            keys = shortcut if isinstance(shortcut, list) else [shortcut]
-            action.setShortcuts([QKeySequence(k) for k in keys])
-            tip = f"{tip} ({', '.join(QKeySequence(k).toString() for k in keys)})"
-        action.setToolTip(tip)
-        action.setStatusTip(tip)
-        action.setCheckable(checkable)
-        action.triggered.connect(slot)
-        self.addAction(action)
-        return action
+        return make_action(self, text, slot, shortcut, tip, checkable, keys_in_tip=True)
 
     def _make_toolbars(self) -> None:
         a = self._action
@@ -1055,8 +974,6 @@ class PixelPainterWindow(QMainWindow):
         self.symmetry_box.setToolTip(
             "Symmetry of every edit about the grid's centre (keys 0, X, Y, 4, 8)"
         )
-        self._last_symmetry = "none"
-        self._square_symmetry = None
         self.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
         for mode, key in SYMMETRY_KEYS.items():
             a(
@@ -1147,50 +1064,6 @@ class PixelPainterWindow(QMainWindow):
         self._camera_timer.stop()
         self.jobs.close()  # a running build winds down in its thread; its result goes nowhere
         self.plotter.close()
-
-
-def _fits(grid: PixelGrid, lattice: Lattice) -> bool:
-    """Whether the lattice is rectangular and exactly the grid's extent."""
-    if lattice.kind != "rectangular":
-        return False
-    w, h = grid.shape[1] * grid.pixel_size, grid.shape[0] * grid.pixel_size
-    tol = 1e-9 * max(w, h)
-    return abs(lattice.a1[0] - w) <= tol and abs(lattice.a2[1] - h) <= tol
-
-
-def blank_grid(lattice: Lattice, columns: int = 16) -> PixelGrid:
-    """An empty grid of ``columns`` square pixels across the cell's bounding box, centred.
-
-    Examples
-    --------
-    >>> g = blank_grid(Lattice.rectangular(8.0, 4.0))
-    >>> g.shape, g.pixel_size, g.origin
-    ((8, 16), 0.5, (-4.0, -2.0))
-    """
-    corners = lattice.corners()
-    w, h = np.ptp(corners, axis=0)
-    size = float(w) / columns
-    rows = max(1, int(round(float(h) / size)))
-    return PixelGrid(
-        np.zeros((rows, columns), bool), size, (-0.5 * columns * size, -0.5 * rows * size)
-    )
-
-
-def _square_or_mirror(mode: str, shape: tuple[int, int]) -> bool:
-    return mode.startswith("mirror") or shape[0] == shape[1]
-
-
-def _start_cell() -> UnitCell:
-    try:
-        return load_cell_preset(START_PRESET)
-    except (OSError, ValueError) as exc:  # a damaged preset: start blank
-        log.warning("cell preset %s unavailable: %s", START_PRESET, exc)
-        grid = PixelGrid(np.zeros((16, 16), bool), 0.5, (-4.0, -4.0))
-        return UnitCell(
-            Lattice.rectangular(8.0),
-            pixels=grid.replaced(mask=np.eye(16, dtype=bool)),
-            name="pixels",
-        )
 
 
 # -- the main window's Cell menu ------------------------------------------------------------
