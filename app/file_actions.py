@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 from PySide6.QtCore import QSettings, Qt, QTimer
-from PySide6.QtGui import QGuiApplication, QImage
+from PySide6.QtGui import QAction, QGuiApplication, QImage, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QProgressDialog
 
 from barymesh import TriMesh
@@ -83,6 +83,53 @@ class FileActions:
         self.export_job: ExportJob | None = None  # the export being written, if any
         self.export_dialog: ExportDialog | None = None  # the last File → Export mesh dialog
         self.jobs = Jobs(host.widget, name="barymesh-export")  # one export at a time
+
+    def make_actions(self) -> tuple[QAction, ...]:
+        """The File menu's actions, made through the host (its shortcuts work with the
+        menu bar hidden): open, load and save parameters, export, screenshot, copy. Without
+        :mod:`barymesh.io` (never in a full install) open and export are disabled and
+        say why."""
+        a = self.host.add_action
+        actions = (
+            a(
+                "&Open mesh file…",
+                self.open_mesh_dialog,
+                QKeySequence.StandardKey.Open,
+                "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it",
+            ),
+            a("&Load parameters…", self.load_params_dialog, "Ctrl+L", "Load a JSON parameter file"),
+            a(
+                "&Save parameters…",
+                self.save_params_dialog,
+                QKeySequence.StandardKey.Save,
+                "Save the parameters as a JSON file",
+            ),
+            a(
+                "&Export mesh…",
+                self.export_mesh_dialog,
+                "Ctrl+E",
+                "Write the mesh in a solver's format",
+            ),
+            a(
+                "Export &screenshot…",
+                self.screenshot_dialog,
+                "Ctrl+Shift+E",
+                "Save a PNG of the 3D view (1–4×, optionally transparent)",
+            ),
+            a(
+                "&Copy screenshot",
+                lambda: self.copy_view_to_clipboard(),
+                "Ctrl+Shift+C",
+                "Copy the 3D view to the clipboard",
+            ),
+        )
+        try:
+            from barymesh.io import EXPORT_FORMATS, IMPORT_FORMATS  # noqa: F401
+        except ImportError as exc:  # pragma: no cover - barymesh.io ships with core
+            for act in (actions[0], actions[3]):
+                act.setEnabled(False)
+                act.setToolTip(f"mesh files need barymesh.io ({exc})")
+        return actions
 
     # -- the 3D view as an image -----------------------------------------------------------
 

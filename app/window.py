@@ -319,49 +319,16 @@ class MainWindow(QMainWindow):
         )
 
     def _make_actions(self) -> None:
-        try:
-            from barymesh.io import EXPORT_FORMATS, IMPORT_FORMATS  # noqa: F401
-
-            self._io_error = None
-        except ImportError as exc:  # pragma: no cover - barymesh.io ships with core
-            self._io_error = f"mesh files need barymesh.io ({exc})"
+        # File: open, load and save parameters, export, screenshot, copy (FileActions')
+        (
+            self.act_open,
+            self.act_load,
+            self.act_save,
+            self.act_export,
+            self.act_shot,
+            self.act_copy,
+        ) = self.files.make_actions()
         a = self.add_action
-        self.act_open = a(
-            "&Open mesh file…",
-            self.files.open_mesh_dialog,
-            QKeySequence.StandardKey.Open,
-            "Import a mesh file (msh, vtk, stl, obj, mat…) to inspect it",
-        )
-        self.act_load = a(
-            "&Load parameters…",
-            self.files.load_params_dialog,
-            "Ctrl+L",
-            "Load a JSON parameter file",
-        )
-        self.act_save = a(
-            "&Save parameters…",
-            self.files.save_params_dialog,
-            QKeySequence.StandardKey.Save,
-            "Save the parameters as a JSON file",
-        )
-        self.act_export = a(
-            "&Export mesh…",
-            self.files.export_mesh_dialog,
-            "Ctrl+E",
-            "Write the mesh in a solver's format",
-        )
-        self.act_shot = a(
-            "Export &screenshot…",
-            self.files.screenshot_dialog,
-            "Ctrl+Shift+E",
-            "Save a PNG of the 3D view (1–4×, optionally transparent)",
-        )
-        self.act_copy = a(
-            "&Copy screenshot",
-            lambda: self.files.copy_view_to_clipboard(),
-            "Ctrl+Shift+C",
-            "Copy the 3D view to the clipboard",
-        )
         self.act_quit = a("&Quit", self.close, QKeySequence.StandardKey.Quit, "Close barymesh")
         self.act_cancel = a(
             "&Cancel meshing",
@@ -370,10 +337,6 @@ class MainWindow(QMainWindow):
             "Abandon the running build; the mesh on screen stays",
         )
         self.act_cancel.setEnabled(False)
-        for act in (self.act_open, self.act_export):
-            if self._io_error:
-                act.setEnabled(False)
-                act.setToolTip(self._io_error)
         self.act_undo = a("&Undo", self.model.undo, ["Ctrl+Z"], "Undo the last parameter change")
         self.act_redo = a(
             "&Redo", self.model.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "Redo the parameter change"
