@@ -22,10 +22,42 @@ pyarrow, xarray, and bokeh for the Dask dashboard); nothing else in barymesh imp
 True
 """
 
-from .point import PointResult, StudyContext
-from .results import StudyResult, read_result
-from .run import Progress, run, run_serial
-from .spec import SpecError, StudySpec, load_spec, parse_spec
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .point import PointResult, StudyContext
+    from .results import StudyResult, read_result
+    from .run import Progress, run, run_serial
+    from .spec import SpecError, StudySpec, load_spec, parse_spec
+
+#: Each public name and the module it comes from. They are imported when first asked for:
+#: the results and the runs import pandas, which :mod:`.spec` and :mod:`.point` (what
+#: :func:`barymesh.mom.reflection_library` solves its points with) do without.
+_NAMES = {
+    "PointResult": "point",
+    "StudyContext": "point",
+    "StudyResult": "results",
+    "read_result": "results",
+    "Progress": "run",
+    "run": "run",
+    "run_serial": "run",
+    "SpecError": "spec",
+    "StudySpec": "spec",
+    "load_spec": "spec",
+    "parse_spec": "spec",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(import_module(f".{_NAMES[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
 
 __all__ = [
     "PointResult",
