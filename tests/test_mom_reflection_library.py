@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import copy
 import csv
+import json
 
 import numpy as np
 import pytest
 
+from barymesh.app import cli
 from barymesh.cell import build_cell, cell_from_dict
 from barymesh.mom import (
     PlaneWave,
@@ -239,3 +241,65 @@ def test_a_dask_client_gives_the_same_library(lib, stack):
             patch_cell(), PARAMETER, VALUES[:2], FREQUENCIES[:1], stack=stack, client=client
         )
     np.testing.assert_array_equal(on_dask.reflection, lib.reflection[:2, :1])
+
+
+# -- the command line -------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def cell_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("cells") / "patch.cell.json"
+    path.write_text(json.dumps(PATCH))
+    return str(path)
+
+
+def run(capsys, *args):
+    code = cli.main(["library", *map(str, args)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_the_command_writes_the_apis_csv(lib, cell_file, capsys, tmp_path):
+    out_csv = tmp_path / "lib.csv"
+    code, out, err = run(
+        capsys, "--cell", cell_file, "--parameter", PARAMETER, "--values", "5:8:3",
+        "--freq", "8GHz:10GHz:2", "--stack", SUBSTRATE, "-o", out_csv,
+    )  # fmt: skip
+    assert code == 0, err
+    assert "wrote" in out and "3 values x 2 frequencies" in out
+    header, data = read_csv(out_csv)
+    _, api = read_csv(lib.to_csv(tmp_path / "api.csv"))
+    assert header[0] == PARAMETER
+    np.testing.assert_array_equal(data, api)
+
+
+def test_the_command_prints_a_table(lib, cell_file, capsys):
+    code, out, err = run(
+        capsys, "--cell", cell_file, "--parameter", PARAMETER, "--values", "5,6.5,8",
+        "--freq", "8GHz", "--stack", SUBSTRATE,
+    )  # fmt: skip
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0].split()[:3] == [PARAMETER, "f", "(GHz)"]
+    phases = [float(line.split()[2]) for line in lines[1:4]]
+    np.testing.assert_allclose(phases, lib.phase_deg[:, 0], atol=0.006)
+    assert "referred to the stack's top face: 0 mm over the sheet" in lines[4]
+
+
+@pytest.mark.parametrize(
+    ("args", "code", "fragment"),
+    [
+        (["--parameter", PARAMETER, "--values", "5:8:3", "--freq", "8GHz"], 2, "--cell"),
+        (["--values", "5:8:x", "--freq", "8GHz"], 2, "--values '5:8:x' is invalid"),
+        (["--values", "5:8:3", "--freq", "8 parsecs"], 2, "--freq"),
+        (["--values", "5:8:3", "--freq", "8GHz", "--stack", "1mm eps=0"], 2, "--stack"),
+        (["--values", "5:8:3", "--freq", "8GHz", "-o", "x.txt"], 2, "expected a .csv"),
+        (["--values", "5,-1", "--freq", "8GHz"], 1, "patch_size=-1: the cell refuses it"),
+    ],
+)
+def test_bad_usage_and_input_are_one_line(cell_file, capsys, args, code, fragment):
+    if "--values" in args and "--parameter" not in args:
+        args = ["--cell", cell_file, "--parameter", PARAMETER, *args]
+    got, out, err = run(capsys, *args)
+    assert got == code
+    assert len(err.strip().splitlines()) == 1 and fragment in err
