@@ -59,6 +59,7 @@ CSV_COLUMNS = (
     "r_tm_te_im",
     "r_tm_tm_re",
     "r_tm_tm_im",
+    "reference_plane_mm",
 )
 
 
@@ -197,6 +198,7 @@ class ReflectionLibrary:
                 entries = (m[0, 0], m[0, 1], m[1, 0], m[1, 1])
                 row = [float(value), float(f), float(phase[i, j]), float(mag[i, j])]
                 row += [float(x) for z in entries for x in (z.real, z.imag)]
+                row.append(float(self.reference_plane))
                 out.append(row)
         return out
 
@@ -207,17 +209,13 @@ class ReflectionLibrary:
         (its value), then :data:`CSV_COLUMNS`: ``frequency_hz``, ``phase_deg`` and
         ``magnitude`` of the co-polar R, then the four entries of :attr:`reflection` as
         real and imaginary parts, ``r_OUT_IN_re`` / ``r_OUT_IN_im`` (``r_te_tm`` is the
-        TE reflected by a TM incidence). Lines starting with ``#`` above the header say
-        the reference plane, the incidence and the stack. Numbers are written with 17
-        significant digits: read back, they are the same floats.
+        TE reflected by a TM incidence), and ``reference_plane_mm``, where they are
+        referred (:attr:`reference_plane`, the same on every row). Numbers are written
+        with 17 significant digits: read back, they are the same floats.
         """
         from ..io.atomic import atomic_write_text
 
         text = io.StringIO()
-        text.write(f"# reference_plane_mm={self.reference_plane!r}\n")
-        inc = self.incidence
-        text.write(f"# incidence theta={inc['theta']!r} phi={inc['phi']!r} pol={inc['pol']}\n")
-        text.write(f"# stack={self.stack.describe() if self.stack is not None else ''}\n")
         writer = csv.writer(text, lineterminator="\n")
         writer.writerow([self.parameter, *CSV_COLUMNS])
         for row in self.rows():
