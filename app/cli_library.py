@@ -72,7 +72,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     s.add_argument(
         "--parameter",
         required=True,
-        metavar="PATH",
+        metavar="PARAM",
         help="the value to vary, as a study's axis names it: elements[0].patch_size, "
         "stack.below[0].thickness, incidence.theta",
     )
@@ -103,7 +103,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="incident polarisation whose reflection is the co-polar phase (default tm: "
         "E along x at normal incidence)",
     )
-    s.add_argument("-o", "--output", metavar="FILE.csv", help="write the library as CSV")
+    s.add_argument("-o", "--output", metavar="OUT", help="write the library as CSV (.csv)")
     return p
 
 
