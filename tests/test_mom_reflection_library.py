@@ -153,6 +153,11 @@ def test_lookup_takes_the_first_monotone_piece():
     assert lib.lookup(100.0, 1e9) == pytest.approx(2.0)
     assert lib.lookup(-10.0, 1e9) != lib.lookup(-10.0, 1e9)  # NaN: below all of it
     np.testing.assert_allclose(lib.lookup([0.0, 360.0, 50.0], 1e9), [0.0, 0.0, 1.0])
+    flat = synthetic([0.0, 40.0, 40.0, 10.0])  # a flat top: two pieces, each monotone
+    assert flat.lookup(20.0, 1e9) == pytest.approx(0.5)
+    assert flat.lookup(40.0, 1e9) in (1.0, 2.0)  # both values give 40°
+    one = synthetic([30.0], values=[7.0])  # one value: its phase alone, modulo 360
+    assert one.lookup(-330.0, 1e9) == 7.0 and np.isnan(one.lookup(31.0, 1e9))
 
 
 def test_lookup_refuses_a_frequency_not_in_the_library(lib):

@@ -247,10 +247,15 @@ def _monotone_pieces(curve: np.ndarray) -> list[tuple[int, int]]:
 
     >>> _monotone_pieces(np.array([0.0, 1.0, 2.0, 1.0, 0.0, 3.0]))
     [(0, 2), (2, 4), (4, 5)]
+    >>> _monotone_pieces(np.array([0.0, 1.0, 1.0, 0.0]))  # a flat top is a turn too
+    [(0, 2), (2, 3)]
     """
     if len(curve) < 2:
         return [(0, 0)] if len(curve) else []
     sign = np.sign(np.diff(curve))
+    for i in range(1, len(sign)):  # a flat step goes on the way the curve went
+        if sign[i] == 0:
+            sign[i] = sign[i - 1]
     turns = [i for i in range(1, len(sign)) if sign[i] * sign[i - 1] < 0]  # sample i turns
     ends = [0, *turns, len(curve) - 1]
     return list(zip(ends[:-1], ends[1:], strict=True))
