@@ -208,6 +208,13 @@ def test_a_layer_of_the_stack_is_a_parameter(stack):
     assert abs(lib.co_polar[1, 0] - s.co_polar()[0]) < 1e-6
 
 
+def test_the_incidence_angle_is_a_parameter(stack):
+    lib = reflection_library(patch_cell(), "incidence.theta", [0.0, 20.0], 8e9, stack=stack)
+    mesh = build_cell(patch_cell()).mesh
+    s = periodic_solve(mesh, 8e9, PlaneWave.from_angles(20.0, 0.0, 0.0), stack=stack)
+    assert abs(lib.co_polar[1, 0] - s.co_polar()[0]) < 1e-6
+
+
 def read_csv(path):
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
