@@ -24,7 +24,9 @@ True
 
 from __future__ import annotations
 
+import sys
 from importlib import import_module
+from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -57,6 +59,21 @@ def __getattr__(name: str) -> Any:
     value = getattr(import_module(f".{_NAMES[name]}", __name__), name)
     globals()[name] = value
     return value
+
+
+class _Package(ModuleType):
+    """This package, whose ``run`` stays the function :func:`.run.run`: importing the
+    submodule ``barymesh.study.run`` (a Dask worker unpickling a task, ``from
+    barymesh.study.run import ...``) binds the package's attribute of that name to the
+    module, which an eager import of the function used to overwrite at once."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _NAMES and isinstance(value, ModuleType):
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 
 __all__ = [
