@@ -12,6 +12,8 @@ from __future__ import annotations
 import copy
 import csv
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -243,6 +245,28 @@ def test_the_xarray_dataset_holds_the_library(lib):
     np.testing.assert_array_equal(ds["phase_deg"].values, lib.phase_deg)
     assert ds.attrs["reference_plane_mm"] == 0.0 and ds.attrs["parameter"] == PARAMETER
     assert list(ds["in"].values) == ["TE", "TM"]
+
+
+def test_without_the_study_extra_the_library_solves_and_to_xarray_names_it():
+    """pandas and xarray made unimportable: the library is solved all the same (the study's
+    spec and point solve need neither); only to_xarray asks for the extra."""
+    code = (
+        "import sys\n"
+        "sys.modules['pandas'] = sys.modules['xarray'] = None\n"
+        "from barymesh.cell import cell_from_dict\n"
+        "from barymesh.mom import reflection_library\n"
+        f"lib = reflection_library(cell_from_dict({PATCH!r}), {PARAMETER!r}, [6.0], 8e9)\n"
+        "assert lib.reflection.shape == (1, 1, 2, 2)\n"
+        "try:\n"
+        "    lib.to_xarray()\n"
+        "except ImportError as exc:\n"
+        "    print(exc)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False
+    )
+    assert out.returncode == 0, out.stderr
+    assert "pip install 'barymesh[study]'" in out.stdout
 
 
 def test_a_dask_client_gives_the_same_library(lib, stack):
