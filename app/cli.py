@@ -7,6 +7,7 @@
     barymesh info FILE             import a mesh file and print its statistics
     barymesh presets               list the presets (structures, then unit cells)
     barymesh study SPEC.json       a design study on Dask (barymesh.app.cli_study)
+    barymesh library [options]     a cell's reflection-phase library (barymesh.app.cli_library)
     barymesh --print-completion bash   the shell completion script (barymesh.app.cli_completion)
 
 A unit cell (``--cell FILE.cell.json`` or ``--cell-preset NAME``) or an array
@@ -30,7 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn
 
-from barymesh.app import cli_solve, cli_study
+from barymesh.app import cli_library, cli_solve, cli_study
 from barymesh.app.cli_options import (
     InputError,
     Parser,
@@ -189,6 +190,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     cli_solve.add_parser(verbs)
     cli_study.add_parser(verbs)
+    cli_library.add_parser(verbs)
     verbs.add_parser(
         "presets",
         help="list the presets, one per line",
@@ -740,6 +742,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep": _cmd_sweep}
 VERBS["solve"] = cli_solve.run
 VERBS["study"] = cli_study.run
+VERBS["library"] = cli_library.run
 
 
 # -- entry point -----------------------------------------------------------

@@ -63,6 +63,14 @@ def test_bash_completes_preset_names(complete):
     assert len(preset_names()) > 10
 
 
+def test_bash_completes_the_library_command(complete, tmp_path):
+    assert complete("barymesh", "l") == ["library"]
+    assert complete("barymesh", "library", "--cell-preset", "") == sorted(cell_preset_names())
+    (tmp_path / "patch.cell.json").write_text("")
+    assert complete("barymesh", "library", "--cell", "pa") == ["patch.cell.json"]
+    assert complete("barymesh", "library", "--parameter", "pa") == []  # a path, not a file
+
+
 def test_bash_completes_file_names(complete, tmp_path):
     (tmp_path / "ring.msh").write_text("")
     (tmp_path / "ring.cell.json").write_text("")

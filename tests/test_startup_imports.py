@@ -112,6 +112,7 @@ def test_a_small_mesh_and_its_statistics_load_no_heavy_module():
         ("mesh", "--help"),
         ("solve", "--help"),
         ("study", "--help"),
+        ("library", "--help"),
         ("--version",),
         ("presets",),
         ("mesh", "--preset", "paper-fig10", "--stats-json", "-"),

@@ -23,7 +23,9 @@ for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's functi
 :mod:`.periodic` (the periodic EFIE, Floquet reflection and transmission),
 :mod:`.periodic_sweep` (its frequency sweeps, point by point or interpolating);
 :mod:`.stack` (dielectric layers and a ground plane around the sheet, as transmission
-lines) and :mod:`.periodic_layered` (the layered kernel the fill integrates).
+lines) and :mod:`.periodic_layered` (the layered kernel the fill integrates);
+:mod:`.reflection_library` (a cell's reflection over one parameter: the S-curve of a
+reflectarray's elements, and its inverse).
 """
 
 from .excitation import PlaneWave, VoltageSource, excitation_vector
@@ -39,6 +41,7 @@ from .periodic import (
 )
 from .periodic_green import PeriodicGreen
 from .periodic_sweep import PeriodicSweep, periodic_sweep
+from .reflection_library import ReflectionLibrary, reflection_library
 from .solution import Solution
 from .solve import (
     ProblemTooLarge,
@@ -60,6 +63,7 @@ __all__ = [
     "PeriodicSweep",
     "PlaneWave",
     "ProblemTooLarge",
+    "ReflectionLibrary",
     "Solution",
     "SolveCancelled",
     "Stack",
@@ -78,6 +82,7 @@ __all__ = [
     "periodic_solve",
     "periodic_solve_many",
     "periodic_sweep",
+    "reflection_library",
     "solve",
     "sweep",
     "te_tm_polarizations",

@@ -22,10 +22,59 @@ pyarrow, xarray, and bokeh for the Dask dashboard); nothing else in barymesh imp
 True
 """
 
-from .point import PointResult, StudyContext
-from .results import StudyResult, read_result
-from .run import Progress, run, run_serial
-from .spec import SpecError, StudySpec, load_spec, parse_spec
+from __future__ import annotations
+
+import sys
+from importlib import import_module
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .point import PointResult, StudyContext
+    from .results import StudyResult, read_result
+    from .run import Progress, run, run_serial
+    from .spec import SpecError, StudySpec, load_spec, parse_spec
+
+#: Each public name and the module it comes from. They are imported when first asked for:
+#: the results and the runs import pandas, which :mod:`.spec` and :mod:`.point` (what
+#: :func:`barymesh.mom.reflection_library` solves its points with) do without.
+_NAMES = {
+    "PointResult": "point",
+    "StudyContext": "point",
+    "StudyResult": "results",
+    "read_result": "results",
+    "Progress": "run",
+    "run": "run",
+    "run_serial": "run",
+    "SpecError": "spec",
+    "StudySpec": "spec",
+    "load_spec": "spec",
+    "parse_spec": "spec",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(import_module(f".{_NAMES[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+class _Package(ModuleType):
+    """This package, whose ``run`` stays the function :func:`.run.run`: importing the
+    submodule ``barymesh.study.run`` (a Dask worker unpickling a task, ``from
+    barymesh.study.run import ...``) binds the package's attribute of that name to the
+    module, which an eager import of the function used to overwrite at once."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _NAMES and isinstance(value, ModuleType):
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
+
 
 __all__ = [
     "PointResult",

@@ -217,7 +217,7 @@ def _free_space(
     """σ_ext and the rest over frequency (:func:`barymesh.mom.sweep`): (table, σ_ext, the
     sweep's warnings, 0.0: no reference plane). ``stack`` is None (the spec refuses
     layers in free space)."""
-    from ..mom import sweep
+    from ..mom.solve import sweep
 
     r = sweep(mesh, np.asarray(solve.frequencies), wave, memory_limit=limit)
     ext, sca = r.extinction_cross_section, r.scattering_cross_section
@@ -242,7 +242,7 @@ def _infinite_array(mesh: Any, solve: Solve, wave: Any, limit: float | None, sta
     """The (0, 0) order over frequency (:func:`barymesh.mom.periodic_sweep`) on ``stack``:
     (table, the reflected power |R_co|² the figures are derived from, the sweep's
     warnings, the height (mm) over the sheet of the plane R is referred to)."""
-    from ..mom import periodic_sweep
+    from ..mom.periodic_sweep import periodic_sweep
 
     r = periodic_sweep(
         mesh,

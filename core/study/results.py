@@ -221,6 +221,38 @@ def _with_units(ds: Any) -> Any:
     return ds
 
 
+def library_dataset(lib: Any) -> Any:
+    """A :class:`~barymesh.mom.ReflectionLibrary` as an xarray Dataset
+    (:meth:`~barymesh.mom.ReflectionLibrary.to_xarray`; here, with the study's other
+    Datasets, so that xarray is imported by the study package alone)."""
+    try:
+        import xarray as xr
+    except ImportError:
+        raise ImportError(
+            "ReflectionLibrary.to_xarray needs xarray: pip install 'barymesh[study]'"
+        ) from None
+    dims = ("value", "frequency")
+    return xr.Dataset(
+        {
+            "reflection": ((*dims, "out", "in"), lib.reflection),
+            "phase_deg": (dims, lib.phase_deg, {"units": "degree"}),
+            "magnitude": (dims, lib.magnitude),
+        },
+        coords={
+            "value": ("value", lib.values, {"long_name": lib.parameter}),
+            "frequency": ("frequency", lib.frequencies, {"units": "Hz"}),
+            "out": ["TE", "TM"],  # the order of the 2 × 2 (barymesh.mom.reflection_library)
+            "in": ["TE", "TM"],
+        },
+        attrs={
+            "parameter": lib.parameter,
+            "polarization": lib.polarization,
+            "reference_plane_mm": lib.reference_plane,
+            "stack": lib.stack.describe() if lib.stack is not None else "",
+        },
+    )
+
+
 def output_paths(output: str | Path) -> list[Path]:
     """``study.parquet`` -> [study.parquet, study.derived.parquet, study.meta.json]."""
     out = Path(output)

@@ -736,7 +736,7 @@ def plane_wave(incidence: dict[str, Any], where: str) -> Any:
     """The :class:`~barymesh.mom.PlaneWave` of ``incidence``: ``direction`` and
     ``polarization`` vectors, or ``theta``, ``phi`` and ``pol``; a bad one is a
     :class:`SpecError` naming ``where``."""
-    from ..mom import PlaneWave
+    from ..mom.excitation import PlaneWave
 
     try:
         if "direction" in incidence:
