@@ -807,10 +807,12 @@ class MainWindow(QMainWindow):
         s.sync()
 
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 - Qt's name
+        from barymesh.app.view.interactor import close_view
+
         if not hasattr(self, "controller"):
             # A constructor that raised left this window half made: free only its view.
             if (plotter := getattr(self, "plotter", None)) is not None:
-                plotter.close()
+                close_view(plotter)
         elif not self._closed:
             self._closed = True
             if not self.scripted:
@@ -819,5 +821,5 @@ class MainWindow(QMainWindow):
             self.presenter.close()
             self.progress.stop()
             # Release VTK's render window and GL context while the widget still exists.
-            self.plotter.close()
+            close_view(self.plotter)
         super().closeEvent(event)

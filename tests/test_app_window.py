@@ -214,6 +214,22 @@ def test_a_window_whose_constructor_raised_closes_quietly(qtbot, monkeypatch, ca
     assert "Traceback" not in err and "AttributeError" not in err, err
 
 
+def test_a_closed_view_keeps_no_wrapper_of_its_dead_surface(qtbot):
+    # pyvistaqt keeps a QSurface wrapper, which shiboken cannot follow, after the widget
+    # and its context die; a later widget at that address came back as a QSurface (CI)
+    from barymesh.app.edit.painter import PixelPainterWindow
+
+    for make in (lambda: MainWindow(COARSE, scripted=True), PixelPainterWindow):
+        win = make()
+        qtbot.addWidget(win)
+        win.show()
+        qtbot.waitExposed(win)
+        plotter = win.plotter
+        qtbot.waitUntil(lambda p=plotter: p._surface is not None, timeout=30_000)
+        win.close()
+        assert plotter._surface is None
+
+
 def test_the_direction_fields_are_the_panels_own(window):
     # the Solve panel keeps the line edits it made (no lookup through lineEdit(), which
     # can hand back a stale wrapper of another type at a reused address)

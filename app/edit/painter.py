@@ -1063,7 +1063,9 @@ class PixelPainterWindow(QMainWindow):
         self._render_timer.stop()
         self._camera_timer.stop()
         self.jobs.close()  # a running build winds down in its thread; its result goes nowhere
-        self.plotter.close()
+        from barymesh.app.view.interactor import close_view
+
+        close_view(self.plotter)  # pyvistaqt's surface wrapper dropped too
 
 
 # -- the main window's Cell menu ------------------------------------------------------------

@@ -170,7 +170,9 @@ class FollowingView(QWidget):
             except ValueError:
                 pass
         self._stop()
-        self.plotter.close()
+        from barymesh.app.view.interactor import close_view
+
+        close_view(self.plotter)  # pyvistaqt's surface wrapper dropped too
 
     def _stop(self) -> None:
         """Extra work before the GL context goes (background jobs)."""

@@ -68,3 +68,19 @@ def disable_view_keys(plotter: Any) -> None:
     style = plotter.iren.interactor.GetInteractorStyle()
     if style is not None:
         style.AddObserver("CharEvent", lambda *_: None)
+
+
+def close_view(plotter: Any) -> None:
+    """Close a pyvistaqt view (its VTK render window finalised) and drop its wrapper of
+    the widget's OpenGL surface.
+
+    pyvistaqt keeps ``_surface``, a wrapper of the ``QSurface`` it made its context current
+    on, after the widget and its context are deleted: shiboken cannot follow the lifetime
+    of a class that is not a ``QObject``, so the dead surface's address stays mapped to
+    that wrapper, and a widget Qt later makes at the same address was handed out as it (CI:
+    a combo box's ``lineEdit()`` returned a ``QSurface``). Once the view is closed no frame
+    is drawn in it, so the wrapper is forgotten here.
+    """
+    plotter.close()
+    if getattr(plotter, "_surface", None) is not None:
+        plotter._surface = None
