@@ -121,3 +121,22 @@ def test_selector_picks_the_path(patch, monkeypatch):
     assert calls == [1, 1]
     with pytest.raises(ValueError, match="backend='fortran'"):
         periodic_impedance_matrix(patch, k, backend="fortran")
+
+
+@pytest.mark.parametrize("loss", [0.0, 0.04])
+@pytest.mark.parametrize("charge_only", [False, True])
+def test_close_pairs_compiled_match_the_double_einsum(touching, loss, charge_only):
+    """The near and close pairs' moments of the compiled loop (written in the plan's order)
+    equal numpy's einsum in double precision, in vacuum and in a lossy medium, the six
+    moments or the charge's alone; the single-precision ones are within float32 of them."""
+    special = periodic_fill_module.special_moments
+    k = wavenumber(24e9) * complex(1.7, -loss)
+    compiled = special(touching, k, charge_only, compiled=True)
+    reference = special(touching, k, charge_only, double=True)
+    single = special(touching, k, charge_only)
+    assert compiled.dtype == reference.dtype == np.float64 and single.dtype == np.float32
+    shape = (1 if charge_only else 6, 2, len(touching.plan.special))
+    assert compiled.shape == reference.shape == single.shape == shape
+    size = np.abs(reference).max()
+    assert np.abs(compiled - reference).max() <= 1e-14 * size
+    assert 1e-10 * size < np.abs(single - reference).max() <= 1e-6 * size

@@ -4,10 +4,11 @@ The fast path beside the numpy assembly of :mod:`barymesh.mom.periodic_fill`, wh
 the reference: the tests hold the two to 1e-12 of the largest entry, the numpy path run
 in double precision (``double=True``; by default it computes the Taylor expansion, the
 phases and the RWG products in single precision, about 1e-7 of the entries). What is
-shared is every per-frequency table (G_reg's Taylor table, the near and close pairs'
-moments, the exact Floquet orders) and the plan; what is compiled is the part that
-grows as T² and N²: the expansion of every pair, its Floquet phase, and the products
-with the RWG maps (:mod:`barymesh.mom.periodic_fill_kernels`).
+shared is the per-frequency tables of G_reg (its Taylor table, the exact Floquet
+orders), the near pairs' closed forms and the plan; what is compiled is the part that
+grows as T² and N² (the expansion of every pair, its Floquet phase, and the products
+with the RWG maps) and the close pairs' far-rule moments, taken in double precision
+(:mod:`barymesh.mom.periodic_fill_kernels`).
 
 Each block of observation triangles fills its (3, B, N) rows of the right factor R
 (one triangle per thread), then adds them into the rows of Z of the unknowns on those
@@ -55,7 +56,7 @@ def kernels() -> ModuleType:
 
 def is_cached() -> bool:
     """Whether the periodic kernels were compiled and cached before (by file name)."""
-    names = ("right_block", "rows_block")
+    names = ("right_block", "rows_block", "close_moments")
     return all(
         any(
             any(folder.glob(f"periodic_fill_kernels.{name}-*.nbi"))
@@ -163,8 +164,9 @@ class Medium:
         G_reg's Taylor table in units of the plan's scale.
     k : complex
         The wavenumber times the plan's scale.
-    special : (6, 2, M) or (1, 2, M) float32
-        The near and close pairs' moments.
+    special : (6, 2, M) or (1, 2, M) float64
+        The near and close pairs' moments (``periodic_fill.special_moments`` with
+        ``compiled``).
     """
 
     tables: np.ndarray
@@ -244,8 +246,7 @@ def _compiled_periodic_matrix(
     tst_triangle = table.triangle[by_u]
     for lo in range(0, t, block):
         hi = min(t, lo + block)
-        right = scratch[: 3 * (hi - lo) * n].reshape(3, hi - lo, n)
-        right[:] = 0.0
+        right = scratch[: 3 * (hi - lo) * n].reshape(3, hi - lo, n)  # zeroed by the kernel
         kern.right_block(
             plan.node,
             plan.offset,
@@ -310,7 +311,7 @@ def warm_up() -> float:
     f32 = np.float32
     plane = np.ones((t, t), dtype=f32)
     tables = np.zeros((1, 12))
-    special = np.zeros((6, 2, 1), dtype=f32)
+    special = np.zeros((6, 2, 1))
     right = np.zeros((3, t, n), dtype=np.complex128)
     starts = np.array([0, 1, 2], dtype=np.intp)
     unknowns = np.array([0, 1], dtype=np.intp)
@@ -350,4 +351,15 @@ def warm_up() -> float:
     kern.rows_block(
         unknowns, starts, unknowns, coef, ones, 0, t, right, np.zeros((n, n), dtype=np.complex128)
     )
+    for count in (6, 1):  # the vector potential's moments, the charge's alone
+        kern.close_moments(
+            np.ones((1, 1), dtype=f32),
+            np.ones((count, 1, 1), dtype=f32),
+            1.0,
+            -0.5,
+            np.zeros(1, dtype=np.intp),
+            np.ones(1, dtype=np.intp),
+            np.arange(2 * count, dtype=np.intp),
+            np.zeros((2 * count, 2)),
+        )
     return time.perf_counter() - start

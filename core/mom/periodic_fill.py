@@ -39,6 +39,7 @@ this module's assembly in double precision, which the compiled one equals to rou
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable
 from functools import cache
 from typing import TYPE_CHECKING, Any
@@ -49,7 +50,7 @@ from numpy.polynomial import chebyshev
 from scipy.linalg import blas
 
 from .compiled_fill import resolve_backend
-from .compiled_periodic_fill import Medium, compiled_periodic_matrix
+from .compiled_periodic_fill import Medium, compiled_periodic_matrix, kernels
 from .near_series import near_moments_series
 from .operator import ETA0, SINGLE_PRECISION_PHASE, near_moments
 from .periodic_geometry import PeriodicGeometry
@@ -246,7 +247,13 @@ def cross_moments(pg: PeriodicGeometry, k: complex) -> np.ndarray:
     return out + pg.cross_static_inv_r - (0.5 * k * k) * pg.cross_static_r
 
 
-def special_moments(pg: PeriodicGeometry, k: complex, charge_only: bool = False) -> np.ndarray:
+def special_moments(
+    pg: PeriodicGeometry,
+    k: complex,
+    charge_only: bool = False,
+    double: bool = False,
+    compiled: bool = False,
+) -> np.ndarray:
     """(6, 2, M) float32 flat moments of G over the near and close pairs, re and im.
 
     ``k`` may be complex (Im k < 0, a lossy medium); with ``charge_only`` only the first
@@ -257,35 +264,87 @@ def special_moments(pg: PeriodicGeometry, k: complex, charge_only: bool = False)
     the close pairs by the far rule (their mirrors with ρ and ρ' swapped). In units of
     the plan's ``scale`` h: G times h, areas over h², so the six moments over h³, h⁴,
     h⁴, h⁴, h⁴ and h⁵.
+
+    With ``double`` the close pairs' kernel and sums are taken in double precision and
+    the result is float64 (the reference of the compiled fill); with ``compiled`` the
+    same double-precision sums come from the compiled loop
+    :func:`~barymesh.mom.periodic_fill_kernels.close_moments`, written straight into
+    the plan's order (no einsum, no gather).
     """
     plan = pg.plan
     h = plan.scale
-    kh = float(np.real(k)) * h
-    x = _phase(plan.close_distance, kh, kh * plan.reach)
-    inverse = np.divide(np.float32(1.0), plan.close_distance, dtype=np.float32)
-    if np.imag(k):  # a lossy medium (the layered fill): e^(Im k R) on the close pairs
-        inverse *= np.exp(np.float32(np.imag(k) * h) * plan.close_distance)
-    kernel = np.stack([np.cos(x) * inverse, -np.sin(x) * inverse])  # (2, Q², K)
     count = 1 if charge_only else 6
-    weights = plan.close_weights[:count]
+    near = _near_special(pg, k, count, single=not (double or compiled))  # (count, K)
+    if compiled:
+        return _compiled_special(plan, k, near, count)
+    real: Any = np.float64 if double else np.float32
+    kh = float(np.real(k)) * h
+    x = _phase(plan.close_distance, kh, kh * plan.reach, double)
+    distance = plan.close_distance.astype(real)
+    inverse = np.divide(real(1.0), distance, dtype=real)
+    if np.imag(k):  # a lossy medium (the layered fill): e^(Im k R) on the close pairs
+        inverse *= np.exp(real(np.imag(k) * h) * distance)
+    kernel = np.stack([np.cos(x) * inverse, -np.sin(x) * inverse])  # (2, Q², K)
+    weights = plan.close_weights[:count].astype(real)
     close = np.einsum("ipk,rpk->irk", weights, kernel).reshape(2 * count, -1)
-    own = near_moments_series(pg.base, k)  # the smooth kernel's power series, when it applies
-    if own is None:
-        own = near_moments(pg.base, k, single=True)
-    closed = [own[:, FLAT_MOMENTS]]
-    if len(pg.cross):
-        closed.append(cross_moments(pg, k)[:, FLAT_MOMENTS])
-    near = np.concatenate(closed).T / (h ** np.array([3, 4, 4, 4, 4, 5]))[:, None]  # (6, K)
-    near = near[:count]
-    values = np.empty((count, 2, len(plan.special)), dtype=np.float32)
+    values = np.empty((count, 2, len(plan.special)), dtype=real)
     n_near, n_close = near.shape[1], close.shape[1]
     values[:, 0, :n_near] = near.real
     values[:, 1, :n_near] = near.imag
     flat = values.reshape(2 * count, -1)
     flat[:, n_near : n_near + n_close] = close
-    mirrored = np.array([[2 * i, 2 * i + 1] for i in MIRRORED[:count]]).ravel()
-    flat[:, n_near + n_close :] = close[mirrored]
+    flat[:, n_near + n_close :] = close[_mirrored_rows(count)]
     return np.take(flat, plan.special_order, axis=1).reshape(count, 2, -1)
+
+
+def _near_special(pg: PeriodicGeometry, k: complex, count: int, single: bool) -> np.ndarray:
+    """(count, K) complex moments of the near pairs and those across the sides (units of h)."""
+    h = pg.plan.scale
+    own = near_moments_series(pg.base, k)  # the smooth kernel's power series, when it applies
+    if own is None:
+        own = near_moments(pg.base, k, single=single)
+    closed = [own[:, FLAT_MOMENTS]]
+    if len(pg.cross):
+        closed.append(cross_moments(pg, k)[:, FLAT_MOMENTS])
+    near = np.concatenate(closed).T / (h ** np.array([3, 4, 4, 4, 4, 5]))[:, None]  # (6, K)
+    return near[:count]
+
+
+def _mirrored_rows(count: int) -> np.ndarray:
+    """Rows (re, im per moment) of a close pair's moments that its mirror takes, in order."""
+    return np.array([[2 * i, 2 * i + 1] for i in MIRRORED[:count]], dtype=np.intp).ravel()
+
+
+_POSITIONS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _special_positions(plan: FillPlan) -> np.ndarray:
+    """(M,) column of ``plan.special`` that each near, close and mirrored pair lands in."""
+    if plan not in _POSITIONS:
+        where = np.empty(len(plan.special_order), dtype=np.intp)
+        where[plan.special_order] = np.arange(len(where))
+        _POSITIONS[plan] = where
+    return _POSITIONS[plan]
+
+
+def _compiled_special(plan: FillPlan, k: complex, near: np.ndarray, count: int) -> np.ndarray:
+    """:func:`special_moments` with ``compiled``: (count, 2, M) float64."""
+    where = _special_positions(plan)
+    n_near, n_close = near.shape[1], plan.close_distance.shape[1]
+    out = np.empty((2 * count, len(where)))
+    out[0::2, where[:n_near]] = near.real
+    out[1::2, where[:n_near]] = near.imag
+    kernels().close_moments(
+        plan.close_distance,
+        plan.close_weights[:count],
+        float(np.real(k)) * plan.scale,
+        float(np.imag(k)) * plan.scale,
+        where[n_near : n_near + n_close],
+        where[n_near + n_close :],
+        _mirrored_rows(count),
+        out,
+    )
+    return out.reshape(count, 2, -1)
 
 
 def _taylor_moments(
@@ -503,7 +562,7 @@ def fill(
     )
     slow_kappa, slow_c = slow_orders(green, pg.lattice)
     tables = _scaled_tables(regular_tables(pg.lattice, green, slow_kappa, slow_c), h)
-    special = special_moments(pg, k)  # (6, 2, M)
+    special = special_moments(pg, k, double=double, compiled=compiled)  # (6, 2, M)
     kh = k * h
     max_phase = kh * plan.reach
     if compiled:
@@ -670,8 +729,10 @@ def _fill_layered(
         + _split(layered.rest_tables(grid, "phi")),
         h,
     )
-    special_a = special_moments(pg, medium.k_a)
-    special_phi = special_moments(pg, medium.k_phi, charge_only=True)
+    special_a = special_moments(pg, medium.k_a, double=double, compiled=compiled)
+    special_phi = special_moments(
+        pg, medium.k_phi, charge_only=True, double=double, compiled=compiled
+    )
     k_ah, k_phih = medium.k_a * h, medium.k_phi * h
     if compiled:
         z = compiled_periodic_matrix(

@@ -17,6 +17,9 @@ Two kernels per block of observation triangles lo..hi:
 - :func:`rows_block` adds R's rows into the rows of Z of the unknowns living on the
   block's triangles, one row of Z per thread (no two threads write one row).
 
+and, once per frequency, :func:`close_moments`: the close pairs' far-rule moments (the
+numpy path's einsum) in double precision, in the plan's order.
+
 The numpy path writes the moments of a block as (6, 2, T, B) planes and multiplies by
 sparse maps; here no pair's moments leave the registers and a core's cache.
 """
@@ -185,7 +188,7 @@ def right_block(
     hi: int,
     out: np.ndarray,
 ) -> None:  # pragma: no cover - compiled
-    """The rows of R of observation triangles lo..hi, added to ``out`` (3, hi − lo, N).
+    """The rows of R of observation triangles lo..hi, written to ``out`` (3, hi − lo, N).
 
     Plan arrays as in :class:`~barymesh.mom.periodic_plan.FillPlan` ([source,
     observation]); ``moments`` (T, 11) each triangle's A, I_00, I_01, I_10, I_11,
@@ -218,6 +221,7 @@ def right_block(
         tab_phi = np.empty((12, OBSERVER_CHUNK))
         count = last - first
         for o in range(first, last):
+            out[:, o - lo, :] = 0.0  # the job's own rows of R, zeroed where they are used
             for j in range(11):
                 inp[8 + j, o - first] = moments[o, j]
         # sources outside, observers inside: the plan's [s, o] rows are read in order
@@ -318,3 +322,62 @@ def rows_block(
             r = o - lo
             for col in range(n):
                 z[m, col] += w0 * right[0, r, col] + w1 * right[1, r, col] + w2 * right[2, r, col]
+
+
+#: Close pairs per job of :func:`close_moments` (their 12 sums stay in L1 cache).
+CLOSE_CHUNK = 256
+
+
+@njit(parallel=True, cache=True)
+def close_moments(
+    distance: np.ndarray,
+    weights: np.ndarray,
+    kr: float,
+    ki: float,
+    position: np.ndarray,
+    mirror_position: np.ndarray,
+    mirrored: np.ndarray,
+    out: np.ndarray,
+) -> None:  # pragma: no cover - compiled
+    """The close pairs' flat moments of e^(−jkR)/R by the far rule, written into ``out``.
+
+    ``distance`` (Q², K) float32 R between the rule's points of each close pair,
+    ``weights`` (count, Q², K) float32 the rule's weights times the moments' factors
+    (the plan's ``close_distance`` and ``close_weights``); k = ``kr`` + j ``ki`` in units
+    of the plan's scale (``ki`` ≤ 0, a lossy medium). The sums are those of
+    ``periodic_fill.special_moments`` (an einsum there) in double precision; pair j's
+    (2 count,) re/im rows go to column ``position[j]`` of ``out`` (2 count, M) float64 and,
+    rows permuted by ``mirrored``, to column ``mirror_position[j]``: its mirror, ρ and ρ'
+    swapped.
+    """
+    q2, pairs = distance.shape
+    count = weights.shape[0]
+    rows = 2 * count
+    chunks = (pairs + CLOSE_CHUNK - 1) // CLOSE_CHUNK
+    for chunk in prange(chunks):
+        first = chunk * CLOSE_CHUNK
+        width = min(pairs, first + CLOSE_CHUNK) - first
+        acc = np.zeros((rows, CLOSE_CHUNK))
+        re = np.empty(CLOSE_CHUNK)
+        im = np.empty(CLOSE_CHUNK)
+        for p in range(q2):
+            # the kernel at point pair p of every pair of the chunk, then the sums: two
+            # loops over the chunk that the compiler vectorises
+            for j in range(width):
+                d = np.float64(distance[p, first + j])
+                inverse = 1.0 / d
+                if ki != 0.0:
+                    inverse *= np.exp(ki * d)
+                s, c = sincos(kr * d)
+                re[j] = c * inverse
+                im[j] = -s * inverse
+            for i in range(count):
+                for j in range(width):
+                    w = np.float64(weights[i, p, first + j])
+                    acc[2 * i, j] += w * re[j]
+                    acc[2 * i + 1, j] += w * im[j]
+        for j in range(width):
+            a, b = position[first + j], mirror_position[first + j]
+            for r in range(rows):
+                out[r, a] = acc[r, j]
+                out[r, b] = acc[mirrored[r], j]
