@@ -115,7 +115,7 @@ def named_files(page: Path) -> dict[str, str]:
 
 def test_the_python_blocks_and_the_files_they_read_are_found():
     blocks = {p.name: python_blocks(p) for p in DOC_PAGES}
-    assert len(blocks["solving.md"]) == 6 and len(blocks["study.rst"]) == 2
+    assert len(blocks["solving.md"]) == 7 and len(blocks["study.rst"]) == 2
     assert len(blocks["cells.md"]) == 1 and len(blocks["getting-started.md"]) == 1
     assert blocks["study.rst"][0][1].startswith("from barymesh.study import run\n")
     assert json.loads(named_files(ROOT / "docs" / "study.rst")["srr.json"])["base"] == {

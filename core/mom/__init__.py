@@ -25,9 +25,11 @@ for an infinite array, :mod:`.periodic_green` (the Ewald periodic Green's functi
 :mod:`.stack` (dielectric layers and a ground plane around the sheet, as transmission
 lines) and :mod:`.periodic_layered` (the layered kernel the fill integrates);
 :mod:`.reflection_library` (a cell's reflection over one parameter: the S-curve of a
-reflectarray's elements, and its inverse).
+reflectarray's elements, and its inverse); :mod:`.circuit` (the sheet impedance of an
+array, its Foster LC circuit and Luukkonen et al.'s analytic model of patches).
 """
 
+from .circuit import EquivalentCircuit, equivalent_circuit
 from .excitation import PlaneWave, VoltageSource, excitation_vector
 from .floquet import grating_lobe_onsets, te_tm_polarizations
 from .geometry import MomGeometry, mom_geometry
@@ -56,6 +58,7 @@ from .solve import (
 from .stack import Layer, Stack, parse_stack
 
 __all__ = [
+    "EquivalentCircuit",
     "Layer",
     "MomGeometry",
     "PeriodicGreen",
@@ -71,6 +74,7 @@ __all__ = [
     "VoltageSource",
     "check_memory",
     "check_periodic_memory",
+    "equivalent_circuit",
     "excitation_vector",
     "find_peaks",
     "grating_lobe_onsets",

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from .periodic import (
 )
 from .periodic_green import reciprocal_vectors
 from .stack import Stack
+
+if TYPE_CHECKING:
+    from .circuit import EquivalentCircuit
 
 
 @dataclass(frozen=True, eq=False)
@@ -185,6 +188,31 @@ class PeriodicSweep:
         """(F,) complex R and T of the (0, 0) order along the incident polarisation."""
         p = np.conj(self.incident_te_tm)
         return self.reflection @ p, self.transmission @ p
+
+    def equivalent_circuit(
+        self, kind: str | None = None, band: tuple[float, float] | None = None
+    ) -> EquivalentCircuit:
+        """The Foster LC circuit of the sheet (:func:`barymesh.mom.circuit.equivalent_circuit`).
+
+        Fitted to the co-polar (0, 0) reflection of this sweep (its rational fit's values
+        where it interpolated), below the first grating-lobe or guided-order onset.
+        ``kind`` "series" (patches, rings: capacitive at low frequency) or "parallel"
+        (grids, apertures: inductive), default the one that fits better; ``band`` (Hz)
+        narrows the frequencies fitted. Returns an
+        :class:`~barymesh.mom.circuit.EquivalentCircuit`.
+        """
+        from .circuit import equivalent_circuit
+
+        onsets = [*self.grating_lobe_onsets, *(onset for onset, _, _ in self.layer_onsets)]
+        return equivalent_circuit(
+            self.frequencies,
+            self.co_polar()[0],
+            self.stack,
+            self.incidence,
+            kind=kind,
+            band=band,
+            onsets=onsets,
+        )
 
     def cross_polar(self) -> tuple[np.ndarray, np.ndarray]:
         """(F,) complex R and T of the (0, 0) order across the incident polarisation."""

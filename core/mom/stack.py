@@ -472,6 +472,27 @@ def vacuum_admittance(kappa2: np.ndarray, k0: float) -> np.ndarray:
         return np.stack([g / (1j * k0), 1j * k0 / g], axis=-1)
 
 
+def line_section(
+    layer: Layer, kappa2: np.ndarray, k0: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One layer as a section of line, TE and TM: (y t, t/y, sech(γd)), each (P, 2) or (P, 1).
+
+    y is the layer's characteristic admittance over 1/η0 (y_TE = γ/(j k0 μ), y_TM =
+    j k0 ε/γ) and t = tanh(γ d), written so that both stay regular at γ = 0. A load y_L
+    at one face is seen at the other as (y_L + y t)/(1 + y_L t/y), and the voltage there
+    is sech(γd)/(1 + y_L t/y) of this face's.
+    """
+    d = layer.thickness * 1e-3
+    eps, mu = layer.epsilon, layer.mu_r
+    jk = 1j * k0
+    g = _gamma(kappa2, k0 * k0 * eps * mu)
+    s = _tanh_over_gamma(g, d)  # tanh(γd)/γ
+    c = g * g * s  # γ tanh(γd)
+    yt = np.stack([c / (jk * mu), jk * eps * s], axis=-1)
+    t_over_y = np.stack([jk * mu * s, c / (jk * eps)], axis=-1)
+    return yt, t_over_y, _sech(g * d)[..., None]
+
+
 def side(layers: Sequence[Layer], grounded: bool, kappa2: np.ndarray, k0: float) -> Side:
     """The line outward from the sheet through ``layers`` (nearest first), ended by vacuum
     or, when ``grounded``, by a short (the ground plane)."""
@@ -485,19 +506,10 @@ def side(layers: Sequence[Layer], grounded: bool, kappa2: np.ndarray, k0: float)
         load = vacuum_admittance(kappa2, k0)
         shorted = np.zeros(shape, dtype=bool)
         transfer = np.ones(shape, dtype=np.complex128)
-    jk = 1j * k0
     for layer in reversed(tuple(layers)):
-        d = layer.thickness * 1e-3
-        if d == 0.0:
+        if layer.thickness == 0.0:
             continue
-        eps, mu = layer.epsilon, layer.mu_r
-        g = _gamma(kappa2, k0 * k0 * eps * mu)
-        s = _tanh_over_gamma(g, d)  # tanh(γd)/γ
-        c = g * g * s  # γ tanh(γd)
-        # y_TE = γ/(jk0μ), y_TM = jk0ε/γ: y t and t/y of each, regular at γ = 0
-        yt = np.stack([c / (jk * mu), jk * eps * s], axis=-1)
-        t_over_y = np.stack([jk * mu * s, c / (jk * eps)], axis=-1)
-        sech = _sech(g * d)[..., None]
+        yt, t_over_y, sech = line_section(layer, kappa2, k0)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             finite = np.where(shorted, 0.0, load)
             opened = (finite + yt) / (1.0 + finite * t_over_y)
@@ -535,18 +547,10 @@ def _outer_to_sheet(
     """
     load = np.asarray(load_at_sheet, dtype=np.complex128)
     ratio = np.ones_like(load)
-    jk = 1j * k0
     for layer in layers_outward:  # from the sheet outward: each seen from its outer face
-        d = layer.thickness * 1e-3
-        if d == 0.0:
+        if layer.thickness == 0.0:
             continue
-        eps, mu = layer.epsilon, layer.mu_r
-        g = _gamma(kappa2, k0 * k0 * eps * mu)
-        s = _tanh_over_gamma(g, d)
-        c = g * g * s
-        yt = np.stack([c / (jk * mu), jk * eps * s], axis=-1)
-        t_over_y = np.stack([jk * mu * s, c / (jk * eps)], axis=-1)
-        sech = _sech(g * d)[..., None]
+        yt, t_over_y, sech = line_section(layer, kappa2, k0)
         ratio = ratio * sech / (1.0 + load * t_over_y)  # V(inner face) / V(outer face)
         load = (load + yt) / (1.0 + load * t_over_y)
     return load, ratio
