@@ -166,9 +166,10 @@ def test_quantisation_uses_the_levels(lib, bits):
 def test_the_quantisation_loss_is_the_textbooks(lib, bits, tolerance):
     """40 × 40 cells under a distant feed, beam at (25°, 30°): the phases sweep the
     quantisation interval evenly, and the main beam loses 20 log10 sinc(π/2^b) (3.92, 0.91,
-    0.22 dB). Tolerances: the 1600 errors are a sample, not the uniform distribution, and
-    the peaks of the two designs sit a fraction of a beamwidth apart; the spread of the
-    errors' mean over beam directions is ~0.1 dB at 1 bit and shrinks with the interval."""
+    0.22 dB). Why the tolerances: the 1600 errors sample the uniform distribution, they are
+    not it. Over five beam directions the loss came within 0.18 dB of the textbook at 1 bit
+    (the worst, (20°, 0°), steps along x only: 40 distinct phases), 0.04 dB at 2 bits and
+    0.01 dB at 3; the sample's deviation shrinks with the interval, and so do the bounds."""
     ra = reflectarray.design(lib, (40, 40), FAR, (25.0, 30.0), F, bits)
     textbook = reflectarray.textbook_quantization_loss(bits)
     assert textbook == pytest.approx(20 * np.log10(np.sin(np.pi / 2**bits) / (np.pi / 2**bits)))

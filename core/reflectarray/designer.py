@@ -356,6 +356,7 @@ def design(
         )
     if bits not in BITS or isinstance(bits, bool):
         raise ValueError(f"bits={bits!r} is invalid; expected None (continuous), 1, 2 or 3")
+    bits = None if bits is None else int(bits)  # 2.0 or numpy's 2: the int
     j = lib.frequency_index(frequency)
     q = _exponent("q", q)
     element_q = _exponent("element_q", element_q)
@@ -726,7 +727,7 @@ class Reflectarray:
         """The whole array as one unit cell: every element its cell's parts at its parameter.
 
         Each element is the library's cell with its parameter set to the chosen value
-        (the path :attr:`ReflectionLibrary.parameter` of an element, e.g.
+        (the path ``ReflectionLibrary.parameter`` of an element, e.g.
         ``elements[0].patch_size``), its parts moved to the element's position and named
         ``"<part> (i, j)"``; the lattice is the aperture's, N1 a1 by N2 a2. Save it with
         :func:`barymesh.cell.save_cell`, or write its outline as DXF or GDSII with
