@@ -98,6 +98,23 @@ def test_a_progressive_phase_steers_the_beam(lib, aperture, beam):
     assert abs(theta[np.argmax(mirror.pattern_db(theta, beam[1] + 180.0))] - beam[0]) < 0.5
 
 
+def test_a_hexagonal_lattice_steers_and_tiles():
+    """Cells on a hexagonal lattice (a2 at 60°): the pattern's peak is still the beam asked
+    for, and the array's cell is N1 a1 by N2 a2."""
+    doc = copy.deepcopy(PATCH_CELL)
+    doc["lattice"] = {"hexagonal": 16.0}
+    lib = synthetic()
+    hexa = ReflectionLibrary(lib.parameter, lib.values, lib.frequencies, lib.reflection, "TM",
+                             lib.incidence, 0.0, cell=cell_from_dict(doc))  # fmt: skip
+    ra = reflectarray.design(hexa, (30, 30), FAR, (30.0, 70.0), F)
+    theta, phi = ra.beam_direction
+    assert abs(theta - 30.0) < 0.5 and abs(phi - 70.0) < 1.0
+    assert np.allclose(ra.positions.mean(axis=0), 0.0, atol=1e-9)  # centred on the origin
+    cell = ra.to_cell()
+    assert len(cell.elements) == 900
+    np.testing.assert_allclose(cell.lattice.a2, (240.0, 240.0 * np.sqrt(3)), rtol=1e-12)
+
+
 def test_without_phase_error_the_aperture_adds_coherently():
     """A curve covering all 360° leaves no phase error, so towards the beam every element's
     field arrives in phase: the gain is the coherent bound (4π A/λ²) (Σ w)² / Σ w² cos² θ_b,

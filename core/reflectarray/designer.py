@@ -33,9 +33,9 @@ from ..constants import SPEED_OF_LIGHT_MM
 from ..mom.reflection_library import ReflectionLibrary
 from . import pattern as far
 
-#: The feed's pattern is cos^q of the angle off its axis: q = 6.5 puts the edge of a
-#: square aperture seen at ±30° from the feed ~ −10 dB down (cos^6.5 30° = 0.39, −8.1 dB
-#: in field, and the longer path adds about −1.2 dB), a usual horn's taper.
+#: The feed's pattern is cos^q of the angle off its axis: q = 6.5 puts the edge of an
+#: aperture seen at ±30° from the feed about 9 dB down (cos^6.5 30° = 0.39, −8.1 dB in
+#: field, and the longer path adds −1.2 dB), near the usual −10 dB edge taper of a horn.
 DEFAULT_FEED_Q = 6.5
 #: The element's pattern is cos^qe θ, in reception (the angle of the feed's ray) and in
 #: radiation: qe = 1, a patch over a ground plane.
@@ -491,6 +491,14 @@ class Reflectarray:
     parameter: np.ndarray
     achieved_phase: np.ndarray
     magnitude: np.ndarray
+
+    def __repr__(self) -> str:
+        n1, n2 = self.aperture
+        bits = "continuous" if self.bits is None else f"bits={self.bits}"
+        return (
+            f"Reflectarray({n1} x {n2}, {self.frequency / 1e9:g} GHz, feed={self.feed}, "
+            f"beam={self.beam}, {bits}, {self.library.parameter!r})"
+        )
 
     @property
     def phase_error(self) -> np.ndarray:
