@@ -288,6 +288,18 @@ def test_the_array_exports_as_dxf(lib, tmp_path):
     assert len(doc.modelspace().query("LWPOLYLINE")) == 225
 
 
+def test_the_array_exports_as_gds(lib, tmp_path):
+    gdstk = pytest.importorskip("gdstk")
+    from barymesh.cell import export_outline
+
+    ra = reflectarray.design(lib, (15, 15), (0.0, 0.0, 150.0), (20.0, 0.0), F, 3)
+    export_outline(ra.to_cell(), tmp_path / "array.gds")
+    [top] = gdstk.read_gds(tmp_path / "array.gds").top_level()
+    assert len(top.polygons) == 225
+    areas = sorted(p.area() for p in top.polygons)
+    np.testing.assert_allclose(areas, np.sort(ra.parameter**2), rtol=1e-6)
+
+
 def test_a_real_library_designs_and_builds():
     """A solved S-curve of a grounded patch (5 sizes, one frequency): the designer's
     parameters are its lookup, and the array's cell carries them."""
