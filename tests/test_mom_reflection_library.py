@@ -81,6 +81,7 @@ def test_the_shapes_and_the_reference_plane(lib):
     assert lib.phase_deg.shape == lib.magnitude.shape == (3, 2)
     assert lib.reference_plane == 0.0  # no layer above the sheet: its own plane
     assert lib.polarization == "TM" and lib.incidence == {"theta": 0.0, "phi": 0.0, "pol": "TM"}
+    assert lib.cell == patch_cell()  # kept for the reflectarray designer's elements
     above = Stack.from_dict({"above": [{"thickness": 0.5, "eps_r": 3.0}]})
     one = reflection_library(patch_cell(), PARAMETER, [6.0], 10e9, stack=above)
     assert one.reference_plane == 0.5  # the top face of the layer over the sheet

@@ -30,13 +30,16 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .excitation import PlaneWave
 from .floquet import te_tm_polarizations
 from .stack import Stack
+
+if TYPE_CHECKING:
+    from ..cell import UnitCell
 
 #: The two incident polarisations solved at every point, in the order of the 2 × 2's
 #: columns (and rows): TE, then TM.
@@ -92,6 +95,10 @@ class ReflectionLibrary:
         The layers around the sheet (None: the sheet in vacuum).
     warnings : tuple of str
         The solves' warnings ("kind: text"), each once.
+    cell : UnitCell or None
+        The cell the library was solved from, as given (:func:`reflection_library` sets
+        it; None for a library made otherwise). The reflectarray designer builds its
+        elements from it (:meth:`barymesh.reflectarray.Reflectarray.to_cell`).
     """
 
     parameter: str
@@ -103,6 +110,7 @@ class ReflectionLibrary:
     reference_plane: float
     stack: Stack | None = None
     warnings: tuple[str, ...] = field(default=())
+    cell: UnitCell | None = None
 
     @property
     def co_polar(self) -> np.ndarray:
@@ -510,7 +518,7 @@ def reflection_library(
     for a in (v, f, reflection):
         a.setflags(write=False)
     return ReflectionLibrary(
-        parameter, v, f, reflection, inc["pol"], inc, top, stack, tuple(warnings)
+        parameter, v, f, reflection, inc["pol"], inc, top, stack, tuple(warnings), cell
     )
 
 
