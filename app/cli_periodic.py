@@ -106,6 +106,7 @@ def check_periodic_usage(args: argparse.Namespace, n_frequencies: int) -> None:
         ("--tolerance", args.tolerance is not None),
         ("--current-at", args.current_at is not None),
         ("--stack", getattr(args, "stack", None) is not None),
+        ("--circuit", getattr(args, "circuit", False)),
     ]
     s4p = [out for out in args.outputs if Path(out).suffix.lower() in (".s4p", ".s2p")]
     if not args.periodic:
@@ -168,6 +169,10 @@ def check_periodic_usage(args: argparse.Namespace, n_frequencies: int) -> None:
         )
     if args.current_at is not None and not vtu:
         raise PeriodicUsageError("--current-at sets the frequency of -o FILE.vtu: add one")
+    if getattr(args, "circuit", False) and n_frequencies < 3:
+        raise PeriodicUsageError(
+            "--circuit fits the sheet's LC circuit to a sweep: give --freq A:B:K with K >= 3"
+        )
     stack = parse_stack_option(getattr(args, "stack", None))
     grounded = stack is not None and stack.ground
     for out in args.outputs:
@@ -358,6 +363,8 @@ def run_periodic(
         _report_sweep(sweep)
     for text in sweep.warnings:
         print(f"  warning: {text}")
+    if getattr(args, "circuit", False):
+        _report_circuit(sweep)
     for out in args.outputs:
         suffix = Path(out).suffix.lower()
         if suffix in (".s4p", ".s2p"):
@@ -561,6 +568,16 @@ def _report_sweep(sweep: Any) -> None:
     else:
         j = int(np.argmax(a))
         print(f"  largest absorption {a[j]:.6g} at {f[j] / 1e9:.6g} GHz")
+
+
+def _report_circuit(sweep: Any) -> None:
+    """The sheet's Foster LC (``PeriodicSweep.equivalent_circuit``), or why there is none."""
+    try:
+        circuit = sweep.equivalent_circuit()
+    except ValueError as exc:
+        print(f"  equivalent circuit: none ({exc})")
+        return
+    print(f"  equivalent circuit: {circuit.describe()}")
 
 
 def plot_sweep(sweep: Any, path: str) -> None:

@@ -166,6 +166,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="target error of the interpolating sweep's R and T (default 1e-3)",
     )
     per.add_argument(
+        "--circuit",
+        action="store_true",
+        help="with a sweep: fit the sheet's equivalent circuit (a series or parallel LC "
+        "whose reflection follows the cell's) and print its L, C, resonance and where it "
+        "stops following the cell",
+    )
+    per.add_argument(
         "--current-at",
         metavar="F",
         help="frequency of the current a sweep writes to -o FILE.vtu (e.g. 18.5GHz)",

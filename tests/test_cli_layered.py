@@ -104,3 +104,42 @@ def test_bad_stacks_are_named(cell_file, capsys, args, message):
 def test_stack_needs_periodic(cell_file, capsys):
     code, _, err = run(capsys, "--cell", cell_file, "--freq", "9GHz", "--stack", "1mm eps=2")
     assert code == 2 and "--stack applies to --periodic" in err
+
+
+def test_circuit_prints_the_fitted_lc_of_the_sheet(cell_file, capsys):
+    """--circuit prints the series LC of the patches, whose values are those of the API's fit."""
+    from barymesh.cell import build_cell, load_cell
+    from barymesh.mom import periodic_sweep
+
+    code, out, err = run(
+        capsys,
+        "--cell", cell_file, "--periodic", "--freq", "6GHz:14GHz:17", "--mesh-as-given",
+        "--stack", "1.575mm eps=2.2; ground", "--circuit",
+    )  # fmt: skip
+    assert code == 0, err
+    line = re.search(r"equivalent circuit: series LC: L = ([\d.]+) nH, C = ([\d.]+) fF", out)
+    assert line, out
+    mesh = build_cell(load_cell(cell_file)).mesh
+    stack = Stack(below=(Layer(1.575, 2.2),), ground=True)
+    fit = periodic_sweep(
+        mesh, np.linspace(6e9, 14e9, 17), stack=stack, polarizations="incident"
+    ).equivalent_circuit()
+    assert float(line.group(1)) == pytest.approx(fit.inductance * 1e9, rel=1e-3)
+    assert float(line.group(2)) == pytest.approx(fit.capacitance * 1e15, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--freq", "10GHz"], "--freq A:B:K with K >= 3"),
+        (["--freq", "6GHz:14GHz:5", "--no-periodic"], "--circuit applies to --periodic"),
+    ],
+)
+def test_circuit_needs_a_periodic_sweep(cell_file, capsys, extra, message):
+    args = ["--cell", cell_file, "--circuit", *extra]
+    if "--no-periodic" in args:
+        args.remove("--no-periodic")
+    else:
+        args.append("--periodic")
+    code, _, err = run(capsys, *args)
+    assert code == 2 and message in err
