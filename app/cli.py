@@ -8,6 +8,7 @@
     barymesh presets               list the presets (structures, then unit cells)
     barymesh study SPEC.json       a design study on Dask (barymesh.app.cli_study)
     barymesh library [options]     a cell's reflection-phase library (barymesh.app.cli_library)
+    barymesh reflectarray [options]  a reflectarray from that library (.cli_reflectarray)
     barymesh --print-completion bash   the shell completion script (barymesh.app.cli_completion)
 
 A unit cell (``--cell FILE.cell.json`` or ``--cell-preset NAME``) or an array
@@ -31,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn
 
-from barymesh.app import cli_library, cli_solve, cli_study
+from barymesh.app import cli_library, cli_reflectarray, cli_solve, cli_study
 from barymesh.app.cli_options import (
     InputError,
     Parser,
@@ -191,6 +192,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_solve.add_parser(verbs)
     cli_study.add_parser(verbs)
     cli_library.add_parser(verbs)
+    cli_reflectarray.add_parser(verbs)
     verbs.add_parser(
         "presets",
         help="list the presets, one per line",
@@ -743,6 +745,7 @@ VERBS = {"mesh": _cmd_mesh, "info": _cmd_info, "presets": _cmd_presets, "sweep":
 VERBS["solve"] = cli_solve.run
 VERBS["study"] = cli_study.run
 VERBS["library"] = cli_library.run
+VERBS["reflectarray"] = cli_reflectarray.run
 
 
 # -- entry point -----------------------------------------------------------

@@ -63,6 +63,14 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         "of a reflectarray's elements), referred to the stack's top face; -o writes the "
         "whole library as CSV (the 2 x 2 TE/TM reflection too).",
     )
+    s = add_library_arguments(p)
+    s.add_argument("-o", "--output", metavar="OUT", help="write the library as CSV (.csv)")
+    return p
+
+
+def add_library_arguments(p: argparse.ArgumentParser) -> argparse._ArgumentGroup:
+    """The cell and the library's options (``library`` and ``reflectarray`` share them);
+    returns the library's group."""
     g = p.add_argument_group("unit cell")
     g.add_argument("--cell", metavar="FILE.cell.json", help="a unit-cell file")
     g.add_argument(
@@ -103,36 +111,47 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         help="incident polarisation whose reflection is the co-polar phase (default tm: "
         "E along x at normal incidence)",
     )
-    s.add_argument("-o", "--output", metavar="OUT", help="write the library as CSV (.csv)")
-    return p
+    return s
 
 
-def run(args: argparse.Namespace) -> int:
-    """``barymesh library``: solve the library and print or write it."""
+def checked_library_inputs(args: argparse.Namespace) -> tuple[list[float], list[float], Any]:
+    """(values, frequencies, stack) of the library's options; bad ones are usage errors."""
     from barymesh.app.cli_periodic import PeriodicUsageError, parse_stack_option
     from barymesh.frequencies import parse_frequencies
 
     if (args.cell is None) == (args.cell_preset is None):
-        raise UsageError("library needs one unit cell: --cell FILE or --cell-preset NAME")
-    if args.output is not None:
-        if not args.output.lower().endswith(".csv"):
-            raise UsageError(f"-o {args.output}: expected a .csv file")
-        check_folder(args.output)
+        raise UsageError(f"{args.verb} needs one unit cell: --cell FILE or --cell-preset NAME")
     values = parse_values(args.values)
     try:
         frequencies = parse_frequencies(args.freq, "--freq")
         stack = parse_stack_option(args.stack)
-    except PeriodicUsageError as exc:
+    except (PeriodicUsageError, ValueError) as exc:
         raise UsageError(str(exc)) from None
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
-    cell, label = load_cell_source(args)
+    return values, frequencies, stack
+
+
+def solve_library(
+    args: argparse.Namespace, values: list[float], frequencies: list[float], stack: Any
+) -> tuple[Any, str]:
+    """The library the options describe, and its cell's label."""
     from barymesh.mom import reflection_library
 
+    cell, label = load_cell_source(args)
     incidence = {"theta": args.theta, "phi": args.phi, "pol": args.pol.upper()}
     lib = reflection_library(
         cell, args.parameter, values, frequencies, incidence=incidence, stack=stack
     )
+    return lib, label
+
+
+def run(args: argparse.Namespace) -> int:
+    """``barymesh library``: solve the library and print or write it."""
+    if args.output is not None:
+        if not args.output.lower().endswith(".csv"):
+            raise UsageError(f"-o {args.output}: expected a .csv file")
+        check_folder(args.output)
+    values, frequencies, stack = checked_library_inputs(args)
+    lib, label = solve_library(args, values, frequencies, stack)
     if args.output is not None:
         lib.to_csv(args.output)
         print(
