@@ -369,6 +369,7 @@ def in_solver_process(
     total: int,
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
+    meanwhile: Callable[[], None] | None = None,
 ) -> Any:
     """``function(*args, progress, cancel)`` in :func:`solver_process`, waited for here.
 
@@ -376,11 +377,14 @@ def in_solver_process(
     ``progress(done, total)`` as it goes and stops when ``cancel()`` turns true; here
     ``progress(done, total)`` is called when its count moves, and ``cancel()`` is polled
     every 50 ms and passed on. The Infinite array's sweeps and the Reflection phase tab's
-    curves both solve there, one job after the other.
+    curves both solve there, one job after the other. ``meanwhile()`` is called here once
+    the job is handed over, while the child works (a figure drawn meanwhile).
     """
     executor, shared = solver_process()
     job = next(_JOBS)
     future = executor.submit(_run_in_child, job, function, args)
+    if meanwhile is not None:
+        meanwhile()
     seen = -1
     while True:
         try:

@@ -26,6 +26,7 @@ import json
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -315,35 +316,35 @@ def solve_curve(
     cancel: Callable[[], bool] | None = None,
     in_process: bool = True,
 ) -> Any:
-    """The ReflectionLibrary of ``cell`` over ``inputs``: the preview's values first
-    (``on_preview(library)``), then the rest, in the solver's process (``in_process``
-    False: here). ``progress(done, total)`` counts values; raises
-    ``barymesh.mom.SolveCancelled`` when ``cancel()`` turns true."""
+    """The ReflectionLibrary of ``cell`` over ``inputs``: the preview's values first, then
+    the rest, in the solver's process (``in_process`` False: here); ``on_preview(library)``
+    of the preview's values is called while the rest is solved. ``progress(done, total)``
+    counts values; raises ``barymesh.mom.SolveCancelled`` when ``cancel()`` turns true."""
     from barymesh.app.panels.array_sweep import in_solver_process
 
     values = inputs.values
     first, rest = passes(len(values))
     total = len(values)
-    parts = []
-    done = 0
-    for indices in (first, rest):
-        if not indices:
-            continue
-        chosen = tuple(values[i] for i in indices)
-        offset = done
+    chosen = tuple(values[i] for i in first)
 
-        def counted(k: int, _n: int, offset: int = offset) -> None:
-            if progress is not None:
-                progress(offset + k, total)
+    def counted(k: int, _n: int, offset: int = 0) -> None:
+        if progress is not None:
+            progress(offset + k, total)
 
-        if in_process:
-            part = in_solver_process(
-                solve_values, (cell, inputs, chosen), len(chosen), counted, cancel
-            )
-        else:
-            part = solve_values(cell, inputs, chosen, counted, cancel)
-        parts.append(part)
-        done += len(chosen)
-        if indices is first and rest and on_preview is not None:
-            on_preview(part)
-    return joined(parts, values)
+    def solve(part: tuple[float, ...], offset: int, meanwhile: Any = None) -> Any:
+        count = partial(counted, offset=offset)
+        if not in_process:
+            if meanwhile is not None:
+                meanwhile()
+            return solve_values(cell, inputs, part, count, cancel)
+        return in_solver_process(
+            solve_values, (cell, inputs, part), len(part), count, cancel, meanwhile
+        )
+
+    preview = solve(chosen, 0)
+    if not rest:
+        return joined([preview], values)
+    # the rest is solved in the child while the preview is drawn here
+    shown = None if on_preview is None else partial(on_preview, preview)
+    others = solve(tuple(values[i] for i in rest), len(first), shown)
+    return joined([preview, others], values)
