@@ -231,7 +231,7 @@ class ReflectionPhasePanel(QWidget):
         )
         self.polarization.activated.connect(lambda _i: self._edited())
         form.addRow("P&olarisation", self.polarization)
-        self.live = QCheckBox("&Live: follow the cell and the inputs", self)
+        self.live = QCheckBox("&Live: follow the cell", self)
         self.live.setChecked(True)
         self.live.setToolTip(
             "Solve again whenever the cell (a slider, the cell editor), the stack or an input "
@@ -260,7 +260,7 @@ class ReflectionPhasePanel(QWidget):
         )
         self.warnings.hide()
         col.addWidget(self.warnings)
-        self.stack_box = QGroupBox("Layers and ground plane (the Infinite array tab's)", self)
+        self.stack_box = QGroupBox("Layers and ground plane", self)
         self.stack_box.setToolTip(
             "Dielectric layers around the sheet, top first, and a ground plane under them: "
             "one stack with the Infinite array tab"
@@ -269,6 +269,10 @@ class ReflectionPhasePanel(QWidget):
         box.setContentsMargins(4, 4, 4, 4)
         self.stack_editor = StackEditor(self.stack_box)
         if self.stack_twin is not None:
+            shared = QLabel("One stack with the Infinite array tab.", self.stack_box)
+            shared.setWordWrap(True)
+            shared.setStyleSheet("color: #555555;")
+            box.addWidget(shared)
             self.stack_editor.set_stack(self.stack_twin.stack)
             self.stack_twin.changed.connect(partial(self._twin_changed, self.stack_editor))
             self.stack_editor.changed.connect(partial(self._twin_changed, self.stack_twin))
