@@ -277,3 +277,19 @@ def test_bad_range_is_said_in_a_line_and_the_curve_stays(window, qtbot):
         type_into(field, keep)  # the curve's inputs again: nothing to solve
         assert tab.error.text() == "" and tab.library is good
         assert tab._tokens["curve"] == token  # no solve was started
+
+
+def test_a_new_input_cancels_the_running_curve_and_its_result_is_dropped(window, qtbot):
+    tab = open_phase_tab(window, qtbot)
+    type_inputs(qtbot, tab, points=41)  # a long curve: 82 solves
+    qtbot.mouseClick(tab.run_button, Qt.MouseButton.LeftButton)
+    running = tab._tokens["curve"]
+    # 7 values at 11 GHz typed while it runs (Live): the long one is told to stop
+    with qtbot.waitSignal(tab.swept, timeout=TIMEOUT):
+        type_into(tab.points.lineEdit(), "7")
+        type_into(tab.frequency, "11")
+    assert running in tab.cancelled
+    qtbot.waitUntil(lambda: running in tab.stopped, timeout=TIMEOUT)  # it stopped early
+    assert len(tab.library.values) == 7 and tab.library.frequencies[0] == 11e9
+    want = direct(window, None, frequency=11e9)
+    np.testing.assert_allclose(tab.library.phase_deg, want.phase_deg, atol=1e-6)

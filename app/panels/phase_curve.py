@@ -161,7 +161,7 @@ def cell_with(cell: UnitCell, path: str, value: float) -> UnitCell:
     base = Base("cell", cell_to_dict(cell))
     try:
         return base.build(base.design({path: float(value)}))
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         text = str(exc)
         for prefix in ("study spec: ", f"axes.{path}: ", "cell: ", f"{path}: "):
             text = text.removeprefix(prefix)
