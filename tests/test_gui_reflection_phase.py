@@ -23,11 +23,12 @@ import pytest
 pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
-from app_user import choose, click_check_box, settle, type_into  # noqa: E402
+from app_user import choose, click_check_box, drag_slider, settle, type_into  # noqa: E402
 from PySide6.QtCore import Qt, QTimer  # noqa: E402
 from PySide6.QtWidgets import QApplication  # noqa: E402
 from test_gui_array_stack import type_cell  # noqa: E402
 
+from barymesh.app.panels.phase_curve import curve_key  # noqa: E402
 from barymesh.mom import Layer, Stack, reflection_library  # noqa: E402
 
 PATH = "elements[0].inner_radius"
@@ -99,6 +100,15 @@ def direct(window, stack, frequency=10e9, pol="TM", theta=0.0):
     cell = window.model.shown_state.visible
     incidence = {"theta": theta, "phi": 0.0, "pol": pol}
     return reflection_library(cell, PATH, VALUES, frequency, incidence=incidence, stack=stack)
+
+
+def curve_key_of(tab):
+    """What the curve shown depends on in its cell (all but the parameter)."""
+    return None if tab.curve_for is None else tab.curve_for[0]
+
+
+def curve_key_of_screen(tab):
+    return curve_key(tab.cell, PATH)
 
 
 def phase_line(tab):
@@ -219,11 +229,14 @@ def test_a_slider_re_solves_and_a_click_loads_that_cell(window, qtbot, tmp_path)
     add_board(qtbot, tab)
     type_inputs(qtbot, tab)
     run_and_wait(qtbot, tab)
-    # another value of the cell (the ring's width, typed in the Parameters panel): live
+    # another value of the cell (the ring's width, its slider dragged by mouse): live
+    row = window.controls.rows["patch_size"]
     with qtbot.waitSignal(tab.swept, timeout=TIMEOUT):
-        assert window.model.set_text("patch_size", "1.5")
+        drag_slider(row.slider, row.slider_spec.to_slider(1.5))
         settle(window, qtbot)
-    assert window.model.cell.elements[0].params.patch_size == 1.5
+    width = window.model.cell.elements[0].params.patch_size
+    assert 1.3 < width < 1.7  # 1 mm before
+    qtbot.waitUntil(lambda: curve_key_of(tab) == curve_key_of_screen(tab), timeout=TIMEOUT)
     want = direct(window, BOARD)
     np.testing.assert_allclose(tab.library.phase_deg, want.phase_deg, atol=1e-6)
     # a click on the curve's 3.5 mm point: that cell is the one on screen
