@@ -61,6 +61,7 @@ from barymesh.app.panels.controls import ControlsPanel
 from barymesh.app.panels.infinite_array_panel import InfiniteArrayPanel
 from barymesh.app.panels.layers_panel import LayersPanel
 from barymesh.app.panels.quality_panel import QualityPanel
+from barymesh.app.panels.reflection_phase_panel import ReflectionPhasePanel
 from barymesh.app.panels.solve_panel import SolvePanel
 from barymesh.app.panels.stats_panel import StatsPanel
 from barymesh.app.teach.teaching_tools import TeachingTools
@@ -195,6 +196,14 @@ class MainWindow(QMainWindow):
             self.model, self.solve_panel.show_array_current, self.solve_panel, host=self
         )
         self.solve_panel.add_page(self.array_panel, "&Infinite array")
+        self.phase_panel = ReflectionPhasePanel(
+            self.model,
+            self.solve_panel,
+            host=self,
+            stack_twin=self.array_panel.stack_editor,
+            tab_with=self.array_panel.curve_dock,
+        )
+        self.solve_panel.add_page(self.phase_panel, "Reflectio&n phase")
         self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
         # Quality: the quality report, its histograms and worst triangles (red layer)

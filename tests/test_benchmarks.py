@@ -431,6 +431,38 @@ def test_array_live_benchmark_sweeps_the_cell_after_a_mouse_drag(tmp_path: Path)
     assert "round" in proc.stdout and "unknowns" in proc.stdout
 
 
+def test_phase_live_benchmark_times_a_typed_frequency_preview_then_curve(tmp_path: Path) -> None:
+    """``phase_live.py --quick``: one frequency typed into the Reflection phase tab, after
+    which the preview (every 4th value and the last: 2 of 5) and then the 5-value curve come (no
+    time asserted), at the frequency typed."""
+    pytest.importorskip("pyvistaqt")
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "phase-live.json"
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "phase_live.py"), "--quick"]
+        + ["--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    assert doc["benchmark"] == "phase-live"
+    assert doc["targets"] == {
+        "time_to_preview_s": 0.5,
+        "time_to_curve_s": 1.5,
+        "longest_block_s": 0.1,
+    }
+    assert set(doc["met"]) == {"time_to_preview", "time_to_curve", "longest_block"}
+    (row,) = doc["rows"]
+    assert (row["values"], row["preview_values"], row["frequency_ghz"]) == (5, 2, 10.5)
+    assert row["time_to_curve_s"] >= row["time_to_preview_s"] > 0
+    assert row["time_to_curve_s"] >= row["worker_s"] > 0
+    assert 0 < row["covers_deg"] < 360 and row["longest_block_s"] > 0
+    assert "round 1" in proc.stdout
+
+
 def test_startup_benchmark_times_each_case_and_its_baseline(tmp_path: Path) -> None:
     """benchmarks/startup.py (one run a case, HEAD as the baseline) and its Performance
     table: every case has its times, the load average beside them and the baseline's."""

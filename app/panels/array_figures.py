@@ -53,6 +53,10 @@ class Picture:
         Device-pixel y (from the image's top) of the top and bottom of the axes.
     x_range : (2,) float
         Frequencies (GHz) at those ends; None-like (0, 0) for a figure without one.
+        (The Reflection phase tab's curve: the parameter's values, ``x_scale`` 1.)
+    x_scale : float
+        What one unit of the x axis is worth in the units :meth:`value_at` returns and
+        :meth:`widget_x` takes: 1e9 (GHz drawn, Hz meant), or 1 (a parameter in mm).
     """
 
     rgba: np.ndarray
@@ -61,27 +65,34 @@ class Picture:
     x_pixels: tuple[float, float] = (0.0, 0.0)
     y_pixels: tuple[float, float] = (0.0, 0.0)
     x_range: tuple[float, float] = (0.0, 0.0)
+    x_scale: float = 1e9
 
-    def frequency_at(self, x: float, y: float) -> float | None:
-        """Frequency (Hz) under widget pixel (x, y), or None outside the axes."""
+    def value_at(self, x: float, y: float) -> float | None:
+        """The x axis' value (times ``x_scale``) under widget pixel (x, y), or None
+        outside the axes."""
         px, py = x * self.ratio, y * self.ratio
         (x0, x1), (y0, y1), (f0, f1) = self.x_pixels, self.y_pixels, self.x_range
         if x1 <= x0 or not (x0 <= px <= x1 and y0 <= py <= y1):
             return None
-        hz = (f0 + (px - x0) / (x1 - x0) * (f1 - f0)) * 1e9
-        return hz if hz > 0 else None
+        return (f0 + (px - x0) / (x1 - x0) * (f1 - f0)) * self.x_scale
+
+    def frequency_at(self, x: float, y: float) -> float | None:
+        """Frequency (Hz) under widget pixel (x, y), or None outside the axes."""
+        hz = self.value_at(x, y)
+        return hz if hz is not None and hz > 0 else None
 
     def widget_x(self, hz: float) -> float:
-        """Widget pixel x of frequency ``hz`` (Hz)."""
+        """Widget pixel x of frequency ``hz`` (Hz; or of an x value, see ``x_scale``)."""
         (x0, x1), (f0, f1) = self.x_pixels, self.x_range
-        return (x0 + (hz / 1e9 - f0) / (f1 - f0) * (x1 - x0)) / self.ratio
+        return (x0 + (hz / self.x_scale - f0) / (f1 - f0) * (x1 - x0)) / self.ratio
 
     def widget_y_middle(self) -> float:
         """Widget pixel y half way down the axes."""
         return 0.5 * (self.y_pixels[0] + self.y_pixels[1]) / self.ratio
 
 
-def _figure(size: tuple[int, int], ratio: float) -> tuple[Any, Any]:
+def new_figure(size: tuple[int, int], ratio: float) -> tuple[Any, Any]:
+    """An Agg figure of ``size`` widget pixels at ``ratio`` device pixels each, and its canvas."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -90,7 +101,8 @@ def _figure(size: tuple[int, int], ratio: float) -> tuple[Any, Any]:
     return fig, FigureCanvasAgg(fig)
 
 
-def _rgba(canvas: Any) -> np.ndarray:
+def drawn_rgba(canvas: Any) -> np.ndarray:
+    """(H, W, 4) uint8: the canvas drawn."""
     canvas.draw()
     return np.asarray(canvas.buffer_rgba()).copy()
 
@@ -112,7 +124,7 @@ def phase_label(stack: Any) -> tuple[str, str | None]:
 def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Picture:
     """|R|, |T| (dB) and their phase against frequency of an ``ArraySweep`` (None: empty
     axes), ``size`` widget pixels (w, h) at ``ratio`` device pixels per pixel."""
-    fig, canvas = _figure(size, ratio)
+    fig, canvas = new_figure(size, ratio)
     w, h = max(size[0], 50), max(size[1], 50)
     left = min(0.3, 64.0 / w)  # 64 px: two lines of label and the ticks
     bottom = min(0.3, 38.0 / h)  # the ticks' labels and the axis' name
@@ -213,7 +225,7 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
         mag.set_xlim(f[0] - pad, f[-1] + pad)
     else:
         mag.text(0.5, 0.5, "no curve yet", transform=mag.transAxes, ha="center", fontsize=8)
-    rgba = _rgba(canvas)
+    rgba = drawn_rgba(canvas)
     height = rgba.shape[0]
     box_m, box_p = mag.get_window_extent(), ph.get_window_extent()
     return Picture(
@@ -249,7 +261,7 @@ def order_arrows(solution: Any) -> list[tuple[str, int, int, float, float]]:
 
 def draw_orders(solution: Any, size: tuple[int, int], ratio: float = 1.0) -> Picture:
     """The propagating orders of a ``PeriodicSolution`` (None: the bare screen) as arrows."""
-    fig, canvas = _figure(size, ratio)
+    fig, canvas = new_figure(size, ratio)
     fig.subplots_adjust(left=0.02, right=0.98, top=0.9, bottom=0.02)
     ax = fig.add_subplot()
     ax.set_xlim(-1.3, 1.3)
@@ -260,7 +272,7 @@ def draw_orders(solution: Any, size: tuple[int, int], ratio: float = 1.0) -> Pic
     ax.axhline(0.0, color="0.2", lw=3)
     if solution is None:
         ax.set_title("Floquet orders: click the curve", fontsize=8)
-        return Picture(_rgba(canvas), ratio, fig)
+        return Picture(drawn_rgba(canvas), ratio, fig)
     d = np.asarray(solution.incidence.direction, dtype=float)
     plane = d[:2] / np.linalg.norm(d[:2]) if np.hypot(*d[:2]) > 1e-12 else np.array([1.0, 0.0])
     ax.annotate(
@@ -293,4 +305,4 @@ def draw_orders(solution: Any, size: tuple[int, int], ratio: float = 1.0) -> Pic
     ax.text(-1.25, -1.12, "transmitted", fontsize=7, color=T_COLOR, va="bottom")
     ax.text(1.25, 1.12, "incident - -", fontsize=7, color="0.45", va="top", ha="right")
     ax.set_title(f"Floquet orders at {solution.frequency / 1e9:.4g} GHz", fontsize=8)
-    return Picture(_rgba(canvas), ratio, fig)
+    return Picture(drawn_rgba(canvas), ratio, fig)

@@ -353,14 +353,53 @@ def _forget_process(executor: ProcessPoolExecutor) -> None:
             _PROCESS = None
 
 
-def _sweep_in_child(job: int, mesh: TriMesh, inputs: ArrayInputs) -> ArraySweep:
+def _run_in_child(job: int, function: Callable[..., Any], args: tuple[Any, ...]) -> Any:
     shared = _CHILD[0]
     shared.done.value = 0
 
     def progress(done: int, _total: int) -> None:
         shared.done.value = done
 
-    return _sweep(mesh, inputs, progress, lambda: shared.cancelled.value >= job)
+    return function(*args, progress, lambda: shared.cancelled.value >= job)
+
+
+def in_solver_process(
+    function: Callable[..., Any],
+    args: tuple[Any, ...],
+    total: int,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+    meanwhile: Callable[[], None] | None = None,
+) -> Any:
+    """``function(*args, progress, cancel)`` in :func:`solver_process`, waited for here.
+
+    ``function`` is a module-level function (the child imports it by name) that calls
+    ``progress(done, total)`` as it goes and stops when ``cancel()`` turns true; here
+    ``progress(done, total)`` is called when its count moves, and ``cancel()`` is polled
+    every 50 ms and passed on. The Infinite array's sweeps and the Reflection phase tab's
+    curves both solve there, one job after the other. ``meanwhile()`` is called here once
+    the job is handed over, while the child works (a figure drawn meanwhile).
+    """
+    executor, shared = solver_process()
+    job = next(_JOBS)
+    future = executor.submit(_run_in_child, job, function, args)
+    if meanwhile is not None:
+        meanwhile()
+    seen = -1
+    while True:
+        try:
+            return future.result(timeout=0.05)
+        except TimeoutError:
+            pass
+        except BrokenProcessPool:
+            _forget_process(executor)
+            raise RuntimeError("the solver's process ended unexpectedly; run again") from None
+        if cancel is not None and cancel():
+            shared.cancelled.value = max(shared.cancelled.value, job)
+        done = int(shared.done.value)
+        if progress is not None and done != seen:
+            seen = done
+            progress(min(done, total), total)
 
 
 def _sweep(
@@ -479,24 +518,7 @@ def sweep_array(
     check_array_memory(mesh)  # too large: say so here, before the process builds tables
     if not in_process:
         return _sweep(mesh, inputs, progress, cancel)
-    executor, shared = solver_process()
-    job = next(_JOBS)
-    future = executor.submit(_sweep_in_child, job, mesh, inputs)
-    total, seen = len(inputs.frequencies), -1
-    while True:
-        try:
-            return future.result(timeout=0.05)
-        except TimeoutError:
-            pass
-        except BrokenProcessPool:
-            _forget_process(executor)
-            raise RuntimeError("the solver's process ended unexpectedly; run again") from None
-        if cancel is not None and cancel():
-            shared.cancelled.value = max(shared.cancelled.value, job)
-        done = int(shared.done.value)
-        if progress is not None and done != seen:
-            seen = done
-            progress(min(done, total), total)
+    return in_solver_process(_sweep, (mesh, inputs), len(inputs.frequencies), progress, cancel)
 
 
 @dataclass(frozen=True)
