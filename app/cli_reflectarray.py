@@ -114,8 +114,9 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError(f"-o {args.output}: expected {', '.join(OUTPUTS)}")
         check_folder(args.output)
     aperture = parse_aperture(args.aperture)
-    feed = parse_numbers(args.feed, "--feed", 3, "X,Y,Z in mm (0,0,150)")
-    beam = parse_numbers(args.beam, "--beam", 2, "THETA,PHI in degrees (20,0)")
+    x, y, z = parse_numbers(args.feed, "--feed", 3, "X,Y,Z in mm (0,0,150)")
+    theta, phi = parse_numbers(args.beam, "--beam", 2, "THETA,PHI in degrees (20,0)")
+    feed, beam = (x, y, z), (theta, phi)
     values, frequencies, stack = checked_library_inputs(args)
     if args.design_freq is not None:
         try:
