@@ -167,3 +167,29 @@ def test_importing_the_window_loads_no_scipy_submodule():
     found = heavy_modules("import barymesh.app.window_main")
     assert [m for m in found if m.startswith("scipy.")] == []
     assert "PySide6" in found  # the guard sees what the window does import
+
+
+def test_copying_a_stack_into_an_editor_leaves_the_solver_for_later():
+    """The Reflection phase tab copies the Infinite array tab's stack while the window is
+    built: showing a good stack must not read it back through barymesh.mom (0.7 s on the
+    GUI thread, which had pushed the first frame from 1.8 s to 2.5 s)."""
+    code = (
+        "import os, sys\n"
+        "from types import SimpleNamespace as NS\n"
+        "os.environ['QT_QPA_PLATFORM'] = 'offscreen'\n"
+        "from PySide6.QtWidgets import QApplication\n"
+        "app = QApplication([])\n"
+        "from barymesh.app.panels.stack_editor import StackEditor\n"
+        "editor = StackEditor()\n"
+        "layer = NS(thickness=1.575, eps_r=2.2, loss_tangent=0.0009, mu_r=1.0)\n"
+        "stack = NS(above=(), below=(layer,), ground=True, is_free_standing=False)\n"
+        "editor.set_stack(stack)\n"
+        "assert editor.stack is stack and not editor.error\n"
+        "assert editor.table.item(1, 1).text() == '1.575'\n"
+        "print('barymesh.mom' in sys.modules)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "False", out.stdout

@@ -273,7 +273,13 @@ class StackEditor(QWidget):
         return [r for r in self.rows if r is not SHEET]
 
     def set_stack(self, stack: Any) -> None:
-        """Show ``stack`` (None: no layers, no ground) and make it the good stack."""
+        """Show ``stack`` (None: no layers, no ground) and make it the good stack.
+
+        The stack is taken as it is, not read back from the rows it fills: it is good
+        already, and reading it would import :mod:`barymesh.mom` on the GUI thread (most
+        of a second), which the window's start-up must not wait for when the Reflection
+        phase tab copies the Infinite array tab's stack.
+        """
         above = [layer_row(x) for x in stack.above] if stack is not None else []
         below = [layer_row(x) for x in stack.below] if stack is not None else []
         self.rows = [*above, SHEET, *below]
@@ -281,7 +287,16 @@ class StackEditor(QWidget):
         self.ground.blockSignals(True)
         self.ground.setChecked(bool(stack is not None and stack.ground))
         self.ground.blockSignals(False)
-        self._apply()
+        self._mark_bad_cells(self.sheet_row)
+        self.error = ""
+        self.message.clear()
+        self.message.hide()
+        kept = None if stack is None or stack.is_free_standing else stack
+        if kept != self.stack:
+            self.stack = kept
+            self.sketch.set_stack(kept)
+            self.changed.emit(kept)
+        self.edited.emit()
 
     # -- the table ---------------------------------------------------------------------
 
