@@ -157,7 +157,7 @@ def baseline_env(rev: str, folder: Path) -> dict[str, str]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeats", type=int, default=7)
-    ap.add_argument("--json", type=Path, default=RESULTS / "startup-2026-12-04.json")
+    ap.add_argument("--json", type=Path, default=RESULTS / "startup-2026-12-05.json")
     ap.add_argument("--importtime", action="store_true", help="also write -X importtime reports")
     ap.add_argument("--baseline", metavar="REV", help="also time git revision REV, interleaved")
     ap.add_argument("--no-window", action="store_true", help="leave out the window's case")

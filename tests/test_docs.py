@@ -300,7 +300,7 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
         "quality-2026-12-02.json",
         "latency-big-2026-12-02.json",
         "latency-interaction-2026-12-04.json",
-        "startup-2026-12-04.json",
+        "startup-2026-12-05.json",
     ):
         assert result in performance
     # mesher, quality, solver, bempp-cl's, the window's dense rounds and its drags, wheel
@@ -314,7 +314,7 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     assert "layered-2026-12-03.json" in solving
     assert "convergence-2026-12-03.json" in solving
     assert "sweep-accuracy-2026-12-02.json" in solving
-    assert "periodic-2026-12-04.json" in solving
+    assert "periodic-2026-12-05.json" in solving
     assert "periodic-sweep-2026-12-02.json" in solving
     assert "array-live-2026-12-02.json" in solving
     # the method page's figures drawn from build_mesh at build time
