@@ -317,8 +317,8 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     assert "periodic-2026-12-05.json" in solving
     assert "periodic-sweep-2026-12-02.json" in solving
     assert "array-live-2026-12-02.json" in solving
-    # the method page's figures drawn from build_mesh at build time
-    for figure in ("subdivision.png", "rings.png"):
+    # the method page's figures drawn from build_mesh, and the reflectarray page's, at build time
+    for figure in ("subdivision.png", "rings.png", "reflectarray.png"):
         assert (html / "_images" / figure).is_file()
     # the API reference reaches the packages and the window's modules
     for module in ("barymesh", "barymesh.io", "barymesh.mom", "barymesh.cell", "barymesh.app.cli"):

@@ -89,7 +89,70 @@ def rings(path: Path) -> None:
     plt.close(fig)
 
 
-KINDS = {"subdivision": subdivision, "rings": rings}
+def reflectarray(path: Path) -> None:
+    """The page's reflectarray: its patch's S-curve, the 15 x 15 layout and the pattern."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from barymesh import reflectarray as ra
+    from barymesh.cell import cell_from_dict
+    from barymesh.mom import parse_stack, reflection_library
+
+    cell = cell_from_dict(
+        {
+            "format": "barymesh-cell",
+            "version": 1,
+            "lattice": {"rectangular": [15.0, 15.0]},
+            "elements": [
+                {"structure": "patch", "patch_size": 8.0, "subdivisions": 6, "position": [-6, -6]}
+            ],
+        }
+    )
+    lib = reflection_library(
+        cell,
+        "elements[0].patch_size",
+        np.linspace(6.0, 11.0, 6),
+        frequencies=10e9,
+        stack=parse_stack("1.575mm eps=2.2; ground"),
+    )
+    design = ra.design(lib, (15, 15), (0, 0, 150.0), (20.0, 0.0), 10e9)
+    one_bit = ra.design(lib, (15, 15), (0, 0, 150.0), (20.0, 0.0), 10e9, bits=1)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.0))
+    ax = axes[0]
+    ax.plot(lib.values, lib.phase_deg[:, 0], "o-", color="#1f5f8b")
+    ax.set_xlabel("patch size (mm)")
+    ax.set_ylabel("∠R (°), at the stack's top face", color="#1f5f8b")
+    twin = ax.twinx()
+    twin.plot(lib.values, lib.magnitude[:, 0], "s--", color="#c0392b", markersize=4)
+    twin.set_ylim(0, 1.05)
+    twin.set_ylabel("|R|", color="#c0392b")
+    covered = float(np.ptp(lib.phase_deg[:, 0]))
+    ax.set_title(f"S-curve at 10 GHz: covers {covered:.0f}° of 360°")
+    ax = axes[1]
+    xy = design.positions[:, :2]
+    dots = ax.scatter(xy[:, 0], xy[:, 1], c=design.parameter, s=40, marker="s", cmap="viridis")
+    fig.colorbar(dots, ax=ax, label="patch size (mm)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title("15 × 15 layout, feed at 150 mm")
+    ax = axes[2]
+    theta = np.linspace(-60.0, 60.0, 481)
+    for array, label in ((design, "continuous"), (one_bit, "1 bit")):
+        cut = array.pattern_db(np.abs(theta), np.where(theta < 0, 180.0, 0.0))
+        ax.plot(theta, cut, label=label)
+    ax.axvline(20.0, color="#888888", linestyle=":", linewidth=1)
+    ax.set_ylim(float(design.gain) - 40.0, float(design.gain) + 3.0)
+    ax.set_xlabel("θ in the plane φ = 0 (°)")
+    ax.set_ylabel("gain (dBi)")
+    ax.set_title(f"pattern: beam at {design.beam_direction[0]:.1f}°")
+    ax.legend(loc="lower left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+
+
+KINDS = {"subdivision": subdivision, "rings": rings, "reflectarray": reflectarray}
 
 
 class MeshFigure(SphinxDirective):
