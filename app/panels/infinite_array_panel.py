@@ -61,7 +61,6 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDockWidget,
     QFormLayout,
-    QGroupBox,
     QHBoxLayout,
     QHeaderView,
     QLabel,
@@ -91,13 +90,18 @@ from barymesh.app.panels.array_sweep import (
     solve_point,
     sweep_array,
 )
+from barymesh.app.panels.curve_tab_parts import (
+    add_messages,
+    add_note_and_show_button,
+    curve_area,
+    stack_group,
+)
 from barymesh.app.panels.frequency_band import FrequencyBand
 from barymesh.app.panels.solve_panel import (
     PANEL_WIDTH,
     SOLVER_GRADE_TIP,
     run_job,
 )
-from barymesh.app.panels.stack_editor import StackEditor
 
 log = logging.getLogger(__name__)
 
@@ -381,30 +385,12 @@ class InfiniteArrayPanel(QWidget):
         row.addWidget(self.live, 1)
         form.addRow(row)
         col.addWidget(self.inputs_box)
-        self.error = QLabel(self)
-        self.error.setStyleSheet("color: #d0021b;")
-        self.error.setWordWrap(True)
-        col.addWidget(self.error)
-        self.status = QLabel(self)
-        self.status.setWordWrap(True)
-        col.addWidget(self.status)
-        self.warnings = QLabel(self)  # the solver's warnings: visible, not modal
-        self.warnings.setWordWrap(True)
-        self.warnings.setTextFormat(Qt.TextFormat.RichText)
-        self.warnings.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.warnings.setStyleSheet(
-            "QLabel { background: #fff4e0; border: 1px solid #e0a040; padding: 4px; }"
-        )
-        self.warnings.hide()
-        col.addWidget(self.warnings)
+        shown = add_messages(self, col)  # the solver's warnings: visible, not modal
+        self.error, self.status, self.warnings = shown.error, shown.status, shown.warnings
         # the stack under Run and the messages: those stay above the dock's fold
-        self.stack_box = QGroupBox("Layers and ground plane", self)
-        self.stack_box.setToolTip(
-            "Dielectric layers around the sheet, top first, and a ground plane under them"
+        self.stack_box, box, self.stack_editor = stack_group(
+            self, "Dielectric layers around the sheet, top first, and a ground plane under them"
         )
-        box = QVBoxLayout(self.stack_box)
-        box.setContentsMargins(4, 4, 4, 4)
-        self.stack_editor = StackEditor(self.stack_box)
         self.stack_editor.changed.connect(self._stack_changed)
         # a good stack again: a refusal of it under Run goes (a bad one is said in the box)
         self.stack_editor.edited.connect(
@@ -412,22 +398,12 @@ class InfiniteArrayPanel(QWidget):
         )
         box.addWidget(self.stack_editor)
         col.addWidget(self.stack_box)
-        self.note = QLabel("No curve yet.", self)
-        self.note.setWordWrap(True)
-        col.addWidget(self.note)
-        self.show_curve_button = QPushButton("Show the &curve", self)
-        self.show_curve_button.setToolTip("Open the Array curve dock again")
+        self.note, self.show_curve_button = add_note_and_show_button(self, col, "Array curve")
         self.show_curve_button.clicked.connect(self.show_curve)
-        col.addWidget(self.show_curve_button)
-        self.curve_area = QWidget()
-        area = QVBoxLayout(self.curve_area)
-        area.setContentsMargins(2, 2, 2, 2)
-        # one line over the curve: what it is, or its warnings' kinds (always there, so
-        # that the curve does not move when a warning comes or goes)
-        self.curve_line = QLabel("No curve yet: Run in the Infinite array tab.", self.curve_area)
-        self.curve_line.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
-        self.curve_line.setStyleSheet("color: #555555;")
-        area.addWidget(self.curve_line)
+        # one line over the curve: what it is, or its warnings' kinds
+        self.curve_area, area, self.curve_line = curve_area(
+            "No curve yet: Run in the Infinite array tab."
+        )
         grow = self.host is not None
         self.plot = PictureView(230 if grow else 330, self.curve_area, grow=grow)
         self.plot.setToolTip("Click a frequency: the current and the Floquet orders there")

@@ -48,12 +48,10 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDockWidget,
     QFormLayout,
-    QGroupBox,
     QHBoxLayout,
     QLabel,
     QLineEdit,
     QPushButton,
-    QSizePolicy,
     QSpinBox,
     QVBoxLayout,
     QWidget,
@@ -63,6 +61,13 @@ from barymesh import TriMesh
 from barymesh.app.jobs import Jobs, Task
 from barymesh.app.model.solve_inputs import read_frequency
 from barymesh.app.panels.array_sweep import lattice_vectors
+from barymesh.app.panels.curve_tab_parts import (
+    GREY,
+    add_messages,
+    add_note_and_show_button,
+    curve_area,
+    stack_group,
+)
 from barymesh.app.panels.infinite_array_panel import PictureView, read_angle
 from barymesh.app.panels.phase_curve import (
     MAX_VALUES,
@@ -245,33 +250,17 @@ class ReflectionPhasePanel(QWidget):
         row.addWidget(self.live, 1)
         form.addRow(row)
         col.addWidget(self.inputs_box)
-        self.error = QLabel(self)
-        self.error.setStyleSheet("color: #d0021b;")
-        self.error.setWordWrap(True)
-        col.addWidget(self.error)
-        self.status = QLabel(self)
-        self.status.setWordWrap(True)
-        col.addWidget(self.status)
-        self.warnings = QLabel(self)
-        self.warnings.setWordWrap(True)
-        self.warnings.setTextFormat(Qt.TextFormat.RichText)
-        self.warnings.setStyleSheet(
-            "QLabel { background: #fff4e0; border: 1px solid #e0a040; padding: 4px; }"
-        )
-        self.warnings.hide()
-        col.addWidget(self.warnings)
-        self.stack_box = QGroupBox("Layers and ground plane", self)
-        self.stack_box.setToolTip(
+        shown = add_messages(self, col)
+        self.error, self.status, self.warnings = shown.error, shown.status, shown.warnings
+        self.stack_box, box, self.stack_editor = stack_group(
+            self,
             "Dielectric layers around the sheet, top first, and a ground plane under them: "
-            "one stack with the Infinite array tab"
+            "one stack with the Infinite array tab",
         )
-        box = QVBoxLayout(self.stack_box)
-        box.setContentsMargins(4, 4, 4, 4)
-        self.stack_editor = StackEditor(self.stack_box)
         if self.stack_twin is not None:
             shared = QLabel("One stack with the Infinite array tab.", self.stack_box)
             shared.setWordWrap(True)
-            shared.setStyleSheet("color: #555555;")
+            shared.setStyleSheet(GREY)
             box.addWidget(shared)
             self.stack_editor.set_stack(self.stack_twin.stack)
             self.stack_twin.changed.connect(partial(self._twin_changed, self.stack_editor))
@@ -279,20 +268,11 @@ class ReflectionPhasePanel(QWidget):
         self.stack_editor.changed.connect(lambda _s: self._edited())
         box.addWidget(self.stack_editor)
         col.addWidget(self.stack_box)
-        self.note = QLabel("No curve yet.", self)
-        self.note.setWordWrap(True)
-        col.addWidget(self.note)
-        self.show_curve_button = QPushButton("Show the &curve", self)
-        self.show_curve_button.setToolTip("Open the Phase curve dock again")
+        self.note, self.show_curve_button = add_note_and_show_button(self, col, "Phase curve")
         self.show_curve_button.clicked.connect(self.show_curve)
-        col.addWidget(self.show_curve_button)
-        self.curve_area = QWidget()
-        area = QVBoxLayout(self.curve_area)
-        area.setContentsMargins(2, 2, 2, 2)
-        self.curve_line = QLabel("No curve yet: Run in the Reflection phase tab.", self.curve_area)
-        self.curve_line.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Fixed)
-        self.curve_line.setStyleSheet("color: #555555;")
-        area.addWidget(self.curve_line)
+        self.curve_area, area, self.curve_line = curve_area(
+            "No curve yet: Run in the Reflection phase tab."
+        )
         grow = self.host is not None
         self.plot = PhaseCurveView(230 if grow else 330, self.curve_area, grow=grow)
         self.plot.setToolTip("Click a point of the curve: that cell becomes the one on screen")
