@@ -75,9 +75,19 @@ def blend(colour, opacity, over="#ffffff"):
     return tuple(int(round(v)) for v in opacity * a + (1 - opacity) * b)
 
 
-def share(image, plotter, corners, colour, tol=40, samples=7, renderer=None):
+def _inside(p, corners) -> bool:
+    """Whether ``p`` lies inside the triangle ``corners`` (their x and y)."""
+    a, b, c = (np.asarray(v, dtype=float)[:2] for v in corners)
+    m = np.column_stack([b - a, c - a])
+    u, v = np.linalg.solve(m, np.asarray(p, dtype=float)[:2] - a)
+    return u >= 0 and v >= 0 and u + v <= 1
+
+
+def share(image, plotter, corners, colour, tol=40, samples=7, renderer=None, outside=None):
     """Fraction of sample points inside the triangle ``corners`` (3, 3) whose pixel is
-    within ``tol`` of ``colour`` (the samples avoid the triangle's edges)."""
+    within ``tol`` of ``colour`` (the samples avoid the triangle's edges); with
+    ``outside`` (another triangle's corners), the samples under that triangle are left out
+    (an overlapping triangle drawn on top)."""
     corners = np.asarray(corners, dtype=float)
     hits = total = 0
     for i in range(1, samples):
@@ -85,6 +95,8 @@ def share(image, plotter, corners, colour, tol=40, samples=7, renderer=None):
             k = samples - i - j
             w = np.array([i, j, k], dtype=float) / samples
             p = w @ corners
+            if outside is not None and _inside(p, outside):
+                continue
             total += 1
             hits += near(pixel(image, plotter, p, renderer), colour, tol)
     return hits / max(total, 1)
