@@ -276,7 +276,9 @@ def test_a_dask_client_gives_the_same_library(lib, stack):
         on_dask = reflection_library(
             patch_cell(), PARAMETER, VALUES[:2], FREQUENCIES[:1], stack=stack, client=client
         )
-    np.testing.assert_array_equal(on_dask.reflection, lib.reflection[:2, :1])
+    # here TE and TM share one LU (two right-hand sides); the study engine solves them as
+    # two points: the same numbers to rounding
+    np.testing.assert_allclose(on_dask.reflection, lib.reflection[:2, :1], rtol=0, atol=1e-12)
 
 
 # -- the command line -------------------------------------------------------------------

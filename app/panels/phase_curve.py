@@ -37,7 +37,7 @@ from barymesh.cell import UnitCell, cell_to_dict
 
 #: The first pass solves every this-many-th value (and the last): the preview curve.
 PREVIEW_STEP = 4
-#: Most values a curve takes (each is two solves, TE and TM).
+#: Most values a curve takes (each is one fill, solved for TE and TM incidence).
 MAX_VALUES = 201
 #: An element's parameters that set how it is meshed, not its shape.
 MESH_SETTINGS = frozenset(

@@ -17,9 +17,11 @@ sheet (0 for a cell without layers above it).
 
 The points are those of a design study (:mod:`barymesh.study`): the parameter is a path
 as a study's axis names it (``elements[0].patch_size``, ``stack.below[0].thickness``,
-``incidence.theta``), set in the cell by the study's own code, and each point is solved
-by :func:`barymesh.study.point.solve_point`, in this process or, given a Dask ``client``,
-by :func:`barymesh.study.run` on its cluster: the same numbers either way.
+``incidence.theta``), set in the cell by the study's own code. In this process each
+value's TE and TM incidence are solved from one fill of its matrix
+(:func:`barymesh.study.point.solve_both_polarizations`); given a Dask ``client``, each
+(value, polarisation) is a point of :func:`barymesh.study.run` on its cluster. The numbers
+agree to rounding (one LU with two right-hand sides against two).
 """
 
 from __future__ import annotations
@@ -439,8 +441,9 @@ def reflection_library(
         (:func:`barymesh.study.run`; needs the ``study`` extra). Without it they are
         solved here, one after the other.
 
-    Both incident polarisations are solved at every point (two solves of the point), so
-    that :attr:`ReflectionLibrary.reflection` is the whole 2 × 2.
+    Both incident polarisations are solved at every point, so that
+    :attr:`ReflectionLibrary.reflection` is the whole 2 × 2: here from one fill and one
+    LU per value and frequency (two right-hand sides), on a cluster as two points.
 
     Returns
     -------
@@ -470,7 +473,7 @@ def reflection_library(
     True
     """
     from ..cell import UnitCell, cell_to_dict
-    from ..study.point import StudyContext
+    from ..study.point import StudyContext, solve_both_polarizations
     from ..study.spec import Base, Solve
 
     if not isinstance(cell, UnitCell):
@@ -491,13 +494,20 @@ def reflection_library(
         interpolate=True,
     )
     context = StudyContext(base, solve, (), stack)
-    points = [{parameter: float(x), "incidence.pol": pol} for x in v for pol in POLARIZATIONS]
-    if client is None:
-        outcomes = _solve_here(context, points)
-    else:
-        outcomes = _solve_on(client, context, points)
     reflection = np.empty((len(v), len(f), 2, 2), dtype=complex)
     warnings: dict[str, None] = {}
+    if client is None:
+        # TE and TM of a value from one fill (the same matrix): half the work of two points
+        for i, x in enumerate(v):
+            point = {parameter: float(x), "incidence.pol": inc["pol"]}
+            status, r_both, notes = solve_both_polarizations(context, point)
+            if r_both is None:
+                raise ValueError(f"{parameter}={float(x):g}: the solve failed: {status}")
+            reflection[i] = r_both
+            warnings.update(dict.fromkeys(notes))
+        return _library(parameter, v, f, reflection, inc, stack, tuple(warnings), cell)
+    points = [{parameter: float(x), "incidence.pol": pol} for x in v for pol in POLARIZATIONS]
+    outcomes = _solve_on(client, context, points)
     for n, (point, (status, table, notes)) in enumerate(zip(points, outcomes, strict=True)):
         if status != "ok":
             raise ValueError(f"{parameter}={point[parameter]:g}: the solve failed: {status}")
@@ -514,11 +524,25 @@ def reflection_library(
         )
         reflection[i, :, :, k] = r / c[k]
         warnings.update(dict.fromkeys(notes))
+    return _library(parameter, v, f, reflection, inc, stack, tuple(warnings), cell)
+
+
+def _library(
+    parameter: str,
+    v: np.ndarray,
+    f: np.ndarray,
+    reflection: np.ndarray,
+    inc: dict[str, Any],
+    stack: Stack | None,
+    warnings: tuple[str, ...],
+    cell: UnitCell,
+) -> ReflectionLibrary:
+    """The library of the solved points, its arrays read-only."""
     top = 0.0 if stack is None else stack.reference_planes[0]
     for a in (v, f, reflection):
         a.setflags(write=False)
     return ReflectionLibrary(
-        parameter, v, f, reflection, inc["pol"], inc, top, stack, tuple(warnings), cell
+        parameter, v, f, reflection, inc["pol"], inc, top, stack, warnings, cell
     )
 
 
@@ -533,17 +557,6 @@ def _wave(inc: dict[str, Any], point: dict[str, Any], parameter: str, pol: str) 
 
 
 Outcome = tuple[str, dict[str, np.ndarray], tuple[str, ...]]
-
-
-def _solve_here(context: Any, points: list[dict[str, Any]]) -> list[Outcome]:
-    """Each point by :func:`barymesh.study.point.solve_point`, in this process."""
-    from ..study.point import solve_point
-
-    out = []
-    for i, values in enumerate(points):
-        p = solve_point(context, i, values)
-        out.append((p.status, p.table, p.warnings))
-    return out
 
 
 def _solve_on(client: Any, context: Any, points: list[dict[str, Any]]) -> list[Outcome]:

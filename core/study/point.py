@@ -200,6 +200,52 @@ def solve_point(
     )
 
 
+def solve_both_polarizations(
+    context: StudyContext, values: dict[str, Any]
+) -> tuple[str, np.ndarray | None, tuple[str, ...]]:
+    """The (0, 0) order's full 2 × 2 TE/TM reflection of an infinite-array point, TE and
+    TM incidence solved from one fill of the matrix.
+
+    :func:`solve_point` solves the one polarisation its values name; a reflection library
+    needs both at every point, and both see the same matrix (the same cell, frequency and
+    incidence direction), so they are solved together here
+    (:func:`barymesh.mom.periodic_sweep` with ``polarizations="both"``): one fill and one
+    LU per frequency instead of two.
+
+    Returns
+    -------
+    status : str
+        ``"ok"``, or the error (one line) that stopped the point, as :func:`solve_point`
+        gives it.
+    reflection : (F, 2, 2) complex or None
+        R[f, out, in] at the stack's top face; columns and rows TE, then TM (incident
+        fields of unit amplitude along :func:`barymesh.mom.floquet.te_tm_polarizations`).
+    warnings : tuple of str
+        The sweep's.
+    """
+    from ..mom.periodic_sweep import periodic_sweep
+
+    if context.solve.kind != "infinite_array":
+        raise ValueError("both polarisations are solved for the infinite array only")
+    try:
+        item = design(context, values)
+        wave = incidence_wave(context, values)
+        stack = point_stack(context.stack, values)
+        mesh = _mesh(item)
+        r = periodic_sweep(
+            mesh,
+            np.asarray(context.solve.frequencies),
+            wave,
+            interpolate=context.solve.interpolate,
+            polarizations="both",
+            memory_limit=context.solve.memory_limit,
+            stack=stack,
+        )
+    except (ValueError, TypeError, MemoryError, ArithmeticError) as exc:
+        return one_line(exc), None, ()
+    return "ok", r.order_reflection[:, 0, :, :], tuple(r.warnings)
+
+
 def _mesh(item: Any) -> Any:
     from ..build import build_mesh
     from ..params import MeshParams
