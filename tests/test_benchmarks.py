@@ -495,3 +495,29 @@ def test_startup_benchmark_times_each_case_and_its_baseline(tmp_path: Path) -> N
         sys.path.remove(str(ROOT / "docs" / "_ext"))
     head, rows, note = benchmark_tables.startup(doc)
     assert len(rows) == 6 and "load average" in head and "Before: the same case on HEAD" in note
+
+
+def test_library_benchmark_solves_both_ways_and_they_agree(tmp_path: Path) -> None:
+    """``library.py --quick``: 4 patch sizes on the grounded substrate, one fill per value
+    against two points per value; the script refuses to write unless they agree to 1e-12
+    of max |R| (no time asserted)."""
+    out = tmp_path / "library.json"
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "library.py"), "--quick"] + ["--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(out.read_text())
+    assert doc["benchmark"] == "library"
+    assert doc["library"]["values_mm"] == [5.0, 9.5, 4]
+    assert doc["library"]["largest_unknowns"] > 100
+    rows = doc["rows"]
+    assert set(rows) == {"here", "two_points"}  # no cluster in --quick
+    assert rows["two_points"]["largest_difference_to_here"] <= 1e-12
+    assert rows["here"]["wall_s"] > 0 and rows["two_points"]["wall_s"] > 0
+    # a patch over a ground plane: its phase moves with its size, less than a full turn
+    assert 90 < doc["library"]["covers_deg"] < 360
+    assert "one fill for TE and TM" in proc.stdout

@@ -309,8 +309,10 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     solving = (html / "solving.html").read_text(encoding="utf-8")
     # validation, infinite-array validation, and the edge-refinement, infinite-array
     # speed, sweep accuracy, infinite-array sweep, live infinite-array and convergence
-    # tables made at build time, and the layered media's validation, convergence and speed
-    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 11
+    # tables made at build time, the layered media's validation, convergence and speed, and
+    # the reflection-phase library's
+    assert "grading-2026-12-02.json" in solving and solving.count("<table") == 12
+    assert "library-2026-12-06.json" in solving
     assert "layered-2026-12-03.json" in solving
     assert "convergence-2026-12-03.json" in solving
     assert "sweep-accuracy-2026-12-02.json" in solving
