@@ -222,7 +222,12 @@ def _commands(path: Path) -> list[str]:
 
 @pytest.mark.parametrize(
     "path",
-    [README, ROOT / "docs" / "formats-cli.md", ROOT / "docs" / "solving.md"],
+    [
+        README,
+        ROOT / "docs" / "formats-cli.md",
+        ROOT / "docs" / "solving.md",
+        ROOT / "docs" / "reflectarray.md",
+    ],
     ids=lambda p: p.name,
 )
 def test_documented_commands_parse_and_name_real_presets_and_parameters(path):
@@ -246,7 +251,8 @@ def test_documented_commands_parse_and_name_real_presets_and_parameters(path):
         for item in getattr(args, "set", None) or []:
             assert item.split("=", 1)[0] in names, f"{path.name}: {line}"
         checked += 1
-    assert checked >= 4, f"{path.name}: expected its command examples to be found"
+    fewest = 1 if path.name == "reflectarray.md" else 4  # that page shows its one verb
+    assert checked >= fewest, f"{path.name}: expected its command examples to be found"
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: str(p.relative_to(ROOT)))
