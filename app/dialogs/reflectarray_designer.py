@@ -16,8 +16,9 @@ search of the beam, the continuous design a quantised one is compared with), so 
 and its picture are made by a worker of the window's :class:`~barymesh.app.jobs.Jobs`; a
 result older than the latest request is dropped by its token. A bad input is one red line
 naming the field, and the last good design stays. **Open as cell** makes the whole array
-one unit cell (:meth:`barymesh.reflectarray.Reflectarray.to_cell`) and opens it in the
-window, where it is saved, meshed and exported (DXF, GDSII, meshes) as any cell.
+one unit cell (:meth:`barymesh.reflectarray.Reflectarray.to_cell`, in a worker: a second
+for 15 × 15 elements) and opens it in the window, where it is saved, meshed and exported
+(DXF, GDSII, meshes) as any cell.
 """
 
 from __future__ import annotations
@@ -70,6 +71,8 @@ class ReflectarrayDesigner(QDialog):
 
     #: a design (a DesignResult) is shown
     designed = Signal(object)
+    #: the design was opened in the window as this unit cell
+    opened = Signal(object)
 
     def __init__(
         self, open_cell: Callable[[Any, str], None] | None = None, parent: QWidget | None = None
@@ -82,7 +85,7 @@ class ReflectarrayDesigner(QDialog):
         self.result: Any = None  # the DesignResult shown
         self.requested: DesignInputs | None = None
         self.jobs = Jobs(self, name="barymesh-reflectarray")
-        self._tokens = {"design": 0, "draw": 0}
+        self._tokens = {"design": 0, "draw": 0, "cell": 0}
         self._build()
         self.resize(*DESIGNER_SIZE)
 
@@ -257,23 +260,35 @@ class ReflectarrayDesigner(QDialog):
     # -- the array as a cell -----------------------------------------------------------
 
     def open_as_cell(self) -> bool:
-        """Open the design shown as one unit cell in the window; False and a red line if
-        it cannot be one."""
+        """Open the design shown as one unit cell in the window: the cell is made by a
+        worker (a second for 15 × 15 elements, each element's parameters checked), then
+        opened; False if there is no design (a refusal comes as a red line)."""
         result = self.result
         if result is None or self.open_cell is None:
             return False
-        try:
-            cell = result.array.to_cell()
-        except ValueError as exc:
-            self.error.setText(f"Cannot open the array as a cell: {exc}")
-            return False
         self.error.clear()
-        n1, n2 = result.array.aperture
-        self.open_cell(cell, f"The reflectarray's {n1} × {n2} elements as one cell")
-        self.status.setText(
-            f"Opened as a cell of {n1 * n2} elements: save or export it from the window."
-        )
+        self._tokens["cell"] += 1
+        token = self._tokens["cell"]
+        array = result.array
+        n1, n2 = array.aperture
+        self.open_button.setEnabled(False)
+        self.status.setText(f"Making the cell of {n1 * n2} elements…")
+        self.jobs.submit(lambda: run_job(token, None, "cell", array.to_cell), self._cell_made)
         return True
+
+    def _cell_made(self, outcome: Any) -> None:
+        self.open_button.setEnabled(self.result is not None)
+        if outcome.token != self._tokens["cell"] or self.open_cell is None:
+            return
+        if outcome.error is not None:
+            self.status.clear()
+            self.error.setText(f"Cannot open the array as a cell: {outcome.error}")
+            return
+        cell = outcome.result
+        n = len(cell.elements)
+        self.open_cell(cell, f"The reflectarray's {n} elements as one cell")
+        self.status.setText(f"Opened as a cell of {n} elements: save or export it from the window.")
+        self.opened.emit(cell)
 
     def keyPressEvent(self, event: Any) -> None:  # noqa: N802 - Qt's name
         # Enter in a field designs (its returnPressed); it must not close the dialog
