@@ -221,3 +221,33 @@ def test_opening_a_15_by_15_array_keeps_the_event_loop_ticking(designed, window,
     assert window.model.result.mesh.n_triangles > 225 * 100
     gaps = np.diff(beats)
     assert len(gaps) > 20 and gaps.max() < OPEN_GAP, np.sort(gaps)[-3:]
+
+
+def test_a_new_curve_is_designed_again_and_a_lattice_curve_is_no_cell(
+    designed, window, qtbot, tmp_path
+):
+    tab, designer = designed
+    first = designer.result
+    # 11 GHz typed in the tab (Live): the new whole curve is designed at once
+    with qtbot.waitSignal(designer.designed, timeout=TIMEOUT) as blocker:
+        type_into(tab.frequency, "11")
+    shown = blocker.args[0]
+    assert designer.library is tab.library and tab.library.frequencies[0] == 11e9
+    assert shown.array.frequency == 11e9 and shown is not first
+    want = design(tab.library, (15, 15), (0.0, 0.0, 150.0), (20.0, 0.0), 11e9)
+    assert_same_design(shown.array, want)
+    assert "at 11 GHz" in designer.library_line.text()
+    save_shot(tab, tmp_path, "reflection_phase_tab_with_designer_button")
+    # a curve over the lattice's period: designed, but no cell of one lattice holds it
+    choose(tab.parameter, "lattice.hexagonal")
+    type_into(tab.points.lineEdit(), "2")
+    with qtbot.waitSignal(designer.designed, timeout=TIMEOUT):
+        qtbot.mouseClick(tab.run_button, Qt.MouseButton.LeftButton)
+    assert designer.result.array.library.parameter == "lattice.hexagonal"
+    cell = window.model.cell
+    qtbot.mouseClick(designer.open_button, Qt.MouseButton.LeftButton)
+    qtbot.waitUntil(lambda: designer.error.text() != "", timeout=TIMEOUT)
+    assert designer.error.text().startswith("Cannot open the array as a cell: ")
+    assert "\n" not in designer.error.text()
+    assert window.model.cell is cell  # the window keeps its cell
+    assert designer.open_button.isEnabled()
