@@ -125,6 +125,17 @@ def test_the_designer_draws_what_design_gives_for_the_typed_inputs(designed, qtb
     assert len(designer.plot.figure.axes[2].lines[0].get_xdata()) > 100  # continuous, grey
     shot = save_shot(designer, tmp_path, "reflectarray_designer")
     assert shot.stat().st_size > 20_000
+    # a smaller window: the picture is drawn again at the view's new size, the same design
+    designer.resize(820, 680)
+
+    def fits():
+        (w, h), ratio = designer.plot.request_size()
+        rgba = designer.plot.picture.rgba
+        return abs(rgba.shape[1] - w * ratio) <= 2 and abs(rgba.shape[0] - h * ratio) <= 2
+
+    qtbot.waitUntil(fits, timeout=TIMEOUT)
+    assert designer.result is shown
+    save_shot(designer, tmp_path, "reflectarray_designer_small")
     # typed: 9 x 7 elements, the feed off the centre, the beam at 25°, 30°, 2 bits
     for field, text in (
         (designer.n1, "9"),
