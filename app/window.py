@@ -202,6 +202,7 @@ class MainWindow(QMainWindow):
             host=self,
             stack_twin=self.array_panel.stack_editor,
             tab_with=self.array_panel.curve_dock,
+            open_cell=lambda cell, message: self.cell_tools.open_cell(cell, message),
         )
         self.solve_panel.add_page(self.phase_panel, "Reflectio&n phase")
         self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)

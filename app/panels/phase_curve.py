@@ -284,7 +284,7 @@ def solve_values(
 
 def joined(parts: list[Any], values: tuple[float, ...]) -> Any:
     """One ReflectionLibrary of the libraries ``parts`` (one frequency, the same inputs),
-    its values in the order of ``values``: the one call's."""
+    its values in the order of ``values``: the one call's, the first part's cell kept."""
     from barymesh.mom import ReflectionLibrary
 
     have = np.concatenate([p.values for p in parts])
@@ -305,6 +305,7 @@ def joined(parts: list[Any], values: tuple[float, ...]) -> Any:
         first.reference_plane,
         first.stack,
         tuple(notes),
+        first.cell,  # the designer builds its elements from it (Reflectarray.to_cell)
     )
 
 

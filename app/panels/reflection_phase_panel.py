@@ -28,6 +28,12 @@ only in the parameter itself keeps the curve and moves the mark.
 A click on the curve loads the cell of the nearest value solved: the model's cell takes
 that value (one undo step, as an edit in the cell editor), and the window meshes it.
 
+Once a whole curve is shown, **Design reflectarray…** opens the reflectarray designer on
+it (:mod:`barymesh.app.dialogs.reflectarray_designer`, made and imported when first
+opened); a new whole curve is handed to it while it is open. Its **Open as cell** opens
+the array in the window through ``open_cell`` and turns Live off first (the array is not
+the curve's cell, and its curve would be a long solve).
+
 A bad input (a range the cell refuses, a frequency that is no number) is said in one red
 line under the inputs; the last good curve stays. Without a cell the tab says why in one
 line and its inputs are disabled.
@@ -38,6 +44,7 @@ from __future__ import annotations
 import html
 import logging
 import threading
+from collections.abc import Callable
 from functools import partial
 from typing import Any
 
@@ -134,6 +141,9 @@ class ReflectionPhasePanel(QWidget):
         The Infinite array tab's stack editor: the two show one stack.
     tab_with : QDockWidget, optional
         A dock the curve's dock is tabbed with (the Array curve).
+    open_cell : callable, optional
+        ``open_cell(cell, message)``: the window opens a unit cell (the reflectarray
+        designer's **Open as cell**).
     """
 
     #: the preview (a ReflectionLibrary of the first pass's values) shown
@@ -148,9 +158,12 @@ class ReflectionPhasePanel(QWidget):
         host: Any = None,
         stack_twin: StackEditor | None = None,
         tab_with: QDockWidget | None = None,
+        open_cell: Callable[[Any, str], None] | None = None,
     ) -> None:
         super().__init__(parent)
         self.model = model
+        self.open_cell = open_cell
+        self.designer: Any = None  # the reflectarray designer, made when first opened
         self.host = host
         self.stack_twin = stack_twin
         self.curve_dock: QDockWidget | None = None
@@ -270,6 +283,14 @@ class ReflectionPhasePanel(QWidget):
         col.addWidget(self.stack_box)
         self.note, self.show_curve_button = add_note_and_show_button(self, col, "Phase curve")
         self.show_curve_button.clicked.connect(self.show_curve)
+        self.design_button = QPushButton("Design reflectarra&y…", self)
+        self.design_button.setToolTip(
+            "Lay a reflectarray out from this curve: its elements' parameters, phase errors "
+            "and pattern (a window of its own)"
+        )
+        self.design_button.setEnabled(False)  # until a whole curve is solved
+        self.design_button.clicked.connect(self.open_designer)
+        col.addWidget(self.design_button)
         self.curve_area, area, self.curve_line = curve_area(
             "No curve yet: Run in the Reflection phase tab."
         )
@@ -564,6 +585,9 @@ class ReflectionPhasePanel(QWidget):
         self.plot.show_picture(picture)
         self.status.setText(f"Done in {outcome.seconds:.2f} s.")
         self._describe(library)
+        self.design_button.setEnabled(True)
+        if self.designer is not None and self.designer.isVisible():
+            self.designer.set_library(library)  # the designer follows the curve
         self.swept.emit(library)
         # the cell may have moved while the curve was solved: its mark follows
         marked = self._value_on_screen(inputs.parameter)
@@ -590,6 +614,33 @@ class ReflectionPhasePanel(QWidget):
         else:
             self.warnings.clear()
             self.warnings.hide()
+
+    # -- the reflectarray designer -------------------------------------------------------
+
+    def open_designer(self) -> Any:
+        """Open (and raise) the reflectarray designer on the whole curve shown; it is
+        made the first time (its modules imported then)."""
+        if self.library is None:
+            return None
+        if self.designer is None:
+            from barymesh.app.dialogs.reflectarray_designer import ReflectarrayDesigner
+
+            self.designer = ReflectarrayDesigner(self._open_array_cell, self)
+        self.designer.set_library(self.library)
+        self.designer.show()
+        self.designer.raise_()
+        self.designer.activateWindow()
+        return self.designer
+
+    def _open_array_cell(self, cell: Any, message: str) -> None:
+        """The designer's array opened as the window's cell: Live goes off first (the
+        curve is the library's cell's, not the array's, whose curve would be long)."""
+        if self.open_cell is None:
+            return
+        if self.live.isChecked():
+            self.live.setChecked(False)
+            self.status.setText("Live is off: the cell on screen is the reflectarray.")
+        self.open_cell(cell, message)
 
     # -- the cell ----------------------------------------------------------------------
 
@@ -653,4 +704,5 @@ class ReflectionPhasePanel(QWidget):
             self.model.result_changed.disconnect(self._mesh_changed)
         except (RuntimeError, ValueError):
             pass
-        return self.jobs.wait(msecs) and self.draw_jobs.wait(msecs)
+        designed = self.designer is None or self.designer.stop(msecs)
+        return self.jobs.wait(msecs) and self.draw_jobs.wait(msecs) and designed
