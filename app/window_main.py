@@ -132,7 +132,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 class ScriptedRun:
-    """``--screenshot`` / ``--quit``: wait for the first mesh, grab, save, maybe exit."""
+    """``--screenshot`` / ``--quit``: wait for the first mesh's first paint, grab, save,
+    maybe exit."""
 
     def __init__(self, window: MainWindow, screenshot: str | None, quit_after: bool) -> None:
         self.window, self.path, self.quit_after = window, screenshot, quit_after
@@ -146,7 +147,16 @@ class ScriptedRun:
 
     def _poll(self) -> None:
         w = self.window
-        ready = w.model.result is not None and not w.controller.busy and w.isVisible()
+        result = w.model.result
+        ready = (
+            result is not None
+            and not w.controller.busy
+            and w.isVisible()
+            # the view has painted this mesh (--quit after the first frame, not before it)
+            and w.presenter.shown_scene is result.scene
+            and not w.presenter.paint_pending
+            and w.paint_counter.paints > 0
+        )
         if not ready and time.monotonic() < self.deadline:
             return
         self.timer.stop()

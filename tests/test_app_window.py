@@ -266,6 +266,37 @@ def test_screenshot_and_quit_from_the_command_line(tmp_path):
     assert "Traceback" not in proc.stderr
 
 
+def test_quit_waits_for_the_first_paint_of_the_mesh(qtbot, monkeypatch):
+    """``--quit`` (and ``--screenshot``) end after the view has painted the first mesh, not
+    as soon as it is built: with the view's paints held back the run waits."""
+    from types import SimpleNamespace
+
+    from barymesh.app import window_main
+
+    win = MainWindow(COARSE, scripted=True)
+    qtbot.addWidget(win)
+    exits: list[tuple[int, int]] = []
+    app = SimpleNamespace(
+        exit=lambda code=0: exits.append((code, win.paint_counter.paints)),
+        processEvents=window_main.QApplication.processEvents,
+    )
+    monkeypatch.setattr(window_main, "QApplication", app)
+    win.plotter.setUpdatesEnabled(False)  # no paint of the 3D view until it is enabled
+    win.show()
+    qtbot.waitExposed(win)
+    win.controller.flush()
+    painted = win.paint_counter.paints
+    run = window_main.ScriptedRun(win, None, True)
+    run.start()
+    qtbot.wait(500)  # ten polls with the mesh built and shown, but not painted
+    assert win.model.result is not None and not win.controller.busy
+    assert win.paint_counter.paints == painted and exits == []
+    win.plotter.setUpdatesEnabled(True)
+    win.plotter.update()
+    qtbot.waitUntil(lambda: bool(exits), timeout=20000)
+    assert exits[0][0] == 0 and exits[0][1] > painted
+
+
 def test_bad_command_line_values_exit_1(tmp_path):
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path))
     proc = subprocess.run(
