@@ -195,11 +195,11 @@ def test_schematic_geometry_follows_the_kind_and_the_stack():
     assert names == ["L", "C", "R"]  # across each other, side by side, the short at the end
     assert len({e[1] for e in grounded.elements}) == 3
     assert grounded.ground == (grounded.width, 0.0)
-    assert [b[4] for b in grounded.boxes] == ["εr 2.2\n1.575 mm"]
+    assert [b[4] for b in grounded.boxes] == ["εr 2.2\n1.575\nmm"]
     two = Stack(above=(Layer(0.5, 3.0),), below=(Layer(1.575, 2.2),), ground=True)
     boxes = schematic("series", two).boxes
     sheet_x = next(t[0] for t in schematic("series", two).texts if t[2] == "sheet")
-    assert [b[4] for b in boxes] == ["εr 3\n0.5 mm", "εr 2.2\n1.575 mm"]
+    assert [b[4] for b in boxes] == ["εr 3\n0.5\nmm", "εr 2.2\n1.575\nmm"]
     assert boxes[0][0] + boxes[0][2] < sheet_x < boxes[1][0]  # above, the sheet, below
 
 

@@ -138,7 +138,7 @@ def test_ticked_circuit_is_the_direct_fit_with_its_schematic_and_luukkonen(windo
         f"C = {circuit.capacitance * 1e15:.4g} fF",
         f"f0 = {circuit.resonance / 1e9:.4g} GHz",
     ]
-    assert "εr 2.2\n1.575 mm" in texts and "ground" in texts and "sheet" in texts
+    assert "εr 2.2\n1.575\nmm" in texts and "ground" in texts and "sheet" in texts
     assert tab.circuit_note.isVisible()
     assert tab.circuit_note.text().startswith(f"series LC: L = {circuit.inductance * 1e9:.4g} nH")
     assert LUUKKONEN in tab.circuit_note.text()

@@ -84,10 +84,7 @@ class CircuitFit:
             text += f". Shaded from {stop / 1e9:.4g} GHz: the circuit no longer describes the cell"
         if self.reference is not None:
             period, gap = self.patch or (0.0, 0.0)
-            text += (
-                f". Dotted: {LUUKKONEN}'s analytic model of square patches "
-                f"(period {period:g} mm, gap {gap:.4g} mm) on the grounded slab"
-            )
+            text += f". Dotted: {LUUKKONEN} (square patches, {period:g} mm, gap {gap:.4g} mm)"
         return text
 
 
@@ -188,7 +185,7 @@ class Schematic:
     ----------
     wires : list of ((x0, y0), (x1, y1))
     boxes : list of (x, y, w, h, label)
-        Line sections (the layers), label "εr 2.2\\n1.575 mm".
+        Line sections (the layers), label "εr 2.2\\n1.575\\nmm".
     elements : list of (kind, x, y0, y1)
         Lumped elements drawn vertically from y0 up to y1 at x: "L", "C" or "R".
     texts : list of (x, y, text, ha)
@@ -211,7 +208,7 @@ class Schematic:
 
 
 def _layer_label(layer: Any) -> str:
-    return f"εr {layer.eps_r:g}\n{layer.thickness:.4g} mm"
+    return f"εr {layer.eps_r:g}\n{layer.thickness:.4g}\nmm"  # narrow: the box is
 
 
 def schematic(kind: str, stack: Any = None, lossy: bool = False) -> Schematic:

@@ -233,6 +233,7 @@ def draw_curve(
                 fontsize=6,
                 va="bottom",
                 ha="right" if near_end else "left",
+                bbox={"fc": "white", "ec": "none", "alpha": 0.7, "pad": 0.3},
             )
         for n, hz in enumerate(result.resonances):
             mag.axvline(hz / 1e9, color=RESONANCE_COLOR, lw=1.0, ls="--")
@@ -368,7 +369,7 @@ def draw_schematic(ax: Any, fit: Any) -> None:
         ax.add_patch(
             Rectangle((u0, v0), u1 - u0, v1 - v0, fill=True, fc="#fbf3d5", ec="black", lw=0.8)
         )
-        ax.text((u0 + u1) / 2, (v0 + v1) / 2, label, ha="center", va="center", fontsize=5)
+        ax.text((u0 + u1) / 2, (v0 + v1) / 2, label, ha="center", va="center", fontsize=6)
     for name, x, ya, yb in s.elements:
         (u, v0), (_, v1) = at(x, ya), at(x, yb)
         _element(ax, name, u, v0, v1)
