@@ -9,6 +9,8 @@ The patch is Luukkonen's example made coarse (a 4 mm patch in a 5 mm cell, 128
 triangles), swept as drawn at a handful of frequencies.
 """
 
+import threading
+
 import numpy as np
 import pytest
 
@@ -25,6 +27,7 @@ from test_gui_infinite_array import (  # noqa: E402
     type_band,
 )
 
+from barymesh.app.panels import array_circuit, infinite_array_panel  # noqa: E402
 from barymesh.app.panels.array_circuit import LUUKKONEN  # noqa: E402
 from barymesh.cell import Lattice, PixelGrid, UnitCell  # noqa: E402
 from barymesh.mom import Layer, PlaneWave, Stack, periodic_solve  # noqa: E402
@@ -82,8 +85,17 @@ def assert_phase_line(ax, label, curve):
     np.testing.assert_allclose(y[keep], np.degrees(np.angle(curve(f))), rtol=0, atol=1e-9)
 
 
-def test_ticked_circuit_is_the_direct_fit_with_its_schematic_and_luukkonen(window, qtbot):
+def test_ticked_circuit_is_the_direct_fit_with_its_schematic_and_luukkonen(
+    window, qtbot, monkeypatch
+):
     tab = open_patch(window, qtbot)
+    threads = []  # where the fits ran: never on the GUI thread
+
+    def fit_circuit(*args):
+        threads.append(threading.current_thread() is threading.main_thread())
+        return array_circuit.fit_circuit(*args)
+
+    monkeypatch.setattr(infinite_array_panel, "fit_circuit", fit_circuit)
     click_check_box(tab.solver_grade)  # the cell as drawn: 128 triangles
     assert not tab.solver_grade.isChecked()
     type_band(qtbot, tab, "6", "16", 6)
@@ -102,6 +114,7 @@ def test_ticked_circuit_is_the_direct_fit_with_its_schematic_and_luukkonen(windo
     click_check_box(tab.circuit_box)
     assert tab.circuit_box.isChecked()
     fit = wait_for_circuit(qtbot, tab)
+    assert threads == [False]  # fitted once, in the worker
     # the circuit, computed here from the same numbers, is the one drawn
     onsets = [hz for hz, _ in result.grating_lobe_onsets] + [
         hz for hz, _, _ in result.guided_onsets

@@ -13,10 +13,15 @@ for by a worker thread, which then draws the figure
 (:func:`barymesh.app.panels.array_figures.draw_curve`, Agg) into an image; the GUI thread
 only shows it (:class:`PictureView`). With **Live** on, every new mesh (a slider, the cell
 editor) and every good edit of the stack cancels the running sweep and starts the next
-one. The solver's warnings (``PeriodicSweep.warnings``: an ill-conditioned solve, a
-frequency at an onset, a mesh coarse for the densest layer, metal beyond the cell…) are
-shown in an orange note in the tab and named over the curve; a bad value in the stack is
-said under its table and the last good curve stays.
+one. With **Equivalent circuit** ticked, the worker also fits the curve's Foster LC
+(:mod:`barymesh.app.panels.array_circuit`) and the figure draws its R dashed, a schematic
+with its values, the band where it stops describing the cell shaded and, for square
+patches on a grounded slab, Luukkonen et al.'s model dotted; a refused fit is said in one
+red line under the box and the curve stays. The solver's warnings
+(``PeriodicSweep.warnings``: an ill-conditioned solve, a frequency at an onset, a mesh
+coarse for the densest layer, metal beyond the cell…) are shown in an orange note in the
+tab and named over the curve; a bad value in the stack is said under its table and the
+last good curve stays.
 
 The curve and the orders' drawing need more room than the Solve dock has beside the 3D
 view (at the window's default size the dock is about 300 × 480 pixels, and the curve
