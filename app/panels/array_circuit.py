@@ -238,19 +238,20 @@ def schematic(kind: str, stack: Any = None, lossy: bool = False) -> Schematic:
     texts.append((0.3, (top + bottom) / 2, "η0", "right"))
     for layer in above:
         section(layer)
-    # the sheet's branch: wires to it, the elements between the rails
-    wires.append(((x, top), (x + 1.2, top)))
-    wires.append(((x, bottom), (x + 1.2, bottom)))
-    x += 1.2
+    # the sheet's branch: wires to it, the elements between the rails (side by side for
+    # a parallel circuit, 1.1 apart: room for each one's letter)
+    parts = ["L", "C"] + (["R"] if lossy else [])
+    spread = 0.0 if kind == "series" else 1.1 * (len(parts) - 1) / 2
+    lead = max(1.2, spread + 0.7)
+    wires.append(((x, top), (x + lead, top)))
+    wires.append(((x, bottom), (x + lead, bottom)))
+    x += lead
     if kind == "series":
-        parts = ["L", "C"] + (["R"] if lossy else [])
         step = (top - bottom) / len(parts)
         for i, name in enumerate(parts):
             elements.append((name, x, top - (i + 1) * step, top - i * step))
     else:
-        parts = ["L", "C"] + (["R"] if lossy else [])
-        spread = 0.9 * (len(parts) - 1) / 2
-        xs = [x - spread + 0.9 * i for i in range(len(parts))]
+        xs = [x - spread + 1.1 * i for i in range(len(parts))]
         wires.append(((xs[0], top - 0.6), (xs[-1], top - 0.6)))
         wires.append(((xs[0], bottom + 0.6), (xs[-1], bottom + 0.6)))
         wires.append(((x, top), (x, top - 0.6)))
@@ -258,9 +259,9 @@ def schematic(kind: str, stack: Any = None, lossy: bool = False) -> Schematic:
         for name, xe in zip(parts, xs, strict=True):
             elements.append((name, xe, bottom + 0.6, top - 0.6))
     texts.append((x, top + 0.5, "sheet", "center"))
-    wires.append(((x, top), (x + 1.2, top)))
-    wires.append(((x, bottom), (x + 1.2, bottom)))
-    x += 1.2
+    wires.append(((x, top), (x + lead, top)))
+    wires.append(((x, bottom), (x + lead, bottom)))
+    x += lead
     for layer in below:
         section(layer)
         wires.append(((x, top), (x + 0.5, top)))
