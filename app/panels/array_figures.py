@@ -18,17 +18,25 @@ its own plane in the legend, and not at all over a ground plane (T = 0).
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from barymesh.app.model.stack_rows import reference_plane_names
+from barymesh.app.panels.array_circuit import LUUKKONEN, circuit_labels, schematic
 
 #: Colours of |R| and |T|, of the grating-lobe onsets and of the resonances.
 R_COLOR, T_COLOR = "#1f77b4", "#2ca02c"
 ONSET_COLOR, RESONANCE_COLOR = "#7f3fbf", "#d62728"
 GUIDED_COLOR = "#8c564b"
+#: The fitted circuit's curves (dashed), the analytic reference's (dotted) and the shade
+#: over the frequencies where the circuit no longer describes the cell.
+CIRCUIT_COLOR, REFERENCE_COLOR, BEYOND_COLOR = "#ff7f0e", "#444444", "0.85"
+#: Width (pixels) of the schematic's column beside the curve, and the narrowest curve
+#: that gets one (narrower: the values go into the legend's title).
+SCHEMATIC_WIDTH, SCHEMATIC_MIN_FIGURE = 135, 400
 #: The magnitude axis spans at least this many dB (a flat |R| = 1 over a ground plane
 #: would otherwise be drawn as noise magnified around 0 dB).
 MIN_DB_SPAN = 1.0
@@ -121,15 +129,28 @@ def phase_label(stack: Any) -> tuple[str, str | None]:
     return r, (None if t_plane is None else f"∠T at {t_plane}")
 
 
-def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Picture:
+def draw_curve(
+    result: Any, size: tuple[int, int], ratio: float = 1.0, circuit: Any = None
+) -> Picture:
     """|R|, |T| (dB) and their phase against frequency of an ``ArraySweep`` (None: empty
-    axes), ``size`` widget pixels (w, h) at ``ratio`` device pixels per pixel."""
+    axes), ``size`` widget pixels (w, h) at ``ratio`` device pixels per pixel; with a
+    :class:`~barymesh.app.panels.array_circuit.CircuitFit` of it, the circuit's curves
+    (dashed), the reference's (dotted), the shade where the circuit stops describing the
+    cell and the schematic in a column on the right."""
     fig, canvas = new_figure(size, ratio)
     w, h = max(size[0], 50), max(size[1], 50)
     left = min(0.3, 64.0 / w)  # 64 px: two lines of label and the ticks
     bottom = min(0.3, 38.0 / h)  # the ticks' labels and the axis' name
-    fig.subplots_adjust(left=left, right=0.97, top=1.0 - 8.0 / h, bottom=bottom, hspace=0.1)
+    if circuit is not None and circuit.sweep is not result:
+        circuit = None  # a fit of another curve
+    column = circuit is not None and w >= SCHEMATIC_MIN_FIGURE
+    right = 1.0 - (SCHEMATIC_WIDTH + 8.0) / w if column else 0.97
+    fig.subplots_adjust(left=left, right=right, top=1.0 - 8.0 / h, bottom=bottom, hspace=0.1)
     mag, ph = fig.subplots(2, 1, sharex=True)
+    if column:
+        draw_schematic(
+            fig.add_axes((1.0 - SCHEMATIC_WIDTH / w, 0.0, SCHEMATIC_WIDTH / w, 1.0)), circuit
+        )
     for ax in (mag, ph):
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=7)
@@ -158,19 +179,20 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
                 marker=".",
                 label=t_legend or "∠T",
             )
-        if t_legend is not None:
-            ph.legend(fontsize=6, loc="lower left")
         shown = np.concatenate([r_db, t_db if not grounded else []])
         shown = shown[np.isfinite(shown)]
+        title = "T = 0: ground plane" if grounded else None
+        if circuit is not None:
+            draw_circuit_curves(mag, ph, circuit)
+            if not column and circuit.circuit is not None:  # no room for the schematic
+                values = ", ".join(circuit_labels(circuit.circuit)[1:])
+                title = values if title is None else f"{title}\n{values}"
+        if t_legend is not None or circuit is not None:
+            ph.legend(fontsize=6, loc="lower left")
         if len(shown) and np.ptp(shown) < MIN_DB_SPAN:
             top = max(float(shown.max()), 0.0) + 0.1 * MIN_DB_SPAN
             mag.set_ylim(top - 1.1 * MIN_DB_SPAN, top)
-        mag.legend(
-            fontsize=7,
-            loc="best",
-            title="T = 0: ground plane" if grounded else None,
-            title_fontsize=6,
-        )
+        mag.legend(fontsize=7, loc="best", title=title, title_fontsize=6)
         for n, (hz, orders) in enumerate(result.grating_lobe_onsets):
             for ax in (mag, ph):
                 ax.axvline(hz / 1e9, color=ONSET_COLOR, lw=1.0, ls=":")
@@ -202,13 +224,16 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
             )
         for hz in getattr(result, "zero_phase", ()):
             ph.plot([hz / 1e9], [0.0], marker="D", ms=5, color="black", ls="none")
+            near_end = hz / 1e9 > f[0] + 0.75 * (f[-1] - f[0])  # its label inside the axes
             ph.annotate(
                 f"∠R = 0\n{hz / 1e9:.4g}",
                 (hz / 1e9, 0.0),
-                xytext=(3, 3),
+                xytext=(-3 if near_end else 3, 3),
                 textcoords="offset points",
                 fontsize=6,
                 va="bottom",
+                ha="right" if near_end else "left",
+                bbox={"fc": "white", "ec": "none", "alpha": 0.7, "pad": 0.3},
             )
         for n, hz in enumerate(result.resonances):
             mag.axvline(hz / 1e9, color=RESONANCE_COLOR, lw=1.0, ls="--")
@@ -236,6 +261,155 @@ def draw_curve(result: Any, size: tuple[int, int], ratio: float = 1.0) -> Pictur
         (height - float(box_m.y1), height - float(box_p.y0)),
         (float(mag.get_xlim()[0]), float(mag.get_xlim()[1])),
     )
+
+
+def draw_circuit_curves(mag: Any, ph: Any, fit: Any) -> None:
+    """The circuit's |R| (dB) and ∠R dashed, the reference's ∠R dotted, and the shade
+    from where the circuit stops describing the cell to the band's end."""
+    f = np.asarray(fit.frequencies) / 1e9
+    if fit.circuit is not None:
+        with np.errstate(divide="ignore"):
+            mag.plot(
+                f,
+                20 * np.log10(np.abs(fit.reflection)),
+                color=CIRCUIT_COLOR,
+                ls="--",
+                lw=1.3,
+                label=f"circuit ({fit.circuit.kind} LC)",
+            )
+        ph.plot(
+            *wrapped_degrees(f, fit.reflection),
+            color=CIRCUIT_COLOR,
+            ls="--",
+            lw=1.3,
+            label="circuit",
+        )
+    if fit.reference is not None:
+        ph.plot(
+            *wrapped_degrees(f, fit.reference),
+            color=REFERENCE_COLOR,
+            ls=":",
+            lw=1.5,
+            label=LUUKKONEN,
+        )
+    stop = fit.stops_at
+    if stop is not None:
+        end = float(fit.sweep.frequencies[-1]) / 1e9
+        for ax in (mag, ph):
+            ax.axvspan(stop / 1e9, end, color=BEYOND_COLOR, alpha=0.5, lw=0, zorder=0)
+        ph.annotate(  # at the top of the shade, on a white ground (curves pass there)
+            "circuit ≠ cell",
+            (stop / 1e9, 0.97),
+            xycoords=("data", "axes fraction"),
+            xytext=(2, 0),
+            textcoords="offset points",
+            ha="left",
+            va="top",
+            fontsize=6,
+            color="0.3",
+            bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 0.5},
+        )
+
+
+def wrapped_degrees(x: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(x, ∠ in degrees) with a NaN between two samples where ∠ wraps through ±180° (no
+    vertical line across the axes); the samples themselves are kept, in order."""
+    deg = np.degrees(np.angle(np.asarray(values))).astype(float)
+    x = np.asarray(x, dtype=float)
+    jumps = np.flatnonzero(np.abs(np.diff(deg)) > 180.0) + 1
+    middle = 0.5 * (x[jumps - 1] + x[jumps])
+    return np.insert(x, jumps, middle), np.insert(deg, jumps, np.nan)
+
+
+def draw_schematic(ax: Any, fit: Any) -> None:
+    """The fitted circuit's schematic in ``ax`` with its values under it, or why there
+    is none (grey) when the fit was refused."""
+    ax.set_axis_off()
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, 1)
+    if fit.circuit is None:
+        ax.text(0.5, 0.75, "no circuit", ha="center", fontsize=8, color="#d0021b")
+        ax.text(
+            0.5,
+            0.68,
+            textwrap.fill(fit.refused, 26),
+            ha="center",
+            va="top",
+            fontsize=6,
+            color="0.35",
+        )
+        return
+    c = fit.circuit
+    lossy = (c.kind == "series" and c.resistance > 0) or (
+        c.kind == "parallel" and math.isfinite(c.resistance)
+    )
+    from matplotlib.patches import Rectangle
+
+    s = schematic(c.kind, fit.sweep.inputs.stack, lossy)
+    # the drawing in the column's top half, one scale in x and y
+    x0, x1, y0, y1 = 0.14, 0.88, 0.50, 0.86
+    bbox = ax.get_window_extent()
+    aspect = bbox.height / bbox.width if bbox.width > 0 else 1.0  # pixels: y per x
+    scale = min((x1 - x0) / s.width, (y1 - y0) * aspect / (s.height + 1.0))
+
+    def at(x: float, y: float) -> tuple[float, float]:
+        return x0 + x * scale, y0 + y * scale / aspect
+
+    for (xa, ya), (xb, yb) in s.wires:
+        (u0, v0), (u1, v1) = at(xa, ya), at(xb, yb)
+        ax.plot([u0, u1], [v0, v1], color="black", lw=1.0)
+    for y in (0.0, s.height):
+        u, v = at(s.port, y)
+        ax.plot([u], [v], marker="o", ms=3.5, mfc="white", color="black")
+    for x, y, text, ha in s.texts:
+        u, v = at(x, y)
+        ax.text(u, v, text, ha=ha, va="center", fontsize=6)
+    for x, y, bw, bh, label in s.boxes:
+        (u0, v0), (u1, v1) = at(x, y), at(x + bw, y + bh)
+        ax.add_patch(
+            Rectangle((u0, v0), u1 - u0, v1 - v0, fill=True, fc="#fbf3d5", ec="black", lw=0.8)
+        )
+        ax.text((u0 + u1) / 2, (v0 + v1) / 2, label, ha="center", va="center", fontsize=6)
+    for name, x, ya, yb in s.elements:
+        (u, v0), (_, v1) = at(x, ya), at(x, yb)
+        _element(ax, name, u, v0, v1)
+    if s.ground is not None:
+        u, v = at(*s.ground)
+        for i, half in enumerate((0.035, 0.022, 0.01)):
+            ax.plot([u - half, u + half], [v - 0.012 - 0.014 * i] * 2, color="black", lw=1.0)
+        ax.text(u, v - 0.07, "ground", ha="center", va="top", fontsize=5)
+    lines = circuit_labels(c)
+    ax.text(0.5, 0.42, "\n".join(lines), ha="center", va="top", fontsize=7, linespacing=1.4)
+
+
+def _element(ax: Any, name: str, u: float, v0: float, v1: float) -> None:
+    """A lumped element drawn vertically between heights v0 and v1 at u (axes units)."""
+    from matplotlib.patches import Rectangle
+
+    span = v1 - v0
+    body0, body1 = v0 + 0.25 * span, v1 - 0.25 * span
+    ax.plot([u, u], [v0, body0], color="black", lw=1.0)
+    ax.plot([u, u], [body1, v1], color="black", lw=1.0)
+    if name == "L":  # a coil: four bumps
+        t = np.linspace(0.0, 4.0 * np.pi, 80)
+        ax.plot(
+            u + 0.018 * np.abs(np.sin(t)),
+            body0 + (body1 - body0) * t / t[-1],
+            color="black",
+            lw=1.0,
+        )
+    elif name == "C":  # two plates
+        mid = 0.5 * (body0 + body1)
+        gap = 0.08 * span
+        ax.plot([u, u], [body0, mid - gap], color="black", lw=1.0)
+        ax.plot([u, u], [mid + gap, body1], color="black", lw=1.0)
+        for v in (mid - gap, mid + gap):
+            ax.plot([u - 0.03, u + 0.03], [v, v], color="black", lw=1.6)
+    else:  # R, or the vacuum's η0: a box
+        ax.add_patch(
+            Rectangle((u - 0.015, body0), 0.03, body1 - body0, fill=False, ec="black", lw=1.0)
+        )
+    ax.text(u + 0.035, 0.5 * (v0 + v1), name, ha="left", va="center", fontsize=6)
 
 
 def order_arrows(solution: Any) -> list[tuple[str, int, int, float, float]]:

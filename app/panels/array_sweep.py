@@ -139,6 +139,23 @@ class ArraySweep:
         """The inputs' :class:`barymesh.mom.Stack` (None: the sheet in vacuum)."""
         return self.inputs.stack
 
+    def equivalent_circuit(self) -> Any:
+        """The Foster LC of the sheet fitted to this curve's R
+        (:func:`barymesh.mom.circuit.equivalent_circuit`, as
+        ``PeriodicSweep.equivalent_circuit``): below the first grating-lobe or guided
+        onset; ValueError (one sentence) when no circuit fits."""
+        from barymesh.mom.circuit import equivalent_circuit
+
+        onsets = [hz for hz, _ in self.grating_lobe_onsets]
+        onsets += [hz for hz, _, _ in self.guided_onsets]
+        return equivalent_circuit(
+            self.frequencies,
+            self.reflection,
+            self.inputs.stack,
+            self.inputs.incidence(),
+            onsets=onsets,
+        )
+
     @property
     def reference_planes(self) -> tuple[float, float]:
         """Heights (mm) over the sheet of the planes R and T are referred to (the wave

@@ -13,10 +13,15 @@ for by a worker thread, which then draws the figure
 (:func:`barymesh.app.panels.array_figures.draw_curve`, Agg) into an image; the GUI thread
 only shows it (:class:`PictureView`). With **Live** on, every new mesh (a slider, the cell
 editor) and every good edit of the stack cancels the running sweep and starts the next
-one. The solver's warnings (``PeriodicSweep.warnings``: an ill-conditioned solve, a
-frequency at an onset, a mesh coarse for the densest layer, metal beyond the cell…) are
-shown in an orange note in the tab and named over the curve; a bad value in the stack is
-said under its table and the last good curve stays.
+one. With **Equivalent circuit** ticked, the worker also fits the curve's Foster LC
+(:mod:`barymesh.app.panels.array_circuit`) and the figure draws its R dashed, a schematic
+with its values, the band where it stops describing the cell shaded and, for square
+patches on a grounded slab, Luukkonen et al.'s model dotted; a refused fit is said in one
+red line under the box and the curve stays. The solver's warnings
+(``PeriodicSweep.warnings``: an ill-conditioned solve, a frequency at an onset, a mesh
+coarse for the densest layer, metal beyond the cell…) are shown in an orange note in the
+tab and named over the curve; a bad value in the stack is said under its table and the
+last good curve stays.
 
 The curve and the orders' drawing need more room than the Solve dock has beside the 3D
 view (at the window's default size the dock is about 300 × 480 pixels, and the curve
@@ -79,6 +84,7 @@ from barymesh import TriMesh
 from barymesh.app.jobs import Jobs, Task
 from barymesh.app.model.solver_mesh import SolvedMesh, solver_mesh
 from barymesh.app.model.stack_rows import reference_plane_names
+from barymesh.app.panels.array_circuit import CircuitFit, fit_circuit
 from barymesh.app.panels.array_figures import Picture, draw_curve, draw_orders
 from barymesh.app.panels.array_sweep import (
     POLARIZATIONS,
@@ -309,6 +315,7 @@ class InfiniteArrayPanel(QWidget):
         self.solved: SolvedMesh | None = None  # the mesh the curve was solved on
         self.said = ""  # which mesh that was, in words (:func:`said`)
         self.point: Any = None  # the PeriodicSolution at the clicked frequency
+        self.circuit_fit: CircuitFit | None = None  # the circuit of the curve (last fitted)
         self.point_mesh: TriMesh | None = None
         self.engaged = False  # set by the first Run: from then on Live follows the mesh
         self.cancelled: list[int] = []  # tokens of sweeps cancelled by a newer one
@@ -384,6 +391,21 @@ class InfiniteArrayPanel(QWidget):
         row.addWidget(self.run_button)
         row.addWidget(self.live, 1)
         form.addRow(row)
+        self.circuit_box = QCheckBox("&Equivalent circuit (LC) over the curve", self)
+        self.circuit_box.setToolTip(
+            "Fit the sheet with a series or parallel LC (Foster) circuit: its R dashed over "
+            "the solved curve, a schematic with L, C and f0 beside it, the frequencies where "
+            "it no longer describes the cell shaded; for square patches on a grounded slab, "
+            "Luukkonen et al.'s analytic model (2008) dotted"
+        )
+        self.circuit_box.toggled.connect(self._circuit_toggled)
+        form.addRow(self.circuit_box)
+        # the circuit's values and where it stops, or why there is none (one line)
+        self.circuit_note = QLabel(self)
+        self.circuit_note.setWordWrap(True)
+        self.circuit_note.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.circuit_note.hide()
+        form.addRow(self.circuit_note)
         col.addWidget(self.inputs_box)
         shown = add_messages(self, col)  # the solver's warnings: visible, not modal
         self.error, self.status, self.warnings = shown.error, shown.status, shown.warnings
@@ -595,10 +617,11 @@ class InfiniteArrayPanel(QWidget):
 
         size, ratio = self.plot.request_size()
         result, graded = self.model.result, self.solver_grade.isChecked()
+        circuit = self.circuit_box.isChecked()
         # the λ/10 rule at the band's top, λ in the densest layer (εr μr)
         densest = 1.0 if inputs.stack is None else inputs.stack.max_index**2
 
-        def work(task: Task) -> tuple[ArraySweep, Picture, SolvedMesh, str]:  # numpy, Agg
+        def work(task: Task) -> tuple[ArraySweep, Picture, SolvedMesh, str, CircuitFit | None]:
             solved = (
                 solver_mesh(result, inputs.frequencies[-1], densest)
                 if graded
@@ -610,7 +633,8 @@ class InfiniteArrayPanel(QWidget):
                 progress=task.report,
                 cancel=stop.is_set,
             )
-            return sweep, draw_curve(sweep, size, ratio), solved, said(solved)
+            fit = fit_circuit(sweep, solved.mesh) if circuit else None  # 20-30 ms: here
+            return sweep, draw_curve(sweep, size, ratio, fit), solved, said(solved), fit
 
         n = len(inputs.frequencies)
         self.status.setText(f"Sweeping {n} frequencies…")
@@ -643,16 +667,52 @@ class InfiniteArrayPanel(QWidget):
         return True
 
     def _redraw(self, kind: str) -> None:
-        """Draw the curve or the orders again (in the worker) at their view's size."""
+        """Draw the curve or the orders again (in the worker) at their view's size; the
+        curve with its circuit when the box is ticked (fitted there, if not yet)."""
         view = self.plot if kind == "curve" else self.drawing
-        data = self.result if kind == "curve" else self.point
-        draw = draw_curve if kind == "curve" else draw_orders
         size, ratio = view.request_size()
         self._tokens[kind] += 1
         token = self._tokens[kind]
-        self.jobs.submit(
-            lambda: run_job(token, None, kind, lambda: draw(data, size, ratio)), self._finished
-        )
+        if kind == "orders":
+            point = self.point
+            self.jobs.submit(
+                lambda: run_job(token, None, kind, lambda: draw_orders(point, size, ratio)),
+                self._finished,
+            )
+            return
+        data, fit = self.result, self.circuit_fit
+        mesh = None if self.solved is None else self.solved.mesh
+        wanted = self.circuit_box.isChecked() and data is not None and mesh is not None
+        if fit is not None and fit.sweep is not data:
+            fit = None
+
+        def work() -> tuple[Picture, CircuitFit | None]:  # worker thread
+            found = (fit or fit_circuit(data, mesh)) if wanted else None
+            return draw_curve(data, size, ratio, found), found
+
+        self.jobs.submit(lambda: run_job(token, None, kind, work), self._finished)
+
+    def _circuit_toggled(self, on: bool) -> None:
+        """Draw the curve again with (fitting it) or without its circuit."""
+        if not on:
+            self.circuit_note.hide()
+        elif self.result is None:
+            self._say_circuit("The circuit is fitted to the next curve: Run.", "#555555")
+        self._redraw("curve")
+
+    def _say_circuit(self, text: str, colour: str) -> None:
+        self.circuit_note.setStyleSheet(f"color: {colour};")
+        self.circuit_note.setText(text)
+        self.circuit_note.show()
+
+    def _show_circuit(self, fit: CircuitFit | None) -> None:
+        """The circuit's line: its values (grey), or why there is none (red); the fit is
+        kept for redraws of the same curve."""
+        if fit is not None:
+            self.circuit_fit = fit
+        if not self.circuit_box.isChecked() or fit is None:
+            return
+        self._say_circuit(fit.note(), "#555555" if fit.circuit is not None else "#d0021b")
 
     def _cancel_running(self, kind: str) -> None:
         token = self._tokens[kind]
@@ -687,21 +747,29 @@ class InfiniteArrayPanel(QWidget):
                 f"failed: {outcome.error}"
             )
             return
-        if outcome.kind in ("curve", "orders"):
-            view = self.plot if outcome.kind == "curve" else self.drawing
-            view.show_picture(outcome.result)
+        if outcome.kind == "orders":
+            self.drawing.show_picture(outcome.result)
+            return
+        if outcome.kind == "curve":
+            picture, fit = outcome.result
+            self.plot.show_picture(picture)
+            self._show_circuit(fit)
             return
         if outcome.mesh is not self.mesh:
             self.status.setText("The result was for a previous mesh: dropped.")
             return
         data, picture, *solved = outcome.result
+        fit = None
         if outcome.kind == "array":
-            self.solved, self.said = solved
+            self.solved, self.said, fit = solved
         self.status.setText(f"Done in {outcome.seconds:.2f} s, {self.said}.")
         if outcome.kind == "array":
             self.result, self.result_mesh = data, outcome.mesh
             self._tokens["curve"] += 1  # a redraw asked for before is older than this
             self.plot.show_picture(picture)
+            self._show_circuit(fit)
+            if (fit is not None) != self.circuit_box.isChecked():
+                self._redraw("curve")  # the box was clicked while the sweep ran
             self._describe(data)
             self._show_warnings()
             self.swept.emit(data)
