@@ -195,7 +195,14 @@ class MainWindow(QMainWindow):
         self.array_panel = InfiniteArrayPanel(
             self.model, self.solve_panel.show_array_current, self.solve_panel, host=self
         )
-        self.solve_panel.add_page(self.array_panel, "&Infinite array")
+        # short labels: the dock's four tabs fit its default width (no scroll arrows hiding
+        # the last); the tooltips say their full names
+        self.solve_panel.add_page(
+            self.array_panel,
+            "&Array",
+            "Infinite array: the cell's periodic array, its reflection and transmission "
+            "over frequency",
+        )
         self.phase_panel = ReflectionPhasePanel(
             self.model,
             self.solve_panel,
@@ -204,7 +211,12 @@ class MainWindow(QMainWindow):
             tab_with=self.array_panel.curve_dock,
             open_cell=lambda cell, message: self.cell_tools.open_cell(cell, message),
         )
-        self.solve_panel.add_page(self.phase_panel, "Reflectio&n phase")
+        self.solve_panel.add_page(
+            self.phase_panel,
+            "P&hase",
+            "Reflection phase: the S-curve of the cell's infinite array over one of its "
+            "parameters, and the reflectarray designer",
+        )
         self.add_dock("Solve", self.solve_panel, Qt.DockWidgetArea.RightDockWidgetArea, scroll=True)
         self.tabifyDockWidget(self.statistics_dock, self.solve_dock)
         # Quality: the quality report, its histograms and worst triangles (red layer)

@@ -864,3 +864,17 @@ def test_loading_a_preset_centres_the_sliders(window, qtbot):
     settle(window, qtbot)
     assert len(seen) == 12 and len(set(seen)) == 12, seen
     assert max(seen) < row.slider_spec.maximum, (seen, row.slider_spec.maximum)
+
+
+def test_the_solve_docks_four_tabs_fit_its_width_with_their_full_names_as_tooltips(window):
+    """No scroll arrows hide the last tab (the reflection phase) at the default layout."""
+    tabs = window.solve_panel.tabs
+    bar = tabs.tabBar()
+    window.solve_dock.raise_()
+    QApplication.processEvents()
+    labels = [bar.tabText(i).replace("&", "") for i in range(bar.count())]
+    assert labels == ["Solve", "Sweep", "Array", "Phase"]
+    assert bar.sizeHint().width() <= tabs.width()
+    assert all(bar.tabRect(i).right() <= bar.width() for i in range(bar.count()))
+    assert bar.tabToolTip(2).startswith("Infinite array")
+    assert bar.tabToolTip(3).startswith("Reflection phase")

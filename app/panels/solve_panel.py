@@ -800,10 +800,12 @@ class SolvePanel(QWidget):
         self._show_coefficient()
         self.solved.emit(s)
 
-    def add_page(self, page: QWidget, title: str) -> None:
+    def add_page(self, page: QWidget, title: str, tooltip: str = "") -> None:
         """A further tab of the dock (the Infinite array); its ``stop()`` is called when the
         window closes."""
-        self.tabs.addTab(page, title)
+        index = self.tabs.addTab(page, title)
+        if tooltip:
+            self.tabs.setTabToolTip(index, tooltip)
         self._pages.append(page)
         self._narrow_combos()
 
