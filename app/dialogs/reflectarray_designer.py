@@ -179,7 +179,7 @@ class ReflectarrayDesigner(QDialog):
         phase = library.phase_deg[:, 0]
         covered = float(phase.max() - phase.min()) if len(phase) else 0.0
         self.library_line.setText(
-            f"The Reflection phase tab's curve: {library.parameter} from {values.min():g} to "
+            f"The Phase tab's curve: {library.parameter} from {values.min():g} to "
             f"{values.max():g} ({len(values)} values) at "
             f"{library.frequencies[0] / 1e9:.4g} GHz, {library.polarization}, "
             f"{coverage_text(covered)}."
@@ -203,7 +203,7 @@ class ReflectarrayDesigner(QDialog):
         last good design stays)."""
         try:
             if self.library is None:
-                raise ValueError("No library: solve a whole curve in the Reflection phase tab")
+                raise ValueError("No library: solve a whole curve in the Phase tab")
             inputs = self.inputs()
         except ValueError as exc:
             self.error.setText(str(exc))

@@ -424,7 +424,7 @@ class InfiniteArrayPanel(QWidget):
         self.show_curve_button.clicked.connect(self.show_curve)
         # one line over the curve: what it is, or its warnings' kinds
         self.curve_area, area, self.curve_line = curve_area(
-            "No curve yet: Run in the Infinite array tab."
+            "No curve yet: Run in the Array tab."
         )
         grow = self.host is not None
         self.plot = PictureView(230 if grow else 330, self.curve_area, grow=grow)
@@ -838,7 +838,7 @@ class InfiniteArrayPanel(QWidget):
         self.warnings.show()
         self.curve_line.setStyleSheet("color: #a05000;")
         self.curve_line.setText(
-            f"⚠ Do not trust this curve blindly: {'; '.join(found)} (the Infinite array tab "
+            f"⚠ Do not trust this curve blindly: {'; '.join(found)} (the Array tab "
             "says why)"
         )
         self.curve_line.setToolTip("\n".join(found.values()))

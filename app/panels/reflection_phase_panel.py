@@ -268,10 +268,10 @@ class ReflectionPhasePanel(QWidget):
         self.stack_box, box, self.stack_editor = stack_group(
             self,
             "Dielectric layers around the sheet, top first, and a ground plane under them: "
-            "one stack with the Infinite array tab",
+            "one stack with the Array tab (infinite array)",
         )
         if self.stack_twin is not None:
-            shared = QLabel("One stack with the Infinite array tab.", self.stack_box)
+            shared = QLabel("One stack with the Array tab.", self.stack_box)
             shared.setWordWrap(True)
             shared.setStyleSheet(GREY)
             box.addWidget(shared)
@@ -292,7 +292,7 @@ class ReflectionPhasePanel(QWidget):
         self.design_button.clicked.connect(self.open_designer)
         col.addWidget(self.design_button)
         self.curve_area, area, self.curve_line = curve_area(
-            "No curve yet: Run in the Reflection phase tab."
+            "No curve yet: Run in the Phase tab."
         )
         grow = self.host is not None
         self.plot = PhaseCurveView(230 if grow else 330, self.curve_area, grow=grow)
