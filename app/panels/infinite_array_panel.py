@@ -423,9 +423,7 @@ class InfiniteArrayPanel(QWidget):
         self.note, self.show_curve_button = add_note_and_show_button(self, col, "Array curve")
         self.show_curve_button.clicked.connect(self.show_curve)
         # one line over the curve: what it is, or its warnings' kinds
-        self.curve_area, area, self.curve_line = curve_area(
-            "No curve yet: Run in the Array tab."
-        )
+        self.curve_area, area, self.curve_line = curve_area("No curve yet: Run in the Array tab.")
         grow = self.host is not None
         self.plot = PictureView(230 if grow else 330, self.curve_area, grow=grow)
         self.plot.setToolTip("Click a frequency: the current and the Floquet orders there")
@@ -838,8 +836,7 @@ class InfiniteArrayPanel(QWidget):
         self.warnings.show()
         self.curve_line.setStyleSheet("color: #a05000;")
         self.curve_line.setText(
-            f"⚠ Do not trust this curve blindly: {'; '.join(found)} (the Array tab "
-            "says why)"
+            f"⚠ Do not trust this curve blindly: {'; '.join(found)} (the Array tab says why)"
         )
         self.curve_line.setToolTip("\n".join(found.values()))
 

@@ -291,9 +291,7 @@ class ReflectionPhasePanel(QWidget):
         self.design_button.setEnabled(False)  # until a whole curve is solved
         self.design_button.clicked.connect(self.open_designer)
         col.addWidget(self.design_button)
-        self.curve_area, area, self.curve_line = curve_area(
-            "No curve yet: Run in the Phase tab."
-        )
+        self.curve_area, area, self.curve_line = curve_area("No curve yet: Run in the Phase tab.")
         grow = self.host is not None
         self.plot = PhaseCurveView(230 if grow else 330, self.curve_area, grow=grow)
         self.plot.setToolTip("Click a point of the curve: that cell becomes the one on screen")
