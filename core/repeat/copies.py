@@ -41,6 +41,7 @@ from ..topology import (
     adjacency_without_junctions,
     segment_lengths,
 )
+from .compiled import axes_of, kernels
 from .patches import patch_topology
 
 if TYPE_CHECKING:
@@ -270,6 +271,12 @@ def copies_lengths(
     start = np.ascontiguousarray(pairs[:, 0], dtype=np.intp)
     end = np.ascontiguousarray(pairs[:, 1], dtype=np.intp)
     k = len(start)
+    compiled = kernels(n_patches * k)
+    if compiled is not None:  # the same sums, each length written once
+        found = np.empty(n_patches * k)
+        padded, active = axes_of(columns)
+        compiled.copies_lengths(*padded, active, n_patches, n_vertices, start, end, found)
+        return found
     total = np.zeros((n_patches, k))
     axes = [x.reshape(n_patches, n_vertices) for x in columns if x.any()]
     rows = max(1, BLOCK // max(k, 1))
