@@ -9,10 +9,11 @@ the numpy reference (``BARYMESH_MESH_KERNELS=numpy``) and with the general paths
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from barymesh import MeshParams, TriMesh, build_mesh
-from barymesh.repeat import compiled, patch_centroids
+from barymesh.repeat import compiled, copy_slack, patch_centroids
 from barymesh.repeat.copies import copies_lengths, template_topology, tiled
 from barymesh.topology import segment_lengths
 
@@ -130,3 +131,35 @@ def test_a_large_mesh_equals_the_numpy_path(monkeypatch):
     again = build_mesh(params)
     assert same_bits(mesh.centroids, reference(monkeypatch, lambda: again.centroids))
     assert same_bits(mesh.rwg.length, reference(monkeypatch, lambda: again.rwg.length))
+
+
+@pytest.mark.parametrize("params", MESHES[:3], ids=lambda p: f"{p.structure}-{p.mode}")
+def test_compiled_copy_slack_equals_the_numpy_path(params, compiled_always, monkeypatch):
+    mesh = build_mesh(params)
+    nv = len(mesh.repetition.template.uv)
+    shifted = mesh.points.copy()
+    shifted[nv + 3, 0] += 1e-9  # one copy moved off the translation
+    broken = [mesh.points.copy() for _ in range(4)]
+    broken[0][5, 1] = np.nan
+    broken[1][nv + 2, 0] = np.inf
+    broken[2][nv, 0] = -np.inf  # a patch's first vertex
+    broken[3][7, 2] = np.nan  # in z
+    for points in [*variants(mesh), shifted, *broken]:
+        columns = remade(mesh, points).columns
+        got = copy_slack(nv, columns)
+        want = reference(monkeypatch, lambda c=columns: copy_slack(nv, c))
+        assert got == want or (np.isnan(got) and np.isnan(want)), (got, want)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_copies_with_a_coordinate_that_is_not_finite_are_still_refused(bad, compiled_always):
+    from barymesh.check import check_mesh
+    from barymesh.invariants import MeshInvariantError
+
+    params = MESHES[0]
+    mesh = build_mesh(params)
+    for row, axis in ((0, 0), (40, 1), (len(mesh.points) - 1, 0)):
+        points = mesh.points.copy()
+        points[row, axis] = bad
+        with pytest.raises(MeshInvariantError, match="not finite"):
+            check_mesh(remade(mesh, points), params)

@@ -80,6 +80,7 @@ def warm_up() -> float:
                 c.flags.writeable = not frozen
             columns, axes = axes_of(made)
             compiled.copies_lengths(*columns, axes, 2, 3, *ends, np.empty(4))
+            compiled.copy_slack(*columns, n_columns, 3)
             for vmap_frozen in (False, True):
                 vmap = np.arange(6, dtype=np.int32).reshape(2, 3)
                 vmap.flags.writeable = not vmap_frozen

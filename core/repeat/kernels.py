@@ -94,3 +94,39 @@ def copies_lengths(
                 d = z[j] - z[i]
                 total += d * d
             out[row + s] = np.sqrt(total)
+
+
+@njit(cache=True, nogil=True)
+def copy_slack(
+    x: np.ndarray, y: np.ndarray, z: np.ndarray, n_columns: int, nv: int
+) -> float:  # pragma: no cover - compiled
+    """:func:`barymesh.repeat.copies.copy_slack` of the first ``n_columns`` of x, y, z.
+
+    The largest |(patch p's coordinate of l − of its vertex 0) − the first patch's|
+    (the numpy path's max and −min of those differences), plus twice the machine
+    epsilon times the largest |coordinate|; NaN when any of them is NaN.
+    """
+    deviation = 0.0
+    extent = 0.0
+    undefined = False
+    eps2 = 2.0 * np.finfo(np.float64).eps
+    n_p = x.shape[0] // nv
+    for c in range(n_columns):
+        column = x if c == 0 else (y if c == 1 else z)
+        for p in range(n_p):
+            b = p * nv
+            origin = column[b]
+            for i in range(nv):
+                value = column[b + i]
+                rel = (value - origin) - (column[i] - column[0])
+                if np.isnan(rel) or np.isnan(value):
+                    undefined = True
+                rel = abs(rel)
+                if rel > deviation:
+                    deviation = rel
+                value = abs(value)
+                if value > extent:
+                    extent = value
+    if undefined:
+        return np.nan
+    return deviation + eps2 * extent
