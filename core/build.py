@@ -141,7 +141,10 @@ def _assemble(
     per_patch = len(lay.template.triangles)
     n_patches = len(lay.xy)
     vertex_map = lay.vertex_of_point.reshape(n_patches, -1)
-    repetition = Repetition.of(lay.template, vertex_map, len(points))
+    if lay.points is not None:  # nothing welded: patch p's vertices are p Nv ... p Nv + Nv - 1
+        repetition = Repetition.unwelded(lay.template, n_patches)
+    else:
+        repetition = Repetition.of(lay.template, vertex_map, len(points))
     if repetition.kind == "copies":  # the template's triangles shifted by whole patches
         triangles = tiled(lay.template.triangles, n_patches, vertex_map.shape[1])
     else:

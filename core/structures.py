@@ -23,6 +23,7 @@ from .grading import outline_sides
 from .params import RELATIVE_TOLERANCE, MeshParams
 from .placement import conforming_square_rects, cross_rects, paper_origins
 from .repeat import sector_chain_vertices
+from .repeat.compiled import kernels
 from .sectors import (
     arc_theta,
     gap_directions,
@@ -175,25 +176,31 @@ def _rect_points(
 
     The same products and sums as :func:`_rect_layout`, block by block, into the
     contiguous x and y columns, copied from cache into a (P Nv, 3) array whose z is
-    zero; ``xy`` is that array's (P, Nv, 2) view. For patches that nothing welds:
+    zero (at large sizes one compiled loop, :func:`barymesh.repeat.kernels.rect_points`,
+    writes both); ``xy`` is that array's (P, Nv, 2) view. For patches that nothing welds:
     their points are the mesh's, without an interleaved layout to copy them from
     and a second pass to take the columns out again.
     """
     n_p, nv = len(rects), len(template.uv)
     u, v = template.uv[None, :, 0], template.uv[None, :, 1]
-    points = np.zeros((n_p * nv, 3))
+    compiled = kernels(n_p * len(template.triangles))
+    points = np.empty((n_p * nv, 3)) if compiled is not None else np.zeros((n_p * nv, 3))
     x, y = np.empty((2, n_p, nv))
     grid = points.reshape(n_p, nv, 3)
-    rows = max(1, BLOCK // max(nv, 1))
-    for lo in range(0, n_p, rows):
-        r = rects[lo : lo + rows]
-        bx, by = x[lo : lo + rows], y[lo : lo + rows]
-        np.multiply(u, r[:, 2:3], out=bx)
-        bx += r[:, :1]
-        np.multiply(v, r[:, 3:4], out=by)
-        by += r[:, 1:2]
-        grid[lo : lo + rows, :, 0] = bx
-        grid[lo : lo + rows, :, 1] = by
+    if compiled is not None:  # the same products and sums, each value written once
+        uv = [np.ascontiguousarray(c[0]) for c in (u, v)]
+        compiled.rect_points(*uv, np.ascontiguousarray(rects), points, x.ravel(), y.ravel())
+    else:
+        rows = max(1, BLOCK // max(nv, 1))
+        for lo in range(0, n_p, rows):
+            r = rects[lo : lo + rows]
+            bx, by = x[lo : lo + rows], y[lo : lo + rows]
+            np.multiply(u, r[:, 2:3], out=bx)
+            bx += r[:, :1]
+            np.multiply(v, r[:, 3:4], out=by)
+            by += r[:, 1:2]
+            grid[lo : lo + rows, :, 0] = bx
+            grid[lo : lo + rows, :, 1] = by
     xy = grid[..., :2]
     for a in (x, y, xy):
         a.flags.writeable = False

@@ -293,3 +293,16 @@ def test_the_triangles_of_copies_are_the_templates_on_the_vertex_map(params):
     mesh = build_mesh(params)
     rep = mesh.repetition
     assert np.array_equal(mesh.triangles, patch_triangles(rep.template, rep.vertex_map))
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_the_record_of_an_unwelded_layout_is_the_one_of_finds(params):
+    mesh = build_mesh(params)
+    rep = mesh.repetition
+    found = Repetition.of(rep.template, rep.vertex_map, mesh.n_vertices)
+    assert found.kind == rep.kind == "copies"
+    assert same_map(found.vertex_map, rep.vertex_map) and not rep.vertex_map.flags.writeable
+
+
+def same_map(a, b):
+    return a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b)

@@ -86,4 +86,6 @@ def warm_up() -> float:
                 vmap.flags.writeable = not vmap_frozen
                 for unwelded in (True, False):
                     compiled.centroids(*columns, axes, vmap, unwelded, 3, tri, np.empty((2, 3)))
+    uv = np.array([0.0, 1.0])
+    compiled.rect_points(uv, uv, np.ones((1, 4)), np.empty((2, 3)), np.empty(2), np.empty(2))
     return time.perf_counter() - start

@@ -130,3 +130,37 @@ def copy_slack(
     if undefined:
         return np.nan
     return deviation + eps2 * extent
+
+
+@njit(cache=True, nogil=True)
+def rect_points(
+    u: np.ndarray,
+    v: np.ndarray,
+    rects: np.ndarray,
+    points: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+) -> None:  # pragma: no cover - compiled
+    """Template points (u, v) on the rectangles (x0, y0, wx, wy), written as a mesh's.
+
+    Point l of patch p is x0 + u wx, y0 + v wy (the product rounded, then the sum, as
+    :func:`barymesh.structures._rect_points`), into row p nv + l of ``points`` (z = 0)
+    and of the columns ``x`` and ``y``.
+    """
+    nv = u.shape[0]
+    for p in range(rects.shape[0]):
+        x0 = rects[p, 0]
+        y0 = rects[p, 1]
+        wx = rects[p, 2]
+        wy = rects[p, 3]
+        b = p * nv
+        for i in range(nv):
+            px = u[i] * wx
+            px += x0
+            py = v[i] * wy
+            py += y0
+            points[b + i, 0] = px
+            points[b + i, 1] = py
+            points[b + i, 2] = 0.0
+            x[b + i] = px
+            y[b + i] = py
