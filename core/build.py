@@ -34,6 +34,7 @@ from .grading import graded_barycentric
 from .mesh import TriMesh
 from .params import MeshParams
 from .repeat import Repetition, patch_triangles
+from .repeat.copies import tiled
 from .sizing import sized_mesh
 from .structures import layout
 from .subdivision import subdivide
@@ -127,19 +128,28 @@ def _assemble(
         return _triangle(params, tolerance)
     lay = layout(params, neighbours)
     checkpoint()
-    # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
-    flat = np.ascontiguousarray(lay.xy).reshape(-1, 2).view(np.complex128).ravel()
-    points = np.zeros((len(lay.representative), 3))
-    if len(lay.representative) == len(flat):  # nothing welded: every point is a vertex
-        points[:, :2] = lay.xy.reshape(-1, 2)
+    if lay.points is not None:  # nothing welded, and the layout wrote the mesh's points
+        points = lay.points
     else:
-        points[:, :2] = flat.take(lay.representative).view(np.float64).reshape(-1, 2)
-    vertex_map = lay.vertex_of_point.reshape(len(lay.xy), -1)
-    triangles = patch_triangles(lay.template, vertex_map)
-    repetition = Repetition.of(lay.template, vertex_map, len(points))
-    checkpoint()
+        # (x, y) pairs gathered as single 16-byte items: much faster than rows of a 2-D array
+        flat = np.ascontiguousarray(lay.xy).reshape(-1, 2).view(np.complex128).ravel()
+        points = np.zeros((len(lay.representative), 3))
+        if len(lay.representative) == len(flat):  # nothing welded: every point is a vertex
+            points[:, :2] = lay.xy.reshape(-1, 2)
+        else:
+            points[:, :2] = flat.take(lay.representative).view(np.float64).reshape(-1, 2)
     per_patch = len(lay.template.triangles)
     n_patches = len(lay.xy)
+    vertex_map = lay.vertex_of_point.reshape(n_patches, -1)
+    if lay.points is not None:  # nothing welded: patch p's vertices are p Nv ... p Nv + Nv - 1
+        repetition = Repetition.unwelded(lay.template, n_patches)
+    else:
+        repetition = Repetition.of(lay.template, vertex_map, len(points))
+    if repetition.kind == "copies":  # the template's triangles shifted by whole patches
+        triangles = tiled(lay.template.triangles, n_patches, vertex_map.shape[1])
+    else:
+        triangles = patch_triangles(lay.template, vertex_map)
+    checkpoint()
     mesh = TriMesh(
         points=points,
         triangles=triangles,
@@ -153,6 +163,8 @@ def _assemble(
         params=params,
         min_angle_floor=lay.min_angle_floor,
     )
+    if lay.columns is not None:  # the layout's copies of x and y, made with the points
+        mesh.__dict__["columns"] = list(lay.columns)  # a frozen dataclass: not setattr
     return mesh
 
 

@@ -161,7 +161,9 @@ class TriMesh:
         """Contiguous (V,) copies of the x and y columns of the points, and of z unless all zero.
 
         Gathers from a 1-D column are much faster than from a column of the (V, 3)
-        array; centroids, quality and lengths share these copies.
+        array; centroids, quality and lengths share these copies. A build whose layout
+        wrote the points (unwelded paper patches) hands over the copies it wrote with
+        them, read-only.
         """
         columns = [np.ascontiguousarray(self.points[:, a]) for a in (0, 1)]
         if self.points[:, 2].any():

@@ -87,10 +87,19 @@ def _cells(lo: np.ndarray, hi: np.ndarray, start: float, size: float):
 
 def _ranks(values: np.ndarray) -> np.ndarray:
     """(N,) int64: position of each value in ascending order (ties in index order)."""
+    return _order_and_ranks(values)[1]
+
+
+def _order_and_ranks(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The stable ascending order of ``values`` and :func:`_ranks` (one sort for both).
+
+    A stable sort: on coordinates of patches placed along a curve, which come in long
+    ascending and descending runs, much faster than the default quicksort.
+    """
     order = np.argsort(values, kind="stable")
     rank = np.empty(len(values), dtype=np.int64)
     rank[order] = np.arange(len(values))
-    return rank
+    return order, rank
 
 
 def _union_area_grid(rects: np.ndarray) -> float | None:
@@ -139,19 +148,27 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     x_rank = _ranks(np.concatenate([x0, x1]))  # (2n,)
     n_x = 2 * n + 1  # rank 2n: the cell's right side
     event_rank = np.where(from_left, np.where(b < right, x_rank[n + rect], 2 * n), x_rank[rect])
-    i -= i.min()
-    j -= j.min()
+    i_low, j_low = i.min(), j.min()
+    i -= i_low
+    j -= j_low
     span_j = int(j.max()) + 1
     if (float(i.max()) + 1) * span_j * n_x < 2.0**62:
-        order = np.argsort((i * span_j + j) * n_x + event_rank)
+        # stable: the pieces come rectangle by rectangle, in runs a merge sort finds (ties,
+        # full-width pieces' events at the cell's side, add nothing whatever their order)
+        order = np.argsort((i * span_j + j) * n_x + event_rank, kind="stable")
     else:  # a sparse, very fine grid: sort on the three keys
         order = np.lexsort((event_rank, j, i))
     del event_rank
     i, j = i[order], j[order]
     new_cell = np.r_[True, (i[1:] != i[:-1]) | (j[1:] != j[:-1])]
-    del i, j
     event = np.where(from_left, b, a)[order]
-    left, right, bottom, top = left[order], right[order], bottom[order], top[order]
+    # the cells' sides again, from the sorted cell indices (the same products and sums:
+    # cheaper than four gathers in the new order)
+    i += i_low
+    j += j_low
+    left, right = gx0 + i * cx, gx0 + (i + 1) * cx
+    bottom, top = gy0 + j * cy, gy0 + (j + 1) * cy
+    del i, j
     rect, from_left, from_bottom = rect[order], from_left[order], from_bottom[order]
     c, d = c[order], d[order]
     height = top - bottom
@@ -166,18 +183,28 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     # exact reach ranks: bottom pieces by top edge d (a cell's top: rank n + 1),
     # top pieces by lower edge c descending (a cell's bottom: rank n + 1); 0: none
     full = n + 1
-    b_rank = np.where(d < top, _ranks(y1)[rect] + 1, full)
-    t_rank = np.where(c > bottom, n - _ranks(y0)[rect], full)
+    y1_order, y1_rank = _order_and_ranks(y1)
+    y0_order, y0_rank = _order_and_ranks(y0)
+    b_rank = np.where(d < top, y1_rank[rect] + 1, full)
+    t_rank = np.where(c > bottom, n - y0_rank[rect], full)
     stride = np.int64(n + 2)
     offset = seg * stride
+
+    reverse_offset = seg[-1] - seg[::-1]
+    reverse_offset *= stride
 
     def running(rank: np.ndarray, mask: np.ndarray, backward: bool) -> np.ndarray:
         """Largest rank of the masked pieces so far in each cell (from the end if backward)."""
         key = np.where(mask, rank, 0)
+        shift = offset
         if backward:
-            key = key[::-1] + (seg[-1] - seg[::-1]) * stride
-            return (np.maximum.accumulate(key) - (seg[-1] - seg[::-1]) * stride)[::-1]
-        return np.maximum.accumulate(key + offset) - offset
+            key = key[::-1] + reverse_offset
+            shift = reverse_offset
+        else:
+            key += shift
+        np.maximum.accumulate(key, out=key)
+        key -= shift
+        return key[::-1] if backward else key
 
     # right-anchored pieces reach x once x passes their start: prefix, this piece included;
     # left-anchored pieces reach x until x passes their end: suffix, after this piece
@@ -195,8 +222,8 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     # n + 1 (full) the whole cell, by infinite sentinels clipped to [0, height]; inside
     # a cell every reach grows with its rank, so the longer of two reaches is the reach
     # of the larger rank
-    y1_up = np.concatenate([[-np.inf], np.sort(y1), [np.inf]])  # by bottom-piece rank
-    y0_down = np.concatenate([[np.inf], np.sort(y0)[::-1], [-np.inf]])  # by top-piece rank
+    y1_up = np.concatenate([[-np.inf], y1[y1_order], [np.inf]])  # by bottom-piece rank
+    y0_down = np.concatenate([[np.inf], y0[y0_order][::-1], [-np.inf]])  # by top-piece rank
 
     def covered(b_rank_: np.ndarray, t_rank_: np.ndarray, at) -> np.ndarray:
         """Length of the cell's height covered by the bottom and the top family."""

@@ -23,6 +23,7 @@ from .grading import outline_sides
 from .params import RELATIVE_TOLERANCE, MeshParams
 from .placement import conforming_square_rects, cross_rects, paper_origins
 from .repeat import sector_chain_vertices
+from .repeat.compiled import kernels
 from .sectors import (
     arc_theta,
     gap_directions,
@@ -56,6 +57,12 @@ class Layout:
     min_angle_floor : float or None
         Conforming circular rings (uniform scheme): the best smallest angle
         (degrees) their geometry allows this construction (see :class:`SectorPlan`).
+    points : (P Nv, 3) float64 or None
+        When nothing is welded (every point its own vertex) and the layout wrote
+        them directly: the mesh's points, z = 0, of which ``xy`` is a read-only view.
+    columns : two (P Nv,) float64 or None
+        With ``points``: contiguous, read-only copies of their x and y (what
+        :attr:`barymesh.mesh.TriMesh.columns` would make), written in the same pass.
     """
 
     template: PatchTemplate
@@ -65,6 +72,8 @@ class Layout:
     representative: np.ndarray
     rects: np.ndarray | None
     min_angle_floor: float | None = None
+    points: np.ndarray | None = None
+    columns: tuple[np.ndarray, np.ndarray] | None = None
 
 
 def _conforming_ring_layout(params: MeshParams) -> Layout:
@@ -158,6 +167,44 @@ def _sides_in_rows(template: PatchTemplate) -> bool:
         and np.array_equal(sides[0], np.arange(s))
         and np.array_equal(sides[2], np.arange(nv - s, nv))
     )
+
+
+def _rect_points(
+    template: PatchTemplate, rects: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """:func:`_rect_layout`'s points written as a mesh's: (xy, points, (x, y)).
+
+    The same products and sums as :func:`_rect_layout`, block by block, into the
+    contiguous x and y columns, copied from cache into a (P Nv, 3) array whose z is
+    zero (at large sizes one compiled loop, :func:`barymesh.repeat.kernels.rect_points`,
+    writes both); ``xy`` is that array's (P, Nv, 2) view. For patches that nothing welds:
+    their points are the mesh's, without an interleaved layout to copy them from
+    and a second pass to take the columns out again.
+    """
+    n_p, nv = len(rects), len(template.uv)
+    u, v = template.uv[None, :, 0], template.uv[None, :, 1]
+    compiled = kernels(n_p * len(template.triangles))
+    points = np.empty((n_p * nv, 3)) if compiled is not None else np.zeros((n_p * nv, 3))
+    x, y = np.empty((2, n_p, nv))
+    grid = points.reshape(n_p, nv, 3)
+    if compiled is not None:  # the same products and sums, each value written once
+        uv = [np.ascontiguousarray(c[0]) for c in (u, v)]
+        compiled.rect_points(*uv, np.ascontiguousarray(rects), points, x.ravel(), y.ravel())
+    else:
+        rows = max(1, BLOCK // max(nv, 1))
+        for lo in range(0, n_p, rows):
+            r = rects[lo : lo + rows]
+            bx, by = x[lo : lo + rows], y[lo : lo + rows]
+            np.multiply(u, r[:, 2:3], out=bx)
+            bx += r[:, :1]
+            np.multiply(v, r[:, 3:4], out=by)
+            by += r[:, 1:2]
+            grid[lo : lo + rows, :, 0] = bx
+            grid[lo : lo + rows, :, 1] = by
+    xy = grid[..., :2]
+    for a in (x, y, xy):
+        a.flags.writeable = False
+    return xy, points, (x.reshape(-1), y.reshape(-1))
 
 
 def _rect_layout(template: PatchTemplate, rects: np.ndarray) -> np.ndarray:
@@ -275,13 +322,19 @@ def layout(params: MeshParams, neighbours: np.ndarray | None = None) -> Layout:
         return _conforming_ring_layout(params)
     origins, regions = paper_origins(params)
     rects = np.concatenate([origins, np.broadcast_to([h, w], origins.shape)], axis=1)
-    xy = _rect_layout(template, rects)
-    if template.lattice:
+    if template.lattice:  # welded from the origins alone: the points are written after
         step = (h / template.segments, w / template.segments)
         ids, rep = _welded(
             params, weld_lattice_patches, origins, step, template.segments, params.weld_tolerance
         )
+        if len(rep) == len(ids):  # nothing welded: the points are the mesh's, written once
+            xy, points, columns = _rect_points(template, rects)
+            corners = _corners(rects)
+            regions = regions.astype(np.int32)
+            return Layout(template, xy, regions, ids, rep, corners, None, points, columns)
+        xy = _rect_layout(template, rects)
     else:
+        xy = _rect_layout(template, rects)
         ids, rep = _welded(params, weld_points, xy.reshape(-1, 2), params.weld_tolerance)
     return Layout(template, xy, regions.astype(np.int32), ids, rep, _corners(rects))
 

@@ -257,3 +257,52 @@ def test_template_topology_and_adjacency_are_kept_read_only():
     want = adjacency_without_junctions(len(template.triangles), topo)
     for name in ("data", "indices", "indptr"):
         assert np.array_equal(getattr(local, name), getattr(want, name))
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_unwelded_layouts_write_the_points_and_columns_the_general_assembly_makes(params):
+    from barymesh.placement import paper_origins
+    from barymesh.structures import _rect_layout, layout
+
+    lay = layout(params)
+    if not lay.template.lattice:  # welded from the points: the layout keeps no points
+        assert lay.points is None and lay.columns is None
+        return
+    assert lay.points is not None and lay.columns is not None
+    origins = paper_origins(params)[0]
+    sizes = np.broadcast_to([params.patch_size, params.patch_height], origins.shape)
+    rects = np.concatenate([origins, sizes], axis=1)
+    # the interleaved layout of welded structures, and the points assembled from it
+    xy = _rect_layout(lay.template, rects)
+    assert np.array_equal(lay.xy, xy) and not lay.xy.flags.writeable
+    points = np.zeros((xy.shape[0] * xy.shape[1], 3))
+    points[:, :2] = xy.reshape(-1, 2)
+    mesh = build_mesh(params)
+    assert mesh.points.tobytes() == points.tobytes()
+    # the columns the build handed over are the ones the mesh would have made
+    assert len(mesh.columns) == 2
+    for axis, column in enumerate(mesh.columns):
+        assert column.tobytes() == np.ascontiguousarray(points[:, axis]).tobytes()
+    assert len(plain(mesh).columns) == 2
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_the_triangles_of_copies_are_the_templates_on_the_vertex_map(params):
+    from barymesh.repeat import patch_triangles
+
+    mesh = build_mesh(params)
+    rep = mesh.repetition
+    assert np.array_equal(mesh.triangles, patch_triangles(rep.template, rep.vertex_map))
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_the_record_of_an_unwelded_layout_is_the_one_of_finds(params):
+    mesh = build_mesh(params)
+    rep = mesh.repetition
+    found = Repetition.of(rep.template, rep.vertex_map, mesh.n_vertices)
+    assert found.kind == rep.kind == "copies"
+    assert same_map(found.vertex_map, rep.vertex_map) and not rep.vertex_map.flags.writeable
+
+
+def same_map(a, b):
+    return a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b)

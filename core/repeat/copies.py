@@ -41,6 +41,7 @@ from ..topology import (
     adjacency_without_junctions,
     segment_lengths,
 )
+from .compiled import axes_of, kernels
 from .patches import patch_topology
 
 if TYPE_CHECKING:
@@ -270,6 +271,12 @@ def copies_lengths(
     start = np.ascontiguousarray(pairs[:, 0], dtype=np.intp)
     end = np.ascontiguousarray(pairs[:, 1], dtype=np.intp)
     k = len(start)
+    compiled = kernels(n_patches * k)
+    if compiled is not None:  # the same sums, each length written once
+        found = np.empty(n_patches * k)
+        padded, active = axes_of(columns)
+        compiled.copies_lengths(*padded, active, n_patches, n_vertices, start, end, found)
+        return found
     total = np.zeros((n_patches, k))
     axes = [x.reshape(n_patches, n_vertices) for x in columns if x.any()]
     rows = max(1, BLOCK // max(k, 1))
@@ -332,18 +339,24 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
     n_p = len(columns[0]) // nv if nv else 0
     if n_p == 0 or n_p * nv != len(columns[0]):
         return None
+    compiled = kernels(len(columns[0]))
+    if compiled is not None and len(columns) <= 3:  # one pass, no temporaries
+        padded = [*columns, *[np.zeros(0)] * (3 - len(columns))]
+        return float(compiled.copy_slack(*padded, len(columns), nv))
     rows = max(1, BLOCK // nv)
     # reductions gathered into arrays, so that a NaN anywhere makes the bound NaN
     extent = np.max([[x.max(), -x.min()] for x in columns])
     deviations = []
     blocks = [x.reshape(n_p, nv) for x in columns]
-    firsts = [x[0] - x[0, 0] for x in blocks]
-    for lo in range(0, n_p, rows):
-        for x, first in zip(blocks, firsts, strict=True):
-            block = x[lo : lo + rows]
-            rel = block - block[:, :1]
-            rel -= first
-            deviations += [rel.max(), -rel.min()]
+    with np.errstate(invalid="ignore", over="ignore"):
+        firsts = [x[0] - x[0, 0] for x in blocks]
+    with np.errstate(invalid="ignore", over="ignore"):  # an infinity makes the bound NaN
+        for lo in range(0, n_p, rows):
+            for x, first in zip(blocks, firsts, strict=True):
+                block = x[lo : lo + rows]
+                rel = block - block[:, :1]
+                rel -= first
+                deviations += [rel.max(), -rel.min()]
     return float(np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent)
 
 

@@ -25,6 +25,7 @@ import numpy as np
 from ..invariants import flagged
 from ..subdivision import PatchTemplate
 from ..topology import BLOCK, INDEX, EdgeTopology, compress_pairs, edge_keys
+from .compiled import axes_of, kernels
 from .lattice import lattice_diagonal, lattice_flagged
 
 
@@ -355,6 +356,14 @@ def patch_centroids(
     """
     n_p, nv = vertex_map.shape
     n_tri = len(template_triangles)
+    compiled = kernels(n_p * n_tri)
+    if compiled is not None:  # the same sums, each centroid written once
+        found = np.empty((n_p * n_tri, 3))
+        padded, active = axes_of(columns)
+        ids = np.ascontiguousarray(vertex_map, dtype=INDEX)
+        local = np.ascontiguousarray(template_triangles, dtype=np.intp)
+        compiled.centroids(*padded, active, ids, unwelded, nv, local, found)
+        return found
     out = np.zeros((n_p, n_tri, 3))
     corners = [np.ascontiguousarray(template_triangles[:, k], dtype=np.intp) for k in range(3)]
     axes = [(a, x) for a, x in enumerate(columns) if x.any()]

@@ -104,6 +104,17 @@ class Repetition:
         return cls(template, vmap, "patches")
 
     @classmethod
+    def unwelded(cls, template: PatchTemplate, n_patches: int) -> Repetition:
+        """The record of ``n_patches`` copies of ``template`` that share no vertex.
+
+        Patch p's local vertex l is vertex p Nv + l: kind ``"copies"`` by construction,
+        without :meth:`of`'s pass over the map (for layouts that welded nothing).
+        """
+        vmap = np.arange(n_patches * len(template.uv), dtype=INDEX).reshape(n_patches, -1)
+        vmap.flags.writeable = False
+        return cls(template, vmap, "copies")
+
+    @classmethod
     def of_triangles(
         cls, template: PatchTemplate, triangles: np.ndarray, n_vertices: int
     ) -> Repetition:

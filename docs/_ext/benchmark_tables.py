@@ -102,6 +102,12 @@ def _machine(m: dict[str, Any] | None) -> str:
 Table = tuple[list[str], list[list[str]], str]
 
 
+def _cpu_ratio(ours: dict[str, Any], bound: dict[str, Any]) -> str:
+    """The " (CPU n×)" of a bound cell: our CPU median over the warm write's, if both are there."""
+    mine, write = ours.get("cpu_median"), bound["warm"].get("cpu_median")
+    return f" (CPU {mine / write:.1f}×)" if mine and write else ""
+
+
 def mesher(doc: dict[str, Any]) -> Table:
     head = [
         "workload",
@@ -123,7 +129,7 @@ def mesher(doc: dict[str, Any]) -> Table:
         bound_cells = (
             [
                 f"{bound['warm']['median']:.4f} ({bound['warm_gb_per_s']:.1f})",
-                f"{bound['ours_over_warm']:.1f}×",
+                f"{bound['ours_over_warm']:.1f}×" + _cpu_ratio(ours, bound),
             ]
             if bound
             else ["–", "–"]
@@ -157,7 +163,8 @@ def mesher(doc: dict[str, Any]) -> Table:
         f"Times in seconds, median (min–max) of {doc.get('reps', '?')} repetitions, ours and "
         "the peer alternating; ratio = peer median / our median. Bound: a numpy write of as "
         "many bytes as the build's outputs hold (points, triangles, centroids, topology, RWG "
-        "table, connectivity) into a written buffer, timed in the same run."
+        "table, connectivity) into a written buffer, timed in the same run; in brackets "
+        "the same ratio of CPU times, which other jobs on the machine distort less."
     )
     if doc.get("load_at_start") is not None:
         note += f" Load average {doc['load_at_start'][0]:.1f} at the start of the run."
