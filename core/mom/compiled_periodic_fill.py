@@ -11,7 +11,7 @@ with the RWG maps) and the close pairs' far-rule moments, taken in double precis
 (:mod:`barymesh.mom.periodic_fill_kernels`).
 
 Each block of observation triangles fills its (3, B, N) rows of the right factor R
-(one triangle per thread), then adds them into the rows of Z of the unknowns on those
+(16 observers per thread), then adds them into the rows of Z of the unknowns on those
 triangles (one row per thread): no sparse product, no (6, 2, T, B) planes in memory,
 and R never held whole, so that the memory beside Z stays one block's 8 MB.
 

@@ -9,7 +9,7 @@ rounding, the tests hold them to 1e-12 of the largest entry.
 
 Two kernels per block of observation triangles lo..hi:
 
-- :func:`right_block` computes, per chunk of observation triangles (one per thread), the
+- :func:`right_block` computes, per chunk of observation triangles (one chunk per thread), the
   six flat moments of G + G_reg against every source (the Taylor expansion of
   ``periodic_fill._taylor_moments``, plus the near and close pairs' moments, times the
   image's Floquet phase), and sums them through the RWG coefficients of each unknown's
