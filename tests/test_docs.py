@@ -322,7 +322,7 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     assert "layered-2026-12-03.json" in solving
     assert "convergence-2026-12-03.json" in solving
     assert "sweep-accuracy-2026-12-02.json" in solving
-    assert "periodic-2026-12-05.json" in solving
+    assert "periodic-2026-12-06.json" in solving
     assert "periodic-sweep-2026-12-02.json" in solving
     assert "array-live-2026-12-02.json" in solving
     # the method page's figures drawn from build_mesh, and the reflectarray page's, at build time

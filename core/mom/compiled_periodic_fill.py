@@ -11,7 +11,7 @@ with the RWG maps) and the close pairs' far-rule moments, taken in double precis
 (:mod:`barymesh.mom.periodic_fill_kernels`).
 
 Each block of observation triangles fills its (3, B, N) rows of the right factor R
-(one triangle per thread), then adds them into the rows of Z of the unknowns on those
+(16 observers per thread), then adds them into the rows of Z of the unknowns on those
 triangles (one row per thread): no sparse product, no (6, 2, T, B) planes in memory,
 and R never held whole, so that the memory beside Z stays one block's 8 MB.
 
@@ -82,8 +82,9 @@ class Slots:
         C, D_x, D_y of the slot (the plan's scaled single-precision maps).
     crossing : (K,) intp
         Row of ``plan.crossing_rows`` whose phase the slot carries, −1 for none.
-    by_triangle : (K,) intp
-        The slots sorted by triangle; ``triangle_starts`` (T + 1,) where each begins.
+    by_source : (K,) intp
+        The slots sorted by unknown, then triangle (the order in which
+        :func:`~barymesh.mom.periodic_fill_kernels.right_block` sums them).
     by_unknown : (K,) intp
         The slots sorted by unknown; ``unknown_starts`` (N + 1,) where each begins.
     """
@@ -92,8 +93,7 @@ class Slots:
     triangle: np.ndarray
     coef: np.ndarray
     crossing: np.ndarray
-    by_triangle: np.ndarray
-    triangle_starts: np.ndarray
+    by_source: np.ndarray
     by_unknown: np.ndarray
     unknown_starts: np.ndarray
 
@@ -120,15 +120,14 @@ def slots(plan: FillPlan, n: int, t: int) -> Slots:
     unknown = np.concatenate([rows, np.asarray(plan.crossing_rows, dtype=np.intp)[f_rows]])
     triangle = np.concatenate([tri, f_tri])
     crossing = np.concatenate([np.full(len(rows), -1, dtype=np.intp), f_rows])
-    by_triangle = np.argsort(triangle, kind="stable")
+    by_source = np.lexsort((triangle, unknown))  # stable: a crossing half after its own
     by_unknown = np.argsort(unknown, kind="stable")
     out = Slots(
         unknown=unknown,
         triangle=triangle,
         coef=np.concatenate([coef, f_coef]),
         crossing=crossing,
-        by_triangle=by_triangle,
-        triangle_starts=np.searchsorted(triangle[by_triangle], np.arange(t + 1)),
+        by_source=by_source,
         by_unknown=by_unknown,
         unknown_starts=np.searchsorted(unknown[by_unknown], np.arange(n + 1)),
     )
@@ -236,7 +235,7 @@ def _compiled_periodic_matrix(
     in_phase = np.ones(len(table.unknown), dtype=np.complex128)
     crossed = table.crossing >= 0
     in_phase[crossed] = unknown_phase[table.crossing[crossed]]
-    by_t, by_u = table.by_triangle, table.by_unknown
+    by_s, by_u = table.by_source, table.by_unknown
     moments = triangle_moments(plan)
     layered = scalar is not None
     phi = scalar if scalar is not None else vector
@@ -268,10 +267,10 @@ def _compiled_periodic_matrix(
             complex(inv_eps),
             phases,
             float(scale),
-            table.triangle_starts,
-            table.unknown[by_t],
-            table.coef[by_t],
-            in_phase[by_t],
+            table.unknown_starts,
+            table.triangle[by_s],
+            table.coef[by_s],
+            in_phase[by_s],
             complex(factor),
             lo,
             hi,
