@@ -81,6 +81,7 @@ from gmsh_peer import Gmsh, split_ring_fields  # noqa: E402
 
 from barymesh import MeshParams, build_mesh  # noqa: E402
 from barymesh.quality import triangle_quality  # noqa: E402
+from barymesh.repeat import compiled  # noqa: E402
 from barymesh.structures import layout  # noqa: E402
 
 SIZES = ("10k", "100k", "1M", "4M")
@@ -181,6 +182,19 @@ def workloads(sizes: list[str], gmsh_sizes: list[str]) -> list[Workload]:
 
 
 # -- ours ------------------------------------------------------------------
+
+
+def with_compiled_loops(func: Callable[[], dict]) -> dict:
+    """``func()`` with the mesher's compiled loops asked for (:mod:`barymesh.repeat.compiled`)."""
+    before = os.environ.get(compiled.BACKEND_VARIABLE)
+    os.environ[compiled.BACKEND_VARIABLE] = compiled.COMPILED
+    try:
+        return func()
+    finally:
+        if before is None:
+            del os.environ[compiled.BACKEND_VARIABLE]
+        else:
+            os.environ[compiled.BACKEND_VARIABLE] = before
 
 
 def ours(params: MeshParams) -> dict:
@@ -385,6 +399,10 @@ def run_workload(w: Workload, reps: int) -> None:
     w.results["load_before"] = load()
     runners: dict[str, Callable[[], object]] = {"ours": lambda: ours(p)}
     check = ours(p)
+    if check["triangles"] >= compiled.MIN_TRIANGLES and compiled.warm_up() > 0:
+        # the opt-in compiled loops (BARYMESH_MESH_KERNELS=numba), alternating with the
+        # default numpy paths; their one-time load (numba and the cached loops) is left out
+        runners["ours-numba"] = lambda: with_compiled_loops(lambda: ours(p))
     mesh = check.pop("mesh")
     nbytes = output_bytes(mesh)
     bounds = bound_runners(nbytes)
@@ -415,7 +433,7 @@ def run_workload(w: Workload, reps: int) -> None:
             peer_reps[peer] = min(reps, SLOW_REPS) if len(tris) > 200_000 else reps
     del mesh, check
     timers = {**runners, **bounds}
-    for name in bounds:
+    for name in [*bounds, "ours-numba"]:
         peer_reps[name] = reps
     times: dict[str, list[float]] = {name: [] for name in timers}
     cpu: dict[str, list[float]] = {name: [] for name in timers}
@@ -442,6 +460,11 @@ def run_workload(w: Workload, reps: int) -> None:
         "ours_over_warm_cpu": w.results["ours"]["cpu_median"] / warm["cpu_median"],
         "ours_over_fresh": w.results["ours"]["median"] / fresh["median"],
     }
+    if "ours-numba" in runners:
+        w.results["bound"]["numba_over_warm"] = w.results["ours-numba"]["median"] / warm["median"]
+        w.results["bound"]["numba_over_warm_cpu"] = (
+            w.results["ours-numba"]["cpu_median"] / warm["cpu_median"]
+        )
     w.results["build_mesh"], w.results["stats"] = time_stats(p, reps)
     for name in w.peers:
         w.results[name]["ratio"] = w.results[name]["median"] / w.results["ours"]["median"]

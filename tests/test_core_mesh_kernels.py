@@ -2,10 +2,12 @@
 
 :mod:`barymesh.repeat.kernels` runs for meshes of at least
 :data:`barymesh.repeat.compiled.MIN_TRIANGLES` triangles; here that limit is lowered so
-that small meshes of every repetition kind take them, and each result is compared with
-the numpy reference (``BARYMESH_MESH_KERNELS=numpy``) and with the general paths.
+that small meshes of every repetition kind take them (asked for with
+``BARYMESH_MESH_KERNELS=numba``), and each result is compared with the numpy reference (the
+default) and with the general paths.
 """
 
+import os
 import subprocess
 import sys
 
@@ -32,7 +34,7 @@ MESHES = [
 @pytest.fixture
 def compiled_always(monkeypatch):
     monkeypatch.setattr(compiled, "MIN_TRIANGLES", 0)
-    monkeypatch.delenv(compiled.BACKEND_VARIABLE, raising=False)
+    monkeypatch.setenv(compiled.BACKEND_VARIABLE, compiled.COMPILED)
     assert compiled.kernels(1) is not None
 
 
@@ -111,19 +113,37 @@ def test_compiled_lengths_equal_the_numpy_path(params, compiled_always, monkeypa
         )
 
 
-def test_a_large_build_takes_the_compiled_loops_and_a_small_one_does_not_import_numba():
+@pytest.mark.parametrize(
+    ("backend", "angle_step", "imported"),
+    [
+        (None, 0.1152, False),  # the default: numpy at every size
+        ("numpy", 0.1152, False),
+        ("numba", 0.1152, True),  # asked for: from MIN_TRIANGLES on
+        ("numba", 2.5, False),  # below it, never
+    ],
+)
+def test_numba_is_imported_only_when_asked_for_and_the_mesh_is_large(backend, angle_step, imported):
     code = (
         "import sys\n"
         "from barymesh import MeshParams, build_mesh\n"
-        "m = build_mesh(MeshParams(structure='double_ring', mode='paper', subdivisions=4))\n"
+        "m = build_mesh(MeshParams(structure='double_ring', mode='paper', subdivisions=4, "
+        f"angle_step={angle_step}))\n"
         "m.centroids, m.rwg\n"
-        "print('numba' in sys.modules)\n"
+        "print(m.n_triangles, 'numba' in sys.modules)\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "False"
+    env = {k: v for k, v in os.environ.items() if k != compiled.BACKEND_VARIABLE}
+    if backend is not None:
+        env[compiled.BACKEND_VARIABLE] = backend
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env
+    )
+    triangles, loaded = out.stdout.split()
+    assert (int(triangles) >= compiled.MIN_TRIANGLES) == (angle_step < 1)
+    assert loaded == str(imported)
 
 
 def test_a_large_mesh_equals_the_numpy_path(monkeypatch):
+    monkeypatch.setenv(compiled.BACKEND_VARIABLE, compiled.COMPILED)
     params = MeshParams(structure="double_ring", mode="paper", subdivisions=4, angle_step=0.1152)
     mesh = build_mesh(params)
     assert mesh.n_triangles >= compiled.MIN_TRIANGLES

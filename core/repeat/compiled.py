@@ -1,10 +1,15 @@
 """When the repeated paths run their compiled loops (:mod:`barymesh.repeat.kernels`).
 
-The numpy functions of :mod:`barymesh.repeat` are the reference; for meshes of at least
-:data:`MIN_TRIANGLES` triangles, where numba is installed, :func:`kernels` hands them the
-compiled loops that give the same arrays bit for bit. Smaller meshes never import numba
-(it would cost more than the loops save), nor does ``import barymesh``. The environment
-variable :data:`BACKEND_VARIABLE` set to ``numpy`` keeps the reference everywhere.
+The numpy functions of :mod:`barymesh.repeat` are the reference and the default. The
+compiled loops give the same arrays bit for bit and save about a third of a large build
+(1M triangles: about 26 ms against 38 ms), but the first of them in a process imports
+numba and loads the loops from their cache: about 0.5 s and 130 MB, once. That pays in a
+process that builds many large meshes (a benchmark, a long batch script), not in a
+``barymesh mesh`` of one 1M mesh (1.0 s against 0.35 s, 250 MB against 125 MB) nor in
+the window (its first large mesh late by 0.35 s, its memory above its budget), so they
+are opt-in: set the environment variable :data:`BACKEND_VARIABLE` to ``numba`` and meshes
+of at least :data:`MIN_TRIANGLES` triangles take them. Smaller meshes never import numba,
+nor does ``import barymesh``.
 """
 
 from __future__ import annotations
@@ -16,8 +21,11 @@ from types import ModuleType
 
 import numpy as np
 
-#: Set to "numpy" to keep the numpy reference paths at every size.
+#: Set to "numba" for the compiled loops from :data:`MIN_TRIANGLES` triangles on; unset
+#: (or "numpy"), the numpy paths at every size.
 BACKEND_VARIABLE = "BARYMESH_MESH_KERNELS"
+#: The value of :data:`BACKEND_VARIABLE` that asks for the compiled loops.
+COMPILED = "numba"
 #: Triangles from which the compiled loops are used.
 MIN_TRIANGLES = 1 << 17
 
@@ -38,11 +46,11 @@ def _numba_available() -> bool:
 def kernels(size: int) -> ModuleType | None:
     """The compiled kernels' module for a pass over ``size`` triangles (or edges), or None.
 
-    None below :data:`MIN_TRIANGLES`, without numba, or when :data:`BACKEND_VARIABLE`
-    says ``numpy``: then the caller runs its numpy path.
+    None unless :data:`BACKEND_VARIABLE` says ``numba``, below :data:`MIN_TRIANGLES`, or
+    without numba: then the caller runs its numpy path.
     """
     global _KERNELS
-    if size < MIN_TRIANGLES or os.environ.get(BACKEND_VARIABLE) == "numpy":
+    if size < MIN_TRIANGLES or os.environ.get(BACKEND_VARIABLE) != COMPILED:
         return None
     if _KERNELS is None:
         if not _numba_available():
@@ -68,9 +76,9 @@ def warm_up() -> float:
     of them (planar) or three, the vertex map read-only (a record's) or not.
     """
     start = time.perf_counter()
-    compiled = kernels(MIN_TRIANGLES)
-    if compiled is None:
+    if not _numba_available():
         return 0.0
+    compiled = importlib.import_module(f"{__package__}.kernels")
     tri = np.array([[0, 1, 2]], dtype=np.intp)
     ends = np.array([0, 1], dtype=np.intp), np.array([1, 2], dtype=np.intp)
     for frozen in (False, True):

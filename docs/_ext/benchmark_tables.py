@@ -129,7 +129,11 @@ def mesher(doc: dict[str, Any]) -> Table:
         bound_cells = (
             [
                 f"{bound['warm']['median']:.4f} ({bound['warm_gb_per_s']:.1f})",
-                f"{bound['ours_over_warm']:.1f}×" + _cpu_ratio(ours, bound),
+                f"{bound['ours_over_warm']:.1f}×"
+                + _cpu_ratio(ours, bound)
+                + (
+                    f"; numba {bound['numba_over_warm']:.1f}×" if "numba_over_warm" in bound else ""
+                ),
             ]
             if bound
             else ["–", "–"]
@@ -164,7 +168,9 @@ def mesher(doc: dict[str, Any]) -> Table:
         "the peer alternating; ratio = peer median / our median. Bound: a numpy write of as "
         "many bytes as the build's outputs hold (points, triangles, centroids, topology, RWG "
         "table, connectivity) into a written buffer, timed in the same run; in brackets "
-        "the same ratio of CPU times, which other jobs on the machine distort less."
+        "the same ratio of CPU times, which other jobs on the machine distort less. "
+        "From 131,072 triangles, numba: the same build with the opt-in compiled loops "
+        "(BARYMESH_MESH_KERNELS=numba; their one-time load of about 0.5 s left out)."
     )
     if doc.get("load_at_start") is not None:
         note += f" Load average {doc['load_at_start'][0]:.1f} at the start of the run."
