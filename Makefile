@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[app,test,docs,study]'
 	# the solvers' compiled fills (free space and periodic), compiled once here and cached (else the first solve pays ~20-40 s)
 	$(BIN)/python -c "from barymesh.mom.compiled_periodic_fill import warm_up; warm_up()"
-	# the mesher's compiled loops for large meshes (a few seconds)
+	# the mesher's opt-in compiled loops for large meshes (BARYMESH_MESH_KERNELS=numba; a few seconds)
 	$(BIN)/python -c "from barymesh.repeat.compiled import warm_up; warm_up()"
 	touch $(STAMP)
 
