@@ -203,7 +203,7 @@ def test_readme_headline_figures_are_those_of_the_result_files():
     assert f"{plate['ours_s']:.3f} s against {plate['makarov_s']:.3f} s" in row
     assert f"({plate['speedup']:.1f}×)" in row
 
-    big = _result("latency-big-2026-12-02.json")["big"]["4.8M"]
+    big = _result("latency-big-2026-12-06.json")["big"]["4.8M"]
     row = _row(text, "the window")
     assert f"{big['triangles']:,}-triangle" in row
     assert f"{big['shown']['median']:.2f} s" in row
@@ -304,7 +304,7 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
         "solver-2026-12-04.json",
         "solver-bempp-2026-12-04.json",
         "quality-2026-12-02.json",
-        "latency-big-2026-12-02.json",
+        "latency-big-2026-12-06.json",
         "latency-interaction-2026-12-04.json",
         "startup-2026-12-05.json",
     ):
