@@ -11,7 +11,8 @@ with the RWG maps) and the close pairs' far-rule moments, taken in double precis
 (:mod:`barymesh.mom.periodic_fill_kernels`).
 
 Each block of observation triangles fills its (3, B, N) rows of the right factor R
-(16 observers per thread), then adds them into the rows of Z of the unknowns on those
+(16 observers per thread, reading the plan's per-pair arrays from a copy laid out chunk of
+observers by chunk, :class:`PairRows`), then adds them into the rows of Z of the unknowns on those
 triangles (one row per thread): no sparse product, no (6, 2, T, B) planes in memory,
 and R never held whole, so that the memory beside Z stays one block's 8 MB.
 
@@ -135,6 +136,58 @@ def slots(plan: FillPlan, n: int, t: int) -> Slots:
     return out
 
 
+@dataclass(frozen=True, eq=False)
+class PairRows:
+    """The plan's per-pair arrays as :func:`~barymesh.mom.periodic_fill_kernels.right_block`
+    reads them: observer chunk by chunk, so that one source's rows for a chunk of
+    :data:`~barymesh.mom.periodic_fill_kernels.OBSERVER_CHUNK` observers are contiguous.
+
+    Attributes
+    ----------
+    values : (G, T, 6, W) float32
+        Offset from the node (x, y), distance, inverse distance, unit vector (x, y) of
+        the pair [s, o] at [o // W, s, :, o % W] (the plan's, copied; 0 past T).
+    codes : (G, T, 2, W) int32
+        The Taylor node and σ code of the pair, same places.
+    """
+
+    values: np.ndarray
+    codes: np.ndarray
+
+
+_PAIRS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def pair_rows(plan: FillPlan) -> PairRows:
+    """The :class:`PairRows` of ``plan`` (cached per plan: a sweep builds them once).
+
+    A copy of the plan's per-pair arrays (32 bytes per pair, counted in
+    :data:`~barymesh.mom.periodic_checks.GEOMETRY_BYTES_PER_T2`): read in the plan's
+    [source, observation] order, one source's 16 observers were 8 rows 2.9 KB apart at
+    1,042 unknowns, and the pair loop waited on memory for a third of its gathering;
+    here they are 512 contiguous bytes, the next source's right after.
+    """
+    if plan in _PAIRS:
+        return _PAIRS[plan]
+    w = kernels().OBSERVER_CHUNK
+    t = plan.node.shape[0]
+    g = (t + w - 1) // w
+    values = np.zeros((g, t, 6, w), dtype=np.float32)
+    codes = np.zeros((g, t, 2, w), dtype=np.int32)
+    planes = (plan.offset[0], plan.offset[1], plan.distance, plan.inverse, *plan.unit)
+    for j, plane in enumerate(planes):
+        padded = np.zeros((t, g * w), dtype=np.float32)
+        padded[:, :t] = plane
+        values[:, :, j, :] = padded.reshape(t, g, w).transpose(1, 0, 2)
+    for j, plane in enumerate((plan.node, plan.sigma_code)):
+        padded = np.zeros((t, g * w), dtype=np.int32)
+        padded[:, :t] = plane
+        codes[:, :, j, :] = padded.reshape(t, g, w).transpose(1, 0, 2)
+    out = PairRows(values=values, codes=codes)
+    _PAIRS[plan] = out
+    return out
+
+
 def triangle_moments(plan: FillPlan) -> np.ndarray:
     """(T, 11) float64 A, I_00, I_01, I_10, I_11, J_000, J_001, J_011, J_100, J_101, J_111
     of each triangle (the plan's, widened): what a pair's expansion reads of its two."""
@@ -232,6 +285,7 @@ def _compiled_periodic_matrix(
     compiled_fill.use_fill_threads()
     t = plan.areas.shape[0]
     table = slots(plan, n, t)
+    pairs = pair_rows(plan)
     in_phase = np.ones(len(table.unknown), dtype=np.complex128)
     crossed = table.crossing >= 0
     in_phase[crossed] = unknown_phase[table.crossing[crossed]]
@@ -247,11 +301,8 @@ def _compiled_periodic_matrix(
         hi = min(t, lo + block)
         right = scratch[: 3 * (hi - lo) * n].reshape(3, hi - lo, n)  # zeroed by the kernel
         kern.right_block(
-            plan.node,
-            plan.offset,
-            plan.distance,
-            plan.inverse,
-            plan.unit,
+            pairs.values,
+            pairs.codes,
             plan.sigma_code,
             moments,
             plan.special,
@@ -308,7 +359,7 @@ def warm_up() -> float:
     kern = kernels()
     t, n = 2, 2
     f32 = np.float32
-    plane = np.ones((t, t), dtype=f32)
+    w = kern.OBSERVER_CHUNK
     tables = np.zeros((1, 12))
     special = np.zeros((6, 2, 1))
     right = np.zeros((3, t, n), dtype=np.complex128)
@@ -318,11 +369,8 @@ def warm_up() -> float:
     ones = np.ones(2, dtype=np.complex128)
     for layered in (False, True):
         kern.right_block(
-            np.zeros((t, t), dtype=np.int32),
-            np.zeros((2, t, t), dtype=f32),
-            plane,
-            plane,
-            np.zeros((2, t, t), dtype=f32),
+            np.zeros((1, t, 6, w), dtype=f32),
+            np.zeros((1, t, 2, w), dtype=np.int32),
             np.zeros((t, t), dtype=np.int16),
             np.ones((t, 11)),
             np.zeros((1, 2), dtype=np.intp),

@@ -33,8 +33,10 @@ from .solve import ProblemTooLarge, format_bytes, memory_allowance
 #: its tables (the fill plan's offsets, distances, σ codes and their temporaries), measured
 #: with tracemalloc: 189-192 at T = 2,048-4,608 above a fixed ~0.1 GiB, plus a margin.
 GEOMETRY_PEAK_BYTES_PER_T2 = 200.0
-#: Bytes per triangle pair the built geometry keeps (measured 39-48 at T = 2,048-4,608).
-GEOMETRY_BYTES_PER_T2 = 42.0
+#: Bytes per triangle pair the built geometry keeps (measured 39-48 at T = 2,048-4,608),
+#: plus the 32 of the compiled fill's copy of the plan's pair arrays, kept with the plan
+#: from its first compiled fill (:func:`~barymesh.mom.compiled_periodic_fill.pair_rows`).
+GEOMETRY_BYTES_PER_T2 = 74.0
 #: Peak bytes per N² of one periodic solve beyond the geometry: Z, the fill's float32
 #: Taylor blocks and right factor, and the LU (measured 41.2-42.7 at N = 3,008-6,816).
 SOLVE_BYTES_PER_N2 = 45.0
@@ -157,7 +159,7 @@ def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool 
     Returns
     -------
     int
-        ``max(200 T², 42 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
+        ``max(200 T², 74 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
         beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``.
 
     Examples

@@ -172,11 +172,8 @@ def taylor_row(
 
 @njit(parallel=True, cache=True)
 def right_block(
-    node: np.ndarray,
-    offset: np.ndarray,
-    distance: np.ndarray,
-    inverse: np.ndarray,
-    unit: np.ndarray,
+    pair: np.ndarray,
+    pair_code: np.ndarray,
     sigma_code: np.ndarray,
     moments: np.ndarray,
     special: np.ndarray,
@@ -203,19 +200,24 @@ def right_block(
 ) -> None:  # pragma: no cover - compiled
     """The rows of R of observation triangles lo..hi, written to ``out`` (3, hi − lo, N).
 
-    Plan arrays as in :class:`~barymesh.mom.periodic_plan.FillPlan` ([source,
-    observation]); ``moments`` (T, 11) each triangle's A, I_00, I_01, I_10, I_11,
-    J_000, J_001, J_011, J_100, J_101, J_111 in double precision; ``tables_a`` (G², 12)
-    G_reg's Taylor table at ``k_a`` (units of the plan's scale), ``special_a`` (6, 2, M)
-    the near and close pairs' moments. With ``layered``, the charge moment comes from
-    ``tables_phi`` at ``k_phi`` and ``special_phi`` (1, 2, M), and the moments are μ̃ G_A
-    and G_Φ/ε̄. ``phases`` (S,) complex: e^(−j k_t·ρ_σ) per σ code. ``slot_*``: each
-    unknown's source triangles (CSR by unknown, triangles ascending) with their [C, D_x,
-    D_y] coefficients and Floquet phase. Every entry is multiplied by ``factor``
-    (jkη/4π h³ in the vacuum fill).
+    ``pair`` and ``pair_code``: the plan's per-pair arrays by chunk of
+    :data:`OBSERVER_CHUNK` observers (:class:`~barymesh.mom.compiled_periodic_fill.PairRows`:
+    offset x, y, distance, inverse, unit x, y; node and σ code), ``sigma_code`` the
+    plan's [source, observation] σ codes (read for the near and close pairs);
+    ``moments`` (T, 11) each triangle's A, I_00, I_01, I_10, I_11, J_000, J_001, J_011,
+    J_100, J_101, J_111 in double precision; ``tables_a`` (G², 12) G_reg's Taylor table
+    at ``k_a`` (units of the plan's scale), ``special_a`` (6, 2, M) the near and close
+    pairs' moments. With ``layered``, the charge moment comes from ``tables_phi`` at
+    ``k_phi`` and ``special_phi`` (1, 2, M), and the moments are μ̃ G_A and G_Φ/ε̄.
+    ``phases`` (S,) complex: e^(−j k_t·ρ_σ) per σ code. ``slot_*``: each unknown's source
+    triangles (CSR by unknown, triangles ascending) with their [C, D_x, D_y] coefficients
+    and Floquet phase. Every entry is multiplied by ``factor`` (jkη/4π h³ in the vacuum
+    fill).
 
-    One job is :data:`OBSERVER_CHUNK` observers: for each source, the loop over them
-    reads the plan's rows in order, :func:`taylor_row` their moments into the job's
+    One job is the block's part of one chunk of :data:`OBSERVER_CHUNK` observers (chunks
+    counted from triangle 0, so that each job's pair rows are contiguous): for each
+    source, the loop over them reads the chunk's rows in order, :func:`taylor_row` their
+    moments into the job's
     (T, 12, C) scratch; the near and close pairs are added, each pair's moments turned
     into its six blocks of S in place (on real and imaginary rows, a loop over the
     observers that the compiler vectorises), and each entry of R is then written once,
@@ -224,17 +226,19 @@ def right_block(
     without the scattered read-modify-writes (a third of the kernel's time before).
     """
     t = moments.shape[0]
-    width = hi - lo
-    chunks = (width + OBSERVER_CHUNK - 1) // OBSERVER_CHUNK
+    chunks = (hi - 1) // OBSERVER_CHUNK - lo // OBSERVER_CHUNK + 1
     kar, kai = k_a.real, k_a.imag
     kpr, kpi = k_phi.real, k_phi.imag
     mur, mui = mu.real, mu.imag
     ier, iei = inv_eps.real, inv_eps.imag
     fcr, fci = factor.real, factor.imag
     w = OBSERVER_CHUNK
+    g0 = lo // w
     for chunk in prange(chunks):
-        first = lo + chunk * w
-        count = min(hi, first + w) - first
+        g = g0 + chunk
+        first = max(lo, g * w)
+        count = min(hi, g * w + w) - first
+        off = first - g * w
         m = np.empty((t, 12, w))
         charge = np.empty((t, 2, w))
         buf = np.empty(ROWS * w)
@@ -243,23 +247,20 @@ def right_block(
             for j in range(11):
                 buf[(OBS + j) * w + c] = moments[first + c, j]
                 buf_phi[(OBS + j) * w + c] = moments[first + c, j]
-        # sources outside, observers inside: the plan's [s, o] rows are read in order
+        # sources outside, observers inside: the chunk's [s] rows are read in order
         for s in range(t):
+            rows = pair[g, s]
+            codes = pair_code[g, s]
             for c in range(count):
-                o = first + c
-                r = node[s, o]
+                r = codes[0, off + c]
                 for j in range(12):
                     buf[(TAB + j) * w + c] = tables_a[r, j]
                 if layered:
                     for j in range(12):
                         buf_phi[(TAB + j) * w + c] = tables_phi[r, j]
-                ph = phases[sigma_code[s, o]]
-                buf[PAIR * w + c] = offset[0, s, o]
-                buf[(PAIR + 1) * w + c] = offset[1, s, o]
-                buf[(PAIR + 2) * w + c] = distance[s, o]
-                buf[(PAIR + 3) * w + c] = inverse[s, o]
-                buf[(PAIR + 4) * w + c] = unit[0, s, o]
-                buf[(PAIR + 5) * w + c] = unit[1, s, o]
+                ph = phases[codes[1, off + c]]
+                for j in range(6):
+                    buf[(PAIR + j) * w + c] = rows[j, off + c]
                 buf[(PAIR + 6) * w + c] = ph.real
                 buf[(PAIR + 7) * w + c] = ph.imag
             taylor_row(buf, moments[s], kar, kai, count, False)
