@@ -321,7 +321,10 @@ def layout(params: MeshParams, neighbours: np.ndarray | None = None) -> Layout:
             return Layout(template, xy, regions.astype(np.int32), ids, rep, None)
         return _conforming_ring_layout(params)
     origins, regions = paper_origins(params)
-    rects = np.concatenate([origins, np.broadcast_to([h, w], origins.shape)], axis=1)
+    rects = np.empty((len(origins), 4))  # (x0, y0, h, w), without broadcast_to's overhead
+    rects[:, :2] = origins
+    rects[:, 2] = h
+    rects[:, 3] = w
     if template.lattice:  # welded from the origins alone: the points are written after
         step = (h / template.segments, w / template.segments)
         ids, rep = _welded(

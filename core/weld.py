@@ -314,5 +314,7 @@ def _window_candidates(frac: np.ndarray, scaled: np.ndarray, r: float) -> np.nda
     dy = np.abs(frac[a, 1] - frac[b, 1])
     near = (np.minimum(dy, 1.0 - dy) <= r) & (a != b)
     near &= (np.abs(scaled[a] - scaled[b]) <= r).all(axis=1)
+    if not near.any():  # the usual answer on a ring: no patches share a lattice
+        return np.empty((0, 2), dtype=np.int64)
     a, b = a[near], b[near]
     return np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1).astype(np.int64)

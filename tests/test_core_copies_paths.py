@@ -231,16 +231,20 @@ def test_a_record_of_copies_rebuilt_from_triangles_takes_the_same_paths():
 
 @pytest.mark.parametrize("copies", [1, 7, 300, 5000])
 @pytest.mark.parametrize("k", [1, 3, 40, 112])
-def test_fill_tiled_equals_the_plain_broadcast_on_both_sides_of_a_block(copies, k):
+@pytest.mark.parametrize(("step", "base", "none"), [(25, 2, True), (25, 0, False), (0, 5, True)])
+def test_fill_tiled_equals_the_plain_broadcast_on_both_sides_of_a_block(
+    copies, k, step, base, none
+):
     from barymesh.repeat.copies import fill_tiled
     from barymesh.topology import INDEX
 
     a = np.arange(k, dtype=INDEX) * 3
-    a[::4] = -1  # "none" entries stay -1
-    want = a[None, :] + (np.arange(copies, dtype=INDEX) * 25 + 2)[:, None]
+    if none:
+        a[::4] = -1  # "none" entries stay -1
+    want = a[None, :] + (np.arange(copies, dtype=INDEX) * INDEX(step) + INDEX(base))[:, None]
     want[:, a < 0] = -1
     out = np.full(copies * k + 3, 99, dtype=INDEX)
-    fill_tiled(out, a, copies, 25, 2)
+    fill_tiled(out, a, copies, INDEX(step), INDEX(base))  # numpy scalars, as chains pass
     assert np.array_equal(out[: copies * k], want.ravel())
     assert (out[copies * k :] == 99).all()  # nothing written past the copies
 

@@ -173,17 +173,18 @@ def fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int
     k = len(flat)
     if copies == 0 or k == 0:
         return
-    missing = flat < 0
-    if copies * k <= BLOCK:
+    if copies * k <= BLOCK:  # few numpy calls: at small sizes their overhead is the cost
+        step, base = int(step), int(base)
+        if step > 0:  # base, base + step, ...: arange's own products, exact in int32
+            shift = np.arange(base, base + copies * step, step, dtype=INDEX)
+        else:
+            shift = np.arange(copies, dtype=INDEX) * INDEX(step) + INDEX(base)
         rows = out[: copies * k].reshape(copies, k)
-        rows[...] = flat
-        shift = np.arange(copies, dtype=INDEX)
-        shift *= INDEX(step)
-        shift += INDEX(base)
-        rows += shift[:, None]
-        if missing.any():
-            rows[:, np.flatnonzero(missing)] = -1
+        np.add(flat, shift[:, None], out=rows)  # one pass over the output, not two
+        if flat.min() < 0:
+            rows[:, np.flatnonzero(flat < 0)] = -1
         return
+    missing = flat < 0
     per = max(1, min(copies, BLOCK // k))  # copies per block
     ramp = np.repeat(np.arange(per, dtype=INDEX) * INDEX(step), k)
     if missing.any():
@@ -277,17 +278,22 @@ def copies_lengths(
         padded, active = axes_of(columns)
         compiled.copies_lengths(*padded, active, n_patches, n_vertices, start, end, found)
         return found
-    total = np.zeros((n_patches, k))
     axes = [x.reshape(n_patches, n_vertices) for x in columns if x.any()]
+    if not axes:  # every point at the origin
+        return np.zeros(n_patches * k)
+    total = np.empty((n_patches, k))
     rows = max(1, BLOCK // max(k, 1))
     for lo in range(0, n_patches, rows):
         acc = total[lo : lo + rows]
-        for x in axes:
+        for axis, x in enumerate(axes):
             block = x[lo : lo + rows]
             d = block.take(end, axis=1)
             d -= block.take(start, axis=1)
-            d *= d
-            acc += d
+            if axis == 0:  # the first square written, not added to zeros (0 + s is s)
+                np.multiply(d, d, out=acc)
+            else:
+                d *= d
+                acc += d
     return np.sqrt(total, out=total).reshape(-1)
 
 
@@ -348,9 +354,8 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
     extent = np.max([[x.max(), -x.min()] for x in columns])
     deviations = []
     blocks = [x.reshape(n_p, nv) for x in columns]
-    with np.errstate(invalid="ignore", over="ignore"):
-        firsts = [x[0] - x[0, 0] for x in blocks]
     with np.errstate(invalid="ignore", over="ignore"):  # an infinity makes the bound NaN
+        firsts = [x[0] - x[0, 0] for x in blocks]
         for lo in range(0, n_p, rows):
             for x, first in zip(blocks, firsts, strict=True):
                 block = x[lo : lo + rows]
