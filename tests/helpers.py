@@ -11,8 +11,23 @@ import textwrap
 import numpy as np
 from hypothesis import strategies as st
 
-from barymesh import MeshParams, build_mesh
+from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.topology import edge_topology
+
+
+def with_points(mesh, points):
+    """The mesh with other points, same triangles and repetition record (nothing cached)."""
+    return TriMesh(
+        points,
+        mesh.triangles,
+        mesh.patch_ids,
+        mesh.regions,
+        mesh.n_patches,
+        mesh.mode,
+        mesh.tolerance,
+        mesh.patch_rects,
+        repetition=mesh.repetition,
+    )
 
 
 def signed_areas(mesh):

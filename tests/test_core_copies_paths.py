@@ -12,6 +12,7 @@ refused.
 
 import numpy as np
 import pytest
+from helpers import with_points
 
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.check import check_mesh
@@ -55,21 +56,6 @@ def plain(mesh, points=None):
         mesh.mode,
         mesh.tolerance,
         mesh.patch_rects,
-    )
-
-
-def with_points(mesh, points):
-    """The mesh with other points, same record (nothing cached)."""
-    return TriMesh(
-        points,
-        mesh.triangles,
-        mesh.patch_ids,
-        mesh.regions,
-        mesh.n_patches,
-        mesh.mode,
-        mesh.tolerance,
-        mesh.patch_rects,
-        repetition=mesh.repetition,
     )
 
 

@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from helpers import with_points
 
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.repeat import compiled, copy_slack, patch_centroids
@@ -59,26 +60,12 @@ def variants(mesh):
     return [mesh.points, with_z, negative_zero]
 
 
-def remade(mesh, points):
-    return TriMesh(
-        points,
-        mesh.triangles,
-        mesh.patch_ids,
-        mesh.regions,
-        mesh.n_patches,
-        mesh.mode,
-        mesh.tolerance,
-        mesh.patch_rects,
-        repetition=mesh.repetition,
-    )
-
-
 @pytest.mark.parametrize("params", MESHES, ids=lambda p: f"{p.structure}-{p.mode}")
 def test_compiled_centroids_equal_the_numpy_path(params, compiled_always, monkeypatch):
     mesh = build_mesh(params)
     rep = mesh.repetition
     for points in variants(mesh):
-        columns = remade(mesh, points).columns
+        columns = with_points(mesh, points).columns
         for unwelded in {False, rep.kind == "copies"}:
             got = patch_centroids(columns, rep.vertex_map, rep.template.triangles, unwelded)
             want = reference(
@@ -89,7 +76,7 @@ def test_compiled_centroids_equal_the_numpy_path(params, compiled_always, monkey
             )
             assert same_bits(got, want)
         plain = TriMesh(points, mesh.triangles, mesh.patch_ids, mesh.regions, mesh.n_patches)
-        assert same_bits(remade(mesh, points).centroids, plain.centroids)  # the general path
+        assert same_bits(with_points(mesh, points).centroids, plain.centroids)  # the general path
 
 
 @pytest.mark.parametrize("params", MESHES[:3], ids=lambda p: f"{p.structure}-{p.mode}")
@@ -99,7 +86,7 @@ def test_compiled_lengths_equal_the_numpy_path(params, compiled_always, monkeypa
     nv, n_p = len(rep.template.uv), rep.n_patches
     local = template_topology(rep.template)
     for points in variants(mesh):
-        columns = remade(mesh, points).columns
+        columns = with_points(mesh, points).columns
         for pairs in (local.edges, local.edges[local.valence == 2]):
             got = copies_lengths(pairs, n_p, nv, points, columns)
             want = reference(
@@ -108,8 +95,8 @@ def test_compiled_lengths_equal_the_numpy_path(params, compiled_always, monkeypa
             assert same_bits(got, want)
             assert same_bits(got, segment_lengths(points, tiled(pairs, n_p, nv)))
         assert same_bits(
-            remade(mesh, points).rwg.length,
-            reference(monkeypatch, lambda x=points: remade(mesh, x).rwg.length),
+            with_points(mesh, points).rwg.length,
+            reference(monkeypatch, lambda x=points: with_points(mesh, x).rwg.length),
         )
 
 
@@ -165,7 +152,7 @@ def test_compiled_copy_slack_equals_the_numpy_path(params, compiled_always, monk
     broken[2][nv, 0] = -np.inf  # a patch's first vertex
     broken[3][7, 2] = np.nan  # in z
     for points in [*variants(mesh), shifted, *broken]:
-        columns = remade(mesh, points).columns
+        columns = with_points(mesh, points).columns
         got = copy_slack(nv, columns)
         want = reference(monkeypatch, lambda c=columns: copy_slack(nv, c))
         assert got == want or (np.isnan(got) and np.isnan(want)), (got, want)
@@ -182,7 +169,7 @@ def test_copies_with_a_coordinate_that_is_not_finite_are_still_refused(bad, comp
         points = mesh.points.copy()
         points[row, axis] = bad
         with pytest.raises(MeshInvariantError, match="not finite"):
-            check_mesh(remade(mesh, points), params)
+            check_mesh(with_points(mesh, points), params)
 
 
 @pytest.mark.parametrize("params", MESHES[:3], ids=lambda p: f"{p.structure}-{p.mode}")
