@@ -45,6 +45,15 @@ def _frozen(a: np.ndarray) -> np.ndarray:
     return a
 
 
+#: Methods moved out of :class:`TriMesh`, and where they are now.
+_MOVED = {
+    "to_pyvista": (
+        "use barymesh.app.view.polydata.to_pyvista(mesh) (the app extra), "
+        "or pyvista.from_meshio(mesh.to_meshio())"
+    ),
+}
+
+
 @dataclass(frozen=True, eq=False)
 class TriMesh:
     """A triangle mesh ready for RWG basis functions.
@@ -375,39 +384,14 @@ class TriMesh:
             cell_data={name: [values] for name, values in data.items()},
         )
 
-    def to_pyvista(self, wavelength: float | None = None) -> Any:
-        """The mesh as a ``pyvista.PolyData`` (VTK), with the cell data of :meth:`to_meshio`.
-
-        Imports pyvista (the ``app`` extra) when called, and only then: the rest of the
-        core never loads VTK.
-
-        Parameters
-        ----------
-        wavelength : float, optional
-            λ in mm: the cell data also get ``edge_wavelength``.
-
-        Returns
-        -------
-        pyvista.PolyData
-            ``points`` (V, 3) mm, one triangle per cell, ``cell_data`` as :meth:`to_meshio`.
-
-        Raises
-        ------
-        ImportError
-            When pyvista is not installed (the message says how to install it).
-        """
-        try:
-            import pyvista
-        except ImportError as exc:
-            raise ImportError(
-                f"TriMesh.to_pyvista needs pyvista: pip install 'barymesh[app]' ({exc})"
-            ) from None
-        triangles = self.triangles.astype(np.int64)
-        faces = np.column_stack([np.full(len(triangles), 3, dtype=np.int64), triangles])
-        poly = pyvista.PolyData(np.array(self.points, dtype=np.float64), faces.ravel())
-        for name, values in cell_figures(self, wavelength).items():
-            poly.cell_data[name] = values
-        return poly
+    def __getattr__(self, name: str) -> Any:
+        # (called only when the normal lookup failed) hand-offs that left the core, which
+        # never imports VTK, say where they went
+        if name in _MOVED:
+            raise AttributeError(f"TriMesh.{name} is gone from the core: {_MOVED[name]}")
+        if hasattr(type(self), name):  # a property raised AttributeError: let it show
+            return object.__getattribute__(self, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def scaled(self, factor: float) -> TriMesh:
         """A copy with coordinates multiplied by ``factor`` (for unit conversion).

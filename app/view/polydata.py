@@ -17,6 +17,8 @@ import numpy as np
 if TYPE_CHECKING:
     import pyvista as pv
 
+    from barymesh.mesh import TriMesh
+
 
 @dataclass(frozen=True, eq=False)
 class Layer:
@@ -92,3 +94,40 @@ class Layer:
             )
             return poly
         return pv.PolyData(points)
+
+
+def to_pyvista(mesh: TriMesh, wavelength: float | None = None) -> pv.PolyData:
+    """The mesh as a ``pyvista.PolyData`` (VTK), with the cell data of ``mesh.to_meshio()``.
+
+    Here, not in the core, which never imports VTK (it was ``TriMesh.to_pyvista`` up to
+    barymesh 0.2). Made on the calling thread: call it where the dataset is used.
+
+    Parameters
+    ----------
+    mesh : TriMesh
+    wavelength : float, optional
+        λ in mm: the cell data also get ``edge_wavelength``.
+
+    Returns
+    -------
+    pyvista.PolyData
+        ``points`` (V, 3) mm, one triangle per cell, ``cell_data`` the per-triangle figures
+        of :func:`barymesh.quality.cell_figures` (``patch_id``, ``region``, ``area``,
+        ``min_angle``, ``aspect_ratio``).
+
+    Examples
+    --------
+    >>> from barymesh import MeshParams, build_mesh
+    >>> poly = to_pyvista(build_mesh(MeshParams(structure="patch", subdivisions=2)))
+    >>> poly.n_cells, sorted(poly.cell_data)
+    (8, ['area', 'aspect_ratio', 'min_angle', 'patch_id', 'region'])
+    """
+    import pyvista as pv
+
+    from barymesh.quality import cell_figures
+
+    triangles = np.asarray(mesh.triangles, dtype=np.int64)
+    poly = pv.PolyData.from_regular_faces(np.array(mesh.points, dtype=np.float64), triangles)
+    for name, values in cell_figures(mesh, wavelength).items():
+        poly.cell_data[name] = values
+    return poly
