@@ -253,3 +253,29 @@ def test_any_frequency_and_angle_give_a_clear_refusal_or_a_balanced_solution(
     assert np.all(np.isfinite(s.coefficients)) and np.isfinite(s.power_balance)
     if frequency <= 21e9:  # edges (1.41 mm) within λ/10: the solution conserves power
         assert abs(s.power_balance - 1) < 1e-3, (frequency, theta, s.power_balance)
+
+
+def test_the_compiled_fills_pair_copy_is_counted_for_a_built_geometry():
+    # a geometry built (and cached) before its first compiled fill: the solve's check
+    # counts the copy of the pair arrays that fill makes, within the measured bytes
+    from barymesh.mom.compiled_periodic_fill import has_pair_rows, kernels, pair_rows
+    from barymesh.mom.periodic_checks import PAIR_COPY_BYTES_PER_T2, periodic_memory_needed
+    from barymesh.mom.periodic_geometry import periodic_geometry
+
+    p = MeshParams(structure="patch", patch_size=6.0, subdivisions=8, origin=(-3, -3))
+    mesh = build_cell(UnitCell(Lattice.rectangular(10.0), (Element(p),))).mesh
+    pg = periodic_geometry(mesh)
+    t, n = pg.base.n_triangles, pg.n_unknowns
+    assert t == 128 and not has_pair_rows(pg.plan)  # (128: a whole number of chunks)
+    extra = periodic_memory_needed(t, n, geometry=False, pair_copy=True)
+    assert extra - periodic_memory_needed(t, n, geometry=False) == PAIR_COPY_BYTES_PER_T2 * t**2
+    kernels()  # (numba and the loops loaded first: their allocations are not the copy's)
+    tracemalloc.start()
+    try:
+        rows = pair_rows(pg.plan)
+        kept, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert has_pair_rows(pg.plan)
+    assert rows.values.nbytes + rows.codes.nbytes == 32 * t**2 <= kept
+    assert peak <= PAIR_COPY_BYTES_PER_T2 * t**2 + 16 * 2**10

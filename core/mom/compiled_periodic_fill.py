@@ -158,6 +158,11 @@ class PairRows:
 _PAIRS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
+def has_pair_rows(plan: FillPlan) -> bool:
+    """Whether :func:`pair_rows` of ``plan`` is made (and kept) already."""
+    return plan in _PAIRS
+
+
 def pair_rows(plan: FillPlan) -> PairRows:
     """The :class:`PairRows` of ``plan`` (cached per plan: a sweep builds them once).
 

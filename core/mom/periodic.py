@@ -43,6 +43,7 @@ import scipy.sparse as sp
 from threadpoolctl import ThreadpoolController
 
 from ..mesh import TriMesh
+from .compiled_periodic_fill import has_pair_rows
 from .excitation import PlaneWave
 from .floquet import harmonics
 from .operator import ETA0, wavenumber
@@ -368,7 +369,13 @@ def periodic_solve_many(
     for wave in waves:  # the lattice sums' terms and memory, before the geometry is built
         check_green_terms(lattice_metres(mesh, lattice), frequency, wave.direction, memory_limit)
     pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
-    check_periodic_memory(pg.base.n_triangles, pg.n_unknowns, memory_limit, geometry=False)
+    check_periodic_memory(
+        pg.base.n_triangles,
+        pg.n_unknowns,
+        memory_limit,
+        geometry=False,
+        pair_copy=not has_pair_rows(pg.plan),
+    )
     k = wavenumber(frequency)
     groups: dict[tuple[float, float], list[int]] = {}
     for i, wave in enumerate(waves):

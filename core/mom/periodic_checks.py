@@ -37,6 +37,11 @@ GEOMETRY_PEAK_BYTES_PER_T2 = 200.0
 #: plus the 32 of the compiled fill's copy of the plan's pair arrays, kept with the plan
 #: from its first compiled fill (:func:`~barymesh.mom.compiled_periodic_fill.pair_rows`).
 GEOMETRY_BYTES_PER_T2 = 74.0
+#: Peak bytes per triangle pair while the compiled fill makes that copy for a geometry
+#: built before (:func:`~barymesh.mom.compiled_periodic_fill.pair_rows`): the 32 it keeps
+#: and one padded plane and its reordering at a time (measured with tracemalloc: 40.0 at
+#: T = 128-512).
+PAIR_COPY_BYTES_PER_T2 = 40.0
 #: Peak bytes per N² of one periodic solve beyond the geometry: Z, the fill's float32
 #: Taylor blocks and right factor, and the LU (measured 41.2-42.7 at N = 3,008-6,816).
 SOLVE_BYTES_PER_N2 = 45.0
@@ -145,7 +150,9 @@ def check_green_terms(
     PeriodicGreen(a1, a2, k, kt)  # a Wood anomaly or a grazing order: refused by name
 
 
-def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool = True) -> int:
+def periodic_memory_needed(
+    n_triangles: int, n_unknowns: int, *, geometry: bool = True, pair_copy: bool = False
+) -> int:
     """Peak bytes of a periodic solve of T triangles and N unknowns (a measured model).
 
     Parameters
@@ -154,13 +161,19 @@ def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool 
         T and N of the cell.
     geometry : bool
         Whether :func:`~barymesh.mom.periodic_geometry` is still to be built (its T² tables
-        count); False counts only what one solve allocates beyond a cached geometry.
+        count); False counts only what one solve allocates beyond a built geometry.
+    pair_copy : bool
+        With ``geometry=False``: whether the built geometry still lacks the compiled
+        fill's copy of its pair arrays
+        (:func:`~barymesh.mom.compiled_periodic_fill.has_pair_rows`), which its first compiled
+        fill makes (40 T² more).
 
     Returns
     -------
     int
         ``max(200 T², 74 T² + 45 N²) + 160 MiB`` (the geometry's build or a solve
-        beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``.
+        beside the built geometry, whichever is larger), or ``45 N² + 160 MiB``
+        (``40 T² + 45 N² + 160 MiB`` with ``pair_copy``).
 
     Examples
     --------
@@ -171,6 +184,8 @@ def periodic_memory_needed(n_triangles: int, n_unknowns: int, *, geometry: bool 
     solve = SOLVE_BYTES_PER_N2 * n2
     if geometry:
         solve = max(GEOMETRY_PEAK_BYTES_PER_T2 * t2, GEOMETRY_BYTES_PER_T2 * t2 + solve)
+    elif pair_copy:
+        solve += PAIR_COPY_BYTES_PER_T2 * t2
     return int(solve) + PERIODIC_FIXED_BYTES
 
 
@@ -180,6 +195,7 @@ def check_periodic_memory(
     memory_limit: float | None = None,
     *,
     geometry: bool = True,
+    pair_copy: bool = False,
 ) -> int:
     """Refuse a periodic cell whose solve would need more memory than allowed.
 
@@ -189,7 +205,7 @@ def check_periodic_memory(
         T and N of the cell.
     memory_limit : float, optional
         A cap in bytes (in addition to the memory available now).
-    geometry : bool
+    geometry, pair_copy : bool
         As for :func:`periodic_memory_needed`.
 
     Returns
@@ -203,7 +219,9 @@ def check_periodic_memory(
         Naming T, N, the memory needed and the memory allowed, before anything of
         that size is allocated.
     """
-    need = periodic_memory_needed(n_triangles, n_unknowns, geometry=geometry)
+    need = periodic_memory_needed(
+        n_triangles, n_unknowns, geometry=geometry, pair_copy=pair_copy
+    )
     allowed, source = memory_allowance(memory_limit)
     if need > allowed:
         what = f"about {SOLVE_BYTES_PER_N2:g} N² bytes for the dense matrix and its LU"

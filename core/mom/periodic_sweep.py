@@ -47,6 +47,7 @@ from scipy.interpolate import AAA
 from scipy.signal import find_peaks
 
 from ..mesh import TriMesh
+from .compiled_periodic_fill import has_pair_rows
 from .excitation import PlaneWave
 from .floquet import (
     grating_lobe_onsets,
@@ -244,7 +245,9 @@ class _Samples:
     ) -> None:
         self.pg = periodic_geometry(mesh, lattice, memory_limit=memory_limit)
         t, n = self.pg.base.n_triangles, self.pg.n_unknowns
-        need = check_periodic_memory(t, n, memory_limit, geometry=False)
+        need = check_periodic_memory(
+            t, n, memory_limit, geometry=False, pair_copy=not has_pair_rows(self.pg.plan)
+        )
         allowed, _ = memory_allowance(memory_limit)
         self.overlapping = (
             OVERLAP
