@@ -219,9 +219,7 @@ def check_periodic_memory(
         Naming T, N, the memory needed and the memory allowed, before anything of
         that size is allocated.
     """
-    need = periodic_memory_needed(
-        n_triangles, n_unknowns, geometry=geometry, pair_copy=pair_copy
-    )
+    need = periodic_memory_needed(n_triangles, n_unknowns, geometry=geometry, pair_copy=pair_copy)
     allowed, source = memory_allowance(memory_limit)
     if need > allowed:
         what = f"about {SOLVE_BYTES_PER_N2:g} N² bytes for the dense matrix and its LU"
