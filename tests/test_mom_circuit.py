@@ -18,6 +18,7 @@ from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.constants import ETA0
 from barymesh.mom import Layer, PlaneWave, Stack, periodic_sweep
 from barymesh.mom.circuit import (
+    EquivalentCircuit,
     equivalent_circuit,
     luukkonen_patch_reflection,
     reflection_from_sheet,
@@ -158,3 +159,26 @@ def test_solved_patches_over_a_grounded_slab_are_a_series_lc_near_luukkonen(patc
     vacuum = free.equivalent_circuit()
     assert vacuum.kind == "series"
     assert fit.capacitance / vacuum.capacitance == pytest.approx(1.6, rel=0.05)
+
+
+@pytest.mark.parametrize("kind", ["series", "parallel"])
+def test_a_resonance_on_a_sample_is_fitted_quietly(kind, capfd):
+    # a lossless sheet sampled exactly at its resonance: a short (series, Z = 0, R = -1)
+    # or an open sheet (parallel, Z infinite). The other kind's linear fit saw an infinite
+    # row there; LAPACK printed "On entry to DLASCL parameter number 4 had an illegal
+    # value" and the series fit was refused ("SVD did not converge")
+    f = np.linspace(5e9, 15e9, 11)
+    inductance, f0 = 1e-9, 10e9
+    capacitance = 1.0 / ((2 * math.pi * f0) ** 2 * inductance)
+    r_loss = 0.0 if kind == "series" else math.inf
+    circuit = EquivalentCircuit(kind, inductance, capacitance, r_loss, (5e9, 15e9), 0.0, 15e9)
+    r = circuit.reflection(f)
+    assert np.all(np.isfinite(r))
+    assert r[5] == (-1.0 if kind == "series" else 0.0)
+    fit = equivalent_circuit(f, r)
+    assert fit.kind == kind
+    assert fit.inductance == pytest.approx(inductance, rel=1e-9)
+    assert fit.capacitance == pytest.approx(capacitance, rel=1e-9)
+    assert fit.resonance == pytest.approx(f0, rel=1e-9)
+    out, err = capfd.readouterr()
+    assert "DLASCL" not in out + err and err == ""

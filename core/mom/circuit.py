@@ -239,7 +239,11 @@ def _impedance(kind: str, w: np.ndarray, inductance: float, capacitance: float, 
     if kind == "series":
         return r + 1j * (w * inductance - 1.0 / (w * capacitance))
     g = 0.0 if not math.isfinite(r) else 1.0 / r
-    return 1.0 / (g + 1j * (w * capacitance - 1.0 / (w * inductance)))
+    y = g + 1j * (w * capacitance - 1.0 / (w * inductance))
+    # at a lossless parallel resonance the sheet is open: an infinite impedance, not NaN
+    z = np.full(np.shape(y), complex(math.inf))
+    np.divide(1.0, y, out=z, where=y != 0)
+    return z
 
 
 def _linear_fit(kind: str, w: np.ndarray, z: np.ndarray) -> tuple[float, float, float] | None:
@@ -248,7 +252,14 @@ def _linear_fit(kind: str, w: np.ndarray, z: np.ndarray) -> tuple[float, float, 
     if kind == "series":
         value, scale = z, ETA0
     else:
-        value, scale = 1.0 / z, 1.0 / ETA0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            value, scale = 1.0 / z, 1.0 / ETA0
+    # a sample on a resonance of the other kind (a short sheet seen as an admittance, an
+    # open one as an impedance) is infinite: no row of this fit (LAPACK refused the NaN)
+    usable = np.isfinite(value)
+    if usable.sum() < 2:
+        return None
+    w, value = w[usable], value[usable]
     weight = 1.0 / (np.abs(value) + scale)
     w_ref = float(np.sqrt(w[0] * w[-1]))  # columns of one size: ω/ω_ref and ω_ref/ω
     u = w / w_ref
