@@ -296,7 +296,7 @@ def parse_copies(text: str) -> tuple[int, int]:
     ((3, 2), (4, 1))
     """
     # the cell document imports the unit cells' code: not for ``barymesh --help``
-    from barymesh.app.edit.cell_document import MAX_COPIES
+    from barymesh.app.model.cell_document import MAX_COPIES
 
     match = re.fullmatch(r"\s*(\d{1,6})\s*[xX×]\s*(\d{1,6})\s*", text)
     if not match or not all(1 <= int(g) <= MAX_COPIES for g in match.groups()):

@@ -57,6 +57,7 @@ from barymesh.app.model import (
     ParamError,
     file_error_sentence,
 )
+from barymesh.app.model.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from barymesh.app.panels.controls import ControlsPanel
 from barymesh.app.panels.infinite_array_panel import InfiniteArrayPanel
 from barymesh.app.panels.layers_panel import LayersPanel
@@ -73,7 +74,6 @@ from barymesh.app.view.framing import (
     pixels_per_mm,
 )
 from barymesh.app.view.gl_info import multi_samples
-from barymesh.app.view.layers import COLOR_BY_TITLES, LAYER_TITLES, LAYERS
 from barymesh.app.view.scene import MeshScene
 from barymesh.app.view.scene_presenter import ScenePresenter
 from barymesh.app.view.view_tools import ViewTools

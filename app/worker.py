@@ -40,9 +40,9 @@ from typing import Any
 from PySide6.QtCore import QObject, QTimer, Signal
 
 from barymesh import MeshParams, TriMesh
-from barymesh.app.edit.cell_document import CellTarget
 from barymesh.app.jobs import Jobs
 from barymesh.app.model import AppModel, MeshResult, compute
+from barymesh.app.model.cell_document import CellTarget
 from barymesh.app.view.scene_data import detail_data, scene_data
 
 log = logging.getLogger(__name__)

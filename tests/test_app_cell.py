@@ -704,8 +704,8 @@ def test_cancel_returns_to_the_cell_on_screen(window, qtbot):
 
 
 def test_model_cell_undo_and_refusals_without_qt():
-    from barymesh.app.edit.cell_document import CellState, CellTarget, predicted_triangles
     from barymesh.app.model import AppModel, compute
+    from barymesh.app.model.cell_document import CellState, CellTarget, predicted_triangles
 
     cell = load_cell_preset("split-ring-pair")
     model = AppModel(COARSE)
@@ -752,7 +752,7 @@ def test_model_cell_undo_and_refusals_without_qt():
 @pytest.mark.parametrize(
     "module",
     [
-        "barymesh.app.edit.cell_document",
+        "barymesh.app.model.cell_document",
         "barymesh.app.edit.array_preview",
         "barymesh.app.edit.drag_tool",
         "barymesh.app.cli_options",  # parse_copies, the preview's N1xN2, was lattice_panel's
@@ -1072,7 +1072,7 @@ def test_triangle_numbers_stay_off_until_they_can_be_read(window, qtbot, tmp_pat
     enough on screen to hold them; the note says so; zooming in brings them."""
     from app_user import drag_slider_by
 
-    from barymesh.app.view.layers import LABEL_LIMIT
+    from barymesh.app.model.layers import LABEL_LIMIT
 
     window.resize(1400, 860)
     open_preset(window, qtbot, "hexagonal-rings")

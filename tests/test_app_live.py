@@ -676,7 +676,7 @@ def test_overview_colours_are_the_faces_lookup_table_in_numpy(key, span):
     import pyvista as pv
     from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
-    from barymesh.app.view.layers import COLOR_BY
+    from barymesh.app.model.layers import COLOR_BY
     from barymesh.app.view.scene_data import Overview, lut_settings, overview_rgba
 
     array = COLOR_BY[key][0]

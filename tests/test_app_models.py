@@ -17,7 +17,6 @@ from hypothesis import strategies as st
 
 from barymesh import MeshParams, build_mesh
 from barymesh.app import cli_options
-from barymesh.app.edit.cell_document import CellTarget
 from barymesh.app.model import (
     CLICK_TOOLS,
     ClickTools,
@@ -26,6 +25,7 @@ from barymesh.app.model import (
     compute,
     compute_cell,
 )
+from barymesh.app.model.cell_document import CellTarget
 from barymesh.cell import Element, Lattice, UnitCell
 
 APP = Path(__file__).resolve().parents[1] / "app"
@@ -309,6 +309,26 @@ def test_the_main_window_implements_the_whole_tool_host():
     assert {"add_action", "add_dock", "show_status", "request_render", "file_error"} <= wanted
     assert {"setting", "set_setting"} <= wanted
     assert wanted <= members(_tree("window.py"), "MainWindow")
+
+
+def test_the_models_import_nothing_of_the_window_above_them():
+    # the model knows nothing of the widgets, the view or the editors (napari's
+    # components/ and _qt/): what it shares with them lives in app/model
+    found = []
+    for path in sorted((APP / "model").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                names = [node.module or ""]
+            else:
+                continue
+            found += [
+                f"{path.relative_to(APP)}: {name}"
+                for name in names
+                if name.startswith("barymesh.app.") and not name.startswith("barymesh.app.model")
+            ]
+    assert found == []
 
 
 def test_the_models_and_the_command_line_import_without_qt_or_vtk():

@@ -12,8 +12,8 @@ from PySide6.QtCore import QPoint, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 from test_edit_pixels import transforms  # noqa: E402
 
-from barymesh.app.edit import pixels  # noqa: E402
 from barymesh.app.edit.painter import PixelPainterWindow  # noqa: E402
+from barymesh.app.model import pixels  # noqa: E402
 from barymesh.cell import SYMMETRIES, load_cell, load_cell_preset  # noqa: E402
 
 N = 4  # subdivisions of a pixel patch: 2 n² = 32 triangles (the paper's count)
@@ -53,7 +53,7 @@ def drag(painter, path, button=LEFT):
 
 def expected_mask(shape, strokes, mode):
     """Pixels set by ``strokes`` [(value, [(r, c), ...]), ...] under the geometric maps of
-    ``mode`` (written out in tests/test_edit_pixels.py, independent of barymesh.app.edit.pixels)."""
+    ``mode`` (written out in tests/test_edit_pixels.py, independent of app/model/pixels.py)."""
     mask = np.zeros(shape, bool)
     for value, path in strokes:
         for r, c in path:

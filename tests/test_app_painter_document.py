@@ -7,7 +7,6 @@ import sys
 import numpy as np
 import pytest
 
-from barymesh.app.edit.pixels import SYMMETRY_TITLES
 from barymesh.app.model.painter_document import (
     NOT_SQUARE,
     NothingToSave,
@@ -16,6 +15,7 @@ from barymesh.app.model.painter_document import (
     fits_grid,
     reframes,
 )
+from barymesh.app.model.pixels import SYMMETRY_TITLES
 from barymesh.cell import Lattice, PixelGrid, UnitCell, load_cell, load_cell_preset
 
 

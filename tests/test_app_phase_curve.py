@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from barymesh import MeshParams
-from barymesh.app.edit.cell_document import CellState
+from barymesh.app.model.cell_document import CellState
 from barymesh.app.panels.phase_curve import (
     PhaseInputs,
     cell_with,

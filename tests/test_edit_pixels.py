@@ -1,4 +1,4 @@
-"""The pixel painter's pure edits (barymesh.app.edit.pixels): symmetry groups, paint/erase, flood
+"""The pixel painter's pure edits (barymesh.app.model.pixels): symmetry groups, paint/erase, flood
 fill, invert, random fill and resize, with property tests over random masks."""
 
 import numpy as np
@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from barymesh.app.edit import pixels
+from barymesh.app.model import pixels
 from barymesh.cell import SYMMETRIES, symmetrized
 
 GROUP_ORDER = {"none": 1, "mirror_x": 2, "mirror_y": 2, "4-fold": 4, "8-fold": 8}

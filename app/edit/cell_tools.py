@@ -19,11 +19,11 @@ from PySide6.QtWidgets import QDockWidget, QFileDialog, QMenu, QVBoxLayout, QWid
 
 from barymesh import TriMesh
 from barymesh.app.edit.array_preview import ArrayPreview
-from barymesh.app.edit.cell_document import CellState
 from barymesh.app.edit.drag_tool import ElementDragger
 from barymesh.app.edit.elements_panel import ElementsPanel
 from barymesh.app.edit.lattice_panel import LatticePanel
 from barymesh.app.model import AppModel, ClickTools, MeshResult
+from barymesh.app.model.cell_document import CellState
 from barymesh.app.tool_host import ToolHost
 from barymesh.app.view.framing import FramedCamera, frame_from_above
 from barymesh.cell import Element, Lattice, UnitCell

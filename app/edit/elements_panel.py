@@ -28,8 +28,8 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh import MeshParams
-from barymesh.app.edit.cell_document import CellState
 from barymesh.app.model import STRUCTURE_TITLES, AppModel, format_value, read_number, read_points
+from barymesh.app.model.cell_document import CellState
 from barymesh.app.panels.controls import ERROR_COLOUR, ERROR_STYLE, ValueField, decimal_point
 
 #: The grid (mm) a dragged element's position snaps to, until the user types another.

@@ -6,8 +6,8 @@ from __future__ import annotations
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLabel, QSpinBox, QWidget
 
-from barymesh.app.edit.cell_document import LATTICE_KINDS, MAX_COPIES, CellState, lattice_periods
 from barymesh.app.model import AppModel, format_value, read_number
+from barymesh.app.model.cell_document import LATTICE_KINDS, MAX_COPIES, CellState, lattice_periods
 from barymesh.app.panels.controls import ValueField, decimal_point
 
 KIND_TITLES = {

@@ -47,8 +47,8 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh.app.actions import make_action
-from barymesh.app.edit import pixels
 from barymesh.app.jobs import Jobs
+from barymesh.app.model import pixels
 from barymesh.app.model.painter_document import (
     NOT_SQUARE,
     SUFFIX,

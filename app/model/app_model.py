@@ -25,9 +25,10 @@ from dataclasses import dataclass
 from typing import Any
 
 from barymesh import MeshParams, TriMesh
-from barymesh.app.edit.cell_document import CellState, CellTarget
 from barymesh.app.model.build import MeshResult
+from barymesh.app.model.cell_document import CellState, CellTarget
 from barymesh.app.model.events import Event
+from barymesh.app.model.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES
 from barymesh.app.model.specs import (
     POINT_PARAMS,
     SPECS,
@@ -36,7 +37,6 @@ from barymesh.app.model.specs import (
     named_parameter,
 )
 from barymesh.app.model.typed_text import Reading, read_number, read_points
-from barymesh.app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES
 from barymesh.cell import UnitCell
 
 log = logging.getLogger(__name__)
@@ -70,7 +70,7 @@ class AppModel:
     ``layer_changed(name, visible)``, ``color_by_changed(key)``,
     ``detail_changed(mode)``, ``build_failed(message)``.
 
-    A unit cell (``cell_state``, see :mod:`barymesh.app.edit.cell_document`) replaces the one
+    A unit cell (``cell_state``, see :mod:`barymesh.app.model.cell_document`) replaces the one
     structure when one is open: ``params`` are then the selected element's, every edit of
     the cell or of those parameters is one undo step (the undo stack holds parameters and
     cell states alike), and the cell is what is built. Cell events:
@@ -482,7 +482,7 @@ class AppModel:
             self.color_by_changed.emit(key)
 
     def set_detail(self, mode: str) -> None:
-        """Level of detail: "auto" or "full" (see :data:`barymesh.app.view.layers.DETAIL_MODES`)."""
+        """Level of detail: "auto" or "full" (:data:`barymesh.app.model.layers.DETAIL_MODES`)."""
         if mode not in DETAIL_MODES:
             raise ValueError(
                 f"detail={mode!r} is unknown; expected one of {', '.join(DETAIL_MODES)}"

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from barymesh import BuildCancelled, MeshParams, TriMesh, build_mesh
-from barymesh.app.edit.cell_document import CellTarget
+from barymesh.app.model.cell_document import CellTarget
 from barymesh.cell import UnitCell, build_cell
 
 log = logging.getLogger(__name__)
@@ -52,7 +52,7 @@ def compute(
     ``cancel()`` returned True (checked by the core between its stages and here between
     build, statistics and ``prepare``) as ``MeshResult.cancelled``. ``seconds`` is the
     time of ``build_mesh`` plus the statistics (topology), what a user waits for;
-    ``timings`` has each stage. A unit cell (a :class:`barymesh.app.edit.cell_document.CellTarget`
+    ``timings`` has each stage. A unit cell (a :class:`barymesh.app.model.cell_document.CellTarget`
     in place of ``params``) is built by :func:`compute_cell`.
     """
     if isinstance(params, CellTarget):

@@ -6,7 +6,7 @@ mouse and its fields into the calls below; everything it decides (what an edit m
 symmetry holds on a grid that stopped being square, where a resized grid lies and whether
 the lattice follows it, what is saved) is decided here and tested without a window
 (``tests/test_app_painter_document.py``). The pixel operations themselves are
-:mod:`barymesh.app.edit.pixels`.
+:mod:`barymesh.app.model.pixels`.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from barymesh.app.edit import pixels
+from barymesh.app.model import pixels
 from barymesh.app.model.undo_history import UndoHistory
 from barymesh.cell import Lattice, PixelGrid, UnitCell, load_cell, load_cell_preset, save_cell
 

@@ -15,7 +15,7 @@ from PySide6.QtWidgets import (
 )
 
 from barymesh.app.model import AppModel, MeshResult
-from barymesh.app.view.layers import (
+from barymesh.app.model.layers import (
     COLOR_BY_TITLES,
     DETAIL_MODES,
     LABEL_LIMIT,

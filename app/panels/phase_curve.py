@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from barymesh.app.edit.cell_document import CellState
+from barymesh.app.model.cell_document import CellState
 from barymesh.app.model.specs import applies
 from barymesh.cell import UnitCell, cell_to_dict
 

@@ -34,9 +34,9 @@ from PySide6.QtWidgets import (
 
 from barymesh import MeshParams
 from barymesh.app.model import AppModel
+from barymesh.app.model.layers import LAYERS as SCENE_LAYERS
 from barymesh.app.teach.following_view import FollowingView
 from barymesh.app.view.gl_info import tune_multi_samples
-from barymesh.app.view.layers import LAYERS as SCENE_LAYERS
 from barymesh.app.view.rulers import nice_span
 from barymesh.app.view.scene import MeshScene, add_text_labels
 from barymesh.teach.construction import ConstructionStep, construction_steps

@@ -34,7 +34,7 @@ import numpy as np
 import pyvista as pv
 
 from barymesh import TriMesh
-from barymesh.app.view.layers import LAYERS
+from barymesh.app.model.layers import LAYERS
 from barymesh.app.view.scene import MeshScene, prepare_headless, resized_image
 from barymesh.app.view.scene_data import scene_data
 
@@ -436,9 +436,9 @@ def render_screenshot(
     transparent : bool
         Transparent background instead of white.
     visible : dict of str to bool, optional
-        Layer visibility overrides (see :data:`barymesh.app.view.layers.LAYERS`).
+        Layer visibility overrides (see :data:`barymesh.app.model.layers.LAYERS`).
     color_by : str
-        Face colouring, a key of :data:`barymesh.app.view.layers.COLOR_BY`.
+        Face colouring, a key of :data:`barymesh.app.model.layers.COLOR_BY`.
     """
     width, height = (int(v) for v in window_size)
     if width < 1 or height < 1:

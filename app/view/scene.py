@@ -29,7 +29,7 @@ from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import vtkActor2D, vtkTextActor
 from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
 
-from barymesh.app.view.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
+from barymesh.app.model.layers import COLOR_BY, DEFAULT_VISIBLE, DETAIL_MODES, LABEL_LIMIT, LAYERS
 from barymesh.app.view.overview import (
     DETAIL_TRIANGLES,
     count_in_rect,

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from barymesh import BuildCancelled, TriMesh
-from barymesh.app.view.layers import COLOR_BY, LABEL_LIMIT, LAYERS
+from barymesh.app.model.layers import COLOR_BY, LABEL_LIMIT, LAYERS
 from barymesh.app.view.overview import (
     DETAIL_TRIANGLES,
     count_grid,
@@ -73,7 +73,7 @@ WIDE_FROM = 1.5
 #: the mesh is drawn the way the paper draws it. Detail "always full" (:data:`DETAIL_MODES`)
 #: draws them at any size.
 LIGHT_PX = 4.0
-#: Triangle numbers (up to :data:`~barymesh.app.view.layers.LABEL_LIMIT` triangles) are
+#: Triangle numbers (up to :data:`~barymesh.app.model.layers.LABEL_LIMIT` triangles) are
 #: drawn from this many pixels per typical edge (times the presentation emphasis), in
 #: Detail "auto": below it a label of three digits is wider than the gap between two
 #: centroids, and a few hundred of them were a black smudge (the array preview, a ring

@@ -1,6 +1,6 @@
 """What the 3D view can show: layer names, their titles and defaults, face colourings.
 
-Plain data shared by the scene (pyvista), the model (no Qt) and the panels (Qt).
+Plain data (no Qt, no VTK) that the model keeps and the scene (pyvista) and the panels (Qt) read.
 """
 
 #: Layer names, in drawing order (bottom to top) and in the order the Layers panel lists them.
