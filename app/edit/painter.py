@@ -21,7 +21,6 @@ screen are drawn as flat squares over it.
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
 from collections.abc import Callable
@@ -48,6 +47,13 @@ from PySide6.QtWidgets import (
 
 from barymesh.app.actions import make_action
 from barymesh.app.edit import pixels
+from barymesh.app.edit.painter_preview import (
+    Built,
+    build_preview,
+    lines_layer,
+    segments_layer,
+    squares_layer,
+)
 from barymesh.app.jobs import Jobs
 from barymesh.app.model.painter_document import (
     NOT_SQUARE,
@@ -67,10 +73,7 @@ from barymesh.cell import (
     Lattice,
     PixelGrid,
     UnitCell,
-    build_cell,
 )
-from barymesh.params import DEFAULT_MAX_TRIANGLES
-from barymesh.subdivision import patch_template
 
 log = logging.getLogger(__name__)
 
@@ -86,115 +89,10 @@ COLORS = {
 }
 #: Triangle edges are drawn while a pixel covers at least this many screen pixels.
 EDGES_MIN_PIXELS = 20.0
-#: Larger meshes draw each pixel as one square (the same flat colour: the triangles are
-#: seen through their edges), which keeps a frame of a 128 x 128 grid cheap.
-FACES_AS_TRIANGLES = 40_000
 #: Meshes with more edges draw only the edges in view (again after a zoom or a pan).
 EDGES_ALL = 150_000
 #: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
 SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
-
-
-@dataclasses.dataclass
-class Built:
-    """A mesh built in the worker for one mask, with the layers to draw it (plain
-    arrays: the GUI thread wraps them for VTK)."""
-
-    generation: int
-    mask: np.ndarray
-    cell_mesh: CellMesh | None = None
-    error: str | None = None
-    faces: Layer | None = None
-    edges: Layer | None = None
-    stats: dict[str, Any] | None = None
-    seconds: float = 0.0
-    lifted: np.ndarray | None = None  # (V, 3) points raised over the faces
-    edge_pairs: np.ndarray | None = None  # (E, 2) the mesh's edges
-    midpoints: np.ndarray | None = None  # (E, 2) their midpoints, to clip to the view
-
-
-def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float, generation: int) -> Built:
-    """Mesh ``cell`` and make its face and edge layers (thread-safe: no VTK object is
-    made; never raises)."""
-    start = time.perf_counter()
-    if cell is None:
-        return Built(generation, mask, faces=Layer(), edges=Layer(), stats=None)
-    grid = cell.pixels
-    assert grid is not None  # the painter's cells hold a pixel grid
-    per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
-    count = per_pixel * int(mask.sum())
-    if count > DEFAULT_MAX_TRIANGLES:
-        return Built(
-            generation,
-            mask,
-            error=(
-                f"{int(mask.sum()):,} pixels make {count:,} triangles, more than the budget "
-                f"of {DEFAULT_MAX_TRIANGLES:,}"
-            ),
-        )
-    try:
-        cm = build_cell(cell)
-    except Exception as exc:  # noqa: BLE001 - shown in the window, the last mesh stays
-        if not isinstance(exc, ValueError):
-            log.exception("building the painted cell failed")
-        return Built(generation, mask, error=str(exc))
-    mesh = cm.mesh
-    points = np.asarray(mesh.points, dtype=np.float64)
-    triangles = np.asarray(mesh.triangles)
-    if mesh.n_triangles > FACES_AS_TRIANGLES:  # pixels as one square each, elements as they are
-        pixel_region = len(cell.elements) + 1
-        own = triangles[np.asarray(mesh.regions) != pixel_region]
-        quads = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
-        faces = quads
-        if len(own):
-            faces = Layer(
-                np.vstack([quads.points, points]),
-                faces=(*quads.face_blocks, own + len(quads.points)),
-            )
-    else:
-        faces = Layer(points, faces=np.asarray(triangles, dtype=np.int64))
-    lifted = points.copy()
-    lifted[:, 2] += dz
-    e = np.asarray(mesh.edges)
-    midpoints = 0.5 * (points[e[:, 0], :2] + points[e[:, 1], :2])
-    stats = mesh.stats()
-    return Built(
-        generation,
-        mask,
-        cm,
-        None,
-        faces,
-        _lines(lifted, e),
-        stats,
-        time.perf_counter() - start,
-        lifted,
-        e,
-        midpoints,
-    )
-
-
-def _lines(points: np.ndarray, pairs: np.ndarray) -> Layer:
-    """The line cells ``pairs`` (k, 2) over all of ``points`` (V, 3)."""
-    if len(pairs) == 0:
-        return Layer()
-    return Layer(points, lines=np.asarray(pairs, dtype=np.int64))
-
-
-def _quads(origin: np.ndarray, size: float, cells: np.ndarray, z: float) -> Layer:
-    """Squares of side ``size`` for the (row, column) pairs ``cells`` (K, 2), at height z."""
-    if len(cells) == 0:
-        return Layer()
-    lower = origin + size * cells[:, ::-1].astype(np.float64)  # (K, 2) x, y
-    offsets = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float64) * size
-    xy = (lower[:, None, :] + offsets[None]).reshape(-1, 2)
-    pts = np.column_stack([xy, np.full(len(xy), z)])
-    return Layer(pts, faces=np.arange(len(xy), dtype=np.int64).reshape(-1, 4))
-
-
-def _segments(a: np.ndarray, b: np.ndarray, z: float) -> Layer:
-    """Line segments from ``a`` (k, 2) to ``b`` (k, 2) at height z."""
-    pts = np.column_stack([np.stack([a, b], axis=1).reshape(-1, 2), np.full(2 * len(a), z)])
-    return Layer(pts, lines=np.arange(2 * len(a), dtype=np.int64).reshape(-1, 2))
 
 
 class PixelPainterWindow(QMainWindow):
@@ -555,7 +453,8 @@ class PixelPainterWindow(QMainWindow):
         if pixel is not None:
             cells = self.document.orbit(pixel)
         self._set(
-            "hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells, 5 * self._dz)
+            "hover",
+            squares_layer(np.asarray(self.grid.origin), self.grid.pixel_size, cells, 5 * self._dz),
         )
         self._schedule_render()
 
@@ -759,9 +658,9 @@ class PixelPainterWindow(QMainWindow):
                 np.column_stack([np.full(rows + 1, xs[-1]), ys]),
             ]
         )
-        self._set("grid", _segments(a, b, -self._dz))
+        self._set("grid", segments_layer(a, b, -self._dz))
         corners = self.state.lattice.corners()
-        self._set("outline", _segments(corners, np.roll(corners, -1, axis=0), 3 * self._dz))
+        self._set("outline", segments_layer(corners, np.roll(corners, -1, axis=0), 3 * self._dz))
         self._schedule_render()
 
     def _draw_pending(self, mask: np.ndarray | None = None) -> None:
@@ -773,8 +672,8 @@ class PixelPainterWindow(QMainWindow):
             built = np.zeros_like(mask)
         origin = np.asarray(self.grid.origin)
         p = self.grid.pixel_size
-        self._set("painted", _quads(origin, p, np.argwhere(mask & ~built), 2 * self._dz))
-        self._set("erased", _quads(origin, p, np.argwhere(built & ~mask), 2 * self._dz))
+        self._set("painted", squares_layer(origin, p, np.argwhere(mask & ~built), 2 * self._dz))
+        self._set("erased", squares_layer(origin, p, np.argwhere(built & ~mask), 2 * self._dz))
         contacts = self.grid.replaced(mask=mask).corner_contacts()
         if len(contacts):
             corner = contacts.max(axis=1)[:, ::-1]  # (row, col) of the upper right → (x, y)
@@ -883,7 +782,7 @@ class PixelPainterWindow(QMainWindow):
         m = built.midpoints
         assert m is not None and built.lifted is not None and built.edge_pairs is not None
         keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
-        self._set("edges", _lines(built.lifted, built.edge_pairs[keep]), deep=False)
+        self._set("edges", lines_layer(built.lifted, built.edge_pairs[keep]), deep=False)
         self._edges_view = key
 
     def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
