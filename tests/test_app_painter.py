@@ -86,7 +86,7 @@ def assert_mesh_of(painter, mask):
     assert mesh.n_vertices == vertices
     assert len(mesh.edges) == edges
     assert len(mesh.junction_edges) == 0
-    assert painter.datasets["faces"].n_cells == 32 * k  # what is drawn is that mesh
+    assert painter.scene.datasets["faces"].n_cells == 32 * k  # what is drawn is that mesh
     assert f"Triangles <b>{32 * k:,}</b>" in painter.stats_label.text()
 
 
@@ -254,14 +254,14 @@ def test_corner_contacts_are_marked(painter):
     drag(painter, [(3, 3)])
     drag(painter, [(4, 4)])
     wait_built(painter.qtbot, painter)
-    contacts = painter.datasets["contacts"]
+    contacts = painter.scene.datasets["contacts"]
     assert contacts.n_points == 1
     assert np.allclose(contacts.points[0, :2], (-4 + 4 * 0.5, -4 + 4 * 0.5))
     assert "1</b> corner-only contact" in painter.stats_label.text()
     assert any("corner only" in note for note in painter.cell_mesh.notes)
     drag(painter, [(3, 4)])  # the pinch filled: no contact
     wait_built(painter.qtbot, painter)
-    assert painter.datasets["contacts"].n_points == 0
+    assert painter.scene.datasets["contacts"].n_points == 0
     assert "corner-only" not in painter.stats_label.text()
 
 
@@ -290,7 +290,7 @@ def test_an_empty_cell_is_not_saved(painter, monkeypatch, tmp_path):
     click_action(painter, painter.act_save)
     assert not (tmp_path / "empty.cell.json").exists()
     assert "no metal" in painter.statusBar().currentMessage()
-    assert painter.datasets["faces"].n_cells == 0
+    assert painter.scene.datasets["faces"].n_cells == 0
 
 
 def test_a_64_by_64_grid_is_built_in_the_worker(painter, qtbot):
@@ -309,19 +309,19 @@ def test_a_64_by_64_grid_is_built_in_the_worker(painter, qtbot):
     k = int(painter.mask.sum())
     assert mesh.n_triangles == 32 * k
     # drawn as one square per pixel, no triangle edges at this size on screen
-    assert painter.datasets["faces"].n_cells == k
-    assert np.isclose(painter.datasets["faces"].area, k * 0.25)
-    assert not painter.actors["edges"].GetVisibility()
+    assert painter.scene.datasets["faces"].n_cells == k
+    assert np.isclose(painter.scene.datasets["faces"].area, k * 0.25)
+    assert not painter.scene.actors["edges"].GetVisibility()
     # the wheel zooms in on the middle: the triangle edges come, those in view only
     centre = at(painter, 32, 32)
     for _ in range(8):
         wheel(painter.plotter, centre, 120)
         qtbot.wait(20)
-    qtbot.waitUntil(lambda: painter.actors["edges"].GetVisibility(), timeout=10_000)
-    x0, x1, y0, y1 = painter._view_rect(margin=0.5)
+    qtbot.waitUntil(lambda: painter.scene.actors["edges"].GetVisibility(), timeout=10_000)
+    x0, x1, y0, y1 = painter.scene.view_rect(margin=0.5)
     mid = 0.5 * (mesh.points[mesh.edges[:, 0], :2] + mesh.points[mesh.edges[:, 1], :2])
     inside = (mid[:, 0] >= x0) & (mid[:, 0] <= x1) & (mid[:, 1] >= y0) & (mid[:, 1] <= y1)
-    drawn = painter.datasets["edges"]
+    drawn = painter.scene.datasets["edges"]
     assert 0 < drawn.n_cells == inside.sum() < len(mesh.edges)
 
 
@@ -347,7 +347,7 @@ def wheel(widget, pos, delta):
 def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):
     import imageio.v3 as iio
 
-    from barymesh.app.edit.painter import COLORS
+    from barymesh.app.edit.painter_scene import COLORS
 
     image = rendered(painter.plotter)
     iio.imwrite(tmp_path / "painter.png", image)
@@ -398,17 +398,17 @@ def test_the_mouse_over_a_pixel_outlines_its_orbit(painter):
     for mode, order in (("none", 1), ("mirror_x", 2), ("4-fold", 4), ("8-fold", 8)):
         choose(painter.symmetry_box, mode)
         QTest.mouseMove(painter.plotter, at(painter, 2, 5))  # on no mirror line
-        assert painter.datasets["hover"].n_cells == order, mode
+        assert painter.scene.datasets["hover"].n_cells == order, mode
         QTest.mouseMove(painter.plotter, at(painter, 3, 5))
-        assert painter.datasets["hover"].n_cells == order, mode
+        assert painter.scene.datasets["hover"].n_cells == order, mode
     # the outlined squares are the pixel's images under the eight maps of the square
-    centres = painter.datasets["hover"].cell_centers().points[:, :2]
+    centres = painter.scene.datasets["hover"].cell_centers().points[:, :2]
     images = {g(3, 5, 16, 16) for g in transforms("8-fold")}
     expected = np.array([painter.pixel_centre(r, c)[:2] for r, c in images])
     assert len(centres) == len(expected) == 8
     assert {tuple(p) for p in np.round(centres, 6)} == {tuple(p) for p in np.round(expected, 6)}
     QTest.mouseMove(painter.plotter, QPoint(2, 2))  # off the grid: no outline
-    assert painter.datasets["hover"].n_cells == 0
+    assert painter.scene.datasets["hover"].n_cells == 0
 
 
 def test_keys_of_the_painter(painter, qtbot):
@@ -438,7 +438,7 @@ def test_keys_of_the_painter(painter, qtbot):
     QTest.keyClick(painter.plotter, Qt.Key.Key_P)
     assert painter.act_pen.isChecked()
     QTest.keyClick(painter.plotter, Qt.Key.Key_W)  # VTK's wireframe key does nothing here
-    assert painter.actors["faces"].GetProperty().GetRepresentation() == 2  # surface
+    assert painter.scene.actors["faces"].GetProperty().GetRepresentation() == 2  # surface
 
 
 def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
@@ -467,7 +467,7 @@ def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
     wait_built(qtbot, win)
     assert "overlap" in win.statusBar().currentMessage()
     assert "pixel (row 12, column 12)" in win.statusBar().currentMessage()
-    assert win.cell_mesh.mesh.n_triangles == 64 and win.datasets["faces"].n_cells == 64
+    assert win.cell_mesh.mesh.n_triangles == 64 and win.scene.datasets["faces"].n_cells == 64
     click_action(win, win.act_undo)
     wait_built(qtbot, win)
     assert win.cell_mesh.mesh.n_triangles == 64 and not win.mask[12, 12]
@@ -495,7 +495,7 @@ def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
     assert win.mask.shape == (8, 16) and not win.mask.any()
     assert win.grid.pixel_size == 1.5 and win.grid.origin == (-12.0, -6.0)
     rings = win.cell_mesh.mesh.n_triangles
-    assert rings > 0 and win.cell_mesh.mesh.n_triangles == win.datasets["faces"].n_cells
+    assert rings > 0 and win.cell_mesh.mesh.n_triangles == win.scene.datasets["faces"].n_cells
     win.close()
 
 

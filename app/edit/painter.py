@@ -29,7 +29,6 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QMouseEvent
 from PySide6.QtWidgets import (
@@ -47,13 +46,8 @@ from PySide6.QtWidgets import (
 
 from barymesh.app.actions import make_action
 from barymesh.app.edit import pixels
-from barymesh.app.edit.painter_preview import (
-    Built,
-    build_preview,
-    lines_layer,
-    segments_layer,
-    squares_layer,
-)
+from barymesh.app.edit.painter_preview import Built, build_preview
+from barymesh.app.edit.painter_scene import COLORS, PainterScene
 from barymesh.app.jobs import Jobs
 from barymesh.app.model.painter_document import (
     NOT_SQUARE,
@@ -64,9 +58,6 @@ from barymesh.app.model.painter_document import (
     reframes,
 )
 from barymesh.app.tool_host import ToolHost
-from barymesh.app.view.framing import frame_from_above
-from barymesh.app.view.gl_info import tune_multi_samples
-from barymesh.app.view.polydata import Layer
 from barymesh.cell import (
     SYMMETRIES,
     CellMesh,
@@ -77,20 +68,6 @@ from barymesh.cell import (
 
 log = logging.getLogger(__name__)
 
-COLORS = {
-    "background": "#ffffff",
-    "metal": "#e2b65c",
-    "triangle_edges": "#8a6320",
-    "grid": "#c9ced6",
-    "outline": "#3a4250",
-    "contacts": "#e0001b",
-    "erased": "#ffffff",
-    "hover": "#1f6fd1",
-}
-#: Triangle edges are drawn while a pixel covers at least this many screen pixels.
-EDGES_MIN_PIXELS = 20.0
-#: Meshes with more edges draw only the edges in view (again after a zoom or a pan).
-EDGES_ALL = 150_000
 #: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
 SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
 
@@ -120,27 +97,21 @@ class PixelPainterWindow(QMainWindow):
 
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
-        from pyvistaqt import QtInteractor
-
         self.setObjectName("pixel_painter")
         self._closed = False
         self.generation = 0
         self.shown_generation = -1
         self.cell_mesh: CellMesh | None = None
         self.last_built: Built | None = None
-        self._built_mask: np.ndarray | None = None
         self._stroke: dict[str, Any] | None = None
 
-        self.plotter = QtInteractor(self, auto_update=False)
-        tune_multi_samples(self.plotter)  # before its first frame (app/view/gl_info.py)
-        self.plotter.theme.allow_empty_mesh = True  # datasets start empty, filled later
-        self.plotter.set_background(COLORS["background"])
-        self.plotter.enable_parallel_projection()
-        self.plotter.view_xy(render=False)
-        self.plotter.setMinimumSize(480, 420)
+        #: The edited cell, its undo history and symmetry (no Qt: app/model).
+        self.document = PainterDocument(cell)
+        #: The view and its actors (VTK, on the GUI thread).
+        self.scene = PainterScene(self, self.document)
+        self.plotter = self.scene.plotter
         self.plotter.installEventFilter(self)
         self.plotter.setMouseTracking(True)
-        self._make_actors()
         self._make_toolbars()
         # the statistics on a line of their own under the view: in the status bar beside
         # the messages, a long message ran into them (and was cut off under them)
@@ -159,13 +130,6 @@ class PixelPainterWindow(QMainWindow):
         self.jobs = Jobs(self, name="barymesh-painter")  # one build at a time
         self._running = False
         self._pending: tuple[UnitCell | None, np.ndarray, float, int] | None = None
-        self._render_timer = QTimer(self)
-        self._render_timer.setSingleShot(True)
-        self._render_timer.setInterval(0)
-        self._render_timer.timeout.connect(self._render)
-
-        #: The edited cell, its undo history and symmetry (no Qt: app/model).
-        self.document = PainterDocument(cell)
         self._show_document(reframe=True)
         self.resize(1100, 860)
 
@@ -251,7 +215,7 @@ class PixelPainterWindow(QMainWindow):
             self.statusBar().clearMessage()  # it no longer holds
         self.act_undo.setEnabled(self.document.history.can_undo)
         self.act_redo.setEnabled(self.document.history.can_redo)
-        self._draw_grid()
+        self.scene.draw_grid()
         if reframe:
             self.reset_view()
         self._draw_pending()
@@ -370,23 +334,11 @@ class PixelPainterWindow(QMainWindow):
     def pixel_at(self, pos: QPointF) -> tuple[int, int] | None:
         """The pixel under the widget position ``pos`` (None off the grid): the ray of the
         view through ``pos`` meets z = 0."""
-        ratio = self.plotter.devicePixelRatioF()
-        x = pos.x() * ratio
-        y = (self.plotter.height() - 1 - pos.y()) * ratio
-        renderer = self.plotter.renderer
-        ends = []
-        for depth in (0.0, 1.0):
-            renderer.SetDisplayPoint(x, y, depth)
-            renderer.DisplayToWorld()
-            w = np.array(renderer.GetWorldPoint(), dtype=np.float64)
-            ends.append(w[:3] / w[3])
-        a, b = ends
-        if abs(b[2] - a[2]) < 1e-300:
+        point = self.scene.ground_point(pos)
+        if point is None:
             return None
-        t = a[2] / (a[2] - b[2])
-        point = a + t * (b - a)
         g = self.grid
-        return pixels.pixel_at(g.shape, g.origin, g.pixel_size, point[:2])
+        return pixels.pixel_at(g.shape, g.origin, g.pixel_size, point)
 
     def pixel_centre(self, row: int, col: int) -> tuple[float, float, float]:
         """World point (mm) of the centre of pixel (row, col)."""
@@ -452,14 +404,9 @@ class PixelPainterWindow(QMainWindow):
         cells = np.empty((0, 2), dtype=np.int64)
         if pixel is not None:
             cells = self.document.orbit(pixel)
-        self._set(
-            "hover",
-            squares_layer(np.asarray(self.grid.origin), self.grid.pixel_size, cells, 5 * self._dz),
-        )
-        self._schedule_render()
+        self.scene.draw_hover(cells)
 
     _hovered: tuple[int, int] | None = None
-    _last_good: Built | None = None
 
     def _refresh_hover(self) -> None:
         pixel, self._hovered = self._hovered, (-1, -1)
@@ -495,7 +442,7 @@ class PixelPainterWindow(QMainWindow):
         except ValueError as exc:
             self.statusBar().showMessage(str(exc), 8000)
             return
-        self._pending = (cell, self.mask, self._dz, self.generation)
+        self._pending = (cell, self.mask, self.scene.dz, self.generation)
         self._start()
 
     def _start(self) -> None:
@@ -530,161 +477,14 @@ class PixelPainterWindow(QMainWindow):
             QApplication.processEvents()
             time.sleep(0.005)
 
-    # -- drawing -----------------------------------------------------------------------------
-
-    @property
-    def _dz(self) -> float:
-        return 1e-3 * self.state.lattice.size
-
-    def _make_actors(self) -> None:
-        p = self.plotter
-        self.datasets = {
-            name: pv.PolyData()
-            for name in (
-                "grid",
-                "faces",
-                "edges",
-                "painted",
-                "erased",
-                "outline",
-                "contacts",
-                "hover",
-            )
-        }
-        d = self.datasets
-        self.actors = {
-            "grid": p.add_mesh(
-                d["grid"],
-                color=COLORS["grid"],
-                line_width=1.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "faces": p.add_mesh(
-                d["faces"],
-                color=COLORS["metal"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "edges": p.add_mesh(
-                d["edges"],
-                color=COLORS["triangle_edges"],
-                line_width=1.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "painted": p.add_mesh(
-                d["painted"],
-                color=COLORS["metal"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "erased": p.add_mesh(
-                d["erased"],
-                color=COLORS["erased"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "outline": p.add_mesh(
-                d["outline"],
-                color=COLORS["outline"],
-                line_width=2.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "contacts": p.add_mesh(
-                d["contacts"],
-                color=COLORS["contacts"],
-                point_size=11.0,
-                render_points_as_spheres=True,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "hover": p.add_mesh(
-                d["hover"],
-                color=COLORS["hover"],
-                line_width=2.5,
-                style="wireframe",
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-        }
-        # after the style has moved the camera (observers run in no promised order)
-        self._camera_timer = QTimer(self)
-        self._camera_timer.setSingleShot(True)
-        self._camera_timer.setInterval(0)
-        self._camera_timer.timeout.connect(self._zoomed)
-        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
-            p.iren.add_observer(event, lambda *_: self._camera_timer.start())
-
-    def _set(self, name: str, data: Layer | pv.PolyData, deep: bool = True) -> None:
-        if isinstance(data, Layer):  # wrapped here, on the GUI thread
-            data = data.polydata()
-        self.datasets[name].copy_from(data, deep=deep)
-
-    def _draw_grid(self) -> None:
-        """The pixel grid's lines (under the metal) and the cell outline."""
-        g = self.grid
-        rows, cols = g.shape
-        x0, y0 = g.origin
-        p = g.pixel_size
-        xs = x0 + p * np.arange(cols + 1)
-        ys = y0 + p * np.arange(rows + 1)
-        a = np.vstack(
-            [
-                np.column_stack([xs, np.full(cols + 1, ys[0])]),
-                np.column_stack([np.full(rows + 1, xs[0]), ys]),
-            ]
-        )
-        b = np.vstack(
-            [
-                np.column_stack([xs, np.full(cols + 1, ys[-1])]),
-                np.column_stack([np.full(rows + 1, xs[-1]), ys]),
-            ]
-        )
-        self._set("grid", segments_layer(a, b, -self._dz))
-        corners = self.state.lattice.corners()
-        self._set("outline", segments_layer(corners, np.roll(corners, -1, axis=0), 3 * self._dz))
-        self._schedule_render()
+    # -- drawing (barymesh.app.edit.painter_scene) ---------------------------------------------
 
     def _draw_pending(self, mask: np.ndarray | None = None) -> None:
         """Pixels that differ from the mesh on screen, as flat squares over it; and the
         corner contacts of ``mask`` (default: the current one)."""
         mask = self.mask if mask is None else mask
-        built = self._built_mask
-        if built is None or built.shape != mask.shape:
-            built = np.zeros_like(mask)
-        origin = np.asarray(self.grid.origin)
-        p = self.grid.pixel_size
-        self._set("painted", squares_layer(origin, p, np.argwhere(mask & ~built), 2 * self._dz))
-        self._set("erased", squares_layer(origin, p, np.argwhere(built & ~mask), 2 * self._dz))
-        contacts = self.grid.replaced(mask=mask).corner_contacts()
-        if len(contacts):
-            corner = contacts.max(axis=1)[:, ::-1]  # (row, col) of the upper right → (x, y)
-            xy = origin + p * corner
-            self._set(
-                "contacts", pv.PolyData(np.column_stack([xy, np.full(len(xy), 4 * self._dz)]))
-            )
-        else:
-            self._set("contacts", pv.PolyData())
+        self.scene.draw_pending(mask)
         self._show_stats(mask)
-        self._schedule_render()
 
     def show_built(self, built: Built) -> None:
         """Draw the mesh ``built`` (the faces and every triangle edge)."""
@@ -693,11 +493,7 @@ class PixelPainterWindow(QMainWindow):
             self.statusBar().showMessage(f"Cannot mesh this cell: {built.error}", 10000)
             return
         self.cell_mesh = built.cell_mesh
-        self._last_good = built
-        self._built_mask = built.mask
-        self._set("faces", built.faces, deep=False)  # the worker's arrays, kept in `built`
-        self._edges_view = None
-        self._zoomed()
+        self.scene.show_mesh(built)
         self._draw_pending()
 
     def _show_stats(self, mask: np.ndarray) -> None:
@@ -741,88 +537,13 @@ class PixelPainterWindow(QMainWindow):
             else ""
         )
 
-    def _zoomed(self, *_args: Any) -> None:
-        """Hide the triangle edges when a pixel is too small on screen to read them."""
-        if self._closed:
-            return
-        from barymesh.app.view.framing import pixels_per_mm
-
-        on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
-        shown = on_screen >= EDGES_MIN_PIXELS
-        self.actors["edges"].SetVisibility(shown)
-        if shown:
-            self._edges_in_view()
-        # a contact dot of at most half a pixel, so that many of them still read as dots
-        self.actors["contacts"].GetProperty().SetPointSize(
-            float(np.clip(0.45 * on_screen, 4.0, 12.0))
-        )
-        self._schedule_render()
-
-    _edges_view: tuple[object, ...] | None = None
-
-    def _edges_in_view(self) -> None:
-        """The triangle edges to draw: all of them, or on a large mesh those whose midpoint
-        is in view (with a margin of a pixel)."""
-        built = self._last_good
-        if built is None:
-            return
-        if built.edge_pairs is None:  # no mesh (no metal)
-            self._set("edges", pv.PolyData())
-            self._edges_view = None
-            return
-        if len(built.edge_pairs) <= EDGES_ALL:
-            if self._edges_view != ("all", id(built)):
-                self._set("edges", built.edges, deep=False)
-                self._edges_view = ("all", id(built))
-            return
-        x0, x1, y0, y1 = self._view_rect(margin=self.grid.pixel_size)
-        key = (id(built), x0, x1, y0, y1)
-        if self._edges_view == key:
-            return
-        m = built.midpoints
-        assert m is not None and built.lifted is not None and built.edge_pairs is not None
-        keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
-        self._set("edges", lines_layer(built.lifted, built.edge_pairs[keep]), deep=False)
-        self._edges_view = key
-
-    def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
-        """(x0, x1, y0, y1) mm the view shows from above, widened by ``margin``."""
-        from barymesh.app.view.framing import view_size
-
-        camera = self.plotter.camera
-        w, h = view_size(self.plotter)
-        half_h = float(camera.parallel_scale)
-        half_w = half_h * w / h
-        cx, cy, _ = camera.focal_point
-        return (
-            cx - half_w - margin,
-            cx + half_w + margin,
-            cy - half_h - margin,
-            cy + half_h + margin,
-        )
-
     def reset_view(self) -> None:
         """Frame the cell and the grid from above (R)."""
-        g = self.grid
-        c = self.state.lattice.corners()
-        x = [g.origin[0], g.origin[0] + g.shape[1] * g.pixel_size, *c[:, 0]]
-        y = [g.origin[1], g.origin[1] + g.shape[0] * g.pixel_size, *c[:, 1]]
-        frame_from_above(self.plotter, (min(x), max(x), min(y), max(y)), rulers=False, margin=0.03)
-        self._zoomed()
-
-    def _schedule_render(self) -> None:
-        if not self._closed:
-            self._render_timer.start()
-
-    def _render(self) -> None:
-        if not self._closed:
-            self.plotter.render()
+        self.scene.reset_view()
 
     def view_image(self) -> np.ndarray:
         """The 3D view as an (h, w, 3) uint8 array."""
-        image = self.plotter.screenshot(None, return_img=True)
-        self.plotter.render()
-        return np.ascontiguousarray(image)
+        return self.scene.image()
 
     # -- toolbars ----------------------------------------------------------------------------
 
@@ -959,12 +680,8 @@ class PixelPainterWindow(QMainWindow):
             return
         self._closed = True
         self._pending = None
-        self._render_timer.stop()
-        self._camera_timer.stop()
         self.jobs.close()  # a running build winds down in its thread; its result goes nowhere
-        from barymesh.app.view.interactor import close_view
-
-        close_view(self.plotter)  # pyvistaqt's surface wrapper dropped too
+        self.scene.close()  # its timers stopped, its GL context released
 
 
 # -- the main window's Cell menu ------------------------------------------------------------
