@@ -34,6 +34,7 @@ TOOL_MODULES = (
     "edit/cell_tools.py",
     "edit/drag_tool.py",
     "edit/painter.py",
+    "edit/painter_opener.py",
     "edit/painter_scene.py",
     "teach/teaching_tools.py",
     "teach/teaching_windows.py",

@@ -519,7 +519,7 @@ def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
 def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
     from PySide6.QtWidgets import QMainWindow
 
-    from barymesh.app.edit.painter import cell_menu
+    from barymesh.app.edit.painter_opener import cell_menu
 
     win = QMainWindow()
     qtbot.addWidget(win)

@@ -21,7 +21,6 @@ screen are drawn as flat squares over it.
 
 from __future__ import annotations
 
-import logging
 import time
 from collections.abc import Callable
 from functools import partial
@@ -37,7 +36,6 @@ from PySide6.QtWidgets import (
     QFileDialog,
     QLabel,
     QMainWindow,
-    QMenu,
     QSpinBox,
     QToolBar,
     QVBoxLayout,
@@ -57,7 +55,6 @@ from barymesh.app.model.painter_document import (
     PainterState,
     reframes,
 )
-from barymesh.app.tool_host import ToolHost
 from barymesh.cell import (
     SYMMETRIES,
     CellMesh,
@@ -65,8 +62,6 @@ from barymesh.cell import (
     PixelGrid,
     UnitCell,
 )
-
-log = logging.getLogger(__name__)
 
 #: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
 SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
@@ -682,54 +677,3 @@ class PixelPainterWindow(QMainWindow):
         self._pending = None
         self.jobs.close()  # a running build winds down in its thread; its result goes nowhere
         self.scene.close()  # its timers stopped, its GL context released
-
-
-# -- the main window's Cell menu ------------------------------------------------------------
-
-
-class PainterOpener(QObject):
-    """Cell → Paint pixels… (Ctrl+Shift+P) of a main window: the painter, made on first use,
-    closed with the main window."""
-
-    def __init__(self, host: ToolHost, menu: QMenu) -> None:
-        super().__init__(host.widget)
-        self.host = host
-        self.painter: PixelPainterWindow | None = None
-        self.act_paint = host.add_action(
-            "&Paint pixels…",
-            self.show,
-            "Ctrl+Shift+P",
-            "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo",
-        )
-        menu.addAction(self.act_paint)
-        host.widget.installEventFilter(self)
-
-    def show(self) -> PixelPainterWindow | None:
-        if self.painter is None or self.painter.closed:
-            try:
-                self.painter = PixelPainterWindow(parent=self.host.widget)
-            except Exception as exc:  # noqa: BLE001 - reported, never a crash
-                log.exception("could not open the pixel painter")
-                self.host.show_status(f"Could not open the pixel painter: {exc}")
-                return None
-        self.painter.show()
-        self.painter.raise_()
-        self.painter.activateWindow()
-        return self.painter
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if watched is self.host.widget and event.type() == QEvent.Type.Close and self.painter:
-            try:
-                self.painter.close()
-            except RuntimeError:  # already deleted by Qt
-                pass
-        return False
-
-
-def cell_menu(main: QMainWindow) -> QMenu:
-    """The main window's "&Cell" menu, made (before Help) when no one has made it yet."""
-    bar = main.menuBar()
-    for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
-        if menu.title() == "&Cell":
-            return menu
-    return bar.addMenu("&Cell")
