@@ -36,6 +36,7 @@ TOOL_MODULES = (
     "edit/painter.py",
     "edit/painter_opener.py",
     "edit/painter_scene.py",
+    "edit/painter_toolbars.py",
     "teach/teaching_tools.py",
     "teach/teaching_windows.py",
     "view/view_tools.py",

@@ -29,23 +29,19 @@ from typing import Any, cast
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QMouseEvent
+from PySide6.QtGui import QCloseEvent, QMouseEvent
 from PySide6.QtWidgets import (
-    QComboBox,
-    QDoubleSpinBox,
     QFileDialog,
     QLabel,
     QMainWindow,
-    QSpinBox,
-    QToolBar,
     QVBoxLayout,
     QWidget,
 )
 
-from barymesh.app.actions import make_action
 from barymesh.app.edit import pixels
 from barymesh.app.edit.painter_preview import Built, build_preview
 from barymesh.app.edit.painter_scene import COLORS, PainterScene
+from barymesh.app.edit.painter_toolbars import PainterToolbars
 from barymesh.app.jobs import Jobs
 from barymesh.app.model.painter_document import (
     NOT_SQUARE,
@@ -56,15 +52,11 @@ from barymesh.app.model.painter_document import (
     reframes,
 )
 from barymesh.cell import (
-    SYMMETRIES,
     CellMesh,
     Lattice,
     PixelGrid,
     UnitCell,
 )
-
-#: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
-SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
 
 
 class PixelPainterWindow(QMainWindow):
@@ -107,7 +99,12 @@ class PixelPainterWindow(QMainWindow):
         self.plotter = self.scene.plotter
         self.plotter.installEventFilter(self)
         self.plotter.setMouseTracking(True)
-        self._make_toolbars()
+        #: The Paint and Grid toolbars: the actions and the fields.
+        self.toolbars = PainterToolbars(self, self)
+        self.toolbars.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
+        for box in (self.toolbars.rows_box, self.toolbars.cols_box):
+            box.editingFinished.connect(self._shape_edited)
+        self.toolbars.size_box.editingFinished.connect(self._pixel_size_edited)
         # the statistics on a line of their own under the view: in the status bar beside
         # the messages, a long message ran into them (and was cut off under them)
         self.stats_label = QLabel(self)
@@ -195,21 +192,24 @@ class PixelPainterWindow(QMainWindow):
 
     def _state_changed(self, reframe: bool = False) -> None:
         grid = self.grid
-        for box, value in ((self.rows_box, grid.shape[0]), (self.cols_box, grid.shape[1])):
+        for box, value in (
+            (self.toolbars.rows_box, grid.shape[0]),
+            (self.toolbars.cols_box, grid.shape[1]),
+        ):
             box.blockSignals(True)
             box.setValue(value)
             box.blockSignals(False)
-        self.size_box.blockSignals(True)
-        self.size_box.setValue(grid.pixel_size)
-        self.size_box.blockSignals(False)
+        self.toolbars.size_box.blockSignals(True)
+        self.toolbars.size_box.setValue(grid.pixel_size)
+        self.toolbars.size_box.blockSignals(False)
         note = self.document.follow_shape()
         self._set_symmetry_box(self.document.symmetry)
         if note is not None:
             self.statusBar().showMessage(note, 8000 if note == NOT_SQUARE else 5000)
         elif grid.shape[0] == grid.shape[1] and self.statusBar().currentMessage() == NOT_SQUARE:
             self.statusBar().clearMessage()  # it no longer holds
-        self.act_undo.setEnabled(self.document.history.can_undo)
-        self.act_redo.setEnabled(self.document.history.can_redo)
+        self.toolbars.act_undo.setEnabled(self.document.history.can_undo)
+        self.toolbars.act_redo.setEnabled(self.document.history.can_redo)
         self.scene.draw_grid()
         if reframe:
             self.reset_view()
@@ -239,7 +239,7 @@ class PixelPainterWindow(QMainWindow):
 
     def random_fill(self) -> bool:
         """A random mask under the symmetry mode, from the seed and metal % fields."""
-        seed, density = self.seed_box.value(), self.density_box.value() / 100.0
+        seed, density = self.toolbars.seed_box.value(), self.toolbars.density_box.value() / 100.0
         return self._edit(lambda: self.document.random_fill(seed, density))
 
     def fill_at(self, row: int, col: int, value: bool) -> bool:
@@ -261,19 +261,19 @@ class PixelPainterWindow(QMainWindow):
         return changed
 
     def _shape_edited(self) -> None:
-        rows, cols = self.rows_box.value(), self.cols_box.value()
+        rows, cols = self.toolbars.rows_box.value(), self.toolbars.cols_box.value()
         if (rows, cols) != self.grid.shape:
             self.set_grid_size(rows, cols, self.grid.pixel_size)
 
     def _pixel_size_edited(self) -> None:
         # the field shows 4 decimals: a pixel size from a file is only changed when typed
-        size, grid = self.size_box.value(), self.grid
-        if abs(size - round(grid.pixel_size, self.size_box.decimals())) > 1e-12:
+        size, grid = self.toolbars.size_box.value(), self.grid
+        if abs(size - round(grid.pixel_size, self.toolbars.size_box.decimals())) > 1e-12:
             self.set_grid_size(*grid.shape, size)
 
     def _symmetry_chosen(self) -> None:
         try:
-            note = self.document.choose_symmetry(str(self.symmetry_box.currentData()))
+            note = self.document.choose_symmetry(str(self.toolbars.symmetry_box.currentData()))
         except ValueError as exc:
             self._set_symmetry_box(self.document.symmetry)
             self.statusBar().showMessage(str(exc), 8000)
@@ -282,9 +282,9 @@ class PixelPainterWindow(QMainWindow):
         self.statusBar().showMessage(note, 4000 if note.startswith("Symmetry:") else 8000)
 
     def _set_symmetry_box(self, mode: str) -> None:
-        self.symmetry_box.blockSignals(True)
-        self.symmetry_box.setCurrentIndex(self.symmetry_box.findData(mode))
-        self.symmetry_box.blockSignals(False)
+        self.toolbars.symmetry_box.blockSignals(True)
+        self.toolbars.symmetry_box.setCurrentIndex(self.toolbars.symmetry_box.findData(mode))
+        self.toolbars.symmetry_box.blockSignals(False)
 
     # -- files -------------------------------------------------------------------------------
 
@@ -371,9 +371,9 @@ class PixelPainterWindow(QMainWindow):
     def _press(self, pos: QPointF, right: bool) -> None:
         if self._stroke is not None:
             self._release()
-        value = not (right or self.act_erase.isChecked())
+        value = not (right or self.toolbars.act_erase.isChecked())
         pixel = self.pixel_at(pos)
-        if self.act_fill.isChecked():
+        if self.toolbars.act_fill.isChecked():
             if pixel is not None:
                 self.fill_at(*pixel, value)
             return
@@ -539,118 +539,6 @@ class PixelPainterWindow(QMainWindow):
     def view_image(self) -> np.ndarray:
         """The 3D view as an (h, w, 3) uint8 array."""
         return self.scene.image()
-
-    # -- toolbars ----------------------------------------------------------------------------
-
-    def _action(
-        self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
-    ) -> QAction:
-        return make_action(self, text, slot, shortcut, tip, checkable, keys_in_tip=True)
-
-    def _make_toolbars(self) -> None:
-        a = self._action
-        tools = QActionGroup(self)
-        self.act_pen = a(
-            "Pen",
-            lambda: None,
-            "P",
-            "Left button paints, right button erases; a drag is one stroke",
-            checkable=True,
-        )
-        self.act_fill = a(
-            "Fill",
-            lambda: None,
-            "F",
-            "Click fills the connected region (4-neighbours) with metal, right click with none",
-            checkable=True,
-        )
-        for act in (self.act_pen, self.act_fill):
-            tools.addAction(act)
-        self.act_pen.setChecked(True)
-        self.act_erase = a("Erase", lambda: None, "E", "The left button erases too", checkable=True)
-        self.act_invert = a(
-            "Invert", self.invert, "I", "Babinet complement: metal where there was none"
-        )
-        self.act_clear = a("Clear", self.clear, "Ctrl+Backspace", "No metal anywhere")
-        self.act_random = a(
-            "Random", self.random_fill, "G", "Random pixels under the symmetry, from the seed"
-        )
-        self.act_undo = a("Undo", self.undo, "Ctrl+Z", "Undo the last stroke or edit")
-        self.act_redo = a("Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "Redo")
-        self.act_open = a("Open cell…", self.open_dialog, "Ctrl+O", "Edit a *.cell.json file")
-        self.act_save = a(
-            "Save cell…", self.save_dialog, "Ctrl+S", "Write the cell as a *.cell.json file"
-        )
-        self.act_view = a("Reset view", self.reset_view, "R", "Frame the cell from above")
-
-        self.symmetry_box = QComboBox(self)
-        for mode in SYMMETRIES:
-            self.symmetry_box.addItem(pixels.SYMMETRY_TITLES[mode], mode)
-        self.symmetry_box.setToolTip(
-            "Symmetry of every edit about the grid's centre (keys 0, X, Y, 4, 8)"
-        )
-        self.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
-        for mode, key in SYMMETRY_KEYS.items():
-            a(
-                f"Symmetry {pixels.SYMMETRY_TITLES[mode]}",
-                lambda _=False, m=mode: self.symmetry_box.setCurrentIndex(
-                    self.symmetry_box.findData(m)
-                ),
-                key,
-                "Symmetry mode",
-            )
-
-        self.seed_box = QSpinBox(self)
-        self.seed_box.setRange(0, 2**31 - 1)
-        self.seed_box.setMaximumWidth(110)
-        self.seed_box.setToolTip("Seed of the random fill (the same seed, the same pixels)")
-        self.density_box = QSpinBox(self)
-        self.density_box.setRange(0, 100)
-        self.density_box.setValue(50)
-        self.density_box.setSuffix(" %")
-        self.density_box.setToolTip("Share of metal in the random fill")
-        self.rows_box: QSpinBox = QSpinBox(self)
-        self.cols_box: QSpinBox = QSpinBox(self)
-        for box, what in ((self.rows_box, "Rows"), (self.cols_box, "Columns")):
-            box.setRange(1, pixels.MAX_SIDE)
-            box.setKeyboardTracking(False)
-            box.setToolTip(f"{what} of the grid (resized about its centre)")
-            box.editingFinished.connect(self._shape_edited)
-        self.size_box: QDoubleSpinBox = QDoubleSpinBox(self)
-        self.size_box.setDecimals(4)
-        self.size_box.setRange(1e-4, 1e4)
-        self.size_box.setSuffix(" mm")
-        self.size_box.setKeyboardTracking(False)
-        self.size_box.setToolTip("Side of a pixel; the grid keeps its centre")
-        self.size_box.editingFinished.connect(self._pixel_size_edited)
-
-        edit = QToolBar("Paint", self)
-        edit.setObjectName("paint_toolbar")
-        edit.addActions([self.act_pen, self.act_fill, self.act_erase])
-        edit.addSeparator()
-        edit.addWidget(QLabel(" Symmetry ", self))
-        edit.addWidget(self.symmetry_box)
-        edit.addSeparator()
-        edit.addActions([self.act_invert, self.act_clear, self.act_random])
-        edit.addWidget(QLabel(" seed ", self))
-        edit.addWidget(self.seed_box)
-        edit.addWidget(QLabel(" metal ", self))
-        edit.addWidget(self.density_box)
-        self.addToolBar(edit)
-        self.addToolBarBreak()
-        grid = QToolBar("Grid", self)
-        grid.setObjectName("grid_toolbar")
-        grid.addActions([self.act_undo, self.act_redo])
-        grid.addSeparator()
-        grid.addWidget(QLabel(" Rows ", self))
-        grid.addWidget(self.rows_box)
-        grid.addWidget(QLabel(" Columns ", self))
-        grid.addWidget(self.cols_box)
-        grid.addWidget(QLabel(" Pixel ", self))
-        grid.addWidget(self.size_box)
-        grid.addSeparator()
-        grid.addActions([self.act_view, self.act_open, self.act_save])
-        self.addToolBar(grid)
 
     # -- closing -----------------------------------------------------------------------------
 
