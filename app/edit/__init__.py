@@ -1,3 +1,5 @@
 """Editing unit cells in the window: the cell document with undo, the Elements and
 Lattice panels, the array preview and the Cell menu's actions, and the pixel painter
-(:mod:`barymesh.app.edit.painter`) with its pure edits (:mod:`barymesh.app.edit.pixels`)."""
+(:mod:`barymesh.app.edit.painter`) with its pure edits (:mod:`barymesh.app.edit.pixels`), its
+worker's preview (``painter_preview``, no VTK), its VTK scene (``painter_scene``), its
+toolbars (``painter_toolbars``) and its Cell menu entry (``painter_opener``)."""

@@ -17,6 +17,12 @@ turns the mouse and its fields into its edits, and rebuilds the mesh in a worker
 after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
 131,072 triangles). While the build runs, pixels painted or erased since the mesh on
 screen are drawn as flat squares over it.
+
+Its parts, one module each: what the worker builds, numpy arrays only
+(:mod:`barymesh.app.edit.painter_preview`); the view and its actors, on the GUI thread
+(:mod:`barymesh.app.edit.painter_scene`); the Paint and Grid toolbars
+(:mod:`barymesh.app.edit.painter_toolbars`); and Cell → Paint pixels… in the main window
+(:mod:`barymesh.app.edit.painter_opener`).
 """
 
 from __future__ import annotations
