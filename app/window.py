@@ -506,7 +506,7 @@ class MainWindow(QMainWindow):
         presets.setToolTipsVisible(True)
         if not descriptions:
             presets.addAction("(no presets found)").setEnabled(False)
-        from barymesh.app.edit.painter import PainterOpener, cell_menu
+        from barymesh.app.edit.painter_opener import PainterOpener, cell_menu
 
         self.cell_menu = cell_menu(self)  # the one "&Cell" menu every tool adds to
         self.cell_tools.add_to_menus(file, self.cell_menu, after=self.act_save)

@@ -25,7 +25,7 @@ from PySide6.QtCore import Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
 
 from barymesh import MeshParams  # noqa: E402
-from barymesh.app.edit.painter import cell_menu  # noqa: E402
+from barymesh.app.edit.painter_opener import cell_menu  # noqa: E402
 from barymesh.app.window import file_error_sentence  # noqa: E402
 from barymesh.cell import (  # noqa: E402
     Element,

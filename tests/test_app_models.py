@@ -34,6 +34,9 @@ TOOL_MODULES = (
     "edit/cell_tools.py",
     "edit/drag_tool.py",
     "edit/painter.py",
+    "edit/painter_opener.py",
+    "edit/painter_scene.py",
+    "edit/painter_toolbars.py",
     "teach/teaching_tools.py",
     "teach/teaching_windows.py",
     "view/view_tools.py",
@@ -334,6 +337,19 @@ def test_the_models_import_nothing_of_the_window_above_them():
 def test_the_models_and_the_command_line_import_without_qt_or_vtk():
     code = (
         "import sys, barymesh.app.model, barymesh.app.cli, barymesh.app.cli_options; "
+        f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({GUI_MODULES!r})))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
+    )
+    assert out.stdout.strip() == "[]"
+
+
+def test_the_painters_worker_side_imports_no_qt_or_vtk():
+    """What the pixel painter's worker thread builds comes from a module without VTK
+    (style rule 17): its preview is numpy arrays only."""
+    code = (
+        "import sys, barymesh.app.edit.painter_preview; "
         f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({GUI_MODULES!r})))"
     )
     out = subprocess.run(

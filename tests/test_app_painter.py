@@ -86,7 +86,7 @@ def assert_mesh_of(painter, mask):
     assert mesh.n_vertices == vertices
     assert len(mesh.edges) == edges
     assert len(mesh.junction_edges) == 0
-    assert painter.datasets["faces"].n_cells == 32 * k  # what is drawn is that mesh
+    assert painter.scene.datasets["faces"].n_cells == 32 * k  # what is drawn is that mesh
     assert f"Triangles <b>{32 * k:,}</b>" in painter.stats_label.text()
 
 
@@ -106,7 +106,7 @@ def painter(qtbot):
 
 
 def clear(painter):
-    click_action(painter, painter.act_clear)
+    click_action(painter, painter.toolbars.act_clear)
     wait_built(painter.qtbot, painter)
     assert not painter.mask.any()
 
@@ -121,7 +121,7 @@ def test_opens_on_the_coding_cell_in_its_4_fold_symmetry(painter):
 @pytest.mark.parametrize("mode", SYMMETRIES)
 def test_a_drag_paints_one_stroke_under_each_symmetry(painter, mode):
     clear(painter)
-    choose(painter.symmetry_box, mode)
+    choose(painter.toolbars.symmetry_box, mode)
     assert painter.symmetry == mode
     before = len(painter.history)
     stroke = [(1, 2), (1, 3), (2, 3), (2, 4)]
@@ -134,18 +134,18 @@ def test_a_drag_paints_one_stroke_under_each_symmetry(painter, mode):
     expected = expected_mask((16, 16), [(True, stroke), (False, [(2, 4)])], mode)
     assert_mesh_of(painter, expected)
     # undo restores each step, redo brings it back
-    click_action(painter, painter.act_undo)
+    click_action(painter, painter.toolbars.act_undo)
     assert_mesh_of(painter, expected_mask((16, 16), [(True, stroke)], mode))
-    click_action(painter, painter.act_undo)
+    click_action(painter, painter.toolbars.act_undo)
     assert not painter.mask.any()
-    click_action(painter, painter.act_redo)
-    click_action(painter, painter.act_redo)
+    click_action(painter, painter.toolbars.act_redo)
+    click_action(painter, painter.toolbars.act_redo)
     assert_mesh_of(painter, expected)
 
 
 def test_a_fast_drag_leaves_no_gap(painter):
     clear(painter)
-    choose(painter.symmetry_box, "none")
+    choose(painter.toolbars.symmetry_box, "none")
     drag(painter, [(5, 1), (5, 9)])  # one mouse move over eight pixels
     expected = np.zeros((16, 16), bool)
     expected[5, 1:10] = True
@@ -154,12 +154,12 @@ def test_a_fast_drag_leaves_no_gap(painter):
 
 def test_erase_toggle_and_fill_tool(painter, qtbot):
     clear(painter)
-    choose(painter.symmetry_box, "none")
-    click_action(painter, painter.act_fill)
+    choose(painter.toolbars.symmetry_box, "none")
+    click_action(painter, painter.toolbars.act_fill)
     QTest.mouseClick(painter.plotter, LEFT, NONE, at(painter, 7, 7))
     assert_mesh_of(painter, np.ones((16, 16), bool))
-    click_action(painter, painter.act_pen)
-    click_action(painter, painter.act_erase)
+    click_action(painter, painter.toolbars.act_pen)
+    click_action(painter, painter.toolbars.act_erase)
     ring = (
         [(4, c) for c in range(4, 12)]
         + [(11, c) for c in range(4, 12)]
@@ -172,8 +172,8 @@ def test_erase_toggle_and_fill_tool(painter, qtbot):
     for r, c in ring:
         expected[r, c] = False
     assert_mesh_of(painter, expected)
-    click_action(painter, painter.act_erase)
-    click_action(painter, painter.act_fill)
+    click_action(painter, painter.toolbars.act_erase)
+    click_action(painter, painter.toolbars.act_fill)
     # a right click fills the island inside the ring with nothing (4-neighbours: the
     # ring's corners do not leak)
     QTest.mouseClick(painter.plotter, RIGHT, NONE, at(painter, 7, 7))
@@ -183,17 +183,17 @@ def test_erase_toggle_and_fill_tool(painter, qtbot):
 
 def test_invert_is_the_babinet_complement_and_twice_the_identity(painter):
     mask = painter.mask.copy()
-    click_action(painter, painter.act_invert)
+    click_action(painter, painter.toolbars.act_invert)
     assert_mesh_of(painter, ~mask)
-    click_action(painter, painter.act_invert)
+    click_action(painter, painter.toolbars.act_invert)
     assert_mesh_of(painter, mask)
 
 
 @pytest.mark.parametrize("mode", ["8-fold", "mirror_y"])
 def test_random_fill_from_the_seed_field(painter, qtbot, mode):
-    choose(painter.symmetry_box, mode)
-    type_into(qtbot, painter.seed_box, "1234")
-    click_action(painter, painter.act_random)
+    choose(painter.toolbars.symmetry_box, mode)
+    type_into(qtbot, painter.toolbars.seed_box, "1234")
+    click_action(painter, painter.toolbars.act_random)
     mask = painter.mask.copy()
     assert np.array_equal(mask, pixels.random_mask((16, 16), 1234, mode, 0.5))
     assert all(
@@ -201,7 +201,7 @@ def test_random_fill_from_the_seed_field(painter, qtbot, mode):
     )
     assert_mesh_of(painter, mask)
     clear(painter)
-    click_action(painter, painter.act_random)  # the same seed: the same cell
+    click_action(painter, painter.toolbars.act_random)  # the same seed: the same cell
     assert_mesh_of(painter, mask)
 
 
@@ -214,8 +214,8 @@ def _image(mask, g):
 
 def test_grid_fields_resize_about_the_centre_and_the_lattice_follows(painter, qtbot):
     mask = painter.mask.copy()
-    type_into(qtbot, painter.rows_box, "20")
-    type_into(qtbot, painter.cols_box, "20")
+    type_into(qtbot, painter.toolbars.rows_box, "20")
+    type_into(qtbot, painter.toolbars.cols_box, "20")
     assert painter.mask.shape == (20, 20)
     assert np.array_equal(painter.mask[2:18, 2:18], mask) and painter.mask.sum() == mask.sum()
     assert painter.symmetry == "4-fold"  # kept: the change is even
@@ -224,9 +224,9 @@ def test_grid_fields_resize_about_the_centre_and_the_lattice_follows(painter, qt
     assert cell.lattice.a1 == (10.0, 0.0) and cell.lattice.a2 == (0.0, 10.0)
     assert cell.pixels.origin == (-5.0, -5.0)
     assert_mesh_of(painter, painter.mask)
-    type_into(qtbot, painter.cols_box, "21")  # not square: no 4-fold any more
+    type_into(qtbot, painter.toolbars.cols_box, "21")  # not square: no 4-fold any more
     assert painter.symmetry == "none"
-    type_into(qtbot, painter.size_box, "0.25")
+    type_into(qtbot, painter.toolbars.size_box, "0.25")
     cell = painter.cell()
     assert cell.pixels.pixel_size == 0.25
     assert cell.lattice.a1 == (5.25, 0.0) and cell.lattice.a2 == (0.0, 5.0)
@@ -234,51 +234,51 @@ def test_grid_fields_resize_about_the_centre_and_the_lattice_follows(painter, qt
     assert painter.cell_mesh.periodic_pairs.matched
     assert len(painter.history) == 5  # rows, columns, columns, pixel size: one step each
     for _ in range(4):
-        click_action(painter, painter.act_undo)
-    assert not painter.act_undo.isEnabled()
+        click_action(painter, painter.toolbars.act_undo)
+    assert not painter.toolbars.act_undo.isEnabled()
     assert painter.cell().lattice == load_cell_preset("coding-16x16").lattice
     assert painter.cell().pixels == load_cell_preset("coding-16x16").pixels
 
 
 def test_4_fold_refused_on_a_grid_that_is_not_square(painter, qtbot):
-    type_into(qtbot, painter.rows_box, "12")
-    choose(painter.symmetry_box, "mirror_y")
-    QTest.keyClick(painter.symmetry_box, Qt.Key.Key_Down)  # to 4-fold: refused
+    type_into(qtbot, painter.toolbars.rows_box, "12")
+    choose(painter.toolbars.symmetry_box, "mirror_y")
+    QTest.keyClick(painter.toolbars.symmetry_box, Qt.Key.Key_Down)  # to 4-fold: refused
     assert painter.symmetry == "mirror_y"
     assert "square" in painter.statusBar().currentMessage()
 
 
 def test_corner_contacts_are_marked(painter):
     clear(painter)
-    choose(painter.symmetry_box, "none")
+    choose(painter.toolbars.symmetry_box, "none")
     drag(painter, [(3, 3)])
     drag(painter, [(4, 4)])
     wait_built(painter.qtbot, painter)
-    contacts = painter.datasets["contacts"]
+    contacts = painter.scene.datasets["contacts"]
     assert contacts.n_points == 1
     assert np.allclose(contacts.points[0, :2], (-4 + 4 * 0.5, -4 + 4 * 0.5))
     assert "1</b> corner-only contact" in painter.stats_label.text()
     assert any("corner only" in note for note in painter.cell_mesh.notes)
     drag(painter, [(3, 4)])  # the pinch filled: no contact
     wait_built(painter.qtbot, painter)
-    assert painter.datasets["contacts"].n_points == 0
+    assert painter.scene.datasets["contacts"].n_points == 0
     assert "corner-only" not in painter.stats_label.text()
 
 
 def test_save_and_reload_equal(painter, qtbot, monkeypatch, tmp_path):
     answer = answer_file_dialogs(monkeypatch)
-    choose(painter.symmetry_box, "8-fold")
+    choose(painter.toolbars.symmetry_box, "8-fold")
     drag(painter, [(0, 0), (1, 1)])
     wait_built(qtbot, painter)
     answer(tmp_path / "painted")  # the suffix is added
-    click_action(painter, painter.act_save)
+    click_action(painter, painter.toolbars.act_save)
     path = tmp_path / "painted.cell.json"
     assert path.exists(), painter.statusBar().currentMessage()
     loaded = load_cell(path)
     assert loaded == painter.cell()
     clear(painter)
     answer(path)
-    click_action(painter, painter.act_open)
+    click_action(painter, painter.toolbars.act_open)
     assert np.array_equal(painter.mask, loaded.pixels.mask)
     assert len(painter.history) == 1  # a new document
 
@@ -287,16 +287,16 @@ def test_an_empty_cell_is_not_saved(painter, monkeypatch, tmp_path):
     answer = answer_file_dialogs(monkeypatch)
     clear(painter)
     answer(tmp_path / "empty.cell.json")
-    click_action(painter, painter.act_save)
+    click_action(painter, painter.toolbars.act_save)
     assert not (tmp_path / "empty.cell.json").exists()
     assert "no metal" in painter.statusBar().currentMessage()
-    assert painter.datasets["faces"].n_cells == 0
+    assert painter.scene.datasets["faces"].n_cells == 0
 
 
 def test_a_64_by_64_grid_is_built_in_the_worker(painter, qtbot):
-    type_into(qtbot, painter.rows_box, "64")
-    type_into(qtbot, painter.cols_box, "64")
-    click_action(painter, painter.act_invert)
+    type_into(qtbot, painter.toolbars.rows_box, "64")
+    type_into(qtbot, painter.toolbars.cols_box, "64")
+    click_action(painter, painter.toolbars.act_invert)
     assert painter.busy or painter.shown_generation == painter.generation
     wait_built(qtbot, painter)
     k = int(painter.mask.sum())
@@ -309,19 +309,19 @@ def test_a_64_by_64_grid_is_built_in_the_worker(painter, qtbot):
     k = int(painter.mask.sum())
     assert mesh.n_triangles == 32 * k
     # drawn as one square per pixel, no triangle edges at this size on screen
-    assert painter.datasets["faces"].n_cells == k
-    assert np.isclose(painter.datasets["faces"].area, k * 0.25)
-    assert not painter.actors["edges"].GetVisibility()
+    assert painter.scene.datasets["faces"].n_cells == k
+    assert np.isclose(painter.scene.datasets["faces"].area, k * 0.25)
+    assert not painter.scene.actors["edges"].GetVisibility()
     # the wheel zooms in on the middle: the triangle edges come, those in view only
     centre = at(painter, 32, 32)
     for _ in range(8):
         wheel(painter.plotter, centre, 120)
         qtbot.wait(20)
-    qtbot.waitUntil(lambda: painter.actors["edges"].GetVisibility(), timeout=10_000)
-    x0, x1, y0, y1 = painter._view_rect(margin=0.5)
+    qtbot.waitUntil(lambda: painter.scene.actors["edges"].GetVisibility(), timeout=10_000)
+    x0, x1, y0, y1 = painter.scene.view_rect(margin=0.5)
     mid = 0.5 * (mesh.points[mesh.edges[:, 0], :2] + mesh.points[mesh.edges[:, 1], :2])
     inside = (mid[:, 0] >= x0) & (mid[:, 0] <= x1) & (mid[:, 1] >= y0) & (mid[:, 1] <= y1)
-    drawn = painter.datasets["edges"]
+    drawn = painter.scene.datasets["edges"]
     assert 0 < drawn.n_cells == inside.sum() < len(mesh.edges)
 
 
@@ -347,7 +347,7 @@ def wheel(widget, pos, delta):
 def test_screenshot_metal_where_set_background_where_not(painter, tmp_path):
     import imageio.v3 as iio
 
-    from barymesh.app.edit.painter import COLORS
+    from barymesh.app.edit.painter_scene import COLORS
 
     image = rendered(painter.plotter)
     iio.imwrite(tmp_path / "painter.png", image)
@@ -396,19 +396,19 @@ def test_opened_from_the_cell_menu(window, qtbot):
 
 def test_the_mouse_over_a_pixel_outlines_its_orbit(painter):
     for mode, order in (("none", 1), ("mirror_x", 2), ("4-fold", 4), ("8-fold", 8)):
-        choose(painter.symmetry_box, mode)
+        choose(painter.toolbars.symmetry_box, mode)
         QTest.mouseMove(painter.plotter, at(painter, 2, 5))  # on no mirror line
-        assert painter.datasets["hover"].n_cells == order, mode
+        assert painter.scene.datasets["hover"].n_cells == order, mode
         QTest.mouseMove(painter.plotter, at(painter, 3, 5))
-        assert painter.datasets["hover"].n_cells == order, mode
+        assert painter.scene.datasets["hover"].n_cells == order, mode
     # the outlined squares are the pixel's images under the eight maps of the square
-    centres = painter.datasets["hover"].cell_centers().points[:, :2]
+    centres = painter.scene.datasets["hover"].cell_centers().points[:, :2]
     images = {g(3, 5, 16, 16) for g in transforms("8-fold")}
     expected = np.array([painter.pixel_centre(r, c)[:2] for r, c in images])
     assert len(centres) == len(expected) == 8
     assert {tuple(p) for p in np.round(centres, 6)} == {tuple(p) for p in np.round(expected, 6)}
     QTest.mouseMove(painter.plotter, QPoint(2, 2))  # off the grid: no outline
-    assert painter.datasets["hover"].n_cells == 0
+    assert painter.scene.datasets["hover"].n_cells == 0
 
 
 def test_keys_of_the_painter(painter, qtbot):
@@ -432,13 +432,13 @@ def test_keys_of_the_painter(painter, qtbot):
     QTest.keyClick(painter.plotter, Qt.Key.Key_Y, Qt.KeyboardModifier.ControlModifier)
     assert np.array_equal(painter.mask, ~mask)
     QTest.keyClick(painter.plotter, Qt.Key.Key_E)
-    assert painter.act_erase.isChecked()
+    assert painter.toolbars.act_erase.isChecked()
     QTest.keyClick(painter.plotter, Qt.Key.Key_F)
-    assert painter.act_fill.isChecked()
+    assert painter.toolbars.act_fill.isChecked()
     QTest.keyClick(painter.plotter, Qt.Key.Key_P)
-    assert painter.act_pen.isChecked()
+    assert painter.toolbars.act_pen.isChecked()
     QTest.keyClick(painter.plotter, Qt.Key.Key_W)  # VTK's wireframe key does nothing here
-    assert painter.actors["faces"].GetProperty().GetRepresentation() == 2  # surface
+    assert painter.scene.actors["faces"].GetProperty().GetRepresentation() == 2  # surface
 
 
 def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
@@ -467,8 +467,8 @@ def test_a_cell_the_core_refuses_keeps_the_last_mesh(qtbot):
     wait_built(qtbot, win)
     assert "overlap" in win.statusBar().currentMessage()
     assert "pixel (row 12, column 12)" in win.statusBar().currentMessage()
-    assert win.cell_mesh.mesh.n_triangles == 64 and win.datasets["faces"].n_cells == 64
-    click_action(win, win.act_undo)
+    assert win.cell_mesh.mesh.n_triangles == 64 and win.scene.datasets["faces"].n_cells == 64
+    click_action(win, win.toolbars.act_undo)
     wait_built(qtbot, win)
     assert win.cell_mesh.mesh.n_triangles == 64 and not win.mask[12, 12]
     win.close()
@@ -495,7 +495,7 @@ def test_a_cell_without_a_grid_gets_one_over_the_cell(qtbot):
     assert win.mask.shape == (8, 16) and not win.mask.any()
     assert win.grid.pixel_size == 1.5 and win.grid.origin == (-12.0, -6.0)
     rings = win.cell_mesh.mesh.n_triangles
-    assert rings > 0 and win.cell_mesh.mesh.n_triangles == win.datasets["faces"].n_cells
+    assert rings > 0 and win.cell_mesh.mesh.n_triangles == win.scene.datasets["faces"].n_cells
     win.close()
 
 
@@ -507,11 +507,11 @@ def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
     qtbot.addWidget(win)
     win.show()
     qtbot.waitExposed(win)
-    type_into(qtbot, win.rows_box, "6")
-    type_into(qtbot, win.size_box, "0.1235")  # what the field shows: no change
+    type_into(qtbot, win.toolbars.rows_box, "6")
+    type_into(qtbot, win.toolbars.size_box, "0.1235")  # what the field shows: no change
     assert win.mask.shape == (6, 4) and win.grid.pixel_size == 0.123456
     assert len(win.history) == 2
-    type_into(qtbot, win.size_box, "0.2")
+    type_into(qtbot, win.toolbars.size_box, "0.2")
     assert win.grid.pixel_size == 0.2 and len(win.history) == 3
     win.close()
 
@@ -519,7 +519,7 @@ def test_a_pixel_size_finer_than_the_field_survives_a_resize(qtbot):
 def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
     from PySide6.QtWidgets import QMainWindow
 
-    from barymesh.app.edit.painter import cell_menu
+    from barymesh.app.edit.painter_opener import cell_menu
 
     win = QMainWindow()
     qtbot.addWidget(win)
@@ -534,9 +534,9 @@ def test_the_cell_menu_is_shared_with_whoever_made_it(qtbot):
 def test_status_messages_have_their_own_line_and_go_when_untrue(painter, qtbot):
     """A status message ran into the statistics (both in the status bar, the message cut
     under them), and "The grid is not square" stayed after the grid was square again."""
-    choose(painter.symmetry_box, "4-fold")
+    choose(painter.toolbars.symmetry_box, "4-fold")
     assert painter.symmetry == "4-fold"
-    type_into(qtbot, painter.rows_box, "12")
+    type_into(qtbot, painter.toolbars.rows_box, "12")
     assert painter.grid.shape == (12, 16) and painter.symmetry == "none"
     bar = painter.statusBar()
     message = bar.currentMessage()
@@ -548,11 +548,11 @@ def test_status_messages_have_their_own_line_and_go_when_untrue(painter, qtbot):
     assert top_left.y() + stats.height() <= bar.mapTo(painter, bar.rect().topLeft()).y()
     assert bar.fontMetrics().horizontalAdvance(message) < bar.width()
     assert "Pixels" in stats.text()
-    type_into(qtbot, painter.rows_box, "16")  # square again: the symmetry comes back
+    type_into(qtbot, painter.toolbars.rows_box, "16")  # square again: the symmetry comes back
     assert painter.grid.shape == (16, 16) and painter.symmetry == "4-fold"
     assert "not square" not in bar.currentMessage()
     assert "square again" in bar.currentMessage()
-    click_action(painter, painter.act_undo)  # not square again, then square by redo
+    click_action(painter, painter.toolbars.act_undo)  # not square again, then square by redo
     assert "not square" in bar.currentMessage()
-    click_action(painter, painter.act_redo)
+    click_action(painter, painter.toolbars.act_redo)
     assert "not square" not in bar.currentMessage()

@@ -22,7 +22,7 @@ import pyvista as pv  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkObjectBase  # noqa: E402
 
 from barymesh import MeshParams, build_mesh  # noqa: E402
-from barymesh.app.edit.painter import build_preview  # noqa: E402
+from barymesh.app.edit.painter_preview import build_preview  # noqa: E402
 from barymesh.app.model import compute  # noqa: E402
 from barymesh.app.teach.compare_view import compute_halves  # noqa: E402
 from barymesh.app.view.polydata import Layer  # noqa: E402

@@ -17,12 +17,16 @@ turns the mouse and its fields into its edits, and rebuilds the mesh in a worker
 after every stroke, so the window keeps answering on large grids (a 64 x 64 grid is
 131,072 triangles). While the build runs, pixels painted or erased since the mesh on
 screen are drawn as flat squares over it.
+
+Its parts, one module each: what the worker builds, numpy arrays only
+(:mod:`barymesh.app.edit.painter_preview`); the view and its actors, on the GUI thread
+(:mod:`barymesh.app.edit.painter_scene`); the Paint and Grid toolbars
+(:mod:`barymesh.app.edit.painter_toolbars`); and Cell → Paint pixels… in the main window
+(:mod:`barymesh.app.edit.painter_opener`).
 """
 
 from __future__ import annotations
 
-import dataclasses
-import logging
 import time
 from collections.abc import Callable
 from functools import partial
@@ -30,23 +34,19 @@ from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-import pyvista as pv
 from PySide6.QtCore import QEvent, QObject, QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QMouseEvent
+from PySide6.QtGui import QCloseEvent, QMouseEvent
 from PySide6.QtWidgets import (
-    QComboBox,
-    QDoubleSpinBox,
     QFileDialog,
     QLabel,
     QMainWindow,
-    QMenu,
-    QSpinBox,
-    QToolBar,
     QVBoxLayout,
     QWidget,
 )
 
-from barymesh.app.actions import make_action
+from barymesh.app.edit.painter_preview import Built, build_preview
+from barymesh.app.edit.painter_scene import COLORS, PainterScene
+from barymesh.app.edit.painter_toolbars import PainterToolbars
 from barymesh.app.jobs import Jobs
 from barymesh.app.model import pixels
 from barymesh.app.model.painter_document import (
@@ -57,144 +57,12 @@ from barymesh.app.model.painter_document import (
     PainterState,
     reframes,
 )
-from barymesh.app.tool_host import ToolHost
-from barymesh.app.view.framing import frame_from_above
-from barymesh.app.view.gl_info import tune_multi_samples
-from barymesh.app.view.polydata import Layer
 from barymesh.cell import (
-    SYMMETRIES,
     CellMesh,
     Lattice,
     PixelGrid,
     UnitCell,
-    build_cell,
 )
-from barymesh.params import DEFAULT_MAX_TRIANGLES
-from barymesh.subdivision import patch_template
-
-log = logging.getLogger(__name__)
-
-COLORS = {
-    "background": "#ffffff",
-    "metal": "#e2b65c",
-    "triangle_edges": "#8a6320",
-    "grid": "#c9ced6",
-    "outline": "#3a4250",
-    "contacts": "#e0001b",
-    "erased": "#ffffff",
-    "hover": "#1f6fd1",
-}
-#: Triangle edges are drawn while a pixel covers at least this many screen pixels.
-EDGES_MIN_PIXELS = 20.0
-#: Larger meshes draw each pixel as one square (the same flat colour: the triangles are
-#: seen through their edges), which keeps a frame of a 128 x 128 grid cheap.
-FACES_AS_TRIANGLES = 40_000
-#: Meshes with more edges draw only the edges in view (again after a zoom or a pan).
-EDGES_ALL = 150_000
-#: Symmetry keys: 0 none, X mirror x, Y mirror y, 4 four-fold, 8 eight-fold.
-SYMMETRY_KEYS = {"none": "0", "mirror_x": "X", "mirror_y": "Y", "4-fold": "4", "8-fold": "8"}
-
-
-@dataclasses.dataclass
-class Built:
-    """A mesh built in the worker for one mask, with the layers to draw it (plain
-    arrays: the GUI thread wraps them for VTK)."""
-
-    generation: int
-    mask: np.ndarray
-    cell_mesh: CellMesh | None = None
-    error: str | None = None
-    faces: Layer | None = None
-    edges: Layer | None = None
-    stats: dict[str, Any] | None = None
-    seconds: float = 0.0
-    lifted: np.ndarray | None = None  # (V, 3) points raised over the faces
-    edge_pairs: np.ndarray | None = None  # (E, 2) the mesh's edges
-    midpoints: np.ndarray | None = None  # (E, 2) their midpoints, to clip to the view
-
-
-def build_preview(cell: UnitCell | None, mask: np.ndarray, dz: float, generation: int) -> Built:
-    """Mesh ``cell`` and make its face and edge layers (thread-safe: no VTK object is
-    made; never raises)."""
-    start = time.perf_counter()
-    if cell is None:
-        return Built(generation, mask, faces=Layer(), edges=Layer(), stats=None)
-    grid = cell.pixels
-    assert grid is not None  # the painter's cells hold a pixel grid
-    per_pixel = len(patch_template(grid.scheme, grid.subdivisions, grid.diagonal).triangles)
-    count = per_pixel * int(mask.sum())
-    if count > DEFAULT_MAX_TRIANGLES:
-        return Built(
-            generation,
-            mask,
-            error=(
-                f"{int(mask.sum()):,} pixels make {count:,} triangles, more than the budget "
-                f"of {DEFAULT_MAX_TRIANGLES:,}"
-            ),
-        )
-    try:
-        cm = build_cell(cell)
-    except Exception as exc:  # noqa: BLE001 - shown in the window, the last mesh stays
-        if not isinstance(exc, ValueError):
-            log.exception("building the painted cell failed")
-        return Built(generation, mask, error=str(exc))
-    mesh = cm.mesh
-    points = np.asarray(mesh.points, dtype=np.float64)
-    triangles = np.asarray(mesh.triangles)
-    if mesh.n_triangles > FACES_AS_TRIANGLES:  # pixels as one square each, elements as they are
-        pixel_region = len(cell.elements) + 1
-        own = triangles[np.asarray(mesh.regions) != pixel_region]
-        quads = _quads(np.asarray(grid.origin), grid.pixel_size, np.argwhere(mask), 0.0)
-        faces = quads
-        if len(own):
-            faces = Layer(
-                np.vstack([quads.points, points]),
-                faces=(*quads.face_blocks, own + len(quads.points)),
-            )
-    else:
-        faces = Layer(points, faces=np.asarray(triangles, dtype=np.int64))
-    lifted = points.copy()
-    lifted[:, 2] += dz
-    e = np.asarray(mesh.edges)
-    midpoints = 0.5 * (points[e[:, 0], :2] + points[e[:, 1], :2])
-    stats = mesh.stats()
-    return Built(
-        generation,
-        mask,
-        cm,
-        None,
-        faces,
-        _lines(lifted, e),
-        stats,
-        time.perf_counter() - start,
-        lifted,
-        e,
-        midpoints,
-    )
-
-
-def _lines(points: np.ndarray, pairs: np.ndarray) -> Layer:
-    """The line cells ``pairs`` (k, 2) over all of ``points`` (V, 3)."""
-    if len(pairs) == 0:
-        return Layer()
-    return Layer(points, lines=np.asarray(pairs, dtype=np.int64))
-
-
-def _quads(origin: np.ndarray, size: float, cells: np.ndarray, z: float) -> Layer:
-    """Squares of side ``size`` for the (row, column) pairs ``cells`` (K, 2), at height z."""
-    if len(cells) == 0:
-        return Layer()
-    lower = origin + size * cells[:, ::-1].astype(np.float64)  # (K, 2) x, y
-    offsets = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float64) * size
-    xy = (lower[:, None, :] + offsets[None]).reshape(-1, 2)
-    pts = np.column_stack([xy, np.full(len(xy), z)])
-    return Layer(pts, faces=np.arange(len(xy), dtype=np.int64).reshape(-1, 4))
-
-
-def _segments(a: np.ndarray, b: np.ndarray, z: float) -> Layer:
-    """Line segments from ``a`` (k, 2) to ``b`` (k, 2) at height z."""
-    pts = np.column_stack([np.stack([a, b], axis=1).reshape(-1, 2), np.full(2 * len(a), z)])
-    return Layer(pts, lines=np.arange(2 * len(a), dtype=np.int64).reshape(-1, 2))
 
 
 class PixelPainterWindow(QMainWindow):
@@ -222,28 +90,27 @@ class PixelPainterWindow(QMainWindow):
 
     def __init__(self, cell: UnitCell | None = None, parent: QWidget | None = None) -> None:
         super().__init__(parent, Qt.WindowType.Window)
-        from pyvistaqt import QtInteractor
-
         self.setObjectName("pixel_painter")
         self._closed = False
         self.generation = 0
         self.shown_generation = -1
         self.cell_mesh: CellMesh | None = None
         self.last_built: Built | None = None
-        self._built_mask: np.ndarray | None = None
         self._stroke: dict[str, Any] | None = None
 
-        self.plotter = QtInteractor(self, auto_update=False)
-        tune_multi_samples(self.plotter)  # before its first frame (app/view/gl_info.py)
-        self.plotter.theme.allow_empty_mesh = True  # datasets start empty, filled later
-        self.plotter.set_background(COLORS["background"])
-        self.plotter.enable_parallel_projection()
-        self.plotter.view_xy(render=False)
-        self.plotter.setMinimumSize(480, 420)
+        #: The edited cell, its undo history and symmetry (no Qt: app/model).
+        self.document = PainterDocument(cell)
+        #: The view and its actors (VTK, on the GUI thread).
+        self.scene = PainterScene(self, self.document)
+        self.plotter = self.scene.plotter
         self.plotter.installEventFilter(self)
         self.plotter.setMouseTracking(True)
-        self._make_actors()
-        self._make_toolbars()
+        #: The Paint and Grid toolbars: the actions and the fields.
+        self.toolbars = PainterToolbars(self, self)
+        self.toolbars.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
+        for box in (self.toolbars.rows_box, self.toolbars.cols_box):
+            box.editingFinished.connect(self._shape_edited)
+        self.toolbars.size_box.editingFinished.connect(self._pixel_size_edited)
         # the statistics on a line of their own under the view: in the status bar beside
         # the messages, a long message ran into them (and was cut off under them)
         self.stats_label = QLabel(self)
@@ -261,13 +128,6 @@ class PixelPainterWindow(QMainWindow):
         self.jobs = Jobs(self, name="barymesh-painter")  # one build at a time
         self._running = False
         self._pending: tuple[UnitCell | None, np.ndarray, float, int] | None = None
-        self._render_timer = QTimer(self)
-        self._render_timer.setSingleShot(True)
-        self._render_timer.setInterval(0)
-        self._render_timer.timeout.connect(self._render)
-
-        #: The edited cell, its undo history and symmetry (no Qt: app/model).
-        self.document = PainterDocument(cell)
         self._show_document(reframe=True)
         self.resize(1100, 860)
 
@@ -338,22 +198,25 @@ class PixelPainterWindow(QMainWindow):
 
     def _state_changed(self, reframe: bool = False) -> None:
         grid = self.grid
-        for box, value in ((self.rows_box, grid.shape[0]), (self.cols_box, grid.shape[1])):
+        for box, value in (
+            (self.toolbars.rows_box, grid.shape[0]),
+            (self.toolbars.cols_box, grid.shape[1]),
+        ):
             box.blockSignals(True)
             box.setValue(value)
             box.blockSignals(False)
-        self.size_box.blockSignals(True)
-        self.size_box.setValue(grid.pixel_size)
-        self.size_box.blockSignals(False)
+        self.toolbars.size_box.blockSignals(True)
+        self.toolbars.size_box.setValue(grid.pixel_size)
+        self.toolbars.size_box.blockSignals(False)
         note = self.document.follow_shape()
         self._set_symmetry_box(self.document.symmetry)
         if note is not None:
             self.statusBar().showMessage(note, 8000 if note == NOT_SQUARE else 5000)
         elif grid.shape[0] == grid.shape[1] and self.statusBar().currentMessage() == NOT_SQUARE:
             self.statusBar().clearMessage()  # it no longer holds
-        self.act_undo.setEnabled(self.document.history.can_undo)
-        self.act_redo.setEnabled(self.document.history.can_redo)
-        self._draw_grid()
+        self.toolbars.act_undo.setEnabled(self.document.history.can_undo)
+        self.toolbars.act_redo.setEnabled(self.document.history.can_redo)
+        self.scene.draw_grid()
         if reframe:
             self.reset_view()
         self._draw_pending()
@@ -382,7 +245,7 @@ class PixelPainterWindow(QMainWindow):
 
     def random_fill(self) -> bool:
         """A random mask under the symmetry mode, from the seed and metal % fields."""
-        seed, density = self.seed_box.value(), self.density_box.value() / 100.0
+        seed, density = self.toolbars.seed_box.value(), self.toolbars.density_box.value() / 100.0
         return self._edit(lambda: self.document.random_fill(seed, density))
 
     def fill_at(self, row: int, col: int, value: bool) -> bool:
@@ -404,19 +267,19 @@ class PixelPainterWindow(QMainWindow):
         return changed
 
     def _shape_edited(self) -> None:
-        rows, cols = self.rows_box.value(), self.cols_box.value()
+        rows, cols = self.toolbars.rows_box.value(), self.toolbars.cols_box.value()
         if (rows, cols) != self.grid.shape:
             self.set_grid_size(rows, cols, self.grid.pixel_size)
 
     def _pixel_size_edited(self) -> None:
         # the field shows 4 decimals: a pixel size from a file is only changed when typed
-        size, grid = self.size_box.value(), self.grid
-        if abs(size - round(grid.pixel_size, self.size_box.decimals())) > 1e-12:
+        size, grid = self.toolbars.size_box.value(), self.grid
+        if abs(size - round(grid.pixel_size, self.toolbars.size_box.decimals())) > 1e-12:
             self.set_grid_size(*grid.shape, size)
 
     def _symmetry_chosen(self) -> None:
         try:
-            note = self.document.choose_symmetry(str(self.symmetry_box.currentData()))
+            note = self.document.choose_symmetry(str(self.toolbars.symmetry_box.currentData()))
         except ValueError as exc:
             self._set_symmetry_box(self.document.symmetry)
             self.statusBar().showMessage(str(exc), 8000)
@@ -425,9 +288,9 @@ class PixelPainterWindow(QMainWindow):
         self.statusBar().showMessage(note, 4000 if note.startswith("Symmetry:") else 8000)
 
     def _set_symmetry_box(self, mode: str) -> None:
-        self.symmetry_box.blockSignals(True)
-        self.symmetry_box.setCurrentIndex(self.symmetry_box.findData(mode))
-        self.symmetry_box.blockSignals(False)
+        self.toolbars.symmetry_box.blockSignals(True)
+        self.toolbars.symmetry_box.setCurrentIndex(self.toolbars.symmetry_box.findData(mode))
+        self.toolbars.symmetry_box.blockSignals(False)
 
     # -- files -------------------------------------------------------------------------------
 
@@ -472,23 +335,11 @@ class PixelPainterWindow(QMainWindow):
     def pixel_at(self, pos: QPointF) -> tuple[int, int] | None:
         """The pixel under the widget position ``pos`` (None off the grid): the ray of the
         view through ``pos`` meets z = 0."""
-        ratio = self.plotter.devicePixelRatioF()
-        x = pos.x() * ratio
-        y = (self.plotter.height() - 1 - pos.y()) * ratio
-        renderer = self.plotter.renderer
-        ends = []
-        for depth in (0.0, 1.0):
-            renderer.SetDisplayPoint(x, y, depth)
-            renderer.DisplayToWorld()
-            w = np.array(renderer.GetWorldPoint(), dtype=np.float64)
-            ends.append(w[:3] / w[3])
-        a, b = ends
-        if abs(b[2] - a[2]) < 1e-300:
+        point = self.scene.ground_point(pos)
+        if point is None:
             return None
-        t = a[2] / (a[2] - b[2])
-        point = a + t * (b - a)
         g = self.grid
-        return pixels.pixel_at(g.shape, g.origin, g.pixel_size, point[:2])
+        return pixels.pixel_at(g.shape, g.origin, g.pixel_size, point)
 
     def pixel_centre(self, row: int, col: int) -> tuple[float, float, float]:
         """World point (mm) of the centre of pixel (row, col)."""
@@ -526,9 +377,9 @@ class PixelPainterWindow(QMainWindow):
     def _press(self, pos: QPointF, right: bool) -> None:
         if self._stroke is not None:
             self._release()
-        value = not (right or self.act_erase.isChecked())
+        value = not (right or self.toolbars.act_erase.isChecked())
         pixel = self.pixel_at(pos)
-        if self.act_fill.isChecked():
+        if self.toolbars.act_fill.isChecked():
             if pixel is not None:
                 self.fill_at(*pixel, value)
             return
@@ -554,13 +405,9 @@ class PixelPainterWindow(QMainWindow):
         cells = np.empty((0, 2), dtype=np.int64)
         if pixel is not None:
             cells = self.document.orbit(pixel)
-        self._set(
-            "hover", _quads(np.asarray(self.grid.origin), self.grid.pixel_size, cells, 5 * self._dz)
-        )
-        self._schedule_render()
+        self.scene.draw_hover(cells)
 
     _hovered: tuple[int, int] | None = None
-    _last_good: Built | None = None
 
     def _refresh_hover(self) -> None:
         pixel, self._hovered = self._hovered, (-1, -1)
@@ -596,7 +443,7 @@ class PixelPainterWindow(QMainWindow):
         except ValueError as exc:
             self.statusBar().showMessage(str(exc), 8000)
             return
-        self._pending = (cell, self.mask, self._dz, self.generation)
+        self._pending = (cell, self.mask, self.scene.dz, self.generation)
         self._start()
 
     def _start(self) -> None:
@@ -631,161 +478,14 @@ class PixelPainterWindow(QMainWindow):
             QApplication.processEvents()
             time.sleep(0.005)
 
-    # -- drawing -----------------------------------------------------------------------------
-
-    @property
-    def _dz(self) -> float:
-        return 1e-3 * self.state.lattice.size
-
-    def _make_actors(self) -> None:
-        p = self.plotter
-        self.datasets = {
-            name: pv.PolyData()
-            for name in (
-                "grid",
-                "faces",
-                "edges",
-                "painted",
-                "erased",
-                "outline",
-                "contacts",
-                "hover",
-            )
-        }
-        d = self.datasets
-        self.actors = {
-            "grid": p.add_mesh(
-                d["grid"],
-                color=COLORS["grid"],
-                line_width=1.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "faces": p.add_mesh(
-                d["faces"],
-                color=COLORS["metal"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "edges": p.add_mesh(
-                d["edges"],
-                color=COLORS["triangle_edges"],
-                line_width=1.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "painted": p.add_mesh(
-                d["painted"],
-                color=COLORS["metal"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "erased": p.add_mesh(
-                d["erased"],
-                color=COLORS["erased"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "outline": p.add_mesh(
-                d["outline"],
-                color=COLORS["outline"],
-                line_width=2.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "contacts": p.add_mesh(
-                d["contacts"],
-                color=COLORS["contacts"],
-                point_size=11.0,
-                render_points_as_spheres=True,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "hover": p.add_mesh(
-                d["hover"],
-                color=COLORS["hover"],
-                line_width=2.5,
-                style="wireframe",
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-        }
-        # after the style has moved the camera (observers run in no promised order)
-        self._camera_timer = QTimer(self)
-        self._camera_timer.setSingleShot(True)
-        self._camera_timer.setInterval(0)
-        self._camera_timer.timeout.connect(self._zoomed)
-        for event in ("EndInteractionEvent", "MouseWheelForwardEvent", "MouseWheelBackwardEvent"):
-            p.iren.add_observer(event, lambda *_: self._camera_timer.start())
-
-    def _set(self, name: str, data: Layer | pv.PolyData, deep: bool = True) -> None:
-        if isinstance(data, Layer):  # wrapped here, on the GUI thread
-            data = data.polydata()
-        self.datasets[name].copy_from(data, deep=deep)
-
-    def _draw_grid(self) -> None:
-        """The pixel grid's lines (under the metal) and the cell outline."""
-        g = self.grid
-        rows, cols = g.shape
-        x0, y0 = g.origin
-        p = g.pixel_size
-        xs = x0 + p * np.arange(cols + 1)
-        ys = y0 + p * np.arange(rows + 1)
-        a = np.vstack(
-            [
-                np.column_stack([xs, np.full(cols + 1, ys[0])]),
-                np.column_stack([np.full(rows + 1, xs[0]), ys]),
-            ]
-        )
-        b = np.vstack(
-            [
-                np.column_stack([xs, np.full(cols + 1, ys[-1])]),
-                np.column_stack([np.full(rows + 1, xs[-1]), ys]),
-            ]
-        )
-        self._set("grid", _segments(a, b, -self._dz))
-        corners = self.state.lattice.corners()
-        self._set("outline", _segments(corners, np.roll(corners, -1, axis=0), 3 * self._dz))
-        self._schedule_render()
+    # -- drawing (barymesh.app.edit.painter_scene) ---------------------------------------------
 
     def _draw_pending(self, mask: np.ndarray | None = None) -> None:
         """Pixels that differ from the mesh on screen, as flat squares over it; and the
         corner contacts of ``mask`` (default: the current one)."""
         mask = self.mask if mask is None else mask
-        built = self._built_mask
-        if built is None or built.shape != mask.shape:
-            built = np.zeros_like(mask)
-        origin = np.asarray(self.grid.origin)
-        p = self.grid.pixel_size
-        self._set("painted", _quads(origin, p, np.argwhere(mask & ~built), 2 * self._dz))
-        self._set("erased", _quads(origin, p, np.argwhere(built & ~mask), 2 * self._dz))
-        contacts = self.grid.replaced(mask=mask).corner_contacts()
-        if len(contacts):
-            corner = contacts.max(axis=1)[:, ::-1]  # (row, col) of the upper right → (x, y)
-            xy = origin + p * corner
-            self._set(
-                "contacts", pv.PolyData(np.column_stack([xy, np.full(len(xy), 4 * self._dz)]))
-            )
-        else:
-            self._set("contacts", pv.PolyData())
+        self.scene.draw_pending(mask)
         self._show_stats(mask)
-        self._schedule_render()
 
     def show_built(self, built: Built) -> None:
         """Draw the mesh ``built`` (the faces and every triangle edge)."""
@@ -794,11 +494,7 @@ class PixelPainterWindow(QMainWindow):
             self.statusBar().showMessage(f"Cannot mesh this cell: {built.error}", 10000)
             return
         self.cell_mesh = built.cell_mesh
-        self._last_good = built
-        self._built_mask = built.mask
-        self._set("faces", built.faces, deep=False)  # the worker's arrays, kept in `built`
-        self._edges_view = None
-        self._zoomed()
+        self.scene.show_mesh(built)
         self._draw_pending()
 
     def _show_stats(self, mask: np.ndarray) -> None:
@@ -842,200 +538,13 @@ class PixelPainterWindow(QMainWindow):
             else ""
         )
 
-    def _zoomed(self, *_args: Any) -> None:
-        """Hide the triangle edges when a pixel is too small on screen to read them."""
-        if self._closed:
-            return
-        from barymesh.app.view.framing import pixels_per_mm
-
-        on_screen = self.grid.pixel_size * pixels_per_mm(self.plotter)
-        shown = on_screen >= EDGES_MIN_PIXELS
-        self.actors["edges"].SetVisibility(shown)
-        if shown:
-            self._edges_in_view()
-        # a contact dot of at most half a pixel, so that many of them still read as dots
-        self.actors["contacts"].GetProperty().SetPointSize(
-            float(np.clip(0.45 * on_screen, 4.0, 12.0))
-        )
-        self._schedule_render()
-
-    _edges_view: tuple[object, ...] | None = None
-
-    def _edges_in_view(self) -> None:
-        """The triangle edges to draw: all of them, or on a large mesh those whose midpoint
-        is in view (with a margin of a pixel)."""
-        built = self._last_good
-        if built is None:
-            return
-        if built.edge_pairs is None:  # no mesh (no metal)
-            self._set("edges", pv.PolyData())
-            self._edges_view = None
-            return
-        if len(built.edge_pairs) <= EDGES_ALL:
-            if self._edges_view != ("all", id(built)):
-                self._set("edges", built.edges, deep=False)
-                self._edges_view = ("all", id(built))
-            return
-        x0, x1, y0, y1 = self._view_rect(margin=self.grid.pixel_size)
-        key = (id(built), x0, x1, y0, y1)
-        if self._edges_view == key:
-            return
-        m = built.midpoints
-        assert m is not None and built.lifted is not None and built.edge_pairs is not None
-        keep = (m[:, 0] >= x0) & (m[:, 0] <= x1) & (m[:, 1] >= y0) & (m[:, 1] <= y1)
-        self._set("edges", _lines(built.lifted, built.edge_pairs[keep]), deep=False)
-        self._edges_view = key
-
-    def _view_rect(self, margin: float = 0.0) -> tuple[float, float, float, float]:
-        """(x0, x1, y0, y1) mm the view shows from above, widened by ``margin``."""
-        from barymesh.app.view.framing import view_size
-
-        camera = self.plotter.camera
-        w, h = view_size(self.plotter)
-        half_h = float(camera.parallel_scale)
-        half_w = half_h * w / h
-        cx, cy, _ = camera.focal_point
-        return (
-            cx - half_w - margin,
-            cx + half_w + margin,
-            cy - half_h - margin,
-            cy + half_h + margin,
-        )
-
     def reset_view(self) -> None:
         """Frame the cell and the grid from above (R)."""
-        g = self.grid
-        c = self.state.lattice.corners()
-        x = [g.origin[0], g.origin[0] + g.shape[1] * g.pixel_size, *c[:, 0]]
-        y = [g.origin[1], g.origin[1] + g.shape[0] * g.pixel_size, *c[:, 1]]
-        frame_from_above(self.plotter, (min(x), max(x), min(y), max(y)), rulers=False, margin=0.03)
-        self._zoomed()
-
-    def _schedule_render(self) -> None:
-        if not self._closed:
-            self._render_timer.start()
-
-    def _render(self) -> None:
-        if not self._closed:
-            self.plotter.render()
+        self.scene.reset_view()
 
     def view_image(self) -> np.ndarray:
         """The 3D view as an (h, w, 3) uint8 array."""
-        image = self.plotter.screenshot(None, return_img=True)
-        self.plotter.render()
-        return np.ascontiguousarray(image)
-
-    # -- toolbars ----------------------------------------------------------------------------
-
-    def _action(
-        self, text: str, slot: Any, shortcut: Any = None, tip: str = "", checkable: bool = False
-    ) -> QAction:
-        return make_action(self, text, slot, shortcut, tip, checkable, keys_in_tip=True)
-
-    def _make_toolbars(self) -> None:
-        a = self._action
-        tools = QActionGroup(self)
-        self.act_pen = a(
-            "Pen",
-            lambda: None,
-            "P",
-            "Left button paints, right button erases; a drag is one stroke",
-            checkable=True,
-        )
-        self.act_fill = a(
-            "Fill",
-            lambda: None,
-            "F",
-            "Click fills the connected region (4-neighbours) with metal, right click with none",
-            checkable=True,
-        )
-        for act in (self.act_pen, self.act_fill):
-            tools.addAction(act)
-        self.act_pen.setChecked(True)
-        self.act_erase = a("Erase", lambda: None, "E", "The left button erases too", checkable=True)
-        self.act_invert = a(
-            "Invert", self.invert, "I", "Babinet complement: metal where there was none"
-        )
-        self.act_clear = a("Clear", self.clear, "Ctrl+Backspace", "No metal anywhere")
-        self.act_random = a(
-            "Random", self.random_fill, "G", "Random pixels under the symmetry, from the seed"
-        )
-        self.act_undo = a("Undo", self.undo, "Ctrl+Z", "Undo the last stroke or edit")
-        self.act_redo = a("Redo", self.redo, ["Ctrl+Shift+Z", "Ctrl+Y"], "Redo")
-        self.act_open = a("Open cell…", self.open_dialog, "Ctrl+O", "Edit a *.cell.json file")
-        self.act_save = a(
-            "Save cell…", self.save_dialog, "Ctrl+S", "Write the cell as a *.cell.json file"
-        )
-        self.act_view = a("Reset view", self.reset_view, "R", "Frame the cell from above")
-
-        self.symmetry_box = QComboBox(self)
-        for mode in SYMMETRIES:
-            self.symmetry_box.addItem(pixels.SYMMETRY_TITLES[mode], mode)
-        self.symmetry_box.setToolTip(
-            "Symmetry of every edit about the grid's centre (keys 0, X, Y, 4, 8)"
-        )
-        self.symmetry_box.currentIndexChanged.connect(self._symmetry_chosen)
-        for mode, key in SYMMETRY_KEYS.items():
-            a(
-                f"Symmetry {pixels.SYMMETRY_TITLES[mode]}",
-                lambda _=False, m=mode: self.symmetry_box.setCurrentIndex(
-                    self.symmetry_box.findData(m)
-                ),
-                key,
-                "Symmetry mode",
-            )
-
-        self.seed_box = QSpinBox(self)
-        self.seed_box.setRange(0, 2**31 - 1)
-        self.seed_box.setMaximumWidth(110)
-        self.seed_box.setToolTip("Seed of the random fill (the same seed, the same pixels)")
-        self.density_box = QSpinBox(self)
-        self.density_box.setRange(0, 100)
-        self.density_box.setValue(50)
-        self.density_box.setSuffix(" %")
-        self.density_box.setToolTip("Share of metal in the random fill")
-        self.rows_box: QSpinBox = QSpinBox(self)
-        self.cols_box: QSpinBox = QSpinBox(self)
-        for box, what in ((self.rows_box, "Rows"), (self.cols_box, "Columns")):
-            box.setRange(1, pixels.MAX_SIDE)
-            box.setKeyboardTracking(False)
-            box.setToolTip(f"{what} of the grid (resized about its centre)")
-            box.editingFinished.connect(self._shape_edited)
-        self.size_box: QDoubleSpinBox = QDoubleSpinBox(self)
-        self.size_box.setDecimals(4)
-        self.size_box.setRange(1e-4, 1e4)
-        self.size_box.setSuffix(" mm")
-        self.size_box.setKeyboardTracking(False)
-        self.size_box.setToolTip("Side of a pixel; the grid keeps its centre")
-        self.size_box.editingFinished.connect(self._pixel_size_edited)
-
-        edit = QToolBar("Paint", self)
-        edit.setObjectName("paint_toolbar")
-        edit.addActions([self.act_pen, self.act_fill, self.act_erase])
-        edit.addSeparator()
-        edit.addWidget(QLabel(" Symmetry ", self))
-        edit.addWidget(self.symmetry_box)
-        edit.addSeparator()
-        edit.addActions([self.act_invert, self.act_clear, self.act_random])
-        edit.addWidget(QLabel(" seed ", self))
-        edit.addWidget(self.seed_box)
-        edit.addWidget(QLabel(" metal ", self))
-        edit.addWidget(self.density_box)
-        self.addToolBar(edit)
-        self.addToolBarBreak()
-        grid = QToolBar("Grid", self)
-        grid.setObjectName("grid_toolbar")
-        grid.addActions([self.act_undo, self.act_redo])
-        grid.addSeparator()
-        grid.addWidget(QLabel(" Rows ", self))
-        grid.addWidget(self.rows_box)
-        grid.addWidget(QLabel(" Columns ", self))
-        grid.addWidget(self.cols_box)
-        grid.addWidget(QLabel(" Pixel ", self))
-        grid.addWidget(self.size_box)
-        grid.addSeparator()
-        grid.addActions([self.act_view, self.act_open, self.act_save])
-        self.addToolBar(grid)
+        return self.scene.image()
 
     # -- closing -----------------------------------------------------------------------------
 
@@ -1060,60 +569,5 @@ class PixelPainterWindow(QMainWindow):
             return
         self._closed = True
         self._pending = None
-        self._render_timer.stop()
-        self._camera_timer.stop()
         self.jobs.close()  # a running build winds down in its thread; its result goes nowhere
-        from barymesh.app.view.interactor import close_view
-
-        close_view(self.plotter)  # pyvistaqt's surface wrapper dropped too
-
-
-# -- the main window's Cell menu ------------------------------------------------------------
-
-
-class PainterOpener(QObject):
-    """Cell → Paint pixels… (Ctrl+Shift+P) of a main window: the painter, made on first use,
-    closed with the main window."""
-
-    def __init__(self, host: ToolHost, menu: QMenu) -> None:
-        super().__init__(host.widget)
-        self.host = host
-        self.painter: PixelPainterWindow | None = None
-        self.act_paint = host.add_action(
-            "&Paint pixels…",
-            self.show,
-            "Ctrl+Shift+P",
-            "Paint a coding cell's pixels in top view: symmetry, fill, invert, random, undo",
-        )
-        menu.addAction(self.act_paint)
-        host.widget.installEventFilter(self)
-
-    def show(self) -> PixelPainterWindow | None:
-        if self.painter is None or self.painter.closed:
-            try:
-                self.painter = PixelPainterWindow(parent=self.host.widget)
-            except Exception as exc:  # noqa: BLE001 - reported, never a crash
-                log.exception("could not open the pixel painter")
-                self.host.show_status(f"Could not open the pixel painter: {exc}")
-                return None
-        self.painter.show()
-        self.painter.raise_()
-        self.painter.activateWindow()
-        return self.painter
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt's name
-        if watched is self.host.widget and event.type() == QEvent.Type.Close and self.painter:
-            try:
-                self.painter.close()
-            except RuntimeError:  # already deleted by Qt
-                pass
-        return False
-
-
-def cell_menu(main: QMainWindow) -> QMenu:
-    """The main window's "&Cell" menu, made (before Help) when no one has made it yet."""
-    bar = main.menuBar()
-    for menu in bar.findChildren(QMenu, options=Qt.FindChildOption.FindDirectChildrenOnly):
-        if menu.title() == "&Cell":
-            return menu
-    return bar.addMenu("&Cell")
+        self.scene.close()  # its timers stopped, its GL context released
