@@ -164,15 +164,17 @@ def paper_origins(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
         regions = np.concatenate([np.full(len(o), i) for i, o in enumerate(parts, start=1)])
     else:
         # every circular ring has the same angles: paper_ring_origins' products and sums,
-        # its cosines and sines found once for all rings (r u is u r, c + x is x + c)
+        # its cosines and sines found once for all rings (r u is u r, c + x is x + c);
+        # numpy's C entry points rather than its Python wrappers (np.stack, np.repeat),
+        # which cost most right after other work has evicted them
         k = count_steps(360.0, params.angle_step)
         theta = np.radians(np.arange(k) * params.angle_step)
-        unit = np.stack([np.cos(theta), np.sin(theta)], axis=1)
+        unit = np.array([np.cos(theta), np.sin(theta)]).T
         rings = np.empty((len(radii), k, 2))
         np.multiply(unit, np.array(radii)[:, None, None], out=rings)
         rings += np.asarray(params.origin)
         origins = rings.reshape(-1, 2)
-        regions = np.repeat(np.arange(1, len(radii) + 1), k)
+        regions = np.arange(1, len(radii) + 1).repeat(k)
     directions = gap_directions(params)
     if directions:
         keep = ~_touching_slots(params, origins)

@@ -53,6 +53,12 @@ if TYPE_CHECKING:
 #: first patch has them (rounding included). On random paper rings the aggregates then
 #: differ from the full computation by at most a quarter of this (below 1e-13).
 COPY_TOLERANCE = 2.5e-13
+#: The machine epsilon of float64 (``np.finfo`` is a Python-level lookup on every call).
+_EPS = float(np.finfo(np.float64).eps)
+#: ``a.max()``, ``a.min()``, ``np.max(list)`` without their Python wrappers (``_methods``,
+#: ``fromnumeric``): the same reductions, NaN included, without Python frames that run
+#: cold once per build; pass ``axis=None`` for all of an array.
+_HI, _LO = np.maximum.reduce, np.minimum.reduce
 
 #: Topologies of the templates seen last, by identity (templates are cached, so the
 #: same object recurs; the topology, RWG table and connectivity of a build all need it).
@@ -438,7 +444,7 @@ def copies_lengths(
         padded, active = axes_of(columns)
         compiled.copies_lengths(*padded, active, n_patches, n_vertices, start, end, found)
         return found
-    axes = [x.reshape(n_patches, n_vertices) for x in columns if x.any()]
+    axes = [x.reshape(n_patches, n_vertices) for x in columns if np.logical_or.reduce(x)]
     if not axes:  # every point at the origin
         return np.zeros(n_patches * k)
     total = np.empty((n_patches, k))
@@ -470,9 +476,17 @@ def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
     n_tri = local.shape[0]
     # row pointers tiled too: copy p's rows start p nnz after the template's
     indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)
-    fill_tiled(indptr[1:], local.indptr[1:], n_patches, local.nnz, 0)
-    indices = tiled(local.indices.astype(INDEX, copy=False), n_patches, n_tri)
-    data = np.ones(len(indices), dtype=np.int8)
+    local_indices = local.indices.astype(INDEX, copy=False)
+    if n_patches * max(local.nnz, n_tri) <= BLOCK:  # one add each (fill_tiled's small case)
+        shift = np.arange(n_patches, dtype=INDEX)
+        starts = local.indptr[1:].astype(INDEX, copy=False)
+        np.add(starts, (shift * INDEX(local.nnz))[:, None], out=indptr[1:].reshape(n_patches, -1))
+        indices = shifted(local_indices, shift, n_tri).reshape(-1)
+    else:
+        fill_tiled(indptr[1:], local.indptr[1:], n_patches, local.nnz, 0)
+        indices = tiled(local_indices, n_patches, n_tri)
+    data = np.empty(len(indices), dtype=np.int8)
+    data.fill(1)  # np.ones, without its Python frame
     return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
 
 
@@ -511,7 +525,7 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
         return float(compiled.copy_slack(*padded, len(columns), nv))
     rows = max(1, BLOCK // nv)
     # reductions gathered into arrays, so that a NaN anywhere makes the bound NaN
-    extent = np.max([[x.max(), -x.min()] for x in columns])
+    extent = _HI(np.array([[_HI(x), -_LO(x)] for x in columns]), axis=None)
     deviations = []
     blocks = [x.reshape(n_p, nv) for x in columns]
     with np.errstate(invalid="ignore", over="ignore"):  # an infinity makes the bound NaN
@@ -521,8 +535,8 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
                 block = x[lo : lo + rows]
                 rel = block - block[:, :1]
                 rel -= first
-                deviations += [rel.max(), -rel.min()]
-    return float(np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent)
+                deviations += [_HI(rel, axis=None), -_LO(rel, axis=None)]
+    return float(_HI(np.array(deviations)) + 2.0 * _EPS * extent)
 
 
 def translated_copies_sound(
@@ -557,21 +571,22 @@ def translated_copies_sound(
     nv = len(template.uv)
     if slack is None or len(columns) != 2 or not len(template.triangles):
         return False
-    x, y = (c[:nv] for c in columns)
-    tri = template.triangles
-    ux, uy = x[tri[:, 1]] - x[tri[:, 0]], y[tri[:, 1]] - y[tri[:, 0]]
-    vx, vy = x[tri[:, 2]] - x[tri[:, 0]], y[tri[:, 2]] - y[tri[:, 0]]
-    wx, wy = vx - ux, vy - uy
-    sides = np.stack([ux * ux + uy * uy, vx * vx + vy * vy, wx * wx + wy * wy])
-    longest = sides.max(axis=0)
-    shortest = float(np.sqrt(sides.min()))
+    # the first patch's corners (x or y, corner, triangle), then the sides u (corner 0 to
+    # 1), v (0 to 2) and w = v - u, coordinate by coordinate, in a few calls on all of them
+    corners = np.array([columns[0][:nv], columns[1][:nv]])[:, template.triangles.T]
+    d = corners[:, 1:] - corners[:, :1]
+    (ux, vx), (uy, vy) = d
+    squares = np.concatenate([d, d[:, 1:] - d[:, :1]], axis=1)
+    squares *= squares
+    sides = squares[0] + squares[1]  # (3, Nt): ux² + uy², vx² + vy², wx² + wy²
+    longest = _HI(sides, axis=0)
+    shortest = float(np.sqrt(_LO(sides, axis=None)))
     if not (shortest > 0 and slack <= COPY_TOLERANCE * shortest):
         return False
-    side = float(np.sqrt(longest.max()))
-    extent = float(np.max([[c.max(), -c.min()] for c in columns]))
-    eps = float(np.finfo(np.float64).eps)
+    side = float(np.sqrt(_HI(longest)))
+    extent = float(_HI(np.array([[_HI(c), -_LO(c)] for c in columns]), axis=None))
     margin = ux * vy - uy * vx - 2.0 * FLAT * longest
-    return bool(margin.min() > 64.0 * side * (slack + eps * (extent + side)))
+    return bool(_LO(margin) > 64.0 * side * (slack + _EPS * (extent + side)))
 
 
 def translated_copy_measures(
