@@ -15,7 +15,9 @@ copied patch after patch, every id shifted by whole patches::
                   [(P−1)Nv,        …, P Nv − 1  ]]
 
 Every array is the template's, written once per copy with its ids shifted
-(:func:`fill_tiled`); no gather or sort of the size of the mesh. When the
+(:func:`fill_tiled`); no gather or sort of the size of the mesh. Up to a block, the
+template's rows are kept flat with the template (:func:`template_plan`) and the
+arrays of one width written together, in one broadcast add. When the
 patches are also translations of one another (the paper's rings), their
 edge lengths and triangle quality are the first patch's
 (:func:`translated_copy_measures`). The results equal the general paths of
