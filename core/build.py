@@ -34,7 +34,7 @@ from .grading import graded_barycentric
 from .mesh import TriMesh
 from .params import MeshParams
 from .repeat import Repetition, patch_triangles
-from .repeat.copies import tiled
+from .repeat.copies import copies_triangles
 from .sizing import sized_mesh
 from .structures import layout
 from .subdivision import subdivide
@@ -146,7 +146,7 @@ def _assemble(
     else:
         repetition = Repetition.of(lay.template, vertex_map, len(points))
     if repetition.kind == "copies":  # the template's triangles shifted by whole patches
-        triangles = tiled(lay.template.triangles, n_patches, vertex_map.shape[1])
+        triangles = copies_triangles(lay.template, n_patches)
     else:
         triangles = patch_triangles(lay.template, vertex_map)
     checkpoint()

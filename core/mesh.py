@@ -126,7 +126,10 @@ class TriMesh:
         tri = np.asarray(self.triangles)
         if tri.ndim != 2 or tri.shape[1] != 3:
             raise ValueError(f"triangles must have shape (T, 3), got {tri.shape}")
-        if len(tri) and (tri.min() < 0 or tri.max() >= len(pts)):
+        # the reductions of tri.min() and tri.max(), without their Python frames
+        if len(tri) and (
+            np.minimum.reduce(tri, axis=None) < 0 or np.maximum.reduce(tri, axis=None) >= len(pts)
+        ):
             raise ValueError(
                 f"triangles refer to vertex {int(tri.max())} or {int(tri.min())}, "
                 f"but there are {len(pts)} vertices"
@@ -149,7 +152,7 @@ class TriMesh:
                     f"repetition has {rep.n_patches} patches of {per_patch} triangles, but the "
                     f"mesh has {self.n_patches} patches and {len(tri)} triangles"
                 )
-            if rep.vertex_map.size and int(rep.vertex_map.max()) >= len(pts):
+            if rep.vertex_map.size and np.maximum.reduce(rep.vertex_map, axis=None) >= len(pts):
                 raise ValueError(
                     f"repetition refers to vertex {int(rep.vertex_map.max())}, "
                     f"but there are {len(pts)} vertices"

@@ -157,14 +157,24 @@ def rects_touching_slots(
 
 def paper_origins(params: PlacementFields) -> tuple[np.ndarray, np.ndarray]:
     """Patch origins and regions of a paper-mode ring structure, slots applied."""
-    square = params.structure == "square_split_double_ring"
-    origin_parts, region_parts = [], []
-    for region, radius in enumerate(ring_radii(params), start=1):
-        o = square_ring_origins(params, radius) if square else paper_ring_origins(params, radius)
-        origin_parts.append(o)
-        region_parts.append(np.full(len(o), region))
-    origins = np.concatenate(origin_parts)
-    regions = np.concatenate(region_parts)
+    radii = ring_radii(params)
+    if params.structure == "square_split_double_ring":
+        parts = [square_ring_origins(params, radius) for radius in radii]
+        origins = np.concatenate(parts)
+        regions = np.concatenate([np.full(len(o), i) for i, o in enumerate(parts, start=1)])
+    else:
+        # every circular ring has the same angles: paper_ring_origins' products and sums,
+        # its cosines and sines found once for all rings (r u is u r, c + x is x + c);
+        # numpy's C entry points rather than its Python wrappers (np.stack, np.repeat),
+        # which cost most right after other work has evicted them
+        k = count_steps(360.0, params.angle_step)
+        theta = np.radians(np.arange(k) * params.angle_step)
+        unit = np.array([np.cos(theta), np.sin(theta)]).T
+        rings = np.empty((len(radii), k, 2))
+        np.multiply(unit, np.array(radii)[:, None, None], out=rings)
+        rings += np.asarray(params.origin)
+        origins = rings.reshape(-1, 2)
+        regions = np.arange(1, len(radii) + 1).repeat(k)
     directions = gap_directions(params)
     if directions:
         keep = ~_touching_slots(params, origins)

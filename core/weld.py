@@ -235,7 +235,7 @@ def weld_lattice_patches(
     scaled = origins / steps
     frac = scaled - np.floor(scaled)
     frac[frac >= 1.0] = 0.0
-    radius = tolerance / steps.min() * 1.000001
+    radius = tolerance / np.minimum.reduce(steps) * 1.000001
     cand = _lattice_candidates(origins, frac, n * steps + tolerance, radius)
     if len(cand) == 0:
         return merge_pairs(n_points, np.empty((0, 2), dtype=np.int64))
@@ -275,7 +275,7 @@ def _lattice_candidates(
     """
     if len(origins) < 2:
         return np.empty((0, 2), dtype=np.int64)
-    scaled = (origins - origins.min(axis=0)) / reach * radius
+    scaled = (origins - np.minimum.reduce(origins, axis=0)) / reach * radius
     pairs = _window_candidates(frac, scaled, radius * 1.000001)
     if pairs is not None:
         return pairs
@@ -297,24 +297,26 @@ def _window_candidates(frac: np.ndarray, scaled: np.ndarray, r: float) -> np.nda
     Much faster than a k-d tree there; returns None when the windows hold many
     pairs (patches sharing one lattice, as in a patch array), for the tree.
     """
+    # the arrays' methods and ufuncs rather than numpy's Python wrappers (np.argsort,
+    # np.repeat, ...): on a ring this runs first in a build, when those are not in cache
     n = len(frac)
-    order = np.argsort(frac[:, 0], kind="stable")
+    order = frac[:, 0].argsort(kind="stable")
     key = frac[order, 0]
-    wrap = np.flatnonzero(key <= r)  # seen again one period on
+    wrap = (key <= r).nonzero()[0]  # seen again one period on
     ext_key = np.concatenate([key, key[wrap] + 1.0])
     ext_point = np.concatenate([order, order[wrap]])
-    stop = np.searchsorted(ext_key, key + r, side="right")
+    stop = ext_key.searchsorted(key + r, side="right")
     count = np.maximum(stop - np.arange(1, n + 1), 0)  # the points after each, in reach
-    total = int(count.sum())
+    total = int(np.add.reduce(count))
     if total > 4 * n + 1024:
         return None
-    first = np.repeat(np.arange(1, n + 1) - np.cumsum(count) + count, count)
-    a = np.repeat(order, count)
+    first = (np.arange(1, n + 1) - count.cumsum() + count).repeat(count)
+    a = order.repeat(count)
     b = ext_point[first + np.arange(total)]
     dy = np.abs(frac[a, 1] - frac[b, 1])
     near = (np.minimum(dy, 1.0 - dy) <= r) & (a != b)
-    near &= (np.abs(scaled[a] - scaled[b]) <= r).all(axis=1)
-    if not near.any():  # the usual answer on a ring: no patches share a lattice
+    near &= np.logical_and.reduce(np.abs(scaled[a] - scaled[b]) <= r, axis=1)
+    if not np.logical_or.reduce(near):  # the usual answer on a ring: no patches share a lattice
         return np.empty((0, 2), dtype=np.int64)
     a, b = a[near], b[near]
     return np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1).astype(np.int64)

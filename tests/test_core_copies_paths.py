@@ -10,6 +10,8 @@ where the sums are the same), and defects planted in such a mesh must still be
 refused.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from helpers import with_points
@@ -296,3 +298,51 @@ def test_the_record_of_an_unwelded_layout_is_the_one_of_finds(params):
 
 def same_map(a, b):
     return a.dtype == b.dtype and a.shape == b.shape and np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-n{p.subdivisions}")
+def test_a_templates_plan_writes_what_the_tiled_copies_write(params):
+    # the plan's broadcast adds (views of one buffer per width) against one tiled array each
+    from barymesh.repeat.copies import copies_rwg, copies_topology, copies_triangles, template_plan
+
+    mesh = build_mesh(params)
+    template, n_p = mesh.repetition.template, mesh.n_patches
+    plan, local = template_plan(template), template_topology(template)
+    assert template_plan(template) is plan and not plan.interior.flags.writeable
+    nv, nt = len(template.uv), len(template.triangles)
+    pairs = [
+        (copies_topology(local, n_p, nv, nt, plan), copies_topology(local, n_p, nv, nt)),
+        (
+            copies_rwg(local, n_p, nv, nt, mesh.points, mesh.columns, plan),
+            copies_rwg(local, n_p, nv, nt, mesh.points, mesh.columns),
+        ),
+    ]
+    got = [copies_triangles(template, n_p)]
+    want = [tiled(template.triangles, n_p, nv)]
+    for planned, plain_ in pairs:
+        got += [getattr(planned, f.name) for f in dataclasses.fields(planned)]
+        want += [getattr(plain_, f.name) for f in dataclasses.fields(plain_)]
+    for a, b in zip(got, want, strict=True):
+        assert a.dtype == b.dtype and a.shape == b.shape and a.flags.c_contiguous
+        assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("structure", ["ring", "double_ring", "split_double_ring"])
+@pytest.mark.parametrize("angle_step", [0.7, 2.5, 13.3])
+def test_paper_origins_are_each_rings_own_origins_bit_for_bit(structure, angle_step):
+    # paper_origins finds the angles once for all rings; the counting path places each ring
+    from barymesh.placement import _touching_slots, paper_origins, paper_ring_origins
+    from barymesh.sectors import gap_directions, ring_radii
+
+    params = MeshParams(
+        structure=structure, mode="paper", angle_step=angle_step, origin=(0.3, -1.7)
+    )
+    parts = [paper_ring_origins(params, r) for r in ring_radii(params)]
+    want = np.concatenate(parts)
+    regions = np.concatenate([np.full(len(o), i) for i, o in enumerate(parts, start=1)])
+    if gap_directions(params):
+        keep = ~_touching_slots(params, want)
+        want, regions = want[keep], regions[keep]
+    got, got_regions = paper_origins(params)
+    assert np.array_equal(got.view(np.int64), want.view(np.int64))
+    assert got_regions.dtype == regions.dtype and np.array_equal(got_regions, regions)

@@ -15,7 +15,9 @@ copied patch after patch, every id shifted by whole patches::
                   [(P−1)Nv,        …, P Nv − 1  ]]
 
 Every array is the template's, written once per copy with its ids shifted
-(:func:`fill_tiled`); no gather or sort of the size of the mesh. When the
+(:func:`fill_tiled`); no gather or sort of the size of the mesh. Up to a block, the
+template's rows are kept flat with the template (:func:`template_plan`) and the
+arrays of one width written together, in one broadcast add. When the
 patches are also translations of one another (the paper's rings), their
 edge lengths and triangle quality are the first patch's
 (:func:`translated_copy_measures`). The results equal the general paths of
@@ -26,6 +28,7 @@ aggregates to 1e-13) in ``tests/test_core_chain_paths.py`` and
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -52,11 +55,18 @@ if TYPE_CHECKING:
 #: first patch has them (rounding included). On random paper rings the aggregates then
 #: differ from the full computation by at most a quarter of this (below 1e-13).
 COPY_TOLERANCE = 2.5e-13
+#: The machine epsilon of float64 (``np.finfo`` is a Python-level lookup on every call).
+_EPS = float(np.finfo(np.float64).eps)
+#: ``a.max()``, ``a.min()``, ``np.max(list)`` without their Python wrappers (``_methods``,
+#: ``fromnumeric``): the same reductions, NaN included, without Python frames that run
+#: cold once per build; pass ``axis=None`` for all of an array.
+_HI, _LO = np.maximum.reduce, np.minimum.reduce
 
 #: Topologies of the templates seen last, by identity (templates are cached, so the
 #: same object recurs; the topology, RWG table and connectivity of a build all need it).
 _TEMPLATE_TOPOLOGIES: dict[int, tuple[PatchTemplate, EdgeTopology]] = {}
 _TEMPLATE_ADJACENCY: dict[int, tuple[PatchTemplate, sp.csr_matrix | None]] = {}
+_TEMPLATE_PLANS: dict[int, tuple[PatchTemplate, CopyPlan]] = {}
 
 
 def is_unwelded_copies(vertex_map: np.ndarray) -> bool:
@@ -117,8 +127,93 @@ def template_adjacency(template: PatchTemplate) -> sp.csr_matrix | None:
     return local
 
 
+@dataclass(frozen=True)
+class CopyPlan:
+    """One template's rows as every copy writes them, shifts per copy alongside.
+
+    Derived from the template alone (:func:`template_plan` keeps it with the template's
+    topology), so that a build writes the arrays of all its copies in a few numpy calls,
+    not a slicing, conversion and check per array: the arrays of one width and their
+    shifts per copy go through a single broadcast add. Read-only, shared by every caller.
+
+    Attributes
+    ----------
+    incidence : (3, 2 Ne) int
+        Template ``edges``, ``edge_triangles`` and ``free_vertices``, flattened.
+    incidence_steps : (3, 1) int
+        What one copy shifts each of them by: Nv, Nt, Nv.
+    missing : tuple of two (k,) intp
+        Where ``edge_triangles`` and ``free_vertices`` (flattened) hold -1, which stays.
+    triangles, triangle_edges : (3 Nt,) int
+        The template's, flattened.
+    interior : (5, K) int
+        The RWG rows (valence 2) of the template: edge id, T+, T−, free vertex of T+
+        and of T− (never -1 on an interior edge).
+    interior_steps : (5, 1) int
+        Their shifts per copy: Ne, Nt, Nt, Nv, Nv.
+    interior_vertices : (2 K,) int
+        The interior edges' vertex pairs, flattened.
+    ends : (2, K) intp
+        The same pairs as the rows start, end (:func:`copies_lengths`).
+    """
+
+    incidence: np.ndarray
+    incidence_steps: np.ndarray
+    missing: tuple[np.ndarray, np.ndarray]
+    triangles: np.ndarray
+    triangle_edges: np.ndarray
+    interior: np.ndarray
+    interior_steps: np.ndarray
+    interior_vertices: np.ndarray
+    ends: np.ndarray
+
+
+def template_plan(template: PatchTemplate) -> CopyPlan:
+    """The :class:`CopyPlan` of ``template``, kept for the last few templates as its topology is."""
+    found = _TEMPLATE_PLANS.get(id(template))
+    if found is not None and found[0] is template:
+        return found[1]
+    local = template_topology(template)
+    assert local.free_vertices is not None  # a template's topology has them
+    nv, nt, ne = len(template.uv), len(template.triangles), len(local.edges)
+    rows = np.flatnonzero(local.valence == 2)
+    pairs = local.edges[rows]
+    flat = [
+        np.ascontiguousarray(a, dtype=INDEX).reshape(-1)
+        for a in (local.edges, local.edge_triangles, local.free_vertices)
+    ]
+    plan = CopyPlan(
+        incidence=np.stack(flat),
+        incidence_steps=np.array([[nv], [nt], [nv]], dtype=INDEX),
+        missing=(np.flatnonzero(flat[1] < 0), np.flatnonzero(flat[2] < 0)),
+        triangles=np.ascontiguousarray(template.triangles, dtype=INDEX).reshape(-1),
+        triangle_edges=np.ascontiguousarray(local.triangle_edges, dtype=INDEX).reshape(-1),
+        interior=np.stack(
+            [
+                rows.astype(INDEX),
+                *(local.edge_triangles[rows].T.astype(INDEX)),
+                *(local.free_vertices[rows].T.astype(INDEX)),
+            ]
+        ),
+        interior_steps=np.array([[ne], [nt], [nt], [nv], [nv]], dtype=INDEX),
+        interior_vertices=np.ascontiguousarray(pairs, dtype=INDEX).reshape(-1),
+        ends=np.ascontiguousarray(pairs.T, dtype=np.intp),
+    )
+    for name, array in vars(plan).items():
+        for a in array if name == "missing" else (array,):
+            a.flags.writeable = False
+    if len(_TEMPLATE_PLANS) >= 16:
+        _TEMPLATE_PLANS.pop(next(iter(_TEMPLATE_PLANS)))
+    _TEMPLATE_PLANS[id(template)] = (template, plan)
+    return plan
+
+
 def copies_topology(
-    local: EdgeTopology, n_patches: int, n_vertices: int, n_tri: int
+    local: EdgeTopology,
+    n_patches: int,
+    n_vertices: int,
+    n_tri: int,
+    plan: CopyPlan | None = None,
 ) -> EdgeTopology:
     """Topology of ``n_patches`` unwelded copies of one patch, patch p's vertices from p Nv.
 
@@ -137,11 +232,33 @@ def copies_topology(
         Vertices of one patch (Nv).
     n_tri : int
         Triangles of one patch.
+    plan : CopyPlan, optional
+        The template's :func:`template_plan`: with it, up to a block of copies per array
+        are written in a few numpy calls (the same values).
     """
     n_loc = len(local.edges)
     valence = np.empty((n_patches, n_loc), dtype=INDEX)
     assert local.free_vertices is not None  # a template's topology has them
     valence[...] = local.valence
+    if plan is not None and n_patches * 2 * n_loc <= BLOCK:
+        # edges, edge triangles and free vertices (2 Ne per copy each) in one add
+        shift = np.arange(n_patches, dtype=INDEX)
+        incidence = np.empty((3, n_patches, 2 * n_loc), dtype=INDEX)
+        np.add(
+            plan.incidence[:, None, :], (shift * plan.incidence_steps)[:, :, None], out=incidence
+        )
+        for rows, missing in zip(incidence[1:], plan.missing, strict=True):
+            if len(missing):
+                rows[:, missing] = -1
+        edges, edge_triangles, free = (a.reshape(-1, 2) for a in incidence)
+        return EdgeTopology(
+            edges=edges,
+            triangle_edges=shifted(plan.triangle_edges, shift, n_loc).reshape(-1, 3),
+            edge_triangles=edge_triangles,
+            valence=valence.reshape(-1),
+            junction_incidence=np.empty((0, 2), dtype=INDEX),
+            free_vertices=free,
+        )
     return EdgeTopology(
         edges=tiled(local.edges, n_patches, n_vertices),
         triangle_edges=tiled(local.triangle_edges, n_patches, n_loc),
@@ -152,11 +269,35 @@ def copies_topology(
     )
 
 
+def copies_triangles(template: PatchTemplate, n_patches: int) -> np.ndarray:
+    """(P Nt, 3) int: the triangles of ``n_patches`` unwelded copies of ``template``.
+
+    ``tiled(template.triangles, n_patches, Nv)``; up to a block, one add of the
+    template's flat triangles (:func:`template_plan`) and each copy's shift.
+    """
+    nv = len(template.uv)
+    if n_patches * 3 * len(template.triangles) <= BLOCK:
+        flat = template_plan(template).triangles
+        return shifted(flat, np.arange(n_patches, dtype=INDEX), nv).reshape(-1, 3)
+    return tiled(template.triangles, n_patches, nv)
+
+
 def tiled(a: np.ndarray, n_patches: int, step: int) -> np.ndarray:
     """``a`` once per patch, patch p's ids (not the -1 entries) shifted by p ``step``."""
     out = np.empty((n_patches,) + a.shape, dtype=INDEX)
     fill_tiled(out.reshape(-1), a, n_patches, step, 0)
     return out.reshape((-1,) + a.shape[1:])
+
+
+def shifted(flat: np.ndarray, shift: np.ndarray, step: int) -> np.ndarray:
+    """(P, K) int: the flat template row ``flat`` (no -1 entries), shifted ``step`` per copy.
+
+    ``shift`` is ``arange(P)``; one add within a block (:func:`fill_tiled`'s small case,
+    without its checks: the caller's template is known).
+    """
+    out = np.empty((len(shift), len(flat)), dtype=INDEX)
+    np.add(flat, (shift * INDEX(step))[:, None], out=out)
+    return out
 
 
 def fill_tiled(out: np.ndarray, a: np.ndarray, copies: int, step: int, base: int) -> None:
@@ -210,6 +351,7 @@ def copies_rwg(
     n_tri: int,
     points: np.ndarray,
     columns: list[np.ndarray] | None = None,
+    plan: CopyPlan | None = None,
 ) -> RWGTable:
     """The RWG table of the topology :func:`copies_topology` makes, without gathers.
 
@@ -217,9 +359,30 @@ def copies_rwg(
 
     The template's interior edges, copy after copy; only the lengths are
     measured. Parameters as for :func:`copies_topology`, plus the mesh's
-    ``points`` (and ``columns``, see :func:`barymesh.topology.segment_lengths`).
+    ``points`` (and ``columns``, see :func:`barymesh.topology.segment_lengths`), and
+    the template's ``plan`` (see :func:`copies_topology`).
     """
     assert local.free_vertices is not None  # a template's topology has them
+    if plan is not None and n_patches * 2 * len(plan.ends[0]) <= BLOCK:
+        # the five (K,) rows of a copy in one add, the vertex pairs (2 K) in another
+        k = len(plan.ends[0])
+        shift = np.arange(n_patches, dtype=INDEX) * plan.interior_steps  # (5, P)
+        ids = np.empty((5, n_patches, k), dtype=INDEX)
+        np.add(plan.interior[:, None, :], shift[:, :, None], out=ids)
+        vertices = np.empty((n_patches, 2 * k), dtype=INDEX)
+        np.add(plan.interior_vertices, shift[3][:, None], out=vertices)
+        edge, t_plus, t_minus, free_plus, free_minus = (a.reshape(-1) for a in ids)
+        return RWGTable(
+            edge=edge,
+            vertices=vertices.reshape(-1, 2),
+            t_plus=t_plus,
+            t_minus=t_minus,
+            free_vertex_plus=free_plus,
+            free_vertex_minus=free_minus,
+            length=copies_lengths(
+                plan.ends.T, n_patches, n_vertices, points, columns, ends=plan.ends
+            ),
+        )
     rows = np.flatnonzero(local.valence == 2)
     vertices = tiled(local.edges[rows], n_patches, n_vertices)
     return RWGTable(
@@ -239,6 +402,7 @@ def copies_lengths(
     n_vertices: int,
     points: np.ndarray,
     columns: list[np.ndarray] | None = None,
+    ends: np.ndarray | None = None,
 ) -> np.ndarray:
     """Lengths of the template segments ``pairs`` in each of ``n_patches`` unwelded copies.
 
@@ -261,6 +425,9 @@ def copies_lengths(
         The mesh's points, copy p's from p Nv.
     columns : list of (P Nv,) float64, optional
         Contiguous coordinate columns of ``points`` (all-zero ones may be left out).
+    ends : (2, K) intp, optional
+        ``pairs`` as contiguous start and end rows, when the caller keeps them
+        (:attr:`CopyPlan.ends`).
 
     Returns
     -------
@@ -269,8 +436,9 @@ def copies_lengths(
     """
     if columns is None:
         columns = [np.ascontiguousarray(points[:, axis]) for axis in range(points.shape[1])]
-    start = np.ascontiguousarray(pairs[:, 0], dtype=np.intp)
-    end = np.ascontiguousarray(pairs[:, 1], dtype=np.intp)
+    if ends is None:
+        ends = np.array([pairs[:, 0], pairs[:, 1]], dtype=np.intp)
+    start, end = ends
     k = len(start)
     compiled = kernels(n_patches * k)
     if compiled is not None:  # the same sums, each length written once
@@ -278,7 +446,7 @@ def copies_lengths(
         padded, active = axes_of(columns)
         compiled.copies_lengths(*padded, active, n_patches, n_vertices, start, end, found)
         return found
-    axes = [x.reshape(n_patches, n_vertices) for x in columns if x.any()]
+    axes = [x.reshape(n_patches, n_vertices) for x in columns if np.logical_or.reduce(x)]
     if not axes:  # every point at the origin
         return np.zeros(n_patches * k)
     total = np.empty((n_patches, k))
@@ -310,9 +478,17 @@ def copies_adjacency(local: sp.csr_matrix, n_patches: int) -> sp.csr_matrix:
     n_tri = local.shape[0]
     # row pointers tiled too: copy p's rows start p nnz after the template's
     indptr = np.zeros(n_patches * n_tri + 1, dtype=INDEX)
-    fill_tiled(indptr[1:], local.indptr[1:], n_patches, local.nnz, 0)
-    indices = tiled(local.indices.astype(INDEX), n_patches, n_tri)
-    data = np.ones(len(indices), dtype=np.int8)
+    local_indices = local.indices.astype(INDEX, copy=False)
+    if n_patches * max(local.nnz, n_tri) <= BLOCK:  # one add each (fill_tiled's small case)
+        shift = np.arange(n_patches, dtype=INDEX)
+        starts = local.indptr[1:].astype(INDEX, copy=False)
+        np.add(starts, (shift * INDEX(local.nnz))[:, None], out=indptr[1:].reshape(n_patches, -1))
+        indices = shifted(local_indices, shift, n_tri).reshape(-1)
+    else:
+        fill_tiled(indptr[1:], local.indptr[1:], n_patches, local.nnz, 0)
+        indices = tiled(local_indices, n_patches, n_tri)
+    data = np.empty(len(indices), dtype=np.int8)
+    data.fill(1)  # np.ones, without its Python frame
     return sp.csr_matrix((data, indices, indptr), shape=(n_patches * n_tri,) * 2)
 
 
@@ -351,7 +527,7 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
         return float(compiled.copy_slack(*padded, len(columns), nv))
     rows = max(1, BLOCK // nv)
     # reductions gathered into arrays, so that a NaN anywhere makes the bound NaN
-    extent = np.max([[x.max(), -x.min()] for x in columns])
+    extent = _HI(np.array([[_HI(x), -_LO(x)] for x in columns]), axis=None)
     deviations = []
     blocks = [x.reshape(n_p, nv) for x in columns]
     with np.errstate(invalid="ignore", over="ignore"):  # an infinity makes the bound NaN
@@ -361,8 +537,8 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
                 block = x[lo : lo + rows]
                 rel = block - block[:, :1]
                 rel -= first
-                deviations += [rel.max(), -rel.min()]
-    return float(np.max(deviations) + 2.0 * np.finfo(np.float64).eps * extent)
+                deviations += [_HI(rel, axis=None), -_LO(rel, axis=None)]
+    return float(_HI(np.array(deviations)) + 2.0 * _EPS * extent)
 
 
 def translated_copies_sound(
@@ -397,21 +573,22 @@ def translated_copies_sound(
     nv = len(template.uv)
     if slack is None or len(columns) != 2 or not len(template.triangles):
         return False
-    x, y = (c[:nv] for c in columns)
-    tri = template.triangles
-    ux, uy = x[tri[:, 1]] - x[tri[:, 0]], y[tri[:, 1]] - y[tri[:, 0]]
-    vx, vy = x[tri[:, 2]] - x[tri[:, 0]], y[tri[:, 2]] - y[tri[:, 0]]
-    wx, wy = vx - ux, vy - uy
-    sides = np.stack([ux * ux + uy * uy, vx * vx + vy * vy, wx * wx + wy * wy])
-    longest = sides.max(axis=0)
-    shortest = float(np.sqrt(sides.min()))
+    # the first patch's corners (x or y, corner, triangle), then the sides u (corner 0 to
+    # 1), v (0 to 2) and w = v - u, coordinate by coordinate, in a few calls on all of them
+    corners = np.array([columns[0][:nv], columns[1][:nv]])[:, template.triangles.T]
+    d = corners[:, 1:] - corners[:, :1]
+    (ux, vx), (uy, vy) = d
+    squares = np.concatenate([d, d[:, 1:] - d[:, :1]], axis=1)
+    squares *= squares
+    sides = squares[0] + squares[1]  # (3, Nt): ux² + uy², vx² + vy², wx² + wy²
+    longest = _HI(sides, axis=0)
+    shortest = float(np.sqrt(_LO(sides, axis=None)))
     if not (shortest > 0 and slack <= COPY_TOLERANCE * shortest):
         return False
-    side = float(np.sqrt(longest.max()))
-    extent = float(np.max([[c.max(), -c.min()] for c in columns]))
-    eps = float(np.finfo(np.float64).eps)
+    side = float(np.sqrt(_HI(longest)))
+    extent = float(_HI(np.array([[_HI(c), -_LO(c)] for c in columns]), axis=None))
     margin = ux * vy - uy * vx - 2.0 * FLAT * longest
-    return bool(margin.min() > 64.0 * side * (slack + eps * (extent + side)))
+    return bool(_LO(margin) > 64.0 * side * (slack + _EPS * (extent + side)))
 
 
 def translated_copy_measures(

@@ -366,7 +366,7 @@ def patch_centroids(
         return found
     out = np.zeros((n_p, n_tri, 3))
     corners = [np.ascontiguousarray(template_triangles[:, k], dtype=np.intp) for k in range(3)]
-    axes = [(a, x) for a, x in enumerate(columns) if x.any()]
+    axes = [(a, x) for a, x in enumerate(columns) if np.logical_or.reduce(x)]  # x.any()
     rows = max(1, BLOCK // max(n_tri, 1))
     for lo in range(0, n_p, rows):
         vmap = None if unwelded else vertex_map[lo : lo + rows]

@@ -23,6 +23,7 @@ from .copies import (
     copies_topology,
     is_unwelded_copies,
     template_adjacency,
+    template_plan,
     template_topology,
 )
 from .patches import patch_topology, patch_triangles
@@ -154,7 +155,8 @@ def repeated_topology(rep: Repetition, n_vertices: int) -> EdgeTopology:
     """The mesh's topology by the path of ``rep.kind``; equals the general edge finder's."""
     t = rep.template
     if rep.kind == "copies":
-        return copies_topology(template_topology(t), rep.n_patches, len(t.uv), len(t.triangles))
+        local = template_topology(t)
+        return copies_topology(local, rep.n_patches, len(t.uv), len(t.triangles), template_plan(t))
     if rep.kind == "chains":
         return chain_topology(chain_parts(t, rep.sectors, rep.closed))
     return patch_topology(t, rep.vertex_map, n_vertices)
@@ -170,7 +172,8 @@ def repeated_rwg(
     t = rep.template
     if rep.kind == "copies":
         local = template_topology(t)
-        return copies_rwg(local, rep.n_patches, len(t.uv), len(t.triangles), points, columns)
+        plan = template_plan(t)
+        return copies_rwg(local, rep.n_patches, len(t.uv), len(t.triangles), points, columns, plan)
     if rep.kind == "chains":
         return chain_rwg(chain_parts(t, rep.sectors, rep.closed), points, columns)
     return None
