@@ -65,13 +65,13 @@ def _grid(lo: np.ndarray, hi: np.ndarray) -> tuple[float, float] | None:
     so every grid line ``start + k size`` is exact in float64; None when the
     intervals are too small for their coordinates to keep that so.
     """
-    smallest = float((hi - lo).min()) * _SHRINK
+    smallest = float(np.minimum.reduce(hi - lo)) * _SHRINK
     if not (smallest > 0 and np.isfinite(smallest)):
         return None
     unit = math.ldexp(1.0, math.frexp(smallest)[1] - 8)  # size = 128..255 units
     size = math.floor(smallest / unit) * unit
-    start = math.floor(float(lo.min()) / unit) * unit
-    if max(abs(start), abs(float(hi.max()))) / unit > 2.0**50:
+    start = math.floor(float(np.minimum.reduce(lo)) / unit) * unit
+    if max(abs(start), abs(float(np.maximum.reduce(hi)))) / unit > 2.0**50:
         return None
     return start, size
 
@@ -96,7 +96,7 @@ def _order_and_ranks(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     A stable sort: on coordinates of patches placed along a curve, which come in long
     ascending and descending runs, much faster than the default quicksort.
     """
-    order = np.argsort(values, kind="stable")
+    order = values.argsort(kind="stable")
     rank = np.empty(len(values), dtype=np.int64)
     rank[order] = np.arange(len(values))
     return order, rank
@@ -115,13 +115,13 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     n_i = i_last - i_first + 1
     n_j = j_last - j_first + 1
     count = n_i * n_j
-    total = int(count.sum())
+    total = int(np.add.reduce(count))
     if total > _PIECES_PER_RECT * n + 4096:
         return None
 
     # one piece per (rectangle, cell), rectangle by rectangle
-    rect = np.repeat(np.arange(n), count)
-    local = np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(count) - count, count)
+    rect = np.arange(n).repeat(count)
+    local = np.arange(total, dtype=np.int64) - (count.cumsum() - count).repeat(count)
     di, dj = np.divmod(local, n_j[rect])
     del local
     i = i_first[rect] + di
@@ -136,9 +136,10 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     keep = (b > a) & (d > c)
     from_left = a <= left  # else it reaches the right side
     from_bottom = c <= bottom  # else it reaches the top
-    if (keep & ~from_left & (b < right)).any() or (keep & ~from_bottom & (d < top)).any():
+    any_of = np.logical_or.reduce
+    if any_of(keep & ~from_left & (b < right)) or any_of(keep & ~from_bottom & (d < top)):
         return None  # a piece inside a cell: rounding beat the margin
-    if not keep.all():
+    if not np.logical_and.reduce(keep):
         rect, i, j, a, b, c, d = (v[keep] for v in (rect, i, j, a, b, c, d))
         left, right, bottom, top = (v[keep] for v in (left, right, bottom, top))
         from_left, from_bottom = from_left[keep], from_bottom[keep]
@@ -148,19 +149,19 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     x_rank = _ranks(np.concatenate([x0, x1]))  # (2n,)
     n_x = 2 * n + 1  # rank 2n: the cell's right side
     event_rank = np.where(from_left, np.where(b < right, x_rank[n + rect], 2 * n), x_rank[rect])
-    i_low, j_low = i.min(), j.min()
+    i_low, j_low = np.minimum.reduce(i), np.minimum.reduce(j)
     i -= i_low
     j -= j_low
-    span_j = int(j.max()) + 1
-    if (float(i.max()) + 1) * span_j * n_x < 2.0**62:
+    span_j = int(np.maximum.reduce(j)) + 1
+    if (float(np.maximum.reduce(i)) + 1) * span_j * n_x < 2.0**62:
         # stable: the pieces come rectangle by rectangle, in runs a merge sort finds (ties,
         # full-width pieces' events at the cell's side, add nothing whatever their order)
-        order = np.argsort((i * span_j + j) * n_x + event_rank, kind="stable")
+        order = ((i * span_j + j) * n_x + event_rank).argsort(kind="stable")
     else:  # a sparse, very fine grid: sort on the three keys
         order = np.lexsort((event_rank, j, i))
     del event_rank
     i, j = i[order], j[order]
-    new_cell = np.r_[True, (i[1:] != i[:-1]) | (j[1:] != j[:-1])]
+    new_cell = np.concatenate(([True], (i[1:] != i[:-1]) | (j[1:] != j[:-1])))
     event = np.where(from_left, b, a)[order]
     # the cells' sides again, from the sorted cell indices (the same products and sums:
     # cheaper than four gathers in the new order)
@@ -175,8 +176,8 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
 
     m = len(event)
     starts = np.flatnonzero(new_cell)
-    seg = np.cumsum(new_cell) - 1  # (m,) cell ordinal
-    ends = np.r_[starts[1:], m]  # one past each cell's last piece
+    seg = new_cell.cumsum() - 1  # (m,) cell ordinal
+    ends = np.concatenate((starts[1:], [m]))  # one past each cell's last piece
     last = np.zeros(m, dtype=bool)
     last[ends - 1] = True
 
@@ -243,11 +244,11 @@ def _union_area_grid(rects: np.ndarray) -> float | None:
     nxt -= event
     everything = slice(None)
     nxt *= covered(np.maximum(rb, lb), np.maximum(rt, lt), everything)
-    area = float(nxt.sum())
+    area = float(np.add.reduce(nxt))
     # from each cell's left side to its first event only left-anchored pieces reach
     f = starts
     first = covered(lb_here[f], lt_here[f], f)
-    area += float(((event[f] - left[f]) * first).sum())
+    area += float(np.add.reduce((event[f] - left[f]) * first))
     return area
 
 

@@ -203,6 +203,34 @@ def test_the_check_skip_declines_what_is_not_translations_or_not_planar():
     assert copy_slack(len(rep.template.uv), [x[:-1], y[:-1]]) is None  # not whole patches
 
 
+@pytest.mark.parametrize("params", PAPER, ids=lambda p: f"{p.structure}-{p.subdivisions}")
+def test_copy_slack_in_one_block_equals_block_by_block(params, monkeypatch):
+    """The one-block path (all columns in one array) gives the block loop's bound bit for bit,
+    NaN for a NaN or an infinity, and at least 2 ε extent (what the check skip relies on)."""
+    import barymesh.repeat.copies as copies
+
+    mesh = build_mesh(params)
+    nv = len(mesh.repetition.template.uv)
+    x, y = mesh.columns
+    moved = x.copy()
+    moved[3 * nv + 2] += 1e-9  # copies no longer exact translations
+    z = np.linspace(-1.0, 2.0, len(x))
+    cases = [[x, y], [moved, y], [x, y, z]]
+    for bad in (np.nan, np.inf, -np.inf):
+        broken = y.copy()
+        broken[-5] = bad
+        cases.append([x, broken])
+    whole = [copy_slack(nv, c) for c in cases]
+    monkeypatch.setattr(copies, "BLOCK", 7 * nv)  # blocks of 7 patches
+    blocks = [copy_slack(nv, c) for c in cases]
+    for got, want in zip(whole, blocks, strict=True):
+        assert np.isnan(want) == np.isnan(got)
+        assert np.isnan(want) or got == want
+    for columns, slack in zip(cases[:3], whole[:3], strict=True):
+        extent = max(float(np.abs(c).max()) for c in columns)
+        assert slack >= 2.0 * np.finfo(np.float64).eps * extent
+
+
 def test_stats_share_the_checks_slack():
     mesh = build_mesh(PAPER[0])
     assert "translation_slack" in mesh.__dict__  # found by the check, kept

@@ -526,6 +526,15 @@ def copy_slack(n_vertices: int, columns: list[np.ndarray]) -> float | None:
         padded = [*columns, *[np.zeros(0)] * (3 - len(columns))]
         return float(compiled.copy_slack(*padded, len(columns), nv))
     rows = max(1, BLOCK // nv)
+    if n_p <= rows:  # one block: every column at once, in a few calls on one (C, P, Nv) array
+        with np.errstate(invalid="ignore", over="ignore"):  # an infinity makes the bound NaN
+            rel = np.array(columns).reshape(len(columns), n_p, nv)
+            extent = _HI(np.array([_HI(rel, axis=None), -_LO(rel, axis=None)]))
+            rel -= rel[:, :, :1]  # each vertex relative to its patch's vertex 0 ...
+            rel -= rel[:, :1]  # ... minus the first patch's (numpy copies an overlapping operand)
+            return float(
+                _HI(np.array([_HI(rel, axis=None), -_LO(rel, axis=None)])) + 2.0 * _EPS * extent
+            )
     # reductions gathered into arrays, so that a NaN anywhere makes the bound NaN
     extent = _HI(np.array([[_HI(x), -_LO(x)] for x in columns]), axis=None)
     deviations = []
@@ -555,8 +564,9 @@ def translated_copies_sound(
     product by at most 12 L ``slack`` + 8 ``slack``² (L the longest side); the
     computed cross product adds the rounding of differences of coordinates up
     to the largest one (``extent``) and of two products: a few ε (extent + L) L.
-    When each of the first patch's triangles clears the test by 64 L (``slack``
-    + ε (extent + L)), well above the sum of those, no triangle of any copy can
+    When each of the first patch's triangles clears the test by 64 L (1.5 ``slack``
+    + ε L), at least 64 L (``slack`` + ε (extent + L)) since :func:`copy_slack` adds
+    2 ε extent to ``slack``, well above the sum of those, no triangle of any copy can
     be flagged, and the per-triangle pass (:func:`barymesh.repeat.inverted_or_flat_patches`)
     would find nothing: the answer is known without it. False (run the pass)
     when the copies are not translations to :data:`COPY_TOLERANCE`, when
@@ -568,7 +578,7 @@ def translated_copies_sound(
     columns : list of (P Nv,) float64
         x and y (planar meshes only: with a z column this returns False).
     slack : float or None
-        :func:`copy_slack` of the same columns.
+        :func:`copy_slack` of the same columns (which bounds ε times their extent).
     """
     nv = len(template.uv)
     if slack is None or len(columns) != 2 or not len(template.triangles):
@@ -586,9 +596,10 @@ def translated_copies_sound(
     if not (shortest > 0 and slack <= COPY_TOLERANCE * shortest):
         return False
     side = float(np.sqrt(_HI(longest)))
-    extent = float(_HI(np.array([[_HI(c), -_LO(c)] for c in columns]), axis=None))
+    # ε extent is at most slack / 2: copy_slack's bound adds 2 ε extent to a deviation >= 0,
+    # so 1.5 slack + ε L covers slack + ε (extent + L) without reading the columns again
     margin = ux * vy - uy * vx - 2.0 * FLAT * longest
-    return bool(_LO(margin) > 64.0 * side * (slack + _EPS * (extent + side)))
+    return bool(_LO(margin) > 64.0 * side * (1.5 * slack + _EPS * side))
 
 
 def translated_copy_measures(
