@@ -1,5 +1,6 @@
 """Small shared checks for the core tests."""
 
+import ast
 import contextlib
 import functools
 import os
@@ -208,3 +209,12 @@ def run_capped(code, address_space=BASE_ADDRESS_SPACE, timeout=600):
         timeout=timeout,
         env=env,
     )
+
+
+def imports_of(tree):
+    """(node, imported module names) of every import statement in the AST ``tree``."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            yield node, [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            yield node, [node.module or ""]

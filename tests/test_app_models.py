@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import imports_of
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -319,13 +320,7 @@ def test_the_models_import_nothing_of_the_window_above_them():
     # components/ and _qt/): what it shares with them lives in app/model
     found = []
     for path in sorted((APP / "model").rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Import):
-                names = [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                names = [node.module or ""]
-            else:
-                continue
+        for _, names in imports_of(ast.parse(path.read_text(encoding="utf-8"))):
             found += [
                 f"{path.relative_to(APP)}: {name}"
                 for name in names
@@ -334,22 +329,17 @@ def test_the_models_import_nothing_of_the_window_above_them():
     assert found == []
 
 
-def test_the_models_and_the_command_line_import_without_qt_or_vtk():
+@pytest.mark.parametrize(
+    "modules",
+    [
+        "barymesh.app.model, barymesh.app.cli, barymesh.app.cli_options",
+        # what the pixel painter's worker thread builds: numpy arrays only (style rule 17)
+        "barymesh.app.edit.painter_preview",
+    ],
+)
+def test_the_models_the_command_line_and_the_painters_worker_side_import_no_qt_or_vtk(modules):
     code = (
-        "import sys, barymesh.app.model, barymesh.app.cli, barymesh.app.cli_options; "
-        f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({GUI_MODULES!r})))"
-    )
-    out = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
-    )
-    assert out.stdout.strip() == "[]"
-
-
-def test_the_painters_worker_side_imports_no_qt_or_vtk():
-    """What the pixel painter's worker thread builds comes from a module without VTK
-    (style rule 17): its preview is numpy arrays only."""
-    code = (
-        "import sys, barymesh.app.edit.painter_preview; "
+        f"import sys, {modules}; "
         f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({GUI_MODULES!r})))"
     )
     out = subprocess.run(

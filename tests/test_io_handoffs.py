@@ -14,6 +14,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 import pytest
+from helpers import imports_of
 
 from barymesh import MeshParams, TriMesh, build_mesh
 from barymesh.io.cross_sections import CSV_COLUMNS
@@ -118,13 +119,7 @@ def test_the_core_never_imports_qt_vtk_or_pyvista():
     for path in sorted((ROOT / "core").rglob("*.py")):
         tree = ast.parse(path.read_text(encoding="utf-8"))
         functions = [n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)]
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Import):
-                names = [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                names = [node.module or ""]
-            else:
-                continue
+        for node, names in imports_of(tree):
             gui = [
                 n for n in names if n.split(".")[0] in ("pyvista", "vtk", "vtkmodules", "PySide6")
             ]

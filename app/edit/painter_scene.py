@@ -94,79 +94,29 @@ class PainterScene(QObject):
                 "hover",
             )
         }
-        d = self.datasets
+        # dataset -> colour key and how it is drawn, in drawing order (bottom to top); every
+        # actor flat (no lighting), not pickable, added without a render or a camera reset
+        looks: dict[str, tuple[str, dict[str, Any]]] = {
+            "grid": ("grid", {"line_width": 1.0}),
+            "faces": ("metal", {}),
+            "edges": ("triangle_edges", {"line_width": 1.0}),
+            "painted": ("metal", {}),
+            "erased": ("erased", {}),
+            "outline": ("outline", {"line_width": 2.0}),
+            "contacts": ("contacts", {"point_size": 11.0, "render_points_as_spheres": True}),
+            "hover": ("hover", {"line_width": 2.5, "style": "wireframe"}),
+        }
         self.actors = {
-            "grid": p.add_mesh(
-                d["grid"],
-                color=COLORS["grid"],
-                line_width=1.0,
+            name: p.add_mesh(
+                self.datasets[name],
+                color=COLORS[colour],
                 lighting=False,
                 reset_camera=False,
                 render=False,
                 pickable=False,
-            ),
-            "faces": p.add_mesh(
-                d["faces"],
-                color=COLORS["metal"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "edges": p.add_mesh(
-                d["edges"],
-                color=COLORS["triangle_edges"],
-                line_width=1.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "painted": p.add_mesh(
-                d["painted"],
-                color=COLORS["metal"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "erased": p.add_mesh(
-                d["erased"],
-                color=COLORS["erased"],
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "outline": p.add_mesh(
-                d["outline"],
-                color=COLORS["outline"],
-                line_width=2.0,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "contacts": p.add_mesh(
-                d["contacts"],
-                color=COLORS["contacts"],
-                point_size=11.0,
-                render_points_as_spheres=True,
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
-            "hover": p.add_mesh(
-                d["hover"],
-                color=COLORS["hover"],
-                line_width=2.5,
-                style="wireframe",
-                lighting=False,
-                reset_camera=False,
-                render=False,
-                pickable=False,
-            ),
+                **style,
+            )
+            for name, (colour, style) in looks.items()
         }
         # after the style has moved the camera (observers run in no promised order)
         self._camera_timer = QTimer(self)
