@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from helpers import with_points
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
@@ -244,17 +245,7 @@ def test_stats_fast_path_declines_a_patch_moved_out_of_shape(shift):
     mesh = build_mesh(MeshParams(angle_step=30.0))
     points = mesh.points.copy()
     points[-1, 1] += shift
-    moved = TriMesh(
-        points,
-        mesh.triangles,
-        mesh.patch_ids,
-        mesh.regions,
-        mesh.n_patches,
-        mesh.mode,
-        mesh.tolerance,
-        mesh.patch_rects,
-        repetition=mesh.repetition,
-    )
+    moved = with_points(mesh, points)
     assert copy_measures(moved) is None
     assert_stats_agree(moved.stats(), moved)
 

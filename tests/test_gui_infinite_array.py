@@ -7,6 +7,7 @@ The cell is a coarse conforming double ring on a 12 mm square lattice (a couple 
 unknowns) swept at a handful of frequencies, so that the module stays short.
 """
 
+import gc
 import os
 import threading
 import time
@@ -240,6 +241,11 @@ def test_live_curve_follows_a_slider_cancels_the_old_sweep_and_keeps_the_loop_al
     timer.timeout.connect(
         lambda: now is not None and now.append((time.perf_counter(), time.thread_time()))
     )
+    # the objects the test session made so far out of the collector's reach: a full
+    # collection (run in the GUI thread, app/gui_gc.py) then scans a window's heap, not
+    # that of a few thousand tests before (a 1.09 s gap late in `make test`)
+    gc.collect()
+    gc.freeze()
     timer.start()
     try:
         qtbot.mouseClick(tab.run_button, Qt.MouseButton.LeftButton)
@@ -266,6 +272,7 @@ def test_live_curve_follows_a_slider_cancels_the_old_sweep_and_keeps_the_loop_al
         qtbot.waitUntil(lambda: len(segments[1]) > 20, timeout=30_000)
     finally:
         timer.stop()
+        gc.unfreeze()
     assert running in tab.cancelled  # the long sweep was told to stop…
     qtbot.waitUntil(lambda: running in tab.stopped, timeout=60_000)  # … and stopped early
     assert tab.result is not first and len(tab.result.frequencies) == 3

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from barymesh.quality import cell_figures
+
 if TYPE_CHECKING:
     import pyvista as pv
 
@@ -123,8 +125,6 @@ def to_pyvista(mesh: TriMesh, wavelength: float | None = None) -> pv.PolyData:
     (8, ['area', 'aspect_ratio', 'min_angle', 'patch_id', 'region'])
     """
     import pyvista as pv
-
-    from barymesh.quality import cell_figures
 
     triangles = np.asarray(mesh.triangles, dtype=np.int64)
     poly = pv.PolyData.from_regular_faces(np.array(mesh.points, dtype=np.float64), triangles)
