@@ -25,7 +25,12 @@ written before ("warm": the machine's write bandwidth, the bound of issue 32) an
 fresh one ("fresh": with the page faults that allocating new outputs costs, which the
 build cannot avoid either). "ours / bound" is our median over the warm write's median;
 the JSON also has it in CPU time (``ours_over_warm_cpu``), which other jobs on the machine
-distort less.
+distort less. Two floors beside it: "computed", the same bytes of the warm buffer written
+as values computed from a cache-resident pattern (one broadcast numpy add, the way a build
+writes its tiled outputs; ``fill`` is a memset, whose string or non-temporal stores write
+whole cache lines without reading them first, which numpy's arithmetic never does), and the
+page faults (minor faults, ``ru_minflt``) of every timed call, ours and the bounds', so a
+"fresh" write whose pages the allocator had kept shows as such.
 The machine's load average is recorded before and after every workload.
 
 For every workload the statistics are timed too: ``TriMesh.stats()`` (counts,
@@ -63,7 +68,9 @@ import json
 import math
 import os
 import platform
+import resource
 import statistics
+import subprocess
 import sys
 import time
 import tracemalloc
@@ -108,6 +115,8 @@ TOL_SIZES = ("10k", "100k", "1M")
 GMSH_SIZES = ("10k", "100k", "1M")
 #: Most repetitions of the slow peers (a-tol, gmsh at 1M and more).
 SLOW_REPS = 3
+#: Words (int32) of the "computed" bound's pattern: 64 KiB, which stays in cache.
+COMPUTED_BLOCK = 1 << 14
 
 
 @dataclass
@@ -297,19 +306,71 @@ def output_bytes(mesh) -> int:
 
 
 def bound_runners(nbytes: int) -> dict[str, Callable[[], object]]:
-    """The two bandwidth bounds: ``nbytes`` written into a warm buffer, and into a fresh one.
+    """The bandwidth bounds: ``nbytes`` written into a warm buffer, into a fresh one, computed.
 
     The warm buffer is written once here, so that its pages exist and the timed
     write is the machine's bandwidth alone; the fresh one is allocated for each
-    write, page faults and all, as the build's outputs are.
+    write, page faults and all, as the build's outputs are. "Computed" writes the
+    warm buffer's words as a pattern of :data:`COMPUTED_BLOCK` words (kept in cache)
+    plus a shift per row, in one broadcast add: ordinary stores, as every output the build
+    computes is written, where ``fill`` is a memset.
     """
     warm = np.empty(nbytes, dtype=np.uint8)
     warm.fill(1)
+    block = min(nbytes // 4, COMPUTED_BLOCK)
+    rows = (nbytes // 4) // block
+    words = warm[: rows * block * 4].view(np.int32).reshape(rows, block)
+    pattern = np.arange(block, dtype=np.int32)
+    shifts = (np.arange(rows, dtype=np.int32) * np.int32(block))[:, None]
 
     def fresh() -> None:
         np.empty(nbytes, dtype=np.uint8).fill(1)
 
-    return {"bound-warm": lambda: warm.fill(1), "bound-fresh": fresh}
+    def computed() -> None:  # one broadcast add: the pattern's rows from cache, each shifted
+        np.add(pattern, shifts, out=words)
+
+    return {"bound-warm": lambda: warm.fill(1), "bound-fresh": fresh, "bound-computed": computed}
+
+
+def alone(params: MeshParams, reps: int) -> dict:
+    """Our whole build in a new process that does nothing else: its first build, then ``reps``.
+
+    In the benchmark's own process the peers' allocations leave the C allocator holding
+    memory, so our outputs land in pages that exist already (no faults); a script or
+    ``barymesh mesh`` that only builds gets pages the allocator handed back to the
+    kernel and faults them in again (about 14,000 faults per 1M build here). The first
+    build also makes the template and its plans and loads the code.
+    """
+    child = (
+        "import json, sys; sys.path[:0] = sys.argv[3:]; import mesher; "
+        "print(json.dumps(mesher.alone_child(json.loads(sys.argv[1]), int(sys.argv[2]))))"
+    )
+    here = Path(__file__).resolve().parent
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            child,
+            json.dumps(params.to_dict()),
+            str(reps),
+            str(here.parent),
+            str(here),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return json.loads(proc.stdout)
+
+
+def alone_child(params: dict, reps: int) -> dict:
+    """:func:`alone`'s child: the first build, then ``reps`` timed ones with their faults."""
+    p = MeshParams.from_dict(params)
+    first = timed(lambda: ours(p))
+    runs = [timed(lambda: ours(p)) for _ in range(reps)]
+    out = summary(*(list(column) for column in zip(*runs, strict=True)))
+    out["first"] = {"wall": first[0], "cpu": first[1], "faults": first[2]}
+    return out
 
 
 def load() -> list[float] | None:
@@ -356,12 +417,23 @@ def peak_rss_mib(func: Callable[[], object]) -> float | None:
     return peak / 1024
 
 
-def timed(func: Callable[[], object]) -> tuple[float, float]:
-    """Wall and CPU seconds of one call (CPU time is what a loaded machine distorts least)."""
+def minor_faults() -> int:
+    """Minor page faults of this process so far (pages it touched for the first time)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
+def timed(func: Callable[[], object]) -> tuple[float, float, int]:
+    """Wall and CPU seconds and page faults of one call.
+
+    CPU time is what a loaded machine distorts least; the faults say how many of the
+    call's pages were new to the process (about 2.5 µs each on a virtual machine).
+    """
     gc.collect()
+    f0 = minor_faults()
     c0, t0 = time.process_time(), time.perf_counter()
     func()
-    return time.perf_counter() - t0, time.process_time() - c0
+    wall, used = time.perf_counter() - t0, time.process_time() - c0
+    return wall, used, minor_faults() - f0
 
 
 def time_stats(params: MeshParams, reps: int) -> tuple[dict, dict]:
@@ -381,7 +453,9 @@ def time_stats(params: MeshParams, reps: int) -> tuple[dict, dict]:
     return summary(builds), summary(stats)
 
 
-def summary(times: list[float], cpu: list[float] | None = None) -> dict:
+def summary(
+    times: list[float], cpu: list[float] | None = None, faults: list[int] | None = None
+) -> dict:
     out = {
         "median": statistics.median(times),
         "min": min(times),
@@ -391,6 +465,9 @@ def summary(times: list[float], cpu: list[float] | None = None) -> dict:
     if cpu:
         out["cpu_median"] = statistics.median(cpu)
         out["cpu_times"] = cpu
+    if faults:
+        out["faults_median"] = statistics.median(faults)
+        out["faults"] = faults
     return out
 
 
@@ -437,34 +514,42 @@ def run_workload(w: Workload, reps: int) -> None:
         peer_reps[name] = reps
     times: dict[str, list[float]] = {name: [] for name in timers}
     cpu: dict[str, list[float]] = {name: [] for name in timers}
+    faults: dict[str, list[int]] = {name: [] for name in timers}
     for name, func in timers.items():  # warm-up
         if name != "gmsh":
             func()
     for rep in range(reps):  # alternate: ours, peer, bounds, ours, peer, bounds ...
         for name, func in timers.items():
             if name == "ours" or rep < peer_reps[name]:
-                wall, used = timed(func)
+                wall, used, touched = timed(func)
                 times[name].append(wall)
                 cpu[name].append(used)
+                faults[name].append(touched)
     for name in runners:
-        w.results[name] = summary(times[name], cpu[name])
-    warm, fresh = (summary(times[k], cpu[k]) for k in bounds)
+        w.results[name] = summary(times[name], cpu[name], faults[name])
+    warm, fresh, computed = (summary(times[k], cpu[k], faults[k]) for k in bounds)
     w.results["bound"] = {
         "bytes": nbytes,
         "warm": warm,
         "fresh": fresh,
+        "computed": computed,
         "warm_gb_per_s": nbytes / warm["median"] / 1e9,
         "ours_over_warm": w.results["ours"]["median"] / warm["median"],
         # CPU time: what a loaded machine distorts least (a descheduled write's wall time
         # grows while its CPU time does not)
         "ours_over_warm_cpu": w.results["ours"]["cpu_median"] / warm["cpu_median"],
         "ours_over_fresh": w.results["ours"]["median"] / fresh["median"],
+        "ours_over_computed": w.results["ours"]["median"] / computed["median"],
+        # the floors, in units of the bound
+        "fresh_over_warm": fresh["median"] / warm["median"],
+        "computed_over_warm": computed["median"] / warm["median"],
     }
     if "ours-numba" in runners:
         w.results["bound"]["numba_over_warm"] = w.results["ours-numba"]["median"] / warm["median"]
         w.results["bound"]["numba_over_warm_cpu"] = (
             w.results["ours-numba"]["cpu_median"] / warm["cpu_median"]
         )
+    w.results["ours-alone"] = alone(p, reps)
     w.results["build_mesh"], w.results["stats"] = time_stats(p, reps)
     for name in w.peers:
         w.results[name]["ratio"] = w.results[name]["median"] / w.results["ours"]["median"]
@@ -502,7 +587,11 @@ def table(ws: list[Workload]) -> str:
         bound_note = (
             f"{b['bytes'] / 1e6:.0f} MB at {b['warm_gb_per_s']:.1f} GB/s, "
             f"CPU {b['ours_over_warm_cpu']:.1f}x the bound, fresh "
-            f"{b['fresh']['median']:.4f} s; load {r['load_before']} -> {r['load_after']}"
+            f"{b['fresh_over_warm']:.1f}x ({b['fresh']['faults_median']:.0f} faults), computed "
+            f"{b['computed_over_warm']:.1f}x, ours {o['faults_median']:.0f} faults, alone "
+            f"{r['ours-alone']['median']:.3f} s ({r['ours-alone']['faults_median']:.0f} faults, "
+            f"first {r['ours-alone']['first']['wall']:.3f} s); "
+            f"load {r['load_before']} -> {r['load_after']}"
         )
         if not w.peers:  # the conforming ring's n x n_v sectors: no peer (a) builds them
             lines.append(f"{ours_cols}  {'-':7} {'-':>25} {'-':>6}  no peer; {bound_note}")

@@ -40,6 +40,17 @@ def test_mesher_benchmark_runs_on_the_smallest_size(tmp_path: Path) -> None:
         assert w["ours"]["peak_mib"] > 0
         assert len(w["stats"]["times"]) == len(w["build_mesh"]["times"]) == 2
         assert w["stats"]["median"] > 0 and w["build_mesh"]["median"] > 0
+        bound = w["bound"]
+        for floor in ("warm", "fresh", "computed"):
+            assert bound[floor]["median"] > 0
+            assert all(f >= 0 for f in bound[floor]["faults"])
+        assert bound["computed_over_warm"] == pytest.approx(
+            bound["computed"]["median"] / bound["warm"]["median"]
+        )
+        alone = w["ours-alone"]  # the build in a process of its own
+        assert len(alone["times"]) == len(alone["faults"]) == 2
+        assert alone["median"] > 0 and alone["first"]["wall"] > 0
+        assert alone["first"]["faults"] > 0  # a new process faults its first build's pages
         for peer in {"a-exact", "a-tol", "gmsh"} & w.keys():
             assert w[peer]["median"] > 0
             assert w[peer]["ratio"] == pytest.approx(w[peer]["median"] / w["ours"]["median"])

@@ -108,12 +108,22 @@ def _cpu_ratio(ours: dict[str, Any], bound: dict[str, Any]) -> str:
     return f" (CPU {mine / write:.1f}×)" if mine and write else ""
 
 
+def _alone(alone: dict[str, Any] | None) -> str:
+    """Our build in a process of its own: median (page faults per build; its first build)."""
+    if not alone:
+        return "–"
+    return (
+        f"{alone['median']:.4f} ({alone['faults_median']:,.0f}; first {alone['first']['wall']:.3f})"
+    )
+
+
 def mesher(doc: dict[str, Any]) -> Table:
     head = [
         "workload",
         "size",
         "triangles",
         "ours s",
+        "alone s (faults)",
         "MiB (B/tri)",
         "bound s (GB/s)",
         "ours / bound",
@@ -131,8 +141,12 @@ def mesher(doc: dict[str, Any]) -> Table:
                 f"{bound['warm']['median']:.4f} ({bound['warm_gb_per_s']:.1f})",
                 f"{bound['ours_over_warm']:.1f}×"
                 + _cpu_ratio(ours, bound)
+                + (f"; numba {bound['numba_over_warm']:.1f}×" if "numba_over_warm" in bound else "")
                 + (
-                    f"; numba {bound['numba_over_warm']:.1f}×" if "numba_over_warm" in bound else ""
+                    f"; floors: computed {bound['computed_over_warm']:.1f}×, "
+                    f"fresh {bound['fresh_over_warm']:.1f}×"
+                    if "computed_over_warm" in bound
+                    else ""
                 ),
             ]
             if bound
@@ -151,6 +165,7 @@ def mesher(doc: dict[str, Any]) -> Table:
                     w["size"] if first else "",
                     _n(w.get("triangles")) if first else "",
                     _spread(ours) if first else "",
+                    _alone(w.get("ours-alone")) if first else "",
                     f"{ours['peak_mib']:.0f} ({ours['bytes_per_triangle']:.0f})"
                     if first and "peak_mib" in ours
                     else "",
@@ -170,7 +185,15 @@ def mesher(doc: dict[str, Any]) -> Table:
         "table, connectivity) into a written buffer, timed in the same run; in brackets "
         "the same ratio of CPU times, which other jobs on the machine distort less. "
         "From 131,072 triangles, numba: the same build with the opt-in compiled loops "
-        "(BARYMESH_MESH_KERNELS=numba; their one-time load of about 0.5 s left out)."
+        "(BARYMESH_MESH_KERNELS=numba; their one-time load of about 0.5 s left out). "
+        "Floors, in units of the bound and timed in the same run: computed, the same bytes "
+        "written as values computed from a cache-resident pattern (ordinary stores, as any "
+        "computed output is written; the bound's fill is a memset); fresh, the bound's write "
+        "into newly allocated memory (page faults included). Alone: the same build in a new "
+        "process that does nothing else (the median of as many builds after its first, with "
+        "the page faults of one; then its first build): there the C allocator hands freed "
+        "memory back to the kernel and each build faults its pages in again, where in the "
+        "benchmark's process the peers leave it holding memory."
     )
     if doc.get("load_at_start") is not None:
         note += f" Load average {doc['load_at_start'][0]:.1f} at the start of the run."
