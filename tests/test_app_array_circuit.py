@@ -212,3 +212,31 @@ def test_phase_wraps_are_broken_not_drawn_across():
 def test_circuit_fit_is_plain_data():
     fit = CircuitFit(sweep=None, refused="why")
     assert fit.circuit is None and fit.stops_at is None and fit.note() == "No circuit: why"
+
+
+@pytest.mark.parametrize("ratio", [1.0, 2.0])
+def test_more_layers_widen_the_schematic_and_its_labels_fit_their_boxes(patch, ratio):
+    stacks = [
+        GROUNDED,
+        Stack(above=(Layer(0.5, 3.0),), below=(Layer(1.575, 2.2),), ground=True),
+        Stack(above=(Layer(0.5, 3.0),), below=(Layer(1.0, 2.2), Layer(0.575, 3.0)), ground=True),
+    ]
+    f = np.linspace(6e9, 16e9, 6)
+    scales = []
+    for stack in stacks:
+        sweep = sweep_of(series_lc, f, stack=stack)
+        figure = draw_curve(sweep, (900, 420), ratio, fit_circuit(sweep, patch)).figure
+        assert len(figure.axes) == 3  # the curves and the schematic's column
+        column = figure.axes[2]
+        units = schematic("series", stack).width
+        scales.append(column.get_window_extent().width / units)  # device pixels per unit
+        renderer = figure.canvas.get_renderer()
+        boxes = [p.get_window_extent(renderer) for p in column.patches]
+        labels = [t for t in column.texts if t.get_text().startswith("εr")]
+        assert len(boxes) == len(labels) == len(stack.above) + len(stack.below)
+        for box, label in zip(boxes, labels, strict=True):
+            text = label.get_window_extent(renderer)
+            assert box.x0 <= text.x0 and text.x1 <= box.x1, label.get_text()
+            assert box.y0 <= text.y0 and text.y1 <= box.y1, label.get_text()
+    # one scale whatever the stack: the column grows rather than the drawing shrinking
+    assert scales == pytest.approx([scales[0]] * len(scales), rel=0.02)

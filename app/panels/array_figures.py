@@ -37,6 +37,13 @@ CIRCUIT_COLOR, REFERENCE_COLOR, BEYOND_COLOR = "#ff7f0e", "#444444", "0.85"
 #: Width (pixels) of the schematic's column beside the curve, and the narrowest curve
 #: that gets one (narrower: the values go into the legend's title).
 SCHEMATIC_WIDTH, SCHEMATIC_MIN_FIGURE = 135, 400
+#: The width (in :func:`~barymesh.app.panels.array_circuit.schematic`'s units) drawn across
+#: :data:`SCHEMATIC_WIDTH`: a series sheet on one grounded layer. A wider schematic (more
+#: layers, a parallel circuit's side-by-side elements) widens its column at the same scale,
+#: so that its labels keep their size and fit their boxes.
+SCHEMATIC_UNITS = 5.8
+#: Where the drawing lies across its column (fractions of the column's width).
+_SCHEMATIC_X = (0.14, 0.88)
 #: The magnitude axis spans at least this many dB (a flat |R| = 1 over a ground plane
 #: would otherwise be drawn as noise magnified around 0 dB).
 MIN_DB_SPAN = 1.0
@@ -143,14 +150,14 @@ def draw_curve(
     bottom = min(0.3, 38.0 / h)  # the ticks' labels and the axis' name
     if circuit is not None and circuit.sweep is not result:
         circuit = None  # a fit of another curve
-    column = circuit is not None and w >= SCHEMATIC_MIN_FIGURE
-    right = 1.0 - (SCHEMATIC_WIDTH + 8.0) / w if column else 0.97
+    wide = 0.0 if circuit is None else schematic_column(circuit)
+    # the curve keeps what a figure of SCHEMATIC_MIN_FIGURE gives it beside a plain column
+    column = circuit is not None and w - wide >= SCHEMATIC_MIN_FIGURE - SCHEMATIC_WIDTH
+    right = 1.0 - (wide + 8.0) / w if column else 0.97
     fig.subplots_adjust(left=left, right=right, top=1.0 - 8.0 / h, bottom=bottom, hspace=0.1)
     mag, ph = fig.subplots(2, 1, sharex=True)
     if column:
-        draw_schematic(
-            fig.add_axes((1.0 - SCHEMATIC_WIDTH / w, 0.0, SCHEMATIC_WIDTH / w, 1.0)), circuit
-        )
+        draw_schematic(fig.add_axes((1.0 - wide / w, 0.0, wide / w, 1.0)), circuit)
     for ax in (mag, ph):
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=7)
@@ -321,6 +328,27 @@ def wrapped_degrees(x: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.n
     return np.insert(x, jumps, middle), np.insert(deg, jumps, np.nan)
 
 
+def _lossy(circuit: Any) -> bool:
+    """Whether the fitted circuit has a resistor to draw."""
+    if circuit.kind == "series":
+        return bool(circuit.resistance > 0)
+    return math.isfinite(circuit.resistance)
+
+
+def schematic_column(fit: Any) -> float:
+    """Pixels of the column :func:`draw_schematic` needs for ``fit``'s circuit.
+
+    :data:`SCHEMATIC_WIDTH`, or wider at the same scale when the schematic is wider than
+    :data:`SCHEMATIC_UNITS` (layers on both sides of the sheet, several layers): the
+    drawing is never shrunk to fit, where its labels would outgrow its boxes.
+    """
+    if fit.circuit is None:
+        return float(SCHEMATIC_WIDTH)
+    c = fit.circuit
+    units = schematic(c.kind, fit.sweep.inputs.stack, _lossy(c)).width
+    return float(math.ceil(SCHEMATIC_WIDTH * max(1.0, units / SCHEMATIC_UNITS)))
+
+
 def draw_schematic(ax: Any, fit: Any) -> None:
     """The fitted circuit's schematic in ``ax`` with its values under it, or why there
     is none (grey) when the fit was refused."""
@@ -340,14 +368,11 @@ def draw_schematic(ax: Any, fit: Any) -> None:
         )
         return
     c = fit.circuit
-    lossy = (c.kind == "series" and c.resistance > 0) or (
-        c.kind == "parallel" and math.isfinite(c.resistance)
-    )
     from matplotlib.patches import Rectangle
 
-    s = schematic(c.kind, fit.sweep.inputs.stack, lossy)
+    s = schematic(c.kind, fit.sweep.inputs.stack, _lossy(c))
     # the drawing in the column's top half, one scale in x and y
-    x0, x1, y0, y1 = 0.14, 0.88, 0.50, 0.86
+    (x0, x1), y0, y1 = _SCHEMATIC_X, 0.50, 0.86
     bbox = ax.get_window_extent()
     aspect = bbox.height / bbox.width if bbox.width > 0 else 1.0  # pixels: y per x
     scale = min((x1 - x0) / s.width, (y1 - y0) * aspect / (s.height + 1.0))
