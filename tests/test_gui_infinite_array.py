@@ -7,7 +7,6 @@ The cell is a coarse conforming double ring on a 12 mm square lattice (a couple 
 unknowns) swept at a handful of frequencies, so that the module stays short.
 """
 
-import gc
 import os
 import threading
 import time
@@ -19,7 +18,7 @@ import pytest
 pytest.importorskip("pyvistaqt")
 pytest.importorskip("matplotlib")
 
-from app_user import settle, slider_x, type_into  # noqa: E402
+from app_user import session_heap_frozen, settle, slider_x, type_into  # noqa: E402
 from PySide6.QtCore import QEvent, QPoint, QPointF, Qt, QTimer  # noqa: E402
 from PySide6.QtGui import QMouseEvent  # noqa: E402
 from PySide6.QtWidgets import QApplication, QStyle, QStyleOptionSlider  # noqa: E402
@@ -241,38 +240,34 @@ def test_live_curve_follows_a_slider_cancels_the_old_sweep_and_keeps_the_loop_al
     timer.timeout.connect(
         lambda: now is not None and now.append((time.perf_counter(), time.thread_time()))
     )
-    # the objects the test session made so far out of the collector's reach: a full
-    # collection (run in the GUI thread, app/gui_gc.py) then scans a window's heap, not
-    # that of a few thousand tests before (a 1.09 s gap late in `make test`)
-    gc.collect()
-    gc.freeze()
-    timer.start()
-    try:
-        qtbot.mouseClick(tab.run_button, Qt.MouseButton.LeftButton)
-        qtbot.wait(400)
-        qtbot.waitUntil(lambda: len(segments[0]) > 20, timeout=30_000)  # beats to judge by
-        running = tab._tokens["array"]
-        type_into(tab.points.lineEdit(), "3")
-        row = window.controls.rows["outer_radius"]
-        slider = row.slider
-        # smaller (larger would break the solver's triangle limit at a 30° angle step)
-        dx = slider_x(slider, row.slider_spec.to_slider(4.0)) - slider_x(slider, slider.value())
-        assert dx <= -2
-        now = None
-        drag_handle(qtbot, slider, dx, steps=-dx)
-        window.controller.flush()
-        now = segments[1]
-        mesh = window.model.result.mesh
-        assert mesh is not first_mesh
-        assert 3.5 < window.model.cell.elements[0].params.outer_radius < 4.45  # 4.5 mm before
-        qtbot.waitUntil(lambda: tab.result_mesh is mesh, timeout=120_000)
-        qtbot.wait(200)  # the new curve painted
-        # and beats enough to judge the gaps by (a loaded machine ticks the timer slower:
-        # a curve that came quickly left fewer than 11 beats in CI)
-        qtbot.waitUntil(lambda: len(segments[1]) > 20, timeout=30_000)
-    finally:
-        timer.stop()
-        gc.unfreeze()
+    # a full collection in the GUI thread scans a window's heap, not the session's
+    with session_heap_frozen():
+        timer.start()
+        try:
+            qtbot.mouseClick(tab.run_button, Qt.MouseButton.LeftButton)
+            qtbot.wait(400)
+            qtbot.waitUntil(lambda: len(segments[0]) > 20, timeout=30_000)  # beats to judge by
+            running = tab._tokens["array"]
+            type_into(tab.points.lineEdit(), "3")
+            row = window.controls.rows["outer_radius"]
+            slider = row.slider
+            # smaller (larger would break the solver's triangle limit at a 30° angle step)
+            dx = slider_x(slider, row.slider_spec.to_slider(4.0)) - slider_x(slider, slider.value())
+            assert dx <= -2
+            now = None
+            drag_handle(qtbot, slider, dx, steps=-dx)
+            window.controller.flush()
+            now = segments[1]
+            mesh = window.model.result.mesh
+            assert mesh is not first_mesh
+            assert 3.5 < window.model.cell.elements[0].params.outer_radius < 4.45  # 4.5 mm before
+            qtbot.waitUntil(lambda: tab.result_mesh is mesh, timeout=120_000)
+            qtbot.wait(200)  # the new curve painted
+            # and beats enough to judge the gaps by (a loaded machine ticks the timer slower:
+            # a curve that came quickly left fewer than 11 beats in CI)
+            qtbot.waitUntil(lambda: len(segments[1]) > 20, timeout=30_000)
+        finally:
+            timer.stop()
     assert running in tab.cancelled  # the long sweep was told to stop…
     qtbot.waitUntil(lambda: running in tab.stopped, timeout=60_000)  # … and stopped early
     assert tab.result is not first and len(tab.result.frequencies) == 3
