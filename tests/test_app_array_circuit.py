@@ -16,7 +16,7 @@ from barymesh.app.panels.array_circuit import (
     schematic,
     square_patch,
 )
-from barymesh.app.panels.array_figures import draw_curve, wrapped_degrees
+from barymesh.app.panels.array_figures import SCHEMATIC_UNITS, draw_curve, wrapped_degrees
 from barymesh.app.panels.array_sweep import ArrayInputs, ArraySweep
 from barymesh.cell import Lattice, PixelGrid, UnitCell, build_cell
 from barymesh.mom import Layer, Stack
@@ -240,3 +240,5 @@ def test_more_layers_widen_the_schematic_and_its_labels_fit_their_boxes(patch, r
             assert box.y0 <= text.y0 and text.y1 <= box.y1, label.get_text()
     # one scale whatever the stack: the column grows rather than the drawing shrinking
     assert scales == pytest.approx([scales[0]] * len(scales), rel=0.02)
+    # the plain column is the width of a series sheet on one grounded layer
+    assert schematic("series", GROUNDED).width == pytest.approx(SCHEMATIC_UNITS)

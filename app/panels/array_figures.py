@@ -42,8 +42,6 @@ SCHEMATIC_WIDTH, SCHEMATIC_MIN_FIGURE = 135, 400
 #: layers, a parallel circuit's side-by-side elements) widens its column at the same scale,
 #: so that its labels keep their size and fit their boxes.
 SCHEMATIC_UNITS = 5.8
-#: Where the drawing lies across its column (fractions of the column's width).
-_SCHEMATIC_X = (0.14, 0.88)
 #: The magnitude axis spans at least this many dB (a flat |R| = 1 over a ground plane
 #: would otherwise be drawn as noise magnified around 0 dB).
 MIN_DB_SPAN = 1.0
@@ -372,7 +370,7 @@ def draw_schematic(ax: Any, fit: Any) -> None:
 
     s = schematic(c.kind, fit.sweep.inputs.stack, _lossy(c))
     # the drawing in the column's top half, one scale in x and y
-    (x0, x1), y0, y1 = _SCHEMATIC_X, 0.50, 0.86
+    x0, x1, y0, y1 = 0.14, 0.88, 0.50, 0.86
     bbox = ax.get_window_extent()
     aspect = bbox.height / bbox.width if bbox.width > 0 else 1.0  # pixels: y per x
     scale = min((x1 - x0) / s.width, (y1 - y0) * aspect / (s.height + 1.0))
